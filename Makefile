@@ -1,0 +1,68 @@
+# Thin wrapper over CMake: the README, CI and the benchmarks use these targets.
+# Every target installs missing Debian packages first (scripts/install-deps.sh).
+
+BUILD_DIR   ?= build
+CROSS_DIR   ?= build-cross
+M4_DIR      ?= build-m4
+ASAN_DIR    ?= build-asan
+FUZZ_DIR    ?= build-fuzz
+JOBS        ?= $(shell nproc)
+FUZZ_SECONDS ?= 60
+TEENSY_TOOLCHAIN := cmake/toolchains/teensy32.cmake
+
+CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev
+
+.PHONY: all deps build demo test bench cross test-m4 asan fuzz clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+$(BUILD_DIR)/CMakeCache.txt: | deps
+	$(CMAKE_CONFIGURE) -S . -B $(BUILD_DIR)
+
+build: deps $(BUILD_DIR)/CMakeCache.txt
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+## demo: the main job, a small swarm in the simulated lab.
+demo: build
+	./$(BUILD_DIR)/bin/syrof-demo
+
+## test: the whole host test suite through ctest.
+test: build
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+## bench: every program in bench/, each printing its figures.
+bench: build
+	@set -e; for program in $(BUILD_DIR)/bin/bench_*; do \
+	  echo "== $$program"; "$$program"; echo; \
+	done
+
+## cross: core/ for the Teensy 3.2, with a size table per library.
+cross: deps
+	$(CMAKE_CONFIGURE) -S . -B $(CROSS_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DCMAKE_BUILD_TYPE=MinSizeRel
+	cmake --build $(CROSS_DIR) -j $(JOBS)
+	@bash scripts/size-table.sh $(CROSS_DIR)/lib
+
+## test-m4: core's unit tests on an emulated Cortex-M4 (qemu mps2-an386).
+test-m4: deps
+	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(M4_DIR) -j $(JOBS)
+	ctest --test-dir $(M4_DIR) --output-on-failure -j $(JOBS)
+
+## asan: core's tests once more under AddressSanitizer and UBSan.
+asan: deps
+	$(CMAKE_CONFIGURE) -S . -B $(ASAN_DIR) -DSYROF_SANITIZE=ON -DSYROF_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug
+	cmake --build $(ASAN_DIR) -j $(JOBS)
+	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L core
+
+## fuzz: libFuzzer on the beacon decoder for FUZZ_SECONDS.
+fuzz: deps
+	CC=clang CXX=clang++ $(CMAKE_CONFIGURE) -S . -B $(FUZZ_DIR) -DSYROF_FUZZ=ON -DSYROF_BUILD_TESTS=OFF -DSYROF_BUILD_BENCH=OFF
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode
+	mkdir -p $(FUZZ_DIR)/corpus/beacon
+	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
+
+clean:
+	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(FUZZ_DIR)

@@ -1,0 +1,68 @@
+# Helpers shared by every module's CMakeLists.txt.
+
+option(SYROF_WERROR "Treat compiler warnings as errors in SyROF's own targets" ON)
+
+# Compile options for SyROF's own code (not third-party code).
+function(syrof_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow)
+  if(SYROF_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+# Determinism: no fused multiply-add contraction anywhere, so the same source
+# computes the same bits on x86-64 and on the Cortex-M4 soft-float build.
+add_compile_options(-ffp-contract=off)
+
+if(SYROF_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+# syrof_add_library(NAME <target> [SOURCES ...] [DEPS ...])
+# A module library: public headers in include/, sources in src/. Header-only
+# modules pass no SOURCES and become INTERFACE libraries.
+function(syrof_add_library)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  if(ARG_SOURCES)
+    add_library(${ARG_NAME} STATIC ${ARG_SOURCES})
+    target_include_directories(${ARG_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_link_libraries(${ARG_NAME} PUBLIC ${ARG_DEPS})
+    syrof_set_warnings(${ARG_NAME})
+  else()
+    add_library(${ARG_NAME} INTERFACE)
+    target_include_directories(${ARG_NAME} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_link_libraries(${ARG_NAME} INTERFACE ${ARG_DEPS})
+  endif()
+  add_library(syrof::${ARG_NAME} ALIAS ${ARG_NAME})
+endfunction()
+
+# syrof_add_test(NAME <name> SOURCES ... [LIBS ...] [LABELS ...] [HOST_ONLY])
+# One GoogleTest executable (name it test_<module>_<unit>), registered with CTest. On the host each TEST()
+# becomes its own CTest entry. In a Cortex-M4 build (SYROF_M4_TESTS) the same
+# sources are linked into a bare-metal image run under qemu, unless HOST_ONLY
+# (tests that need threads, files or other host services).
+function(syrof_add_test)
+  cmake_parse_arguments(ARG "HOST_ONLY" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
+  if(SYROF_TARGET_MCU)
+    if(NOT ARG_HOST_ONLY)
+      syrof_add_m4_test(NAME ${ARG_NAME} SOURCES ${ARG_SOURCES} LIBS ${ARG_LIBS} LABELS ${ARG_LABELS})
+    endif()
+    return()
+  endif()
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBS} GTest::gtest_main GTest::gmock)
+  syrof_set_warnings(${ARG_NAME})
+  include(GoogleTest)
+  gtest_discover_tests(${ARG_NAME} PROPERTIES LABELS "${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
+endfunction()
+
+# syrof_add_bench(NAME <name> SOURCES ... [LIBS ...])
+# A benchmark program that prints its figures. Names start with bench_;
+# `make bench` runs every build/bin/bench_* program.
+function(syrof_add_bench)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;LIBS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBS})
+  syrof_set_warnings(${ARG_NAME})
+endfunction()
