@@ -1,0 +1,121 @@
+#include "syrof/os/posix_port.h"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <system_error>
+
+namespace syrof::os {
+
+struct PosixPort::Worker {
+  Task* task;
+  TaskConfig config;
+  bool pending = false;
+  std::condition_variable wake;
+  std::thread thread;
+};
+
+PosixPort::PosixPort(PosixPortOptions options)
+    : options_(options), epoch_(std::chrono::steady_clock::now()) {
+  workers_.reserve(options_.max_tasks);
+}
+
+PosixPort::~PosixPort() { (void)stop(); }
+
+base::Result<TaskId, PortError> PosixPort::add_task(Task& task, const TaskConfig& config) {
+  std::lock_guard<std::mutex> guard(state_mutex_);
+  if (running_) return PortError::kAlreadyStarted;
+  if (const PortError error = validate(config.trigger); error != PortError::kOk) return error;
+  if (workers_.size() >= options_.max_tasks) return PortError::kTooManyTasks;
+  auto worker = std::make_unique<Worker>();
+  worker->task = &task;
+  worker->config = config;
+  workers_.push_back(std::move(worker));
+  return static_cast<TaskId>(workers_.size() - 1);
+}
+
+PortError PosixPort::start() {
+  {
+    std::lock_guard<std::mutex> guard(state_mutex_);
+    if (running_) return PortError::kAlreadyStarted;
+    running_ = true;
+    started_ = std::chrono::steady_clock::now();
+    for (auto& worker : workers_) worker->pending = false;
+  }
+  for (auto& worker : workers_) {
+    Worker& w = *worker;
+    try {
+      if (w.config.trigger.kind == TriggerKind::kPeriodic) {
+        w.thread = std::thread([this, &w] { run_periodic(w); });
+      } else {
+        w.thread = std::thread([this, &w] { run_notified(w); });
+      }
+    } catch (const std::system_error&) {
+      (void)stop();
+      return PortError::kSystemError;
+    }
+    if (options_.realtime_priorities) {
+      sched_param parameters{};
+      parameters.sched_priority = sched_get_priority_min(SCHED_FIFO) + w.config.priority;
+      // Refusal (no CAP_SYS_NICE) is documented: the thread keeps SCHED_OTHER.
+      (void)pthread_setschedparam(w.thread.native_handle(), SCHED_FIFO, &parameters);
+    }
+  }
+  return PortError::kOk;
+}
+
+PortError PosixPort::stop() {
+  {
+    std::lock_guard<std::mutex> guard(state_mutex_);
+    if (!running_) return PortError::kNotStarted;
+    running_ = false;
+  }
+  for (auto& worker : workers_) worker->wake.notify_all();
+  for (auto& worker : workers_) {
+    if (worker->thread.joinable()) worker->thread.join();
+  }
+  return PortError::kOk;
+}
+
+void PosixPort::notify(TaskId task) {
+  if (task >= workers_.size()) return;
+  Worker& worker = *workers_[task];
+  if (worker.config.trigger.kind != TriggerKind::kNotified) return;
+  {
+    std::lock_guard<std::mutex> guard(state_mutex_);
+    if (!running_ || worker.pending) return;
+    worker.pending = true;
+  }
+  worker.wake.notify_one();
+}
+
+int64_t PosixPort::now_ns() const {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - epoch_).count();
+}
+
+void PosixPort::run_periodic(Worker& worker) {
+  const auto period = std::chrono::nanoseconds(worker.config.trigger.period_ns);
+  auto due = started_ + std::chrono::nanoseconds(worker.config.trigger.offset_ns);
+  std::unique_lock<std::mutex> state(state_mutex_);
+  while (running_) {
+    if (worker.wake.wait_until(state, due, [this] { return !running_; })) break;
+    state.unlock();
+    worker.task->step(now_ns());
+    state.lock();
+    due += period;
+  }
+}
+
+void PosixPort::run_notified(Worker& worker) {
+  std::unique_lock<std::mutex> state(state_mutex_);
+  while (true) {
+    worker.wake.wait(state, [&] { return worker.pending || !running_; });
+    if (!running_) break;
+    worker.pending = false;
+    state.unlock();
+    worker.task->step(now_ns());
+    state.lock();
+  }
+}
+
+}  // namespace syrof::os

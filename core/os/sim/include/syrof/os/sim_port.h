@@ -1,0 +1,129 @@
+// The simulation port: tasks of many robots driven by one deterministic
+// discrete-event scheduler in virtual time.
+//
+// One SimScheduler holds the virtual clock of a whole simulated world; each
+// robot has its own SimPort on it. Steps take no virtual time. Ordering is
+// total and documented, so two runs of the same program give the same trace:
+//   1. earlier activation time first;
+//   2. at the same instant, higher task priority first;
+//   3. then the task registered first on the scheduler (across all ports).
+// A notification raised during a step schedules the notified task at the
+// current instant; it runs after the current step returns (run to
+// completion), in the same order as above.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "syrof/os/port.h"
+
+namespace syrof::os {
+
+class SimPort;
+
+/// Receives every step the scheduler runs, in order (for traces and tests).
+class SimTraceSink {
+ public:
+  virtual void on_step(int64_t time_ns, const SimPort& port, TaskId task, const TaskConfig& config) = 0;
+
+ protected:
+  ~SimTraceSink() = default;
+};
+
+/// The virtual clock and event queue shared by every SimPort of a world.
+class SimScheduler {
+ public:
+  /// Reserves room for `max_tasks` tasks over all ports; nothing is allocated
+  /// after construction.
+  explicit SimScheduler(size_t max_tasks);
+  SimScheduler(const SimScheduler&) = delete;
+  SimScheduler& operator=(const SimScheduler&) = delete;
+
+  /// Virtual time in nanoseconds since the scheduler was created.
+  int64_t now_ns() const { return now_ns_; }
+
+  /// Runs the earliest pending activation. Returns false if none is pending.
+  bool run_next();
+
+  /// Runs every activation due at or before `end_ns` (including those that
+  /// steps schedule on the way), then advances the clock to `end_ns`.
+  void run_until(int64_t end_ns);
+
+  /// run_until(now_ns() + duration_ns).
+  void run_for(int64_t duration_ns) { run_until(now_ns_ + duration_ns); }
+
+  /// Time of the earliest pending activation, or -1 if none is pending.
+  int64_t next_activation_ns() const;
+
+  /// Number of steps run so far.
+  uint64_t steps_run() const { return steps_run_; }
+
+  /// Installs (or, with nullptr, removes) a sink that sees every step.
+  void set_trace(SimTraceSink* sink) { trace_ = sink; }
+
+ private:
+  friend class SimPort;
+
+  struct TaskRecord {
+    Task* task;
+    SimPort* port;
+    TaskConfig config;
+    TaskId local_id;
+    bool pending;  // has an entry in the activation heap
+  };
+  struct Activation {
+    int64_t time_ns;
+    uint8_t priority;
+    uint32_t task_index;  // into tasks_
+  };
+
+  base::Result<uint32_t, PortError> register_task(SimPort& port, Task& task, const TaskConfig& config,
+                                                  TaskId local_id);
+  void schedule(uint32_t task_index, int64_t time_ns);
+  void cancel_port(const SimPort& port);
+
+  size_t max_tasks_;
+  std::vector<TaskRecord> tasks_;
+  std::vector<Activation> heap_;
+  int64_t now_ns_ = 0;
+  uint64_t steps_run_ = 0;
+  SimTraceSink* trace_ = nullptr;
+};
+
+/// One robot's port on a SimScheduler. Single-threaded: lock() only checks
+/// that critical sections do not nest.
+class SimPort final : public Port {
+ public:
+  /// `name` labels the port in traces; it must outlive the port.
+  explicit SimPort(SimScheduler& scheduler, const char* name = "");
+  SimPort(const SimPort&) = delete;
+  SimPort& operator=(const SimPort&) = delete;
+
+  base::Result<TaskId, PortError> add_task(Task& task, const TaskConfig& config) override;
+  /// Schedules periodic tasks at now + offset. A stopped port may be started
+  /// again (a robot that pauses and resumes).
+  PortError start() override;
+  /// Drops every pending activation of this port (a robot that crashes or
+  /// pauses). Other ports are unaffected.
+  PortError stop() override;
+  void notify(TaskId task) override;
+  int64_t now_ns() const override { return scheduler_.now_ns(); }
+  void lock() override;
+  void unlock() override;
+
+  const char* name() const { return name_; }
+  bool running() const { return running_; }
+  size_t task_count() const { return task_indices_.size(); }
+
+ private:
+  friend class SimScheduler;
+
+  SimScheduler& scheduler_;
+  const char* name_;
+  std::vector<uint32_t> task_indices_;  // local TaskId -> scheduler task index
+  bool running_ = false;
+  bool locked_ = false;
+};
+
+}  // namespace syrof::os

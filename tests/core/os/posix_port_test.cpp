@@ -1,0 +1,183 @@
+#include "syrof/os/posix_port.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <vector>
+
+namespace syrof::os {
+namespace {
+
+using std::chrono::milliseconds;
+constexpr auto kPatience = std::chrono::seconds(10);  // generous: only bounds a hang
+
+// Records each activation's time and lets a test wait for a count.
+class CountingTask final : public Task {
+ public:
+  void step(int64_t now_ns) override {
+    std::lock_guard<std::mutex> guard(mutex_);
+    times_ns_.push_back(now_ns);
+    changed_.notify_all();
+  }
+  bool wait_for_steps(size_t count) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return changed_.wait_for(lock, kPatience, [&] { return times_ns_.size() >= count; });
+  }
+  std::vector<int64_t> times_ns() {
+    std::lock_guard<std::mutex> guard(mutex_);
+    return times_ns_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<int64_t> times_ns_;
+};
+
+TEST(PosixPortTest, PeriodicActivationsNeverComeBeforeTheirAbsoluteDueTime) {
+  PosixPort port;
+  CountingTask task;
+  constexpr int64_t kPeriod = 5'000'000;
+  constexpr int64_t kOffset = 2'000'000;
+  ASSERT_TRUE(port.add_task(task, {"periodic", Trigger::periodic(kPeriod, kOffset), 0}));
+  const int64_t before_start = port.now_ns();
+  ASSERT_EQ(port.start(), PortError::kOk);
+
+  ASSERT_TRUE(task.wait_for_steps(4));
+  ASSERT_EQ(port.stop(), PortError::kOk);
+
+  const std::vector<int64_t> times = task.times_ns();
+  for (size_t k = 0; k < times.size(); ++k) {
+    EXPECT_GE(times[k], before_start + kOffset + static_cast<int64_t>(k) * kPeriod) << "activation " << k;
+  }
+}
+
+TEST(PosixPortTest, NotifyWakesANotifiedTask) {
+  PosixPort port;
+  CountingTask task;
+  const TaskId id = port.add_task(task, {"notified", Trigger::notified(), 0}).value();
+  ASSERT_EQ(port.start(), PortError::kOk);
+
+  port.notify(id);
+
+  EXPECT_TRUE(task.wait_for_steps(1));
+}
+
+// Blocks inside its first step until released, so a test can notify while a
+// step is in progress.
+class GatedTask final : public Task {
+ public:
+  void step(int64_t) override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    ++steps_;
+    changed_.notify_all();
+    changed_.wait(lock, [&] { return released_; });
+  }
+  bool wait_for_steps(int count) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return changed_.wait_for(lock, kPatience, [&] { return steps_ >= count; });
+  }
+  void release() {
+    std::lock_guard<std::mutex> guard(mutex_);
+    released_ = true;
+    changed_.notify_all();
+  }
+  int steps() {
+    std::lock_guard<std::mutex> guard(mutex_);
+    return steps_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int steps_ = 0;
+  bool released_ = false;
+};
+
+TEST(PosixPortTest, NotificationsDuringAStepCoalesceIntoOneMoreActivation) {
+  PosixPort port;
+  GatedTask task;
+  const TaskId id = port.add_task(task, {"gated", Trigger::notified(), 0}).value();
+  ASSERT_EQ(port.start(), PortError::kOk);
+  port.notify(id);
+  ASSERT_TRUE(task.wait_for_steps(1));
+
+  for (int i = 0; i < 5; ++i) port.notify(id);
+  task.release();
+  ASSERT_TRUE(task.wait_for_steps(2));
+  ASSERT_EQ(port.stop(), PortError::kOk);
+
+  EXPECT_EQ(task.steps(), 2);
+}
+
+TEST(PosixPortTest, StopJoinsAndNoStepRunsAfterIt) {
+  PosixPort port;
+  CountingTask periodic, notified;
+  ASSERT_TRUE(port.add_task(periodic, {"periodic", Trigger::periodic(1'000'000), 0}));
+  const TaskId notified_id = port.add_task(notified, {"notified", Trigger::notified(), 0}).value();
+  ASSERT_EQ(port.start(), PortError::kOk);
+  ASSERT_TRUE(periodic.wait_for_steps(2));
+
+  ASSERT_EQ(port.stop(), PortError::kOk);
+  const size_t steps_at_stop = periodic.times_ns().size();
+  port.notify(notified_id);
+  std::this_thread::sleep_for(milliseconds(20));
+
+  EXPECT_EQ(periodic.times_ns().size(), steps_at_stop);
+  EXPECT_TRUE(notified.times_ns().empty());
+}
+
+TEST(PosixPortTest, ReportsEachLifecycleError) {
+  PosixPort port({.max_tasks = 1});
+  CountingTask first, second;
+
+  EXPECT_EQ(port.add_task(first, {"bad", Trigger::periodic(-1), 0}).error(), PortError::kInvalidTrigger);
+  EXPECT_EQ(port.stop(), PortError::kNotStarted);
+  ASSERT_TRUE(port.add_task(first, {"first", Trigger::notified(), 0}));
+  EXPECT_EQ(port.add_task(second, {"second", Trigger::notified(), 0}).error(), PortError::kTooManyTasks);
+  ASSERT_EQ(port.start(), PortError::kOk);
+  EXPECT_EQ(port.start(), PortError::kAlreadyStarted);
+  EXPECT_EQ(port.add_task(second, {"second", Trigger::notified(), 0}).error(), PortError::kAlreadyStarted);
+}
+
+// Two periodic tasks increment a plain counter in a read-modify-write that is
+// only correct under the port's critical section.
+class ContendingTask final : public Task {
+ public:
+  ContendingTask(Port& port, long& counter, std::atomic<int>& steps) : port_(port), counter_(counter), steps_(steps) {}
+  void step(int64_t) override {
+    for (int i = 0; i < 1000; ++i) {
+      CriticalSection section(port_);
+      const long value = counter_;
+      counter_ = value + 1;
+    }
+    ++steps_;
+  }
+
+ private:
+  Port& port_;
+  long& counter_;
+  std::atomic<int>& steps_;
+};
+
+TEST(PosixPortTest, CriticalSectionExcludesOtherTasks) {
+  PosixPort port;
+  long counter = 0;
+  std::atomic<int> steps{0};
+  ContendingTask a(port, counter, steps), b(port, counter, steps);
+  ASSERT_TRUE(port.add_task(a, {"a", Trigger::periodic(100'000), 0}));
+  ASSERT_TRUE(port.add_task(b, {"b", Trigger::periodic(100'000), 0}));
+  ASSERT_EQ(port.start(), PortError::kOk);
+  const auto deadline = std::chrono::steady_clock::now() + kPatience;
+  while (steps.load() < 40 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(milliseconds(1));
+
+  ASSERT_EQ(port.stop(), PortError::kOk);
+
+  EXPECT_EQ(counter, 1000L * steps.load());
+}
+
+}  // namespace
+}  // namespace syrof::os

@@ -1,0 +1,321 @@
+#include "syrof/os/sim_port.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace syrof::os {
+namespace {
+
+constexpr int64_t kMillisecond = 1'000'000;
+
+// Appends "<time_ms>:<label>" to a shared log each step.
+class RecordingTask final : public Task {
+ public:
+  RecordingTask(std::vector<std::string>& log, std::string label) : log_(log), label_(std::move(label)) {}
+  void step(int64_t now_ns) override {
+    log_.push_back(std::to_string(now_ns / kMillisecond) + ":" + label_);
+    ++steps_;
+  }
+  int steps() const { return steps_; }
+
+ private:
+  std::vector<std::string>& log_;
+  std::string label_;
+  int steps_ = 0;
+};
+
+// Notifies a list of tasks, then records itself.
+class NotifyingTask final : public Task {
+ public:
+  NotifyingTask(Port& port, std::vector<std::string>& log, std::string label)
+      : port_(port), log_(log), label_(std::move(label)) {}
+  void add_target(TaskId task) { targets_.push_back(task); }
+  void step(int64_t now_ns) override {
+    for (const TaskId target : targets_) port_.notify(target);
+    log_.push_back(std::to_string(now_ns / kMillisecond) + ":" + label_);
+  }
+
+ private:
+  Port& port_;
+  std::vector<std::string>& log_;
+  std::string label_;
+  std::vector<TaskId> targets_;
+};
+
+TEST(SimPortTest, PeriodicTaskRunsAtOffsetPlusWholePeriods) {
+  SimScheduler scheduler(4);
+  SimPort port(scheduler);
+  std::vector<std::string> log;
+  RecordingTask task(log, "t");
+  ASSERT_TRUE(port.add_task(task, {"t", Trigger::periodic(10 * kMillisecond, 3 * kMillisecond), 0}));
+  ASSERT_EQ(port.start(), PortError::kOk);
+
+  scheduler.run_until(33 * kMillisecond);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"3:t", "13:t", "23:t", "33:t"}));
+  EXPECT_EQ(scheduler.now_ns(), 33 * kMillisecond);
+  EXPECT_EQ(scheduler.next_activation_ns(), 43 * kMillisecond);
+}
+
+TEST(SimPortTest, RunUntilAdvancesTheClockEvenWhenIdle) {
+  SimScheduler scheduler(1);
+
+  scheduler.run_until(5 * kMillisecond);
+  scheduler.run_until(2 * kMillisecond);  // never goes backwards
+
+  EXPECT_EQ(scheduler.now_ns(), 5 * kMillisecond);
+  EXPECT_FALSE(scheduler.run_next());
+  EXPECT_EQ(scheduler.next_activation_ns(), -1);
+}
+
+TEST(SimPortTest, SameInstantRunsHigherPriorityFirstThenRegistrationOrderAcrossPorts) {
+  SimScheduler scheduler(8);
+  SimPort robot_a(scheduler, "a");
+  SimPort robot_b(scheduler, "b");
+  std::vector<std::string> log;
+  RecordingTask a_low(log, "a_low"), b_high(log, "b_high"), a_high(log, "a_high"), b_low(log, "b_low");
+  const Trigger every_10ms = Trigger::periodic(10 * kMillisecond);
+  ASSERT_TRUE(robot_a.add_task(a_low, {"a_low", every_10ms, 1}));
+  ASSERT_TRUE(robot_b.add_task(b_high, {"b_high", every_10ms, 5}));
+  ASSERT_TRUE(robot_a.add_task(a_high, {"a_high", every_10ms, 5}));
+  ASSERT_TRUE(robot_b.add_task(b_low, {"b_low", every_10ms, 1}));
+  ASSERT_EQ(robot_b.start(), PortError::kOk);
+  ASSERT_EQ(robot_a.start(), PortError::kOk);
+
+  scheduler.run_until(0);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"0:b_high", "0:a_high", "0:a_low", "0:b_low"}));
+}
+
+TEST(SimPortTest, NotifiedTaskRunsAfterTheNotifyingStepCompletesAtTheSameInstant) {
+  SimScheduler scheduler(4);
+  SimPort port(scheduler);
+  std::vector<std::string> log;
+  NotifyingTask publisher(port, log, "publisher");
+  RecordingTask subscriber(log, "subscriber");
+  ASSERT_TRUE(port.add_task(publisher, {"publisher", Trigger::periodic(10 * kMillisecond, 7 * kMillisecond), 0}));
+  const auto subscriber_id = port.add_task(subscriber, {"subscriber", Trigger::notified(), 9});
+  ASSERT_TRUE(subscriber_id);
+  publisher.add_target(subscriber_id.value());
+  ASSERT_EQ(port.start(), PortError::kOk);
+
+  scheduler.run_until(17 * kMillisecond);
+
+  // The subscriber has the higher priority, yet the publisher's step runs to
+  // completion before it.
+  EXPECT_EQ(log, (std::vector<std::string>{"7:publisher", "7:subscriber", "17:publisher", "17:subscriber"}));
+}
+
+TEST(SimPortTest, NotificationsBeforeTheStepRunsCoalesce) {
+  SimScheduler scheduler(4);
+  SimPort port(scheduler);
+  std::vector<std::string> log;
+  NotifyingTask publisher(port, log, "publisher");
+  RecordingTask subscriber(log, "subscriber");
+  ASSERT_TRUE(port.add_task(publisher, {"publisher", Trigger::periodic(10 * kMillisecond), 0}));
+  const TaskId subscriber_id = port.add_task(subscriber, {"subscriber", Trigger::notified(), 0}).value();
+  for (int i = 0; i < 3; ++i) publisher.add_target(subscriber_id);
+  ASSERT_EQ(port.start(), PortError::kOk);
+
+  scheduler.run_until(0);
+
+  EXPECT_EQ(subscriber.steps(), 1);
+}
+
+TEST(SimPortTest, NotifyIgnoresPeriodicTasksUnknownIdsAndStoppedPorts) {
+  SimScheduler scheduler(4);
+  SimPort port(scheduler);
+  std::vector<std::string> log;
+  RecordingTask periodic(log, "periodic");
+  RecordingTask notified(log, "notified");
+  const TaskId periodic_id = port.add_task(periodic, {"periodic", Trigger::periodic(10 * kMillisecond, 5), 0}).value();
+  const TaskId notified_id = port.add_task(notified, {"notified", Trigger::notified(), 0}).value();
+
+  port.notify(notified_id);  // not started yet
+  ASSERT_EQ(port.start(), PortError::kOk);
+  port.notify(periodic_id);
+  port.notify(static_cast<TaskId>(99));
+  scheduler.run_until(1);
+
+  EXPECT_TRUE(log.empty());
+}
+
+TEST(SimPortTest, StopDropsPendingActivationsOfThatPortOnly) {
+  SimScheduler scheduler(4);
+  SimPort crashed(scheduler, "crashed");
+  SimPort survivor(scheduler, "survivor");
+  std::vector<std::string> log;
+  RecordingTask crashed_task(log, "crashed");
+  RecordingTask survivor_task(log, "survivor");
+  ASSERT_TRUE(crashed.add_task(crashed_task, {"crashed", Trigger::periodic(10 * kMillisecond), 0}));
+  ASSERT_TRUE(survivor.add_task(survivor_task, {"survivor", Trigger::periodic(10 * kMillisecond), 0}));
+  ASSERT_EQ(crashed.start(), PortError::kOk);
+  ASSERT_EQ(survivor.start(), PortError::kOk);
+  scheduler.run_until(10 * kMillisecond);
+
+  ASSERT_EQ(crashed.stop(), PortError::kOk);
+  scheduler.run_until(30 * kMillisecond);
+
+  EXPECT_EQ(crashed_task.steps(), 2);
+  EXPECT_EQ(survivor_task.steps(), 4);
+  EXPECT_FALSE(crashed.running());
+}
+
+TEST(SimPortTest, RestartedPortSchedulesFromTheRestartInstant) {
+  SimScheduler scheduler(2);
+  SimPort port(scheduler);
+  std::vector<std::string> log;
+  RecordingTask task(log, "t");
+  ASSERT_TRUE(port.add_task(task, {"t", Trigger::periodic(10 * kMillisecond, 2 * kMillisecond), 0}));
+  ASSERT_EQ(port.start(), PortError::kOk);
+  scheduler.run_until(5 * kMillisecond);
+  ASSERT_EQ(port.stop(), PortError::kOk);
+  scheduler.run_until(25 * kMillisecond);
+
+  ASSERT_EQ(port.start(), PortError::kOk);
+  scheduler.run_until(40 * kMillisecond);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"2:t", "27:t", "37:t"}));
+}
+
+// A step that stops its own port (a robot deciding to crash) cancels its own
+// next activation too.
+class SelfStoppingTask final : public Task {
+ public:
+  explicit SelfStoppingTask(SimPort& port) : port_(port) {}
+  void step(int64_t) override {
+    ++steps;
+    (void)port_.stop();
+  }
+  int steps = 0;
+
+ private:
+  SimPort& port_;
+};
+
+TEST(SimPortTest, StepThatStopsItsOwnPortCancelsItsNextActivation) {
+  SimScheduler scheduler(1);
+  SimPort port(scheduler);
+  SelfStoppingTask task(port);
+  ASSERT_TRUE(port.add_task(task, {"self", Trigger::periodic(kMillisecond), 0}));
+  ASSERT_EQ(port.start(), PortError::kOk);
+
+  scheduler.run_until(10 * kMillisecond);
+
+  EXPECT_EQ(task.steps, 1);
+  EXPECT_EQ(scheduler.next_activation_ns(), -1);
+}
+
+TEST(SimPortTest, ReportsEachLifecycleError) {
+  SimScheduler scheduler(1);
+  SimPort port(scheduler);
+  std::vector<std::string> log;
+  RecordingTask first(log, "first"), second(log, "second");
+
+  EXPECT_EQ(port.add_task(first, {"bad", Trigger::periodic(0), 0}).error(), PortError::kInvalidTrigger);
+  EXPECT_EQ(port.stop(), PortError::kNotStarted);
+  ASSERT_TRUE(port.add_task(first, {"first", Trigger::notified(), 0}));
+  EXPECT_EQ(port.add_task(second, {"second", Trigger::notified(), 0}).error(), PortError::kTooManyTasks);
+  ASSERT_EQ(port.start(), PortError::kOk);
+  EXPECT_EQ(port.start(), PortError::kAlreadyStarted);
+  EXPECT_EQ(port.add_task(second, {"second", Trigger::notified(), 0}).error(), PortError::kAlreadyStarted);
+}
+
+TEST(SimPortTest, CriticalSectionsMayFollowEachOther) {
+  SimScheduler scheduler(1);
+  SimPort port(scheduler);
+
+  { CriticalSection first(port); }
+  { CriticalSection second(port); }
+
+  SUCCEED();
+}
+
+TEST(SimPortDeathTest, NestedCriticalSectionIsABug) {
+  SimScheduler scheduler(1);
+  SimPort port(scheduler);
+
+  EXPECT_DEATH_IF_SUPPORTED(
+      {
+        CriticalSection outer(port);
+        CriticalSection inner(port);
+      },
+      "SYROF_CHECK failed");
+}
+
+// Records every step the scheduler runs as one line of text.
+class TextTrace final : public SimTraceSink {
+ public:
+  void on_step(int64_t time_ns, const SimPort& port, TaskId task, const TaskConfig& config) override {
+    text += std::to_string(time_ns) + " " + port.name() + "/" + std::to_string(task) + "/" + config.name + "\n";
+  }
+  std::string text;
+};
+
+// Notifies a random subset of a robot's tasks each step, drawn from a seeded
+// generator: a busy little world whose trace must repeat exactly.
+class RandomNotifier final : public Task {
+ public:
+  RandomNotifier(Port& port, std::mt19937& random, TaskId first_target, TaskId target_count)
+      : port_(port), random_(random), first_target_(first_target), target_count_(target_count) {}
+  void step(int64_t) override {
+    for (TaskId i = 0; i < target_count_; ++i) {
+      if (random_() % 2 == 0) port_.notify(static_cast<TaskId>(first_target_ + i));
+    }
+  }
+
+ private:
+  Port& port_;
+  std::mt19937& random_;
+  TaskId first_target_;
+  TaskId target_count_;
+};
+
+class Idle final : public Task {
+ public:
+  void step(int64_t) override {}
+};
+
+std::string run_random_world(uint32_t seed) {
+  constexpr int kRobots = 4;
+  constexpr int kListeners = 3;
+  std::mt19937 random(seed);
+  SimScheduler scheduler(kRobots * (1 + kListeners));
+  TextTrace trace;
+  scheduler.set_trace(&trace);
+  const char* names[kRobots] = {"r0", "r1", "r2", "r3"};
+  std::vector<std::unique_ptr<SimPort>> ports;
+  std::vector<std::unique_ptr<RandomNotifier>> notifiers;
+  std::vector<Idle> listeners(kRobots * kListeners);
+  for (int robot = 0; robot < kRobots; ++robot) {
+    ports.push_back(std::make_unique<SimPort>(scheduler, names[robot]));
+    SimPort& port = *ports.back();
+    notifiers.push_back(std::make_unique<RandomNotifier>(port, random, 1, kListeners));
+    const int64_t period = (robot + 2) * kMillisecond;
+    EXPECT_TRUE(port.add_task(*notifiers.back(), {"notifier", Trigger::periodic(period, robot), 1}));
+    for (int i = 0; i < kListeners; ++i) {
+      const auto priority = static_cast<uint8_t>((robot + i) % 3);
+      EXPECT_TRUE(port.add_task(listeners[robot * kListeners + i], {"listener", Trigger::notified(), priority}));
+    }
+    EXPECT_EQ(port.start(), PortError::kOk);
+  }
+  scheduler.run_until(200 * kMillisecond);
+  return trace.text;
+}
+
+TEST(SimPortTest, SameProgramAndSeedGiveTheSameTrace) {
+  const std::string first = run_random_world(7);
+  const std::string second = run_random_world(7);
+  const std::string other_seed = run_random_world(8);
+
+  EXPECT_GT(first.size(), 1000u);
+  EXPECT_EQ(first, second);
+  EXPECT_NE(first, other_seed);
+}
+
+}  // namespace
+}  // namespace syrof::os
