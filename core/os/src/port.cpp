@@ -2,7 +2,7 @@
 
 namespace syrof::os {
 
-const char* to_string(PortError error) {
+const char* ToString(PortError error) {
   switch (error) {
     case PortError::kOk: return "ok";
     case PortError::kTooManyTasks: return "too many tasks";
@@ -14,7 +14,7 @@ const char* to_string(PortError error) {
   return "unknown port error";
 }
 
-PortError validate(const Trigger& trigger) {
+PortError Validate(const Trigger& trigger) {
   if (trigger.kind == TriggerKind::kPeriodic && (trigger.period_ns <= 0 || trigger.offset_ns < 0)) {
     return PortError::kInvalidTrigger;
   }

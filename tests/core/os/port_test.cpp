@@ -6,15 +6,15 @@ namespace syrof::os {
 namespace {
 
 TEST(ValidateTriggerTest, AcceptsPositivePeriodAndNonNegativeOffset) {
-  EXPECT_EQ(validate(Trigger::periodic(1)), PortError::kOk);
-  EXPECT_EQ(validate(Trigger::periodic(1'000'000, 0)), PortError::kOk);
-  EXPECT_EQ(validate(Trigger::notified()), PortError::kOk);
+  EXPECT_EQ(Validate(Trigger::periodic(1)), PortError::kOk);
+  EXPECT_EQ(Validate(Trigger::periodic(1'000'000, 0)), PortError::kOk);
+  EXPECT_EQ(Validate(Trigger::notified()), PortError::kOk);
 }
 
 TEST(ValidateTriggerTest, RejectsNonPositivePeriodAndNegativeOffset) {
-  EXPECT_EQ(validate(Trigger::periodic(0)), PortError::kInvalidTrigger);
-  EXPECT_EQ(validate(Trigger::periodic(-5)), PortError::kInvalidTrigger);
-  EXPECT_EQ(validate(Trigger::periodic(10, -1)), PortError::kInvalidTrigger);
+  EXPECT_EQ(Validate(Trigger::periodic(0)), PortError::kInvalidTrigger);
+  EXPECT_EQ(Validate(Trigger::periodic(-5)), PortError::kInvalidTrigger);
+  EXPECT_EQ(Validate(Trigger::periodic(10, -1)), PortError::kInvalidTrigger);
 }
 
 TEST(PortErrorTest, EveryErrorHasADistinctName) {
@@ -23,7 +23,7 @@ TEST(PortErrorTest, EveryErrorHasADistinctName) {
   for (const PortError a : errors) {
     for (const PortError b : errors) {
       if (a != b) {
-        EXPECT_STRNE(to_string(a), to_string(b));
+        EXPECT_STRNE(ToString(a), ToString(b));
       }
     }
   }

@@ -17,7 +17,7 @@ constexpr auto kPatience = std::chrono::seconds(10);  // generous: only bounds a
 // Records each activation's time and lets a test wait for a count.
 class CountingTask final : public Task {
  public:
-  void step(int64_t now_ns) override {
+  void Step(int64_t now_ns) override {
     std::lock_guard<std::mutex> guard(mutex_);
     times_ns_.push_back(now_ns);
     changed_.notify_all();
@@ -42,12 +42,12 @@ TEST(PosixPortTest, PeriodicActivationsNeverComeBeforeTheirAbsoluteDueTime) {
   CountingTask task;
   constexpr int64_t kPeriod = 5'000'000;
   constexpr int64_t kOffset = 2'000'000;
-  ASSERT_TRUE(port.add_task(task, {"periodic", Trigger::periodic(kPeriod, kOffset), 0}));
+  ASSERT_TRUE(port.AddTask(task, {"periodic", Trigger::periodic(kPeriod, kOffset), 0}));
   const int64_t before_start = port.now_ns();
-  ASSERT_EQ(port.start(), PortError::kOk);
+  ASSERT_EQ(port.Start(), PortError::kOk);
 
   ASSERT_TRUE(task.wait_for_steps(4));
-  ASSERT_EQ(port.stop(), PortError::kOk);
+  ASSERT_EQ(port.Stop(), PortError::kOk);
 
   const std::vector<int64_t> times = task.times_ns();
   for (size_t k = 0; k < times.size(); ++k) {
@@ -58,10 +58,10 @@ TEST(PosixPortTest, PeriodicActivationsNeverComeBeforeTheirAbsoluteDueTime) {
 TEST(PosixPortTest, NotifyWakesANotifiedTask) {
   PosixPort port;
   CountingTask task;
-  const TaskId id = port.add_task(task, {"notified", Trigger::notified(), 0}).value();
-  ASSERT_EQ(port.start(), PortError::kOk);
+  const TaskId id = port.AddTask(task, {"notified", Trigger::notified(), 0}).value();
+  ASSERT_EQ(port.Start(), PortError::kOk);
 
-  port.notify(id);
+  port.Notify(id);
 
   EXPECT_TRUE(task.wait_for_steps(1));
 }
@@ -70,7 +70,7 @@ TEST(PosixPortTest, NotifyWakesANotifiedTask) {
 // step is in progress.
 class GatedTask final : public Task {
  public:
-  void step(int64_t) override {
+  void Step(int64_t) override {
     std::unique_lock<std::mutex> lock(mutex_);
     ++steps_;
     changed_.notify_all();
@@ -100,15 +100,15 @@ class GatedTask final : public Task {
 TEST(PosixPortTest, NotificationsDuringAStepCoalesceIntoOneMoreActivation) {
   PosixPort port;
   GatedTask task;
-  const TaskId id = port.add_task(task, {"gated", Trigger::notified(), 0}).value();
-  ASSERT_EQ(port.start(), PortError::kOk);
-  port.notify(id);
+  const TaskId id = port.AddTask(task, {"gated", Trigger::notified(), 0}).value();
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  port.Notify(id);
   ASSERT_TRUE(task.wait_for_steps(1));
 
-  for (int i = 0; i < 5; ++i) port.notify(id);
+  for (int i = 0; i < 5; ++i) port.Notify(id);
   task.release();
   ASSERT_TRUE(task.wait_for_steps(2));
-  ASSERT_EQ(port.stop(), PortError::kOk);
+  ASSERT_EQ(port.Stop(), PortError::kOk);
 
   EXPECT_EQ(task.steps(), 2);
 }
@@ -116,14 +116,14 @@ TEST(PosixPortTest, NotificationsDuringAStepCoalesceIntoOneMoreActivation) {
 TEST(PosixPortTest, StopJoinsAndNoStepRunsAfterIt) {
   PosixPort port;
   CountingTask periodic, notified;
-  ASSERT_TRUE(port.add_task(periodic, {"periodic", Trigger::periodic(1'000'000), 0}));
-  const TaskId notified_id = port.add_task(notified, {"notified", Trigger::notified(), 0}).value();
-  ASSERT_EQ(port.start(), PortError::kOk);
+  ASSERT_TRUE(port.AddTask(periodic, {"periodic", Trigger::periodic(1'000'000), 0}));
+  const TaskId notified_id = port.AddTask(notified, {"notified", Trigger::notified(), 0}).value();
+  ASSERT_EQ(port.Start(), PortError::kOk);
   ASSERT_TRUE(periodic.wait_for_steps(2));
 
-  ASSERT_EQ(port.stop(), PortError::kOk);
+  ASSERT_EQ(port.Stop(), PortError::kOk);
   const size_t steps_at_stop = periodic.times_ns().size();
-  port.notify(notified_id);
+  port.Notify(notified_id);
   std::this_thread::sleep_for(milliseconds(20));
 
   EXPECT_EQ(periodic.times_ns().size(), steps_at_stop);
@@ -134,13 +134,13 @@ TEST(PosixPortTest, ReportsEachLifecycleError) {
   PosixPort port({.max_tasks = 1});
   CountingTask first, second;
 
-  EXPECT_EQ(port.add_task(first, {"bad", Trigger::periodic(-1), 0}).error(), PortError::kInvalidTrigger);
-  EXPECT_EQ(port.stop(), PortError::kNotStarted);
-  ASSERT_TRUE(port.add_task(first, {"first", Trigger::notified(), 0}));
-  EXPECT_EQ(port.add_task(second, {"second", Trigger::notified(), 0}).error(), PortError::kTooManyTasks);
-  ASSERT_EQ(port.start(), PortError::kOk);
-  EXPECT_EQ(port.start(), PortError::kAlreadyStarted);
-  EXPECT_EQ(port.add_task(second, {"second", Trigger::notified(), 0}).error(), PortError::kAlreadyStarted);
+  EXPECT_EQ(port.AddTask(first, {"bad", Trigger::periodic(-1), 0}).error(), PortError::kInvalidTrigger);
+  EXPECT_EQ(port.Stop(), PortError::kNotStarted);
+  ASSERT_TRUE(port.AddTask(first, {"first", Trigger::notified(), 0}));
+  EXPECT_EQ(port.AddTask(second, {"second", Trigger::notified(), 0}).error(), PortError::kTooManyTasks);
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  EXPECT_EQ(port.Start(), PortError::kAlreadyStarted);
+  EXPECT_EQ(port.AddTask(second, {"second", Trigger::notified(), 0}).error(), PortError::kAlreadyStarted);
 }
 
 // Two periodic tasks increment a plain counter in a read-modify-write that is
@@ -148,7 +148,7 @@ TEST(PosixPortTest, ReportsEachLifecycleError) {
 class ContendingTask final : public Task {
  public:
   ContendingTask(Port& port, long& counter, std::atomic<int>& steps) : port_(port), counter_(counter), steps_(steps) {}
-  void step(int64_t) override {
+  void Step(int64_t) override {
     for (int i = 0; i < 1000; ++i) {
       CriticalSection section(port_);
       const long value = counter_;
@@ -168,13 +168,13 @@ TEST(PosixPortTest, CriticalSectionExcludesOtherTasks) {
   long counter = 0;
   std::atomic<int> steps{0};
   ContendingTask a(port, counter, steps), b(port, counter, steps);
-  ASSERT_TRUE(port.add_task(a, {"a", Trigger::periodic(100'000), 0}));
-  ASSERT_TRUE(port.add_task(b, {"b", Trigger::periodic(100'000), 0}));
-  ASSERT_EQ(port.start(), PortError::kOk);
+  ASSERT_TRUE(port.AddTask(a, {"a", Trigger::periodic(100'000), 0}));
+  ASSERT_TRUE(port.AddTask(b, {"b", Trigger::periodic(100'000), 0}));
+  ASSERT_EQ(port.Start(), PortError::kOk);
   const auto deadline = std::chrono::steady_clock::now() + kPatience;
   while (steps.load() < 40 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(milliseconds(1));
 
-  ASSERT_EQ(port.stop(), PortError::kOk);
+  ASSERT_EQ(port.Stop(), PortError::kOk);
 
   EXPECT_EQ(counter, 1000L * steps.load());
 }

@@ -16,7 +16,7 @@ constexpr int64_t kMillisecond = 1'000'000;
 class RecordingTask final : public Task {
  public:
   RecordingTask(std::vector<std::string>& log, std::string label) : log_(log), label_(std::move(label)) {}
-  void step(int64_t now_ns) override {
+  void Step(int64_t now_ns) override {
     log_.push_back(std::to_string(now_ns / kMillisecond) + ":" + label_);
     ++steps_;
   }
@@ -34,8 +34,8 @@ class NotifyingTask final : public Task {
   NotifyingTask(Port& port, std::vector<std::string>& log, std::string label)
       : port_(port), log_(log), label_(std::move(label)) {}
   void add_target(TaskId task) { targets_.push_back(task); }
-  void step(int64_t now_ns) override {
-    for (const TaskId target : targets_) port_.notify(target);
+  void Step(int64_t now_ns) override {
+    for (const TaskId target : targets_) port_.Notify(target);
     log_.push_back(std::to_string(now_ns / kMillisecond) + ":" + label_);
   }
 
@@ -51,10 +51,10 @@ TEST(SimPortTest, PeriodicTaskRunsAtOffsetPlusWholePeriods) {
   SimPort port(scheduler);
   std::vector<std::string> log;
   RecordingTask task(log, "t");
-  ASSERT_TRUE(port.add_task(task, {"t", Trigger::periodic(10 * kMillisecond, 3 * kMillisecond), 0}));
-  ASSERT_EQ(port.start(), PortError::kOk);
+  ASSERT_TRUE(port.AddTask(task, {"t", Trigger::periodic(10 * kMillisecond, 3 * kMillisecond), 0}));
+  ASSERT_EQ(port.Start(), PortError::kOk);
 
-  scheduler.run_until(33 * kMillisecond);
+  scheduler.RunUntil(33 * kMillisecond);
 
   EXPECT_EQ(log, (std::vector<std::string>{"3:t", "13:t", "23:t", "33:t"}));
   EXPECT_EQ(scheduler.now_ns(), 33 * kMillisecond);
@@ -64,11 +64,11 @@ TEST(SimPortTest, PeriodicTaskRunsAtOffsetPlusWholePeriods) {
 TEST(SimPortTest, RunUntilAdvancesTheClockEvenWhenIdle) {
   SimScheduler scheduler(1);
 
-  scheduler.run_until(5 * kMillisecond);
-  scheduler.run_until(2 * kMillisecond);  // never goes backwards
+  scheduler.RunUntil(5 * kMillisecond);
+  scheduler.RunUntil(2 * kMillisecond);  // never goes backwards
 
   EXPECT_EQ(scheduler.now_ns(), 5 * kMillisecond);
-  EXPECT_FALSE(scheduler.run_next());
+  EXPECT_FALSE(scheduler.RunNext());
   EXPECT_EQ(scheduler.next_activation_ns(), -1);
 }
 
@@ -79,14 +79,14 @@ TEST(SimPortTest, SameInstantRunsHigherPriorityFirstThenRegistrationOrderAcrossP
   std::vector<std::string> log;
   RecordingTask a_low(log, "a_low"), b_high(log, "b_high"), a_high(log, "a_high"), b_low(log, "b_low");
   const Trigger every_10ms = Trigger::periodic(10 * kMillisecond);
-  ASSERT_TRUE(robot_a.add_task(a_low, {"a_low", every_10ms, 1}));
-  ASSERT_TRUE(robot_b.add_task(b_high, {"b_high", every_10ms, 5}));
-  ASSERT_TRUE(robot_a.add_task(a_high, {"a_high", every_10ms, 5}));
-  ASSERT_TRUE(robot_b.add_task(b_low, {"b_low", every_10ms, 1}));
-  ASSERT_EQ(robot_b.start(), PortError::kOk);
-  ASSERT_EQ(robot_a.start(), PortError::kOk);
+  ASSERT_TRUE(robot_a.AddTask(a_low, {"a_low", every_10ms, 1}));
+  ASSERT_TRUE(robot_b.AddTask(b_high, {"b_high", every_10ms, 5}));
+  ASSERT_TRUE(robot_a.AddTask(a_high, {"a_high", every_10ms, 5}));
+  ASSERT_TRUE(robot_b.AddTask(b_low, {"b_low", every_10ms, 1}));
+  ASSERT_EQ(robot_b.Start(), PortError::kOk);
+  ASSERT_EQ(robot_a.Start(), PortError::kOk);
 
-  scheduler.run_until(0);
+  scheduler.RunUntil(0);
 
   EXPECT_EQ(log, (std::vector<std::string>{"0:b_high", "0:a_high", "0:a_low", "0:b_low"}));
 }
@@ -97,13 +97,13 @@ TEST(SimPortTest, NotifiedTaskRunsAfterTheNotifyingStepCompletesAtTheSameInstant
   std::vector<std::string> log;
   NotifyingTask publisher(port, log, "publisher");
   RecordingTask subscriber(log, "subscriber");
-  ASSERT_TRUE(port.add_task(publisher, {"publisher", Trigger::periodic(10 * kMillisecond, 7 * kMillisecond), 0}));
-  const auto subscriber_id = port.add_task(subscriber, {"subscriber", Trigger::notified(), 9});
+  ASSERT_TRUE(port.AddTask(publisher, {"publisher", Trigger::periodic(10 * kMillisecond, 7 * kMillisecond), 0}));
+  const auto subscriber_id = port.AddTask(subscriber, {"subscriber", Trigger::notified(), 9});
   ASSERT_TRUE(subscriber_id);
   publisher.add_target(subscriber_id.value());
-  ASSERT_EQ(port.start(), PortError::kOk);
+  ASSERT_EQ(port.Start(), PortError::kOk);
 
-  scheduler.run_until(17 * kMillisecond);
+  scheduler.RunUntil(17 * kMillisecond);
 
   // The subscriber has the higher priority, yet the publisher's step runs to
   // completion before it.
@@ -116,12 +116,12 @@ TEST(SimPortTest, NotificationsBeforeTheStepRunsCoalesce) {
   std::vector<std::string> log;
   NotifyingTask publisher(port, log, "publisher");
   RecordingTask subscriber(log, "subscriber");
-  ASSERT_TRUE(port.add_task(publisher, {"publisher", Trigger::periodic(10 * kMillisecond), 0}));
-  const TaskId subscriber_id = port.add_task(subscriber, {"subscriber", Trigger::notified(), 0}).value();
+  ASSERT_TRUE(port.AddTask(publisher, {"publisher", Trigger::periodic(10 * kMillisecond), 0}));
+  const TaskId subscriber_id = port.AddTask(subscriber, {"subscriber", Trigger::notified(), 0}).value();
   for (int i = 0; i < 3; ++i) publisher.add_target(subscriber_id);
-  ASSERT_EQ(port.start(), PortError::kOk);
+  ASSERT_EQ(port.Start(), PortError::kOk);
 
-  scheduler.run_until(0);
+  scheduler.RunUntil(0);
 
   EXPECT_EQ(subscriber.steps(), 1);
 }
@@ -132,14 +132,14 @@ TEST(SimPortTest, NotifyIgnoresPeriodicTasksUnknownIdsAndStoppedPorts) {
   std::vector<std::string> log;
   RecordingTask periodic(log, "periodic");
   RecordingTask notified(log, "notified");
-  const TaskId periodic_id = port.add_task(periodic, {"periodic", Trigger::periodic(10 * kMillisecond, 5), 0}).value();
-  const TaskId notified_id = port.add_task(notified, {"notified", Trigger::notified(), 0}).value();
+  const TaskId periodic_id = port.AddTask(periodic, {"periodic", Trigger::periodic(10 * kMillisecond, 5), 0}).value();
+  const TaskId notified_id = port.AddTask(notified, {"notified", Trigger::notified(), 0}).value();
 
-  port.notify(notified_id);  // not started yet
-  ASSERT_EQ(port.start(), PortError::kOk);
-  port.notify(periodic_id);
-  port.notify(static_cast<TaskId>(99));
-  scheduler.run_until(1);
+  port.Notify(notified_id);  // not started yet
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  port.Notify(periodic_id);
+  port.Notify(static_cast<TaskId>(99));
+  scheduler.RunUntil(1);
 
   EXPECT_TRUE(log.empty());
 }
@@ -151,14 +151,14 @@ TEST(SimPortTest, StopDropsPendingActivationsOfThatPortOnly) {
   std::vector<std::string> log;
   RecordingTask crashed_task(log, "crashed");
   RecordingTask survivor_task(log, "survivor");
-  ASSERT_TRUE(crashed.add_task(crashed_task, {"crashed", Trigger::periodic(10 * kMillisecond), 0}));
-  ASSERT_TRUE(survivor.add_task(survivor_task, {"survivor", Trigger::periodic(10 * kMillisecond), 0}));
-  ASSERT_EQ(crashed.start(), PortError::kOk);
-  ASSERT_EQ(survivor.start(), PortError::kOk);
-  scheduler.run_until(10 * kMillisecond);
+  ASSERT_TRUE(crashed.AddTask(crashed_task, {"crashed", Trigger::periodic(10 * kMillisecond), 0}));
+  ASSERT_TRUE(survivor.AddTask(survivor_task, {"survivor", Trigger::periodic(10 * kMillisecond), 0}));
+  ASSERT_EQ(crashed.Start(), PortError::kOk);
+  ASSERT_EQ(survivor.Start(), PortError::kOk);
+  scheduler.RunUntil(10 * kMillisecond);
 
-  ASSERT_EQ(crashed.stop(), PortError::kOk);
-  scheduler.run_until(30 * kMillisecond);
+  ASSERT_EQ(crashed.Stop(), PortError::kOk);
+  scheduler.RunUntil(30 * kMillisecond);
 
   EXPECT_EQ(crashed_task.steps(), 2);
   EXPECT_EQ(survivor_task.steps(), 4);
@@ -170,14 +170,14 @@ TEST(SimPortTest, RestartedPortSchedulesFromTheRestartInstant) {
   SimPort port(scheduler);
   std::vector<std::string> log;
   RecordingTask task(log, "t");
-  ASSERT_TRUE(port.add_task(task, {"t", Trigger::periodic(10 * kMillisecond, 2 * kMillisecond), 0}));
-  ASSERT_EQ(port.start(), PortError::kOk);
-  scheduler.run_until(5 * kMillisecond);
-  ASSERT_EQ(port.stop(), PortError::kOk);
-  scheduler.run_until(25 * kMillisecond);
+  ASSERT_TRUE(port.AddTask(task, {"t", Trigger::periodic(10 * kMillisecond, 2 * kMillisecond), 0}));
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  scheduler.RunUntil(5 * kMillisecond);
+  ASSERT_EQ(port.Stop(), PortError::kOk);
+  scheduler.RunUntil(25 * kMillisecond);
 
-  ASSERT_EQ(port.start(), PortError::kOk);
-  scheduler.run_until(40 * kMillisecond);
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  scheduler.RunUntil(40 * kMillisecond);
 
   EXPECT_EQ(log, (std::vector<std::string>{"2:t", "27:t", "37:t"}));
 }
@@ -187,9 +187,9 @@ TEST(SimPortTest, RestartedPortSchedulesFromTheRestartInstant) {
 class SelfStoppingTask final : public Task {
  public:
   explicit SelfStoppingTask(SimPort& port) : port_(port) {}
-  void step(int64_t) override {
+  void Step(int64_t) override {
     ++steps;
-    (void)port_.stop();
+    (void)port_.Stop();
   }
   int steps = 0;
 
@@ -201,10 +201,10 @@ TEST(SimPortTest, StepThatStopsItsOwnPortCancelsItsNextActivation) {
   SimScheduler scheduler(1);
   SimPort port(scheduler);
   SelfStoppingTask task(port);
-  ASSERT_TRUE(port.add_task(task, {"self", Trigger::periodic(kMillisecond), 0}));
-  ASSERT_EQ(port.start(), PortError::kOk);
+  ASSERT_TRUE(port.AddTask(task, {"self", Trigger::periodic(kMillisecond), 0}));
+  ASSERT_EQ(port.Start(), PortError::kOk);
 
-  scheduler.run_until(10 * kMillisecond);
+  scheduler.RunUntil(10 * kMillisecond);
 
   EXPECT_EQ(task.steps, 1);
   EXPECT_EQ(scheduler.next_activation_ns(), -1);
@@ -216,13 +216,13 @@ TEST(SimPortTest, ReportsEachLifecycleError) {
   std::vector<std::string> log;
   RecordingTask first(log, "first"), second(log, "second");
 
-  EXPECT_EQ(port.add_task(first, {"bad", Trigger::periodic(0), 0}).error(), PortError::kInvalidTrigger);
-  EXPECT_EQ(port.stop(), PortError::kNotStarted);
-  ASSERT_TRUE(port.add_task(first, {"first", Trigger::notified(), 0}));
-  EXPECT_EQ(port.add_task(second, {"second", Trigger::notified(), 0}).error(), PortError::kTooManyTasks);
-  ASSERT_EQ(port.start(), PortError::kOk);
-  EXPECT_EQ(port.start(), PortError::kAlreadyStarted);
-  EXPECT_EQ(port.add_task(second, {"second", Trigger::notified(), 0}).error(), PortError::kAlreadyStarted);
+  EXPECT_EQ(port.AddTask(first, {"bad", Trigger::periodic(0), 0}).error(), PortError::kInvalidTrigger);
+  EXPECT_EQ(port.Stop(), PortError::kNotStarted);
+  ASSERT_TRUE(port.AddTask(first, {"first", Trigger::notified(), 0}));
+  EXPECT_EQ(port.AddTask(second, {"second", Trigger::notified(), 0}).error(), PortError::kTooManyTasks);
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  EXPECT_EQ(port.Start(), PortError::kAlreadyStarted);
+  EXPECT_EQ(port.AddTask(second, {"second", Trigger::notified(), 0}).error(), PortError::kAlreadyStarted);
 }
 
 TEST(SimPortTest, CriticalSectionsMayFollowEachOther) {
@@ -250,7 +250,7 @@ TEST(SimPortDeathTest, NestedCriticalSectionIsABug) {
 // Records every step the scheduler runs as one line of text.
 class TextTrace final : public SimTraceSink {
  public:
-  void on_step(int64_t time_ns, const SimPort& port, TaskId task, const TaskConfig& config) override {
+  void OnStep(int64_t time_ns, const SimPort& port, TaskId task, const TaskConfig& config) override {
     text += std::to_string(time_ns) + " " + port.name() + "/" + std::to_string(task) + "/" + config.name + "\n";
   }
   std::string text;
@@ -262,9 +262,9 @@ class RandomNotifier final : public Task {
  public:
   RandomNotifier(Port& port, std::mt19937& random, TaskId first_target, TaskId target_count)
       : port_(port), random_(random), first_target_(first_target), target_count_(target_count) {}
-  void step(int64_t) override {
+  void Step(int64_t) override {
     for (TaskId i = 0; i < target_count_; ++i) {
-      if (random_() % 2 == 0) port_.notify(static_cast<TaskId>(first_target_ + i));
+      if (random_() % 2 == 0) port_.Notify(static_cast<TaskId>(first_target_ + i));
     }
   }
 
@@ -277,7 +277,7 @@ class RandomNotifier final : public Task {
 
 class Idle final : public Task {
  public:
-  void step(int64_t) override {}
+  void Step(int64_t) override {}
 };
 
 std::string run_random_world(uint32_t seed) {
@@ -296,14 +296,14 @@ std::string run_random_world(uint32_t seed) {
     SimPort& port = *ports.back();
     notifiers.push_back(std::make_unique<RandomNotifier>(port, random, 1, kListeners));
     const int64_t period = (robot + 2) * kMillisecond;
-    EXPECT_TRUE(port.add_task(*notifiers.back(), {"notifier", Trigger::periodic(period, robot), 1}));
+    EXPECT_TRUE(port.AddTask(*notifiers.back(), {"notifier", Trigger::periodic(period, robot), 1}));
     for (int i = 0; i < kListeners; ++i) {
       const auto priority = static_cast<uint8_t>((robot + i) % 3);
-      EXPECT_TRUE(port.add_task(listeners[robot * kListeners + i], {"listener", Trigger::notified(), priority}));
+      EXPECT_TRUE(port.AddTask(listeners[robot * kListeners + i], {"listener", Trigger::notified(), priority}));
     }
-    EXPECT_EQ(port.start(), PortError::kOk);
+    EXPECT_EQ(port.Start(), PortError::kOk);
   }
-  scheduler.run_until(200 * kMillisecond);
+  scheduler.RunUntil(200 * kMillisecond);
   return trace.text;
 }
 

@@ -20,12 +20,12 @@ PosixPort::PosixPort(PosixPortOptions options)
   workers_.reserve(options_.max_tasks);
 }
 
-PosixPort::~PosixPort() { (void)stop(); }
+PosixPort::~PosixPort() { (void)Stop(); }
 
-base::Result<TaskId, PortError> PosixPort::add_task(Task& task, const TaskConfig& config) {
+base::Result<TaskId, PortError> PosixPort::AddTask(Task& task, const TaskConfig& config) {
   std::lock_guard<std::mutex> guard(state_mutex_);
   if (running_) return PortError::kAlreadyStarted;
-  if (const PortError error = validate(config.trigger); error != PortError::kOk) return error;
+  if (const PortError error = Validate(config.trigger); error != PortError::kOk) return error;
   if (workers_.size() >= options_.max_tasks) return PortError::kTooManyTasks;
   auto worker = std::make_unique<Worker>();
   worker->task = &task;
@@ -34,7 +34,7 @@ base::Result<TaskId, PortError> PosixPort::add_task(Task& task, const TaskConfig
   return static_cast<TaskId>(workers_.size() - 1);
 }
 
-PortError PosixPort::start() {
+PortError PosixPort::Start() {
   {
     std::lock_guard<std::mutex> guard(state_mutex_);
     if (running_) return PortError::kAlreadyStarted;
@@ -46,12 +46,12 @@ PortError PosixPort::start() {
     Worker& w = *worker;
     try {
       if (w.config.trigger.kind == TriggerKind::kPeriodic) {
-        w.thread = std::thread([this, &w] { run_periodic(w); });
+        w.thread = std::thread([this, &w] { RunPeriodic(w); });
       } else {
-        w.thread = std::thread([this, &w] { run_notified(w); });
+        w.thread = std::thread([this, &w] { RunNotified(w); });
       }
     } catch (const std::system_error&) {
-      (void)stop();
+      (void)Stop();
       return PortError::kSystemError;
     }
     if (options_.realtime_priorities) {
@@ -64,7 +64,7 @@ PortError PosixPort::start() {
   return PortError::kOk;
 }
 
-PortError PosixPort::stop() {
+PortError PosixPort::Stop() {
   {
     std::lock_guard<std::mutex> guard(state_mutex_);
     if (!running_) return PortError::kNotStarted;
@@ -77,7 +77,7 @@ PortError PosixPort::stop() {
   return PortError::kOk;
 }
 
-void PosixPort::notify(TaskId task) {
+void PosixPort::Notify(TaskId task) {
   if (task >= workers_.size()) return;
   Worker& worker = *workers_[task];
   if (worker.config.trigger.kind != TriggerKind::kNotified) return;
@@ -93,27 +93,27 @@ int64_t PosixPort::now_ns() const {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - epoch_).count();
 }
 
-void PosixPort::run_periodic(Worker& worker) {
+void PosixPort::RunPeriodic(Worker& worker) {
   const auto period = std::chrono::nanoseconds(worker.config.trigger.period_ns);
   auto due = started_ + std::chrono::nanoseconds(worker.config.trigger.offset_ns);
   std::unique_lock<std::mutex> state(state_mutex_);
   while (running_) {
     if (worker.wake.wait_until(state, due, [this] { return !running_; })) break;
     state.unlock();
-    worker.task->step(now_ns());
+    worker.task->Step(now_ns());
     state.lock();
     due += period;
   }
 }
 
-void PosixPort::run_notified(Worker& worker) {
+void PosixPort::RunNotified(Worker& worker) {
   std::unique_lock<std::mutex> state(state_mutex_);
   while (true) {
     worker.wake.wait(state, [&] { return worker.pending || !running_; });
     if (!running_) break;
     worker.pending = false;
     state.unlock();
-    worker.task->step(now_ns());
+    worker.task->Step(now_ns());
     state.lock();
   }
 }

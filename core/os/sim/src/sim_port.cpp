@@ -25,14 +25,14 @@ SimScheduler::SimScheduler(size_t max_tasks) : max_tasks_(max_tasks) {
   heap_.reserve(max_tasks);
 }
 
-base::Result<uint32_t, PortError> SimScheduler::register_task(SimPort& port, Task& task,
+base::Result<uint32_t, PortError> SimScheduler::RegisterTask(SimPort& port, Task& task,
                                                              const TaskConfig& config, TaskId local_id) {
   if (tasks_.size() == max_tasks_) return PortError::kTooManyTasks;
   tasks_.push_back(TaskRecord{&task, &port, config, local_id, false});
   return static_cast<uint32_t>(tasks_.size() - 1);
 }
 
-void SimScheduler::schedule(uint32_t task_index, int64_t time_ns) {
+void SimScheduler::Schedule(uint32_t task_index, int64_t time_ns) {
   TaskRecord& record = tasks_[task_index];
   SYROF_CHECK(!record.pending);
   // Each task has at most one pending activation and heap_ has room for one
@@ -43,7 +43,7 @@ void SimScheduler::schedule(uint32_t task_index, int64_t time_ns) {
   std::push_heap(heap_.begin(), heap_.end(), RunsLater{});
 }
 
-void SimScheduler::cancel_port(const SimPort& port) {
+void SimScheduler::CancelPort(const SimPort& port) {
   const auto belongs_to_port = [&](const Activation& activation) {
     return tasks_[activation.task_index].port == &port;
   };
@@ -56,7 +56,7 @@ void SimScheduler::cancel_port(const SimPort& port) {
 
 int64_t SimScheduler::next_activation_ns() const { return heap_.empty() ? -1 : heap_.front().time_ns; }
 
-bool SimScheduler::run_next() {
+bool SimScheduler::RunNext() {
   if (heap_.empty()) return false;
   std::pop_heap(heap_.begin(), heap_.end(), RunsLater{});
   const Activation activation = heap_.back();
@@ -71,64 +71,64 @@ bool SimScheduler::run_next() {
   // (vTaskDelayUntil semantics), and is queued before the step runs so that a
   // step which stops its own port also cancels it.
   if (record.config.trigger.kind == TriggerKind::kPeriodic) {
-    schedule(activation.task_index, activation.time_ns + record.config.trigger.period_ns);
+    Schedule(activation.task_index, activation.time_ns + record.config.trigger.period_ns);
   }
   ++steps_run_;
-  if (trace_ != nullptr) trace_->on_step(now_ns_, *record.port, record.local_id, record.config);
-  record.task->step(now_ns_);
+  if (trace_ != nullptr) trace_->OnStep(now_ns_, *record.port, record.local_id, record.config);
+  record.task->Step(now_ns_);
   return true;
 }
 
-void SimScheduler::run_until(int64_t end_ns) {
-  while (!heap_.empty() && heap_.front().time_ns <= end_ns) run_next();
+void SimScheduler::RunUntil(int64_t end_ns) {
+  while (!heap_.empty() && heap_.front().time_ns <= end_ns) RunNext();
   now_ns_ = std::max(now_ns_, end_ns);
 }
 
 SimPort::SimPort(SimScheduler& scheduler, const char* name) : scheduler_(scheduler), name_(name) {}
 
-base::Result<TaskId, PortError> SimPort::add_task(Task& task, const TaskConfig& config) {
+base::Result<TaskId, PortError> SimPort::AddTask(Task& task, const TaskConfig& config) {
   if (running_) return PortError::kAlreadyStarted;
-  if (const PortError error = validate(config.trigger); error != PortError::kOk) return error;
+  if (const PortError error = Validate(config.trigger); error != PortError::kOk) return error;
   const auto local_id = static_cast<TaskId>(task_indices_.size());
   if (task_indices_.size() >= UINT16_MAX) return PortError::kTooManyTasks;
-  const auto registered = scheduler_.register_task(*this, task, config, local_id);
+  const auto registered = scheduler_.RegisterTask(*this, task, config, local_id);
   if (!registered) return registered.error();
   task_indices_.push_back(registered.value());
   return local_id;
 }
 
-PortError SimPort::start() {
+PortError SimPort::Start() {
   if (running_) return PortError::kAlreadyStarted;
   running_ = true;
   const int64_t now = scheduler_.now_ns();
   for (const uint32_t index : task_indices_) {
     const Trigger& trigger = scheduler_.tasks_[index].config.trigger;
-    if (trigger.kind == TriggerKind::kPeriodic) scheduler_.schedule(index, now + trigger.offset_ns);
+    if (trigger.kind == TriggerKind::kPeriodic) scheduler_.Schedule(index, now + trigger.offset_ns);
   }
   return PortError::kOk;
 }
 
-PortError SimPort::stop() {
+PortError SimPort::Stop() {
   if (!running_) return PortError::kNotStarted;
   running_ = false;
-  scheduler_.cancel_port(*this);
+  scheduler_.CancelPort(*this);
   return PortError::kOk;
 }
 
-void SimPort::notify(TaskId task) {
+void SimPort::Notify(TaskId task) {
   if (!running_ || task >= task_indices_.size()) return;
   const uint32_t index = task_indices_[task];
   const SimScheduler::TaskRecord& record = scheduler_.tasks_[index];
   if (record.config.trigger.kind != TriggerKind::kNotified || record.pending) return;
-  scheduler_.schedule(index, scheduler_.now_ns());
+  scheduler_.Schedule(index, scheduler_.now_ns());
 }
 
-void SimPort::lock() {
+void SimPort::Lock() {
   SYROF_CHECK(!locked_);  // critical sections must not nest
   locked_ = true;
 }
 
-void SimPort::unlock() {
+void SimPort::Unlock() {
   SYROF_CHECK(locked_);
   locked_ = false;
 }

@@ -56,7 +56,7 @@ class Task {
  public:
   /// Runs one activation. `now_ns` is the port's clock at activation, in
   /// nanoseconds since the port's epoch (virtual time on SimPort).
-  virtual void step(int64_t now_ns) = 0;
+  virtual void Step(int64_t now_ns) = 0;
 
  protected:
   ~Task() = default;
@@ -66,42 +66,42 @@ enum class [[nodiscard]] PortError : uint8_t {
   kOk = 0,
   kTooManyTasks,      ///< the port's fixed task capacity is exhausted
   kInvalidTrigger,    ///< period <= 0 or offset < 0 for a periodic task
-  kAlreadyStarted,    ///< add_task or start after start()
-  kNotStarted,        ///< stop() before start()
+  kAlreadyStarted,    ///< add_task or start after Start()
+  kNotStarted,        ///< Stop() before Start()
   kSystemError,       ///< the host refused a thread or clock (PosixPort only)
 };
 
 /// A short, stable name for logs and tests.
-const char* to_string(PortError error);
+const char* ToString(PortError error);
 
-/// The port interface. Lifecycle: add every task, then start(); tasks run
-/// until stop(). Task objects must outlive the port's use of them.
+/// The port interface. Lifecycle: add every task, then Start(); tasks run
+/// until Stop(). Task objects must outlive the port's use of them.
 class Port {
  public:
-  /// Declares a task. Only before start(). Returns the task's id.
-  virtual base::Result<TaskId, PortError> add_task(Task& task, const TaskConfig& config) = 0;
+  /// Declares a task. Only before Start(). Returns the task's id.
+  virtual base::Result<TaskId, PortError> AddTask(Task& task, const TaskConfig& config) = 0;
 
   /// Starts activating tasks: periodic tasks at start + offset, notified
   /// tasks when notified.
-  virtual PortError start() = 0;
+  virtual PortError Start() = 0;
 
   /// Stops activating tasks. A step in progress completes first. Pending
   /// activations are dropped.
-  virtual PortError stop() = 0;
+  virtual PortError Stop() = 0;
 
   /// Wakes a notified task. Safe to call from any task (and, on threaded
   /// ports, any thread). Notifying a task that is already pending does
   /// nothing more: the step will see all data published before it runs.
   /// Notifying a periodic task or an unknown id is ignored.
-  virtual void notify(TaskId task) = 0;
+  virtual void Notify(TaskId task) = 0;
 
   /// The port's clock in nanoseconds since its epoch (monotonic).
   virtual int64_t now_ns() const = 0;
 
   /// A short critical section that excludes every other task of this port
   /// (used by the broker around queue copies). Not recursive.
-  virtual void lock() = 0;
-  virtual void unlock() = 0;
+  virtual void Lock() = 0;
+  virtual void Unlock() = 0;
 
  protected:
   ~Port() = default;
@@ -110,8 +110,8 @@ class Port {
 /// Holds a port's critical section for a scope.
 class CriticalSection {
  public:
-  explicit CriticalSection(Port& port) : port_(port) { port_.lock(); }
-  ~CriticalSection() { port_.unlock(); }
+  explicit CriticalSection(Port& port) : port_(port) { port_.Lock(); }
+  ~CriticalSection() { port_.Unlock(); }
   CriticalSection(const CriticalSection&) = delete;
   CriticalSection& operator=(const CriticalSection&) = delete;
 
@@ -120,6 +120,6 @@ class CriticalSection {
 };
 
 /// Validates a task's trigger; shared by every port implementation.
-PortError validate(const Trigger& trigger);
+PortError Validate(const Trigger& trigger);
 
 }  // namespace syrof::os

@@ -29,23 +29,23 @@ class PosixPort final : public Port {
   PosixPort(const PosixPort&) = delete;
   PosixPort& operator=(const PosixPort&) = delete;
 
-  base::Result<TaskId, PortError> add_task(Task& task, const TaskConfig& config) override;
+  base::Result<TaskId, PortError> AddTask(Task& task, const TaskConfig& config) override;
   /// Starts one thread per task. Periodic activations are absolute
   /// (start + offset + k * period, like vTaskDelayUntil): a late step does
   /// not shift later ones. Returns kSystemError if a thread cannot start.
-  PortError start() override;
+  PortError Start() override;
   /// Wakes every thread, lets steps in progress finish, joins the threads.
-  PortError stop() override;
-  void notify(TaskId task) override;
+  PortError Stop() override;
+  void Notify(TaskId task) override;
   /// Nanoseconds of the monotonic clock since the port was constructed.
   int64_t now_ns() const override;
-  void lock() override { critical_.lock(); }
-  void unlock() override { critical_.unlock(); }
+  void Lock() override { critical_.lock(); }
+  void Unlock() override { critical_.unlock(); }
 
  private:
   struct Worker;
-  void run_periodic(Worker& worker);
-  void run_notified(Worker& worker);
+  void RunPeriodic(Worker& worker);
+  void RunNotified(Worker& worker);
 
   PosixPortOptions options_;
   std::chrono::steady_clock::time_point epoch_;

@@ -25,7 +25,7 @@ class SimPort;
 /// Receives every step the scheduler runs, in order (for traces and tests).
 class SimTraceSink {
  public:
-  virtual void on_step(int64_t time_ns, const SimPort& port, TaskId task, const TaskConfig& config) = 0;
+  virtual void OnStep(int64_t time_ns, const SimPort& port, TaskId task, const TaskConfig& config) = 0;
 
  protected:
   ~SimTraceSink() = default;
@@ -44,14 +44,14 @@ class SimScheduler {
   int64_t now_ns() const { return now_ns_; }
 
   /// Runs the earliest pending activation. Returns false if none is pending.
-  bool run_next();
+  bool RunNext();
 
   /// Runs every activation due at or before `end_ns` (including those that
   /// steps schedule on the way), then advances the clock to `end_ns`.
-  void run_until(int64_t end_ns);
+  void RunUntil(int64_t end_ns);
 
-  /// run_until(now_ns() + duration_ns).
-  void run_for(int64_t duration_ns) { run_until(now_ns_ + duration_ns); }
+  /// RunUntil(now_ns() + duration_ns).
+  void RunFor(int64_t duration_ns) { RunUntil(now_ns_ + duration_ns); }
 
   /// Time of the earliest pending activation, or -1 if none is pending.
   int64_t next_activation_ns() const;
@@ -78,10 +78,10 @@ class SimScheduler {
     uint32_t task_index;  // into tasks_
   };
 
-  base::Result<uint32_t, PortError> register_task(SimPort& port, Task& task, const TaskConfig& config,
+  base::Result<uint32_t, PortError> RegisterTask(SimPort& port, Task& task, const TaskConfig& config,
                                                   TaskId local_id);
-  void schedule(uint32_t task_index, int64_t time_ns);
-  void cancel_port(const SimPort& port);
+  void Schedule(uint32_t task_index, int64_t time_ns);
+  void CancelPort(const SimPort& port);
 
   size_t max_tasks_;
   std::vector<TaskRecord> tasks_;
@@ -91,7 +91,7 @@ class SimScheduler {
   SimTraceSink* trace_ = nullptr;
 };
 
-/// One robot's port on a SimScheduler. Single-threaded: lock() only checks
+/// One robot's port on a SimScheduler. Single-threaded: Lock() only checks
 /// that critical sections do not nest.
 class SimPort final : public Port {
  public:
@@ -100,17 +100,17 @@ class SimPort final : public Port {
   SimPort(const SimPort&) = delete;
   SimPort& operator=(const SimPort&) = delete;
 
-  base::Result<TaskId, PortError> add_task(Task& task, const TaskConfig& config) override;
+  base::Result<TaskId, PortError> AddTask(Task& task, const TaskConfig& config) override;
   /// Schedules periodic tasks at now + offset. A stopped port may be started
   /// again (a robot that pauses and resumes).
-  PortError start() override;
+  PortError Start() override;
   /// Drops every pending activation of this port (a robot that crashes or
   /// pauses). Other ports are unaffected.
-  PortError stop() override;
-  void notify(TaskId task) override;
+  PortError Stop() override;
+  void Notify(TaskId task) override;
   int64_t now_ns() const override { return scheduler_.now_ns(); }
-  void lock() override;
-  void unlock() override;
+  void Lock() override;
+  void Unlock() override;
 
   const char* name() const { return name_; }
   bool running() const { return running_; }
