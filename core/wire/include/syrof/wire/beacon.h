@@ -1,0 +1,75 @@
+// The beacon each robot broadcasts every radio round, in memory.
+//
+// Fields are in wire units (integers with the unit in the name), so a Beacon
+// holds exactly what travels: for any Beacon that Encode() accepts,
+// Decode(Encode(b)) == b. Fill the snapshot from estimated poses with the
+// conversions in fixed_point.h. The byte layout is defined once in
+// beacon_layout.h; beacon_codec.h encodes and decodes it.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "syrof/wire/member_set.h"
+#include "syrof/wire/wire_error.h"
+
+namespace syrof::wire {
+
+/// Version of the layout in beacon_layout.h; a decoder rejects any other.
+inline constexpr uint8_t kBeaconVersion = 1;
+
+/// Most bytes an application may send per round (sendMessageData).
+inline constexpr size_t kMaxPayloadBytes = 9;
+
+/// Heading bounds in milliradians: round(1000 * pi).
+inline constexpr int16_t kMaxHeadingMilliradians = 3142;
+inline constexpr int16_t kMinHeadingMilliradians = -kMaxHeadingMilliradians;
+
+/// The synchronizer's phase (docs/protocol.md).
+enum class Phase : uint8_t {
+  kProgress = 0,  // the maneuver runs
+  kWait = 1,      // snapshot frozen, waiting for every member
+  kVote = 2,      // counting rounds to the next epoch
+};
+
+/// Operation mode from stream consensus.
+enum class Mode : uint8_t {
+  kCooperative = 0,
+  kAutonomous = 1,
+};
+
+/// Upper-case protocol names ("PROGRESS", ...); "?" for a value outside the enum.
+const char* ToString(Phase phase);
+/// "COOPERATIVE" or "AUTONOMOUS"; "?" for a value outside the enum.
+const char* ToString(Mode mode);
+
+/// One robot's beacon for one radio round. The snapshot (pose and velocity)
+/// is the sender's frozen estimate for this epoch, in the arena frame.
+struct Beacon {
+  uint16_t robot_id = 0;  // sender, 0 .. swarm size - 1
+  uint16_t epoch = 0;     // maneuver number; wraps from 65535 to 0
+  Phase phase = Phase::kProgress;
+  Mode mode = Mode::kCooperative;
+  uint8_t vote_counter = 0;    // rounds counted in VOTE (docs/protocol.md)
+  MemberSet waiting;           // members the sender knows to be waiting, ids < swarm size
+  int16_t x_mm = 0;            // position, millimetres
+  int16_t y_mm = 0;            // position, millimetres
+  int16_t heading_mrad = 0;    // milliradians counter-clockwise from +x, -3142 .. 3142
+  int16_t vx_mm_s = 0;         // velocity, millimetres per second
+  int16_t vy_mm_s = 0;         // velocity, millimetres per second
+  uint8_t payload_length = 0;  // bytes of payload in use, 0 .. kMaxPayloadBytes
+  std::array<uint8_t, kMaxPayloadBytes> payload{};  // application bytes; the unused tail is zero
+
+  /// Copies `bytes` into the payload, zeroes the rest and sets payload_length.
+  /// Returns kPayloadTooLong (and changes nothing) for more than 9 bytes.
+  WireError SetPayload(std::span<const uint8_t> bytes);
+
+  /// The bytes in use: payload[0 .. payload_length), clamped to the array.
+  std::span<const uint8_t> payload_bytes() const;
+
+  bool operator==(const Beacon& other) const = default;
+};
+
+}  // namespace syrof::wire

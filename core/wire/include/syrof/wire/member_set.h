@@ -1,0 +1,171 @@
+// A set of robot ids, as beacons carry it and the synchronizer keeps it.
+//
+// Robot ids in a swarm of N robots are 0 .. N-1, and N is at most
+// kMaxSwarmSize, a build-time constant (SYROF_MAX_SWARM_SIZE: 1024 on the
+// host, 32 on the Teensy). A MemberSet is a bitset of that capacity: no
+// allocation, constant size, cheap to copy and compare.
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+
+#include "syrof/base/check.h"
+
+// The build sets this (core/wire/CMakeLists.txt); the default only serves
+// compiling a file on its own.
+#ifndef SYROF_MAX_SWARM_SIZE
+#define SYROF_MAX_SWARM_SIZE 1024
+#endif
+
+static_assert(SYROF_MAX_SWARM_SIZE >= 1 && SYROF_MAX_SWARM_SIZE <= 65535,
+              "SYROF_MAX_SWARM_SIZE must be 1..65535: swarm sizes travel as uint16_t");
+
+namespace syrof::wire {
+
+/// The largest swarm this build supports; robot ids are below it.
+inline constexpr uint16_t kMaxSwarmSize = SYROF_MAX_SWARM_SIZE;
+
+/// A set of robot ids below kMaxSwarmSize. Iterating visits members in
+/// increasing order.
+class MemberSet {
+ public:
+  /// Members are 0 .. kCapacity - 1.
+  static constexpr uint16_t kCapacity = kMaxSwarmSize;
+  /// Number of bytes byte_at() and set_byte() address.
+  static constexpr size_t kBytes = (kCapacity + 7) / 8;
+
+  /// Walks the members in increasing order.
+  class Iterator {
+   public:
+    // Dereferencing yields a value, not a reference, so to pre-C++20 code
+    // this is an input iterator; to C++20 ranges it is a forward iterator.
+    using iterator_category = std::input_iterator_tag;
+    using iterator_concept = std::forward_iterator_tag;
+    using value_type = uint16_t;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const uint16_t*;
+    using reference = uint16_t;
+
+    constexpr Iterator() = default;
+    constexpr uint16_t operator*() const { return member_; }
+    constexpr Iterator& operator++() {
+      member_ = set_->next_member(static_cast<uint16_t>(member_ + 1));
+      return *this;
+    }
+    constexpr Iterator operator++(int) {
+      Iterator before = *this;
+      ++*this;
+      return before;
+    }
+    constexpr bool operator==(const Iterator& other) const { return member_ == other.member_; }
+
+   private:
+    friend class MemberSet;
+    constexpr Iterator(const MemberSet* set, uint16_t member) : set_(set), member_(member) {}
+
+    const MemberSet* set_ = nullptr;
+    uint16_t member_ = kCapacity;  // kCapacity is the end
+  };
+
+  /// The empty set.
+  constexpr MemberSet() = default;
+
+  /// Adds `member`. A member at or beyond kCapacity is a bug and stops the program.
+  constexpr void set(uint16_t member) {
+    SYROF_CHECK(member < kCapacity);
+    words_[member / kWordBits] |= bit(member);
+  }
+
+  /// Removes `member`. A member at or beyond kCapacity is a bug and stops the program.
+  constexpr void reset(uint16_t member) {
+    SYROF_CHECK(member < kCapacity);
+    words_[member / kWordBits] &= ~bit(member);
+  }
+
+  /// Removes every member.
+  constexpr void clear() { words_ = {}; }
+
+  /// Whether `member` is in the set; false for any id at or beyond kCapacity.
+  constexpr bool test(uint16_t member) const {
+    return member < kCapacity && (words_[member / kWordBits] & bit(member)) != 0;
+  }
+
+  /// Number of members.
+  constexpr uint16_t count() const {
+    unsigned total = 0;
+    for (const uint32_t word : words_) total += static_cast<unsigned>(std::popcount(word));
+    return static_cast<uint16_t>(total);
+  }
+
+  constexpr bool empty() const { return next_member(0) == kCapacity; }
+
+  /// The smallest member at or after `from`, or kCapacity when there is none.
+  constexpr uint16_t next_member(uint16_t from) const {
+    if (from >= kCapacity) return kCapacity;
+    size_t word = from / kWordBits;
+    uint32_t bits = words_[word] & (~uint32_t{0} << (from % kWordBits));
+    while (bits == 0) {
+      if (++word == kWords) return kCapacity;
+      bits = words_[word];
+    }
+    return static_cast<uint16_t>(word * kWordBits + static_cast<size_t>(std::countr_zero(bits)));
+  }
+
+  /// Whether every member of `other` is also a member of this set.
+  constexpr bool includes(const MemberSet& other) const {
+    for (size_t i = 0; i < kWords; ++i) {
+      if ((other.words_[i] & ~words_[i]) != 0) return false;
+    }
+    return true;
+  }
+
+  /// Union.
+  constexpr MemberSet& operator|=(const MemberSet& other) {
+    for (size_t i = 0; i < kWords; ++i) words_[i] |= other.words_[i];
+    return *this;
+  }
+
+  /// Intersection.
+  constexpr MemberSet& operator&=(const MemberSet& other) {
+    for (size_t i = 0; i < kWords; ++i) words_[i] &= other.words_[i];
+    return *this;
+  }
+
+  constexpr bool operator==(const MemberSet& other) const = default;
+
+  /// Members 8*index .. 8*index+7 as one byte, member 8*index in bit 0 (the
+  /// beacon's wire order). `index` must be below kBytes (checked).
+  constexpr uint8_t byte_at(size_t index) const {
+    SYROF_CHECK(index < kBytes);
+    return static_cast<uint8_t>(words_[index / kBytesPerWord] >> (8 * (index % kBytesPerWord)));
+  }
+
+  /// Replaces members 8*index .. 8*index+7 with the bits of `bits`, member
+  /// 8*index in bit 0. `index` must be below kBytes, and bits naming ids at or
+  /// beyond kCapacity must be zero (both checked).
+  constexpr void set_byte(size_t index, uint8_t bits) {
+    SYROF_CHECK(index < kBytes);
+    SYROF_CHECK(index * 8 + static_cast<size_t>(std::bit_width(bits)) <= kCapacity);
+    const unsigned shift = 8 * (index % kBytesPerWord);
+    uint32_t& word = words_[index / kBytesPerWord];
+    word = (word & ~(uint32_t{0xFF} << shift)) | (uint32_t{bits} << shift);
+  }
+
+  constexpr Iterator begin() const { return Iterator(this, next_member(0)); }
+  constexpr Iterator end() const { return Iterator(this, kCapacity); }
+
+ private:
+  static constexpr size_t kWordBits = 32;
+  static constexpr size_t kBytesPerWord = kWordBits / 8;
+  static constexpr size_t kWords = (kCapacity + kWordBits - 1) / kWordBits;
+
+  static constexpr uint32_t bit(uint16_t member) { return uint32_t{1} << (member % kWordBits); }
+
+  // Bits at or beyond kCapacity stay zero, so == and count() need no mask.
+  std::array<uint32_t, kWords> words_{};
+};
+
+}  // namespace syrof::wire

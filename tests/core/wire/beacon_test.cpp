@@ -1,0 +1,67 @@
+#include "syrof/wire/beacon.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstring>
+
+#include "syrof/wire/wire_error.h"
+
+namespace syrof::wire {
+namespace {
+
+TEST(BeaconTest, SetPayloadCopiesAndZeroesTheRest) {
+  Beacon beacon;
+  beacon.payload.fill(0xEE);
+  const std::array<uint8_t, 3> bytes = {1, 2, 3};
+
+  const WireError error = beacon.SetPayload(bytes);
+
+  EXPECT_EQ(error, WireError::kOk);
+  EXPECT_EQ(beacon.payload_length, 3);
+  EXPECT_EQ(beacon.payload, (std::array<uint8_t, kMaxPayloadBytes>{1, 2, 3, 0, 0, 0, 0, 0, 0}));
+  ASSERT_EQ(beacon.payload_bytes().size(), 3u);
+  EXPECT_EQ(beacon.payload_bytes()[2], 3);
+}
+
+TEST(BeaconTest, SetPayloadRefusesMoreThanNineBytes) {
+  Beacon beacon;
+  const std::array<uint8_t, kMaxPayloadBytes + 1> bytes{};
+
+  const WireError error = beacon.SetPayload(bytes);
+
+  EXPECT_EQ(error, WireError::kPayloadTooLong);
+  EXPECT_EQ(beacon, Beacon());
+}
+
+TEST(BeaconTest, PayloadBytesClampsABadLength) {
+  Beacon beacon;
+  beacon.payload_length = 200;
+
+  EXPECT_EQ(beacon.payload_bytes().size(), kMaxPayloadBytes);
+}
+
+TEST(BeaconTest, PhaseAndModeHaveProtocolNames) {
+  EXPECT_STREQ(ToString(Phase::kProgress), "PROGRESS");
+  EXPECT_STREQ(ToString(Phase::kWait), "WAIT");
+  EXPECT_STREQ(ToString(Phase::kVote), "VOTE");
+  EXPECT_STREQ(ToString(static_cast<Phase>(3)), "?");
+  EXPECT_STREQ(ToString(Mode::kCooperative), "COOPERATIVE");
+  EXPECT_STREQ(ToString(Mode::kAutonomous), "AUTONOMOUS");
+  EXPECT_STREQ(ToString(static_cast<Mode>(2)), "?");
+}
+
+TEST(WireErrorTest, EveryErrorHasItsOwnName) {
+  constexpr int kErrors = static_cast<int>(WireError::kNonZeroPadding) + 1;
+  for (int first = 0; first < kErrors; ++first) {
+    const char* name = ToString(static_cast<WireError>(first));
+    EXPECT_STRNE(name, "?") << first;
+    for (int second = 0; second < first; ++second) {
+      EXPECT_STRNE(name, ToString(static_cast<WireError>(second))) << first << " " << second;
+    }
+  }
+  EXPECT_STREQ(ToString(static_cast<WireError>(kErrors)), "?");
+}
+
+}  // namespace
+}  // namespace syrof::wire

@@ -1,0 +1,158 @@
+#include "syrof/wire/member_set.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <iterator>
+#include <ranges>
+#include <vector>
+
+namespace syrof::wire {
+namespace {
+
+// The Teensy build has the smallest capacity the project uses.
+static_assert(MemberSet::kCapacity >= 32, "these tests name members up to 31");
+
+constexpr uint16_t kLast = MemberSet::kCapacity - 1;
+
+static_assert(std::forward_iterator<MemberSet::Iterator>);
+static_assert(std::ranges::forward_range<MemberSet>);
+
+TEST(MemberSetTest, StartsEmpty) {
+  const MemberSet set;
+
+  EXPECT_TRUE(set.empty());
+  EXPECT_EQ(set.count(), 0);
+  EXPECT_EQ(set.begin(), set.end());
+}
+
+TEST(MemberSetTest, SetAndResetChangeOnlyTheirMember) {
+  MemberSet set;
+
+  set.set(0);
+  set.set(kLast);
+  set.set(kLast);
+  set.reset(0);
+
+  EXPECT_FALSE(set.test(0));
+  EXPECT_TRUE(set.test(kLast));
+  EXPECT_EQ(set.count(), 1);
+}
+
+TEST(MemberSetTest, TestIsFalseBeyondCapacity) {
+  const MemberSet set;
+
+  EXPECT_FALSE(set.test(MemberSet::kCapacity));
+  EXPECT_FALSE(set.test(65535));
+}
+
+TEST(MemberSetTest, ClearRemovesEveryMember) {
+  MemberSet set;
+  for (uint16_t member = 0; member < MemberSet::kCapacity; member += 3) set.set(member);
+
+  set.clear();
+
+  EXPECT_TRUE(set.empty());
+  EXPECT_EQ(set, MemberSet());
+}
+
+TEST(MemberSetTest, IteratesMembersInIncreasingOrder) {
+  MemberSet set;
+  const std::vector<uint16_t> members = {0, 5, 31, kLast};
+  for (auto it = members.rbegin(); it != members.rend(); ++it) set.set(*it);
+
+  std::vector<uint16_t> visited;
+  for (const uint16_t member : set) visited.push_back(member);
+
+  std::vector<uint16_t> expected = members;
+  std::sort(expected.begin(), expected.end());
+  expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+  EXPECT_EQ(visited, expected);
+  EXPECT_EQ(set.count(), expected.size());
+}
+
+TEST(MemberSetTest, NextMemberFindsTheFirstAtOrAfter) {
+  MemberSet set;
+  set.set(kLast);
+
+  EXPECT_EQ(set.next_member(0), kLast);
+  EXPECT_EQ(set.next_member(kLast), kLast);
+  EXPECT_EQ(set.next_member(MemberSet::kCapacity), MemberSet::kCapacity);
+  set.reset(kLast);
+  EXPECT_EQ(set.next_member(0), MemberSet::kCapacity);
+}
+
+TEST(MemberSetTest, EqualityComparesMembers) {
+  MemberSet first;
+  MemberSet second;
+  first.set(kLast);
+
+  EXPECT_NE(first, second);
+  second.set(kLast);
+  EXPECT_EQ(first, second);
+}
+
+TEST(MemberSetTest, UnionIntersectionAndInclusion) {
+  MemberSet small;
+  small.set(0);
+  MemberSet large = small;
+  large.set(kLast);
+
+  EXPECT_TRUE(large.includes(small));
+  EXPECT_FALSE(small.includes(large));
+  EXPECT_TRUE(small.includes(MemberSet()));
+
+  MemberSet joined = small;
+  joined |= large;
+  EXPECT_EQ(joined, large);
+  MemberSet common = large;
+  common &= small;
+  EXPECT_EQ(common, small);
+}
+
+TEST(MemberSetTest, BytesHoldEightMembersLowBitFirst) {
+  MemberSet set;
+  set.set(0);
+  set.set(3);
+  set.set(15);
+
+  EXPECT_EQ(set.byte_at(0), 0x09);
+  EXPECT_EQ(set.byte_at(1), 0x80);
+}
+
+TEST(MemberSetTest, SetByteReplacesEightMembers) {
+  MemberSet set;
+  set.set(1);
+
+  set.set_byte(0, 0xA0);
+
+  EXPECT_FALSE(set.test(1));
+  EXPECT_TRUE(set.test(5));
+  EXPECT_TRUE(set.test(7));
+  EXPECT_EQ(set.count(), 2);
+  EXPECT_EQ(set.byte_at(0), 0xA0);
+}
+
+TEST(MemberSetTest, SetByteRoundTripsEveryByte) {
+  // A pattern per byte, cut to the ids the last byte can name.
+  auto pattern = [](size_t index) {
+    const size_t ids_in_byte = std::min<size_t>(8, MemberSet::kCapacity - 8 * index);
+    return static_cast<uint8_t>((0x5Au ^ index) & ((1u << ids_in_byte) - 1));
+  };
+  MemberSet set;
+
+  for (size_t index = 0; index < MemberSet::kBytes; ++index) set.set_byte(index, pattern(index));
+
+  for (size_t index = 0; index < MemberSet::kBytes; ++index) {
+    EXPECT_EQ(set.byte_at(index), pattern(index));
+  }
+}
+
+TEST(MemberSetDeathTest, SetBeyondCapacityStops) {
+  MemberSet set;
+
+  EXPECT_DEATH_IF_SUPPORTED(set.set(MemberSet::kCapacity), "SYROF_CHECK");
+}
+
+}  // namespace
+}  // namespace syrof::wire
