@@ -14,8 +14,8 @@
 
 namespace {
 
-using syrof::wire::decode;
-using syrof::wire::encode;
+using syrof::wire::Decode;
+using syrof::wire::Encode;
 using syrof::wire::kMaxBeaconBytes;
 using syrof::wire::kMaxSwarmSize;
 
