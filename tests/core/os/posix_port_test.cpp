@@ -7,6 +7,7 @@
 #include <condition_variable>
 #include <mutex>
 #include <vector>
+#include "port_contract.h"
 
 namespace syrof::os {
 namespace {
@@ -132,15 +133,8 @@ TEST(PosixPortTest, StopJoinsAndNoStepRunsAfterIt) {
 
 TEST(PosixPortTest, ReportsEachLifecycleError) {
   PosixPort port({.max_tasks = 1});
-  CountingTask first, second;
 
-  EXPECT_EQ(port.AddTask(first, {"bad", Trigger::periodic(-1), 0}).error(), PortError::kInvalidTrigger);
-  EXPECT_EQ(port.Stop(), PortError::kNotStarted);
-  ASSERT_TRUE(port.AddTask(first, {"first", Trigger::notified(), 0}));
-  EXPECT_EQ(port.AddTask(second, {"second", Trigger::notified(), 0}).error(), PortError::kTooManyTasks);
-  ASSERT_EQ(port.Start(), PortError::kOk);
-  EXPECT_EQ(port.Start(), PortError::kAlreadyStarted);
-  EXPECT_EQ(port.AddTask(second, {"second", Trigger::notified(), 0}).error(), PortError::kAlreadyStarted);
+  testing::ExpectEachLifecycleError(port);
 }
 
 // Two periodic tasks increment a plain counter in a read-modify-write that is

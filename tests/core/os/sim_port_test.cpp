@@ -6,6 +6,7 @@
 #include <random>
 #include <string>
 #include <vector>
+#include "port_contract.h"
 
 namespace syrof::os {
 namespace {
@@ -213,16 +214,8 @@ TEST(SimPortTest, StepThatStopsItsOwnPortCancelsItsNextActivation) {
 TEST(SimPortTest, ReportsEachLifecycleError) {
   SimScheduler scheduler(1);
   SimPort port(scheduler);
-  std::vector<std::string> log;
-  RecordingTask first(log, "first"), second(log, "second");
 
-  EXPECT_EQ(port.AddTask(first, {"bad", Trigger::periodic(0), 0}).error(), PortError::kInvalidTrigger);
-  EXPECT_EQ(port.Stop(), PortError::kNotStarted);
-  ASSERT_TRUE(port.AddTask(first, {"first", Trigger::notified(), 0}));
-  EXPECT_EQ(port.AddTask(second, {"second", Trigger::notified(), 0}).error(), PortError::kTooManyTasks);
-  ASSERT_EQ(port.Start(), PortError::kOk);
-  EXPECT_EQ(port.Start(), PortError::kAlreadyStarted);
-  EXPECT_EQ(port.AddTask(second, {"second", Trigger::notified(), 0}).error(), PortError::kAlreadyStarted);
+  testing::ExpectEachLifecycleError(port);
 }
 
 TEST(SimPortTest, CriticalSectionsMayFollowEachOther) {
