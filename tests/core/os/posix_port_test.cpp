@@ -7,6 +7,7 @@
 #include <condition_variable>
 #include <mutex>
 #include <vector>
+
 #include "port_contract.h"
 
 namespace syrof::os {

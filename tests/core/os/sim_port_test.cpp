@@ -6,6 +6,7 @@
 #include <random>
 #include <string>
 #include <vector>
+
 #include "port_contract.h"
 
 namespace syrof::os {
