@@ -12,7 +12,7 @@ TEENSY_TOOLCHAIN := cmake/toolchains/teensy32.cmake
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev
 
-.PHONY: all deps build demo test bench cross test-m4 asan fuzz clean
+.PHONY: all deps build demo test bench bench-m4 cross test-m4 asan fuzz clean
 
 all: build
 
@@ -50,6 +50,17 @@ test-m4: deps
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS)
 	ctest --test-dir $(M4_DIR) --output-on-failure -j $(JOBS)
+
+## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
+QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \
+          -semihosting-config enable=on,target=native -icount shift=0
+bench-m4: deps
+	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(M4_DIR) -j $(JOBS)
+	@set -e; for image in $(M4_DIR)/bin/bench_m4_*.elf; do \
+	  [ -e "$$image" ] || continue; \
+	  echo "== $$image"; $(QEMU_M4) -kernel "$$image"; echo; \
+	done
 
 ## asan: core's tests once more under AddressSanitizer and UBSan.
 asan: deps
