@@ -66,7 +66,7 @@ bench-m4: deps
 asan: deps
 	$(CMAKE_CONFIGURE) -S . -B $(ASAN_DIR) -DSYROF_SANITIZE=ON -DSYROF_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug
 	cmake --build $(ASAN_DIR) -j $(JOBS)
-	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L core
+	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L 'core|queries'
 
 ## fuzz: libFuzzer on the beacon decoder for FUZZ_SECONDS.
 fuzz: deps
