@@ -1,0 +1,362 @@
+// The synchronizer's step function. Section names in comments refer to
+// docs/protocol.md, which this code follows.
+#include "syrof/sync/synchronizer.h"
+
+#include "syrof/base/check.h"
+
+namespace syrof::sync {
+namespace {
+
+// Members of `set` other than `self`.
+MemberSet Without(MemberSet set, uint16_t self) {
+  set.reset(self);
+  return set;
+}
+
+// "Beacon validation": why `beacon` cannot be used, or kNone.
+BeaconIssue Inspect(const SyncConfig& config, const wire::Beacon& beacon, const MemberSet& seen) {
+  if (beacon.robot_id >= config.swarm_size) return BeaconIssue::kIdOutOfRange;
+  if (beacon.robot_id == config.self_id) return BeaconIssue::kFromSelf;
+  if (seen.test(beacon.robot_id)) return BeaconIssue::kDuplicate;
+  const bool voting = beacon.phase == Phase::kVote;
+  if (voting && (beacon.vote_counter < 1 || beacon.vote_counter > config.vote_rounds)) {
+    return BeaconIssue::kBadVoteCounter;
+  }
+  if (!voting && beacon.vote_counter != 0) return BeaconIssue::kBadVoteCounter;
+  if (beacon.waiting.next_member(config.swarm_size) != MemberSet::kCapacity) {
+    return BeaconIssue::kMemberOutOfRange;
+  }
+  return BeaconIssue::kNone;
+}
+
+bool Valid(const SyncConfig& config, const wire::Beacon& beacon, MemberSet& seen, SyncStats& stats) {
+  const BeaconIssue issue = Inspect(config, beacon, seen);
+  if (issue != BeaconIssue::kNone) {
+    ++stats.beacons_rejected;
+    stats.last_issue = issue;
+    return false;
+  }
+  seen.set(beacon.robot_id);
+  ++stats.beacons_used;
+  return true;
+}
+
+// "Epoch start": fills `ldmap`, moves `state` into PROGRESS of epoch + 1.
+void StartEpoch(const SyncConfig& config, SyncState& state, Mode mode, StepOutput& out, LDMap& ldmap) {
+  const uint16_t next_epoch = static_cast<uint16_t>(state.epoch + 1);
+  ldmap.epoch = next_epoch;
+  ldmap.mode = mode;
+  if (mode == Mode::kCooperative) {
+    ldmap.members = state.view;
+  } else {
+    ldmap.members = state.held;
+    ldmap.members &= state.members;
+  }
+  if (!state.held.test(config.self_id)) {
+    // A robot always knows itself: a catch-up from PROGRESS cannot happen,
+    // but a founder or joiner has no frozen snapshot, so it uses its live one.
+    state.snapshots[config.self_id] = state.live;
+  }
+  ldmap.members.set(config.self_id);
+  for (const uint16_t id : ldmap.members) {
+    ldmap.snapshots[id] = state.snapshots[id];
+    ldmap.phases[id] = id == config.self_id ? state.phase : state.last_phase[id];
+  }
+
+  state.epoch = next_epoch;
+  state.phase = Phase::kProgress;
+  state.vote = 0;
+  state.veto = false;
+  state.epoch_mode = mode;
+  state.waiting.clear();
+  state.view.clear();
+  state.votes_matched.clear();
+  state.held.clear();
+
+  out.epoch_started = true;
+  ++state.stats.epochs_started;
+  if (mode == Mode::kCooperative) ++state.stats.epochs_cooperative;
+}
+
+// "Joining": the robot leaves its group and listens for another's boundary.
+void BecomeJoiner(SyncState& state, StepOutput& out) {
+  state.status = Status::kJoining;
+  state.members.clear();
+  state.waiting.clear();
+  state.view.clear();
+  state.votes_matched.clear();
+  state.held.clear();
+  state.join_group.clear();
+  state.join_target_known = false;
+  state.join_rounds_left = 0;
+  state.rounds_alone = 0;
+  state.veto = false;
+  state.vote = 0;
+  out.became_joiner = true;
+}
+
+// "Joining" and "Founding".
+void StepJoining(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
+                 StepOutput& out, LDMap& ldmap) {
+  MemberSet seen;
+  bool heard_any = false;
+  for (const wire::Beacon& beacon : received) {
+    if (!Valid(config, beacon, seen, state.stats)) continue;
+    heard_any = true;
+    if (beacon.phase != Phase::kVote) continue;
+    const uint16_t target = static_cast<uint16_t>(beacon.epoch + 1);
+    // Only an epoch after every one this robot has been in: a robot never
+    // takes part in the same epoch twice (docs/protocol.md, "Safety").
+    if (EpochDifference(target, state.epoch) <= 0) continue;
+    const auto rounds_left = static_cast<uint8_t>(config.vote_rounds - beacon.vote_counter);
+    const int16_t ahead = state.join_target_known ? EpochDifference(target, state.join_epoch) : 1;
+    if (ahead > 0) {
+      state.join_target_known = true;
+      state.join_epoch = target;
+      state.join_rounds_left = rounds_left;
+      state.join_group.clear();
+      state.held.clear();
+    } else if (ahead == 0 && rounds_left < state.join_rounds_left) {
+      state.join_rounds_left = rounds_left;
+    }
+    if (ahead >= 0) {
+      state.join_group.set(beacon.robot_id);
+      if (!state.held.test(beacon.robot_id)) {
+        state.held.set(beacon.robot_id);
+        state.snapshots[beacon.robot_id] = SnapshotOf(beacon);
+        state.last_phase[beacon.robot_id] = beacon.phase;
+      }
+    }
+  }
+  state.rounds_alone = heard_any ? 0 : static_cast<uint16_t>(state.rounds_alone + 1);
+
+  if (state.join_target_known) {
+    if (state.join_rounds_left > 0) {
+      --state.join_rounds_left;
+      return;
+    }
+    // The group starts join_epoch at the end of this round; so does the joiner.
+    state.status = Status::kMember;
+    state.epoch = static_cast<uint16_t>(state.join_epoch - 1);
+    state.members = state.join_group;
+    state.members.set(config.self_id);
+    for (const uint16_t id : state.members) state.silent_rounds[id] = 0;
+    out.joined = Without(state.members, config.self_id);
+    state.join_target_known = false;
+    ++state.stats.joins_started;
+    StartEpoch(config, state, Mode::kAutonomous, out, ldmap);
+    return;
+  }
+  if (state.rounds_alone >= config.silence_rounds) {
+    // Nobody to join: found a group of one in a fresh epoch.
+    state.status = Status::kMember;
+    state.members.clear();
+    state.members.set(config.self_id);
+    state.held.clear();
+    state.rounds_alone = 0;
+    StartEpoch(config, state, Mode::kAutonomous, out, ldmap);
+  }
+}
+
+void StepMember(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
+                const StepInput& input, StepOutput& out, LDMap& ldmap) {
+  const uint16_t self = config.self_id;
+
+  // "PROGRESS": the maneuver ends, the snapshot freezes.
+  if (state.phase == Phase::kProgress && input.maneuver_finished) {
+    state.phase = Phase::kWait;
+    state.snapshots[self] = input.own_snapshot;
+    state.held.set(self);
+    state.waiting.set(self);
+  }
+
+  // First pass: where the other robots are relative to this one's epoch.
+  MemberSet seen;
+  bool lost_group = false;
+  bool catch_up = false;
+  for (const wire::Beacon& beacon : received) {
+    if (Inspect(config, beacon, seen) != BeaconIssue::kNone) continue;
+    seen.set(beacon.robot_id);
+    const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
+    if (ahead >= 2) lost_group = true;
+    if (ahead == 1 && state.phase != Phase::kProgress) catch_up = true;
+  }
+
+  // "Falling behind": a robot two or more epochs ahead means this robot's
+  // group is gone; it rejoins, and this round's beacons already count.
+  if (lost_group) {
+    BecomeJoiner(state, out);
+    StepJoining(config, state, received, out, ldmap);
+    return;
+  }
+  // "Catching up": a robot one epoch ahead started it without this one.
+  if (catch_up) {
+    ++state.stats.catch_ups;
+    StartEpoch(config, state, Mode::kAutonomous, out, ldmap);
+  }
+
+  // "Receiving": failure detector input, joins, waiting sets, snapshots.
+  seen.clear();
+  MemberSet alive;
+  uint8_t highest_vote = 0;
+  for (const wire::Beacon& beacon : received) {
+    if (!Valid(config, beacon, seen, state.stats)) continue;
+    const uint16_t id = beacon.robot_id;
+    const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
+    if (ahead < -1 || ahead > 1) continue;  // another group: not evidence of life
+    alive.set(id);
+    if (ahead != 0) continue;
+    if (!state.members.test(id)) {
+      state.members.set(id);
+      state.silent_rounds[id] = 0;
+      out.joined.set(id);
+    }
+    state.last_phase[id] = beacon.phase;
+    if (beacon.phase == Phase::kProgress) {
+      state.waiting |= beacon.waiting;
+      continue;
+    }
+    state.waiting.set(id);
+    if (!state.held.test(id)) {
+      state.held.set(id);
+      state.snapshots[id] = SnapshotOf(beacon);
+    }
+    if (beacon.phase == Phase::kWait) {
+      state.waiting |= beacon.waiting;
+    } else if (beacon.vote_counter > highest_vote) {
+      highest_vote = beacon.vote_counter;
+    }
+  }
+
+  // "Failure detector".
+  for (const uint16_t id : Without(state.members, self)) {
+    if (alive.test(id)) {
+      state.silent_rounds[id] = 0;
+    } else if (++state.silent_rounds[id] >= config.silence_rounds) {
+      state.members.reset(id);
+      out.removed.set(id);
+    }
+  }
+
+  // "WAIT": every member waiting, or a member already voting.
+  if (state.phase == Phase::kWait && (state.waiting.includes(state.members) || highest_vote > 0)) {
+    state.phase = Phase::kVote;
+    state.view = state.members;
+    state.vote = 0;
+    state.veto = false;
+    state.votes_matched.clear();
+  }
+  if (state.phase != Phase::kVote) return;
+
+  // "VOTE": evidence for the mode, then the counter.
+  seen.clear();
+  for (const wire::Beacon& beacon : received) {
+    if (Inspect(config, beacon, seen) != BeaconIssue::kNone) continue;
+    seen.set(beacon.robot_id);
+    if (beacon.phase != Phase::kVote || beacon.epoch != state.epoch) continue;
+    if (!state.view.test(beacon.robot_id)) continue;
+    if (beacon.mode == Mode::kAutonomous || beacon.waiting != state.view) {
+      state.veto = true;
+    } else {
+      state.votes_matched.set(beacon.robot_id);
+    }
+  }
+  if (!state.members.includes(state.view) || state.view.count() < config.quorum) state.veto = true;
+
+  if (highest_vote > state.vote) state.vote = highest_vote;
+  if (state.vote < config.vote_rounds) {
+    ++state.vote;
+    return;
+  }
+  const bool cooperative = !state.veto && state.votes_matched.includes(Without(state.view, self)) &&
+                           state.held.includes(state.view);
+  StartEpoch(config, state, cooperative ? Mode::kCooperative : Mode::kAutonomous, out, ldmap);
+}
+
+}  // namespace
+
+const char* ToString(Status status) {
+  switch (status) {
+    case Status::kMember: return "MEMBER";
+    case Status::kJoining: return "JOINING";
+  }
+  return "?";
+}
+
+const char* ToString(BeaconIssue issue) {
+  switch (issue) {
+    case BeaconIssue::kNone: return "None";
+    case BeaconIssue::kFromSelf: return "FromSelf";
+    case BeaconIssue::kIdOutOfRange: return "IdOutOfRange";
+    case BeaconIssue::kDuplicate: return "Duplicate";
+    case BeaconIssue::kBadVoteCounter: return "BadVoteCounter";
+    case BeaconIssue::kMemberOutOfRange: return "MemberOutOfRange";
+  }
+  return "?";
+}
+
+int16_t EpochDifference(uint16_t a, uint16_t b) {
+  return static_cast<int16_t>(static_cast<uint16_t>(a - b));
+}
+
+SyncState InitialState(const SyncConfig& config, const Snapshot& initial_snapshot) {
+  SYROF_CHECK(Validate(config) == ConfigError::kOk);
+  SyncState state;
+  state.live = initial_snapshot;
+  if (!config.initial_members.test(config.self_id)) {
+    state.status = Status::kJoining;
+    return state;
+  }
+  state.status = Status::kMember;
+  state.epoch = 0;
+  state.phase = Phase::kWait;
+  state.members = config.initial_members;
+  state.waiting.set(config.self_id);
+  state.held.set(config.self_id);
+  state.snapshots[config.self_id] = initial_snapshot;
+  return state;
+}
+
+wire::Beacon MakeBeacon(const SyncConfig& config, const SyncState& state) {
+  wire::Beacon beacon;
+  beacon.robot_id = config.self_id;
+  beacon.epoch = state.epoch;
+  beacon.phase = state.phase;
+  switch (state.phase) {
+    case Phase::kProgress:
+      beacon.mode = state.epoch_mode;
+      beacon.waiting = state.waiting;
+      WriteSnapshot(state.live, beacon);
+      break;
+    case Phase::kWait:
+      beacon.mode = state.epoch_mode;
+      beacon.waiting = state.waiting;
+      WriteSnapshot(state.snapshots[config.self_id], beacon);
+      break;
+    case Phase::kVote:
+      beacon.mode = state.veto ? Mode::kAutonomous : Mode::kCooperative;
+      beacon.vote_counter = state.vote;
+      beacon.waiting = state.view;
+      WriteSnapshot(state.snapshots[config.self_id], beacon);
+      break;
+  }
+  return beacon;
+}
+
+void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
+          const StepInput& input, StepOutput& out, LDMap& ldmap) {
+  out.epoch_started = false;
+  out.became_joiner = false;
+  out.removed.clear();
+  out.joined.clear();
+  state.live = input.own_snapshot;
+  if (state.status == Status::kJoining) {
+    StepJoining(config, state, received, out, ldmap);
+  } else {
+    StepMember(config, state, received, input, out, ldmap);
+  }
+  out.send = state.status == Status::kMember;
+  out.beacon = MakeBeacon(config, state);
+}
+
+}  // namespace syrof::sync

@@ -1,0 +1,597 @@
+// Exhaustive exploration of the synchronizer on its real step function:
+// breadth-first over the global states of a small swarm, every per-link loss
+// pattern in every round, with a visited set. Built with
+// SYROF_MAX_SWARM_SIZE=4 (like the firmware is built with 32), so a state is a
+// few hundred bytes.
+//
+// Adversaries (docs/protocol.md, "Verification"):
+//   a) every link loses fewer than K beacons in a row; maneuvers last D or
+//      D + 1 rounds, chosen per robot and epoch: checks P1 and P3, and that
+//      epochs keep starting;
+//   b) any loss at all, up to a depth: checks P3, reports the largest start
+//      skew and mode disagreement reached;
+//   c) as (a), plus one robot crashing at any round, or one robot switched
+//      on at any round: checks P3 and P6.
+// A violation prints the shortest round-by-round trace that reaches it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "syrof/sync/synchronizer.h"
+
+namespace syrof::sync {
+namespace {
+
+static_assert(wire::kMaxSwarmSize == 4, "the exploration is built for swarms of at most 4");
+
+constexpr uint16_t kMaxRobots = 4;
+constexpr uint8_t kCap = 15;  // counters in the global state saturate here
+
+Snapshot SnapshotFor(uint16_t id, uint16_t epoch) {
+  Snapshot snapshot;
+  snapshot.x_mm = static_cast<int16_t>(100 * id + epoch % 3);
+  return snapshot;
+}
+
+enum class Adversary { kBoundedLoss, kAnyLoss, kCrash, kJoin };
+
+struct Params {
+  Adversary adversary;
+  uint16_t robots;
+  uint8_t vote_rounds;       // K
+  uint16_t silence_rounds;   // F
+  uint16_t maneuver_rounds;  // D
+  int max_depth;             // rounds; 0 = until no new state
+};
+
+// What the checks remember about one epoch.
+struct EpochRecord {
+  bool used = false;
+  uint16_t epoch = 0;
+  uint8_t age = 0;              // rounds since its first start (saturating)
+  bool cooperative_seen = false;
+  uint8_t members = 0;          // of the first COOPERATIVE map
+  std::array<int16_t, kMaxRobots> x_mm{};  // its snapshots (the harness's encoding)
+};
+
+struct Robot {
+  SyncState state;
+  bool alive = true;
+  bool present = true;
+  uint8_t progress_rounds = 0;
+};
+
+struct Global {
+  std::array<Robot, kMaxRobots> robots;
+  std::array<std::array<uint8_t, kMaxRobots>, kMaxRobots> consecutive_losses{};  // [from][to]
+  std::array<EpochRecord, 6> records{};
+  uint8_t rounds_without_start = 0;
+  uint8_t disagreement_rounds = 0;
+  bool fault_used = false;
+  int8_t crashed = -1;
+  uint8_t since_fault = 0;
+  int8_t joiner = -1;
+  uint16_t joiner_first_epoch = 0;
+  bool joiner_started = false;
+};
+
+// One round's choices: the delivered links, which robots' maneuvers end,
+// and the fault injected at the start of the round.
+struct Choice {
+  uint16_t delivered = 0;   // bit from * robots + to
+  uint8_t finishing = 0;    // robots whose maneuver ends this round (if allowed)
+  int8_t crash = -1;
+  int8_t switch_on = -1;
+};
+
+struct Outcome {
+  std::string violation;  // empty when the successor is fine
+  int skew = 0;
+  int disagreement = 0;
+  int epochs_started = 0;
+};
+
+class Explorer {
+ public:
+  explicit Explorer(const Params& params) : params_(params) {
+    for (uint16_t id = 0; id < params.robots; ++id) {
+      SyncConfig config = SyncConfig::ForSwarm(params.robots, id);
+      config.vote_rounds = params.vote_rounds;
+      config.silence_rounds = params.silence_rounds;
+      if (params.adversary == Adversary::kJoin) config.initial_members.reset(params.robots - 1);
+      configs_[id] = config;
+    }
+    for (uint16_t id = 0; id < params.robots; ++id) {
+      initial_.robots[id].state = InitialState(configs_[id], SnapshotFor(id, 0));
+    }
+    if (params.adversary == Adversary::kJoin) {
+      initial_.robots[params.robots - 1].present = false;
+      initial_.joiner = static_cast<int8_t>(params.robots - 1);
+    }
+  }
+
+  struct Report {
+    size_t states = 0;
+    size_t transitions = 0;
+    int depth = 0;
+    bool exhausted = false;  // no new state: the whole reachable space was seen
+    int max_skew = 0;
+    int max_disagreement = 0;
+    std::string violation;
+  };
+
+  Report Run() {
+    Report report;
+    // Visited states by the hash of their canonical form, each with the
+    // state it was first reached from and how: the shortest path back.
+    struct Seen {
+      uint64_t parent;
+      Choice choice;
+    };
+    std::unordered_map<uint64_t, Seen> seen;
+    std::vector<Global> frontier{initial_};
+    const uint64_t initial_key = Key(initial_);
+    seen.emplace(initial_key, Seen{initial_key, Choice{}});
+    std::vector<Choice> choices;
+    for (int depth = 0; params_.max_depth == 0 || depth < params_.max_depth; ++depth) {
+      std::vector<Global> next;
+      for (const Global& global : frontier) {
+        const uint64_t key = Key(global);
+        Choices(global, choices);
+        for (uint32_t index = 0; index < choices.size(); ++index) {
+          Global successor = global;
+          const Outcome outcome = Apply(successor, choices[index]);
+          ++report.transitions;
+          report.max_skew = std::max(report.max_skew, outcome.skew);
+          report.max_disagreement = std::max(report.max_disagreement, outcome.disagreement);
+          const uint64_t successor_key = Key(successor);
+          const bool fresh = seen.emplace(successor_key, Seen{key, choices[index]}).second;
+          if (!outcome.violation.empty()) {
+            std::vector<Choice> path{choices[index]};
+            for (uint64_t at = key; at != initial_key; at = seen.at(at).parent) {
+              path.push_back(seen.at(at).choice);
+            }
+            std::reverse(path.begin(), path.end());
+            report.violation = outcome.violation + "\n" + Trace(path);
+            report.states = seen.size();
+            report.depth = depth + 1;
+            return report;
+          }
+          if (fresh) next.push_back(std::move(successor));
+        }
+      }
+      report.depth = depth + 1;
+      if (next.empty()) {
+        report.exhausted = true;
+        break;
+      }
+      frontier = std::move(next);
+    }
+    report.states = seen.size();
+    return report;
+  }
+
+ private:
+  void Choices(const Global& global, std::vector<Choice>& out) const {
+    out.clear();
+    const uint16_t n = params_.robots;
+    // Links that carry a beacon this round, and whether each may be lost.
+    std::vector<uint16_t> links;
+    std::vector<bool> may_lose;
+    uint16_t must = 0;
+    for (uint16_t from = 0; from < n; ++from) {
+      const Robot& sender = global.robots[from];
+      if (!Sends(sender)) continue;
+      for (uint16_t to = 0; to < n; ++to) {
+        if (to == from || !Listens(global.robots[to])) continue;
+        const uint16_t bit = static_cast<uint16_t>(1u << (from * n + to));
+        const bool bounded = params_.adversary != Adversary::kAnyLoss;
+        if (bounded && global.consecutive_losses[from][to] + 1 >= params_.vote_rounds) {
+          must |= bit;
+        } else {
+          links.push_back(bit);
+        }
+      }
+    }
+    // Maneuvers: after D rounds a robot may finish; after D + 1 it must.
+    std::vector<uint8_t> optional_finish;
+    uint8_t forced = 0;
+    for (uint16_t id = 0; id < n; ++id) {
+      const Robot& robot = global.robots[id];
+      if (!InProgress(robot)) continue;
+      if (robot.progress_rounds + 1 >= params_.maneuver_rounds + 1) {
+        forced |= static_cast<uint8_t>(1u << id);
+      } else if (robot.progress_rounds + 1 >= params_.maneuver_rounds && VariableManeuvers()) {
+        optional_finish.push_back(static_cast<uint8_t>(1u << id));
+      }
+    }
+    // Faults: at most one per run, at the start of any round.
+    std::vector<std::pair<int8_t, int8_t>> faults{{-1, -1}};
+    if (!global.fault_used && params_.adversary == Adversary::kCrash) {
+      for (int8_t id = 0; id < static_cast<int8_t>(n); ++id) faults.push_back({id, -1});
+    }
+    if (!global.fault_used && params_.adversary == Adversary::kJoin) {
+      faults.push_back({-1, global.joiner});
+    }
+    for (const auto& [crash, switch_on] : faults) {
+      for (uint32_t finish_mask = 0; finish_mask < (1u << optional_finish.size()); ++finish_mask) {
+        uint8_t finishing = forced;
+        for (size_t i = 0; i < optional_finish.size(); ++i) {
+          if ((finish_mask >> i) & 1u) finishing |= optional_finish[i];
+        }
+        for (uint32_t loss_mask = 0; loss_mask < (1u << links.size()); ++loss_mask) {
+          uint16_t delivered = must;
+          for (size_t i = 0; i < links.size(); ++i) {
+            if (((loss_mask >> i) & 1u) == 0) delivered |= links[i];
+          }
+          out.push_back(Choice{delivered, finishing, crash, switch_on});
+        }
+      }
+    }
+  }
+
+  bool VariableManeuvers() const { return params_.adversary != Adversary::kAnyLoss; }
+  static bool Sends(const Robot& robot) {
+    return robot.alive && robot.present && robot.state.status == Status::kMember;
+  }
+  static bool Listens(const Robot& robot) { return robot.alive && robot.present; }
+  static bool InProgress(const Robot& robot) {
+    return Listens(robot) && robot.state.status == Status::kMember &&
+           robot.state.phase == Phase::kProgress;
+  }
+
+  EpochRecord* Record(Global& global, uint16_t epoch) {
+    for (EpochRecord& record : global.records) {
+      if (record.used && record.epoch == epoch) return &record;
+    }
+    for (EpochRecord& record : global.records) {
+      if (!record.used) {
+        record = EpochRecord{};
+        record.used = true;
+        record.epoch = epoch;
+        return &record;
+      }
+    }
+    return nullptr;
+  }
+
+  Outcome Apply(Global& global, const Choice& choice, std::string* trace = nullptr) {
+    Outcome outcome;
+    const uint16_t n = params_.robots;
+    for (EpochRecord& record : global.records) {
+      if (record.used) record.age = static_cast<uint8_t>(std::min<int>(kCap, record.age + 1));
+    }
+    if (choice.crash >= 0) {
+      global.robots[choice.crash].alive = false;
+      global.fault_used = true;
+      global.crashed = choice.crash;
+      global.since_fault = 0;
+    }
+    if (choice.switch_on >= 0) {
+      global.robots[choice.switch_on].present = true;
+      global.fault_used = true;
+      global.since_fault = 0;
+    }
+    // The radio.
+    std::array<wire::Beacon, kMaxRobots> beacons{};
+    std::array<bool, kMaxRobots> sent{};
+    for (uint16_t id = 0; id < n; ++id) {
+      sent[id] = Sends(global.robots[id]);
+      if (sent[id]) beacons[id] = MakeBeacon(configs_[id], global.robots[id].state);
+    }
+    std::array<std::array<wire::Beacon, kMaxRobots>, kMaxRobots> inbox{};
+    std::array<size_t, kMaxRobots> inbox_size{};
+    for (uint16_t from = 0; from < n; ++from) {
+      if (!sent[from]) continue;
+      for (uint16_t to = 0; to < n; ++to) {
+        if (to == from || !Listens(global.robots[to])) continue;
+        if ((choice.delivered >> (from * n + to)) & 1u) {
+          inbox[to][inbox_size[to]++] = beacons[from];
+          global.consecutive_losses[from][to] = 0;
+        } else {
+          global.consecutive_losses[from][to] =
+              static_cast<uint8_t>(std::min<int>(kCap, global.consecutive_losses[from][to] + 1));
+        }
+      }
+    }
+    if (trace != nullptr) {
+      *trace += "  heard:";
+      for (uint16_t to = 0; to < n; ++to) {
+        *trace += " " + std::to_string(to) + "<-{";
+        for (size_t i = 0; i < inbox_size[to]; ++i) {
+          *trace += (i ? "," : "") + std::to_string(inbox[to][i].robot_id);
+        }
+        *trace += "}";
+      }
+      *trace += "\n";
+    }
+    // Every live robot steps.
+    std::array<bool, kMaxRobots> started{};
+    std::array<LDMap, kMaxRobots> maps{};
+    bool anyone_started = false;
+    for (uint16_t id = 0; id < n; ++id) {
+      Robot& robot = global.robots[id];
+      if (!Listens(robot)) continue;
+      StepInput input;
+      input.own_snapshot = SnapshotFor(id, robot.state.epoch);
+      input.maneuver_finished = InProgress(robot) && ((choice.finishing >> id) & 1u);
+      if (InProgress(robot)) robot.progress_rounds = static_cast<uint8_t>(std::min<int>(kCap, robot.progress_rounds + 1));
+      StepOutput out;
+      Step(configs_[id], robot.state, std::span<const wire::Beacon>(inbox[id].data(), inbox_size[id]),
+           input, out, maps[id]);
+      if (out.epoch_started) {
+        robot.progress_rounds = 0;
+        started[id] = true;
+        anyone_started = true;
+        ++outcome.epochs_started;
+      }
+    }
+    for (uint16_t id = 0; id < n; ++id) {
+      if (!started[id]) continue;
+      const LDMap& map = maps[id];
+      EpochRecord* record = Record(global, map.epoch);
+      if (record == nullptr) {
+        outcome.violation = "harness: too many epochs in flight";
+        return outcome;
+      }
+      outcome.skew = std::max<int>(outcome.skew, record->age);
+      if (map.mode == Mode::kCooperative) {
+        uint8_t members = 0;
+        std::array<int16_t, kMaxRobots> x{};
+        for (const uint16_t member : map.members) {
+          members |= static_cast<uint8_t>(1u << member);
+          x[member] = map.snapshots[member].x_mm;
+        }
+        if (!record->cooperative_seen) {
+          record->cooperative_seen = true;
+          record->members = members;
+          record->x_mm = x;
+        } else if (record->members != members || record->x_mm != x) {
+          outcome.violation = "P3: robot " + std::to_string(id) + " started epoch " +
+                              std::to_string(map.epoch) + " COOPERATIVE with another map";
+        }
+      }
+      if (trace != nullptr) {
+        *trace += "  robot " + std::to_string(id) + " starts epoch " + std::to_string(map.epoch) + " " +
+                  wire::ToString(map.mode) + " with members {";
+        for (const uint16_t member : map.members) *trace += " " + std::to_string(member);
+        *trace += " }\n";
+      }
+    }
+    // Forget epochs every live robot is past.
+    for (EpochRecord& record : global.records) {
+      if (!record.used) continue;
+      bool someone_before_or_at = false;
+      for (uint16_t id = 0; id < n; ++id) {
+        const Robot& robot = global.robots[id];
+        if (!Listens(robot)) continue;
+        if (robot.state.status == Status::kMember && EpochDifference(robot.state.epoch, record.epoch) <= 0) {
+          someone_before_or_at = true;
+        }
+      }
+      if (!someone_before_or_at) record.used = false;
+    }
+    global.rounds_without_start =
+        anyone_started ? 0 : static_cast<uint8_t>(std::min<int>(kCap, global.rounds_without_start + 1));
+
+    // Mode disagreement: live members in the same epoch with different modes.
+    bool disagree = false;
+    for (uint16_t a = 0; a < n; ++a) {
+      for (uint16_t b = static_cast<uint16_t>(a + 1); b < n; ++b) {
+        const Robot& ra = global.robots[a];
+        const Robot& rb = global.robots[b];
+        if (!Sends(ra) || !Sends(rb)) continue;
+        if (ra.state.epoch == rb.state.epoch && ra.state.epoch_mode != rb.state.epoch_mode) disagree = true;
+      }
+    }
+    if (params_.adversary == Adversary::kAnyLoss) {
+      global.disagreement_rounds =
+          disagree ? static_cast<uint8_t>(std::min<int>(kCap, global.disagreement_rounds + 1)) : 0;
+      outcome.disagreement = global.disagreement_rounds;
+    }
+    if (!outcome.violation.empty()) return outcome;
+
+    const bool bounded = params_.adversary != Adversary::kAnyLoss;
+    // P1 (bounded loss, no failure): everyone starts, or nobody, and in one epoch.
+    if (params_.adversary == Adversary::kBoundedLoss && anyone_started) {
+      for (uint16_t id = 0; id < n; ++id) {
+        if (!started[id] || maps[id].epoch != maps[0].epoch) {
+          outcome.violation = "P1: robot " + std::to_string(id) + " did not start epoch " +
+                              std::to_string(maps[0].epoch) + " with robot 0";
+          return outcome;
+        }
+      }
+    }
+    // Liveness under bounded loss: epochs keep starting.
+    const int longest_epoch = params_.maneuver_rounds + 1 + params_.silence_rounds + 2 * params_.vote_rounds + 2;
+    if (bounded && global.rounds_without_start > longest_epoch) {
+      outcome.violation = "progress: no epoch started for " + std::to_string(global.rounds_without_start) + " rounds";
+      return outcome;
+    }
+    // P6: a crashed robot leaves every member set within F rounds.
+    if (global.crashed >= 0) {
+      global.since_fault = static_cast<uint8_t>(std::min<int>(kCap, global.since_fault + 1));
+      if (global.since_fault >= params_.silence_rounds) {
+        for (uint16_t id = 0; id < n; ++id) {
+          const Robot& robot = global.robots[id];
+          if (Listens(robot) && robot.state.members.test(static_cast<uint16_t>(global.crashed))) {
+            outcome.violation = "P6: robot " + std::to_string(id) + " still lists crashed robot " +
+                                std::to_string(global.crashed) + " after F rounds";
+            return outcome;
+          }
+        }
+      }
+    }
+    // P6: a joiner is in every map from the second epoch after its first.
+    if (global.joiner >= 0) {
+      const uint16_t joiner = static_cast<uint16_t>(global.joiner);
+      if (started[joiner] && !global.joiner_started) {
+        global.joiner_started = true;
+        global.joiner_first_epoch = maps[joiner].epoch;
+      }
+      for (uint16_t id = 0; id < n; ++id) {
+        if (!started[id] || !global.joiner_started) continue;
+        if (EpochDifference(maps[id].epoch, global.joiner_first_epoch) >= 2 &&
+            !maps[id].members.test(joiner)) {
+          outcome.violation = "P6: robot " + std::to_string(id) + " started epoch " +
+                              std::to_string(maps[id].epoch) + " without the joiner";
+          return outcome;
+        }
+      }
+    }
+    return outcome;
+  }
+
+  // The canonical form of a global state: epochs shifted by a multiple of 6
+  // (snapshots encode epoch modulo 3, so the shift preserves them), and only
+  // the fields that influence future behaviour.
+  uint64_t Key(const Global& global) const {
+    int base = 0x7fffffff;
+    for (uint16_t id = 0; id < params_.robots; ++id) {
+      const Robot& robot = global.robots[id];
+      // A joiner's epoch only bounds which groups it may join from below,
+      // and every member is past it, so it does not set the base.
+      if (Listens(robot) && robot.state.status == Status::kMember) base = std::min<int>(base, robot.state.epoch);
+    }
+    if (base == 0x7fffffff) base = 0;
+    base -= base % 6;
+    std::string bytes;
+    auto put = [&bytes](uint64_t value, int size) {
+      for (int i = 0; i < size; ++i) bytes.push_back(static_cast<char>(value >> (8 * i)));
+    };
+    auto set_bits = [](const MemberSet& set) { return set.byte_at(0); };
+    for (uint16_t id = 0; id < params_.robots; ++id) {
+      const Robot& robot = global.robots[id];
+      const SyncState& s = robot.state;
+      put(robot.alive | (robot.present << 1), 1);
+      if (!Listens(robot)) continue;
+      put(robot.progress_rounds, 1);
+      put(static_cast<uint8_t>(s.status), 1);
+      const int relative_epoch = EpochDifference(s.epoch, static_cast<uint16_t>(base));
+      put(s.status == Status::kJoining && relative_epoch < 0 ? 0xFFFFu : static_cast<uint16_t>(relative_epoch), 2);
+      put(static_cast<uint8_t>(s.phase), 1);
+      put(s.vote, 1);
+      put(static_cast<uint8_t>(s.epoch_mode) | (s.veto << 1) | (s.join_target_known << 2), 1);
+      put(set_bits(s.members), 1);
+      put(set_bits(s.waiting), 1);
+      put(set_bits(s.view), 1);
+      put(set_bits(s.votes_matched), 1);
+      put(set_bits(s.held), 1);
+      if (s.status == Status::kJoining) {  // stale in members
+        put(set_bits(s.join_group), 1);
+        put(s.join_rounds_left, 1);
+        put(static_cast<uint16_t>(s.join_epoch - base), 2);
+        put(s.rounds_alone, 2);
+      }
+      for (const uint16_t member : s.members) put(s.silent_rounds[member], 1);
+      for (const uint16_t holder : s.held) put(static_cast<uint16_t>(s.snapshots[holder].x_mm), 2);
+    }
+    for (uint16_t from = 0; from < params_.robots; ++from) {
+      for (uint16_t to = 0; to < params_.robots; ++to) put(global.consecutive_losses[from][to], 1);
+    }
+    // Records, in epoch order so their slots do not matter.
+    std::vector<const EpochRecord*> records;
+    for (const EpochRecord& record : global.records) {
+      if (record.used) records.push_back(&record);
+    }
+    std::sort(records.begin(), records.end(),
+              [](const EpochRecord* a, const EpochRecord* b) { return a->epoch < b->epoch; });
+    for (const EpochRecord* record : records) {
+      put(static_cast<uint16_t>(record->epoch - base), 2);
+      put(record->cooperative_seen | (record->members << 1), 1);
+      if (params_.adversary == Adversary::kAnyLoss) put(record->age, 1);
+      for (const int16_t x : record->x_mm) put(static_cast<uint16_t>(x), 2);
+    }
+    put(global.rounds_without_start, 1);
+    put(global.disagreement_rounds, 1);
+    put(global.fault_used | (global.joiner_started << 1), 1);
+    put(static_cast<uint8_t>(global.crashed), 1);
+    put(global.since_fault, 1);
+    if (global.joiner_started) put(static_cast<uint16_t>(global.joiner_first_epoch - base), 2);
+    // FNV-1a 64 over the canonical bytes.
+    uint64_t hash = 1469598103934665603ull;
+    for (const char c : bytes) {
+      hash ^= static_cast<uint8_t>(c);
+      hash *= 1099511628211ull;
+    }
+    return hash;
+  }
+
+  // Replays `path` from the initial state, printing each round.
+  std::string Trace(const std::vector<Choice>& path) {
+    std::string trace;
+    Global global = initial_;
+    for (size_t round = 0; round < path.size(); ++round) {
+      trace += "round " + std::to_string(round);
+      if (path[round].crash >= 0) trace += " (robot " + std::to_string(path[round].crash) + " crashes)";
+      if (path[round].switch_on >= 0) trace += " (robot " + std::to_string(path[round].switch_on) + " switched on)";
+      trace += ":\n";
+      Apply(global, path[round], &trace);
+      for (uint16_t id = 0; id < params_.robots; ++id) {
+        const SyncState& s = global.robots[id].state;
+        trace += "  robot " + std::to_string(id) + ": " + ToString(s.status) + " epoch " +
+                 std::to_string(s.epoch) + " " + wire::ToString(s.phase) + " vote " + std::to_string(s.vote) +
+                 " members " + std::to_string(s.members.byte_at(0)) + " view " +
+                 std::to_string(s.view.byte_at(0)) + (s.veto ? " veto" : "") + "\n";
+      }
+    }
+    return trace;
+  }
+
+  Params params_;
+  std::array<SyncConfig, kMaxRobots> configs_{};
+  Global initial_;
+};
+
+void RunAndReport(const char* name, const Params& params) {
+  Explorer explorer(params);
+  const Explorer::Report report = explorer.Run();
+  std::printf("[ explore ] %-40s n=%u K=%u F=%u D=%u: %zu states, %zu transitions, depth %d%s, "
+              "max skew %d rounds, max mode disagreement %d rounds\n",
+              name, params.robots, params.vote_rounds, params.silence_rounds, params.maneuver_rounds,
+              report.states, report.transitions, report.depth,
+              report.exhausted ? " (exhausted)" : " (depth bound)", report.max_skew, report.max_disagreement);
+  EXPECT_TRUE(report.violation.empty()) << report.violation;
+  if (params.max_depth == 0) {
+    EXPECT_TRUE(report.exhausted);
+  }
+}
+
+TEST(SyncExploreTest, BoundedLossTwoRobots) {
+  RunAndReport("a) loss < K per link", {Adversary::kBoundedLoss, 2, 2, 3, 2, 0});
+}
+
+TEST(SyncExploreTest, BoundedLossThreeRobots) {
+  RunAndReport("a) loss < K per link", {Adversary::kBoundedLoss, 3, 2, 3, 2, 0});
+}
+
+// 4.6 million states and about 90 s: run with --gtest_also_run_disabled_tests.
+TEST(SyncExploreTest, DISABLED_BoundedLossThreeRobotsK3) {
+  RunAndReport("a) loss < K per link", {Adversary::kBoundedLoss, 3, 3, 4, 3, 0});
+}
+
+TEST(SyncExploreTest, AnyLossTwoRobots) {
+  RunAndReport("b) any loss", {Adversary::kAnyLoss, 2, 2, 3, 2, 40});
+}
+
+TEST(SyncExploreTest, AnyLossThreeRobots) {
+  RunAndReport("b) any loss", {Adversary::kAnyLoss, 3, 2, 3, 2, 5});
+}
+
+TEST(SyncExploreTest, CrashThreeRobots) {
+  RunAndReport("c) loss < K, one crash", {Adversary::kCrash, 3, 2, 3, 2, 0});
+}
+
+TEST(SyncExploreTest, JoinThreeRobots) {
+  RunAndReport("c) loss < K, one join", {Adversary::kJoin, 3, 2, 3, 2, 30});
+}
+
+}  // namespace
+}  // namespace syrof::sync

@@ -1,0 +1,330 @@
+// Every transition of docs/protocol.md on one robot, with hand-made beacons.
+#include "syrof/sync/synchronizer.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace syrof::sync {
+namespace {
+
+constexpr uint16_t kSwarm = 4;
+
+class SynchronizerTest : public ::testing::Test {
+ protected:
+  SynchronizerTest() {
+    config_ = SyncConfig::ForSwarm(kSwarm, 0);  // K = 3, F = 6, Q = 3
+    state_ = InitialState(config_, Own());
+  }
+
+  static Snapshot Own() {
+    Snapshot snapshot;
+    snapshot.x_mm = 11;
+    return snapshot;
+  }
+
+  // A beacon from `id` in `epoch` and `phase`; VOTE beacons carry `vote` and
+  // robot 0's members as their view, other beacons only the sender waiting.
+  wire::Beacon From(uint16_t id, uint16_t epoch, Phase phase, uint8_t vote = 0) const {
+    wire::Beacon beacon;
+    beacon.robot_id = id;
+    beacon.epoch = epoch;
+    beacon.phase = phase;
+    beacon.vote_counter = vote;
+    beacon.x_mm = static_cast<int16_t>(100 * id);
+    beacon.mode = Mode::kCooperative;
+    if (phase == Phase::kVote) {
+      beacon.waiting = state_.members;
+    } else if (phase == Phase::kWait) {
+      beacon.waiting.set(id);
+    }
+    return beacon;
+  }
+
+  void StepWith(std::vector<wire::Beacon> beacons, bool finished = false) {
+    StepInput input;
+    input.maneuver_finished = finished;
+    input.own_snapshot = Own();
+    Step(config_, state_, beacons, input, out_, ldmap_);
+  }
+
+  // Everyone else's WAIT beacons in epoch 0: moves robot 0 into VOTE.
+  void EnterVote() {
+    StepWith({From(1, 0, Phase::kWait), From(2, 0, Phase::kWait), From(3, 0, Phase::kWait)});
+    ASSERT_EQ(state_.phase, Phase::kVote);
+  }
+
+  std::vector<wire::Beacon> Votes(uint8_t vote) const {
+    return {From(1, 0, Phase::kVote, vote), From(2, 0, Phase::kVote, vote),
+            From(3, 0, Phase::kVote, vote)};
+  }
+
+  SyncConfig config_;
+  SyncState state_;
+  StepOutput out_;
+  LDMap ldmap_;
+};
+
+TEST_F(SynchronizerTest, InitialMemberStartsInWaitOfEpochZeroWithItsSnapshotFrozen) {
+  EXPECT_EQ(state_.status, Status::kMember);
+  EXPECT_EQ(state_.phase, Phase::kWait);
+  EXPECT_EQ(state_.epoch, 0);
+  EXPECT_EQ(state_.members.count(), kSwarm);
+  EXPECT_TRUE(state_.held.test(0));
+  EXPECT_EQ(state_.snapshots[0], Own());
+}
+
+TEST_F(SynchronizerTest, RobotOutsideTheInitialMembersStartsJoiningAndSilent) {
+  config_.initial_members.reset(0);
+  state_ = InitialState(config_, Own());
+  EXPECT_EQ(state_.status, Status::kJoining);
+  StepWith({});
+  EXPECT_FALSE(out_.send);
+}
+
+TEST_F(SynchronizerTest, WaitBecomesVoteWhenEveryMemberIsKnownWaiting) {
+  StepWith({From(1, 0, Phase::kWait), From(2, 0, Phase::kWait)});
+  EXPECT_EQ(state_.phase, Phase::kWait) << "robot 3 is not known to be waiting";
+  StepWith({From(3, 0, Phase::kWait)});
+  EXPECT_EQ(state_.phase, Phase::kVote);
+  EXPECT_EQ(state_.view, state_.members);
+  EXPECT_EQ(out_.beacon.vote_counter, 1);
+  EXPECT_EQ(out_.beacon.waiting, state_.view);
+}
+
+TEST_F(SynchronizerTest, WaitingSetsSpreadTransitively) {
+  wire::Beacon relayed = From(1, 0, Phase::kWait);
+  relayed.waiting.clear();
+  relayed.waiting.set(1);
+  relayed.waiting.set(2);
+  relayed.waiting.set(3);
+  StepWith({relayed});
+  EXPECT_EQ(state_.phase, Phase::kVote);
+}
+
+TEST_F(SynchronizerTest, WaitAdoptsTheHighestVoteCounterHeard) {
+  StepWith({From(1, 0, Phase::kVote, 1), From(2, 0, Phase::kVote, 2)});
+  EXPECT_EQ(state_.phase, Phase::kVote);
+  EXPECT_EQ(state_.vote, 3) << "heard 2, so the next beacon carries 3";
+}
+
+TEST_F(SynchronizerTest, VoteStartsTheEpochAfterKRoundsCooperativeWhenEveryVoteMatches) {
+  EnterVote();
+  StepWith(Votes(1));
+  StepWith(Votes(2));
+  EXPECT_FALSE(out_.epoch_started);
+  StepWith(Votes(3));
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(ldmap_.epoch, 1);
+  EXPECT_EQ(ldmap_.mode, Mode::kCooperative);
+  EXPECT_EQ(ldmap_.members.count(), kSwarm);
+  EXPECT_EQ(ldmap_.snapshots[0], Own());
+  EXPECT_EQ(ldmap_.snapshots[2].x_mm, 200);
+  EXPECT_EQ(state_.phase, Phase::kProgress);
+  EXPECT_EQ(state_.epoch, 1);
+  EXPECT_EQ(state_.epoch_mode, Mode::kCooperative);
+}
+
+TEST_F(SynchronizerTest, AMemberNeverHeardVotingMakesTheEpochAutonomous) {
+  EnterVote();
+  StepWith({From(1, 0, Phase::kVote, 1), From(2, 0, Phase::kVote, 1)});
+  StepWith({From(1, 0, Phase::kVote, 2)});
+  StepWith({From(1, 0, Phase::kVote, 3)});
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(ldmap_.mode, Mode::kAutonomous);
+  EXPECT_TRUE(ldmap_.members.test(3)) << "its WAIT snapshot is still this robot's knowledge";
+}
+
+TEST_F(SynchronizerTest, AVoteWithAnotherViewVetoes) {
+  EnterVote();
+  wire::Beacon other_view = From(1, 0, Phase::kVote, 1);
+  other_view.waiting.reset(3);
+  StepWith({other_view, From(2, 0, Phase::kVote, 1), From(3, 0, Phase::kVote, 1)});
+  EXPECT_TRUE(state_.veto);
+  EXPECT_EQ(out_.beacon.mode, Mode::kAutonomous) << "the veto is announced";
+  StepWith(Votes(2));
+  StepWith(Votes(3));
+  EXPECT_EQ(ldmap_.mode, Mode::kAutonomous);
+}
+
+TEST_F(SynchronizerTest, AnAutonomousVoteVetoes) {
+  EnterVote();
+  std::vector<wire::Beacon> votes = Votes(1);
+  votes[1].mode = Mode::kAutonomous;
+  StepWith(votes);
+  StepWith(Votes(2));
+  StepWith(Votes(3));
+  EXPECT_EQ(ldmap_.mode, Mode::kAutonomous);
+}
+
+TEST_F(SynchronizerTest, AViewBelowQuorumIsAutonomous) {
+  for (int round = 0; round < config_.silence_rounds; ++round) {
+    StepWith({From(1, 0, Phase::kWait)});
+  }
+  ASSERT_EQ(state_.members.count(), 2) << "2 and 3 removed";
+  ASSERT_EQ(state_.phase, Phase::kVote);
+  EXPECT_TRUE(state_.veto);
+  StepWith({From(1, 0, Phase::kVote, 2)});
+  StepWith({From(1, 0, Phase::kVote, 3)});
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(ldmap_.mode, Mode::kAutonomous) << "2 of 4 is no majority";
+}
+
+TEST_F(SynchronizerTest, FailureDetectorRemovesAfterExactlyFSilentRounds) {
+  for (int round = 1; round < config_.silence_rounds; ++round) {
+    StepWith({From(1, 0, Phase::kWait), From(2, 0, Phase::kWait)});
+    EXPECT_TRUE(state_.members.test(3)) << "round " << round;
+  }
+  StepWith({From(1, 0, Phase::kWait), From(2, 0, Phase::kWait)});
+  EXPECT_FALSE(state_.members.test(3));
+  EXPECT_TRUE(out_.removed.test(3));
+  EXPECT_EQ(out_.removed.count(), 1);
+}
+
+TEST_F(SynchronizerTest, NeighbouringEpochsCountAsAliveButFarOnesDoNot) {
+  state_.phase = Phase::kProgress;
+  state_.epoch = 5;
+  for (int round = 0; round < config_.silence_rounds; ++round) {
+    StepWith({From(1, 4, Phase::kVote, 1), From(2, 6, Phase::kProgress), From(3, 5, Phase::kProgress)});
+  }
+  EXPECT_TRUE(state_.members.test(1));
+  EXPECT_TRUE(state_.members.test(2));
+  state_.epoch = 5;
+  for (int round = 0; round < config_.silence_rounds; ++round) {
+    StepWith({From(1, 3, Phase::kProgress), From(3, 5, Phase::kProgress)});
+  }
+  EXPECT_FALSE(state_.members.test(1)) << "two epochs behind is another group";
+}
+
+TEST_F(SynchronizerTest, UnknownRobotInTheSameEpochJoinsAtOnce) {
+  config_.initial_members.reset(3);
+  state_ = InitialState(config_, Own());
+  StepWith({From(3, 0, Phase::kWait)});
+  EXPECT_TRUE(state_.members.test(3));
+  EXPECT_TRUE(out_.joined.test(3));
+  EXPECT_TRUE(state_.held.test(3));
+}
+
+TEST_F(SynchronizerTest, ProgressEndsWhenTheManeuverFinishesAndFreezesTheSnapshot) {
+  EnterVote();
+  StepWith(Votes(1));
+  StepWith(Votes(2));
+  StepWith(Votes(3));
+  ASSERT_EQ(state_.phase, Phase::kProgress);
+  StepWith({});
+  EXPECT_EQ(state_.phase, Phase::kProgress);
+  StepWith({}, true);
+  EXPECT_EQ(state_.phase, Phase::kWait);
+  EXPECT_TRUE(state_.waiting.test(0));
+  EXPECT_EQ(out_.beacon.x_mm, Own().x_mm);
+}
+
+TEST_F(SynchronizerTest, CatchesUpWhenAMemberIsOneEpochAheadAndItsManeuverIsOver) {
+  StepWith({From(1, 1, Phase::kProgress)});
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(ldmap_.mode, Mode::kAutonomous);
+  EXPECT_EQ(state_.epoch, 1);
+  EXPECT_EQ(state_.stats.catch_ups, 1u);
+}
+
+TEST_F(SynchronizerTest, DoesNotCatchUpBeforeItsManeuverIsOver) {
+  state_.phase = Phase::kProgress;
+  StepWith({From(1, 1, Phase::kProgress)});
+  EXPECT_FALSE(out_.epoch_started);
+  EXPECT_EQ(state_.epoch, 0);
+}
+
+TEST_F(SynchronizerTest, TwoEpochsBehindItBecomesASilentJoinerAndStartsWithTheGroup) {
+  StepWith({From(1, 7, Phase::kVote, 1)});
+  EXPECT_TRUE(out_.became_joiner);
+  EXPECT_EQ(state_.status, Status::kJoining);
+  EXPECT_FALSE(out_.send);
+  // The group starts epoch 8 at the end of the round whose beacons carry K = 3.
+  StepWith({From(1, 7, Phase::kVote, 2)});
+  EXPECT_FALSE(out_.epoch_started);
+  StepWith({});
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(ldmap_.epoch, 8);
+  EXPECT_EQ(ldmap_.mode, Mode::kAutonomous);
+  EXPECT_EQ(state_.status, Status::kMember);
+  EXPECT_TRUE(state_.members.test(1));
+  EXPECT_TRUE(out_.send);
+}
+
+TEST_F(SynchronizerTest, JoinerIgnoresEpochsItHasAlreadyBeenIn) {
+  state_ = SyncState{};
+  state_.status = Status::kJoining;
+  state_.epoch = 9;
+  StepWith({From(1, 7, Phase::kVote, 3)});
+  EXPECT_FALSE(out_.epoch_started) << "epoch 8 is not after 9";
+  StepWith({From(1, 9, Phase::kVote, 3)});
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(ldmap_.epoch, 10);
+}
+
+TEST_F(SynchronizerTest, JoinerThatHearsNobodyFoundsAGroupOfOne) {
+  config_.initial_members.reset(0);
+  state_ = InitialState(config_, Own());
+  for (int round = 1; round < config_.silence_rounds; ++round) {
+    StepWith({});
+    EXPECT_FALSE(out_.epoch_started);
+  }
+  StepWith({});
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(state_.members.count(), 1);
+  EXPECT_EQ(ldmap_.mode, Mode::kAutonomous);
+}
+
+TEST_F(SynchronizerTest, MalformedBeaconsAreCountedAndDropped) {
+  wire::Beacon from_self = From(0, 0, Phase::kWait);
+  wire::Beacon out_of_range = From(9, 0, Phase::kWait);
+  wire::Beacon bad_vote = From(1, 0, Phase::kVote, 7);
+  wire::Beacon counter_outside_vote = From(2, 0, Phase::kWait, 1);
+  wire::Beacon wide_set = From(3, 0, Phase::kWait);
+  wide_set.waiting.set(kSwarm);
+  StepWith({from_self, out_of_range, bad_vote, counter_outside_vote, wide_set});
+  EXPECT_EQ(state_.stats.beacons_rejected, 5u);
+  EXPECT_EQ(state_.stats.last_issue, BeaconIssue::kMemberOutOfRange);
+  EXPECT_EQ(state_.phase, Phase::kWait);
+  StepWith({From(1, 0, Phase::kWait), From(1, 0, Phase::kWait)});
+  EXPECT_EQ(state_.stats.last_issue, BeaconIssue::kDuplicate);
+}
+
+TEST(EpochDifferenceTest, UsesSerialArithmeticAcrossTheWrap) {
+  EXPECT_EQ(EpochDifference(5, 3), 2);
+  EXPECT_EQ(EpochDifference(3, 5), -2);
+  EXPECT_EQ(EpochDifference(0, 65535), 1);
+  EXPECT_EQ(EpochDifference(65535, 0), -1);
+}
+
+TEST(SyncConfigTest, ValidateNamesEachBrokenRule) {
+  SyncConfig config = SyncConfig::ForSwarm(5, 1);
+  EXPECT_EQ(Validate(config), ConfigError::kOk);
+  EXPECT_EQ(config.quorum, 3);
+
+  SyncConfig bad = config;
+  bad.swarm_size = 0;
+  EXPECT_EQ(Validate(bad), ConfigError::kSwarmSizeOutOfRange);
+  bad = config;
+  bad.self_id = 5;
+  EXPECT_EQ(Validate(bad), ConfigError::kSelfOutOfRange);
+  bad = config;
+  bad.vote_rounds = 0;
+  EXPECT_EQ(Validate(bad), ConfigError::kVoteRoundsOutOfRange);
+  bad = config;
+  bad.silence_rounds = bad.vote_rounds;
+  EXPECT_EQ(Validate(bad), ConfigError::kSilenceNotAboveVote);
+  bad = config;
+  bad.quorum = 2;
+  EXPECT_EQ(Validate(bad), ConfigError::kQuorumNotMajority);
+  bad = config;
+  bad.quorum = 6;
+  EXPECT_EQ(Validate(bad), ConfigError::kQuorumNotMajority);
+  bad = config;
+  bad.initial_members.set(5);
+  EXPECT_EQ(Validate(bad), ConfigError::kInitialMemberOutOfRange);
+  EXPECT_STREQ(ToString(ConfigError::kQuorumNotMajority), "QuorumNotMajority");
+}
+
+}  // namespace
+}  // namespace syrof::sync
