@@ -2,6 +2,9 @@
 // docs/protocol.md, which this code follows.
 #include "syrof/sync/synchronizer.h"
 
+#include <array>
+#include <cstddef>
+
 #include "syrof/base/check.h"
 
 namespace syrof::sync {
@@ -29,17 +32,32 @@ BeaconIssue Inspect(const SyncConfig& config, const wire::Beacon& beacon, const 
   return BeaconIssue::kNone;
 }
 
-bool Valid(const SyncConfig& config, const wire::Beacon& beacon, MemberSet& seen, SyncStats& stats) {
-  const BeaconIssue issue = Inspect(config, beacon, seen);
-  if (issue != BeaconIssue::kNone) {
-    ++stats.beacons_rejected;
-    stats.last_issue = issue;
-    return false;
+// The beacons of one round that passed validation, at most one per robot, so
+// never more than the swarm size. The later passes of a step read only these.
+class UsableBeacons {
+ public:
+  UsableBeacons(const SyncConfig& config, std::span<const wire::Beacon> received, SyncStats& stats) {
+    MemberSet seen;
+    for (const wire::Beacon& beacon : received) {
+      const BeaconIssue issue = Inspect(config, beacon, seen);
+      if (issue != BeaconIssue::kNone) {
+        ++stats.beacons_rejected;
+        stats.last_issue = issue;
+        continue;
+      }
+      seen.set(beacon.robot_id);
+      ++stats.beacons_used;
+      beacons_[count_++] = &beacon;
+    }
   }
-  seen.set(beacon.robot_id);
-  ++stats.beacons_used;
-  return true;
-}
+  const wire::Beacon* const* begin() const { return beacons_.data(); }
+  const wire::Beacon* const* end() const { return beacons_.data() + count_; }
+  bool empty() const { return count_ == 0; }
+
+ private:
+  std::array<const wire::Beacon*, wire::kMaxSwarmSize> beacons_{};
+  size_t count_ = 0;
+};
 
 // "Epoch start": fills `ldmap`, moves `state` into PROGRESS of epoch + 1.
 void StartEpoch(const SyncConfig& config, SyncState& state, Mode mode, StepOutput& out, LDMap& ldmap) {
@@ -96,13 +114,10 @@ void BecomeJoiner(SyncState& state, StepOutput& out) {
 }
 
 // "Joining" and "Founding".
-void StepJoining(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
+void StepJoining(const SyncConfig& config, SyncState& state, const UsableBeacons& received,
                  StepOutput& out, LDMap& ldmap) {
-  MemberSet seen;
-  bool heard_any = false;
-  for (const wire::Beacon& beacon : received) {
-    if (!Valid(config, beacon, seen, state.stats)) continue;
-    heard_any = true;
+  for (const wire::Beacon* usable : received) {
+    const wire::Beacon& beacon = *usable;
     if (beacon.phase != Phase::kVote) continue;
     const uint16_t target = static_cast<uint16_t>(beacon.epoch + 1);
     // Only an epoch after every one this robot has been in: a robot never
@@ -128,7 +143,7 @@ void StepJoining(const SyncConfig& config, SyncState& state, std::span<const wir
       }
     }
   }
-  state.rounds_alone = heard_any ? 0 : static_cast<uint16_t>(state.rounds_alone + 1);
+  state.rounds_alone = !received.empty() ? 0 : static_cast<uint16_t>(state.rounds_alone + 1);
 
   if (state.join_target_known) {
     if (state.join_rounds_left > 0) {
@@ -158,7 +173,7 @@ void StepJoining(const SyncConfig& config, SyncState& state, std::span<const wir
   }
 }
 
-void StepMember(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
+void StepMember(const SyncConfig& config, SyncState& state, const UsableBeacons& received,
                 const StepInput& input, StepOutput& out, LDMap& ldmap) {
   const uint16_t self = config.self_id;
 
@@ -171,13 +186,10 @@ void StepMember(const SyncConfig& config, SyncState& state, std::span<const wire
   }
 
   // First pass: where the other robots are relative to this one's epoch.
-  MemberSet seen;
   bool lost_group = false;
   bool catch_up = false;
-  for (const wire::Beacon& beacon : received) {
-    if (Inspect(config, beacon, seen) != BeaconIssue::kNone) continue;
-    seen.set(beacon.robot_id);
-    const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
+  for (const wire::Beacon* beacon : received) {
+    const int16_t ahead = EpochDifference(beacon->epoch, state.epoch);
     if (ahead >= 2) lost_group = true;
     if (ahead == 1 && state.phase != Phase::kProgress) catch_up = true;
   }
@@ -196,11 +208,10 @@ void StepMember(const SyncConfig& config, SyncState& state, std::span<const wire
   }
 
   // "Receiving": failure detector input, joins, waiting sets, snapshots.
-  seen.clear();
   MemberSet alive;
   uint8_t highest_vote = 0;
-  for (const wire::Beacon& beacon : received) {
-    if (!Valid(config, beacon, seen, state.stats)) continue;
+  for (const wire::Beacon* usable : received) {
+    const wire::Beacon& beacon = *usable;
     const uint16_t id = beacon.robot_id;
     const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
     if (ahead < -1 || ahead > 1) continue;  // another group: not evidence of life
@@ -249,10 +260,8 @@ void StepMember(const SyncConfig& config, SyncState& state, std::span<const wire
   if (state.phase != Phase::kVote) return;
 
   // "VOTE": evidence for the mode, then the counter.
-  seen.clear();
-  for (const wire::Beacon& beacon : received) {
-    if (Inspect(config, beacon, seen) != BeaconIssue::kNone) continue;
-    seen.set(beacon.robot_id);
+  for (const wire::Beacon* usable : received) {
+    const wire::Beacon& beacon = *usable;
     if (beacon.phase != Phase::kVote || beacon.epoch != state.epoch) continue;
     if (!state.view.test(beacon.robot_id)) continue;
     if (beacon.mode == Mode::kAutonomous || beacon.waiting != state.view) {
@@ -350,10 +359,11 @@ void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beac
   out.removed.clear();
   out.joined.clear();
   state.live = input.own_snapshot;
+  const UsableBeacons usable(config, received, state.stats);
   if (state.status == Status::kJoining) {
-    StepJoining(config, state, received, out, ldmap);
+    StepJoining(config, state, usable, out, ldmap);
   } else {
-    StepMember(config, state, received, input, out, ldmap);
+    StepMember(config, state, usable, input, out, ldmap);
   }
   out.send = state.status == Status::kMember;
   out.beacon = MakeBeacon(config, state);
