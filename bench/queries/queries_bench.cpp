@@ -11,26 +11,16 @@
 #include <numeric>
 #include <vector>
 
+#include "syrof/base/split_mix64.h"
 #include "syrof/queries/swarm_queries.h"
 
 namespace syrof::queries {
 namespace {
 
-// SplitMix64, so the inputs are the same on every run and machine.
-class Rng {
- public:
-  explicit Rng(uint64_t seed) : state_(seed) {}
-  uint64_t Next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  int16_t Coordinate() { return static_cast<int16_t>(static_cast<int64_t>(Next() % 40001) - 20000); }
+// Seeded, so the inputs are the same on every run and machine.
+using Rng = base::SplitMix64;
 
- private:
-  uint64_t state_;
-};
+int16_t Coordinate(Rng& rng) { return static_cast<int16_t>(rng.Between(-20000, 20000)); }
 
 Workspace& SharedWorkspace() {
   static const auto workspace = std::make_unique<Workspace>();
@@ -42,7 +32,7 @@ std::vector<Member> RandomMembers(size_t n, uint64_t seed) {
   Rng rng(seed);
   std::vector<Member> members(n);
   for (size_t index = 0; index < n; ++index) {
-    members[index] = {static_cast<uint16_t>((index * 7919) % n), {rng.Coordinate(), rng.Coordinate()}};
+    members[index] = {static_cast<uint16_t>((index * 7919) % n), {Coordinate(rng), Coordinate(rng)}};
   }
   return members;
 }
@@ -61,7 +51,7 @@ std::vector<Member> RingMembers(size_t n) {
 std::vector<Point> RandomTargets(size_t n, uint64_t seed) {
   Rng rng(seed);
   std::vector<Point> targets(n);
-  for (Point& target : targets) target = {rng.Coordinate(), rng.Coordinate()};
+  for (Point& target : targets) target = {Coordinate(rng), Coordinate(rng)};
   return targets;
 }
 

@@ -8,32 +8,13 @@
 #include <numeric>
 #include <vector>
 
+#include "syrof/base/split_mix64.h"
 #include "syrof/queries/types.h"
 
 namespace syrof::queries::testing {
 
-/// SplitMix64: tiny, seeded, and the same sequence on the host and the
-/// Cortex-M4 (unlike std::uniform_int_distribution, whose algorithm the
-/// standard leaves open).
-class Rng {
- public:
-  explicit Rng(uint64_t seed) : state_(seed) {}
-  uint64_t Next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [0, bound) (bound > 0; the modulo bias is irrelevant here).
-  uint32_t Below(uint32_t bound) { return static_cast<uint32_t>(Next() % bound); }
-  /// Uniform in [low, high].
-  int32_t Between(int32_t low, int32_t high) {
-    return low + static_cast<int32_t>(Below(static_cast<uint32_t>(high - low + 1)));
-  }
-
- private:
-  uint64_t state_;
-};
+/// Seeded, and the same sequence on the host and the Cortex-M4.
+using Rng = base::SplitMix64;
 
 template <typename T>
 void Shuffle(std::vector<T>& values, Rng& rng) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "syrof/base/split_mix64.h"
 #include "syrof/board/cycles.h"
 #include "syrof/queries/swarm_queries.h"
 
@@ -18,15 +19,9 @@ using namespace syrof::queries;
 constexpr int kRepetitions = 16;
 constexpr uint16_t kCount = kMaxMembers < kMaxTargets ? kMaxMembers : kMaxTargets;
 
-// SplitMix64.
-uint64_t state = 32;
-uint64_t Next() {
-  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-int16_t Coordinate() { return static_cast<int16_t>(static_cast<int64_t>(Next() % 40001) - 20000); }
+// Seeded, the same inputs as on every other run.
+syrof::base::SplitMix64 rng(32);
+int16_t Coordinate() { return static_cast<int16_t>(rng.Between(-20000, 20000)); }
 
 Workspace workspace;  // static: about 6 KB in this build
 Member members[kCount];

@@ -110,29 +110,17 @@ void Ekf<Scalar>::PropagateCovariance(const Scalar (&jacobian_heading)[4], Scala
     p(i, kStateGyroBias) = row[kStateGyroBias];
   }
 
-  // Q (process_model.cpp has the same terms in dense form).
-  const ProcessNoise<Scalar>& noise = params_.process_noise;
-  const Scalar accel_density = with_imu ? noise.accel_noise_density : noise.unmeasured_accel_density;
-  const Scalar heading_density = with_imu ? noise.gyro_noise_density : noise.unmeasured_yaw_rate_density;
-  const Scalar accel_power = accel_density * accel_density;
-  const Scalar bias_power = noise.gyro_bias_walk * noise.gyro_bias_walk;
-  const Scalar dt2 = dt_s * dt_s;
-  const Scalar dt3 = dt2 * dt_s;
-  const Scalar q_position = accel_power * dt3 / 3;
-  const Scalar q_cross = accel_power * dt2 / 2;
-  const Scalar q_velocity = accel_power * dt_s;
-  p(kStateX, kStateX) += q_position;
-  p(kStateY, kStateY) += q_position;
-  p(kStateX, kStateVx) += q_cross;
-  p(kStateY, kStateVy) += q_cross;
-  p(kStateVx, kStateVx) += q_velocity;
-  p(kStateVy, kStateVy) += q_velocity;
-  p(kStateHeading, kStateHeading) += heading_density * heading_density * dt_s;
-  if (with_imu) {
-    p(kStateHeading, kStateHeading) += bias_power * dt3 / 3;
-    p(kStateHeading, kStateGyroBias) -= bias_power * dt2 / 2;
-  }
-  p(kStateGyroBias, kStateGyroBias) += bias_power * dt_s;
+  // Q, added in place (the upper triangle; mirrored below).
+  const ProcessNoiseTerms<Scalar> q = ProcessNoiseEntries(params_.process_noise, dt_s, with_imu);
+  p(kStateX, kStateX) += q.position;
+  p(kStateY, kStateY) += q.position;
+  p(kStateX, kStateVx) += q.position_velocity;
+  p(kStateY, kStateVy) += q.position_velocity;
+  p(kStateVx, kStateVx) += q.velocity;
+  p(kStateVy, kStateVy) += q.velocity;
+  p(kStateHeading, kStateHeading) += q.heading;
+  p(kStateHeading, kStateGyroBias) += q.heading_bias;
+  p(kStateGyroBias, kStateGyroBias) += q.bias;
 
   for (int i = 1; i < n; ++i) {
     for (int j = 0; j < i; ++j) p(i, j) = p(j, i);

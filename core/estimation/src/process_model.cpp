@@ -68,30 +68,43 @@ StateCovariance<Scalar> ProcessJacobian(Scalar dt_s) {
 }
 
 template <typename Scalar>
-StateCovariance<Scalar> ProcessNoiseCovariance(const ProcessNoise<Scalar>& noise, Scalar dt_s, bool with_imu) {
+ProcessNoiseTerms<Scalar> ProcessNoiseEntries(const ProcessNoise<Scalar>& noise, Scalar dt_s, bool with_imu) {
   const Scalar accel_density = with_imu ? noise.accel_noise_density : noise.unmeasured_accel_density;
   const Scalar heading_density = with_imu ? noise.gyro_noise_density : noise.unmeasured_yaw_rate_density;
   const Scalar accel_power = accel_density * accel_density;
   const Scalar bias_power = noise.gyro_bias_walk * noise.gyro_bias_walk;
   const Scalar dt2 = dt_s * dt_s;
   const Scalar dt3 = dt2 * dt_s;
+  ProcessNoiseTerms<Scalar> terms;
+  terms.position = accel_power * dt3 / 3;
+  terms.position_velocity = accel_power * dt2 / 2;
+  terms.velocity = accel_power * dt_s;
+  terms.heading = heading_density * heading_density * dt_s;
+  if (with_imu) {
+    // The heading integrates -b, so the bias walk reaches it too.
+    terms.heading += bias_power * dt3 / 3;
+    terms.heading_bias = -bias_power * dt2 / 2;
+  }
+  terms.bias = bias_power * dt_s;
+  return terms;
+}
+
+template <typename Scalar>
+StateCovariance<Scalar> ProcessNoiseCovariance(const ProcessNoise<Scalar>& noise, Scalar dt_s, bool with_imu) {
+  const ProcessNoiseTerms<Scalar> terms = ProcessNoiseEntries(noise, dt_s, with_imu);
   StateCovariance<Scalar> q = StateCovariance<Scalar>::Zero();
   for (const int axis : {0, 1}) {
     const int position = kStateX + axis;
     const int velocity = kStateVx + axis;
-    q(position, position) = accel_power * dt3 / 3;
-    q(position, velocity) = accel_power * dt2 / 2;
-    q(velocity, position) = q(position, velocity);
-    q(velocity, velocity) = accel_power * dt_s;
+    q(position, position) = terms.position;
+    q(position, velocity) = terms.position_velocity;
+    q(velocity, position) = terms.position_velocity;
+    q(velocity, velocity) = terms.velocity;
   }
-  q(kStateHeading, kStateHeading) = heading_density * heading_density * dt_s;
-  if (with_imu) {
-    // The heading integrates -b, so the bias walk reaches it too.
-    q(kStateHeading, kStateHeading) += bias_power * dt3 / 3;
-    q(kStateHeading, kStateGyroBias) = -bias_power * dt2 / 2;
-    q(kStateGyroBias, kStateHeading) = q(kStateHeading, kStateGyroBias);
-  }
-  q(kStateGyroBias, kStateGyroBias) = bias_power * dt_s;
+  q(kStateHeading, kStateHeading) = terms.heading;
+  q(kStateHeading, kStateGyroBias) = terms.heading_bias;
+  q(kStateGyroBias, kStateHeading) = terms.heading_bias;
+  q(kStateGyroBias, kStateGyroBias) = terms.bias;
   return q;
 }
 
@@ -102,6 +115,7 @@ StateCovariance<Scalar> ProcessNoiseCovariance(const ProcessNoise<Scalar>& noise
   template StateCovariance<Scalar> ProcessJacobian<Scalar>(const StateVector<Scalar>&, const ImuInput<Scalar>&, \
                                                            Scalar);                                          \
   template StateCovariance<Scalar> ProcessJacobian<Scalar>(Scalar);                                          \
+  template ProcessNoiseTerms<Scalar> ProcessNoiseEntries<Scalar>(const ProcessNoise<Scalar>&, Scalar, bool);    \
   template StateCovariance<Scalar> ProcessNoiseCovariance<Scalar>(const ProcessNoise<Scalar>&, Scalar, bool);
 
 SYROF_INSTANTIATE_PROCESS_MODEL(float)

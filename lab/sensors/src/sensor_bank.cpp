@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "syrof/base/check.h"
+#include "syrof/base/split_mix64.h"
 
 namespace syrof::lab::sensors {
 namespace {
@@ -13,15 +14,10 @@ namespace {
 constexpr double kNanosecondsPerSecond = 1e9;
 constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
 
-// SplitMix64: spreads one seed into independent seeds for each stream.
-uint64_t SplitMix64(uint64_t value) {
-  value += 0x9e3779b97f4a7c15ULL;
-  value = (value ^ (value >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  value = (value ^ (value >> 27)) * 0x94d049bb133111ebULL;
-  return value ^ (value >> 31);
+// Independent seeds for each stream from the one scenario seed.
+uint64_t StreamSeed(uint64_t seed, uint64_t stream) {
+  return base::SplitMix64Hash(base::SplitMix64Hash(seed) ^ base::SplitMix64Hash(stream));
 }
-
-uint64_t StreamSeed(uint64_t seed, uint64_t stream) { return SplitMix64(SplitMix64(seed) ^ SplitMix64(stream)); }
 
 int16_t RoundToPixels(double pixels) {
   const double bounded = std::clamp(pixels, static_cast<double>(std::numeric_limits<int16_t>::min()),

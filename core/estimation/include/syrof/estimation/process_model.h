@@ -68,6 +68,22 @@ StateCovariance<Scalar> ProcessJacobian(const StateVector<Scalar>& state, const 
 template <typename Scalar>
 StateCovariance<Scalar> ProcessJacobian(Scalar dt_s);
 
+/// The non-zero entries of Q over dt, once: ProcessNoiseCovariance lays them
+/// out densely, the filter's sparse predict adds them in place.
+template <typename Scalar>
+struct ProcessNoiseTerms {
+  Scalar position = 0;           // Q(x, x) and Q(y, y)
+  Scalar position_velocity = 0;  // Q(x, vx) and Q(y, vy), symmetric
+  Scalar velocity = 0;           // Q(vx, vx) and Q(vy, vy)
+  Scalar heading = 0;            // Q(theta, theta)
+  Scalar heading_bias = 0;       // Q(theta, b), symmetric; zero without the IMU
+  Scalar bias = 0;               // Q(b, b)
+};
+
+/// The entries of ProcessNoiseCovariance(noise, dt_s, with_imu).
+template <typename Scalar>
+ProcessNoiseTerms<Scalar> ProcessNoiseEntries(const ProcessNoise<Scalar>& noise, Scalar dt_s, bool with_imu);
+
 /// The process noise covariance Q over dt: white acceleration (position and
 /// velocity blocks, the standard dt^3/3, dt^2/2, dt terms), white heading
 /// rate, and the gyro bias walk (which also reaches the heading, since the
