@@ -26,19 +26,25 @@ BeaconIssue Inspect(const SyncConfig& config, const wire::Beacon& beacon, const 
     return BeaconIssue::kBadVoteCounter;
   }
   if (!voting && beacon.vote_counter != 0) return BeaconIssue::kBadVoteCounter;
-  if (beacon.waiting.next_member(config.swarm_size) != MemberSet::kCapacity) {
+  if (beacon.waiting.any_at_or_above(config.swarm_size)) {
     return BeaconIssue::kMemberOutOfRange;
   }
   return BeaconIssue::kNone;
 }
 
+const wire::Beacon& Deref(const wire::Beacon& beacon) { return beacon; }
+const wire::Beacon& Deref(const wire::Beacon* beacon) { return *beacon; }
+
 // The beacons of one round that passed validation, at most one per robot, so
 // never more than the swarm size. The later passes of a step read only these.
 class UsableBeacons {
  public:
-  UsableBeacons(const SyncConfig& config, std::span<const wire::Beacon> received, SyncStats& stats) {
+  // `received` holds beacons or pointers to them (Deref reads either).
+  template <typename Received>
+  UsableBeacons(const SyncConfig& config, std::span<Received> received, SyncStats& stats) {
     MemberSet seen;
-    for (const wire::Beacon& beacon : received) {
+    for (const auto& entry : received) {
+      const wire::Beacon& beacon = Deref(entry);
       const BeaconIssue issue = Inspect(config, beacon, seen);
       if (issue != BeaconIssue::kNone) {
         ++stats.beacons_rejected;
@@ -55,7 +61,9 @@ class UsableBeacons {
   bool empty() const { return count_ == 0; }
 
  private:
-  std::array<const wire::Beacon*, wire::kMaxSwarmSize> beacons_{};
+  // Only the first count_ entries are ever read; left uninitialized, since
+  // zeroing the whole array (8 KB on the host) would cost more than the step.
+  std::array<const wire::Beacon*, wire::kMaxSwarmSize> beacons_;
   size_t count_ = 0;
 };
 
@@ -352,14 +360,11 @@ wire::Beacon MakeBeacon(const SyncConfig& config, const SyncState& state) {
   return beacon;
 }
 
-void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
-          const StepInput& input, StepOutput& out, LDMap& ldmap) {
-  out.epoch_started = false;
-  out.became_joiner = false;
-  out.removed.clear();
-  out.joined.clear();
-  state.live = input.own_snapshot;
-  const UsableBeacons usable(config, received, state.stats);
+namespace {
+
+// The body of both Step() overloads.
+void StepWith(const SyncConfig& config, SyncState& state, const UsableBeacons& usable, const StepInput& input,
+              StepOutput& out, LDMap& ldmap) {
   if (state.status == Status::kJoining) {
     StepJoining(config, state, usable, out, ldmap);
   } else {
@@ -367,6 +372,30 @@ void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beac
   }
   out.send = state.status == Status::kMember;
   out.beacon = MakeBeacon(config, state);
+}
+
+void BeginStep(SyncState& state, const StepInput& input, StepOutput& out) {
+  out.epoch_started = false;
+  out.became_joiner = false;
+  out.removed.clear();
+  out.joined.clear();
+  state.live = input.own_snapshot;
+}
+
+}  // namespace
+
+void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
+          const StepInput& input, StepOutput& out, LDMap& ldmap) {
+  BeginStep(state, input, out);
+  const UsableBeacons usable(config, received, state.stats);
+  StepWith(config, state, usable, input, out, ldmap);
+}
+
+void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon* const> received,
+          const StepInput& input, StepOutput& out, LDMap& ldmap) {
+  BeginStep(state, input, out);
+  const UsableBeacons usable(config, received, state.stats);
+  StepWith(config, state, usable, input, out, ldmap);
 }
 
 }  // namespace syrof::sync

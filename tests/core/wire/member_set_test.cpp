@@ -46,6 +46,21 @@ TEST(MemberSetTest, TestIsFalseBeyondCapacity) {
   EXPECT_FALSE(set.test(65535));
 }
 
+TEST(MemberSetTest, AnyAtOrAboveSeesOnlyMembersFromTheBound) {
+  MemberSet set;
+  set.set(5);
+  set.set(MemberSet::kCapacity - 1);
+
+  EXPECT_TRUE(set.any_at_or_above(0));
+  EXPECT_TRUE(set.any_at_or_above(5));
+  EXPECT_TRUE(set.any_at_or_above(6));  // the last member
+  set.reset(MemberSet::kCapacity - 1);
+  EXPECT_TRUE(set.any_at_or_above(5));
+  EXPECT_FALSE(set.any_at_or_above(6));
+  EXPECT_FALSE(set.any_at_or_above(MemberSet::kCapacity));
+  EXPECT_FALSE(MemberSet{}.any_at_or_above(0));
+}
+
 TEST(MemberSetTest, ClearRemovesEveryMember) {
   MemberSet set;
   for (uint16_t member = 0; member < MemberSet::kCapacity; member += 3) set.set(member);

@@ -129,6 +129,13 @@ wire::Beacon MakeBeacon(const SyncConfig& config, const SyncState& state);
 void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
           const StepInput& input, StepOutput& out, LDMap& ldmap);
 
+/// The same, with the round's beacons given by address: a runtime that
+/// delivers one decoded beacon to many robots (the lab) passes pointers
+/// instead of copying each beacon into every receiver's array. Identical
+/// results for the same beacons in the same order.
+void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon* const> received,
+          const StepInput& input, StepOutput& out, LDMap& ldmap);
+
 /// Serial-number difference a - b of two 16-bit epochs, in -32768 .. 32767:
 /// positive when `a` is ahead of `b`, across the wrap from 65535 to 0.
 int16_t EpochDifference(uint16_t a, uint16_t b);

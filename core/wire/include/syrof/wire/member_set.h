@@ -3,7 +3,8 @@
 // Robot ids in a swarm of N robots are 0 .. N-1, and N is at most
 // kMaxSwarmSize, a build-time constant (SYROF_MAX_SWARM_SIZE: 1024 on the
 // host, 32 on the Teensy). A MemberSet is a bitset of that capacity: no
-// allocation, constant size, cheap to copy and compare.
+// allocation, constant size, cheap to copy and compare; operations cost in
+// proportion to the highest id held, not to the capacity.
 #pragma once
 
 #include <array>
@@ -76,7 +77,9 @@ class MemberSet {
   /// Adds `member`. A member at or beyond kCapacity is a bug and stops the program.
   constexpr void set(uint16_t member) {
     SYROF_CHECK(member < kCapacity);
-    words_[member / kWordBits] |= bit(member);
+    const size_t word = member / kWordBits;
+    words_[word] |= bit(member);
+    Cover(word + 1);
   }
 
   /// Removes `member`. A member at or beyond kCapacity is a bug and stops the program.
@@ -86,7 +89,10 @@ class MemberSet {
   }
 
   /// Removes every member.
-  constexpr void clear() { words_ = {}; }
+  constexpr void clear() {
+    for (size_t i = 0; i < used_; ++i) words_[i] = 0;
+    used_ = 0;
+  }
 
   /// Whether `member` is in the set; false for any id at or beyond kCapacity.
   constexpr bool test(uint16_t member) const {
@@ -96,7 +102,7 @@ class MemberSet {
   /// Number of members.
   constexpr uint16_t count() const {
     unsigned total = 0;
-    for (const uint32_t word : words_) total += static_cast<unsigned>(std::popcount(word));
+    for (size_t i = 0; i < used_; ++i) total += static_cast<unsigned>(std::popcount(words_[i]));
     return static_cast<uint16_t>(total);
   }
 
@@ -104,11 +110,11 @@ class MemberSet {
 
   /// The smallest member at or after `from`, or kCapacity when there is none.
   constexpr uint16_t next_member(uint16_t from) const {
-    if (from >= kCapacity) return kCapacity;
     size_t word = from / kWordBits;
+    if (word >= used_) return kCapacity;
     uint32_t bits = words_[word] & (~uint32_t{0} << (from % kWordBits));
     while (bits == 0) {
-      if (++word == kWords) return kCapacity;
+      if (++word >= used_) return kCapacity;
       bits = words_[word];
     }
     return static_cast<uint16_t>(word * kWordBits + static_cast<size_t>(std::countr_zero(bits)));
@@ -116,25 +122,36 @@ class MemberSet {
 
   /// Whether every member of `other` is also a member of this set.
   constexpr bool includes(const MemberSet& other) const {
-    for (size_t i = 0; i < kWords; ++i) {
+    for (size_t i = 0; i < other.used_; ++i) {
       if ((other.words_[i] & ~words_[i]) != 0) return false;
     }
     return true;
   }
 
+  /// Whether any member is at or beyond `bound`.
+  constexpr bool any_at_or_above(uint16_t bound) const { return next_member(bound) != kCapacity; }
+
   /// Union.
   constexpr MemberSet& operator|=(const MemberSet& other) {
-    for (size_t i = 0; i < kWords; ++i) words_[i] |= other.words_[i];
+    for (size_t i = 0; i < other.used_; ++i) words_[i] |= other.words_[i];
+    Cover(other.used_);
     return *this;
   }
 
   /// Intersection.
   constexpr MemberSet& operator&=(const MemberSet& other) {
-    for (size_t i = 0; i < kWords; ++i) words_[i] &= other.words_[i];
+    for (size_t i = 0; i < used_; ++i) words_[i] &= other.words_[i];
     return *this;
   }
 
-  constexpr bool operator==(const MemberSet& other) const = default;
+  /// Same members (however each set came to hold them).
+  constexpr bool operator==(const MemberSet& other) const {
+    const size_t used = used_ > other.used_ ? used_ : other.used_;
+    for (size_t i = 0; i < used; ++i) {
+      if (words_[i] != other.words_[i]) return false;
+    }
+    return true;
+  }
 
   /// Members 8*index .. 8*index+7 as one byte, member 8*index in bit 0 (the
   /// beacon's wire order). `index` must be below kBytes (checked).
@@ -152,6 +169,7 @@ class MemberSet {
     const unsigned shift = 8 * (index % kBytesPerWord);
     uint32_t& word = words_[index / kBytesPerWord];
     word = (word & ~(uint32_t{0xFF} << shift)) | (uint32_t{bits} << shift);
+    if (bits != 0) Cover(index / kBytesPerWord + 1);
   }
 
   constexpr Iterator begin() const { return Iterator(this, next_member(0)); }
@@ -164,8 +182,17 @@ class MemberSet {
 
   static constexpr uint32_t bit(uint16_t member) { return uint32_t{1} << (member % kWordBits); }
 
+  constexpr void Cover(size_t words) {
+    if (words > used_) used_ = static_cast<uint16_t>(words);
+  }
+
   // Bits at or beyond kCapacity stay zero, so == and count() need no mask.
   std::array<uint32_t, kWords> words_{};
+  // Words from used_ on are zero (every operation keeps this), so operations
+  // touch only the words a swarm of N robots can use, N / 32 of them, not
+  // the build's capacity: a 100-robot swarm on a 1024-robot build reads 4
+  // words, not 32. It may overstate (after reset), never understate.
+  uint16_t used_ = 0;
 };
 
 }  // namespace syrof::wire
