@@ -7,16 +7,12 @@
 namespace syrof::os {
 namespace {
 
-// std heap algorithms keep the "largest" element on top, so "a before b"
-// means b has the higher claim to run first.
-struct RunsLater {
-  template <typename Activation>
-  bool operator()(const Activation& a, const Activation& b) const {
-    if (a.time_ns != b.time_ns) return a.time_ns > b.time_ns;
-    if (a.priority != b.priority) return a.priority < b.priority;
-    return a.task_index > b.task_index;
-  }
-};
+// Whether `a` runs before `b`: earlier, then higher priority, then
+// registered first (the order documented in sim_port.h).
+template <typename Activation>
+bool RunsFirst(const Activation& a, const Activation& b) {
+  return a.time_ns < b.time_ns || (a.time_ns == b.time_ns && a.order < b.order);
+}
 
 }  // namespace
 
@@ -39,8 +35,8 @@ void SimScheduler::Schedule(uint32_t task_index, int64_t time_ns) {
   // per task, so this never reallocates.
   SYROF_CHECK(heap_.size() < max_tasks_);
   record.pending = true;
-  heap_.push_back(Activation{time_ns, record.config.priority, task_index});
-  std::push_heap(heap_.begin(), heap_.end(), RunsLater{});
+  heap_.push_back(MakeActivation(task_index, time_ns));
+  SiftUp(heap_.size() - 1);
 }
 
 void SimScheduler::CancelPort(const SimPort& port) {
@@ -51,32 +47,65 @@ void SimScheduler::CancelPort(const SimPort& port) {
     if (belongs_to_port(activation)) tasks_[activation.task_index].pending = false;
   }
   heap_.erase(std::remove_if(heap_.begin(), heap_.end(), belongs_to_port), heap_.end());
-  std::make_heap(heap_.begin(), heap_.end(), RunsLater{});
+  for (size_t position = heap_.size() / 2; position-- > 0;) SiftDown(position);
 }
 
 int64_t SimScheduler::next_activation_ns() const { return heap_.empty() ? -1 : heap_.front().time_ns; }
 
 bool SimScheduler::RunNext() {
   if (heap_.empty()) return false;
-  std::pop_heap(heap_.begin(), heap_.end(), RunsLater{});
-  const Activation activation = heap_.back();
-  heap_.pop_back();
-
+  const Activation activation = heap_.front();
   TaskRecord& record = tasks_[activation.task_index];
-  record.pending = false;
   SYROF_CHECK(activation.time_ns >= now_ns_);
   now_ns_ = activation.time_ns;
 
   // The next periodic activation is due one period after this one was due
   // (vTaskDelayUntil semantics), and is queued before the step runs so that a
-  // step which stops its own port also cancels it.
+  // step which stops its own port also cancels it. It takes the place of the
+  // activation just taken: one sift instead of a removal and an insertion.
   if (record.config.trigger.kind == TriggerKind::kPeriodic) {
-    Schedule(activation.task_index, activation.time_ns + record.config.trigger.period_ns);
+    heap_.front() = MakeActivation(activation.task_index, activation.time_ns + record.config.trigger.period_ns);
+    SiftDown(0);
+  } else {
+    record.pending = false;
+    heap_.front() = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) SiftDown(0);
   }
   ++steps_run_;
   if (trace_ != nullptr) trace_->OnStep(now_ns_, *record.port, record.local_id, record.config);
   record.task->Step(now_ns_);
   return true;
+}
+
+SimScheduler::Activation SimScheduler::MakeActivation(uint32_t task_index, int64_t time_ns) const {
+  const uint64_t rank = 255u - tasks_[task_index].config.priority;
+  return Activation{time_ns, (rank << 32) | task_index, task_index};
+}
+
+void SimScheduler::SiftUp(size_t position) {
+  const Activation moving = heap_[position];
+  while (position > 0) {
+    const size_t parent = (position - 1) / 2;
+    if (!RunsFirst(moving, heap_[parent])) break;
+    heap_[position] = heap_[parent];
+    position = parent;
+  }
+  heap_[position] = moving;
+}
+
+void SimScheduler::SiftDown(size_t position) {
+  const Activation moving = heap_[position];
+  const size_t size = heap_.size();
+  for (;;) {
+    size_t child = 2 * position + 1;
+    if (child >= size) break;
+    if (child + 1 < size && RunsFirst(heap_[child + 1], heap_[child])) ++child;
+    if (!RunsFirst(heap_[child], moving)) break;
+    heap_[position] = heap_[child];
+    position = child;
+  }
+  heap_[position] = moving;
 }
 
 void SimScheduler::RunUntil(int64_t end_ns) {

@@ -72,15 +72,22 @@ class SimScheduler {
     TaskId local_id;
     bool pending;  // has an entry in the activation heap
   };
+  // Ordered by (time_ns, order): order packs "higher priority first, then
+  // earlier registration" into one integer, so a comparison is two.
   struct Activation {
     int64_t time_ns;
-    uint8_t priority;
+    uint64_t order;       // (255 - priority) << 32 | task_index
     uint32_t task_index;  // into tasks_
   };
 
   base::Result<uint32_t, PortError> RegisterTask(SimPort& port, Task& task, const TaskConfig& config,
                                                   TaskId local_id);
   void Schedule(uint32_t task_index, int64_t time_ns);
+  Activation MakeActivation(uint32_t task_index, int64_t time_ns) const;
+  // A binary min-heap on (time_ns, order), written out so that a periodic
+  // task's next activation replaces the one just taken in a single pass.
+  void SiftUp(size_t position);
+  void SiftDown(size_t position);
   void CancelPort(const SimPort& port);
 
   size_t max_tasks_;
