@@ -31,24 +31,6 @@ bool ValidProbability(double probability) { return probability >= 0 && probabili
 
 }  // namespace
 
-double SensorBank::Gaussian::Uniform() {
-  // 53 random bits: every double in [0, 1) on a grid of 2^-53.
-  return static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-}
-
-double SensorBank::Gaussian::Next() {
-  if (has_spare_) {
-    has_spare_ = false;
-    return spare_;
-  }
-  // 1 - Uniform() lies in (0, 1], so the logarithm is finite.
-  const double radius = std::sqrt(-2.0 * std::log(1.0 - Uniform()));
-  const double angle = 2.0 * std::numbers::pi * Uniform();
-  spare_ = radius * std::sin(angle);
-  has_spare_ = true;
-  return radius * std::cos(angle);
-}
-
 SensorBank::SensorBank(const SensorBankConfig& config, uint64_t seed)
     : config_(config),
       flow_metres_per_pixel_(estimation::FlowMetresPerPixel(config.flow.geometry)),

@@ -12,18 +12,17 @@
 // bank's seed (each sensor from its own stream, so switching one sensor off
 // does not change the others' noise). The same seed and the same calls give
 // the same readings, byte for byte, on the same platform. Gaussian samples
-// come from std::mt19937_64 through Box-Muller implemented here, not from
-// std::normal_distribution, whose algorithm differs between standard
-// libraries.
+// come from GaussianSource (gaussian.h), not from std::normal_distribution,
+// whose algorithm differs between standard libraries.
 #pragma once
 
 #include <cstdint>
-#include <random>
 
 #include "syrof/estimation/arena.h"
 #include "syrof/estimation/flow_model.h"
 #include "syrof/estimation/messages.h"
 #include "syrof/estimation/task_config.h"
+#include "syrof/lab/sensors/gaussian.h"
 #include "syrof/lab/sensors/trajectory.h"
 
 namespace syrof::lab::sensors {
@@ -132,18 +131,7 @@ class SensorBank {
   const SensorBankConfig& config() const { return config_; }
 
  private:
-  // Box-Muller over a 64-bit Mersenne Twister; keeps the second value.
-  class Gaussian {
-   public:
-    explicit Gaussian(uint64_t seed) : engine_(seed) {}
-    double Next();
-    double Uniform();  // [0, 1)
-
-   private:
-    std::mt19937_64 engine_;
-    double spare_ = 0;
-    bool has_spare_ = false;
-  };
+  using Gaussian = GaussianSource;
 
   struct Schedule {
     int64_t period_ns;
