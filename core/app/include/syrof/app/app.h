@@ -1,0 +1,64 @@
+// The app interface the robot runtime calls: the C ABI of syrof/app.h seen
+// from C++. The runtime holds one App per robot and never knows which kind
+// it is:
+//   - apps built into the tree (lab/apps) derive from App directly;
+//   - CAbiApp (c_abi_app.h) wraps a syrof_app_descriptor, for C apps linked
+//     in-process;
+//   - the grader's app host will be a third App that forwards each call to a
+//     student's library in a sandboxed child process.
+// The structs are the ABI's own (syrof_ldmap, syrof_car_command,
+// syrof_app_info), so every implementation sees exactly the same bytes.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "syrof/app.h"
+
+namespace syrof::app {
+
+/// What the platform offers an app besides its callbacks. One per robot.
+class Platform {
+ public:
+  /// Sets the payload of the robot's next snapshot (sendMessageData).
+  /// Returns SYROF_APP_PAYLOAD_TOO_LONG, changing nothing, for more than
+  /// SYROF_APP_MAX_PAYLOAD_BYTES bytes.
+  virtual syrof_app_status SendMessageData(std::span<const uint8_t> payload) = 0;
+
+  /// Scratch memory for the queries; shared by the apps of one thread, valid
+  /// while the platform lives.
+  virtual syrof_queries_workspace* queries_workspace() = 0;
+
+ protected:
+  ~Platform() = default;
+};
+
+/// One robot's app instance. Callbacks run one at a time, in this order:
+/// Init once, then per epoch NewRound and (if the maneuver completes)
+/// EndOfRound. The `ldmap` is valid only during the call.
+class App {
+ public:
+  virtual ~App() = default;
+
+  /// A short name for logs ("circle").
+  virtual const char* name() const = 0;
+
+  /// Called once when the robot starts. `platform` outlives the app. Returns
+  /// the initial global state.
+  virtual uint8_t Init(const syrof_app_info& info, Platform& platform) = 0;
+
+  /// Called at the start of every epoch; `command` arrives as STOP and the
+  /// app sets the maneuver. Returns the new global state.
+  virtual uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
+                           uint32_t clock_ms) = 0;
+
+  /// Called when the maneuver ends, with the map the epoch started with.
+  /// Returns the new global state.
+  virtual uint8_t EndOfRound(const syrof_ldmap& ldmap, uint8_t global_state, uint32_t clock_ms) = 0;
+};
+
+/// The member with `id` in `ldmap`, or nullptr (binary search: members are
+/// in increasing id order).
+const syrof_member_state* FindMember(const syrof_ldmap& ldmap, uint16_t id);
+
+}  // namespace syrof::app

@@ -1,0 +1,31 @@
+#include "syrof/app/app.h"
+
+namespace syrof::app {
+
+const syrof_member_state* FindMember(const syrof_ldmap& ldmap, uint16_t id) {
+  size_t low = 0;
+  size_t high = ldmap.member_count;
+  while (low < high) {
+    const size_t middle = low + (high - low) / 2;
+    const uint16_t middle_id = ldmap.members[middle].id;
+    if (middle_id == id) return &ldmap.members[middle];
+    if (middle_id < id) {
+      low = middle + 1;
+    } else {
+      high = middle;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace syrof::app
+
+extern "C" size_t syrofMembersForQueries(const syrof_ldmap* ldmap, syrof_queries_member* out) {
+  if (ldmap == nullptr || out == nullptr) return 0;
+  for (size_t i = 0; i < ldmap->member_count; ++i) {
+    out[i].id = ldmap->members[i].id;
+    out[i].x_mm = ldmap->members[i].x_mm;
+    out[i].y_mm = ldmap->members[i].y_mm;
+  }
+  return ldmap->member_count;
+}

@@ -1,0 +1,83 @@
+#include "syrof/app/c_abi_app.h"
+
+#include <span>
+
+#include "syrof/base/check.h"
+
+namespace syrof::app {
+namespace {
+
+// The platform of the robot whose C callback is running; see c_abi_app.h.
+Platform* current_platform = nullptr;
+
+// Makes `platform` current for one callback; restores the previous one, so
+// a callback that (oddly) runs another robot's callback stays consistent.
+class CurrentPlatform {
+ public:
+  explicit CurrentPlatform(Platform* platform) : previous_(current_platform) { current_platform = platform; }
+  ~CurrentPlatform() { current_platform = previous_; }
+  CurrentPlatform(const CurrentPlatform&) = delete;
+  CurrentPlatform& operator=(const CurrentPlatform&) = delete;
+
+ private:
+  Platform* previous_;
+};
+
+}  // namespace
+
+const char* ToString(DescriptorError error) {
+  switch (error) {
+    case DescriptorError::kOk: return "Ok";
+    case DescriptorError::kNull: return "Null";
+    case DescriptorError::kAbiVersionMismatch: return "AbiVersionMismatch";
+    case DescriptorError::kMissingCallback: return "MissingCallback";
+  }
+  return "?";
+}
+
+DescriptorError Validate(const syrof_app_descriptor* descriptor) {
+  if (descriptor == nullptr) return DescriptorError::kNull;
+  if (descriptor->abi_version != SYROF_APP_ABI_VERSION) return DescriptorError::kAbiVersionMismatch;
+  if (descriptor->init == nullptr || descriptor->new_round == nullptr || descriptor->end_of_round == nullptr) {
+    return DescriptorError::kMissingCallback;
+  }
+  return DescriptorError::kOk;
+}
+
+CAbiApp::CAbiApp(const syrof_app_descriptor& descriptor) : descriptor_(descriptor) {
+  SYROF_CHECK(Validate(&descriptor) == DescriptorError::kOk);
+}
+
+const char* CAbiApp::name() const { return descriptor_.name != nullptr ? descriptor_.name : "c_app"; }
+
+uint8_t CAbiApp::Init(const syrof_app_info& info, Platform& platform) {
+  platform_ = &platform;
+  const CurrentPlatform current(platform_);
+  return descriptor_.init(&info);
+}
+
+uint8_t CAbiApp::NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
+                          uint32_t clock_ms) {
+  const CurrentPlatform current(platform_);
+  return descriptor_.new_round(&command, &ldmap, global_state, clock_ms);
+}
+
+uint8_t CAbiApp::EndOfRound(const syrof_ldmap& ldmap, uint8_t global_state, uint32_t clock_ms) {
+  const CurrentPlatform current(platform_);
+  return descriptor_.end_of_round(&ldmap, global_state, clock_ms);
+}
+
+}  // namespace syrof::app
+
+extern "C" int sendMessageData(const uint8_t* payload, size_t length) {
+  using syrof::app::current_platform;
+  if (current_platform == nullptr) return SYROF_APP_NOT_RUNNING;
+  if (payload == nullptr && length != 0) return SYROF_APP_NULL_ARGUMENT;
+  if (length > SYROF_APP_MAX_PAYLOAD_BYTES) return SYROF_APP_PAYLOAD_TOO_LONG;
+  return current_platform->SendMessageData(std::span<const uint8_t>(payload, length));
+}
+
+extern "C" syrof_queries_workspace* syrofQueriesWorkspace(void) {
+  using syrof::app::current_platform;
+  return current_platform != nullptr ? current_platform->queries_workspace() : nullptr;
+}

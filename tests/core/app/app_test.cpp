@@ -1,0 +1,61 @@
+#include "syrof/app/app.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+
+#include "syrof/app/c_abi_app.h"
+
+namespace syrof::app {
+namespace {
+
+uint8_t Init(const syrof_app_info*) { return 0; }
+uint8_t NewRound(syrof_car_command*, const syrof_ldmap*, uint8_t state, uint32_t) { return state; }
+uint8_t EndOfRound(const syrof_ldmap*, uint8_t state, uint32_t) { return state; }
+
+TEST(AppTest, ValidateChecksTheAbiVersionAndEveryCallback) {
+  const syrof_app_descriptor good = {SYROF_APP_ABI_VERSION, "x", Init, NewRound, EndOfRound};
+  const syrof_app_descriptor old_abi = {SYROF_APP_ABI_VERSION + 1, "x", Init, NewRound, EndOfRound};
+  const syrof_app_descriptor missing = {SYROF_APP_ABI_VERSION, "x", Init, nullptr, EndOfRound};
+
+  EXPECT_EQ(Validate(&good), DescriptorError::kOk);
+  EXPECT_EQ(Validate(&old_abi), DescriptorError::kAbiVersionMismatch);
+  EXPECT_EQ(Validate(&missing), DescriptorError::kMissingCallback);
+  EXPECT_EQ(Validate(nullptr), DescriptorError::kNull);
+}
+
+TEST(AppTest, FindMemberSearchesById) {
+  std::array<syrof_member_state, 3> members{};
+  members[0].id = 2;
+  members[1].id = 5;
+  members[2].id = 9;
+  const syrof_ldmap map{4, SYROF_MODE_COOPERATIVE, 5, 3, members.data()};
+
+  EXPECT_EQ(FindMember(map, 5), &members[1]);
+  EXPECT_EQ(FindMember(map, 9), &members[2]);
+  EXPECT_EQ(FindMember(map, 3), nullptr);
+}
+
+TEST(AppTest, MembersForQueriesCopiesIdsAndPositions) {
+  std::array<syrof_member_state, 2> members{};
+  members[0] = {1, -5, 7, 0, 0, 0, 0, 0, {}};
+  members[1] = {4, 100, -200, 0, 0, 0, 0, 0, {}};
+  const syrof_ldmap map{0, SYROF_MODE_AUTONOMOUS, 1, 2, members.data()};
+  std::array<syrof_queries_member, 2> out{};
+
+  ASSERT_EQ(syrofMembersForQueries(&map, out.data()), 2u);
+
+  EXPECT_EQ(out[1].id, 4);
+  EXPECT_EQ(out[1].x_mm, 100);
+  EXPECT_EQ(out[1].y_mm, -200);
+  EXPECT_EQ(syrofMembersForQueries(nullptr, out.data()), 0u);
+}
+
+TEST(AppTest, PlatformFunctionsOutsideACallbackRefuse) {
+  const uint8_t payload[1] = {1};
+  EXPECT_EQ(sendMessageData(payload, 1), SYROF_APP_NOT_RUNNING);
+  EXPECT_EQ(syrofQueriesWorkspace(), nullptr);
+}
+
+}  // namespace
+}  // namespace syrof::app
