@@ -1,0 +1,139 @@
+// The motion controller: turns the app's current command (syrof_car_command)
+// and the robot's OWN state estimate into a DriveCommand for the actuators.
+// The robot runtime calls Update() at the motion task's rate (100 Hz); it
+// never sees ground truth, so what it does in the lab it does on a robot.
+//
+// Portable: no allocation, no exceptions, no I/O, float math only, constant
+// time per call. One controller per robot; plain state, copyable.
+//
+// Control laws (d = distance to the target, e = heading error wrapped to
+// [-pi, pi], a = braking_fraction * max_accel):
+//
+// Omni (DriveKind::kOmni), velocity in the arena frame:
+//   MOVE_TO   v = min(speed_mps, max_speed, sqrt(2 a d), position_gain * d)
+//             along the unit vector to the target, yaw rate 0. The square
+//             root is the braking curve: a body that brakes at a reaches the
+//             target with zero speed, so it does not overshoot; the linear
+//             term makes the last centimetres smooth (no infinite slope of
+//             the square root at d = 0). Within position_tolerance the
+//             controller holds (velocity 0) and reports arrived().
+//   VELOCITY  (vx, vy) with its magnitude clamped to max_speed; yaw rate 0.
+//   TURN_TO   yaw rate = clamp(heading_gain * e, +-max_turn_rate); velocity
+//             0. Within heading_tolerance: yaw rate 0, arrived().
+//   STOP      everything 0; always arrived().
+//
+// Rover (DriveKind::kWheels), differential drive with wheel base b:
+//   omega and v are mapped to wheels as left = v - omega b/2,
+//   right = v + omega b/2. The turn rate is capped at the smaller of
+//   max_turn_rate and 2 max_speed / b, and by its own braking curve
+//   sqrt(2 a_yaw |e|) with a_yaw = braking_fraction * 2 max_accel / b (the
+//   angular deceleration the wheels can give), so turns stop on target.
+//   When the wheels would exceed max_speed, the forward speed gives way
+//   first, so steering is never lost.
+//   MOVE_TO   e = bearing of the target relative to the heading. If
+//             |e| > turn_in_place_rad the rover turns in place toward it;
+//             otherwise it drives forward at
+//             v = min(speed_mps, max_speed, sqrt(2 a d), position_gain * d) * cos(e)
+//             while steering with omega = steer_gain * e. Near the target
+//             this is the classic polar law (bearing error decays when
+//             steer_gain > position_gain). Hold and arrived() within
+//             position_tolerance.
+//   VELOCITY  the vector's direction is the desired heading and its
+//             magnitude (clamped to max_speed) the speed: turns in place
+//             when the heading error exceeds turn_in_place_rad, else drives
+//             at speed * cos(e) while steering. A zero vector is a stop.
+//   TURN_TO   turns in place with the capped, braked law above.
+//   STOP      both wheels 0.
+//
+// Arrival latches: once within tolerance the controller holds until the
+// error grows past release_factor * tolerance (pushed away by a neighbour,
+// or estimate noise), so it does not twitch around the target.
+//
+// Without an initialized estimate (kEstimateInitialized clear, or any
+// non-finite field used) the controller cannot tell where it is: it
+// commands zero and counts a blind step.
+#pragma once
+
+#include <cstdint>
+
+#include "syrof/app.h"
+#include "syrof/estimation/messages.h"
+#include "syrof/motion/drive.h"
+
+namespace syrof::motion {
+
+/// The kinematic limits of one robot kind. SI units; all > 0.
+struct MotionLimits {
+  float max_speed_mps = 0.5f;        ///< omni: |v|; rover: each wheel's ground speed
+  float max_accel_mps2 = 1.0f;       ///< omni: |dv/dt|; rover: each wheel's
+  float max_turn_rate_radps = 3.0f;  ///< yaw rate cap
+  float wheel_base_m = 0.16f;        ///< rover only: distance between the wheels
+  float body_radius_m = 0.1f;        ///< the body's disc (informational; apps keep clear)
+};
+
+/// Everything a controller needs. Gains are per second (1/s).
+struct ControllerConfig {
+  DriveKind kind = DriveKind::kOmni;
+  MotionLimits limits{};
+  float position_tolerance_m = 0.02f;  ///< MOVE_TO: arrived within this distance
+  float heading_tolerance_rad = 0.05f; ///< TURN_TO: arrived within this heading error
+  float release_factor = 2.0f;         ///< a held target is resumed beyond release_factor * tolerance
+  float braking_fraction = 0.8f;       ///< share of max_accel the braking curves plan with (margin for lag)
+  float position_gain_per_s = 4.0f;    ///< speed = gain * distance near the target
+  float heading_gain_per_s = 4.0f;     ///< yaw rate = gain * heading error
+  float steer_gain_per_s = 6.0f;       ///< rover: yaw rate = gain * bearing error while driving (> position gain)
+  float turn_in_place_rad = 0.6f;      ///< rover: larger bearing errors turn in place first
+};
+
+/// One robot's motion controller.
+class MotionController {
+ public:
+  /// `config` must hold positive limits; a controller starts with STOP.
+  explicit MotionController(const ControllerConfig& config);
+
+  /// Replaces the current command (called when the app's newRound returns, and
+  /// with STOP when the maneuver ends). Validated: an unknown kind, a
+  /// non-finite number in a field the kind reads, or a MOVE_TO speed that is
+  /// not > 0 becomes STOP and counts in invalid_commands(). Fields the kind
+  /// does not read are ignored.
+  void SetCommand(const syrof_car_command& command);
+
+  /// The actuator setpoint for now, from the robot's own estimate. Stamped
+  /// with `now_ns` and the config's DriveKind; the other kind's fields are 0.
+  DriveCommand Update(const estimation::StateEstimate& estimate, int64_t now_ns);
+
+  /// MOVE_TO or TURN_TO: within tolerance at the last Update (latched, see
+  /// the file comment). STOP: always. VELOCITY: never.
+  bool arrived() const;
+
+  /// The command being carried out (after validation).
+  const syrof_car_command& command() const { return command_; }
+  const ControllerConfig& config() const { return config_; }
+  /// Commands replaced by STOP since construction.
+  uint32_t invalid_commands() const { return invalid_commands_; }
+  /// Updates that commanded zero because the estimate was unusable.
+  uint32_t blind_updates() const { return blind_updates_; }
+
+ private:
+  DriveCommand UpdateOmni(const estimation::StateEstimate& estimate, DriveCommand drive);
+  DriveCommand UpdateWheels(const estimation::StateEstimate& estimate, DriveCommand drive);
+  // Speed toward a target `distance_m` away, from the cruise speed and the braking curve.
+  float ApproachSpeed(float distance_m, float cruise_mps) const;
+  // Rover turn rate for a heading error, capped and braked.
+  float WheelsTurnRate(float error_rad, float gain_per_s) const;
+  // Rover wheel speeds for forward speed v and turn rate omega, within max_speed.
+  void SetWheels(float speed_mps, float turn_rate_radps, DriveCommand& drive) const;
+  // Updates the arrival latch for an error against its tolerance.
+  bool Latch(float error, float tolerance);
+
+  ControllerConfig config_;
+  syrof_car_command command_{};
+  bool arrived_ = true;
+  uint32_t invalid_commands_ = 0;
+  uint32_t blind_updates_ = 0;
+};
+
+/// The heading `angle_rad` wrapped to [-pi, pi].
+float WrapAngle(float angle_rad);
+
+}  // namespace syrof::motion
