@@ -1,0 +1,210 @@
+// One robot's software: the task graph that runs unchanged in the simulated
+// lab, in a robot process, and on the Teensy:
+//
+//   sensor drivers -> state task -> Kalman task -> StateEstimate
+//   radio -> Receive() ... round task: synchronizer Step(), app callbacks,
+//                          Radio::Broadcast()
+//   StateEstimate + the app's command -> motion task -> DriveCommand
+//
+// The round task runs once per radio round. It hands the synchronizer the
+// beacons received since its last step and the robot's own snapshot (the
+// latest estimate in the beacon's fixed-point units plus the app's payload),
+// and reports "maneuver finished" once PROGRESS has lasted the configured
+// number of rounds. When an epoch starts it builds the app's LDMap and calls
+// newRound; the command goes to the motion controller. When the maneuver
+// ends the robot stops and endOfRound is called.
+//
+// The sensor drivers publish on the estimation topics before Attach(); the
+// actuator driver subscribes to motion::kDriveTopic after it. Nothing is
+// allocated after construction.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "syrof/app/app.h"
+#include "syrof/estimation/estimator.h"
+#include "syrof/motion/controller.h"
+#include "syrof/motion/drive.h"
+#include "syrof/os/port.h"
+#include "syrof/pubsub/broker.h"
+#include "syrof/pubsub/topic.h"
+#include "syrof/sync/config.h"
+#include "syrof/sync/ldmap.h"
+#include "syrof/sync/synchronizer.h"
+#include "syrof/wire/beacon.h"
+
+namespace syrof::runtime {
+
+/// Where the robot's beacons go: the lab's channel, DDS, or the radio chip.
+class Radio {
+ public:
+  /// Sends this round's beacon. Called from the round task, once per round
+  /// at most.
+  virtual void Broadcast(const wire::Beacon& beacon) = 0;
+
+ protected:
+  ~Radio() = default;
+};
+
+/// Hooks for whoever watches the robot (the lab's metrics and replay, logs).
+/// Called from the round task, after the synchronizer's step.
+class RobotObserver {
+ public:
+  /// An epoch started with `ldmap` (what newRound received).
+  virtual void OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) = 0;
+  /// The failure detector removed, or the membership added, these robots.
+  virtual void OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
+                            const wire::MemberSet& joined) = 0;
+  /// The robot lost its group and is joining again.
+  virtual void OnBecameJoiner(uint16_t robot, int64_t now_ns) = 0;
+
+ protected:
+  ~RobotObserver() = default;
+};
+
+/// Everything one robot needs to know at start-up.
+struct RobotConfig {
+  sync::SyncConfig sync;                       ///< swarm size, self id, K, F, quorum, initial members
+  int64_t radio_round_ns = 50'000'000;         ///< alpha
+  uint16_t maneuver_rounds = 20;               ///< radio rounds PROGRESS lasts (>= K)
+  estimation::EstimatorConfig<float> estimator{};
+  estimation::InitialPose<float> initial_pose{};  ///< where the robot starts (known placement)
+  motion::ControllerConfig motion{};
+  float arena_width_m = 4;
+  float arena_height_m = 4;
+  syrof_queries_workspace* queries_workspace = nullptr;  ///< shared scratch for the app's queries
+};
+
+/// Why a robot could not be set up.
+enum class [[nodiscard]] RobotSetupError : uint8_t {
+  kOk = 0,
+  kInvalidSyncConfig,   ///< sync::Validate refused the config
+  kInvalidTiming,       ///< radio_round_ns <= 0, or maneuver_rounds < K
+  kEstimatorFailed,     ///< the estimator could not attach (sensor topics missing?)
+  kAddTaskFailed,       ///< the port refused a task
+  kBrokerFailed,        ///< a topic could not be advertised or subscribed
+  kAlreadyAttached,
+};
+
+/// The enumerator's name without the k.
+const char* ToString(RobotSetupError error);
+
+/// Counters for diagnostics and tests.
+struct RobotCounters {
+  uint32_t rounds = 0;
+  uint32_t beacons_sent = 0;
+  uint32_t beacons_received = 0;   ///< accepted into the inbox
+  uint32_t beacons_malformed = 0;  ///< bytes that did not decode
+  uint32_t beacons_overflow = 0;   ///< more than a swarm's worth in one round
+  uint32_t new_rounds = 0;         ///< newRound calls
+  uint32_t end_of_rounds = 0;      ///< endOfRound calls
+  uint32_t payloads_refused = 0;   ///< sendMessageData calls over the limit
+};
+
+class Robot final : private app::Platform {
+ public:
+  /// `app` and `radio` must outlive the robot. `receive_storage` holds beacons
+  /// that arrive as bytes (ReceiveBytes); it may be empty when beacons only
+  /// arrive decoded (Receive).
+  Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<wire::Beacon> receive_storage = {});
+  Robot(const Robot&) = delete;
+  Robot& operator=(const Robot&) = delete;
+
+  /// Adds the robot's tasks to `port` and its topics to `broker` (the sensor
+  /// topics must already have publishers), sets the estimator's initial pose
+  /// and calls the app's init. Once, before the port starts.
+  RobotSetupError Attach(os::Port& port, pubsub::Broker& broker);
+
+  /// A beacon heard this round, by address: it must stay valid until the
+  /// round task's next step. The lab's fast path.
+  void Receive(const wire::Beacon& beacon);
+
+  /// A frame heard this round: decoded into receive storage; malformed or
+  /// surplus frames are counted and dropped.
+  void ReceiveBytes(std::span<const uint8_t> frame);
+
+  /// Sets the watcher (or none). Not owned.
+  void set_observer(RobotObserver* observer) { observer_ = observer; }
+
+  uint16_t id() const { return config_.sync.self_id; }
+  const sync::SyncState& sync_state() const { return state_; }
+  const estimation::StateEstimate& estimate() const { return estimate_; }
+  bool estimate_valid() const { return (estimate_.status & estimation::kEstimateInitialized) != 0; }
+  uint8_t global_state() const { return global_state_; }
+  const syrof_car_command& command() const { return command_; }
+  const RobotCounters& counters() const { return counters_; }
+  const estimation::Estimator<float>& estimator() const { return estimator_; }
+  const sync::LDMap& ldmap() const { return ldmap_; }
+  const RobotConfig& config() const { return config_; }
+
+ private:
+  class RoundTask final : public os::Task {
+   public:
+    explicit RoundTask(Robot& robot) : robot_(robot) {}
+    void Step(int64_t now_ns) override { robot_.RunRound(now_ns); }
+
+   private:
+    Robot& robot_;
+  };
+  class MotionTask final : public os::Task {
+   public:
+    explicit MotionTask(Robot& robot) : robot_(robot) {}
+    void Step(int64_t now_ns) override { robot_.RunMotion(now_ns); }
+
+   private:
+    Robot& robot_;
+  };
+
+  // app::Platform
+  syrof_app_status SendMessageData(std::span<const uint8_t> payload) override;
+  syrof_queries_workspace* queries_workspace() override { return config_.queries_workspace; }
+
+  void RunRound(int64_t now_ns);
+  void RunMotion(int64_t now_ns);
+  void RefreshEstimate();
+  sync::Snapshot OwnSnapshot() const;
+  void FillAppMap(const sync::LDMap& ldmap);
+  void EndManeuver(int64_t now_ns);
+  uint32_t ClockMs(int64_t now_ns) const;
+
+  RobotConfig config_;
+  app::App& app_;
+  Radio& radio_;
+  std::span<wire::Beacon> receive_storage_;
+  RobotObserver* observer_ = nullptr;
+
+  estimation::Estimator<float> estimator_;
+  motion::MotionController controller_;
+  RoundTask round_task_;
+  MotionTask motion_task_;
+  os::Port* port_ = nullptr;
+  pubsub::Subscriber<estimation::StateEstimate> estimate_subscriber_;
+  pubsub::Publisher<motion::DriveCommand> drive_publisher_;
+  estimation::StateEstimate estimate_{};
+
+  sync::SyncState state_;
+  sync::StepOutput out_;
+  sync::LDMap ldmap_;  // the current epoch's map
+  std::array<const wire::Beacon*, wire::kMaxSwarmSize> inbox_{};
+  size_t inbox_count_ = 0;
+  size_t stored_count_ = 0;  // of receive_storage_, this round
+
+  std::array<syrof_member_state, wire::kMaxSwarmSize> app_members_{};
+  syrof_ldmap app_map_{};
+  syrof_car_command command_{};
+  uint8_t global_state_ = 0;
+  uint8_t payload_length_ = 0;
+  std::array<uint8_t, wire::kMaxPayloadBytes> payload_{};
+  bool maneuver_active_ = false;
+  uint16_t rounds_in_progress_ = 0;
+  int64_t start_ns_ = 0;
+  bool started_ = false;
+  RobotCounters counters_;
+};
+
+/// A syrof_app_info for `config` (what init receives).
+syrof_app_info AppInfo(const RobotConfig& config);
+
+}  // namespace syrof::runtime

@@ -1,0 +1,224 @@
+#include "syrof/runtime/robot.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "syrof/base/check.h"
+#include "syrof/estimation/topics.h"
+#include "syrof/runtime/task_config.h"
+#include "syrof/wire/beacon_codec.h"
+#include "syrof/wire/fixed_point.h"
+
+namespace syrof::runtime {
+
+const char* ToString(RobotSetupError error) {
+  switch (error) {
+    case RobotSetupError::kOk: return "Ok";
+    case RobotSetupError::kInvalidSyncConfig: return "InvalidSyncConfig";
+    case RobotSetupError::kInvalidTiming: return "InvalidTiming";
+    case RobotSetupError::kEstimatorFailed: return "EstimatorFailed";
+    case RobotSetupError::kAddTaskFailed: return "AddTaskFailed";
+    case RobotSetupError::kBrokerFailed: return "BrokerFailed";
+    case RobotSetupError::kAlreadyAttached: return "AlreadyAttached";
+  }
+  return "?";
+}
+
+syrof_app_info AppInfo(const RobotConfig& config) {
+  syrof_app_info info{};
+  info.abi_version = SYROF_APP_ABI_VERSION;
+  info.self_id = config.sync.self_id;
+  info.swarm_size = config.sync.swarm_size;
+  info.radio_round_ms = static_cast<uint32_t>(config.radio_round_ns / 1'000'000);
+  info.maneuver_ms = static_cast<uint32_t>(config.radio_round_ns * config.maneuver_rounds / 1'000'000);
+  info.arena_width_m = config.arena_width_m;
+  info.arena_height_m = config.arena_height_m;
+  info.body_radius_m = config.motion.limits.body_radius_m;
+  info.max_speed_mps = config.motion.limits.max_speed_mps;
+  return info;
+}
+
+Robot::Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<wire::Beacon> receive_storage)
+    : config_(config),
+      app_(app),
+      radio_(radio),
+      receive_storage_(receive_storage),
+      estimator_(config.estimator),
+      controller_(config.motion),
+      round_task_(*this),
+      motion_task_(*this) {}
+
+RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
+  if (port_ != nullptr) return RobotSetupError::kAlreadyAttached;
+  if (sync::Validate(config_.sync) != sync::ConfigError::kOk) return RobotSetupError::kInvalidSyncConfig;
+  if (config_.radio_round_ns <= 0 || config_.maneuver_rounds < config_.sync.vote_rounds) {
+    return RobotSetupError::kInvalidTiming;
+  }
+  if (estimator_.Attach(port, broker) != estimation::EstimatorSetupError::kOk) {
+    return RobotSetupError::kEstimatorFailed;
+  }
+  // Both tasks start at the port's start: the round task's first step ends
+  // the first radio round.
+  const auto round_id = port.AddTask(
+      round_task_, {"runtime.round", os::Trigger::periodic(config_.radio_round_ns, config_.radio_round_ns),
+                    config::kRoundTaskPriority});
+  const auto motion_id = port.AddTask(
+      motion_task_, {"runtime.motion", os::Trigger::periodic(config::kMotionPeriodNs), config::kMotionTaskPriority});
+  if (!round_id.ok() || !motion_id.ok()) return RobotSetupError::kAddTaskFailed;
+  if (estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, motion_id.value()) !=
+          pubsub::BrokerError::kOk ||
+      drive_publisher_.Advertise(broker, motion::kDriveTopic) != pubsub::BrokerError::kOk) {
+    return RobotSetupError::kBrokerFailed;
+  }
+  port_ = &port;
+
+  estimator_.SetInitialPose(config_.initial_pose);
+  estimate_.x_m = config_.initial_pose.x_m;
+  estimate_.y_m = config_.initial_pose.y_m;
+  estimate_.heading_rad = config_.initial_pose.heading_rad;
+  state_ = sync::InitialState(config_.sync, OwnSnapshot());
+  command_ = syrof_car_command{};
+  controller_.SetCommand(command_);
+  global_state_ = app_.Init(AppInfo(config_), *this);
+  return RobotSetupError::kOk;
+}
+
+void Robot::Receive(const wire::Beacon& beacon) {
+  if (inbox_count_ >= inbox_.size()) {
+    ++counters_.beacons_overflow;
+    return;
+  }
+  inbox_[inbox_count_++] = &beacon;
+  ++counters_.beacons_received;
+}
+
+void Robot::ReceiveBytes(std::span<const uint8_t> frame) {
+  if (stored_count_ >= receive_storage_.size()) {
+    ++counters_.beacons_overflow;
+    return;
+  }
+  auto decoded = wire::Decode(frame, config_.sync.swarm_size);
+  if (!decoded.ok()) {
+    ++counters_.beacons_malformed;
+    return;
+  }
+  wire::Beacon& slot = receive_storage_[stored_count_++];
+  slot = decoded.value();
+  Receive(slot);
+}
+
+syrof_app_status Robot::SendMessageData(std::span<const uint8_t> payload) {
+  if (payload.size() > wire::kMaxPayloadBytes) {
+    ++counters_.payloads_refused;
+    return SYROF_APP_PAYLOAD_TOO_LONG;
+  }
+  payload_.fill(0);
+  std::copy(payload.begin(), payload.end(), payload_.begin());
+  payload_length_ = static_cast<uint8_t>(payload.size());
+  return SYROF_APP_OK;
+}
+
+uint32_t Robot::ClockMs(int64_t now_ns) const { return static_cast<uint32_t>((now_ns - start_ns_) / 1'000'000); }
+
+void Robot::RefreshEstimate() {
+  estimation::StateEstimate latest{};
+  if (estimate_subscriber_.TakeLatest(latest)) estimate_ = latest;
+}
+
+sync::Snapshot Robot::OwnSnapshot() const {
+  sync::Snapshot snapshot;
+  snapshot.x_mm = wire::ToMillimetres(estimate_.x_m);
+  snapshot.y_mm = wire::ToMillimetres(estimate_.y_m);
+  snapshot.heading_mrad = wire::ToMilliradians(estimate_.heading_rad);
+  snapshot.vx_mm_s = wire::ToMillimetresPerSecond(estimate_.vx_mps);
+  snapshot.vy_mm_s = wire::ToMillimetresPerSecond(estimate_.vy_mps);
+  snapshot.payload_length = payload_length_;
+  snapshot.payload = payload_;
+  return snapshot;
+}
+
+void Robot::FillAppMap(const sync::LDMap& ldmap) {
+  size_t count = 0;
+  for (const uint16_t id : ldmap.members) {
+    const sync::Snapshot& snapshot = ldmap.snapshots[id];
+    syrof_member_state& member = app_members_[count++];
+    member.id = id;
+    member.x_mm = snapshot.x_mm;
+    member.y_mm = snapshot.y_mm;
+    member.heading_mrad = snapshot.heading_mrad;
+    member.vx_mm_s = snapshot.vx_mm_s;
+    member.vy_mm_s = snapshot.vy_mm_s;
+    member.phase = static_cast<uint8_t>(ldmap.phases[id]);
+    member.payload_length = snapshot.payload_length;
+    std::memcpy(member.payload, snapshot.payload.data(), sizeof member.payload);
+  }
+  app_map_.epoch = ldmap.epoch;
+  app_map_.mode = static_cast<uint8_t>(ldmap.mode);
+  app_map_.self_id = config_.sync.self_id;
+  app_map_.member_count = static_cast<uint16_t>(count);
+  app_map_.members = app_members_.data();
+}
+
+void Robot::EndManeuver(int64_t now_ns) {
+  maneuver_active_ = false;
+  command_ = syrof_car_command{};
+  controller_.SetCommand(command_);
+  global_state_ = app_.EndOfRound(app_map_, global_state_, ClockMs(now_ns));
+  ++counters_.end_of_rounds;
+}
+
+void Robot::RunRound(int64_t now_ns) {
+  if (!started_) {
+    started_ = true;
+    start_ns_ = now_ns - config_.radio_round_ns;
+  }
+  ++counters_.rounds;
+  RefreshEstimate();
+  const bool in_progress = state_.status == sync::Status::kMember && state_.phase == wire::Phase::kProgress;
+  if (in_progress) ++rounds_in_progress_;
+
+  sync::StepInput input;
+  input.own_snapshot = OwnSnapshot();
+  input.maneuver_finished = in_progress && rounds_in_progress_ >= config_.maneuver_rounds;
+  sync::Step(config_.sync, state_, std::span<const wire::Beacon* const>(inbox_.data(), inbox_count_), input, out_,
+             ldmap_);
+  inbox_count_ = 0;
+  stored_count_ = 0;
+
+  // The maneuver ends when PROGRESS ends, whatever ended it (its time is up,
+  // or the robot lost its group).
+  const bool still_in_progress =
+      state_.status == sync::Status::kMember && state_.phase == wire::Phase::kProgress && !out_.epoch_started;
+  if (maneuver_active_ && !still_in_progress) EndManeuver(now_ns);
+
+  if (out_.epoch_started) {
+    FillAppMap(ldmap_);
+    syrof_car_command command{};
+    global_state_ = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
+    command_ = command;
+    controller_.SetCommand(command_);
+    maneuver_active_ = true;
+    rounds_in_progress_ = 0;
+    ++counters_.new_rounds;
+    if (observer_ != nullptr) observer_->OnEpochStart(id(), now_ns, ldmap_);
+  }
+  if (observer_ != nullptr) {
+    if (!out_.removed.empty() || !out_.joined.empty()) observer_->OnMembership(id(), now_ns, out_.removed, out_.joined);
+    if (out_.became_joiner) observer_->OnBecameJoiner(id(), now_ns);
+  }
+  if (out_.send) {
+    radio_.Broadcast(out_.beacon);
+    ++counters_.beacons_sent;
+  }
+}
+
+void Robot::RunMotion(int64_t now_ns) {
+  if (!started_) {
+    started_ = true;
+    start_ns_ = now_ns;
+  }
+  RefreshEstimate();
+  (void)drive_publisher_.Publish(controller_.Update(estimate_, now_ns));
+}
+
+}  // namespace syrof::runtime
