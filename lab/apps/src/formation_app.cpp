@@ -1,0 +1,76 @@
+#include "formation_app.h"
+
+#include <algorithm>
+
+#include "assignment.h"
+
+namespace syrof::lab::apps {
+
+uint8_t FormationApp::Init(const syrof_app_info& info, app::Platform& platform) {
+  info_ = info;
+  platform_ = &platform;
+  members_.reserve(info.swarm_size);
+  targets_.reserve(info.swarm_size);
+  segments_.reserve(info.swarm_size);
+  return 0;
+}
+
+double FormationApp::maneuver_s() const {
+  return static_cast<double>(std::max<uint32_t>(info_.maneuver_ms, 1)) / 1000.0;
+}
+
+uint8_t FormationApp::NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
+                               uint32_t /*clock_ms*/) {
+  command = syrof_car_command{};
+  command.kind = SYROF_COMMAND_STOP;
+  if (platform_ == nullptr || ldmap.members == nullptr || ldmap.member_count == 0) return global_state;
+  if (ldmap.mode != SYROF_MODE_COOPERATIVE) {
+    // Another robot's map may differ from this one, so a plan made here
+    // need not match anyone else's: holding still is the safe choice.
+    HoldStill(ldmap);
+    return global_state;
+  }
+  const syrof_member_state* self = app::FindMember(ldmap, ldmap.self_id);
+  if (self == nullptr) return global_state;
+  const size_t self_index = static_cast<size_t>(self - ldmap.members);
+
+  const size_t count = ldmap.member_count;
+  members_.resize(count);
+  syrofMembersForQueries(&ldmap, members_.data());
+  targets_.resize(count);
+  for (size_t i = 0; i < count; ++i) targets_[i] = MemberPosition(members_[i]);
+  if (!PlanTargets(ldmap, members_, targets_)) return global_state;
+
+  // Every member's move, as every robot computes it from the same map.
+  const double longest_move_m = kArrivalFraction * info_.max_speed_mps * maneuver_s();
+  segments_.resize(count);
+  for (size_t i = 0; i < count; ++i) {
+    const Position start = MemberPosition(members_[i]);
+    const Position end = ClampIntoArena(targets_[i], arena(), body_radius_m(), margin_m_);
+    segments_[i] = Truncate({start, end}, longest_move_m);
+  }
+  const double clearance_m = 2.0 * body_radius_m() + margin_m_;
+  SlideAroundNeighbours(segments_, clearance_m, kSlideZoneM);
+  for (Segment& segment : segments_) {
+    // Sliding may point a segment at a wall.
+    segment.end = ClampIntoArena(segment.end, arena(), body_radius_m(), margin_m_);
+    segment = Truncate(segment, longest_move_m);
+  }
+  LimitSegments(segments_, clearance_m);
+
+  const Segment& own = segments_[self_index];
+  const double length_m = SegmentLengthM(own);
+  if (length_m < kSmallestMoveM) return global_state;
+  command.kind = SYROF_COMMAND_MOVE_TO;
+  command.x_m = static_cast<float>(own.end.x_m);
+  command.y_m = static_cast<float>(own.end.y_m);
+  const double speed_mps = std::min<double>(info_.max_speed_mps, length_m / (kArrivalFraction * maneuver_s()));
+  command.speed_mps = static_cast<float>(speed_mps);
+  return global_state;
+}
+
+uint8_t FormationApp::EndOfRound(const syrof_ldmap& /*ldmap*/, uint8_t global_state, uint32_t /*clock_ms*/) {
+  return global_state;
+}
+
+}  // namespace syrof::lab::apps
