@@ -1,0 +1,90 @@
+// Reading a scenario from a file or a string: the size cap, the text
+// checks, the YAML tree, then the schema.
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "diagnostics.h"
+#include "schema.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "text_checks.h"
+#include "yaml_tree.h"
+
+namespace syrof::lab::scenario {
+namespace {
+
+// The stem of `file` when it makes a valid scenario name, else "scenario".
+std::string DefaultName(const std::string& file) {
+  const std::string stem = std::filesystem::path(file).stem().string();
+  for (char c : stem) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+                    c == '-' || c == '.';
+    if (!ok) return "scenario";
+  }
+  return stem.empty() || stem.size() > 64 ? "scenario" : stem;
+}
+
+LoadResult Finish(Diagnostics& diagnostics, std::optional<Scenario> scenario) {
+  LoadResult result;
+  if (diagnostics.failed()) {
+    result.error = diagnostics.error();
+  } else {
+    result.scenario = std::move(scenario);
+  }
+  return result;
+}
+
+LoadResult Load(const std::string& text, const std::string& file, const std::string& source,
+                const Overrides& overrides) {
+  Diagnostics diagnostics(file);
+  YamlNode root;
+  if (!CheckScenarioText(text, diagnostics) || !ReadYamlDocument(text, root, diagnostics)) {
+    return Finish(diagnostics, std::nullopt);
+  }
+  Scenario scenario;
+  scenario.name = DefaultName(file);
+  scenario.source = source;
+  if (!ReadScenario(root, overrides, scenario, diagnostics)) return Finish(diagnostics, std::nullopt);
+  return Finish(diagnostics, std::move(scenario));
+}
+
+}  // namespace
+
+LoadResult LoadScenarioFile(const std::string& path, const Overrides& overrides) {
+  Diagnostics diagnostics(path);
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    diagnostics.Fail(0, 0, "is a directory, not a scenario file");
+    return Finish(diagnostics, std::nullopt);
+  }
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) {
+    diagnostics.Fail(0, 0, std::string("cannot open: ") + std::strerror(errno));
+    return Finish(diagnostics, std::nullopt);
+  }
+  // Read at most one byte past the cap: a larger file is refused without
+  // being read whole (it may be a device or a pipe that never ends).
+  std::string text(kMaxScenarioBytes + 1, '\0');
+  stream.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (stream.bad()) {
+    diagnostics.Fail(0, 0, "read error");
+    return Finish(diagnostics, std::nullopt);
+  }
+  text.resize(static_cast<size_t>(stream.gcount()));
+  if (text.size() > kMaxScenarioBytes) {
+    const auto size = std::filesystem::file_size(path, error);
+    const std::string size_text = error ? "more than " + std::to_string(kMaxScenarioBytes) : std::to_string(size);
+    diagnostics.Fail(0, 0, "the scenario is " + size_text + " bytes; the limit is " +
+                               std::to_string(kMaxScenarioBytes) + " bytes");
+    return Finish(diagnostics, std::nullopt);
+  }
+  return Load(text, path, path, overrides);
+}
+
+LoadResult LoadScenarioText(const std::string& text, const std::string& file, const Overrides& overrides) {
+  return Load(text, file, "", overrides);
+}
+
+}  // namespace syrof::lab::scenario

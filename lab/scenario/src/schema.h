@@ -1,0 +1,47 @@
+// The scenario schema: one reader per top-level section, each filling its
+// part of a Scenario from the YAML tree and checking every rule
+// docs/scenarios.md states for it. The sections are read in dependency
+// order (ReadScenario): what later checks need (the arena, the kinds, the
+// duration, the robot count) comes first.
+#pragma once
+
+#include <span>
+
+#include "diagnostics.h"
+#include "syrof/lab/apps/catalog.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "yaml_tree.h"
+
+namespace syrof::lab::scenario {
+
+// Reads the whole document into `scenario` (which holds the defaults and
+// the name), applying `overrides`.
+bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& scenario, Diagnostics& diagnostics);
+
+// The sections. `node` is nullptr when the section is absent (defaults stay).
+bool ReadArena(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+bool ReadKinds(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+bool ReadTiming(const YamlNode* node, const Overrides& overrides, TimingSpec& timing, Diagnostics& diagnostics);
+// Needs the arena, the kinds and the seed; places the robots.
+bool ReadRobots(const YamlNode& node, const Overrides& overrides, Scenario& scenario, Diagnostics& diagnostics);
+bool ReadSensors(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+// Needs the robots and the timing.
+bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+// Needs the robots and the timing; marks joining robots absent at start.
+bool ReadFaults(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+
+// `app:` against a catalog of built-in apps (the real one is
+// apps::BuiltinApps(); tests pass their own).
+bool ReadApp(const YamlNode& node, std::span<const apps::BuiltinAppInfo> catalog, AppSpec& app,
+             Diagnostics& diagnostics);
+// An app given on the command line ("builtin:NAME"). Keeps the file's
+// parameters when it names the same app, else drops them.
+bool OverrideApp(const std::string& name, std::span<const apps::BuiltinAppInfo> catalog, AppSpec& app,
+                 Diagnostics& diagnostics);
+
+// "robot id 9 is out of range: the scenario has 6 robots (ids 0..5)" when
+// `value` is not a robot id of `scenario`.
+bool ReadRobotId(const YamlNode& node, const std::string& path, const Scenario& scenario, uint16_t& id,
+                 Diagnostics& diagnostics);
+
+}  // namespace syrof::lab::scenario

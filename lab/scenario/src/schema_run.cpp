@@ -1,0 +1,400 @@
+// Timing, sensor noise, the radio channel and the faults.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string_view>
+
+#include "schema.h"
+#include "value_reader.h"
+
+namespace syrof::lab::scenario {
+namespace {
+
+constexpr NumberRange kProbability{0, 1};
+constexpr NumberRange kTimeOfRun{0, 86400};  // a day of simulated time is plenty
+constexpr double kWholeTolerance = 1e-6;     // relative, for "a whole number of rounds"
+
+bool IsWholeMultiple(double value, double unit) {
+  const double ratio = value / unit;
+  return std::abs(ratio - std::round(ratio)) <= kWholeTolerance * std::max(1.0, ratio);
+}
+
+// The first of `keys` present in `map`, for rules that tie several keys:
+// the error goes to a value the user wrote.
+const YamlNode& Blame(const YamlNode& map, std::initializer_list<std::string_view> keys, std::string& path) {
+  for (std::string_view key : keys) {
+    if (const YamlNode* node = map.Find(key)) {
+      path = JoinPath("timing", key);
+      return *node;
+    }
+  }
+  path = "timing";
+  return map;
+}
+
+bool CheckTimingRules(const YamlNode& node, const TimingSpec& timing, Diagnostics& diagnostics) {
+  std::string path;
+  if (timing.silence_rounds <= timing.vote_rounds) {
+    const YamlNode& at = Blame(node, {"silence_rounds", "vote_rounds"}, path);
+    return FailAt(at, path,
+                  "F (silence_rounds = " + std::to_string(timing.silence_rounds) +
+                      ") must be greater than K (vote_rounds = " + std::to_string(timing.vote_rounds) + ")",
+                  diagnostics);
+  }
+  if (timing.physics_step_s > timing.radio_round_s || !IsWholeMultiple(timing.radio_round_s, timing.physics_step_s)) {
+    const YamlNode& at = Blame(node, {"physics_step_s", "radio_round_s"}, path);
+    return FailAt(at, path,
+                  "physics_step_s (" + FormatNumber(timing.physics_step_s) + ") must divide radio_round_s (" +
+                      FormatNumber(timing.radio_round_s) + ") into whole steps",
+                  diagnostics);
+  }
+  if (!IsWholeMultiple(timing.app_round_s, timing.radio_round_s)) {
+    const YamlNode& at = Blame(node, {"app_round_s", "radio_round_s"}, path);
+    return FailAt(at, path,
+                  "app_round_s (" + FormatNumber(timing.app_round_s) + ") must be a whole number of radio rounds (" +
+                      FormatNumber(timing.radio_round_s) + " s each)",
+                  diagnostics);
+  }
+  if (std::round(timing.app_round_s / timing.radio_round_s) < timing.vote_rounds) {
+    const YamlNode& at = Blame(node, {"app_round_s", "vote_rounds", "radio_round_s"}, path);
+    return FailAt(at, path,
+                  "app_round_s (" + FormatNumber(timing.app_round_s) + ") must last at least K = " +
+                      std::to_string(timing.vote_rounds) + " radio rounds (" +
+                      FormatNumber(timing.vote_rounds * timing.radio_round_s) + " s)",
+                  diagnostics);
+  }
+  return true;
+}
+
+bool ReadModel(const YamlNode* node, const std::string& path, std::span<const std::string_view> keys,
+               std::span<const NumberRange> ranges, std::span<double* const> fields, Diagnostics& diagnostics) {
+  if (node == nullptr) return true;
+  if (!ExpectMap(*node, path, diagnostics) || !CheckKeys(*node, path, keys, diagnostics)) return false;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (!ReadNumberAt(*node, path, keys[i], ranges[i], *fields[i], diagnostics)) return false;
+  }
+  return true;
+}
+
+constexpr std::string_view kChannelModels[] = {"iid", "gilbert_elliott"};  // ChannelModel's order
+
+bool CheckChannelKeys(const YamlNode& node, ChannelModel model, Diagnostics& diagnostics) {
+  static constexpr std::string_view kIidOnly[] = {"loss"};
+  static constexpr std::string_view kBurstyOnly[] = {"good_to_bad", "bad_to_good", "loss_good", "loss_bad"};
+  const std::span<const std::string_view> foreign =
+      model == ChannelModel::kIid ? std::span<const std::string_view>(kBurstyOnly) : kIidOnly;
+  const std::string_view owner = model == ChannelModel::kIid ? "gilbert_elliott" : "iid";
+  for (const YamlNode& key : node.keys) {
+    for (std::string_view name : foreign) {
+      if (key.scalar != name) continue;
+      return FailAt(key, "channel",
+                    "'" + key.scalar + "' applies to model " + std::string(owner) + " only (model is " +
+                        std::string(kChannelModels[static_cast<size_t>(model)]) + ")",
+                    diagnostics);
+    }
+  }
+  return true;
+}
+
+bool ReadLinks(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"from", "to", "loss"};
+  const std::string path = "channel.links";
+  if (!ExpectList(node, path, diagnostics)) return false;
+  std::vector<LinkLossSpec>& links = scenario.channel.links;
+  for (size_t i = 0; i < node.values.size(); ++i) {
+    const YamlNode& entry = node.values[i];
+    const std::string entry_path = IndexPath(path, i);
+    if (!ExpectMap(entry, entry_path, diagnostics) || !CheckKeys(entry, entry_path, kKeys, diagnostics)) return false;
+    for (std::string_view key : kKeys) {
+      if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
+    }
+    LinkLossSpec link;
+    if (!ReadRobotId(*entry.Find("from"), JoinPath(entry_path, "from"), scenario, link.from, diagnostics) ||
+        !ReadRobotId(*entry.Find("to"), JoinPath(entry_path, "to"), scenario, link.to, diagnostics) ||
+        !ReadNumber(*entry.Find("loss"), JoinPath(entry_path, "loss"), kProbability, link.loss, diagnostics)) {
+      return false;
+    }
+    if (link.from == link.to) {
+      return FailAt(entry, entry_path, "a link joins two different robots (from = to = " +
+                                           std::to_string(link.from) + ")", diagnostics);
+    }
+    for (size_t j = 0; j < links.size(); ++j) {
+      if (links[j].from == link.from && links[j].to == link.to) {
+        return FailAt(entry, entry_path,
+                      "the link " + std::to_string(link.from) + " -> " + std::to_string(link.to) +
+                          " is already given in links[" + std::to_string(j) + "]",
+                      diagnostics);
+      }
+    }
+    links.push_back(link);
+  }
+  return true;
+}
+
+bool ReadGroups(const YamlNode& node, const std::string& path, const Scenario& scenario, PartitionSpec& partition,
+                Diagnostics& diagnostics) {
+  if (!ExpectList(node, path, diagnostics)) return false;
+  if (node.values.empty()) return FailAt(node, path, "needs at least one group", diagnostics);
+  // Which group each robot is in, to catch a robot listed twice.
+  std::vector<int> group_of(scenario.robots.size(), -1);
+  for (size_t g = 0; g < node.values.size(); ++g) {
+    const YamlNode& group = node.values[g];
+    const std::string group_path = IndexPath(path, g);
+    if (!ExpectList(group, group_path, diagnostics)) return false;
+    if (group.values.empty()) return FailAt(group, group_path, "a group needs at least one robot", diagnostics);
+    std::vector<uint16_t>& ids = partition.groups.emplace_back();
+    for (size_t k = 0; k < group.values.size(); ++k) {
+      uint16_t id = 0;
+      if (!ReadRobotId(group.values[k], IndexPath(group_path, k), scenario, id, diagnostics)) return false;
+      if (group_of[id] >= 0) {
+        const std::string where = group_of[id] == static_cast<int>(g) ? "this group" : "groups[" + std::to_string(group_of[id]) + "]";
+        return FailAt(group.values[k], IndexPath(group_path, k),
+                      "robot " + std::to_string(id) + " is listed twice (already in " + where + ")", diagnostics);
+      }
+      group_of[id] = static_cast<int>(g);
+      ids.push_back(id);
+    }
+  }
+  return true;
+}
+
+bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"start_s", "end_s", "groups"};
+  const std::string path = "channel.partitions";
+  if (!ExpectList(node, path, diagnostics)) return false;
+  const double duration_s = scenario.timing.duration_s;
+  for (size_t i = 0; i < node.values.size(); ++i) {
+    const YamlNode& entry = node.values[i];
+    const std::string entry_path = IndexPath(path, i);
+    if (!ExpectMap(entry, entry_path, diagnostics) || !CheckKeys(entry, entry_path, kKeys, diagnostics)) return false;
+    for (std::string_view key : kKeys) {
+      if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
+    }
+    PartitionSpec partition;
+    const YamlNode& start = *entry.Find("start_s");
+    const YamlNode& end = *entry.Find("end_s");
+    if (!ReadNumber(start, JoinPath(entry_path, "start_s"), kTimeOfRun, partition.start_s, diagnostics) ||
+        !ReadNumber(end, JoinPath(entry_path, "end_s"), kTimeOfRun, partition.end_s, diagnostics)) {
+      return false;
+    }
+    if (partition.start_s >= duration_s) {
+      return FailAt(start, JoinPath(entry_path, "start_s"),
+                    "starts at " + FormatNumber(partition.start_s) + " s, at or after the end of the run (duration_s = " +
+                        FormatNumber(duration_s) + ")",
+                    diagnostics);
+    }
+    if (partition.end_s <= partition.start_s) {
+      return FailAt(end, JoinPath(entry_path, "end_s"),
+                    "must be greater than start_s (" + FormatNumber(partition.start_s) + "), got " + end.scalar,
+                    diagnostics);
+    }
+    for (size_t j = 0; j < scenario.channel.partitions.size(); ++j) {
+      const PartitionSpec& other = scenario.channel.partitions[j];
+      if (partition.start_s < other.end_s && other.start_s < partition.end_s) {
+        return FailAt(entry, entry_path,
+                      "its window overlaps partitions[" + std::to_string(j) + "] ([" + FormatNumber(other.start_s) +
+                          ", " + FormatNumber(other.end_s) + ") s); give one partition at a time",
+                      diagnostics);
+      }
+    }
+    if (!ReadGroups(*entry.Find("groups"), JoinPath(entry_path, "groups"), scenario, partition, diagnostics)) {
+      return false;
+    }
+    scenario.channel.partitions.push_back(std::move(partition));
+  }
+  return true;
+}
+
+constexpr std::string_view kFaultKinds[] = {"crash", "pause", "join"};  // FaultKind's order
+
+struct PlacedFault {
+  FaultSpec fault;
+  const YamlNode* node;
+  std::string path;
+};
+
+bool ReadFault(const YamlNode& node, const std::string& path, const Scenario& scenario, PlacedFault& placed,
+               Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"crash", "pause", "join", "at_s", "until_s"};
+  if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics)) return false;
+  const YamlNode* robot = nullptr;
+  for (size_t kind = 0; kind < std::size(kFaultKinds); ++kind) {
+    const YamlNode* named = node.Find(kFaultKinds[kind]);
+    if (named == nullptr) continue;
+    if (robot != nullptr) {
+      return FailAt(node, path, "names two fault kinds; give one of crash, pause, join per entry", diagnostics);
+    }
+    robot = named;
+    placed.fault.kind = static_cast<FaultKind>(kind);
+    if (!ReadRobotId(*named, JoinPath(path, kFaultKinds[kind]), scenario, placed.fault.robot, diagnostics)) {
+      return false;
+    }
+  }
+  if (robot == nullptr) {
+    return FailAt(node, path, "a fault needs one of crash, pause, join (the robot id)", diagnostics);
+  }
+  if (!RequireKey(node, path, "at_s", diagnostics)) return false;
+  const YamlNode& at = *node.Find("at_s");
+  if (!ReadNumber(at, JoinPath(path, "at_s"), kTimeOfRun, placed.fault.at_s, diagnostics)) return false;
+  if (placed.fault.at_s >= scenario.timing.duration_s) {
+    return FailAt(at, JoinPath(path, "at_s"),
+                  FormatNumber(placed.fault.at_s) + " s is at or after the end of the run (duration_s = " +
+                      FormatNumber(scenario.timing.duration_s) + ")",
+                  diagnostics);
+  }
+  const YamlNode* until = node.Find("until_s");
+  if (placed.fault.kind != FaultKind::kPause) {
+    for (const YamlNode& key : node.keys) {
+      if (key.scalar == "until_s") return FailAt(key, path, "'until_s' applies to pause faults only", diagnostics);
+    }
+    return true;
+  }
+  if (until == nullptr) return RequireKey(node, path, "until_s", diagnostics);
+  if (!ReadNumber(*until, JoinPath(path, "until_s"), kTimeOfRun, placed.fault.until_s, diagnostics)) return false;
+  if (placed.fault.until_s <= placed.fault.at_s) {
+    return FailAt(*until, JoinPath(path, "until_s"),
+                  "must be greater than at_s (" + FormatNumber(placed.fault.at_s) + "), got " + until->scalar,
+                  diagnostics);
+  }
+  return true;
+}
+
+// One robot's faults, in time order, must tell a possible story: a join
+// first and at most once, nothing after a crash, pauses not overlapping.
+bool CheckFaultStory(const std::vector<PlacedFault>& faults, Diagnostics& diagnostics) {
+  for (size_t i = 0; i < faults.size(); ++i) {
+    const FaultSpec& later = faults[i].fault;
+    for (size_t j = 0; j < i; ++j) {
+      const FaultSpec& earlier = faults[j].fault;
+      if (earlier.robot != later.robot) continue;
+      const std::string robot = "robot " + std::to_string(later.robot);
+      const std::string when = " at " + FormatNumber(earlier.at_s) + " s (" + faults[j].path + ")";
+      std::string problem;
+      if (later.kind == FaultKind::kJoin) {
+        problem = robot + " joins only once, before its other faults; it already has a " +
+                  std::string(kFaultKinds[static_cast<size_t>(earlier.kind)]) + when;
+      } else if (earlier.kind == FaultKind::kCrash) {
+        problem = robot + " already crashed" + when;
+      } else if (earlier.kind == FaultKind::kPause && later.at_s < earlier.until_s) {
+        problem = robot + " is still paused until " + FormatNumber(earlier.until_s) + " s (" + faults[j].path + ")";
+      } else if (earlier.kind == FaultKind::kJoin && later.at_s == earlier.at_s) {
+        problem = robot + " joins at the same time" + when;
+      }
+      if (!problem.empty()) return FailAt(*faults[i].node, faults[i].path, problem, diagnostics);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool ReadTiming(const YamlNode* node, const Overrides& overrides, TimingSpec& timing, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"radio_round_s", "app_round_s",  "vote_rounds",
+                                               "silence_rounds", "duration_s", "physics_step_s"};
+  const std::string path = "timing";
+  YamlNode absent;  // an empty map stands for a missing section
+  absent.kind = YamlNode::Kind::kMap;
+  const YamlNode& map = node != nullptr ? *node : absent;
+  if (!ExpectMap(map, path, diagnostics) || !CheckKeys(map, path, kKeys, diagnostics)) return false;
+  int64_t vote_rounds = timing.vote_rounds;
+  int64_t silence_rounds = timing.silence_rounds;
+  if (!ReadNumberAt(map, path, "radio_round_s", NumberRange{0.001, 10}, timing.radio_round_s, diagnostics) ||
+      !ReadNumberAt(map, path, "app_round_s", NumberRange{0, 3600, true}, timing.app_round_s, diagnostics) ||
+      !ReadIntegerAt(map, path, "vote_rounds", 1, 200, vote_rounds, diagnostics) ||
+      !ReadIntegerAt(map, path, "silence_rounds", 2, 65535, silence_rounds, diagnostics) ||
+      !ReadNumberAt(map, path, "duration_s", NumberRange{0, kTimeOfRun.max, true}, timing.duration_s, diagnostics) ||
+      !ReadNumberAt(map, path, "physics_step_s", NumberRange{0.0001, 1}, timing.physics_step_s, diagnostics)) {
+    return false;
+  }
+  timing.vote_rounds = static_cast<int>(vote_rounds);
+  timing.silence_rounds = static_cast<int>(silence_rounds);
+  if (overrides.duration_s) timing.duration_s = *overrides.duration_s;  // checked by ReadScenario
+  return CheckTimingRules(map, timing, diagnostics);
+}
+
+bool ReadSensors(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"imu", "flow", "uwb"};
+  if (node == nullptr) return true;
+  if (!ExpectMap(*node, "sensors", diagnostics) || !CheckKeys(*node, "sensors", kKeys, diagnostics)) return false;
+
+  static constexpr std::string_view kImuKeys[] = {
+      "accel_sigma_mps2", "accel_bias_sigma_mps2", "accel_bias_walk_mps2_per_sqrt_s",
+      "gyro_sigma_radps", "gyro_bias_sigma_radps", "gyro_bias_walk_radps_per_sqrt_s"};
+  static constexpr NumberRange kImuRanges[] = {{0, 100}, {0, 100}, {0, 100}, {0, 100}, {0, 100}, {0, 100}};
+  sensors::ImuModel& imu = scenario.sensors.imu;
+  double* const imu_fields[] = {&imu.accel_sigma_mps2, &imu.accel_bias_sigma_mps2,
+                                &imu.accel_bias_walk_mps2_per_sqrt_s, &imu.gyro_sigma_radps,
+                                &imu.gyro_bias_sigma_radps, &imu.gyro_bias_walk_radps_per_sqrt_s};
+  static constexpr std::string_view kFlowKeys[] = {"sigma_px"};
+  static constexpr NumberRange kFlowRanges[] = {{0, 100}};
+  double* const flow_fields[] = {&scenario.sensors.flow.sigma_px};
+  static constexpr std::string_view kUwbKeys[] = {"sigma_m", "outlier_probability", "outlier_min_m",
+                                                  "outlier_max_m", "dropout_probability"};
+  static constexpr NumberRange kUwbRanges[] = {{0, 10}, kProbability, {0, 100}, {0, 100}, kProbability};
+  sensors::UwbModel& uwb = scenario.sensors.uwb;
+  double* const uwb_fields[] = {&uwb.sigma_m, &uwb.outlier_probability, &uwb.outlier_min_m, &uwb.outlier_max_m,
+                                &uwb.dropout_probability};
+  const YamlNode* uwb_node = node->Find("uwb");
+  if (!ReadModel(node->Find("imu"), "sensors.imu", kImuKeys, kImuRanges, imu_fields, diagnostics) ||
+      !ReadModel(node->Find("flow"), "sensors.flow", kFlowKeys, kFlowRanges, flow_fields, diagnostics) ||
+      !ReadModel(uwb_node, "sensors.uwb", kUwbKeys, kUwbRanges, uwb_fields, diagnostics)) {
+    return false;
+  }
+  if (uwb.outlier_min_m > uwb.outlier_max_m) {
+    const YamlNode* at = uwb_node->Find("outlier_max_m");
+    return FailAt(at != nullptr ? *at : *uwb_node, "sensors.uwb.outlier_max_m",
+                  "must be at least outlier_min_m (" + FormatNumber(uwb.outlier_min_m) + "), got " +
+                      FormatNumber(uwb.outlier_max_m),
+                  diagnostics);
+  }
+  return true;
+}
+
+bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"model",     "loss",     "good_to_bad", "bad_to_good",
+                                               "loss_good", "loss_bad", "links",       "partitions"};
+  if (node == nullptr) return true;
+  const std::string path = "channel";
+  if (!ExpectMap(*node, path, diagnostics) || !CheckKeys(*node, path, kKeys, diagnostics)) return false;
+  ChannelSpec& channel = scenario.channel;
+  if (const YamlNode* model = node->Find("model")) {
+    size_t index = 0;
+    if (!ReadChoice(*model, "channel.model", kChannelModels, index, diagnostics)) return false;
+    channel.model = static_cast<ChannelModel>(index);
+  }
+  if (!CheckChannelKeys(*node, channel.model, diagnostics)) return false;
+  if (!ReadNumberAt(*node, path, "loss", kProbability, channel.loss, diagnostics) ||
+      !ReadNumberAt(*node, path, "good_to_bad", kProbability, channel.good_to_bad, diagnostics) ||
+      !ReadNumberAt(*node, path, "bad_to_good", kProbability, channel.bad_to_good, diagnostics) ||
+      !ReadNumberAt(*node, path, "loss_good", kProbability, channel.loss_good, diagnostics) ||
+      !ReadNumberAt(*node, path, "loss_bad", kProbability, channel.loss_bad, diagnostics)) {
+    return false;
+  }
+  const YamlNode* links = node->Find("links");
+  const YamlNode* partitions = node->Find("partitions");
+  return (links == nullptr || ReadLinks(*links, scenario, diagnostics)) &&
+         (partitions == nullptr || ReadPartitions(*partitions, scenario, diagnostics));
+}
+
+bool ReadFaults(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics) {
+  if (node == nullptr) return true;
+  const std::string path = "faults";
+  if (!ExpectList(*node, path, diagnostics)) return false;
+  std::vector<PlacedFault> faults(node->values.size());
+  for (size_t i = 0; i < faults.size(); ++i) {
+    faults[i].node = &node->values[i];
+    faults[i].path = IndexPath(path, i);
+    if (!ReadFault(node->values[i], faults[i].path, scenario, faults[i], diagnostics)) return false;
+  }
+  std::stable_sort(faults.begin(), faults.end(), [](const PlacedFault& a, const PlacedFault& b) {
+    return a.fault.at_s != b.fault.at_s ? a.fault.at_s < b.fault.at_s : a.fault.robot < b.fault.robot;
+  });
+  if (!CheckFaultStory(faults, diagnostics)) return false;
+  for (const PlacedFault& placed : faults) {
+    scenario.faults.push_back(placed.fault);
+    if (placed.fault.kind == FaultKind::kJoin) scenario.robots[placed.fault.robot].present_at_start = false;
+  }
+  return true;
+}
+
+}  // namespace syrof::lab::scenario

@@ -1,0 +1,66 @@
+// Every scenario shipped in lab/scenarios/ loads.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "syrof/lab/scenario/scenario.h"
+
+namespace syrof::lab::scenario {
+namespace {
+
+std::vector<std::filesystem::path> ExampleFiles() {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(SYROF_SCENARIOS_DIR)) {
+    if (entry.path().extension() == ".yaml") files.push_back(entry.path());
+  }
+  return files;
+}
+
+TEST(ExampleScenarios, EveryFileLoads) {
+  const std::vector<std::filesystem::path> files = ExampleFiles();
+
+  ASSERT_GE(files.size(), 12u);
+  for (const std::filesystem::path& file : files) {
+    const LoadResult result = LoadScenarioFile(file.string());
+
+    EXPECT_TRUE(result.ok()) << result.error->ToString();
+    if (result.ok()) {
+      EXPECT_EQ(result.scenario->name, file.stem().string());
+    }
+  }
+}
+
+TEST(ExampleScenarios, DemoCircleIsTenOmniRobotsInTheDefaultArena) {
+  const LoadResult result = LoadScenarioFile(std::string(SYROF_SCENARIOS_DIR) + "/demo_circle.yaml");
+
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  const Scenario& scenario = *result.scenario;
+  EXPECT_EQ(scenario.robots.size(), 10u);
+  EXPECT_EQ(scenario.app.name, "builtin:circle");
+  EXPECT_EQ(scenario.arena.width_m, 4);
+  EXPECT_EQ(scenario.channel.model, ChannelModel::kIid);
+  EXPECT_EQ(scenario.channel.loss, 0.1);
+  EXPECT_EQ(scenario.timing.duration_s, 60);
+}
+
+TEST(ExampleScenarios, BenchStandardScalesToFourHundredRobots) {
+  const std::string path = std::string(SYROF_SCENARIOS_DIR) + "/bench_standard.yaml";
+  Overrides overrides;
+  overrides.robots = 400;
+
+  const LoadResult standard = LoadScenarioFile(path);
+  const LoadResult scaled = LoadScenarioFile(path, overrides);
+
+  ASSERT_TRUE(standard.ok()) << standard.error->ToString();
+  EXPECT_EQ(standard.scenario->robots.size(), 100u);
+  EXPECT_EQ(standard.scenario->arena.width_m, 20);
+  EXPECT_EQ(standard.scenario->sensors.arena.anchor_count, 4);
+  EXPECT_EQ(standard.scenario->timing.duration_s, 10);
+  ASSERT_TRUE(scaled.ok()) << scaled.error->ToString();
+  EXPECT_EQ(scaled.scenario->robots.size(), 400u);
+}
+
+}  // namespace
+}  // namespace syrof::lab::scenario
