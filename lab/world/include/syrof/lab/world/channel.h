@@ -1,0 +1,104 @@
+// The lab's radio channel: whether one robot's beacon of one radio round
+// reaches another robot. Models (scenario::ChannelSpec): i.i.d. loss, bursty
+// Gilbert-Elliott loss, per-link (asymmetric) loss overrides, and partitions
+// in time windows.
+//
+// Determinism, independent of call order: every random decision is a
+// counter-based hash, SplitMix64Hash of (seed, purpose, round, from, to),
+// turned into a uniform number in [0, 1). Asking about links or rounds in
+// any order, or skipping some, gives the same answers.
+//
+// Decision for a beacon from `from` to `to` in round r at time t:
+//  1. an active partition (start_s <= t < end_s) that puts the two robots in
+//     different groups drops it; robots named in none of its groups form one
+//     more group together;
+//  2. a link listed in `links` is lost with that entry's probability (an
+//     i.i.d. draw), whatever the model: for Gilbert-Elliott the entry
+//     replaces the chain and both state losses for that link;
+//  3. otherwise the model: i.i.d. loss `loss`, or Gilbert-Elliott: the
+//     link's two-state chain in its state at round r, lost with loss_good or
+//     loss_bad.
+// Every directed link has its own chain: it starts at round 0 in a state
+// drawn from the stationary distribution (bad with probability
+// good_to_bad / (good_to_bad + bad_to_good); good when both are 0) and at every round k >= 1 takes
+// one transition with its own draw. The chain is advanced lazily, one
+// transition per round since the link was last asked (going back in rounds
+// replays from round 0), so the state at round r depends only on the seed,
+// r and the link.
+//
+// Memory: with Gilbert-Elliott, 4 bytes per directed link (robots^2),
+// allocated at construction; nothing otherwise.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "syrof/lab/scenario/scenario.h"
+
+namespace syrof::lab::world {
+
+class Channel {
+ public:
+  /// Throws std::invalid_argument when a probability is not in [0, 1], or a
+  /// per-link entry names a robot >= `robots`. Robots named in partitions
+  /// beyond `robots` are ignored. A link listed twice takes its last entry.
+  Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t seed);
+
+  /// Whether the beacon robot `from` sends in radio round `round` (>= 0),
+  /// starting at `time_s`, reaches robot `to`. Throws std::out_of_range for a
+  /// robot >= robots() or a negative round.
+  bool Delivers(uint16_t from, uint16_t to, int64_t round, double time_s);
+
+  uint16_t robots() const { return robots_; }
+  /// Beacons asked about, and delivered, since construction.
+  uint64_t offered() const { return offered_; }
+  uint64_t delivered() const { return delivered_; }
+  /// Beacons dropped by a partition (included in offered, not delivered).
+  uint64_t partitioned() const { return partitioned_; }
+
+  /// Long-run loss of a Gilbert-Elliott link:
+  /// pi_bad * loss_bad + pi_good * loss_good.
+  static double StationaryLoss(const scenario::ChannelSpec& spec);
+
+ private:
+  struct Partition {
+    double start_s;
+    double end_s;
+    std::vector<uint16_t> group;  // group of each robot; unlisted robots share the last
+  };
+  struct LinkLoss {
+    uint32_t key;  // (from << 16) | to
+    double loss;
+  };
+
+  // Uniform in [0, 1) from the hash of (seed, purpose, round, from, to).
+  double Draw(uint64_t purpose, int64_t round, uint16_t from, uint16_t to) const;
+  // The same number as Draw(kLossDraw, round, from, to), reusing the
+  // round's prefix.
+  double LossDraw(int64_t round, uint16_t from, uint16_t to);
+  uint64_t LossHash(int64_t round, uint16_t from, uint16_t to);
+  bool Partitioned(uint16_t from, uint16_t to, double time_s) const;
+  // Whether the Gilbert-Elliott chain of the link is bad at `round`.
+  bool ChainBad(uint16_t from, uint16_t to, int64_t round);
+
+  scenario::ChannelSpec spec_;
+  uint16_t robots_;
+  uint64_t seed_;
+  std::vector<Partition> partitions_;
+  std::vector<LinkLoss> link_losses_;  // sorted by key, one per link
+  // Gilbert-Elliott, one per directed link (from * robots + to): bit 31 is
+  // "bad", bits 0..30 the round the state is for (states of rounds past
+  // 2^31 - 1 are not stored but recomputed each time: correct, only slower).
+  std::vector<uint32_t> chains_;
+  // The hash prefix of (seed, purpose, round) for the last round a loss was
+  // drawn for: every link of a round shares it, so a draw costs one hash.
+  bool plain_iid_ = false;   // i.i.d. loss, no partition, no per-link loss
+  double loss_scaled_ = 0;   // loss * 2^53, exact
+  int64_t loss_round_ = -1;
+  uint64_t loss_round_hash_ = 0;
+  uint64_t offered_ = 0;
+  uint64_t delivered_ = 0;
+  uint64_t partitioned_ = 0;
+};
+
+}  // namespace syrof::lab::world

@@ -1,0 +1,184 @@
+#include "syrof/lab/world/channel.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "syrof/base/split_mix64.h"
+
+namespace syrof::lab::world {
+namespace {
+
+// What a draw decides; each purpose is an independent stream.
+enum Purpose : uint64_t {
+  kLossDraw = 1,        // whether a beacon is lost
+  kTransitionDraw = 2,  // a Gilbert-Elliott chain's transition into a round
+  kInitialDraw = 3,     // a Gilbert-Elliott chain's state at round 0
+};
+
+constexpr uint32_t kBadBit = 0x80000000u;
+constexpr uint32_t kRoundMask = 0x7FFFFFFFu;
+
+constexpr uint32_t LinkKey(uint16_t from, uint16_t to) { return (static_cast<uint32_t>(from) << 16) | to; }
+
+bool IsProbability(double value) { return value >= 0 && value <= 1; }
+
+void RequireProbability(double value, const std::string& name) {
+  if (!IsProbability(value)) {
+    throw std::invalid_argument("Channel: " + name + " must be in [0, 1], not " + std::to_string(value));
+  }
+}
+
+double BadProbability(const scenario::ChannelSpec& spec) {
+  const double rates = spec.good_to_bad + spec.bad_to_good;
+  return rates > 0 ? spec.good_to_bad / rates : 0.0;
+}
+
+}  // namespace
+
+double Channel::StationaryLoss(const scenario::ChannelSpec& spec) {
+  const double bad = BadProbability(spec);
+  return bad * spec.loss_bad + (1 - bad) * spec.loss_good;
+}
+
+Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t seed)
+    : spec_(spec), robots_(robots), seed_(seed) {
+  RequireProbability(spec.loss, "loss");
+  RequireProbability(spec.good_to_bad, "good_to_bad");
+  RequireProbability(spec.bad_to_good, "bad_to_good");
+  RequireProbability(spec.loss_good, "loss_good");
+  RequireProbability(spec.loss_bad, "loss_bad");
+
+  for (const scenario::LinkLossSpec& link : spec.links) {
+    if (link.from >= robots || link.to >= robots) {
+      throw std::invalid_argument("Channel: link " + std::to_string(link.from) + " -> " + std::to_string(link.to) +
+                                  " names a robot beyond the " + std::to_string(robots) + " robots");
+    }
+    RequireProbability(link.loss, "loss of link " + std::to_string(link.from) + " -> " + std::to_string(link.to));
+    link_losses_.push_back(LinkLoss{LinkKey(link.from, link.to), link.loss});
+  }
+  // Stable, then keep the last entry of each key: a later entry overrides.
+  std::stable_sort(link_losses_.begin(), link_losses_.end(),
+                   [](const LinkLoss& a, const LinkLoss& b) { return a.key < b.key; });
+  std::vector<LinkLoss> unique;
+  for (const LinkLoss& entry : link_losses_) {
+    if (!unique.empty() && unique.back().key == entry.key) {
+      unique.back() = entry;
+    } else {
+      unique.push_back(entry);
+    }
+  }
+  link_losses_.swap(unique);
+
+  for (const scenario::PartitionSpec& partition : spec.partitions) {
+    const auto unlisted = static_cast<uint16_t>(std::min<size_t>(partition.groups.size(), 0xFFFFu));
+    Partition resolved{partition.start_s, partition.end_s, std::vector<uint16_t>(robots, unlisted)};
+    for (size_t group = 0; group < partition.groups.size() && group < unlisted; ++group) {
+      for (const uint16_t robot : partition.groups[group]) {
+        // The first group naming a robot keeps it.
+        if (robot < robots && resolved.group[robot] == unlisted) {
+          resolved.group[robot] = static_cast<uint16_t>(group);
+        }
+      }
+    }
+    partitions_.push_back(std::move(resolved));
+  }
+
+  if (spec.model == scenario::ChannelModel::kGilbertElliott) {
+    chains_.assign(static_cast<size_t>(robots) * robots, 0u);
+    const double bad = BadProbability(spec);
+    for (uint16_t from = 0; from < robots; ++from) {
+      for (uint16_t to = 0; to < robots; ++to) {
+        if (Draw(kInitialDraw, 0, from, to) < bad) {
+          chains_[static_cast<size_t>(from) * robots + to] = kBadBit;  // round 0
+        }
+      }
+    }
+  }
+  plain_iid_ = spec_.model == scenario::ChannelModel::kIid && partitions_.empty() && link_losses_.empty();
+  loss_scaled_ = spec_.loss * 0x1.0p53;
+}
+
+double Channel::Draw(uint64_t purpose, int64_t round, uint16_t from, uint16_t to) const {
+  uint64_t hash = base::SplitMix64Hash(seed_ ^ base::SplitMix64Hash(purpose));
+  hash = base::SplitMix64Hash(hash ^ static_cast<uint64_t>(round));
+  hash = base::SplitMix64Hash(hash ^ LinkKey(from, to));
+  // The top 53 bits: every double in [0, 1) with that spacing equally likely.
+  return static_cast<double>(hash >> 11) * 0x1.0p-53;
+}
+
+uint64_t Channel::LossHash(int64_t round, uint16_t from, uint16_t to) {
+  if (round != loss_round_) {
+    loss_round_ = round;
+    loss_round_hash_ = base::SplitMix64Hash(base::SplitMix64Hash(seed_ ^ base::SplitMix64Hash(kLossDraw)) ^
+                                            static_cast<uint64_t>(round));
+  }
+  return base::SplitMix64Hash(loss_round_hash_ ^ LinkKey(from, to));
+}
+
+double Channel::LossDraw(int64_t round, uint16_t from, uint16_t to) {
+  return static_cast<double>(LossHash(round, from, to) >> 11) * 0x1.0p-53;
+}
+
+bool Channel::Partitioned(uint16_t from, uint16_t to, double time_s) const {
+  for (const Partition& partition : partitions_) {
+    if (partition.start_s <= time_s && time_s < partition.end_s && partition.group[from] != partition.group[to]) {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool Channel::ChainBad(uint16_t from, uint16_t to, int64_t round) {
+  uint32_t& chain = chains_[static_cast<size_t>(from) * robots_ + to];
+  int64_t at = chain & kRoundMask;
+  bool bad = (chain & kBadBit) != 0;
+  if (round < at) {
+    at = 0;
+    bad = Draw(kInitialDraw, 0, from, to) < BadProbability(spec_);
+  }
+  for (int64_t next = at + 1; next <= round; ++next) {
+    const double draw = Draw(kTransitionDraw, next, from, to);
+    bad = bad ? !(draw < spec_.bad_to_good) : draw < spec_.good_to_bad;
+  }
+  if (round <= static_cast<int64_t>(kRoundMask)) {
+    chain = static_cast<uint32_t>(round) | (bad ? kBadBit : 0u);
+  }
+  return bad;
+}
+
+bool Channel::Delivers(uint16_t from, uint16_t to, int64_t round, double time_s) {
+  if (from >= robots_ || to >= robots_) {
+    throw std::out_of_range("Channel: no link " + std::to_string(from) + " -> " + std::to_string(to));
+  }
+  if (round < 0) {
+    throw std::out_of_range("Channel: negative round " + std::to_string(round));
+  }
+  ++offered_;
+  if (plain_iid_) {
+    // The common case, i.i.d. loss on every link: the same decision as below
+    // (LossDraw() < loss, with LossDraw the top 53 bits over 2^53), taken on
+    // the integer bits.
+    const bool delivered = !(static_cast<double>(LossHash(round, from, to) >> 11) < loss_scaled_);
+    delivered_ += delivered ? 1 : 0;
+    return delivered;
+  }
+  if (Partitioned(from, to, time_s)) {
+    ++partitioned_;
+    return false;
+  }
+  double loss = spec_.loss;
+  const uint32_t key = LinkKey(from, to);
+  const auto link = link_losses_.empty() ? link_losses_.end() : std::lower_bound(link_losses_.begin(), link_losses_.end(), key,
+                                     [](const LinkLoss& entry, uint32_t wanted) { return entry.key < wanted; });
+  if (link != link_losses_.end() && link->key == key) {
+    loss = link->loss;
+  } else if (spec_.model == scenario::ChannelModel::kGilbertElliott) {
+    loss = ChainBad(from, to, round) ? spec_.loss_bad : spec_.loss_good;
+  }
+  const bool delivered = !(LossDraw(round, from, to) < loss);
+  delivered_ += delivered ? 1 : 0;
+  return delivered;
+}
+
+}  // namespace syrof::lab::world

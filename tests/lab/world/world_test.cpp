@@ -1,0 +1,570 @@
+// The lab's bodies: kinematic limits, rover kinematics, and contacts on
+// constructed encounters whose contact time follows from the limits.
+#include "syrof/lab/world/world.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "syrof/base/split_mix64.h"
+
+namespace syrof::lab::world {
+namespace {
+
+constexpr int64_t kStepNs = 10'000'000;
+constexpr double kDt = 0.01;
+
+// The lab's default kinds (scenario::DefaultKindSpec, spelled out: the
+// scenario loader is not linked here).
+scenario::KindSpec OmniSpec() { return scenario::KindSpec{0.10, 0.5, 1.0, 3.0, 0.16}; }
+scenario::KindSpec RoverSpec() { return scenario::KindSpec{0.12, 0.4, 0.8, 3.0, 0.16}; }
+
+scenario::ArenaSpec Arena(double width_m, double height_m) {
+  scenario::ArenaSpec arena;
+  arena.width_m = width_m;
+  arena.height_m = height_m;
+  return arena;
+}
+
+BodySpec Omni(uint16_t id, double x_m, double y_m, BodyPresence presence = BodyPresence::kActive) {
+  return BodySpec{id, scenario::RobotKind::kOmni, OmniSpec(), x_m, y_m, 0.0, presence};
+}
+
+BodySpec RoverAt(uint16_t id, double x_m, double y_m, double heading_rad) {
+  return BodySpec{id, scenario::RobotKind::kRover, RoverSpec(), x_m, y_m, heading_rad, BodyPresence::kActive};
+}
+
+motion::DriveCommand OmniDrive(double vx_mps, double vy_mps, double yaw_rate_radps = 0) {
+  motion::DriveCommand drive;
+  drive.kind = motion::DriveKind::kOmni;
+  drive.vx_mps = static_cast<float>(vx_mps);
+  drive.vy_mps = static_cast<float>(vy_mps);
+  drive.yaw_rate_radps = static_cast<float>(yaw_rate_radps);
+  return drive;
+}
+
+motion::DriveCommand Wheels(double left_mps, double right_mps) {
+  motion::DriveCommand drive;
+  drive.kind = motion::DriveKind::kWheels;
+  drive.left_mps = static_cast<float>(left_mps);
+  drive.right_mps = static_cast<float>(right_mps);
+  return drive;
+}
+
+// Drive setpoints are floats: the value a double setpoint arrives as.
+double AsFloat(double value) { return static_cast<float>(value); }
+
+double Gap(const World& world, uint16_t a, uint16_t b) {
+  const BodyState& first = world.state(a);
+  const BodyState& second = world.state(b);
+  return std::hypot(second.x_m - first.x_m, second.y_m - first.y_m) - world.body_radius_m(a) -
+         world.body_radius_m(b);
+}
+
+// Steps `steps` times from step `first` on, collecting every contact.
+struct Events {
+  std::vector<Contact> contacts;
+  std::vector<WallContact> wall_contacts;
+};
+
+void StepMany(World& world, int first, int steps, Events& run) {
+  for (int step = first; step < first + steps; ++step) {
+    world.Step(step * kStepNs, kDt);
+    run.contacts.insert(run.contacts.end(), world.new_contacts().begin(), world.new_contacts().end());
+    run.wall_contacts.insert(run.wall_contacts.end(), world.new_wall_contacts().begin(),
+                             world.new_wall_contacts().end());
+  }
+}
+
+TEST(WorldTest, HeadOnOmniPairRecordsExactlyOneContactAndDoesNotPassThrough) {
+  // Each accelerates at 1 m/s^2 for 0.5 s (0.125 m), then cruises at 0.5 m/s;
+  // the 0.803 m gap closes when each has gone 0.4015 m, at t = 1.053 s: the
+  // step ending at 1.06 s.
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 2.0), Omni(1, 2.003, 2.0)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  world.SetDrive(1, OmniDrive(-0.5, 0));
+  Events run;
+  double worst_gap = std::numeric_limits<double>::infinity();
+
+  for (int step = 1; step <= 300; ++step) {
+    StepMany(world, step, 1, run);
+    worst_gap = std::min(worst_gap, Gap(world, 0, 1));
+  }
+
+  ASSERT_EQ(run.contacts.size(), 1u);
+  EXPECT_EQ(run.contacts[0].a, 0);
+  EXPECT_EQ(run.contacts[0].b, 1);
+  EXPECT_EQ(run.contacts[0].time_ns, 106 * kStepNs);
+  EXPECT_EQ(world.contacts(), 1u);
+  EXPECT_GE(worst_gap, -1e-9);
+  EXPECT_LT(world.state(0).x_m, world.state(1).x_m);
+  EXPECT_NEAR(world.state(0).vx_mps, 0.0, 1e-9);  // pushing, but not moving
+  EXPECT_NEAR(world.min_separation_m(), 0.0, 1e-12);
+  EXPECT_TRUE(run.wall_contacts.empty());
+}
+
+TEST(WorldTest, GlancingPassThatMissesRecordsNoContact) {
+  // Centre lines 0.21 m apart: the discs (0.1 m each) pass 1 cm apart.
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 2.0), Omni(1, 3.0, 2.21)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  world.SetDrive(1, OmniDrive(-0.5, 0));
+  Events run;
+
+  StepMany(world, 1, 500, run);
+
+  EXPECT_TRUE(run.contacts.empty());
+  EXPECT_EQ(world.contacts(), 0u);
+  EXPECT_NEAR(world.min_separation_m(), 0.01, 1e-9);
+  EXPECT_GT(world.state(0).x_m, 3.0);  // they did pass each other
+}
+
+TEST(WorldTest, RobotDrivenIntoAWallRecordsOneWallContactAndStaysInside) {
+  // The wall is 0.403 m ahead of the disc: reached at t = 1.056 s.
+  const std::vector<BodySpec> bodies{Omni(0, 3.497, 2.0)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  Events run;
+  double largest_x = 0;
+
+  for (int step = 1; step <= 300; ++step) {
+    StepMany(world, step, 1, run);
+    largest_x = std::max(largest_x, world.state(0).x_m);
+  }
+
+  ASSERT_EQ(run.wall_contacts.size(), 1u);
+  EXPECT_EQ(run.wall_contacts[0].robot, 0);
+  EXPECT_EQ(run.wall_contacts[0].time_ns, 106 * kStepNs);
+  EXPECT_EQ(world.wall_contacts(), 1u);
+  EXPECT_LE(largest_x, 3.9 + 1e-12);
+  EXPECT_EQ(world.state(0).vx_mps, 0.0);
+  EXPECT_TRUE(run.contacts.empty());
+}
+
+TEST(WorldTest, LeavingAWallAndComingBackIsASecondWallContact) {
+  const std::vector<BodySpec> bodies{Omni(0, 3.8, 2.0)};
+  World world(Arena(4, 4), bodies);
+  Events run;
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  StepMany(world, 1, 100, run);
+  world.SetDrive(0, OmniDrive(-0.5, 0));
+  StepMany(world, 101, 100, run);
+
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  StepMany(world, 201, 200, run);
+
+  EXPECT_EQ(world.wall_contacts(), 2u);
+  EXPECT_EQ(run.wall_contacts.size(), 2u);
+}
+
+TEST(WorldTest, ThreeRobotsMeetingInAPileSeparateAndTouchOnce) {
+  std::vector<BodySpec> bodies;
+  for (uint16_t id = 0; id < 3; ++id) {
+    const double angle = 2 * std::numbers::pi * id / 3;
+    bodies.push_back(Omni(id, 2 + 0.5 * std::cos(angle), 2 + 0.5 * std::sin(angle)));
+  }
+  World world(Arena(4, 4), bodies);
+  for (uint16_t id = 0; id < 3; ++id) {
+    const double angle = 2 * std::numbers::pi * id / 3;
+    world.SetDrive(id, OmniDrive(-0.5 * std::cos(angle), -0.5 * std::sin(angle)));
+  }
+  Events run;
+  double worst_gap = std::numeric_limits<double>::infinity();
+
+  for (int step = 1; step <= 300; ++step) {
+    StepMany(world, step, 1, run);
+    worst_gap = std::min({worst_gap, Gap(world, 0, 1), Gap(world, 0, 2), Gap(world, 1, 2)});
+  }
+
+  EXPECT_GE(worst_gap, -1e-3);
+  ASSERT_EQ(run.contacts.size(), 3u);
+  EXPECT_EQ(run.contacts[0].a, 0);
+  EXPECT_EQ(run.contacts[0].b, 1);
+  EXPECT_EQ(run.contacts[1].a, 0);
+  EXPECT_EQ(run.contacts[1].b, 2);
+  EXPECT_EQ(run.contacts[2].a, 1);
+  EXPECT_EQ(run.contacts[2].b, 2);
+  EXPECT_EQ(run.contacts[0].time_ns, run.contacts[2].time_ns);  // symmetric: all at once
+}
+
+TEST(WorldTest, StoppedBodyIsAnObstacleThatDoesNotMove) {
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 2.0), Omni(1, 2.0, 2.0, BodyPresence::kStopped)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  world.SetDrive(1, OmniDrive(-0.5, 0));  // ignored: stopped
+  Events run;
+
+  StepMany(world, 1, 400, run);
+
+  EXPECT_EQ(world.state(1).x_m, 2.0);
+  EXPECT_EQ(world.state(1).y_m, 2.0);
+  EXPECT_EQ(world.state(1).vx_mps, 0.0);
+  EXPECT_NEAR(world.state(0).x_m, 1.8, 1e-9);
+  EXPECT_EQ(world.contacts(), 1u);
+}
+
+TEST(WorldTest, CrashedBodyStopsAtTheNextStepAndTheImuFeelsIt) {
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 2.0)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  Events run;
+  StepMany(world, 1, 100, run);
+  const double x_at_crash = world.state(0).x_m;
+
+  world.SetPresence(0, BodyPresence::kStopped);
+  StepMany(world, 101, 1, run);
+
+  EXPECT_EQ(world.presence(0), BodyPresence::kStopped);
+  EXPECT_EQ(world.state(0).x_m, x_at_crash);
+  EXPECT_EQ(world.state(0).vx_mps, 0.0);
+  EXPECT_NEAR(world.state(0).ax_mps2, -0.5 / kDt, 1e-9);
+}
+
+TEST(WorldTest, AbsentBodiesAreIgnored) {
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 2.0), Omni(1, 2.0, 2.0, BodyPresence::kAbsent)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  world.SetDrive(1, OmniDrive(0.5, 0));
+  Events run;
+
+  StepMany(world, 1, 400, run);
+
+  EXPECT_GT(world.state(0).x_m, 2.5);  // straight through
+  EXPECT_EQ(world.state(1).x_m, 2.0);
+  EXPECT_EQ(world.contacts(), 0u);
+  EXPECT_EQ(world.min_separation_m(), std::numeric_limits<double>::infinity());
+}
+
+TEST(WorldTest, JoiningOnTopOfAnotherBodyIsAContactAndIsSeparated) {
+  const std::vector<BodySpec> bodies{Omni(0, 2.0, 2.0), Omni(1, 2.1, 2.0, BodyPresence::kAbsent)};
+  World world(Arena(4, 4), bodies);
+  Events run;
+  StepMany(world, 1, 10, run);
+  EXPECT_EQ(world.contacts(), 0u);
+
+  world.SetPresence(1, BodyPresence::kActive);
+  StepMany(world, 11, 1, run);
+
+  ASSERT_EQ(run.contacts.size(), 1u);
+  EXPECT_EQ(run.contacts[0].time_ns, 11 * kStepNs);
+  EXPECT_NEAR(Gap(world, 0, 1), 0.0, 1e-9);
+}
+
+TEST(WorldTest, OverlapAtPlacementIsSeparatedButNotCounted) {
+  const std::vector<BodySpec> bodies{Omni(0, 2.0, 2.0), Omni(1, 2.15, 2.0), Omni(2, 0.05, 2.0)};
+  World world(Arena(4, 4), bodies);
+  Events run;
+
+  StepMany(world, 1, 1, run);
+
+  EXPECT_EQ(world.contacts(), 0u);
+  EXPECT_EQ(world.wall_contacts(), 0u);
+  EXPECT_NEAR(Gap(world, 0, 1), 0.0, 1e-9);
+  EXPECT_DOUBLE_EQ(world.state(2).x_m, 0.1);
+}
+
+TEST(WorldTest, OmniVelocitySlewsAtMaxAccelAndIsCappedAtMaxSpeed) {
+  const std::vector<BodySpec> bodies{Omni(0, 0.5, 0.5)};
+  World world(Arena(10, 10), bodies);
+  world.SetDrive(0, OmniDrive(3.0, 4.0, -10.0));  // faster than allowed in both
+  Events run;
+
+  StepMany(world, 1, 1, run);
+  const BodyState first = world.state(0);
+  StepMany(world, 2, 99, run);
+  const BodyState later = world.state(0);
+
+  EXPECT_NEAR(first.vx_mps, 0.006, 1e-12);  // 0.01 m/s along (0.6, 0.8)
+  EXPECT_NEAR(first.vy_mps, 0.008, 1e-12);
+  EXPECT_NEAR(first.ax_mps2, 0.6, 1e-9);
+  EXPECT_NEAR(first.ay_mps2, 0.8, 1e-9);
+  EXPECT_NEAR(first.x_m, 0.5 + 0.5 * 0.006 * kDt, 1e-12);
+  EXPECT_DOUBLE_EQ(first.yaw_rate_radps, -3.0);
+  EXPECT_NEAR(std::hypot(later.vx_mps, later.vy_mps), 0.5, 1e-12);
+  EXPECT_NEAR(later.ax_mps2, 0.0, 1e-9);
+}
+
+TEST(WorldTest, RoverWheelsSlewAtMaxAccelAndAreCapped) {
+  const std::vector<BodySpec> bodies{RoverAt(0, 2, 2, 0)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, Wheels(1.0, -0.2));
+  Events run;
+
+  StepMany(world, 1, 1, run);
+  const double left_after_one = world.left_wheel_mps(0);
+  const double right_after_one = world.right_wheel_mps(0);
+  StepMany(world, 2, 99, run);
+
+  EXPECT_NEAR(left_after_one, 0.008, 1e-12);
+  EXPECT_NEAR(right_after_one, -0.008, 1e-12);
+  EXPECT_NEAR(world.left_wheel_mps(0), 0.4, 1e-12);
+  EXPECT_NEAR(world.right_wheel_mps(0), AsFloat(-0.2), 1e-12);
+}
+
+TEST(WorldTest, RoverDrivesStraightAlongItsHeading) {
+  const double heading = 0.5;
+  const std::vector<BodySpec> bodies{RoverAt(0, 1, 1, heading)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, Wheels(0.2, 0.2));
+  Events run;
+
+  StepMany(world, 1, 100, run);
+
+  // A ramp of v / a (0.25 s) then cruising: v - v^2 / (2 a) in 1 s.
+  const double speed = AsFloat(0.2);
+  const double distance = speed - speed * speed / (2 * 0.8);
+  EXPECT_NEAR(world.state(0).x_m, 1 + distance * std::cos(heading), 1e-9);
+  EXPECT_NEAR(world.state(0).y_m, 1 + distance * std::sin(heading), 1e-9);
+  EXPECT_DOUBLE_EQ(world.state(0).heading_rad, heading);
+  EXPECT_NEAR(world.state(0).vx_mps, speed * std::cos(heading), 1e-12);
+  EXPECT_NEAR(world.state(0).yaw_rate_radps, 0.0, 1e-12);
+}
+
+TEST(WorldTest, RoverSpinsInPlace) {
+  const std::vector<BodySpec> bodies{RoverAt(0, 2, 2, 0)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, Wheels(-0.08, 0.08));
+  Events run;
+
+  StepMany(world, 1, 100, run);
+
+  EXPECT_NEAR(world.state(0).x_m, 2.0, 1e-12);
+  EXPECT_NEAR(world.state(0).y_m, 2.0, 1e-12);
+  // Each wheel ramps for v / a (0.1 s), then the rover spins at 2 v / b.
+  const double rate = 2 * AsFloat(0.08) / 0.16;
+  const double ramp_s = AsFloat(0.08) / 0.8;
+  EXPECT_NEAR(world.state(0).yaw_rate_radps, rate, 1e-12);
+  EXPECT_NEAR(world.state(0).heading_rad, rate * (1.0 - ramp_s / 2), 1e-8);
+}
+
+TEST(WorldTest, RoverArcHasRadiusHalfWheelBaseTimesSumOverDifference) {
+  const std::vector<BodySpec> bodies{RoverAt(0, 2, 2, 0)};
+  World world(Arena(4, 4), bodies);
+  const double left = AsFloat(0.1);
+  const double right = AsFloat(0.2);
+  world.SetDrive(0, Wheels(left, right));
+  Events run;
+  StepMany(world, 1, 50, run);  // both wheels at speed after 0.25 s
+  const double radius = 0.16 / 2 * (right + left) / (right - left);
+  auto centre = [&] {
+    const BodyState& state = world.state(0);
+    return std::pair{state.x_m - radius * std::sin(state.heading_rad),
+                     state.y_m + radius * std::cos(state.heading_rad)};
+  };
+  const auto first_centre = centre();
+
+  StepMany(world, 51, 300, run);
+  const auto later_centre = centre();
+
+  EXPECT_NEAR(radius, 0.24, 1e-6);
+  EXPECT_NEAR(later_centre.first, first_centre.first, 1e-9);
+  EXPECT_NEAR(later_centre.second, first_centre.second, 1e-9);
+  EXPECT_NEAR(world.state(0).yaw_rate_radps, (right - left) / 0.16, 1e-12);
+}
+
+TEST(WorldTest, MinSeparationIsTheSmallestGapEverSeen) {
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 1.0), Omni(1, 2.0, 1.0), Omni(2, 1.0, 3.0)};
+  World world(Arena(4, 4), bodies);
+  EXPECT_EQ(world.min_separation_m(), std::numeric_limits<double>::infinity());
+  Events run;
+
+  StepMany(world, 1, 1, run);
+  const double at_rest = world.min_separation_m();
+  world.SetDrive(0, OmniDrive(0.2, 0));
+  StepMany(world, 2, 100, run);
+  const double closest = world.min_separation_m();
+  world.SetDrive(0, OmniDrive(-0.2, 0));
+  StepMany(world, 102, 200, run);
+
+  // Out: a ramp of v / a then cruising, v - v^2 / 2 in 1 s; back: another
+  // v^2 / 2 while reversing, then away.
+  const double speed = AsFloat(0.2);
+  EXPECT_DOUBLE_EQ(at_rest, 0.8);
+  EXPECT_NEAR(closest, 0.8 - (speed - speed * speed / 2), 1e-9);
+  EXPECT_NEAR(world.min_separation_m(), 0.8 - speed, 1e-9);
+  EXPECT_GT(Gap(world, 0, 1), 0.7);  // moving away did not raise it
+}
+
+TEST(WorldTest, OneBodyHasNoSeparation) {
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 1.0)};
+  World world(Arena(4, 4), bodies);
+  Events run;
+
+  StepMany(world, 1, 10, run);
+
+  EXPECT_EQ(world.min_separation_m(), std::numeric_limits<double>::infinity());
+}
+
+TEST(WorldTest, DriveOfTheWrongKindIsRejectedAsAStop) {
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 1.0)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, OmniDrive(0.5, 0));
+  Events run;
+  StepMany(world, 1, 10, run);
+
+  world.SetDrive(0, Wheels(0.3, 0.3));
+  StepMany(world, 11, 100, run);
+
+  EXPECT_EQ(world.rejected_drives(), 1u);
+  EXPECT_EQ(world.state(0).vx_mps, 0.0);
+}
+
+TEST(WorldTest, ConstructorRejectsBadBodies) {
+  const std::vector<BodySpec> misnumbered{Omni(1, 1.0, 1.0)};
+  std::vector<BodySpec> no_radius{Omni(0, 1.0, 1.0)};
+  no_radius[0].spec.body_radius_m = 0;
+
+  EXPECT_THROW(World(Arena(4, 4), misnumbered), std::invalid_argument);
+  EXPECT_THROW(World(Arena(4, 4), no_radius), std::invalid_argument);
+  EXPECT_THROW(World(Arena(0, 4), std::vector<BodySpec>{}), std::invalid_argument);
+}
+
+TEST(WorldTest, UnknownRobotIsOutOfRange) {
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 1.0)};
+  World world(Arena(4, 4), bodies);
+
+  EXPECT_THROW(world.state(1), std::out_of_range);
+  EXPECT_THROW(world.SetDrive(1, OmniDrive(0, 0)), std::out_of_range);
+}
+
+TEST(WorldTest, TrueStateCarriesTheBodyState) {
+  const std::vector<BodySpec> bodies{Omni(0, 1.0, 1.0)};
+  World world(Arena(4, 4), bodies);
+  world.SetDrive(0, OmniDrive(0.1, -0.2, 0.3));
+  Events run;
+  StepMany(world, 1, 5, run);
+
+  const sensors::TrueState truth = world.true_state(0);
+  const BodyState& state = world.state(0);
+
+  EXPECT_EQ(truth.x_m, state.x_m);
+  EXPECT_EQ(truth.y_m, state.y_m);
+  EXPECT_EQ(truth.vx_mps, state.vx_mps);
+  EXPECT_EQ(truth.vy_mps, state.vy_mps);
+  EXPECT_EQ(truth.ax_mps2, state.ax_mps2);
+  EXPECT_EQ(truth.ay_mps2, state.ay_mps2);
+  EXPECT_EQ(truth.heading_rad, state.heading_rad);
+  EXPECT_EQ(truth.yaw_rate_radps, AsFloat(0.3));
+}
+
+// A crowd of omni and rover bodies driven at random (seeded) in a small
+// arena: nothing overlaps more than a millimetre or leaves the arena, and
+// min_separation matches a brute-force search over every pair.
+struct Crowd {
+  std::vector<BodySpec> bodies;
+  std::vector<motion::DriveCommand> drives;
+};
+
+Crowd MakeCrowd(uint16_t count, uint64_t seed) {
+  base::SplitMix64 random(seed);
+  Crowd crowd;
+  for (uint16_t id = 0; id < count; ++id) {
+    const double x = 0.2 + 0.4 * (id % 9);
+    const double y = 0.2 + 0.4 * (id / 9);
+    if (id % 4 == 3) {
+      crowd.bodies.push_back(RoverAt(id, x, y, 0.1 * id));
+      crowd.drives.push_back(Wheels(random.Between(-40, 40) / 100.0, random.Between(-40, 40) / 100.0));
+    } else {
+      crowd.bodies.push_back(Omni(id, x, y));
+      crowd.drives.push_back(OmniDrive(random.Between(-50, 50) / 100.0, random.Between(-50, 50) / 100.0));
+    }
+  }
+  return crowd;
+}
+
+TEST(WorldTest, CrowdStaysSeparatedAndMinSeparationMatchesBruteForce) {
+  const Crowd crowd = MakeCrowd(72, 7);  // 9 x 8 robots in a 3.6 x 3.2 arena
+  World world(Arena(3.6, 3.2), crowd.bodies);
+  for (uint16_t id = 0; id < world.size(); ++id) {
+    world.SetDrive(id, crowd.drives[id]);
+  }
+  double brute_force_min = std::numeric_limits<double>::infinity();
+  double worst_overlap = 0;
+  double worst_wall = 0;
+
+  for (int step = 1; step <= 300; ++step) {
+    world.Step(step * kStepNs, kDt);
+    for (uint16_t a = 0; a < world.size(); ++a) {
+      const BodyState& state = world.state(a);
+      const double r = world.body_radius_m(a);
+      worst_wall = std::max({worst_wall, r - state.x_m, state.x_m + r - 3.6, r - state.y_m, state.y_m + r - 3.2});
+      for (uint16_t b = a + 1; b < world.size(); ++b) {
+        const double gap = Gap(world, a, b);
+        brute_force_min = std::min(brute_force_min, std::max(0.0, gap));
+        worst_overlap = std::max(worst_overlap, -gap);
+      }
+    }
+    ASSERT_NEAR(world.min_separation_m(), brute_force_min, 1e-12) << "step " << step;
+  }
+
+  EXPECT_LT(worst_overlap, 1e-3);
+  EXPECT_LE(worst_wall, 1e-12);
+  EXPECT_GT(world.contacts(), 0u);
+  EXPECT_GT(world.wall_contacts(), 0u);
+}
+
+TEST(WorldTest, SparseSwarmMinSeparationMatchesBruteForce) {
+  // Far apart in a large arena: the grid's neighbourhood holds no pair, so
+  // the exact outward search answers.
+  std::vector<BodySpec> bodies;
+  for (uint16_t id = 0; id < 20; ++id) {
+    bodies.push_back(Omni(id, 1.0 + 2.3 * (id % 5) + 0.01 * id, 1.0 + 3.1 * (id / 5)));
+  }
+  World world(Arena(20, 20), bodies);
+  world.SetDrive(7, OmniDrive(0.3, 0.1));
+  double brute_force_min = std::numeric_limits<double>::infinity();
+
+  for (int step = 1; step <= 100; ++step) {
+    world.Step(step * kStepNs, kDt);
+    for (uint16_t a = 0; a < world.size(); ++a) {
+      for (uint16_t b = a + 1; b < world.size(); ++b) {
+        brute_force_min = std::min(brute_force_min, Gap(world, a, b));
+      }
+    }
+    ASSERT_NEAR(world.min_separation_m(), brute_force_min, 1e-12) << "step " << step;
+  }
+}
+
+TEST(WorldTest, SameCallsGiveTheSameBits) {
+  const Crowd crowd = MakeCrowd(72, 11);
+  World first(Arena(3.6, 3.2), crowd.bodies);
+  World second(Arena(3.6, 3.2), crowd.bodies);
+  for (uint16_t id = 0; id < first.size(); ++id) {
+    first.SetDrive(id, crowd.drives[id]);
+    second.SetDrive(id, crowd.drives[id]);
+  }
+
+  for (int step = 1; step <= 200; ++step) {
+    first.Step(step * kStepNs, kDt);
+    second.Step(step * kStepNs, kDt);
+  }
+
+  for (uint16_t id = 0; id < first.size(); ++id) {
+    EXPECT_EQ(first.state(id).x_m, second.state(id).x_m);
+    EXPECT_EQ(first.state(id).y_m, second.state(id).y_m);
+    EXPECT_EQ(first.state(id).heading_rad, second.state(id).heading_rad);
+  }
+  EXPECT_EQ(first.contacts(), second.contacts());
+  EXPECT_EQ(first.min_separation_m(), second.min_separation_m());
+}
+
+TEST(WorldTest, ControllerConfigForCarriesTheKindsLimits) {
+  const motion::ControllerConfig config = ControllerConfigFor(scenario::RobotKind::kRover, RoverSpec());
+
+  EXPECT_EQ(config.kind, motion::DriveKind::kWheels);
+  EXPECT_FLOAT_EQ(config.limits.max_speed_mps, 0.4f);
+  EXPECT_FLOAT_EQ(config.limits.max_accel_mps2, 0.8f);
+  EXPECT_FLOAT_EQ(config.limits.wheel_base_m, 0.16f);
+  EXPECT_FLOAT_EQ(config.limits.body_radius_m, 0.12f);
+  EXPECT_EQ(DriveKindFor(scenario::RobotKind::kOmni), motion::DriveKind::kOmni);
+}
+
+}  // namespace
+}  // namespace syrof::lab::world
