@@ -1,0 +1,175 @@
+// The metrics collector: the simulator reports what happens during a run
+// (epoch starts, membership changes, every robot's state at every round end,
+// contacts) and asks for the Metrics at the end. docs/metrics.md defines each
+// metric; this class computes exactly that.
+//
+// Memory is bounded independently of the run's length: per-robot tables, a
+// window of the kEpochWindow most recent epochs, and short lists of the first
+// events. Nothing is kept per round. The same sequence of calls gives the
+// same Metrics, bit for bit.
+//
+// Call order within radio round r: OnEpochStart and OnMembership for the
+// robots that stepped in r (any order among robots), then OnRoundEnd(r).
+// Rounds increase from call to call. Contacts may come at any time.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "syrof/lab/metrics/metrics.h"
+#include "syrof/sync/ldmap.h"
+#include "syrof/wire/beacon.h"
+#include "syrof/wire/member_set.h"
+
+namespace syrof::lab::metrics {
+
+/// Epochs are tracked (skew, P3) while they are fewer than this many epochs
+/// behind the newest epoch started; a start further behind is stale.
+inline constexpr int kEpochWindow = 32;
+
+/// One robot at the end of one radio round, after its synchronizer step.
+struct RobotRound {
+  uint16_t id = 0;
+  bool running = false;         ///< switched on, not crashed, not paused
+  bool member = false;          ///< running and its synchronizer status is MEMBER (not joining)
+  uint16_t epoch = 0;
+  wire::Mode epoch_mode = wire::Mode::kAutonomous;  ///< the mode its current epoch started in
+  wire::Phase phase = wire::Phase::kWait;
+  bool estimate_valid = false;  ///< estimator initialized and warmed up since the robot (re)started
+  double true_x_m = 0;          ///< ground truth, arena frame
+  double true_y_m = 0;
+  double est_x_m = 0;           ///< the robot's estimate, arena frame
+  double est_y_m = 0;
+};
+
+struct CollectorConfig {
+  uint16_t robots = 0;         ///< robot ids are 0 .. robots - 1
+  int64_t radio_round_ns = 0;  ///< alpha; converts contact times to rounds in the JSON
+};
+
+class Collector {
+ public:
+  /// Observations naming a robot id at or above `config.robots` (or above the
+  /// build's wire::kMaxSwarmSize) are ignored and counted in diagnostics.
+  explicit Collector(const CollectorConfig& config);
+
+  /// `robot` started epoch `ldmap.epoch` at the end of `round`, handing
+  /// `ldmap` (its mode and contents) to newRound.
+  void OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& ldmap);
+
+  /// `observer`'s failure detector removed `removed` and it added `joined`
+  /// to its members in `round` (the StepOutput sets).
+  void OnMembership(uint16_t observer, int64_t round, const wire::MemberSet& removed,
+                    const wire::MemberSet& joined);
+
+  /// The end of `round`: every robot of the swarm, running or not, once.
+  void OnRoundEnd(int64_t round, std::span<const RobotRound> robots);
+
+  /// Two bodies came into contact (a contact start, not every step of it).
+  void OnCollision(int64_t time_ns, uint16_t a, uint16_t b);
+
+  /// `robot`'s body came into contact with a wall (a contact start).
+  void OnWallContact(int64_t time_ns, uint16_t robot);
+
+  /// The metrics of everything observed so far, with the run's facts. Epochs
+  /// still in the window are measured as they stand. Does not change the
+  /// collector, so it may also be called mid-run.
+  Metrics Finish(const RunFacts& facts) const;
+
+ private:
+  // Starts of one epoch number, kept while the epoch is in the window.
+  struct EpochRecord {
+    uint16_t epoch = 0;
+    int64_t first_round = 0;
+    int64_t last_round = 0;
+    wire::MemberSet starters;
+    uint16_t first_cooperative_robot = 0;
+    // The first COOPERATIVE map of the epoch; only COOPERATIVE epochs hold
+    // one, so the window costs one map per COOPERATIVE epoch at most.
+    std::unique_ptr<sync::LDMap> first_cooperative;
+  };
+
+  // Running totals of the skews of closed epochs.
+  struct SkewTotals {
+    int64_t epochs = 0;
+    int64_t sum_rounds = 0;
+    int64_t max_rounds = 0;
+    bool has_max = false;
+    uint16_t max_epoch = 0;
+    int64_t with_skew = 0;
+    std::array<int64_t, kSkewHistogramBins> histogram{};
+
+    void Add(uint16_t epoch, int64_t skew_rounds);
+  };
+
+  // Per robot, what the membership latencies need.
+  struct RobotTrack {
+    bool running = false;
+    int64_t stopped_round = -1;    // first round end not running after running; -1 while running
+    int64_t joining_since = -1;    // first round end running but not a member; -1 otherwise
+    bool collided = false;
+    bool touched_wall = false;
+    bool removed = false;
+    bool joined = false;
+  };
+
+  bool Known(uint16_t robot) const;
+  EpochRecord* FindRecord(uint16_t epoch);
+  void CloseOldRecords();
+
+  CollectorConfig config_;
+  std::vector<RobotTrack> tracks_;
+
+  std::vector<EpochRecord> open_epochs_;  // in the order they were opened
+  bool any_start_ = false;
+  uint16_t newest_epoch_ = 0;
+  SkewTotals skews_;
+  int64_t epochs_started_ = 0;
+  int64_t epoch_starts_ = 0;
+  int64_t stale_starts_ = 0;
+  int64_t repeated_starts_ = 0;
+
+  int64_t violations_ = 0;
+  std::vector<Violation> first_violations_;
+  int64_t cooperative_starts_ = 0;
+  int64_t cooperative_epochs_ = 0;
+  int64_t unchecked_cooperative_starts_ = 0;
+
+  int64_t disagreement_run_rounds_ = 0;  // the current run of disagreeing rounds
+  int64_t max_disagreement_rounds_ = 0;
+  int64_t disagreement_rounds_ = 0;
+
+  int64_t collisions_ = 0;
+  int64_t robots_collided_ = 0;
+  std::vector<CollisionEvent> first_collisions_;
+  int64_t wall_contacts_ = 0;
+  int64_t robots_touched_wall_ = 0;
+  std::vector<WallContactEvent> first_wall_contacts_;
+
+  int64_t estimate_samples_ = 0;
+  double squared_error_sum_m2_ = 0;
+  double max_error_m_ = 0;
+  uint16_t max_error_robot_ = 0;
+  int64_t max_error_round_ = 0;
+  int64_t non_finite_estimates_ = 0;
+
+  int64_t removals_ = 0;
+  int64_t joins_ = 0;
+  int64_t robots_removed_ = 0;
+  int64_t robots_joined_ = 0;
+  int64_t removals_of_running_ = 0;
+  int64_t removal_latency_samples_ = 0;
+  int64_t removal_latency_sum_rounds_ = 0;
+  int64_t removal_latency_max_rounds_ = 0;
+  int64_t join_latency_samples_ = 0;
+  int64_t join_latency_sum_rounds_ = 0;
+  int64_t join_latency_max_rounds_ = 0;
+
+  int64_t rounds_observed_ = 0;
+  int64_t ignored_observations_ = 0;
+};
+
+}  // namespace syrof::lab::metrics

@@ -1,0 +1,169 @@
+// The metrics of one simulated-lab run, as the grader scores them, and their
+// JSON form (metrics.json). docs/metrics.md defines every field; this file
+// mirrors that document's order.
+//
+// Counts are int64_t. A value that may be undefined (a mean over no samples,
+// an infinite separation) is std::optional or a double that may be
+// non-finite; both print as JSON null, so NaN and infinities never reach the
+// file.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace syrof::lab::metrics {
+
+/// Version of the metrics.json layout; raised when a field changes meaning or
+/// is removed (adding a field does not raise it).
+inline constexpr int kSchemaVersion = 1;
+
+/// Skew histogram size: entries 0 .. kSkewHistogramBins - 2 count epochs of
+/// exactly that skew in rounds; the last entry counts every larger skew.
+inline constexpr size_t kSkewHistogramBins = 11;
+
+/// At most this many P3 violations are listed (all are counted).
+inline constexpr size_t kMaxListedViolations = 10;
+/// At most this many collisions are listed, the first ones (all are counted).
+inline constexpr size_t kMaxListedCollisions = 100;
+/// At most this many wall contacts are listed, the first ones (all are counted).
+inline constexpr size_t kMaxListedWallContacts = 100;
+
+/// The assignment's own goal, as the app's goal checker judged it.
+struct GoalResult {
+  std::string app;     ///< the app whose goal was checked
+  bool reached = false;
+  double error_m = 0;  ///< distance from the goal, metres; non-finite prints null
+  std::string detail;  ///< one human-readable line
+};
+
+/// What the simulator knows about the run as a whole, handed to Finish().
+struct RunFacts {
+  uint64_t seed = 0;
+  uint16_t robots = 0;
+  double sim_seconds = 0;   ///< simulated time
+  double wall_seconds = 0;  ///< host time the run took; the one field that varies between identical runs
+  int64_t radio_rounds = 0;
+  /// Smallest surface gap between two bodies over the run, metres (negative
+  /// while overlapping); +infinity when no two bodies were ever compared.
+  double min_separation_m = 0;
+  GoalResult goal;
+  std::string app;       ///< e.g. "builtin:circle" or the student's library name
+  std::string scenario;  ///< scenario name or file
+};
+
+/// One P3 breach: `robot` started `epoch` COOPERATIVE with a map that is not
+/// SameKnowledge with the first COOPERATIVE map of that epoch (`first_robot`'s).
+struct Violation {
+  uint16_t epoch = 0;
+  uint16_t robot = 0;
+  int64_t round = 0;
+  uint16_t first_robot = 0;
+};
+
+/// One body-body contact start; a < b.
+struct CollisionEvent {
+  int64_t time_ns = 0;
+  uint16_t a = 0;
+  uint16_t b = 0;
+};
+
+struct WallContactEvent {
+  int64_t time_ns = 0;
+  uint16_t robot = 0;
+};
+
+struct SynchronyMetrics {
+  int64_t max_start_skew_rounds = 0;        ///< 0 when no epoch started
+  std::optional<uint16_t> max_skew_epoch;   ///< the first epoch (in start order) with the max skew
+  std::optional<double> mean_start_skew_rounds;
+  int64_t epochs_measured = 0;              ///< epochs whose skew is counted (every epoch started)
+  int64_t epochs_with_skew = 0;             ///< epochs with skew > 0
+  std::array<int64_t, kSkewHistogramBins> skew_histogram{};
+  int64_t stale_starts = 0;                 ///< starts too far behind to be matched (docs/metrics.md)
+  int64_t repeated_starts = 0;              ///< a robot starting an epoch it already started
+};
+
+struct CommonKnowledgeMetrics {
+  int64_t violations = 0;                   ///< P3 breaches, robot-epoch starts
+  std::vector<Violation> first_violations;  ///< at most kMaxListedViolations
+  std::optional<double> cooperative_fraction;  ///< none when no epoch started
+  int64_t cooperative_starts = 0;
+  int64_t autonomous_starts = 0;
+  int64_t cooperative_epochs = 0;           ///< epochs with at least one COOPERATIVE start
+  int64_t unchecked_cooperative_starts = 0; ///< COOPERATIVE stale starts, not compared
+  int64_t max_mode_disagreement_rounds = 0;
+  int64_t mode_disagreement_rounds = 0;     ///< all rounds with a disagreement
+};
+
+struct CollisionMetrics {
+  int64_t count = 0;
+  double min_separation_m = 0;              ///< from RunFacts; non-finite prints null
+  int64_t robots_involved = 0;              ///< distinct robots in at least one collision
+  std::vector<CollisionEvent> pairs;        ///< the first kMaxListedCollisions
+};
+
+struct WallMetrics {
+  int64_t contacts = 0;
+  int64_t robots_involved = 0;
+  std::vector<WallContactEvent> first_contacts;  ///< the first kMaxListedWallContacts
+};
+
+struct EstimationMetrics {
+  std::optional<double> position_rmse_m;
+  std::optional<double> max_error_m;
+  std::optional<uint16_t> max_error_robot;
+  std::optional<int64_t> max_error_round;
+  int64_t samples = 0;                      ///< robot-rounds with a valid, finite estimate
+  int64_t non_finite_samples = 0;           ///< valid estimates with a NaN or infinite error, excluded
+};
+
+struct MembershipMetrics {
+  int64_t removals = 0;                     ///< summed over observers
+  int64_t joins = 0;                        ///< summed over observers
+  int64_t robots_removed = 0;               ///< distinct robots removed by someone
+  int64_t robots_joined = 0;                ///< distinct robots added by someone
+  int64_t removals_of_running_robots = 0;   ///< removed while running (losses, partitions)
+  std::optional<int64_t> max_removal_latency_rounds;
+  std::optional<double> mean_removal_latency_rounds;
+  int64_t completed_joins = 0;              ///< robots that went from joining to member
+  std::optional<int64_t> max_join_latency_rounds;
+  std::optional<double> mean_join_latency_rounds;
+};
+
+struct Diagnostics {
+  int64_t rounds_observed = 0;      ///< OnRoundEnd calls
+  int64_t ignored_observations = 0; ///< observations naming a robot id >= robots
+};
+
+/// Everything metrics.json holds, in its order.
+struct Metrics {
+  std::string scenario;
+  std::string app;
+  uint64_t seed = 0;
+  uint16_t robots = 0;
+  double sim_seconds = 0;
+  double wall_seconds = 0;
+  int64_t radio_rounds = 0;
+  int64_t radio_round_ns = 0;
+  int64_t epochs_started = 0;  ///< distinct epochs (docs/metrics.md)
+  int64_t epoch_starts = 0;    ///< robot-epoch starts
+  GoalResult goal;
+  SynchronyMetrics synchrony;
+  CommonKnowledgeMetrics common_knowledge;
+  CollisionMetrics collisions;
+  WallMetrics walls;
+  EstimationMetrics estimation;
+  MembershipMetrics membership;
+  Diagnostics diagnostics;
+};
+
+/// metrics.json: pretty-printed with a 2-space indent and a trailing newline,
+/// fields in a fixed order (docs/metrics.md). Equal metrics give equal bytes;
+/// NaN and infinities print as null; invalid UTF-8 in strings is replaced.
+std::string ToJson(const Metrics& metrics);
+
+}  // namespace syrof::lab::metrics

@@ -1,0 +1,330 @@
+#include "syrof/lab/metrics/collector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "syrof/sync/synchronizer.h"
+
+namespace syrof::lab::metrics {
+
+namespace {
+
+std::optional<double> Mean(int64_t sum, int64_t samples) {
+  if (samples == 0) return std::nullopt;
+  return static_cast<double>(sum) / static_cast<double>(samples);
+}
+
+}  // namespace
+
+void Collector::SkewTotals::Add(uint16_t epoch, int64_t skew_rounds) {
+  ++epochs;
+  sum_rounds += skew_rounds;
+  if (skew_rounds > 0) ++with_skew;
+  // Strictly greater: ties keep the epoch closed first.
+  if (!has_max || skew_rounds > max_rounds) {
+    has_max = true;
+    max_rounds = skew_rounds;
+    max_epoch = epoch;
+  }
+  const size_t last_bin = kSkewHistogramBins - 1;
+  const size_t bin = skew_rounds >= static_cast<int64_t>(last_bin) ? last_bin : static_cast<size_t>(skew_rounds);
+  ++histogram[bin];
+}
+
+Collector::Collector(const CollectorConfig& config)
+    : config_(config), tracks_(std::min<size_t>(config.robots, wire::kMaxSwarmSize)) {}
+
+bool Collector::Known(uint16_t robot) const { return robot < tracks_.size(); }
+
+Collector::EpochRecord* Collector::FindRecord(uint16_t epoch) {
+  for (EpochRecord& record : open_epochs_) {
+    if (record.epoch == epoch) return &record;
+  }
+  return nullptr;
+}
+
+void Collector::CloseOldRecords() {
+  const auto too_old = [this](const EpochRecord& record) {
+    return sync::EpochDifference(newest_epoch_, record.epoch) >= kEpochWindow;
+  };
+  for (const EpochRecord& record : open_epochs_) {
+    if (too_old(record)) skews_.Add(record.epoch, record.last_round - record.first_round);
+  }
+  std::erase_if(open_epochs_, too_old);
+}
+
+void Collector::OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& ldmap) {
+  if (!Known(robot)) {
+    ++ignored_observations_;
+    return;
+  }
+  ++epoch_starts_;
+  const bool cooperative = ldmap.mode == wire::Mode::kCooperative;
+  if (cooperative) ++cooperative_starts_;
+
+  const uint16_t epoch = ldmap.epoch;
+  if (!any_start_) {
+    any_start_ = true;
+    newest_epoch_ = epoch;
+  } else {
+    // int, not int16_t: the distance -32768 must stay negative when negated.
+    const int ahead = sync::EpochDifference(epoch, newest_epoch_);
+    if (ahead > 0) {
+      newest_epoch_ = epoch;
+      CloseOldRecords();
+    } else if (-ahead >= kEpochWindow) {
+      ++stale_starts_;
+      if (cooperative) ++unchecked_cooperative_starts_;
+      return;
+    }
+  }
+
+  EpochRecord* record = FindRecord(epoch);
+  if (record == nullptr) {
+    ++epochs_started_;
+    EpochRecord opened;
+    opened.epoch = epoch;
+    opened.first_round = round;
+    opened.last_round = round;
+    open_epochs_.push_back(std::move(opened));
+    record = &open_epochs_.back();
+  } else {
+    if (record->starters.test(robot)) ++repeated_starts_;
+    record->first_round = std::min(record->first_round, round);
+    record->last_round = std::max(record->last_round, round);
+  }
+  record->starters.set(robot);
+
+  if (!cooperative) return;
+  if (record->first_cooperative == nullptr) {
+    record->first_cooperative = std::make_unique<sync::LDMap>(ldmap);
+    record->first_cooperative_robot = robot;
+    ++cooperative_epochs_;
+  } else if (!record->first_cooperative->SameKnowledge(ldmap)) {
+    ++violations_;
+    if (first_violations_.size() < kMaxListedViolations) {
+      first_violations_.push_back(Violation{epoch, robot, round, record->first_cooperative_robot});
+    }
+  }
+}
+
+void Collector::OnMembership(uint16_t observer, int64_t round, const wire::MemberSet& removed,
+                             const wire::MemberSet& joined) {
+  if (!Known(observer)) {
+    ++ignored_observations_;
+    return;
+  }
+  for (const uint16_t subject : removed) {
+    if (!Known(subject)) {
+      ++ignored_observations_;
+      continue;
+    }
+    ++removals_;
+    RobotTrack& track = tracks_[subject];
+    if (!track.removed) {
+      track.removed = true;
+      ++robots_removed_;
+    }
+    if (track.running) {
+      ++removals_of_running_;
+    } else if (track.stopped_round >= 0) {
+      const int64_t latency = std::max<int64_t>(0, round - track.stopped_round);
+      ++removal_latency_samples_;
+      removal_latency_sum_rounds_ += latency;
+      removal_latency_max_rounds_ = std::max(removal_latency_max_rounds_, latency);
+    }
+  }
+  for (const uint16_t subject : joined) {
+    if (!Known(subject)) {
+      ++ignored_observations_;
+      continue;
+    }
+    ++joins_;
+    RobotTrack& track = tracks_[subject];
+    if (!track.joined) {
+      track.joined = true;
+      ++robots_joined_;
+    }
+  }
+}
+
+void Collector::OnRoundEnd(int64_t round, std::span<const RobotRound> robots) {
+  ++rounds_observed_;
+  bool any_cooperative = false;
+  bool any_autonomous = false;
+  for (const RobotRound& robot : robots) {
+    if (!Known(robot.id)) {
+      ++ignored_observations_;
+      continue;
+    }
+    RobotTrack& track = tracks_[robot.id];
+    const bool member = robot.running && robot.member;
+
+    if (robot.running) {
+      track.running = true;
+      track.stopped_round = -1;
+      if (!member && track.joining_since < 0) {
+        track.joining_since = round;
+      } else if (member && track.joining_since >= 0) {
+        const int64_t latency = round - track.joining_since;
+        ++join_latency_samples_;
+        join_latency_sum_rounds_ += latency;
+        join_latency_max_rounds_ = std::max(join_latency_max_rounds_, latency);
+        track.joining_since = -1;
+      }
+    } else {
+      if (track.running) track.stopped_round = round;
+      track.running = false;
+      track.joining_since = -1;
+    }
+
+    if (member) {
+      if (robot.epoch_mode == wire::Mode::kCooperative) {
+        any_cooperative = true;
+      } else {
+        any_autonomous = true;
+      }
+    }
+
+    if (robot.running && robot.estimate_valid) {
+      const double dx_m = robot.est_x_m - robot.true_x_m;
+      const double dy_m = robot.est_y_m - robot.true_y_m;
+      const double squared_m2 = dx_m * dx_m + dy_m * dy_m;
+      if (!std::isfinite(squared_m2)) {
+        ++non_finite_estimates_;
+      } else {
+        ++estimate_samples_;
+        squared_error_sum_m2_ += squared_m2;
+        const double error_m = std::sqrt(squared_m2);
+        if (estimate_samples_ == 1 || error_m > max_error_m_) {
+          max_error_m_ = error_m;
+          max_error_robot_ = robot.id;
+          max_error_round_ = round;
+        }
+      }
+    }
+  }
+
+  if (any_cooperative && any_autonomous) {
+    ++disagreement_run_rounds_;
+    ++disagreement_rounds_;
+    max_disagreement_rounds_ = std::max(max_disagreement_rounds_, disagreement_run_rounds_);
+  } else {
+    disagreement_run_rounds_ = 0;
+  }
+}
+
+void Collector::OnCollision(int64_t time_ns, uint16_t a, uint16_t b) {
+  if (!Known(a) || !Known(b) || a == b) {
+    ++ignored_observations_;
+    return;
+  }
+  if (b < a) std::swap(a, b);
+  ++collisions_;
+  for (const uint16_t robot : {a, b}) {
+    if (!tracks_[robot].collided) {
+      tracks_[robot].collided = true;
+      ++robots_collided_;
+    }
+  }
+  if (first_collisions_.size() < kMaxListedCollisions) {
+    first_collisions_.push_back(CollisionEvent{time_ns, a, b});
+  }
+}
+
+void Collector::OnWallContact(int64_t time_ns, uint16_t robot) {
+  if (!Known(robot)) {
+    ++ignored_observations_;
+    return;
+  }
+  ++wall_contacts_;
+  if (!tracks_[robot].touched_wall) {
+    tracks_[robot].touched_wall = true;
+    ++robots_touched_wall_;
+  }
+  if (first_wall_contacts_.size() < kMaxListedWallContacts) {
+    first_wall_contacts_.push_back(WallContactEvent{time_ns, robot});
+  }
+}
+
+Metrics Collector::Finish(const RunFacts& facts) const {
+  Metrics metrics;
+  metrics.scenario = facts.scenario;
+  metrics.app = facts.app;
+  metrics.seed = facts.seed;
+  metrics.robots = facts.robots;
+  metrics.sim_seconds = facts.sim_seconds;
+  metrics.wall_seconds = facts.wall_seconds;
+  metrics.radio_rounds = facts.radio_rounds;
+  metrics.radio_round_ns = config_.radio_round_ns;
+  metrics.epochs_started = epochs_started_;
+  metrics.epoch_starts = epoch_starts_;
+  metrics.goal = facts.goal;
+
+  // Epochs still open are measured as they stand, in the order they opened.
+  SkewTotals skews = skews_;
+  for (const EpochRecord& record : open_epochs_) {
+    skews.Add(record.epoch, record.last_round - record.first_round);
+  }
+  SynchronyMetrics& synchrony = metrics.synchrony;
+  synchrony.epochs_measured = skews.epochs;
+  synchrony.max_start_skew_rounds = skews.max_rounds;
+  if (skews.has_max) synchrony.max_skew_epoch = skews.max_epoch;
+  synchrony.mean_start_skew_rounds = Mean(skews.sum_rounds, skews.epochs);
+  synchrony.epochs_with_skew = skews.with_skew;
+  synchrony.skew_histogram = skews.histogram;
+  synchrony.stale_starts = stale_starts_;
+  synchrony.repeated_starts = repeated_starts_;
+
+  CommonKnowledgeMetrics& knowledge = metrics.common_knowledge;
+  knowledge.violations = violations_;
+  knowledge.first_violations = first_violations_;
+  knowledge.cooperative_starts = cooperative_starts_;
+  knowledge.autonomous_starts = epoch_starts_ - cooperative_starts_;
+  if (epoch_starts_ > 0) {
+    knowledge.cooperative_fraction =
+        static_cast<double>(cooperative_starts_) / static_cast<double>(epoch_starts_);
+  }
+  knowledge.cooperative_epochs = cooperative_epochs_;
+  knowledge.unchecked_cooperative_starts = unchecked_cooperative_starts_;
+  knowledge.max_mode_disagreement_rounds = max_disagreement_rounds_;
+  knowledge.mode_disagreement_rounds = disagreement_rounds_;
+
+  metrics.collisions.count = collisions_;
+  metrics.collisions.min_separation_m = facts.min_separation_m;
+  metrics.collisions.robots_involved = robots_collided_;
+  metrics.collisions.pairs = first_collisions_;
+
+  metrics.walls.contacts = wall_contacts_;
+  metrics.walls.robots_involved = robots_touched_wall_;
+  metrics.walls.first_contacts = first_wall_contacts_;
+
+  EstimationMetrics& estimation = metrics.estimation;
+  estimation.samples = estimate_samples_;
+  estimation.non_finite_samples = non_finite_estimates_;
+  if (estimate_samples_ > 0) {
+    estimation.position_rmse_m = std::sqrt(squared_error_sum_m2_ / static_cast<double>(estimate_samples_));
+    estimation.max_error_m = max_error_m_;
+    estimation.max_error_robot = max_error_robot_;
+    estimation.max_error_round = max_error_round_;
+  }
+
+  MembershipMetrics& membership = metrics.membership;
+  membership.removals = removals_;
+  membership.joins = joins_;
+  membership.robots_removed = robots_removed_;
+  membership.robots_joined = robots_joined_;
+  membership.removals_of_running_robots = removals_of_running_;
+  if (removal_latency_samples_ > 0) membership.max_removal_latency_rounds = removal_latency_max_rounds_;
+  membership.mean_removal_latency_rounds = Mean(removal_latency_sum_rounds_, removal_latency_samples_);
+  membership.completed_joins = join_latency_samples_;
+  if (join_latency_samples_ > 0) membership.max_join_latency_rounds = join_latency_max_rounds_;
+  membership.mean_join_latency_rounds = Mean(join_latency_sum_rounds_, join_latency_samples_);
+
+  metrics.diagnostics.rounds_observed = rounds_observed_;
+  metrics.diagnostics.ignored_observations = ignored_observations_;
+  return metrics;
+}
+
+}  // namespace syrof::lab::metrics

@@ -1,0 +1,167 @@
+// metrics.json. The field order here is the order docs/metrics.md documents;
+// ordered_json keeps it, so the file reads the same from run to run.
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "syrof/lab/metrics/metrics.h"
+
+namespace syrof::lab::metrics {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json FiniteOrNull(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
+
+Json FiniteOrNull(const std::optional<double>& value) {
+  return value.has_value() ? FiniteOrNull(*value) : Json(nullptr);
+}
+
+template <typename Integer>
+Json IntegerOrNull(const std::optional<Integer>& value) {
+  return value.has_value() ? Json(*value) : Json(nullptr);
+}
+
+double Seconds(int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
+
+// The radio round a contact time falls in; null when the round length is unknown.
+Json RoundOf(int64_t time_ns, int64_t radio_round_ns) {
+  if (radio_round_ns <= 0) return Json(nullptr);
+  return Json(time_ns / radio_round_ns);
+}
+
+Json GoalJson(const GoalResult& goal) {
+  Json json;
+  json["app"] = goal.app;
+  json["reached"] = goal.reached;
+  json["error_m"] = FiniteOrNull(goal.error_m);
+  json["detail"] = goal.detail;
+  return json;
+}
+
+Json SynchronyJson(const SynchronyMetrics& synchrony) {
+  Json json;
+  json["max_start_skew_rounds"] = synchrony.max_start_skew_rounds;
+  json["max_skew_epoch"] = IntegerOrNull(synchrony.max_skew_epoch);
+  json["mean_start_skew_rounds"] = FiniteOrNull(synchrony.mean_start_skew_rounds);
+  json["epochs_measured"] = synchrony.epochs_measured;
+  json["epochs_with_skew"] = synchrony.epochs_with_skew;
+  json["skew_histogram"] = Json::array();
+  for (const int64_t epochs : synchrony.skew_histogram) json["skew_histogram"].push_back(epochs);
+  json["stale_starts"] = synchrony.stale_starts;
+  json["repeated_starts"] = synchrony.repeated_starts;
+  return json;
+}
+
+Json CommonKnowledgeJson(const CommonKnowledgeMetrics& knowledge) {
+  Json json;
+  json["violations"] = knowledge.violations;
+  json["first_violations"] = Json::array();
+  for (const Violation& violation : knowledge.first_violations) {
+    Json entry;
+    entry["epoch"] = violation.epoch;
+    entry["robot"] = violation.robot;
+    entry["round"] = violation.round;
+    entry["first_robot"] = violation.first_robot;
+    json["first_violations"].push_back(entry);
+  }
+  json["cooperative_fraction"] = FiniteOrNull(knowledge.cooperative_fraction);
+  json["cooperative_starts"] = knowledge.cooperative_starts;
+  json["autonomous_starts"] = knowledge.autonomous_starts;
+  json["cooperative_epochs"] = knowledge.cooperative_epochs;
+  json["unchecked_cooperative_starts"] = knowledge.unchecked_cooperative_starts;
+  json["max_mode_disagreement_rounds"] = knowledge.max_mode_disagreement_rounds;
+  json["mode_disagreement_rounds"] = knowledge.mode_disagreement_rounds;
+  return json;
+}
+
+Json CollisionsJson(const CollisionMetrics& collisions, int64_t radio_round_ns) {
+  Json json;
+  json["count"] = collisions.count;
+  json["min_separation_m"] = FiniteOrNull(collisions.min_separation_m);
+  json["robots_involved"] = collisions.robots_involved;
+  json["pairs"] = Json::array();
+  for (const CollisionEvent& collision : collisions.pairs) {
+    Json entry;
+    entry["time_s"] = Seconds(collision.time_ns);
+    entry["round"] = RoundOf(collision.time_ns, radio_round_ns);
+    entry["a"] = collision.a;
+    entry["b"] = collision.b;
+    json["pairs"].push_back(entry);
+  }
+  return json;
+}
+
+Json WallsJson(const WallMetrics& walls, int64_t radio_round_ns) {
+  Json json;
+  json["contacts"] = walls.contacts;
+  json["robots_involved"] = walls.robots_involved;
+  json["first_contacts"] = Json::array();
+  for (const WallContactEvent& contact : walls.first_contacts) {
+    Json entry;
+    entry["time_s"] = Seconds(contact.time_ns);
+    entry["round"] = RoundOf(contact.time_ns, radio_round_ns);
+    entry["robot"] = contact.robot;
+    json["first_contacts"].push_back(entry);
+  }
+  return json;
+}
+
+Json EstimationJson(const EstimationMetrics& estimation) {
+  Json json;
+  json["position_rmse_m"] = FiniteOrNull(estimation.position_rmse_m);
+  json["max_error_m"] = FiniteOrNull(estimation.max_error_m);
+  json["max_error_robot"] = IntegerOrNull(estimation.max_error_robot);
+  json["max_error_round"] = IntegerOrNull(estimation.max_error_round);
+  json["samples"] = estimation.samples;
+  json["non_finite_samples"] = estimation.non_finite_samples;
+  return json;
+}
+
+Json MembershipJson(const MembershipMetrics& membership) {
+  Json json;
+  json["removals"] = membership.removals;
+  json["joins"] = membership.joins;
+  json["robots_removed"] = membership.robots_removed;
+  json["robots_joined"] = membership.robots_joined;
+  json["removals_of_running_robots"] = membership.removals_of_running_robots;
+  json["max_removal_latency_rounds"] = IntegerOrNull(membership.max_removal_latency_rounds);
+  json["mean_removal_latency_rounds"] = FiniteOrNull(membership.mean_removal_latency_rounds);
+  json["completed_joins"] = membership.completed_joins;
+  json["max_join_latency_rounds"] = IntegerOrNull(membership.max_join_latency_rounds);
+  json["mean_join_latency_rounds"] = FiniteOrNull(membership.mean_join_latency_rounds);
+  return json;
+}
+
+}  // namespace
+
+std::string ToJson(const Metrics& metrics) {
+  Json json;
+  json["schema_version"] = kSchemaVersion;
+  json["scenario"] = metrics.scenario;
+  json["app"] = metrics.app;
+  json["seed"] = metrics.seed;
+  json["robots"] = metrics.robots;
+  json["sim_seconds"] = FiniteOrNull(metrics.sim_seconds);
+  json["wall_seconds"] = FiniteOrNull(metrics.wall_seconds);
+  json["radio_rounds"] = metrics.radio_rounds;
+  json["radio_round_s"] = metrics.radio_round_ns > 0 ? Json(Seconds(metrics.radio_round_ns)) : Json(nullptr);
+  json["epochs_started"] = metrics.epochs_started;
+  json["epoch_starts"] = metrics.epoch_starts;
+  json["goal"] = GoalJson(metrics.goal);
+  json["synchrony"] = SynchronyJson(metrics.synchrony);
+  json["common_knowledge"] = CommonKnowledgeJson(metrics.common_knowledge);
+  json["collisions"] = CollisionsJson(metrics.collisions, metrics.radio_round_ns);
+  json["walls"] = WallsJson(metrics.walls, metrics.radio_round_ns);
+  json["estimation"] = EstimationJson(metrics.estimation);
+  json["membership"] = MembershipJson(metrics.membership);
+  Json diagnostics;
+  diagnostics["rounds_observed"] = metrics.diagnostics.rounds_observed;
+  diagnostics["ignored_observations"] = metrics.diagnostics.ignored_observations;
+  json["diagnostics"] = diagnostics;
+  // Strings come from scenario files and student apps; replacing invalid
+  // UTF-8 keeps a bad byte from losing the whole report (dump would throw).
+  return json.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace syrof::lab::metrics

@@ -1,0 +1,580 @@
+// Each metric of docs/metrics.md on observation sequences built by hand.
+#include "syrof/lab/metrics/collector.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <initializer_list>
+#include <limits>
+#include <vector>
+
+namespace syrof::lab::metrics {
+namespace {
+
+using wire::Mode;
+
+constexpr int64_t kRoundNs = 50'000'000;
+
+// A map of `epoch` whose members are `ids`, each member's snapshot x being
+// 10 * id, so two maps built alike are SameKnowledge.
+sync::LDMap MapFor(uint16_t epoch, Mode mode, std::initializer_list<uint16_t> ids) {
+  sync::LDMap map;
+  map.epoch = epoch;
+  map.mode = mode;
+  for (const uint16_t id : ids) {
+    map.members.set(id);
+    map.snapshots[id].x_mm = static_cast<int16_t>(10 * id);
+  }
+  return map;
+}
+
+Collector MakeCollector(uint16_t robots) { return Collector(CollectorConfig{robots, kRoundNs}); }
+
+// Every robot in `ids` starts `epoch` at `round`.
+void StartAll(Collector& collector, uint16_t epoch, int64_t round, Mode mode,
+              std::initializer_list<uint16_t> ids) {
+  const sync::LDMap map = MapFor(epoch, mode, ids);
+  for (const uint16_t id : ids) collector.OnEpochStart(id, round, map);
+}
+
+RobotRound Member(uint16_t id, Mode mode) {
+  RobotRound robot;
+  robot.id = id;
+  robot.running = true;
+  robot.member = true;
+  robot.epoch_mode = mode;
+  return robot;
+}
+
+RobotRound Estimated(uint16_t id, double true_x_m, double true_y_m, double est_x_m, double est_y_m) {
+  RobotRound robot = Member(id, Mode::kCooperative);
+  robot.estimate_valid = true;
+  robot.true_x_m = true_x_m;
+  robot.true_y_m = true_y_m;
+  robot.est_x_m = est_x_m;
+  robot.est_y_m = est_y_m;
+  return robot;
+}
+
+RobotRound Stopped(uint16_t id) {
+  RobotRound robot;
+  robot.id = id;
+  return robot;
+}
+
+RobotRound Joining(uint16_t id) {
+  RobotRound robot;
+  robot.id = id;
+  robot.running = true;
+  robot.member = false;
+  return robot;
+}
+
+// One round in which every robot of `modes` is a member in that mode.
+void MembersInModes(Collector& collector, int64_t round, std::initializer_list<Mode> modes) {
+  std::vector<RobotRound> robots;
+  uint16_t id = 0;
+  for (const Mode mode : modes) robots.push_back(Member(id++, mode));
+  collector.OnRoundEnd(round, robots);
+}
+
+// ---- epochs and synchrony ----
+
+TEST(CollectorSynchrony, EpochsStartedInOneRoundHaveSkewZero) {
+  Collector collector = MakeCollector(3);
+
+  StartAll(collector, 1, 10, Mode::kCooperative, {0, 1, 2});
+  StartAll(collector, 2, 30, Mode::kCooperative, {0, 1, 2});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.epochs_started, 2);
+  EXPECT_EQ(metrics.epoch_starts, 6);
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 0);
+  EXPECT_EQ(metrics.synchrony.epochs_measured, 2);
+  EXPECT_EQ(metrics.synchrony.epochs_with_skew, 0);
+  EXPECT_EQ(metrics.synchrony.skew_histogram[0], 2);
+  EXPECT_EQ(metrics.synchrony.mean_start_skew_rounds, 0.0);
+}
+
+TEST(CollectorSynchrony, StartsTwoRoundsApartHaveSkewTwo) {
+  Collector collector = MakeCollector(3);
+  const sync::LDMap map = MapFor(1, Mode::kAutonomous, {0, 1, 2});
+
+  collector.OnEpochStart(1, 11, map);
+  collector.OnEpochStart(0, 10, map);
+  collector.OnEpochStart(2, 12, map);
+  StartAll(collector, 2, 30, Mode::kCooperative, {0, 1, 2});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 2);
+  EXPECT_EQ(metrics.synchrony.max_skew_epoch, std::optional<uint16_t>(1));
+  EXPECT_EQ(metrics.synchrony.epochs_with_skew, 1);
+  EXPECT_EQ(metrics.synchrony.skew_histogram[0], 1);
+  EXPECT_EQ(metrics.synchrony.skew_histogram[2], 1);
+  EXPECT_EQ(metrics.synchrony.mean_start_skew_rounds, 1.0);
+}
+
+TEST(CollectorSynchrony, LateStartAfterTheNextEpochStillCounts) {
+  Collector collector = MakeCollector(2);
+
+  StartAll(collector, 1, 10, Mode::kAutonomous, {0});
+  StartAll(collector, 2, 20, Mode::kAutonomous, {0});
+  StartAll(collector, 1, 21, Mode::kAutonomous, {1});  // a robot that caught up late
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.epochs_started, 2);
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 11);
+  EXPECT_EQ(metrics.synchrony.stale_starts, 0);
+}
+
+TEST(CollectorSynchrony, LargeSkewsFallInTheLastHistogramBin) {
+  Collector collector = MakeCollector(2);
+
+  StartAll(collector, 1, 0, Mode::kAutonomous, {0});
+  StartAll(collector, 1, 15, Mode::kAutonomous, {1});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.synchrony.skew_histogram[kSkewHistogramBins - 1], 1);
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 15);
+}
+
+TEST(CollectorSynchrony, StartsBeyondTheWindowAreStaleAndUnchecked) {
+  Collector collector = MakeCollector(2);
+  for (uint16_t epoch = 1; epoch <= 40; ++epoch) {
+    StartAll(collector, epoch, 10 * epoch, Mode::kCooperative, {0});
+  }
+
+  // 38 epochs behind the newest: no longer matched to epoch 2's starts.
+  collector.OnEpochStart(1, 500, MapFor(2, Mode::kCooperative, {1}));
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.epochs_started, 40);
+  EXPECT_EQ(metrics.epoch_starts, 41);
+  EXPECT_EQ(metrics.synchrony.stale_starts, 1);
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 0);
+  EXPECT_EQ(metrics.synchrony.epochs_measured, 40);
+  EXPECT_EQ(metrics.common_knowledge.unchecked_cooperative_starts, 1);
+  EXPECT_EQ(metrics.common_knowledge.violations, 0);
+}
+
+TEST(CollectorSynchrony, EpochNumbersWrapWithSerialArithmetic) {
+  Collector collector = MakeCollector(2);
+
+  StartAll(collector, 65535, 10, Mode::kAutonomous, {0});
+  StartAll(collector, 0, 20, Mode::kAutonomous, {0});
+  StartAll(collector, 65535, 12, Mode::kAutonomous, {1});  // behind 0 by one, not stale
+  StartAll(collector, 1, 30, Mode::kAutonomous, {0, 1});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.epochs_started, 3);
+  EXPECT_EQ(metrics.synchrony.stale_starts, 0);
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 2);
+  EXPECT_EQ(metrics.synchrony.max_skew_epoch, std::optional<uint16_t>(65535));
+}
+
+TEST(CollectorSynchrony, RobotStartingAnEpochTwiceIsCounted) {
+  Collector collector = MakeCollector(2);
+
+  StartAll(collector, 4, 10, Mode::kAutonomous, {0, 1});
+  StartAll(collector, 4, 11, Mode::kAutonomous, {1});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.synchrony.repeated_starts, 1);
+  EXPECT_EQ(metrics.epochs_started, 1);
+}
+
+TEST(CollectorSynchrony, ClosedAndOpenEpochsAreMeasuredAlike) {
+  // Epoch 1 closes when epoch 40 starts; epochs 40 and 41 are still open at Finish.
+  Collector collector = MakeCollector(2);
+  StartAll(collector, 1, 10, Mode::kAutonomous, {0});
+  StartAll(collector, 1, 13, Mode::kAutonomous, {1});
+  StartAll(collector, 40, 400, Mode::kAutonomous, {0, 1});
+  StartAll(collector, 41, 420, Mode::kAutonomous, {0});
+  StartAll(collector, 41, 421, Mode::kAutonomous, {1});
+
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.synchrony.epochs_measured, 3);
+  EXPECT_EQ(metrics.synchrony.skew_histogram[3], 1);
+  EXPECT_EQ(metrics.synchrony.skew_histogram[0], 1);
+  EXPECT_EQ(metrics.synchrony.skew_histogram[1], 1);
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 3);
+}
+
+// ---- common knowledge ----
+
+TEST(CollectorCommonKnowledge, CooperativeMapsDifferingInOneSnapshotAreAViolation) {
+  Collector collector = MakeCollector(3);
+  const sync::LDMap agreed = MapFor(5, Mode::kCooperative, {0, 1, 2});
+  sync::LDMap differing = agreed;
+  differing.snapshots[1].y_mm = 7;
+
+  collector.OnEpochStart(0, 100, agreed);
+  collector.OnEpochStart(1, 100, agreed);
+  collector.OnEpochStart(2, 101, differing);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.violations, 1);
+  ASSERT_EQ(metrics.common_knowledge.first_violations.size(), 1u);
+  const Violation& violation = metrics.common_knowledge.first_violations[0];
+  EXPECT_EQ(violation.epoch, 5);
+  EXPECT_EQ(violation.robot, 2);
+  EXPECT_EQ(violation.round, 101);
+  EXPECT_EQ(violation.first_robot, 0);
+}
+
+TEST(CollectorCommonKnowledge, CooperativeMapsWithDifferentMembersAreAViolation) {
+  Collector collector = MakeCollector(3);
+
+  collector.OnEpochStart(0, 100, MapFor(5, Mode::kCooperative, {0, 1, 2}));
+  collector.OnEpochStart(1, 100, MapFor(5, Mode::kCooperative, {0, 1}));
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.violations, 1);
+}
+
+TEST(CollectorCommonKnowledge, EveryStartIsComparedWithTheFirstCooperativeMap) {
+  Collector collector = MakeCollector(3);
+  const sync::LDMap first = MapFor(5, Mode::kCooperative, {0, 1, 2});
+  sync::LDMap other = first;
+  other.snapshots[2].payload_length = 1;
+
+  collector.OnEpochStart(0, 100, first);
+  collector.OnEpochStart(1, 100, other);
+  collector.OnEpochStart(2, 100, other);  // agrees with 1, not with the first
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.violations, 2);
+}
+
+TEST(CollectorCommonKnowledge, AutonomousMapsMayDiffer) {
+  Collector collector = MakeCollector(3);
+  const sync::LDMap cooperative = MapFor(5, Mode::kCooperative, {0, 1, 2});
+  sync::LDMap autonomous = MapFor(5, Mode::kAutonomous, {0, 1, 2});
+  autonomous.snapshots[1].y_mm = 7;
+  sync::LDMap other_autonomous = MapFor(5, Mode::kAutonomous, {1, 2});
+
+  collector.OnEpochStart(0, 100, cooperative);
+  collector.OnEpochStart(1, 100, autonomous);
+  collector.OnEpochStart(2, 100, other_autonomous);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.violations, 0);
+  EXPECT_TRUE(metrics.common_knowledge.first_violations.empty());
+}
+
+TEST(CollectorCommonKnowledge, SameMapsInDifferentEpochsAreNotCompared) {
+  Collector collector = MakeCollector(2);
+
+  StartAll(collector, 5, 100, Mode::kCooperative, {0, 1});
+  StartAll(collector, 6, 120, Mode::kCooperative, {0});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.violations, 0);
+  EXPECT_EQ(metrics.common_knowledge.cooperative_epochs, 2);
+}
+
+TEST(CollectorCommonKnowledge, AllViolationsCountedButFewListed) {
+  Collector collector = MakeCollector(20);
+  collector.OnEpochStart(0, 100, MapFor(5, Mode::kCooperative, {0}));
+  for (uint16_t robot = 1; robot < 16; ++robot) {
+    collector.OnEpochStart(robot, 100, MapFor(5, Mode::kCooperative, {0, robot}));
+  }
+
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.violations, 15);
+  ASSERT_EQ(metrics.common_knowledge.first_violations.size(), kMaxListedViolations);
+  EXPECT_EQ(metrics.common_knowledge.first_violations.front().robot, 1);
+}
+
+TEST(CollectorCommonKnowledge, CooperativeFractionIsCooperativeStartsOverAllStarts) {
+  Collector collector = MakeCollector(4);
+
+  StartAll(collector, 1, 10, Mode::kCooperative, {0, 1, 2});
+  StartAll(collector, 1, 10, Mode::kAutonomous, {3});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.cooperative_fraction, std::optional<double>(0.75));
+  EXPECT_EQ(metrics.common_knowledge.cooperative_starts, 3);
+  EXPECT_EQ(metrics.common_knowledge.autonomous_starts, 1);
+  EXPECT_EQ(metrics.common_knowledge.cooperative_epochs, 1);
+}
+
+TEST(CollectorCommonKnowledge, CooperativeFractionIsAbsentWithoutStarts) {
+  const Collector collector = MakeCollector(4);
+
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_FALSE(metrics.common_knowledge.cooperative_fraction.has_value());
+  EXPECT_FALSE(metrics.synchrony.mean_start_skew_rounds.has_value());
+  EXPECT_EQ(metrics.epochs_started, 0);
+}
+
+// ---- mode disagreement ----
+
+TEST(CollectorModeDisagreement, LongestRunOfDisagreeingRounds) {
+  Collector collector = MakeCollector(2);
+  constexpr Mode kC = Mode::kCooperative;
+  constexpr Mode kA = Mode::kAutonomous;
+
+  MembersInModes(collector, 0, {kC, kC});
+  MembersInModes(collector, 1, {kC, kA});
+  MembersInModes(collector, 2, {kA, kC});
+  MembersInModes(collector, 3, {kC, kA});
+  MembersInModes(collector, 4, {kA, kA});
+  MembersInModes(collector, 5, {kC, kA});
+  MembersInModes(collector, 6, {kC, kA});
+  MembersInModes(collector, 7, {kC, kC});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.max_mode_disagreement_rounds, 3);
+  EXPECT_EQ(metrics.common_knowledge.mode_disagreement_rounds, 5);
+}
+
+TEST(CollectorModeDisagreement, RunThatLastsToTheEndCounts) {
+  Collector collector = MakeCollector(3);
+  constexpr Mode kC = Mode::kCooperative;
+  constexpr Mode kA = Mode::kAutonomous;
+
+  MembersInModes(collector, 0, {kC, kA, kC});
+  MembersInModes(collector, 1, {kC, kC, kC});
+  for (int64_t round = 2; round < 6; ++round) MembersInModes(collector, round, {kC, kC, kA});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.max_mode_disagreement_rounds, 4);
+}
+
+TEST(CollectorModeDisagreement, OnlyRunningMembersCount) {
+  Collector collector = MakeCollector(4);
+  RobotRound joiner = Joining(1);
+  joiner.epoch_mode = Mode::kAutonomous;
+  RobotRound crashed = Stopped(2);
+  crashed.member = true;  // inconsistent on purpose: not running wins
+  crashed.epoch_mode = Mode::kAutonomous;
+  const std::vector<RobotRound> robots = {Member(0, Mode::kCooperative), joiner, crashed,
+                                          Member(3, Mode::kCooperative)};
+
+  collector.OnRoundEnd(0, robots);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.max_mode_disagreement_rounds, 0);
+}
+
+// ---- estimation ----
+
+TEST(CollectorEstimation, RmseAndMaxOverValidEstimates) {
+  Collector collector = MakeCollector(3);
+  RobotRound warming_up = Estimated(2, 0, 0, 100, 100);
+  warming_up.estimate_valid = false;
+  RobotRound stopped = Estimated(2, 0, 0, 100, 100);
+  stopped.running = false;
+
+  // Errors 5 m (3-4-5) and 0 m in round 0; 1 m in round 1.
+  collector.OnRoundEnd(0, std::vector<RobotRound>{Estimated(0, 1, 1, 4, 5), Estimated(1, 2, 2, 2, 2),
+                                                 warming_up});
+  collector.OnRoundEnd(1, std::vector<RobotRound>{Estimated(0, 1, 1, 1, 0), Estimated(1, 2, 2, 2, 2),
+                                                 stopped});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.estimation.samples, 4);
+  ASSERT_TRUE(metrics.estimation.position_rmse_m.has_value());
+  EXPECT_DOUBLE_EQ(*metrics.estimation.position_rmse_m, std::sqrt((25.0 + 0.0 + 1.0 + 0.0) / 4.0));
+  EXPECT_EQ(metrics.estimation.max_error_m, std::optional<double>(5.0));
+  EXPECT_EQ(metrics.estimation.max_error_robot, std::optional<uint16_t>(0));
+  EXPECT_EQ(metrics.estimation.max_error_round, std::optional<int64_t>(0));
+}
+
+TEST(CollectorEstimation, NonFiniteEstimatesAreCountedApart) {
+  Collector collector = MakeCollector(2);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+
+  collector.OnRoundEnd(0, std::vector<RobotRound>{Estimated(0, 0, 0, nan, 0), Estimated(1, 0, 0, 0, 2)});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.estimation.non_finite_samples, 1);
+  EXPECT_EQ(metrics.estimation.samples, 1);
+  EXPECT_EQ(metrics.estimation.position_rmse_m, std::optional<double>(2.0));
+}
+
+TEST(CollectorEstimation, NoValidEstimateLeavesTheErrorsEmpty) {
+  Collector collector = MakeCollector(1);
+
+  collector.OnRoundEnd(0, std::vector<RobotRound>{Member(0, Mode::kCooperative)});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.estimation.samples, 0);
+  EXPECT_FALSE(metrics.estimation.position_rmse_m.has_value());
+  EXPECT_FALSE(metrics.estimation.max_error_m.has_value());
+}
+
+// ---- contacts ----
+
+TEST(CollectorContacts, CollisionsCountedWithTheirPairs) {
+  Collector collector = MakeCollector(4);
+
+  collector.OnCollision(1'000'000'000, 2, 1);
+  collector.OnCollision(2'500'000'000, 0, 1);
+  RunFacts facts;
+  facts.min_separation_m = -0.01;
+  const Metrics metrics = collector.Finish(facts);
+
+  EXPECT_EQ(metrics.collisions.count, 2);
+  EXPECT_EQ(metrics.collisions.robots_involved, 3);
+  EXPECT_EQ(metrics.collisions.min_separation_m, -0.01);
+  ASSERT_EQ(metrics.collisions.pairs.size(), 2u);
+  EXPECT_EQ(metrics.collisions.pairs[0].time_ns, 1'000'000'000);
+  EXPECT_EQ(metrics.collisions.pairs[0].a, 1);
+  EXPECT_EQ(metrics.collisions.pairs[0].b, 2);
+  EXPECT_EQ(metrics.collisions.pairs[1].a, 0);
+}
+
+TEST(CollectorContacts, OnlyTheFirstCollisionsAreListed) {
+  Collector collector = MakeCollector(2);
+  for (int64_t i = 0; i < 150; ++i) collector.OnCollision(i * kRoundNs, 0, 1);
+
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.collisions.count, 150);
+  ASSERT_EQ(metrics.collisions.pairs.size(), kMaxListedCollisions);
+  EXPECT_EQ(metrics.collisions.pairs.back().time_ns, 99 * kRoundNs);
+}
+
+TEST(CollectorContacts, WallContactsCounted) {
+  Collector collector = MakeCollector(3);
+
+  collector.OnWallContact(10, 2);
+  collector.OnWallContact(20, 2);
+  collector.OnWallContact(30, 0);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.walls.contacts, 3);
+  EXPECT_EQ(metrics.walls.robots_involved, 2);
+  ASSERT_EQ(metrics.walls.first_contacts.size(), 3u);
+  EXPECT_EQ(metrics.walls.first_contacts[2].robot, 0);
+}
+
+// ---- membership ----
+
+TEST(CollectorMembership, RemovalsAreSummedOverObserversWithLatency) {
+  Collector collector = MakeCollector(3);
+  wire::MemberSet crashed;
+  crashed.set(2);
+  const wire::MemberSet none;
+  const std::vector<RobotRound> all_running = {Member(0, Mode::kCooperative), Member(1, Mode::kCooperative),
+                                               Member(2, Mode::kCooperative)};
+  const std::vector<RobotRound> two_running = {Member(0, Mode::kCooperative), Member(1, Mode::kCooperative),
+                                               Stopped(2)};
+
+  for (int64_t round = 0; round < 5; ++round) collector.OnRoundEnd(round, all_running);
+  for (int64_t round = 5; round < 11; ++round) collector.OnRoundEnd(round, two_running);
+  collector.OnMembership(0, 11, crashed, none);
+  collector.OnRoundEnd(11, two_running);
+  collector.OnMembership(1, 12, crashed, none);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.membership.removals, 2);
+  EXPECT_EQ(metrics.membership.robots_removed, 1);
+  EXPECT_EQ(metrics.membership.removals_of_running_robots, 0);
+  EXPECT_EQ(metrics.membership.max_removal_latency_rounds, std::optional<int64_t>(7));
+  EXPECT_EQ(metrics.membership.mean_removal_latency_rounds, std::optional<double>(6.5));
+}
+
+TEST(CollectorMembership, RemovingARunningRobotIsCountedApart) {
+  Collector collector = MakeCollector(2);
+  wire::MemberSet removed;
+  removed.set(1);
+
+  collector.OnRoundEnd(0, std::vector<RobotRound>{Member(0, Mode::kCooperative), Member(1, Mode::kCooperative)});
+  collector.OnMembership(0, 1, removed, wire::MemberSet{});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.membership.removals_of_running_robots, 1);
+  EXPECT_FALSE(metrics.membership.max_removal_latency_rounds.has_value());
+}
+
+TEST(CollectorMembership, JoinsAndJoinLatency) {
+  Collector collector = MakeCollector(3);
+  wire::MemberSet newcomer;
+  newcomer.set(2);
+  const RobotRound zero = Member(0, Mode::kCooperative);
+  const RobotRound one = Member(1, Mode::kCooperative);
+
+  collector.OnRoundEnd(0, std::vector<RobotRound>{zero, one, Stopped(2)});
+  for (int64_t round = 1; round < 5; ++round) {
+    collector.OnRoundEnd(round, std::vector<RobotRound>{zero, one, Joining(2)});
+  }
+  collector.OnRoundEnd(5, std::vector<RobotRound>{zero, one, Member(2, Mode::kAutonomous)});
+  collector.OnMembership(0, 6, wire::MemberSet{}, newcomer);
+  collector.OnMembership(1, 6, wire::MemberSet{}, newcomer);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.membership.joins, 2);
+  EXPECT_EQ(metrics.membership.robots_joined, 1);
+  EXPECT_EQ(metrics.membership.completed_joins, 1);
+  EXPECT_EQ(metrics.membership.max_join_latency_rounds, std::optional<int64_t>(4));
+}
+
+// ---- robustness ----
+
+TEST(CollectorInput, UnknownRobotIdsAreIgnoredAndCounted) {
+  Collector collector = MakeCollector(2);
+  wire::MemberSet stranger;
+  stranger.set(7);
+
+  collector.OnEpochStart(5, 0, MapFor(1, Mode::kCooperative, {5}));
+  collector.OnMembership(0, 0, stranger, wire::MemberSet{});
+  collector.OnRoundEnd(0, std::vector<RobotRound>{Member(9, Mode::kAutonomous)});
+  collector.OnCollision(0, 0, 3);
+  collector.OnCollision(0, 1, 1);
+  collector.OnWallContact(0, 2);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.diagnostics.ignored_observations, 6);
+  EXPECT_EQ(metrics.epoch_starts, 0);
+  EXPECT_EQ(metrics.membership.removals, 0);
+  EXPECT_EQ(metrics.collisions.count, 0);
+  EXPECT_EQ(metrics.walls.contacts, 0);
+  EXPECT_EQ(metrics.diagnostics.rounds_observed, 1);
+}
+
+TEST(CollectorInput, FinishLeavesTheCollectorUnchanged) {
+  Collector collector = MakeCollector(2);
+  StartAll(collector, 1, 10, Mode::kCooperative, {0});
+  StartAll(collector, 1, 12, Mode::kCooperative, {1});
+
+  const std::string first = ToJson(collector.Finish(RunFacts{}));
+  const std::string second = ToJson(collector.Finish(RunFacts{}));
+  StartAll(collector, 2, 30, Mode::kCooperative, {0, 1});
+  const Metrics later = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(first, second);
+  EXPECT_EQ(later.synchrony.epochs_measured, 2);
+  EXPECT_EQ(later.synchrony.max_start_skew_rounds, 2);
+}
+
+TEST(CollectorInput, RunFactsPassThrough) {
+  const Collector collector = MakeCollector(2);
+  RunFacts facts;
+  facts.seed = 42;
+  facts.robots = 2;
+  facts.sim_seconds = 12.5;
+  facts.radio_rounds = 250;
+  facts.scenario = "two";
+  facts.app = "builtin:circle";
+  facts.goal = GoalResult{"builtin:circle", true, 0.03, "on the circle"};
+
+  const Metrics metrics = collector.Finish(facts);
+
+  EXPECT_EQ(metrics.seed, 42u);
+  EXPECT_EQ(metrics.robots, 2);
+  EXPECT_EQ(metrics.sim_seconds, 12.5);
+  EXPECT_EQ(metrics.radio_rounds, 250);
+  EXPECT_EQ(metrics.radio_round_ns, kRoundNs);
+  EXPECT_EQ(metrics.scenario, "two");
+  EXPECT_EQ(metrics.goal.detail, "on the circle");
+  EXPECT_TRUE(metrics.goal.reached);
+}
+
+}  // namespace
+}  // namespace syrof::lab::metrics

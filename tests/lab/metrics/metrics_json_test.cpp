@@ -1,0 +1,250 @@
+// metrics.json read back with nlohmann: fields, types, order, determinism,
+// no NaN, and every field documented in docs/metrics.md.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "syrof/lab/metrics/collector.h"
+#include "syrof/lab/metrics/metrics.h"
+
+namespace syrof::lab::metrics {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using wire::Mode;
+
+// A short run touching every metric: two epochs (one with skew 1), a P3
+// violation, a mode disagreement, estimates, contacts, a removal and a join.
+Collector ObservedRun() {
+  Collector collector(CollectorConfig{3, 50'000'000});
+  sync::LDMap map;
+  map.epoch = 1;
+  map.mode = Mode::kCooperative;
+  map.members.set(0);
+  map.members.set(1);
+  collector.OnEpochStart(0, 20, map);
+  map.snapshots[1].x_mm = 3;
+  collector.OnEpochStart(1, 21, map);
+  map.mode = Mode::kAutonomous;
+  collector.OnEpochStart(2, 21, map);
+
+  for (int64_t round = 0; round < 30; ++round) {
+    std::vector<RobotRound> robots(3);
+    for (uint16_t id = 0; id < 3; ++id) {
+      RobotRound& robot = robots[id];
+      robot.id = id;
+      robot.running = !(id == 2 && round >= 25);
+      robot.member = robot.running;
+      robot.epoch_mode = (id == 1 && round % 7 == 0) ? Mode::kAutonomous : Mode::kCooperative;
+      robot.estimate_valid = round >= 5;
+      robot.true_x_m = 0.1 * round;
+      robot.est_x_m = 0.1 * round + 0.01 * id;
+      robot.est_y_m = 0.003 * round;
+    }
+    collector.OnRoundEnd(round, robots);
+  }
+  wire::MemberSet gone;
+  gone.set(2);
+  collector.OnMembership(0, 29, gone, wire::MemberSet{});
+  collector.OnCollision(1'234'567'890, 1, 0);
+  collector.OnWallContact(2'000'000'000, 2);
+  return collector;
+}
+
+RunFacts Facts() {
+  RunFacts facts;
+  facts.seed = 18'446'744'073'709'551'615u;  // the largest seed must survive exactly
+  facts.robots = 3;
+  facts.sim_seconds = 1.5;
+  facts.wall_seconds = 0.25;
+  facts.radio_rounds = 30;
+  facts.min_separation_m = 0.042;
+  facts.goal = GoalResult{"builtin:circle", false, 0.75, "2 of 3 robots on the circle"};
+  facts.app = "builtin:circle";
+  facts.scenario = "circle-3";
+  return facts;
+}
+
+Json Parse(const std::string& text) { return Json::parse(text); }
+
+// The value at a dotted path, or a discarded value when a step is missing.
+Json At(const Json& root, const std::string& path) {
+  const Json* node = &root;
+  std::stringstream steps(path);
+  std::string step;
+  while (std::getline(steps, step, '.')) {
+    if (!node->is_object() || !node->contains(step)) return Json(Json::value_t::discarded);
+    node = &(*node)[step];
+  }
+  return *node;
+}
+
+TEST(MetricsJson, HasEveryRequiredFieldWithTheRightType) {
+  const Json json = Parse(ToJson(ObservedRun().Finish(Facts())));
+
+  const std::vector<std::string> unsigned_integers = {"seed", "robots"};
+  const std::vector<std::string> integers = {
+      "radio_rounds", "epochs_started", "epoch_starts", "synchrony.max_start_skew_rounds",
+      "common_knowledge.violations", "common_knowledge.max_mode_disagreement_rounds",
+      "collisions.count", "walls.contacts", "membership.removals", "membership.joins",
+      "membership.robots_removed"};
+  const std::vector<std::string> numbers = {
+      "sim_seconds", "wall_seconds", "common_knowledge.cooperative_fraction",
+      "collisions.min_separation_m", "estimation.position_rmse_m", "estimation.max_error_m",
+      "goal.error_m"};
+  for (const std::string& path : unsigned_integers) {
+    EXPECT_TRUE(At(json, path).is_number_unsigned()) << path;
+  }
+  for (const std::string& path : integers) EXPECT_TRUE(At(json, path).is_number_integer()) << path;
+  for (const std::string& path : numbers) EXPECT_TRUE(At(json, path).is_number()) << path;
+  for (const char* path : {"scenario", "app", "goal.app", "goal.detail"}) {
+    EXPECT_TRUE(At(json, path).is_string()) << path;
+  }
+  EXPECT_TRUE(At(json, "goal.reached").is_boolean());
+  EXPECT_TRUE(At(json, "synchrony.skew_histogram").is_array());
+  EXPECT_EQ(At(json, "synchrony.skew_histogram").size(), kSkewHistogramBins);
+  EXPECT_TRUE(At(json, "collisions.pairs").is_array());
+  EXPECT_TRUE(At(json, "common_knowledge.first_violations").is_array());
+}
+
+TEST(MetricsJson, ValuesReadBackAsComputed) {
+  const Json json = Parse(ToJson(ObservedRun().Finish(Facts())));
+
+  EXPECT_EQ(json["seed"].get<uint64_t>(), 18'446'744'073'709'551'615u);
+  EXPECT_EQ(json["synchrony"]["max_start_skew_rounds"], 1);
+  EXPECT_EQ(json["common_knowledge"]["violations"], 1);
+  EXPECT_EQ(json["common_knowledge"]["first_violations"][0]["robot"], 1);
+  EXPECT_DOUBLE_EQ(json["common_knowledge"]["cooperative_fraction"].get<double>(), 2.0 / 3.0);
+  EXPECT_EQ(json["common_knowledge"]["max_mode_disagreement_rounds"], 1);
+  EXPECT_EQ(json["collisions"]["pairs"][0]["a"], 0);
+  EXPECT_EQ(json["collisions"]["pairs"][0]["b"], 1);
+  EXPECT_EQ(json["collisions"]["pairs"][0]["round"], 24);
+  EXPECT_DOUBLE_EQ(json["collisions"]["pairs"][0]["time_s"].get<double>(), 1.23456789);
+  EXPECT_EQ(json["collisions"]["min_separation_m"].get<double>(), 0.042);
+  EXPECT_EQ(json["membership"]["removals"], 1);
+  EXPECT_EQ(json["membership"]["max_removal_latency_rounds"], 4);
+  EXPECT_EQ(json["radio_round_s"].get<double>(), 0.05);
+}
+
+TEST(MetricsJson, FieldsKeepTheDocumentedOrder) {
+  const Json json = Parse(ToJson(ObservedRun().Finish(Facts())));
+  const std::vector<std::string> expected = {
+      "schema_version", "scenario", "app", "seed", "robots", "sim_seconds", "wall_seconds",
+      "radio_rounds", "radio_round_s", "epochs_started", "epoch_starts", "goal", "synchrony",
+      "common_knowledge", "collisions", "walls", "estimation", "membership", "diagnostics"};
+
+  std::vector<std::string> keys;
+  for (const auto& item : json.items()) keys.push_back(item.key());
+
+  EXPECT_EQ(keys, expected);
+}
+
+TEST(MetricsJson, IdenticalObservationsGiveIdenticalBytes) {
+  const std::string first = ToJson(ObservedRun().Finish(Facts()));
+  const std::string second = ToJson(ObservedRun().Finish(Facts()));
+  RunFacts other_facts = Facts();
+  other_facts.seed = 7;
+
+  const std::string other = ToJson(ObservedRun().Finish(other_facts));
+
+  EXPECT_EQ(first, second);
+  EXPECT_NE(first, other);
+}
+
+TEST(MetricsJson, PrettyWithTwoSpacesAndATrailingNewline) {
+  const std::string text = ToJson(ObservedRun().Finish(Facts()));
+
+  EXPECT_EQ(text.rfind("{\n  \"schema_version\": 1,\n", 0), 0u);
+  ASSERT_GE(text.size(), 2u);
+  EXPECT_EQ(text.substr(text.size() - 2), "}\n");
+}
+
+TEST(MetricsJson, NonFiniteValuesBecomeNull) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double infinity = std::numeric_limits<double>::infinity();
+  Collector collector(CollectorConfig{2, 0});
+  RobotRound robot;
+  robot.running = true;
+  robot.estimate_valid = true;
+  robot.est_x_m = infinity;
+  collector.OnRoundEnd(0, std::vector<RobotRound>{robot});
+  collector.OnCollision(5, 0, 1);
+  RunFacts facts;
+  facts.sim_seconds = nan;
+  facts.wall_seconds = -infinity;
+  facts.min_separation_m = infinity;
+  facts.goal.error_m = nan;
+
+  const std::string text = ToJson(collector.Finish(facts));
+  const Json json = Parse(text);
+
+  for (const char* bad : {"nan", "NaN", "inf", "Inf"}) EXPECT_EQ(text.find(bad), std::string::npos) << bad;
+  EXPECT_TRUE(json["sim_seconds"].is_null());
+  EXPECT_TRUE(json["wall_seconds"].is_null());
+  EXPECT_TRUE(json["collisions"]["min_separation_m"].is_null());
+  EXPECT_TRUE(json["goal"]["error_m"].is_null());
+  EXPECT_TRUE(json["estimation"]["position_rmse_m"].is_null());
+  EXPECT_EQ(json["estimation"]["non_finite_samples"], 1);
+  EXPECT_TRUE(json["radio_round_s"].is_null());
+  EXPECT_TRUE(json["collisions"]["pairs"][0]["round"].is_null());
+}
+
+TEST(MetricsJson, EmptyRunHasNullsWhereNothingWasMeasured) {
+  const Collector collector(CollectorConfig{4, 50'000'000});
+
+  const Json json = Parse(ToJson(collector.Finish(RunFacts{})));
+
+  EXPECT_TRUE(json["common_knowledge"]["cooperative_fraction"].is_null());
+  EXPECT_TRUE(json["synchrony"]["max_skew_epoch"].is_null());
+  EXPECT_TRUE(json["synchrony"]["mean_start_skew_rounds"].is_null());
+  EXPECT_TRUE(json["estimation"]["max_error_m"].is_null());
+  EXPECT_TRUE(json["membership"]["max_join_latency_rounds"].is_null());
+  EXPECT_EQ(json["synchrony"]["max_start_skew_rounds"], 0);
+  EXPECT_EQ(json["epochs_started"], 0);
+}
+
+TEST(MetricsJson, InvalidUtf8InStringsIsReplacedNotFatal) {
+  RunFacts facts = Facts();
+  facts.goal.detail = std::string("bad \xff byte");
+  const Collector collector(CollectorConfig{1, 50'000'000});
+
+  const std::string text = ToJson(collector.Finish(facts));
+
+  EXPECT_NO_THROW(Parse(text));
+  EXPECT_EQ(Parse(text)["goal"]["detail"], "bad \xEF\xBF\xBD byte");
+}
+
+// Collects the dotted path of every object member, e.g. "synchrony.skew_histogram".
+void Paths(const Json& node, const std::string& prefix, std::vector<std::string>& out) {
+  for (const auto& item : node.items()) {
+    const std::string path = prefix.empty() ? item.key() : prefix + "." + item.key();
+    out.push_back(path);
+    if (item.value().is_object()) Paths(item.value(), path, out);
+    if (item.value().is_array() && !item.value().empty() && item.value()[0].is_object()) {
+      Paths(item.value()[0], path + "[]", out);
+    }
+  }
+}
+
+TEST(MetricsJson, EveryFieldIsDocumented) {
+  std::ifstream file(SYROF_METRICS_DOC);
+  ASSERT_TRUE(file.good()) << SYROF_METRICS_DOC;
+  std::stringstream document;
+  document << file.rdbuf();
+  const Json json = Parse(ToJson(ObservedRun().Finish(Facts())));
+  std::vector<std::string> paths;
+
+  Paths(json, "", paths);
+
+  for (const std::string& path : paths) {
+    EXPECT_NE(document.str().find("`" + path + "`"), std::string::npos) << path << " is not in docs/metrics.md";
+  }
+}
+
+}  // namespace
+}  // namespace syrof::lab::metrics
