@@ -1,0 +1,75 @@
+// Writes a replay file to a stream, one radio round at a time.
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "syrof/lab/replay/replay.h"
+
+namespace syrof::lab::replay {
+
+/// Streams a replay: the header on construction, one WriteRound() per radio
+/// round, Finish() at the end. The output depends only on the calls' values
+/// (same calls, same bytes). Input the format cannot hold (see the contracts
+/// below) or a failing stream puts the writer in a failed state: ok() turns
+/// false, error() says why, and every later call writes nothing. A round is
+/// checked whole before any of its bytes are written, so the file always
+/// ends at a record boundary and a reader reports it as truncated.
+class Writer {
+ public:
+  /// Writes the header to `out`, which the caller owns and must outlive the
+  /// writer. Refuses (ok() false) a header that breaks Header's contracts.
+  Writer(std::ostream& out, const Header& header);
+
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  /// Appends one round. `robots` holds frames with ids of the header, in
+  /// strictly increasing id order (usually every robot); `events` the round's
+  /// events. `index` must exceed the previous round's and `time_ns` not be
+  /// below it. A frame's fields must fit the format (status <= 1, phase <= 2,
+  /// mode <= 1, presence a Presence); events name header ids or kNoRobot.
+  /// Unchanged fields of a robot are not repeated (format.h), so a still
+  /// robot costs 4 bytes per round.
+  void WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
+                  std::span<const Event> events);
+
+  /// Writes the end marker with the totals, then flushes. Without it a
+  /// reader reports the file as truncated. Later calls write nothing.
+  void Finish();
+
+  /// True while nothing was refused and the stream is good.
+  bool ok() const;
+  /// Why the writer failed; empty while ok().
+  const std::string& error() const { return error_; }
+
+  /// Bytes written so far, header included.
+  uint64_t bytes_written() const { return bytes_written_; }
+
+ private:
+  enum class State : uint8_t { kWriting, kFinished, kFailed };
+
+  void Fail(std::string message);
+  std::string CheckRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
+                         std::span<const Event> events) const;
+  void Emit();  // writes buffer_ with its CRC appended
+
+  std::ostream& out_;
+  State state_ = State::kWriting;
+  std::string error_;
+  std::vector<uint16_t> ids_;              // header ids, increasing
+  std::vector<RobotFrame> previous_;       // per header robot: its last frame written
+  std::vector<uint8_t> buffer_;            // the record being built
+  bool any_round_ = false;
+  uint32_t last_index_ = 0;
+  int64_t last_time_ns_ = 0;
+  uint32_t rounds_ = 0;
+  uint64_t events_ = 0;
+  uint64_t frames_ = 0;
+  uint64_t bytes_written_ = 0;
+};
+
+}  // namespace syrof::lab::replay

@@ -1,0 +1,137 @@
+#include "rules.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "syrof/lab/replay/format.h"
+
+namespace syrof::lab::replay::detail {
+
+std::string CheckNameLength(size_t length, const char* what) {
+  if (length <= kMaxNameBytes) return {};
+  return fmt::format("{} is {} bytes, more than the {} allowed", what, length, kMaxNameBytes);
+}
+
+std::string CheckNameBytes(std::string_view name, const char* what) {
+  for (size_t index = 0; index < name.size(); ++index) {
+    const auto byte = static_cast<uint8_t>(name[index]);
+    // Control characters could rewrite a terminal showing the dump.
+    if (byte < 0x20 || byte == 0x7F) {
+      return fmt::format("{} has control character 0x{:02X} at byte {}", what, byte, index);
+    }
+  }
+  return {};
+}
+
+std::string CheckRadioRound(int64_t radio_round_ns) {
+  if (radio_round_ns > 0) return {};
+  return fmt::format("radio_round_ns is {}; it must be positive", radio_round_ns);
+}
+
+std::string CheckArenaSide(float side_m, const char* what) {
+  if (std::isfinite(side_m) && side_m > 0) return {};
+  return fmt::format("{} is {}; it must be finite and positive", what, side_m);
+}
+
+std::string CheckRobotCount(uint64_t count) {
+  if (count <= kMaxRobots) return {};
+  return fmt::format("robot count {} is more than the {} a replay can hold", count, kMaxRobots);
+}
+
+std::string CheckRobotId(uint16_t id, const uint16_t* previous) {
+  if (id == kNoRobot) return fmt::format("robot id {} is reserved for 'no robot'", id);
+  if (previous != nullptr && id <= *previous) {
+    return fmt::format("robot id {} follows {}; header robot ids must increase", id, *previous);
+  }
+  return {};
+}
+
+std::string CheckBodyRadius(float radius_m, uint16_t id) {
+  if (std::isfinite(radius_m) && radius_m >= 0) return {};
+  return fmt::format("robot {} has body radius {}; it must be finite and not negative", id, radius_m);
+}
+
+std::string CheckRoundOrder(bool any_round, uint32_t last_index, int64_t last_time_ns,
+                            uint32_t index, int64_t time_ns) {
+  if (!any_round) return {};
+  if (index <= last_index) {
+    return fmt::format("round index {} does not follow round {}; round indices must increase", index,
+                       last_index);
+  }
+  if (time_ns < last_time_ns) {
+    return fmt::format("round {} at {} ns is before the previous round's {} ns", index, time_ns,
+                       last_time_ns);
+  }
+  return {};
+}
+
+std::string CheckFrameCount(uint64_t count, size_t robot_count) {
+  if (count <= robot_count) return {};
+  return fmt::format("frame count {} is more than the header's {} robots", count, robot_count);
+}
+
+std::string CheckEventCount(uint64_t count) {
+  if (count <= kMaxEventsPerRound) return {};
+  return fmt::format("event count {} is more than the {} allowed per round", count,
+                     kMaxEventsPerRound);
+}
+
+size_t FindRobot(std::span<const uint16_t> ids, uint16_t id) {
+  const auto found = std::lower_bound(ids.begin(), ids.end(), id);
+  if (found == ids.end() || *found != id) return ids.size();
+  return static_cast<size_t>(found - ids.begin());
+}
+
+uint8_t PackState(const RobotFrame& frame, std::string& problem) {
+  const auto presence = static_cast<uint8_t>(frame.presence);
+  if (presence > static_cast<uint8_t>(Presence::kCrashed)) {
+    problem = fmt::format("robot {} has presence {}, not a Presence", frame.id, presence);
+  } else if (frame.status > format::kMaxStatus) {
+    problem = fmt::format("robot {} has status {}; 0 member or 1 joining", frame.id, frame.status);
+  } else if (frame.phase > format::kMaxPhase) {
+    problem = fmt::format("robot {} has phase {}; 0 .. {}", frame.id, frame.phase, format::kMaxPhase);
+  } else if (frame.mode > format::kMaxMode) {
+    problem = fmt::format("robot {} has mode {}; 0 .. {}", frame.id, frame.mode, format::kMaxMode);
+  } else {
+    problem.clear();
+  }
+  return static_cast<uint8_t>(presence << format::kPresenceShift |
+                              frame.status << format::kStatusShift |
+                              frame.phase << format::kPhaseShift | frame.mode << format::kModeShift);
+}
+
+std::string UnpackState(uint8_t state, RobotFrame& frame) {
+  if ((state & format::kStateReservedMask) != 0) {
+    return fmt::format("robot {} state byte 0x{:02X} has reserved bits set", frame.id, state);
+  }
+  const auto phase = static_cast<uint8_t>((state >> format::kPhaseShift) & 3);
+  if (phase > format::kMaxPhase) {
+    return fmt::format("robot {} has phase {}; 0 .. {}", frame.id, phase, format::kMaxPhase);
+  }
+  frame.presence = static_cast<Presence>((state >> format::kPresenceShift) & 3);
+  frame.status = static_cast<uint8_t>((state >> format::kStatusShift) & 1);
+  frame.phase = phase;
+  frame.mode = static_cast<uint8_t>((state >> format::kModeShift) & 1);
+  return {};
+}
+
+std::string CheckEventKind(uint8_t kind) {
+  if (kind <= static_cast<uint8_t>(kLastEventKind)) return {};
+  return fmt::format("unknown event kind {}", kind);
+}
+
+std::string CheckEventRobot(uint16_t robot, std::span<const uint16_t> ids, const char* what) {
+  if (robot == kNoRobot || FindRobot(ids, robot) < ids.size()) return {};
+  return fmt::format("event {} {} is not a robot of the header", what, robot);
+}
+
+std::string CheckEvent(const Event& event, std::span<const uint16_t> ids) {
+  std::string problem = CheckEventKind(static_cast<uint8_t>(event.kind));
+  if (problem.empty()) problem = CheckEventRobot(event.robot, ids, "robot");
+  if (problem.empty()) problem = CheckEventRobot(event.other, ids, "other");
+  return problem;
+}
+
+}  // namespace syrof::lab::replay::detail

@@ -1,0 +1,43 @@
+// The rules a replay's values obey, defined once for the writer (which
+// refuses input breaking them) and the reader (which refuses a file breaking
+// them). Each Check returns "" when the value is fine, else what is wrong.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "syrof/lab/replay/replay.h"
+
+namespace syrof::lab::replay::detail {
+
+std::string CheckNameLength(size_t length, const char* what);
+std::string CheckNameBytes(std::string_view name, const char* what);
+std::string CheckRadioRound(int64_t radio_round_ns);
+std::string CheckArenaSide(float side_m, const char* what);
+std::string CheckRobotCount(uint64_t count);
+/// `previous` is the id before `id` in the header, or nullptr for the first.
+std::string CheckRobotId(uint16_t id, const uint16_t* previous);
+std::string CheckBodyRadius(float radius_m, uint16_t id);
+
+std::string CheckRoundOrder(bool any_round, uint32_t last_index, int64_t last_time_ns,
+                            uint32_t index, int64_t time_ns);
+std::string CheckFrameCount(uint64_t count, size_t robot_count);
+std::string CheckEventCount(uint64_t count);
+
+/// Index of `id` in the increasing `ids`, or ids.size() when absent.
+size_t FindRobot(std::span<const uint16_t> ids, uint16_t id);
+
+/// The frame's state byte (format.h); "" in `problem` unless a field does not fit.
+uint8_t PackState(const RobotFrame& frame, std::string& problem);
+/// Fills presence, status, phase and mode from a state byte; "" when valid.
+std::string UnpackState(uint8_t state, RobotFrame& frame);
+
+/// An event's fields outside the rules; "" when fine.
+std::string CheckEvent(const Event& event, std::span<const uint16_t> ids);
+std::string CheckEventKind(uint8_t kind);
+std::string CheckEventRobot(uint16_t robot, std::span<const uint16_t> ids, const char* what);
+
+}  // namespace syrof::lab::replay::detail

@@ -1,0 +1,191 @@
+#include "syrof/lab/replay/writer.h"
+
+#include <fmt/format.h>
+
+#include <bit>
+
+#include "little_endian.h"
+#include "rules.h"
+#include "syrof/lab/replay/format.h"
+
+namespace syrof::lab::replay {
+namespace {
+
+using detail::PutF32;
+using detail::PutI64;
+using detail::PutU16;
+using detail::PutU32;
+using detail::PutU64;
+using detail::PutU8;
+
+bool SameBits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
+
+std::string CheckHeader(const Header& header) {
+  std::string problem = detail::CheckRadioRound(header.radio_round_ns);
+  if (problem.empty()) problem = detail::CheckArenaSide(header.arena_width_m, "arena_width_m");
+  if (problem.empty()) problem = detail::CheckArenaSide(header.arena_height_m, "arena_height_m");
+  if (problem.empty()) problem = detail::CheckNameLength(header.scenario_name.size(), "scenario_name");
+  if (problem.empty()) problem = detail::CheckNameBytes(header.scenario_name, "scenario_name");
+  if (problem.empty()) problem = detail::CheckNameLength(header.app_name.size(), "app_name");
+  if (problem.empty()) problem = detail::CheckNameBytes(header.app_name, "app_name");
+  if (problem.empty()) problem = detail::CheckRobotCount(header.robots.size());
+  for (size_t index = 0; problem.empty() && index < header.robots.size(); ++index) {
+    const RobotInfo& robot = header.robots[index];
+    problem = detail::CheckRobotId(robot.id, index == 0 ? nullptr : &header.robots[index - 1].id);
+    if (problem.empty()) problem = detail::CheckBodyRadius(robot.body_radius_m, robot.id);
+  }
+  return problem;
+}
+
+void PutName(std::vector<uint8_t>& out, const std::string& name) {
+  PutU16(out, static_cast<uint16_t>(name.size()));
+  out.insert(out.end(), name.begin(), name.end());
+}
+
+}  // namespace
+
+Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
+  if (std::string problem = CheckHeader(header); !problem.empty()) {
+    Fail("header: " + problem);
+    return;
+  }
+  ids_.reserve(header.robots.size());
+  previous_.resize(header.robots.size());
+  for (size_t index = 0; index < header.robots.size(); ++index) {
+    ids_.push_back(header.robots[index].id);
+    previous_[index].id = header.robots[index].id;
+  }
+
+  buffer_.assign(format::kMagic.begin(), format::kMagic.end());
+  PutU16(buffer_, kFormatVersion);
+  PutU64(buffer_, header.seed);
+  PutI64(buffer_, header.radio_round_ns);
+  PutF32(buffer_, header.arena_width_m);
+  PutF32(buffer_, header.arena_height_m);
+  PutName(buffer_, header.scenario_name);
+  PutName(buffer_, header.app_name);
+  PutU32(buffer_, static_cast<uint32_t>(header.robots.size()));
+  for (const RobotInfo& robot : header.robots) {
+    PutU16(buffer_, robot.id);
+    PutU8(buffer_, robot.kind);
+    PutF32(buffer_, robot.body_radius_m);
+  }
+  Emit();
+}
+
+bool Writer::ok() const { return state_ != State::kFailed && out_.good(); }
+
+void Writer::Fail(std::string message) {
+  state_ = State::kFailed;
+  error_ = std::move(message);
+}
+
+void Writer::Emit() {
+  PutU32(buffer_, format::Crc32(buffer_));
+  out_.write(reinterpret_cast<const char*>(buffer_.data()), static_cast<std::streamsize>(buffer_.size()));
+  if (!out_.good()) {
+    Fail(fmt::format("writing to the output stream failed after {} bytes", bytes_written_));
+    return;
+  }
+  bytes_written_ += buffer_.size();
+}
+
+std::string Writer::CheckRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
+                               std::span<const Event> events) const {
+  std::string problem = detail::CheckRoundOrder(any_round_, last_index_, last_time_ns_, index, time_ns);
+  if (problem.empty()) problem = detail::CheckFrameCount(robots.size(), ids_.size());
+  if (problem.empty()) problem = detail::CheckEventCount(events.size());
+  for (size_t position = 0; problem.empty() && position < robots.size(); ++position) {
+    const RobotFrame& frame = robots[position];
+    if (position > 0 && frame.id <= robots[position - 1].id) {
+      problem = fmt::format("frame of robot {} follows robot {}; frames must be in increasing id order",
+                            frame.id, robots[position - 1].id);
+    } else if (detail::FindRobot(ids_, frame.id) == ids_.size()) {
+      problem = fmt::format("frame of robot {}, which is not in the header", frame.id);
+    } else {
+      detail::PackState(frame, problem);
+    }
+  }
+  for (size_t position = 0; problem.empty() && position < events.size(); ++position) {
+    problem = detail::CheckEvent(events[position], ids_);
+  }
+  if (!problem.empty()) problem = fmt::format("round {}: {}", index, problem);
+  return problem;
+}
+
+void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
+                        std::span<const Event> events) {
+  if (state_ == State::kFinished) Fail("WriteRound after Finish");
+  if (state_ != State::kWriting) return;
+  if (std::string problem = CheckRound(index, time_ns, robots, events); !problem.empty()) {
+    Fail(std::move(problem));
+    return;
+  }
+
+  buffer_.clear();
+  PutU8(buffer_, format::kRoundTag);
+  PutU32(buffer_, index);
+  PutI64(buffer_, time_ns);
+  PutU32(buffer_, static_cast<uint32_t>(robots.size()));
+  PutU32(buffer_, static_cast<uint32_t>(events.size()));
+  size_t slot = 0;  // frames and ids_ both increase, so one walk finds every slot
+  for (const RobotFrame& frame : robots) {
+    while (ids_[slot] != frame.id) ++slot;
+    RobotFrame& previous = previous_[slot];
+    std::string unused;
+    const uint8_t state = detail::PackState(frame, unused);
+    uint8_t changed = 0;
+    if (frame.epoch != previous.epoch) changed |= format::kChangedEpoch;
+    if (!SameBits(frame.true_x_m, previous.true_x_m)) changed |= format::kChangedTrueX;
+    if (!SameBits(frame.true_y_m, previous.true_y_m)) changed |= format::kChangedTrueY;
+    if (!SameBits(frame.true_heading_rad, previous.true_heading_rad)) changed |= format::kChangedTrueHeading;
+    if (!SameBits(frame.est_x_m, previous.est_x_m)) changed |= format::kChangedEstX;
+    if (!SameBits(frame.est_y_m, previous.est_y_m)) changed |= format::kChangedEstY;
+    if (!SameBits(frame.est_heading_rad, previous.est_heading_rad)) changed |= format::kChangedEstHeading;
+    PutU16(buffer_, frame.id);
+    PutU8(buffer_, state);
+    PutU8(buffer_, changed);
+    if (changed & format::kChangedEpoch) PutU16(buffer_, frame.epoch);
+    if (changed & format::kChangedTrueX) PutF32(buffer_, frame.true_x_m);
+    if (changed & format::kChangedTrueY) PutF32(buffer_, frame.true_y_m);
+    if (changed & format::kChangedTrueHeading) PutF32(buffer_, frame.true_heading_rad);
+    if (changed & format::kChangedEstX) PutF32(buffer_, frame.est_x_m);
+    if (changed & format::kChangedEstY) PutF32(buffer_, frame.est_y_m);
+    if (changed & format::kChangedEstHeading) PutF32(buffer_, frame.est_heading_rad);
+    previous = frame;
+  }
+  for (const Event& event : events) {
+    PutU8(buffer_, static_cast<uint8_t>(event.kind));
+    PutU16(buffer_, event.robot);
+    PutU16(buffer_, event.other);
+    PutU16(buffer_, event.epoch);
+    PutU8(buffer_, event.mode);
+    PutI64(buffer_, event.time_ns);
+  }
+  Emit();
+  any_round_ = true;
+  last_index_ = index;
+  last_time_ns_ = time_ns;
+  ++rounds_;
+  events_ += events.size();
+  frames_ += robots.size();
+}
+
+void Writer::Finish() {
+  if (state_ != State::kWriting) return;
+  buffer_.clear();
+  PutU8(buffer_, format::kEndTag);
+  PutU32(buffer_, rounds_);
+  PutU64(buffer_, events_);
+  PutU64(buffer_, frames_);
+  Emit();
+  if (state_ == State::kFailed) return;
+  out_.flush();
+  if (!out_.good()) {
+    Fail("flushing the output stream failed");
+    return;
+  }
+  state_ = State::kFinished;
+}
+
+}  // namespace syrof::lab::replay

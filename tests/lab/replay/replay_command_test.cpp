@@ -1,0 +1,209 @@
+// `syrof replay` (lab/cli/replay_command.cpp) on small files.
+#include "replay_command.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "replay_test_support.h"
+
+namespace syrof::lab::cli {
+namespace {
+
+// Writes `bytes` to a file of its own under the test temp dir, so parallel
+// test processes never share one.
+std::string WriteFile(const std::string& name, const std::string& bytes) {
+  const std::string path = ::testing::TempDir() + "syrof_replay_command_" + name + ".replay";
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << bytes;
+  return path;
+}
+
+struct Output {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+Output RunCommand(const ReplayOptions& options) {
+  std::ostringstream out;
+  std::ostringstream err;
+  Output result;
+  result.status = RunReplayCommand(options, out, err);
+  result.out = out.str();
+  result.err = err.str();
+  return result;
+}
+
+const char* const kHeaderText =
+    "SyROF replay, format version 1\n"
+    "scenario: three_robots\n"
+    "app: builtin:idle\n"
+    "seed: 42\n"
+    "radio round: 50000000 ns\n"
+    "arena: 4 x 3 m\n"
+    "robots: 3\n"
+    "  robot 0: omni, body radius 0.1 m\n"
+    "  robot 1: omni, body radius 0.1 m\n"
+    "  robot 2: rover, body radius 0.12 m\n";
+
+const char* const kLegend =
+    "frames: time robot ID PRESENCE member|joining PHASE MODE epoch E "
+    "true (x m, y m, heading rad) est (x m, y m, heading rad)\n";
+
+std::string SampleFile(const std::string& name) {
+  return WriteFile(name, replay::testing::WriteSample().bytes);
+}
+
+TEST(ReplayCommand, PrintsHeaderFramesAndEvents) {
+  const ReplayOptions options{.file = SampleFile("everything")};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 0) << output.err;
+  EXPECT_EQ(output.err, "");
+  EXPECT_EQ(output.out,
+            std::string(kHeaderText) + kLegend +
+                "round 0 t=0.050000000s\n"
+                "  0.050000000s robot 0 RUNNING member PROGRESS COOPERATIVE epoch 1 true (1.000, 1.000, 0.250) est (1.010, 0.980, 0.260)\n"
+                "  0.050000000s robot 1 RUNNING member PROGRESS COOPERATIVE epoch 1 true (2.000, 1.000, 0.250) est (2.010, 0.980, 0.260)\n"
+                "  0.050000000s robot 2 ABSENT member PROGRESS COOPERATIVE epoch 0 true (0.000, 0.000, 0.000) est (0.000, 0.000, 0.000)\n"
+                "  0.050000000s event EPOCH_START robot 0 epoch 1 mode COOPERATIVE\n"
+                "  0.040000000s event PARTITION_START robot - epoch 0 mode COOPERATIVE\n"
+                "round 1 t=0.100000000s\n"
+                "  0.100000000s robot 0 RUNNING member WAIT COOPERATIVE epoch 1 true (1.100, 1.000, 0.250) est (1.110, 0.980, 0.260)\n"
+                "  0.100000000s robot 1 CRASHED member PROGRESS COOPERATIVE epoch 1 true (2.000, 1.000, 0.250) est (2.010, 0.980, 0.260)\n"
+                "  0.100000000s robot 2 RUNNING joining PROGRESS AUTONOMOUS epoch 0 true (3.000, 2.000, 0.250) est (3.010, 1.980, 0.260)\n"
+                "  0.090000000s event COLLISION robot 0 other 1 epoch 1 mode COOPERATIVE\n"
+                "  0.095000000s event CRASH robot 1 epoch 1 mode COOPERATIVE\n"
+                "  0.100000000s event JOIN robot 2 epoch 0 mode AUTONOMOUS\n"
+                "round 3 t=0.200000000s\n"
+                "  0.200000000s robot 0 RUNNING member VOTE COOPERATIVE epoch 2 true (1.200, 1.000, 0.250) est (1.210, 0.980, 0.260)\n"
+                "  0.200000000s robot 2 RUNNING member PROGRESS AUTONOMOUS epoch 2 true (3.000, 2.100, 0.250) est (3.010, 2.080, 0.260)\n"
+                "  0.200000000s event MEMBER_REMOVED robot 0 other 1 epoch 2 mode COOPERATIVE\n");
+}
+
+TEST(ReplayCommand, FiltersByRoundAndRobot) {
+  const ReplayOptions options{.file = SampleFile("filters"), .round = 1, .robot = 1};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 0) << output.err;
+  EXPECT_EQ(output.out,
+            std::string(kHeaderText) + kLegend +
+                "round 1 t=0.100000000s\n"
+                "  0.100000000s robot 1 CRASHED member PROGRESS COOPERATIVE epoch 1 true (2.000, 1.000, 0.250) est (2.010, 0.980, 0.260)\n"
+                "  0.090000000s event COLLISION robot 0 other 1 epoch 1 mode COOPERATIVE\n"
+                "  0.095000000s event CRASH robot 1 epoch 1 mode COOPERATIVE\n");
+}
+
+TEST(ReplayCommand, EventsOnlySkipsFramesAndQuietRounds) {
+  const ReplayOptions options{.file = SampleFile("events_only"), .robot = 2, .events_only = true};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 0) << output.err;
+  EXPECT_EQ(output.out, std::string(kHeaderText) +
+                            "round 1 t=0.100000000s\n"
+                            "  0.100000000s event JOIN robot 2 epoch 0 mode AUTONOMOUS\n");
+}
+
+TEST(ReplayCommand, SummaryCountsEventsByKind) {
+  const ReplayOptions options{.file = SampleFile("summary"), .summary = true};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 0) << output.err;
+  EXPECT_EQ(output.out, std::string(kHeaderText) +
+                            "rounds: 3 (index 0 .. 3, t=0.050000000s .. 0.200000000s)\n"
+                            "frames: 8\n"
+                            "events: 6\n"
+                            "  EPOCH_START: 1\n"
+                            "  MEMBER_REMOVED: 1\n"
+                            "  MEMBER_JOINED: 0\n"
+                            "  BECAME_JOINER: 0\n"
+                            "  COLLISION: 1\n"
+                            "  WALL_CONTACT: 0\n"
+                            "  CRASH: 1\n"
+                            "  PAUSE: 0\n"
+                            "  RESUME: 0\n"
+                            "  JOIN: 1\n"
+                            "  PARTITION_START: 1\n"
+                            "  PARTITION_END: 0\n"
+                            "file: complete\n");
+}
+
+TEST(ReplayCommand, SummaryOfTruncatedFileSaysSoAndFails) {
+  const replay::testing::Written written = replay::testing::WriteSample();
+  const ReplayOptions options{.file = WriteFile("truncated", written.bytes.substr(0, written.round_ends[1] + 5)),
+                              .summary = true};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 2);
+  EXPECT_NE(output.out.find("rounds: 2 (index 0 .. 1,"), std::string::npos) << output.out;
+  EXPECT_NE(output.out.find("file: truncated (offset "), std::string::npos) << output.out;
+  EXPECT_NE(output.err.find("truncated"), std::string::npos) << output.err;
+}
+
+TEST(ReplayCommand, DumpOfDamagedFilePrintsWhatItCanThenFails) {
+  const replay::testing::Written written = replay::testing::WriteSample();
+  std::string bytes = written.bytes;
+  bytes[written.round_ends[0] + 30] ^= 0x04;
+  const ReplayOptions options{.file = WriteFile("damaged", bytes), .events_only = true};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 2);
+  EXPECT_NE(output.out.find("EPOCH_START"), std::string::npos) << output.out;
+  EXPECT_EQ(output.out.find("round 1"), std::string::npos) << output.out;
+  EXPECT_NE(output.err.find("checksum"), std::string::npos) << output.err;
+}
+
+TEST(ReplayCommand, BadInputReturnsTwoWithAMessage) {
+  const std::string sample = SampleFile("bad_input");
+  const std::vector<std::pair<ReplayOptions, std::string>> cases = {
+      {{.file = ::testing::TempDir() + "syrof_replay_command_missing.replay"}, "cannot open"},
+      {{.file = WriteFile("not_replay", "hello, world")}, "not a SyROF replay file"},
+      {{.file = sample, .robot = 7}, "no robot 7 in this replay"},
+      {{.file = sample, .round = 2}, "no round 2 in this replay"},
+  };
+  for (const auto& [options, message] : cases) {
+    const Output output = RunCommand(options);
+
+    EXPECT_EQ(output.status, 2) << message;
+    EXPECT_NE(output.err.find(message), std::string::npos) << output.err;
+    EXPECT_EQ(output.err.rfind("syrof replay: ", 0), 0u) << output.err;
+  }
+}
+
+TEST(ReplayCommand, SetupParsesTheCommandLine) {
+  CLI::App app("syrof");
+  ReplayOptions options;
+  CLI::App* command = SetupReplayCommand(app, options);
+
+  app.parse("replay run.replay --round 12 --robot 3 --events-only", false);
+
+  EXPECT_TRUE(command->parsed());
+  EXPECT_EQ(options.file, "run.replay");
+  EXPECT_EQ(options.round, 12u);
+  EXPECT_EQ(options.robot, 3);
+  EXPECT_TRUE(options.events_only);
+  EXPECT_FALSE(options.summary);
+}
+
+TEST(ReplayCommand, SetupRefusesSummaryWithFilters) {
+  CLI::App app("syrof");
+  ReplayOptions options;
+  SetupReplayCommand(app, options);
+
+  EXPECT_THROW(app.parse("replay run.replay --summary --robot 3", false), CLI::ExcludesError);
+  EXPECT_THROW(app.parse("replay run.replay --robot 70000", false), CLI::ConversionError);
+}
+
+}  // namespace
+}  // namespace syrof::lab::cli
