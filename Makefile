@@ -25,9 +25,10 @@ $(BUILD_DIR)/CMakeCache.txt: | deps
 build: deps $(BUILD_DIR)/CMakeCache.txt
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-## demo: the main job, a small swarm in the simulated lab.
+## demo: the main job: ten robots form a circle in the simulated lab
+## (lab/scenarios/demo_circle.yaml); outputs in out/demo_circle/.
 demo: build
-	./$(BUILD_DIR)/bin/syrof-demo
+	./$(BUILD_DIR)/bin/syrof run lab/scenarios/demo_circle.yaml
 
 ## test: the whole host test suite through ctest.
 test: build

@@ -1,0 +1,38 @@
+// The `syrof` command: one file per subcommand (run, validate, apps,
+// replay); main only wires them.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "replay_command.h"
+#include "run_command.h"
+
+int main(int argc, char** argv) {
+  using namespace syrof::lab::cli;
+  CLI::App app{"SyROF: the Synchronous Robotic Framework's lab"};
+  app.require_subcommand(1);
+  RunOptions run_options;
+  CLI::App* run = SetupRunCommand(app, run_options);
+  ValidateOptions validate_options;
+  CLI::App* validate = SetupValidateCommand(app, validate_options);
+  CLI::App* apps = app.add_subcommand("apps", "List the built-in apps and their parameters");
+  ReplayOptions replay_options;
+  SetupReplayCommand(app, replay_options);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    const int code = app.exit(error);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    if (run->parsed()) return RunRunCommand(run_options, std::cout, std::cerr, isatty(STDERR_FILENO) != 0);
+    if (validate->parsed()) return RunValidateCommand(validate_options, std::cout, std::cerr);
+    if (apps->parsed()) return RunAppsCommand(std::cout);
+    return RunReplayCommand(replay_options, std::cout, std::cerr);
+  } catch (const std::exception& error) {
+    std::cerr << "syrof: internal error: " << error.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,193 @@
+#include "run_command.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <chrono>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "syrof/lab/apps/catalog.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/simulation.h"
+
+namespace syrof::lab::cli {
+namespace {
+
+scenario::Overrides OverridesOf(const RunOptions& options) {
+  scenario::Overrides overrides;
+  overrides.seed = options.seed;
+  overrides.robots = options.robots;
+  overrides.duration_s = options.duration_s;
+  overrides.app = options.app;
+  return overrides;
+}
+
+// A JSON value for the summary: numbers with `decimals`, null as "-".
+std::string Number(const nlohmann::json& value, int decimals) {
+  if (value.is_null()) return "-";
+  if (value.is_number_integer()) return std::to_string(value.get<int64_t>());
+  return fmt::format("{:.{}f}", value.get<double>(), decimals);
+}
+
+const nlohmann::json& Field(const nlohmann::json& json, const char* object, const char* key) {
+  static const nlohmann::json kNull;
+  if (!json.contains(object) || !json[object].contains(key)) return kNull;
+  return json[object][key];
+}
+
+void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay) {
+  const double sim = m.value("sim_seconds", 0.0);
+  const double wall = m.value("wall_seconds", 0.0);
+  fmt::print(out, "\nSyROF run: {} ({}), {} robots, seed {}\n", m.value("scenario", std::string()),
+             m.value("app", std::string()), m.value("robots", 0), m.value("seed", uint64_t{0}));
+  if (wall > 0) {
+    fmt::print(out, "  {:<17} {:.1f} s ({} radio rounds) in {:.2f} s wall, {:.0f}x real time\n", "simulated", sim,
+               m.value("radio_rounds", int64_t{0}), wall, sim / wall);
+  } else {
+    fmt::print(out, "  {:<17} {:.1f} s ({} radio rounds)\n", "simulated", sim, m.value("radio_rounds", int64_t{0}));
+  }
+  fmt::print(out, "  {:<17} {} epochs, start skew max {} rounds\n", "synchrony", Number(m["epochs_started"], 0),
+             Number(Field(m, "synchrony", "max_start_skew_rounds"), 0));
+  const nlohmann::json& fraction = Field(m, "common_knowledge", "cooperative_fraction");
+  fmt::print(out, "  {:<17} {} P3 violations, {} COOPERATIVE starts, mode disagreement max {} rounds\n",
+             "common knowledge", Number(Field(m, "common_knowledge", "violations"), 0),
+             fraction.is_null() ? std::string("-") : fmt::format("{:.1f}%", 100.0 * fraction.get<double>()),
+             Number(Field(m, "common_knowledge", "max_mode_disagreement_rounds"), 0));
+  fmt::print(out, "  {:<17} {} (min separation {} m), wall contacts {}\n", "collisions",
+             Number(Field(m, "collisions", "count"), 0), Number(Field(m, "collisions", "min_separation_m"), 3),
+             Number(Field(m, "walls", "contacts"), 0));
+  fmt::print(out, "  {:<17} position RMSE {} m, max {} m\n", "estimation",
+             Number(Field(m, "estimation", "position_rmse_m"), 3), Number(Field(m, "estimation", "max_error_m"), 3));
+  fmt::print(out, "  {:<17} {} removals, {} joins\n", "membership", Number(Field(m, "membership", "removals"), 0),
+             Number(Field(m, "membership", "joins"), 0));
+  if (m.contains("goal")) {
+    const nlohmann::json& goal = m["goal"];
+    fmt::print(out, "  {:<17} {} ({})\n", "goal", goal.value("reached", false) ? "reached" : "NOT reached",
+               goal.value("detail", std::string()));
+  }
+  fmt::print(out, "  {:<17} {}{}\n", "outputs", (dir / "metrics.json").string(),
+             replay ? ", " + (dir / "replay").string() : std::string());
+}
+
+}  // namespace
+
+CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
+  CLI::App* run = app.add_subcommand("run", "Run a scenario in the simulated lab; write metrics.json and a replay");
+  run->add_option("scenario", options.scenario_path, "Scenario file (YAML, docs/scenarios.md)")->required();
+  run->add_option("--app", options.app, "App to run instead of the scenario's, e.g. builtin:circle");
+  run->add_option("--seed", options.seed, "Seed instead of the scenario's");
+  run->add_option("--robots", options.robots, "Robot count instead of the scenario's")->check(CLI::PositiveNumber);
+  run->add_option("--duration", options.duration_s, "Simulated seconds instead of the scenario's")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>)");
+  run->add_flag("--no-replay", options.no_replay, "Do not write the replay");
+  run->add_flag("--reproducible", options.reproducible,
+                "Write wall_seconds as 0 so identical runs give byte-identical outputs");
+  run->add_flag("--quiet", options.quiet, "No progress line and no summary");
+  return run;
+}
+
+int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path, OverridesOf(options));
+  if (!loaded.ok()) {
+    fmt::print(err, "syrof run: {}\n", loaded.error->ToString());
+    return 2;
+  }
+  const scenario::Scenario& scenario = *loaded.scenario;
+  const std::filesystem::path dir =
+      options.out_dir.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(options.out_dir);
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) {
+    fmt::print(err, "syrof run: cannot create output folder {}: {}\n", dir.string(), error.message());
+    return 2;
+  }
+  std::ofstream replay_file;
+  if (!options.no_replay) {
+    replay_file.open(dir / "replay", std::ios::binary | std::ios::trunc);
+    if (!replay_file) {
+      fmt::print(err, "syrof run: cannot write {}\n", (dir / "replay").string());
+      return 2;
+    }
+  }
+  if (!options.quiet) {
+    fmt::print(out, "syrof run: {} ({}), {} robots, seed {}, {:.1f} s\n", scenario.name, scenario.app.name,
+               scenario.robots.size(), scenario.seed, scenario.timing.duration_s);
+  }
+
+  const auto started = std::chrono::steady_clock::now();
+  auto elapsed_s = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  };
+  sim::SimulationOptions sim_options;
+  sim_options.replay = options.no_replay ? nullptr : &replay_file;
+  if (!options.quiet && err_is_terminal) {
+    const double duration_s = scenario.timing.duration_s;
+    sim_options.progress = [&err, &elapsed_s, duration_s](double sim_seconds) {
+      const double wall = elapsed_s();
+      fmt::print(err, "\r  t = {:6.1f} / {:.1f} s   {:6.1f}x real time ", sim_seconds, duration_s,
+                 wall > 0 ? sim_seconds / wall : 0.0);
+      err.flush();
+    };
+  }
+  sim::Simulation simulation(scenario, sim_options);
+  simulation.RunUntil(scenario.timing.duration_s);
+  const double wall_seconds = options.reproducible ? 0.0 : elapsed_s();
+  const sim::RunReport report = simulation.Finish(wall_seconds);
+  if (sim_options.progress) fmt::print(err, "\n");
+
+  std::ofstream metrics_file(dir / "metrics.json", std::ios::binary | std::ios::trunc);
+  metrics_file << report.metrics_json;
+  if (!metrics_file || (!options.no_replay && !replay_file)) {
+    fmt::print(err, "syrof run: writing the outputs in {} failed\n", dir.string());
+    return 1;
+  }
+  if (!options.quiet) PrintSummary(out, nlohmann::json::parse(report.metrics_json), dir, !options.no_replay);
+  return 0;
+}
+
+CLI::App* SetupValidateCommand(CLI::App& app, ValidateOptions& options) {
+  CLI::App* validate = app.add_subcommand("validate", "Check a scenario file and show what it resolves to");
+  validate->add_option("scenario", options.scenario_path, "Scenario file (YAML)")->required();
+  return validate;
+}
+
+int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::ostream& err) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path);
+  if (!loaded.ok()) {
+    fmt::print(err, "syrof validate: {}\n", loaded.error->ToString());
+    return 2;
+  }
+  const scenario::Scenario& s = *loaded.scenario;
+  fmt::print(out, "{}: ok\n  name {}, seed {}, app {}\n  arena {} x {} m, {} anchors\n", options.scenario_path, s.name,
+             s.seed, s.app.name, s.arena.width_m, s.arena.height_m, s.arena.anchors.size());
+  fmt::print(out, "  {} robots ({} placement), radio round {} s, maneuver {} s, K {}, F {}, {} s\n", s.robots.size(),
+             scenario::ToString(s.placement), s.timing.radio_round_s, s.timing.app_round_s, s.timing.vote_rounds,
+             s.timing.silence_rounds, s.timing.duration_s);
+  fmt::print(out, "  channel {} (loss {}), {} link overrides, {} partitions, {} faults\n",
+             scenario::ToString(s.channel.model), s.channel.loss, s.channel.links.size(), s.channel.partitions.size(),
+             s.faults.size());
+  for (const scenario::RobotSpec& robot : s.robots) {
+    fmt::print(out, "    robot {:>4} {:<5} at ({:.3f}, {:.3f}) heading {:.3f}{}\n", robot.id,
+               scenario::ToString(robot.kind), robot.x_m, robot.y_m, robot.heading_rad,
+               robot.present_at_start ? "" : " (joins later)");
+  }
+  return 0;
+}
+
+int RunAppsCommand(std::ostream& out) {
+  for (const apps::BuiltinAppInfo& app : apps::BuiltinApps()) {
+    fmt::print(out, "builtin:{:<14} {}\n", app.name, app.summary);
+    for (const apps::ParamInfo& param : app.params) {
+      fmt::print(out, "    {:<16} default {:<8} [{} .. {}]  {}\n", param.name, param.default_value, param.min_value,
+                 param.max_value, param.doc);
+    }
+  }
+  return 0;
+}
+
+}  // namespace syrof::lab::cli

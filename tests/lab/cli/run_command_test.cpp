@@ -1,0 +1,166 @@
+// `syrof run` and `syrof validate` as a user meets them: exit codes, messages,
+// the files written, and identical bytes for identical runs.
+#include "run_command.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace syrof::lab::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kScenarios = SYROF_SCENARIOS_DIR;
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// A fresh folder under the test's temporary directory.
+fs::path TempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("syrof_cli_test_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+struct Outcome {
+  int status;
+  std::string out;
+  std::string err;
+};
+
+Outcome RunWith(RunOptions options) {
+  std::ostringstream out, err;
+  const int status = RunRunCommand(options, out, err, false);
+  return Outcome{status, out.str(), err.str()};
+}
+
+TEST(RunCommandTest, WritesMetricsAndReplayAndPrintsTheSummary) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.duration_s = 5;
+  options.out_dir = TempDir("summary").string();
+
+  const Outcome outcome = RunWith(options);
+
+  ASSERT_EQ(outcome.status, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("common knowledge"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("collisions"), std::string::npos);
+  const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
+  EXPECT_DOUBLE_EQ(metrics["sim_seconds"].get<double>(), 5.0);
+  EXPECT_GT(metrics["wall_seconds"].get<double>(), 0.0);
+  EXPECT_GT(fs::file_size(fs::path(options.out_dir) / "replay"), 100u);
+}
+
+TEST(RunCommandTest, ReproducibleRunsWriteIdenticalBytes) {
+  RunOptions first;
+  first.scenario_path = kScenarios + "/demo_circle.yaml";
+  first.duration_s = 6;
+  first.reproducible = true;
+  first.quiet = true;
+  first.out_dir = TempDir("repro_a").string();
+  RunOptions second = first;
+  second.out_dir = TempDir("repro_b").string();
+
+  ASSERT_EQ(RunWith(first).status, 0);
+  ASSERT_EQ(RunWith(second).status, 0);
+
+  EXPECT_EQ(ReadFile(fs::path(first.out_dir) / "metrics.json"), ReadFile(fs::path(second.out_dir) / "metrics.json"));
+  EXPECT_EQ(ReadFile(fs::path(first.out_dir) / "replay"), ReadFile(fs::path(second.out_dir) / "replay"));
+}
+
+TEST(RunCommandTest, OverridesReachTheRun) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.seed = 99;
+  options.robots = 3;
+  options.duration_s = 2;
+  options.app = "builtin:circle";
+  options.quiet = true;
+  options.no_replay = true;
+  options.out_dir = TempDir("overrides").string();
+
+  ASSERT_EQ(RunWith(options).status, 0);
+
+  const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
+  EXPECT_EQ(metrics["seed"], 99);
+  EXPECT_EQ(metrics["robots"], 3);
+  EXPECT_EQ(metrics["app"], "builtin:circle");
+  EXPECT_FALSE(fs::exists(fs::path(options.out_dir) / "replay"));
+}
+
+TEST(RunCommandTest, MissingScenarioIsBadInputWithItsName) {
+  RunOptions options;
+  options.scenario_path = "/nonexistent/scenario.yaml";
+
+  const Outcome outcome = RunWith(options);
+
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_NE(outcome.err.find("/nonexistent/scenario.yaml"), std::string::npos) << outcome.err;
+}
+
+TEST(RunCommandTest, InvalidScenarioNamesFileLineAndColumn) {
+  const fs::path dir = TempDir("invalid");
+  fs::create_directories(dir);
+  const fs::path path = dir / "bad.yaml";
+  std::ofstream(path) << "robots: {count: 3}\napp: builtin:idle\nchanel: {loss: 0.1}\n";
+  RunOptions options;
+  options.scenario_path = path.string();
+
+  const Outcome outcome = RunWith(options);
+
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_NE(outcome.err.find("bad.yaml:3:1"), std::string::npos) << outcome.err;
+  EXPECT_NE(outcome.err.find("channel"), std::string::npos) << outcome.err;  // the suggestion
+}
+
+TEST(RunCommandTest, UnknownAppOverrideIsBadInput) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.app = "builtin:dance";
+
+  const Outcome outcome = RunWith(options);
+
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_NE(outcome.err.find("dance"), std::string::npos) << outcome.err;
+}
+
+TEST(ValidateCommandTest, PrintsTheResolvedScenario) {
+  ValidateOptions options;
+  options.scenario_path = kScenarios + "/rovers.yaml";
+  std::ostringstream out, err;
+
+  ASSERT_EQ(RunValidateCommand(options, out, err), 0) << err.str();
+
+  EXPECT_NE(out.str().find("rover"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find(": ok"), std::string::npos);
+}
+
+TEST(AppsCommandTest, ListsEveryBuiltinApp) {
+  std::ostringstream out;
+
+  ASSERT_EQ(RunAppsCommand(out), 0);
+
+  for (const char* name : {"builtin:idle", "builtin:gather", "builtin:circle", "builtin:leader_follow"}) {
+    EXPECT_NE(out.str().find(name), std::string::npos) << name;
+  }
+}
+
+// The installed command itself: exit status 2 for a usage error.
+TEST(SyrofExecutableTest, UsageErrorsExitWithTwo) {
+  const std::string syrof = SYROF_EXECUTABLE;
+  EXPECT_EQ(WEXITSTATUS(std::system((syrof + " run > /dev/null 2>&1").c_str())), 2);
+  EXPECT_EQ(WEXITSTATUS(std::system((syrof + " frobnicate > /dev/null 2>&1").c_str())), 2);
+  EXPECT_EQ(WEXITSTATUS(std::system((syrof + " --help > /dev/null 2>&1").c_str())), 0);
+}
+
+}  // namespace
+}  // namespace syrof::lab::cli

@@ -1,0 +1,247 @@
+// The simulated lab end to end: determinism, every fault kind's effect on
+// the metrics, collisions flowing into the metrics, and the built-in apps
+// reaching their goals in their example scenarios.
+#include "syrof/lab/sim/simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "syrof/lab/scenario/scenario.h"
+
+namespace syrof::lab::sim {
+namespace {
+
+using nlohmann::json;
+
+scenario::Scenario Load(const std::string& text, const scenario::Overrides& overrides = {}) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioText(text, "test.yaml", overrides);
+  EXPECT_TRUE(loaded.ok()) << (loaded.error ? loaded.error->ToString() : "");
+  return *loaded.scenario;
+}
+
+struct Outcome {
+  json metrics;
+  std::string metrics_bytes;
+  std::string replay_bytes;
+};
+
+Outcome RunScenario(const scenario::Scenario& scenario) {
+  std::ostringstream replay;
+  SimulationOptions options;
+  options.replay = &replay;
+  const RunReport report = sim::Run(scenario, options, 0.0);
+  return Outcome{json::parse(report.metrics_json), report.metrics_json, replay.str()};
+}
+
+// Six omni robots on a grid, holding still.
+std::string Swarm(const std::string& extra, double loss = 0.0, double duration_s = 12, int robots = 6,
+                  const char* app = "builtin:idle") {
+  return "seed: 3\nrobots: {count: " + std::to_string(robots) +
+         ", placement: grid, spacing_m: 0.6}\ntiming: {duration_s: " + std::to_string(duration_s) +
+         "}\nchannel: {model: iid, loss: " + std::to_string(loss) + "}\napp: " + app + "\n" + extra;
+}
+
+TEST(SimulationTest, SameScenarioAndSeedGiveTheSameBytes) {
+  const scenario::Scenario scenario = Load(Swarm("", 0.1, 8, 6, "builtin:circle"));
+
+  const Outcome first = RunScenario(scenario);
+  const Outcome second = RunScenario(scenario);
+
+  EXPECT_EQ(first.metrics_bytes, second.metrics_bytes);
+  EXPECT_EQ(first.replay_bytes, second.replay_bytes);
+  EXPECT_GT(first.replay_bytes.size(), 1000u);
+}
+
+TEST(SimulationTest, AnotherSeedGivesAnotherRun) {
+  scenario::Overrides other_seed;
+  other_seed.seed = 4;
+
+  const Outcome first = RunScenario(Load(Swarm("", 0.1, 8, 6, "builtin:circle")));
+  const Outcome second = RunScenario(Load(Swarm("", 0.1, 8, 6, "builtin:circle"), other_seed));
+
+  EXPECT_NE(first.replay_bytes, second.replay_bytes);
+  EXPECT_EQ(second.metrics["seed"], 4);
+}
+
+TEST(SimulationTest, ZeroLossGivesSkewZeroAndEveryEpochCooperative) {
+  const Outcome run = RunScenario(Load(Swarm("", 0.0)));
+
+  EXPECT_GE(run.metrics["epochs_started"].get<int>(), 8);
+  EXPECT_EQ(run.metrics["synchrony"]["max_start_skew_rounds"], 0);
+  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
+  EXPECT_DOUBLE_EQ(run.metrics["common_knowledge"]["cooperative_fraction"].get<double>(), 1.0);
+  EXPECT_EQ(run.metrics["common_knowledge"]["max_mode_disagreement_rounds"], 0);
+  EXPECT_EQ(run.metrics["membership"]["removals"], 0);
+  EXPECT_EQ(run.metrics["collisions"]["count"], 0);
+  EXPECT_EQ(run.metrics["radio_rounds"], 240);
+}
+
+TEST(SimulationTest, EstimatesTrackTheTruth) {
+  const Outcome run = RunScenario(Load(Swarm("", 0.05, 20, 6, "builtin:circle")));
+
+  EXPECT_LT(run.metrics["estimation"]["position_rmse_m"].get<double>(), 0.08);
+  EXPECT_LT(run.metrics["estimation"]["max_error_m"].get<double>(), 0.5);
+}
+
+TEST(SimulationTest, CrashShowsAsRemovalByEveryOtherRobot) {
+  const Outcome run = RunScenario(Load(Swarm("faults: [{crash: 2, at_s: 4}]\n")));
+
+  EXPECT_EQ(run.metrics["membership"]["removals"], 5);
+  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
+  // Epochs go on after the crash: 12 s of 1.3 s epochs.
+  EXPECT_GE(run.metrics["epochs_started"].get<int>(), 8);
+}
+
+TEST(SimulationTest, CrashedRobotLeavesTheMapsAndTheOthersStayCooperative) {
+  const scenario::Scenario scenario = Load(Swarm("faults: [{crash: 2, at_s: 4}]\n"));
+  Simulation simulation(scenario);
+
+  simulation.RunUntil(12);
+
+  for (uint16_t id = 0; id < 6; ++id) {
+    if (id == 2) continue;
+    EXPECT_FALSE(simulation.robot(id).ldmap().members.test(2)) << "robot " << id;
+    EXPECT_EQ(simulation.robot(id).ldmap().mode, wire::Mode::kCooperative) << "robot " << id;
+  }
+}
+
+TEST(SimulationTest, PartitionGivesAutonomousEpochsThenRecovery) {
+  const std::string partition = "channel: {model: iid, loss: 0, partitions: [{start_s: 4, end_s: 9, groups: [[0, 1, 2], [3, 4, 5]]}]}\n";
+  std::string text = Swarm("", 0.0, 20);
+  text.replace(text.find("channel:"), text.find('\n', text.find("channel:")) - text.find("channel:") + 1, partition);
+  const scenario::Scenario scenario = Load(text);
+  Simulation simulation(scenario);
+
+  simulation.RunUntil(8);
+  const wire::Mode during = simulation.robot(0).ldmap().mode;
+  simulation.RunUntil(20);
+  const RunReport report = simulation.Finish(0);
+  const json metrics = json::parse(report.metrics_json);
+
+  EXPECT_EQ(during, wire::Mode::kAutonomous);  // 3 of 6 is no majority
+  EXPECT_GT(metrics["common_knowledge"]["autonomous_starts"].get<int>(), 0);
+  EXPECT_LT(metrics["common_knowledge"]["cooperative_fraction"].get<double>(), 1.0);
+  EXPECT_EQ(metrics["common_knowledge"]["violations"], 0);
+  EXPECT_GT(metrics["membership"]["removals"].get<int>(), 0);
+  EXPECT_GT(metrics["membership"]["joins"].get<int>(), 0);
+  for (uint16_t id = 0; id < 6; ++id) {
+    EXPECT_EQ(simulation.robot(id).ldmap().mode, wire::Mode::kCooperative) << "robot " << id;
+    EXPECT_EQ(simulation.robot(id).ldmap().members.count(), 6) << "robot " << id;
+  }
+}
+
+TEST(SimulationTest, PausedRobotIsRemovedThenRejoins) {
+  const scenario::Scenario scenario = Load(Swarm("faults: [{pause: 4, at_s: 3, until_s: 6}]\n", 0.0, 14));
+  Simulation simulation(scenario);
+
+  simulation.RunUntil(5.5);
+  const bool member_while_paused = simulation.robot(0).sync_state().members.test(4);
+  simulation.RunUntil(14);
+  const json metrics = json::parse(simulation.Finish(0).metrics_json);
+
+  EXPECT_FALSE(member_while_paused);
+  EXPECT_EQ(metrics["membership"]["removals"], 5);
+  EXPECT_GE(metrics["membership"]["joins"].get<int>(), 5);
+  for (uint16_t id = 0; id < 6; ++id) EXPECT_TRUE(simulation.robot(id).ldmap().members.test(4)) << "robot " << id;
+}
+
+TEST(SimulationTest, JoiningRobotEntersEveryMap) {
+  const scenario::Scenario scenario = Load(Swarm("faults: [{join: 5, at_s: 3}]\n", 0.0, 10));
+  Simulation simulation(scenario);
+
+  simulation.RunUntil(2.5);
+  const bool member_before = simulation.robot(0).sync_state().members.test(5);
+  simulation.RunUntil(10);
+  const json metrics = json::parse(simulation.Finish(0).metrics_json);
+
+  EXPECT_FALSE(member_before);
+  EXPECT_GE(metrics["membership"]["joins"].get<int>(), 5);
+  for (uint16_t id = 0; id < 6; ++id) {
+    EXPECT_TRUE(simulation.robot(id).ldmap().members.test(5)) << "robot " << id;
+    EXPECT_EQ(simulation.robot(id).ldmap().mode, wire::Mode::kCooperative) << "robot " << id;
+  }
+}
+
+TEST(SimulationTest, BurstyLossCostsCooperationButNeverCommonKnowledge) {
+  std::string text = Swarm("", 0.0, 30);
+  const std::string bursty =
+      "channel: {model: gilbert_elliott, good_to_bad: 0.05, bad_to_good: 0.3, loss_good: 0.01, loss_bad: 0.9}\n";
+  text.replace(text.find("channel:"), text.find('\n', text.find("channel:")) - text.find("channel:") + 1, bursty);
+
+  const Outcome run = RunScenario(Load(text));
+
+  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
+  EXPECT_LT(run.metrics["common_knowledge"]["cooperative_fraction"].get<double>(), 1.0);
+  EXPECT_GE(run.metrics["epochs_started"].get<int>(), 10);
+}
+
+TEST(SimulationTest, OneDeafLinkRemovesItsSenderOnlyAtItsReceiver) {
+  std::string text = Swarm("", 0.0, 8);
+  const std::string deaf = "channel: {model: iid, loss: 0, links: [{from: 0, to: 1, loss: 1.0}]}\n";
+  text.replace(text.find("channel:"), text.find('\n', text.find("channel:")) - text.find("channel:") + 1, deaf);
+
+  const Outcome run = RunScenario(Load(text));
+
+  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
+  EXPECT_GT(run.metrics["membership"]["removals"].get<int>(), 0);
+}
+
+// Drives every robot at full speed toward the arena's centre, ignoring the
+// others: the world must record the collisions and keep bodies apart.
+class RamApp final : public app::App {
+ public:
+  const char* name() const override { return "ram"; }
+  uint8_t Init(const syrof_app_info& info, app::Platform&) override {
+    info_ = info;
+    return 0;
+  }
+  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap&, uint8_t state, uint32_t) override {
+    command.kind = SYROF_COMMAND_MOVE_TO;
+    command.x_m = info_.arena_width_m / 2;
+    command.y_m = info_.arena_height_m / 2;
+    command.speed_mps = info_.max_speed_mps;
+    return state;
+  }
+  uint8_t EndOfRound(const syrof_ldmap&, uint8_t state, uint32_t) override { return state; }
+
+ private:
+  syrof_app_info info_{};
+};
+
+TEST(SimulationTest, CollisionsAreCountedAndBodiesDoNotPassThrough) {
+  const scenario::Scenario scenario = Load(Swarm("", 0.0, 8, 4));
+  SimulationOptions options;
+  options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
+
+  const RunReport report = sim::Run(scenario, options, 0.0);
+  const json metrics = json::parse(report.metrics_json);
+
+  EXPECT_GE(metrics["collisions"]["count"].get<int>(), 1);
+  EXPECT_GE(metrics["collisions"]["min_separation_m"].get<double>(), -0.02);
+  EXPECT_FALSE(metrics["collisions"]["pairs"].empty());
+}
+
+// ---- The built-in apps in their example scenarios --------------------------
+
+json RunExample(const std::string& file) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioFile(std::string(SYROF_SCENARIOS_DIR) + "/" + file);
+  EXPECT_TRUE(loaded.ok()) << (loaded.error ? loaded.error->ToString() : "");
+  return json::parse(sim::Run(*loaded.scenario, SimulationOptions{}, 0.0).metrics_json);
+}
+
+void ExpectGoalReachedSafely(const json& metrics) {
+  EXPECT_TRUE(metrics["goal"]["reached"].get<bool>()) << metrics["goal"].dump();
+  EXPECT_EQ(metrics["collisions"]["count"], 0) << metrics["collisions"].dump();
+  EXPECT_EQ(metrics["common_knowledge"]["violations"], 0);
+}
+
+TEST(SimulationTest, CircleReachesItsGoalInTheDemo) { ExpectGoalReachedSafely(RunExample("demo_circle.yaml")); }
+TEST(SimulationTest, GatherReachesItsGoal) { ExpectGoalReachedSafely(RunExample("gather.yaml")); }
+TEST(SimulationTest, LeaderFollowReachesItsGoal) { ExpectGoalReachedSafely(RunExample("leader_follow.yaml")); }
+
+}  // namespace
+}  // namespace syrof::lab::sim
