@@ -74,6 +74,33 @@ TEST_F(SynchronizerTest, InitialMemberStartsInWaitOfEpochZeroWithItsSnapshotFroz
   EXPECT_EQ(state_.snapshots[0], Own());
 }
 
+TEST_F(SynchronizerTest, BeaconsByAddressGiveTheSameStepAsBeaconsByValue) {
+  // Through a whole epoch, including a malformed beacon and a duplicate.
+  std::vector<std::vector<wire::Beacon>> rounds = {
+      {From(1, 0, Phase::kWait), From(2, 0, Phase::kWait), From(3, 0, Phase::kWait)}, Votes(1), Votes(2), Votes(3),
+      {From(1, 1, Phase::kProgress), From(7, 1, Phase::kProgress), From(1, 1, Phase::kProgress)}};
+  SyncState by_address = state_;
+  StepOutput out_by_address;
+  LDMap ldmap_by_address;
+
+  for (const std::vector<wire::Beacon>& round : rounds) {
+    std::vector<const wire::Beacon*> addresses;
+    for (const wire::Beacon& beacon : round) addresses.push_back(&beacon);
+    StepInput input;
+    input.own_snapshot = Own();
+    Step(config_, by_address, std::span<const wire::Beacon* const>(addresses), input, out_by_address,
+         ldmap_by_address);
+    StepWith(round);
+
+    ASSERT_EQ(by_address, state_);
+    ASSERT_EQ(out_by_address.beacon, out_.beacon);
+    ASSERT_EQ(out_by_address.epoch_started, out_.epoch_started);
+  }
+  EXPECT_TRUE(ldmap_by_address.SameKnowledge(ldmap_));
+  EXPECT_EQ(state_.epoch, 1);
+  EXPECT_EQ(state_.stats.beacons_rejected, 2u);
+}
+
 TEST_F(SynchronizerTest, RobotOutsideTheInitialMembersStartsJoiningAndSilent) {
   config_.initial_members.reset(0);
   state_ = InitialState(config_, Own());

@@ -61,6 +61,51 @@ TEST(MemberSetTest, AnyAtOrAboveSeesOnlyMembersFromTheBound) {
   EXPECT_FALSE(MemberSet{}.any_at_or_above(0));
 }
 
+TEST(MemberSetTest, SetsWithTheSameMembersAreEqualWhateverTheirHistory) {
+  MemberSet emptied;
+  emptied.set(MemberSet::kCapacity - 1);
+  emptied.set(3);
+  emptied.reset(MemberSet::kCapacity - 1);
+  MemberSet direct;
+  direct.set(3);
+
+  EXPECT_EQ(emptied, direct);
+  EXPECT_EQ(direct, emptied);
+  EXPECT_EQ(emptied.count(), 1);
+  EXPECT_FALSE(emptied.any_at_or_above(4));
+  emptied.reset(3);
+  EXPECT_TRUE(emptied.empty());
+  EXPECT_EQ(emptied, MemberSet{});
+}
+
+TEST(MemberSetTest, UnionIntersectionAndIncludesSeeHighMembers) {
+  MemberSet low;
+  low.set(1);
+  MemberSet high;
+  high.set(1);
+  high.set(MemberSet::kCapacity - 1);
+
+  EXPECT_FALSE(low.includes(high));
+  EXPECT_TRUE(high.includes(low));
+  low |= high;
+  EXPECT_TRUE(low.test(MemberSet::kCapacity - 1));
+  EXPECT_EQ(low, high);
+  MemberSet only_low;
+  only_low.set(1);
+  high &= only_low;
+  EXPECT_EQ(high, only_low);
+  EXPECT_EQ(high.next_member(2), MemberSet::kCapacity);
+}
+
+TEST(MemberSetTest, BytesSetAnywhereAreSeen) {
+  MemberSet set;
+  set.set_byte(MemberSet::kBytes - 1, 0x01);
+
+  EXPECT_TRUE(set.test(static_cast<uint16_t>(8 * (MemberSet::kBytes - 1))));
+  EXPECT_EQ(set.count(), 1);
+  EXPECT_FALSE(set.empty());
+}
+
 TEST(MemberSetTest, ClearRemovesEveryMember) {
   MemberSet set;
   for (uint16_t member = 0; member < MemberSet::kCapacity; member += 3) set.set(member);
