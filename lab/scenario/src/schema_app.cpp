@@ -9,7 +9,7 @@
 namespace syrof::lab::scenario {
 namespace {
 
-constexpr std::string_view kBuiltinPrefix = "builtin:";
+using apps::kBuiltinPrefix;
 
 std::vector<std::string> QualifiedNames(std::span<const apps::BuiltinAppInfo> catalog) {
   std::vector<std::string> names;
@@ -22,7 +22,7 @@ std::vector<std::string> QualifiedNames(std::span<const apps::BuiltinAppInfo> ca
 const apps::BuiltinAppInfo* FindApp(const std::string& name, std::span<const apps::BuiltinAppInfo> catalog,
                                     std::string& problem) {
   if (name.starts_with(kBuiltinPrefix)) {
-    const std::string_view bare = std::string_view(name).substr(kBuiltinPrefix.size());
+    const std::string_view bare = apps::BareAppName(name);
     for (const apps::BuiltinAppInfo& app : catalog) {
       if (bare == app.name) return &app;
     }

@@ -59,12 +59,6 @@ estimation::Arena<float> EstimatorArena(const Scenario& scenario) {
   return arena;
 }
 
-// The app's name without the "builtin:" prefix.
-std::string BuiltinName(const Scenario& scenario) {
-  const std::string& name = scenario.app.name;
-  return name.rfind("builtin:", 0) == 0 ? name.substr(8) : name;
-}
-
 // One queries workspace for every app of the run: the lab runs one robot's
 // callback at a time, and a workspace holds nothing between queries.
 class QueriesWorkspace {
@@ -132,16 +126,10 @@ class LabRobot {
         world_(world),
         port_(scheduler, "robot"),
         broker_(port_),
-        sensor_config_(SensorConfig(scenario)),
-        bank_(sensor_config_, SensorSeed(scenario.seed, spec.id)),
+        bank_(scenario.sensors, SensorSeed(scenario.seed, spec.id)),
         app_(std::move(app)),
         radio_(radio),
         robot_(config, *app_, radio_) {}
-
-  static sensors::SensorBankConfig SensorConfig(const Scenario& scenario) {
-    sensors::SensorBankConfig config = scenario.sensors;
-    return config;
-  }
 
   void Attach() {
     SYROF_CHECK(publishers_.Advertise(broker_) == pubsub::BrokerError::kOk);
@@ -171,7 +159,6 @@ class LabRobot {
   world::World& world_;
   os::SimPort port_;
   pubsub::StaticBroker<8, 12> broker_;
-  sensors::SensorBankConfig sensor_config_;
   sensors::SensorBank bank_;
   sensors::SensorPublishers publishers_;
   pubsub::Subscriber<motion::DriveCommand> drive_;
@@ -309,8 +296,9 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
     config.arena_width_m = static_cast<float>(scenario_.arena.width_m);
     config.arena_height_m = static_cast<float>(scenario_.arena.height_m);
     config.queries_workspace = workspace_.handle();
-    std::unique_ptr<app::App> app = options_.app_factory ? options_.app_factory(spec.id)
-                                                         : apps::MakeBuiltinApp(BuiltinName(scenario_), scenario_.app.params);
+    std::unique_ptr<app::App> app =
+        options_.app_factory ? options_.app_factory(spec.id)
+                             : apps::MakeBuiltinApp(apps::BareAppName(scenario_.app.name), scenario_.app.params);
     SYROF_CHECK(app != nullptr);
     robots_.push_back(std::make_unique<LabRobot>(scenario_, spec, scheduler_, world_, config, std::move(app),
                                                  LabRadio(outbox_, sent_, spec.id)));
@@ -556,7 +544,8 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
                                    robot->presence == replay::Presence::kRunning});
   }
   const apps::GoalReport goal =
-      apps::EvaluateGoal(BuiltinName(scenario_), scenario_.app.params, apps::ArenaSize{scenario_.arena.width_m, scenario_.arena.height_m},
+      apps::EvaluateGoal(apps::BareAppName(scenario_.app.name), scenario_.app.params,
+                         apps::ArenaSize{scenario_.arena.width_m, scenario_.arena.height_m},
                          scenario_.omni.body_radius_m, poses);
 
   metrics::RunFacts facts;

@@ -28,6 +28,14 @@ struct BuiltinAppInfo {
   std::span<const ParamInfo> params;
 };
 
+/// How scenarios and the command line name a built-in app: "builtin:NAME".
+inline constexpr std::string_view kBuiltinPrefix = "builtin:";
+
+/// NAME for "builtin:NAME"; `qualified` unchanged when it has no prefix.
+constexpr std::string_view BareAppName(std::string_view qualified) {
+  return qualified.starts_with(kBuiltinPrefix) ? qualified.substr(kBuiltinPrefix.size()) : qualified;
+}
+
 /// Every built-in app, in a fixed order.
 std::span<const BuiltinAppInfo> BuiltinApps();
 
