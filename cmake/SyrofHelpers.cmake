@@ -19,20 +19,35 @@ if(SYROF_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
-# syrof_add_library(NAME <target> [SOURCES ...] [DEPS ...])
-# A module library: public headers in include/, sources in src/. Header-only
-# modules pass no SOURCES and become INTERFACE libraries.
+# syrof_add_library(NAME <target> [SOURCES ...] [INCLUDE_DIR <dir>]
+#                   [PUBLIC <targets>...] [PRIVATE <targets>...])
+# One module library: public headers in INCLUDE_DIR (default include/, under
+# include/syrof/<module>/), sources in src/. PUBLIC lists what the module's
+# public headers include (users inherit it); PRIVATE what only its sources
+# use. Header-only modules pass no SOURCES and become INTERFACE libraries,
+# where every dependency is PUBLIC. Every module of the tree is declared
+# through this function, and its place in the layering (cmake/SyrofLayers.cmake)
+# is checked against the include graph.
 function(syrof_add_library)
-  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "NAME;INCLUDE_DIR" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "syrof_add_library(${ARG_NAME}): unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
+  endif()
+  if(NOT ARG_INCLUDE_DIR)
+    set(ARG_INCLUDE_DIR include)
+  endif()
   if(ARG_SOURCES)
     add_library(${ARG_NAME} STATIC ${ARG_SOURCES})
-    target_include_directories(${ARG_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
-    target_link_libraries(${ARG_NAME} PUBLIC ${ARG_DEPS})
+    target_include_directories(${ARG_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/${ARG_INCLUDE_DIR})
+    target_link_libraries(${ARG_NAME} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
     syrof_set_warnings(${ARG_NAME})
   else()
+    if(ARG_PRIVATE)
+      message(FATAL_ERROR "syrof_add_library(${ARG_NAME}): a header-only module has no PRIVATE dependencies")
+    endif()
     add_library(${ARG_NAME} INTERFACE)
-    target_include_directories(${ARG_NAME} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
-    target_link_libraries(${ARG_NAME} INTERFACE ${ARG_DEPS})
+    target_include_directories(${ARG_NAME} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/${ARG_INCLUDE_DIR})
+    target_link_libraries(${ARG_NAME} INTERFACE ${ARG_PUBLIC})
   endif()
   add_library(syrof::${ARG_NAME} ALIAS ${ARG_NAME})
 endfunction()
