@@ -5,6 +5,7 @@ BUILD_DIR   ?= build
 CROSS_DIR   ?= build-cross
 M4_DIR      ?= build-m4
 ASAN_DIR    ?= build-asan
+RELEASE_DIR ?= build-release
 FUZZ_DIR    ?= build-fuzz
 JOBS        ?= $(shell nproc)
 FUZZ_SECONDS ?= 60
@@ -12,7 +13,7 @@ TEENSY_TOOLCHAIN := cmake/toolchains/teensy32.cmake
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev
 
-.PHONY: all deps build demo test bench bench-m4 cross test-m4 asan fuzz clean
+.PHONY: all deps build demo test release bench bench-m4 cross test-m4 asan fuzz clean
 
 all: build
 
@@ -33,6 +34,13 @@ demo: build
 ## test: the whole host test suite through ctest.
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+## release: the whole tree in a Release build (-O3, warnings as errors), and
+## its tests: optimisation-only warnings and bugs show up here.
+release: deps
+	$(CMAKE_CONFIGURE) -S . -B $(RELEASE_DIR) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(RELEASE_DIR) -j $(JOBS)
+	ctest --test-dir $(RELEASE_DIR) --output-on-failure -j $(JOBS)
 
 ## bench: every program in bench/, each printing its figures.
 bench: build
@@ -77,4 +85,4 @@ fuzz: deps
 	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
 
 clean:
-	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(FUZZ_DIR)
+	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(FUZZ_DIR) $(RELEASE_DIR)
