@@ -5,7 +5,7 @@
 #include "syrof/estimation/imu_model.h"
 #include "syrof/estimation/multilateration.h"
 #include "syrof/estimation/range_model.h"
-#include "syrof/estimation/task_config.h"
+#include "syrof/registry/tasks.h"
 
 namespace syrof::estimation {
 
@@ -47,10 +47,10 @@ template <typename Scalar>
 EstimatorSetupError Estimator<Scalar>::Attach(os::Port& port, pubsub::Broker& broker) {
   if (port_ != nullptr) return EstimatorSetupError::kAlreadyAttached;
   const auto state_id =
-      port.AddTask(state_task_, {"estimation.state", os::Trigger::notified(), config::kStateTaskPriority});
+      port.AddTask(state_task_, {"estimation.state", os::Trigger::notified(), registry::kStateTaskPriority});
   if (!state_id) return EstimatorSetupError::kAddTaskFailed;
   const auto kalman_id = port.AddTask(
-      kalman_task_, {"estimation.kalman", os::Trigger::periodic(config::kKalmanPeriodNs), config::kKalmanTaskPriority});
+      kalman_task_, {"estimation.kalman", os::Trigger::periodic(registry::kKalmanPeriodNs), registry::kKalmanTaskPriority});
   if (!kalman_id) return EstimatorSetupError::kAddTaskFailed;
   if (imu_subscriber_.Subscribe(broker, kImuTopic, state_id.value()) != pubsub::BrokerError::kOk ||
       flow_subscriber_.Subscribe(broker, kFlowTopic, state_id.value()) != pubsub::BrokerError::kOk ||

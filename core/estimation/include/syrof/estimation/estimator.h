@@ -6,7 +6,7 @@
 //                reading, converts it with its sensor model (MPU-9250 units,
 //                the paper's flow formula) and queues it, with its noise, for
 //                the Kalman task (the paper's "updates Z and sets R").
-//   Kalman task  periodic (task_config.h, 100 Hz). Predicts to now with the
+//   Kalman task  periodic (syrof/registry/tasks.h, 100 Hz). Predicts to now with the
 //                mean of the IMU samples queued since its last step (constant
 //                velocity if none came), folds in each queued flow reading
 //                (two scalar updates) and each range (one scalar update per
@@ -136,7 +136,7 @@ class Estimator {
   Estimator& operator=(const Estimator&) = delete;
 
   /// Adds the state task and the Kalman task to `port` (priorities and
-  /// period from task_config.h), subscribes the state task to kImuTopic,
+  /// period from syrof/registry/tasks.h), subscribes the state task to kImuTopic,
   /// kFlowTopic and kUwbTopic, and advertises kStateEstimateTopic. The
   /// sensor topics must already be advertised (the broker registers
   /// publishers first). Before port.Start().
