@@ -125,8 +125,8 @@ void Robot::RefreshEstimate() {
   if (estimate_subscriber_.TakeLatest(latest)) estimate_ = latest;
 }
 
-sync::Snapshot Robot::OwnSnapshot() const {
-  sync::Snapshot snapshot;
+wire::Snapshot Robot::OwnSnapshot() const {
+  wire::Snapshot snapshot;
   snapshot.x_mm = wire::ToMillimetres(estimate_.x_m);
   snapshot.y_mm = wire::ToMillimetres(estimate_.y_m);
   snapshot.heading_mrad = wire::ToMilliradians(estimate_.heading_rad);
@@ -140,7 +140,7 @@ sync::Snapshot Robot::OwnSnapshot() const {
 void Robot::FillAppMap(const sync::LDMap& ldmap) {
   size_t count = 0;
   for (const uint16_t id : ldmap.members) {
-    const sync::Snapshot& snapshot = ldmap.snapshots[id];
+    const wire::Snapshot& snapshot = ldmap.snapshots[id];
     syrof_member_state& member = app_members_[count++];
     member.id = id;
     member.x_mm = snapshot.x_mm;
