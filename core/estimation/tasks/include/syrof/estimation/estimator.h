@@ -1,6 +1,8 @@
 // The paper's two estimation tasks on the broker: a thin wrapper around the
-// filter (ekf.h) and the measurement models, like the Crazyflie's
-// estimator_kalman around kalman_core.
+// filter (ekf.h), the measurement models and the sweep policy (uwb_screen.h),
+// like the Crazyflie's estimator_kalman around kalman_core. This is the
+// target core_estimation_tasks; the math it wraps (core_estimation) includes
+// no OS or broker header.
 //
 //   state task   notified by the IMU, flow and UWB topics. Takes every new
 //                reading, converts it with its sensor model (MPU-9250 units,
@@ -22,7 +24,8 @@
 // SetInitialPose() gives a pose instead. The same fix replaces the range
 // updates whenever the position is very uncertain, and the estimate declares
 // itself lost (and waits for a fix) when sweep after sweep fails the gate
-// (EstimatorConfig has the rules). Nothing is allocated; a step takes bounded
+// (EstimatorConfig has the thresholds, uwb_screen.h the rules as pure
+// functions; this task only calls them and counts). Nothing is allocated; a step takes bounded
 // time (at most kMaxQueuedFlow flow readings and kMaxQueuedSweeps sweeps).
 #pragma once
 
