@@ -26,13 +26,13 @@ Beacon typical_beacon(uint16_t swarm_size) {
   beacon.mode = syrof::wire::Mode::kCooperative;
   beacon.vote_counter = 0;
   for (uint16_t member = 0; member < swarm_size; member += 2) beacon.waiting.set(member);
-  beacon.x_mm = 1234;
-  beacon.y_mm = -2345;
-  beacon.heading_mrad = 1571;
-  beacon.vx_mm_s = 150;
-  beacon.vy_mm_s = -75;
+  beacon.snapshot.x_mm = 1234;
+  beacon.snapshot.y_mm = -2345;
+  beacon.snapshot.heading_mrad = 1571;
+  beacon.snapshot.vx_mm_s = 150;
+  beacon.snapshot.vy_mm_s = -75;
   const std::array<uint8_t, syrof::wire::kMaxPayloadBytes> payload = {1, 2, 3, 4, 5, 6, 7, 8, 9};
-  if (beacon.SetPayload(payload) != syrof::wire::WireError::kOk) std::abort();
+  if (beacon.snapshot.SetPayload(payload) != syrof::wire::WireError::kOk) std::abort();
   return beacon;
 }
 

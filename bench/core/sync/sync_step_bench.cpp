@@ -25,7 +25,7 @@ struct Setup {
 Setup MakeSetup(uint16_t swarm_size, wire::Phase phase) {
   Setup setup;
   setup.config = sync::SyncConfig::ForSwarm(swarm_size, 0);
-  setup.state = sync::InitialState(setup.config, sync::Snapshot{});
+  setup.state = sync::InitialState(setup.config, wire::Snapshot{});
   setup.state.epoch = 7;
   setup.state.phase = phase;
   for (uint16_t id = 1; id < swarm_size; ++id) {
@@ -33,7 +33,7 @@ Setup MakeSetup(uint16_t swarm_size, wire::Phase phase) {
     beacon.robot_id = id;
     beacon.epoch = 7;
     beacon.phase = phase;
-    beacon.x_mm = static_cast<int16_t>(id);
+    beacon.snapshot.x_mm = static_cast<int16_t>(id);
     if (phase == wire::Phase::kVote) {
       beacon.vote_counter = 1;
       beacon.waiting = setup.state.members;

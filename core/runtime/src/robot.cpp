@@ -5,7 +5,7 @@
 
 #include "syrof/base/check.h"
 #include "syrof/estimation/topics.h"
-#include "syrof/runtime/task_config.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/wire/beacon_codec.h"
 #include "syrof/wire/fixed_point.h"
 
@@ -61,9 +61,9 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   // the first radio round.
   const auto round_id = port.AddTask(
       round_task_, {"runtime.round", os::Trigger::periodic(config_.radio_round_ns, config_.radio_round_ns),
-                    config::kRoundTaskPriority});
+                    registry::kRoundTaskPriority});
   const auto motion_id = port.AddTask(
-      motion_task_, {"runtime.motion", os::Trigger::periodic(config::kMotionPeriodNs), config::kMotionTaskPriority});
+      motion_task_, {"runtime.motion", os::Trigger::periodic(registry::kMotionPeriodNs), registry::kMotionTaskPriority});
   if (!round_id.ok() || !motion_id.ok()) return RobotSetupError::kAddTaskFailed;
   if (estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, motion_id.value()) !=
           pubsub::BrokerError::kOk ||
@@ -125,8 +125,8 @@ void Robot::RefreshEstimate() {
   if (estimate_subscriber_.TakeLatest(latest)) estimate_ = latest;
 }
 
-sync::Snapshot Robot::OwnSnapshot() const {
-  sync::Snapshot snapshot;
+wire::Snapshot Robot::OwnSnapshot() const {
+  wire::Snapshot snapshot;
   snapshot.x_mm = wire::ToMillimetres(estimate_.x_m);
   snapshot.y_mm = wire::ToMillimetres(estimate_.y_m);
   snapshot.heading_mrad = wire::ToMilliradians(estimate_.heading_rad);
@@ -140,7 +140,7 @@ sync::Snapshot Robot::OwnSnapshot() const {
 void Robot::FillAppMap(const sync::LDMap& ldmap) {
   size_t count = 0;
   for (const uint16_t id : ldmap.members) {
-    const sync::Snapshot& snapshot = ldmap.snapshots[id];
+    const wire::Snapshot& snapshot = ldmap.snapshots[id];
     syrof_member_state& member = app_members_[count++];
     member.id = id;
     member.x_mm = snapshot.x_mm;

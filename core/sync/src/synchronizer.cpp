@@ -146,7 +146,7 @@ void StepJoining(const SyncConfig& config, SyncState& state, const UsableBeacons
       state.join_group.set(beacon.robot_id);
       if (!state.held.test(beacon.robot_id)) {
         state.held.set(beacon.robot_id);
-        state.snapshots[beacon.robot_id] = SnapshotOf(beacon);
+        state.snapshots[beacon.robot_id] = beacon.snapshot;
         state.last_phase[beacon.robot_id] = beacon.phase;
       }
     }
@@ -238,7 +238,7 @@ void StepMember(const SyncConfig& config, SyncState& state, const UsableBeacons&
     state.waiting.set(id);
     if (!state.held.test(id)) {
       state.held.set(id);
-      state.snapshots[id] = SnapshotOf(beacon);
+      state.snapshots[id] = beacon.snapshot;
     }
     if (beacon.phase == Phase::kWait) {
       state.waiting |= beacon.waiting;
@@ -316,7 +316,7 @@ int16_t EpochDifference(uint16_t a, uint16_t b) {
   return static_cast<int16_t>(static_cast<uint16_t>(a - b));
 }
 
-SyncState InitialState(const SyncConfig& config, const Snapshot& initial_snapshot) {
+SyncState InitialState(const SyncConfig& config, const wire::Snapshot& initial_snapshot) {
   SYROF_CHECK(Validate(config) == ConfigError::kOk);
   SyncState state;
   state.live = initial_snapshot;
@@ -343,18 +343,18 @@ wire::Beacon MakeBeacon(const SyncConfig& config, const SyncState& state) {
     case Phase::kProgress:
       beacon.mode = state.epoch_mode;
       beacon.waiting = state.waiting;
-      WriteSnapshot(state.live, beacon);
+      beacon.snapshot = state.live;
       break;
     case Phase::kWait:
       beacon.mode = state.epoch_mode;
       beacon.waiting = state.waiting;
-      WriteSnapshot(state.snapshots[config.self_id], beacon);
+      beacon.snapshot = state.snapshots[config.self_id];
       break;
     case Phase::kVote:
       beacon.mode = state.veto ? Mode::kAutonomous : Mode::kCooperative;
       beacon.vote_counter = state.vote;
       beacon.waiting = state.view;
-      WriteSnapshot(state.snapshots[config.self_id], beacon);
+      beacon.snapshot = state.snapshots[config.self_id];
       break;
   }
   return beacon;

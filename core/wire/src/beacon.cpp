@@ -21,7 +21,7 @@ const char* ToString(Mode mode) {
   return "?";
 }
 
-WireError Beacon::SetPayload(std::span<const uint8_t> bytes) {
+WireError Snapshot::SetPayload(std::span<const uint8_t> bytes) {
   if (bytes.size() > payload.size()) return WireError::kPayloadTooLong;
   const auto unused = std::copy(bytes.begin(), bytes.end(), payload.begin());
   std::fill(unused, payload.end(), uint8_t{0});
@@ -29,7 +29,7 @@ WireError Beacon::SetPayload(std::span<const uint8_t> bytes) {
   return WireError::kOk;
 }
 
-std::span<const uint8_t> Beacon::payload_bytes() const {
+std::span<const uint8_t> Snapshot::payload_bytes() const {
   return std::span<const uint8_t>(payload).first(std::min<size_t>(payload_length, payload.size()));
 }
 

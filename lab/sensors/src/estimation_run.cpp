@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "syrof/base/check.h"
-#include "syrof/estimation/task_config.h"
 #include "syrof/estimation/topics.h"
 #include "syrof/lab/sensors/sensor_publishers.h"
 #include "syrof/os/sim_port.h"

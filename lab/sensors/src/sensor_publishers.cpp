@@ -28,7 +28,7 @@ void SensorPublishers::OnUwb(const estimation::UwbReading& reading) { Count(uwb_
 
 os::TaskConfig SimulatedSensorsTask::Config(int64_t period_ns) {
   return os::TaskConfig{"sensors.simulated", os::Trigger::periodic(period_ns),
-                        estimation::config::kSensorTaskPriority};
+                        registry::kSensorTaskPriority};
 }
 
 void SimulatedSensorsTask::Step(int64_t now_ns) { bank_.Sample(now_ns, trajectory_.At(now_ns), sink_); }

@@ -8,7 +8,6 @@
 
 #include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
-#include "syrof/estimation/task_config.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
 #include "syrof/lab/replay/writer.h"
@@ -19,7 +18,7 @@
 #include "syrof/os/sim_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/queries/queries.h"
-#include "syrof/runtime/task_config.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/wire/beacon_codec.h"
 
 namespace syrof::lab::sim {
@@ -28,9 +27,9 @@ namespace {
 using scenario::FaultKind;
 using scenario::Scenario;
 
-constexpr uint8_t kFaultPriority = 9;
-constexpr uint8_t kPhysicsPriority = 8;
-constexpr uint8_t kRecorderPriority = 0;
+using registry::kFaultPriority;
+using registry::kPhysicsPriority;
+using registry::kRecorderPriority;
 constexpr int kTasksPerRobot = 4;  // state, Kalman, round, motion
 constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
 
@@ -312,11 +311,11 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
                                                   kPhysicsPriority})
                   .ok());
   SYROF_CHECK(world_port_.AddTask(hardware_task_, {"lab.hardware",
-                                                   os::Trigger::periodic(estimation::config::kImuPeriodNs),
-                                                   estimation::config::kSensorTaskPriority})
+                                                   os::Trigger::periodic(registry::kImuPeriodNs),
+                                                   registry::kSensorTaskPriority})
                   .ok());
   SYROF_CHECK(world_port_.AddTask(radio_task_, {"lab.radio", os::Trigger::periodic(radio_round_ns_, radio_round_ns_),
-                                                runtime::config::kRadioDeliveryPriority})
+                                                registry::kRadioDeliveryPriority})
                   .ok());
   SYROF_CHECK(world_port_.AddTask(recorder_task_, {"lab.recorder",
                                                    os::Trigger::periodic(radio_round_ns_, radio_round_ns_),

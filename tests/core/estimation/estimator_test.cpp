@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "syrof/estimation/task_config.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/estimation/topics.h"
 #include "syrof/os/sim_port.h"
 #include "syrof/pubsub/broker.h"
@@ -28,10 +28,10 @@ class StandingRobotDrivers final : public os::Task {
     if (imu_enabled) {
       EXPECT_EQ(imu.Publish(ImuReading{now_ns, {0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}}), pubsub::BrokerError::kOk);
     }
-    if (now_ns % config::kFlowPeriodNs == 0) {
+    if (now_ns % registry::kFlowPeriodNs == 0) {
       EXPECT_EQ(flow.Publish(FlowReading{now_ns, 20'000'000, 0, 0}), pubsub::BrokerError::kOk);
     }
-    if (uwb_enabled && now_ns % config::kUwbPeriodNs == 0) {
+    if (uwb_enabled && now_ns % registry::kUwbPeriodNs == 0) {
       UwbReading sweep{};
       sweep.timestamp_ns = now_ns;
       for (int i = 0; i < arena_.anchor_count; ++i) {
@@ -84,7 +84,7 @@ class EstimatorTest : public ::testing::Test {
   EstimatorTest() : port_(scheduler_, "robot"), broker_(port_), drivers_(arena_, 1.5f, 2.5f) {}
 
   void Wire(Estimator<float>& estimator) {
-    ASSERT_TRUE(port_.AddTask(drivers_, {"drivers", os::Trigger::periodic(10 * kMillisecond), config::kSensorTaskPriority}));
+    ASSERT_TRUE(port_.AddTask(drivers_, {"drivers", os::Trigger::periodic(10 * kMillisecond), registry::kSensorTaskPriority}));
     ASSERT_EQ(drivers_.imu.Advertise(broker_, kImuTopic), pubsub::BrokerError::kOk);
     ASSERT_EQ(drivers_.flow.Advertise(broker_, kFlowTopic), pubsub::BrokerError::kOk);
     ASSERT_EQ(drivers_.uwb.Advertise(broker_, kUwbTopic), pubsub::BrokerError::kOk);

@@ -13,7 +13,7 @@
 #include "syrof/os/sim_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
-#include "syrof/runtime/task_config.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/wire/beacon_codec.h"
 
 namespace syrof::runtime {
@@ -97,7 +97,7 @@ class Swarm {
  public:
   explicit Swarm(std::vector<app::App*> apps) : scheduler_(64), air_(scheduler_, "air"), delivery_(*this) {
     EXPECT_TRUE(air_.AddTask(delivery_, {"air.delivery", os::Trigger::periodic(kRoundNs, kRoundNs),
-                                         config::kRadioDeliveryPriority})
+                                         registry::kRadioDeliveryPriority})
                     .ok());
     EXPECT_EQ(air_.Start(), os::PortError::kOk);
     for (uint16_t id = 0; id < kRobots; ++id) {

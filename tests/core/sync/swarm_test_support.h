@@ -16,8 +16,8 @@ namespace syrof::sync::testing {
 
 /// The snapshot robot `id` freezes at the end of `epoch`'s maneuver: distinct
 /// per robot and per epoch (modulo 3), so a stale or foreign snapshot shows.
-inline Snapshot SnapshotFor(uint16_t id, uint16_t epoch) {
-  Snapshot snapshot;
+inline wire::Snapshot SnapshotFor(uint16_t id, uint16_t epoch) {
+  wire::Snapshot snapshot;
   snapshot.x_mm = static_cast<int16_t>(100 * id + epoch % 3);
   snapshot.y_mm = static_cast<int16_t>(-7 * id);
   snapshot.payload_length = 1;

@@ -17,8 +17,8 @@ class SynchronizerTest : public ::testing::Test {
     state_ = InitialState(config_, Own());
   }
 
-  static Snapshot Own() {
-    Snapshot snapshot;
+  static wire::Snapshot Own() {
+    wire::Snapshot snapshot;
     snapshot.x_mm = 11;
     return snapshot;
   }
@@ -31,7 +31,7 @@ class SynchronizerTest : public ::testing::Test {
     beacon.epoch = epoch;
     beacon.phase = phase;
     beacon.vote_counter = vote;
-    beacon.x_mm = static_cast<int16_t>(100 * id);
+    beacon.snapshot.x_mm = static_cast<int16_t>(100 * id);
     beacon.mode = Mode::kCooperative;
     if (phase == Phase::kVote) {
       beacon.waiting = state_.members;
@@ -243,7 +243,7 @@ TEST_F(SynchronizerTest, ProgressEndsWhenTheManeuverFinishesAndFreezesTheSnapsho
   StepWith({}, true);
   EXPECT_EQ(state_.phase, Phase::kWait);
   EXPECT_TRUE(state_.waiting.test(0));
-  EXPECT_EQ(out_.beacon.x_mm, Own().x_mm);
+  EXPECT_EQ(out_.beacon.snapshot.x_mm, Own().x_mm);
 }
 
 TEST_F(SynchronizerTest, CatchesUpWhenAMemberIsOneEpochAheadAndItsManeuverIsOver) {

@@ -27,13 +27,13 @@ Beacon golden_beacon() {
   beacon.waiting.set(3);
   beacon.waiting.set(17);
   beacon.waiting.set(31);
-  beacon.x_mm = -1500;
-  beacon.y_mm = 2750;
-  beacon.heading_mrad = -3142;
-  beacon.vx_mm_s = 300;
-  beacon.vy_mm_s = -1;
+  beacon.snapshot.x_mm = -1500;
+  beacon.snapshot.y_mm = 2750;
+  beacon.snapshot.heading_mrad = -3142;
+  beacon.snapshot.vx_mm_s = 300;
+  beacon.snapshot.vy_mm_s = -1;
   const std::array<uint8_t, 3> payload = {0xDE, 0xAD, 0x42};
-  EXPECT_EQ(beacon.SetPayload(payload), WireError::kOk);
+  EXPECT_EQ(beacon.snapshot.SetPayload(payload), WireError::kOk);
   return beacon;
 }
 
@@ -292,7 +292,7 @@ TEST(BeaconEncodeTest, RejectsAnOutOfRangeMode) {
 
 TEST(BeaconEncodeTest, RejectsAPayloadLengthOverNine) {
   Beacon beacon = golden_beacon();
-  beacon.payload_length = kMaxPayloadBytes + 1;
+  beacon.snapshot.payload_length = kMaxPayloadBytes + 1;
 
   EXPECT_EQ(encode_error(beacon), WireError::kPayloadTooLong);
 }
@@ -309,23 +309,23 @@ TEST(BeaconEncodeTest, RejectsAWaitingMemberBeyondTheSwarm) {
 
 TEST(BeaconEncodeTest, RejectsAnOutOfRangeHeading) {
   Beacon beacon = golden_beacon();
-  beacon.heading_mrad = kMaxHeadingMilliradians + 1;
+  beacon.snapshot.heading_mrad = kMaxHeadingMilliradians + 1;
   EXPECT_EQ(encode_error(beacon), WireError::kHeadingOutOfRange);
 
-  beacon.heading_mrad = kMinHeadingMilliradians - 1;
+  beacon.snapshot.heading_mrad = kMinHeadingMilliradians - 1;
   EXPECT_EQ(encode_error(beacon), WireError::kHeadingOutOfRange);
 }
 
 TEST(BeaconEncodeTest, RejectsNonZeroPayloadPadding) {
   Beacon beacon = golden_beacon();
-  beacon.payload[beacon.payload_length] = 0x01;
+  beacon.snapshot.payload[beacon.snapshot.payload_length] = 0x01;
 
   EXPECT_EQ(encode_error(beacon), WireError::kNonZeroPadding);
 }
 
 TEST(BeaconEncodeTest, LeavesZeroesAfterAnError) {
   Beacon beacon = golden_beacon();
-  beacon.payload[kMaxPayloadBytes - 1] = 0x01;
+  beacon.snapshot.payload[kMaxPayloadBytes - 1] = 0x01;
   std::array<uint8_t, kMaxBeaconBytes> buffer;
   buffer.fill(0xAA);
 

@@ -12,23 +12,23 @@ namespace {
 
 TEST(BeaconTest, SetPayloadCopiesAndZeroesTheRest) {
   Beacon beacon;
-  beacon.payload.fill(0xEE);
+  beacon.snapshot.payload.fill(0xEE);
   const std::array<uint8_t, 3> bytes = {1, 2, 3};
 
-  const WireError error = beacon.SetPayload(bytes);
+  const WireError error = beacon.snapshot.SetPayload(bytes);
 
   EXPECT_EQ(error, WireError::kOk);
-  EXPECT_EQ(beacon.payload_length, 3);
-  EXPECT_EQ(beacon.payload, (std::array<uint8_t, kMaxPayloadBytes>{1, 2, 3, 0, 0, 0, 0, 0, 0}));
-  ASSERT_EQ(beacon.payload_bytes().size(), 3u);
-  EXPECT_EQ(beacon.payload_bytes()[2], 3);
+  EXPECT_EQ(beacon.snapshot.payload_length, 3);
+  EXPECT_EQ(beacon.snapshot.payload, (std::array<uint8_t, kMaxPayloadBytes>{1, 2, 3, 0, 0, 0, 0, 0, 0}));
+  ASSERT_EQ(beacon.snapshot.payload_bytes().size(), 3u);
+  EXPECT_EQ(beacon.snapshot.payload_bytes()[2], 3);
 }
 
 TEST(BeaconTest, SetPayloadRefusesMoreThanNineBytes) {
   Beacon beacon;
   const std::array<uint8_t, kMaxPayloadBytes + 1> bytes{};
 
-  const WireError error = beacon.SetPayload(bytes);
+  const WireError error = beacon.snapshot.SetPayload(bytes);
 
   EXPECT_EQ(error, WireError::kPayloadTooLong);
   EXPECT_EQ(beacon, Beacon());
@@ -36,9 +36,9 @@ TEST(BeaconTest, SetPayloadRefusesMoreThanNineBytes) {
 
 TEST(BeaconTest, PayloadBytesClampsABadLength) {
   Beacon beacon;
-  beacon.payload_length = 200;
+  beacon.snapshot.payload_length = 200;
 
-  EXPECT_EQ(beacon.payload_bytes().size(), kMaxPayloadBytes);
+  EXPECT_EQ(beacon.snapshot.payload_bytes().size(), kMaxPayloadBytes);
 }
 
 TEST(BeaconTest, PhaseAndModeHaveProtocolNames) {

@@ -31,11 +31,11 @@ inline Beacon lowest_beacon() {
   beacon.phase = Phase::kProgress;
   beacon.mode = Mode::kCooperative;
   beacon.vote_counter = 0;
-  beacon.x_mm = std::numeric_limits<int16_t>::min();
-  beacon.y_mm = std::numeric_limits<int16_t>::min();
-  beacon.heading_mrad = kMinHeadingMilliradians;
-  beacon.vx_mm_s = std::numeric_limits<int16_t>::min();
-  beacon.vy_mm_s = std::numeric_limits<int16_t>::min();
+  beacon.snapshot.x_mm = std::numeric_limits<int16_t>::min();
+  beacon.snapshot.y_mm = std::numeric_limits<int16_t>::min();
+  beacon.snapshot.heading_mrad = kMinHeadingMilliradians;
+  beacon.snapshot.vx_mm_s = std::numeric_limits<int16_t>::min();
+  beacon.snapshot.vy_mm_s = std::numeric_limits<int16_t>::min();
   return beacon;
 }
 
@@ -48,13 +48,13 @@ inline Beacon highest_beacon(uint16_t swarm_size) {
   beacon.mode = Mode::kAutonomous;
   beacon.vote_counter = std::numeric_limits<uint8_t>::max();
   for (uint16_t member = 0; member < swarm_size; ++member) beacon.waiting.set(member);
-  beacon.x_mm = std::numeric_limits<int16_t>::max();
-  beacon.y_mm = std::numeric_limits<int16_t>::max();
-  beacon.heading_mrad = kMaxHeadingMilliradians;
-  beacon.vx_mm_s = std::numeric_limits<int16_t>::max();
-  beacon.vy_mm_s = std::numeric_limits<int16_t>::max();
-  beacon.payload_length = kMaxPayloadBytes;
-  beacon.payload.fill(0xFF);
+  beacon.snapshot.x_mm = std::numeric_limits<int16_t>::max();
+  beacon.snapshot.y_mm = std::numeric_limits<int16_t>::max();
+  beacon.snapshot.heading_mrad = kMaxHeadingMilliradians;
+  beacon.snapshot.vx_mm_s = std::numeric_limits<int16_t>::max();
+  beacon.snapshot.vy_mm_s = std::numeric_limits<int16_t>::max();
+  beacon.snapshot.payload_length = kMaxPayloadBytes;
+  beacon.snapshot.payload.fill(0xFF);
   return beacon;
 }
 
@@ -73,17 +73,17 @@ inline Beacon random_beacon(std::mt19937& random, uint16_t swarm_size) {
   for (int i = 0; i < members; ++i) {
     beacon.waiting.set(static_cast<uint16_t>(uniform(0, swarm_size - 1)));
   }
-  beacon.x_mm = static_cast<int16_t>(uniform(-32768, 32767));
-  beacon.y_mm = static_cast<int16_t>(uniform(-32768, 32767));
-  beacon.heading_mrad =
+  beacon.snapshot.x_mm = static_cast<int16_t>(uniform(-32768, 32767));
+  beacon.snapshot.y_mm = static_cast<int16_t>(uniform(-32768, 32767));
+  beacon.snapshot.heading_mrad =
       static_cast<int16_t>(uniform(kMinHeadingMilliradians, kMaxHeadingMilliradians));
-  beacon.vx_mm_s = static_cast<int16_t>(uniform(-32768, 32767));
-  beacon.vy_mm_s = static_cast<int16_t>(uniform(-32768, 32767));
+  beacon.snapshot.vx_mm_s = static_cast<int16_t>(uniform(-32768, 32767));
+  beacon.snapshot.vy_mm_s = static_cast<int16_t>(uniform(-32768, 32767));
   std::array<uint8_t, kMaxPayloadBytes> bytes{};
   for (uint8_t& byte : bytes) byte = static_cast<uint8_t>(uniform(0, 255));
   const auto length = static_cast<size_t>(uniform(0, kMaxPayloadBytes));
   [[maybe_unused]] const WireError error =
-      beacon.SetPayload(std::span<const uint8_t>(bytes).first(length));
+      beacon.snapshot.SetPayload(std::span<const uint8_t>(bytes).first(length));
   return beacon;
 }
 

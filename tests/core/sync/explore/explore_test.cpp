@@ -34,8 +34,8 @@ static_assert(wire::kMaxSwarmSize == 4, "the exploration is built for swarms of 
 constexpr uint16_t kMaxRobots = 4;
 constexpr uint8_t kCap = 15;  // counters in the global state saturate here
 
-Snapshot SnapshotFor(uint16_t id, uint16_t epoch) {
-  Snapshot snapshot;
+wire::Snapshot SnapshotFor(uint16_t id, uint16_t epoch) {
+  wire::Snapshot snapshot;
   snapshot.x_mm = static_cast<int16_t>(100 * id + epoch % 3);
   return snapshot;
 }

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "syrof/pubsub/topic.h"
+#include "syrof/registry/topics.h"
 
 namespace syrof::motion {
 
@@ -31,7 +32,7 @@ struct DriveCommand {
 
 static_assert(sizeof(DriveCommand) == 8 + 4 + 5 * 4, "DriveCommand has no padding");
 
-/// Topic id 20 (estimation uses 16..19).
-inline constexpr pubsub::Topic<DriveCommand> kDriveTopic{20, "drive"};
+/// Id and name from the robot's topic list (syrof/registry/topics.h).
+inline constexpr pubsub::Topic<DriveCommand> kDriveTopic{registry::topics::kDrive.id, registry::topics::kDrive.name};
 
 }  // namespace syrof::motion

@@ -164,7 +164,7 @@ class Robot final : private app::Platform {
   void RunRound(int64_t now_ns);
   void RunMotion(int64_t now_ns);
   void RefreshEstimate();
-  sync::Snapshot OwnSnapshot() const;
+  wire::Snapshot OwnSnapshot() const;
   void FillAppMap(const sync::LDMap& ldmap);
   void EndManeuver(int64_t now_ns);
   uint32_t ClockMs(int64_t now_ns) const;

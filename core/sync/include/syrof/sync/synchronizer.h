@@ -87,9 +87,9 @@ struct SyncState {
   uint16_t rounds_alone = 0;      // joining: consecutive rounds with no beacon heard
 
   std::array<uint16_t, wire::kMaxSwarmSize> silent_rounds{};  // per member, consecutive
-  std::array<Snapshot, wire::kMaxSwarmSize> snapshots{};      // valid where `held`
+  std::array<wire::Snapshot, wire::kMaxSwarmSize> snapshots{};      // valid where `held`
   std::array<Phase, wire::kMaxSwarmSize> last_phase{};         // phase each member was last heard in
-  Snapshot live;  // the robot's own current state, sent in PROGRESS beacons
+  wire::Snapshot live;  // the robot's own current state, sent in PROGRESS beacons
 
   SyncStats stats;
 
@@ -99,7 +99,7 @@ struct SyncState {
 /// What the robot did this round, besides the radio.
 struct StepInput {
   bool maneuver_finished = false;  // the maneuver of the current epoch is over
-  Snapshot own_snapshot;           // the robot's state now; frozen when PROGRESS ends
+  wire::Snapshot own_snapshot;           // the robot's state now; frozen when PROGRESS ends
 };
 
 /// What Step() produced. `ldmap` is filled only when `epoch_started`.
@@ -117,7 +117,7 @@ struct StepOutput {
 /// begins in WAIT of epoch 0 with `initial_snapshot` frozen and believes in
 /// every initial member; the first epoch start hands it the swarm's initial
 /// LDMap. Any other robot begins joining. The config must be valid (checked).
-SyncState InitialState(const SyncConfig& config, const Snapshot& initial_snapshot);
+SyncState InitialState(const SyncConfig& config, const wire::Snapshot& initial_snapshot);
 
 /// The beacon a robot in `state` broadcasts (docs/protocol.md, "Beacon").
 wire::Beacon MakeBeacon(const SyncConfig& config, const SyncState& state);

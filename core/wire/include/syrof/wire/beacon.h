@@ -45,22 +45,21 @@ const char* ToString(Phase phase);
 /// "COOPERATIVE" or "AUTONOMOUS"; "?" for a value outside the enum.
 const char* ToString(Mode mode);
 
-/// One robot's beacon for one radio round. The snapshot (pose and velocity)
-/// is the sender's frozen estimate for this epoch, in the arena frame.
-struct Beacon {
-  uint16_t robot_id = 0;  // sender, 0 .. swarm size - 1
-  uint16_t epoch = 0;     // maneuver number; wraps from 65535 to 0
-  Phase phase = Phase::kProgress;
-  Mode mode = Mode::kCooperative;
-  uint8_t vote_counter = 0;    // rounds counted in VOTE (docs/protocol.md)
-  MemberSet waiting;           // members the sender knows to be waiting, ids < swarm size
-  int16_t x_mm = 0;            // position, millimetres
-  int16_t y_mm = 0;            // position, millimetres
+/// A robot's state as the swarm sees it: pose, velocity and the app's
+/// payload, in the beacon's fixed-point units so every robot holds exactly the
+/// same bytes. Defined once, here: the beacon carries it (Beacon::snapshot),
+/// the synchronizer freezes one per member and epoch and hands them to the
+/// app in the LDMap (sync/ldmap.h). Frozen when the member's maneuver ends;
+/// every WAIT and VOTE beacon of that epoch carries it unchanged. Fill it from
+/// an estimate with the conversions in fixed_point.h.
+struct Snapshot {
+  int16_t x_mm = 0;            // position in the arena frame, millimetres
+  int16_t y_mm = 0;            // position in the arena frame, millimetres
   int16_t heading_mrad = 0;    // milliradians counter-clockwise from +x, -3142 .. 3142
   int16_t vx_mm_s = 0;         // velocity, millimetres per second
   int16_t vy_mm_s = 0;         // velocity, millimetres per second
   uint8_t payload_length = 0;  // bytes of payload in use, 0 .. kMaxPayloadBytes
-  std::array<uint8_t, kMaxPayloadBytes> payload{};  // application bytes; the unused tail is zero
+  std::array<uint8_t, kMaxPayloadBytes> payload{};  // the app's sendMessageData bytes; the unused tail is zero
 
   /// Copies `bytes` into the payload, zeroes the rest and sets payload_length.
   /// Returns kPayloadTooLong (and changes nothing) for more than 9 bytes.
@@ -68,6 +67,20 @@ struct Beacon {
 
   /// The bytes in use: payload[0 .. payload_length), clamped to the array.
   std::span<const uint8_t> payload_bytes() const;
+
+  bool operator==(const Snapshot& other) const = default;
+};
+
+/// One robot's beacon for one radio round. The snapshot is the sender's
+/// frozen estimate for this epoch (its live one in PROGRESS).
+struct Beacon {
+  uint16_t robot_id = 0;  // sender, 0 .. swarm size - 1
+  uint16_t epoch = 0;     // maneuver number; wraps from 65535 to 0
+  Phase phase = Phase::kProgress;
+  Mode mode = Mode::kCooperative;
+  uint8_t vote_counter = 0;    // rounds counted in VOTE (docs/protocol.md)
+  MemberSet waiting;           // members the sender knows to be waiting, ids < swarm size
+  Snapshot snapshot;           // pose, velocity and payload (the wire order is beacon_layout.h's)
 
   bool operator==(const Beacon& other) const = default;
 };

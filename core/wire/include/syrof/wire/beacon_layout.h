@@ -51,7 +51,8 @@ constexpr size_t MemberSetBytes(uint16_t swarm_size) { return (size_t{swarm_size
 ///   bytes(info, array, used, error): the whole array; a non-zero byte at an
 ///     index >= used is `error`.
 /// A decoder fills fields in this order, so a later field may depend on an
-/// earlier one (the payload on payload_length).
+/// earlier one (the payload on payload_length). The snapshot's fields keep
+/// their own names in the table (x_mm, not snapshot.x_mm).
 template <typename Codec, typename BeaconT>
 constexpr void DescribeBeacon(Codec& codec, BeaconT& beacon, uint16_t swarm_size) {
   codec.constant({"version", "layout version"}, 8, kBeaconVersion, WireError::kWrongVersion);
@@ -62,20 +63,20 @@ constexpr void DescribeBeacon(Codec& codec, BeaconT& beacon, uint16_t swarm_size
                WireError::kPhaseOutOfRange);
   codec.number({"mode", "operation mode"}, 2, beacon.mode, Mode::kCooperative, Mode::kAutonomous,
                WireError::kModeOutOfRange);
-  codec.number({"payload_length", "payload bytes in use"}, 4, beacon.payload_length, uint8_t{0},
+  codec.number({"payload_length", "payload bytes in use"}, 4, beacon.snapshot.payload_length, uint8_t{0},
                uint8_t{kMaxPayloadBytes}, WireError::kPayloadTooLong);
   codec.number({"vote_counter", "rounds counted in VOTE"}, 8, beacon.vote_counter);
   codec.members({"waiting", "members the sender knows to be waiting"}, beacon.waiting, swarm_size,
                 WireError::kMemberOutOfRange);
-  codec.number({"x_mm", "position x, millimetres"}, 16, beacon.x_mm);
-  codec.number({"y_mm", "position y, millimetres"}, 16, beacon.y_mm);
+  codec.number({"x_mm", "position x, millimetres"}, 16, beacon.snapshot.x_mm);
+  codec.number({"y_mm", "position y, millimetres"}, 16, beacon.snapshot.y_mm);
   codec.number({"heading_mrad", "heading, milliradians counter-clockwise from +x"}, 16,
-               beacon.heading_mrad, kMinHeadingMilliradians, kMaxHeadingMilliradians,
+               beacon.snapshot.heading_mrad, kMinHeadingMilliradians, kMaxHeadingMilliradians,
                WireError::kHeadingOutOfRange);
-  codec.number({"vx_mm_s", "velocity x, millimetres per second"}, 16, beacon.vx_mm_s);
-  codec.number({"vy_mm_s", "velocity y, millimetres per second"}, 16, beacon.vy_mm_s);
-  codec.bytes({"payload", "application bytes, the first payload_length in use"}, beacon.payload,
-              beacon.payload_length, WireError::kNonZeroPadding);
+  codec.number({"vx_mm_s", "velocity x, millimetres per second"}, 16, beacon.snapshot.vx_mm_s);
+  codec.number({"vy_mm_s", "velocity y, millimetres per second"}, 16, beacon.snapshot.vy_mm_s);
+  codec.bytes({"payload", "application bytes, the first payload_length in use"}, beacon.snapshot.payload,
+              beacon.snapshot.payload_length, WireError::kNonZeroPadding);
 }
 
 namespace detail {

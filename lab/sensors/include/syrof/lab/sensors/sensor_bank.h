@@ -21,7 +21,7 @@
 #include "syrof/estimation/arena.h"
 #include "syrof/estimation/flow_model.h"
 #include "syrof/estimation/messages.h"
-#include "syrof/estimation/task_config.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/lab/sensors/gaussian.h"
 #include "syrof/lab/sensors/trajectory.h"
 
@@ -38,7 +38,7 @@ inline constexpr double kStandardGravity = 9.80665;
 /// datasheet's noise densities (300 ug/sqrt(Hz), 0.01 dps/sqrt(Hz)) at a
 /// 41 Hz bandwidth, and the biases left after a bench calibration.
 struct ImuModel {
-  int64_t period_ns = estimation::config::kImuPeriodNs;  ///< 100 Hz
+  int64_t period_ns = registry::kImuPeriodNs;  ///< 100 Hz
   int64_t offset_ns = 0;                                   ///< first sample at this time
   double accel_sigma_mps2 = 0.02;                          ///< white noise per sample, each axis
   double accel_bias_sigma_mps2 = 0.02;                     ///< initial bias, each axis
@@ -53,7 +53,7 @@ struct ImuModel {
 /// the interval), in pixels of the paper's geometry, plus white noise, and
 /// rounded to whole pixels as the sensor counts them.
 struct FlowModel {
-  int64_t period_ns = estimation::config::kFlowPeriodNs;  ///< 50 Hz
+  int64_t period_ns = registry::kFlowPeriodNs;  ///< 50 Hz
   int64_t offset_ns = 0;
   double sigma_px = 2.0;                                    ///< white noise per reading, each axis
   estimation::FlowGeometry<double> geometry{};              ///< must match the estimator's
@@ -66,7 +66,7 @@ struct FlowModel {
 /// are long, never short); with dropout_probability the exchange fails and
 /// the range is missing from the sweep.
 struct UwbModel {
-  int64_t period_ns = estimation::config::kUwbPeriodNs;  ///< 10 Hz
+  int64_t period_ns = registry::kUwbPeriodNs;  ///< 10 Hz
   int64_t offset_ns = 0;
   double sigma_m = 0.10;
   double outlier_probability = 0.02;

@@ -12,6 +12,7 @@
 #include "syrof/os/port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
+#include "syrof/registry/tasks.h"
 
 namespace syrof::lab::sensors {
 
@@ -52,8 +53,8 @@ class SimulatedSensorsTask final : public os::Task {
       : trajectory_(trajectory), bank_(bank), sink_(sink) {}
 
   /// How to add this task to a port: periodic at period_ns, with the
-  /// drivers' priority (estimation/task_config.h).
-  static os::TaskConfig Config(int64_t period_ns = estimation::config::kImuPeriodNs);
+  /// drivers' priority (syrof/registry/tasks.h).
+  static os::TaskConfig Config(int64_t period_ns = registry::kImuPeriodNs);
 
   void Step(int64_t now_ns) override;
 

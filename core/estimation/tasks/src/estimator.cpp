@@ -3,9 +3,8 @@
 #include <cmath>
 
 #include "syrof/estimation/imu_model.h"
-#include "syrof/estimation/multilateration.h"
-#include "syrof/estimation/range_model.h"
-#include "syrof/estimation/task_config.h"
+#include "syrof/estimation/uwb_screen.h"
+#include "syrof/registry/tasks.h"
 
 namespace syrof::estimation {
 
@@ -47,10 +46,10 @@ template <typename Scalar>
 EstimatorSetupError Estimator<Scalar>::Attach(os::Port& port, pubsub::Broker& broker) {
   if (port_ != nullptr) return EstimatorSetupError::kAlreadyAttached;
   const auto state_id =
-      port.AddTask(state_task_, {"estimation.state", os::Trigger::notified(), config::kStateTaskPriority});
+      port.AddTask(state_task_, {"estimation.state", os::Trigger::notified(), registry::kStateTaskPriority});
   if (!state_id) return EstimatorSetupError::kAddTaskFailed;
   const auto kalman_id = port.AddTask(
-      kalman_task_, {"estimation.kalman", os::Trigger::periodic(config::kKalmanPeriodNs), config::kKalmanTaskPriority});
+      kalman_task_, {"estimation.kalman", os::Trigger::periodic(registry::kKalmanPeriodNs), registry::kKalmanTaskPriority});
   if (!kalman_id) return EstimatorSetupError::kAddTaskFailed;
   if (imu_subscriber_.Subscribe(broker, kImuTopic, state_id.value()) != pubsub::BrokerError::kOk ||
       flow_subscriber_.Subscribe(broker, kFlowTopic, state_id.value()) != pubsub::BrokerError::kOk ||
@@ -126,106 +125,16 @@ void Estimator<Scalar>::CollectReadings() {
   }
 }
 
-template <typename Scalar>
-bool Estimator<Scalar>::FixFromSweep(const UwbReading& sweep, Vector2<Scalar>& position) const {
-  Vector3<Scalar> anchors[kMaxAnchors];
-  Scalar ranges[kMaxAnchors];
-  size_t count = 0;
-  for (int i = 0; i < config_.arena.anchor_count && i < kMaxAnchors; ++i) {
-    if ((sweep.valid_mask & (1u << i)) == 0) continue;
-    anchors[count] = config_.arena.anchors[i];
-    ranges[count] = static_cast<Scalar>(sweep.range_m[i]);
-    ++count;
-  }
-  const auto fix = MultilaterateOnPlaneRobust<Scalar>(std::span<const Vector3<Scalar>>(anchors, count),
-                                                      std::span<const Scalar>(ranges, count),
-                                                      config_.arena.tag_height_m,
-                                                      config_.fix_residual_sigma * config_.range_sigma_m);
-  if (!fix) return false;
-  position = fix.value();
-  return true;
-}
-
-template <typename Scalar>
-bool Estimator<Scalar>::InitializeFromSweep(const UwbReading& sweep) {
-  Vector2<Scalar> position;
-  if (!FixFromSweep(sweep, position)) return false;
-  StateVector<Scalar> state;
-  state << position[0], position[1], 0, 0, config_.initial_heading_rad, 0;
-  StateVector<Scalar> sigma;
-  sigma << config_.initial_position_sigma_m, config_.initial_position_sigma_m, config_.initial_velocity_sigma_mps,
-      config_.initial_velocity_sigma_mps, config_.initial_heading_sigma_rad, config_.initial_gyro_bias_sigma_radps;
-  filter_.Reset(state, sigma);
-  ++counters_.fixes;
-  return true;
-}
-
+// The sweep policy is uwb_screen.h's; the task only keeps the counters and
+// the time of the last fused range.
 template <typename Scalar>
 void Estimator<Scalar>::FuseSweep(const UwbReading& sweep, int64_t now_ns) {
-  const StateCovariance<Scalar>& covariance = filter_.covariance();
-  const Scalar largest_variance = covariance(kStateX, kStateX) > covariance(kStateY, kStateY)
-                                      ? covariance(kStateX, kStateX)
-                                      : covariance(kStateY, kStateY);
-  if (largest_variance > config_.fix_above_sigma_m * config_.fix_above_sigma_m) {
-    // Lost: only a consistent fix may place the robot; linearized updates
-    // from this far could settle anywhere.
-    Vector2<Scalar> position;
-    if (FixFromSweep(sweep, position)) {
-      filter_.ResetPosition(position[0], position[1], config_.initial_position_sigma_m);
-      ++counters_.fixes;
-      inconsistent_sweeps_ = 0;
-      last_range_fused_ns_ = now_ns;
-    }
-    return;
-  }
-  int excluded = -1;  // anchor index the sweep screen throws out
-  if (largest_variance > config_.screen_above_sigma_m * config_.screen_above_sigma_m) {
-    Vector3<Scalar> anchors[kMaxAnchors];
-    Scalar ranges[kMaxAnchors];
-    int anchor_of[kMaxAnchors];
-    size_t count = 0;
-    for (int i = 0; i < config_.arena.anchor_count && i < kMaxAnchors; ++i) {
-      if ((sweep.valid_mask & (1u << i)) == 0) continue;
-      anchors[count] = config_.arena.anchors[i];
-      ranges[count] = static_cast<Scalar>(sweep.range_m[i]);
-      anchor_of[count] = i;
-      ++count;
-    }
-    const int worst = FindInconsistentRange<Scalar>(
-        filter_.state(), std::span<const Vector3<Scalar>>(anchors, count), std::span<const Scalar>(ranges, count),
-        config_.arena.tag_height_m, config_.range_sigma_m, config_.range_gate_sigma);
-    if (worst >= 0) excluded = anchor_of[worst];
-  }
-  int fused = 0;
-  int gated = 0;
-  for (int i = 0; i < config_.arena.anchor_count && i < kMaxAnchors; ++i) {
-    if ((sweep.valid_mask & (1u << i)) == 0) continue;
-    if (i == excluded) {
-      ++counters_.ranges_rejected;
-      ++gated;
-      continue;
-    }
-    const EstimationError error =
-        FuseRange(filter_, config_.arena.anchors[i], config_.arena.tag_height_m, static_cast<Scalar>(sweep.range_m[i]),
-                  config_.range_sigma_m, config_.range_gate_sigma);
-    if (error == EstimationError::kOk) {
-      ++fused;
-      continue;
-    }
-    ++counters_.ranges_rejected;
-    if (error == EstimationError::kRejectedByGate) ++gated;
-  }
-  counters_.ranges_fused += static_cast<uint32_t>(fused);
-  if (fused > 0) last_range_fused_ns_ = now_ns;
-  // One outlier in a sweep is common (a person walks by an anchor); two or
-  // more, sweep after sweep, means the estimate is wrong.
-  const bool inconsistent = gated >= 2;
-  inconsistent_sweeps_ = inconsistent ? inconsistent_sweeps_ + 1 : 0;
-  if (inconsistent_sweeps_ >= config_.max_inconsistent_sweeps) {
-    filter_.InflatePositionVariance(config_.relocalization_variance_m2);
-    ++counters_.relocalizations;
-    inconsistent_sweeps_ = 0;
-  }
+  const SweepOutcome outcome = ApplySweep(filter_, inconsistent_sweeps_, sweep, config_);
+  counters_.ranges_fused += static_cast<uint32_t>(outcome.fused);
+  counters_.ranges_rejected += static_cast<uint32_t>(outcome.rejected);
+  if (outcome.fixed) ++counters_.fixes;
+  if (outcome.relocalized) ++counters_.relocalizations;
+  if (outcome.fixed || outcome.fused > 0) last_range_fused_ns_ = now_ns;
 }
 
 template <typename Scalar>
@@ -242,19 +151,14 @@ void Estimator<Scalar>::RunKalmanStep(int64_t now_ns) {
 
   int first_sweep = 0;
   if (batch.has_pose) {
-    const InitialPose<Scalar>& pose = batch.pose;
-    StateVector<Scalar> state;
-    state << pose.x_m, pose.y_m, 0, 0, pose.heading_rad, 0;
-    StateVector<Scalar> sigma;
-    sigma << pose.position_sigma_m, pose.position_sigma_m, config_.initial_velocity_sigma_mps,
-        config_.initial_velocity_sigma_mps, pose.heading_sigma_rad, config_.initial_gyro_bias_sigma_radps;
-    filter_.Reset(state, sigma);
+    StartFilter(filter_, batch.pose, config_);
     initialized_ = true;
     last_step_ns_ = now_ns;
     last_range_fused_ns_ = now_ns;
   } else if (!initialized_) {
     for (; first_sweep < batch.sweep_count && !initialized_; ++first_sweep) {
-      initialized_ = InitializeFromSweep(batch.sweeps[first_sweep]);
+      initialized_ = StartFilterFromSweep(filter_, batch.sweeps[first_sweep], config_);
+      if (initialized_) ++counters_.fixes;
     }
     if (initialized_) {
       // The sweep that placed the robot is not fused again: its ranges are

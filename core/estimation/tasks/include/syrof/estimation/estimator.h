@@ -1,12 +1,14 @@
 // The paper's two estimation tasks on the broker: a thin wrapper around the
-// filter (ekf.h) and the measurement models, like the Crazyflie's
-// estimator_kalman around kalman_core.
+// filter (ekf.h), the measurement models and the sweep policy (uwb_screen.h),
+// like the Crazyflie's estimator_kalman around kalman_core. This is the
+// target core_estimation_tasks; the math it wraps (core_estimation) includes
+// no OS or broker header.
 //
 //   state task   notified by the IMU, flow and UWB topics. Takes every new
 //                reading, converts it with its sensor model (MPU-9250 units,
 //                the paper's flow formula) and queues it, with its noise, for
 //                the Kalman task (the paper's "updates Z and sets R").
-//   Kalman task  periodic (task_config.h, 100 Hz). Predicts to now with the
+//   Kalman task  periodic (syrof/registry/tasks.h, 100 Hz). Predicts to now with the
 //                mean of the IMU samples queued since its last step (constant
 //                velocity if none came), folds in each queued flow reading
 //                (two scalar updates) and each range (one scalar update per
@@ -22,14 +24,15 @@
 // SetInitialPose() gives a pose instead. The same fix replaces the range
 // updates whenever the position is very uncertain, and the estimate declares
 // itself lost (and waits for a fix) when sweep after sweep fails the gate
-// (EstimatorConfig has the rules). Nothing is allocated; a step takes bounded
+// (EstimatorConfig has the thresholds, uwb_screen.h the rules as pure
+// functions; this task only calls them and counts). Nothing is allocated; a step takes bounded
 // time (at most kMaxQueuedFlow flow readings and kMaxQueuedSweeps sweeps).
 #pragma once
 
 #include <cstdint>
 
-#include "syrof/estimation/arena.h"
 #include "syrof/estimation/ekf.h"
+#include "syrof/estimation/estimator_config.h"
 #include "syrof/estimation/flow_model.h"
 #include "syrof/estimation/messages.h"
 #include "syrof/estimation/topics.h"
@@ -38,66 +41,6 @@
 #include "syrof/pubsub/topic.h"
 
 namespace syrof::estimation {
-
-/// Everything the estimator needs to know, fixed at construction.
-template <typename Scalar>
-struct EstimatorConfig {
-  Arena<Scalar> arena = DefaultArena<Scalar>();
-  FlowGeometry<Scalar> flow_geometry{};
-  EkfParams<Scalar> filter{};
-  Scalar flow_sigma_px = 2;                            ///< pixel noise of one flow reading
-  Scalar range_sigma_m = static_cast<Scalar>(0.10);   ///< DWM1000 range noise
-  /// Ranges further than this many standard deviations from the prediction
-  /// are outliers (3.5: a good range is lost once in 2000).
-  Scalar range_gate_sigma = static_cast<Scalar>(3.5);
-  Scalar flow_gate_sigma = 5;
-  /// A sweep is inconsistent when the gate rejects two or more of its
-  /// ranges. After this many inconsistent sweeps in a row the estimate is
-  /// lost (the robot was carried away, or the filter settled on a wrong
-  /// solution): the position variance is inflated by
-  /// relocalization_variance_m2, so that the next consistent sweep gives a
-  /// fix. (Two outliers in one sweep of four happen in 5 % of sweeps even at
-  /// a 10 % outlier rate; five such sweeps in a row, once in 2.5 million.)
-  int max_inconsistent_sweeps = 5;
-  Scalar relocalization_variance_m2 = 1;
-  /// While the position's standard deviation exceeds this, sweeps do not go
-  /// through the filter's linearized updates (which can settle on a wrong
-  /// solution from far away): a sweep places the robot by least squares, with
-  /// standard deviation initial_position_sigma_m, if its ranges agree
-  /// within fix_residual_sigma range sigmas, or if exactly one subset without
-  /// one range does (MultilaterateOnPlaneRobust); otherwise the sweep places
-  /// nobody. The first placement follows the same rule.
-  Scalar fix_above_sigma_m = static_cast<Scalar>(0.5);
-  Scalar fix_residual_sigma = 3;
-  /// While the position's standard deviation exceeds this, the gate of one
-  /// range is too wide to stop an outlier, so each sweep of four ranges or
-  /// more is first screened as a whole (FindInconsistentRange, at
-  /// range_gate_sigma) and its worst-fitting range dropped if it does not
-  /// fit. Below it (the steady state) the screen is skipped, and costs nothing.
-  Scalar screen_above_sigma_m = static_cast<Scalar>(0.1);
-  /// Initialization from the first UWB sweep (and later fixes): heading (no
-  /// sensor gives an absolute heading at rest) and the standard deviations
-  /// it starts with.
-  Scalar initial_heading_rad = 0;
-  Scalar initial_heading_sigma_rad = static_cast<Scalar>(0.3);
-  Scalar initial_position_sigma_m = static_cast<Scalar>(0.3);
-  Scalar initial_velocity_sigma_mps = static_cast<Scalar>(0.3);
-  Scalar initial_gyro_bias_sigma_radps = static_cast<Scalar>(0.02);
-  /// A step longer than this (a paused robot resumed) predicts over this long.
-  int64_t max_step_ns = 100'000'000;
-  /// kEstimateUwbStale is set when no range was fused for this long.
-  int64_t uwb_stale_ns = 1'000'000'000;
-};
-
-/// A known starting pose (SetInitialPose).
-template <typename Scalar>
-struct InitialPose {
-  Scalar x_m = 0;
-  Scalar y_m = 0;
-  Scalar heading_rad = 0;
-  Scalar position_sigma_m = static_cast<Scalar>(0.1);
-  Scalar heading_sigma_rad = static_cast<Scalar>(0.1);
-};
 
 /// Counters since start, for tests, logs and the lab's metrics. Ranges count
 /// as fused or rejected when they went to the filter's updates (or the sweep
@@ -136,7 +79,7 @@ class Estimator {
   Estimator& operator=(const Estimator&) = delete;
 
   /// Adds the state task and the Kalman task to `port` (priorities and
-  /// period from task_config.h), subscribes the state task to kImuTopic,
+  /// period from syrof/registry/tasks.h), subscribes the state task to kImuTopic,
   /// kFlowTopic and kUwbTopic, and advertises kStateEstimateTopic. The
   /// sensor topics must already be advertised (the broker registers
   /// publishers first). Before port.Start().
@@ -189,8 +132,6 @@ class Estimator {
 
   void CollectReadings();
   void RunKalmanStep(int64_t now_ns);
-  bool FixFromSweep(const UwbReading& sweep, Vector2<Scalar>& position) const;
-  bool InitializeFromSweep(const UwbReading& sweep);
   void FuseSweep(const UwbReading& sweep, int64_t now_ns);
   void PublishEstimate(int64_t now_ns, const ImuInput<Scalar>& imu, bool imu_missing);
 
