@@ -46,7 +46,8 @@ Robot::Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<w
       estimator_(config.estimator),
       controller_(config.motion),
       round_task_(*this),
-      motion_task_(*this) {}
+      motion_task_(*this),
+      bank_size_(std::min(receive_storage.size() / 2, size_t{wire::kMaxSwarmSize})) {}
 
 RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   if (port_ != nullptr) return RobotSetupError::kAlreadyAttached;
@@ -93,18 +94,46 @@ void Robot::Receive(const wire::Beacon& beacon) {
 }
 
 void Robot::ReceiveBytes(std::span<const uint8_t> frame) {
-  if (stored_count_ >= receive_storage_.size()) {
-    ++counters_.beacons_overflow;
-    return;
-  }
-  auto decoded = wire::Decode(frame, config_.sync.swarm_size);
+  // Decode outside the critical section: it is the long part, and it touches
+  // only this call's local.
+  const auto decoded = wire::Decode(frame, config_.sync.swarm_size);
+  // port_ is set by Attach, before the port starts (and so before any
+  // producer runs); before Attach there is no round task to race with.
+  os::Port* const port = port_;
+  if (port != nullptr) port->Lock();
   if (!decoded.ok()) {
     ++counters_.beacons_malformed;
-    return;
+  } else if (stored_count_ >= bank_size_) {
+    ++counters_.beacons_overflow;
+  } else {
+    receive_storage_[receiving_bank_ * bank_size_ + stored_count_++] = decoded.value();
+    ++counters_.beacons_received;
   }
-  wire::Beacon& slot = receive_storage_[stored_count_++];
-  slot = decoded.value();
-  Receive(slot);
+  if (port != nullptr) port->Unlock();
+}
+
+void Robot::TakeReceivedBank() {
+  if (bank_size_ == 0) return;
+  size_t bank = 0;
+  size_t count = 0;
+  {
+    os::CriticalSection lock(*port_);
+    bank = receiving_bank_;
+    count = stored_count_;
+    receiving_bank_ = static_cast<uint8_t>(receiving_bank_ ^ 1U);
+    stored_count_ = 0;
+    // Only when Receive() and ReceiveBytes() are mixed can the inbox be short
+    // of room: the surplus becomes overflow, so each frame still counts once.
+    const size_t room = inbox_.size() - inbox_count_;
+    if (count > room) {
+      counters_.beacons_received -= static_cast<uint32_t>(count - room);
+      counters_.beacons_overflow += static_cast<uint32_t>(count - room);
+      count = room;
+    }
+  }
+  // The taken bank is the round task's until the next swap: no lock needed.
+  const wire::Beacon* const first = receive_storage_.data() + bank * bank_size_;
+  for (size_t i = 0; i < count; ++i) inbox_[inbox_count_++] = first + i;
 }
 
 syrof_app_status Robot::SendMessageData(std::span<const uint8_t> payload) {
@@ -177,13 +206,14 @@ void Robot::RunRound(int64_t now_ns) {
   const bool in_progress = state_.status == sync::Status::kMember && state_.phase == wire::Phase::kProgress;
   if (in_progress) ++rounds_in_progress_;
 
+  TakeReceivedBank();
   sync::StepInput input;
   input.own_snapshot = OwnSnapshot();
   input.maneuver_finished = in_progress && rounds_in_progress_ >= config_.maneuver_rounds;
   sync::Step(config_.sync, state_, std::span<const wire::Beacon* const>(inbox_.data(), inbox_count_), input, out_,
              ldmap_);
+  counters_.beacons_stepped += static_cast<uint32_t>(inbox_count_);
   inbox_count_ = 0;
-  stored_count_ = 0;
 
   // The maneuver ends when PROGRESS ends, whatever ended it (its time is up,
   // or the robot lost its group).

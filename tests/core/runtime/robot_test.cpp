@@ -89,7 +89,7 @@ struct TestRobot {
   pubsub::Publisher<estimation::FlowReading> flow;
   pubsub::Publisher<estimation::UwbReading> uwb;
   TestRadio radio;
-  std::array<wire::Beacon, kRobots> storage{};
+  std::array<wire::Beacon, 2 * kRobots> storage{};  // two banks: one round each
   Robot robot;
 };
 
