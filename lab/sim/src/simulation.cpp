@@ -222,8 +222,11 @@ class Simulation::Impl final : public runtime::RobotObserver {
   void StepHardware(int64_t now_ns);
   void StepRadio(int64_t now_ns);
   void StepRecorder(int64_t now_ns);
-  void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other = 0xFFFF,
-                uint16_t epoch = 0, uint8_t mode = 0);
+  // An event of `robot` (or replay::kNoRobot) stamped with the robot's
+  // epoch and that epoch's mode at this moment (docs/replay.md).
+  void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other = replay::kNoRobot);
+  void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other, uint16_t epoch,
+                wire::Mode mode);
   void StartRobot(LabRobot& robot, int64_t now_ns);
   void StopRobot(LabRobot& robot, replay::Presence presence);
 };
@@ -363,14 +366,23 @@ void Simulation::Impl::StopRobot(LabRobot& robot, replay::Presence presence) {
   world_.SetPresence(robot.id(), world::BodyPresence::kStopped);
 }
 
+void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other) {
+  if (robot >= robots_.size()) {
+    AddEvent(kind, now_ns, robot, other, 0, wire::Mode::kCooperative);
+    return;
+  }
+  const sync::SyncState& state = robots_[robot]->robot().sync_state();
+  AddEvent(kind, now_ns, robot, other, state.epoch, state.epoch_mode);
+}
+
 void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other,
-                                uint16_t epoch, uint8_t mode) {
+                                uint16_t epoch, wire::Mode mode) {
   replay::Event event{};
   event.kind = kind;
   event.robot = robot;
   event.other = other;
   event.epoch = epoch;
-  event.mode = mode;
+  event.mode = static_cast<uint8_t>(mode);
   event.time_ns = now_ns;
   round_events_.push_back(event);
 }
@@ -463,7 +475,7 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     const uint8_t active = partition.start_s <= now && now < partition.end_s ? 1 : 0;
     if (active != partition_active_[i]) {
       AddEvent(active != 0 ? replay::EventKind::kPartitionStart : replay::EventKind::kPartitionEnd, now_ns,
-               static_cast<uint16_t>(i));
+               static_cast<uint16_t>(i), replay::kNoRobot, 0, wire::Mode::kCooperative);
       partition_active_[i] = active;
     }
   }
@@ -513,15 +525,14 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
 
 void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) {
   collector_.OnEpochStart(robot, RoundOf(now_ns), ldmap);
-  AddEvent(replay::EventKind::kEpochStart, now_ns, robot, 0xFFFF, ldmap.epoch, static_cast<uint8_t>(ldmap.mode));
+  AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
 }
 
 void Simulation::Impl::OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
                                     const wire::MemberSet& joined) {
   collector_.OnMembership(robot, RoundOf(now_ns), removed, joined);
-  const uint16_t epoch = robots_[robot]->robot().sync_state().epoch;
-  for (const uint16_t member : removed) AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member, epoch);
-  for (const uint16_t member : joined) AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member, epoch);
+  for (const uint16_t member : removed) AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member);
+  for (const uint16_t member : joined) AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member);
 }
 
 void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t now_ns) {
@@ -541,7 +552,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   for (const auto& robot : robots_) {
     const world::BodyState& body = world_.state(robot->id());
     poses.push_back(apps::GoalPose{robot->id(), body.x_m, body.y_m, body.heading_rad,
-                                   robot->presence == replay::Presence::kRunning});
+                                   robot->presence == replay::Presence::kRunning, world_.body_radius_m(robot->id())});
   }
   const apps::GoalReport goal =
       apps::EvaluateGoal(apps::BareAppName(scenario_.app.name), scenario_.app.params,
@@ -575,6 +586,7 @@ double Simulation::now_s() const { return impl_->now_s(); }
 size_t Simulation::robot_count() const { return impl_->robots_.size(); }
 const runtime::Robot& Simulation::robot(uint16_t id) const { return impl_->robots_.at(id)->robot(); }
 const scenario::Scenario& Simulation::scenario() const { return impl_->scenario_; }
+const world::World& Simulation::world() const { return impl_->world_; }
 
 RunReport Run(const Scenario& scenario, const SimulationOptions& options, double wall_seconds) {
   Simulation simulation(scenario, options);

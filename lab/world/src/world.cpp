@@ -610,7 +610,11 @@ void World::UpdateMinSeparation(double max_displacement_m) {
   }
   double best_m = kInfinity;
   for (const uint32_t key : candidates_) {
-    best_m = std::min(best_m, std::max(0.0, Gap(FirstOf(key), SecondOf(key))));
+    const double gap_m = Gap(FirstOf(key), SecondOf(key));
+    // Candidates only: another pair would have to close by the whole
+    // candidate gap within one step's separation to overlap.
+    max_overlap_m_ = std::max(max_overlap_m_, -gap_m);
+    best_m = std::min(best_m, std::max(0.0, gap_m));
   }
   // Every pair that was not a candidate is farther apart than this now.
   const double others_above_m = kCandidateGapM - 2 * max_displacement_m;
