@@ -12,6 +12,7 @@
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
 #include "syrof/lab/replay/writer.h"
+#include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/lab/sensors/sensor_publishers.h"
 #include "syrof/lab/world/channel.h"
@@ -46,18 +47,6 @@ uint64_t SensorSeed(uint64_t seed, uint16_t robot) {
   return base::SplitMix64Hash(seed ^ base::SplitMix64Hash(0x53454e534f52ULL + robot));
 }
 uint64_t ChannelSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4348414e4e454cULL); }
-
-// The estimator's arena: the one the simulated sensors measure against.
-estimation::Arena<float> EstimatorArena(const Scenario& scenario) {
-  const estimation::Arena<double>& source = scenario.sensors.arena;
-  estimation::Arena<float> arena{};
-  arena.width_m = static_cast<float>(source.width_m);
-  arena.depth_m = static_cast<float>(source.depth_m);
-  arena.tag_height_m = static_cast<float>(source.tag_height_m);
-  arena.anchor_count = source.anchor_count;
-  for (int i = 0; i < source.anchor_count; ++i) arena.anchors[i] = source.anchors[i].cast<float>();
-  return arena;
-}
 
 // One queries workspace for every app of the run: the lab runs one robot's
 // callback at a time, and a workspace holds nothing between queries.
@@ -272,32 +261,9 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       radio_task_([this](int64_t now_ns) { StepRadio(now_ns); }),
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
       partition_active_(scenario.channel.partitions.size(), 0) {
-  const auto swarm_size = static_cast<uint16_t>(scenario_.robots.size());
-  wire::MemberSet initial;
+  robots_.reserve(scenario_.robots.size());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
-    if (spec.present_at_start) initial.set(spec.id);
-  }
-  robots_.reserve(swarm_size);
-  for (const scenario::RobotSpec& spec : scenario_.robots) {
-    runtime::RobotConfig config;
-    config.sync = sync::SyncConfig::ForSwarm(swarm_size, spec.id);
-    config.sync.vote_rounds = static_cast<uint8_t>(scenario_.timing.vote_rounds);
-    config.sync.silence_rounds = static_cast<uint16_t>(scenario_.timing.silence_rounds);
-    config.sync.initial_members = initial;
-    config.radio_round_ns = radio_round_ns_;
-    config.maneuver_rounds =
-        static_cast<uint16_t>(std::llround(scenario_.timing.app_round_s / scenario_.timing.radio_round_s));
-    config.estimator.arena = EstimatorArena(scenario_);
-    config.estimator.range_sigma_m = static_cast<float>(std::max(0.02, scenario_.sensors.uwb.sigma_m));
-    config.estimator.flow_sigma_px = static_cast<float>(std::max(0.5, scenario_.sensors.flow.sigma_px));
-    config.initial_pose.x_m = static_cast<float>(spec.x_m);
-    config.initial_pose.y_m = static_cast<float>(spec.y_m);
-    config.initial_pose.heading_rad = static_cast<float>(spec.heading_rad);
-    config.initial_pose.position_sigma_m = 0.05f;
-    config.initial_pose.heading_sigma_rad = 0.05f;
-    config.motion = world::ControllerConfigFor(spec.kind, scenario_.kind_spec(spec.kind));
-    config.arena_width_m = static_cast<float>(scenario_.arena.width_m);
-    config.arena_height_m = static_cast<float>(scenario_.arena.height_m);
+    runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
     config.queries_workspace = workspace_.handle();
     std::unique_ptr<app::App> app =
         options_.app_factory ? options_.app_factory(spec.id)

@@ -80,17 +80,6 @@ motion::DriveKind DriveKindFor(scenario::RobotKind kind) {
   return kind == scenario::RobotKind::kRover ? motion::DriveKind::kWheels : motion::DriveKind::kOmni;
 }
 
-motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec) {
-  motion::ControllerConfig config;
-  config.kind = DriveKindFor(kind);
-  config.limits.max_speed_mps = static_cast<float>(spec.max_speed_mps);
-  config.limits.max_accel_mps2 = static_cast<float>(spec.max_accel_mps2);
-  config.limits.max_turn_rate_radps = static_cast<float>(spec.max_turn_rate_radps);
-  config.limits.wheel_base_m = static_cast<float>(spec.wheel_base_m);
-  config.limits.body_radius_m = static_cast<float>(spec.body_radius_m);
-  return config;
-}
-
 World::World(const scenario::ArenaSpec& arena, std::span<const BodySpec> bodies)
     : width_m_(arena.width_m), height_m_(arena.height_m), min_separation_m_(kInfinity) {
   Require(PositiveFinite(width_m_) && PositiveFinite(height_m_), "arena width and height must be > 0");

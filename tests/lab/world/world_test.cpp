@@ -555,15 +555,9 @@ TEST(WorldTest, SameCallsGiveTheSameBits) {
   EXPECT_EQ(first.min_separation_m(), second.min_separation_m());
 }
 
-TEST(WorldTest, ControllerConfigForCarriesTheKindsLimits) {
-  const motion::ControllerConfig config = ControllerConfigFor(scenario::RobotKind::kRover, RoverSpec());
-
-  EXPECT_EQ(config.kind, motion::DriveKind::kWheels);
-  EXPECT_FLOAT_EQ(config.limits.max_speed_mps, 0.4f);
-  EXPECT_FLOAT_EQ(config.limits.max_accel_mps2, 0.8f);
-  EXPECT_FLOAT_EQ(config.limits.wheel_base_m, 0.16f);
-  EXPECT_FLOAT_EQ(config.limits.body_radius_m, 0.12f);
+TEST(WorldTest, DriveKindFollowsTheRobotKind) {
   EXPECT_EQ(DriveKindFor(scenario::RobotKind::kOmni), motion::DriveKind::kOmni);
+  EXPECT_EQ(DriveKindFor(scenario::RobotKind::kRover), motion::DriveKind::kWheels);
 }
 
 }  // namespace

@@ -83,10 +83,6 @@ inline constexpr double kContactHysteresisM = 1e-3;
 /// The drive kind the motion controller of a robot kind produces.
 motion::DriveKind DriveKindFor(scenario::RobotKind kind);
 
-/// A motion controller configuration with `spec`'s limits (converted to
-/// float) and the default gains and tolerances.
-motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec);
-
 class World {
  public:
   /// Throws std::invalid_argument when the arena is not positive and finite,
