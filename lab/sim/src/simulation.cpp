@@ -12,6 +12,7 @@
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
 #include "syrof/lab/replay/writer.h"
+#include "syrof/lab/sim/radio_network.h"
 #include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/lab/sensors/sensor_publishers.h"
@@ -91,34 +92,17 @@ namespace {
 // it does not have (port.h).
 constexpr os::TaskId kPolledTask = UINT16_MAX;
 
-// The robot's radio: beacons go to the channel's outbox for the next round.
-class LabRadio final : public runtime::Radio {
- public:
-  LabRadio(std::vector<wire::Beacon>& outbox, std::vector<uint8_t>& sent, uint16_t id)
-      : outbox_(outbox), sent_(sent), id_(id) {}
-  void Broadcast(const wire::Beacon& beacon) override {
-    outbox_[id_] = beacon;
-    sent_[id_] = 1;
-  }
-
- private:
-  std::vector<wire::Beacon>& outbox_;
-  std::vector<uint8_t>& sent_;
-  uint16_t id_;
-};
-
 class LabRobot {
  public:
   LabRobot(const Scenario& scenario, const scenario::RobotSpec& spec, os::SimScheduler& scheduler,
-           world::World& world, runtime::RobotConfig config, std::unique_ptr<app::App> app, LabRadio radio)
+           world::World& world, runtime::RobotConfig config, std::unique_ptr<app::App> app, runtime::Radio& radio)
       : spec_(spec),
         world_(world),
         port_(scheduler, "robot"),
         broker_(port_),
         bank_(scenario.sensors, SensorSeed(scenario.seed, spec.id)),
         app_(std::move(app)),
-        radio_(radio),
-        robot_(config, *app_, radio_) {}
+        robot_(config, *app_, radio) {}
 
   void Attach() {
     SYROF_CHECK(publishers_.Advertise(broker_) == pubsub::BrokerError::kOk);
@@ -152,7 +136,6 @@ class LabRobot {
   sensors::SensorPublishers publishers_;
   pubsub::Subscriber<motion::DriveCommand> drive_;
   std::unique_ptr<app::App> app_;
-  LabRadio radio_;
   runtime::Robot robot_;
 };
 
@@ -160,7 +143,7 @@ class LabRobot {
 
 // ---- The simulation -------------------------------------------------------
 
-class Simulation::Impl final : public runtime::RobotObserver {
+class Simulation::Impl final : public runtime::RobotObserver, private BeaconReceivers {
  public:
   Impl(const Scenario& scenario, const SimulationOptions& options);
 
@@ -183,10 +166,7 @@ class Simulation::Impl final : public runtime::RobotObserver {
   os::SimPort world_port_;
   QueriesWorkspace workspace_;
   world::World world_;
-  world::Channel channel_;
-  std::vector<wire::Beacon> outbox_;
-  std::vector<uint8_t> sent_;
-  std::vector<wire::Beacon> inflight_;
+  RadioNetwork radio_;
   std::vector<std::unique_ptr<LabRobot>> robots_;
   metrics::Collector collector_;
   std::unique_ptr<replay::Writer> replay_;
@@ -201,8 +181,6 @@ class Simulation::Impl final : public runtime::RobotObserver {
   std::vector<replay::RobotFrame> frames_;
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
-  std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes_{};
-  uint64_t beacons_malformed_ = 0;
 
  private:
   int64_t RoundOf(int64_t now_ns) const { return now_ns / radio_round_ns_; }
@@ -211,6 +189,9 @@ class Simulation::Impl final : public runtime::RobotObserver {
   void StepHardware(int64_t now_ns);
   void StepRadio(int64_t now_ns);
   void StepRecorder(int64_t now_ns);
+  // BeaconReceivers
+  bool Listening(uint16_t robot) const override;
+  void Receive(uint16_t robot, const wire::Beacon& beacon) override;
   // An event of `robot` (or replay::kNoRobot) stamped with the robot's
   // epoch and that epoch's mode at this moment (docs/replay.md).
   void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other = replay::kNoRobot);
@@ -249,10 +230,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       scheduler_(scenario.robots.size() * kTasksPerRobot + kWorldTasks),
       world_port_(scheduler_, "world"),
       world_(scenario.arena, Bodies(scenario)),
-      channel_(scenario.channel, static_cast<uint16_t>(scenario.robots.size()), ChannelSeed(scenario.seed)),
-      outbox_(scenario.robots.size()),
-      sent_(scenario.robots.size(), 0),
-      inflight_(scenario.robots.size()),
+      radio_(scenario.channel, static_cast<uint16_t>(scenario.robots.size()), ChannelSeed(scenario.seed)),
       collector_(metrics::CollectorConfig{static_cast<uint16_t>(scenario.robots.size()),
                                           Nanoseconds(scenario.timing.radio_round_s)}),
       fault_task_([this](int64_t now_ns) { StepFaults(now_ns); }),
@@ -270,7 +248,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
                              : apps::MakeBuiltinApp(apps::BareAppName(scenario_.app.name), scenario_.app.params);
     SYROF_CHECK(app != nullptr);
     robots_.push_back(std::make_unique<LabRobot>(scenario_, spec, scheduler_, world_, config, std::move(app),
-                                                 LabRadio(outbox_, sent_, spec.id)));
+                                                 radio_.radio(spec.id)));
   }
 
   SYROF_CHECK(world_port_.AddTask(fault_task_, {"lab.faults", os::Trigger::periodic(physics_step_ns_),
@@ -408,30 +386,16 @@ void Simulation::Impl::StepHardware(int64_t now_ns) {
   }
 }
 
-// The beacons broadcast at the end of the previous round travel now: each is
-// encoded and decoded once (the wire format is exercised on every beacon),
-// then offered to every other running robot through the channel.
+// The beacons broadcast at the end of the previous round travel now
+// (radio_network.h), to every running robot.
 void Simulation::Impl::StepRadio(int64_t now_ns) {
   const int64_t round = RoundOf(now_ns) - 1;
-  const double sent_at_s = static_cast<double>(round * radio_round_ns_) * 1e-9;
-  const auto swarm_size = static_cast<uint16_t>(robots_.size());
-  for (uint16_t sender = 0; sender < swarm_size; ++sender) {
-    if (sent_[sender] == 0) continue;
-    sent_[sender] = 0;
-    const auto encoded = wire::Encode(outbox_[sender], swarm_size, frame_bytes_);
-    SYROF_CHECK(encoded.ok());
-    const auto decoded = wire::Decode(std::span<const uint8_t>(frame_bytes_.data(), encoded.value()), swarm_size);
-    if (!decoded.ok()) {
-      ++beacons_malformed_;
-      continue;
-    }
-    inflight_[sender] = decoded.value();
-    for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) {
-      if (receiver == sender || !robots_[receiver]->port().running()) continue;
-      if (channel_.Delivers(sender, receiver, round, sent_at_s)) robots_[receiver]->robot().Receive(inflight_[sender]);
-    }
-  }
+  radio_.Deliver(round, static_cast<double>(round * radio_round_ns_) * 1e-9, *this);
 }
+
+bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
+
+void Simulation::Impl::Receive(uint16_t robot, const wire::Beacon& beacon) { robots_[robot]->robot().Receive(beacon); }
 
 void Simulation::Impl::StepRecorder(int64_t now_ns) {
   const int64_t round = RoundOf(now_ns);
