@@ -12,6 +12,7 @@
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
 #include "syrof/lab/replay/writer.h"
+#include "syrof/lab/sim/fault_schedule.h"
 #include "syrof/lab/sim/radio_network.h"
 #include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sensors/sensor_bank.h"
@@ -27,7 +28,6 @@
 namespace syrof::lab::sim {
 namespace {
 
-using scenario::FaultKind;
 using scenario::Scenario;
 
 constexpr uint8_t kFaultPriority = 9;
@@ -176,7 +176,7 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   CallbackTask hardware_task_;
   CallbackTask radio_task_;
   CallbackTask recorder_task_;
-  size_t next_fault_ = 0;
+  FaultSchedule faults_;
   std::vector<replay::Event> round_events_;
   std::vector<replay::RobotFrame> frames_;
   std::vector<metrics::RobotRound> robot_rounds_;
@@ -238,6 +238,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       hardware_task_([this](int64_t now_ns) { StepHardware(now_ns); }),
       radio_task_([this](int64_t now_ns) { StepRadio(now_ns); }),
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
+      faults_(scenario.faults, radio_round_ns_),
       partition_active_(scenario.channel.partitions.size(), 0) {
   robots_.reserve(scenario_.robots.size());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
@@ -331,39 +332,30 @@ void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t
   round_events_.push_back(event);
 }
 
-// Faults take effect on the radio-round grid: a fault at t starts at the
-// first round boundary at or after t (docs/scenarios.md), so a robot that
-// starts or resumes runs its rounds in step with the others.
+// Faults take effect on the radio-round grid (fault_schedule.h).
 void Simulation::Impl::StepFaults(int64_t now_ns) {
-  if (now_ns % radio_round_ns_ != 0) return;
-  while (next_fault_ < scenario_.faults.size()) {
-    const scenario::FaultSpec& fault = scenario_.faults[next_fault_];
-    if (Nanoseconds(fault.at_s) > now_ns) break;
-    LabRobot& robot = *robots_[fault.robot];
-    switch (fault.kind) {
-      case FaultKind::kCrash:
+  for (const FaultAction& action : faults_.Due(now_ns)) {
+    LabRobot& robot = *robots_[action.robot];
+    switch (action.kind) {
+      case FaultAction::Kind::kCrash:
         StopRobot(robot, replay::Presence::kCrashed);
-        AddEvent(replay::EventKind::kCrash, now_ns, fault.robot);
+        AddEvent(replay::EventKind::kCrash, now_ns, action.robot);
         break;
-      case FaultKind::kPause:
+      case FaultAction::Kind::kPause:
         StopRobot(robot, replay::Presence::kPaused);
-        AddEvent(replay::EventKind::kPause, now_ns, fault.robot);
+        AddEvent(replay::EventKind::kPause, now_ns, action.robot);
         break;
-      case FaultKind::kJoin:
+      case FaultAction::Kind::kJoin:
         StartRobot(robot, now_ns);
-        AddEvent(replay::EventKind::kJoin, now_ns, fault.robot);
+        AddEvent(replay::EventKind::kJoin, now_ns, action.robot);
         break;
-    }
-    ++next_fault_;
-  }
-  // Resumes, in robot order.
-  for (const scenario::FaultSpec& fault : scenario_.faults) {
-    if (fault.kind != FaultKind::kPause) continue;
-    const int64_t resume_ns = ((Nanoseconds(fault.until_s) + radio_round_ns_ - 1) / radio_round_ns_) * radio_round_ns_;
-    LabRobot& robot = *robots_[fault.robot];
-    if (resume_ns == now_ns && robot.presence == replay::Presence::kPaused) {
-      StartRobot(robot, now_ns);
-      AddEvent(replay::EventKind::kResume, now_ns, fault.robot);
+      case FaultAction::Kind::kResume:
+        // A robot that crashed during its pause stays crashed.
+        if (robot.presence == replay::Presence::kPaused) {
+          StartRobot(robot, now_ns);
+          AddEvent(replay::EventKind::kResume, now_ns, action.robot);
+        }
+        break;
     }
   }
 }
