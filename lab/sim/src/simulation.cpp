@@ -13,6 +13,7 @@
 #include "syrof/lab/apps/goal.h"
 #include "syrof/lab/replay/writer.h"
 #include "syrof/lab/sim/fault_schedule.h"
+#include "syrof/lab/sim/observation.h"
 #include "syrof/lab/sim/radio_network.h"
 #include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sensors/sensor_bank.h"
@@ -401,40 +402,15 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
       partition_active_[i] = active;
     }
   }
+  // One observation per robot feeds both the metrics and the replay.
   for (size_t i = 0; i < robots_.size(); ++i) {
-    LabRobot& lab_robot = *robots_[i];
+    const LabRobot& lab_robot = *robots_[i];
     const runtime::Robot& robot = lab_robot.robot();
-    const sync::SyncState& state = robot.sync_state();
-    const world::BodyState& body = world_.state(lab_robot.id());
-    const estimation::StateEstimate& estimate = robot.estimate();
-    const bool running = lab_robot.presence == replay::Presence::kRunning;
-
-    metrics::RobotRound& record = robot_rounds_[i];
-    record.id = lab_robot.id();
-    record.running = running;
-    record.member = running && state.status == sync::Status::kMember;
-    record.epoch = state.epoch;
-    record.epoch_mode = state.epoch_mode;
-    record.phase = state.phase;
-    record.estimate_valid = running && robot.estimate_valid() && now_ns >= lab_robot.scored_from_ns;
-    record.true_x_m = body.x_m;
-    record.true_y_m = body.y_m;
-    record.est_x_m = estimate.x_m;
-    record.est_y_m = estimate.y_m;
-
-    replay::RobotFrame& frame = frames_[i];
-    frame.id = lab_robot.id();
-    frame.presence = lab_robot.presence;
-    frame.status = static_cast<uint8_t>(state.status);
-    frame.phase = static_cast<uint8_t>(state.phase);
-    frame.mode = static_cast<uint8_t>(state.epoch_mode);
-    frame.epoch = state.epoch;
-    frame.true_x_m = static_cast<float>(body.x_m);
-    frame.true_y_m = static_cast<float>(body.y_m);
-    frame.true_heading_rad = static_cast<float>(body.heading_rad);
-    frame.est_x_m = estimate.x_m;
-    frame.est_y_m = estimate.y_m;
-    frame.est_heading_rad = estimate.heading_rad;
+    const RobotObservation observation =
+        Observe(lab_robot.id(), lab_robot.presence, robot.sync_state(), world_.state(lab_robot.id()), robot.estimate(),
+                robot.estimate_valid() && now_ns >= lab_robot.scored_from_ns);
+    robot_rounds_[i] = ToRobotRound(observation);
+    frames_[i] = ToRobotFrame(observation);
   }
   collector_.OnRoundEnd(round, robot_rounds_);
   if (replay_ != nullptr) replay_->WriteRound(static_cast<uint32_t>(round), now_ns, frames_, round_events_);
