@@ -12,19 +12,16 @@
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
 #include "syrof/lab/replay/writer.h"
+#include "lab_robot.h"
 #include "syrof/lab/sim/fault_schedule.h"
 #include "syrof/lab/sim/observation.h"
 #include "syrof/lab/sim/radio_network.h"
 #include "syrof/lab/sim/robot_config.h"
-#include "syrof/lab/sensors/sensor_bank.h"
-#include "syrof/lab/sensors/sensor_publishers.h"
-#include "syrof/lab/world/channel.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/os/sim_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/queries/queries.h"
 #include "syrof/runtime/task_config.h"
-#include "syrof/wire/beacon_codec.h"
 
 namespace syrof::lab::sim {
 namespace {
@@ -43,11 +40,8 @@ constexpr int64_t kEstimationWarmupNs = 1'000'000'000;
 
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 
-// Seeds derived from the scenario seed, one stream per use, so adding a
-// robot does not change another robot's noise.
-uint64_t SensorSeed(uint64_t seed, uint16_t robot) {
-  return base::SplitMix64Hash(seed ^ base::SplitMix64Hash(0x53454e534f52ULL + robot));
-}
+// The channel's seed, derived from the scenario seed as each robot's sensor
+// seed is (SensorSeed, lab_robot.h), one stream per use.
 uint64_t ChannelSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4348414e4e454cULL); }
 
 // One queries workspace for every app of the run: the lab runs one robot's
@@ -78,66 +72,6 @@ class CallbackTask final : public os::Task {
 
  private:
   std::function<void(int64_t)> step_;
-};
-
-}  // namespace
-
-// ---- One simulated robot: its port, broker, hardware and software ---------
-
-namespace {
-
-// The simulated hardware is lab code, not robot code: one world task steps
-// every robot's sensors and actuators (in robot order, at the drivers'
-// priority) instead of one task per robot. Its drive subscriptions are read
-// by polling, so they name no task: a port ignores notifications to an id
-// it does not have (port.h).
-constexpr os::TaskId kPolledTask = UINT16_MAX;
-
-class LabRobot {
- public:
-  LabRobot(const Scenario& scenario, const scenario::RobotSpec& spec, os::SimScheduler& scheduler,
-           world::World& world, runtime::RobotConfig config, std::unique_ptr<app::App> app, runtime::Radio& radio)
-      : spec_(spec),
-        world_(world),
-        port_(scheduler, "robot"),
-        broker_(port_),
-        bank_(scenario.sensors, SensorSeed(scenario.seed, spec.id)),
-        app_(std::move(app)),
-        robot_(config, *app_, radio) {}
-
-  void Attach() {
-    SYROF_CHECK(publishers_.Advertise(broker_) == pubsub::BrokerError::kOk);
-    const runtime::RobotSetupError error = robot_.Attach(port_, broker_);
-    SYROF_CHECK(error == runtime::RobotSetupError::kOk);
-    SYROF_CHECK(drive_.Subscribe(broker_, motion::kDriveTopic, kPolledTask) == pubsub::BrokerError::kOk);
-  }
-
-  // The robot's hardware on the lab side of the topics, once per IMU period
-  // while the robot runs: the latest drive command to its body, then the
-  // sensor readings due, sampled from the body's true state.
-  void StepHardware(int64_t now_ns) {
-    motion::DriveCommand drive{};
-    if (drive_.TakeLatest(drive)) world_.SetDrive(spec_.id, drive);
-    bank_.Sample(now_ns, world_.true_state(spec_.id), publishers_);
-  }
-
-  uint16_t id() const { return spec_.id; }
-  os::SimPort& port() { return port_; }
-  runtime::Robot& robot() { return robot_; }
-  const runtime::Robot& robot() const { return robot_; }
-  int64_t scored_from_ns = 0;  // estimates before this are not scored (warm-up)
-  replay::Presence presence = replay::Presence::kAbsent;
-
- private:
-  scenario::RobotSpec spec_;
-  world::World& world_;
-  os::SimPort port_;
-  pubsub::StaticBroker<8, 12> broker_;
-  sensors::SensorBank bank_;
-  sensors::SensorPublishers publishers_;
-  pubsub::Subscriber<motion::DriveCommand> drive_;
-  std::unique_ptr<app::App> app_;
-  runtime::Robot robot_;
 };
 
 }  // namespace
