@@ -115,9 +115,11 @@ class Robot final : private app::Platform {
 
   /// A frame heard: decoded outside any lock, then copied into the receiving
   /// bank of receive storage under the port's critical section, for the
-  /// round task's next step. Safe from any thread or an interrupt, while the
-  /// round task runs (after Attach; before Attach only from the thread that
-  /// will start the port). Each call counts exactly one of beacons_received,
+  /// round task's next step. Safe from any thread, or from an interrupt on a
+  /// port whose critical section masks interrupts (the firmware's), while
+  /// the round task runs (after Attach; before Attach only from the thread
+  /// that will start the port). Not from a POSIX signal handler: the POSIX
+  /// port's critical section is a mutex. Each call counts exactly one of beacons_received,
   /// beacons_overflow (the bank is full) or beacons_malformed (the bytes did
   /// not decode). Bounded: one decode, one beacon copy in the lock.
   void ReceiveBytes(std::span<const uint8_t> frame);
