@@ -66,7 +66,11 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   const auto motion_id = port.AddTask(
       motion_task_, {"runtime.motion", os::Trigger::periodic(config::kMotionPeriodNs), config::kMotionTaskPriority});
   if (!round_id.ok() || !motion_id.ok()) return RobotSetupError::kAddTaskFailed;
-  if (estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, motion_id.value()) !=
+  // One estimate subscription per task: the round and motion tasks may run
+  // on different threads, so each keeps its own copy of the latest estimate.
+  if (estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, round_id.value()) !=
+          pubsub::BrokerError::kOk ||
+      motion_estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, motion_id.value()) !=
           pubsub::BrokerError::kOk ||
       drive_publisher_.Advertise(broker, motion::kDriveTopic) != pubsub::BrokerError::kOk) {
     return RobotSetupError::kBrokerFailed;
@@ -77,9 +81,10 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   estimate_.x_m = config_.initial_pose.x_m;
   estimate_.y_m = config_.initial_pose.y_m;
   estimate_.heading_rad = config_.initial_pose.heading_rad;
+  motion_estimate_ = estimate_;
   state_ = sync::InitialState(config_.sync, OwnSnapshot());
   command_ = syrof_car_command{};
-  controller_.SetCommand(command_);
+  controller_.SetCommand(command_);  // the port has not started: no motion task yet
   global_state_ = app_.Init(AppInfo(config_), *this);
   return RobotSetupError::kOk;
 }
@@ -191,7 +196,7 @@ void Robot::FillAppMap(const sync::LDMap& ldmap) {
 void Robot::EndManeuver(int64_t now_ns) {
   maneuver_active_ = false;
   command_ = syrof_car_command{};
-  controller_.SetCommand(command_);
+  HandToMotion(command_);
   global_state_ = app_.EndOfRound(app_map_, global_state_, ClockMs(now_ns));
   ++counters_.end_of_rounds;
 }
@@ -226,7 +231,7 @@ void Robot::RunRound(int64_t now_ns) {
     syrof_car_command command{};
     global_state_ = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
     command_ = command;
-    controller_.SetCommand(command_);
+    HandToMotion(command_);
     maneuver_active_ = true;
     rounds_in_progress_ = 0;
     ++counters_.new_rounds;
@@ -242,13 +247,34 @@ void Robot::RunRound(int64_t now_ns) {
   }
 }
 
+// The round task and the motion task may run on different threads (the
+// POSIX port) or preempt each other (the firmware): the controller belongs to
+// the motion task, and the round task hands it the command through a slot
+// under the port's critical section. Only the last command handed before a
+// motion step counts (a STOP then a new command in one round is the new one).
+void Robot::HandToMotion(const syrof_car_command& command) {
+  os::CriticalSection lock(*port_);
+  handed_command_ = command;
+  command_handed_ = true;
+}
+
 void Robot::RunMotion(int64_t now_ns) {
-  if (!started_) {
-    started_ = true;
-    start_ns_ = now_ns;
+  // The app's clock (start_ns_) is the round task's alone: it starts one
+  // radio round before the round task's first step, when the port started.
+  syrof_car_command command{};
+  bool handed = false;
+  {
+    os::CriticalSection lock(*port_);
+    if (command_handed_) {
+      command = handed_command_;
+      command_handed_ = false;
+      handed = true;
+    }
   }
-  RefreshEstimate();
-  (void)drive_publisher_.Publish(controller_.Update(estimate_, now_ns));
+  if (handed) controller_.SetCommand(command);
+  estimation::StateEstimate latest{};
+  if (motion_estimate_subscriber_.TakeLatest(latest)) motion_estimate_ = latest;
+  (void)drive_publisher_.Publish(controller_.Update(motion_estimate_, now_ns));
 }
 
 }  // namespace syrof::runtime

@@ -14,6 +14,7 @@
 #include "syrof/app/app.h"
 #include "syrof/base/split_mix64.h"
 #include "syrof/estimation/topics.h"
+#include "syrof/motion/drive.h"
 #include "syrof/os/posix_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
@@ -145,6 +146,52 @@ TEST(RobotThreadsTest, FramesBeyondABankInOneRoundOverflow) {
   EXPECT_EQ(robot.counters().beacons_received, kSwarm);
   EXPECT_EQ(robot.counters().beacons_overflow, frames.size() - malformed - kSwarm);
   EXPECT_EQ(robot.counters().beacons_malformed, malformed);
+}
+
+// Moves on every new round: the round task hands commands to the motion
+// task, which runs on another thread on the POSIX port.
+class MovingApp final : public app::App {
+ public:
+  const char* name() const override { return "moving"; }
+  uint8_t Init(const syrof_app_info&, app::Platform&) override { return 0; }
+  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state, uint32_t) override {
+    command.kind = SYROF_COMMAND_MOVE_TO;
+    command.x_m = 1.0f + 0.1f * static_cast<float>(ldmap.epoch % 5);
+    command.y_m = 1.0f;
+    command.speed_mps = 0.2f;
+    return global_state;
+  }
+  uint8_t EndOfRound(const syrof_ldmap&, uint8_t global_state, uint32_t) override { return global_state; }
+};
+
+TEST(RobotThreadsTest, CommandsCrossFromTheRoundTaskToTheMotionTaskThread) {
+  os::PosixPort port;
+  pubsub::StaticBroker<8, 12> broker(port);
+  pubsub::Publisher<estimation::ImuReading> imu;
+  pubsub::Publisher<estimation::FlowReading> flow;
+  pubsub::Publisher<estimation::UwbReading> uwb;
+  ASSERT_EQ(imu.Advertise(broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
+  ASSERT_EQ(flow.Advertise(broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
+  ASSERT_EQ(uwb.Advertise(broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+  RobotConfig config;
+  config.sync = sync::SyncConfig::ForSwarm(1, 0);  // alone: an epoch every few rounds
+  config.radio_round_ns = 1'000'000;
+  config.maneuver_rounds = config.sync.vote_rounds;
+  MovingApp app;
+  CountingRadio radio;
+  Robot robot(config, app, radio);
+  ASSERT_EQ(robot.Attach(port, broker), RobotSetupError::kOk);
+  pubsub::Subscriber<motion::DriveCommand> drives;  // the actuator driver, polled
+  ASSERT_EQ(drives.Subscribe(broker, motion::kDriveTopic, UINT16_MAX), pubsub::BrokerError::kOk);
+
+  ASSERT_EQ(port.Start(), os::PortError::kOk);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ASSERT_EQ(port.Stop(), os::PortError::kOk);
+
+  EXPECT_GT(robot.counters().new_rounds, 5u);
+  EXPECT_GT(robot.counters().end_of_rounds, 4u);
+  motion::DriveCommand drive{};
+  EXPECT_TRUE(drives.TakeLatest(drive));
 }
 
 }  // namespace

@@ -129,8 +129,13 @@ class Robot final : private app::Platform {
 
   uint16_t id() const { return config_.sync.self_id; }
   const sync::SyncState& sync_state() const { return state_; }
-  const estimation::StateEstimate& estimate() const { return estimate_; }
-  bool estimate_valid() const { return (estimate_.status & estimation::kEstimateInitialized) != 0; }
+  /// The newest estimate the round or motion task has taken. Like
+  /// counters(): read it from the port's thread (SimPort) or once the port
+  /// has stopped.
+  const estimation::StateEstimate& estimate() const {
+    return motion_estimate_.timestamp_ns > estimate_.timestamp_ns ? motion_estimate_ : estimate_;
+  }
+  bool estimate_valid() const { return (estimate().status & estimation::kEstimateInitialized) != 0; }
   uint8_t global_state() const { return global_state_; }
   const syrof_car_command& command() const { return command_; }
   /// Read them from the round task's thread, or once the port has stopped:
@@ -184,12 +189,15 @@ class Robot final : private app::Platform {
   os::Port* port_ = nullptr;
   pubsub::Subscriber<estimation::StateEstimate> estimate_subscriber_;
   pubsub::Publisher<motion::DriveCommand> drive_publisher_;
-  estimation::StateEstimate estimate_{};
+  estimation::StateEstimate estimate_{};  // the round task's
+  pubsub::Subscriber<estimation::StateEstimate> motion_estimate_subscriber_;
+  estimation::StateEstimate motion_estimate_{};  // the motion task's
 
   sync::SyncState state_;
   sync::StepOutput out_;
   sync::LDMap ldmap_;  // the current epoch's map
   void TakeReceivedBank();
+  void HandToMotion(const syrof_car_command& command);
 
   // The round's inbox: read by the step, filled by Receive() and, at the
   // step's start, by TakeReceivedBank(). Only the round task's thread.
@@ -206,6 +214,10 @@ class Robot final : private app::Platform {
   std::array<syrof_member_state, wire::kMaxSwarmSize> app_members_{};
   syrof_ldmap app_map_{};
   syrof_car_command command_{};
+  // The round task's latest command for the motion task, under the port's
+  // critical section (the controller is the motion task's alone).
+  syrof_car_command handed_command_{};
+  bool command_handed_ = false;
   uint8_t global_state_ = 0;
   uint8_t payload_length_ = 0;
   std::array<uint8_t, wire::kMaxPayloadBytes> payload_{};
