@@ -6,6 +6,7 @@ CROSS_DIR   ?= build-cross
 M4_DIR      ?= build-m4
 ASAN_DIR    ?= build-asan
 RELEASE_DIR ?= build-release
+TSAN_DIR    ?= build-tsan
 FUZZ_DIR    ?= build-fuzz
 JOBS        ?= $(shell nproc)
 FUZZ_SECONDS ?= 60
@@ -13,7 +14,7 @@ TEENSY_TOOLCHAIN := cmake/toolchains/teensy32.cmake
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev
 
-.PHONY: all deps build demo test release bench bench-m4 cross test-m4 asan fuzz clean
+.PHONY: all deps build demo test release bench bench-m4 cross test-m4 asan tsan fuzz clean
 
 all: build
 
@@ -77,6 +78,16 @@ asan: deps
 	cmake --build $(ASAN_DIR) -j $(JOBS)
 	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L 'core|queries|lab'
 
+## tsan: the tests where threads meet (the POSIX port, the broker across
+## threads, the robot's receive edge) under ThreadSanitizer. Their suites:
+## TSAN_SUITES; add a suite there when a test starts threads.
+TSAN_TESTS = test_core_os_posix test_core_pubsub_threads test_core_runtime_threads
+TSAN_SUITES = ^(PosixPortTest|BrokerThreadsTest|RobotThreadsTest)\.
+tsan: deps
+	$(CMAKE_CONFIGURE) -S . -B $(TSAN_DIR) -DSYROF_TSAN=ON -DSYROF_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug
+	cmake --build $(TSAN_DIR) -j $(JOBS) --target $(TSAN_TESTS)
+	TSAN_OPTIONS=halt_on_error=1 ctest --test-dir $(TSAN_DIR) --output-on-failure --no-tests=error -j $(JOBS) -R '$(TSAN_SUITES)'
+
 ## fuzz: libFuzzer on the beacon decoder for FUZZ_SECONDS.
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE_CONFIGURE) -S . -B $(FUZZ_DIR) -DSYROF_FUZZ=ON -DSYROF_BUILD_TESTS=OFF -DSYROF_BUILD_BENCH=OFF
@@ -85,4 +96,4 @@ fuzz: deps
 	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
 
 clean:
-	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(FUZZ_DIR) $(RELEASE_DIR)
+	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR) $(RELEASE_DIR)

@@ -23,9 +23,19 @@ endfunction()
 # computes the same bits on x86-64 and on the Cortex-M4 soft-float build.
 add_compile_options(-ffp-contract=off)
 
+# ASan and TSan cannot share a process: one sanitizer build at a time.
+if(SYROF_SANITIZE AND SYROF_TSAN)
+  message(FATAL_ERROR "SYROF_SANITIZE and SYROF_TSAN are exclusive: configure one build directory for each")
+endif()
 if(SYROF_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined)
+endif()
+# ThreadSanitizer for the tests where threads meet (`make tsan`: the POSIX
+# port, the broker across threads, the robot's receive edge).
+if(SYROF_TSAN)
+  add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=thread)
 endif()
 
 # syrof_add_library(NAME <target> [SOURCES ...] [INCLUDE_DIR <dir>]

@@ -46,7 +46,8 @@ Robot::Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<w
       estimator_(config.estimator),
       controller_(config.motion),
       round_task_(*this),
-      motion_task_(*this) {}
+      motion_task_(*this),
+      bank_size_(std::min(receive_storage.size() / 2, size_t{wire::kMaxSwarmSize})) {}
 
 RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   if (port_ != nullptr) return RobotSetupError::kAlreadyAttached;
@@ -65,7 +66,11 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   const auto motion_id = port.AddTask(
       motion_task_, {"runtime.motion", os::Trigger::periodic(registry::kMotionPeriodNs), registry::kMotionTaskPriority});
   if (!round_id.ok() || !motion_id.ok()) return RobotSetupError::kAddTaskFailed;
-  if (estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, motion_id.value()) !=
+  // One estimate subscription per task: the round and motion tasks may run
+  // on different threads, so each keeps its own copy of the latest estimate.
+  if (estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, round_id.value()) !=
+          pubsub::BrokerError::kOk ||
+      motion_estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, motion_id.value()) !=
           pubsub::BrokerError::kOk ||
       drive_publisher_.Advertise(broker, motion::kDriveTopic) != pubsub::BrokerError::kOk) {
     return RobotSetupError::kBrokerFailed;
@@ -76,9 +81,10 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   estimate_.x_m = config_.initial_pose.x_m;
   estimate_.y_m = config_.initial_pose.y_m;
   estimate_.heading_rad = config_.initial_pose.heading_rad;
+  motion_estimate_ = estimate_;
   state_ = sync::InitialState(config_.sync, OwnSnapshot());
   command_ = syrof_car_command{};
-  controller_.SetCommand(command_);
+  controller_.SetCommand(command_);  // the port has not started: no motion task yet
   global_state_ = app_.Init(AppInfo(config_), *this);
   return RobotSetupError::kOk;
 }
@@ -93,18 +99,46 @@ void Robot::Receive(const wire::Beacon& beacon) {
 }
 
 void Robot::ReceiveBytes(std::span<const uint8_t> frame) {
-  if (stored_count_ >= receive_storage_.size()) {
-    ++counters_.beacons_overflow;
-    return;
-  }
-  auto decoded = wire::Decode(frame, config_.sync.swarm_size);
+  // Decode outside the critical section: it is the long part, and it touches
+  // only this call's local.
+  const auto decoded = wire::Decode(frame, config_.sync.swarm_size);
+  // port_ is set by Attach, before the port starts (and so before any
+  // producer runs); before Attach there is no round task to race with.
+  os::Port* const port = port_;
+  if (port != nullptr) port->Lock();
   if (!decoded.ok()) {
     ++counters_.beacons_malformed;
-    return;
+  } else if (stored_count_ >= bank_size_) {
+    ++counters_.beacons_overflow;
+  } else {
+    receive_storage_[receiving_bank_ * bank_size_ + stored_count_++] = decoded.value();
+    ++counters_.beacons_received;
   }
-  wire::Beacon& slot = receive_storage_[stored_count_++];
-  slot = decoded.value();
-  Receive(slot);
+  if (port != nullptr) port->Unlock();
+}
+
+void Robot::TakeReceivedBank() {
+  if (bank_size_ == 0) return;
+  size_t bank = 0;
+  size_t count = 0;
+  {
+    os::CriticalSection lock(*port_);
+    bank = receiving_bank_;
+    count = stored_count_;
+    receiving_bank_ = static_cast<uint8_t>(receiving_bank_ ^ 1U);
+    stored_count_ = 0;
+    // Only when Receive() and ReceiveBytes() are mixed can the inbox be short
+    // of room: the surplus becomes overflow, so each frame still counts once.
+    const size_t room = inbox_.size() - inbox_count_;
+    if (count > room) {
+      counters_.beacons_received -= static_cast<uint32_t>(count - room);
+      counters_.beacons_overflow += static_cast<uint32_t>(count - room);
+      count = room;
+    }
+  }
+  // The taken bank is the round task's until the next swap: no lock needed.
+  const wire::Beacon* const first = receive_storage_.data() + bank * bank_size_;
+  for (size_t i = 0; i < count; ++i) inbox_[inbox_count_++] = first + i;
 }
 
 syrof_app_status Robot::SendMessageData(std::span<const uint8_t> payload) {
@@ -162,7 +196,7 @@ void Robot::FillAppMap(const sync::LDMap& ldmap) {
 void Robot::EndManeuver(int64_t now_ns) {
   maneuver_active_ = false;
   command_ = syrof_car_command{};
-  controller_.SetCommand(command_);
+  HandToMotion(command_);
   global_state_ = app_.EndOfRound(app_map_, global_state_, ClockMs(now_ns));
   ++counters_.end_of_rounds;
 }
@@ -177,13 +211,14 @@ void Robot::RunRound(int64_t now_ns) {
   const bool in_progress = state_.status == sync::Status::kMember && state_.phase == wire::Phase::kProgress;
   if (in_progress) ++rounds_in_progress_;
 
+  TakeReceivedBank();
   sync::StepInput input;
   input.own_snapshot = OwnSnapshot();
   input.maneuver_finished = in_progress && rounds_in_progress_ >= config_.maneuver_rounds;
   sync::Step(config_.sync, state_, std::span<const wire::Beacon* const>(inbox_.data(), inbox_count_), input, out_,
              ldmap_);
+  counters_.beacons_stepped += static_cast<uint32_t>(inbox_count_);
   inbox_count_ = 0;
-  stored_count_ = 0;
 
   // The maneuver ends when PROGRESS ends, whatever ended it (its time is up,
   // or the robot lost its group).
@@ -196,7 +231,7 @@ void Robot::RunRound(int64_t now_ns) {
     syrof_car_command command{};
     global_state_ = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
     command_ = command;
-    controller_.SetCommand(command_);
+    HandToMotion(command_);
     maneuver_active_ = true;
     rounds_in_progress_ = 0;
     ++counters_.new_rounds;
@@ -212,13 +247,34 @@ void Robot::RunRound(int64_t now_ns) {
   }
 }
 
+// The round task and the motion task may run on different threads (the
+// POSIX port) or preempt each other (the firmware): the controller belongs to
+// the motion task, and the round task hands it the command through a slot
+// under the port's critical section. Only the last command handed before a
+// motion step counts (a STOP then a new command in one round is the new one).
+void Robot::HandToMotion(const syrof_car_command& command) {
+  os::CriticalSection lock(*port_);
+  handed_command_ = command;
+  command_handed_ = true;
+}
+
 void Robot::RunMotion(int64_t now_ns) {
-  if (!started_) {
-    started_ = true;
-    start_ns_ = now_ns;
+  // The app's clock (start_ns_) is the round task's alone: it starts one
+  // radio round before the round task's first step, when the port started.
+  syrof_car_command command{};
+  bool handed = false;
+  {
+    os::CriticalSection lock(*port_);
+    if (command_handed_) {
+      command = handed_command_;
+      command_handed_ = false;
+      handed = true;
+    }
   }
-  RefreshEstimate();
-  (void)drive_publisher_.Publish(controller_.Update(estimate_, now_ns));
+  if (handed) controller_.SetCommand(command);
+  estimation::StateEstimate latest{};
+  if (motion_estimate_subscriber_.TakeLatest(latest)) motion_estimate_ = latest;
+  (void)drive_publisher_.Publish(controller_.Update(motion_estimate_, now_ns));
 }
 
 }  // namespace syrof::runtime

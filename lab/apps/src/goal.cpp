@@ -20,15 +20,18 @@ Position PositionOf(const GoalPose& pose) { return {pose.x_m, pose.y_m}; }
 
 double Distance(Position a, Position b) { return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m); }
 
-// The first pair (in id order) of bodies closer than 2 R, as a detail line;
-// empty when there is none.
+double RadiusOf(const GoalPose& pose, double body_radius_m) { return pose.radius_m > 0 ? pose.radius_m : body_radius_m; }
+
+// The first pair (in id order) of bodies closer than the sum of their radii,
+// as a detail line; empty when there is none.
 std::string FindOverlap(std::span<const GoalPose> poses, double body_radius_m) {
   for (size_t i = 0; i < poses.size(); ++i) {
     for (size_t j = i + 1; j < poses.size(); ++j) {
       const double distance_m = Distance(PositionOf(poses[i]), PositionOf(poses[j]));
-      if (distance_m < 2.0 * body_radius_m) {
+      const double needed_m = RadiusOf(poses[i], body_radius_m) + RadiusOf(poses[j], body_radius_m);
+      if (distance_m < needed_m) {
         return Format("robots %u and %u overlap (%.3f m apart, bodies need %.3f m)", unsigned{poses[i].id},
-                      unsigned{poses[j].id}, distance_m, 2.0 * body_radius_m);
+                      unsigned{poses[j].id}, distance_m, needed_m);
       }
     }
   }

@@ -11,20 +11,20 @@
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
 #include "syrof/lab/replay/writer.h"
-#include "syrof/lab/sensors/sensor_bank.h"
-#include "syrof/lab/sensors/sensor_publishers.h"
-#include "syrof/lab/world/channel.h"
+#include "lab_robot.h"
+#include "syrof/lab/sim/fault_schedule.h"
+#include "syrof/lab/sim/observation.h"
+#include "syrof/lab/sim/radio_network.h"
+#include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/os/sim_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/queries/queries.h"
 #include "syrof/registry/tasks.h"
-#include "syrof/wire/beacon_codec.h"
 
 namespace syrof::lab::sim {
 namespace {
 
-using scenario::FaultKind;
 using scenario::Scenario;
 
 using registry::kFaultPriority;
@@ -39,24 +39,9 @@ constexpr int64_t kEstimationWarmupNs = 1'000'000'000;
 
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 
-// Seeds derived from the scenario seed, one stream per use, so adding a
-// robot does not change another robot's noise.
-uint64_t SensorSeed(uint64_t seed, uint16_t robot) {
-  return base::SplitMix64Hash(seed ^ base::SplitMix64Hash(0x53454e534f52ULL + robot));
-}
+// The channel's seed, derived from the scenario seed as each robot's sensor
+// seed is (SensorSeed, lab_robot.h), one stream per use.
 uint64_t ChannelSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4348414e4e454cULL); }
-
-// The estimator's arena: the one the simulated sensors measure against.
-estimation::Arena<float> EstimatorArena(const Scenario& scenario) {
-  const estimation::Arena<double>& source = scenario.sensors.arena;
-  estimation::Arena<float> arena{};
-  arena.width_m = static_cast<float>(source.width_m);
-  arena.depth_m = static_cast<float>(source.depth_m);
-  arena.tag_height_m = static_cast<float>(source.tag_height_m);
-  arena.anchor_count = source.anchor_count;
-  for (int i = 0; i < source.anchor_count; ++i) arena.anchors[i] = source.anchors[i].cast<float>();
-  return arena;
-}
 
 // One queries workspace for every app of the run: the lab runs one robot's
 // callback at a time, and a workspace holds nothing between queries.
@@ -90,87 +75,9 @@ class CallbackTask final : public os::Task {
 
 }  // namespace
 
-// ---- One simulated robot: its port, broker, hardware and software ---------
-
-namespace {
-
-// The simulated hardware is lab code, not robot code: one world task steps
-// every robot's sensors and actuators (in robot order, at the drivers'
-// priority) instead of one task per robot. Its drive subscriptions are read
-// by polling, so they name no task: a port ignores notifications to an id
-// it does not have (port.h).
-constexpr os::TaskId kPolledTask = UINT16_MAX;
-
-// The robot's radio: beacons go to the channel's outbox for the next round.
-class LabRadio final : public runtime::Radio {
- public:
-  LabRadio(std::vector<wire::Beacon>& outbox, std::vector<uint8_t>& sent, uint16_t id)
-      : outbox_(outbox), sent_(sent), id_(id) {}
-  void Broadcast(const wire::Beacon& beacon) override {
-    outbox_[id_] = beacon;
-    sent_[id_] = 1;
-  }
-
- private:
-  std::vector<wire::Beacon>& outbox_;
-  std::vector<uint8_t>& sent_;
-  uint16_t id_;
-};
-
-class LabRobot {
- public:
-  LabRobot(const Scenario& scenario, const scenario::RobotSpec& spec, os::SimScheduler& scheduler,
-           world::World& world, runtime::RobotConfig config, std::unique_ptr<app::App> app, LabRadio radio)
-      : spec_(spec),
-        world_(world),
-        port_(scheduler, "robot"),
-        broker_(port_),
-        bank_(scenario.sensors, SensorSeed(scenario.seed, spec.id)),
-        app_(std::move(app)),
-        radio_(radio),
-        robot_(config, *app_, radio_) {}
-
-  void Attach() {
-    SYROF_CHECK(publishers_.Advertise(broker_) == pubsub::BrokerError::kOk);
-    const runtime::RobotSetupError error = robot_.Attach(port_, broker_);
-    SYROF_CHECK(error == runtime::RobotSetupError::kOk);
-    SYROF_CHECK(drive_.Subscribe(broker_, motion::kDriveTopic, kPolledTask) == pubsub::BrokerError::kOk);
-  }
-
-  // The robot's hardware on the lab side of the topics, once per IMU period
-  // while the robot runs: the latest drive command to its body, then the
-  // sensor readings due, sampled from the body's true state.
-  void StepHardware(int64_t now_ns) {
-    motion::DriveCommand drive{};
-    if (drive_.TakeLatest(drive)) world_.SetDrive(spec_.id, drive);
-    bank_.Sample(now_ns, world_.true_state(spec_.id), publishers_);
-  }
-
-  uint16_t id() const { return spec_.id; }
-  os::SimPort& port() { return port_; }
-  runtime::Robot& robot() { return robot_; }
-  const runtime::Robot& robot() const { return robot_; }
-  int64_t scored_from_ns = 0;  // estimates before this are not scored (warm-up)
-  replay::Presence presence = replay::Presence::kAbsent;
-
- private:
-  scenario::RobotSpec spec_;
-  world::World& world_;
-  os::SimPort port_;
-  pubsub::StaticBroker<8, 12> broker_;
-  sensors::SensorBank bank_;
-  sensors::SensorPublishers publishers_;
-  pubsub::Subscriber<motion::DriveCommand> drive_;
-  std::unique_ptr<app::App> app_;
-  LabRadio radio_;
-  runtime::Robot robot_;
-};
-
-}  // namespace
-
 // ---- The simulation -------------------------------------------------------
 
-class Simulation::Impl final : public runtime::RobotObserver {
+class Simulation::Impl final : public runtime::RobotObserver, private BeaconReceivers {
  public:
   Impl(const Scenario& scenario, const SimulationOptions& options);
 
@@ -193,10 +100,7 @@ class Simulation::Impl final : public runtime::RobotObserver {
   os::SimPort world_port_;
   QueriesWorkspace workspace_;
   world::World world_;
-  world::Channel channel_;
-  std::vector<wire::Beacon> outbox_;
-  std::vector<uint8_t> sent_;
-  std::vector<wire::Beacon> inflight_;
+  RadioNetwork radio_;
   std::vector<std::unique_ptr<LabRobot>> robots_;
   metrics::Collector collector_;
   std::unique_ptr<replay::Writer> replay_;
@@ -206,13 +110,11 @@ class Simulation::Impl final : public runtime::RobotObserver {
   CallbackTask hardware_task_;
   CallbackTask radio_task_;
   CallbackTask recorder_task_;
-  size_t next_fault_ = 0;
+  FaultSchedule faults_;
   std::vector<replay::Event> round_events_;
   std::vector<replay::RobotFrame> frames_;
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
-  std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes_{};
-  uint64_t beacons_malformed_ = 0;
 
  private:
   int64_t RoundOf(int64_t now_ns) const { return now_ns / radio_round_ns_; }
@@ -221,8 +123,14 @@ class Simulation::Impl final : public runtime::RobotObserver {
   void StepHardware(int64_t now_ns);
   void StepRadio(int64_t now_ns);
   void StepRecorder(int64_t now_ns);
-  void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other = 0xFFFF,
-                uint16_t epoch = 0, uint8_t mode = 0);
+  // BeaconReceivers
+  bool Listening(uint16_t robot) const override;
+  void Receive(uint16_t robot, const wire::Beacon& beacon) override;
+  // An event of `robot` (or replay::kNoRobot) stamped with the robot's
+  // epoch and that epoch's mode at this moment (docs/replay.md).
+  void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other = replay::kNoRobot);
+  void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other, uint16_t epoch,
+                wire::Mode mode);
   void StartRobot(LabRobot& robot, int64_t now_ns);
   void StopRobot(LabRobot& robot, replay::Presence presence);
 };
@@ -256,10 +164,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       scheduler_(scenario.robots.size() * kTasksPerRobot + kWorldTasks),
       world_port_(scheduler_, "world"),
       world_(scenario.arena, Bodies(scenario)),
-      channel_(scenario.channel, static_cast<uint16_t>(scenario.robots.size()), ChannelSeed(scenario.seed)),
-      outbox_(scenario.robots.size()),
-      sent_(scenario.robots.size(), 0),
-      inflight_(scenario.robots.size()),
+      radio_(scenario.channel, static_cast<uint16_t>(scenario.robots.size()), ChannelSeed(scenario.seed)),
       collector_(metrics::CollectorConfig{static_cast<uint16_t>(scenario.robots.size()),
                                           Nanoseconds(scenario.timing.radio_round_s)}),
       fault_task_([this](int64_t now_ns) { StepFaults(now_ns); }),
@@ -267,40 +172,18 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       hardware_task_([this](int64_t now_ns) { StepHardware(now_ns); }),
       radio_task_([this](int64_t now_ns) { StepRadio(now_ns); }),
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
+      faults_(scenario.faults, radio_round_ns_),
       partition_active_(scenario.channel.partitions.size(), 0) {
-  const auto swarm_size = static_cast<uint16_t>(scenario_.robots.size());
-  wire::MemberSet initial;
+  robots_.reserve(scenario_.robots.size());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
-    if (spec.present_at_start) initial.set(spec.id);
-  }
-  robots_.reserve(swarm_size);
-  for (const scenario::RobotSpec& spec : scenario_.robots) {
-    runtime::RobotConfig config;
-    config.sync = sync::SyncConfig::ForSwarm(swarm_size, spec.id);
-    config.sync.vote_rounds = static_cast<uint8_t>(scenario_.timing.vote_rounds);
-    config.sync.silence_rounds = static_cast<uint16_t>(scenario_.timing.silence_rounds);
-    config.sync.initial_members = initial;
-    config.radio_round_ns = radio_round_ns_;
-    config.maneuver_rounds =
-        static_cast<uint16_t>(std::llround(scenario_.timing.app_round_s / scenario_.timing.radio_round_s));
-    config.estimator.arena = EstimatorArena(scenario_);
-    config.estimator.range_sigma_m = static_cast<float>(std::max(0.02, scenario_.sensors.uwb.sigma_m));
-    config.estimator.flow_sigma_px = static_cast<float>(std::max(0.5, scenario_.sensors.flow.sigma_px));
-    config.initial_pose.x_m = static_cast<float>(spec.x_m);
-    config.initial_pose.y_m = static_cast<float>(spec.y_m);
-    config.initial_pose.heading_rad = static_cast<float>(spec.heading_rad);
-    config.initial_pose.position_sigma_m = 0.05f;
-    config.initial_pose.heading_sigma_rad = 0.05f;
-    config.motion = world::ControllerConfigFor(spec.kind, scenario_.kind_spec(spec.kind));
-    config.arena_width_m = static_cast<float>(scenario_.arena.width_m);
-    config.arena_height_m = static_cast<float>(scenario_.arena.height_m);
+    runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
     config.queries_workspace = workspace_.handle();
     std::unique_ptr<app::App> app =
         options_.app_factory ? options_.app_factory(spec.id)
                              : apps::MakeBuiltinApp(apps::BareAppName(scenario_.app.name), scenario_.app.params);
     SYROF_CHECK(app != nullptr);
     robots_.push_back(std::make_unique<LabRobot>(scenario_, spec, scheduler_, world_, config, std::move(app),
-                                                 LabRadio(outbox_, sent_, spec.id)));
+                                                 radio_.radio(spec.id)));
   }
 
   SYROF_CHECK(world_port_.AddTask(fault_task_, {"lab.faults", os::Trigger::periodic(physics_step_ns_),
@@ -362,51 +245,51 @@ void Simulation::Impl::StopRobot(LabRobot& robot, replay::Presence presence) {
   world_.SetPresence(robot.id(), world::BodyPresence::kStopped);
 }
 
+void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other) {
+  if (robot >= robots_.size()) {
+    AddEvent(kind, now_ns, robot, other, 0, wire::Mode::kCooperative);
+    return;
+  }
+  const sync::SyncState& state = robots_[robot]->robot().sync_state();
+  AddEvent(kind, now_ns, robot, other, state.epoch, state.epoch_mode);
+}
+
 void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other,
-                                uint16_t epoch, uint8_t mode) {
+                                uint16_t epoch, wire::Mode mode) {
   replay::Event event{};
   event.kind = kind;
   event.robot = robot;
   event.other = other;
   event.epoch = epoch;
-  event.mode = mode;
+  event.mode = static_cast<uint8_t>(mode);
   event.time_ns = now_ns;
   round_events_.push_back(event);
 }
 
-// Faults take effect on the radio-round grid: a fault at t starts at the
-// first round boundary at or after t (docs/scenarios.md), so a robot that
-// starts or resumes runs its rounds in step with the others.
+// Faults take effect on the radio-round grid (fault_schedule.h).
 void Simulation::Impl::StepFaults(int64_t now_ns) {
-  if (now_ns % radio_round_ns_ != 0) return;
-  while (next_fault_ < scenario_.faults.size()) {
-    const scenario::FaultSpec& fault = scenario_.faults[next_fault_];
-    if (Nanoseconds(fault.at_s) > now_ns) break;
-    LabRobot& robot = *robots_[fault.robot];
-    switch (fault.kind) {
-      case FaultKind::kCrash:
+  for (const FaultAction& action : faults_.Due(now_ns)) {
+    LabRobot& robot = *robots_[action.robot];
+    switch (action.kind) {
+      case FaultAction::Kind::kCrash:
         StopRobot(robot, replay::Presence::kCrashed);
-        AddEvent(replay::EventKind::kCrash, now_ns, fault.robot);
+        AddEvent(replay::EventKind::kCrash, now_ns, action.robot);
         break;
-      case FaultKind::kPause:
+      case FaultAction::Kind::kPause:
         StopRobot(robot, replay::Presence::kPaused);
-        AddEvent(replay::EventKind::kPause, now_ns, fault.robot);
+        AddEvent(replay::EventKind::kPause, now_ns, action.robot);
         break;
-      case FaultKind::kJoin:
+      case FaultAction::Kind::kJoin:
         StartRobot(robot, now_ns);
-        AddEvent(replay::EventKind::kJoin, now_ns, fault.robot);
+        AddEvent(replay::EventKind::kJoin, now_ns, action.robot);
         break;
-    }
-    ++next_fault_;
-  }
-  // Resumes, in robot order.
-  for (const scenario::FaultSpec& fault : scenario_.faults) {
-    if (fault.kind != FaultKind::kPause) continue;
-    const int64_t resume_ns = ((Nanoseconds(fault.until_s) + radio_round_ns_ - 1) / radio_round_ns_) * radio_round_ns_;
-    LabRobot& robot = *robots_[fault.robot];
-    if (resume_ns == now_ns && robot.presence == replay::Presence::kPaused) {
-      StartRobot(robot, now_ns);
-      AddEvent(replay::EventKind::kResume, now_ns, fault.robot);
+      case FaultAction::Kind::kResume:
+        // A robot that crashed during its pause stays crashed.
+        if (robot.presence == replay::Presence::kPaused) {
+          StartRobot(robot, now_ns);
+          AddEvent(replay::EventKind::kResume, now_ns, action.robot);
+        }
+        break;
     }
   }
 }
@@ -429,30 +312,16 @@ void Simulation::Impl::StepHardware(int64_t now_ns) {
   }
 }
 
-// The beacons broadcast at the end of the previous round travel now: each is
-// encoded and decoded once (the wire format is exercised on every beacon),
-// then offered to every other running robot through the channel.
+// The beacons broadcast at the end of the previous round travel now
+// (radio_network.h), to every running robot.
 void Simulation::Impl::StepRadio(int64_t now_ns) {
   const int64_t round = RoundOf(now_ns) - 1;
-  const double sent_at_s = static_cast<double>(round * radio_round_ns_) * 1e-9;
-  const auto swarm_size = static_cast<uint16_t>(robots_.size());
-  for (uint16_t sender = 0; sender < swarm_size; ++sender) {
-    if (sent_[sender] == 0) continue;
-    sent_[sender] = 0;
-    const auto encoded = wire::Encode(outbox_[sender], swarm_size, frame_bytes_);
-    SYROF_CHECK(encoded.ok());
-    const auto decoded = wire::Decode(std::span<const uint8_t>(frame_bytes_.data(), encoded.value()), swarm_size);
-    if (!decoded.ok()) {
-      ++beacons_malformed_;
-      continue;
-    }
-    inflight_[sender] = decoded.value();
-    for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) {
-      if (receiver == sender || !robots_[receiver]->port().running()) continue;
-      if (channel_.Delivers(sender, receiver, round, sent_at_s)) robots_[receiver]->robot().Receive(inflight_[sender]);
-    }
-  }
+  radio_.Deliver(round, static_cast<double>(round * radio_round_ns_) * 1e-9, *this);
 }
+
+bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
+
+void Simulation::Impl::Receive(uint16_t robot, const wire::Beacon& beacon) { robots_[robot]->robot().Receive(beacon); }
 
 void Simulation::Impl::StepRecorder(int64_t now_ns) {
   const int64_t round = RoundOf(now_ns);
@@ -462,44 +331,19 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     const uint8_t active = partition.start_s <= now && now < partition.end_s ? 1 : 0;
     if (active != partition_active_[i]) {
       AddEvent(active != 0 ? replay::EventKind::kPartitionStart : replay::EventKind::kPartitionEnd, now_ns,
-               static_cast<uint16_t>(i));
+               static_cast<uint16_t>(i), replay::kNoRobot, 0, wire::Mode::kCooperative);
       partition_active_[i] = active;
     }
   }
+  // One observation per robot feeds both the metrics and the replay.
   for (size_t i = 0; i < robots_.size(); ++i) {
-    LabRobot& lab_robot = *robots_[i];
+    const LabRobot& lab_robot = *robots_[i];
     const runtime::Robot& robot = lab_robot.robot();
-    const sync::SyncState& state = robot.sync_state();
-    const world::BodyState& body = world_.state(lab_robot.id());
-    const estimation::StateEstimate& estimate = robot.estimate();
-    const bool running = lab_robot.presence == replay::Presence::kRunning;
-
-    metrics::RobotRound& record = robot_rounds_[i];
-    record.id = lab_robot.id();
-    record.running = running;
-    record.member = running && state.status == sync::Status::kMember;
-    record.epoch = state.epoch;
-    record.epoch_mode = state.epoch_mode;
-    record.phase = state.phase;
-    record.estimate_valid = running && robot.estimate_valid() && now_ns >= lab_robot.scored_from_ns;
-    record.true_x_m = body.x_m;
-    record.true_y_m = body.y_m;
-    record.est_x_m = estimate.x_m;
-    record.est_y_m = estimate.y_m;
-
-    replay::RobotFrame& frame = frames_[i];
-    frame.id = lab_robot.id();
-    frame.presence = lab_robot.presence;
-    frame.status = static_cast<uint8_t>(state.status);
-    frame.phase = static_cast<uint8_t>(state.phase);
-    frame.mode = static_cast<uint8_t>(state.epoch_mode);
-    frame.epoch = state.epoch;
-    frame.true_x_m = static_cast<float>(body.x_m);
-    frame.true_y_m = static_cast<float>(body.y_m);
-    frame.true_heading_rad = static_cast<float>(body.heading_rad);
-    frame.est_x_m = estimate.x_m;
-    frame.est_y_m = estimate.y_m;
-    frame.est_heading_rad = estimate.heading_rad;
+    const RobotObservation observation =
+        Observe(lab_robot.id(), lab_robot.presence, robot.sync_state(), world_.state(lab_robot.id()), robot.estimate(),
+                robot.estimate_valid() && now_ns >= lab_robot.scored_from_ns);
+    robot_rounds_[i] = ToRobotRound(observation);
+    frames_[i] = ToRobotFrame(observation);
   }
   collector_.OnRoundEnd(round, robot_rounds_);
   if (replay_ != nullptr) replay_->WriteRound(static_cast<uint32_t>(round), now_ns, frames_, round_events_);
@@ -512,15 +356,14 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
 
 void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) {
   collector_.OnEpochStart(robot, RoundOf(now_ns), ldmap);
-  AddEvent(replay::EventKind::kEpochStart, now_ns, robot, 0xFFFF, ldmap.epoch, static_cast<uint8_t>(ldmap.mode));
+  AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
 }
 
 void Simulation::Impl::OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
                                     const wire::MemberSet& joined) {
   collector_.OnMembership(robot, RoundOf(now_ns), removed, joined);
-  const uint16_t epoch = robots_[robot]->robot().sync_state().epoch;
-  for (const uint16_t member : removed) AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member, epoch);
-  for (const uint16_t member : joined) AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member, epoch);
+  for (const uint16_t member : removed) AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member);
+  for (const uint16_t member : joined) AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member);
 }
 
 void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t now_ns) {
@@ -540,7 +383,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   for (const auto& robot : robots_) {
     const world::BodyState& body = world_.state(robot->id());
     poses.push_back(apps::GoalPose{robot->id(), body.x_m, body.y_m, body.heading_rad,
-                                   robot->presence == replay::Presence::kRunning});
+                                   robot->presence == replay::Presence::kRunning, world_.body_radius_m(robot->id())});
   }
   const apps::GoalReport goal =
       apps::EvaluateGoal(apps::BareAppName(scenario_.app.name), scenario_.app.params,
@@ -574,6 +417,7 @@ double Simulation::now_s() const { return impl_->now_s(); }
 size_t Simulation::robot_count() const { return impl_->robots_.size(); }
 const runtime::Robot& Simulation::robot(uint16_t id) const { return impl_->robots_.at(id)->robot(); }
 const scenario::Scenario& Simulation::scenario() const { return impl_->scenario_; }
+const world::World& Simulation::world() const { return impl_->world_; }
 
 RunReport Run(const Scenario& scenario, const SimulationOptions& options, double wall_seconds) {
   Simulation simulation(scenario, options);

@@ -80,17 +80,6 @@ motion::DriveKind DriveKindFor(scenario::RobotKind kind) {
   return kind == scenario::RobotKind::kRover ? motion::DriveKind::kWheels : motion::DriveKind::kOmni;
 }
 
-motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec) {
-  motion::ControllerConfig config;
-  config.kind = DriveKindFor(kind);
-  config.limits.max_speed_mps = static_cast<float>(spec.max_speed_mps);
-  config.limits.max_accel_mps2 = static_cast<float>(spec.max_accel_mps2);
-  config.limits.max_turn_rate_radps = static_cast<float>(spec.max_turn_rate_radps);
-  config.limits.wheel_base_m = static_cast<float>(spec.wheel_base_m);
-  config.limits.body_radius_m = static_cast<float>(spec.body_radius_m);
-  return config;
-}
-
 World::World(const scenario::ArenaSpec& arena, std::span<const BodySpec> bodies)
     : width_m_(arena.width_m), height_m_(arena.height_m), min_separation_m_(kInfinity) {
   Require(PositiveFinite(width_m_) && PositiveFinite(height_m_), "arena width and height must be > 0");
@@ -610,7 +599,11 @@ void World::UpdateMinSeparation(double max_displacement_m) {
   }
   double best_m = kInfinity;
   for (const uint32_t key : candidates_) {
-    best_m = std::min(best_m, std::max(0.0, Gap(FirstOf(key), SecondOf(key))));
+    const double gap_m = Gap(FirstOf(key), SecondOf(key));
+    // Candidates only: another pair would have to close by the whole
+    // candidate gap within one step's separation to overlap.
+    max_overlap_m_ = std::max(max_overlap_m_, -gap_m);
+    best_m = std::min(best_m, std::max(0.0, gap_m));
   }
   // Every pair that was not a candidate is farther apart than this now.
   const double others_above_m = kCandidateGapM - 2 * max_displacement_m;

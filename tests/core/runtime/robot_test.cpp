@@ -89,7 +89,7 @@ struct TestRobot {
   pubsub::Publisher<estimation::FlowReading> flow;
   pubsub::Publisher<estimation::UwbReading> uwb;
   TestRadio radio;
-  std::array<wire::Beacon, kRobots> storage{};
+  std::array<wire::Beacon, 2 * kRobots> storage{};  // two banks: one round each
   Robot robot;
 };
 
@@ -276,9 +276,20 @@ TEST(RobotTest, MalformedFramesAreCountedAndDropped) {
 
 // ---- A C app through the ABI ---------------------------------------------
 
+// A C app has only globals; the fixture resets them before each test, so the
+// counts are this test's alone (also under --gtest_repeat).
 uint8_t c_init_calls = 0;
 uint8_t c_new_rounds = 0;
 int c_send_status = -1;
+
+class CAppRobotTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    c_init_calls = 0;
+    c_new_rounds = 0;
+    c_send_status = -1;
+  }
+};
 
 uint8_t CInit(const syrof_app_info* info) {
   ++c_init_calls;
@@ -295,7 +306,7 @@ uint8_t CEndOfRound(const syrof_ldmap*, uint8_t global_state, uint32_t) { return
 
 const syrof_app_descriptor kCApp = {SYROF_APP_ABI_VERSION, "c_test", CInit, CNewRound, CEndOfRound};
 
-TEST(RobotTest, CAppsSendOnTheirOwnRobot) {
+TEST_F(CAppRobotTest, CAppsSendOnTheirOwnRobot) {
   app::CAbiApp a(kCApp), b(kCApp), c(kCApp);
   Swarm swarm({&a, &b, &c});
 

@@ -119,6 +119,22 @@ TEST(EvaluateGoalTest, OverlappingBodiesMissTheGoal) {
   EXPECT_NE(report.detail.find("overlap"), std::string::npos) << report.detail;
 }
 
+TEST(EvaluateGoalTest, MixedKindsOverlapByTheirOwnRadii) {
+  // Arrange: an omni body (0.10 m) and a rover (0.12 m) 0.21 m apart: clear
+  // by two omni radii (0.20 m), overlapping by their own (0.22 m).
+  std::vector<GoalPose> poses = PosesAt({{1.0, 1.0}, {1.21, 1.0}});
+  poses[0].radius_m = 0.10;
+  poses[1].radius_m = 0.12;
+
+  // Act
+  const GoalReport report = EvaluateGoal("gather", {}, kArena, kRadiusM, poses);
+
+  // Assert
+  EXPECT_FALSE(report.reached);
+  EXPECT_NE(report.detail.find("robots 0 and 1 overlap"), std::string::npos) << report.detail;
+  EXPECT_NE(report.detail.find("0.220"), std::string::npos) << report.detail;
+}
+
 TEST(EvaluateGoalTest, LeaderFollowReachedWithTheLineBehindTheLeader) {
   // Arrange: leader 0 at angle 1 rad, followers on their slots.
   const LeaderPath path = MakeLeaderPath(LeaderFollowParams{}, 5, kArena, kRadiusM);

@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
+#include "syrof/lab/replay/reader.h"
 #include "syrof/lab/scenario/scenario.h"
 
 namespace syrof::lab::sim {
@@ -216,13 +218,61 @@ TEST(SimulationTest, CollisionsAreCountedAndBodiesDoNotPassThrough) {
   const scenario::Scenario scenario = Load(Swarm("", 0.0, 8, 4));
   SimulationOptions options;
   options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
+  Simulation simulation(scenario, options);
 
-  const RunReport report = sim::Run(scenario, options, 0.0);
-  const json metrics = json::parse(report.metrics_json);
+  const json metrics = json::parse(simulation.Finish(0).metrics_json);
 
   EXPECT_GE(metrics["collisions"]["count"].get<int>(), 1);
-  EXPECT_GE(metrics["collisions"]["min_separation_m"].get<double>(), -0.02);
   EXPECT_FALSE(metrics["collisions"]["pairs"].empty());
+  // Four robots pushing into one point: after each physics step no two
+  // bodies overlap by more than a millimetre (min_separation_m clamps at 0,
+  // so only the overlap itself can show a failure).
+  EXPECT_LE(simulation.world().max_overlap_m(), 1e-3);
+  EXPECT_DOUBLE_EQ(metrics["collisions"]["min_separation_m"].get<double>(), 0.0);
+}
+
+// Every robot's event carries the robot's epoch and that epoch's mode at the
+// moment (docs/replay.md), not the defaults 0 and COOPERATIVE: the same as
+// the robot's frame of the round before the event or of the round after it.
+TEST(SimulationTest, EventsCarryTheRobotsEpochAndModeThen) {
+  const scenario::Scenario scenario =
+      Load(Swarm("faults: [{crash: 2, at_s: 4}, {pause: 1, at_s: 3, until_s: 6}, {join: 3, at_s: 2}]\n", 0.0, 9, 5));
+  SimulationOptions options;
+  options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
+  std::stringstream bytes;
+  options.replay = &bytes;
+  (void)sim::Run(scenario, options, 0.0);
+
+  replay::Reader reader(bytes);
+  replay::Header header;
+  ASSERT_TRUE(reader.ReadHeader(header));
+  replay::Round previous;
+  replay::Round round;
+  std::map<replay::EventKind, int> checked;
+  while (reader.Next(round)) {
+    for (const replay::Event& event : round.events) {
+      if (event.robot >= round.robots.size() || event.kind == replay::EventKind::kPartitionStart ||
+          event.kind == replay::EventKind::kPartitionEnd) {
+        continue;
+      }
+      const replay::RobotFrame& after = round.robots[event.robot];
+      const replay::RobotFrame& before = previous.robots.empty() ? after : previous.robots[event.robot];
+      const bool as_before = event.epoch == before.epoch && event.mode == before.mode;
+      const bool as_after = event.epoch == after.epoch && event.mode == after.mode;
+      EXPECT_TRUE(as_before || as_after) << replay::ToString(event.kind) << " robot " << event.robot << " at "
+                                         << event.time_ns << " ns: epoch " << event.epoch << " mode "
+                                         << int{event.mode} << ", frames " << before.epoch << "/"
+                                         << int{before.mode} << " and " << after.epoch << "/" << int{after.mode};
+      ++checked[event.kind];
+    }
+    previous = round;
+  }
+  EXPECT_TRUE(reader.complete()) << reader.error();
+  for (const replay::EventKind kind : {replay::EventKind::kCollision, replay::EventKind::kCrash,
+                                       replay::EventKind::kPause, replay::EventKind::kResume,
+                                       replay::EventKind::kJoin, replay::EventKind::kEpochStart}) {
+    EXPECT_GT(checked[kind], 0) << replay::ToString(kind);
+  }
 }
 
 // ---- The built-in apps in their example scenarios --------------------------

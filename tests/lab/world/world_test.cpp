@@ -184,6 +184,7 @@ TEST(WorldTest, ThreeRobotsMeetingInAPileSeparateAndTouchOnce) {
   }
 
   EXPECT_GE(worst_gap, -1e-3);
+  EXPECT_LE(world.max_overlap_m(), 1e-9);  // separated at the end of every step
   ASSERT_EQ(run.contacts.size(), 3u);
   EXPECT_EQ(run.contacts[0].a, 0);
   EXPECT_EQ(run.contacts[0].b, 1);
@@ -268,6 +269,21 @@ TEST(WorldTest, OverlapAtPlacementIsSeparatedButNotCounted) {
   EXPECT_EQ(world.wall_contacts(), 0u);
   EXPECT_NEAR(Gap(world, 0, 1), 0.0, 1e-9);
   EXPECT_DOUBLE_EQ(world.state(2).x_m, 0.1);
+}
+
+TEST(WorldTest, MaxOverlapRecordsTheDeepestOverlapLeftAfterAStep) {
+  // Two stopped bodies are never pushed: placed 0.15 m apart (radii 0.1 m),
+  // they overlap by 0.05 m after every step, and the world says so.
+  const std::vector<BodySpec> bodies{Omni(0, 2.0, 2.0, BodyPresence::kStopped),
+                                     Omni(1, 2.15, 2.0, BodyPresence::kStopped)};
+  World world(Arena(4, 4), bodies);
+  Events run;
+  EXPECT_EQ(world.max_overlap_m(), 0.0);
+
+  StepMany(world, 1, 3, run);
+
+  EXPECT_NEAR(world.max_overlap_m(), 0.05, 1e-12);
+  EXPECT_EQ(world.min_separation_m(), 0.0);  // clamped: it cannot show the overlap
 }
 
 TEST(WorldTest, OmniVelocitySlewsAtMaxAccelAndIsCappedAtMaxSpeed) {
@@ -555,15 +571,9 @@ TEST(WorldTest, SameCallsGiveTheSameBits) {
   EXPECT_EQ(first.min_separation_m(), second.min_separation_m());
 }
 
-TEST(WorldTest, ControllerConfigForCarriesTheKindsLimits) {
-  const motion::ControllerConfig config = ControllerConfigFor(scenario::RobotKind::kRover, RoverSpec());
-
-  EXPECT_EQ(config.kind, motion::DriveKind::kWheels);
-  EXPECT_FLOAT_EQ(config.limits.max_speed_mps, 0.4f);
-  EXPECT_FLOAT_EQ(config.limits.max_accel_mps2, 0.8f);
-  EXPECT_FLOAT_EQ(config.limits.wheel_base_m, 0.16f);
-  EXPECT_FLOAT_EQ(config.limits.body_radius_m, 0.12f);
+TEST(WorldTest, DriveKindFollowsTheRobotKind) {
   EXPECT_EQ(DriveKindFor(scenario::RobotKind::kOmni), motion::DriveKind::kOmni);
+  EXPECT_EQ(DriveKindFor(scenario::RobotKind::kRover), motion::DriveKind::kWheels);
 }
 
 }  // namespace

@@ -2,8 +2,8 @@
 // lab, in a robot process, and on the Teensy:
 //
 //   sensor drivers -> state task -> Kalman task -> StateEstimate
-//   radio -> Receive() ... round task: synchronizer Step(), app callbacks,
-//                          Radio::Broadcast()
+//   radio -> Receive() / ReceiveBytes() ... round task: synchronizer Step(),
+//                          app callbacks, Radio::Broadcast() (radio.h)
 //   StateEstimate + the app's command -> motion task -> DriveCommand
 //
 // The round task runs once per radio round. It hands the synchronizer the
@@ -13,6 +13,14 @@
 // number of rounds. When an epoch starts it builds the app's LDMap and calls
 // newRound; the command goes to the motion controller. When the maneuver
 // ends the robot stops and endOfRound is called.
+//
+// Receiving: beacons heard during a round are stepped at the round's end.
+// ReceiveBytes() may run on another thread or in an interrupt while the
+// round task runs (a DDS listener, a UART interrupt): it decodes outside the
+// port's critical section and holds it only to copy the beacon into a slot.
+// The receive storage is two banks: one fills while the round task steps the
+// other; the round task swaps them under the same critical section, so a
+// frame that arrives during a step counts for the next round.
 //
 // The sensor drivers publish on the estimation topics before Attach(); the
 // actuator driver subscribes to motion::kDriveTopic after it. Nothing is
@@ -30,39 +38,14 @@
 #include "syrof/os/port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
+#include "syrof/runtime/radio.h"
+#include "syrof/runtime/robot_observer.h"
 #include "syrof/sync/config.h"
 #include "syrof/sync/ldmap.h"
 #include "syrof/sync/synchronizer.h"
 #include "syrof/wire/beacon.h"
 
 namespace syrof::runtime {
-
-/// Where the robot's beacons go: the lab's channel, DDS, or the radio chip.
-class Radio {
- public:
-  /// Sends this round's beacon. Called from the round task, once per round
-  /// at most.
-  virtual void Broadcast(const wire::Beacon& beacon) = 0;
-
- protected:
-  ~Radio() = default;
-};
-
-/// Hooks for whoever watches the robot (the lab's metrics and replay, logs).
-/// Called from the round task, after the synchronizer's step.
-class RobotObserver {
- public:
-  /// An epoch started with `ldmap` (what newRound received).
-  virtual void OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) = 0;
-  /// The failure detector removed, or the membership added, these robots.
-  virtual void OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
-                            const wire::MemberSet& joined) = 0;
-  /// The robot lost its group and is joining again.
-  virtual void OnBecameJoiner(uint16_t robot, int64_t now_ns) = 0;
-
- protected:
-  ~RobotObserver() = default;
-};
 
 /// Everything one robot needs to know at start-up.
 struct RobotConfig {
@@ -97,7 +80,8 @@ struct RobotCounters {
   uint32_t beacons_sent = 0;
   uint32_t beacons_received = 0;   ///< accepted into the inbox
   uint32_t beacons_malformed = 0;  ///< bytes that did not decode
-  uint32_t beacons_overflow = 0;   ///< more than a swarm's worth in one round
+  uint32_t beacons_overflow = 0;   ///< more than a round's storage (or inbox) holds
+  uint32_t beacons_stepped = 0;    ///< handed to the synchronizer's steps
   uint32_t new_rounds = 0;         ///< newRound calls
   uint32_t end_of_rounds = 0;      ///< endOfRound calls
   uint32_t payloads_refused = 0;   ///< sendMessageData calls over the limit
@@ -106,8 +90,11 @@ struct RobotCounters {
 class Robot final : private app::Platform {
  public:
   /// `app` and `radio` must outlive the robot. `receive_storage` holds beacons
-  /// that arrive as bytes (ReceiveBytes); it may be empty when beacons only
-  /// arrive decoded (Receive).
+  /// that arrive as bytes (ReceiveBytes), in two banks of size() / 2 slots:
+  /// one receives while the round task steps the other, so give it twice the
+  /// frames one round may accept (2 x swarm size; at most 2 x
+  /// wire::kMaxSwarmSize are used). It may be empty when beacons only arrive
+  /// decoded (Receive). Not owned; it must outlive the robot.
   Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<wire::Beacon> receive_storage = {});
   Robot(const Robot&) = delete;
   Robot& operator=(const Robot&) = delete;
@@ -118,11 +105,23 @@ class Robot final : private app::Platform {
   RobotSetupError Attach(os::Port& port, pubsub::Broker& broker);
 
   /// A beacon heard this round, by address: it must stay valid until the
-  /// round task's next step. The lab's fast path.
+  /// round task's next step. The lab's decode-once fast path (one decoded
+  /// beacon serves every receiver): no lock, so call it only from the thread
+  /// that runs the round task, between its steps (the lab's delivery task on
+  /// the same SimPort scheduler), never concurrently with ReceiveBytes.
+  /// Surplus beacons (more than wire::kMaxSwarmSize in a round) are counted
+  /// as overflow and dropped.
   void Receive(const wire::Beacon& beacon);
 
-  /// A frame heard this round: decoded into receive storage; malformed or
-  /// surplus frames are counted and dropped.
+  /// A frame heard: decoded outside any lock, then copied into the receiving
+  /// bank of receive storage under the port's critical section, for the
+  /// round task's next step. Safe from any thread, or from an interrupt on a
+  /// port whose critical section masks interrupts (the firmware's), while
+  /// the round task runs (after Attach; before Attach only from the thread
+  /// that will start the port). Not from a POSIX signal handler: the POSIX
+  /// port's critical section is a mutex. Each call counts exactly one of beacons_received,
+  /// beacons_overflow (the bank is full) or beacons_malformed (the bytes did
+  /// not decode). Bounded: one decode, one beacon copy in the lock.
   void ReceiveBytes(std::span<const uint8_t> frame);
 
   /// Sets the watcher (or none). Not owned.
@@ -130,10 +129,18 @@ class Robot final : private app::Platform {
 
   uint16_t id() const { return config_.sync.self_id; }
   const sync::SyncState& sync_state() const { return state_; }
-  const estimation::StateEstimate& estimate() const { return estimate_; }
-  bool estimate_valid() const { return (estimate_.status & estimation::kEstimateInitialized) != 0; }
+  /// The newest estimate the round or motion task has taken. Like
+  /// counters(): read it from the port's thread (SimPort) or once the port
+  /// has stopped.
+  const estimation::StateEstimate& estimate() const {
+    return motion_estimate_.timestamp_ns > estimate_.timestamp_ns ? motion_estimate_ : estimate_;
+  }
+  bool estimate_valid() const { return (estimate().status & estimation::kEstimateInitialized) != 0; }
   uint8_t global_state() const { return global_state_; }
   const syrof_car_command& command() const { return command_; }
+  /// Read them from the round task's thread, or once the port has stopped:
+  /// ReceiveBytes' producer updates the receive counters under the port's
+  /// critical section.
   const RobotCounters& counters() const { return counters_; }
   const estimation::Estimator<float>& estimator() const { return estimator_; }
   const sync::LDMap& ldmap() const { return ldmap_; }
@@ -182,18 +189,35 @@ class Robot final : private app::Platform {
   os::Port* port_ = nullptr;
   pubsub::Subscriber<estimation::StateEstimate> estimate_subscriber_;
   pubsub::Publisher<motion::DriveCommand> drive_publisher_;
-  estimation::StateEstimate estimate_{};
+  estimation::StateEstimate estimate_{};  // the round task's
+  pubsub::Subscriber<estimation::StateEstimate> motion_estimate_subscriber_;
+  estimation::StateEstimate motion_estimate_{};  // the motion task's
 
   sync::SyncState state_;
   sync::StepOutput out_;
   sync::LDMap ldmap_;  // the current epoch's map
+  void TakeReceivedBank();
+  void HandToMotion(const syrof_car_command& command);
+
+  // The round's inbox: read by the step, filled by Receive() and, at the
+  // step's start, by TakeReceivedBank(). Only the round task's thread.
   std::array<const wire::Beacon*, wire::kMaxSwarmSize> inbox_{};
   size_t inbox_count_ = 0;
-  size_t stored_count_ = 0;  // of receive_storage_, this round
+  // receive_storage_ in two banks of bank_size_ slots. Under the port's
+  // critical section: receiving_bank_ and stored_count_ (what ReceiveBytes
+  // fills) and the receive counters. The other bank belongs to the round
+  // task between its swap and the next one.
+  size_t bank_size_ = 0;
+  uint8_t receiving_bank_ = 0;
+  size_t stored_count_ = 0;
 
   std::array<syrof_member_state, wire::kMaxSwarmSize> app_members_{};
   syrof_ldmap app_map_{};
   syrof_car_command command_{};
+  // The round task's latest command for the motion task, under the port's
+  // critical section (the controller is the motion task's alone).
+  syrof_car_command handed_command_{};
+  bool command_handed_ = false;
   uint8_t global_state_ = 0;
   uint8_t payload_length_ = 0;
   std::array<uint8_t, wire::kMaxPayloadBytes> payload_{};

@@ -19,6 +19,9 @@ struct GoalPose {
   double y_m = 0;
   double heading_rad = 0;
   bool present = true;  ///< false: crashed or never joined; left out of the goal
+  /// This robot's own body radius (its kind's), for the overlap check; 0
+  /// means EvaluateGoal's body_radius_m (a swarm of one kind).
+  double radius_m = 0;
 };
 
 /// The verdict.
@@ -43,8 +46,9 @@ struct GoalReport {
 ///                  its path, and every follower within tolerance_m of a
 ///                  distinct slot of FollowerSlots behind the leader's
 ///                  angle; error = the worst of those distances.
-/// In every app two present bodies closer than 2 body_radius_m mean the goal
-/// is missed. An unknown app is reported as not reached. A run with no
+/// `body_radius_m` is the radius the formation is planned for (what the
+/// apps' geometry uses). In every app two present bodies closer than the sum
+/// of their own radii (GoalPose::radius_m) mean the goal is missed. An unknown app is reported as not reached. A run with no
 /// present robot reaches every goal.
 GoalReport EvaluateGoal(std::string_view app, const std::map<std::string, double>& params, ArenaSize arena,
                         double body_radius_m, std::span<const GoalPose> final_true_poses);

@@ -27,6 +27,7 @@
 #include "syrof/app/app.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/world/world.h"
 #include "syrof/runtime/robot.h"
 
 namespace syrof::lab::sim {
@@ -70,6 +71,7 @@ class Simulation {
   size_t robot_count() const;
   const runtime::Robot& robot(uint16_t id) const;
   const scenario::Scenario& scenario() const;
+  const world::World& world() const;
 
  private:
   class Impl;

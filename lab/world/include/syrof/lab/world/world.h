@@ -83,10 +83,6 @@ inline constexpr double kContactHysteresisM = 1e-3;
 /// The drive kind the motion controller of a robot kind produces.
 motion::DriveKind DriveKindFor(scenario::RobotKind kind);
 
-/// A motion controller configuration with `spec`'s limits (converted to
-/// float) and the default gains and tolerances.
-motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec);
-
 class World {
  public:
   /// Throws std::invalid_argument when the arena is not positive and finite,
@@ -130,7 +126,7 @@ class World {
   ///     robot's motors, not the bump, set its speed). A rover's wheels keep
   ///     turning (they slip);
   ///  5. sets ax, ay from the velocity change over the step;
-  ///  6. updates min_separation_m().
+  ///  6. updates min_separation_m() and max_overlap_m().
   void Step(int64_t now_ns, double dt_s);
 
   /// Number of bodies (ids 0 .. size() - 1).
@@ -153,6 +149,11 @@ class World {
   /// present (active or stopped) bodies, 0 when touching; +infinity before
   /// the first step or with fewer than two present bodies.
   double min_separation_m() const { return min_separation_m_; }
+  /// Largest overlap (penetration depth: sum of radii minus centre distance)
+  /// between two present bodies at the end of any step, after separation:
+  /// what the sensors, the replay and the goal see. 0 when bodies never
+  /// overlapped. min_separation_m() clamps at 0 and cannot show this.
+  double max_overlap_m() const { return max_overlap_m_; }
   /// Contacts and wall contacts started since construction.
   uint64_t contacts() const { return contacts_; }
   uint64_t wall_contacts() const { return wall_contacts_; }
@@ -228,6 +229,7 @@ class World {
   std::vector<WallContact> new_wall_contacts_;
 
   double min_separation_m_;
+  double max_overlap_m_ = 0;
   uint64_t contacts_ = 0;
   uint64_t wall_contacts_ = 0;
   uint64_t rejected_drives_ = 0;

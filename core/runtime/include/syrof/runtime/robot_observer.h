@@ -1,0 +1,45 @@
+// Hooks for whoever watches a robot: the lab's metrics and replay, a log, a
+// test.
+//
+// The robot calls its observer (set with Robot::set_observer) from its round
+// task, after the synchronizer's step of that round, in this order:
+// OnEpochStart (if an epoch started), OnMembership (if members were removed
+// or joined), OnBecameJoiner (if the robot lost its group).
+#pragma once
+
+#include <cstdint>
+
+#include "syrof/sync/ldmap.h"
+#include "syrof/wire/member_set.h"
+
+namespace syrof::runtime {
+
+/// Hooks for whoever watches the robot (the lab's metrics and replay, logs).
+///
+/// Contract:
+///   - Who calls: the robot's round task, in the port's task context, after
+///     the round's synchronizer step; never from ReceiveBytes' producer
+///     thread or an interrupt. Calls for one robot never overlap.
+///   - `robot` is the robot's id (sync.self_id); `now_ns` is the port's clock
+///     at the round task's activation.
+///   - Ownership: the arguments belong to the robot and are valid only during
+///     the call; copy what you keep. The robot does not own its observer,
+///     which must outlive it (or be unset first).
+///   - Bounds: hooks run inside the round task, so they must return in
+///     bounded time, must not block, and must not call back into the robot
+///     except its const accessors.
+class RobotObserver {
+ public:
+  /// An epoch started with `ldmap` (what newRound received).
+  virtual void OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) = 0;
+  /// The failure detector removed, or the membership added, these robots.
+  virtual void OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
+                            const wire::MemberSet& joined) = 0;
+  /// The robot lost its group and is joining again.
+  virtual void OnBecameJoiner(uint16_t robot, int64_t now_ns) = 0;
+
+ protected:
+  ~RobotObserver() = default;
+};
+
+}  // namespace syrof::runtime

@@ -1,0 +1,86 @@
+// The simulated lab's radio: every robot's Radio (its outbox slot), the
+// beacons in flight, and the channel (lab/world/channel.h) that decides which
+// receiver hears which beacon.
+//
+// One radio round's life of a beacon:
+//   1. the robot's round task calls Broadcast() at the end of round r: the
+//      beacon waits in the sender's outbox slot (one per robot; a second
+//      broadcast in the same round replaces the first);
+//   2. at the end of round r + 1 (before the round tasks of that instant),
+//      Deliver() takes every waiting beacon in sender order, encodes and
+//      decodes it once (the wire format is exercised on every beacon; a
+//      beacon that does not survive is counted in beacons_malformed()), and
+//      hands the decoded beacon by address to every other receiver that is
+//      listening and that the channel lets hear it, in receiver order;
+//   3. the receivers' round tasks step with it. The decoded beacon stays in
+//      flight (valid) until the sender's next delivery.
+// Determinism: the channel's draws depend on (seed, round, link) only, and
+// deliveries go in (sender, receiver) order.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/world/channel.h"
+#include "syrof/runtime/radio.h"
+#include "syrof/wire/beacon.h"
+#include "syrof/wire/beacon_layout.h"
+
+namespace syrof::lab::sim {
+
+/// Who receives: the engine's robots, or a test's recorder.
+class BeaconReceivers {
+ public:
+  /// Whether `robot` is on and hears the radio now (not crashed, paused or absent).
+  virtual bool Listening(uint16_t robot) const = 0;
+  /// Hands `beacon` to `robot`; valid until the sender's next delivery.
+  virtual void Receive(uint16_t robot, const wire::Beacon& beacon) = 0;
+
+ protected:
+  ~BeaconReceivers() = default;
+};
+
+class RadioNetwork {
+ public:
+  /// A network of `robots` radios (ids 0 .. robots - 1) over a channel built
+  /// from `channel` and `seed`. Everything is allocated here.
+  RadioNetwork(const scenario::ChannelSpec& channel, uint16_t robots, uint64_t seed);
+  RadioNetwork(const RadioNetwork&) = delete;
+  RadioNetwork& operator=(const RadioNetwork&) = delete;
+
+  /// Robot `robot`'s radio; it outlives the robot (it lives as long as the network).
+  runtime::Radio& radio(uint16_t robot) { return radios_[robot]; }
+
+  /// Delivers the beacons broadcast in radio round `round`, sent at
+  /// `sent_at_s` (the channel's partitions are in seconds), to `receivers`.
+  void Deliver(int64_t round, double sent_at_s, BeaconReceivers& receivers);
+
+  /// Whether `robot` broadcast since the last delivery.
+  bool waiting(uint16_t robot) const { return sent_[robot] != 0; }
+  /// Beacons that did not decode after encoding (never, unless the codec is broken).
+  uint64_t beacons_malformed() const { return beacons_malformed_; }
+  uint16_t size() const { return static_cast<uint16_t>(radios_.size()); }
+
+ private:
+  class LabRadio final : public runtime::Radio {
+   public:
+    LabRadio(RadioNetwork& network, uint16_t id) : network_(&network), id_(id) {}
+    void Broadcast(const wire::Beacon& beacon) override;
+
+   private:
+    RadioNetwork* network_;
+    uint16_t id_;
+  };
+
+  world::Channel channel_;
+  std::vector<LabRadio> radios_;
+  std::vector<wire::Beacon> outbox_;
+  std::vector<uint8_t> sent_;
+  std::vector<wire::Beacon> inflight_;
+  std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes_{};
+  uint64_t beacons_malformed_ = 0;
+};
+
+}  // namespace syrof::lab::sim

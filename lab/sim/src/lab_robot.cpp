@@ -1,0 +1,46 @@
+#include "lab_robot.h"
+
+#include "syrof/base/check.h"
+#include "syrof/base/split_mix64.h"
+
+namespace syrof::lab::sim {
+namespace {
+
+// The simulated hardware is lab code, not robot code: one world task steps
+// every robot's sensors and actuators (in robot order, at the drivers'
+// priority) instead of one task per robot. Its drive subscriptions are read
+// by polling, so they name no task: a port ignores notifications to an id
+// it does not have (port.h).
+constexpr os::TaskId kPolledTask = UINT16_MAX;
+
+}  // namespace
+
+uint64_t SensorSeed(uint64_t seed, uint16_t robot) {
+  return base::SplitMix64Hash(seed ^ base::SplitMix64Hash(0x53454e534f52ULL + robot));
+}
+
+LabRobot::LabRobot(const scenario::Scenario& scenario, const scenario::RobotSpec& spec, os::SimScheduler& scheduler,
+                   world::World& world, const runtime::RobotConfig& config, std::unique_ptr<app::App> app,
+                   runtime::Radio& radio)
+    : spec_(spec),
+      world_(world),
+      port_(scheduler, "robot"),
+      broker_(port_),
+      bank_(scenario.sensors, SensorSeed(scenario.seed, spec.id)),
+      app_(std::move(app)),
+      robot_(config, *app_, radio) {}
+
+void LabRobot::Attach() {
+  SYROF_CHECK(publishers_.Advertise(broker_) == pubsub::BrokerError::kOk);
+  const runtime::RobotSetupError error = robot_.Attach(port_, broker_);
+  SYROF_CHECK(error == runtime::RobotSetupError::kOk);
+  SYROF_CHECK(drive_.Subscribe(broker_, motion::kDriveTopic, kPolledTask) == pubsub::BrokerError::kOk);
+}
+
+void LabRobot::StepHardware(int64_t now_ns) {
+  motion::DriveCommand drive{};
+  if (drive_.TakeLatest(drive)) world_.SetDrive(spec_.id, drive);
+  bank_.Sample(now_ns, world_.true_state(spec_.id), publishers_);
+}
+
+}  // namespace syrof::lab::sim

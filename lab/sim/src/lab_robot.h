@@ -1,0 +1,66 @@
+// One simulated robot: the real robot software (runtime::Robot) on its own
+// simulation port and broker, and its simulated hardware (sensor bank, drive
+// subscription) on the lab side of the topics. Internal to lab/sim.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "syrof/app/app.h"
+#include "syrof/lab/replay/replay.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sensors/sensor_bank.h"
+#include "syrof/lab/sensors/sensor_publishers.h"
+#include "syrof/lab/world/world.h"
+#include "syrof/motion/drive.h"
+#include "syrof/os/sim_port.h"
+#include "syrof/pubsub/broker.h"
+#include "syrof/pubsub/topic.h"
+#include "syrof/runtime/robot.h"
+
+namespace syrof::lab::sim {
+
+/// The seed of robot `robot`'s sensor noise: one stream per robot, derived
+/// from the scenario seed, so adding a robot does not change another robot's
+/// noise.
+uint64_t SensorSeed(uint64_t seed, uint16_t robot);
+
+class LabRobot {
+ public:
+  /// `world`, `radio` and `scheduler` outlive the robot; the app is owned.
+  LabRobot(const scenario::Scenario& scenario, const scenario::RobotSpec& spec, os::SimScheduler& scheduler,
+           world::World& world, const runtime::RobotConfig& config, std::unique_ptr<app::App> app,
+           runtime::Radio& radio);
+  LabRobot(const LabRobot&) = delete;
+  LabRobot& operator=(const LabRobot&) = delete;
+
+  /// Advertises the sensor topics, attaches the robot's software to its port
+  /// and broker, and subscribes the hardware to the drive topic. Once.
+  void Attach();
+
+  /// The robot's hardware, once per IMU period while the robot runs: the
+  /// latest drive command to its body, then the sensor readings due, sampled
+  /// from the body's true state.
+  void StepHardware(int64_t now_ns);
+
+  uint16_t id() const { return spec_.id; }
+  os::SimPort& port() { return port_; }
+  runtime::Robot& robot() { return robot_; }
+  const runtime::Robot& robot() const { return robot_; }
+
+  int64_t scored_from_ns = 0;  ///< estimates before this are not scored (warm-up)
+  replay::Presence presence = replay::Presence::kAbsent;
+
+ private:
+  scenario::RobotSpec spec_;
+  world::World& world_;
+  os::SimPort port_;
+  pubsub::StaticBroker<8, 12> broker_;
+  sensors::SensorBank bank_;
+  sensors::SensorPublishers publishers_;
+  pubsub::Subscriber<motion::DriveCommand> drive_;
+  std::unique_ptr<app::App> app_;
+  runtime::Robot robot_;
+};
+
+}  // namespace syrof::lab::sim

@@ -1,0 +1,72 @@
+#include "syrof/lab/sim/robot_config.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "syrof/lab/world/world.h"
+
+namespace syrof::lab::sim {
+namespace {
+
+// The estimator's arena: the one the simulated sensors measure against.
+estimation::Arena<float> EstimatorArena(const scenario::Scenario& scenario) {
+  const estimation::Arena<double>& source = scenario.sensors.arena;
+  estimation::Arena<float> arena{};
+  arena.width_m = static_cast<float>(source.width_m);
+  arena.depth_m = static_cast<float>(source.depth_m);
+  arena.tag_height_m = static_cast<float>(source.tag_height_m);
+  arena.anchor_count = source.anchor_count;
+  for (int i = 0; i < source.anchor_count; ++i) arena.anchors[i] = source.anchors[i].cast<float>();
+  return arena;
+}
+
+int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
+
+}  // namespace
+
+uint16_t ManeuverRounds(const scenario::TimingSpec& timing) {
+  return static_cast<uint16_t>(std::llround(timing.app_round_s / timing.radio_round_s));
+}
+
+wire::MemberSet InitialMembers(const scenario::Scenario& scenario) {
+  wire::MemberSet initial;
+  for (const scenario::RobotSpec& spec : scenario.robots) {
+    if (spec.present_at_start) initial.set(spec.id);
+  }
+  return initial;
+}
+
+motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec) {
+  motion::ControllerConfig config;
+  config.kind = world::DriveKindFor(kind);
+  config.limits.max_speed_mps = static_cast<float>(spec.max_speed_mps);
+  config.limits.max_accel_mps2 = static_cast<float>(spec.max_accel_mps2);
+  config.limits.max_turn_rate_radps = static_cast<float>(spec.max_turn_rate_radps);
+  config.limits.wheel_base_m = static_cast<float>(spec.wheel_base_m);
+  config.limits.body_radius_m = static_cast<float>(spec.body_radius_m);
+  return config;
+}
+
+runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const scenario::RobotSpec& robot) {
+  runtime::RobotConfig config;
+  config.sync = sync::SyncConfig::ForSwarm(static_cast<uint16_t>(scenario.robots.size()), robot.id);
+  config.sync.vote_rounds = static_cast<uint8_t>(scenario.timing.vote_rounds);
+  config.sync.silence_rounds = static_cast<uint16_t>(scenario.timing.silence_rounds);
+  config.sync.initial_members = InitialMembers(scenario);
+  config.radio_round_ns = Nanoseconds(scenario.timing.radio_round_s);
+  config.maneuver_rounds = ManeuverRounds(scenario.timing);
+  config.estimator.arena = EstimatorArena(scenario);
+  config.estimator.range_sigma_m = static_cast<float>(std::max(kRangeSigmaFloorM, scenario.sensors.uwb.sigma_m));
+  config.estimator.flow_sigma_px = static_cast<float>(std::max(kFlowSigmaFloorPx, scenario.sensors.flow.sigma_px));
+  config.initial_pose.x_m = static_cast<float>(robot.x_m);
+  config.initial_pose.y_m = static_cast<float>(robot.y_m);
+  config.initial_pose.heading_rad = static_cast<float>(robot.heading_rad);
+  config.initial_pose.position_sigma_m = kInitialPositionSigmaM;
+  config.initial_pose.heading_sigma_rad = kInitialHeadingSigmaRad;
+  config.motion = ControllerConfigFor(robot.kind, scenario.kind_spec(robot.kind));
+  config.arena_width_m = static_cast<float>(scenario.arena.width_m);
+  config.arena_height_m = static_cast<float>(scenario.arena.height_m);
+  return config;
+}
+
+}  // namespace syrof::lab::sim

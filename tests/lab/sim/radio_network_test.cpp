@@ -1,0 +1,136 @@
+// The lab's radio network: outbox, one delivery per broadcast, encode and
+// decode once, delivery only to listening receivers through the channel.
+#include "syrof/lab/sim/radio_network.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <vector>
+
+namespace syrof::lab::sim {
+namespace {
+
+constexpr uint16_t kRobots = 4;
+
+struct Delivery {
+  uint16_t receiver;
+  const wire::Beacon* beacon;
+};
+
+class RecordingReceivers final : public BeaconReceivers {
+ public:
+  bool Listening(uint16_t robot) const override { return listening[robot]; }
+  void Receive(uint16_t robot, const wire::Beacon& beacon) override { deliveries.push_back({robot, &beacon}); }
+
+  std::array<bool, kRobots> listening{true, true, true, true};
+  std::vector<Delivery> deliveries;
+};
+
+wire::Beacon BeaconFrom(uint16_t id, uint16_t epoch) {
+  wire::Beacon beacon;
+  beacon.robot_id = id;
+  beacon.epoch = epoch;
+  beacon.snapshot.x_mm = static_cast<int16_t>(100 * id + 7);
+  const uint8_t payload[2] = {static_cast<uint8_t>(id), 0x5A};
+  EXPECT_EQ(beacon.snapshot.SetPayload(payload), wire::WireError::kOk);
+  return beacon;
+}
+
+TEST(RadioNetworkTest, ABroadcastReachesEveryOtherListeningRobotOnceAsSent) {
+  RadioNetwork network(scenario::ChannelSpec{}, kRobots, 1);
+  RecordingReceivers receivers;
+  receivers.listening[3] = false;  // crashed
+  const wire::Beacon sent = BeaconFrom(1, 9);
+
+  network.radio(1).Broadcast(sent);
+  EXPECT_TRUE(network.waiting(1));
+  network.Deliver(0, 0.0, receivers);
+
+  ASSERT_EQ(receivers.deliveries.size(), 2u);
+  EXPECT_EQ(receivers.deliveries[0].receiver, 0);
+  EXPECT_EQ(receivers.deliveries[1].receiver, 2);
+  EXPECT_EQ(*receivers.deliveries[0].beacon, sent);  // through the codec unchanged
+  EXPECT_EQ(receivers.deliveries[0].beacon, receivers.deliveries[1].beacon);  // decoded once
+  EXPECT_FALSE(network.waiting(1));
+  EXPECT_EQ(network.beacons_malformed(), 0u);
+}
+
+TEST(RadioNetworkTest, ABeaconIsDeliveredOnlyInTheRoundAfterItsBroadcast) {
+  RadioNetwork network(scenario::ChannelSpec{}, kRobots, 1);
+  RecordingReceivers receivers;
+
+  network.radio(0).Broadcast(BeaconFrom(0, 1));
+  network.radio(0).Broadcast(BeaconFrom(0, 2));  // replaces the first
+  network.Deliver(0, 0.0, receivers);
+  const size_t first = receivers.deliveries.size();
+  network.Deliver(1, 0.05, receivers);
+
+  EXPECT_EQ(first, kRobots - 1u);
+  EXPECT_EQ(receivers.deliveries.size(), first);  // nothing new was sent
+  EXPECT_EQ(receivers.deliveries[0].beacon->epoch, 2);
+}
+
+TEST(RadioNetworkTest, DeliveriesGoInSenderThenReceiverOrder) {
+  RadioNetwork network(scenario::ChannelSpec{}, kRobots, 1);
+  RecordingReceivers receivers;
+
+  for (uint16_t id = kRobots; id-- > 0;) network.radio(id).Broadcast(BeaconFrom(id, 3));
+  network.Deliver(0, 0.0, receivers);
+
+  ASSERT_EQ(receivers.deliveries.size(), kRobots * (kRobots - 1u));
+  size_t k = 0;
+  for (uint16_t sender = 0; sender < kRobots; ++sender) {
+    for (uint16_t receiver = 0; receiver < kRobots; ++receiver) {
+      if (receiver == sender) continue;
+      EXPECT_EQ(receivers.deliveries[k].receiver, receiver);
+      EXPECT_EQ(receivers.deliveries[k].beacon->robot_id, sender);
+      ++k;
+    }
+  }
+}
+
+TEST(RadioNetworkTest, TheChannelDecidesWithTheSameDrawsForTheSameSeed) {
+  scenario::ChannelSpec lossy;
+  lossy.loss = 0.5;
+  auto run = [&](uint64_t seed) {
+    RadioNetwork network(lossy, kRobots, seed);
+    RecordingReceivers receivers;
+    std::vector<uint16_t> heard;
+    for (int64_t round = 0; round < 50; ++round) {
+      for (uint16_t id = 0; id < kRobots; ++id) network.radio(id).Broadcast(BeaconFrom(id, 1));
+      receivers.deliveries.clear();
+      network.Deliver(round, static_cast<double>(round) * 0.05, receivers);
+      for (const Delivery& delivery : receivers.deliveries) {
+        heard.push_back(static_cast<uint16_t>(delivery.beacon->robot_id * kRobots + delivery.receiver));
+      }
+      heard.push_back(0xFFFF);
+    }
+    return heard;
+  };
+
+  const std::vector<uint16_t> first = run(7);
+  const std::vector<uint16_t> again = run(7);
+  const std::vector<uint16_t> other = run(8);
+
+  EXPECT_EQ(first, again);
+  EXPECT_NE(first, other);
+  const size_t delivered = first.size() - 50;
+  EXPECT_GT(delivered, 50u * 12 * 3 / 10);  // about half of 600 links
+  EXPECT_LT(delivered, 50u * 12 * 7 / 10);
+}
+
+TEST(RadioNetworkTest, FullLossDeliversNothing) {
+  scenario::ChannelSpec deaf;
+  deaf.loss = 1.0;
+  RadioNetwork network(deaf, kRobots, 1);
+  RecordingReceivers receivers;
+
+  network.radio(2).Broadcast(BeaconFrom(2, 1));
+  network.Deliver(0, 0.0, receivers);
+
+  EXPECT_TRUE(receivers.deliveries.empty());
+  EXPECT_FALSE(network.waiting(2));
+}
+
+}  // namespace
+}  // namespace syrof::lab::sim
