@@ -10,8 +10,10 @@
 #include "syrof/lab/replay/replay.h"
 #include "syrof/wire/beacon.h"
 
-namespace syrof::lab::cli {
+namespace syrof::cli {
 namespace {
+
+namespace replay = lab::replay;
 
 using replay::Event;
 using replay::EventKind;
@@ -225,4 +227,4 @@ int RunReplayCommand(const ReplayOptions& options, std::ostream& out, std::ostre
   }
 }
 
-}  // namespace syrof::lab::cli
+}  // namespace syrof::cli
