@@ -9,6 +9,7 @@
 #include "apps_command.h"
 #include "replay_command.h"
 #include "run_command.h"
+#include "usage.h"
 #include "validate_command.h"
 
 int main(int argc, char** argv) {
@@ -26,8 +27,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    const int code = app.exit(error);
-    return code == 0 ? 0 : 2;
+    return ReportParseError(app, error, std::cout, std::cerr);
   }
   try {
     if (run->parsed()) return RunRunCommand(run_options, std::cout, std::cerr, isatty(STDERR_FILENO) != 0);

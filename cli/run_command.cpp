@@ -12,6 +12,7 @@
 
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
+#include "usage.h"
 
 namespace syrof::cli {
 namespace {
@@ -82,9 +83,9 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_option("scenario", options.scenario_path, "Scenario file (YAML, docs/scenarios.md)")->required();
   run->add_option("--app", options.app, "App to run instead of the scenario's, e.g. builtin:circle");
   run->add_option("--seed", options.seed, "Seed instead of the scenario's");
-  run->add_option("--robots", options.robots, "Robot count instead of the scenario's")->check(CLI::PositiveNumber);
+  run->add_option("--robots", options.robots, "Robot count instead of the scenario's")->check(RobotCountValidator());
   run->add_option("--duration", options.duration_s, "Simulated seconds instead of the scenario's")
-      ->check(CLI::PositiveNumber);
+      ->check(DurationValidator());
   run->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>)");
   run->add_flag("--no-replay", options.no_replay, "Do not write the replay");
   run->add_flag("--reproducible", options.reproducible,

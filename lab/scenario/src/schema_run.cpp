@@ -11,7 +11,7 @@ namespace syrof::lab::scenario {
 namespace {
 
 constexpr NumberRange kProbability{0, 1};
-constexpr NumberRange kTimeOfRun{0, 86400};  // a day of simulated time is plenty
+constexpr NumberRange kTimeOfRun{0, kMaxDurationS};  // a day of simulated time is plenty
 constexpr double kWholeTolerance = 1e-6;     // relative, for "a whole number of rounds"
 
 bool IsWholeMultiple(double value, double unit) {

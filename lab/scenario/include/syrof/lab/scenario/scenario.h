@@ -184,6 +184,8 @@ inline constexpr size_t kMaxScenarioBytes = 1 << 20;
 inline constexpr int kMaxScenarioDepth = 16;
 /// Most robots a scenario may hold (the synchronizer's capacity).
 int MaxRobots();
+/// Longest run a scenario may ask for, in simulated seconds (a day).
+inline constexpr double kMaxDurationS = 86400;
 
 /// Either a scenario or the first error found.
 struct LoadResult {
