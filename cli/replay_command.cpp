@@ -34,8 +34,8 @@ std::string FormatTime(int64_t time_ns) {
   return fmt::format("{}{}.{:09}s", negative ? "-" : "", magnitude / 1000000000u, magnitude % 1000000000u);
 }
 
-// Mirrors scenario::RobotKind's names; lab_replay stores the kind as a plain
-// number so it does not depend on the scenario module.
+// Mirrors world::RobotKind's names; lab_replay stores the kind as a plain
+// number so it does not depend on the world module.
 std::string KindName(uint8_t kind) {
   if (kind == 0) return "omni";
   if (kind == 1) return "rover";

@@ -28,11 +28,11 @@ int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::o
              scenario::ToString(s.placement), s.timing.radio_round_s, s.timing.app_round_s, s.timing.vote_rounds,
              s.timing.silence_rounds, s.timing.duration_s);
   fmt::print(out, "  channel {} (loss {}), {} link overrides, {} partitions, {} faults\n",
-             scenario::ToString(s.channel.model), s.channel.loss, s.channel.links.size(), s.channel.partitions.size(),
+             lab::world::ToString(s.channel.model), s.channel.loss, s.channel.links.size(), s.channel.partitions.size(),
              s.faults.size());
   for (const scenario::RobotSpec& robot : s.robots) {
     fmt::print(out, "    robot {:>4} {:<5} at ({:.3f}, {:.3f}) heading {:.3f}{}\n", robot.id,
-               scenario::ToString(robot.kind), robot.x_m, robot.y_m, robot.heading_rad,
+               lab::world::ToString(robot.kind), robot.x_m, robot.y_m, robot.heading_rad,
                robot.present_at_start ? "" : " (joins later)");
   }
   return 0;

@@ -1,18 +1,8 @@
-// Enum names, the per-kind defaults and error formatting.
+// Enum names, the robot-count limit and error formatting.
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/wire/member_set.h"
 
 namespace syrof::lab::scenario {
-
-const char* ToString(RobotKind kind) {
-  switch (kind) {
-    case RobotKind::kOmni:
-      return "omni";
-    case RobotKind::kRover:
-      return "rover";
-  }
-  return "?";
-}
 
 const char* ToString(Placement placement) {
   switch (placement) {
@@ -28,16 +18,6 @@ const char* ToString(Placement placement) {
   return "?";
 }
 
-const char* ToString(ChannelModel model) {
-  switch (model) {
-    case ChannelModel::kIid:
-      return "iid";
-    case ChannelModel::kGilbertElliott:
-      return "gilbert_elliott";
-  }
-  return "?";
-}
-
 const char* ToString(FaultKind kind) {
   switch (kind) {
     case FaultKind::kCrash:
@@ -48,17 +28,6 @@ const char* ToString(FaultKind kind) {
       return "join";
   }
   return "?";
-}
-
-KindSpec DefaultKindSpec(RobotKind kind) {
-  KindSpec spec;  // the struct's defaults are the omni robot's
-  if (kind == RobotKind::kRover) {
-    spec.body_radius_m = 0.12;
-    spec.max_speed_mps = 0.4;
-    spec.max_accel_mps2 = 0.8;
-    spec.wheel_base_m = 0.16;
-  }
-  return spec;
 }
 
 int MaxRobots() { return wire::kMaxSwarmSize; }

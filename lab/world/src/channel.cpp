@@ -29,19 +29,29 @@ void RequireProbability(double value, const std::string& name) {
   }
 }
 
-double BadProbability(const scenario::ChannelSpec& spec) {
+double BadProbability(const ChannelSpec& spec) {
   const double rates = spec.good_to_bad + spec.bad_to_good;
   return rates > 0 ? spec.good_to_bad / rates : 0.0;
 }
 
 }  // namespace
 
-double Channel::StationaryLoss(const scenario::ChannelSpec& spec) {
+const char* ToString(ChannelModel model) {
+  switch (model) {
+    case ChannelModel::kIid:
+      return "iid";
+    case ChannelModel::kGilbertElliott:
+      return "gilbert_elliott";
+  }
+  return "?";
+}
+
+double Channel::StationaryLoss(const ChannelSpec& spec) {
   const double bad = BadProbability(spec);
   return bad * spec.loss_bad + (1 - bad) * spec.loss_good;
 }
 
-Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t seed)
+Channel::Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed)
     : spec_(spec), robots_(robots), seed_(seed) {
   RequireProbability(spec.loss, "loss");
   RequireProbability(spec.good_to_bad, "good_to_bad");
@@ -49,7 +59,7 @@ Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t se
   RequireProbability(spec.loss_good, "loss_good");
   RequireProbability(spec.loss_bad, "loss_bad");
 
-  for (const scenario::LinkLossSpec& link : spec.links) {
+  for (const LinkLossSpec& link : spec.links) {
     if (link.from >= robots || link.to >= robots) {
       throw std::invalid_argument("Channel: link " + std::to_string(link.from) + " -> " + std::to_string(link.to) +
                                   " names a robot beyond the " + std::to_string(robots) + " robots");
@@ -70,7 +80,7 @@ Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t se
   }
   link_losses_.swap(unique);
 
-  for (const scenario::PartitionSpec& partition : spec.partitions) {
+  for (const PartitionSpec& partition : spec.partitions) {
     const auto unlisted = static_cast<uint16_t>(std::min<size_t>(partition.groups.size(), 0xFFFFu));
     Partition resolved{partition.start_s, partition.end_s, std::vector<uint16_t>(robots, unlisted)};
     for (size_t group = 0; group < partition.groups.size() && group < unlisted; ++group) {
@@ -84,7 +94,7 @@ Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t se
     partitions_.push_back(std::move(resolved));
   }
 
-  if (spec.model == scenario::ChannelModel::kGilbertElliott) {
+  if (spec.model == ChannelModel::kGilbertElliott) {
     chains_.assign(static_cast<size_t>(robots) * robots, 0u);
     const double bad = BadProbability(spec);
     for (uint16_t from = 0; from < robots; ++from) {
@@ -95,7 +105,7 @@ Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t se
       }
     }
   }
-  plain_iid_ = spec_.model == scenario::ChannelModel::kIid && partitions_.empty() && link_losses_.empty();
+  plain_iid_ = spec_.model == ChannelModel::kIid && partitions_.empty() && link_losses_.empty();
   loss_scaled_ = spec_.loss * 0x1.0p53;
 }
 
@@ -173,7 +183,7 @@ bool Channel::Delivers(uint16_t from, uint16_t to, int64_t round, double time_s)
                                      [](const LinkLoss& entry, uint32_t wanted) { return entry.key < wanted; });
   if (link != link_losses_.end() && link->key == key) {
     loss = link->loss;
-  } else if (spec_.model == scenario::ChannelModel::kGilbertElliott) {
+  } else if (spec_.model == ChannelModel::kGilbertElliott) {
     loss = ChainBad(from, to, round) ? spec_.loss_bad : spec_.loss_good;
   }
   const bool delivered = !(LossDraw(round, from, to) < loss);

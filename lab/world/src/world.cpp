@@ -76,11 +76,11 @@ const char* ToString(BodyPresence presence) {
   return "?";
 }
 
-motion::DriveKind DriveKindFor(scenario::RobotKind kind) {
-  return kind == scenario::RobotKind::kRover ? motion::DriveKind::kWheels : motion::DriveKind::kOmni;
+motion::DriveKind DriveKindFor(RobotKind kind) {
+  return kind == RobotKind::kRover ? motion::DriveKind::kWheels : motion::DriveKind::kOmni;
 }
 
-motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec) {
+motion::ControllerConfig ControllerConfigFor(RobotKind kind, const KindSpec& spec) {
   motion::ControllerConfig config;
   config.kind = DriveKindFor(kind);
   config.limits.max_speed_mps = static_cast<float>(spec.max_speed_mps);
@@ -91,7 +91,7 @@ motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const sce
   return config;
 }
 
-World::World(const scenario::ArenaSpec& arena, std::span<const BodySpec> bodies)
+World::World(const ArenaSpec& arena, std::span<const BodySpec> bodies)
     : width_m_(arena.width_m), height_m_(arena.height_m), min_separation_m_(kInfinity) {
   Require(PositiveFinite(width_m_) && PositiveFinite(height_m_), "arena width and height must be > 0");
   Require(bodies.size() <= 0xFFFFu, "at most 65535 bodies");
@@ -220,7 +220,7 @@ void World::Integrate(Body& target, double dt_s) const {
     target.left_mps = target.right_mps = 0;
     return;
   }
-  if (target.kind == scenario::RobotKind::kRover) {
+  if (target.kind == RobotKind::kRover) {
     IntegrateRover(target, dt_s);
   } else {
     IntegrateOmni(target, dt_s);
@@ -228,7 +228,7 @@ void World::Integrate(Body& target, double dt_s) const {
 }
 
 void World::IntegrateOmni(Body& target, double dt_s) const {
-  const scenario::KindSpec& spec = target.spec;
+  const KindSpec& spec = target.spec;
   BodyState& state = target.state;
   double set_vx = target.drive.vx_mps;
   double set_vy = target.drive.vy_mps;
@@ -258,7 +258,7 @@ void World::IntegrateOmni(Body& target, double dt_s) const {
 }
 
 void World::IntegrateRover(Body& target, double dt_s) const {
-  const scenario::KindSpec& spec = target.spec;
+  const KindSpec& spec = target.spec;
   BodyState& state = target.state;
   const double max_step = spec.max_accel_mps2 * dt_s;
   const double set_left = std::clamp(static_cast<double>(target.drive.left_mps), -spec.max_speed_mps,

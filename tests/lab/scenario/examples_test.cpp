@@ -40,7 +40,7 @@ TEST(ExampleScenarios, DemoCircleIsTenOmniRobotsInTheDefaultArena) {
   EXPECT_EQ(scenario.robots.size(), 10u);
   EXPECT_EQ(scenario.app.name, "builtin:circle");
   EXPECT_EQ(scenario.arena.width_m, 4);
-  EXPECT_EQ(scenario.channel.model, ChannelModel::kIid);
+  EXPECT_EQ(scenario.channel.model, world::ChannelModel::kIid);
   EXPECT_EQ(scenario.channel.loss, 0.1);
   EXPECT_EQ(scenario.timing.duration_s, 60);
 }

@@ -12,16 +12,16 @@
 namespace syrof::lab::world {
 namespace {
 
-scenario::ChannelSpec Iid(double loss) {
-  scenario::ChannelSpec spec;
-  spec.model = scenario::ChannelModel::kIid;
+ChannelSpec Iid(double loss) {
+  ChannelSpec spec;
+  spec.model = ChannelModel::kIid;
   spec.loss = loss;
   return spec;
 }
 
-scenario::ChannelSpec GilbertElliott(double good_to_bad, double bad_to_good) {
-  scenario::ChannelSpec spec;
-  spec.model = scenario::ChannelModel::kGilbertElliott;
+ChannelSpec GilbertElliott(double good_to_bad, double bad_to_good) {
+  ChannelSpec spec;
+  spec.model = ChannelModel::kGilbertElliott;
   spec.good_to_bad = good_to_bad;
   spec.bad_to_good = bad_to_good;
   spec.loss_good = 0;
@@ -144,10 +144,10 @@ TEST(ChannelTest, GilbertElliottStateDoesNotDependOnWhichRoundsWereAsked) {
 }
 
 TEST(ChannelTest, PerLinkLossReplacesTheModelsInOneDirectionOnly) {
-  scenario::ChannelSpec spec = Iid(0.0);
-  spec.links.push_back(scenario::LinkLossSpec{0, 1, 1.0});
-  spec.links.push_back(scenario::LinkLossSpec{2, 3, 0.5});
-  spec.links.push_back(scenario::LinkLossSpec{2, 3, 0.0});  // a later entry wins
+  ChannelSpec spec = Iid(0.0);
+  spec.links.push_back(LinkLossSpec{0, 1, 1.0});
+  spec.links.push_back(LinkLossSpec{2, 3, 0.5});
+  spec.links.push_back(LinkLossSpec{2, 3, 0.0});  // a later entry wins
   Channel channel(spec, 4, 5);
   int delivered_0_to_1 = 0;
   int delivered_1_to_0 = 0;
@@ -165,8 +165,8 @@ TEST(ChannelTest, PerLinkLossReplacesTheModelsInOneDirectionOnly) {
 }
 
 TEST(ChannelTest, PerLinkLossReplacesTheGilbertElliottChain) {
-  scenario::ChannelSpec spec = GilbertElliott(1.0, 0.0);  // every other link goes bad and stays bad
-  spec.links.push_back(scenario::LinkLossSpec{1, 0, 0.0});
+  ChannelSpec spec = GilbertElliott(1.0, 0.0);  // every other link goes bad and stays bad
+  spec.links.push_back(LinkLossSpec{1, 0, 0.0});
   Channel channel(spec, 2, 5);
   int delivered_0_to_1 = 0;
   int delivered_1_to_0 = 0;
@@ -181,8 +181,8 @@ TEST(ChannelTest, PerLinkLossReplacesTheGilbertElliottChain) {
 }
 
 TEST(ChannelTest, PartitionDropsCrossGroupBeaconsOnlyInItsWindow) {
-  scenario::ChannelSpec spec = Iid(0.0);
-  scenario::PartitionSpec partition;
+  ChannelSpec spec = Iid(0.0);
+  PartitionSpec partition;
   partition.start_s = 1.0;
   partition.end_s = 2.0;
   partition.groups = {{0, 1}, {2, 3}};  // 4 and 5 are named nowhere: a third group
@@ -212,7 +212,7 @@ TEST(ChannelTest, PartitionDropsCrossGroupBeaconsOnlyInItsWindow) {
 }
 
 TEST(ChannelTest, GilbertElliottAverageLossMatchesTheStationaryFormula) {
-  scenario::ChannelSpec spec = GilbertElliott(0.05, 0.5);
+  ChannelSpec spec = GilbertElliott(0.05, 0.5);
   spec.loss_good = 0.02;
   spec.loss_bad = 0.9;
   Channel channel(spec, 30, 21);
@@ -268,8 +268,8 @@ TEST(ChannelTest, AskingAnEarlierRoundReplaysTheChain) {
 }
 
 TEST(ChannelTest, RejectsBadSpecsAndUnknownRobots) {
-  scenario::ChannelSpec beyond = Iid(0.1);
-  beyond.links.push_back(scenario::LinkLossSpec{0, 9, 0.5});
+  ChannelSpec beyond = Iid(0.1);
+  beyond.links.push_back(LinkLossSpec{0, 9, 0.5});
   Channel channel(Iid(0.1), 4, 1);
 
   EXPECT_THROW(Channel(Iid(1.5), 4, 1), std::invalid_argument);

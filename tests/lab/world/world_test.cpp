@@ -20,24 +20,24 @@ namespace {
 constexpr int64_t kStepNs = 10'000'000;
 constexpr double kDt = 0.01;
 
-// The lab's default kinds (scenario::DefaultKindSpec, spelled out: the
+// The lab's default kinds (DefaultKindSpec, spelled out: the
 // scenario loader is not linked here).
-scenario::KindSpec OmniSpec() { return scenario::KindSpec{0.10, 0.5, 1.0, 3.0, 0.16}; }
-scenario::KindSpec RoverSpec() { return scenario::KindSpec{0.12, 0.4, 0.8, 3.0, 0.16}; }
+KindSpec OmniSpec() { return KindSpec{0.10, 0.5, 1.0, 3.0, 0.16}; }
+KindSpec RoverSpec() { return KindSpec{0.12, 0.4, 0.8, 3.0, 0.16}; }
 
-scenario::ArenaSpec Arena(double width_m, double height_m) {
-  scenario::ArenaSpec arena;
+ArenaSpec Arena(double width_m, double height_m) {
+  ArenaSpec arena;
   arena.width_m = width_m;
   arena.height_m = height_m;
   return arena;
 }
 
 BodySpec Omni(uint16_t id, double x_m, double y_m, BodyPresence presence = BodyPresence::kActive) {
-  return BodySpec{id, scenario::RobotKind::kOmni, OmniSpec(), x_m, y_m, 0.0, presence};
+  return BodySpec{id, RobotKind::kOmni, OmniSpec(), x_m, y_m, 0.0, presence};
 }
 
 BodySpec RoverAt(uint16_t id, double x_m, double y_m, double heading_rad) {
-  return BodySpec{id, scenario::RobotKind::kRover, RoverSpec(), x_m, y_m, heading_rad, BodyPresence::kActive};
+  return BodySpec{id, RobotKind::kRover, RoverSpec(), x_m, y_m, heading_rad, BodyPresence::kActive};
 }
 
 motion::DriveCommand OmniDrive(double vx_mps, double vy_mps, double yaw_rate_radps = 0) {
@@ -556,14 +556,14 @@ TEST(WorldTest, SameCallsGiveTheSameBits) {
 }
 
 TEST(WorldTest, ControllerConfigForCarriesTheKindsLimits) {
-  const motion::ControllerConfig config = ControllerConfigFor(scenario::RobotKind::kRover, RoverSpec());
+  const motion::ControllerConfig config = ControllerConfigFor(RobotKind::kRover, RoverSpec());
 
   EXPECT_EQ(config.kind, motion::DriveKind::kWheels);
   EXPECT_FLOAT_EQ(config.limits.max_speed_mps, 0.4f);
   EXPECT_FLOAT_EQ(config.limits.max_accel_mps2, 0.8f);
   EXPECT_FLOAT_EQ(config.limits.wheel_base_m, 0.16f);
   EXPECT_FLOAT_EQ(config.limits.body_radius_m, 0.12f);
-  EXPECT_EQ(DriveKindFor(scenario::RobotKind::kOmni), motion::DriveKind::kOmni);
+  EXPECT_EQ(DriveKindFor(RobotKind::kOmni), motion::DriveKind::kOmni);
 }
 
 }  // namespace

@@ -20,8 +20,8 @@
 #include <span>
 #include <vector>
 
-#include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sensors/trajectory.h"
+#include "syrof/lab/world/arena.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/drive.h"
 
@@ -54,8 +54,8 @@ const char* ToString(BodyPresence presence);
 /// A body at construction.
 struct BodySpec {
   uint16_t id = 0;  ///< bodies are given in id order 0 .. n-1
-  scenario::RobotKind kind = scenario::RobotKind::kOmni;
-  scenario::KindSpec spec{};  ///< radius and limits; all > 0
+  RobotKind kind = RobotKind::kOmni;
+  KindSpec spec{};  ///< radius and limits; all > 0
   double x_m = 0;             ///< initial pose
   double y_m = 0;
   double heading_rad = 0;
@@ -81,11 +81,11 @@ struct WallContact {
 inline constexpr double kContactHysteresisM = 1e-3;
 
 /// The drive kind the motion controller of a robot kind produces.
-motion::DriveKind DriveKindFor(scenario::RobotKind kind);
+motion::DriveKind DriveKindFor(RobotKind kind);
 
 /// A motion controller configuration with `spec`'s limits (converted to
 /// float) and the default gains and tolerances.
-motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec);
+motion::ControllerConfig ControllerConfigFor(RobotKind kind, const KindSpec& spec);
 
 class World {
  public:
@@ -94,7 +94,7 @@ class World {
   /// pose is not finite. Bodies may start overlapping each other or a wall:
   /// the first Step separates them; contacts present at construction are not
   /// counted (placement, not motion, caused them).
-  World(const scenario::ArenaSpec& arena, std::span<const BodySpec> bodies);
+  World(const ArenaSpec& arena, std::span<const BodySpec> bodies);
 
   /// The body's latest setpoint, applied from the next Step on. A command of
   /// the other drive kind or with a non-finite field is replaced by zero
@@ -163,8 +163,8 @@ class World {
   struct Body {
     BodyState state;
     BodyState previous;  // at the start of the current step (for the accelerations)
-    scenario::RobotKind kind;
-    scenario::KindSpec spec;
+    RobotKind kind;
+    KindSpec spec;
     BodyPresence presence;
     motion::DriveCommand drive;
     double left_mps = 0;   // rover wheel speeds
