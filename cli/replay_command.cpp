@@ -106,7 +106,7 @@ void PrintRound(const Round& round, const ReplayOptions& options, std::ostream& 
 // How a file ended, for the summary and the exit code.
 std::string Ending(const Reader& reader) {
   if (reader.complete()) return "complete";
-  return fmt::format("{} ({})", reader.truncated() ? "truncated" : "invalid", reader.error());
+  return fmt::format("{} ({})", reader.truncated() ? "truncated" : "invalid", reader.error().ToString());
 }
 
 int Summarize(Reader& reader, std::ostream& out) {
@@ -154,13 +154,13 @@ int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
   Reader reader(in);
   Header header;
   if (!reader.ReadHeader(header)) {
-    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error());
+    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
     return kBadInput;
   }
   PrintHeader(header, out);
   if (options.summary) {
     const int status = Summarize(reader, out);
-    if (status != kOk) err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error());
+    if (status != kOk) err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
     return status;
   }
   if (options.robot) {
@@ -184,8 +184,8 @@ int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
     }
     PrintRound(round, options, out);
   }
-  if (!reader.error().empty() && !round_found) {
-    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error());
+  if (reader.failed() && !round_found) {
+    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
     return kBadInput;
   }
   if (options.round && !round_found) {

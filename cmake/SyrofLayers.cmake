@@ -18,6 +18,7 @@
 #   queries (exact geometry) need only core/base.
 # - core/motion includes syrof/app.h (syrof_car_command), so it sits above
 #   core/app and below core/runtime, which wires everything of core.
+# - lab/base (the error value) is what every lab module shares.
 # - In lab, the sensors and the apps use only core (and queries); the world
 #   uses the sensors' TrueState; the scenario holds the world's specs
 #   (arena, kinds, channel), the sensors' noise models and checks app names
@@ -34,6 +35,7 @@ set(SYROF_LAYERS
   "core/app"
   "core/motion"
   "core/runtime"
+  "lab/base"
   "lab/sensors lab/apps"
   "lab/world"
   "lab/scenario"

@@ -19,7 +19,7 @@ endif()
 
 set(expected
   "core/wire/src/planted_wire.cpp:5: includes \"syrof/runtime/robot.h\": core/wire (layer 1) may not include core/runtime (layer 7): above it"
-  "queries/src/planted_query.cpp:4: includes \"syrof/lab/world/world.h\": queries (layer 1) may not include lab/world (layer 9): above it"
+  "queries/src/planted_query.cpp:4: includes \"syrof/lab/world/world.h\": queries (layer 1) may not include lab/world (layer 10): above it"
   "core/base/src/planted_cgal.cpp:3: includes \"CGAL/config.h\": only queries may include CGAL/ headers"
   "core/estimation/src/planted_sibling.cpp:4: includes \"syrof/sync/synchronizer.h\": core/estimation (layer 4) may not include core/sync (layer 4): a sibling in the same layer"
   "lab/apps/src/planted_board.cpp:3: includes \"syrof/board/cycles.h\": only firmware may include syrof/board/ headers")

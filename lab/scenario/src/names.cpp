@@ -1,4 +1,4 @@
-// Enum names, the robot-count limit and error formatting.
+// Enum names and the robot-count limit.
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/wire/member_set.h"
 
@@ -31,10 +31,5 @@ const char* ToString(FaultKind kind) {
 }
 
 int MaxRobots() { return wire::kMaxSwarmSize; }
-
-std::string ScenarioError::ToString() const {
-  if (line <= 0) return file + ": " + message;
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
-}
 
 }  // namespace syrof::lab::scenario

@@ -1,9 +1,9 @@
 #include "syrof/lab/world/channel.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <string>
 
+#include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
 
 namespace syrof::lab::world {
@@ -23,10 +23,11 @@ constexpr uint32_t LinkKey(uint16_t from, uint16_t to) { return (static_cast<uin
 
 bool IsProbability(double value) { return value >= 0 && value <= 1; }
 
-void RequireProbability(double value, const std::string& name) {
-  if (!IsProbability(value)) {
-    throw std::invalid_argument("Channel: " + name + " must be in [0, 1], not " + std::to_string(value));
-  }
+// "NAME must be in [0, 1], not VALUE" at `where` ("" for the spec's own
+// fields, whose name says where) when `value` is not a probability.
+std::optional<Error> CheckProbability(double value, const std::string& where, const std::string& name) {
+  if (IsProbability(value)) return std::nullopt;
+  return Error{.where = where, .message = name + " must be in [0, 1], not " + std::to_string(value)};
 }
 
 double BadProbability(const ChannelSpec& spec) {
@@ -46,6 +47,22 @@ const char* ToString(ChannelModel model) {
   return "?";
 }
 
+std::optional<Error> CheckChannelSpec(const ChannelSpec& spec, uint16_t robots) {
+  for (const auto& [value, name] : {std::pair{spec.loss, "loss"}, std::pair{spec.good_to_bad, "good_to_bad"},
+                                    std::pair{spec.bad_to_good, "bad_to_good"}, std::pair{spec.loss_good, "loss_good"},
+                                    std::pair{spec.loss_bad, "loss_bad"}}) {
+    if (auto problem = CheckProbability(value, "", name)) return problem;
+  }
+  for (const LinkLossSpec& link : spec.links) {
+    const std::string where = "link " + std::to_string(link.from) + " -> " + std::to_string(link.to);
+    if (link.from >= robots || link.to >= robots) {
+      return Error{.where = where, .message = "names a robot beyond the " + std::to_string(robots) + " robots"};
+    }
+    if (auto problem = CheckProbability(link.loss, where, "loss")) return problem;
+  }
+  return std::nullopt;
+}
+
 double Channel::StationaryLoss(const ChannelSpec& spec) {
   const double bad = BadProbability(spec);
   return bad * spec.loss_bad + (1 - bad) * spec.loss_good;
@@ -53,18 +70,10 @@ double Channel::StationaryLoss(const ChannelSpec& spec) {
 
 Channel::Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed)
     : spec_(spec), robots_(robots), seed_(seed) {
-  RequireProbability(spec.loss, "loss");
-  RequireProbability(spec.good_to_bad, "good_to_bad");
-  RequireProbability(spec.bad_to_good, "bad_to_good");
-  RequireProbability(spec.loss_good, "loss_good");
-  RequireProbability(spec.loss_bad, "loss_bad");
-
+  if (const std::optional<Error> problem = CheckChannelSpec(spec, robots)) {
+    base::check_failed(("Channel: " + problem->ToString()).c_str(), __FILE__, __LINE__);
+  }
   for (const LinkLossSpec& link : spec.links) {
-    if (link.from >= robots || link.to >= robots) {
-      throw std::invalid_argument("Channel: link " + std::to_string(link.from) + " -> " + std::to_string(link.to) +
-                                  " names a robot beyond the " + std::to_string(robots) + " robots");
-    }
-    RequireProbability(link.loss, "loss of link " + std::to_string(link.from) + " -> " + std::to_string(link.to));
     link_losses_.push_back(LinkLoss{LinkKey(link.from, link.to), link.loss});
   }
   // Stable, then keep the last entry of each key: a later entry overrides.
@@ -158,12 +167,8 @@ bool Channel::ChainBad(uint16_t from, uint16_t to, int64_t round) {
 }
 
 bool Channel::Delivers(uint16_t from, uint16_t to, int64_t round, double time_s) {
-  if (from >= robots_ || to >= robots_) {
-    throw std::out_of_range("Channel: no link " + std::to_string(from) + " -> " + std::to_string(to));
-  }
-  if (round < 0) {
-    throw std::out_of_range("Channel: negative round " + std::to_string(round));
-  }
+  SYROF_CHECK(from < robots_ && to < robots_);
+  SYROF_CHECK(round >= 0);
   ++offered_;
   if (plain_iid_) {
     // The common case, i.i.d. loss on every link: the same decision as below

@@ -6,7 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <stdexcept>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace syrof::lab::world {
@@ -267,17 +268,34 @@ TEST(ChannelTest, AskingAnEarlierRoundReplaysTheChain) {
   EXPECT_EQ(replayed, fresh.Delivers(0, 1, 120, 0));
 }
 
-TEST(ChannelTest, RejectsBadSpecsAndUnknownRobots) {
+TEST(ChannelTest, CheckChannelSpecSaysWhatIsWrongAndWhere) {
+  ChannelSpec beyond = Iid(0.1);
+  beyond.links.push_back(LinkLossSpec{0, 9, 0.5});
+  ChannelSpec bad_link = Iid(0.1);
+  bad_link.links.push_back(LinkLossSpec{0, 2, 1.5});
+
+  auto said = [](const std::optional<Error>& error) { return error ? error->ToString() : std::string("ok"); };
+  EXPECT_EQ(said(CheckChannelSpec(Iid(0.1), 4)), "ok");
+  EXPECT_EQ(said(CheckChannelSpec(GilbertElliott(0.2, 0.3), 4)), "ok");
+  EXPECT_EQ(said(CheckChannelSpec(Iid(1.5), 4)), "loss must be in [0, 1], not 1.500000");
+  EXPECT_NE(said(CheckChannelSpec(Iid(std::nan("")), 4)), "ok");
+  EXPECT_EQ(said(CheckChannelSpec(GilbertElliott(-0.1, 0.5), 4)),
+            "good_to_bad must be in [0, 1], not -0.100000");
+  EXPECT_EQ(said(CheckChannelSpec(beyond, 4)), "link 0 -> 9: names a robot beyond the 4 robots");
+  EXPECT_EQ(said(CheckChannelSpec(bad_link, 4)), "link 0 -> 2: loss must be in [0, 1], not 1.500000");
+}
+
+// A Channel built from a spec that fails the check, or asked about a robot
+// it does not have or a negative round, is a caller's bug: the program stops.
+TEST(ChannelDeathTest, BadSpecsAndUnknownRobotsStop) {
   ChannelSpec beyond = Iid(0.1);
   beyond.links.push_back(LinkLossSpec{0, 9, 0.5});
   Channel channel(Iid(0.1), 4, 1);
 
-  EXPECT_THROW(Channel(Iid(1.5), 4, 1), std::invalid_argument);
-  EXPECT_THROW(Channel(Iid(std::nan("")), 4, 1), std::invalid_argument);
-  EXPECT_THROW(Channel(GilbertElliott(-0.1, 0.5), 4, 1), std::invalid_argument);
-  EXPECT_THROW(Channel(beyond, 4, 1), std::invalid_argument);
-  EXPECT_THROW(channel.Delivers(4, 0, 0, 0), std::out_of_range);
-  EXPECT_THROW(channel.Delivers(0, 1, -1, 0), std::out_of_range);
+  EXPECT_DEATH_IF_SUPPORTED(Channel(Iid(1.5), 4, 1), "Channel: loss must be in \\[0, 1\\]");
+  EXPECT_DEATH_IF_SUPPORTED(Channel(beyond, 4, 1), "Channel: link 0 -> 9: names a robot beyond");
+  EXPECT_DEATH_IF_SUPPORTED(channel.Delivers(4, 0, 0, 0), "SYROF_CHECK");
+  EXPECT_DEATH_IF_SUPPORTED(channel.Delivers(0, 1, -1, 0), "SYROF_CHECK");
 }
 
 }  // namespace

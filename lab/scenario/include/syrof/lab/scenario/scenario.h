@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/lab/world/arena.h"
 #include "syrof/lab/world/channel.h"
@@ -96,18 +97,11 @@ struct Overrides {
   std::optional<std::string> app;   ///< "builtin:NAME"
 };
 
-/// What is wrong with a scenario, and where. `line` and `column` are 1-based;
+/// What is wrong with a scenario, and where: lab's error value, with
+/// `where` the file's path (or "<string>") and `line` and `column` 1-based,
 /// 0 when the error is not at one place in the file (an override, an I/O
 /// failure).
-struct ScenarioError {
-  std::string file;     ///< path, or "<string>"
-  int line = 0;
-  int column = 0;
-  std::string message;  ///< e.g. "unknown key 'robtos' (did you mean 'robots'?)"
-
-  /// "file:line:column: message" (or "file: message" without a place).
-  std::string ToString() const;
-};
+using ScenarioError = lab::Error;
 
 /// Largest scenario file accepted, and deepest nesting of maps and lists.
 inline constexpr size_t kMaxScenarioBytes = 1 << 20;

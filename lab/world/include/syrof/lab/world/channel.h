@@ -32,7 +32,10 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
+
+#include "syrof/lab/base/error.h"
 
 namespace syrof::lab::world {
 
@@ -69,16 +72,23 @@ struct ChannelSpec {
   std::vector<PartitionSpec> partitions;
 };
 
+/// What Channel's constructor requires: every probability in [0, 1] and
+/// every per-link entry naming robots below `robots`. Returns what is wrong
+/// and where ("link 0 -> 2: loss must be in [0, 1], not 1.500000"; the
+/// spec's own fields have no `where`, their name says it), or nothing. A scenario the loader accepted always passes.
+std::optional<Error> CheckChannelSpec(const ChannelSpec& spec, uint16_t robots);
+
 class Channel {
  public:
-  /// Throws std::invalid_argument when a probability is not in [0, 1], or a
-  /// per-link entry names a robot >= `robots`. Robots named in partitions
-  /// beyond `robots` are ignored. A link listed twice takes its last entry.
+  /// Requires CheckChannelSpec(spec, robots) to pass; anything else is a
+  /// caller's bug and stops the program (SYROF_CHECK, with the check's
+  /// message). Robots named in partitions beyond `robots` are ignored. A link
+  /// listed twice takes its last entry.
   Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed);
 
   /// Whether the beacon robot `from` sends in radio round `round` (>= 0),
-  /// starting at `time_s`, reaches robot `to`. Throws std::out_of_range for a
-  /// robot >= robots() or a negative round.
+  /// starting at `time_s`, reaches robot `to`. A robot >= robots() or a
+  /// negative round is a caller's bug (SYROF_CHECK).
   bool Delivers(uint16_t from, uint16_t to, int64_t round, double time_s);
 
   uint16_t robots() const { return robots_; }
