@@ -60,7 +60,7 @@ CLI::Validator DurationValidator() {
         if (value > max) return fmt::format("must be at most {} seconds (a day), not {}", max, text);
         return {};
       },
-      fmt::format("(0..{}] s", max), "SECONDS");
+      fmt::format("(0..{}]", max), "SECONDS");
 }
 
 int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ostream& out, std::ostream& err) {
