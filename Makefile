@@ -72,11 +72,11 @@ bench-m4: deps
 	  echo "== $$image"; $(QEMU_M4) -kernel "$$image"; echo; \
 	done
 
-## asan: core's, queries' and lab's tests once more under AddressSanitizer and UBSan.
+## asan: core's, queries', lab's and the cli's tests once more under AddressSanitizer and UBSan.
 asan: deps
 	$(CMAKE_CONFIGURE) -S . -B $(ASAN_DIR) -DSYROF_SANITIZE=ON -DSYROF_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug
 	cmake --build $(ASAN_DIR) -j $(JOBS)
-	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L 'core|queries|lab'
+	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L 'core|queries|lab|cli'
 
 ## tsan: the tests where threads meet (the POSIX port, the broker across
 ## threads, the robot's receive edge) under ThreadSanitizer. Their suites:

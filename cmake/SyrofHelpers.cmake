@@ -1,5 +1,57 @@
 # Helpers shared by every module's CMakeLists.txt.
 
+# The layering (one list, cmake/SyrofLayers.cmake): syrof_layer_rank_<module>
+# is the index of the module's group, for syrof_add_library's check.
+include(${CMAKE_CURRENT_LIST_DIR}/SyrofLayers.cmake)
+set(_syrof_rank 0)
+foreach(_syrof_group IN LISTS SYROF_LAYERS)
+  string(REPLACE " " ";" _syrof_members "${_syrof_group}")
+  foreach(_syrof_module IN LISTS _syrof_members)
+    set(syrof_layer_rank_${_syrof_module} ${_syrof_rank})
+  endforeach()
+  math(EXPR _syrof_rank "${_syrof_rank} + 1")
+endforeach()
+unset(_syrof_rank)
+unset(_syrof_group)
+unset(_syrof_members)
+unset(_syrof_module)
+
+# The layering module of the current source folder: core/<m> and lab/<m> (a
+# port folder such as core/os/sim belongs to core/os), else the top folder.
+function(_syrof_current_module out)
+  file(RELATIVE_PATH relative "${PROJECT_SOURCE_DIR}" "${CMAKE_CURRENT_SOURCE_DIR}")
+  if(relative MATCHES "^(core|lab)/([^/]+)")
+    set(${out} "${CMAKE_MATCH_1}/${CMAKE_MATCH_2}" PARENT_SCOPE)
+  elseif(relative MATCHES "^([^/]+)")
+    set(${out} "${CMAKE_MATCH_1}" PARENT_SCOPE)
+  else()
+    set(${out} "" PARENT_SCOPE)
+  endif()
+endfunction()
+
+# Refuses (at configure time) a link dependency of `target` (in `module`) on
+# a SyROF library of a module that is not strictly below it. Only libraries
+# declared before are known (queries, for one, is added after core because it
+# needs core/base while core/app needs it), so this catches what it can; the
+# include check (cmake/CheckLayers.cmake, ctest label architecture) is the
+# complete one.
+function(_syrof_check_link_layers target module)
+  if(NOT DEFINED syrof_layer_rank_${module})
+    message(FATAL_ERROR "syrof_add_library(${target}): module ${module} is not in cmake/SyrofLayers.cmake")
+  endif()
+  foreach(dependency IN LISTS ARGN)
+    get_property(dependency_module GLOBAL PROPERTY SYROF_MODULE_OF_${dependency})
+    if(NOT dependency_module OR dependency_module STREQUAL module)
+      continue()
+    endif()
+    if(NOT syrof_layer_rank_${dependency_module} LESS syrof_layer_rank_${module})
+      message(FATAL_ERROR "syrof_add_library(${target}): ${module} (layer ${syrof_layer_rank_${module}}) may not "
+                          "depend on ${dependency} of ${dependency_module} (layer "
+                          "${syrof_layer_rank_${dependency_module}}); the order is in cmake/SyrofLayers.cmake")
+    endif()
+  endforeach()
+endfunction()
+
 option(SYROF_WERROR "Treat compiler warnings as errors in SyROF's own targets" ON)
 
 # Compile options for SyROF's own code (not third-party code).
@@ -55,6 +107,9 @@ function(syrof_add_library)
   if(NOT ARG_INCLUDE_DIR)
     set(ARG_INCLUDE_DIR include)
   endif()
+  _syrof_current_module(module)
+  _syrof_check_link_layers(${ARG_NAME} "${module}" ${ARG_PUBLIC} ${ARG_PRIVATE})
+  set_property(GLOBAL PROPERTY SYROF_MODULE_OF_${ARG_NAME} "${module}")
   if(ARG_SOURCES)
     add_library(${ARG_NAME} STATIC ${ARG_SOURCES})
     target_include_directories(${ARG_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/${ARG_INCLUDE_DIR})

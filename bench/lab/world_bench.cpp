@@ -34,7 +34,7 @@ void SetRandomDrives(World& world, base::SplitMix64& random) {
 void BM_WorldStep(benchmark::State& state) {
   const auto robots = static_cast<uint16_t>(state.range(0));
   const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(robots))));
-  lab::scenario::ArenaSpec arena;
+  lab::world::ArenaSpec arena;
   arena.width_m = arena.height_m = 0.5 * side;
   std::vector<BodySpec> bodies;
   for (uint16_t id = 0; id < robots; ++id) {

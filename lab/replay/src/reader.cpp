@@ -32,7 +32,7 @@ Reader::Reader(std::istream& in) : in_(in) {}
 
 bool Reader::Fail(uint64_t at, const std::string& message) {
   state_ = State::kFailed;
-  error_ = fmt::format("offset {}: {}", at, message);
+  error_ = Error{.where = fmt::format("offset {}", at), .message = message};
   return false;
 }
 

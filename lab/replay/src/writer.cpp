@@ -46,7 +46,7 @@ void PutName(std::vector<uint8_t>& out, const std::string& name) {
 
 Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
   if (std::string problem = CheckHeader(header); !problem.empty()) {
-    Fail("header: " + problem);
+    Fail(problem, "header");
     return;
   }
   ids_.reserve(header.robots.size());
@@ -75,9 +75,9 @@ Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
 
 bool Writer::ok() const { return state_ != State::kFailed && out_.good(); }
 
-void Writer::Fail(std::string message) {
+void Writer::Fail(std::string message, std::string where) {
   state_ = State::kFailed;
-  error_ = std::move(message);
+  error_ = Error{.where = std::move(where), .message = std::move(message)};
 }
 
 void Writer::Emit() {

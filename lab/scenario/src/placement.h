@@ -15,7 +15,7 @@ namespace syrof::lab::scenario {
 struct PlacementRequest {
   Placement placement = Placement::kGrid;
   int count = 0;
-  RobotKind kind = RobotKind::kOmni;  // every robot's kind, except explicit poses
+  world::RobotKind kind = world::RobotKind::kOmni;  // every robot's kind, except explicit poses
   double spacing_m = 0.5;             // grid
   double centre_x_m = 0;              // grid, circle
   double centre_y_m = 0;

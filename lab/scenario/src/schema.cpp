@@ -28,8 +28,8 @@ bool CheckOverrides(const Overrides& overrides, Diagnostics& diagnostics) {
     return diagnostics.Fail(0, 0, "robots override must be in [1, " + std::to_string(MaxRobots()) + "], got " +
                                       std::to_string(*overrides.robots));
   }
-  if (overrides.duration_s && !(*overrides.duration_s > 0 && *overrides.duration_s <= 86400)) {
-    return diagnostics.Fail(0, 0, "duration override must be in (0, 86400] seconds, got " +
+  if (overrides.duration_s && !(*overrides.duration_s > 0 && *overrides.duration_s <= kMaxDurationS)) {
+    return diagnostics.Fail(0, 0, "duration override must be in (0, " + FormatNumber(kMaxDurationS) + "] seconds, got " +
                                       FormatNumber(*overrides.duration_s));
   }
   return true;

@@ -11,7 +11,7 @@ namespace syrof::lab::scenario {
 namespace {
 
 constexpr NumberRange kProbability{0, 1};
-constexpr NumberRange kTimeOfRun{0, 86400};  // a day of simulated time is plenty
+constexpr NumberRange kTimeOfRun{0, kMaxDurationS};  // a day of simulated time is plenty
 constexpr double kWholeTolerance = 1e-6;     // relative, for "a whole number of rounds"
 
 bool IsWholeMultiple(double value, double unit) {
@@ -76,14 +76,14 @@ bool ReadModel(const YamlNode* node, const std::string& path, std::span<const st
   return true;
 }
 
-constexpr std::string_view kChannelModels[] = {"iid", "gilbert_elliott"};  // ChannelModel's order
+constexpr std::string_view kChannelModels[] = {"iid", "gilbert_elliott"};  // world::ChannelModel's order
 
-bool CheckChannelKeys(const YamlNode& node, ChannelModel model, Diagnostics& diagnostics) {
+bool CheckChannelKeys(const YamlNode& node, world::ChannelModel model, Diagnostics& diagnostics) {
   static constexpr std::string_view kIidOnly[] = {"loss"};
   static constexpr std::string_view kBurstyOnly[] = {"good_to_bad", "bad_to_good", "loss_good", "loss_bad"};
   const std::span<const std::string_view> foreign =
-      model == ChannelModel::kIid ? std::span<const std::string_view>(kBurstyOnly) : kIidOnly;
-  const std::string_view owner = model == ChannelModel::kIid ? "gilbert_elliott" : "iid";
+      model == world::ChannelModel::kIid ? std::span<const std::string_view>(kBurstyOnly) : kIidOnly;
+  const std::string_view owner = model == world::ChannelModel::kIid ? "gilbert_elliott" : "iid";
   for (const YamlNode& key : node.keys) {
     for (std::string_view name : foreign) {
       if (key.scalar != name) continue;
@@ -100,7 +100,7 @@ bool ReadLinks(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostic
   static constexpr std::string_view kKeys[] = {"from", "to", "loss"};
   const std::string path = "channel.links";
   if (!ExpectList(node, path, diagnostics)) return false;
-  std::vector<LinkLossSpec>& links = scenario.channel.links;
+  std::vector<world::LinkLossSpec>& links = scenario.channel.links;
   for (size_t i = 0; i < node.values.size(); ++i) {
     const YamlNode& entry = node.values[i];
     const std::string entry_path = IndexPath(path, i);
@@ -108,7 +108,7 @@ bool ReadLinks(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostic
     for (std::string_view key : kKeys) {
       if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
     }
-    LinkLossSpec link;
+    world::LinkLossSpec link;
     if (!ReadRobotId(*entry.Find("from"), JoinPath(entry_path, "from"), scenario, link.from, diagnostics) ||
         !ReadRobotId(*entry.Find("to"), JoinPath(entry_path, "to"), scenario, link.to, diagnostics) ||
         !ReadNumber(*entry.Find("loss"), JoinPath(entry_path, "loss"), kProbability, link.loss, diagnostics)) {
@@ -131,7 +131,7 @@ bool ReadLinks(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostic
   return true;
 }
 
-bool ReadGroups(const YamlNode& node, const std::string& path, const Scenario& scenario, PartitionSpec& partition,
+bool ReadGroups(const YamlNode& node, const std::string& path, const Scenario& scenario, world::PartitionSpec& partition,
                 Diagnostics& diagnostics) {
   if (!ExpectList(node, path, diagnostics)) return false;
   if (node.values.empty()) return FailAt(node, path, "needs at least one group", diagnostics);
@@ -170,7 +170,7 @@ bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagn
     for (std::string_view key : kKeys) {
       if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
     }
-    PartitionSpec partition;
+    world::PartitionSpec partition;
     const YamlNode& start = *entry.Find("start_s");
     const YamlNode& end = *entry.Find("end_s");
     if (!ReadNumber(start, JoinPath(entry_path, "start_s"), kTimeOfRun, partition.start_s, diagnostics) ||
@@ -189,7 +189,7 @@ bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagn
                     diagnostics);
     }
     for (size_t j = 0; j < scenario.channel.partitions.size(); ++j) {
-      const PartitionSpec& other = scenario.channel.partitions[j];
+      const world::PartitionSpec& other = scenario.channel.partitions[j];
       if (partition.start_s < other.end_s && other.start_s < partition.end_s) {
         return FailAt(entry, entry_path,
                       "its window overlaps partitions[" + std::to_string(j) + "] ([" + FormatNumber(other.start_s) +
@@ -356,11 +356,11 @@ bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnost
   if (node == nullptr) return true;
   const std::string path = "channel";
   if (!ExpectMap(*node, path, diagnostics) || !CheckKeys(*node, path, kKeys, diagnostics)) return false;
-  ChannelSpec& channel = scenario.channel;
+  world::ChannelSpec& channel = scenario.channel;
   if (const YamlNode* model = node->Find("model")) {
     size_t index = 0;
     if (!ReadChoice(*model, "channel.model", kChannelModels, index, diagnostics)) return false;
-    channel.model = static_cast<ChannelModel>(index);
+    channel.model = static_cast<world::ChannelModel>(index);
   }
   if (!CheckChannelKeys(*node, channel.model, diagnostics)) return false;
   if (!ReadNumberAt(*node, path, "loss", kProbability, channel.loss, diagnostics) ||

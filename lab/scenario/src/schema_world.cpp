@@ -22,7 +22,7 @@ constexpr double kMinAnchorSpreadM2 = 0.01;
 
 std::string Point(double x_m, double y_m) { return "(" + FormatShort(x_m) + ", " + FormatShort(y_m) + ")"; }
 
-bool ReadAnchor(const YamlNode& node, const std::string& path, const Scenario& scenario, AnchorSpec& anchor,
+bool ReadAnchor(const YamlNode& node, const std::string& path, const Scenario& scenario, world::AnchorSpec& anchor,
                 Diagnostics& diagnostics) {
   static constexpr std::string_view kKeys[] = {"x_m", "y_m", "z_m"};
   if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics)) return false;
@@ -44,8 +44,8 @@ bool ReadAnchors(const YamlNode& node, const std::string& path, Scenario& scenar
                   "needs 3 to " + std::to_string(estimation::kMaxAnchors) + " anchors, got " + std::to_string(count),
                   diagnostics);
   }
-  std::vector<AnchorSpec>& anchors = scenario.arena.anchors;
-  anchors.assign(count, AnchorSpec{});
+  std::vector<world::AnchorSpec>& anchors = scenario.arena.anchors;
+  anchors.assign(count, world::AnchorSpec{});
   for (size_t i = 0; i < count; ++i) {
     if (!ReadAnchor(node.values[i], IndexPath(path, i), scenario, anchors[i], diagnostics)) return false;
     for (size_t j = 0; j < i; ++j) {
@@ -77,7 +77,7 @@ bool ReadAnchors(const YamlNode& node, const std::string& path, Scenario& scenar
 
 // The paper's layout stretched over the arena: (0,0,0), (W,H,0), (0,H,h),
 // (W,0,h) with h the default layout's height; DefaultArena() on 4 m x 4 m.
-std::vector<AnchorSpec> DefaultAnchors(double width_m, double height_m) {
+std::vector<world::AnchorSpec> DefaultAnchors(double width_m, double height_m) {
   const double top_m = estimation::DefaultAnchorLayout<double>().height_m;
   return {{0, 0, 0}, {width_m, height_m, 0}, {0, height_m, top_m}, {width_m, 0, top_m}};
 }
@@ -90,19 +90,19 @@ void FillSensorArena(Scenario& scenario, double tag_height_m) {
   arena.anchor_count = static_cast<int>(scenario.arena.anchors.size());
   for (int i = 0; i < estimation::kMaxAnchors; ++i) {
     const bool used = i < arena.anchor_count;
-    const AnchorSpec anchor = used ? scenario.arena.anchors[i] : AnchorSpec{};
+    const world::AnchorSpec anchor = used ? scenario.arena.anchors[i] : world::AnchorSpec{};
     arena.anchors[i] = estimation::Vector3<double>(anchor.x_m, anchor.y_m, anchor.z_m);
   }
 }
 
-bool ReadKind(const YamlNode& node, const std::string& path, RobotKind kind, KindSpec& spec,
+bool ReadKind(const YamlNode& node, const std::string& path, world::RobotKind kind, world::KindSpec& spec,
               Diagnostics& diagnostics) {
   static constexpr std::string_view kOmniKeys[] = {"body_radius_m", "max_speed_mps", "max_accel_mps2",
                                                    "max_turn_rate_radps"};
   static constexpr std::string_view kRoverKeys[] = {"body_radius_m", "max_speed_mps", "max_accel_mps2",
                                                     "wheel_base_m"};
   if (!ExpectMap(node, path, diagnostics)) return false;
-  if (!CheckKeys(node, path, kind == RobotKind::kRover ? kRoverKeys : kOmniKeys, diagnostics)) return false;
+  if (!CheckKeys(node, path, kind == world::RobotKind::kRover ? kRoverKeys : kOmniKeys, diagnostics)) return false;
   return ReadNumberAt(node, path, "body_radius_m", NumberRange{0, 1, true}, spec.body_radius_m, diagnostics) &&
          ReadNumberAt(node, path, "max_speed_mps", NumberRange{0, 10, true}, spec.max_speed_mps, diagnostics) &&
          ReadNumberAt(node, path, "max_accel_mps2", NumberRange{0, 100, true}, spec.max_accel_mps2, diagnostics) &&
@@ -114,14 +114,14 @@ bool ReadKind(const YamlNode& node, const std::string& path, RobotKind kind, Kin
 constexpr std::string_view kKindNames[] = {"omni", "rover"};
 constexpr std::string_view kPlacementNames[] = {"explicit", "grid", "circle", "random"};  // Placement's order
 
-bool ReadKindName(const YamlNode& node, const std::string& path, RobotKind& kind, Diagnostics& diagnostics) {
+bool ReadKindName(const YamlNode& node, const std::string& path, world::RobotKind& kind, Diagnostics& diagnostics) {
   size_t index = 0;
   if (!ReadChoice(node, path, kKindNames, index, diagnostics)) return false;
-  kind = static_cast<RobotKind>(index);
+  kind = static_cast<world::RobotKind>(index);
   return true;
 }
 
-bool ReadPose(const YamlNode& node, const std::string& path, RobotKind default_kind, RobotSpec& robot,
+bool ReadPose(const YamlNode& node, const std::string& path, world::RobotKind default_kind, RobotSpec& robot,
               Diagnostics& diagnostics) {
   static constexpr std::string_view kKeys[] = {"x_m", "y_m", "heading_rad", "kind"};
   if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics)) return false;
@@ -284,8 +284,8 @@ bool ReadKinds(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostic
   if (!ExpectMap(*node, path, diagnostics) || !CheckKeys(*node, path, kKindNames, diagnostics)) return false;
   const YamlNode* omni = node->Find("omni");
   const YamlNode* rover = node->Find("rover");
-  return (omni == nullptr || ReadKind(*omni, "kinds.omni", RobotKind::kOmni, scenario.omni, diagnostics)) &&
-         (rover == nullptr || ReadKind(*rover, "kinds.rover", RobotKind::kRover, scenario.rover, diagnostics));
+  return (omni == nullptr || ReadKind(*omni, "kinds.omni", world::RobotKind::kOmni, scenario.omni, diagnostics)) &&
+         (rover == nullptr || ReadKind(*rover, "kinds.rover", world::RobotKind::kRover, scenario.rover, diagnostics));
 }
 
 bool ReadRobots(const YamlNode& node, const Overrides& overrides, Scenario& scenario, Diagnostics& diagnostics) {

@@ -7,7 +7,7 @@
 
 namespace syrof::lab::sim {
 
-RadioNetwork::RadioNetwork(const scenario::ChannelSpec& channel, uint16_t robots, uint64_t seed)
+RadioNetwork::RadioNetwork(const world::ChannelSpec& channel, uint16_t robots, uint64_t seed)
     : channel_(channel, robots, seed), outbox_(robots), sent_(robots, 0), inflight_(robots) {
   radios_.reserve(robots);
   for (uint16_t id = 0; id < robots; ++id) radios_.emplace_back(*this, id);

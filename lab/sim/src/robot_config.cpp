@@ -36,7 +36,7 @@ wire::MemberSet InitialMembers(const scenario::Scenario& scenario) {
   return initial;
 }
 
-motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec) {
+motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world::KindSpec& spec) {
   motion::ControllerConfig config;
   config.kind = world::DriveKindFor(kind);
   config.limits.max_speed_mps = static_cast<float>(spec.max_speed_mps);

@@ -327,7 +327,7 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
   const int64_t round = RoundOf(now_ns);
   const double now = static_cast<double>(now_ns) * 1e-9;
   for (size_t i = 0; i < scenario_.channel.partitions.size(); ++i) {
-    const scenario::PartitionSpec& partition = scenario_.channel.partitions[i];
+    const world::PartitionSpec& partition = scenario_.channel.partitions[i];
     const uint8_t active = partition.start_s <= now && now < partition.end_s ? 1 : 0;
     if (active != partition_active_[i]) {
       AddEvent(active != 0 ? replay::EventKind::kPartitionStart : replay::EventKind::kPartitionEnd, now_ns,

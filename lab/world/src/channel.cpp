@@ -1,9 +1,9 @@
 #include "syrof/lab/world/channel.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <string>
 
+#include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
 
 namespace syrof::lab::world {
@@ -23,38 +23,57 @@ constexpr uint32_t LinkKey(uint16_t from, uint16_t to) { return (static_cast<uin
 
 bool IsProbability(double value) { return value >= 0 && value <= 1; }
 
-void RequireProbability(double value, const std::string& name) {
-  if (!IsProbability(value)) {
-    throw std::invalid_argument("Channel: " + name + " must be in [0, 1], not " + std::to_string(value));
-  }
+// "NAME must be in [0, 1], not VALUE" at `where` ("" for the spec's own
+// fields, whose name says where) when `value` is not a probability.
+std::optional<Error> CheckProbability(double value, const std::string& where, const std::string& name) {
+  if (IsProbability(value)) return std::nullopt;
+  return Error{.where = where, .message = name + " must be in [0, 1], not " + std::to_string(value)};
 }
 
-double BadProbability(const scenario::ChannelSpec& spec) {
+double BadProbability(const ChannelSpec& spec) {
   const double rates = spec.good_to_bad + spec.bad_to_good;
   return rates > 0 ? spec.good_to_bad / rates : 0.0;
 }
 
 }  // namespace
 
-double Channel::StationaryLoss(const scenario::ChannelSpec& spec) {
+const char* ToString(ChannelModel model) {
+  switch (model) {
+    case ChannelModel::kIid:
+      return "iid";
+    case ChannelModel::kGilbertElliott:
+      return "gilbert_elliott";
+  }
+  return "?";
+}
+
+std::optional<Error> CheckChannelSpec(const ChannelSpec& spec, uint16_t robots) {
+  for (const auto& [value, name] : {std::pair{spec.loss, "loss"}, std::pair{spec.good_to_bad, "good_to_bad"},
+                                    std::pair{spec.bad_to_good, "bad_to_good"}, std::pair{spec.loss_good, "loss_good"},
+                                    std::pair{spec.loss_bad, "loss_bad"}}) {
+    if (auto problem = CheckProbability(value, "", name)) return problem;
+  }
+  for (const LinkLossSpec& link : spec.links) {
+    const std::string where = "link " + std::to_string(link.from) + " -> " + std::to_string(link.to);
+    if (link.from >= robots || link.to >= robots) {
+      return Error{.where = where, .message = "names a robot beyond the " + std::to_string(robots) + " robots"};
+    }
+    if (auto problem = CheckProbability(link.loss, where, "loss")) return problem;
+  }
+  return std::nullopt;
+}
+
+double Channel::StationaryLoss(const ChannelSpec& spec) {
   const double bad = BadProbability(spec);
   return bad * spec.loss_bad + (1 - bad) * spec.loss_good;
 }
 
-Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t seed)
+Channel::Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed)
     : spec_(spec), robots_(robots), seed_(seed) {
-  RequireProbability(spec.loss, "loss");
-  RequireProbability(spec.good_to_bad, "good_to_bad");
-  RequireProbability(spec.bad_to_good, "bad_to_good");
-  RequireProbability(spec.loss_good, "loss_good");
-  RequireProbability(spec.loss_bad, "loss_bad");
-
-  for (const scenario::LinkLossSpec& link : spec.links) {
-    if (link.from >= robots || link.to >= robots) {
-      throw std::invalid_argument("Channel: link " + std::to_string(link.from) + " -> " + std::to_string(link.to) +
-                                  " names a robot beyond the " + std::to_string(robots) + " robots");
-    }
-    RequireProbability(link.loss, "loss of link " + std::to_string(link.from) + " -> " + std::to_string(link.to));
+  if (const std::optional<Error> problem = CheckChannelSpec(spec, robots)) {
+    base::check_failed(("Channel: " + problem->ToString()).c_str(), __FILE__, __LINE__);
+  }
+  for (const LinkLossSpec& link : spec.links) {
     link_losses_.push_back(LinkLoss{LinkKey(link.from, link.to), link.loss});
   }
   // Stable, then keep the last entry of each key: a later entry overrides.
@@ -70,7 +89,7 @@ Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t se
   }
   link_losses_.swap(unique);
 
-  for (const scenario::PartitionSpec& partition : spec.partitions) {
+  for (const PartitionSpec& partition : spec.partitions) {
     const auto unlisted = static_cast<uint16_t>(std::min<size_t>(partition.groups.size(), 0xFFFFu));
     Partition resolved{partition.start_s, partition.end_s, std::vector<uint16_t>(robots, unlisted)};
     for (size_t group = 0; group < partition.groups.size() && group < unlisted; ++group) {
@@ -84,7 +103,7 @@ Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t se
     partitions_.push_back(std::move(resolved));
   }
 
-  if (spec.model == scenario::ChannelModel::kGilbertElliott) {
+  if (spec.model == ChannelModel::kGilbertElliott) {
     chains_.assign(static_cast<size_t>(robots) * robots, 0u);
     const double bad = BadProbability(spec);
     for (uint16_t from = 0; from < robots; ++from) {
@@ -95,7 +114,7 @@ Channel::Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t se
       }
     }
   }
-  plain_iid_ = spec_.model == scenario::ChannelModel::kIid && partitions_.empty() && link_losses_.empty();
+  plain_iid_ = spec_.model == ChannelModel::kIid && partitions_.empty() && link_losses_.empty();
   loss_scaled_ = spec_.loss * 0x1.0p53;
 }
 
@@ -148,12 +167,8 @@ bool Channel::ChainBad(uint16_t from, uint16_t to, int64_t round) {
 }
 
 bool Channel::Delivers(uint16_t from, uint16_t to, int64_t round, double time_s) {
-  if (from >= robots_ || to >= robots_) {
-    throw std::out_of_range("Channel: no link " + std::to_string(from) + " -> " + std::to_string(to));
-  }
-  if (round < 0) {
-    throw std::out_of_range("Channel: negative round " + std::to_string(round));
-  }
+  SYROF_CHECK(from < robots_ && to < robots_);
+  SYROF_CHECK(round >= 0);
   ++offered_;
   if (plain_iid_) {
     // The common case, i.i.d. loss on every link: the same decision as below
@@ -173,7 +188,7 @@ bool Channel::Delivers(uint16_t from, uint16_t to, int64_t round, double time_s)
                                      [](const LinkLoss& entry, uint32_t wanted) { return entry.key < wanted; });
   if (link != link_losses_.end() && link->key == key) {
     loss = link->loss;
-  } else if (spec_.model == scenario::ChannelModel::kGilbertElliott) {
+  } else if (spec_.model == ChannelModel::kGilbertElliott) {
     loss = ChainBad(from, to, round) ? spec_.loss_bad : spec_.loss_good;
   }
   const bool delivered = !(LossDraw(round, from, to) < loss);

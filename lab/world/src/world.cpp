@@ -4,8 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <stdexcept>
 #include <string>
+
+#include "syrof/base/check.h"
 
 namespace syrof::lab::world {
 namespace {
@@ -51,12 +52,6 @@ double Approach(double value, double target, double step) {
 
 bool PositiveFinite(double value) { return std::isfinite(value) && value > 0; }
 
-void Require(bool condition, const std::string& message) {
-  if (!condition) {
-    throw std::invalid_argument("World: " + message);
-  }
-}
-
 bool IsFinite(const motion::DriveCommand& drive) {
   return std::isfinite(drive.vx_mps) && std::isfinite(drive.vy_mps) && std::isfinite(drive.yaw_rate_radps) &&
          std::isfinite(drive.left_mps) && std::isfinite(drive.right_mps);
@@ -76,25 +71,38 @@ const char* ToString(BodyPresence presence) {
   return "?";
 }
 
-motion::DriveKind DriveKindFor(scenario::RobotKind kind) {
-  return kind == scenario::RobotKind::kRover ? motion::DriveKind::kWheels : motion::DriveKind::kOmni;
+motion::DriveKind DriveKindFor(RobotKind kind) {
+  return kind == RobotKind::kRover ? motion::DriveKind::kWheels : motion::DriveKind::kOmni;
 }
 
-World::World(const scenario::ArenaSpec& arena, std::span<const BodySpec> bodies)
-    : width_m_(arena.width_m), height_m_(arena.height_m), min_separation_m_(kInfinity) {
-  Require(PositiveFinite(width_m_) && PositiveFinite(height_m_), "arena width and height must be > 0");
-  Require(bodies.size() <= 0xFFFFu, "at most 65535 bodies");
-  bodies_.reserve(bodies.size());
+std::optional<Error> CheckWorldSpec(const ArenaSpec& arena, std::span<const BodySpec> bodies) {
+  if (!PositiveFinite(arena.width_m) || !PositiveFinite(arena.height_m)) {
+    return Error{.where = "arena", .message = "width and height must be > 0"};
+  }
+  if (bodies.size() > 0xFFFFu) return Error{.where = "bodies", .message = "at most 65535"};
   for (size_t i = 0; i < bodies.size(); ++i) {
     const BodySpec& spec = bodies[i];
-    const std::string where = "body " + std::to_string(i) + ": ";
-    Require(spec.id == i, where + "id " + std::to_string(spec.id) + " is not its index");
-    Require(PositiveFinite(spec.spec.body_radius_m) && PositiveFinite(spec.spec.max_speed_mps) &&
-                PositiveFinite(spec.spec.max_accel_mps2) && PositiveFinite(spec.spec.max_turn_rate_radps) &&
-                PositiveFinite(spec.spec.wheel_base_m),
-            where + "radius and limits must be > 0");
-    Require(std::isfinite(spec.x_m) && std::isfinite(spec.y_m) && std::isfinite(spec.heading_rad),
-            where + "pose must be finite");
+    const std::string where = "body " + std::to_string(i);
+    if (spec.id != i) return Error{.where = where, .message = "id " + std::to_string(spec.id) + " is not its index"};
+    if (!PositiveFinite(spec.spec.body_radius_m) || !PositiveFinite(spec.spec.max_speed_mps) ||
+        !PositiveFinite(spec.spec.max_accel_mps2) || !PositiveFinite(spec.spec.max_turn_rate_radps) ||
+        !PositiveFinite(spec.spec.wheel_base_m)) {
+      return Error{.where = where, .message = "radius and limits must be > 0"};
+    }
+    if (!std::isfinite(spec.x_m) || !std::isfinite(spec.y_m) || !std::isfinite(spec.heading_rad)) {
+      return Error{.where = where, .message = "pose must be finite"};
+    }
+  }
+  return std::nullopt;
+}
+
+World::World(const ArenaSpec& arena, std::span<const BodySpec> bodies)
+    : width_m_(arena.width_m), height_m_(arena.height_m), min_separation_m_(kInfinity) {
+  if (const std::optional<Error> problem = CheckWorldSpec(arena, bodies)) {
+    base::check_failed(("World: " + problem->ToString()).c_str(), __FILE__, __LINE__);
+  }
+  bodies_.reserve(bodies.size());
+  for (const BodySpec& spec : bodies) {
     Body body;
     body.state.x_m = spec.x_m;
     body.state.y_m = spec.y_m;
@@ -143,9 +151,7 @@ World::World(const scenario::ArenaSpec& arena, std::span<const BodySpec> bodies)
 }
 
 const World::Body& World::body(uint16_t robot) const {
-  if (robot >= bodies_.size()) {
-    throw std::out_of_range("World: no robot " + std::to_string(robot));
-  }
+  SYROF_CHECK(robot < bodies_.size());
   return bodies_[robot];
 }
 
@@ -209,7 +215,7 @@ void World::Integrate(Body& target, double dt_s) const {
     target.left_mps = target.right_mps = 0;
     return;
   }
-  if (target.kind == scenario::RobotKind::kRover) {
+  if (target.kind == RobotKind::kRover) {
     IntegrateRover(target, dt_s);
   } else {
     IntegrateOmni(target, dt_s);
@@ -217,7 +223,7 @@ void World::Integrate(Body& target, double dt_s) const {
 }
 
 void World::IntegrateOmni(Body& target, double dt_s) const {
-  const scenario::KindSpec& spec = target.spec;
+  const KindSpec& spec = target.spec;
   BodyState& state = target.state;
   double set_vx = target.drive.vx_mps;
   double set_vy = target.drive.vy_mps;
@@ -247,7 +253,7 @@ void World::IntegrateOmni(Body& target, double dt_s) const {
 }
 
 void World::IntegrateRover(Body& target, double dt_s) const {
-  const scenario::KindSpec& spec = target.spec;
+  const KindSpec& spec = target.spec;
   BodyState& state = target.state;
   const double max_step = spec.max_accel_mps2 * dt_s;
   const double set_left = std::clamp(static_cast<double>(target.drive.left_mps), -spec.max_speed_mps,
@@ -555,9 +561,7 @@ World::Normal World::NearestAllowed(Normal velocity, std::span<const Normal> nor
 }
 
 void World::Step(int64_t now_ns, double dt_s) {
-  if (!(dt_s > 0) || !std::isfinite(dt_s)) {
-    throw std::invalid_argument("World::Step: dt_s must be > 0");
-  }
+  SYROF_CHECK(dt_s > 0 && std::isfinite(dt_s));
   for (Body& each : bodies_) {
     each.previous = each.state;
     if (each.presence != BodyPresence::kAbsent) {

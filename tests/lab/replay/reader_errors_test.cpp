@@ -271,7 +271,7 @@ TEST(ReplayReader, RefusesCallsOutOfOrder) {
   Header header;
 
   EXPECT_FALSE(reader.Next(round));
-  EXPECT_NE(reader.error().find("Next called before ReadHeader"), std::string::npos) << reader.error();
+  EXPECT_NE(reader.error().message.find("Next called before ReadHeader"), std::string::npos) << reader.error();
   EXPECT_FALSE(reader.ReadHeader(header));
   EXPECT_FALSE(reader.complete());
 }

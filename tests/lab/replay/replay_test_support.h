@@ -120,7 +120,7 @@ inline ReadBack Read(const std::string& bytes) {
   }
   result.complete = reader.complete();
   result.truncated = reader.truncated();
-  result.error = reader.error();
+  result.error = reader.failed() ? reader.error().ToString() : std::string();
   return result;
 }
 

@@ -179,7 +179,7 @@ TEST(ReplayWriter, RefusesHeaderItCannotRecord) {
     writer.WriteRound(0, 0, {}, {});
     writer.Finish();
     EXPECT_FALSE(writer.ok());
-    EXPECT_NE(writer.error().find("header: "), std::string::npos) << writer.error();
+    EXPECT_NE(writer.error().ToString().find("header: "), std::string::npos) << writer.error();
     EXPECT_EQ(out.str(), "");
   }
 }
@@ -213,7 +213,7 @@ TEST(ReplayWriter, RefusesRoundItCannotRecordAndWritesNoMore) {
     writer.Finish();
 
     EXPECT_FALSE(writer.ok());
-    EXPECT_NE(writer.error().find(bad.expected), std::string::npos) << writer.error();
+    EXPECT_NE(writer.error().ToString().find(bad.expected), std::string::npos) << writer.error();
     EXPECT_EQ(out.str().size(), good_bytes);
     EXPECT_TRUE(Read(out.str()).truncated);
   }
@@ -226,7 +226,7 @@ TEST(ReplayWriter, ReportsAFailingStream) {
   Writer writer(out, SampleHeader());
 
   EXPECT_FALSE(writer.ok());
-  EXPECT_NE(writer.error().find("failed"), std::string::npos) << writer.error();
+  EXPECT_NE(writer.error().ToString().find("failed"), std::string::npos) << writer.error();
 }
 
 TEST(ReplayNames, EveryEnumeratorHasAName) {

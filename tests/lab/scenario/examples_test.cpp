@@ -1,11 +1,16 @@
-// Every scenario shipped in lab/scenarios/ loads.
+// Every scenario shipped in lab/scenarios/ loads, and what it loads into
+// builds a world and a channel (the loader's promise to lab/world).
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/world/channel.h"
+#include "syrof/lab/world/world.h"
 
 namespace syrof::lab::scenario {
 namespace {
@@ -32,6 +37,28 @@ TEST(ExampleScenarios, EveryFileLoads) {
   }
 }
 
+// World and Channel stop the program on a spec that fails their checks;
+// the loader must never hand one over.
+TEST(ExampleScenarios, EveryLoadedScenarioPassesTheWorldsAndChannelsChecks) {
+  for (const std::filesystem::path& file : ExampleFiles()) {
+    const LoadResult result = LoadScenarioFile(file.string());
+    ASSERT_TRUE(result.ok()) << result.error->ToString();
+    const Scenario& scenario = *result.scenario;
+    std::vector<world::BodySpec> bodies;
+    for (const RobotSpec& robot : scenario.robots) {
+      bodies.push_back(world::BodySpec{robot.id, robot.kind, scenario.kind_spec(robot.kind), robot.x_m, robot.y_m,
+                                       robot.heading_rad, world::BodyPresence::kActive});
+    }
+    const auto robots = static_cast<uint16_t>(scenario.robots.size());
+
+    const std::optional<Error> world_problem = world::CheckWorldSpec(scenario.arena, bodies);
+    const std::optional<Error> channel_problem = world::CheckChannelSpec(scenario.channel, robots);
+
+    EXPECT_FALSE(world_problem.has_value()) << file << ": " << world_problem->ToString();
+    EXPECT_FALSE(channel_problem.has_value()) << file << ": " << channel_problem->ToString();
+  }
+}
+
 TEST(ExampleScenarios, DemoCircleIsTenOmniRobotsInTheDefaultArena) {
   const LoadResult result = LoadScenarioFile(std::string(SYROF_SCENARIOS_DIR) + "/demo_circle.yaml");
 
@@ -40,7 +67,7 @@ TEST(ExampleScenarios, DemoCircleIsTenOmniRobotsInTheDefaultArena) {
   EXPECT_EQ(scenario.robots.size(), 10u);
   EXPECT_EQ(scenario.app.name, "builtin:circle");
   EXPECT_EQ(scenario.arena.width_m, 4);
-  EXPECT_EQ(scenario.channel.model, ChannelModel::kIid);
+  EXPECT_EQ(scenario.channel.model, world::ChannelModel::kIid);
   EXPECT_EQ(scenario.channel.loss, 0.1);
   EXPECT_EQ(scenario.timing.duration_s, 60);
 }

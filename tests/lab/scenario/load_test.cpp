@@ -32,13 +32,13 @@ TEST(LoadScenarioText, FillsEveryDefault) {
   EXPECT_EQ(scenario.arena.height_m, 4);
   EXPECT_EQ(scenario.placement, Placement::kGrid);
   EXPECT_EQ(scenario.robots.size(), 4u);
-  EXPECT_EQ(scenario.omni.body_radius_m, DefaultKindSpec(RobotKind::kOmni).body_radius_m);
+  EXPECT_EQ(scenario.omni.body_radius_m, world::DefaultKindSpec(world::RobotKind::kOmni).body_radius_m);
   EXPECT_EQ(scenario.rover.body_radius_m, 0.12);
   EXPECT_EQ(scenario.timing.radio_round_s, 0.05);
   EXPECT_EQ(scenario.timing.vote_rounds, 3);
   EXPECT_EQ(scenario.timing.silence_rounds, 6);
   EXPECT_EQ(scenario.timing.duration_s, 60);
-  EXPECT_EQ(scenario.channel.model, ChannelModel::kIid);
+  EXPECT_EQ(scenario.channel.model, world::ChannelModel::kIid);
   EXPECT_EQ(scenario.channel.loss, 0);
   EXPECT_TRUE(scenario.faults.empty());
   EXPECT_EQ(scenario.app.name, "builtin:idle");
@@ -62,7 +62,7 @@ TEST(LoadScenarioText, DefaultAnchorsStretchOverALargerArena) {
   const LoadResult result = Load(std::string(kMinimal) + "arena: { width_m: 10, height_m: 6 }\n");
 
   ASSERT_TRUE(result.ok());
-  const std::vector<AnchorSpec>& anchors = result.scenario->arena.anchors;
+  const std::vector<world::AnchorSpec>& anchors = result.scenario->arena.anchors;
   ASSERT_EQ(anchors.size(), 4u);
   EXPECT_EQ(anchors[1].x_m, 10);
   EXPECT_EQ(anchors[1].y_m, 6);
@@ -110,7 +110,7 @@ TEST(LoadScenarioText, ReadsEverySection) {
   EXPECT_EQ(scenario.omni.max_turn_rate_radps, 2);
   EXPECT_EQ(scenario.rover.wheel_base_m, 0.2);
   EXPECT_EQ(scenario.rover.body_radius_m, 0.12);
-  EXPECT_EQ(scenario.robots[2].kind, RobotKind::kRover);
+  EXPECT_EQ(scenario.robots[2].kind, world::RobotKind::kRover);
   EXPECT_EQ(scenario.placement, Placement::kCircle);
   EXPECT_EQ(scenario.timing.silence_rounds, 9);
   EXPECT_EQ(scenario.timing.physics_step_s, 0.02);
@@ -118,7 +118,7 @@ TEST(LoadScenarioText, ReadsEverySection) {
   EXPECT_EQ(scenario.sensors.imu.gyro_bias_walk_radps_per_sqrt_s, 1e-4);
   EXPECT_EQ(scenario.sensors.flow.sigma_px, 1.5);
   EXPECT_EQ(scenario.sensors.uwb.outlier_max_m, 3);
-  EXPECT_EQ(scenario.channel.model, ChannelModel::kGilbertElliott);
+  EXPECT_EQ(scenario.channel.model, world::ChannelModel::kGilbertElliott);
   EXPECT_EQ(scenario.channel.loss_bad, 0.8);
   ASSERT_EQ(scenario.channel.links.size(), 1u);
   EXPECT_EQ(scenario.channel.links[0].to, 2);
@@ -144,10 +144,10 @@ TEST(ScenarioError, FormatsFileLineColumnAndMessage) {
 }
 
 TEST(EnumNames, NameEveryValue) {
-  EXPECT_STREQ(ToString(RobotKind::kRover), "rover");
-  EXPECT_STREQ(ToString(static_cast<RobotKind>(9)), "?");
+  EXPECT_STREQ(ToString(world::RobotKind::kRover), "rover");
+  EXPECT_STREQ(ToString(static_cast<world::RobotKind>(9)), "?");
   EXPECT_STREQ(ToString(Placement::kRandom), "random");
-  EXPECT_STREQ(ToString(ChannelModel::kGilbertElliott), "gilbert_elliott");
+  EXPECT_STREQ(ToString(world::ChannelModel::kGilbertElliott), "gilbert_elliott");
   EXPECT_STREQ(ToString(FaultKind::kPause), "pause");
 }
 

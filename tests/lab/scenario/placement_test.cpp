@@ -71,9 +71,9 @@ TEST(Placement, ExplicitTakesEveryPoseAndItsKind) {
   const std::vector<RobotSpec>& robots = result.scenario->robots;
   ASSERT_EQ(robots.size(), 2u);
   EXPECT_EQ(result.scenario->placement, Placement::kExplicit);
-  EXPECT_EQ(robots[0].kind, RobotKind::kRover);
+  EXPECT_EQ(robots[0].kind, world::RobotKind::kRover);
   EXPECT_DOUBLE_EQ(robots[0].heading_rad, 0.5);
-  EXPECT_EQ(robots[1].kind, RobotKind::kOmni);
+  EXPECT_EQ(robots[1].kind, world::RobotKind::kOmni);
   EXPECT_DOUBLE_EQ(robots[1].x_m, 3);
   EXPECT_EQ(robots[1].id, 1);
 }

@@ -37,7 +37,7 @@ wire::Beacon BeaconFrom(uint16_t id, uint16_t epoch) {
 }
 
 TEST(RadioNetworkTest, ABroadcastReachesEveryOtherListeningRobotOnceAsSent) {
-  RadioNetwork network(scenario::ChannelSpec{}, kRobots, 1);
+  RadioNetwork network(world::ChannelSpec{}, kRobots, 1);
   RecordingReceivers receivers;
   receivers.listening[3] = false;  // crashed
   const wire::Beacon sent = BeaconFrom(1, 9);
@@ -56,7 +56,7 @@ TEST(RadioNetworkTest, ABroadcastReachesEveryOtherListeningRobotOnceAsSent) {
 }
 
 TEST(RadioNetworkTest, ABeaconIsDeliveredOnlyInTheRoundAfterItsBroadcast) {
-  RadioNetwork network(scenario::ChannelSpec{}, kRobots, 1);
+  RadioNetwork network(world::ChannelSpec{}, kRobots, 1);
   RecordingReceivers receivers;
 
   network.radio(0).Broadcast(BeaconFrom(0, 1));
@@ -71,7 +71,7 @@ TEST(RadioNetworkTest, ABeaconIsDeliveredOnlyInTheRoundAfterItsBroadcast) {
 }
 
 TEST(RadioNetworkTest, DeliveriesGoInSenderThenReceiverOrder) {
-  RadioNetwork network(scenario::ChannelSpec{}, kRobots, 1);
+  RadioNetwork network(world::ChannelSpec{}, kRobots, 1);
   RecordingReceivers receivers;
 
   for (uint16_t id = kRobots; id-- > 0;) network.radio(id).Broadcast(BeaconFrom(id, 3));
@@ -90,7 +90,7 @@ TEST(RadioNetworkTest, DeliveriesGoInSenderThenReceiverOrder) {
 }
 
 TEST(RadioNetworkTest, TheChannelDecidesWithTheSameDrawsForTheSameSeed) {
-  scenario::ChannelSpec lossy;
+  world::ChannelSpec lossy;
   lossy.loss = 0.5;
   auto run = [&](uint64_t seed) {
     RadioNetwork network(lossy, kRobots, seed);
@@ -120,7 +120,7 @@ TEST(RadioNetworkTest, TheChannelDecidesWithTheSameDrawsForTheSameSeed) {
 }
 
 TEST(RadioNetworkTest, FullLossDeliversNothing) {
-  scenario::ChannelSpec deaf;
+  world::ChannelSpec deaf;
   deaf.loss = 1.0;
   RadioNetwork network(deaf, kRobots, 1);
   RecordingReceivers receivers;

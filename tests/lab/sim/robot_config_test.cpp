@@ -111,9 +111,9 @@ TEST(RobotConfigForTest, MotionLimitsAreTheRobotsKinds) {
 }
 
 TEST(ControllerConfigForTest, CarriesTheKindsLimits) {
-  const scenario::KindSpec rover{0.12, 0.4, 0.8, 3.0, 0.16};
+  const world::KindSpec rover{0.12, 0.4, 0.8, 3.0, 0.16};
 
-  const motion::ControllerConfig config = ControllerConfigFor(scenario::RobotKind::kRover, rover);
+  const motion::ControllerConfig config = ControllerConfigFor(world::RobotKind::kRover, rover);
 
   EXPECT_EQ(config.kind, motion::DriveKind::kWheels);
   EXPECT_FLOAT_EQ(config.limits.max_speed_mps, 0.4f);
@@ -121,7 +121,7 @@ TEST(ControllerConfigForTest, CarriesTheKindsLimits) {
   EXPECT_FLOAT_EQ(config.limits.max_turn_rate_radps, 3.0f);
   EXPECT_FLOAT_EQ(config.limits.wheel_base_m, 0.16f);
   EXPECT_FLOAT_EQ(config.limits.body_radius_m, 0.12f);
-  EXPECT_EQ(ControllerConfigFor(scenario::RobotKind::kOmni, rover).kind, motion::DriveKind::kOmni);
+  EXPECT_EQ(ControllerConfigFor(world::RobotKind::kOmni, rover).kind, motion::DriveKind::kOmni);
 }
 
 }  // namespace

@@ -6,22 +6,23 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <stdexcept>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace syrof::lab::world {
 namespace {
 
-scenario::ChannelSpec Iid(double loss) {
-  scenario::ChannelSpec spec;
-  spec.model = scenario::ChannelModel::kIid;
+ChannelSpec Iid(double loss) {
+  ChannelSpec spec;
+  spec.model = ChannelModel::kIid;
   spec.loss = loss;
   return spec;
 }
 
-scenario::ChannelSpec GilbertElliott(double good_to_bad, double bad_to_good) {
-  scenario::ChannelSpec spec;
-  spec.model = scenario::ChannelModel::kGilbertElliott;
+ChannelSpec GilbertElliott(double good_to_bad, double bad_to_good) {
+  ChannelSpec spec;
+  spec.model = ChannelModel::kGilbertElliott;
   spec.good_to_bad = good_to_bad;
   spec.bad_to_good = bad_to_good;
   spec.loss_good = 0;
@@ -144,10 +145,10 @@ TEST(ChannelTest, GilbertElliottStateDoesNotDependOnWhichRoundsWereAsked) {
 }
 
 TEST(ChannelTest, PerLinkLossReplacesTheModelsInOneDirectionOnly) {
-  scenario::ChannelSpec spec = Iid(0.0);
-  spec.links.push_back(scenario::LinkLossSpec{0, 1, 1.0});
-  spec.links.push_back(scenario::LinkLossSpec{2, 3, 0.5});
-  spec.links.push_back(scenario::LinkLossSpec{2, 3, 0.0});  // a later entry wins
+  ChannelSpec spec = Iid(0.0);
+  spec.links.push_back(LinkLossSpec{0, 1, 1.0});
+  spec.links.push_back(LinkLossSpec{2, 3, 0.5});
+  spec.links.push_back(LinkLossSpec{2, 3, 0.0});  // a later entry wins
   Channel channel(spec, 4, 5);
   int delivered_0_to_1 = 0;
   int delivered_1_to_0 = 0;
@@ -165,8 +166,8 @@ TEST(ChannelTest, PerLinkLossReplacesTheModelsInOneDirectionOnly) {
 }
 
 TEST(ChannelTest, PerLinkLossReplacesTheGilbertElliottChain) {
-  scenario::ChannelSpec spec = GilbertElliott(1.0, 0.0);  // every other link goes bad and stays bad
-  spec.links.push_back(scenario::LinkLossSpec{1, 0, 0.0});
+  ChannelSpec spec = GilbertElliott(1.0, 0.0);  // every other link goes bad and stays bad
+  spec.links.push_back(LinkLossSpec{1, 0, 0.0});
   Channel channel(spec, 2, 5);
   int delivered_0_to_1 = 0;
   int delivered_1_to_0 = 0;
@@ -181,8 +182,8 @@ TEST(ChannelTest, PerLinkLossReplacesTheGilbertElliottChain) {
 }
 
 TEST(ChannelTest, PartitionDropsCrossGroupBeaconsOnlyInItsWindow) {
-  scenario::ChannelSpec spec = Iid(0.0);
-  scenario::PartitionSpec partition;
+  ChannelSpec spec = Iid(0.0);
+  PartitionSpec partition;
   partition.start_s = 1.0;
   partition.end_s = 2.0;
   partition.groups = {{0, 1}, {2, 3}};  // 4 and 5 are named nowhere: a third group
@@ -212,7 +213,7 @@ TEST(ChannelTest, PartitionDropsCrossGroupBeaconsOnlyInItsWindow) {
 }
 
 TEST(ChannelTest, GilbertElliottAverageLossMatchesTheStationaryFormula) {
-  scenario::ChannelSpec spec = GilbertElliott(0.05, 0.5);
+  ChannelSpec spec = GilbertElliott(0.05, 0.5);
   spec.loss_good = 0.02;
   spec.loss_bad = 0.9;
   Channel channel(spec, 30, 21);
@@ -267,17 +268,34 @@ TEST(ChannelTest, AskingAnEarlierRoundReplaysTheChain) {
   EXPECT_EQ(replayed, fresh.Delivers(0, 1, 120, 0));
 }
 
-TEST(ChannelTest, RejectsBadSpecsAndUnknownRobots) {
-  scenario::ChannelSpec beyond = Iid(0.1);
-  beyond.links.push_back(scenario::LinkLossSpec{0, 9, 0.5});
+TEST(ChannelTest, CheckChannelSpecSaysWhatIsWrongAndWhere) {
+  ChannelSpec beyond = Iid(0.1);
+  beyond.links.push_back(LinkLossSpec{0, 9, 0.5});
+  ChannelSpec bad_link = Iid(0.1);
+  bad_link.links.push_back(LinkLossSpec{0, 2, 1.5});
+
+  auto said = [](const std::optional<Error>& error) { return error ? error->ToString() : std::string("ok"); };
+  EXPECT_EQ(said(CheckChannelSpec(Iid(0.1), 4)), "ok");
+  EXPECT_EQ(said(CheckChannelSpec(GilbertElliott(0.2, 0.3), 4)), "ok");
+  EXPECT_EQ(said(CheckChannelSpec(Iid(1.5), 4)), "loss must be in [0, 1], not 1.500000");
+  EXPECT_NE(said(CheckChannelSpec(Iid(std::nan("")), 4)), "ok");
+  EXPECT_EQ(said(CheckChannelSpec(GilbertElliott(-0.1, 0.5), 4)),
+            "good_to_bad must be in [0, 1], not -0.100000");
+  EXPECT_EQ(said(CheckChannelSpec(beyond, 4)), "link 0 -> 9: names a robot beyond the 4 robots");
+  EXPECT_EQ(said(CheckChannelSpec(bad_link, 4)), "link 0 -> 2: loss must be in [0, 1], not 1.500000");
+}
+
+// A Channel built from a spec that fails the check, or asked about a robot
+// it does not have or a negative round, is a caller's bug: the program stops.
+TEST(ChannelDeathTest, BadSpecsAndUnknownRobotsStop) {
+  ChannelSpec beyond = Iid(0.1);
+  beyond.links.push_back(LinkLossSpec{0, 9, 0.5});
   Channel channel(Iid(0.1), 4, 1);
 
-  EXPECT_THROW(Channel(Iid(1.5), 4, 1), std::invalid_argument);
-  EXPECT_THROW(Channel(Iid(std::nan("")), 4, 1), std::invalid_argument);
-  EXPECT_THROW(Channel(GilbertElliott(-0.1, 0.5), 4, 1), std::invalid_argument);
-  EXPECT_THROW(Channel(beyond, 4, 1), std::invalid_argument);
-  EXPECT_THROW(channel.Delivers(4, 0, 0, 0), std::out_of_range);
-  EXPECT_THROW(channel.Delivers(0, 1, -1, 0), std::out_of_range);
+  EXPECT_DEATH_IF_SUPPORTED(Channel(Iid(1.5), 4, 1), "Channel: loss must be in \\[0, 1\\]");
+  EXPECT_DEATH_IF_SUPPORTED(Channel(beyond, 4, 1), "Channel: link 0 -> 9: names a robot beyond");
+  EXPECT_DEATH_IF_SUPPORTED(channel.Delivers(4, 0, 0, 0), "SYROF_CHECK");
+  EXPECT_DEATH_IF_SUPPORTED(channel.Delivers(0, 1, -1, 0), "SYROF_CHECK");
 }
 
 }  // namespace

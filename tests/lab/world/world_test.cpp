@@ -8,7 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <stdexcept>
+#include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -20,24 +21,24 @@ namespace {
 constexpr int64_t kStepNs = 10'000'000;
 constexpr double kDt = 0.01;
 
-// The lab's default kinds (scenario::DefaultKindSpec, spelled out: the
+// The lab's default kinds (DefaultKindSpec, spelled out: the
 // scenario loader is not linked here).
-scenario::KindSpec OmniSpec() { return scenario::KindSpec{0.10, 0.5, 1.0, 3.0, 0.16}; }
-scenario::KindSpec RoverSpec() { return scenario::KindSpec{0.12, 0.4, 0.8, 3.0, 0.16}; }
+KindSpec OmniSpec() { return KindSpec{0.10, 0.5, 1.0, 3.0, 0.16}; }
+KindSpec RoverSpec() { return KindSpec{0.12, 0.4, 0.8, 3.0, 0.16}; }
 
-scenario::ArenaSpec Arena(double width_m, double height_m) {
-  scenario::ArenaSpec arena;
+ArenaSpec Arena(double width_m, double height_m) {
+  ArenaSpec arena;
   arena.width_m = width_m;
   arena.height_m = height_m;
   return arena;
 }
 
 BodySpec Omni(uint16_t id, double x_m, double y_m, BodyPresence presence = BodyPresence::kActive) {
-  return BodySpec{id, scenario::RobotKind::kOmni, OmniSpec(), x_m, y_m, 0.0, presence};
+  return BodySpec{id, RobotKind::kOmni, OmniSpec(), x_m, y_m, 0.0, presence};
 }
 
 BodySpec RoverAt(uint16_t id, double x_m, double y_m, double heading_rad) {
-  return BodySpec{id, scenario::RobotKind::kRover, RoverSpec(), x_m, y_m, heading_rad, BodyPresence::kActive};
+  return BodySpec{id, RobotKind::kRover, RoverSpec(), x_m, y_m, heading_rad, BodyPresence::kActive};
 }
 
 motion::DriveCommand OmniDrive(double vx_mps, double vy_mps, double yaw_rate_radps = 0) {
@@ -432,22 +433,37 @@ TEST(WorldTest, DriveOfTheWrongKindIsRejectedAsAStop) {
   EXPECT_EQ(world.state(0).vx_mps, 0.0);
 }
 
-TEST(WorldTest, ConstructorRejectsBadBodies) {
-  const std::vector<BodySpec> misnumbered{Omni(1, 1.0, 1.0)};
+TEST(WorldTest, CheckWorldSpecSaysWhatIsWrongAndWhere) {
+  const std::vector<BodySpec> good{Omni(0, 1.0, 1.0), Omni(1, 2.0, 2.0)};
+  std::vector<BodySpec> misnumbered{Omni(0, 1.0, 1.0), Omni(2, 2.0, 2.0)};
   std::vector<BodySpec> no_radius{Omni(0, 1.0, 1.0)};
   no_radius[0].spec.body_radius_m = 0;
+  std::vector<BodySpec> lost{Omni(0, 1.0, 1.0)};
+  lost[0].y_m = std::numeric_limits<double>::infinity();
 
-  EXPECT_THROW(World(Arena(4, 4), misnumbered), std::invalid_argument);
-  EXPECT_THROW(World(Arena(4, 4), no_radius), std::invalid_argument);
-  EXPECT_THROW(World(Arena(0, 4), std::vector<BodySpec>{}), std::invalid_argument);
+  auto said = [](const std::optional<Error>& error) { return error ? error->ToString() : std::string("ok"); };
+  EXPECT_EQ(said(CheckWorldSpec(Arena(4, 4), good)), "ok");
+  EXPECT_EQ(said(CheckWorldSpec(Arena(4, 4), misnumbered)), "body 1: id 2 is not its index");
+  EXPECT_EQ(said(CheckWorldSpec(Arena(4, 4), no_radius)), "body 0: radius and limits must be > 0");
+  EXPECT_EQ(said(CheckWorldSpec(Arena(4, 4), lost)), "body 0: pose must be finite");
+  EXPECT_EQ(said(CheckWorldSpec(Arena(0, 4), std::vector<BodySpec>{})), "arena: width and height must be > 0");
 }
 
-TEST(WorldTest, UnknownRobotIsOutOfRange) {
+// Building a World from a spec that fails the check, or naming a robot it
+// does not have, is a caller's bug: the program stops with the reason.
+TEST(WorldDeathTest, ConstructorStopsOnABadSpecWithTheReason) {
+  const std::vector<BodySpec> misnumbered{Omni(1, 1.0, 1.0)};
+  EXPECT_DEATH_IF_SUPPORTED(World(Arena(4, 4), misnumbered), "World: body 0: id 1 is not its index");
+  EXPECT_DEATH_IF_SUPPORTED(World(Arena(0, 4), std::vector<BodySpec>{}), "World: arena: width and height");
+}
+
+TEST(WorldDeathTest, UnknownRobotAndBadStepStop) {
   const std::vector<BodySpec> bodies{Omni(0, 1.0, 1.0)};
   World world(Arena(4, 4), bodies);
 
-  EXPECT_THROW(world.state(1), std::out_of_range);
-  EXPECT_THROW(world.SetDrive(1, OmniDrive(0, 0)), std::out_of_range);
+  EXPECT_DEATH_IF_SUPPORTED(world.state(1), "SYROF_CHECK");
+  EXPECT_DEATH_IF_SUPPORTED(world.SetDrive(1, OmniDrive(0, 0)), "SYROF_CHECK");
+  EXPECT_DEATH_IF_SUPPORTED(world.Step(0, 0.0), "SYROF_CHECK");
 }
 
 TEST(WorldTest, TrueStateCarriesTheBodyState) {
@@ -572,8 +588,8 @@ TEST(WorldTest, SameCallsGiveTheSameBits) {
 }
 
 TEST(WorldTest, DriveKindFollowsTheRobotKind) {
-  EXPECT_EQ(DriveKindFor(scenario::RobotKind::kOmni), motion::DriveKind::kOmni);
-  EXPECT_EQ(DriveKindFor(scenario::RobotKind::kRover), motion::DriveKind::kWheels);
+  EXPECT_EQ(DriveKindFor(RobotKind::kOmni), motion::DriveKind::kOmni);
+  EXPECT_EQ(DriveKindFor(RobotKind::kRover), motion::DriveKind::kWheels);
 }
 
 }  // namespace

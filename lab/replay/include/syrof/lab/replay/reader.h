@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/replay/replay.h"
 
 namespace syrof::lab::replay {
@@ -16,8 +17,9 @@ namespace syrof::lab::replay {
 /// The file is untrusted. Whatever its bytes, the reader neither crashes nor
 /// allocates more than the data it has actually read justifies (counts are
 /// checked against the limits in replay.h before use); it stops at the first
-/// problem with error() naming the byte offset and what is wrong, e.g.
-/// "offset 8: format version 2 is newer than this reader's (1)".
+/// problem with error() naming the byte offset and what is wrong (lab's
+/// error value, where "offset 8", message "format version 2 is newer than
+/// this reader's (1)").
 class Reader {
  public:
   /// Reads from `in`, which the caller owns and must outlive the reader. The
@@ -31,15 +33,17 @@ class Reader {
   bool ReadHeader(Header& header);
 
   /// Reads the next round into `round`. False at the end marker (complete()
-  /// turns true) or on error (error() non-empty); then `round` is unspecified
+  /// turns true) or on error (failed()); then `round` is unspecified
   /// and every later call returns false.
   bool Next(Round& round);
 
   /// True once the end marker was read, its totals agreed with the rounds
   /// read, and nothing followed it.
   bool complete() const { return state_ == State::kComplete; }
-  /// Empty, or what is wrong and at which byte offset.
-  const std::string& error() const { return error_; }
+  /// True once a problem stopped the reader; error() says which.
+  bool failed() const { return state_ == State::kFailed; }
+  /// What is wrong and at which byte offset ("offset N"); empty unless failed().
+  const Error& error() const { return error_; }
   /// True when the error is that the file ends early (a run cut short) rather
   /// than bytes that are wrong.
   bool truncated() const { return truncated_; }
@@ -62,7 +66,7 @@ class Reader {
 
   std::istream& in_;
   State state_ = State::kStart;
-  std::string error_;
+  Error error_;
   bool truncated_ = false;
   uint64_t offset_ = 0;
   uint32_t crc_ = 0;

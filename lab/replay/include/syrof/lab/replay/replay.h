@@ -30,7 +30,7 @@ inline constexpr uint32_t kMaxEventsPerRound = 1u << 20;  ///< far above any rea
 /// One robot of the run.
 struct RobotInfo {
   uint16_t id = 0;            ///< any value but kNoRobot; ids increase along Header::robots
-  uint8_t kind = 0;           ///< scenario::RobotKind value (0 omni, 1 rover), stored as is
+  uint8_t kind = 0;           ///< world::RobotKind value (0 omni, 1 rover), stored as is
   float body_radius_m = 0;    ///< disc radius, finite and >= 0
 
   bool operator==(const RobotInfo& other) const = default;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/replay/replay.h"
 
 namespace syrof::lab::replay {
@@ -43,8 +44,9 @@ class Writer {
 
   /// True while nothing was refused and the stream is good.
   bool ok() const;
-  /// Why the writer failed; empty while ok().
-  const std::string& error() const { return error_; }
+  /// Why the writer failed (lab's error value; where "header" for a refused
+  /// header); empty while ok().
+  const Error& error() const { return error_; }
 
   /// Bytes written so far, header included.
   uint64_t bytes_written() const { return bytes_written_; }
@@ -52,14 +54,14 @@ class Writer {
  private:
   enum class State : uint8_t { kWriting, kFinished, kFailed };
 
-  void Fail(std::string message);
+  void Fail(std::string message, std::string where = "");
   std::string CheckRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
                          std::span<const Event> events) const;
   void Emit();  // writes buffer_ with its CRC appended
 
   std::ostream& out_;
   State state_ = State::kWriting;
-  std::string error_;
+  Error error_;
   std::vector<uint16_t> ids_;              // header ids, increasing
   std::vector<RobotFrame> previous_;       // per header robot: its last frame written
   std::vector<uint8_t> buffer_;            // the record being built

@@ -14,53 +14,17 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/sensors/sensor_bank.h"
+#include "syrof/lab/world/arena.h"
+#include "syrof/lab/world/channel.h"
 
 namespace syrof::lab::scenario {
-
-/// A UWB anchor, metres.
-struct AnchorSpec {
-  double x_m = 0;
-  double y_m = 0;
-  double z_m = 0;
-};
-
-/// A rectangular arena [0, width] x [0, height] with walls on its four sides.
-struct ArenaSpec {
-  double width_m = 4;
-  double height_m = 4;
-  /// Default: the paper's layout stretched over the arena, (0,0,0), (W,H,0),
-  /// (0,H,2), (W,0,2): estimation::DefaultArena() on the default 4 m x 4 m.
-  /// 3 to estimation::kMaxAnchors once loaded.
-  std::vector<AnchorSpec> anchors;
-};
-
-enum class RobotKind : uint8_t {
-  kOmni = 0,   ///< omnidirectional (the paper's robots): commanded by a velocity vector
-  kRover = 1,  ///< differential drive: commanded by wheel speeds
-};
-
-/// "omni" or "rover"; "?" otherwise.
-const char* ToString(RobotKind kind);
-
-/// The body and kinematic limits of a robot kind. Defaults per kind come from
-/// DefaultKindSpec(); a scenario may override any field.
-struct KindSpec {
-  double body_radius_m = 0.1;          ///< bodies are discs
-  double max_speed_mps = 0.5;          ///< omni: |v|; rover: each wheel's ground speed
-  double max_accel_mps2 = 1.0;         ///< omni: |dv/dt|; rover: each wheel's
-  double max_turn_rate_radps = 3.0;    ///< omni: yaw rate limit
-  double wheel_base_m = 0.16;          ///< rover only: distance between the wheels
-};
-
-/// The defaults: omni radius 0.10 m, 0.5 m/s, 1.0 m/s^2, 3 rad/s; rover
-/// radius 0.12 m, 0.4 m/s, 0.8 m/s^2, wheel base 0.16 m.
-KindSpec DefaultKindSpec(RobotKind kind);
 
 /// One robot, resolved.
 struct RobotSpec {
   uint16_t id = 0;            ///< 0 .. robots.size() - 1, in order
-  RobotKind kind = RobotKind::kOmni;
+  world::RobotKind kind = world::RobotKind::kOmni;
   double x_m = 0;             ///< initial true pose
   double y_m = 0;
   double heading_rad = 0;
@@ -87,39 +51,6 @@ struct TimingSpec {
   double physics_step_s = 0.01;  ///< world integration and collision step
 };
 
-enum class ChannelModel : uint8_t {
-  kIid = 0,             ///< each beacon on each link lost with probability `loss`
-  kGilbertElliott = 1,  ///< per link, a two-state (good/bad) Markov chain stepped once per round
-};
-
-const char* ToString(ChannelModel model);
-
-/// Loss on one directed link, replacing the model's loss for it.
-struct LinkLossSpec {
-  uint16_t from = 0;
-  uint16_t to = 0;
-  double loss = 0;  ///< probability in [0, 1]
-};
-
-/// During [start_s, end_s) beacons between robots of different groups are
-/// lost. Robots named in no group form one more group together.
-struct PartitionSpec {
-  double start_s = 0;
-  double end_s = 0;
-  std::vector<std::vector<uint16_t>> groups;
-};
-
-struct ChannelSpec {
-  ChannelModel model = ChannelModel::kIid;
-  double loss = 0;                  ///< iid: per beacon per link
-  double good_to_bad = 0.05;        ///< Gilbert-Elliott: per round transition probabilities
-  double bad_to_good = 0.5;
-  double loss_good = 0;             ///< Gilbert-Elliott: loss in each state
-  double loss_bad = 1;
-  std::vector<LinkLossSpec> links;  ///< asymmetric per-link overrides
-  std::vector<PartitionSpec> partitions;
-};
-
 enum class FaultKind : uint8_t {
   kCrash = 0,  ///< the robot stops for good at `at_s` (it stays where it is, as an obstacle)
   kPause = 1,  ///< the robot's software stops at `at_s` and restarts at `until_s` (it rejoins)
@@ -144,18 +75,18 @@ struct Scenario {
   std::string name;         ///< the file's stem unless the file sets `name`
   std::string source;       ///< the path it was read from ("" when read from a string)
   uint64_t seed = 1;
-  ArenaSpec arena;
-  KindSpec omni = DefaultKindSpec(RobotKind::kOmni);
-  KindSpec rover = DefaultKindSpec(RobotKind::kRover);
+  world::ArenaSpec arena;
+  world::KindSpec omni = world::DefaultKindSpec(world::RobotKind::kOmni);
+  world::KindSpec rover = world::DefaultKindSpec(world::RobotKind::kRover);
   Placement placement = Placement::kGrid;
   std::vector<RobotSpec> robots;  ///< resolved; at least 1
   TimingSpec timing;
   sensors::SensorBankConfig sensors;  ///< noise models; its arena is set from `arena` (and arena.tag_height_m)
-  ChannelSpec channel;
+  world::ChannelSpec channel;
   std::vector<FaultSpec> faults;      ///< sorted by at_s, then robot
   AppSpec app;
 
-  const KindSpec& kind_spec(RobotKind kind) const { return kind == RobotKind::kRover ? rover : omni; }
+  const world::KindSpec& kind_spec(world::RobotKind kind) const { return kind == world::RobotKind::kRover ? rover : omni; }
 };
 
 /// Command-line values that replace the file's.
@@ -166,24 +97,19 @@ struct Overrides {
   std::optional<std::string> app;   ///< "builtin:NAME"
 };
 
-/// What is wrong with a scenario, and where. `line` and `column` are 1-based;
+/// What is wrong with a scenario, and where: lab's error value, with
+/// `where` the file's path (or "<string>") and `line` and `column` 1-based,
 /// 0 when the error is not at one place in the file (an override, an I/O
 /// failure).
-struct ScenarioError {
-  std::string file;     ///< path, or "<string>"
-  int line = 0;
-  int column = 0;
-  std::string message;  ///< e.g. "unknown key 'robtos' (did you mean 'robots'?)"
-
-  /// "file:line:column: message" (or "file: message" without a place).
-  std::string ToString() const;
-};
+using ScenarioError = lab::Error;
 
 /// Largest scenario file accepted, and deepest nesting of maps and lists.
 inline constexpr size_t kMaxScenarioBytes = 1 << 20;
 inline constexpr int kMaxScenarioDepth = 16;
 /// Most robots a scenario may hold (the synchronizer's capacity).
 int MaxRobots();
+/// Longest run a scenario may ask for, in simulated seconds (a day).
+inline constexpr double kMaxDurationS = 86400;
 
 /// Either a scenario or the first error found.
 struct LoadResult {

@@ -46,7 +46,7 @@ class RadioNetwork {
  public:
   /// A network of `robots` radios (ids 0 .. robots - 1) over a channel built
   /// from `channel` and `seed`. Everything is allocated here.
-  RadioNetwork(const scenario::ChannelSpec& channel, uint16_t robots, uint64_t seed);
+  RadioNetwork(const world::ChannelSpec& channel, uint16_t robots, uint64_t seed);
   RadioNetwork(const RadioNetwork&) = delete;
   RadioNetwork& operator=(const RadioNetwork&) = delete;
 

@@ -47,7 +47,7 @@ wire::MemberSet InitialMembers(const scenario::Scenario& scenario);
 /// A motion controller configuration with `spec`'s limits (converted to
 /// float) and the default gains and tolerances; the drive kind follows the
 /// robot kind (omni: velocity, rover: wheels).
-motion::ControllerConfig ControllerConfigFor(scenario::RobotKind kind, const scenario::KindSpec& spec);
+motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world::KindSpec& spec);
 
 /// Robot `robot`'s start-up config in `scenario` (a resolved, validated
 /// scenario; `robot` one of its robots): the synchronizer's swarm, K, F and

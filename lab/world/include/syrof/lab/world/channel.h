@@ -1,5 +1,6 @@
 // The lab's radio channel: whether one robot's beacon of one radio round
-// reaches another robot. Models (scenario::ChannelSpec): i.i.d. loss, bursty
+// reaches another robot, and the spec it is built from (a scenario holds
+// one). Models (ChannelSpec): i.i.d. loss, bursty
 // Gilbert-Elliott loss, per-link (asymmetric) loss overrides, and partitions
 // in time windows.
 //
@@ -31,22 +32,63 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
-#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/base/error.h"
 
 namespace syrof::lab::world {
 
+enum class ChannelModel : uint8_t {
+  kIid = 0,             ///< each beacon on each link lost with probability `loss`
+  kGilbertElliott = 1,  ///< per link, a two-state (good/bad) Markov chain stepped once per round
+};
+
+const char* ToString(ChannelModel model);
+
+/// Loss on one directed link, replacing the model's loss for it.
+struct LinkLossSpec {
+  uint16_t from = 0;
+  uint16_t to = 0;
+  double loss = 0;  ///< probability in [0, 1]
+};
+
+/// During [start_s, end_s) beacons between robots of different groups are
+/// lost. Robots named in no group form one more group together.
+struct PartitionSpec {
+  double start_s = 0;
+  double end_s = 0;
+  std::vector<std::vector<uint16_t>> groups;
+};
+
+struct ChannelSpec {
+  ChannelModel model = ChannelModel::kIid;
+  double loss = 0;                  ///< iid: per beacon per link
+  double good_to_bad = 0.05;        ///< Gilbert-Elliott: per round transition probabilities
+  double bad_to_good = 0.5;
+  double loss_good = 0;             ///< Gilbert-Elliott: loss in each state
+  double loss_bad = 1;
+  std::vector<LinkLossSpec> links;  ///< asymmetric per-link overrides
+  std::vector<PartitionSpec> partitions;
+};
+
+/// What Channel's constructor requires: every probability in [0, 1] and
+/// every per-link entry naming robots below `robots`. Returns what is wrong
+/// and where ("link 0 -> 2: loss must be in [0, 1], not 1.500000"; the
+/// spec's own fields have no `where`, their name says it), or nothing. A scenario the loader accepted always passes.
+std::optional<Error> CheckChannelSpec(const ChannelSpec& spec, uint16_t robots);
+
 class Channel {
  public:
-  /// Throws std::invalid_argument when a probability is not in [0, 1], or a
-  /// per-link entry names a robot >= `robots`. Robots named in partitions
-  /// beyond `robots` are ignored. A link listed twice takes its last entry.
-  Channel(const scenario::ChannelSpec& spec, uint16_t robots, uint64_t seed);
+  /// Requires CheckChannelSpec(spec, robots) to pass; anything else is a
+  /// caller's bug and stops the program (SYROF_CHECK, with the check's
+  /// message). Robots named in partitions beyond `robots` are ignored. A link
+  /// listed twice takes its last entry.
+  Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed);
 
   /// Whether the beacon robot `from` sends in radio round `round` (>= 0),
-  /// starting at `time_s`, reaches robot `to`. Throws std::out_of_range for a
-  /// robot >= robots() or a negative round.
+  /// starting at `time_s`, reaches robot `to`. A robot >= robots() or a
+  /// negative round is a caller's bug (SYROF_CHECK).
   bool Delivers(uint16_t from, uint16_t to, int64_t round, double time_s);
 
   uint16_t robots() const { return robots_; }
@@ -58,7 +100,7 @@ class Channel {
 
   /// Long-run loss of a Gilbert-Elliott link:
   /// pi_bad * loss_bad + pi_good * loss_good.
-  static double StationaryLoss(const scenario::ChannelSpec& spec);
+  static double StationaryLoss(const ChannelSpec& spec);
 
  private:
   struct Partition {
@@ -81,7 +123,7 @@ class Channel {
   // Whether the Gilbert-Elliott chain of the link is bad at `round`.
   bool ChainBad(uint16_t from, uint16_t to, int64_t round);
 
-  scenario::ChannelSpec spec_;
+  ChannelSpec spec_;
   uint16_t robots_;
   uint64_t seed_;
   std::vector<Partition> partitions_;

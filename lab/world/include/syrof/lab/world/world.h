@@ -17,11 +17,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
-#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/sensors/trajectory.h"
+#include "syrof/lab/world/arena.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/drive.h"
 
@@ -54,8 +56,8 @@ const char* ToString(BodyPresence presence);
 /// A body at construction.
 struct BodySpec {
   uint16_t id = 0;  ///< bodies are given in id order 0 .. n-1
-  scenario::RobotKind kind = scenario::RobotKind::kOmni;
-  scenario::KindSpec spec{};  ///< radius and limits; all > 0
+  RobotKind kind = RobotKind::kOmni;
+  KindSpec spec{};  ///< radius and limits; all > 0
   double x_m = 0;             ///< initial pose
   double y_m = 0;
   double heading_rad = 0;
@@ -76,37 +78,44 @@ struct WallContact {
   uint16_t robot = 0;
 };
 
+/// What World's constructor requires: a positive, finite arena; at most
+/// 65535 bodies, each with its index as id, radius and limits > 0 and a
+/// finite pose. Returns what is wrong and where (where "body 3", message
+/// "radius and limits must be > 0"), or nothing. A scenario the loader
+/// accepted always passes; a caller with other input checks it before
+/// building a World.
+std::optional<Error> CheckWorldSpec(const ArenaSpec& arena, std::span<const BodySpec> bodies);
+
 /// A contact ends only when the gap exceeds this, so a body resting against
 /// another (or a wall) and jittering by numerical noise counts once.
 inline constexpr double kContactHysteresisM = 1e-3;
 
 /// The drive kind the motion controller of a robot kind produces.
-motion::DriveKind DriveKindFor(scenario::RobotKind kind);
+motion::DriveKind DriveKindFor(RobotKind kind);
 
 class World {
  public:
-  /// Throws std::invalid_argument when the arena is not positive and finite,
-  /// a body's id is not its index, its radius or a limit is not > 0, or its
-  /// pose is not finite. Bodies may start overlapping each other or a wall:
+  /// Requires CheckWorldSpec(arena, bodies) to pass: building a World from
+  /// anything else is a caller's bug and stops the program (SYROF_CHECK,
+  /// with the check's message). Bodies may start overlapping each other or a wall:
   /// the first Step separates them; contacts present at construction are not
   /// counted (placement, not motion, caused them).
-  World(const scenario::ArenaSpec& arena, std::span<const BodySpec> bodies);
+  World(const ArenaSpec& arena, std::span<const BodySpec> bodies);
 
   /// The body's latest setpoint, applied from the next Step on. A command of
   /// the other drive kind or with a non-finite field is replaced by zero
-  /// speeds and counted in rejected_drives(). Throws std::out_of_range for an
-  /// unknown robot.
+  /// speeds and counted in rejected_drives(). An unknown robot is a caller's bug
+  /// (SYROF_CHECK), as in every call below that takes a robot.
   void SetDrive(uint16_t robot, const motion::DriveCommand& drive);
 
   /// Switches presence. Becoming absent or active starts the body from rest
   /// (wheels and velocity 0); becoming stopped keeps the velocity until the
   /// next Step, which stops it (so the IMU feels the crash). A body that
   /// becomes absent ends its contacts silently; a body that appears on top of
-  /// another starts a contact at the next Step. Throws std::out_of_range for
-  /// an unknown robot.
+  /// another starts a contact at the next Step.
   void SetPresence(uint16_t robot, BodyPresence presence);
 
-  /// Advances the world by dt_s > 0 to the time now_ns (the state afterwards
+  /// Advances the world by dt_s > 0 (finite; else SYROF_CHECK) to the time now_ns (the state afterwards
   /// is the state at now_ns; new contacts are stamped now_ns):
   ///  1. integrates every active body toward its setpoint within its limits
   ///     (omni: velocity vector slews at most max_accel dt, speed capped,
@@ -131,7 +140,7 @@ class World {
 
   /// Number of bodies (ids 0 .. size() - 1).
   uint16_t size() const { return static_cast<uint16_t>(bodies_.size()); }
-  /// Throws std::out_of_range for an unknown robot (also the accessors below).
+  /// The body's state (an unknown robot: SYROF_CHECK, as for the accessors below).
   const BodyState& state(uint16_t robot) const;
   /// The state in the simulated sensors' form.
   sensors::TrueState true_state(uint16_t robot) const;
@@ -164,8 +173,8 @@ class World {
   struct Body {
     BodyState state;
     BodyState previous;  // at the start of the current step (for the accelerations)
-    scenario::RobotKind kind;
-    scenario::KindSpec spec;
+    RobotKind kind;
+    KindSpec spec;
     BodyPresence presence;
     motion::DriveCommand drive;
     double left_mps = 0;   // rover wheel speeds

@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-namespace syrof::lab::cli {
+namespace syrof::cli {
 
 struct RunOptions {
   std::string scenario_path;
@@ -30,15 +30,4 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options);
 /// internal error. Progress goes to `err` when `err_is_terminal`.
 int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal);
 
-/// `syrof validate SCENARIO.yaml`: loads and checks a scenario, prints what
-/// it resolved to. Same exit codes.
-struct ValidateOptions {
-  std::string scenario_path;
-};
-CLI::App* SetupValidateCommand(CLI::App& app, ValidateOptions& options);
-int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::ostream& err);
-
-/// `syrof apps`: the built-in apps and their parameters.
-int RunAppsCommand(std::ostream& out);
-
-}  // namespace syrof::lab::cli
+}  // namespace syrof::cli

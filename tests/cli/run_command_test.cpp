@@ -1,4 +1,4 @@
-// `syrof run` and `syrof validate` as a user meets them: exit codes, messages,
+// `syrof run`, `validate` and `apps` as a user meets them: exit codes, messages,
 // the files written, and identical bytes for identical runs.
 #include "run_command.h"
 
@@ -10,7 +10,10 @@
 #include <sstream>
 #include <string>
 
-namespace syrof::lab::cli {
+#include "apps_command.h"
+#include "validate_command.h"
+
+namespace syrof::cli {
 namespace {
 
 namespace fs = std::filesystem;
@@ -147,7 +150,7 @@ TEST(ValidateCommandTest, PrintsTheResolvedScenario) {
 TEST(AppsCommandTest, ListsEveryBuiltinApp) {
   std::ostringstream out;
 
-  ASSERT_EQ(RunAppsCommand(out), 0);
+  ASSERT_EQ(RunAppsCommand(AppsOptions{}, out), 0);
 
   for (const char* name : {"builtin:idle", "builtin:gather", "builtin:circle", "builtin:leader_follow"}) {
     EXPECT_NE(out.str().find(name), std::string::npos) << name;
@@ -163,4 +166,4 @@ TEST(SyrofExecutableTest, UsageErrorsExitWithTwo) {
 }
 
 }  // namespace
-}  // namespace syrof::lab::cli
+}  // namespace syrof::cli

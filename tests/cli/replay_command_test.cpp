@@ -1,4 +1,4 @@
-// `syrof replay` (lab/cli/replay_command.cpp) on small files.
+// `syrof replay` (cli/replay_command.cpp) on small files.
 #include "replay_command.h"
 
 #include <gtest/gtest.h>
@@ -11,8 +11,10 @@
 
 #include "replay_test_support.h"
 
-namespace syrof::lab::cli {
+namespace syrof::cli {
 namespace {
+
+namespace replay = lab::replay;
 
 // Writes `bytes` to a file of its own under the test temp dir, so parallel
 // test processes never share one.
@@ -206,4 +208,4 @@ TEST(ReplayCommand, SetupRefusesSummaryWithFilters) {
 }
 
 }  // namespace
-}  // namespace syrof::lab::cli
+}  // namespace syrof::cli

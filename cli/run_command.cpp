@@ -10,12 +10,15 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
+#include "usage.h"
 
-namespace syrof::lab::cli {
+namespace syrof::cli {
 namespace {
+
+namespace scenario = lab::scenario;
+namespace sim = lab::sim;
 
 scenario::Overrides OverridesOf(const RunOptions& options) {
   scenario::Overrides overrides;
@@ -80,9 +83,9 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_option("scenario", options.scenario_path, "Scenario file (YAML, docs/scenarios.md)")->required();
   run->add_option("--app", options.app, "App to run instead of the scenario's, e.g. builtin:circle");
   run->add_option("--seed", options.seed, "Seed instead of the scenario's");
-  run->add_option("--robots", options.robots, "Robot count instead of the scenario's")->check(CLI::PositiveNumber);
+  run->add_option("--robots", options.robots, "Robot count instead of the scenario's")->check(RobotCountValidator());
   run->add_option("--duration", options.duration_s, "Simulated seconds instead of the scenario's")
-      ->check(CLI::PositiveNumber);
+      ->check(DurationValidator());
   run->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>)");
   run->add_flag("--no-replay", options.no_replay, "Do not write the replay");
   run->add_flag("--reproducible", options.reproducible,
@@ -150,44 +153,4 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   return 0;
 }
 
-CLI::App* SetupValidateCommand(CLI::App& app, ValidateOptions& options) {
-  CLI::App* validate = app.add_subcommand("validate", "Check a scenario file and show what it resolves to");
-  validate->add_option("scenario", options.scenario_path, "Scenario file (YAML)")->required();
-  return validate;
-}
-
-int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::ostream& err) {
-  const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path);
-  if (!loaded.ok()) {
-    fmt::print(err, "syrof validate: {}\n", loaded.error->ToString());
-    return 2;
-  }
-  const scenario::Scenario& s = *loaded.scenario;
-  fmt::print(out, "{}: ok\n  name {}, seed {}, app {}\n  arena {} x {} m, {} anchors\n", options.scenario_path, s.name,
-             s.seed, s.app.name, s.arena.width_m, s.arena.height_m, s.arena.anchors.size());
-  fmt::print(out, "  {} robots ({} placement), radio round {} s, maneuver {} s, K {}, F {}, {} s\n", s.robots.size(),
-             scenario::ToString(s.placement), s.timing.radio_round_s, s.timing.app_round_s, s.timing.vote_rounds,
-             s.timing.silence_rounds, s.timing.duration_s);
-  fmt::print(out, "  channel {} (loss {}), {} link overrides, {} partitions, {} faults\n",
-             scenario::ToString(s.channel.model), s.channel.loss, s.channel.links.size(), s.channel.partitions.size(),
-             s.faults.size());
-  for (const scenario::RobotSpec& robot : s.robots) {
-    fmt::print(out, "    robot {:>4} {:<5} at ({:.3f}, {:.3f}) heading {:.3f}{}\n", robot.id,
-               scenario::ToString(robot.kind), robot.x_m, robot.y_m, robot.heading_rad,
-               robot.present_at_start ? "" : " (joins later)");
-  }
-  return 0;
-}
-
-int RunAppsCommand(std::ostream& out) {
-  for (const apps::BuiltinAppInfo& app : apps::BuiltinApps()) {
-    fmt::print(out, "builtin:{:<14} {}\n", app.name, app.summary);
-    for (const apps::ParamInfo& param : app.params) {
-      fmt::print(out, "    {:<16} default {:<8} [{} .. {}]  {}\n", param.name, param.default_value, param.min_value,
-                 param.max_value, param.doc);
-    }
-  }
-  return 0;
-}
-
-}  // namespace syrof::lab::cli
+}  // namespace syrof::cli

@@ -6,30 +6,33 @@
 #include <exception>
 #include <iostream>
 
+#include "apps_command.h"
 #include "replay_command.h"
 #include "run_command.h"
+#include "usage.h"
+#include "validate_command.h"
 
 int main(int argc, char** argv) {
-  using namespace syrof::lab::cli;
+  using namespace syrof::cli;
   CLI::App app{"SyROF: the Synchronous Robotic Framework's lab"};
   app.require_subcommand(1);
   RunOptions run_options;
   CLI::App* run = SetupRunCommand(app, run_options);
   ValidateOptions validate_options;
   CLI::App* validate = SetupValidateCommand(app, validate_options);
-  CLI::App* apps = app.add_subcommand("apps", "List the built-in apps and their parameters");
+  AppsOptions apps_options;
+  CLI::App* apps = SetupAppsCommand(app, apps_options);
   ReplayOptions replay_options;
   SetupReplayCommand(app, replay_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    const int code = app.exit(error);
-    return code == 0 ? 0 : 2;
+    return ReportParseError(app, error, std::cout, std::cerr);
   }
   try {
     if (run->parsed()) return RunRunCommand(run_options, std::cout, std::cerr, isatty(STDERR_FILENO) != 0);
     if (validate->parsed()) return RunValidateCommand(validate_options, std::cout, std::cerr);
-    if (apps->parsed()) return RunAppsCommand(std::cout);
+    if (apps->parsed()) return RunAppsCommand(apps_options, std::cout);
     return RunReplayCommand(replay_options, std::cout, std::cerr);
   } catch (const std::exception& error) {
     std::cerr << "syrof: internal error: " << error.what() << "\n";

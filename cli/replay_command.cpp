@@ -10,8 +10,10 @@
 #include "syrof/lab/replay/replay.h"
 #include "syrof/wire/beacon.h"
 
-namespace syrof::lab::cli {
+namespace syrof::cli {
 namespace {
+
+namespace replay = lab::replay;
 
 using replay::Event;
 using replay::EventKind;
@@ -32,8 +34,8 @@ std::string FormatTime(int64_t time_ns) {
   return fmt::format("{}{}.{:09}s", negative ? "-" : "", magnitude / 1000000000u, magnitude % 1000000000u);
 }
 
-// Mirrors scenario::RobotKind's names; lab_replay stores the kind as a plain
-// number so it does not depend on the scenario module.
+// Mirrors world::RobotKind's names; lab_replay stores the kind as a plain
+// number so it does not depend on the world module.
 std::string KindName(uint8_t kind) {
   if (kind == 0) return "omni";
   if (kind == 1) return "rover";
@@ -104,7 +106,7 @@ void PrintRound(const Round& round, const ReplayOptions& options, std::ostream& 
 // How a file ended, for the summary and the exit code.
 std::string Ending(const Reader& reader) {
   if (reader.complete()) return "complete";
-  return fmt::format("{} ({})", reader.truncated() ? "truncated" : "invalid", reader.error());
+  return fmt::format("{} ({})", reader.truncated() ? "truncated" : "invalid", reader.error().ToString());
 }
 
 int Summarize(Reader& reader, std::ostream& out) {
@@ -152,13 +154,13 @@ int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
   Reader reader(in);
   Header header;
   if (!reader.ReadHeader(header)) {
-    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error());
+    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
     return kBadInput;
   }
   PrintHeader(header, out);
   if (options.summary) {
     const int status = Summarize(reader, out);
-    if (status != kOk) err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error());
+    if (status != kOk) err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
     return status;
   }
   if (options.robot) {
@@ -182,8 +184,8 @@ int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
     }
     PrintRound(round, options, out);
   }
-  if (!reader.error().empty() && !round_found) {
-    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error());
+  if (reader.failed() && !round_found) {
+    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
     return kBadInput;
   }
   if (options.round && !round_found) {
@@ -225,4 +227,4 @@ int RunReplayCommand(const ReplayOptions& options, std::ostream& out, std::ostre
   }
 }
 
-}  // namespace syrof::lab::cli
+}  // namespace syrof::cli

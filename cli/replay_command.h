@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-namespace syrof::lab::cli {
+namespace syrof::cli {
 
 /// What `syrof replay` prints.
 struct ReplayOptions {
@@ -34,4 +34,4 @@ CLI::App* SetupReplayCommand(CLI::App& app, ReplayOptions& options);
 /// 1 for an internal failure (including `out` failing).
 int RunReplayCommand(const ReplayOptions& options, std::ostream& out, std::ostream& err);
 
-}  // namespace syrof::lab::cli
+}  // namespace syrof::cli

@@ -1,0 +1,87 @@
+#include "usage.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "syrof/lab/scenario/scenario.h"
+
+namespace syrof::cli {
+namespace {
+
+constexpr int kUsageError = 2;
+
+// "run, validate, apps, replay": every subcommand of `app`, in the order
+// they were added.
+std::string SubcommandList(const CLI::App& app) {
+  std::string list;
+  for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+    if (!list.empty()) list += ", ";
+    list += command->get_name();
+  }
+  return list;
+}
+
+}  // namespace
+
+CLI::Validator RobotCountValidator() {
+  const int max = lab::scenario::MaxRobots();
+  return CLI::Validator(
+      [max](std::string& text) -> std::string {
+        int64_t value = 0;
+        const char* end = text.data() + text.size();
+        const auto [rest, error] = std::from_chars(text.data(), end, value);
+        if (error != std::errc() || rest != end) {
+          return fmt::format("must be a whole number from 1 to {}, not '{}'", max, text);
+        }
+        if (value < 1) return fmt::format("must be at least 1, not {}", value);
+        if (value > max) return fmt::format("must be at most {} (the largest swarm a scenario holds), not {}", max, value);
+        return {};
+      },
+      fmt::format("1..{}", max), "ROBOTS");
+}
+
+CLI::Validator DurationValidator() {
+  const double max = lab::scenario::kMaxDurationS;
+  return CLI::Validator(
+      [max](std::string& text) -> std::string {
+        double value = 0;
+        const char* end = text.data() + text.size();
+        const auto [rest, error] = std::from_chars(text.data(), end, value);
+        if (error != std::errc() || rest != end || !std::isfinite(value)) {
+          return fmt::format("must be a number of seconds, more than 0 and at most {}, not '{}'", max, text);
+        }
+        if (!(value > 0)) return fmt::format("must be more than 0 seconds, not {}", text);
+        if (value > max) return fmt::format("must be at most {} seconds (a day), not {}", max, text);
+        return {};
+      },
+      fmt::format("(0..{}]", max), "SECONDS");
+}
+
+int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ostream& out, std::ostream& err) {
+  if (error.get_exit_code() == 0) return app.exit(error, out, err);  // --help
+  const bool no_subcommand = app.get_subcommands().empty();
+  if (no_subcommand && dynamic_cast<const CLI::RequiredError*>(&error) != nullptr) {
+    const std::vector<std::string> words = app.remaining();
+    if (!words.empty() && !words.front().starts_with("-")) {
+      fmt::print(err, "syrof: '{}' is not a syrof subcommand; the subcommands are: {}\n", words.front(),
+                 SubcommandList(app));
+    } else if (!words.empty()) {
+      fmt::print(err, "syrof: unknown option '{}'; a subcommand comes first: {}\n", words.front(),
+                 SubcommandList(app));
+    } else {
+      fmt::print(err, "syrof: a subcommand is required: {}\n", SubcommandList(app));
+    }
+    fmt::print(err, "Run with --help for more information.\n");
+    return kUsageError;
+  }
+  app.exit(error, out, err);
+  return kUsageError;
+}
+
+}  // namespace syrof::cli

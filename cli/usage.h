@@ -1,0 +1,27 @@
+// What the `syrof` command says when its command line is wrong: option
+// validators whose messages give the allowed range in words, and the report
+// of a parse error (an unknown subcommand is named, with the list of real
+// ones). Exit status 2 for every usage error.
+#pragma once
+
+#include <ostream>
+
+#include <CLI/CLI.hpp>
+
+namespace syrof::cli {
+
+/// A whole number of robots, 1 to the scenario loader's maximum
+/// (lab::scenario::MaxRobots()): "must be at least 1, not 0".
+CLI::Validator RobotCountValidator();
+
+/// Simulated seconds, more than 0 and at most lab::scenario::kMaxDurationS.
+CLI::Validator DurationValidator();
+
+/// Reports a parse error of `app` (the `syrof` command with its subcommands
+/// set up) and returns the exit status: 0 for --help, 2 for a usage error.
+/// A word where a subcommand belongs that is not one gets "'new' is not a
+/// syrof subcommand" and the list of subcommands; a missing subcommand the
+/// list too; anything else CLI11's own message.
+int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ostream& out, std::ostream& err);
+
+}  // namespace syrof::cli

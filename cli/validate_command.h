@@ -1,0 +1,23 @@
+// `syrof validate SCENARIO.yaml`: loads and checks a scenario and prints what
+// it resolved to.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace syrof::cli {
+
+struct ValidateOptions {
+  std::string scenario_path;
+};
+
+/// Declares the subcommand's arguments on `app`.
+CLI::App* SetupValidateCommand(CLI::App& app, ValidateOptions& options);
+
+/// Runs it. Returns 0 when the scenario is valid, 2 when it is not (the
+/// message, with file, line and column, on `err`).
+int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace syrof::cli

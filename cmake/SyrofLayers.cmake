@@ -1,0 +1,60 @@
+# The layering of SyROF's modules, lowest first: the one place it is written.
+#
+# A module may include the headers (and link the targets) of modules in LOWER
+# groups, and its own; never those of its own group's siblings or of a higher
+# group. cmake/CheckLayers.cmake checks every #include of core/, queries/,
+# lab/, cli/, firmware/, sim_dds/ and grader/ against this list (ctest label
+# `architecture`), and syrof_add_library (cmake/SyrofHelpers.cmake) refuses a
+# link dependency on a module that is not below at configure time.
+#
+# Headers map to modules by their path under include/: syrof/base/... is
+# core/base, syrof/app.h and syrof/app/... core/app, syrof/os/... (with its
+# sim/ and posix/ ports) core/os, syrof/queries/... queries,
+# syrof/lab/<m>/... lab/<m>, syrof/board/... firmware. Sources map by their
+# folder: core/<m>/..., lab/<m>/..., queries/..., cli/..., and so on.
+#
+# Why the order is what it is:
+# - core/registry (topic ids, task priorities), core/wire (the beacon) and
+#   queries (exact geometry) need only core/base.
+# - core/motion includes syrof/app.h (syrof_car_command), so it sits above
+#   core/app and below core/runtime, which wires everything of core.
+# - lab/base (the error value) is what every lab module shares.
+# - In lab, the sensors and the apps use only core (and queries); the world
+#   uses the sensors' TrueState; the scenario holds the world's specs
+#   (arena, kinds, channel), the sensors' noise models and checks app names
+#   against lab/apps' catalog; metrics and replay are fed by the engine and
+#   know no scenario; lab/sim runs all of them.
+# - sim_dds and firmware run core/runtime in other processes or on a board;
+#   the grader sits above everything that runs a robot; cli is the top.
+set(SYROF_LAYERS
+  "core/base"
+  "core/registry core/wire queries"
+  "core/os"
+  "core/pubsub"
+  "core/estimation core/sync"
+  "core/app"
+  "core/motion"
+  "core/runtime"
+  "lab/base"
+  "lab/sensors lab/apps"
+  "lab/world"
+  "lab/scenario"
+  "lab/metrics lab/replay"
+  "lab/sim"
+  "sim_dds firmware"
+  "grader"
+  "cli")
+
+# Third-party (and board) headers only one module may include, as
+# "<include path prefix>=<module>": CGAL only in queries (its exact kernels
+# are the queries' business), Cyclone DDS only in sim_dds, the boards'
+# headers only in firmware.
+set(SYROF_EXCLUSIVE_HEADERS
+  "CGAL/=queries"
+  "dds/=sim_dds"
+  "ddscxx/=sim_dds"
+  "org/eclipse/cyclonedds/=sim_dds"
+  "syrof/board/=firmware")
+
+# The top-level folders whose sources the check walks.
+set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds grader)

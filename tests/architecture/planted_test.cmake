@@ -1,0 +1,35 @@
+# Runs the layering check (cmake/CheckLayers.cmake) on the planted tree in
+# fixtures/planted and asserts that it fails and names every planted
+# violation by file and line, and nothing else.
+#
+#   cmake -DSYROF_SOURCE_DIR=<repo> -P tests/architecture/planted_test.cmake
+cmake_minimum_required(VERSION 3.25)
+
+set(fixture ${CMAKE_CURRENT_LIST_DIR}/fixtures/planted)
+execute_process(
+  COMMAND ${CMAKE_COMMAND} -DSYROF_ROOT=${fixture} -P ${SYROF_SOURCE_DIR}/cmake/CheckLayers.cmake
+  RESULT_VARIABLE status
+  OUTPUT_VARIABLE out
+  ERROR_VARIABLE err)
+set(output "${out}${err}")
+
+if(status EQUAL 0)
+  message(FATAL_ERROR "the check passed a tree with planted violations:\n${output}")
+endif()
+
+set(expected
+  "core/wire/src/planted_wire.cpp:5: includes \"syrof/runtime/robot.h\": core/wire (layer 1) may not include core/runtime (layer 7): above it"
+  "queries/src/planted_query.cpp:4: includes \"syrof/lab/world/world.h\": queries (layer 1) may not include lab/world (layer 10): above it"
+  "core/base/src/planted_cgal.cpp:3: includes \"CGAL/config.h\": only queries may include CGAL/ headers"
+  "core/estimation/src/planted_sibling.cpp:4: includes \"syrof/sync/synchronizer.h\": core/estimation (layer 4) may not include core/sync (layer 4): a sibling in the same layer"
+  "lab/apps/src/planted_board.cpp:3: includes \"syrof/board/cycles.h\": only firmware may include syrof/board/ headers")
+foreach(line IN LISTS expected)
+  string(FIND "${output}" "${line}" at)
+  if(at LESS 0)
+    message(FATAL_ERROR "the check did not report\n  ${line}\nIt said:\n${output}")
+  endif()
+endforeach()
+if(NOT output MATCHES "layering: 5 violation\\(s\\)")
+  message(FATAL_ERROR "expected exactly 5 violations (the allowed includes must pass); the check said:\n${output}")
+endif()
+message("the check failed the planted tree and named all 5 violations")

@@ -1,0 +1,136 @@
+// The `syrof` command line's usage errors: option ranges said in words, and
+// an unknown subcommand named as such with the list of real ones; exit 2.
+#include "usage.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+#include "apps_command.h"
+#include "replay_command.h"
+#include "run_command.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "validate_command.h"
+
+namespace syrof::cli {
+namespace {
+
+// The `syrof` command as main() sets it up.
+struct Command {
+  CLI::App app{"syrof"};
+  RunOptions run;
+  ValidateOptions validate;
+  AppsOptions apps;
+  ReplayOptions replay;
+  Command() {
+    app.require_subcommand(1);
+    SetupRunCommand(app, run);
+    SetupValidateCommand(app, validate);
+    SetupAppsCommand(app, apps);
+    SetupReplayCommand(app, replay);
+  }
+};
+
+struct Report {
+  int status = -1;
+  std::string err;
+};
+
+// Parses `line` (without the program name); on a parse error returns what
+// ReportParseError prints and returns.
+Report Parse(const std::string& line) {
+  Command command;
+  try {
+    command.app.parse(line, false);
+  } catch (const CLI::ParseError& error) {
+    std::ostringstream out, err;
+    const int status = ReportParseError(command.app, error, out, err);
+    return Report{status, err.str()};
+  }
+  return Report{0, ""};
+}
+
+TEST(UsageTest, RobotsZeroSaysAtLeastOne) {
+  const Report report = Parse("run s.yaml --robots 0");
+  EXPECT_EQ(report.status, 2);
+  EXPECT_NE(report.err.find("--robots: must be at least 1, not 0"), std::string::npos) << report.err;
+  EXPECT_LT(report.err.size(), 200u) << report.err;  // not CLI11's 300-digit range
+}
+
+TEST(UsageTest, RobotsAboveTheLoadersMaximumSaysTheMaximum) {
+  const int max = lab::scenario::MaxRobots();
+  const Report report = Parse("run s.yaml --robots " + std::to_string(max + 1));
+  EXPECT_EQ(report.status, 2);
+  EXPECT_NE(report.err.find("must be at most " + std::to_string(max)), std::string::npos) << report.err;
+  EXPECT_EQ(Parse("run s.yaml --robots " + std::to_string(max)).status, 0);
+}
+
+TEST(UsageTest, RobotsThatAreNotAWholeNumberAreRefused) {
+  const Report report = Parse("run s.yaml --robots 2.5");
+  EXPECT_EQ(report.status, 2);
+  EXPECT_NE(report.err.find("--robots: must be a whole number from 1 to"), std::string::npos) << report.err;
+}
+
+TEST(UsageTest, DurationZeroOrNegativeSaysMoreThanZero) {
+  for (const char* value : {"0", "-1", "-0.5"}) {
+    const Report report = Parse(std::string("run s.yaml --duration ") + value);
+    EXPECT_EQ(report.status, 2) << value;
+    EXPECT_NE(report.err.find(std::string("--duration: must be more than 0 seconds, not ") + value),
+              std::string::npos)
+        << report.err;
+    EXPECT_LT(report.err.size(), 200u) << report.err;
+  }
+}
+
+TEST(UsageTest, DurationAboveADaySaysTheMaximum) {
+  const Report report = Parse("run s.yaml --duration 86401");
+  EXPECT_EQ(report.status, 2);
+  EXPECT_NE(report.err.find("--duration: must be at most 86400 seconds"), std::string::npos) << report.err;
+  EXPECT_EQ(Parse("run s.yaml --duration 0.5").status, 0);
+}
+
+TEST(UsageTest, UnknownSubcommandIsNamedWithTheRealOnes) {
+  const Report report = Parse("new");
+  EXPECT_EQ(report.status, 2);
+  EXPECT_NE(report.err.find("'new' is not a syrof subcommand"), std::string::npos) << report.err;
+  EXPECT_NE(report.err.find("run, validate, apps, replay"), std::string::npos) << report.err;
+  EXPECT_EQ(report.err.find("A subcommand is required"), std::string::npos) << report.err;
+}
+
+TEST(UsageTest, MissingSubcommandListsThem) {
+  const Report report = Parse("");
+  EXPECT_EQ(report.status, 2);
+  EXPECT_NE(report.err.find("a subcommand is required: run, validate, apps, replay"), std::string::npos)
+      << report.err;
+}
+
+TEST(UsageTest, HelpIsNotAnError) { EXPECT_EQ(Parse("--help").status, 0); }
+
+// The built command prints the same (main wires ReportParseError).
+std::string StderrOf(const std::string& arguments, int& status) {
+  const std::string line = std::string(SYROF_EXECUTABLE) + " " + arguments + " 2>&1 >/dev/null";
+  FILE* pipe = popen(line.c_str(), "r");
+  std::string text;
+  std::array<char, 256> buffer{};
+  while (pipe != nullptr && fgets(buffer.data(), buffer.size(), pipe) != nullptr) text += buffer.data();
+  status = pipe == nullptr ? -1 : WEXITSTATUS(pclose(pipe));
+  return text;
+}
+
+TEST(UsageTest, TheExecutableSaysTheSame) {
+  int status = 0;
+  std::string err = StderrOf("new", status);
+  EXPECT_EQ(status, 2);
+  EXPECT_NE(err.find("'new' is not a syrof subcommand; the subcommands are: run, validate, apps, replay"),
+            std::string::npos)
+      << err;
+  err = StderrOf(std::string("run ") + SYROF_SCENARIOS_DIR + "/idle.yaml --robots 0", status);
+  EXPECT_EQ(status, 2);
+  EXPECT_NE(err.find("--robots: must be at least 1, not 0"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace syrof::cli
