@@ -79,7 +79,7 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   state_ = sync::InitialState(config_.sync, OwnSnapshot());
   command_ = syrof_car_command{};
   controller_.SetCommand(command_);
-  global_state_ = app_.Init(AppInfo(config_), *this);
+  SYROF_CHECK(app_.Init(AppInfo(config_), *this, global_state_).ok());
   return RobotSetupError::kOk;
 }
 
@@ -163,7 +163,7 @@ void Robot::EndManeuver(int64_t now_ns) {
   maneuver_active_ = false;
   command_ = syrof_car_command{};
   controller_.SetCommand(command_);
-  global_state_ = app_.EndOfRound(app_map_, global_state_, ClockMs(now_ns));
+  SYROF_CHECK(app_.EndOfRound(app_map_, global_state_, ClockMs(now_ns)).ok());
   ++counters_.end_of_rounds;
 }
 
@@ -194,7 +194,7 @@ void Robot::RunRound(int64_t now_ns) {
   if (out_.epoch_started) {
     FillAppMap(ldmap_);
     syrof_car_command command{};
-    global_state_ = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
+    SYROF_CHECK(app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns)).ok());
     command_ = command;
     controller_.SetCommand(command_);
     maneuver_active_ = true;

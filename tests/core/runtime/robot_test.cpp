@@ -27,13 +27,14 @@ constexpr uint16_t kRobots = 3;
 class RecordingApp final : public app::App {
  public:
   const char* name() const override { return "recording"; }
-  uint8_t Init(const syrof_app_info& info, app::Platform& platform) override {
+  app::CallStatus Init(const syrof_app_info& info, app::Platform& platform, uint8_t& global_state) override {
     info_ = info;
     platform_ = &platform;
-    return 7;
+    global_state = 7;
+    return app::CallStatus::Ok();
   }
-  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
-                   uint32_t clock_ms) override {
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t& global_state,
+                           uint32_t clock_ms) override {
     EXPECT_EQ(command.kind, SYROF_COMMAND_STOP);
     maps.emplace_back(ldmap.members, ldmap.members + ldmap.member_count);
     modes.push_back(ldmap.mode);
@@ -48,11 +49,12 @@ class RecordingApp final : public app::App {
     command.x_m = 1.0f;
     command.y_m = 1.0f;
     command.speed_mps = 0.2f;
-    return static_cast<uint8_t>(global_state + 1);
+    global_state = static_cast<uint8_t>(global_state + 1);
+    return app::CallStatus::Ok();
   }
-  uint8_t EndOfRound(const syrof_ldmap& ldmap, uint8_t global_state, uint32_t) override {
+  app::CallStatus EndOfRound(const syrof_ldmap& ldmap, uint8_t& /*global_state*/, uint32_t) override {
     end_epochs.push_back(ldmap.epoch);
-    return global_state;
+    return app::CallStatus::Ok();
   }
 
   syrof_app_info info_{};

@@ -195,18 +195,19 @@ TEST(SimulationTest, OneDeafLinkRemovesItsSenderOnlyAtItsReceiver) {
 class RamApp final : public app::App {
  public:
   const char* name() const override { return "ram"; }
-  uint8_t Init(const syrof_app_info& info, app::Platform&) override {
+  app::CallStatus Init(const syrof_app_info& info, app::Platform&, uint8_t& global_state) override {
     info_ = info;
-    return 0;
+    global_state = 0;
+    return app::CallStatus::Ok();
   }
-  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap&, uint8_t state, uint32_t) override {
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap&, uint8_t&, uint32_t) override {
     command.kind = SYROF_COMMAND_MOVE_TO;
     command.x_m = info_.arena_width_m / 2;
     command.y_m = info_.arena_height_m / 2;
     command.speed_mps = info_.max_speed_mps;
-    return state;
+    return app::CallStatus::Ok();
   }
-  uint8_t EndOfRound(const syrof_ldmap&, uint8_t state, uint32_t) override { return state; }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
 
  private:
   syrof_app_info info_{};
