@@ -184,6 +184,9 @@ class Simulation::Impl final : public runtime::RobotObserver {
   void OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
                     const wire::MemberSet& joined) override;
   void OnBecameJoiner(uint16_t robot, int64_t now_ns) override;
+  void OnAppFault(uint16_t, int64_t, app::Callback, uint16_t, const app::CallStatus&) override {}
+  void OnInvalidCommand(uint16_t, int64_t, uint16_t, const app::CommandCheck&) override {}
+  void OnPayloadRefused(uint16_t, int64_t, uint16_t, size_t) override {}
 
   Scenario scenario_;
   SimulationOptions options_;

@@ -24,6 +24,8 @@
 #include <span>
 
 #include "syrof/app/app.h"
+#include "syrof/app/call_status.h"
+#include "syrof/app/command_check.h"
 #include "syrof/estimation/estimator.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/drive.h"
@@ -59,6 +61,19 @@ class RobotObserver {
                             const wire::MemberSet& joined) = 0;
   /// The robot lost its group and is joining again.
   virtual void OnBecameJoiner(uint16_t robot, int64_t now_ns) = 0;
+  /// The app's `callback` failed with `status` during `epoch` (0 for init).
+  /// From now on the robot is stopped as if it had crashed: no app call, no
+  /// synchronizer step, no beacon (so the others' failure detectors remove
+  /// it), drive command STOP. Nothing more is reported for it.
+  virtual void OnAppFault(uint16_t robot, int64_t now_ns, app::Callback callback, uint16_t epoch,
+                          const app::CallStatus& status) = 0;
+  /// newRound of `epoch` returned a command that `check` refuses; the robot
+  /// holds still (STOP) for that maneuver.
+  virtual void OnInvalidCommand(uint16_t robot, int64_t now_ns, uint16_t epoch, const app::CommandCheck& check) = 0;
+  /// sendMessageData refused `length` bytes (more than
+  /// SYROF_APP_MAX_PAYLOAD_BYTES) in a callback of `epoch`; the previous
+  /// payload stays.
+  virtual void OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) = 0;
 
  protected:
   ~RobotObserver() = default;
@@ -101,6 +116,7 @@ struct RobotCounters {
   uint32_t new_rounds = 0;         ///< newRound calls
   uint32_t end_of_rounds = 0;      ///< endOfRound calls
   uint32_t payloads_refused = 0;   ///< sendMessageData calls over the limit
+  uint32_t invalid_commands = 0;   ///< newRound commands CheckCommand refused (replaced by STOP)
 };
 
 class Robot final : private app::Platform {
@@ -133,6 +149,10 @@ class Robot final : private app::Platform {
   const estimation::StateEstimate& estimate() const { return estimate_; }
   bool estimate_valid() const { return (estimate_.status & estimation::kEstimateInitialized) != 0; }
   uint8_t global_state() const { return global_state_; }
+  /// Whether the app faulted (the robot is then stopped; see OnAppFault).
+  bool app_faulted() const { return !app_fault_.ok(); }
+  /// The app's fault; ok while it has none.
+  const app::CallStatus& app_fault() const { return app_fault_; }
   const syrof_car_command& command() const { return command_; }
   const RobotCounters& counters() const { return counters_; }
   const estimation::Estimator<float>& estimator() const { return estimator_; }
@@ -167,6 +187,8 @@ class Robot final : private app::Platform {
   sync::Snapshot OwnSnapshot() const;
   void FillAppMap(const sync::LDMap& ldmap);
   void EndManeuver(int64_t now_ns);
+  void BeginAppCall(int64_t now_ns, uint16_t epoch);
+  void StopApp(app::Callback callback, int64_t now_ns, uint16_t epoch, const app::CallStatus& status);
   uint32_t ClockMs(int64_t now_ns) const;
 
   RobotConfig config_;
@@ -199,6 +221,9 @@ class Robot final : private app::Platform {
   std::array<uint8_t, wire::kMaxPayloadBytes> payload_{};
   bool maneuver_active_ = false;
   uint16_t rounds_in_progress_ = 0;
+  app::CallStatus app_fault_;  // ok until the app faults
+  int64_t app_call_now_ns_ = 0;  // the current (or last) app call, for reports
+  uint16_t app_call_epoch_ = 0;
   int64_t start_ns_ = 0;
   bool started_ = false;
   RobotCounters counters_;
