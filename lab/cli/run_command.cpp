@@ -43,7 +43,8 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
   const double sim = m.value("sim_seconds", 0.0);
   const double wall = m.value("wall_seconds", 0.0);
   fmt::print(out, "\nSyROF run: {} ({}), {} robots, seed {}\n", m.value("scenario", std::string()),
-             m.value("app", std::string()), m.value("robots", 0), m.value("seed", uint64_t{0}));
+             Field(m, "app", "source").is_string() ? Field(m, "app", "source").get<std::string>() : std::string(),
+             m.value("robots", 0), m.value("seed", uint64_t{0}));
   if (wall > 0) {
     fmt::print(out, "  {:<17} {:.1f} s ({} radio rounds) in {:.2f} s wall, {:.0f}x real time\n", "simulated", sim,
                m.value("radio_rounds", int64_t{0}), wall, sim / wall);

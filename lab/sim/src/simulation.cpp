@@ -148,6 +148,7 @@ class LabRobot {
   }
 
   uint16_t id() const { return spec_.id; }
+  const char* app_name() const { return app_->name(); }
   os::SimPort& port() { return port_; }
   runtime::Robot& robot() { return robot_; }
   const runtime::Robot& robot() const { return robot_; }
@@ -559,7 +560,8 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   facts.radio_rounds = static_cast<int64_t>(scheduler_.now_ns() / radio_round_ns_);
   facts.min_separation_m = world_.min_separation_m();
   facts.scenario = scenario_.name;
-  facts.app = scenario_.app.name;
+  facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
+  facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
   facts.goal = metrics::GoalResult{scenario_.app.name, goal.reached, goal.error_m, goal.detail};
   RunReport report;
   report.metrics = collector_.Finish(facts);

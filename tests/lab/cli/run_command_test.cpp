@@ -93,7 +93,8 @@ TEST(RunCommandTest, OverridesReachTheRun) {
   const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
   EXPECT_EQ(metrics["seed"], 99);
   EXPECT_EQ(metrics["robots"], 3);
-  EXPECT_EQ(metrics["app"], "builtin:circle");
+  EXPECT_EQ(metrics["app"]["source"], "builtin:circle");
+  EXPECT_EQ(metrics["app"]["name"], "circle");
   EXPECT_FALSE(fs::exists(fs::path(options.out_dir) / "replay"));
 }
 
