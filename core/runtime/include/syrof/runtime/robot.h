@@ -14,6 +14,11 @@
 // newRound; the command goes to the motion controller. When the maneuver
 // ends the robot stops and endOfRound is called.
 //
+// The app is untrusted: a command app::CheckCommand refuses becomes STOP, and
+// a refused payload changes nothing; both are counted and reported. A call
+// that faults stops the robot for good, as a crash would (no more app calls,
+// steps or beacons; drive STOP). RobotObserver hears all three.
+//
 // The sensor drivers publish on the estimation topics before Attach(); the
 // actuator driver subscribes to motion::kDriveTopic after it. Nothing is
 // allocated after construction.
