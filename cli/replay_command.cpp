@@ -47,8 +47,8 @@ std::string RobotName(uint16_t robot) { return robot == replay::kNoRobot ? "-" :
 const char* PhaseName(uint8_t phase) { return wire::ToString(static_cast<wire::Phase>(phase)); }
 const char* ModeName(uint8_t mode) { return wire::ToString(static_cast<wire::Mode>(mode)); }
 
-void PrintHeader(const Header& header, std::ostream& out) {
-  out << fmt::format("SyROF replay, format version {}\n", replay::kFormatVersion)
+void PrintHeader(const Header& header, uint16_t version, std::ostream& out) {
+  out << fmt::format("SyROF replay, format version {}\n", version)
       << fmt::format("scenario: {}\n", header.scenario_name)
       << fmt::format("app: {}\n", header.app_name)
       << fmt::format("seed: {}\n", header.seed)
@@ -157,7 +157,7 @@ int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
     err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
     return kBadInput;
   }
-  PrintHeader(header, out);
+  PrintHeader(header, reader.version(), out);
   if (options.summary) {
     const int status = Summarize(reader, out);
     if (status != kOk) err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());

@@ -42,11 +42,73 @@ const nlohmann::json& Field(const nlohmann::json& json, const char* object, cons
   return json[object][key];
 }
 
+// `json[key]`, or null when `json` is no object or has no such key.
+const nlohmann::json& Member(const nlohmann::json& json, const char* key) {
+  static const nlohmann::json kNull;
+  if (!json.is_object() || !json.contains(key)) return kNull;
+  return json[key];
+}
+
+std::string Text(const nlohmann::json& json, const char* key) {
+  const nlohmann::json& value = Member(json, key);
+  return value.is_string() ? value.get<std::string>() : std::string();
+}
+
+// How many incidents of one kind metrics.json's app object counts.
+int64_t IncidentCount(const nlohmann::json& m, const char* kind) {
+  const nlohmann::json& count = Member(Field(m, "app", kind), "count");
+  return count.is_number_integer() ? count.get<int64_t>() : 0;
+}
+
+// Whether metrics.json's app object reports any misbehaviour.
+bool AppMisbehaved(const nlohmann::json& m) {
+  const nlohmann::json& faults = Field(m, "app", "faults");
+  return (faults.is_array() && !faults.empty()) || IncidentCount(m, "invalid_commands") > 0 ||
+         IncidentCount(m, "payload_refused") > 0;
+}
+
+// "first robot 2, epoch 3: what" for an incident's first occurrence.
+std::string FirstIncident(const nlohmann::json& incidents) {
+  const nlohmann::json& first = Member(incidents, "first");
+  if (!first.is_object()) return "first unknown";
+  return fmt::format("first robot {}, epoch {}: {}", Number(Member(first, "robot"), 0),
+                     Number(Member(first, "epoch"), 0), Text(first, "what"));
+}
+
+// The app's lines: one when it behaved, a warning and the first occurrence
+// of each kind of misbehaviour otherwise.
+void PrintAppLines(std::ostream& out, const nlohmann::json& m) {
+  const std::string name = Text(Member(m, "app"), "name");
+  if (!AppMisbehaved(m)) {
+    fmt::print(out, "  {:<17} {}: no faults, no invalid commands, no refused payloads\n", "app", name);
+    return;
+  }
+  fmt::print(out, "  {:<17} {}: WARNING: the app misbehaved (see app in metrics.json; --strict exits 3)\n", "app",
+             name);
+  const nlohmann::json& faults = Field(m, "app", "faults");
+  if (faults.is_array() && !faults.empty()) {
+    const nlohmann::json& first = faults[0];
+    const std::string detail = Text(first, "detail");
+    fmt::print(out, "    {:<17} {} in all; first robot {}, {} of epoch {} at {} s: {}{}\n", "faults", faults.size(),
+               Number(Member(first, "robot"), 0), Text(first, "callback"), Number(Member(first, "epoch"), 0),
+               Number(Member(first, "time_s"), 3), Text(first, "verdict"), detail.empty() ? "" : " (" + detail + ")");
+  }
+  if (const int64_t count = IncidentCount(m, "invalid_commands"); count > 0) {
+    fmt::print(out, "    {:<17} {} in all, each replaced by STOP; {}\n", "invalid commands", count,
+               FirstIncident(Field(m, "app", "invalid_commands")));
+  }
+  if (const int64_t count = IncidentCount(m, "payload_refused"); count > 0) {
+    fmt::print(out, "    {:<17} {} in all (over 9 bytes); {}\n", "refused payloads", count,
+               FirstIncident(Field(m, "app", "payload_refused")));
+  }
+}
+
 void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay) {
   const double sim = m.value("sim_seconds", 0.0);
   const double wall = m.value("wall_seconds", 0.0);
   fmt::print(out, "\nSyROF run: {} ({}), {} robots, seed {}\n", m.value("scenario", std::string()),
-             m.value("app", std::string()), m.value("robots", 0), m.value("seed", uint64_t{0}));
+             Field(m, "app", "source").is_string() ? Field(m, "app", "source").get<std::string>() : std::string(),
+             m.value("robots", 0), m.value("seed", uint64_t{0}));
   if (wall > 0) {
     fmt::print(out, "  {:<17} {:.1f} s ({} radio rounds) in {:.2f} s wall, {:.0f}x real time\n", "simulated", sim,
                m.value("radio_rounds", int64_t{0}), wall, sim / wall);
@@ -72,6 +134,7 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
     fmt::print(out, "  {:<17} {} ({})\n", "goal", goal.value("reached", false) ? "reached" : "NOT reached",
                goal.value("detail", std::string()));
   }
+  PrintAppLines(out, m);
   fmt::print(out, "  {:<17} {}{}\n", "outputs", (dir / "metrics.json").string(),
              replay ? ", " + (dir / "replay").string() : std::string());
 }
@@ -91,6 +154,8 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_flag("--reproducible", options.reproducible,
                 "Write wall_seconds as 0 so identical runs give byte-identical outputs");
   run->add_flag("--quiet", options.quiet, "No progress line and no summary");
+  run->add_flag("--strict", options.strict,
+                "Exit with status 3 if the app faulted, returned an invalid command or had a payload refused");
   return run;
 }
 
@@ -128,6 +193,8 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   };
   sim::SimulationOptions sim_options;
   sim_options.replay = options.no_replay ? nullptr : &replay_file;
+  sim_options.app_factory = options.app_factory;
+  sim_options.app_source = options.app_source;
   if (!options.quiet && err_is_terminal) {
     const double duration_s = scenario.timing.duration_s;
     sim_options.progress = [&err, &elapsed_s, duration_s](double sim_seconds) {
@@ -149,8 +216,14 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
     fmt::print(err, "syrof run: writing the outputs in {} failed\n", dir.string());
     return 1;
   }
-  if (!options.quiet) PrintSummary(out, nlohmann::json::parse(report.metrics_json), dir, !options.no_replay);
-  return 0;
+  const nlohmann::json metrics = nlohmann::json::parse(report.metrics_json);
+  const bool misbehaved = AppMisbehaved(metrics);
+  if (!options.quiet) {
+    PrintSummary(out, metrics, dir, !options.no_replay);
+  } else if (misbehaved) {
+    fmt::print(err, "syrof run: warning: the app misbehaved; see app in {}\n", (dir / "metrics.json").string());
+  }
+  return options.strict && misbehaved ? 3 : 0;
 }
 
 }  // namespace syrof::cli

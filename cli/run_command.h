@@ -3,11 +3,15 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
 
 #include <CLI/CLI.hpp>
+
+#include "syrof/app/app.h"
 
 namespace syrof::cli {
 
@@ -21,13 +25,21 @@ struct RunOptions {
   bool no_replay = false;
   bool reproducible = false;  ///< wall_seconds written as 0, so identical runs give identical files
   bool quiet = false;         ///< no progress line, no summary
+  bool strict = false;        ///< exit 3 when the app faulted, returned an invalid command or had a payload refused
+  /// Not a command-line option: makes robot `id`'s app instead of the
+  /// scenario's (tests; the app host later), with `app_source` naming it in
+  /// metrics.json. `syrof` itself never sets it.
+  std::function<std::unique_ptr<app::App>(uint16_t id)> app_factory;
+  std::string app_source;
 };
 
 /// Declares the subcommand's arguments on `app`.
 CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options);
 
 /// Runs it. Returns 0 on success, 2 on bad input (message on `err`), 1 on an
-/// internal error. Progress goes to `err` when `err_is_terminal`.
+/// internal error, 3 with `strict` when the app misbehaved (a fault, an
+/// invalid command or a refused payload; metrics.json and the replay are
+/// written first). Progress goes to `err` when `err_is_terminal`.
 int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal);
 
 }  // namespace syrof::cli

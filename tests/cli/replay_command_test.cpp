@@ -42,7 +42,7 @@ Output RunCommand(const ReplayOptions& options) {
 }
 
 const char* const kHeaderText =
-    "SyROF replay, format version 1\n"
+    "SyROF replay, format version 2\n"
     "scenario: three_robots\n"
     "app: builtin:idle\n"
     "seed: 42\n"
@@ -136,6 +136,9 @@ TEST(ReplayCommand, SummaryCountsEventsByKind) {
                             "  JOIN: 1\n"
                             "  PARTITION_START: 1\n"
                             "  PARTITION_END: 0\n"
+      "  APP_FAULT: 0\n"
+      "  INVALID_COMMAND: 0\n"
+      "  PAYLOAD_REFUSED: 0\n"
                             "file: complete\n");
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -96,7 +97,8 @@ TEST(RunCommandTest, OverridesReachTheRun) {
   const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
   EXPECT_EQ(metrics["seed"], 99);
   EXPECT_EQ(metrics["robots"], 3);
-  EXPECT_EQ(metrics["app"], "builtin:circle");
+  EXPECT_EQ(metrics["app"]["source"], "builtin:circle");
+  EXPECT_EQ(metrics["app"]["name"], "circle");
   EXPECT_FALSE(fs::exists(fs::path(options.out_dir) / "replay"));
 }
 
@@ -134,6 +136,104 @@ TEST(RunCommandTest, UnknownAppOverrideIsBadInput) {
 
   EXPECT_EQ(outcome.status, 2);
   EXPECT_NE(outcome.err.find("dance"), std::string::npos) << outcome.err;
+}
+
+// ---- An app that misbehaves ---------------------------------------------------
+
+// Holds still; robot 1's newRound crashes at epoch 2, and robot 0's first
+// newRound returns an unknown command kind.
+class MisbehavingApp final : public app::App {
+ public:
+  explicit MisbehavingApp(uint16_t id) : id_(id) {}
+  const char* name() const override { return "misbehaving"; }
+  app::CallStatus Init(const syrof_app_info&, app::Platform&, uint8_t& global_state) override {
+    global_state = 0;
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t&, uint32_t) override {
+    if (id_ == 1 && ldmap.epoch == 2) return app::CallStatus::Fault(app::Verdict::kTimeout, "cpu budget");
+    if (id_ == 0 && ldmap.epoch == 1) command.kind = 42;
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
+
+ private:
+  uint16_t id_;
+};
+
+RunOptions MisbehavingRun(const std::string& name) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.robots = 4;
+  options.duration_s = 5;
+  options.out_dir = TempDir(name).string();
+  options.app_factory = [](uint16_t id) { return std::make_unique<MisbehavingApp>(id); };
+  options.app_source = "test:misbehaving";
+  return options;
+}
+
+TEST(RunCommandTest, StrictExitsWithThreeAfterWritingTheOutputsWhenTheAppMisbehaved) {
+  RunOptions options = MisbehavingRun("strict_fault");
+  options.strict = true;
+
+  const Outcome outcome = RunWith(options);
+
+  EXPECT_EQ(outcome.status, 3) << outcome.err;
+  const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
+  EXPECT_EQ(metrics["app"]["source"], "test:misbehaving");
+  ASSERT_EQ(metrics["app"]["faults"].size(), 1u);
+  EXPECT_EQ(metrics["app"]["faults"][0]["robot"], 1);
+  EXPECT_EQ(metrics["app"]["invalid_commands"]["count"], 1);
+  EXPECT_GT(fs::file_size(fs::path(options.out_dir) / "replay"), 100u);
+}
+
+TEST(RunCommandTest, TheSummaryWarnsAndNamesTheFirstOfEachMisbehaviour) {
+  const Outcome outcome = RunWith(MisbehavingRun("summary_fault"));
+
+  EXPECT_EQ(outcome.status, 0) << outcome.err;  // not --strict
+  EXPECT_NE(outcome.out.find("misbehaving: WARNING: the app misbehaved"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("1 in all; first robot 1, new_round of epoch 2 at "), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("timeout (cpu budget)"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("1 in all, each replaced by STOP; first robot 0, epoch 1: kind 42 is unknown"),
+            std::string::npos)
+      << outcome.out;
+  EXPECT_EQ(outcome.out.find("refused payloads"), std::string::npos) << outcome.out;  // none happened
+}
+
+TEST(RunCommandTest, AQuietRunStillWarnsOnStandardError) {
+  RunOptions options = MisbehavingRun("quiet_fault");
+  options.quiet = true;
+
+  const Outcome outcome = RunWith(options);
+
+  EXPECT_EQ(outcome.status, 0);
+  EXPECT_EQ(outcome.out, "");
+  EXPECT_NE(outcome.err.find("warning: the app misbehaved"), std::string::npos) << outcome.err;
+}
+
+TEST(RunCommandTest, StrictExitsWithZeroWhenTheAppBehaved) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.duration_s = 3;
+  options.strict = true;
+  options.out_dir = TempDir("strict_clean").string();
+
+  const Outcome outcome = RunWith(options);
+
+  EXPECT_EQ(outcome.status, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("idle: no faults, no invalid commands, no refused payloads"), std::string::npos)
+      << outcome.out;
+}
+
+TEST(RunCommandTest, StrictIsACommandLineFlag) {
+  CLI::App app;
+  RunOptions options;
+  SetupRunCommand(app, options);
+
+  app.parse("run some.yaml --strict", false);
+
+  EXPECT_TRUE(options.strict);
+  EXPECT_FALSE(options.app_factory);  // only code sets a factory
 }
 
 TEST(ValidateCommandTest, PrintsTheResolvedScenario) {

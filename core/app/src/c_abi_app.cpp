@@ -50,21 +50,24 @@ CAbiApp::CAbiApp(const syrof_app_descriptor& descriptor) : descriptor_(descripto
 
 const char* CAbiApp::name() const { return descriptor_.name != nullptr ? descriptor_.name : "c_app"; }
 
-uint8_t CAbiApp::Init(const syrof_app_info& info, Platform& platform) {
+CallStatus CAbiApp::Init(const syrof_app_info& info, Platform& platform, uint8_t& global_state) {
   platform_ = &platform;
   const CurrentPlatform current(platform_);
-  return descriptor_.init(&info);
+  global_state = descriptor_.init(&info);
+  return CallStatus::Ok();
 }
 
-uint8_t CAbiApp::NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
-                          uint32_t clock_ms) {
+CallStatus CAbiApp::NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t& global_state,
+                             uint32_t clock_ms) {
   const CurrentPlatform current(platform_);
-  return descriptor_.new_round(&command, &ldmap, global_state, clock_ms);
+  global_state = descriptor_.new_round(&command, &ldmap, global_state, clock_ms);
+  return CallStatus::Ok();
 }
 
-uint8_t CAbiApp::EndOfRound(const syrof_ldmap& ldmap, uint8_t global_state, uint32_t clock_ms) {
+CallStatus CAbiApp::EndOfRound(const syrof_ldmap& ldmap, uint8_t& global_state, uint32_t clock_ms) {
   const CurrentPlatform current(platform_);
-  return descriptor_.end_of_round(&ldmap, global_state, clock_ms);
+  global_state = descriptor_.end_of_round(&ldmap, global_state, clock_ms);
+  return CallStatus::Ok();
 }
 
 }  // namespace syrof::app
@@ -73,7 +76,8 @@ extern "C" int sendMessageData(const uint8_t* payload, size_t length) {
   using syrof::app::current_platform;
   if (current_platform == nullptr) return SYROF_APP_NOT_RUNNING;
   if (payload == nullptr && length != 0) return SYROF_APP_NULL_ARGUMENT;
-  if (length > SYROF_APP_MAX_PAYLOAD_BYTES) return SYROF_APP_PAYLOAD_TOO_LONG;
+  // The platform refuses a payload over SYROF_APP_MAX_PAYLOAD_BYTES itself,
+  // so that the robot counts and reports it.
   return current_platform->SendMessageData(std::span<const uint8_t>(payload, length));
 }
 

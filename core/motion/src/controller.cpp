@@ -4,6 +4,8 @@
 #include <cmath>
 #include <initializer_list>
 
+#include "syrof/app/command_check.h"
+
 namespace syrof::motion {
 namespace {
 
@@ -19,22 +21,6 @@ bool AllFinite(std::initializer_list<float> values) {
     }
   }
   return true;
-}
-
-// Whether `command` is one the controllers can carry out; see SetCommand.
-bool IsValid(const syrof_car_command& command) {
-  switch (command.kind) {
-    case SYROF_COMMAND_STOP:
-      return true;
-    case SYROF_COMMAND_MOVE_TO:
-      return AllFinite({command.x_m, command.y_m, command.speed_mps}) && command.speed_mps > 0.0f;
-    case SYROF_COMMAND_VELOCITY:
-      return AllFinite({command.vx_mps, command.vy_mps});
-    case SYROF_COMMAND_TURN_TO:
-      return AllFinite({command.heading_rad});
-    default:
-      return false;
-  }
 }
 
 float Clamp(float value, float limit) { return std::clamp(value, -limit, limit); }
@@ -53,7 +39,7 @@ float WrapAngle(float angle_rad) {
 MotionController::MotionController(const ControllerConfig& config) : config_(config) {}
 
 void MotionController::SetCommand(const syrof_car_command& command) {
-  if (IsValid(command)) {
+  if (app::CheckCommand(command).ok()) {
     command_ = command;
   } else {
     ++invalid_commands_;

@@ -85,7 +85,10 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   state_ = sync::InitialState(config_.sync, OwnSnapshot());
   command_ = syrof_car_command{};
   controller_.SetCommand(command_);  // the port has not started: no motion task yet
-  global_state_ = app_.Init(AppInfo(config_), *this);
+  // An app that fails here leaves a robot that is set up but stopped.
+  BeginAppCall(port.now_ns(), state_.epoch);
+  const app::CallStatus status = app_.Init(AppInfo(config_), *this, global_state_);
+  if (!status.ok()) StopApp(app::Callback::kInit, port.now_ns(), state_.epoch, status);
   return RobotSetupError::kOk;
 }
 
@@ -144,6 +147,7 @@ void Robot::TakeReceivedBank() {
 syrof_app_status Robot::SendMessageData(std::span<const uint8_t> payload) {
   if (payload.size() > wire::kMaxPayloadBytes) {
     ++counters_.payloads_refused;
+    if (observer_ != nullptr) observer_->OnPayloadRefused(id(), app_call_now_ns_, app_call_epoch_, payload.size());
     return SYROF_APP_PAYLOAD_TOO_LONG;
   }
   payload_.fill(0);
@@ -193,15 +197,36 @@ void Robot::FillAppMap(const sync::LDMap& ldmap) {
   app_map_.members = app_members_.data();
 }
 
+void Robot::BeginAppCall(int64_t now_ns, uint16_t epoch) {
+  app_call_now_ns_ = now_ns;
+  app_call_epoch_ = epoch;
+}
+
+void Robot::StopApp(app::Callback callback, int64_t now_ns, uint16_t epoch, const app::CallStatus& status) {
+  app_fault_ = status;
+  maneuver_active_ = false;
+  command_ = syrof_car_command{};
+  HandToMotion(command_);
+  if (observer_ != nullptr) observer_->OnAppFault(id(), now_ns, callback, epoch, status);
+}
+
 void Robot::EndManeuver(int64_t now_ns) {
   maneuver_active_ = false;
   command_ = syrof_car_command{};
   HandToMotion(command_);
-  global_state_ = app_.EndOfRound(app_map_, global_state_, ClockMs(now_ns));
+  BeginAppCall(now_ns, app_map_.epoch);
+  const app::CallStatus status = app_.EndOfRound(app_map_, global_state_, ClockMs(now_ns));
   ++counters_.end_of_rounds;
+  if (!status.ok()) StopApp(app::Callback::kEndOfRound, now_ns, app_map_.epoch, status);
 }
 
 void Robot::RunRound(int64_t now_ns) {
+  if (app_faulted()) {
+    // Stopped as a crashed robot is: what arrived is dropped unread.
+    TakeReceivedBank();
+    inbox_count_ = 0;
+    return;
+  }
   if (!started_) {
     started_ = true;
     start_ns_ = now_ns - config_.radio_round_ns;
@@ -225,17 +250,33 @@ void Robot::RunRound(int64_t now_ns) {
   const bool still_in_progress =
       state_.status == sync::Status::kMember && state_.phase == wire::Phase::kProgress && !out_.epoch_started;
   if (maneuver_active_ && !still_in_progress) EndManeuver(now_ns);
+  if (app_faulted()) return;
 
   if (out_.epoch_started) {
     FillAppMap(ldmap_);
     syrof_car_command command{};
-    global_state_ = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
+    BeginAppCall(now_ns, ldmap_.epoch);
+    const app::CallStatus status = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
+    ++counters_.new_rounds;
+    if (!status.ok()) {
+      StopApp(app::Callback::kNewRound, now_ns, ldmap_.epoch, status);
+      return;
+    }
+    // A command the controller could not carry out is reported, and the
+    // robot holds still for the maneuver.
+    const app::CommandCheck check = app::CheckCommand(command);
+    if (!check.ok()) {
+      ++counters_.invalid_commands;
+      command = syrof_car_command{};
+    }
     command_ = command;
     HandToMotion(command_);
     maneuver_active_ = true;
     rounds_in_progress_ = 0;
-    ++counters_.new_rounds;
-    if (observer_ != nullptr) observer_->OnEpochStart(id(), now_ns, ldmap_);
+    if (observer_ != nullptr) {
+      observer_->OnEpochStart(id(), now_ns, ldmap_);
+      if (!check.ok()) observer_->OnInvalidCommand(id(), now_ns, ldmap_.epoch, check);
+    }
   }
   if (observer_ != nullptr) {
     if (!out_.removed.empty() || !out_.joined.empty()) observer_->OnMembership(id(), now_ns, out_.removed, out_.joined);

@@ -28,10 +28,10 @@ inline constexpr double kSlideZoneM = 0.05;
 
 class FormationApp : public app::App {
  public:
-  uint8_t Init(const syrof_app_info& info, app::Platform& platform) override;
-  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
-                   uint32_t clock_ms) override;
-  uint8_t EndOfRound(const syrof_ldmap& ldmap, uint8_t global_state, uint32_t clock_ms) override;
+  app::CallStatus Init(const syrof_app_info& info, app::Platform& platform, uint8_t& global_state) override;
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t& global_state,
+                           uint32_t clock_ms) override;
+  app::CallStatus EndOfRound(const syrof_ldmap& ldmap, uint8_t& global_state, uint32_t clock_ms) override;
 
  protected:
   explicit FormationApp(double margin_m) : margin_m_(margin_m) {}
@@ -55,6 +55,9 @@ class FormationApp : public app::App {
   double maneuver_s() const;
 
  private:
+  // Sets `command` for this robot's move in the epoch `ldmap` starts.
+  void PlanCommand(syrof_car_command& command, const syrof_ldmap& ldmap);
+
   double margin_m_;
   syrof_app_info info_{};
   app::Platform* platform_ = nullptr;

@@ -7,15 +7,18 @@ namespace {
 class IdleApp final : public app::App {
  public:
   const char* name() const override { return "idle"; }
-  uint8_t Init(const syrof_app_info& /*info*/, app::Platform& /*platform*/) override { return 0; }
-  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& /*ldmap*/, uint8_t global_state,
-                   uint32_t /*clock_ms*/) override {
+  app::CallStatus Init(const syrof_app_info& /*info*/, app::Platform& /*platform*/, uint8_t& global_state) override {
+    global_state = 0;
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& /*ldmap*/, uint8_t& /*global_state*/,
+                           uint32_t /*clock_ms*/) override {
     command = syrof_car_command{};
     command.kind = SYROF_COMMAND_STOP;
-    return global_state;
+    return app::CallStatus::Ok();
   }
-  uint8_t EndOfRound(const syrof_ldmap& /*ldmap*/, uint8_t global_state, uint32_t /*clock_ms*/) override {
-    return global_state;
+  app::CallStatus EndOfRound(const syrof_ldmap& /*ldmap*/, uint8_t& /*global_state*/, uint32_t /*clock_ms*/) override {
+    return app::CallStatus::Ok();
   }
 };
 

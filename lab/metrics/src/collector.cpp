@@ -248,10 +248,49 @@ void Collector::OnWallContact(int64_t time_ns, uint16_t robot) {
   }
 }
 
+void Collector::OnAppFault(const AppFault& fault) {
+  if (!Known(fault.robot)) {
+    ++ignored_observations_;
+    return;
+  }
+  if (tracks_[fault.robot].app_faulted) return;
+  tracks_[fault.robot].app_faulted = true;
+  app_faults_.push_back(fault);
+}
+
+namespace {
+
+void Count(AppIncidents& incidents, uint16_t robot, uint16_t epoch, std::string_view what) {
+  ++incidents.count;
+  if (!incidents.first) incidents.first = AppIncident{robot, epoch, std::string(what)};
+}
+
+}  // namespace
+
+void Collector::OnInvalidCommand(uint16_t robot, uint16_t epoch, std::string_view what) {
+  if (!Known(robot)) {
+    ++ignored_observations_;
+    return;
+  }
+  Count(invalid_commands_, robot, epoch, what);
+}
+
+void Collector::OnPayloadRefused(uint16_t robot, uint16_t epoch, std::string_view what) {
+  if (!Known(robot)) {
+    ++ignored_observations_;
+    return;
+  }
+  Count(payloads_refused_, robot, epoch, what);
+}
+
 Metrics Collector::Finish(const RunFacts& facts) const {
   Metrics metrics;
   metrics.scenario = facts.scenario;
-  metrics.app = facts.app;
+  metrics.app.name = facts.app_name;
+  metrics.app.source = facts.app_source;
+  metrics.app.faults = app_faults_;
+  metrics.app.invalid_commands = invalid_commands_;
+  metrics.app.payload_refused = payloads_refused_;
   metrics.seed = facts.seed;
   metrics.robots = facts.robots;
   metrics.sim_seconds = facts.sim_seconds;

@@ -39,6 +39,41 @@ Json GoalJson(const GoalResult& goal) {
   return json;
 }
 
+Json IncidentsJson(const AppIncidents& incidents) {
+  Json json;
+  json["count"] = incidents.count;
+  if (incidents.first) {
+    Json first;
+    first["robot"] = incidents.first->robot;
+    first["epoch"] = incidents.first->epoch;
+    first["what"] = incidents.first->what;
+    json["first"] = first;
+  } else {
+    json["first"] = nullptr;
+  }
+  return json;
+}
+
+Json AppJson(const AppMetrics& app) {
+  Json json;
+  json["name"] = app.name;
+  json["source"] = app.source;
+  json["faults"] = Json::array();
+  for (const AppFault& fault : app.faults) {
+    Json entry;
+    entry["robot"] = fault.robot;
+    entry["callback"] = fault.callback;
+    entry["epoch"] = fault.epoch;
+    entry["time_s"] = Seconds(fault.time_ns);
+    entry["verdict"] = fault.verdict;
+    entry["detail"] = fault.detail;
+    json["faults"].push_back(entry);
+  }
+  json["invalid_commands"] = IncidentsJson(app.invalid_commands);
+  json["payload_refused"] = IncidentsJson(app.payload_refused);
+  return json;
+}
+
 Json SynchronyJson(const SynchronyMetrics& synchrony) {
   Json json;
   json["max_start_skew_rounds"] = synchrony.max_start_skew_rounds;
@@ -139,7 +174,7 @@ std::string ToJson(const Metrics& metrics) {
   Json json;
   json["schema_version"] = kSchemaVersion;
   json["scenario"] = metrics.scenario;
-  json["app"] = metrics.app;
+  json["app"] = AppJson(metrics.app);
   json["seed"] = metrics.seed;
   json["robots"] = metrics.robots;
   json["sim_seconds"] = FiniteOrNull(metrics.sim_seconds);

@@ -121,10 +121,11 @@ bool Reader::ReadHeader(Header& header) {
                                "with the SyROF that wrote it or a later one",
                                version, kFormatVersion));
   }
-  if (version != kFormatVersion) {
-    return Fail(8, fmt::format("format version {} does not exist (this reader knows version {})",
-                               version, kFormatVersion));
+  if (version < kOldestFormatVersion) {
+    return Fail(8, fmt::format("format version {} does not exist (this reader knows versions {} to {})",
+                               version, kOldestFormatVersion, kFormatVersion));
   }
+  version_ = version;
 
   if ((bytes = Take(8, "seed")) == nullptr) return false;
   header.seed = GetU64(bytes);
@@ -225,7 +226,7 @@ bool Reader::ReadEvent(Event& event) {
   const uint64_t at = offset_;
   const uint8_t* bytes = Take(format::kEventBytes, "event");
   if (bytes == nullptr) return false;
-  if (std::string problem = detail::CheckEventKind(bytes[0]); !problem.empty()) return Fail(at, problem);
+  if (std::string problem = detail::CheckEventKind(bytes[0], version_); !problem.empty()) return Fail(at, problem);
   event.kind = static_cast<EventKind>(bytes[0]);
   event.robot = GetU16(bytes + 1);
   event.other = GetU16(bytes + 3);

@@ -16,6 +16,9 @@ const char* ToString(EventKind kind) {
     case EventKind::kJoin: return "JOIN";
     case EventKind::kPartitionStart: return "PARTITION_START";
     case EventKind::kPartitionEnd: return "PARTITION_END";
+    case EventKind::kAppFault: return "APP_FAULT";
+    case EventKind::kInvalidCommand: return "INVALID_COMMAND";
+    case EventKind::kPayloadRefused: return "PAYLOAD_REFUSED";
   }
   return "?";
 }

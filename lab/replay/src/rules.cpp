@@ -117,9 +117,9 @@ std::string UnpackState(uint8_t state, RobotFrame& frame) {
   return {};
 }
 
-std::string CheckEventKind(uint8_t kind) {
-  if (kind <= static_cast<uint8_t>(kLastEventKind)) return {};
-  return fmt::format("unknown event kind {}", kind);
+std::string CheckEventKind(uint8_t kind, uint16_t version) {
+  if (kind <= static_cast<uint8_t>(LastEventKind(version))) return {};
+  return fmt::format("unknown event kind {} (format version {})", kind, version);
 }
 
 std::string CheckEventRobot(uint16_t robot, std::span<const uint16_t> ids, const char* what) {

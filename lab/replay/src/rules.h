@@ -36,8 +36,8 @@ uint8_t PackState(const RobotFrame& frame, std::string& problem);
 std::string UnpackState(uint8_t state, RobotFrame& frame);
 
 /// An event's fields outside the rules; "" when fine.
-std::string CheckEvent(const Event& event, std::span<const uint16_t> ids);
-std::string CheckEventKind(uint8_t kind);
+std::string CheckEvent(const Event& event, std::span<const uint16_t> ids);  // kFormatVersion's kinds
+std::string CheckEventKind(uint8_t kind, uint16_t version = kFormatVersion);
 std::string CheckEventRobot(uint16_t robot, std::span<const uint16_t> ids, const char* what);
 
 }  // namespace syrof::lab::replay::detail

@@ -44,12 +44,16 @@ class LabRobot {
   void StepHardware(int64_t now_ns);
 
   uint16_t id() const { return spec_.id; }
+  const char* app_name() const { return app_->name(); }
   os::SimPort& port() { return port_; }
   runtime::Robot& robot() { return robot_; }
   const runtime::Robot& robot() const { return robot_; }
 
   int64_t scored_from_ns = 0;  ///< estimates before this are not scored (warm-up)
   replay::Presence presence = replay::Presence::kAbsent;
+  bool app_faulted = false;               ///< stopped for good, as if crashed (OnAppFault)
+  bool invalid_command_recorded = false;  ///< the replay records the first of each per robot
+  bool payload_refusal_recorded = false;
 
  private:
   scenario::RobotSpec spec_;

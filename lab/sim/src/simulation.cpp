@@ -5,6 +5,7 @@
 #include <cmath>
 #include <new>
 #include <span>
+#include <string>
 
 #include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
@@ -90,6 +91,10 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   void OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
                     const wire::MemberSet& joined) override;
   void OnBecameJoiner(uint16_t robot, int64_t now_ns) override;
+  void OnAppFault(uint16_t robot, int64_t now_ns, app::Callback callback, uint16_t epoch,
+                  const app::CallStatus& status) override;
+  void OnInvalidCommand(uint16_t robot, int64_t now_ns, uint16_t epoch, const app::CommandCheck& check) override;
+  void OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) override;
 
   Scenario scenario_;
   SimulationOptions options_;
@@ -205,8 +210,8 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
                                                    kRecorderPriority})
                   .ok());
   for (auto& robot : robots_) {
+    robot->robot().set_observer(this);  // before Attach: init may fault
     robot->Attach();
-    robot->robot().set_observer(this);
   }
 
   if (options_.replay != nullptr) {
@@ -233,6 +238,12 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
 }
 
 void Simulation::Impl::StartRobot(LabRobot& robot, int64_t now_ns) {
+  if (robot.app_faulted) {
+    // Its app failed in init: the body arrives and stays an obstacle.
+    robot.presence = replay::Presence::kCrashed;
+    world_.SetPresence(robot.id(), world::BodyPresence::kStopped);
+    return;
+  }
   SYROF_CHECK(robot.port().Start() == os::PortError::kOk);
   robot.presence = replay::Presence::kRunning;
   robot.scored_from_ns = now_ns + kEstimationWarmupNs;
@@ -241,7 +252,7 @@ void Simulation::Impl::StartRobot(LabRobot& robot, int64_t now_ns) {
 
 void Simulation::Impl::StopRobot(LabRobot& robot, replay::Presence presence) {
   if (robot.port().running()) SYROF_CHECK(robot.port().Stop() == os::PortError::kOk);
-  robot.presence = presence;
+  robot.presence = robot.app_faulted ? replay::Presence::kCrashed : presence;
   world_.SetPresence(robot.id(), world::BodyPresence::kStopped);
 }
 
@@ -370,6 +381,43 @@ void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t now_ns) {
   AddEvent(replay::EventKind::kBecameJoiner, now_ns, robot);
 }
 
+// ---- The app's failures ----------------------------------------------------
+// A robot whose app faulted is stopped as a crashed robot is (its software
+// stops, its body stays, the others' failure detectors remove it) and the
+// run goes on. Called from inside the robot's own step (or from Attach, for
+// init), which the robot ends without another app call.
+
+void Simulation::Impl::OnAppFault(uint16_t robot, int64_t now_ns, app::Callback callback, uint16_t epoch,
+                                  const app::CallStatus& status) {
+  collector_.OnAppFault(metrics::AppFault{robot, app::ToString(callback), epoch, now_ns,
+                                          app::ToString(status.verdict()), status.detail()});
+  LabRobot& lab_robot = *robots_[robot];
+  const wire::Mode mode = lab_robot.robot().sync_state().epoch_mode;
+  AddEvent(replay::EventKind::kAppFault, now_ns, robot, replay::kNoRobot, epoch, mode);
+  lab_robot.app_faulted = true;
+  if (lab_robot.presence != replay::Presence::kAbsent) StopRobot(lab_robot, replay::Presence::kCrashed);
+}
+
+void Simulation::Impl::OnInvalidCommand(uint16_t robot, int64_t now_ns, uint16_t epoch,
+                                        const app::CommandCheck& check) {
+  std::array<char, 64> what{};
+  collector_.OnInvalidCommand(robot, epoch, app::Describe(check, what.data(), what.size()));
+  LabRobot& lab_robot = *robots_[robot];
+  if (lab_robot.invalid_command_recorded) return;
+  lab_robot.invalid_command_recorded = true;
+  const wire::Mode mode = lab_robot.robot().sync_state().epoch_mode;
+  AddEvent(replay::EventKind::kInvalidCommand, now_ns, robot, replay::kNoRobot, epoch, mode);
+}
+
+void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) {
+  collector_.OnPayloadRefused(robot, epoch, std::to_string(length) + " bytes");
+  LabRobot& lab_robot = *robots_[robot];
+  if (lab_robot.payload_refusal_recorded) return;
+  lab_robot.payload_refusal_recorded = true;
+  const wire::Mode mode = lab_robot.robot().sync_state().epoch_mode;
+  AddEvent(replay::EventKind::kPayloadRefused, now_ns, robot, replay::kNoRobot, epoch, mode);
+}
+
 void Simulation::Impl::RunUntil(double end_s) {
   const int64_t end_ns = std::min(end_ns_, Nanoseconds(end_s));
   if (end_ns > scheduler_.now_ns()) scheduler_.RunUntil(end_ns);
@@ -398,7 +446,8 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   facts.radio_rounds = static_cast<int64_t>(scheduler_.now_ns() / radio_round_ns_);
   facts.min_separation_m = world_.min_separation_m();
   facts.scenario = scenario_.name;
-  facts.app = scenario_.app.name;
+  facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
+  facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
   facts.goal = metrics::GoalResult{scenario_.app.name, goal.reached, goal.error_m, goal.detail};
   RunReport report;
   report.metrics = collector_.Finish(facts);

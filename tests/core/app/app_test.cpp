@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <span>
 
 #include "syrof/app/c_abi_app.h"
 
@@ -49,6 +50,59 @@ TEST(AppTest, MembersForQueriesCopiesIdsAndPositions) {
   EXPECT_EQ(out[1].x_mm, 100);
   EXPECT_EQ(out[1].y_mm, -200);
   EXPECT_EQ(syrofMembersForQueries(nullptr, out.data()), 0u);
+}
+
+// A platform that records what reaches it and refuses what the robot would.
+class RecordingPlatform final : public Platform {
+ public:
+  syrof_app_status SendMessageData(std::span<const uint8_t> payload) override {
+    last_length = payload.size();
+    return payload.size() > SYROF_APP_MAX_PAYLOAD_BYTES ? SYROF_APP_PAYLOAD_TOO_LONG : SYROF_APP_OK;
+  }
+  syrof_queries_workspace* queries_workspace() override { return nullptr; }
+  size_t last_length = 0;
+};
+
+int last_send_result = -1;
+
+uint8_t InitSeven(const syrof_app_info*) { return 7; }
+uint8_t NewRoundSendsTooMuch(syrof_car_command*, const syrof_ldmap*, uint8_t state, uint32_t) {
+  const uint8_t payload[SYROF_APP_MAX_PAYLOAD_BYTES + 1] = {};
+  last_send_result = sendMessageData(payload, sizeof payload);
+  return static_cast<uint8_t>(state + 1);
+}
+
+TEST(CAbiAppTest, ThreadsTheGlobalStateAndReportsOk) {
+  const syrof_app_descriptor descriptor = {SYROF_APP_ABI_VERSION, "c", InitSeven, NewRoundSendsTooMuch, EndOfRound};
+  CAbiApp app(descriptor);
+  RecordingPlatform platform;
+  uint8_t global_state = 0;
+  syrof_car_command command{};
+  const syrof_ldmap map{};
+
+  ASSERT_TRUE(app.Init(syrof_app_info{}, platform, global_state).ok());
+  EXPECT_EQ(global_state, 7);
+  ASSERT_TRUE(app.NewRound(command, map, global_state, 0).ok());
+  EXPECT_EQ(global_state, 8);
+  ASSERT_TRUE(app.EndOfRound(map, global_state, 0).ok());
+  EXPECT_EQ(global_state, 8);
+}
+
+TEST(CAbiAppTest, AnOverlongPayloadReachesThePlatformWhichRefusesIt) {
+  // The robot behind the platform counts refusals, so the C side must not
+  // refuse on its own.
+  const syrof_app_descriptor descriptor = {SYROF_APP_ABI_VERSION, "c", InitSeven, NewRoundSendsTooMuch, EndOfRound};
+  CAbiApp app(descriptor);
+  RecordingPlatform platform;
+  uint8_t global_state = 0;
+  syrof_car_command command{};
+  const syrof_ldmap map{};
+  ASSERT_TRUE(app.Init(syrof_app_info{}, platform, global_state).ok());
+
+  ASSERT_TRUE(app.NewRound(command, map, global_state, 0).ok());
+
+  EXPECT_EQ(platform.last_length, SYROF_APP_MAX_PAYLOAD_BYTES + 1);
+  EXPECT_EQ(last_send_result, SYROF_APP_PAYLOAD_TOO_LONG);
 }
 
 TEST(AppTest, PlatformFunctionsOutsideACallbackRefuse) {

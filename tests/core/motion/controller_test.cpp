@@ -258,6 +258,16 @@ TEST(MotionControllerTest, InvalidCommandsAreCountedAndStop) {
   EXPECT_EQ(drive.vx_mps, 0.0f);
 }
 
+TEST(MotionControllerTest, AMoveToBeyondWhatAMapCarriesBecomesStop) {
+  // The controller applies app::CheckCommand, the rules the runtime reports.
+  MotionController controller(OmniConfig());
+
+  controller.SetCommand(MoveTo(40, 1, 0.3f));
+
+  EXPECT_EQ(controller.invalid_commands(), 1u);
+  EXPECT_EQ(controller.command().kind, SYROF_COMMAND_STOP);
+}
+
 TEST(MotionControllerTest, FieldsTheKindIgnoresMayHoldAnything) {
   MotionController controller(OmniConfig());
   syrof_car_command command = Velocity(0.1f, 0);

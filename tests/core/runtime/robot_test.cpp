@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <limits>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "syrof/app/c_abi_app.h"
@@ -27,13 +30,16 @@ constexpr uint16_t kRobots = 3;
 class RecordingApp final : public app::App {
  public:
   const char* name() const override { return "recording"; }
-  uint8_t Init(const syrof_app_info& info, app::Platform& platform) override {
+  app::CallStatus Init(const syrof_app_info& info, app::Platform& platform, uint8_t& global_state) override {
     info_ = info;
     platform_ = &platform;
-    return 7;
+    ++init_calls;
+    global_state = 7;
+    if (fault_on_init) return app::CallStatus::Fault(app::Verdict::kLoadFailed, "no such library");
+    return app::CallStatus::Ok();
   }
-  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
-                   uint32_t clock_ms) override {
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t& global_state,
+                           uint32_t clock_ms) override {
     EXPECT_EQ(command.kind, SYROF_COMMAND_STOP);
     maps.emplace_back(ldmap.members, ldmap.members + ldmap.member_count);
     modes.push_back(ldmap.mode);
@@ -48,12 +54,23 @@ class RecordingApp final : public app::App {
     command.x_m = 1.0f;
     command.y_m = 1.0f;
     command.speed_mps = 0.2f;
-    return static_cast<uint8_t>(global_state + 1);
+    if (nan_target) command.x_m = std::numeric_limits<float>::quiet_NaN();
+    global_state = static_cast<uint8_t>(global_state + 1);
+    if (fault_on_new_round == maps.size()) return app::CallStatus::Fault(app::Verdict::kCrashed, "SIGSEGV");
+    return app::CallStatus::Ok();
   }
-  uint8_t EndOfRound(const syrof_ldmap& ldmap, uint8_t global_state, uint32_t) override {
+  app::CallStatus EndOfRound(const syrof_ldmap& ldmap, uint8_t& /*global_state*/, uint32_t) override {
     end_epochs.push_back(ldmap.epoch);
-    return global_state;
+    if (fault_on_end_of_round == end_epochs.size()) return app::CallStatus::Fault(app::Verdict::kTimeout, "cpu");
+    return app::CallStatus::Ok();
   }
+
+  // What to break: the n-th call (counting from 1) of a callback faults.
+  bool fault_on_init = false;
+  size_t fault_on_new_round = 0;
+  size_t fault_on_end_of_round = 0;
+  bool nan_target = false;  // newRound returns a MOVE_TO to x = NaN
+  int init_calls = 0;
 
   syrof_app_info info_{};
   app::Platform* platform_ = nullptr;
@@ -63,6 +80,44 @@ class RecordingApp final : public app::App {
   std::vector<uint32_t> clocks;
   std::vector<uint8_t> states;
   std::vector<uint16_t> end_epochs;
+};
+
+// Records what the robots report.
+class RecordingObserver final : public RobotObserver {
+ public:
+  struct Fault {
+    uint16_t robot;
+    int64_t now_ns;
+    app::Callback callback;
+    uint16_t epoch;
+    app::CallStatus status;
+  };
+  struct Report {
+    uint16_t robot;
+    uint16_t epoch;
+    std::string what;
+  };
+  void OnEpochStart(uint16_t, int64_t, const sync::LDMap&) override {}
+  void OnMembership(uint16_t robot, int64_t, const wire::MemberSet& removed, const wire::MemberSet&) override {
+    for (const uint16_t member : removed) removals.emplace_back(robot, member);
+  }
+  void OnBecameJoiner(uint16_t, int64_t) override {}
+  void OnAppFault(uint16_t robot, int64_t now_ns, app::Callback callback, uint16_t epoch,
+                  const app::CallStatus& status) override {
+    faults.push_back({robot, now_ns, callback, epoch, status});
+  }
+  void OnInvalidCommand(uint16_t robot, int64_t, uint16_t epoch, const app::CommandCheck& check) override {
+    std::array<char, 64> text{};
+    invalid_commands.push_back({robot, epoch, app::Describe(check, text.data(), text.size())});
+  }
+  void OnPayloadRefused(uint16_t robot, int64_t, uint16_t epoch, size_t length) override {
+    refused_payloads.push_back({robot, epoch, std::to_string(length)});
+  }
+
+  std::vector<Fault> faults;
+  std::vector<Report> invalid_commands;
+  std::vector<Report> refused_payloads;
+  std::vector<std::pair<uint16_t, uint16_t>> removals;  // (robot, removed member)
 };
 
 class Swarm;
@@ -95,7 +150,8 @@ struct TestRobot {
 
 class Swarm {
  public:
-  explicit Swarm(std::vector<app::App*> apps) : scheduler_(64), air_(scheduler_, "air"), delivery_(*this) {
+  explicit Swarm(std::vector<app::App*> apps, RobotObserver* observer = nullptr)
+      : scheduler_(64), air_(scheduler_, "air"), delivery_(*this) {
     EXPECT_TRUE(air_.AddTask(delivery_, {"air.delivery", os::Trigger::periodic(kRoundNs, kRoundNs),
                                          registry::kRadioDeliveryPriority})
                     .ok());
@@ -113,6 +169,7 @@ class Swarm {
       EXPECT_EQ(robot->imu.Advertise(robot->broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
       EXPECT_EQ(robot->flow.Advertise(robot->broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
       EXPECT_EQ(robot->uwb.Advertise(robot->broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+      robot->robot.set_observer(observer);
       EXPECT_EQ(robot->robot.Attach(robot->port, robot->broker), RobotSetupError::kOk);
     }
     for (auto& robot : robots_) EXPECT_EQ(robot->port.Start(), os::PortError::kOk);
@@ -272,6 +329,117 @@ TEST(RobotTest, MalformedFramesAreCountedAndDropped) {
 
   EXPECT_EQ(swarm.robot(0).counters().beacons_malformed, 1u);
   EXPECT_GE(a.maps.size(), 1u);
+}
+
+// ---- Apps that fail ---------------------------------------------------------
+
+TEST(RobotAppFaultTest, ARobotWhoseNewRoundFaultedStopsAndTheOthersRemoveIt) {
+  // Arrange: robot 2's third newRound crashes.
+  RecordingApp a, b, c;
+  c.fault_on_new_round = 3;
+  RecordingObserver observer;
+  Swarm swarm({&a, &b, &c}, &observer);
+
+  // Act
+  swarm.RunFor(3'000'000'000);
+  const uint32_t beacons_at_fault = swarm.robot(2).counters().beacons_sent;
+  const size_t calls_at_fault = c.maps.size() + c.end_epochs.size();
+  swarm.RunFor(4'000'000'000);
+
+  // Assert: reported once, with the epoch and the verdict.
+  ASSERT_EQ(observer.faults.size(), 1u);
+  const RecordingObserver::Fault& fault = observer.faults[0];
+  EXPECT_EQ(fault.robot, 2);
+  EXPECT_EQ(fault.callback, app::Callback::kNewRound);
+  EXPECT_EQ(fault.epoch, c.epochs[2]);
+  EXPECT_EQ(fault.status.verdict(), app::Verdict::kCrashed);
+  EXPECT_STREQ(fault.status.detail(), "SIGSEGV");
+  // No more calls, no more beacons, STOP.
+  EXPECT_EQ(c.maps.size(), 3u);
+  EXPECT_EQ(c.maps.size() + c.end_epochs.size(), calls_at_fault);
+  EXPECT_EQ(swarm.robot(2).counters().beacons_sent, beacons_at_fault);
+  EXPECT_TRUE(swarm.robot(2).app_faulted());
+  EXPECT_EQ(swarm.robot(2).command().kind, SYROF_COMMAND_STOP);
+  // The others' failure detectors removed it and they go on.
+  EXPECT_FALSE(swarm.robot(0).sync_state().members.test(2));
+  EXPECT_FALSE(swarm.robot(1).sync_state().members.test(2));
+  EXPECT_EQ(a.maps.back().size(), 2u);
+  EXPECT_GT(a.maps.size(), 4u);
+}
+
+TEST(RobotAppFaultTest, AnInitFaultLeavesARobotThatNeverBeacons) {
+  RecordingApp a, b, c;
+  c.fault_on_init = true;
+  RecordingObserver observer;
+  Swarm swarm({&a, &b, &c}, &observer);
+
+  swarm.RunFor(4'000'000'000);
+
+  ASSERT_EQ(observer.faults.size(), 1u);
+  EXPECT_EQ(observer.faults[0].robot, 2);
+  EXPECT_EQ(observer.faults[0].callback, app::Callback::kInit);
+  EXPECT_EQ(observer.faults[0].epoch, 0);
+  EXPECT_EQ(observer.faults[0].status.verdict(), app::Verdict::kLoadFailed);
+  EXPECT_EQ(c.init_calls, 1);
+  EXPECT_TRUE(c.maps.empty());
+  EXPECT_EQ(swarm.robot(2).counters().beacons_sent, 0u);
+  EXPECT_FALSE(swarm.robot(0).sync_state().members.test(2));
+}
+
+TEST(RobotAppFaultTest, AnEndOfRoundFaultStopsTheRobotBeforeItsNextEpoch) {
+  RecordingApp a, b, c;
+  c.fault_on_end_of_round = 2;
+  RecordingObserver observer;
+  Swarm swarm({&a, &b, &c}, &observer);
+
+  swarm.RunFor(5'000'000'000);
+
+  ASSERT_EQ(observer.faults.size(), 1u);
+  EXPECT_EQ(observer.faults[0].callback, app::Callback::kEndOfRound);
+  EXPECT_EQ(observer.faults[0].epoch, c.end_epochs[1]);
+  EXPECT_EQ(observer.faults[0].status.verdict(), app::Verdict::kTimeout);
+  EXPECT_EQ(c.maps.size(), 2u);  // no newRound after the fault
+  EXPECT_EQ(c.end_epochs.size(), 2u);
+  EXPECT_FALSE(swarm.robot(0).sync_state().members.test(2));
+}
+
+TEST(RobotAppFaultTest, AnInvalidCommandIsCountedReportedAndReplacedByStop) {
+  RecordingApp a, b, c;
+  a.nan_target = true;
+  RecordingObserver observer;
+  Swarm swarm({&a, &b, &c}, &observer);
+  swarm.RunFor(1'000'000'000);
+  bool saw_move = false;
+
+  for (int i = 0; i < 40; ++i) {
+    swarm.RunFor(kRoundNs);
+    if (swarm.robot(0).command().kind != SYROF_COMMAND_STOP) saw_move = true;
+  }
+
+  EXPECT_FALSE(saw_move);
+  ASSERT_FALSE(a.maps.empty());
+  EXPECT_EQ(swarm.robot(0).counters().invalid_commands, a.maps.size());
+  EXPECT_EQ(swarm.robot(1).counters().invalid_commands, 0u);
+  ASSERT_EQ(observer.invalid_commands.size(), a.maps.size());
+  EXPECT_EQ(observer.invalid_commands[0].robot, 0);
+  EXPECT_EQ(observer.invalid_commands[0].epoch, a.epochs[0]);
+  EXPECT_EQ(observer.invalid_commands[0].what, "MOVE_TO x_m is not finite");
+  EXPECT_TRUE(observer.faults.empty());  // an invalid command is no fault: the app goes on
+}
+
+TEST(RobotAppFaultTest, ARefusedPayloadIsCountedAndReportedWithItsEpoch) {
+  // RecordingApp sends 10 bytes in every newRound.
+  RecordingApp a, b, c;
+  RecordingObserver observer;
+  Swarm swarm({&a, &b, &c}, &observer);
+
+  swarm.RunFor(3'000'000'000);
+
+  ASSERT_FALSE(a.maps.empty());
+  EXPECT_EQ(swarm.robot(0).counters().payloads_refused, a.maps.size());
+  ASSERT_EQ(observer.refused_payloads.size(), a.maps.size() + b.maps.size() + c.maps.size());
+  EXPECT_EQ(observer.refused_payloads[0].epoch, a.epochs[0]);
+  EXPECT_EQ(observer.refused_payloads[0].what, "10");
 }
 
 // ---- A C app through the ABI ---------------------------------------------

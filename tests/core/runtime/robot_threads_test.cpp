@@ -30,11 +30,14 @@ constexpr int64_t kRoundNs = 2'000'000;  // 2 ms: many swaps while the producer 
 class IdleApp final : public app::App {
  public:
   const char* name() const override { return "idle"; }
-  uint8_t Init(const syrof_app_info&, app::Platform&) override { return 0; }
-  uint8_t NewRound(syrof_car_command&, const syrof_ldmap&, uint8_t global_state, uint32_t) override {
-    return global_state;
+  app::CallStatus Init(const syrof_app_info&, app::Platform&, uint8_t& global_state) override {
+    global_state = 0;
+    return app::CallStatus::Ok();
   }
-  uint8_t EndOfRound(const syrof_ldmap&, uint8_t global_state, uint32_t) override { return global_state; }
+  app::CallStatus NewRound(syrof_car_command&, const syrof_ldmap&, uint8_t&, uint32_t) override {
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
 };
 
 class CountingRadio final : public Radio {
@@ -153,15 +156,18 @@ TEST(RobotThreadsTest, FramesBeyondABankInOneRoundOverflow) {
 class MovingApp final : public app::App {
  public:
   const char* name() const override { return "moving"; }
-  uint8_t Init(const syrof_app_info&, app::Platform&) override { return 0; }
-  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state, uint32_t) override {
+  app::CallStatus Init(const syrof_app_info&, app::Platform&, uint8_t& global_state) override {
+    global_state = 0;
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t&, uint32_t) override {
     command.kind = SYROF_COMMAND_MOVE_TO;
     command.x_m = 1.0f + 0.1f * static_cast<float>(ldmap.epoch % 5);
     command.y_m = 1.0f;
     command.speed_mps = 0.2f;
-    return global_state;
+    return app::CallStatus::Ok();
   }
-  uint8_t EndOfRound(const syrof_ldmap&, uint8_t global_state, uint32_t) override { return global_state; }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
 };
 
 TEST(RobotThreadsTest, CommandsCrossFromTheRoundTaskToTheMotionTaskThread) {

@@ -1,5 +1,7 @@
 #include "app_test_support.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -83,9 +85,10 @@ std::vector<Plan> PlanEveryRobot(std::string_view app, const std::map<std::strin
   for (const syrof_member_state& member : map.members) {
     FakePlatform platform;
     std::unique_ptr<app::App> instance = MakeBuiltinApp(app, params);
-    instance->Init(MakeInfo(member.id, static_cast<uint16_t>(map.members.size())), platform);
+    uint8_t global_state = 0;
+    EXPECT_TRUE(instance->Init(MakeInfo(member.id, static_cast<uint16_t>(map.members.size())), platform, global_state).ok());
     Plan plan;
-    instance->NewRound(plan.command, map.Build(member.id, mode), 0, 0);
+    EXPECT_TRUE(instance->NewRound(plan.command, map.Build(member.id, mode), global_state, 0).ok());
     plan.segment = SegmentOf(plan.command, MapPosition(member));
     plans.push_back(plan);
   }
@@ -101,7 +104,8 @@ LoopResult RunClosedLoop(std::string_view app, const std::map<std::string, doubl
   std::vector<uint8_t> global_states(count, 0);
   for (size_t i = 0; i < count; ++i) {
     apps.push_back(MakeBuiltinApp(app, params));
-    global_states[i] = apps[i]->Init(MakeInfo(static_cast<uint16_t>(i), static_cast<uint16_t>(count)), platforms[i]);
+    EXPECT_TRUE(apps[i]->Init(MakeInfo(static_cast<uint16_t>(i), static_cast<uint16_t>(count)), platforms[i],
+                              global_states[i]).ok());
   }
   LoopResult result;
   std::vector<Segment> segments(count);
@@ -115,7 +119,7 @@ LoopResult RunClosedLoop(std::string_view app, const std::map<std::string, doubl
     for (size_t i = 0; i < count; ++i) {
       syrof_car_command command{};
       const syrof_ldmap ldmap = map.Build(static_cast<uint16_t>(i), SYROF_MODE_COOPERATIVE, static_cast<uint16_t>(epoch));
-      global_states[i] = apps[i]->NewRound(command, ldmap, global_states[i], static_cast<uint32_t>(epoch) * 1400);
+      EXPECT_TRUE(apps[i]->NewRound(command, ldmap, global_states[i], static_cast<uint32_t>(epoch) * 1400).ok());
       segments[i] = SegmentOf(command, positions[i]);
       if (command.kind == SYROF_COMMAND_MOVE_TO) {
         result.fastest_mps = std::max(result.fastest_mps, static_cast<double>(command.speed_mps));
@@ -130,7 +134,7 @@ LoopResult RunClosedLoop(std::string_view app, const std::map<std::string, doubl
     for (size_t i = 0; i < count; ++i) {
       positions[i] = segments[i].end;
       const syrof_ldmap ldmap = map.Build(static_cast<uint16_t>(i), SYROF_MODE_COOPERATIVE, static_cast<uint16_t>(epoch));
-      global_states[i] = apps[i]->EndOfRound(ldmap, global_states[i], static_cast<uint32_t>(epoch) * 1400 + 1000);
+      EXPECT_TRUE(apps[i]->EndOfRound(ldmap, global_states[i], static_cast<uint32_t>(epoch) * 1400 + 1000).ok());
     }
     std::vector<GoalPose> poses;
     for (size_t i = 0; i < count; ++i) poses.push_back({static_cast<uint16_t>(i), positions[i].x_m, positions[i].y_m, 0, true});

@@ -155,11 +155,12 @@ TEST(GatherAppTest, PublishesTheCentreOfTheEnclosingCircle) {
   map.Add(1, 3.0, 2.0);
   FakePlatform platform;
   const std::unique_ptr<app::App> gather = MakeBuiltinApp("gather", {});
-  gather->Init(MakeInfo(0, 2), platform);
+  uint8_t global_state = 0;
+  ASSERT_TRUE(gather->Init(MakeInfo(0, 2), platform, global_state).ok());
   syrof_car_command command{};
 
   // Act
-  gather->NewRound(command, map.Build(0, SYROF_MODE_COOPERATIVE), 0, 0);
+  ASSERT_TRUE(gather->NewRound(command, map.Build(0, SYROF_MODE_COOPERATIVE), global_state, 0).ok());
 
   // Assert: 'G', then x = y = 2000 mm little-endian.
   EXPECT_EQ(platform.payload, (std::vector<uint8_t>{'G', 0xD0, 0x07, 0xD0, 0x07}));
@@ -175,11 +176,12 @@ TEST(GatherAppTest, AdoptsTheCentreOfTheSmallestIdThatPublishedOne) {
   map.Add(2, 2.0, 3.0, {'G', 0xC4, 0x09, 0xC4, 0x09});
   FakePlatform platform;
   const std::unique_ptr<app::App> gather = MakeBuiltinApp("gather", {});
-  gather->Init(MakeInfo(0, 3), platform);
+  uint8_t global_state = 0;
+  ASSERT_TRUE(gather->Init(MakeInfo(0, 3), platform, global_state).ok());
   syrof_car_command command{};
 
   // Act
-  gather->NewRound(command, map.Build(0, SYROF_MODE_COOPERATIVE), 0, 0);
+  ASSERT_TRUE(gather->NewRound(command, map.Build(0, SYROF_MODE_COOPERATIVE), global_state, 0).ok());
 
   // Assert
   EXPECT_EQ(platform.payload, (std::vector<uint8_t>{'G', 0xDC, 0x05, 0xDC, 0x05}));
@@ -192,13 +194,14 @@ TEST(GatherAppTest, AutonomousKeepsPublishingTheKnownCentre) {
   map.Add(1, 3.0, 2.0);
   FakePlatform platform;
   const std::unique_ptr<app::App> gather = MakeBuiltinApp("gather", {});
-  gather->Init(MakeInfo(0, 2), platform);
+  uint8_t global_state = 0;
+  ASSERT_TRUE(gather->Init(MakeInfo(0, 2), platform, global_state).ok());
   syrof_car_command command{};
-  gather->NewRound(command, map.Build(0, SYROF_MODE_COOPERATIVE, 1), 0, 0);
+  ASSERT_TRUE(gather->NewRound(command, map.Build(0, SYROF_MODE_COOPERATIVE, 1), global_state, 0).ok());
   platform.payload.clear();
 
   // Act
-  gather->NewRound(command, map.Build(0, SYROF_MODE_AUTONOMOUS, 2), 0, 1400);
+  ASSERT_TRUE(gather->NewRound(command, map.Build(0, SYROF_MODE_AUTONOMOUS, 2), global_state, 1400).ok());
 
   // Assert
   EXPECT_EQ(command.kind, SYROF_COMMAND_STOP);

@@ -561,7 +561,8 @@ TEST(CollectorInput, RunFactsPassThrough) {
   facts.sim_seconds = 12.5;
   facts.radio_rounds = 250;
   facts.scenario = "two";
-  facts.app = "builtin:circle";
+  facts.app_name = "circle";
+  facts.app_source = "builtin:circle";
   facts.goal = GoalResult{"builtin:circle", true, 0.03, "on the circle"};
 
   const Metrics metrics = collector.Finish(facts);
@@ -574,6 +575,52 @@ TEST(CollectorInput, RunFactsPassThrough) {
   EXPECT_EQ(metrics.scenario, "two");
   EXPECT_EQ(metrics.goal.detail, "on the circle");
   EXPECT_TRUE(metrics.goal.reached);
+  EXPECT_EQ(metrics.app.name, "circle");
+  EXPECT_EQ(metrics.app.source, "builtin:circle");
+}
+
+TEST(CollectorApp, FaultsAreListedOncePerRobotInTheOrderTheyCame) {
+  Collector collector = MakeCollector(3);
+
+  collector.OnAppFault(AppFault{2, "new_round", 3, 500, "timeout", "cpu"});
+  collector.OnAppFault(AppFault{0, "init", 0, 0, "load_failed", ""});
+  collector.OnAppFault(AppFault{2, "end_of_round", 4, 900, "crashed", ""});  // already faulted
+  collector.OnAppFault(AppFault{7, "init", 0, 0, "crashed", ""});            // no such robot
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  ASSERT_EQ(metrics.app.faults.size(), 2u);
+  EXPECT_EQ(metrics.app.faults[0].robot, 2);
+  EXPECT_EQ(metrics.app.faults[0].verdict, "timeout");
+  EXPECT_EQ(metrics.app.faults[1].robot, 0);
+  EXPECT_EQ(metrics.diagnostics.ignored_observations, 1);
+}
+
+TEST(CollectorApp, IncidentsAreCountedWithTheirFirstOccurrence) {
+  Collector collector = MakeCollector(3);
+
+  collector.OnInvalidCommand(1, 4, "kind 9 is unknown");
+  collector.OnInvalidCommand(0, 5, "TURN_TO heading_rad is not finite");
+  collector.OnPayloadRefused(2, 6, "12 bytes");
+  collector.OnPayloadRefused(9, 6, "12 bytes");  // no such robot
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.app.invalid_commands.count, 2);
+  ASSERT_TRUE(metrics.app.invalid_commands.first.has_value());
+  EXPECT_EQ(metrics.app.invalid_commands.first->robot, 1);
+  EXPECT_EQ(metrics.app.invalid_commands.first->epoch, 4);
+  EXPECT_EQ(metrics.app.invalid_commands.first->what, "kind 9 is unknown");
+  EXPECT_EQ(metrics.app.payload_refused.count, 1);
+  EXPECT_EQ(metrics.app.payload_refused.first->robot, 2);
+  EXPECT_EQ(metrics.diagnostics.ignored_observations, 1);
+}
+
+TEST(CollectorApp, NothingReportedMeansNoFaultsAndNoFirsts) {
+  const Metrics metrics = MakeCollector(2).Finish(RunFacts{});
+
+  EXPECT_TRUE(metrics.app.faults.empty());
+  EXPECT_EQ(metrics.app.invalid_commands.count, 0);
+  EXPECT_FALSE(metrics.app.invalid_commands.first.has_value());
+  EXPECT_FALSE(metrics.app.payload_refused.first.has_value());
 }
 
 }  // namespace

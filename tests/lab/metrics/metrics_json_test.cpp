@@ -19,7 +19,8 @@ using Json = nlohmann::ordered_json;
 using wire::Mode;
 
 // A short run touching every metric: two epochs (one with skew 1), a P3
-// violation, a mode disagreement, estimates, contacts, a removal and a join.
+// violation, a mode disagreement, estimates, contacts, a removal and a join,
+// an app fault, invalid commands and a refused payload.
 Collector ObservedRun() {
   Collector collector(CollectorConfig{3, 50'000'000});
   sync::LDMap map;
@@ -53,6 +54,10 @@ Collector ObservedRun() {
   collector.OnMembership(0, 29, gone, wire::MemberSet{});
   collector.OnCollision(1'234'567'890, 1, 0);
   collector.OnWallContact(2'000'000'000, 2);
+  collector.OnAppFault(AppFault{2, "new_round", 1, 1'250'000'000, "crashed", "SIGSEGV"});
+  collector.OnInvalidCommand(1, 1, "MOVE_TO x_m is not finite");
+  collector.OnInvalidCommand(0, 2, "kind 7 is unknown");
+  collector.OnPayloadRefused(0, 1, "10 bytes");
   return collector;
 }
 
@@ -65,7 +70,8 @@ RunFacts Facts() {
   facts.radio_rounds = 30;
   facts.min_separation_m = 0.042;
   facts.goal = GoalResult{"builtin:circle", false, 0.75, "2 of 3 robots on the circle"};
-  facts.app = "builtin:circle";
+  facts.app_name = "circle";
+  facts.app_source = "builtin:circle";
   facts.scenario = "circle-3";
   return facts;
 }
@@ -102,7 +108,7 @@ TEST(MetricsJson, HasEveryRequiredFieldWithTheRightType) {
   }
   for (const std::string& path : integers) EXPECT_TRUE(At(json, path).is_number_integer()) << path;
   for (const std::string& path : numbers) EXPECT_TRUE(At(json, path).is_number()) << path;
-  for (const char* path : {"scenario", "app", "goal.app", "goal.detail"}) {
+  for (const char* path : {"scenario", "app.name", "app.source", "goal.app", "goal.detail"}) {
     EXPECT_TRUE(At(json, path).is_string()) << path;
   }
   EXPECT_TRUE(At(json, "goal.reached").is_boolean());
@@ -129,6 +135,31 @@ TEST(MetricsJson, ValuesReadBackAsComputed) {
   EXPECT_EQ(json["membership"]["removals"], 1);
   EXPECT_EQ(json["membership"]["max_removal_latency_rounds"], 4);
   EXPECT_EQ(json["radio_round_s"].get<double>(), 0.05);
+}
+
+TEST(MetricsJson, TheAppObjectNamesTheAppItsFaultsAndTheFirstIncidents) {
+  const Json json = Parse(ToJson(ObservedRun().Finish(Facts())));
+  const Json& app = json["app"];
+
+  EXPECT_EQ(app["name"], "circle");
+  EXPECT_EQ(app["source"], "builtin:circle");
+  ASSERT_EQ(app["faults"].size(), 1u);
+  EXPECT_EQ(app["faults"][0],
+            Json::parse(R"({"robot": 2, "callback": "new_round", "epoch": 1, "time_s": 1.25,)"
+                        R"( "verdict": "crashed", "detail": "SIGSEGV"})"));
+  EXPECT_EQ(app["invalid_commands"],
+            Json::parse(R"({"count": 2, "first": {"robot": 1, "epoch": 1, "what": "MOVE_TO x_m is not finite"}})"));
+  EXPECT_EQ(app["payload_refused"], Json::parse(R"({"count": 1, "first": {"robot": 0, "epoch": 1, "what": "10 bytes"}})"));
+}
+
+TEST(MetricsJson, AWellBehavedAppHasNoFaultsAndNullFirsts) {
+  const Collector collector(CollectorConfig{2, 50'000'000});
+
+  const Json json = Parse(ToJson(collector.Finish(Facts())));
+
+  EXPECT_EQ(json["app"]["faults"], Json::array());
+  EXPECT_EQ(json["app"]["invalid_commands"], Json::parse(R"({"count": 0, "first": null})"));
+  EXPECT_EQ(json["app"]["payload_refused"], Json::parse(R"({"count": 0, "first": null})"));
 }
 
 TEST(MetricsJson, FieldsKeepTheDocumentedOrder) {
@@ -159,7 +190,7 @@ TEST(MetricsJson, IdenticalObservationsGiveIdenticalBytes) {
 TEST(MetricsJson, PrettyWithTwoSpacesAndATrailingNewline) {
   const std::string text = ToJson(ObservedRun().Finish(Facts()));
 
-  EXPECT_EQ(text.rfind("{\n  \"schema_version\": 1,\n", 0), 0u);
+  EXPECT_EQ(text.rfind("{\n  \"schema_version\": 2,\n", 0), 0u);
   ASSERT_GE(text.size(), 2u);
   EXPECT_EQ(text.substr(text.size() - 2), "}\n");
 }

@@ -57,12 +57,12 @@ TEST(ReplayReader, RefusesWrongMagic) {
 
 TEST(ReplayReader, RefusesNewerAndUnknownVersions) {
   std::string newer = WriteSample().bytes;
-  PutU16At(newer, kVersionAt, 2);
+  PutU16At(newer, kVersionAt, 3);
   std::string zero = newer;
   PutU16At(zero, kVersionAt, 0);
 
-  ExpectError(Read(newer), kVersionAt, "format version 2 is newer than this reader's (1)");
-  ExpectError(Read(zero), kVersionAt, "format version 0 does not exist");
+  ExpectError(Read(newer), kVersionAt, "format version 3 is newer than this reader's (2)");
+  ExpectError(Read(zero), kVersionAt, "format version 0 does not exist (this reader knows versions 1 to 2)");
 }
 
 TEST(ReplayReader, TruncatedAtEveryOffsetGivesCleanIncompleteState) {
@@ -180,12 +180,25 @@ TEST(ReplayReader, RefusesUnknownEventKindAndRobot) {
   const Written written = WriteSample();
   const size_t event_at = written.header_end + kFirstEventAt;
   std::string kind = written.bytes;
-  kind[event_at] = 12;
+  kind[event_at] = 15;
   std::string robot = written.bytes;
   PutU16At(robot, event_at + 1, 9);
 
-  ExpectError(Read(kind), event_at, "unknown event kind 12");
+  ExpectError(Read(kind), event_at, "unknown event kind 15 (format version 2)");
   ExpectError(Read(robot), event_at + 1, "event robot 9 is not a robot of the header");
+}
+
+TEST(ReplayReader, AVersion1FileHasNoAppEvents) {
+  // Arrange: the sample as a version-1 file whose first event is APP_FAULT,
+  // a kind version 1 did not have.
+  const Written written = WriteSample();
+  const size_t event_at = written.header_end + kFirstEventAt;
+  std::string bytes = written.bytes;
+  PutU16At(bytes, kVersionAt, 1);
+  testing::FixCrc(bytes, 0, written.header_end - 4);
+  bytes[event_at] = static_cast<char>(EventKind::kAppFault);
+
+  ExpectError(Read(bytes), event_at, "unknown event kind 12 (format version 1)");
 }
 
 TEST(ReplayReader, RefusesDamagedBytesByChecksum) {

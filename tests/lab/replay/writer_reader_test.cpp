@@ -1,6 +1,8 @@
 // Round trip, determinism and the pinned byte layout of lab/replay.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -85,13 +87,13 @@ TEST(ReplayWriterReader, UnchangedRobotCostsFourBytes) {
   EXPECT_EQ(Read(written.bytes).rounds, rounds);
 }
 
-// Version 1, written out by hand from docs/replay.md; the CRCs come from
+// Version 2, written out by hand from docs/replay.md; the CRCs come from
 // zlib.crc32. Any change to the layout shows up here: bump kFormatVersion,
 // update docs/replay.md, then this.
 const std::vector<uint8_t> kGoldenFile = {
     // header
     'S', 'Y', 'R', 'O', 'F', 'R', 'P', 'L',          // magic
-    0x01, 0x00,                                      // version 1
+    0x02, 0x00,                                      // version 2
     0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01,  // seed 0x0102030405060708
     0x80, 0xF0, 0xFA, 0x02, 0x00, 0x00, 0x00, 0x00,  // radio_round_ns 50000000
     0x00, 0x00, 0x80, 0x40,                          // arena_width_m 4.0
@@ -100,7 +102,7 @@ const std::vector<uint8_t> kGoldenFile = {
     0x01, 0x00, 'c',                                 // app_name "c"
     0x01, 0x00, 0x00, 0x00,                          // robot count 1
     0x07, 0x00, 0x01, 0x00, 0x00, 0x00, 0x3E,        // robot 7, rover, radius 0.125
-    0xA3, 0xA0, 0x9B, 0x82,                          // crc
+    0x05, 0xE8, 0xE3, 0xFC,                          // crc
     // round
     'R',                                             // tag
     0x03, 0x00, 0x00, 0x00,                          // index 3
@@ -156,6 +158,44 @@ TEST(ReplayWriterReader, LayoutMatchesTheGoldenFile) {
   EXPECT_EQ(back.rounds[0].robots[0], frame);
 }
 
+// The same file as version 1 wrote it: only the version and the header's
+// CRC differ (version 2 only added event kinds).
+std::vector<uint8_t> GoldenFileVersion1() {
+  std::vector<uint8_t> bytes = kGoldenFile;
+  bytes[8] = 0x01;
+  const std::array<uint8_t, 4> crc = {0xA3, 0xA0, 0x9B, 0x82};
+  std::copy(crc.begin(), crc.end(), bytes.begin() + 52);  // the header crc
+  return bytes;
+}
+
+TEST(ReplayReader, ReadsAVersion1File) {
+  const std::vector<uint8_t> bytes = GoldenFileVersion1();
+  std::istringstream in(std::string(bytes.begin(), bytes.end()));
+  Reader reader(in);
+  Header header;
+  Round round;
+
+  ASSERT_TRUE(reader.ReadHeader(header)) << reader.error();
+  EXPECT_EQ(reader.version(), 1);
+  ASSERT_TRUE(reader.Next(round)) << reader.error();
+  EXPECT_EQ(round.events[0].kind, EventKind::kEpochStart);
+  EXPECT_FALSE(reader.Next(round));
+  EXPECT_TRUE(reader.complete()) << reader.error();
+}
+
+TEST(ReplayWriterReader, AppEventsOfVersion2ReadBack) {
+  const Header header = SampleHeader();
+  std::vector<Round> rounds = SampleRounds();
+  rounds[0].events = {Event{EventKind::kAppFault, 1, kNoRobot, 3, 0, 10},
+                      Event{EventKind::kInvalidCommand, 2, kNoRobot, 4, 1, 20},
+                      Event{EventKind::kPayloadRefused, 0, kNoRobot, 5, 0, 30}};
+
+  const testing::ReadBack back = Read(Write(header, rounds).bytes);
+
+  EXPECT_TRUE(back.complete) << back.error;
+  EXPECT_EQ(back.rounds, rounds);
+}
+
 TEST(ReplayFormat, Crc32MatchesTheStandardCheckValue) {
   const std::string text = "123456789";
   const auto* bytes = reinterpret_cast<const uint8_t*>(text.data());
@@ -198,7 +238,7 @@ TEST(ReplayWriter, RefusesRoundItCannotRecordAndWritesNoMore) {
       {{RobotFrame{.id = 0, .status = 2}}, {}, 1, "status 2"},
       {{RobotFrame{.id = 0, .mode = 2}}, {}, 1, "mode 2"},
       {{RobotFrame{.id = 0, .presence = static_cast<Presence>(4)}}, {}, 1, "presence 4"},
-      {{}, {Event{.kind = static_cast<EventKind>(12)}}, 1, "unknown event kind 12"},
+      {{}, {Event{.kind = static_cast<EventKind>(15)}}, 1, "unknown event kind 15"},
       {{}, {Event{.kind = EventKind::kCollision, .robot = 0, .other = 9}}, 1, "other 9"},
       {{}, {}, 0, "round index 0 does not follow round 0"},
   };
@@ -235,7 +275,10 @@ TEST(ReplayNames, EveryEnumeratorHasAName) {
   for (unsigned kind = 0; kind <= static_cast<unsigned>(kLastEventKind); ++kind) {
     EXPECT_STRNE(ToString(static_cast<EventKind>(kind)), "?") << kind;
   }
-  EXPECT_STREQ(ToString(static_cast<EventKind>(12)), "?");
+  EXPECT_STREQ(ToString(EventKind::kAppFault), "APP_FAULT");
+  EXPECT_STREQ(ToString(EventKind::kInvalidCommand), "INVALID_COMMAND");
+  EXPECT_STREQ(ToString(EventKind::kPayloadRefused), "PAYLOAD_REFUSED");
+  EXPECT_STREQ(ToString(static_cast<EventKind>(15)), "?");
   EXPECT_STREQ(ToString(Presence::kAbsent), "ABSENT");
   EXPECT_STREQ(ToString(Presence::kRunning), "RUNNING");
   EXPECT_STREQ(ToString(Presence::kPaused), "PAUSED");

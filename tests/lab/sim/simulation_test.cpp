@@ -5,11 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "syrof/lab/replay/reader.h"
 #include "syrof/lab/scenario/scenario.h"
@@ -197,18 +200,19 @@ TEST(SimulationTest, OneDeafLinkRemovesItsSenderOnlyAtItsReceiver) {
 class RamApp final : public app::App {
  public:
   const char* name() const override { return "ram"; }
-  uint8_t Init(const syrof_app_info& info, app::Platform&) override {
+  app::CallStatus Init(const syrof_app_info& info, app::Platform&, uint8_t& global_state) override {
     info_ = info;
-    return 0;
+    global_state = 0;
+    return app::CallStatus::Ok();
   }
-  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap&, uint8_t state, uint32_t) override {
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap&, uint8_t&, uint32_t) override {
     command.kind = SYROF_COMMAND_MOVE_TO;
     command.x_m = info_.arena_width_m / 2;
     command.y_m = info_.arena_height_m / 2;
     command.speed_mps = info_.max_speed_mps;
-    return state;
+    return app::CallStatus::Ok();
   }
-  uint8_t EndOfRound(const syrof_ldmap&, uint8_t state, uint32_t) override { return state; }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
 
  private:
   syrof_app_info info_{};
@@ -273,6 +277,154 @@ TEST(SimulationTest, EventsCarryTheRobotsEpochAndModeThen) {
                                        replay::EventKind::kJoin, replay::EventKind::kEpochStart}) {
     EXPECT_GT(checked[kind], 0) << replay::ToString(kind);
   }
+}
+
+// ---- Apps that fail ------------------------------------------------------------
+
+// Holds still, and breaks as `Plan` says.
+struct Plan {
+  uint16_t robot = 0xFFFF;     // the robot whose app faults
+  uint16_t fault_epoch = 0;    // in newRound of this epoch
+  bool fault_in_init = false;  // or in init
+  bool misbehave = false;      // every robot's first newRound: a 10-byte payload and an unknown command kind
+};
+
+class FaultyApp final : public app::App {
+ public:
+  FaultyApp(uint16_t id, const Plan& plan) : id_(id), plan_(plan) {}
+  const char* name() const override { return "faulty"; }
+  app::CallStatus Init(const syrof_app_info&, app::Platform& platform, uint8_t& global_state) override {
+    platform_ = &platform;
+    global_state = 0;
+    if (id_ == plan_.robot && plan_.fault_in_init) return app::CallStatus::Fault(app::Verdict::kLoadFailed, "no entry");
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t&, uint32_t) override {
+    EXPECT_FALSE(id_ == plan_.robot && plan_.fault_in_init) << "newRound after a failed init";
+    if (id_ == plan_.robot && ldmap.epoch == plan_.fault_epoch) {
+      return app::CallStatus::Fault(app::Verdict::kCrashed, "SIGSEGV");
+    }
+    if (plan_.misbehave && !misbehaved_) {
+      misbehaved_ = true;
+      const std::array<uint8_t, 10> too_long{};
+      EXPECT_EQ(platform_->SendMessageData(too_long), SYROF_APP_PAYLOAD_TOO_LONG);
+      command.kind = 9;
+    }
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
+
+ private:
+  uint16_t id_;
+  Plan plan_;
+  bool misbehaved_ = false;
+  app::Platform* platform_ = nullptr;
+};
+
+struct FaultyRun {
+  json metrics;
+  std::vector<replay::Round> rounds;
+  bool replay_complete = false;
+  bool robot0_holds_robot2 = true;
+};
+
+FaultyRun RunFaulty(const Plan& plan) {
+  const scenario::Scenario scenario = Load(Swarm("", 0.0, 10, 4));
+  std::ostringstream replay_bytes;
+  SimulationOptions options;
+  options.replay = &replay_bytes;
+  options.app_factory = [plan](uint16_t id) { return std::make_unique<FaultyApp>(id, plan); };
+  options.app_source = "test:faulty";
+  Simulation simulation(scenario, options);
+  const RunReport report = simulation.Finish(0.0);
+  FaultyRun run;
+  run.metrics = json::parse(report.metrics_json);
+  run.robot0_holds_robot2 = simulation.robot(0).sync_state().members.test(2);
+  std::istringstream in(replay_bytes.str());
+  replay::Reader reader(in);
+  replay::Header header;
+  EXPECT_TRUE(reader.ReadHeader(header)) << reader.error();
+  replay::Round round;
+  while (reader.Next(round)) run.rounds.push_back(round);
+  run.replay_complete = reader.complete();
+  return run;
+}
+
+TEST(SimulationAppFaultTest, ARobotWhoseAppFaultsStopsAndTheRunGoesOn) {
+  // Act: robot 2's app crashes in newRound of epoch 3.
+  const FaultyRun run = RunFaulty(Plan{.robot = 2, .fault_epoch = 3});
+
+  // Assert: the run finished, metrics.json names the fault.
+  EXPECT_TRUE(run.replay_complete);
+  EXPECT_EQ(run.metrics["sim_seconds"].get<double>(), 10.0);
+  const json& app = run.metrics["app"];
+  EXPECT_EQ(app["name"], "faulty");
+  EXPECT_EQ(app["source"], "test:faulty");
+  ASSERT_EQ(app["faults"].size(), 1u);
+  EXPECT_EQ(app["faults"][0]["robot"], 2);
+  EXPECT_EQ(app["faults"][0]["callback"], "new_round");
+  EXPECT_EQ(app["faults"][0]["epoch"], 3);
+  EXPECT_EQ(app["faults"][0]["verdict"], "crashed");
+  EXPECT_EQ(app["faults"][0]["detail"], "SIGSEGV");
+  EXPECT_EQ(app["invalid_commands"]["count"], 0);
+  // The others removed it (each of the 3) and went on without it.
+  EXPECT_FALSE(run.robot0_holds_robot2);
+  EXPECT_EQ(run.metrics["membership"]["removals"], 3);
+  EXPECT_EQ(run.metrics["membership"]["robots_removed"], 1);
+  EXPECT_GT(run.metrics["epochs_started"].get<int>(), 6);
+  // The replay has the event, and robot 2 is CRASHED from then on.
+  const replay::Event* fault = nullptr;
+  uint32_t fault_round = 0;
+  for (const replay::Round& round : run.rounds) {
+    for (const replay::Event& event : round.events) {
+      if (event.kind == replay::EventKind::kAppFault) {
+        fault = &event;
+        fault_round = round.index;
+      }
+    }
+  }
+  ASSERT_NE(fault, nullptr);
+  EXPECT_EQ(fault->robot, 2);
+  EXPECT_EQ(fault->epoch, 3);
+  EXPECT_DOUBLE_EQ(app["faults"][0]["time_s"].get<double>(), static_cast<double>(fault->time_ns) * 1e-9);
+  const replay::Round& last = run.rounds.back();
+  EXPECT_GT(last.index, fault_round);
+  EXPECT_EQ(last.robots[2].presence, replay::Presence::kCrashed);
+  EXPECT_EQ(last.robots[1].presence, replay::Presence::kRunning);
+}
+
+TEST(SimulationAppFaultTest, InvalidCommandsAndRefusedPayloadsAreReportedOncePerRobotInTheReplay) {
+  const FaultyRun run = RunFaulty(Plan{.misbehave = true});
+
+  const json& app = run.metrics["app"];
+  EXPECT_EQ(app["invalid_commands"]["count"], 4);  // every robot's first newRound
+  EXPECT_EQ(app["invalid_commands"]["first"]["robot"], 0);
+  EXPECT_EQ(app["invalid_commands"]["first"]["what"], "kind 9 is unknown");
+  EXPECT_EQ(app["payload_refused"]["count"], 4);
+  EXPECT_EQ(app["payload_refused"]["first"]["what"], "10 bytes");
+  int invalid_events = 0;
+  int refused_events = 0;
+  for (const replay::Round& round : run.rounds) {
+    for (const replay::Event& event : round.events) {
+      invalid_events += event.kind == replay::EventKind::kInvalidCommand ? 1 : 0;
+      refused_events += event.kind == replay::EventKind::kPayloadRefused ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(invalid_events, 4);
+  EXPECT_EQ(refused_events, 4);
+}
+
+TEST(SimulationAppFaultTest, AnAppThatFailsInInitNeverRunsButItsBodyStays) {
+  const FaultyRun run = RunFaulty(Plan{.robot = 1, .fault_in_init = true});
+
+  const json& app = run.metrics["app"];
+  ASSERT_EQ(app["faults"].size(), 1u);
+  EXPECT_EQ(app["faults"][0]["robot"], 1);
+  EXPECT_EQ(app["faults"][0]["callback"], "init");
+  EXPECT_EQ(app["faults"][0]["verdict"], "load_failed");
+  EXPECT_TRUE(run.replay_complete);
+  for (const replay::Round& round : run.rounds) EXPECT_EQ(round.robots[1].presence, replay::Presence::kCrashed);
+  EXPECT_GT(run.metrics["epochs_started"].get<int>(), 4);  // the other three go on
 }
 
 // ---- The built-in apps in their example scenarios --------------------------

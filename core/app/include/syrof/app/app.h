@@ -6,6 +6,9 @@
 //     in-process;
 //   - the grader's app host will be a third App that forwards each call to a
 //     student's library in a sandboxed child process.
+// Every callback reports a CallStatus (call_status.h): ok, or a fault with a
+// verdict and a reason. The runtime stops a robot whose app faulted as if it
+// had crashed, and reports the fault (docs/apps.md, "When an app fails").
 // The structs are the ABI's own (syrof_ldmap, syrof_car_command,
 // syrof_app_info), so every implementation sees exactly the same bytes.
 #pragma once
@@ -14,6 +17,7 @@
 #include <span>
 
 #include "syrof/app.h"
+#include "syrof/app/call_status.h"
 
 namespace syrof::app {
 
@@ -35,7 +39,9 @@ class Platform {
 
 /// One robot's app instance. Callbacks run one at a time, in this order:
 /// Init once, then per epoch NewRound and (if the maneuver completes)
-/// EndOfRound. The `ldmap` is valid only during the call.
+/// EndOfRound. The `ldmap` is valid only during the call. Each callback
+/// returns its status; on a fault its outputs (`command`, `global_state`)
+/// are ignored and the runtime makes no further call.
 class App {
  public:
   virtual ~App() = default;
@@ -43,18 +49,19 @@ class App {
   /// A short name for logs ("circle").
   virtual const char* name() const = 0;
 
-  /// Called once when the robot starts. `platform` outlives the app. Returns
-  /// the initial global state.
-  virtual uint8_t Init(const syrof_app_info& info, Platform& platform) = 0;
+  /// Called once when the robot starts. `platform` outlives the app. Sets
+  /// `global_state` to the initial global state.
+  virtual CallStatus Init(const syrof_app_info& info, Platform& platform, uint8_t& global_state) = 0;
 
   /// Called at the start of every epoch; `command` arrives as STOP and the
-  /// app sets the maneuver. Returns the new global state.
-  virtual uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
-                           uint32_t clock_ms) = 0;
+  /// app sets the maneuver. `global_state` holds the current global state
+  /// and receives the new one.
+  virtual CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t& global_state,
+                              uint32_t clock_ms) = 0;
 
   /// Called when the maneuver ends, with the map the epoch started with.
-  /// Returns the new global state.
-  virtual uint8_t EndOfRound(const syrof_ldmap& ldmap, uint8_t global_state, uint32_t clock_ms) = 0;
+  /// `global_state` holds the current global state and receives the new one.
+  virtual CallStatus EndOfRound(const syrof_ldmap& ldmap, uint8_t& global_state, uint32_t clock_ms) = 0;
 };
 
 /// The member with `id` in `ldmap`, or nullptr (binary search: members are

@@ -35,10 +35,13 @@ class CAbiApp final : public App {
   explicit CAbiApp(const syrof_app_descriptor& descriptor);
 
   const char* name() const override;
-  uint8_t Init(const syrof_app_info& info, Platform& platform) override;
-  uint8_t NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t global_state,
-                   uint32_t clock_ms) override;
-  uint8_t EndOfRound(const syrof_ldmap& ldmap, uint8_t global_state, uint32_t clock_ms) override;
+  /// A C callback cannot report a failure (the ABI has no channel for it):
+  /// every call returns ok. A C app that crashes takes its process with it;
+  /// the app host (a child process) is what turns that into a verdict.
+  CallStatus Init(const syrof_app_info& info, Platform& platform, uint8_t& global_state) override;
+  CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t& global_state,
+                      uint32_t clock_ms) override;
+  CallStatus EndOfRound(const syrof_ldmap& ldmap, uint8_t& global_state, uint32_t clock_ms) override;
 
  private:
   const syrof_app_descriptor& descriptor_;

@@ -92,10 +92,9 @@ class MotionController {
   explicit MotionController(const ControllerConfig& config);
 
   /// Replaces the current command (called when the app's newRound returns, and
-  /// with STOP when the maneuver ends). Validated: an unknown kind, a
-  /// non-finite number in a field the kind reads, or a MOVE_TO speed that is
-  /// not > 0 becomes STOP and counts in invalid_commands(). Fields the kind
-  /// does not read are ignored.
+  /// with STOP when the maneuver ends). Validated by app::CheckCommand: a
+  /// command it refuses becomes STOP and counts in invalid_commands(). (The
+  /// runtime checks and reports each command before it gets here.)
   void SetCommand(const syrof_car_command& command);
 
   /// The actuator setpoint for now, from the robot's own estimate. Stamped

@@ -22,6 +22,11 @@
 // other; the round task swaps them under the same critical section, so a
 // frame that arrives during a step counts for the next round.
 //
+// The app is untrusted: a command app::CheckCommand refuses becomes STOP, and
+// a refused payload changes nothing; both are counted and reported. A call
+// that faults stops the robot for good, as a crash would (no more app calls,
+// steps or beacons; drive STOP). RobotObserver hears all three.
+//
 // The sensor drivers publish on the estimation topics before Attach(); the
 // actuator driver subscribes to motion::kDriveTopic after it. Nothing is
 // allocated after construction.
@@ -32,6 +37,8 @@
 #include <span>
 
 #include "syrof/app/app.h"
+#include "syrof/app/call_status.h"
+#include "syrof/app/command_check.h"
 #include "syrof/estimation/estimator.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/drive.h"
@@ -85,6 +92,7 @@ struct RobotCounters {
   uint32_t new_rounds = 0;         ///< newRound calls
   uint32_t end_of_rounds = 0;      ///< endOfRound calls
   uint32_t payloads_refused = 0;   ///< sendMessageData calls over the limit
+  uint32_t invalid_commands = 0;   ///< newRound commands CheckCommand refused (replaced by STOP)
 };
 
 class Robot final : private app::Platform {
@@ -137,6 +145,10 @@ class Robot final : private app::Platform {
   }
   bool estimate_valid() const { return (estimate().status & estimation::kEstimateInitialized) != 0; }
   uint8_t global_state() const { return global_state_; }
+  /// Whether the app faulted (the robot is then stopped; see OnAppFault).
+  bool app_faulted() const { return !app_fault_.ok(); }
+  /// The app's fault; ok while it has none.
+  const app::CallStatus& app_fault() const { return app_fault_; }
   const syrof_car_command& command() const { return command_; }
   /// Read them from the round task's thread, or once the port has stopped:
   /// ReceiveBytes' producer updates the receive counters under the port's
@@ -174,6 +186,8 @@ class Robot final : private app::Platform {
   wire::Snapshot OwnSnapshot() const;
   void FillAppMap(const sync::LDMap& ldmap);
   void EndManeuver(int64_t now_ns);
+  void BeginAppCall(int64_t now_ns, uint16_t epoch);
+  void StopApp(app::Callback callback, int64_t now_ns, uint16_t epoch, const app::CallStatus& status);
   uint32_t ClockMs(int64_t now_ns) const;
 
   RobotConfig config_;
@@ -223,6 +237,9 @@ class Robot final : private app::Platform {
   std::array<uint8_t, wire::kMaxPayloadBytes> payload_{};
   bool maneuver_active_ = false;
   uint16_t rounds_in_progress_ = 0;
+  app::CallStatus app_fault_;  // ok until the app faults
+  int64_t app_call_now_ns_ = 0;  // the current (or last) app call, for reports
+  uint16_t app_call_epoch_ = 0;
   int64_t start_ns_ = 0;
   bool started_ = false;
   RobotCounters counters_;

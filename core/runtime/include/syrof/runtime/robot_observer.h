@@ -4,11 +4,16 @@
 // The robot calls its observer (set with Robot::set_observer) from its round
 // task, after the synchronizer's step of that round, in this order:
 // OnEpochStart (if an epoch started), OnMembership (if members were removed
-// or joined), OnBecameJoiner (if the robot lost its group).
+// or joined), OnBecameJoiner (if the robot lost its group). The app hooks
+// (OnAppFault, OnInvalidCommand, OnPayloadRefused) come from the same task
+// as the app call they report (Attach for init).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
+#include "syrof/app/call_status.h"
+#include "syrof/app/command_check.h"
 #include "syrof/sync/ldmap.h"
 #include "syrof/wire/member_set.h"
 
@@ -37,6 +42,19 @@ class RobotObserver {
                             const wire::MemberSet& joined) = 0;
   /// The robot lost its group and is joining again.
   virtual void OnBecameJoiner(uint16_t robot, int64_t now_ns) = 0;
+  /// The app's `callback` failed with `status` during `epoch` (0 for init).
+  /// From now on the robot is stopped as if it had crashed: no app call, no
+  /// synchronizer step, no beacon (so the others' failure detectors remove
+  /// it), drive command STOP. Nothing more is reported for it.
+  virtual void OnAppFault(uint16_t robot, int64_t now_ns, app::Callback callback, uint16_t epoch,
+                          const app::CallStatus& status) = 0;
+  /// newRound of `epoch` returned a command that `check` refuses; the robot
+  /// holds still (STOP) for that maneuver.
+  virtual void OnInvalidCommand(uint16_t robot, int64_t now_ns, uint16_t epoch, const app::CommandCheck& check) = 0;
+  /// sendMessageData refused `length` bytes (more than
+  /// SYROF_APP_MAX_PAYLOAD_BYTES) in a callback of `epoch`; the previous
+  /// payload stays.
+  virtual void OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) = 0;
 
  protected:
   ~RobotObserver() = default;

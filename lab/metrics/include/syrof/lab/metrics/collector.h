@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "syrof/lab/metrics/metrics.h"
@@ -74,6 +75,16 @@ class Collector {
   /// `robot`'s body came into contact with a wall (a contact start).
   void OnWallContact(int64_t time_ns, uint16_t robot);
 
+  /// `robot`'s app failed in `fault.callback`; the fault is listed as given
+  /// (a robot's app faults at most once: later faults of it are ignored).
+  void OnAppFault(const AppFault& fault);
+
+  /// `robot`'s newRound returned a command the robot refused in `epoch`.
+  void OnInvalidCommand(uint16_t robot, uint16_t epoch, std::string_view what);
+
+  /// `robot`'s sendMessageData was refused in `epoch`.
+  void OnPayloadRefused(uint16_t robot, uint16_t epoch, std::string_view what);
+
   /// The metrics of everything observed so far, with the run's facts. Epochs
   /// still in the window are measured as they stand. Does not change the
   /// collector, so it may also be called mid-run.
@@ -114,6 +125,7 @@ class Collector {
     bool touched_wall = false;
     bool removed = false;
     bool joined = false;
+    bool app_faulted = false;
   };
 
   bool Known(uint16_t robot) const;
@@ -167,6 +179,10 @@ class Collector {
   int64_t join_latency_samples_ = 0;
   int64_t join_latency_sum_rounds_ = 0;
   int64_t join_latency_max_rounds_ = 0;
+
+  std::vector<AppFault> app_faults_;
+  AppIncidents invalid_commands_;
+  AppIncidents payloads_refused_;
 
   int64_t rounds_observed_ = 0;
   int64_t ignored_observations_ = 0;

@@ -19,7 +19,9 @@ namespace syrof::lab::metrics {
 
 /// Version of the metrics.json layout; raised when a field changes meaning or
 /// is removed (adding a field does not raise it).
-inline constexpr int kSchemaVersion = 1;
+/// Version 2: `app` became an object (name, source, faults, invalid
+/// commands, refused payloads); in version 1 it was the app's source string.
+inline constexpr int kSchemaVersion = 2;
 
 /// Skew histogram size: entries 0 .. kSkewHistogramBins - 2 count epochs of
 /// exactly that skew in rounds; the last entry counts every larger skew.
@@ -51,8 +53,9 @@ struct RunFacts {
   /// while overlapping); +infinity when no two bodies were ever compared.
   double min_separation_m = 0;
   GoalResult goal;
-  std::string app;       ///< e.g. "builtin:circle" or the student's library name
-  std::string scenario;  ///< scenario name or file
+  std::string app_name;    ///< the app's own name, e.g. "circle"
+  std::string app_source;  ///< "builtin:NAME" or the path of the student's library
+  std::string scenario;    ///< scenario name or file
 };
 
 /// One P3 breach: `robot` started `epoch` COOPERATIVE with a map that is not
@@ -74,6 +77,37 @@ struct CollisionEvent {
 struct WallContactEvent {
   int64_t time_ns = 0;
   uint16_t robot = 0;
+};
+
+/// One app call that failed (the robot then stopped as if crashed).
+struct AppFault {
+  uint16_t robot = 0;
+  std::string callback;  ///< "init", "new_round" or "end_of_round"
+  uint16_t epoch = 0;    ///< the robot's epoch (0 for init)
+  int64_t time_ns = 0;
+  std::string verdict;   ///< "crashed", "timeout", ... (docs/apps.md)
+  std::string detail;
+};
+
+/// Where an app misbehaved without faulting.
+struct AppIncident {
+  uint16_t robot = 0;
+  uint16_t epoch = 0;
+  std::string what;  ///< e.g. "MOVE_TO x_m is not finite", "10 bytes"
+};
+
+/// How often one kind of misbehaviour happened, and its first occurrence.
+struct AppIncidents {
+  int64_t count = 0;
+  std::optional<AppIncident> first;
+};
+
+struct AppMetrics {
+  std::string name;                  ///< from RunFacts
+  std::string source;                ///< from RunFacts
+  std::vector<AppFault> faults;      ///< in the order they happened; at most one per robot
+  AppIncidents invalid_commands;     ///< newRound commands refused (the robot held still)
+  AppIncidents payload_refused;      ///< sendMessageData calls over the limit
 };
 
 struct SynchronyMetrics {
@@ -142,7 +176,7 @@ struct Diagnostics {
 /// Everything metrics.json holds, in its order.
 struct Metrics {
   std::string scenario;
-  std::string app;
+  AppMetrics app;
   uint64_t seed = 0;
   uint16_t robots = 0;
   double sim_seconds = 0;

@@ -18,8 +18,9 @@ namespace syrof::lab::replay {
 /// allocates more than the data it has actually read justifies (counts are
 /// checked against the limits in replay.h before use); it stops at the first
 /// problem with error() naming the byte offset and what is wrong (lab's
-/// error value, where "offset 8", message "format version 2 is newer than
-/// this reader's (1)").
+/// error value, where "offset 8", message "format version 3 is newer than
+/// this reader's (2)"). It reads every version from kOldestFormatVersion to
+/// kFormatVersion.
 class Reader {
  public:
   /// Reads from `in`, which the caller owns and must outlive the reader. The
@@ -49,6 +50,8 @@ class Reader {
   bool truncated() const { return truncated_; }
   /// Bytes consumed so far.
   uint64_t offset() const { return offset_; }
+  /// The file's format version, once ReadHeader() succeeded (0 before).
+  uint16_t version() const { return version_; }
 
  private:
   enum class State : uint8_t { kStart, kRounds, kComplete, kFailed };
@@ -71,6 +74,7 @@ class Reader {
   uint64_t offset_ = 0;
   uint32_t crc_ = 0;
   uint8_t scratch_[64] = {};
+  uint16_t version_ = 0;
   std::vector<uint16_t> ids_;         // header ids, increasing
   std::vector<RobotFrame> previous_;  // per header robot: its last frame read
   bool any_round_ = false;

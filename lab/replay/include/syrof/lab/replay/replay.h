@@ -14,9 +14,13 @@
 
 namespace syrof::lab::replay {
 
-/// Version of the byte layout (format.h). Any change to the layout bumps it;
-/// a reader refuses a file of a newer version (docs/replay.md, "Versions").
-inline constexpr uint16_t kFormatVersion = 1;
+/// Version of the byte layout (format.h) the writer writes. Any change to the
+/// layout bumps it; a reader reads every version from kOldestFormatVersion on
+/// and refuses a newer one (docs/replay.md, "Versions").
+///   1: the first layout.
+///   2: event kinds APP_FAULT, INVALID_COMMAND and PAYLOAD_REFUSED.
+inline constexpr uint16_t kFormatVersion = 2;
+inline constexpr uint16_t kOldestFormatVersion = 1;
 
 /// Robot id meaning "no robot" in Event::robot and Event::other; no robot of
 /// a replay may have it.
@@ -93,10 +97,20 @@ enum class EventKind : uint8_t {
   kJoin = 9,            ///< fault: `robot` was switched on
   kPartitionStart = 10, ///< a radio partition began (robot may be kNoRobot)
   kPartitionEnd = 11,   ///< a radio partition ended (robot may be kNoRobot)
+  // Since version 2:
+  kAppFault = 12,       ///< `robot`'s app call failed in `epoch`; the robot stopped (presence CRASHED)
+  kInvalidCommand = 13, ///< `robot`'s first command refused in the run (it held still that epoch)
+  kPayloadRefused = 14, ///< `robot`'s first sendMessageData refused in the run
 };
 
-/// The last EventKind; a larger value in a file is an error.
-inline constexpr EventKind kLastEventKind = EventKind::kPartitionEnd;
+/// The last EventKind of format `version`; a larger value in a file of that
+/// version is an error.
+constexpr EventKind LastEventKind(uint16_t version) {
+  return version >= 2 ? EventKind::kPayloadRefused : EventKind::kPartitionEnd;
+}
+
+/// The last EventKind of the version the writer writes.
+inline constexpr EventKind kLastEventKind = LastEventKind(kFormatVersion);
 
 /// One event of a round.
 struct Event {

@@ -40,6 +40,9 @@ struct SimulationOptions {
   /// Makes robot `id`'s app. Default (empty): the scenario's built-in app
   /// from lab/apps. The grader's app host and tests supply their own.
   std::function<std::unique_ptr<app::App>(uint16_t id)> app_factory;
+  /// What metrics.json's app.source says when app_factory supplies the apps
+  /// (a library's path); empty: the scenario's app ("builtin:NAME").
+  std::string app_source;
 };
 
 /// What a finished run reports.
