@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "assignment.h"
+#include "syrof/app/commands.h"
 
 namespace syrof::lab::apps {
 
@@ -67,11 +68,9 @@ void FormationApp::PlanCommand(syrof_car_command& command, const syrof_ldmap& ld
   const Segment& own = segments_[self_index];
   const double length_m = SegmentLengthM(own);
   if (length_m < kSmallestMoveM) return;
-  command.kind = SYROF_COMMAND_MOVE_TO;
-  command.x_m = static_cast<float>(own.end.x_m);
-  command.y_m = static_cast<float>(own.end.y_m);
   const double speed_mps = std::min<double>(info_.max_speed_mps, length_m / (kArrivalFraction * maneuver_s()));
-  command.speed_mps = static_cast<float>(speed_mps);
+  command = app::MoveToCommand(static_cast<float>(own.end.x_m), static_cast<float>(own.end.y_m),
+                               static_cast<float>(speed_mps));
 }
 
 app::CallStatus FormationApp::EndOfRound(const syrof_ldmap& /*ldmap*/, uint8_t& /*global_state*/,

@@ -1,4 +1,5 @@
 #include "syrof/app/command_check.h"
+#include "syrof/app/commands.h"
 
 #include <gtest/gtest.h>
 
@@ -12,29 +13,11 @@ namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-syrof_car_command MoveTo(float x_m, float y_m, float speed_mps) {
-  syrof_car_command command{};
-  command.kind = SYROF_COMMAND_MOVE_TO;
-  command.x_m = x_m;
-  command.y_m = y_m;
-  command.speed_mps = speed_mps;
-  return command;
+constexpr syrof_car_command MoveTo(float x_m, float y_m, float speed_mps) {
+  return app::MoveToCommand(x_m, y_m, speed_mps);
 }
-
-syrof_car_command Velocity(float vx_mps, float vy_mps) {
-  syrof_car_command command{};
-  command.kind = SYROF_COMMAND_VELOCITY;
-  command.vx_mps = vx_mps;
-  command.vy_mps = vy_mps;
-  return command;
-}
-
-syrof_car_command TurnTo(float heading_rad) {
-  syrof_car_command command{};
-  command.kind = SYROF_COMMAND_TURN_TO;
-  command.heading_rad = heading_rad;
-  return command;
-}
+constexpr syrof_car_command Velocity(float vx_mps, float vy_mps) { return app::VelocityCommand(vx_mps, vy_mps); }
+constexpr syrof_car_command TurnTo(float heading_rad) { return app::TurnToCommand(heading_rad); }
 
 std::string Described(const syrof_car_command& command) {
   std::array<char, 64> text{};

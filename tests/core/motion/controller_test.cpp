@@ -10,6 +10,8 @@
 #include <limits>
 #include <numbers>
 
+#include "syrof/app/commands.h"
+
 namespace syrof::motion {
 namespace {
 
@@ -25,29 +27,11 @@ estimation::StateEstimate Perfect(float x_m, float y_m, float heading_rad) {
   return estimate;
 }
 
-syrof_car_command MoveTo(float x_m, float y_m, float speed_mps) {
-  syrof_car_command command{};
-  command.kind = SYROF_COMMAND_MOVE_TO;
-  command.x_m = x_m;
-  command.y_m = y_m;
-  command.speed_mps = speed_mps;
-  return command;
+constexpr syrof_car_command MoveTo(float x_m, float y_m, float speed_mps) {
+  return app::MoveToCommand(x_m, y_m, speed_mps);
 }
-
-syrof_car_command Velocity(float vx_mps, float vy_mps) {
-  syrof_car_command command{};
-  command.kind = SYROF_COMMAND_VELOCITY;
-  command.vx_mps = vx_mps;
-  command.vy_mps = vy_mps;
-  return command;
-}
-
-syrof_car_command TurnTo(float heading_rad) {
-  syrof_car_command command{};
-  command.kind = SYROF_COMMAND_TURN_TO;
-  command.heading_rad = heading_rad;
-  return command;
-}
+constexpr syrof_car_command Velocity(float vx_mps, float vy_mps) { return app::VelocityCommand(vx_mps, vy_mps); }
+constexpr syrof_car_command TurnTo(float heading_rad) { return app::TurnToCommand(heading_rad); }
 
 ControllerConfig OmniConfig() {
   ControllerConfig config;

@@ -74,18 +74,26 @@ std::vector<Frame> MakeFrames(size_t count, size_t& malformed) {
   return frames;
 }
 
-TEST(RobotThreadsTest, EveryFrameFromAProducerThreadIsCountedOnceWhileTheRoundTaskRuns) {
-  size_t malformed = 0;
-  const std::vector<Frame> frames = MakeFrames(3000, malformed);
+// A robot's POSIX port and broker with the sensor topics advertised (the
+// robot's estimator subscribes to them), as a robot process sets them up.
+class RobotThreadsTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_EQ(imu.Advertise(broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
+    ASSERT_EQ(flow.Advertise(broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
+    ASSERT_EQ(uwb.Advertise(broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+  }
 
   os::PosixPort port;
-  pubsub::StaticBroker<8, 12> broker(port);
+  pubsub::StaticBroker<8, 12> broker{port};
   pubsub::Publisher<estimation::ImuReading> imu;
   pubsub::Publisher<estimation::FlowReading> flow;
   pubsub::Publisher<estimation::UwbReading> uwb;
-  ASSERT_EQ(imu.Advertise(broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
-  ASSERT_EQ(flow.Advertise(broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
-  ASSERT_EQ(uwb.Advertise(broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+};
+
+TEST_F(RobotThreadsTest, EveryFrameFromAProducerThreadIsCountedOnceWhileTheRoundTaskRuns) {
+  size_t malformed = 0;
+  const std::vector<Frame> frames = MakeFrames(3000, malformed);
 
   RobotConfig config;
   config.sync = sync::SyncConfig::ForSwarm(kSwarm, 0);
@@ -119,15 +127,7 @@ TEST(RobotThreadsTest, EveryFrameFromAProducerThreadIsCountedOnceWhileTheRoundTa
   EXPECT_GT(counters.rounds, 0u);
 }
 
-TEST(RobotThreadsTest, FramesBeyondABankInOneRoundOverflow) {
-  os::PosixPort port;
-  pubsub::StaticBroker<8, 12> broker(port);
-  pubsub::Publisher<estimation::ImuReading> imu;
-  pubsub::Publisher<estimation::FlowReading> flow;
-  pubsub::Publisher<estimation::UwbReading> uwb;
-  ASSERT_EQ(imu.Advertise(broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
-  ASSERT_EQ(flow.Advertise(broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
-  ASSERT_EQ(uwb.Advertise(broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+TEST_F(RobotThreadsTest, FramesBeyondABankInOneRoundOverflow) {
   RobotConfig config;
   config.sync = sync::SyncConfig::ForSwarm(kSwarm, 0);
   config.radio_round_ns = 1'000'000'000;  // no round ends during the burst
@@ -170,15 +170,7 @@ class MovingApp final : public app::App {
   app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
 };
 
-TEST(RobotThreadsTest, CommandsCrossFromTheRoundTaskToTheMotionTaskThread) {
-  os::PosixPort port;
-  pubsub::StaticBroker<8, 12> broker(port);
-  pubsub::Publisher<estimation::ImuReading> imu;
-  pubsub::Publisher<estimation::FlowReading> flow;
-  pubsub::Publisher<estimation::UwbReading> uwb;
-  ASSERT_EQ(imu.Advertise(broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
-  ASSERT_EQ(flow.Advertise(broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
-  ASSERT_EQ(uwb.Advertise(broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+TEST_F(RobotThreadsTest, CommandsCrossFromTheRoundTaskToTheMotionTaskThread) {
   RobotConfig config;
   config.sync = sync::SyncConfig::ForSwarm(1, 0);  // alone: an epoch every few rounds
   config.radio_round_ns = 1'000'000;
