@@ -3,6 +3,7 @@
 // subscription) on the lab side of the topics. Internal to lab/sim.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 
@@ -16,6 +17,7 @@
 #include "syrof/os/sim_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
+#include "syrof/registry/topics.h"
 #include "syrof/runtime/robot.h"
 
 namespace syrof::lab::sim {
@@ -59,7 +61,12 @@ class LabRobot {
   scenario::RobotSpec spec_;
   world::World& world_;
   os::SimPort port_;
-  pubsub::StaticBroker<8, 12> broker_;
+  // One publisher slot per robot topic (registry::topics), with room to
+  // spare; subscriptions: the estimator's, the round and motion tasks' and
+  // the drive poller's.
+  static constexpr size_t kBrokerPublishers = 8;
+  static_assert(kBrokerPublishers >= registry::kTopicCount, "a robot's broker holds every robot topic");
+  pubsub::StaticBroker<kBrokerPublishers, 12> broker_;
   sensors::SensorBank bank_;
   sensors::SensorPublishers publishers_;
   pubsub::Subscriber<motion::DriveCommand> drive_;

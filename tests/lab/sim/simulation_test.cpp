@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "syrof/lab/replay/reader.h"
@@ -137,6 +138,39 @@ TEST(SimulationTest, PartitionGivesAutonomousEpochsThenRecovery) {
     EXPECT_EQ(simulation.robot(id).ldmap().mode, wire::Mode::kCooperative) << "robot " << id;
     EXPECT_EQ(simulation.robot(id).ldmap().members.count(), 6) << "robot " << id;
   }
+}
+
+TEST(SimulationTest, PartitionEventsNameThePartitionByItsIndex) {
+  const std::string partitions =
+      "channel: {model: iid, loss: 0, partitions: [{start_s: 2, end_s: 3, groups: [[0, 1, 2], [3, 4, 5]]}, "
+      "{start_s: 4, end_s: 5, groups: [[0], [1, 2, 3, 4, 5]]}]}\n";
+  std::string text = Swarm("", 0.0, 6);
+  text.replace(text.find("channel:"), text.find('\n', text.find("channel:")) - text.find("channel:") + 1, partitions);
+  SimulationOptions options;
+  std::stringstream bytes;
+  options.replay = &bytes;
+  (void)sim::Run(Load(text), options, 0.0);
+
+  replay::Reader reader(bytes);
+  replay::Header header;
+  ASSERT_TRUE(reader.ReadHeader(header));
+  replay::Round round;
+  std::vector<std::pair<replay::EventKind, uint16_t>> seen;
+  while (reader.Next(round)) {
+    for (const replay::Event& event : round.events) {
+      if (event.kind == replay::EventKind::kPartitionStart || event.kind == replay::EventKind::kPartitionEnd) {
+        seen.emplace_back(event.kind, event.robot);
+        EXPECT_EQ(event.other, replay::kNoRobot);
+      }
+    }
+  }
+  EXPECT_TRUE(reader.complete()) << reader.error();
+  const std::vector<std::pair<replay::EventKind, uint16_t>> expected = {
+      {replay::EventKind::kPartitionStart, 0},
+      {replay::EventKind::kPartitionEnd, 0},
+      {replay::EventKind::kPartitionStart, 1},
+      {replay::EventKind::kPartitionEnd, 1}};
+  EXPECT_EQ(seen, expected);  // docs/replay.md: `robot` is the partition's index
 }
 
 TEST(SimulationTest, PausedRobotIsRemovedThenRejoins) {

@@ -45,6 +45,7 @@
 #include "syrof/os/port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/runtime/radio.h"
 #include "syrof/runtime/robot_observer.h"
 #include "syrof/sync/config.h"
@@ -57,7 +58,7 @@ namespace syrof::runtime {
 /// Everything one robot needs to know at start-up.
 struct RobotConfig {
   sync::SyncConfig sync;                       ///< swarm size, self id, K, F, quorum, initial members
-  int64_t radio_round_ns = 50'000'000;         ///< alpha
+  int64_t radio_round_ns = registry::kDefaultRadioRoundNs;  ///< alpha
   uint16_t maneuver_rounds = 20;               ///< radio rounds PROGRESS lasts (>= K)
   estimation::EstimatorConfig<float> estimator{};
   estimation::InitialPose<float> initial_pose{};  ///< where the robot starts (known placement)
