@@ -36,10 +36,11 @@ demo: build
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
 
-## release: the whole tree in a Release build (-O3, warnings as errors), and
-## its tests: optimisation-only warnings and bugs show up here.
+## release: the whole tree but the benchmarks (make bench builds those) in a
+## Release build (-O3, warnings as errors), and its tests: warnings and bugs
+## that only optimisation brings out show up here.
 release: deps
-	$(CMAKE_CONFIGURE) -S . -B $(RELEASE_DIR) -DCMAKE_BUILD_TYPE=Release
+	$(CMAKE_CONFIGURE) -S . -B $(RELEASE_DIR) -DCMAKE_BUILD_TYPE=Release -DSYROF_BUILD_BENCH=OFF
 	cmake --build $(RELEASE_DIR) -j $(JOBS)
 	ctest --test-dir $(RELEASE_DIR) --output-on-failure -j $(JOBS)
 
