@@ -31,6 +31,9 @@
 #   know no scenario; lab/sim runs all of them.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
+# - grader/app_host (a student's library in a sandboxed process per robot)
+#   needs only core/app and queries; it sits below sim_dds so the DDS robots
+#   run student libraries through it too, though its folder is the grader's.
 set(SYROF_LAYERS
   "core/base"
   "core/registry core/wire queries core/estimation"
@@ -46,6 +49,7 @@ set(SYROF_LAYERS
   "lab/scenario"
   "lab/metrics lab/replay"
   "lab/sim"
+  "grader/app_host"
   "sim_dds firmware"
   "grader"
   "cli")
@@ -63,7 +67,7 @@ set(SYROF_EXCLUSIVE_HEADERS
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.
-set(SYROF_NESTED_MODULES "core/estimation/tasks")
+set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/app_host")
 
 # The top-level folders whose sources the check walks.
 set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds grader)

@@ -1,0 +1,76 @@
+// A student's app library, run in a sandboxed child process per robot.
+//
+// The lab (and later the DDS robots and the grader) never load a student's
+// shared library into their own process. Each robot gets its own
+// `syrof-app-host` process, started with exec, that hardens itself (die with
+// the parent, every other descriptor closed, rlimits, an unprivileged uid
+// when started as root, namespaces where the kernel allows, no_new_privs, a
+// two-stage seccomp allow-list) and only then loads the library. The robot
+// talks to it through HostedApp, an app::App whose every callback writes one
+// request frame and waits for one reply frame, under a CPU-time budget and a
+// wall cap. Whatever the library does (crash, loop, exit, allocate without
+// bound, flood its output, call what the sandbox forbids) ends as a
+// CallStatus fault with its verdict; the robot then stops like a crashed one
+// and the rest of the swarm goes on (docs/apps.md, "When an app fails").
+//
+// Each robot's stdout and stderr go to its own log file, capped: the first
+// `log_keep_bytes` are kept, the rest counted; past `output_limit_bytes` the
+// robot is stopped with the verdict output_limit.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "syrof/app/app.h"
+
+namespace syrof::app_host {
+
+/// What a robot's app host may use. Defaults are the design's.
+struct HostLimits {
+  uint32_t cpu_budget_ms = 100;         ///< CPU time per callback (the host's own, read from the parent)
+  uint32_t wall_cap_ms = 2000;          ///< wall time per callback, whatever the CPU did
+  uint32_t load_wall_cap_ms = 5000;     ///< wall time to start the host and load the library
+  uint64_t address_space_bytes = 256ull << 20;  ///< RLIMIT_AS of the host
+  uint64_t log_keep_bytes = 64ull << 10;        ///< output kept in the robot's log
+  uint64_t output_limit_bytes = 16ull << 20;    ///< output past this stops the robot (output_limit)
+};
+
+/// How to start the hosts of one run.
+struct HostOptions {
+  std::string library_path;  ///< the student's library (absolute, or relative to the working directory)
+  std::string host_binary;   ///< path to syrof-app-host; empty: FindHostBinary()
+  std::string log_directory; ///< where <id>.log goes (created if missing); empty: output discarded
+  HostLimits limits;
+};
+
+/// Where syrof-app-host is: beside the running executable (a build tree's
+/// bin/), or in the installed libexec folder. Empty if neither has it.
+std::string FindHostBinary();
+
+/// The outcome of checking a library before a run.
+struct LibraryCheck {
+  bool ok = false;
+  std::string app_name;  ///< the descriptor's name, when ok
+  std::string error;     ///< when not ok: what is wrong, naming the file (missing, no syrof_app_entry,
+                         ///< ABI version N where the platform has M, failed to load: dlerror's text)
+};
+
+/// Starts one sandboxed host for `options.library_path`, loads the library,
+/// checks its entry symbol and ABI version, and stops it. The run refuses a
+/// library that fails this (exit 2) before any robot starts.
+LibraryCheck CheckLibrary(const HostOptions& options);
+
+/// What the sandbox could and could not do on this machine (for example
+/// "user namespaces unavailable: ..."), one line each; empty when every
+/// layer of the hardening applied. Filled by CheckLibrary's host.
+std::vector<std::string> SandboxNotes();
+
+/// Robot `robot_id`'s app: a host process started now (fork + exec,
+/// hardened, library loaded); its callbacks go to that process. The process
+/// ends when the app is destroyed. A host that fails to start gives an app
+/// whose Init reports the fault (load_failed, bad_abi, crashed, ...).
+std::unique_ptr<app::App> MakeHostedApp(const HostOptions& options, uint16_t robot_id);
+
+}  // namespace syrof::app_host
