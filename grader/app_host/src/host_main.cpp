@@ -13,6 +13,7 @@
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <grp.h>
+#include <linux/capability.h>
 #include <linux/close_range.h>
 #include <sched.h>
 #include <seccomp.h>
@@ -346,6 +347,11 @@ int main(int argc, char** argv) {
 
   // 6. Namespaces: no network, no IPC, its own hostname, no uid outside.
   if (unshare(CLONE_NEWUSER | CLONE_NEWNET | CLONE_NEWIPC | CLONE_NEWUTS) != 0) notes |= p::kNoteNoNamespaces;
+  // A new user namespace gives its first process every capability inside
+  // it; the host needs none of them.
+  __user_cap_header_struct cap_header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct no_caps[2] = {};
+  (void)syscall(SYS_capset, &cap_header, no_caps);
 
   // 7. No new privileges, and the system call filters. The names of the
   //    calls are resolved first (the SIGSYS handler cannot allocate).

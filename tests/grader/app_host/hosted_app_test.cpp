@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -244,6 +245,62 @@ TEST_F(HostedAppTest, AWellBehavedAppRunsAndLogsItsOutput) {
   EXPECT_EQ(state, 0x81);
   app.reset();
   EXPECT_EQ(Log(1), "robot 1 of 3 starts\nepoch 4 at 10 ms: 3 members, leader 0, ids seen 1\n");
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream file(path);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+TEST_F(HostedAppTest, TheHostRunsHardened) {
+  options_.library_path = Library("cooperative");
+  const LibraryCheck check = CheckLibrary(options_);
+  ASSERT_TRUE(check.ok) << check.error;
+  std::string notes;
+  for (const std::string& note : SandboxNotes()) notes += note + "\n";
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+  uint8_t state = 0;
+  ASSERT_TRUE(app->Init(info_, platform_, state).ok());
+  const std::vector<pid_t> children = Children();
+  ASSERT_EQ(children.size(), 1u);
+  const std::string proc = "/proc/" + std::to_string(children[0]);
+
+  const std::string status = ReadText(proc + "/status");
+  EXPECT_NE(status.find("Seccomp:\t2\n"), std::string::npos) << status;
+  EXPECT_NE(status.find("NoNewPrivs:\t1\n"), std::string::npos) << status;
+  if (geteuid() == 0) {
+    EXPECT_NE(status.find("Uid:\t65534\t65534\t65534\t65534\n"), std::string::npos) << status;
+    EXPECT_NE(status.find("Groups:\t \n"), std::string::npos) << status;
+  } else {
+    EXPECT_NE(notes.find("not started as root"), std::string::npos) << notes;
+  }
+  EXPECT_NE(status.find("CapEff:\t0000000000000000\n"), std::string::npos) << status;
+  const std::string limits = ReadText(proc + "/limits");
+  EXPECT_NE(limits.find("Max address space         268435456            268435456"), std::string::npos) << limits;
+  EXPECT_NE(limits.find("Max core file size        0                    0"), std::string::npos) << limits;
+  EXPECT_NE(limits.find("Max file size             0                    0"), std::string::npos) << limits;
+  EXPECT_NE(limits.find("Max open files            16                   16"), std::string::npos) << limits;
+  // Descriptors 0-3 only: the output pipe, the channel, /dev/null.
+  std::vector<std::string> fds;
+  if (DIR* dir = opendir((proc + "/fd").c_str())) {
+    while (const dirent* entry = readdir(dir)) {
+      if (entry->d_name[0] != '.') fds.emplace_back(entry->d_name);
+    }
+    closedir(dir);
+  }
+  std::sort(fds.begin(), fds.end());
+  EXPECT_EQ(fds, (std::vector<std::string>{"0", "1", "2", "3"}));
+  // Address randomisation off (ADDR_NO_RANDOMIZE, 0x0040000).
+  EXPECT_NE(std::stoul(ReadText(proc + "/personality"), nullptr, 16) & 0x0040000, 0u);
+  if (notes.find("namespaces unavailable") == std::string::npos) {
+    char own[256] = {};
+    char its[256] = {};
+    ASSERT_GT(readlink("/proc/self/ns/net", own, sizeof(own) - 1), 0);
+    ASSERT_GT(readlink((proc + "/ns/net").c_str(), its, sizeof(its) - 1), 0);
+    EXPECT_STRNE(own, its);
+  }
 }
 
 TEST_F(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {

@@ -8,16 +8,15 @@
 
 #include "syrof/app.h"
 
-static uint16_t my_id = 0xFFFF;
 static syrof_queries_member members[SYROF_MAX_SWARM_SIZE];
 
 static uint8_t CoopInit(const syrof_app_info* info) {
-  my_id = info->self_id;
   printf("robot %u of %u starts\n", (unsigned)info->self_id, (unsigned)info->swarm_size);
   return 0;
 }
 
 static uint8_t CoopNewRound(syrof_car_command* command, const syrof_ldmap* ldmap, uint8_t state, uint32_t clock_ms) {
+  const uint16_t my_id = ldmap->self_id;
   const size_t count = syrofMembersForQueries(ldmap, members);
   syrof_queries_circle circle;
   memset(&circle, 0, sizeof circle);
