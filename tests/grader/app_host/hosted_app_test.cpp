@@ -136,6 +136,11 @@ TEST_F(HostedAppTest, AnInfiniteLoopIsATimeoutOnCpuTime) {
   EXPECT_VERDICT(RunOnce("infinite_loop"), kTimeout, "CPU time over 50 ms");
 }
 
+TEST_F(HostedAppTest, SleepingPastTheWallCapIsATimeoutOnWallTime) {
+  options_.limits.wall_cap_ms = 200;
+  EXPECT_VERDICT(RunOnce("sleep_forever"), kTimeout, "wall time over 200 ms");
+}
+
 TEST_F(HostedAppTest, AllocatingGigabytesIsMemory) {
   EXPECT_VERDICT(RunOnce("allocate_gigabytes"), kMemory, "allocation of 1073741824 bytes refused");
 }
