@@ -106,6 +106,7 @@ void StartCost(int starts) {
   for (int i = 0; i < starts; ++i) {
     const Clock::time_point start = Clock::now();
     std::unique_ptr<app::App> app = app_host::MakeHostedApp(Options(), static_cast<uint16_t>(i));
+    (void)app->name();  // waits for the hello: the library is loaded
     samples.push_back(Microseconds(Clock::now() - start) / 1000.0);
   }
   fmt::print("starting one sandboxed host (spawn to hello), {} starts:\n", starts);
@@ -133,34 +134,58 @@ app: builtin:idle
                      fmt::arg("robots", robots), fmt::arg("arena", arena_m), fmt::arg("duration", duration_s));
 }
 
-// Wall seconds of one whole run (the hosts' start included), and whether the
-// metrics match the other way's.
-double RunWall(int robots, double duration_s, bool hosted, std::string& metrics) {
+struct Timing {
+  double start_s = 0;  // the Simulation built and every app loaded
+  double run_s = 0;    // the scenario run and finished
+  double stop_s = 0;   // the Simulation destroyed (the hosts killed and reaped)
+  std::string metrics;
+};
+
+// Wall seconds of one run, by phase.
+Timing RunWall(int robots, double duration_s, bool hosted) {
   const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioText(Scenario(robots, duration_s), "bench");
   if (!loaded.ok()) {
     fmt::print(stderr, "bench scenario refused: {}\n", loaded.error->ToString());
     std::exit(1);
   }
   const app_host::HostOptions options = Options();
+  std::vector<app::App*> apps;
   lab::sim::SimulationOptions sim_options;
   sim_options.app_source = "bench";
   if (hosted) {
-    sim_options.app_factory = [&options](uint16_t id) { return app_host::MakeHostedApp(options, id); };
+    sim_options.app_factory = [&options, &apps](uint16_t id) {
+      std::unique_ptr<app::App> app = app_host::MakeHostedApp(options, id);
+      apps.push_back(app.get());
+      return app;
+    };
   } else {
     sim_options.app_factory = [](uint16_t) { return std::make_unique<app::CAbiApp>(*bench_app_entry()); };
   }
-  const Clock::time_point start = Clock::now();
-  metrics = lab::sim::Run(*loaded.scenario, sim_options, 0.0).metrics_json;
-  return Microseconds(Clock::now() - start) / 1e6;
+  Timing timing;
+  Clock::time_point start = Clock::now();
+  auto simulation = std::make_unique<lab::sim::Simulation>(*loaded.scenario, sim_options);
+  for (app::App* app : apps) (void)app->name();  // waits for each host's hello
+  timing.start_s = Microseconds(Clock::now() - start) / 1e6;
+  start = Clock::now();
+  simulation->RunUntil(duration_s);
+  timing.metrics = simulation->Finish(0.0).metrics_json;
+  timing.run_s = Microseconds(Clock::now() - start) / 1e6;
+  start = Clock::now();
+  simulation.reset();
+  timing.stop_s = Microseconds(Clock::now() - start) / 1e6;
+  return timing;
 }
 
 void Throughput(int robots, double duration_s) {
-  std::string hosted_metrics;
-  std::string linked_metrics;
-  const double linked = RunWall(robots, duration_s, false, linked_metrics);
-  const double hosted = RunWall(robots, duration_s, true, hosted_metrics);
-  fmt::print("  {:4d} robots, {:4.0f} s simulated: linked in {:6.2f} s, library {:6.2f} s wall: {:5.2f}x{}\n", robots,
-             duration_s, linked, hosted, hosted / linked, hosted_metrics == linked_metrics ? "" : "  (METRICS DIFFER)");
+  const Timing linked = RunWall(robots, duration_s, false);
+  const Timing hosted = RunWall(robots, duration_s, true);
+  const double linked_total = linked.start_s + linked.run_s + linked.stop_s;
+  const double hosted_total = hosted.start_s + hosted.run_s + hosted.stop_s;
+  fmt::print("  {:4d} robots, {:3.0f} s simulated: run {:6.3f} s linked in, {:6.3f} s library ({:5.2f}x); "
+             "whole {:6.3f} s / {:6.3f} s ({:5.2f}x; hosts start {:5.3f} s, stop {:5.3f} s){}\n",
+             robots, duration_s, linked.run_s, hosted.run_s, hosted.run_s / linked.run_s, linked_total, hosted_total,
+             hosted_total / linked_total, hosted.start_s, hosted.stop_s,
+             hosted.metrics == linked.metrics ? "" : "  (METRICS DIFFER)");
 }
 
 }  // namespace

@@ -290,14 +290,8 @@ int main(int argc, char** argv) {
   uint32_t notes = 0;
 
   // Addresses the same on every run, so even an app that hashes pointers is
-  // repeatable: the personality takes effect at exec, hence the one re-exec.
-  const int persona = personality(0xffffffff);
-  if (persona != -1 && (persona & ADDR_NO_RANDOMIZE) == 0 && getenv("SYROF_APP_HOST_REEXECED") == nullptr) {
-    if (personality(static_cast<unsigned long>(persona | ADDR_NO_RANDOMIZE)) != -1) {
-      setenv("SYROF_APP_HOST_REEXECED", "1", 1);
-      execv("/proc/self/exe", argv);
-    }
-  }
+  // repeatable: the parent spawns the host with ADDR_NO_RANDOMIZE set (the
+  // personality takes effect at exec); say so if that did not happen.
   if ((personality(0xffffffff) & ADDR_NO_RANDOMIZE) == 0) notes |= p::kNoteNoAslrOff;
 
   // 1. Die with the parent (and make sure it has not died already).
