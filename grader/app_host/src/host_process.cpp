@@ -5,12 +5,14 @@
 #include <signal.h>
 #include <spawn.h>
 #include <sys/personality.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <string>
@@ -35,6 +37,20 @@ int Lift(int fd) {
   const int lifted = fcntl(fd, F_DUPFD_CLOEXEC, 10);
   close(fd);
   return lifted;
+}
+
+// Raises this process's soft descriptor limit to its hard limit (at most
+// 1 << 20). Each host holds four descriptors here (channel, output, pidfd,
+// log): a swarm of a few hundred passes the usual soft limit of 1024.
+// Called only when a descriptor could not be made (EMFILE). False if
+// nothing could be raised.
+bool RaiseDescriptorLimit() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_NOFILE, &limit) != 0) return false;
+  const rlim_t wanted = std::min<rlim_t>(limit.rlim_max, rlim_t{1} << 20);
+  if (limit.rlim_cur >= wanted) return false;
+  limit.rlim_cur = wanted;
+  return setrlimit(RLIMIT_NOFILE, &limit) == 0;
 }
 
 void CloseFd(int& fd) {
@@ -126,14 +142,21 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
     mkdir(options.log_directory.c_str(), 0755);  // exists already: fine; else the open says why
     const std::string log_path = options.log_directory + "/" + std::to_string(robot_id) + ".log";
     log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (log_fd_ < 0 && errno == EMFILE && RaiseDescriptorLimit()) {
+      log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    }
   }
 
   int channel[2] = {-1, -1};
   int output[2] = {-1, -1};
-  if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) != 0 || pipe2(output, O_CLOEXEC) != 0) {
-    SetFault(Verdict::kLoadFailed, std::string("cannot create the host's channel: ") + strerror(errno));
+  for (int attempt = 0;; ++attempt) {
+    if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) == 0 && pipe2(output, O_CLOEXEC) == 0) break;
+    const int error = errno;
     CloseFd(channel[0]);
     CloseFd(channel[1]);
+    if (attempt == 0 && error == EMFILE && RaiseDescriptorLimit()) continue;
+    SetFault(Verdict::kLoadFailed, std::string("cannot create the host's channel: ") + strerror(error));
+    CloseFd(log_fd_);
     return fault_;
   }
   channel_ = Lift(channel[0]);
@@ -381,7 +404,9 @@ CallStatus HostProcess::Call(const void* request, size_t size, uint32_t sequence
   }
   ssize_t sent;
   do {
-    sent = send(channel_, request, size, MSG_NOSIGNAL);
+    // Never blocks: the host has read every earlier request, so its queue
+    // is empty; a full one means it is not taking requests.
+    sent = send(channel_, request, size, MSG_NOSIGNAL | MSG_DONTWAIT);
   } while (sent < 0 && errno == EINTR);
   if (sent != static_cast<ssize_t>(size)) {
     // The host is gone (or going): its exit or signal is the verdict.

@@ -3,6 +3,7 @@
 // works as it would in-process.
 #include <dirent.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -192,6 +193,10 @@ TEST_F(HostedAppTest, AnUndefinedSymbolIsLoadFailedWithTheLoadersText) {
   EXPECT_VERDICT(RunOnce("undefined_symbol"), kLoadFailed, "cannot load");
 }
 
+TEST_F(HostedAppTest, AForgedReplyIsBadAbi) {
+  EXPECT_VERDICT(RunOnce("forge_reply"), kBadAbi, "a malformed reply from the host");
+}
+
 TEST_F(HostedAppTest, AMissingFileIsLoadFailed) {
   EXPECT_VERDICT(RunOnce("no_such_library"), kLoadFailed, "cannot open the library");
 }
@@ -213,6 +218,35 @@ TEST_F(HostedAppTest, EachRobotKeepsItsOwnGlobals) {
     ASSERT_EQ(platforms[id].accepted.size(), 1u);
     EXPECT_EQ(platforms[id].accepted[0], (std::vector<uint8_t>{static_cast<uint8_t>(id), 0}));
   }
+}
+
+TEST_F(HostedAppTest, ManyHostsPassALowSoftDescriptorLimit) {
+  // Each host holds four descriptors in the parent; a soft limit of 64
+  // would stop at about 14 robots unless the limit is raised.
+  rlimit saved{};
+  ASSERT_EQ(getrlimit(RLIMIT_NOFILE, &saved), 0);
+  if (saved.rlim_max < 256) GTEST_SKIP() << "hard descriptor limit below 256";
+  rlimit low = saved;
+  low.rlim_cur = 64;
+  ASSERT_EQ(setrlimit(RLIMIT_NOFILE, &low), 0);
+  options_.library_path = Library("per_robot_global");
+  std::vector<std::unique_ptr<app::App>> apps;
+  std::vector<RecordingPlatform> platforms(30);
+  bool all_ok = true;
+  for (uint16_t id = 0; id < 30; ++id) {
+    apps.push_back(MakeHostedApp(options_, id));
+    uint8_t state = 0;
+    info_.self_id = id;
+    const app::CallStatus status = apps.back()->Init(info_, platforms[id], state);
+    if (!status.ok()) {
+      ADD_FAILURE() << "robot " << id << ": " << status.detail();
+      all_ok = false;
+      break;
+    }
+  }
+  apps.clear();
+  ASSERT_EQ(setrlimit(RLIMIT_NOFILE, &saved), 0);
+  EXPECT_TRUE(all_ok);
 }
 
 TEST_F(HostedAppTest, EveryPayloadCallReachesThePlatformInOrder) {
