@@ -5,6 +5,7 @@
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -340,6 +341,48 @@ TEST_F(HostedAppTest, TheHostRunsHardened) {
     ASSERT_GT(readlink((proc + "/ns/net").c_str(), its, sizeof(its) - 1), 0);
     EXPECT_STRNE(own, its);
   }
+}
+
+// The parent-death signal survives the drop to uid 65534 (a uid change
+// clears it, so the host sets it again): a host whose parent dies in the
+// middle of a call (so the host is not reading its channel) dies too.
+TEST_F(HostedAppTest, AHostDiesWithItsParent) {
+  int report[2];
+  ASSERT_EQ(pipe(report), 0);
+  const pid_t parent = fork();
+  ASSERT_GE(parent, 0);
+  if (parent == 0) {
+    // The host's parent: starts it, says its pid, then waits in a call the
+    // app never ends (it sleeps) until it is killed.
+    options_.library_path = Library("sleep_forever");
+    options_.limits.wall_cap_ms = 60'000;
+    std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+    uint8_t state = 0;
+    const bool ok = app->Init(info_, platform_, state).ok();
+    const std::vector<pid_t> hosts = Children();
+    const pid_t host = ok && hosts.size() == 1 ? hosts[0] : -1;
+    (void)!write(report[1], &host, sizeof(host));
+    syrof_car_command command{};
+    (void)app->NewRound(command, Map(0), state, 10);
+    _exit(0);
+  }
+  close(report[1]);
+  pid_t host = -1;
+  ASSERT_EQ(read(report[0], &host, sizeof(host)), static_cast<ssize_t>(sizeof(host)));
+  close(report[0]);
+  ASSERT_GT(host, 0);
+  kill(parent, SIGKILL);
+  int status = 0;
+  ASSERT_EQ(waitpid(parent, &status, 0), parent);
+  // The host gets SIGKILL at once; give the kernel up to 5 s to finish it.
+  bool gone = false;
+  for (int i = 0; i < 500 && !gone; ++i) {
+    const std::string stat = ReadText("/proc/" + std::to_string(host) + "/stat");
+    gone = stat.empty() || stat.find(") Z ") != std::string::npos;
+    if (!gone) usleep(10'000);
+  }
+  EXPECT_TRUE(gone) << "host " << host << " outlived its parent";
+  if (!gone) kill(host, SIGKILL);
 }
 
 TEST_F(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {
