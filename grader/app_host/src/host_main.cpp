@@ -151,6 +151,13 @@ bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
   for (const int number : allowed) {
     if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, number, 0) != 0) return false;
   }
+#if defined(SYROF_APP_HOST_SANITIZED)
+  // The sanitizers' runtime checks whether memory is readable by writing it
+  // to a pipe of its own (sanitizer_common's IsAccessibleMemoryRange).
+  for (const int number : {SCMP_SYS(pipe), SCMP_SYS(pipe2)}) {
+    if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, number, 0) != 0) return false;
+  }
+#endif
   // Signals: only to itself (abort, raise); never to another process.
   if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(kill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
   if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tgkill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
