@@ -3,15 +3,20 @@
 //      10-member map, the app doing a little work), p50 and p99;
 //   2. starting one sandboxed host (spawn, hardening, library loaded, its
 //      hello received), p50 and p99;
-//   3. lab throughput, wall time, with the app as a library in one host per
-//      robot against the same C code linked in (CAbiApp), 10 and 100 robots.
-// Timings are wall-clock: on a shared machine they move with its load.
+//   3. lab throughput with the app as a library in one host per robot
+//      against the same C code linked in (CAbiApp), 10 and 100 robots: wall
+//      time of the run phase and of the whole run (hosts started and
+//      stopped), and the whole run's CPU time (the hosts' included).
+// Timings are wall-clock unless said: on a shared machine they move with its
+// load, so the throughput takes the best of a few runs.
 //
 // Usage: bench_app_host [--quick]
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
+#include <sys/resource.h>
+
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -138,8 +143,17 @@ struct Timing {
   double start_s = 0;  // the Simulation built and every app loaded
   double run_s = 0;    // the scenario run and finished
   double stop_s = 0;   // the Simulation destroyed (the hosts killed and reaped)
+  double cpu_s = 0;    // CPU of the whole run: this process and its (reaped) hosts
   std::string metrics;
+  double total() const { return start_s + run_s + stop_s; }
 };
+
+double CpuSeconds(int who) {
+  rusage usage{};
+  getrusage(who, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+}
 
 // Wall seconds of one run, by phase.
 Timing RunWall(int robots, double duration_s, bool hosted) {
@@ -162,6 +176,7 @@ Timing RunWall(int robots, double duration_s, bool hosted) {
     sim_options.app_factory = [](uint16_t) { return std::make_unique<app::CAbiApp>(*bench_app_entry()); };
   }
   Timing timing;
+  const double cpu_before = CpuSeconds(RUSAGE_SELF) + CpuSeconds(RUSAGE_CHILDREN);
   Clock::time_point start = Clock::now();
   auto simulation = std::make_unique<lab::sim::Simulation>(*loaded.scenario, sim_options);
   for (app::App* app : apps) (void)app->name();  // waits for each host's hello
@@ -173,19 +188,34 @@ Timing RunWall(int robots, double duration_s, bool hosted) {
   start = Clock::now();
   simulation.reset();
   timing.stop_s = Microseconds(Clock::now() - start) / 1e6;
+  timing.cpu_s = CpuSeconds(RUSAGE_SELF) + CpuSeconds(RUSAGE_CHILDREN) - cpu_before;
   return timing;
 }
 
-void Throughput(int robots, double duration_s) {
-  const Timing linked = RunWall(robots, duration_s, false);
-  const Timing hosted = RunWall(robots, duration_s, true);
-  const double linked_total = linked.start_s + linked.run_s + linked.stop_s;
-  const double hosted_total = hosted.start_s + hosted.run_s + hosted.stop_s;
-  fmt::print("  {:4d} robots, {:3.0f} s simulated: run {:6.3f} s linked in, {:6.3f} s library ({:5.2f}x); "
-             "whole {:6.3f} s / {:6.3f} s ({:5.2f}x; hosts start {:5.3f} s, stop {:5.3f} s){}\n",
-             robots, duration_s, linked.run_s, hosted.run_s, hosted.run_s / linked.run_s, linked_total, hosted_total,
-             hosted_total / linked_total, hosted.start_s, hosted.stop_s,
+// The best of `repeats` runs each way (a shared machine only adds time).
+Timing Best(int robots, double duration_s, bool hosted, int repeats) {
+  Timing best = RunWall(robots, duration_s, hosted);
+  for (int i = 1; i < repeats; ++i) {
+    const Timing next = RunWall(robots, duration_s, hosted);
+    best.start_s = std::min(best.start_s, next.start_s);
+    best.run_s = std::min(best.run_s, next.run_s);
+    best.stop_s = std::min(best.stop_s, next.stop_s);
+    best.cpu_s = std::min(best.cpu_s, next.cpu_s);
+  }
+  return best;
+}
+
+void Throughput(int robots, double duration_s, int repeats) {
+  const Timing linked = Best(robots, duration_s, false, repeats);
+  const Timing hosted = Best(robots, duration_s, true, repeats);
+  fmt::print("  {:4d} robots, {:3.0f} s simulated, best of {}{}:\n", robots, duration_s, repeats,
              hosted.metrics == linked.metrics ? "" : "  (METRICS DIFFER)");
+  fmt::print("    run phase  wall {:6.3f} s linked in, {:6.3f} s library: {:5.2f}x\n", linked.run_s, hosted.run_s,
+             hosted.run_s / linked.run_s);
+  fmt::print("    whole run  wall {:6.3f} s linked in, {:6.3f} s library: {:5.2f}x (hosts start {:5.3f} s, stop {:5.3f} s)\n",
+             linked.total(), hosted.total(), hosted.total() / linked.total(), hosted.start_s, hosted.stop_s);
+  fmt::print("    whole run  CPU  {:6.3f} s linked in, {:6.3f} s library, hosts included: {:5.2f}x\n", linked.cpu_s,
+             hosted.cpu_s, hosted.cpu_s / linked.cpu_s);
 }
 
 }  // namespace
@@ -195,7 +225,7 @@ int main(int argc, char** argv) {
   RoundTrip(quick ? 500 : 5000);
   StartCost(quick ? 10 : 100);
   fmt::print("lab run, the same C app as a library (one host per robot) and linked in:\n");
-  Throughput(10, quick ? 5 : 30);
-  Throughput(100, quick ? 2 : 10);
+  Throughput(10, quick ? 5 : 60, quick ? 1 : 5);
+  Throughput(100, quick ? 2 : 10, quick ? 1 : 3);
   return 0;
 }
