@@ -7,7 +7,6 @@
 #include <sys/personality.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
-#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,7 +14,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 namespace syrof::app_host {
 namespace {
@@ -139,7 +140,10 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
     return fault_;
   }
   if (!options.log_directory.empty()) {
-    mkdir(options.log_directory.c_str(), 0755);  // exists already: fine; else the open says why
+    // Parents too (OUT/robots before OUT exists). A log that cannot be
+    // opened loses the robot's output, not the robot.
+    std::error_code ignored;
+    std::filesystem::create_directories(options.log_directory, ignored);
     const std::string log_path = options.log_directory + "/" + std::to_string(robot_id) + ".log";
     log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (log_fd_ < 0 && errno == EMFILE && RaiseDescriptorLimit()) {

@@ -70,7 +70,8 @@ std::vector<pid_t> Children() {
 class HostedAppTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    log_dir_ = ::testing::TempDir() + "app_host_logs_" + std::to_string(getpid());
+    // Two levels that do not exist yet: the host makes both (OUT/robots).
+    log_dir_ = ::testing::TempDir() + "app_host_logs_" + std::to_string(getpid()) + "/robots";
     options_.log_directory = log_dir_;
     info_.abi_version = SYROF_APP_ABI_VERSION;
     info_.swarm_size = 3;
