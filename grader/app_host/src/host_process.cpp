@@ -211,7 +211,6 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
     return fault_;
   }
   pid_ = pid;
-  spawn_ns_ = Nanoseconds(CLOCK_MONOTONIC);
   pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));  // -1 on old kernels: the channel's hang-up says it too
   have_cpu_clock_ = clock_getcpuclockid(pid_, &cpu_clock_) == 0;
   return CallStatus::Ok();
@@ -339,7 +338,10 @@ HostProcess::Wait HostProcess::Accept(p::Reply& reply, bool malformed, bool load
 HostProcess::Wait HostProcess::WaitForReply(p::Reply& reply, bool load) {
   // (A batch may be followed by replies already queued: the poll sees them.)
   bool malformed = false;
-  const int64_t wall_start = load ? spawn_ns_ : Nanoseconds(CLOCK_MONOTONIC);
+  // The load cap counts from when the parent starts waiting, not from the
+  // spawn: a swarm's hosts all start at once and load side by side, and the
+  // last robot's turn may come long after its host was spawned.
+  const int64_t wall_start = Nanoseconds(CLOCK_MONOTONIC);
   const int64_t cpu_start = !load && have_cpu_clock_ ? Nanoseconds(cpu_clock_) : -1;
   const int64_t wall_cap = int64_t{load ? limits_.load_wall_cap_ms : limits_.wall_cap_ms} * 1'000'000;
   const int64_t cpu_budget = int64_t{limits_.cpu_budget_ms} * 1'000'000;

@@ -35,7 +35,7 @@ class HostProcess {
   /// Start's first half: the host is spawned and loads on its own while the
   /// caller goes on (the lab starts every robot's host before the first
   /// Init, so they load side by side); the first Call waits for the hello.
-  /// The load wall cap counts from the spawn.
+  /// The load wall cap counts from when that wait begins.
   app::CallStatus Spawn(const HostOptions& options, uint16_t robot_id, Mode mode);
 
   /// Start's second half (Call does it when needed).
@@ -90,9 +90,8 @@ class HostProcess {
   uint64_t output_bytes_ = 0;
   uint64_t log_written_ = 0;
   bool faulted_ = false;
-  bool output_open_ = true;
+  bool output_open_ = true;  // false once the host's output pipe hung up
   bool started_ = false;   // the hello was awaited
-  int64_t spawn_ns_ = 0;  // false once the host's output pipe hung up
   app::CallStatus fault_;
   std::string full_detail_;
   std::string app_name_;
