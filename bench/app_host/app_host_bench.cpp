@@ -10,7 +10,7 @@
 // Timings are wall-clock unless said: on a shared machine they move with its
 // load, so the throughput takes the best of a few runs.
 //
-// Usage: bench_app_host [--quick]
+// Usage: bench_app_host [--quick | --robots N]
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -221,6 +221,12 @@ void Throughput(int robots, double duration_s, int repeats) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 2 && std::strcmp(argv[1], "--robots") == 0) {
+    // One throughput line for a swarm of the given size (scale checks).
+    fmt::print("lab run, the same C app as a library (one host per robot) and linked in:\n");
+    Throughput(std::atoi(argv[2]), 5, 1);
+    return 0;
+  }
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   RoundTrip(quick ? 500 : 5000);
   StartCost(quick ? 10 : 100);
