@@ -6,6 +6,9 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <map>
+#include <utility>
+#include <vector>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -122,6 +125,37 @@ TEST(HostedAppSimulationTest, ARobotWhoseLibraryCrashesStopsAndTheOthersGoOn) {
   EXPECT_FALSE(simulation.robot(0).sync_state().members.test(2));
   EXPECT_EQ(metrics["membership"]["robots_removed"], 1);
   EXPECT_GT(metrics["epochs_started"].get<int>(), 6);
+}
+
+// One swarm, a different hostile library on each robot but robot 0: each
+// fault stays in its robot, with its verdict, and robot 0 runs on.
+TEST(HostedAppSimulationTest, EachHostileRobotFaultsAloneAndTheWellBehavedOneRunsOn) {
+  const scenario::Scenario scenario = Load(7, 6);
+  const std::string logs = ::testing::TempDir() + "app_host_sim_mixed_" + std::to_string(getpid());
+  const std::vector<std::pair<std::string, std::string>> plan = {
+      {"cooperative", ""},      {"segfault", "crashed"},          {"infinite_loop", "timeout"},
+      {"flood_output", "output_limit"}, {"kill_parent", "forbidden_syscall"}, {"allocate_gigabytes", "memory"},
+      {"exit0", "exited"}};
+  sim::SimulationOptions sim_options;
+  sim_options.app_factory = [&](uint16_t id) {
+    HostOptions options = Options(plan[id].first, logs);
+    options.limits.cpu_budget_ms = 50;
+    return MakeHostedApp(options, id);
+  };
+  sim_options.app_source = "test:mixed";
+  sim::Simulation simulation(scenario, sim_options);
+  const json metrics = json::parse(simulation.Finish(0.0).metrics_json);
+
+  EXPECT_EQ(metrics["sim_seconds"].get<double>(), 6.0);
+  std::map<int, std::string> verdicts;
+  for (const json& fault : metrics["app"]["faults"]) verdicts[fault["robot"].get<int>()] = fault["verdict"];
+  for (uint16_t id = 1; id < plan.size(); ++id) EXPECT_EQ(verdicts[id], plan[id].second) << plan[id].first;
+  EXPECT_EQ(verdicts.count(0), 0u) << verdicts[0];
+  // Robot 0 went on alone: every other robot left its map.
+  for (uint16_t id = 1; id < plan.size(); ++id) EXPECT_FALSE(simulation.robot(0).sync_state().members.test(id));
+  const std::string log = ReadFile(logs + "/0.log");
+  EXPECT_EQ(log.rfind("robot 0 of 7 starts\n", 0), 0u) << log.substr(0, 200);
+  EXPECT_NE(log.find("epoch 5 at"), std::string::npos) << log.substr(0, 2000);
 }
 
 }  // namespace
