@@ -314,12 +314,19 @@ HostProcess::Wait HostProcess::Accept(p::Reply& reply, bool malformed, bool load
   const bool known = reply.verdict > static_cast<uint8_t>(Verdict::kAppError) &&
                      reply.verdict <= static_cast<uint8_t>(app::kLastVerdict);
   std::string detail = reply.text;
-  // dlerror() names the descriptor the host loaded through; say the file.
+  // dlerror() names the descriptor the host loaded through: "/proc/self/fd/
+  // N: undefined symbol: x". The reason alone is kept (CheckLibrary's message
+  // names the file first; a CallStatus keeps only 47 bytes); elsewhere in
+  // the text the descriptor becomes the file's path.
   const size_t proc = detail.find("/proc/self/fd/");
   if (proc != std::string::npos) {
     size_t end = proc + 14;
     while (end < detail.size() && detail[end] >= '0' && detail[end] <= '9') ++end;
-    detail.replace(proc, end - proc, library_path_);
+    if (detail.compare(end, 2, ": ") == 0) {
+      detail.erase(proc, end + 2 - proc);
+    } else {
+      detail.replace(proc, end - proc, library_path_);
+    }
   }
   if (load && (reply.verdict == static_cast<uint8_t>(Verdict::kForbiddenSyscall) ||
                reply.verdict == static_cast<uint8_t>(Verdict::kMemory))) {
