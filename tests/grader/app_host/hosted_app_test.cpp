@@ -183,6 +183,14 @@ TEST_F(HostedAppTest, ACrashingConstructorIsACrashDuringLoad) {
   EXPECT_VERDICT(RunOnce("crashing_constructor"), kCrashed, "SIGSEGV during load");
 }
 
+TEST_F(HostedAppTest, AForbiddenCallWhileLoadingIsNamedDuringLoad) {
+  EXPECT_VERDICT(RunOnce("socket_on_load"), kForbiddenSyscall, "socket during load");
+}
+
+TEST_F(HostedAppTest, ADescriptorWithoutACallbackIsBadAbi) {
+  EXPECT_VERDICT(RunOnce("null_callback"), kBadAbi, "the descriptor lacks a callback");
+}
+
 TEST_F(HostedAppTest, AWrongAbiIsBadAbi) {
   EXPECT_VERDICT(RunOnce("wrong_abi"), kBadAbi, "built for app ABI 2, this SyROF has 1");
 }
