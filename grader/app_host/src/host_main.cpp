@@ -132,6 +132,17 @@ void SetLimit(int resource, rlim_t value) {
   (void)setrlimit(resource, &limit);  // lowering a limit never needs privilege
 }
 
+// One argument comparison (libseccomp's SCMP_A* macros are C compound
+// literals, which C++ compilers warn about).
+scmp_arg_cmp Arg(unsigned int index, scmp_compare op, scmp_datum_t a, scmp_datum_t b = 0) {
+  scmp_arg_cmp comparison{};
+  comparison.arg = index;
+  comparison.op = op;
+  comparison.datum_a = a;
+  comparison.datum_b = b;
+  return comparison;
+}
+
 // The rules both filters share: what a callback may do. Everything else
 // traps (SIGSYS, reported by name).
 bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
@@ -159,18 +170,18 @@ bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
   }
 #endif
   // Signals: only to itself (abort, raise); never to another process.
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(kill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tgkill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tkill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(kill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) return false;
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tgkill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) return false;
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tkill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) return false;
   // Any handler but SIGSYS's, which reports forbidden calls.
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(rt_sigaction), 1, SCMP_A0(SCMP_CMP_NE, SIGSYS)) != 0) {
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(rt_sigaction), 1, Arg(0, SCMP_CMP_NE, SIGSYS)) != 0) {
     return false;
   }
   // isatty(): stdio asks it.
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(ioctl), 1, SCMP_A1(SCMP_CMP_EQ, TCGETS)) != 0) return false;
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(ioctl), 1, Arg(1, SCMP_CMP_EQ, TCGETS)) != 0) return false;
   // Reading limits is fine; setting them is not.
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(prlimit64), 2, SCMP_A0(SCMP_CMP_EQ, 0),
-                       SCMP_A2(SCMP_CMP_EQ, 0)) != 0) {
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(prlimit64), 2, Arg(0, SCMP_CMP_EQ, 0),
+                       Arg(2, SCMP_CMP_EQ, 0)) != 0) {
     return false;
   }
   return true;
@@ -185,9 +196,9 @@ scmp_filter_ctx LoaderFilter(pid_t self) {
   bool ok = seccomp_attr_set(filter, SCMP_FLTATR_CTL_NNP, 0) == 0 && AddCallbackRules(filter, self);
   const scmp_datum_t write_flags = O_ACCMODE | O_CREAT | O_TRUNC | __O_TMPFILE;
   ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(openat), 1,
-                              SCMP_A2(SCMP_CMP_MASKED_EQ, write_flags, 0)) == 0;
+                              Arg(2, SCMP_CMP_MASKED_EQ, write_flags, 0)) == 0;
   ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(open), 1,
-                              SCMP_A1(SCMP_CMP_MASKED_EQ, write_flags, 0)) == 0;
+                              Arg(1, SCMP_CMP_MASKED_EQ, write_flags, 0)) == 0;
   const int allowed[] = {SCMP_SYS(newfstatat), SCMP_SYS(stat),      SCMP_SYS(lstat),      SCMP_SYS(statx),
                          SCMP_SYS(access),     SCMP_SYS(faccessat), SCMP_SYS(faccessat2), SCMP_SYS(readlink),
                          SCMP_SYS(readlinkat), SCMP_SYS(getcwd),    SCMP_SYS(pread64),    SCMP_SYS(seccomp)};
@@ -195,7 +206,7 @@ scmp_filter_ctx LoaderFilter(pid_t self) {
   // prctl only as libseccomp may use it to load stage 2: a constructor may
   // not undo the parent-death signal or the dumpable flag.
   ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(prctl), 1,
-                              SCMP_A0(SCMP_CMP_EQ, PR_SET_NO_NEW_PRIVS)) == 0;
+                              Arg(0, SCMP_CMP_EQ, PR_SET_NO_NEW_PRIVS)) == 0;
   if (!ok) {
     seccomp_release(filter);
     return nullptr;
