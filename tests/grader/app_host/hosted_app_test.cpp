@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -81,7 +83,11 @@ class HostedAppTest : public ::testing::Test {
       members_[id].x_mm = static_cast<int16_t>(500 * id);
     }
   }
-  void TearDown() override { EXPECT_TRUE(Children().empty()) << "a host outlived its app"; }
+  void TearDown() override {
+    EXPECT_TRUE(Children().empty()) << "a host outlived its app";
+    std::error_code ignored;
+    std::filesystem::remove_all(std::filesystem::path(log_dir_).parent_path(), ignored);
+  }
 
   syrof_ldmap Map(uint16_t self) const { return syrof_ldmap{4, SYROF_MODE_COOPERATIVE, self, 3, members_}; }
 

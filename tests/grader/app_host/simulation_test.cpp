@@ -5,7 +5,9 @@
 #include <dirent.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
+#include <system_error>
 #include <map>
 #include <utility>
 #include <vector>
@@ -56,6 +58,22 @@ Outcome RunWith(const scenario::Scenario& scenario, std::function<std::unique_pt
   return Outcome{report.metrics_json, replay.str()};
 }
 
+// Removes a test's log folder when the test ends.
+class ScopedFolder {
+ public:
+  explicit ScopedFolder(std::string path) : path_(std::move(path)) {}
+  ~ScopedFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  ScopedFolder(const ScopedFolder&) = delete;
+  ScopedFolder& operator=(const ScopedFolder&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
 std::string ReadFile(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   std::ostringstream text;
@@ -72,8 +90,10 @@ HostOptions Options(const std::string& library, const std::string& logs) {
 
 TEST(HostedAppSimulationTest, ALibraryRunsAsTheSameCodeLinkedInAndRerunsIdentically) {
   const scenario::Scenario scenario = Load(6, 8);
-  const std::string logs_a = ::testing::TempDir() + "app_host_sim_a_" + std::to_string(getpid());
-  const std::string logs_b = ::testing::TempDir() + "app_host_sim_b_" + std::to_string(getpid());
+  const ScopedFolder folder_a(::testing::TempDir() + "app_host_sim_a_" + std::to_string(getpid()));
+  const ScopedFolder folder_b(::testing::TempDir() + "app_host_sim_b_" + std::to_string(getpid()));
+  const std::string& logs_a = folder_a.path();
+  const std::string& logs_b = folder_b.path();
   const HostOptions options_a = Options("cooperative", logs_a);
   const HostOptions options_b = Options("cooperative", logs_b);
 
@@ -103,7 +123,8 @@ TEST(HostedAppSimulationTest, ALibraryRunsAsTheSameCodeLinkedInAndRerunsIdentica
 
 TEST(HostedAppSimulationTest, ARobotWhoseLibraryCrashesStopsAndTheOthersGoOn) {
   const scenario::Scenario scenario = Load(4, 10);
-  const std::string logs = ::testing::TempDir() + "app_host_sim_crash_" + std::to_string(getpid());
+  const ScopedFolder folder(::testing::TempDir() + "app_host_sim_crash_" + std::to_string(getpid()));
+  const std::string& logs = folder.path();
   const HostOptions options = Options("robot2_crashes", logs);
   std::ostringstream replay;
   sim::SimulationOptions sim_options;
@@ -131,7 +152,8 @@ TEST(HostedAppSimulationTest, ARobotWhoseLibraryCrashesStopsAndTheOthersGoOn) {
 // fault stays in its robot, with its verdict, and robot 0 runs on.
 TEST(HostedAppSimulationTest, EachHostileRobotFaultsAloneAndTheWellBehavedOneRunsOn) {
   const scenario::Scenario scenario = Load(7, 6);
-  const std::string logs = ::testing::TempDir() + "app_host_sim_mixed_" + std::to_string(getpid());
+  const ScopedFolder folder(::testing::TempDir() + "app_host_sim_mixed_" + std::to_string(getpid()));
+  const std::string& logs = folder.path();
   const std::vector<std::pair<std::string, std::string>> plan = {
       {"cooperative", ""},      {"segfault", "crashed"},          {"infinite_loop", "timeout"},
       {"flood_output", "output_limit"}, {"kill_parent", "forbidden_syscall"}, {"allocate_gigabytes", "memory"},
