@@ -67,10 +67,14 @@ LibraryCheck CheckLibrary(const HostOptions& options);
 /// layer of the hardening applied. Filled by CheckLibrary's host.
 std::vector<std::string> SandboxNotes();
 
-/// Robot `robot_id`'s app: a host process started now (fork + exec,
-/// hardened, library loaded); its callbacks go to that process. The process
-/// ends when the app is destroyed. A host that fails to start gives an app
-/// whose Init reports the fault (load_failed, bad_abi, crashed, ...).
+/// Robot `robot_id`'s app: a host process spawned now (posix_spawn + exec),
+/// which hardens itself and loads the library while the caller goes on, so
+/// a swarm's hosts load side by side; the first callback (or name()) waits
+/// for it to be ready. Its callbacks go to that process, which is killed
+/// and reaped when the app is destroyed. A host that fails to start gives
+/// an app whose Init reports the fault (load_failed, bad_abi, crashed, ...).
+/// Spawn from a thread that outlives the app: the host's parent-death
+/// signal follows the spawning thread. docs/app_host.md has the details.
 std::unique_ptr<app::App> MakeHostedApp(const HostOptions& options, uint16_t robot_id);
 
 }  // namespace syrof::app_host
