@@ -74,4 +74,6 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${PROJECT_BINARY_DIR}/lib)
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "cmake (>= 3.16), gcc, g++, pkg-config")
 set(CPACK_OUTPUT_FILE_PREFIX ${PROJECT_BINARY_DIR})
+# Debug information stays in the build tree: the package is for running.
+set(CPACK_STRIP_FILES ON)
 include(CPack)
