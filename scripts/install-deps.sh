@@ -10,6 +10,8 @@ packages=(
   # design dependencies
   libeigen3-dev libcgal-dev cyclonedds-dev cyclonedds-tools libgtest-dev libgmock-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev
+  # the app host's system call filter (grader/app_host)
+  libseccomp-dev
   # fuzzing and sanitizers with clang
   clang libclang-rt-14-dev
   # Teensy 3.2 cross toolchain and the emulated Cortex-M4

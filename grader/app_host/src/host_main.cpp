@@ -1,0 +1,417 @@
+// syrof-app-host: runs one robot's app library in a hardened process
+// (docs/app_host.md). Started by HostedApp (host_process.cpp) with
+//   syrof-app-host run|check LIBRARY PARENT_PID ADDRESS_SPACE_BYTES
+// and descriptors 0 /dev/null, 1 and 2 the output pipe, 3 the channel
+// (protocol.h). It hardens itself, loads the library, sends a hello frame,
+// then answers one request per callback until the channel closes. `check`
+// stops after the hello (CheckLibrary).
+//
+// Whatever the app does wrong ends this process; what the host can name it
+// names first in a fault frame (a forbidden system call, a refused
+// allocation, a library that does not load); the parent reads signals and
+// exits from the process itself.
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <grp.h>
+#include <linux/capability.h>
+#include <linux/close_range.h>
+#include <sched.h>
+#include <seccomp.h>
+#include <signal.h>
+#include <sys/ioctl.h>
+#include <sys/personality.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "allocation_guard.h"
+#include "platform_binding.h"
+#include "protocol.h"
+#include "syrof/app/call_status.h"
+
+namespace syrof::app_host {
+namespace {
+
+namespace p = protocol;
+using app::Verdict;
+
+constexpr uid_t kNobody = 65534;
+constexpr gid_t kNogroup = 65534;
+constexpr int kMaxSyscall = 512;
+
+// Names of system calls by number, resolved before any filter is loaded so
+// the SIGSYS handler only indexes an array.
+const char* syscall_names[kMaxSyscall];
+
+uint32_t current_sequence = 0;
+p::Reply reply;        // the reply being built for the current call
+p::Reply fault_reply;  // written by the fault paths only
+
+// Copies `text` into `out` (size bytes, NUL-terminated); signal-safe.
+void CopyText(char* out, size_t size, const char* text) {
+  size_t i = 0;
+  for (; text != nullptr && text[i] != '\0' && i + 1 < size; ++i) out[i] = text[i];
+  out[i] = '\0';
+}
+
+// Appends the decimal `value` to the NUL-terminated `out`; signal-safe.
+void AppendNumber(char* out, size_t size, uint64_t value) {
+  char digits[24];
+  size_t count = 0;
+  do {
+    digits[count++] = static_cast<char>('0' + value % 10);
+    value /= 10;
+  } while (value != 0);
+  size_t length = strlen(out);
+  while (count > 0 && length + 1 < size) out[length++] = digits[--count];
+  out[length] = '\0';
+}
+
+void WriteAll(int fd, const void* data, size_t size) {
+  const char* bytes = static_cast<const char*>(data);
+  while (size > 0) {
+    const ssize_t written = write(fd, bytes, size);
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) _exit(p::kExitParentGone);
+    bytes += written;
+    size -= static_cast<size_t>(written);
+  }
+}
+
+// Reports a fault and ends the process; signal-safe.
+[[noreturn]] void ReportFault(Verdict verdict, const char* detail) {
+  fault_reply = p::Reply{};
+  fault_reply.sequence = current_sequence;
+  fault_reply.kind = static_cast<uint8_t>(p::ReplyKind::kFault);
+  fault_reply.verdict = static_cast<uint8_t>(verdict);
+  CopyText(fault_reply.text, sizeof(fault_reply.text), detail);
+  WriteAll(p::kChannelFd, &fault_reply, sizeof(fault_reply));
+  _exit(p::kExitFaultReported);
+}
+
+void OnSigsys(int, siginfo_t* info, void*) {
+  char detail[p::kTextBytes];
+  const int number = info->si_syscall;
+  if (number >= 0 && number < kMaxSyscall && syscall_names[number] != nullptr) {
+    CopyText(detail, sizeof(detail), syscall_names[number]);
+  } else {
+    CopyText(detail, sizeof(detail), "syscall ");
+    AppendNumber(detail, sizeof(detail), static_cast<uint64_t>(number < 0 ? 0 : number));
+  }
+  ReportFault(Verdict::kForbiddenSyscall, detail);
+}
+
+void OnAllocationRefused(size_t size) {
+  char detail[p::kTextBytes];
+  CopyText(detail, sizeof(detail), "allocation of ");
+  AppendNumber(detail, sizeof(detail), size);
+  const size_t length = strlen(detail);
+  CopyText(detail + length, sizeof(detail) - length, " bytes refused");
+  ReportFault(Verdict::kMemory, detail);
+}
+
+[[noreturn]] void Fail(Verdict verdict, const char* what, const char* why) {
+  char detail[p::kTextBytes];
+  CopyText(detail, sizeof(detail), what);
+  if (why != nullptr) {
+    const size_t length = strlen(detail);
+    CopyText(detail + length, sizeof(detail) - length, why);
+  }
+  ReportFault(verdict, detail);
+}
+
+void SetLimit(int resource, rlim_t value) {
+  const rlimit limit{value, value};
+  (void)setrlimit(resource, &limit);  // lowering a limit never needs privilege
+}
+
+// The rules both filters share: what a callback may do. Everything else
+// traps (SIGSYS, reported by name).
+bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
+  const auto self = static_cast<scmp_datum_t>(self_pid);
+  const int allowed[] = {
+      SCMP_SYS(read),          SCMP_SYS(write),         SCMP_SYS(readv),           SCMP_SYS(writev),
+      SCMP_SYS(close),         SCMP_SYS(fstat),         SCMP_SYS(lseek),           SCMP_SYS(brk),
+      SCMP_SYS(mmap),          SCMP_SYS(munmap),        SCMP_SYS(mremap),          SCMP_SYS(mprotect),
+      SCMP_SYS(madvise),       SCMP_SYS(futex),         SCMP_SYS(clock_gettime),   SCMP_SYS(clock_getres),
+      SCMP_SYS(gettimeofday),  SCMP_SYS(time),          SCMP_SYS(nanosleep),       SCMP_SYS(clock_nanosleep),
+      SCMP_SYS(sched_yield),   SCMP_SYS(getpid),        SCMP_SYS(gettid),          SCMP_SYS(getppid),
+      SCMP_SYS(getuid),        SCMP_SYS(geteuid),       SCMP_SYS(getgid),          SCMP_SYS(getegid),
+      SCMP_SYS(getrandom),     SCMP_SYS(uname),         SCMP_SYS(rt_sigprocmask),  SCMP_SYS(rt_sigreturn),
+      SCMP_SYS(sigaltstack),   SCMP_SYS(exit),          SCMP_SYS(exit_group),      SCMP_SYS(fcntl),
+      SCMP_SYS(getrlimit),     SCMP_SYS(restart_syscall),
+  };
+  for (const int number : allowed) {
+    if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, number, 0) != 0) return false;
+  }
+  // Signals: only to itself (abort, raise); never to another process.
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(kill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tgkill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tkill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
+  // Any handler but SIGSYS's, which reports forbidden calls.
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(rt_sigaction), 1, SCMP_A0(SCMP_CMP_NE, SIGSYS)) != 0) {
+    return false;
+  }
+  // isatty(): stdio asks it.
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(ioctl), 1, SCMP_A1(SCMP_CMP_EQ, TCGETS)) != 0) return false;
+  // Reading limits is fine; setting them is not.
+  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(prlimit64), 2, SCMP_A0(SCMP_CMP_EQ, 0),
+                       SCMP_A2(SCMP_CMP_EQ, 0)) != 0) {
+    return false;
+  }
+  return true;
+}
+
+// Stage 1, for the dynamic loader and the library's constructors: the
+// callback rules plus opening files read-only, the stat family, and what
+// loading stage 2 needs (prctl, seccomp).
+scmp_filter_ctx LoaderFilter(pid_t self) {
+  scmp_filter_ctx filter = seccomp_init(SCMP_ACT_TRAP);
+  if (filter == nullptr) return nullptr;
+  bool ok = seccomp_attr_set(filter, SCMP_FLTATR_CTL_NNP, 0) == 0 && AddCallbackRules(filter, self);
+  const scmp_datum_t write_flags = O_ACCMODE | O_CREAT | O_TRUNC | __O_TMPFILE;
+  ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(openat), 1,
+                              SCMP_A2(SCMP_CMP_MASKED_EQ, write_flags, 0)) == 0;
+  ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(open), 1,
+                              SCMP_A1(SCMP_CMP_MASKED_EQ, write_flags, 0)) == 0;
+  const int allowed[] = {SCMP_SYS(newfstatat), SCMP_SYS(stat),      SCMP_SYS(lstat),      SCMP_SYS(statx),
+                         SCMP_SYS(access),     SCMP_SYS(faccessat), SCMP_SYS(faccessat2), SCMP_SYS(readlink),
+                         SCMP_SYS(readlinkat), SCMP_SYS(getcwd),    SCMP_SYS(pread64),    SCMP_SYS(prctl),
+                         SCMP_SYS(seccomp)};
+  for (const int number : allowed) ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, number, 0) == 0;
+  if (!ok) {
+    seccomp_release(filter);
+    return nullptr;
+  }
+  return filter;
+}
+
+// Stage 2, for the callbacks: nothing that opens, creates, connects, forks,
+// executes, signals another process or traces.
+scmp_filter_ctx CallbackFilter(pid_t self) {
+  scmp_filter_ctx filter = seccomp_init(SCMP_ACT_TRAP);
+  if (filter == nullptr) return nullptr;
+  if (seccomp_attr_set(filter, SCMP_FLTATR_CTL_NNP, 0) != 0 || !AddCallbackRules(filter, self)) {
+    seccomp_release(filter);
+    return nullptr;
+  }
+  return filter;
+}
+
+// The payload sink of the platform binding: records each call for the reply
+// (flushing a full batch), and answers as the robot does.
+int RecordPayload(void*, const uint8_t* payload, size_t length) {
+  if (reply.call_count == p::kCallsPerReply) {
+    reply.kind = static_cast<uint8_t>(p::ReplyKind::kBatch);
+    WriteAll(p::kChannelFd, &reply, sizeof(reply));
+    reply.call_count = 0;
+    for (p::PayloadCall& call : reply.calls) call = p::PayloadCall{};
+  }
+  p::PayloadCall& call = reply.calls[reply.call_count++];
+  ++reply.calls_total;
+  call.length = length > UINT32_MAX ? UINT32_MAX : static_cast<uint32_t>(length);
+  if (length > SYROF_APP_MAX_PAYLOAD_BYTES) return SYROF_APP_PAYLOAD_TOO_LONG;
+  if (length > 0) memcpy(call.bytes, payload, length);
+  return SYROF_APP_OK;
+}
+
+alignas(8) unsigned char request_buffer[p::kMaxRequestBytes];
+
+[[noreturn]] void Serve() {
+  for (;;) {
+    ssize_t got;
+    do {
+      got = read(p::kChannelFd, request_buffer, sizeof(request_buffer));
+    } while (got < 0 && errno == EINTR);
+    if (got <= 0) _exit(0);  // the parent closed the channel: the robot is done
+    p::RequestHeader header;
+    if (static_cast<size_t>(got) < sizeof(header)) _exit(p::kExitUsage);
+    memcpy(&header, request_buffer, sizeof(header));
+    const size_t members_bytes = static_cast<size_t>(got) - sizeof(header);
+    if (header.magic != p::kRequestMagic || header.member_count > p::kMaxMembers ||
+        members_bytes != header.member_count * sizeof(syrof_member_state)) {
+      _exit(p::kExitUsage);
+    }
+    current_sequence = header.sequence;
+    reply = p::Reply{};
+    reply.sequence = header.sequence;
+    const syrof_ldmap ldmap{header.epoch, header.mode, header.self_id, header.member_count,
+                            reinterpret_cast<const syrof_member_state*>(request_buffer + sizeof(header))};
+    switch (static_cast<p::RequestKind>(header.kind)) {
+      case p::RequestKind::kInit:
+        reply.global_state = syrof_internal_host_init(&header.info);
+        break;
+      case p::RequestKind::kNewRound: {
+        syrof_car_command command{};
+        command.kind = SYROF_COMMAND_STOP;
+        reply.global_state =
+            syrof_internal_host_new_round(&command, &ldmap, header.global_state, header.clock_ms);
+        reply.command = command;
+        break;
+      }
+      case p::RequestKind::kEndOfRound:
+        reply.global_state = syrof_internal_host_end_of_round(&ldmap, header.global_state, header.clock_ms);
+        break;
+      default:
+        _exit(p::kExitUsage);
+    }
+    // What the app printed is in the pipe before the reply is on the
+    // channel: stdio's buffers are flushed first, so the parent's log is
+    // complete (and the same on every run) when it sees the reply.
+    fflush(stdout);
+    fflush(stderr);
+    reply.kind = static_cast<uint8_t>(p::ReplyKind::kDone);
+    WriteAll(p::kChannelFd, &reply, sizeof(reply));
+  }
+}
+
+}  // namespace
+}  // namespace syrof::app_host
+
+int main(int argc, char** argv) {
+  using namespace syrof::app_host;
+  namespace p = protocol;
+  if (argc != 5) {
+    fprintf(stderr, "usage: syrof-app-host run|check LIBRARY PARENT_PID ADDRESS_SPACE_BYTES\n"
+                    "(started by SyROF; not meant to be run by hand)\n");
+    return p::kExitUsage;
+  }
+  const bool check_only = strcmp(argv[1], "check") == 0;
+  const char* library = argv[2];
+  const pid_t parent = static_cast<pid_t>(strtol(argv[3], nullptr, 10));
+  const unsigned long long address_space = strtoull(argv[4], nullptr, 10);
+  uint32_t notes = 0;
+
+  // Addresses the same on every run, so even an app that hashes pointers is
+  // repeatable: the personality takes effect at exec, hence the one re-exec.
+  const int persona = personality(0xffffffff);
+  if (persona != -1 && (persona & ADDR_NO_RANDOMIZE) == 0 && getenv("SYROF_APP_HOST_REEXECED") == nullptr) {
+    if (personality(static_cast<unsigned long>(persona | ADDR_NO_RANDOMIZE)) != -1) {
+      setenv("SYROF_APP_HOST_REEXECED", "1", 1);
+      execv("/proc/self/exe", argv);
+    }
+  }
+  if ((personality(0xffffffff) & ADDR_NO_RANDOMIZE) == 0) notes |= p::kNoteNoAslrOff;
+
+  // 1. Die with the parent (and make sure it has not died already).
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() != parent) _exit(p::kExitParentGone);
+
+  // 2. Every descriptor but 0-3 closed.
+  if (syscall(SYS_close_range, 4u, ~0u, 0u) != 0) {
+    notes |= p::kNoteNoCloseRange;
+    for (int fd = 4; fd < 1024; ++fd) close(fd);
+  }
+
+  // 3. Limits: no core files, no files written, few descriptors, bounded memory.
+  SetLimit(RLIMIT_CORE, 0);
+  SetLimit(RLIMIT_FSIZE, 0);
+  SetLimit(RLIMIT_NOFILE, 16);
+#if defined(SYROF_APP_HOST_SANITIZED)
+  (void)address_space;
+  notes |= p::kNoteSanitized;
+#else
+  SetLimit(RLIMIT_AS, static_cast<rlim_t>(address_space));
+#endif
+  SetAllocationRefusedHandler(OnAllocationRefused);
+  // stdio's own buffer for stdout: glibc would allocate one at the first
+  // printf, after asking fstat about the descriptor, which the callback
+  // filter refuses. (stderr is unbuffered and asks nothing.)
+  static char stdout_buffer[4096];
+  setvbuf(stdout, stdout_buffer, _IOFBF, sizeof(stdout_buffer));
+
+  // 4. The library is opened while the host may still read where it lies
+  //    (a 0700 folder of the caller's); it is loaded later through
+  //    /proc/self/fd, after the uid is dropped.
+  const int library_fd = open(library, O_RDONLY | O_CLOEXEC);
+  if (library_fd < 0) Fail(syrof::app::Verdict::kLoadFailed, "cannot open the library: ", strerror(errno));
+
+  // 5. An unprivileged uid when started as root; no process may then be
+  //    started under it (RLIMIT_NPROC 0: the host never forks).
+  if (geteuid() == 0) {
+    if (setgroups(0, nullptr) != 0 || setgid(kNogroup) != 0 || setuid(kNobody) != 0) {
+      Fail(syrof::app::Verdict::kLoadFailed, "cannot drop to uid 65534: ", strerror(errno));
+    }
+  } else {
+    notes |= p::kNoteNotRoot;
+  }
+  SetLimit(RLIMIT_NPROC, 0);
+  prctl(PR_SET_DUMPABLE, 1);  // keeps /proc/self/fd/N readable after the uid change
+
+  // 6. Namespaces: no network, no IPC, its own hostname, no uid outside.
+  if (unshare(CLONE_NEWUSER | CLONE_NEWNET | CLONE_NEWIPC | CLONE_NEWUTS) != 0) notes |= p::kNoteNoNamespaces;
+  // A new user namespace gives its first process every capability inside
+  // it; the host needs none of them.
+  __user_cap_header_struct cap_header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct no_caps[2] = {};
+  (void)syscall(SYS_capset, &cap_header, no_caps);
+
+  // 7. No new privileges, and the system call filters. The names of the
+  //    calls are resolved first (the SIGSYS handler cannot allocate).
+  for (int number = 0; number < kMaxSyscall; ++number) {
+    syscall_names[number] = seccomp_syscall_resolve_num_arch(SCMP_ARCH_NATIVE, number);
+  }
+  struct sigaction action {};
+  action.sa_sigaction = OnSigsys;
+  action.sa_flags = SA_SIGINFO | SA_RESETHAND | SA_NODEFER;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGSYS, &action, nullptr);
+  if (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0) {
+    Fail(syrof::app::Verdict::kLoadFailed, "no_new_privs refused: ", strerror(errno));
+  }
+  const pid_t self = getpid();
+  scmp_filter_ctx loader = LoaderFilter(self);
+  scmp_filter_ctx callbacks = CallbackFilter(self);
+  if (loader == nullptr || callbacks == nullptr || seccomp_load(loader) != 0) {
+    Fail(syrof::app::Verdict::kLoadFailed, "cannot install the system call filter", nullptr);
+  }
+  seccomp_release(loader);
+
+  // 8. Load, find the entry, check the ABI.
+  char proc_path[64];
+  CopyText(proc_path, sizeof(proc_path), "/proc/self/fd/");
+  AppendNumber(proc_path, sizeof(proc_path), static_cast<uint64_t>(library_fd));
+  void* handle = dlopen(proc_path, RTLD_NOW | RTLD_LOCAL);
+  if (handle == nullptr) Fail(syrof::app::Verdict::kLoadFailed, "cannot load: ", dlerror());
+  close(library_fd);
+  dlerror();
+  void* entry_symbol = dlsym(handle, SYROF_APP_ENTRY_SYMBOL);
+  if (entry_symbol == nullptr) Fail(syrof::app::Verdict::kLoadFailed, "no symbol " SYROF_APP_ENTRY_SYMBOL, nullptr);
+  const syrof_app_entry_fn entry = reinterpret_cast<syrof_app_entry_fn>(entry_symbol);
+  const syrof_app_descriptor* descriptor = entry();
+  if (descriptor != nullptr && descriptor->abi_version != SYROF_APP_ABI_VERSION) {
+    char detail[p::kTextBytes];
+    CopyText(detail, sizeof(detail), "built for app ABI ");
+    AppendNumber(detail, sizeof(detail), descriptor->abi_version);
+    size_t length = strlen(detail);
+    CopyText(detail + length, sizeof(detail) - length, ", this SyROF has ");
+    AppendNumber(detail, sizeof(detail), SYROF_APP_ABI_VERSION);
+    ReportFault(syrof::app::Verdict::kBadAbi, detail);
+  }
+  const int bound = syrof_internal_host_bind(descriptor, RecordPayload, nullptr);
+  if (bound == 1) Fail(syrof::app::Verdict::kBadAbi, SYROF_APP_ENTRY_SYMBOL "() returned no descriptor", nullptr);
+  if (bound != 0) Fail(syrof::app::Verdict::kBadAbi, "the descriptor lacks a callback", nullptr);
+
+  // 9. The callbacks' filter: from here on nothing is opened.
+  if (seccomp_load(callbacks) != 0) {
+    Fail(syrof::app::Verdict::kLoadFailed, "cannot install the callback filter", nullptr);
+  }
+  seccomp_release(callbacks);
+
+  fflush(stdout);
+  fflush(stderr);
+  p::Reply hello;
+  hello.kind = static_cast<uint8_t>(p::ReplyKind::kHello);
+  hello.notes = notes;
+  CopyText(hello.text, sizeof(hello.text), descriptor->name != nullptr ? descriptor->name : "c_app");
+  WriteAll(p::kChannelFd, &hello, sizeof(hello));
+  if (check_only) _exit(0);
+  Serve();
+}

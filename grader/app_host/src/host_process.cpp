@@ -1,0 +1,393 @@
+#include "host_process.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <string>
+
+namespace syrof::app_host {
+namespace {
+
+namespace p = protocol;
+using app::CallStatus;
+using app::Verdict;
+
+int64_t Nanoseconds(clockid_t clock) {
+  timespec now{};
+  if (clock_gettime(clock, &now) != 0) return -1;
+  return int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
+}
+
+// `fd` moved to a number above 9, close-on-exec, so spawning can dup2 it to
+// 0-3 without a descriptor being its own target.
+int Lift(int fd) {
+  if (fd < 0 || fd > 9) return fd;
+  const int lifted = fcntl(fd, F_DUPFD_CLOEXEC, 10);
+  close(fd);
+  return lifted;
+}
+
+void CloseFd(int& fd) {
+  if (fd >= 0) close(fd);
+  fd = -1;
+}
+
+std::string SignalName(int signal) {
+  const char* abbreviation = sigabbrev_np(signal);
+  return abbreviation != nullptr ? std::string("SIG") + abbreviation : "signal " + std::to_string(signal);
+}
+
+void WriteAll(int fd, const char* data, size_t size) {
+  while (size > 0) {
+    const ssize_t written = write(fd, data, size);
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) return;  // a full disk loses log bytes, not the run
+    data += written;
+    size -= static_cast<size_t>(written);
+  }
+}
+
+}  // namespace
+
+HostProcess::~HostProcess() {
+  KillAndReap();
+  FinishLog();
+}
+
+void HostProcess::SetFault(Verdict verdict, const std::string& detail) {
+  if (faulted_) return;
+  faulted_ = true;
+  fault_ = CallStatus::Fault(verdict, detail.c_str());
+  full_detail_ = detail;
+}
+
+void HostProcess::KillAndReap() {
+  if (pid_ > 0) {
+    kill(pid_, SIGKILL);
+    siginfo_t info{};
+    while (waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED) != 0 && errno == EINTR) {
+    }
+    pid_ = -1;
+  }
+  // Whatever was still in the pipe belongs in the log.
+  if (output_ >= 0) (void)DrainOutput();
+  CloseFd(output_);
+  CloseFd(channel_);
+  CloseFd(pidfd_);
+}
+
+void HostProcess::FinishLog() {
+  if (log_fd_ < 0) return;
+  if (output_bytes_ > log_written_) {
+    const std::string line = "\n[syrof] " + std::to_string(output_bytes_ - log_written_) +
+                             " more bytes were written and not kept (log_keep_bytes " +
+                             std::to_string(limits_.log_keep_bytes) + ")\n";
+    WriteAll(log_fd_, line.data(), line.size());
+  }
+  CloseFd(log_fd_);
+}
+
+bool HostProcess::DrainOutput() {
+  char buffer[65536];
+  for (;;) {
+    const ssize_t got = read(output_, buffer, sizeof(buffer));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) return output_bytes_ <= limits_.output_limit_bytes;
+    const uint64_t size = static_cast<uint64_t>(got);
+    if (log_fd_ >= 0 && log_written_ < limits_.log_keep_bytes) {
+      const uint64_t keep = std::min(size, limits_.log_keep_bytes - log_written_);
+      WriteAll(log_fd_, buffer, keep);
+      log_written_ += keep;
+    }
+    output_bytes_ += size;
+    if (output_bytes_ > limits_.output_limit_bytes) return false;
+  }
+}
+
+CallStatus HostProcess::Start(const HostOptions& options, uint16_t robot_id, Mode mode) {
+  limits_ = options.limits;
+  library_path_ = options.library_path;
+  const std::string host = options.host_binary.empty() ? FindHostBinary() : options.host_binary;
+  if (host.empty()) {
+    SetFault(Verdict::kLoadFailed, "syrof-app-host not found (set SYROF_APP_HOST)");
+    return fault_;
+  }
+  if (!options.log_directory.empty()) {
+    mkdir(options.log_directory.c_str(), 0755);  // exists already: fine; else the open says why
+    const std::string log_path = options.log_directory + "/" + std::to_string(robot_id) + ".log";
+    log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  }
+
+  int channel[2] = {-1, -1};
+  int output[2] = {-1, -1};
+  if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) != 0 || pipe2(output, O_CLOEXEC) != 0) {
+    SetFault(Verdict::kLoadFailed, std::string("cannot create the host's channel: ") + strerror(errno));
+    CloseFd(channel[0]);
+    CloseFd(channel[1]);
+    return fault_;
+  }
+  channel_ = Lift(channel[0]);
+  int child_channel = Lift(channel[1]);
+  output_ = Lift(output[0]);
+  int child_output = Lift(output[1]);
+  fcntl(output_, F_SETFL, O_NONBLOCK);
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, child_output, 1);
+  posix_spawn_file_actions_adddup2(&actions, child_output, 2);
+  posix_spawn_file_actions_adddup2(&actions, child_channel, p::kChannelFd);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  sigset_t none;
+  sigemptyset(&none);
+  sigset_t all;
+  sigfillset(&all);
+  posix_spawnattr_setsigmask(&attributes, &none);
+  posix_spawnattr_setsigdefault(&attributes, &all);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+
+  const std::string parent = std::to_string(getpid());
+  const std::string address_space = std::to_string(limits_.address_space_bytes);
+  const char* arguments[] = {host.c_str(), mode == Mode::kCheck ? "check" : "run", options.library_path.c_str(),
+                             parent.c_str(), address_space.c_str(), nullptr};
+  // A fixed, minimal environment: the app sees the same on every run.
+  const char* environment[] = {"PATH=/usr/bin:/bin", "LC_ALL=C", nullptr};
+  pid_t pid = -1;
+  const int spawned = posix_spawn(&pid, host.c_str(), &actions, &attributes, const_cast<char* const*>(arguments),
+                                  const_cast<char* const*>(environment));
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
+  CloseFd(child_channel);
+  CloseFd(child_output);
+  if (spawned != 0) {
+    SetFault(Verdict::kLoadFailed, "cannot start " + host + ": " + strerror(spawned));
+    KillAndReap();
+    return fault_;
+  }
+  pid_ = pid;
+  pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));  // -1 on old kernels: the channel's hang-up says it too
+  have_cpu_clock_ = clock_getcpuclockid(pid_, &cpu_clock_) == 0;
+
+  p::Reply hello;
+  if (WaitForReply(hello, /*load=*/true) == Wait::kFault) return fault_;
+  if (hello.kind != static_cast<uint8_t>(p::ReplyKind::kHello)) {
+    SetFault(Verdict::kBadAbi, "the host's first reply is not its hello");
+    KillAndReap();
+    return fault_;
+  }
+  hello.text[sizeof(hello.text) - 1] = '\0';
+  app_name_ = hello.text;
+  notes_ = hello.notes;
+  return CallStatus::Ok();
+}
+
+bool HostProcess::TryReceive(p::Reply& reply, bool& malformed) {
+  malformed = false;
+  p::Reply buffer;
+  ssize_t got;
+  do {
+    got = recv(channel_, &buffer, sizeof(buffer), MSG_DONTWAIT | MSG_TRUNC);
+  } while (got < 0 && errno == EINTR);
+  if (got < 0) return false;  // nothing pending
+  if (got == 0) return false; // the host closed its end (it is ending)
+  if (static_cast<size_t>(got) != sizeof(buffer) || buffer.magic != p::kReplyMagic ||
+      buffer.protocol_version != p::kProtocolVersion || buffer.call_count > p::kCallsPerReply ||
+      buffer.kind < static_cast<uint8_t>(p::ReplyKind::kHello) ||
+      buffer.kind > static_cast<uint8_t>(p::ReplyKind::kFault)) {
+    malformed = true;
+    return true;
+  }
+  buffer.text[sizeof(buffer.text) - 1] = '\0';
+  reply = buffer;
+  return true;
+}
+
+void HostProcess::FaultFromExit(bool load) {
+  // The channel hangs up as the host's descriptors close, a moment before
+  // the process is a zombie; a host that closed the channel itself and goes
+  // on is stopped after a short grace.
+  siginfo_t info{};
+  bool killed = false;
+  for (int attempt = 0;; ++attempt) {
+    info = siginfo_t{};
+    const int waited = waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG);
+    if (waited != 0 && errno == EINTR) continue;
+    if (waited != 0) {
+      pid_ = -1;
+      SetFault(Verdict::kCrashed, std::string("the host vanished") + (load ? " during load" : ""));
+      return;
+    }
+    if (info.si_pid != 0) break;
+    if (attempt == 200) {
+      kill(pid_, SIGKILL);
+      killed = true;
+    }
+    if (killed) {
+      waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED);
+      break;
+    }
+    const timespec pause{0, 1'000'000};
+    nanosleep(&pause, nullptr);
+  }
+  pid_ = -1;
+  const std::string when = load ? " during load" : "";
+  if (killed) {
+    SetFault(Verdict::kBadAbi, "the host closed its channel" + when);
+  } else if (info.si_code == CLD_EXITED) {
+    if (info.si_status == p::kExitParentGone) {
+      SetFault(Verdict::kExited, "the host lost its channel" + when);
+    } else {
+      SetFault(Verdict::kExited, "exit status " + std::to_string(info.si_status) + when);
+    }
+  } else if (info.si_status == SIGSYS) {
+    // Killed by the filter itself (the app blocked SIGSYS): not named.
+    SetFault(Verdict::kForbiddenSyscall, "a forbidden system call (SIGSYS)" + when);
+  } else {
+    SetFault(Verdict::kCrashed, SignalName(info.si_status) + when);
+  }
+}
+
+HostProcess::Wait HostProcess::WaitForReply(p::Reply& reply, bool load) {
+  const int64_t wall_start = Nanoseconds(CLOCK_MONOTONIC);
+  const int64_t cpu_start = have_cpu_clock_ ? Nanoseconds(cpu_clock_) : -1;
+  const int64_t wall_cap = int64_t{load ? limits_.load_wall_cap_ms : limits_.wall_cap_ms} * 1'000'000;
+  const int64_t cpu_budget = int64_t{limits_.cpu_budget_ms} * 1'000'000;
+  bool child_ended = false;
+  for (;;) {
+    bool malformed = false;
+    if (TryReceive(reply, malformed)) {
+      if (!DrainOutput()) {
+        SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
+        KillAndReap();
+        return Wait::kFault;
+      }
+      if (malformed) {
+        SetFault(Verdict::kBadAbi, "a malformed reply from the host");
+        KillAndReap();
+        return Wait::kFault;
+      }
+      if (reply.kind == static_cast<uint8_t>(p::ReplyKind::kFault)) {
+        const auto verdict = static_cast<Verdict>(reply.verdict);
+        const bool known = reply.verdict > static_cast<uint8_t>(Verdict::kAppError) &&
+                           reply.verdict <= static_cast<uint8_t>(app::kLastVerdict);
+        std::string detail = reply.text;
+        // dlerror() names the descriptor the host loaded through; say the file.
+        const size_t proc = detail.find("/proc/self/fd/");
+        if (proc != std::string::npos) {
+          size_t end = proc + 14;
+          while (end < detail.size() && detail[end] >= '0' && detail[end] <= '9') ++end;
+          detail.replace(proc, end - proc, library_path_);
+        }
+        if (load && reply.verdict == static_cast<uint8_t>(Verdict::kForbiddenSyscall)) detail += " during load";
+        if (load && reply.verdict == static_cast<uint8_t>(Verdict::kMemory)) detail += " during load";
+        SetFault(known ? verdict : Verdict::kBadAbi, known ? detail : "a fault reply with an unknown verdict");
+        KillAndReap();
+        return Wait::kFault;
+      }
+      return Wait::kMessage;
+    }
+    if (child_ended) {
+      if (!DrainOutput()) {
+        SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
+      }
+      FaultFromExit(load);
+      KillAndReap();
+      return Wait::kFault;
+    }
+
+    const int64_t wall_used = Nanoseconds(CLOCK_MONOTONIC) - wall_start;
+    const int64_t cpu_used = cpu_start >= 0 ? Nanoseconds(cpu_clock_) - cpu_start : 0;
+    if (!load && cpu_start >= 0 && cpu_used > cpu_budget) {
+      KillAndReap();
+      SetFault(Verdict::kTimeout, "CPU time over " + std::to_string(limits_.cpu_budget_ms) + " ms (" +
+                                      std::to_string(cpu_used / 1'000'000) + " ms)");
+      return Wait::kFault;
+    }
+    if (wall_used > wall_cap) {
+      KillAndReap();
+      SetFault(Verdict::kTimeout, "wall time over " + std::to_string(wall_cap / 1'000'000) + " ms" +
+                                      (load ? " during load" : ""));
+      return Wait::kFault;
+    }
+    // The CPU clock cannot run faster than the wall clock (one thread), so
+    // waking when either could first be over is enough.
+    int64_t wait_ns = wall_cap - wall_used;
+    if (!load && cpu_start >= 0) wait_ns = std::min(wait_ns, cpu_budget - cpu_used);
+    wait_ns = std::max<int64_t>(wait_ns, 0) + 1'000'000;  // past the cap, not just before it
+    const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
+
+    pollfd fds[3] = {{channel_, POLLIN, 0}, {output_open_ ? output_ : -1, POLLIN, 0}, {pidfd_, POLLIN, 0}};
+    const int ready = ppoll(fds, pidfd_ >= 0 ? 3 : 2, &timeout, nullptr);
+    if (ready < 0 && errno != EINTR) {
+      KillAndReap();
+      SetFault(Verdict::kCrashed, std::string("cannot wait for the host: ") + strerror(errno));
+      return Wait::kFault;
+    }
+    if (ready <= 0) continue;
+    if ((fds[1].revents & POLLIN) != 0 && !DrainOutput()) {
+      KillAndReap();
+      SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
+      return Wait::kFault;
+    }
+    // Both output descriptors closed (by the app, or because the host is
+    // ending): nothing more comes; the pidfd or the channel says the rest.
+    if ((fds[1].revents & (POLLHUP | POLLERR)) != 0 && (fds[1].revents & POLLIN) == 0) output_open_ = false;
+    if ((fds[2].revents & POLLIN) != 0 || (fds[0].revents & (POLLHUP | POLLERR)) != 0) child_ended = true;
+  }
+}
+
+CallStatus HostProcess::Call(const void* request, size_t size, uint32_t sequence,
+                             const std::function<void(const p::PayloadCall&)>& on_call, p::Reply& done) {
+  if (faulted_) return fault_;
+  if (!DrainOutput()) {
+    KillAndReap();
+    SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
+    return fault_;
+  }
+  ssize_t sent;
+  do {
+    sent = send(channel_, request, size, MSG_NOSIGNAL);
+  } while (sent < 0 && errno == EINTR);
+  if (sent != static_cast<ssize_t>(size)) {
+    // The host is gone (or going): its exit or signal is the verdict.
+    p::Reply ignored;
+    if (WaitForReply(ignored, false) == Wait::kFault) return fault_;
+    KillAndReap();
+    SetFault(Verdict::kBadAbi, "the host took no request");
+    return fault_;
+  }
+  uint32_t calls_seen = 0;
+  for (;;) {
+    if (WaitForReply(done, false) == Wait::kFault) return fault_;
+    const bool batch = done.kind == static_cast<uint8_t>(p::ReplyKind::kBatch);
+    const bool final = done.kind == static_cast<uint8_t>(p::ReplyKind::kDone);
+    if ((!batch && !final) || done.sequence != sequence) {
+      KillAndReap();
+      SetFault(Verdict::kBadAbi, "a reply out of order");
+      return fault_;
+    }
+    for (uint8_t i = 0; i < done.call_count; ++i) on_call(done.calls[i]);
+    calls_seen += done.call_count;
+    if (final) {
+      if (done.calls_total != calls_seen) {
+        KillAndReap();
+        SetFault(Verdict::kBadAbi, "the reply's call count does not add up");
+        return fault_;
+      }
+      return CallStatus::Ok();
+    }
+  }
+}
+
+}  // namespace syrof::app_host

@@ -1,0 +1,82 @@
+// The parent's side of one syrof-app-host process: spawn, the hello, one
+// call at a time under a CPU budget and a wall cap, the robot's log, and the
+// verdict when anything goes wrong (docs/app_host.md).
+#pragma once
+
+#include <sys/types.h>
+#include <time.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "protocol.h"
+#include "syrof/app/call_status.h"
+#include "syrof/app_host/hosted_app.h"
+
+namespace syrof::app_host {
+
+class HostProcess {
+ public:
+  enum class Mode { kRun, kCheck };
+
+  HostProcess() = default;
+  /// Kills the host if it still runs, reaps it, closes the log.
+  ~HostProcess();
+  HostProcess(const HostProcess&) = delete;
+  HostProcess& operator=(const HostProcess&) = delete;
+
+  /// Starts the host and waits for its hello (load_wall_cap_ms). A fault
+  /// (load_failed, bad_abi, crashed during load, ...) is returned and kept;
+  /// `full_detail()` then holds the whole text (CallStatus keeps 47 bytes).
+  app::CallStatus Start(const HostOptions& options, uint16_t robot_id, Mode mode);
+
+  /// One callback: sends `request` (a RequestHeader and its members), hands
+  /// each sendMessageData call of the app to `on_call` in order, and fills
+  /// `done` with the final reply. A fault ends the process; every later call
+  /// returns the same fault.
+  app::CallStatus Call(const void* request, size_t size, uint32_t sequence,
+                       const std::function<void(const protocol::PayloadCall&)>& on_call, protocol::Reply& done);
+
+  const std::string& app_name() const { return app_name_; }
+  uint32_t notes() const { return notes_; }
+  const std::string& full_detail() const { return full_detail_; }
+  pid_t pid() const { return pid_; }
+
+ private:
+  enum class Wait { kMessage, kFault };
+  // Waits for the next reply under the caps, draining the output. `load` is
+  // the start-up wait (wall cap only, "during load" in details).
+  Wait WaitForReply(protocol::Reply& reply, bool load);
+  // Reads one pending reply if there is one; false if none. Sets a bad_abi
+  // fault for a malformed message.
+  bool TryReceive(protocol::Reply& reply, bool& malformed);
+  // Moves what the host wrote to the log; false past the output limit.
+  bool DrainOutput();
+  void SetFault(app::Verdict verdict, const std::string& detail);
+  // The fault of a process that ended (reaps it).
+  void FaultFromExit(bool load);
+  void KillAndReap();
+  void FinishLog();
+
+  HostLimits limits_;
+  pid_t pid_ = -1;
+  int pidfd_ = -1;
+  int channel_ = -1;
+  int output_ = -1;
+  int log_fd_ = -1;
+  clockid_t cpu_clock_ = 0;
+  bool have_cpu_clock_ = false;
+  uint64_t output_bytes_ = 0;
+  uint64_t log_written_ = 0;
+  bool faulted_ = false;
+  bool output_open_ = true;  // false once the host's output pipe hung up
+  app::CallStatus fault_;
+  std::string full_detail_;
+  std::string app_name_;
+  std::string library_path_;
+  uint32_t notes_ = 0;
+};
+
+}  // namespace syrof::app_host

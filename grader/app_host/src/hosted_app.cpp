@@ -1,0 +1,117 @@
+// HostedApp: an app::App whose callbacks run in a syrof-app-host process.
+#include <cstring>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "host_process.h"
+#include "protocol.h"
+#include "syrof/app_host/hosted_app.h"
+
+namespace syrof::app_host {
+namespace {
+
+namespace p = protocol;
+using app::CallStatus;
+
+// A refused payload's bytes are never read (Platform's contract: a payload
+// over SYROF_APP_MAX_PAYLOAD_BYTES changes nothing); the robot only counts
+// and reports its length, so the host sends the length alone.
+const uint8_t kNoBytes[SYROF_APP_MAX_PAYLOAD_BYTES] = {};
+
+class HostedApp final : public app::App {
+ public:
+  HostedApp(const HostOptions& options, uint16_t robot_id) : request_(p::kMaxRequestBytes) {
+    start_status_ = process_.Start(options, robot_id, HostProcess::Mode::kRun);
+  }
+
+  const char* name() const override {
+    return process_.app_name().empty() ? "library" : process_.app_name().c_str();
+  }
+
+  CallStatus Init(const syrof_app_info& info, app::Platform& platform, uint8_t& global_state) override {
+    platform_ = &platform;
+    if (!start_status_.ok()) return start_status_;
+    p::RequestHeader header;
+    header.kind = static_cast<uint8_t>(p::RequestKind::kInit);
+    header.info = info;
+    p::Reply reply;
+    const CallStatus status = Send(header, nullptr, reply);
+    if (status.ok()) global_state = reply.global_state;
+    return status;
+  }
+
+  CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t& global_state,
+                      uint32_t clock_ms) override {
+    p::RequestHeader header = MapHeader(p::RequestKind::kNewRound, ldmap, global_state, clock_ms);
+    p::Reply reply;
+    const CallStatus status = Send(header, &ldmap, reply);
+    if (status.ok()) {
+      command = reply.command;
+      global_state = reply.global_state;
+    }
+    return status;
+  }
+
+  CallStatus EndOfRound(const syrof_ldmap& ldmap, uint8_t& global_state, uint32_t clock_ms) override {
+    p::RequestHeader header = MapHeader(p::RequestKind::kEndOfRound, ldmap, global_state, clock_ms);
+    p::Reply reply;
+    const CallStatus status = Send(header, &ldmap, reply);
+    if (status.ok()) global_state = reply.global_state;
+    return status;
+  }
+
+ private:
+  static p::RequestHeader MapHeader(p::RequestKind kind, const syrof_ldmap& ldmap, uint8_t global_state,
+                                    uint32_t clock_ms) {
+    p::RequestHeader header;
+    header.kind = static_cast<uint8_t>(kind);
+    header.global_state = global_state;
+    header.mode = ldmap.mode;
+    header.clock_ms = clock_ms;
+    header.epoch = ldmap.epoch;
+    header.self_id = ldmap.self_id;
+    header.member_count = ldmap.member_count;
+    return header;
+  }
+
+  CallStatus Send(p::RequestHeader& header, const syrof_ldmap* ldmap, p::Reply& reply) {
+    if (!start_status_.ok()) return start_status_;
+    if (platform_ == nullptr) return CallStatus::Fault(app::Verdict::kBadAbi, "a callback before init");
+    header.sequence = ++sequence_;
+    size_t size = sizeof(header);
+    if (ldmap != nullptr) {
+      if (ldmap->member_count > p::kMaxMembers) {
+        return CallStatus::Fault(app::Verdict::kBadAbi, "a map larger than the host takes");
+      }
+      const size_t members = size_t{ldmap->member_count} * sizeof(syrof_member_state);
+      if (members > 0) std::memcpy(request_.data() + sizeof(header), ldmap->members, members);
+      size += members;
+    }
+    std::memcpy(request_.data(), &header, sizeof(header));
+    app::Platform& platform = *platform_;
+    // Each sendMessageData call the app made reaches the robot in order,
+    // within this callback, as an in-process app's would.
+    return process_.Call(
+        request_.data(), size, header.sequence,
+        [&platform](const p::PayloadCall& call) {
+          const uint8_t* bytes = call.length <= SYROF_APP_MAX_PAYLOAD_BYTES ? call.bytes : kNoBytes;
+          (void)platform.SendMessageData(std::span<const uint8_t>(bytes, call.length));
+        },
+        reply);
+  }
+
+  HostProcess process_;
+  CallStatus start_status_;
+  std::vector<unsigned char> request_;
+  app::Platform* platform_ = nullptr;
+  uint32_t sequence_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<app::App> MakeHostedApp(const HostOptions& options, uint16_t robot_id) {
+  return std::make_unique<HostedApp>(options, robot_id);
+}
+
+}  // namespace syrof::app_host

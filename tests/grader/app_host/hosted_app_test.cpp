@@ -1,0 +1,332 @@
+// HostedApp against hostile libraries: each misbehaviour ends in its verdict,
+// the parent survives, no child is left behind, and a well-behaved library
+// works as it would in-process.
+#include <dirent.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "syrof/app/app.h"
+#include "syrof/app_host/hosted_app.h"
+
+namespace syrof::app_host {
+namespace {
+
+std::string Library(const std::string& name) { return std::string(SYROF_TEST_LIBS_DIR) + "/lib" + name + ".so"; }
+
+// Records every payload the robot would get, refusing as the robot does.
+class RecordingPlatform final : public app::Platform {
+ public:
+  syrof_app_status SendMessageData(std::span<const uint8_t> payload) override {
+    if (payload.size() > SYROF_APP_MAX_PAYLOAD_BYTES) {
+      refused.push_back(payload.size());
+      return SYROF_APP_PAYLOAD_TOO_LONG;
+    }
+    accepted.emplace_back(payload.begin(), payload.end());
+    return SYROF_APP_OK;
+  }
+  syrof_queries_workspace* queries_workspace() override { return nullptr; }
+
+  std::vector<std::vector<uint8_t>> accepted;
+  std::vector<size_t> refused;
+};
+
+// The children of this process that are still around (zombies included).
+std::vector<pid_t> Children() {
+  std::vector<pid_t> children;
+  const pid_t self = getpid();
+  DIR* proc = opendir("/proc");
+  if (proc == nullptr) return children;
+  while (const dirent* entry = readdir(proc)) {
+    const pid_t pid = static_cast<pid_t>(atoi(entry->d_name));
+    if (pid <= 0) continue;
+    std::ifstream stat("/proc/" + std::string(entry->d_name) + "/stat");
+    std::string line;
+    std::getline(stat, line);
+    const size_t close = line.rfind(')');
+    if (close == std::string::npos) continue;
+    std::istringstream rest(line.substr(close + 2));
+    char state = 0;
+    pid_t parent = 0;
+    rest >> state >> parent;
+    if (parent == self) children.push_back(pid);
+  }
+  closedir(proc);
+  return children;
+}
+
+class HostedAppTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    log_dir_ = ::testing::TempDir() + "app_host_logs_" + std::to_string(getpid());
+    options_.log_directory = log_dir_;
+    info_.abi_version = SYROF_APP_ABI_VERSION;
+    info_.swarm_size = 3;
+    for (uint16_t id = 0; id < 3; ++id) {
+      members_[id] = syrof_member_state{};
+      members_[id].id = id;
+      members_[id].x_mm = static_cast<int16_t>(500 * id);
+    }
+  }
+  void TearDown() override { EXPECT_TRUE(Children().empty()) << "a host outlived its app"; }
+
+  syrof_ldmap Map(uint16_t self) const { return syrof_ldmap{4, SYROF_MODE_COOPERATIVE, self, 3, members_}; }
+
+  // Init then one NewRound of robot `id` on `name`; the first fault.
+  app::CallStatus RunOnce(const std::string& name, uint16_t id = 0) {
+    options_.library_path = Library(name);
+    std::unique_ptr<app::App> app = MakeHostedApp(options_, id);
+    uint8_t state = 0;
+    info_.self_id = id;
+    app::CallStatus status = app->Init(info_, platform_, state);
+    if (!status.ok()) return status;
+    syrof_car_command command{};
+    const syrof_ldmap map = Map(id);
+    status = app->NewRound(command, map, state, 100);
+    if (!status.ok()) {
+      // No further call reaches a faulted app: the same fault comes back.
+      const app::CallStatus again = app->EndOfRound(map, state, 200);
+      EXPECT_EQ(again.verdict(), status.verdict());
+    }
+    return status;
+  }
+
+  std::string Log(uint16_t id) const {
+    std::ifstream file(log_dir_ + "/" + std::to_string(id) + ".log", std::ios::binary);
+    std::ostringstream text;
+    text << file.rdbuf();
+    return text.str();
+  }
+
+  HostOptions options_;
+  std::string log_dir_;
+  syrof_app_info info_{};
+  syrof_member_state members_[3];
+  RecordingPlatform platform_;
+};
+
+#define EXPECT_VERDICT(status, verdict_value, detail_text)                         \
+  do {                                                                             \
+    const app::CallStatus checked = (status);                                      \
+    EXPECT_EQ(checked.verdict(), app::Verdict::verdict_value) << checked.detail(); \
+    EXPECT_NE(std::string(checked.detail()).find(detail_text), std::string::npos)  \
+        << "detail: " << checked.detail();                                         \
+  } while (false)
+
+TEST_F(HostedAppTest, SegfaultIsACrashNamingTheSignal) { EXPECT_VERDICT(RunOnce("segfault"), kCrashed, "SIGSEGV"); }
+
+TEST_F(HostedAppTest, AbortIsACrashNamingTheSignal) { EXPECT_VERDICT(RunOnce("abort"), kCrashed, "SIGABRT"); }
+
+TEST_F(HostedAppTest, ExitDuringACallIsExitedWithItsStatus) {
+  EXPECT_VERDICT(RunOnce("exit0"), kExited, "exit status 0");
+}
+
+TEST_F(HostedAppTest, AnInfiniteLoopIsATimeoutOnCpuTime) {
+  options_.limits.cpu_budget_ms = 50;
+  EXPECT_VERDICT(RunOnce("infinite_loop"), kTimeout, "CPU time over 50 ms");
+}
+
+TEST_F(HostedAppTest, AllocatingGigabytesIsMemory) {
+  EXPECT_VERDICT(RunOnce("allocate_gigabytes"), kMemory, "allocation of 1073741824 bytes refused");
+}
+
+TEST_F(HostedAppTest, ForkIsAForbiddenSyscallNamed) {
+  // glibc's fork() is the clone system call.
+  EXPECT_VERDICT(RunOnce("fork"), kForbiddenSyscall, "clone");
+}
+
+TEST_F(HostedAppTest, SocketConnectIsAForbiddenSyscallNamed) {
+  EXPECT_VERDICT(RunOnce("socket_connect"), kForbiddenSyscall, "socket");
+}
+
+TEST_F(HostedAppTest, OpeningAFileForWritingIsForbiddenAndWritesNothing) {
+  std::remove(SYROF_TEST_WRITTEN_FILE);
+  EXPECT_VERDICT(RunOnce("open_for_writing"), kForbiddenSyscall, "openat");
+  struct stat info {};
+  EXPECT_NE(stat(SYROF_TEST_WRITTEN_FILE, &info), 0) << "the app wrote " << SYROF_TEST_WRITTEN_FILE;
+}
+
+TEST_F(HostedAppTest, FloodingOutputIsOutputLimitWithTheLogCapped) {
+  options_.limits.log_keep_bytes = 1000;
+  EXPECT_VERDICT(RunOnce("flood_output"), kOutputLimit, "wrote over 16777216 bytes");
+  const std::string log = Log(0);
+  EXPECT_EQ(log.substr(0, 1000), std::string(1000, 'x'));
+  EXPECT_NE(log.find("more bytes were written and not kept"), std::string::npos);
+  EXPECT_LT(log.size(), 1200u);
+}
+
+TEST_F(HostedAppTest, KillingTheParentIsForbiddenAndTheParentSurvives) {
+  EXPECT_VERDICT(RunOnce("kill_parent"), kForbiddenSyscall, "kill");
+}
+
+TEST_F(HostedAppTest, StackOverflowIsACrash) { EXPECT_VERDICT(RunOnce("stack_overflow"), kCrashed, "SIGSEGV"); }
+
+TEST_F(HostedAppTest, ACrashingConstructorIsACrashDuringLoad) {
+  EXPECT_VERDICT(RunOnce("crashing_constructor"), kCrashed, "SIGSEGV during load");
+}
+
+TEST_F(HostedAppTest, AWrongAbiIsBadAbi) {
+  EXPECT_VERDICT(RunOnce("wrong_abi"), kBadAbi, "built for app ABI 2, this SyROF has 1");
+}
+
+TEST_F(HostedAppTest, AMissingEntryIsLoadFailed) {
+  EXPECT_VERDICT(RunOnce("missing_entry"), kLoadFailed, "no symbol syrof_app_entry");
+}
+
+TEST_F(HostedAppTest, AnUndefinedSymbolIsLoadFailedWithTheLoadersText) {
+  EXPECT_VERDICT(RunOnce("undefined_symbol"), kLoadFailed, "cannot load");
+}
+
+TEST_F(HostedAppTest, AMissingFileIsLoadFailed) {
+  EXPECT_VERDICT(RunOnce("no_such_library"), kLoadFailed, "cannot open the library");
+}
+
+TEST_F(HostedAppTest, EachRobotKeepsItsOwnGlobals) {
+  options_.library_path = Library("per_robot_global");
+  std::vector<std::unique_ptr<app::App>> apps;
+  std::vector<RecordingPlatform> platforms(3);
+  for (uint16_t id = 0; id < 3; ++id) {
+    apps.push_back(MakeHostedApp(options_, id));
+    uint8_t state = 0;
+    info_.self_id = id;
+    ASSERT_TRUE(apps[id]->Init(info_, platforms[id], state).ok());
+  }
+  for (uint16_t id = 0; id < 3; ++id) {
+    syrof_car_command command{};
+    uint8_t state = 0;
+    ASSERT_TRUE(apps[id]->NewRound(command, Map(id), state, 10).ok());
+    ASSERT_EQ(platforms[id].accepted.size(), 1u);
+    EXPECT_EQ(platforms[id].accepted[0], (std::vector<uint8_t>{static_cast<uint8_t>(id), 0}));
+  }
+}
+
+TEST_F(HostedAppTest, EveryPayloadCallReachesThePlatformInOrder) {
+  options_.library_path = Library("many_payloads");
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+  uint8_t state = 0;
+  ASSERT_TRUE(app->Init(info_, platform_, state).ok());
+  syrof_car_command command{};
+  ASSERT_TRUE(app->NewRound(command, Map(0), state, 10).ok());
+  EXPECT_EQ(state, 40);  // every call got the answer the robot gives
+  ASSERT_EQ(platform_.accepted.size(), 20u);
+  ASSERT_EQ(platform_.refused.size(), 20u);
+  for (size_t i = 0; i < 20; ++i) {
+    EXPECT_EQ(platform_.accepted[i].size(), 1 + (2 * i) % SYROF_APP_MAX_PAYLOAD_BYTES);
+    EXPECT_EQ(platform_.accepted[i][0], 2 * i);
+    EXPECT_EQ(platform_.refused[i], SYROF_APP_MAX_PAYLOAD_BYTES + 1 + (2 * i + 1));
+  }
+}
+
+TEST_F(HostedAppTest, AWellBehavedAppRunsAndLogsItsOutput) {
+  options_.library_path = Library("cooperative");
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  EXPECT_STREQ(app->name(), "cooperative");
+  uint8_t state = 9;
+  info_.self_id = 1;
+  const app::CallStatus init = app->Init(info_, platform_, state);
+  ASSERT_TRUE(init.ok()) << app::ToString(init.verdict()) << ": " << init.detail();
+  EXPECT_EQ(state, 0);
+  syrof_car_command command{};
+  const syrof_ldmap map = Map(1);
+  ASSERT_TRUE(app->NewRound(command, map, state, 10).ok());
+  EXPECT_EQ(state, 1);
+  EXPECT_EQ(command.kind, SYROF_COMMAND_MOVE_TO);  // robot 1 is not the leader
+  ASSERT_TRUE(app->EndOfRound(map, state, 20).ok());
+  EXPECT_EQ(state, 0x81);
+  app.reset();
+  EXPECT_EQ(Log(1), "robot 1 of 3 starts\nepoch 4 at 10 ms: 3 members, leader 0, ids seen 1\n");
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream file(path);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+TEST_F(HostedAppTest, TheHostRunsHardened) {
+  options_.library_path = Library("cooperative");
+  const LibraryCheck check = CheckLibrary(options_);
+  ASSERT_TRUE(check.ok) << check.error;
+  std::string notes;
+  for (const std::string& note : SandboxNotes()) notes += note + "\n";
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+  uint8_t state = 0;
+  ASSERT_TRUE(app->Init(info_, platform_, state).ok());
+  const std::vector<pid_t> children = Children();
+  ASSERT_EQ(children.size(), 1u);
+  const std::string proc = "/proc/" + std::to_string(children[0]);
+
+  const std::string status = ReadText(proc + "/status");
+  EXPECT_NE(status.find("Seccomp:\t2\n"), std::string::npos) << status;
+  EXPECT_NE(status.find("NoNewPrivs:\t1\n"), std::string::npos) << status;
+  if (geteuid() == 0) {
+    EXPECT_NE(status.find("Uid:\t65534\t65534\t65534\t65534\n"), std::string::npos) << status;
+    EXPECT_NE(status.find("Groups:\t \n"), std::string::npos) << status;
+  } else {
+    EXPECT_NE(notes.find("not started as root"), std::string::npos) << notes;
+  }
+  EXPECT_NE(status.find("CapEff:\t0000000000000000\n"), std::string::npos) << status;
+  const std::string limits = ReadText(proc + "/limits");
+  EXPECT_NE(limits.find("Max address space         268435456            268435456"), std::string::npos) << limits;
+  EXPECT_NE(limits.find("Max core file size        0                    0"), std::string::npos) << limits;
+  EXPECT_NE(limits.find("Max file size             0                    0"), std::string::npos) << limits;
+  EXPECT_NE(limits.find("Max open files            16                   16"), std::string::npos) << limits;
+  // Descriptors 0-3 only: the output pipe, the channel, /dev/null.
+  std::vector<std::string> fds;
+  if (DIR* dir = opendir((proc + "/fd").c_str())) {
+    while (const dirent* entry = readdir(dir)) {
+      if (entry->d_name[0] != '.') fds.emplace_back(entry->d_name);
+    }
+    closedir(dir);
+  }
+  std::sort(fds.begin(), fds.end());
+  EXPECT_EQ(fds, (std::vector<std::string>{"0", "1", "2", "3"}));
+  // Address randomisation off (ADDR_NO_RANDOMIZE, 0x0040000).
+  EXPECT_NE(std::stoul(ReadText(proc + "/personality"), nullptr, 16) & 0x0040000, 0u);
+  if (notes.find("namespaces unavailable") == std::string::npos) {
+    char own[256] = {};
+    char its[256] = {};
+    ASSERT_GT(readlink("/proc/self/ns/net", own, sizeof(own) - 1), 0);
+    ASSERT_GT(readlink((proc + "/ns/net").c_str(), its, sizeof(its) - 1), 0);
+    EXPECT_STRNE(own, its);
+  }
+}
+
+TEST_F(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {
+  const auto check = [&](const std::string& path) {
+    options_.library_path = path;
+    return CheckLibrary(options_);
+  };
+  const LibraryCheck good = check(Library("cooperative"));
+  EXPECT_TRUE(good.ok) << good.error;
+  EXPECT_EQ(good.app_name, "cooperative");
+  EXPECT_EQ(check(Library("missing_entry")).error, Library("missing_entry") + ": no symbol syrof_app_entry");
+  EXPECT_EQ(check(Library("wrong_abi")).error, Library("wrong_abi") + ": built for app ABI 2, this SyROF has 1");
+  EXPECT_EQ(check("/nonexistent/libfoo.so").error, "/nonexistent/libfoo.so: not found");
+  const std::string undefined = check(Library("undefined_symbol")).error;
+  EXPECT_EQ(undefined.rfind(Library("undefined_symbol") + ": cannot load: ", 0), 0u) << undefined;
+  EXPECT_NE(undefined.find("syrof_no_such_function"), std::string::npos) << undefined;
+  EXPECT_EQ(undefined.find("/proc/self/fd"), std::string::npos) << undefined;
+  EXPECT_EQ(check(Library("crashing_constructor")).error,
+            Library("crashing_constructor") + ": crashed while loading (SIGSEGV)");
+}
+
+TEST_F(HostedAppTest, FindHostBinaryFindsTheBuiltHost) {
+  const std::string host = FindHostBinary();
+  ASSERT_FALSE(host.empty());
+  EXPECT_EQ(host.substr(host.rfind('/')), "/syrof-app-host");
+}
+
+}  // namespace
+}  // namespace syrof::app_host

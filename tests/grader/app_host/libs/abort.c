@@ -1,0 +1,3 @@
+#include <stdlib.h>
+#define MISBEHAVE(ldmap) abort()
+#include "hostile.h"

@@ -1,0 +1,3 @@
+#include <stdlib.h>
+#define MISBEHAVE(ldmap) exit(0)
+#include "hostile.h"

@@ -1,0 +1,3 @@
+#include <unistd.h>
+#define MISBEHAVE(ldmap) (void)fork()
+#include "hostile.h"
