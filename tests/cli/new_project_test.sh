@@ -28,14 +28,12 @@ for lang in c cpp; do
   )
   elapsed_ms=$(( ($(date +%s%N) - started) / 1000000 ))
   out="$work/$name/out/$name"
-  python3 - "$out/metrics.json" <<'PY'
-import json, sys
-m = json.load(open(sys.argv[1]))
-assert m["sim_seconds"] >= 30, m["sim_seconds"]  # the scenario's whole duration
-assert m["app"]["faults"] == [], m["app"]["faults"]
-assert m["collisions"]["count"] == 0, m["collisions"]
-assert isinstance(m["app"]["sandbox"], list), m["app"]
-PY
+  metrics="$out/metrics.json"
+  check() { grep -q -- "$2" "$metrics" || { echo "$lang: metrics.json lacks $1 ($2)" >&2; exit 1; }; }
+  check "the whole 30 s" '"sim_seconds": 30'
+  check "no faults" '"faults": \[\],'
+  check "sandbox notes" '"sandbox": \['
+  grep -A 1 '"collisions": {' "$metrics" | grep -q '"count": 0,' || { echo "$lang: collisions" >&2; exit 1; }
   for id in 0 7; do [ -s "$out/robots/$id.log" ] || { echo "no log for robot $id" >&2; exit 1; }; done
   [ -s "$out/replay" ] || { echo "no replay" >&2; exit 1; }
   echo "new_project_test: $lang: syrof new -> build -> run in ${elapsed_ms} ms"
