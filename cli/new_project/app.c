@@ -19,7 +19,7 @@
 #include "syrof/app.h"
 
 #define RADIUS_M 1.0f    /* the circle's radius, raised when the robots do not fit */
-#define MARGIN_M 0.08f   /* extra room between bodies: covers position errors */
+#define MARGIN_M 0.12f   /* extra room between bodies: covers both robots' position errors */
 #define MAX_ROBOTS 64    /* this starter plans for at most this many members */
 
 static syrof_app_info me; /* this robot's facts; globals are per robot */

@@ -27,7 +27,7 @@
 namespace {
 
 constexpr float kRadiusM = 1.0f;   // the circle's radius, raised when the robots do not fit
-constexpr float kMarginM = 0.08f;  // extra room between bodies: covers position errors
+constexpr float kMarginM = 0.12f;  // extra room between bodies: covers both robots' position errors
 
 syrof_app_info me;  // this robot's facts; globals are per robot
 
