@@ -151,6 +151,13 @@ bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
   for (const int number : allowed) {
     if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, number, 0) != 0) return false;
   }
+#if defined(SYROF_APP_HOST_SANITIZED)
+  // The sanitizers' runtime checks whether memory is readable by writing it
+  // to a pipe of its own (sanitizer_common's IsAccessibleMemoryRange).
+  for (const int number : {SCMP_SYS(pipe), SCMP_SYS(pipe2)}) {
+    if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, number, 0) != 0) return false;
+  }
+#endif
   // Signals: only to itself (abort, raise); never to another process.
   if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(kill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
   if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tgkill), 1, SCMP_A0(SCMP_CMP_EQ, self)) != 0) return false;
@@ -171,7 +178,7 @@ bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
 
 // Stage 1, for the dynamic loader and the library's constructors: the
 // callback rules plus opening files read-only, the stat family, and what
-// loading stage 2 needs (prctl, seccomp).
+// loading stage 2 needs (seccomp; prctl for no_new_privs only).
 scmp_filter_ctx LoaderFilter(pid_t self) {
   scmp_filter_ctx filter = seccomp_init(SCMP_ACT_TRAP);
   if (filter == nullptr) return nullptr;
@@ -183,9 +190,12 @@ scmp_filter_ctx LoaderFilter(pid_t self) {
                               SCMP_A1(SCMP_CMP_MASKED_EQ, write_flags, 0)) == 0;
   const int allowed[] = {SCMP_SYS(newfstatat), SCMP_SYS(stat),      SCMP_SYS(lstat),      SCMP_SYS(statx),
                          SCMP_SYS(access),     SCMP_SYS(faccessat), SCMP_SYS(faccessat2), SCMP_SYS(readlink),
-                         SCMP_SYS(readlinkat), SCMP_SYS(getcwd),    SCMP_SYS(pread64),    SCMP_SYS(prctl),
-                         SCMP_SYS(seccomp)};
+                         SCMP_SYS(readlinkat), SCMP_SYS(getcwd),    SCMP_SYS(pread64),    SCMP_SYS(seccomp)};
   for (const int number : allowed) ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, number, 0) == 0;
+  // prctl only as libseccomp may use it to load stage 2: a constructor may
+  // not undo the parent-death signal or the dumpable flag.
+  ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(prctl), 1,
+                              SCMP_A0(SCMP_CMP_EQ, PR_SET_NO_NEW_PRIVS)) == 0;
   if (!ok) {
     seccomp_release(filter);
     return nullptr;
@@ -290,14 +300,8 @@ int main(int argc, char** argv) {
   uint32_t notes = 0;
 
   // Addresses the same on every run, so even an app that hashes pointers is
-  // repeatable: the personality takes effect at exec, hence the one re-exec.
-  const int persona = personality(0xffffffff);
-  if (persona != -1 && (persona & ADDR_NO_RANDOMIZE) == 0 && getenv("SYROF_APP_HOST_REEXECED") == nullptr) {
-    if (personality(static_cast<unsigned long>(persona | ADDR_NO_RANDOMIZE)) != -1) {
-      setenv("SYROF_APP_HOST_REEXECED", "1", 1);
-      execv("/proc/self/exe", argv);
-    }
-  }
+  // repeatable: the parent spawns the host with ADDR_NO_RANDOMIZE set (the
+  // personality takes effect at exec); say so if that did not happen.
   if ((personality(0xffffffff) & ADDR_NO_RANDOMIZE) == 0) notes |= p::kNoteNoAslrOff;
 
   // 1. Die with the parent (and make sure it has not died already).
@@ -344,6 +348,10 @@ int main(int argc, char** argv) {
   }
   SetLimit(RLIMIT_NPROC, 0);
   prctl(PR_SET_DUMPABLE, 1);  // keeps /proc/self/fd/N readable after the uid change
+  // A change of uid or gid clears the parent-death signal: set it again,
+  // and check again that the parent is still there.
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() != parent) _exit(p::kExitParentGone);
 
   // 6. Namespaces: no network, no IPC, its own hostname, no uid outside.
   if (unshare(CLONE_NEWUSER | CLONE_NEWNET | CLONE_NEWIPC | CLONE_NEWUTS) != 0) notes |= p::kNoteNoNamespaces;

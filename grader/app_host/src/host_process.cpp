@@ -4,12 +4,15 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/personality.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <string>
@@ -34,6 +37,20 @@ int Lift(int fd) {
   const int lifted = fcntl(fd, F_DUPFD_CLOEXEC, 10);
   close(fd);
   return lifted;
+}
+
+// Raises this process's soft descriptor limit to its hard limit (at most
+// 1 << 20). Each host holds four descriptors here (channel, output, pidfd,
+// log): a swarm of a few hundred passes the usual soft limit of 1024.
+// Called only when a descriptor could not be made (EMFILE). False if
+// nothing could be raised.
+bool RaiseDescriptorLimit() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_NOFILE, &limit) != 0) return false;
+  const rlim_t wanted = std::min<rlim_t>(limit.rlim_max, rlim_t{1} << 20);
+  if (limit.rlim_cur >= wanted) return false;
+  limit.rlim_cur = wanted;
+  return setrlimit(RLIMIT_NOFILE, &limit) == 0;
 }
 
 void CloseFd(int& fd) {
@@ -113,7 +130,7 @@ bool HostProcess::DrainOutput() {
   }
 }
 
-CallStatus HostProcess::Start(const HostOptions& options, uint16_t robot_id, Mode mode) {
+CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mode mode) {
   limits_ = options.limits;
   library_path_ = options.library_path;
   const std::string host = options.host_binary.empty() ? FindHostBinary() : options.host_binary;
@@ -125,14 +142,21 @@ CallStatus HostProcess::Start(const HostOptions& options, uint16_t robot_id, Mod
     mkdir(options.log_directory.c_str(), 0755);  // exists already: fine; else the open says why
     const std::string log_path = options.log_directory + "/" + std::to_string(robot_id) + ".log";
     log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (log_fd_ < 0 && errno == EMFILE && RaiseDescriptorLimit()) {
+      log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    }
   }
 
   int channel[2] = {-1, -1};
   int output[2] = {-1, -1};
-  if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) != 0 || pipe2(output, O_CLOEXEC) != 0) {
-    SetFault(Verdict::kLoadFailed, std::string("cannot create the host's channel: ") + strerror(errno));
+  for (int attempt = 0;; ++attempt) {
+    if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) == 0 && pipe2(output, O_CLOEXEC) == 0) break;
+    const int error = errno;
     CloseFd(channel[0]);
     CloseFd(channel[1]);
+    if (attempt == 0 && error == EMFILE && RaiseDescriptorLimit()) continue;
+    SetFault(Verdict::kLoadFailed, std::string("cannot create the host's channel: ") + strerror(error));
+    CloseFd(log_fd_);
     return fault_;
   }
   channel_ = Lift(channel[0]);
@@ -164,8 +188,15 @@ CallStatus HostProcess::Start(const HostOptions& options, uint16_t robot_id, Mod
   // A fixed, minimal environment: the app sees the same on every run.
   const char* environment[] = {"PATH=/usr/bin:/bin", "LC_ALL=C", nullptr};
   pid_t pid = -1;
+  // Address randomisation off for the host (docs/app_host.md): the
+  // personality is the calling thread's, is inherited by the spawned child
+  // and only acts at its exec, so it is set around the spawn and restored
+  // (randomisation of this process was fixed at its own exec).
+  const int persona = personality(0xffffffff);
+  const bool no_aslr = persona != -1 && personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE) != -1;
   const int spawned = posix_spawn(&pid, host.c_str(), &actions, &attributes, const_cast<char* const*>(arguments),
                                   const_cast<char* const*>(environment));
+  if (no_aslr) personality(static_cast<unsigned long>(persona));
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
   CloseFd(child_channel);
@@ -176,10 +207,21 @@ CallStatus HostProcess::Start(const HostOptions& options, uint16_t robot_id, Mod
     return fault_;
   }
   pid_ = pid;
+  spawn_ns_ = Nanoseconds(CLOCK_MONOTONIC);
   pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));  // -1 on old kernels: the channel's hang-up says it too
   have_cpu_clock_ = clock_getcpuclockid(pid_, &cpu_clock_) == 0;
+  return CallStatus::Ok();
+}
 
+CallStatus HostProcess::Start(const HostOptions& options, uint16_t robot_id, Mode mode) {
+  if (!Spawn(options, robot_id, mode).ok()) return fault_;
   p::Reply hello;
+  return AwaitHello(hello);
+}
+
+CallStatus HostProcess::AwaitHello(p::Reply& hello) {
+  if (faulted_) return fault_;
+  started_ = true;
   if (WaitForReply(hello, /*load=*/true) == Wait::kFault) return fault_;
   if (hello.kind != static_cast<uint8_t>(p::ReplyKind::kHello)) {
     SetFault(Verdict::kBadAbi, "the host's first reply is not its hello");
@@ -258,57 +300,84 @@ void HostProcess::FaultFromExit(bool load) {
   }
 }
 
+// Handles one reply taken off the channel: a fault frame ends the host.
+HostProcess::Wait HostProcess::Accept(p::Reply& reply, bool malformed, bool load) {
+  if (malformed) {
+    SetFault(Verdict::kBadAbi, "a malformed reply from the host");
+    KillAndReap();
+    return Wait::kFault;
+  }
+  if (reply.kind != static_cast<uint8_t>(p::ReplyKind::kFault)) return Wait::kMessage;
+  const bool known = reply.verdict > static_cast<uint8_t>(Verdict::kAppError) &&
+                     reply.verdict <= static_cast<uint8_t>(app::kLastVerdict);
+  std::string detail = reply.text;
+  // dlerror() names the descriptor the host loaded through; say the file.
+  const size_t proc = detail.find("/proc/self/fd/");
+  if (proc != std::string::npos) {
+    size_t end = proc + 14;
+    while (end < detail.size() && detail[end] >= '0' && detail[end] <= '9') ++end;
+    detail.replace(proc, end - proc, library_path_);
+  }
+  if (load && (reply.verdict == static_cast<uint8_t>(Verdict::kForbiddenSyscall) ||
+               reply.verdict == static_cast<uint8_t>(Verdict::kMemory))) {
+    detail += " during load";
+  }
+  // What the host wrote before it reported is in the log.
+  if (!DrainOutput()) {
+    SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
+  }
+  SetFault(known ? static_cast<Verdict>(reply.verdict) : Verdict::kBadAbi,
+           known ? detail : "a fault reply with an unknown verdict");
+  KillAndReap();
+  return Wait::kFault;
+}
+
 HostProcess::Wait HostProcess::WaitForReply(p::Reply& reply, bool load) {
-  const int64_t wall_start = Nanoseconds(CLOCK_MONOTONIC);
-  const int64_t cpu_start = have_cpu_clock_ ? Nanoseconds(cpu_clock_) : -1;
+  // (A batch may be followed by replies already queued: the poll sees them.)
+  bool malformed = false;
+  const int64_t wall_start = load ? spawn_ns_ : Nanoseconds(CLOCK_MONOTONIC);
+  const int64_t cpu_start = !load && have_cpu_clock_ ? Nanoseconds(cpu_clock_) : -1;
   const int64_t wall_cap = int64_t{load ? limits_.load_wall_cap_ms : limits_.wall_cap_ms} * 1'000'000;
   const int64_t cpu_budget = int64_t{limits_.cpu_budget_ms} * 1'000'000;
-  bool child_ended = false;
+  int64_t wait_ns = cpu_start >= 0 ? std::min(wall_cap, cpu_budget) : wall_cap;
   for (;;) {
-    bool malformed = false;
-    if (TryReceive(reply, malformed)) {
-      if (!DrainOutput()) {
-        SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
-        KillAndReap();
-        return Wait::kFault;
-      }
-      if (malformed) {
-        SetFault(Verdict::kBadAbi, "a malformed reply from the host");
-        KillAndReap();
-        return Wait::kFault;
-      }
-      if (reply.kind == static_cast<uint8_t>(p::ReplyKind::kFault)) {
-        const auto verdict = static_cast<Verdict>(reply.verdict);
-        const bool known = reply.verdict > static_cast<uint8_t>(Verdict::kAppError) &&
-                           reply.verdict <= static_cast<uint8_t>(app::kLastVerdict);
-        std::string detail = reply.text;
-        // dlerror() names the descriptor the host loaded through; say the file.
-        const size_t proc = detail.find("/proc/self/fd/");
-        if (proc != std::string::npos) {
-          size_t end = proc + 14;
-          while (end < detail.size() && detail[end] >= '0' && detail[end] <= '9') ++end;
-          detail.replace(proc, end - proc, library_path_);
-        }
-        if (load && reply.verdict == static_cast<uint8_t>(Verdict::kForbiddenSyscall)) detail += " during load";
-        if (load && reply.verdict == static_cast<uint8_t>(Verdict::kMemory)) detail += " during load";
-        SetFault(known ? verdict : Verdict::kBadAbi, known ? detail : "a fault reply with an unknown verdict");
-        KillAndReap();
-        return Wait::kFault;
-      }
-      return Wait::kMessage;
-    }
-    if (child_ended) {
-      if (!DrainOutput()) {
-        SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
-      }
-      FaultFromExit(load);
+    // The CPU clock cannot run faster than the wall clock (one thread), so
+    // waking when either could first be over is enough.
+    wait_ns = std::max<int64_t>(wait_ns, 0) + 1'000'000;  // past the cap, not just before it
+    const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
+    pollfd fds[3] = {{channel_, POLLIN, 0}, {output_open_ ? output_ : -1, POLLIN, 0}, {pidfd_, POLLIN, 0}};
+    const int ready = ppoll(fds, pidfd_ >= 0 ? 3 : 2, &timeout, nullptr);
+    if (ready < 0 && errno != EINTR) {
       KillAndReap();
+      SetFault(Verdict::kCrashed, std::string("cannot wait for the host: ") + strerror(errno));
       return Wait::kFault;
     }
-
+    if (ready > 0) {
+      // Output first: the host writes it before its reply, so a reply seen
+      // in this poll has its output readable in the same poll.
+      if ((fds[1].revents & POLLIN) != 0 && !DrainOutput()) {
+        KillAndReap();
+        SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
+        return Wait::kFault;
+      }
+      // Both output descriptors closed (by the app, or because the host is
+      // ending): nothing more comes; the pidfd or the channel says the rest.
+      if ((fds[1].revents & (POLLHUP | POLLERR)) != 0 && (fds[1].revents & POLLIN) == 0) output_open_ = false;
+      if ((fds[0].revents & POLLIN) != 0 && TryReceive(reply, malformed)) return Accept(reply, malformed, load);
+      if ((fds[2].revents & POLLIN) != 0 || (fds[0].revents & (POLLHUP | POLLERR)) != 0) {
+        // The host ended (or closed its channel): a last frame may be queued.
+        if (TryReceive(reply, malformed)) return Accept(reply, malformed, load);
+        if (!DrainOutput()) {
+          SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
+        }
+        FaultFromExit(load);
+        KillAndReap();
+        return Wait::kFault;
+      }
+    }
     const int64_t wall_used = Nanoseconds(CLOCK_MONOTONIC) - wall_start;
     const int64_t cpu_used = cpu_start >= 0 ? Nanoseconds(cpu_clock_) - cpu_start : 0;
-    if (!load && cpu_start >= 0 && cpu_used > cpu_budget) {
+    if (cpu_start >= 0 && cpu_used > cpu_budget) {
       KillAndReap();
       SetFault(Verdict::kTimeout, "CPU time over " + std::to_string(limits_.cpu_budget_ms) + " ms (" +
                                       std::to_string(cpu_used / 1'000'000) + " ms)");
@@ -320,44 +389,24 @@ HostProcess::Wait HostProcess::WaitForReply(p::Reply& reply, bool load) {
                                       (load ? " during load" : ""));
       return Wait::kFault;
     }
-    // The CPU clock cannot run faster than the wall clock (one thread), so
-    // waking when either could first be over is enough.
-    int64_t wait_ns = wall_cap - wall_used;
-    if (!load && cpu_start >= 0) wait_ns = std::min(wait_ns, cpu_budget - cpu_used);
-    wait_ns = std::max<int64_t>(wait_ns, 0) + 1'000'000;  // past the cap, not just before it
-    const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
-
-    pollfd fds[3] = {{channel_, POLLIN, 0}, {output_open_ ? output_ : -1, POLLIN, 0}, {pidfd_, POLLIN, 0}};
-    const int ready = ppoll(fds, pidfd_ >= 0 ? 3 : 2, &timeout, nullptr);
-    if (ready < 0 && errno != EINTR) {
-      KillAndReap();
-      SetFault(Verdict::kCrashed, std::string("cannot wait for the host: ") + strerror(errno));
-      return Wait::kFault;
-    }
-    if (ready <= 0) continue;
-    if ((fds[1].revents & POLLIN) != 0 && !DrainOutput()) {
-      KillAndReap();
-      SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
-      return Wait::kFault;
-    }
-    // Both output descriptors closed (by the app, or because the host is
-    // ending): nothing more comes; the pidfd or the channel says the rest.
-    if ((fds[1].revents & (POLLHUP | POLLERR)) != 0 && (fds[1].revents & POLLIN) == 0) output_open_ = false;
-    if ((fds[2].revents & POLLIN) != 0 || (fds[0].revents & (POLLHUP | POLLERR)) != 0) child_ended = true;
+    wait_ns = wall_cap - wall_used;
+    if (cpu_start >= 0) wait_ns = std::min(wait_ns, cpu_budget - cpu_used);
   }
 }
 
 CallStatus HostProcess::Call(const void* request, size_t size, uint32_t sequence,
                              const std::function<void(const p::PayloadCall&)>& on_call, p::Reply& done) {
   if (faulted_) return fault_;
-  if (!DrainOutput()) {
-    KillAndReap();
-    SetFault(Verdict::kOutputLimit, "wrote over " + std::to_string(limits_.output_limit_bytes) + " bytes");
-    return fault_;
+  if (!started_) {
+    // The first call waits for the hello (MakeHostedApp only spawned).
+    p::Reply hello;
+    if (!AwaitHello(hello).ok()) return fault_;
   }
   ssize_t sent;
   do {
-    sent = send(channel_, request, size, MSG_NOSIGNAL);
+    // Never blocks: the host has read every earlier request, so its queue
+    // is empty; a full one means it is not taking requests.
+    sent = send(channel_, request, size, MSG_NOSIGNAL | MSG_DONTWAIT);
   } while (sent < 0 && errno == EINTR);
   if (sent != static_cast<ssize_t>(size)) {
     // The host is gone (or going): its exit or signal is the verdict.

@@ -32,6 +32,24 @@ class HostProcess {
   /// `full_detail()` then holds the whole text (CallStatus keeps 47 bytes).
   app::CallStatus Start(const HostOptions& options, uint16_t robot_id, Mode mode);
 
+  /// Start's first half: the host is spawned and loads on its own while the
+  /// caller goes on (the lab starts every robot's host before the first
+  /// Init, so they load side by side); the first Call waits for the hello.
+  /// The load wall cap counts from the spawn.
+  app::CallStatus Spawn(const HostOptions& options, uint16_t robot_id, Mode mode);
+
+  /// Start's second half (Call does it when needed).
+  app::CallStatus AwaitHello(protocol::Reply& hello);
+
+  /// AwaitHello unless done: the app's name is known after it.
+  void EnsureStarted() {
+    protocol::Reply hello;
+    if (!started_ && !faulted_) (void)AwaitHello(hello);
+  }
+
+  /// The fault so far (ok while none).
+  const app::CallStatus& fault() const { return fault_; }
+
   /// One callback: sends `request` (a RequestHeader and its members), hands
   /// each sendMessageData call of the app to `on_call` in order, and fills
   /// `done` with the final reply. A fault ends the process; every later call
@@ -49,6 +67,7 @@ class HostProcess {
   // Waits for the next reply under the caps, draining the output. `load` is
   // the start-up wait (wall cap only, "during load" in details).
   Wait WaitForReply(protocol::Reply& reply, bool load);
+  Wait Accept(protocol::Reply& reply, bool malformed, bool load);
   // Reads one pending reply if there is one; false if none. Sets a bad_abi
   // fault for a malformed message.
   bool TryReceive(protocol::Reply& reply, bool& malformed);
@@ -71,7 +90,9 @@ class HostProcess {
   uint64_t output_bytes_ = 0;
   uint64_t log_written_ = 0;
   bool faulted_ = false;
-  bool output_open_ = true;  // false once the host's output pipe hung up
+  bool output_open_ = true;
+  bool started_ = false;   // the hello was awaited
+  int64_t spawn_ns_ = 0;  // false once the host's output pipe hung up
   app::CallStatus fault_;
   std::string full_detail_;
   std::string app_name_;

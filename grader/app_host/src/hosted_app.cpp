@@ -22,10 +22,13 @@ const uint8_t kNoBytes[SYROF_APP_MAX_PAYLOAD_BYTES] = {};
 class HostedApp final : public app::App {
  public:
   HostedApp(const HostOptions& options, uint16_t robot_id) : request_(p::kMaxRequestBytes) {
-    start_status_ = process_.Start(options, robot_id, HostProcess::Mode::kRun);
+    start_status_ = process_.Spawn(options, robot_id, HostProcess::Mode::kRun);
   }
 
+  // The name comes with the host's hello: asking for it waits for the load
+  // (a later call returns a load fault, if there was one).
   const char* name() const override {
+    process_.EnsureStarted();
     return process_.app_name().empty() ? "library" : process_.app_name().c_str();
   }
 
@@ -101,7 +104,7 @@ class HostedApp final : public app::App {
         reply);
   }
 
-  HostProcess process_;
+  mutable HostProcess process_;  // name() may have to wait for the hello
   CallStatus start_status_;
   std::vector<unsigned char> request_;
   app::Platform* platform_ = nullptr;

@@ -3,7 +3,9 @@
 // works as it would in-process.
 #include <dirent.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -136,6 +138,11 @@ TEST_F(HostedAppTest, AnInfiniteLoopIsATimeoutOnCpuTime) {
   EXPECT_VERDICT(RunOnce("infinite_loop"), kTimeout, "CPU time over 50 ms");
 }
 
+TEST_F(HostedAppTest, SleepingPastTheWallCapIsATimeoutOnWallTime) {
+  options_.limits.wall_cap_ms = 200;
+  EXPECT_VERDICT(RunOnce("sleep_forever"), kTimeout, "wall time over 200 ms");
+}
+
 TEST_F(HostedAppTest, AllocatingGigabytesIsMemory) {
   EXPECT_VERDICT(RunOnce("allocate_gigabytes"), kMemory, "allocation of 1073741824 bytes refused");
 }
@@ -187,6 +194,10 @@ TEST_F(HostedAppTest, AnUndefinedSymbolIsLoadFailedWithTheLoadersText) {
   EXPECT_VERDICT(RunOnce("undefined_symbol"), kLoadFailed, "cannot load");
 }
 
+TEST_F(HostedAppTest, AForgedReplyIsBadAbi) {
+  EXPECT_VERDICT(RunOnce("forge_reply"), kBadAbi, "a malformed reply from the host");
+}
+
 TEST_F(HostedAppTest, AMissingFileIsLoadFailed) {
   EXPECT_VERDICT(RunOnce("no_such_library"), kLoadFailed, "cannot open the library");
 }
@@ -208,6 +219,35 @@ TEST_F(HostedAppTest, EachRobotKeepsItsOwnGlobals) {
     ASSERT_EQ(platforms[id].accepted.size(), 1u);
     EXPECT_EQ(platforms[id].accepted[0], (std::vector<uint8_t>{static_cast<uint8_t>(id), 0}));
   }
+}
+
+TEST_F(HostedAppTest, ManyHostsPassALowSoftDescriptorLimit) {
+  // Each host holds four descriptors in the parent; a soft limit of 64
+  // would stop at about 14 robots unless the limit is raised.
+  rlimit saved{};
+  ASSERT_EQ(getrlimit(RLIMIT_NOFILE, &saved), 0);
+  if (saved.rlim_max < 256) GTEST_SKIP() << "hard descriptor limit below 256";
+  rlimit low = saved;
+  low.rlim_cur = 64;
+  ASSERT_EQ(setrlimit(RLIMIT_NOFILE, &low), 0);
+  options_.library_path = Library("per_robot_global");
+  std::vector<std::unique_ptr<app::App>> apps;
+  std::vector<RecordingPlatform> platforms(30);
+  bool all_ok = true;
+  for (uint16_t id = 0; id < 30; ++id) {
+    apps.push_back(MakeHostedApp(options_, id));
+    uint8_t state = 0;
+    info_.self_id = id;
+    const app::CallStatus status = apps.back()->Init(info_, platforms[id], state);
+    if (!status.ok()) {
+      ADD_FAILURE() << "robot " << id << ": " << status.detail();
+      all_ok = false;
+      break;
+    }
+  }
+  apps.clear();
+  ASSERT_EQ(setrlimit(RLIMIT_NOFILE, &saved), 0);
+  EXPECT_TRUE(all_ok);
 }
 
 TEST_F(HostedAppTest, EveryPayloadCallReachesThePlatformInOrder) {
@@ -301,6 +341,48 @@ TEST_F(HostedAppTest, TheHostRunsHardened) {
     ASSERT_GT(readlink((proc + "/ns/net").c_str(), its, sizeof(its) - 1), 0);
     EXPECT_STRNE(own, its);
   }
+}
+
+// The parent-death signal survives the drop to uid 65534 (a uid change
+// clears it, so the host sets it again): a host whose parent dies in the
+// middle of a call (so the host is not reading its channel) dies too.
+TEST_F(HostedAppTest, AHostDiesWithItsParent) {
+  int report[2];
+  ASSERT_EQ(pipe(report), 0);
+  const pid_t parent = fork();
+  ASSERT_GE(parent, 0);
+  if (parent == 0) {
+    // The host's parent: starts it, says its pid, then waits in a call the
+    // app never ends (it sleeps) until it is killed.
+    options_.library_path = Library("sleep_forever");
+    options_.limits.wall_cap_ms = 60'000;
+    std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+    uint8_t state = 0;
+    const bool ok = app->Init(info_, platform_, state).ok();
+    const std::vector<pid_t> hosts = Children();
+    const pid_t host = ok && hosts.size() == 1 ? hosts[0] : -1;
+    (void)!write(report[1], &host, sizeof(host));
+    syrof_car_command command{};
+    (void)app->NewRound(command, Map(0), state, 10);
+    _exit(0);
+  }
+  close(report[1]);
+  pid_t host = -1;
+  ASSERT_EQ(read(report[0], &host, sizeof(host)), static_cast<ssize_t>(sizeof(host)));
+  close(report[0]);
+  ASSERT_GT(host, 0);
+  kill(parent, SIGKILL);
+  int status = 0;
+  ASSERT_EQ(waitpid(parent, &status, 0), parent);
+  // The host gets SIGKILL at once; give the kernel up to 5 s to finish it.
+  bool gone = false;
+  for (int i = 0; i < 500 && !gone; ++i) {
+    const std::string stat = ReadText("/proc/" + std::to_string(host) + "/stat");
+    gone = stat.empty() || stat.find(") Z ") != std::string::npos;
+    if (!gone) usleep(10'000);
+  }
+  EXPECT_TRUE(gone) << "host " << host << " outlived its parent";
+  if (!gone) kill(host, SIGKILL);
 }
 
 TEST_F(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {
