@@ -14,7 +14,7 @@ TEENSY_TOOLCHAIN := cmake/toolchains/teensy32.cmake
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev
 
-.PHONY: all deps build demo test release bench bench-m4 cross test-m4 asan tsan fuzz clean
+.PHONY: all deps build demo test package release bench bench-m4 cross test-m4 asan tsan fuzz clean
 
 all: build
 
@@ -35,6 +35,12 @@ demo: build
 ## test: the whole host test suite through ctest.
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+## package: the Debian package $(BUILD_DIR)/syrof_<version>_<arch>.deb (CPack):
+## the syrof command, the app host, libsyrof_app, the app API's headers, the
+## CMake package and syrof-app.pc; Depends worked out by dpkg-shlibdeps.
+package: build
+	cmake --build $(BUILD_DIR) --target package
 
 ## release: the whole tree but the benchmarks (make bench builds those) in a
 ## Release build (-O3, warnings as errors), and its tests: warnings and bugs

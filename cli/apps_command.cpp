@@ -21,6 +21,11 @@ int RunAppsCommand(const AppsOptions& /*options*/, std::ostream& out) {
                  param.max_value, param.doc);
     }
   }
+  fmt::print(out,
+             "\nYour own app: a shared library in C or C++ against syrof/app.h (docs/apps.md, \"Your first app\"):\n"
+             "    syrof new myapp                      a project with a starter app, CMakeLists.txt and scenario\n"
+             "    syrof run SCENARIO --app build/libmyapp.so\n"
+             "    or in a scenario: app: {{library: build/libmyapp.so, cpu_budget_ms: 100}}\n");
   return 0;
 }
 

@@ -14,8 +14,8 @@ struct AppsOptions {};
 /// Declares the subcommand on `app`.
 CLI::App* SetupAppsCommand(CLI::App& app, AppsOptions& options);
 
-/// Prints every built-in app with its parameters (default, range, meaning).
-/// Returns 0.
+/// Prints every built-in app with its parameters (default, range, meaning),
+/// then how to run one's own library. Returns 0.
 int RunAppsCommand(const AppsOptions& options, std::ostream& out);
 
 }  // namespace syrof::cli

@@ -3,13 +3,18 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
 
+#include "syrof/app_host/hosted_app.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 #include "usage.h"
@@ -103,7 +108,40 @@ void PrintAppLines(std::ostream& out, const nlohmann::json& m) {
   }
 }
 
-void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay) {
+// The app host's limits for a library run: the command line's budgets over
+// the scenario's over the host's defaults. An unset wall cap is raised to
+// 4x the CPU budget when that is more than the default, so a larger budget
+// is not cut short by the default wall cap. Empty and `problem` set when the
+// two disagree or a budget is given for a built-in app.
+std::optional<app_host::HostLimits> LimitsFor(const scenario::AppSpec& app, const RunOptions& options,
+                                              std::string& problem) {
+  if (!app.is_library()) {
+    if (options.cpu_budget_ms || options.wall_cap_ms) {
+      problem = fmt::format("{} is for a library app; {} runs inside the simulator",
+                            options.cpu_budget_ms ? "--cpu-budget-ms" : "--wall-cap-ms", app.name);
+      return std::nullopt;
+    }
+    return app_host::HostLimits{};
+  }
+  app_host::HostLimits limits;
+  const std::optional<uint32_t> cpu = options.cpu_budget_ms ? options.cpu_budget_ms : app.cpu_budget_ms;
+  const std::optional<uint32_t> wall = options.wall_cap_ms ? options.wall_cap_ms : app.wall_cap_ms;
+  if (cpu) limits.cpu_budget_ms = *cpu;
+  if (wall) {
+    limits.wall_cap_ms = *wall;
+  } else {
+    limits.wall_cap_ms = std::max(limits.wall_cap_ms, 4 * limits.cpu_budget_ms);
+  }
+  if (limits.wall_cap_ms < limits.cpu_budget_ms) {
+    problem = fmt::format("the wall cap ({} ms) must be at least the CPU budget ({} ms)", limits.wall_cap_ms,
+                          limits.cpu_budget_ms);
+    return std::nullopt;
+  }
+  return limits;
+}
+
+void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay,
+                  bool library) {
   const double sim = m.value("sim_seconds", 0.0);
   const double wall = m.value("wall_seconds", 0.0);
   fmt::print(out, "\nSyROF run: {} ({}), {} robots, seed {}\n", m.value("scenario", std::string()),
@@ -129,14 +167,17 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
              Number(Field(m, "estimation", "position_rmse_m"), 3), Number(Field(m, "estimation", "max_error_m"), 3));
   fmt::print(out, "  {:<17} {} removals, {} joins\n", "membership", Number(Field(m, "membership", "removals"), 0),
              Number(Field(m, "membership", "joins"), 0));
-  if (m.contains("goal")) {
+  if (library) {
+    fmt::print(out, "  {:<17} none: the lab judges goals of built-in apps only\n", "goal");
+  } else if (m.contains("goal")) {
     const nlohmann::json& goal = m["goal"];
     fmt::print(out, "  {:<17} {} ({})\n", "goal", goal.value("reached", false) ? "reached" : "NOT reached",
                goal.value("detail", std::string()));
   }
   PrintAppLines(out, m);
-  fmt::print(out, "  {:<17} {}{}\n", "outputs", (dir / "metrics.json").string(),
-             replay ? ", " + (dir / "replay").string() : std::string());
+  fmt::print(out, "  {:<17} {}{}{}\n", "outputs", (dir / "metrics.json").string(),
+             replay ? ", " + (dir / "replay").string() : std::string(),
+             library ? ", " + (dir / "robots").string() + "/<id>.log" : std::string());
 }
 
 }  // namespace
@@ -144,12 +185,19 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
 CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   CLI::App* run = app.add_subcommand("run", "Run a scenario in the simulated lab; write metrics.json and a replay");
   run->add_option("scenario", options.scenario_path, "Scenario file (YAML, docs/scenarios.md)")->required();
-  run->add_option("--app", options.app, "App to run instead of the scenario's, e.g. builtin:circle");
+  run->add_option("--app", options.app,
+                  "App to run instead of the scenario's: builtin:NAME, or your library's path (build/libmyapp.so)");
   run->add_option("--seed", options.seed, "Seed instead of the scenario's");
   run->add_option("--robots", options.robots, "Robot count instead of the scenario's")->check(RobotCountValidator());
   run->add_option("--duration", options.duration_s, "Simulated seconds instead of the scenario's")
       ->check(DurationValidator());
   run->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>)");
+  run->add_option("--cpu-budget-ms", options.cpu_budget_ms,
+                  "A library app's CPU time per callback, ms, instead of the scenario's (default 100)")
+      ->check(CLI::Range(uint32_t{1}, scenario::kMaxCpuBudgetMs));
+  run->add_option("--wall-cap-ms", options.wall_cap_ms,
+                  "A library app's wall time per callback, ms, instead of the scenario's (default 2000)")
+      ->check(CLI::Range(uint32_t{1}, scenario::kMaxWallCapMs));
   run->add_flag("--no-replay", options.no_replay, "Do not write the replay");
   run->add_flag("--reproducible", options.reproducible,
                 "Write wall_seconds as 0 so identical runs give byte-identical outputs");
@@ -166,8 +214,33 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
     return 2;
   }
   const scenario::Scenario& scenario = *loaded.scenario;
+  std::string problem;
+  const std::optional<app_host::HostLimits> limits = LimitsFor(scenario.app, options, problem);
+  if (!limits) {
+    fmt::print(err, "syrof run: {}\n", problem);
+    return 2;
+  }
+  const bool library = scenario.app.is_library() && !options.app_factory;
   const std::filesystem::path dir =
       options.out_dir.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(options.out_dir);
+  // A library is loaded once in a sandboxed host before any output exists,
+  // so a library that cannot run is refused like a bad scenario.
+  app_host::HostOptions host;
+  std::vector<std::string> sandbox_notes;
+  if (library) {
+    host.library_path = scenario.app.library;
+    host.limits = *limits;
+    const app_host::LibraryCheck check = app_host::CheckLibrary(host);
+    if (!check.ok) {
+      fmt::print(err, "syrof run: {}\n", check.error);
+      return 2;
+    }
+    sandbox_notes = app_host::SandboxNotes();
+    host.log_directory = (dir / "robots").string();
+    // Logs of an earlier run with more robots would pass for this run's.
+    std::error_code ignored;
+    std::filesystem::remove_all(host.log_directory, ignored);
+  }
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error) {
@@ -185,6 +258,11 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   if (!options.quiet) {
     fmt::print(out, "syrof run: {} ({}), {} robots, seed {}, {:.1f} s\n", scenario.name, scenario.app.name,
                scenario.robots.size(), scenario.seed, scenario.timing.duration_s);
+    if (library) {
+      fmt::print(out, "  each robot's app in its own sandboxed process: CPU budget {} ms, wall cap {} ms per callback\n",
+                 host.limits.cpu_budget_ms, host.limits.wall_cap_ms);
+    }
+    for (const std::string& note : sandbox_notes) fmt::print(out, "  sandbox: {}\n", note);
   }
 
   const auto started = std::chrono::steady_clock::now();
@@ -195,6 +273,11 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   sim_options.replay = options.no_replay ? nullptr : &replay_file;
   sim_options.app_factory = options.app_factory;
   sim_options.app_source = options.app_source;
+  if (library) {
+    sim_options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
+    sim_options.app_source = scenario.app.library;
+    sim_options.app_sandbox = sandbox_notes;
+  }
   if (!options.quiet && err_is_terminal) {
     const double duration_s = scenario.timing.duration_s;
     sim_options.progress = [&err, &elapsed_s, duration_s](double sim_seconds) {
@@ -219,7 +302,7 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   const nlohmann::json metrics = nlohmann::json::parse(report.metrics_json);
   const bool misbehaved = AppMisbehaved(metrics);
   if (!options.quiet) {
-    PrintSummary(out, metrics, dir, !options.no_replay);
+    PrintSummary(out, metrics, dir, !options.no_replay, scenario.app.is_library());
   } else if (misbehaved) {
     fmt::print(err, "syrof run: warning: the app misbehaved; see app in {}\n", (dir / "metrics.json").string());
   }

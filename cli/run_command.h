@@ -1,5 +1,7 @@
-// `syrof run SCENARIO.yaml`: runs a scenario in the simulated lab and writes
-// DIR/metrics.json and DIR/replay.
+// `syrof run SCENARIO.yaml [--app builtin:NAME | --app path/to/libmyapp.so]`:
+// runs a scenario in the simulated lab and writes DIR/metrics.json and
+// DIR/replay; with a student's library also DIR/robots/<id>.log, each
+// robot's app host's output.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +19,9 @@ namespace syrof::cli {
 
 struct RunOptions {
   std::string scenario_path;
-  std::optional<std::string> app;
+  std::optional<std::string> app;  ///< "builtin:NAME" or a library's path (lab::scenario::IsLibraryPath)
+  std::optional<uint32_t> cpu_budget_ms;  ///< a library's CPU time per callback instead of the scenario's
+  std::optional<uint32_t> wall_cap_ms;    ///< a library's wall time per callback instead of the scenario's
   std::optional<uint64_t> seed;
   std::optional<int> robots;
   std::optional<double> duration_s;
@@ -36,7 +40,9 @@ struct RunOptions {
 /// Declares the subcommand's arguments on `app`.
 CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options);
 
-/// Runs it. Returns 0 on success, 2 on bad input (message on `err`), 1 on an
+/// Runs it. Returns 0 on success, 2 on bad input (message on `err`: a bad
+/// scenario, a library that is missing, has no syrof_app_entry, was built
+/// for another ABI or does not load, or budgets for a built-in app), 1 on an
 /// internal error, 3 with `strict` when the app misbehaved (a fault, an
 /// invalid command or a refused payload; metrics.json and the replay are
 /// written first). Progress goes to `err` when `err_is_terminal`.

@@ -19,7 +19,7 @@ CLI::Validator DurationValidator();
 
 /// Reports a parse error of `app` (the `syrof` command with its subcommands
 /// set up) and returns the exit status: 0 for --help, 2 for a usage error.
-/// A word where a subcommand belongs that is not one gets "'new' is not a
+/// A word where a subcommand belongs that is not one gets "'grade' is not a
 /// syrof subcommand" and the list of subcommands; a missing subcommand the
 /// list too; anything else CLI11's own message.
 int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ostream& out, std::ostream& err);

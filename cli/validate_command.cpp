@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "syrof/app.h"
+#include "syrof/app_host/hosted_app.h"
 #include "syrof/lab/scenario/scenario.h"
 
 namespace syrof::cli {
@@ -22,8 +24,23 @@ int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::o
     return 2;
   }
   const scenario::Scenario& s = *loaded.scenario;
+  // A library is loaded once in the sandboxed host, as `syrof run` does, so
+  // validate refuses what run would refuse.
+  std::string library_line;
+  if (s.app.is_library()) {
+    app_host::HostOptions host;
+    host.library_path = s.app.library;
+    const app_host::LibraryCheck check = app_host::CheckLibrary(host);
+    if (!check.ok) {
+      fmt::print(err, "syrof validate: {}\n", check.error);
+      return 2;
+    }
+    library_line = fmt::format("  library {} (app '{}'): entry symbol and ABI version {} check out\n",
+                               s.app.library, check.app_name, SYROF_APP_ABI_VERSION);
+  }
   fmt::print(out, "{}: ok\n  name {}, seed {}, app {}\n  arena {} x {} m, {} anchors\n", options.scenario_path, s.name,
              s.seed, s.app.name, s.arena.width_m, s.arena.height_m, s.arena.anchors.size());
+  fmt::print(out, "{}", library_line);
   fmt::print(out, "  {} robots ({} placement), radio round {} s, maneuver {} s, K {}, F {}, {} s\n", s.robots.size(),
              scenario::ToString(s.placement), s.timing.radio_round_s, s.timing.app_round_s, s.timing.vote_rounds,
              s.timing.silence_rounds, s.timing.duration_s);

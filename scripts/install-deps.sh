@@ -7,6 +7,8 @@ set -euo pipefail
 packages=(
   # host build
   build-essential cmake ninja-build pkg-config
+  # make package: dpkg-shlibdeps (dpkg-dev) for the .deb's Depends, and file, which CPack uses to find the ELF files
+  dpkg-dev file
   # design dependencies
   libeigen3-dev libcgal-dev cyclonedds-dev cyclonedds-tools libgtest-dev libgmock-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev

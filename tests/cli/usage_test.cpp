@@ -93,9 +93,9 @@ TEST(UsageTest, DurationAboveADaySaysTheMaximum) {
 }
 
 TEST(UsageTest, UnknownSubcommandIsNamedWithTheRealOnes) {
-  const Report report = Parse("new");
+  const Report report = Parse("frobnicate");
   EXPECT_EQ(report.status, 2);
-  EXPECT_NE(report.err.find("'new' is not a syrof subcommand"), std::string::npos) << report.err;
+  EXPECT_NE(report.err.find("'frobnicate' is not a syrof subcommand"), std::string::npos) << report.err;
   EXPECT_NE(report.err.find("run, validate, apps, replay"), std::string::npos) << report.err;
   EXPECT_EQ(report.err.find("A subcommand is required"), std::string::npos) << report.err;
 }
@@ -122,9 +122,9 @@ std::string StderrOf(const std::string& arguments, int& status) {
 
 TEST(UsageTest, TheExecutableSaysTheSame) {
   int status = 0;
-  std::string err = StderrOf("new", status);
+  std::string err = StderrOf("frobnicate", status);
   EXPECT_EQ(status, 2);
-  EXPECT_NE(err.find("'new' is not a syrof subcommand; the subcommands are: run, validate, apps, replay"),
+  EXPECT_NE(err.find("'frobnicate' is not a syrof subcommand; the subcommands are: run, validate, apps, replay, new"),
             std::string::npos)
       << err;
   err = StderrOf(std::string("run ") + SYROF_SCENARIOS_DIR + "/idle.yaml --robots 0", status);

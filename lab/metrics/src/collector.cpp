@@ -288,6 +288,7 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   metrics.scenario = facts.scenario;
   metrics.app.name = facts.app_name;
   metrics.app.source = facts.app_source;
+  metrics.app.sandbox = facts.app_sandbox;
   metrics.app.faults = app_faults_;
   metrics.app.invalid_commands = invalid_commands_;
   metrics.app.payload_refused = payloads_refused_;

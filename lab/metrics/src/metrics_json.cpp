@@ -71,6 +71,7 @@ Json AppJson(const AppMetrics& app) {
   }
   json["invalid_commands"] = IncidentsJson(app.invalid_commands);
   json["payload_refused"] = IncidentsJson(app.payload_refused);
+  json["sandbox"] = app.sandbox ? Json(*app.sandbox) : Json(nullptr);
   return json;
 }
 

@@ -2,6 +2,7 @@
 // the order they are read in, and the command-line overrides.
 #include "schema.h"
 
+#include <filesystem>
 #include <limits>
 #include <string_view>
 
@@ -33,6 +34,13 @@ bool CheckOverrides(const Overrides& overrides, Diagnostics& diagnostics) {
                                       FormatNumber(*overrides.duration_s));
   }
   return true;
+}
+
+// The folder a library path in the file is relative to: the file's own
+// folder, or the working directory ("") for a scenario read from a string.
+std::string LibraryBaseDir(const Scenario& scenario) {
+  if (scenario.source.empty()) return {};
+  return std::filesystem::path(scenario.source).parent_path().string();
 }
 
 }  // namespace
@@ -89,7 +97,7 @@ bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& sc
       !ReadSensors(root.Find("sensors"), scenario, diagnostics) ||
       !ReadChannel(root.Find("channel"), scenario, diagnostics) ||
       !ReadFaults(root.Find("faults"), scenario, diagnostics) ||
-      !ReadApp(*root.Find("app"), apps::BuiltinApps(), scenario.app, diagnostics)) {
+      !ReadApp(*root.Find("app"), apps::BuiltinApps(), LibraryBaseDir(scenario), scenario.app, diagnostics)) {
     return false;
   }
   return !overrides.app || OverrideApp(*overrides.app, apps::BuiltinApps(), scenario.app, diagnostics);

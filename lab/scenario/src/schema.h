@@ -6,6 +6,7 @@
 #pragma once
 
 #include <span>
+#include <string>
 
 #include "diagnostics.h"
 #include "syrof/lab/apps/catalog.h"
@@ -31,11 +32,15 @@ bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnost
 bool ReadFaults(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
 
 // `app:` against a catalog of built-in apps (the real one is
-// apps::BuiltinApps(); tests pass their own).
-bool ReadApp(const YamlNode& node, std::span<const apps::BuiltinAppInfo> catalog, AppSpec& app,
-             Diagnostics& diagnostics);
-// An app given on the command line ("builtin:NAME"). Keeps the file's
-// parameters when it names the same app, else drops them.
+// apps::BuiltinApps(); tests pass their own). A library's relative path is
+// resolved against `base_dir` (the scenario file's folder; "" for the
+// working directory) and must be a file.
+bool ReadApp(const YamlNode& node, std::span<const apps::BuiltinAppInfo> catalog, const std::string& base_dir,
+             AppSpec& app, Diagnostics& diagnostics);
+// An app given on the command line: "builtin:NAME" or a library's path
+// (relative to the working directory). Keeps the file's parameters when it
+// names the same built-in app, else drops them; keeps the file's library
+// limits when a library replaces a library.
 bool OverrideApp(const std::string& name, std::span<const apps::BuiltinAppInfo> catalog, AppSpec& app,
                  Diagnostics& diagnostics);
 

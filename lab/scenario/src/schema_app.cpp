@@ -1,5 +1,9 @@
-// The app and its parameters, checked against the catalog of built-in apps.
+// The app: a built-in one and its parameters, checked against the catalog,
+// or a student's shared library, checked to be a file (the app host checks
+// its entry symbol and ABI before a run).
+#include <filesystem>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 #include "nearest_name.h"
@@ -64,38 +68,173 @@ bool ReadParams(const YamlNode& node, const std::string& path, const apps::Built
   return true;
 }
 
+// The key node of `key` in `map` (which holds it).
+const YamlNode& KeyNode(const YamlNode& map, std::string_view key) {
+  for (const YamlNode& node : map.keys) {
+    if (node.scalar == key) return node;
+  }
+  return map;
+}
+
+// Where a library named `text` in a file under `base_dir` is: `text` itself
+// when absolute or when `base_dir` is empty, else base_dir/text.
+std::string ResolveLibrary(const std::string& text, const std::string& base_dir) {
+  const std::filesystem::path path(text);
+  if (path.is_absolute() || base_dir.empty()) return text;
+  return (std::filesystem::path(base_dir) / path).string();
+}
+
+// Why `resolved` (written as `text`) cannot be a library; empty when it is
+// a file. Only existence is checked here: whether it loads is the app
+// host's question.
+std::string LibraryFileProblem(const std::string& text, const std::string& resolved) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(resolved, error);
+  const std::string looked = resolved == text ? "" : " (looked for " + resolved + ")";
+  if (status.type() == std::filesystem::file_type::not_found) {
+    return "no such library file '" + text + "'" + looked + "; build the app first (docs/apps.md, \"Your first app\")";
+  }
+  if (error) return "cannot read library file '" + text + "'" + looked + ": " + error.message();
+  if (std::filesystem::is_directory(status)) return "'" + text + "'" + looked + " is a folder, not a library file";
+  return {};
+}
+
+// A library path at `node` (the scalar form of `app:` or `app.library`).
+bool ReadLibrary(const YamlNode& node, const std::string& path, const std::string& base_dir, AppSpec& app,
+                 Diagnostics& diagnostics) {
+  std::string text;
+  if (!ReadString(node, path, text, diagnostics)) return false;
+  if (text.empty()) return FailAt(node, path, "expected the path of a shared library, got an empty string", diagnostics);
+  const std::string resolved = ResolveLibrary(text, base_dir);
+  if (const std::string problem = LibraryFileProblem(text, resolved); !problem.empty()) {
+    return FailAt(node, path, problem, diagnostics);
+  }
+  app.name = text;
+  app.library = resolved;
+  app.params.clear();
+  return true;
+}
+
+bool ReadBuiltinName(const YamlNode& node, const std::string& path, std::span<const apps::BuiltinAppInfo> catalog,
+                     const apps::BuiltinAppInfo*& info, AppSpec& app, Diagnostics& diagnostics) {
+  std::string problem;
+  info = FindApp(node.scalar, catalog, problem);
+  if (info == nullptr) return FailAt(node, path, problem, diagnostics);
+  app.name = node.scalar;
+  app.library.clear();
+  app.params.clear();
+  return true;
+}
+
+// cpu_budget_ms and wall_cap_ms of a library app.
+bool ReadLibraryLimits(const YamlNode& node, AppSpec& app, Diagnostics& diagnostics) {
+  int64_t cpu = 0;
+  int64_t wall = 0;
+  if (node.Find("cpu_budget_ms") != nullptr) {
+    if (!ReadIntegerAt(node, "app", "cpu_budget_ms", 1, kMaxCpuBudgetMs, cpu, diagnostics)) return false;
+    app.cpu_budget_ms = static_cast<uint32_t>(cpu);
+  }
+  if (node.Find("wall_cap_ms") != nullptr) {
+    if (!ReadIntegerAt(node, "app", "wall_cap_ms", 1, kMaxWallCapMs, wall, diagnostics)) return false;
+    if (app.cpu_budget_ms && wall < cpu) {
+      return FailAt(*node.Find("wall_cap_ms"), "app.wall_cap_ms",
+                    "must be at least cpu_budget_ms (" + std::to_string(cpu) + "), got " + std::to_string(wall),
+                    diagnostics);
+    }
+    app.wall_cap_ms = static_cast<uint32_t>(wall);
+  }
+  return true;
+}
+
 }  // namespace
 
-bool ReadApp(const YamlNode& node, std::span<const apps::BuiltinAppInfo> catalog, AppSpec& app,
-             Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"name", "params"};
+bool IsLibraryPath(std::string_view name) {
+  return name.find('/') != std::string_view::npos || name.ends_with(".so");
+}
+
+bool ReadApp(const YamlNode& node, std::span<const apps::BuiltinAppInfo> catalog, const std::string& base_dir,
+             AppSpec& app, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"name", "library", "params", "cpu_budget_ms", "wall_cap_ms"};
   const std::string path = "app";
-  const YamlNode* name_node = &node;
-  std::string name_path = path;
-  if (node.is_map()) {
-    if (!CheckKeys(node, path, kKeys, diagnostics) || !RequireKey(node, path, "name", diagnostics)) return false;
-    name_node = node.Find("name");
-    name_path = "app.name";
+  app = AppSpec{};
+  if (node.is_scalar()) {
+    if (IsLibraryPath(node.scalar)) return ReadLibrary(node, path, base_dir, app, diagnostics);
+    const apps::BuiltinAppInfo* info = nullptr;
+    return ReadBuiltinName(node, path, catalog, info, app, diagnostics);
   }
-  if (!name_node->is_scalar()) {
-    return FailAt(*name_node, name_path, "expected an app name such as 'builtin:idle' or a map with 'name' and 'params'",
+  if (!node.is_map()) {
+    return FailAt(node, path,
+                  "expected an app such as 'builtin:idle' or 'build/libmyapp.so', or a map with 'name' (a built-in "
+                  "app) or 'library' (a shared library)",
                   diagnostics);
   }
-  std::string problem;
-  const apps::BuiltinAppInfo* info = FindApp(name_node->scalar, catalog, problem);
-  if (info == nullptr) return FailAt(*name_node, name_path, problem, diagnostics);
-  app.name = name_node->scalar;
-  app.params.clear();
-  const YamlNode* params = node.is_map() ? node.Find("params") : nullptr;
+  if (!CheckKeys(node, path, kKeys, diagnostics)) return false;
+  const YamlNode* name = node.Find("name");
+  const YamlNode* library = node.Find("library");
+  const YamlNode* params = node.Find("params");
+  if (name != nullptr && library != nullptr) {
+    return FailAt(KeyNode(node, "library"), path,
+                  "give either 'name' (a built-in app) or 'library' (a shared library), not both", diagnostics);
+  }
+  if (library != nullptr) {
+    if (!ReadLibrary(*library, "app.library", base_dir, app, diagnostics)) return false;
+    if (params != nullptr) {
+      // Silently dropping them would be worse: the student would tune
+      // numbers that never reach the app.
+      return FailAt(KeyNode(node, "params"), path,
+                    "a library app takes no 'params': the app API (ABI version 1) has no way to pass them to it; "
+                    "write them as constants in the app",
+                    diagnostics);
+    }
+    return ReadLibraryLimits(node, app, diagnostics);
+  }
+  if (name == nullptr) {
+    return FailAt(node, path, "missing required key 'app.name' (a built-in app) or 'app.library' (a shared library)",
+                  diagnostics);
+  }
+  for (std::string_view key : {std::string_view("cpu_budget_ms"), std::string_view("wall_cap_ms")}) {
+    if (node.Find(key) != nullptr) {
+      return FailAt(KeyNode(node, key), path,
+                    "'" + std::string(key) + "' is for a library app; built-in apps run inside the simulator",
+                    diagnostics);
+    }
+  }
+  if (!name->is_scalar()) {
+    return FailAt(*name, "app.name", "expected a built-in app's name such as 'builtin:idle'", diagnostics);
+  }
+  if (IsLibraryPath(name->scalar)) {
+    return FailAt(*name, "app.name",
+                  "'" + name->scalar + "' is a library's path; write it as 'library: " + name->scalar + "'",
+                  diagnostics);
+  }
+  const apps::BuiltinAppInfo* info = nullptr;
+  if (!ReadBuiltinName(*name, "app.name", catalog, info, app, diagnostics)) return false;
   return params == nullptr || ReadParams(*params, "app.params", *info, app.params, diagnostics);
 }
 
 bool OverrideApp(const std::string& name, std::span<const apps::BuiltinAppInfo> catalog, AppSpec& app,
                  Diagnostics& diagnostics) {
+  if (IsLibraryPath(name)) {
+    if (const std::string problem = LibraryFileProblem(name, name); !problem.empty()) {
+      return diagnostics.Fail(0, 0, "app override: " + problem);
+    }
+    // A library's limits in the file stay when one library replaces another.
+    if (!app.is_library()) {
+      app.cpu_budget_ms.reset();
+      app.wall_cap_ms.reset();
+    }
+    app.name = name;
+    app.library = name;
+    app.params.clear();
+    return true;
+  }
   std::string problem;
   if (FindApp(name, catalog, problem) == nullptr) return diagnostics.Fail(0, 0, "app override: " + problem);
   if (name != app.name) app.params.clear();
   app.name = name;
+  app.library.clear();
+  app.cpu_budget_ms.reset();
+  app.wall_cap_ms.reset();
   return true;
 }
 

@@ -448,6 +448,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   facts.scenario = scenario_.name;
   facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
   facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
+  facts.app_sandbox = options_.app_sandbox;
   facts.goal = metrics::GoalResult{scenario_.app.name, goal.reached, goal.error_m, goal.detail};
   RunReport report;
   report.metrics = collector_.Finish(facts);

@@ -162,6 +162,16 @@ TEST(MetricsJson, AWellBehavedAppHasNoFaultsAndNullFirsts) {
   EXPECT_EQ(json["app"]["payload_refused"], Json::parse(R"({"count": 0, "first": null})"));
 }
 
+TEST(MetricsJson, SandboxNotesAreNullForABuiltinAppAndListedForALibrary) {
+  const Collector collector(CollectorConfig{2, 50'000'000});
+  RunFacts facts = Facts();
+  EXPECT_EQ(Parse(ToJson(collector.Finish(facts)))["app"]["sandbox"], nullptr);
+
+  facts.app_sandbox = std::vector<std::string>{"user namespaces unavailable: EPERM"};
+  EXPECT_EQ(Parse(ToJson(collector.Finish(facts)))["app"]["sandbox"],
+            Json::parse(R"(["user namespaces unavailable: EPERM"])"));
+}
+
 TEST(MetricsJson, FieldsKeepTheDocumentedOrder) {
   const Json json = Parse(ToJson(ObservedRun().Finish(Facts())));
   const std::vector<std::string> expected = {

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "scenario_test_util.h"
@@ -30,7 +32,7 @@ const std::array<apps::BuiltinAppInfo, 2> kCatalog{{
 std::optional<ScenarioError> ReadAppText(const std::string& text, AppSpec& app) {
   Diagnostics diagnostics("app.yaml");
   YamlNode root;
-  if (ReadYamlDocument(text, root, diagnostics)) ReadApp(*root.Find("app"), kCatalog, app, diagnostics);
+  if (ReadYamlDocument(text, root, diagnostics)) ReadApp(*root.Find("app"), kCatalog, "", app, diagnostics);
   return diagnostics.error();
 }
 
@@ -140,6 +142,148 @@ TEST(ReadApp, TheRealCatalogNamesEveryBuiltinApp) {
     EXPECT_NE(result.error->message.find(std::string("builtin:") + info.name), std::string::npos) << info.name;
   }
   EXPECT_TRUE(FailsAt(result, 2, 6, {"app: unknown app 'builtin:nosuchapp'"}));
+}
+
+// ---- A student's library ------------------------------------------------------
+
+namespace fs = std::filesystem;
+
+// A folder holding scenario.yaml (with `app_text` after a minimal robots
+// section) and an empty file lib/libmy.so beside it.
+class LibraryAppTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("syrof_scenario_library_" + std::string(
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "lib");
+    std::ofstream(dir_ / "lib" / "libmy.so") << "not really a library: the loader checks only that it is a file";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  LoadResult LoadWithApp(const std::string& app_text, const Overrides& overrides = {}) {
+    const fs::path path = dir_ / "scenario.yaml";
+    std::ofstream(path) << "robots: { count: 2 }\n" << app_text;
+    return LoadScenarioFile(path.string(), overrides);
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(LibraryAppTest, ARelativePathIsResolvedAgainstTheScenarioFolder) {
+  const LoadResult result = LoadWithApp("app: { library: lib/libmy.so }\n");
+
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  const AppSpec& app = result.scenario->app;
+  EXPECT_TRUE(app.is_library());
+  EXPECT_EQ(app.name, "lib/libmy.so");
+  EXPECT_EQ(fs::path(app.library), dir_ / "lib" / "libmy.so");
+  EXPECT_FALSE(app.cpu_budget_ms);
+  EXPECT_FALSE(app.wall_cap_ms);
+}
+
+TEST_F(LibraryAppTest, TheShortFormTakesAPath) {
+  const LoadResult result = LoadWithApp("app: lib/libmy.so\n");
+
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_EQ(fs::path(result.scenario->app.library), dir_ / "lib" / "libmy.so");
+}
+
+TEST_F(LibraryAppTest, AMissingLibraryIsNamedAtItsPlace) {
+  const LoadResult result = LoadWithApp("app:\n  library: lib/libnope.so\n");
+
+  EXPECT_TRUE(FailsAt(result, 3, 12, {"app.library: no such library file 'lib/libnope.so'", "looked for",
+                                       (dir_ / "lib" / "libnope.so").string().c_str()}));
+}
+
+TEST_F(LibraryAppTest, AFolderIsNotALibrary) {
+  const LoadResult result = LoadWithApp("app: { library: lib/ }\n");
+
+  EXPECT_TRUE(FailsAt(result, 2, 17, {"app.library:", "is a folder"}));
+}
+
+TEST_F(LibraryAppTest, AMisspelledKeySuggestsLibrary) {
+  const LoadResult result = LoadWithApp("app: { libary: lib/libmy.so }\n");
+
+  EXPECT_TRUE(FailsAt(result, 2, 8, {"app: unknown key 'libary'", "did you mean 'library'?"}));
+}
+
+TEST_F(LibraryAppTest, NameAndLibraryTogetherAreRefused) {
+  const LoadResult result = LoadWithApp("app: { name: builtin:idle, library: lib/libmy.so }\n");
+
+  EXPECT_TRUE(FailsAt(result, 2, 28, {"either 'name'", "or 'library'", "not both"}));
+}
+
+TEST_F(LibraryAppTest, ParamsOfALibraryAreRefusedNotDropped) {
+  const LoadResult result = LoadWithApp("app: { library: lib/libmy.so, params: { radius_m: 1 } }\n");
+
+  EXPECT_TRUE(FailsAt(result, 2, 31, {"a library app takes no 'params'"}));
+}
+
+TEST_F(LibraryAppTest, BudgetsAreReadAndChecked) {
+  const LoadResult ok = LoadWithApp("app: { library: lib/libmy.so, cpu_budget_ms: 50, wall_cap_ms: 400 }\n");
+  ASSERT_TRUE(ok.ok()) << ok.error->ToString();
+  EXPECT_EQ(ok.scenario->app.cpu_budget_ms, 50u);
+  EXPECT_EQ(ok.scenario->app.wall_cap_ms, 400u);
+
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, cpu_budget_ms: 0 }\n"), 2, 46,
+                      {"app.cpu_budget_ms: must be in [1, 60000], got 0"}));
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, cpu_budget_ms: 300, wall_cap_ms: 200 }\n"), 2, 64,
+                      {"app.wall_cap_ms: must be at least cpu_budget_ms (300), got 200"}));
+}
+
+TEST_F(LibraryAppTest, ABudgetOnABuiltinAppIsRefused) {
+  const LoadResult result = LoadWithApp("app: { name: builtin:idle, cpu_budget_ms: 50 }\n");
+
+  EXPECT_TRUE(FailsAt(result, 2, 28, {"'cpu_budget_ms' is for a library app"}));
+}
+
+TEST_F(LibraryAppTest, APathUnderNameSaysToUseLibrary) {
+  const LoadResult result = LoadWithApp("app: { name: lib/libmy.so }\n");
+
+  EXPECT_TRUE(FailsAt(result, 2, 14, {"write it as 'library: lib/libmy.so'"}));
+}
+
+TEST_F(LibraryAppTest, TheCommandLineNamesALibraryRelativeToTheWorkingDirectory) {
+  Overrides overrides;
+  overrides.app = (dir_ / "lib" / "libmy.so").string();
+
+  const LoadResult result = LoadWithApp("app: builtin:idle\n", overrides);
+
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_EQ(result.scenario->app.library, *overrides.app);
+  EXPECT_EQ(result.scenario->app.name, *overrides.app);
+}
+
+TEST_F(LibraryAppTest, AMissingLibraryOnTheCommandLineIsNamed) {
+  Overrides overrides;
+  overrides.app = "./libnothere.so";
+
+  const LoadResult result = LoadWithApp("app: builtin:idle\n", overrides);
+
+  ASSERT_FALSE(result.ok());
+  EXPECT_EQ(result.error->line, 0);
+  EXPECT_NE(result.error->message.find("app override: no such library file './libnothere.so'"), std::string::npos)
+      << result.error->ToString();
+}
+
+TEST_F(LibraryAppTest, ABuiltinOverrideReplacesALibraryAndItsLimits) {
+  Overrides overrides;
+  overrides.app = "builtin:idle";
+
+  const LoadResult result = LoadWithApp("app: { library: lib/libmy.so, cpu_budget_ms: 50 }\n", overrides);
+
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_FALSE(result.scenario->app.is_library());
+  EXPECT_FALSE(result.scenario->app.cpu_budget_ms);
+}
+
+TEST(IsLibraryPath, APathOrASoFileNameIsALibrary) {
+  EXPECT_TRUE(IsLibraryPath("./libmy.so"));
+  EXPECT_TRUE(IsLibraryPath("libmy.so"));
+  EXPECT_TRUE(IsLibraryPath("build/libmy"));
+  EXPECT_FALSE(IsLibraryPath("builtin:circle"));
+  EXPECT_FALSE(IsLibraryPath("circle"));
 }
 
 }  // namespace

@@ -55,6 +55,9 @@ struct RunFacts {
   GoalResult goal;
   std::string app_name;    ///< the app's own name, e.g. "circle"
   std::string app_source;  ///< "builtin:NAME" or the path of the student's library
+  /// A library's app host: what its sandbox could not apply on this machine,
+  /// one line each (empty: everything applied). Unset for a built-in app.
+  std::optional<std::vector<std::string>> app_sandbox;
   std::string scenario;    ///< scenario name or file
 };
 
@@ -108,6 +111,7 @@ struct AppMetrics {
   std::vector<AppFault> faults;      ///< in the order they happened; at most one per robot
   AppIncidents invalid_commands;     ///< newRound commands refused (the robot held still)
   AppIncidents payload_refused;      ///< sendMessageData calls over the limit
+  std::optional<std::vector<std::string>> sandbox;  ///< from RunFacts; null in JSON for a built-in app
 };
 
 struct SynchronyMetrics {

@@ -12,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "syrof/lab/base/error.h"
@@ -66,10 +67,30 @@ struct FaultSpec {
   double until_s = 0;  ///< pause only; > at_s
 };
 
+/// The app every robot runs: a built-in app ("builtin:NAME", with its
+/// parameters) or a student's shared library (run by the app host, one
+/// sandboxed process per robot).
 struct AppSpec {
-  std::string name = "builtin:idle";            ///< "builtin:NAME"
-  std::map<std::string, double> params;         ///< app-specific numbers (docs/scenarios.md lists each app's)
+  std::string name = "builtin:idle";     ///< "builtin:NAME"; for a library the path as written
+  std::map<std::string, double> params;  ///< a built-in app's numbers (docs/scenarios.md lists each app's)
+  /// The library to open, empty for a built-in app. A relative path in a
+  /// file is resolved against the scenario file's folder; one on the command
+  /// line (Overrides::app) against the working directory. The loader checks
+  /// that it is a file; the app host checks the rest (entry symbol, ABI).
+  std::string library;
+  std::optional<uint32_t> cpu_budget_ms;  ///< a library's CPU time per callback; unset: the host's default
+  std::optional<uint32_t> wall_cap_ms;    ///< a library's wall time per callback; unset: the host's default
+
+  bool is_library() const { return !library.empty(); }
 };
+
+/// Whether an app name given as text names a shared library (it contains a
+/// '/' or ends in ".so", as in "./libmyapp.so") rather than "builtin:NAME".
+bool IsLibraryPath(std::string_view name);
+
+/// Bounds of the library limits a scenario may set, milliseconds.
+inline constexpr uint32_t kMaxCpuBudgetMs = 60000;
+inline constexpr uint32_t kMaxWallCapMs = 600000;
 
 struct Scenario {
   std::string name;         ///< the file's stem unless the file sets `name`
@@ -94,7 +115,7 @@ struct Overrides {
   std::optional<uint64_t> seed;
   std::optional<int> robots;        ///< robot count; placement is recomputed
   std::optional<double> duration_s;
-  std::optional<std::string> app;   ///< "builtin:NAME"
+  std::optional<std::string> app;   ///< "builtin:NAME" or a library's path (IsLibraryPath)
 };
 
 /// What is wrong with a scenario, and where: lab's error value, with

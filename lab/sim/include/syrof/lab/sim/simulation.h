@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -43,6 +44,9 @@ struct SimulationOptions {
   /// What metrics.json's app.source says when app_factory supplies the apps
   /// (a library's path); empty: the scenario's app ("builtin:NAME").
   std::string app_source;
+  /// metrics.json's app.sandbox: the app host's notes on what its sandbox
+  /// could not apply (a library run); unset (null) for in-process apps.
+  std::optional<std::vector<std::string>> app_sandbox;
 };
 
 /// What a finished run reports.
