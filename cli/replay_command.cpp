@@ -77,11 +77,25 @@ void PrintFrame(const RobotFrame& frame, int64_t time_ns, std::ostream& out) {
 }
 
 void PrintEvent(const Event& event, std::ostream& out) {
+  if (replay::IsPartitionEvent(event.kind)) {
+    out << fmt::format("  {} event {} partition {}\n", FormatTime(event.time_ns), replay::ToString(event.kind),
+                       event.partition);
+    return;
+  }
   std::string other;
   if (event.other != replay::kNoRobot) other = fmt::format(" other {}", event.other);
   out << fmt::format("  {} event {} robot {}{} epoch {} mode {}\n", FormatTime(event.time_ns),
                      replay::ToString(event.kind), RobotName(event.robot), other, event.epoch,
                      ModeName(event.mode));
+}
+
+// One line per map: who started which epoch with which members; the
+// snapshots are in the csv and jsonl exports.
+void PrintMap(const replay::RobotMap& entry, int64_t time_ns, std::ostream& out) {
+  std::string members;
+  for (const replay::MapMember& member : entry.map->members) members += fmt::format(" {}", member.id);
+  out << fmt::format("  {} map robot {} epoch {} {} members{}\n", FormatTime(time_ns), entry.robot,
+                     entry.map->epoch, ModeName(entry.map->mode), members);
 }
 
 bool Selected(const Event& event, const ReplayOptions& options) {
@@ -100,6 +114,11 @@ void PrintRound(const Round& round, const ReplayOptions& options, std::ostream& 
   }
   for (const Event& event : round.events) {
     if (Selected(event, options)) PrintEvent(event, out);
+  }
+  if (!options.events_only) {
+    for (const replay::RobotMap& entry : round.maps) {
+      if (!options.robot || entry.robot == *options.robot) PrintMap(entry, round.time_ns, out);
+    }
   }
 }
 

@@ -212,6 +212,12 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
 
   std::ofstream metrics_file(dir / "metrics.json", std::ios::binary | std::ios::trunc);
   metrics_file << report.metrics_json;
+  if (report.replay_error) {
+    // The file ends where the writer stopped: it is not the run's record.
+    fmt::print(err, "syrof run: the replay {} is incomplete: {}\n", (dir / "replay").string(),
+               report.replay_error->ToString());
+    return 1;
+  }
   if (!metrics_file || (!options.no_replay && !replay_file)) {
     fmt::print(err, "syrof run: writing the outputs in {} failed\n", dir.string());
     return 1;

@@ -42,7 +42,7 @@ Output RunCommand(const ReplayOptions& options) {
 }
 
 const char* const kHeaderText =
-    "SyROF replay, format version 2\n"
+    "SyROF replay, format version 3\n"
     "scenario: three_robots\n"
     "app: builtin:idle\n"
     "seed: 42\n"
@@ -75,7 +75,9 @@ TEST(ReplayCommand, PrintsHeaderFramesAndEvents) {
                 "  0.050000000s robot 1 RUNNING member PROGRESS COOPERATIVE epoch 1 true (2.000, 1.000, 0.250) est (2.010, 0.980, 0.260)\n"
                 "  0.050000000s robot 2 ABSENT member PROGRESS COOPERATIVE epoch 0 true (0.000, 0.000, 0.000) est (0.000, 0.000, 0.000)\n"
                 "  0.050000000s event EPOCH_START robot 0 epoch 1 mode COOPERATIVE\n"
-                "  0.040000000s event PARTITION_START robot - epoch 0 mode COOPERATIVE\n"
+                "  0.040000000s event PARTITION_START partition 0\n"
+                "  0.050000000s map robot 0 epoch 1 COOPERATIVE members 0 1\n"
+                "  0.050000000s map robot 1 epoch 1 COOPERATIVE members 0 1\n"
                 "round 1 t=0.100000000s\n"
                 "  0.100000000s robot 0 RUNNING member WAIT COOPERATIVE epoch 1 true (1.100, 1.000, 0.250) est (1.110, 0.980, 0.260)\n"
                 "  0.100000000s robot 1 CRASHED member PROGRESS COOPERATIVE epoch 1 true (2.000, 1.000, 0.250) est (2.010, 0.980, 0.260)\n"
@@ -86,7 +88,8 @@ TEST(ReplayCommand, PrintsHeaderFramesAndEvents) {
                 "round 3 t=0.200000000s\n"
                 "  0.200000000s robot 0 RUNNING member VOTE COOPERATIVE epoch 2 true (1.200, 1.000, 0.250) est (1.210, 0.980, 0.260)\n"
                 "  0.200000000s robot 2 RUNNING member PROGRESS AUTONOMOUS epoch 2 true (3.000, 2.100, 0.250) est (3.010, 2.080, 0.260)\n"
-                "  0.200000000s event MEMBER_REMOVED robot 0 other 1 epoch 2 mode COOPERATIVE\n");
+                "  0.200000000s event MEMBER_REMOVED robot 0 other 1 epoch 2 mode COOPERATIVE\n"
+                "  0.200000000s map robot 2 epoch 2 AUTONOMOUS members 0 2\n");
 }
 
 TEST(ReplayCommand, FiltersByRoundAndRobot) {
@@ -139,6 +142,8 @@ TEST(ReplayCommand, SummaryCountsEventsByKind) {
       "  APP_FAULT: 0\n"
       "  INVALID_COMMAND: 0\n"
       "  PAYLOAD_REFUSED: 0\n"
+      "  SAFETY_INTERVENTION: 0\n"
+      "  JOIN_WAIT: 0\n"
                             "file: complete\n");
 }
 

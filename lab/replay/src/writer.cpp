@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 
 #include "little_endian.h"
@@ -51,6 +52,7 @@ Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
   }
   ids_.reserve(header.robots.size());
   previous_.resize(header.robots.size());
+  latest_.resize(header.robots.size());
   for (size_t index = 0; index < header.robots.size(); ++index) {
     ids_.push_back(header.robots[index].id);
     previous_[index].id = header.robots[index].id;
@@ -91,7 +93,7 @@ void Writer::Emit() {
 }
 
 std::string Writer::CheckRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
-                               std::span<const Event> events) const {
+                               std::span<const Event> events, std::span<const RobotMap> maps) const {
   std::string problem = detail::CheckRoundOrder(any_round_, last_index_, last_time_ns_, index, time_ns);
   if (problem.empty()) problem = detail::CheckFrameCount(robots.size(), ids_.size());
   if (problem.empty()) problem = detail::CheckEventCount(events.size());
@@ -109,15 +111,65 @@ std::string Writer::CheckRound(uint32_t index, int64_t time_ns, std::span<const 
   for (size_t position = 0; problem.empty() && position < events.size(); ++position) {
     problem = detail::CheckEvent(events[position], ids_);
   }
+  if (problem.empty()) problem = detail::CheckMapCount(maps.size(), ids_.size());
+  for (size_t position = 0; problem.empty() && position < maps.size(); ++position) {
+    const RobotMap& entry = maps[position];
+    if (position > 0 && entry.robot <= maps[position - 1].robot) {
+      problem = fmt::format("map of robot {} follows robot {}; maps must be in increasing robot order", entry.robot,
+                            maps[position - 1].robot);
+    } else if (detail::FindRobot(ids_, entry.robot) == ids_.size()) {
+      problem = fmt::format("map of robot {}, which is not in the header", entry.robot);
+    } else if (entry.map == nullptr) {
+      problem = fmt::format("map of robot {} is null", entry.robot);
+    } else if (std::string map_problem = detail::CheckMap(*entry.map, ids_); !map_problem.empty()) {
+      problem = fmt::format("map of robot {}: {}", entry.robot, map_problem);
+    }
+  }
   if (!problem.empty()) problem = fmt::format("round {}: {}", index, problem);
   return problem;
 }
 
+// How many full maps the writer remembers as reference targets: enough for
+// the groups a partition or a few AUTONOMOUS robots interleave, few enough
+// that the comparisons stay cheap.
+constexpr size_t kRecentMaps = 8;
+
+void Writer::PutMap(size_t slot, const std::shared_ptr<const EpochMap>& map) {
+  PutU16(buffer_, ids_[slot]);
+  // A recent full map that its holder still holds and that equals this one.
+  for (auto candidate = recent_.rbegin(); candidate != recent_.rend(); ++candidate) {
+    const std::shared_ptr<const EpochMap>& held = latest_[*candidate];
+    if (held != nullptr && (held == map || *held == *map)) {
+      PutU16(buffer_, ids_[*candidate]);
+      latest_[slot] = held;
+      return;
+    }
+  }
+  PutU16(buffer_, format::kSameAsNone);
+  PutU16(buffer_, map->epoch);
+  PutU8(buffer_, map->mode);
+  PutU16(buffer_, static_cast<uint16_t>(map->members.size()));
+  for (const MapMember& member : map->members) {
+    PutU16(buffer_, member.id);
+    PutU8(buffer_, member.phase);
+    for (const int16_t value : {member.x_mm, member.y_mm, member.heading_mrad, member.vx_mm_s, member.vy_mm_s}) {
+      PutU16(buffer_, static_cast<uint16_t>(value));
+    }
+    PutU8(buffer_, static_cast<uint8_t>(member.payload.size()));
+    buffer_.insert(buffer_.end(), member.payload.begin(), member.payload.end());
+  }
+  latest_[slot] = map;
+  // A slot appears once: its older full map is no longer what it holds.
+  recent_.erase(std::remove(recent_.begin(), recent_.end(), slot), recent_.end());
+  if (recent_.size() == kRecentMaps) recent_.erase(recent_.begin());
+  recent_.push_back(slot);
+}
+
 void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
-                        std::span<const Event> events) {
+                        std::span<const Event> events, std::span<const RobotMap> maps) {
   if (state_ == State::kFinished) Fail("WriteRound after Finish");
   if (state_ != State::kWriting) return;
-  if (std::string problem = CheckRound(index, time_ns, robots, events); !problem.empty()) {
+  if (std::string problem = CheckRound(index, time_ns, robots, events, maps); !problem.empty()) {
     Fail(std::move(problem));
     return;
   }
@@ -128,6 +180,7 @@ void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFr
   PutI64(buffer_, time_ns);
   PutU32(buffer_, static_cast<uint32_t>(robots.size()));
   PutU32(buffer_, static_cast<uint32_t>(events.size()));
+  PutU32(buffer_, static_cast<uint32_t>(maps.size()));
   size_t slot = 0;  // frames and ids_ both increase, so one walk finds every slot
   for (const RobotFrame& frame : robots) {
     while (ids_[slot] != frame.id) ++slot;
@@ -161,7 +214,11 @@ void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFr
     PutU16(buffer_, event.epoch);
     PutU8(buffer_, event.mode);
     PutI64(buffer_, event.time_ns);
+    PutU16(buffer_, event.partition);
   }
+  // In order: a reference may name a robot whose map came earlier in this
+  // round, as the reader resolves it.
+  for (const RobotMap& entry : maps) PutMap(detail::FindRobot(ids_, entry.robot), entry.map);
   Emit();
   any_round_ = true;
   last_index_ = index;
