@@ -175,6 +175,20 @@ bool Reader::ReadHeader(Header& header) {
     header.robots.push_back(robot);
     ids_.push_back(robot.id);
   }
+  header.anchors.clear();
+  if (version_ >= 3) {
+    at = offset_;
+    if ((bytes = Take(2, "anchor count")) == nullptr) return false;
+    const uint16_t anchor_count = GetU16(bytes);
+    if (std::string problem = detail::CheckAnchorCount(anchor_count); !problem.empty()) return Fail(at, problem);
+    for (uint16_t index = 0; index < anchor_count; ++index) {
+      at = offset_;
+      if ((bytes = Take(format::kAnchorBytes, "anchor")) == nullptr) return false;
+      const AnchorInfo anchor{GetF32(bytes), GetF32(bytes + 4)};
+      if (std::string problem = detail::CheckAnchor(anchor, index); !problem.empty()) return Fail(at, problem);
+      header.anchors.push_back(anchor);
+    }
+  }
   if (!CheckCrc(0, "header")) return false;
 
   previous_.assign(ids_.size(), RobotFrame{});

@@ -53,6 +53,16 @@ std::string CheckBodyRadius(float radius_m, uint16_t id) {
   return fmt::format("robot {} has body radius {}; it must be finite and not negative", id, radius_m);
 }
 
+std::string CheckAnchorCount(uint64_t count) {
+  if (count <= kMaxAnchors) return {};
+  return fmt::format("anchor count {} is more than the {} allowed", count, kMaxAnchors);
+}
+
+std::string CheckAnchor(const AnchorInfo& anchor, size_t index) {
+  if (std::isfinite(anchor.x_m) && std::isfinite(anchor.y_m)) return {};
+  return fmt::format("anchor {} at ({}, {}) is not finite", index, anchor.x_m, anchor.y_m);
+}
+
 std::string CheckRoundOrder(bool any_round, uint32_t last_index, int64_t last_time_ns,
                             uint32_t index, int64_t time_ns) {
   if (!any_round) return {};

@@ -21,6 +21,8 @@ std::string CheckRobotCount(uint64_t count);
 /// `previous` is the id before `id` in the header, or nullptr for the first.
 std::string CheckRobotId(uint16_t id, const uint16_t* previous);
 std::string CheckBodyRadius(float radius_m, uint16_t id);
+std::string CheckAnchorCount(uint64_t count);
+std::string CheckAnchor(const AnchorInfo& anchor, size_t index);
 
 std::string CheckRoundOrder(bool any_round, uint32_t last_index, int64_t last_time_ns,
                             uint32_t index, int64_t time_ns);

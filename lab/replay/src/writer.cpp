@@ -35,6 +35,10 @@ std::string CheckHeader(const Header& header) {
     problem = detail::CheckRobotId(robot.id, index == 0 ? nullptr : &header.robots[index - 1].id);
     if (problem.empty()) problem = detail::CheckBodyRadius(robot.body_radius_m, robot.id);
   }
+  if (problem.empty()) problem = detail::CheckAnchorCount(header.anchors.size());
+  for (size_t index = 0; problem.empty() && index < header.anchors.size(); ++index) {
+    problem = detail::CheckAnchor(header.anchors[index], index);
+  }
   return problem;
 }
 
@@ -71,6 +75,11 @@ Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
     PutU16(buffer_, robot.id);
     PutU8(buffer_, robot.kind);
     PutF32(buffer_, robot.body_radius_m);
+  }
+  PutU16(buffer_, static_cast<uint16_t>(header.anchors.size()));
+  for (const AnchorInfo& anchor : header.anchors) {
+    PutF32(buffer_, anchor.x_m);
+    PutF32(buffer_, anchor.y_m);
   }
   Emit();
 }

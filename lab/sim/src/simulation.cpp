@@ -244,6 +244,9 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       header.robots.push_back(replay::RobotInfo{spec.id, static_cast<uint8_t>(spec.kind),
                                                 static_cast<float>(scenario_.kind_spec(spec.kind).body_radius_m)});
     }
+    for (const world::AnchorSpec& anchor : scenario_.arena.anchors) {
+      header.anchors.push_back(replay::AnchorInfo{static_cast<float>(anchor.x_m), static_cast<float>(anchor.y_m)});
+    }
     replay_ = std::make_unique<replay::Writer>(*options_.replay, header);
   }
   frames_.resize(robots_.size());

@@ -117,6 +117,18 @@ TEST(ReplayReader, LargeRobotCountInShortFileIsTruncationNotAllocation) {
   EXPECT_TRUE(back.truncated);
 }
 
+TEST(ReplayReader, RefusesTooManyOrNonFiniteAnchors) {
+  const Written written = WriteSample();
+  const size_t anchor_count_at = kRobotCountAt + 4 + 3 * 7;
+  std::string many = written.bytes;
+  PutU16At(many, anchor_count_at, 300);
+  std::string infinite = written.bytes;
+  PutU32At(infinite, anchor_count_at + 2 + 8 + 4, 0x7F800000);  // anchor 1's y
+
+  ExpectError(Read(many), anchor_count_at, "anchor count 300 is more than the 256 allowed");
+  ExpectError(Read(infinite), anchor_count_at + 2 + 8, "anchor 1 at (4, inf) is not finite");
+}
+
 TEST(ReplayReader, RefusesNameTooLongOrWithControlCharacters) {
   std::string too_long = WriteSample().bytes;
   PutU16At(too_long, kScenarioNameAt, 5000);

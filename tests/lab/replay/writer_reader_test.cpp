@@ -103,7 +103,9 @@ const std::vector<uint8_t> kGoldenFile = {
     0x01, 0x00, 'c',                                 // app_name "c"
     0x01, 0x00, 0x00, 0x00,                          // robot count 1
     0x07, 0x00, 0x01, 0x00, 0x00, 0x00, 0x3E,        // robot 7, rover, radius 0.125
-    0x67, 0xD0, 0xCB, 0xD6,                          // crc
+    0x01, 0x00,                                      // anchor count 1
+    0x00, 0x00, 0x00, 0x3F, 0x00, 0x00, 0x00, 0x40,  // anchor (0.5, 2.0)
+    0xA1, 0x5E, 0x06, 0x91,                          // crc
     // round
     'R',                                             // tag
     0x03, 0x00, 0x00, 0x00,                          // index 3
@@ -153,6 +155,7 @@ TEST(ReplayWriterReader, LayoutMatchesTheGoldenFile) {
   header.scenario_name = "ab";
   header.app_name = "c";
   header.robots = {{7, 1, 0.125f}};
+  header.anchors = {{0.5f, 2.0f}};
   RobotFrame frame{.id = 7, .presence = Presence::kRunning, .status = 1, .phase = 2, .mode = 1, .epoch = 0x0102};
   frame.true_x_m = 1.0f;
   frame.true_heading_rad = -0.5f;
@@ -175,6 +178,7 @@ TEST(ReplayWriterReader, LayoutMatchesTheGoldenFile) {
   EXPECT_EQ(std::vector<uint8_t>(bytes.begin(), bytes.end()), kGoldenFile);
   const testing::ReadBack back = Read(std::string(kGoldenFile.begin(), kGoldenFile.end()));
   EXPECT_TRUE(back.complete) << back.error;
+  EXPECT_EQ(back.header, header);
   ASSERT_EQ(back.rounds.size(), 1u);
   EXPECT_EQ(back.rounds[0].robots[0], frame);
   EXPECT_EQ(back.rounds[0].events, std::vector<Event>(events.begin(), events.end()));

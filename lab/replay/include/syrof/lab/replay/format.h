@@ -12,6 +12,7 @@
 //            arena_width_m:f32 arena_height_m:f32
 //            scenario_name:name app_name:name
 //            robot_count:u32 (id:u16 kind:u8 body_radius_m:f32)*robot_count
+//            anchor_count:u16 (x_m:f32 y_m:f32)*anchor_count
 //            crc:u32
 //   name   = length:u16 bytes[length]
 //   round  = 'R' index:u32 time_ns:i64 frame_count:u32 event_count:u32
@@ -28,7 +29,7 @@
 //            vy_mm_s:i16 payload_length:u8 payload[payload_length]
 //   end    = 'E' round_count:u32 event_count:u64 frame_count:u64 crc:u32
 //
-// Versions 1 and 2 had no map_count, no maps and no event partition field
+// Versions 1 and 2 had no anchors, no map_count, no maps and no event partition field
 // (a partition event kept its index in `robot`). A map whose same_as names a
 // robot equals that robot's latest map, as of this point of the file.
 //
@@ -75,6 +76,7 @@ inline constexpr uint8_t kChangedReservedMask = 0x80;
 /// Sizes of the fixed parts, in bytes.
 inline constexpr size_t kHeaderFixedBytes = 8 + 2 + 8 + 8 + 4 + 4;  ///< magic .. arena_height_m
 inline constexpr size_t kRobotInfoBytes = 2 + 1 + 4;
+inline constexpr size_t kAnchorBytes = 4 + 4;
 inline constexpr size_t kRoundFixedBytes = 1 + 4 + 8 + 4 + 4 + 4;   ///< tag .. map_count
 inline constexpr size_t kRoundFixedBytesV2 = 1 + 4 + 8 + 4 + 4;     ///< versions 1, 2: tag .. event_count
 inline constexpr size_t kFrameFixedBytes = 2 + 1 + 1;               ///< id, state, changed

@@ -21,7 +21,8 @@ namespace syrof::lab::replay {
 ///   1: the first layout.
 ///   2: event kinds APP_FAULT, INVALID_COMMAND and PAYLOAD_REFUSED.
 ///   3: per-epoch map records in each round, an event's own `partition`
-///      field, event kinds SAFETY_INTERVENTION and JOIN_WAIT.
+///      field, event kinds SAFETY_INTERVENTION and JOIN_WAIT, the arena's
+///      UWB anchors in the header.
 inline constexpr uint16_t kFormatVersion = 3;
 inline constexpr uint16_t kOldestFormatVersion = 1;
 
@@ -36,6 +37,7 @@ inline constexpr uint16_t kNoPartition = 0xFFFF;
 inline constexpr size_t kMaxNameBytes = 256;              ///< scenario_name, app_name
 inline constexpr uint32_t kMaxRobots = 65535;             ///< ids 0 .. 65534 (kNoRobot excluded)
 inline constexpr uint32_t kMaxEventsPerRound = 1u << 20;  ///< far above any real round
+inline constexpr size_t kMaxAnchors = 256;                ///< UWB anchors of the arena
 /// A map member's payload: the beacon's (wire::kMaxPayloadBytes; lab/sim
 /// checks the two agree).
 inline constexpr size_t kMaxPayloadBytes = 9;
@@ -49,6 +51,14 @@ struct RobotInfo {
   bool operator==(const RobotInfo& other) const = default;
 };
 
+/// A UWB anchor of the arena (since version 3), metres, arena frame.
+struct AnchorInfo {
+  float x_m = 0;  ///< finite
+  float y_m = 0;  ///< finite
+
+  bool operator==(const AnchorInfo& other) const = default;
+};
+
 /// What the run was. Names are at most kMaxNameBytes bytes with no ASCII
 /// control characters (UTF-8 is fine), so a dump cannot garble a terminal.
 struct Header {
@@ -59,6 +69,7 @@ struct Header {
   std::string scenario_name;
   std::string app_name;         ///< e.g. "builtin:idle"
   std::vector<RobotInfo> robots;  ///< at most kMaxRobots, ids strictly increasing
+  std::vector<AnchorInfo> anchors;  ///< at most kMaxAnchors; empty in version 1 and 2 files
 
   bool operator==(const Header& other) const = default;
 };
