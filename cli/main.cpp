@@ -1,5 +1,5 @@
 // The `syrof` command: one file per subcommand (run, validate, apps,
-// replay); main only wires them.
+// replay, view); main only wires them.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -11,6 +11,7 @@
 #include "run_command.h"
 #include "usage.h"
 #include "validate_command.h"
+#include "view_command.h"
 
 int main(int argc, char** argv) {
   using namespace syrof::cli;
@@ -23,7 +24,9 @@ int main(int argc, char** argv) {
   AppsOptions apps_options;
   CLI::App* apps = SetupAppsCommand(app, apps_options);
   ReplayOptions replay_options;
-  SetupReplayCommand(app, replay_options);
+  CLI::App* replay = SetupReplayCommand(app, replay_options);
+  ViewOptions view_options;
+  CLI::App* view = SetupViewCommand(app, view_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -33,7 +36,9 @@ int main(int argc, char** argv) {
     if (run->parsed()) return RunRunCommand(run_options, std::cout, std::cerr, isatty(STDERR_FILENO) != 0);
     if (validate->parsed()) return RunValidateCommand(validate_options, std::cout, std::cerr);
     if (apps->parsed()) return RunAppsCommand(apps_options, std::cout);
-    return RunReplayCommand(replay_options, std::cout, std::cerr);
+    if (replay->parsed()) return RunReplayCommand(replay_options, std::cout, std::cerr);
+    if (view->parsed()) return RunViewCommand(view_options, std::cout, std::cerr);
+    return 1;
   } catch (const std::exception& error) {
     std::cerr << "syrof: internal error: " << error.what() << "\n";
     return 1;

@@ -13,6 +13,7 @@
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 #include "usage.h"
+#include "view_command.h"
 
 namespace syrof::cli {
 namespace {
@@ -103,7 +104,8 @@ void PrintAppLines(std::ostream& out, const nlohmann::json& m) {
   }
 }
 
-void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay) {
+void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay,
+                  bool html) {
   const double sim = m.value("sim_seconds", 0.0);
   const double wall = m.value("wall_seconds", 0.0);
   fmt::print(out, "\nSyROF run: {} ({}), {} robots, seed {}\n", m.value("scenario", std::string()),
@@ -135,8 +137,9 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
                goal.value("detail", std::string()));
   }
   PrintAppLines(out, m);
-  fmt::print(out, "  {:<17} {}{}\n", "outputs", (dir / "metrics.json").string(),
-             replay ? ", " + (dir / "replay").string() : std::string());
+  fmt::print(out, "  {:<17} {}{}{}\n", "outputs", (dir / "metrics.json").string(),
+             replay ? ", " + (dir / "replay").string() : std::string(),
+             html ? ", " + (dir / "replay.html").string() : std::string());
 }
 
 }  // namespace
@@ -150,7 +153,9 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_option("--duration", options.duration_s, "Simulated seconds instead of the scenario's")
       ->check(DurationValidator());
   run->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>)");
-  run->add_flag("--no-replay", options.no_replay, "Do not write the replay");
+  CLI::Option* no_replay = run->add_flag("--no-replay", options.no_replay, "Do not write the replay");
+  run->add_flag("--html", options.html, "Also write OUT/replay.html, the replay's page (as `syrof view` does)")
+      ->excludes(no_replay);
   run->add_flag("--reproducible", options.reproducible,
                 "Write wall_seconds as 0 so identical runs give byte-identical outputs");
   run->add_flag("--quiet", options.quiet, "No progress line and no summary");
@@ -222,10 +227,18 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
     fmt::print(err, "syrof run: writing the outputs in {} failed\n", dir.string());
     return 1;
   }
+  replay_file.close();
+  if (options.html && !options.no_replay) {
+    if (std::string problem = WritePage((dir / "replay").string(), (dir / "replay.html").string());
+        !problem.empty()) {
+      fmt::print(err, "syrof run: writing {} failed: {}\n", (dir / "replay.html").string(), problem);
+      return 1;
+    }
+  }
   const nlohmann::json metrics = nlohmann::json::parse(report.metrics_json);
   const bool misbehaved = AppMisbehaved(metrics);
   if (!options.quiet) {
-    PrintSummary(out, metrics, dir, !options.no_replay);
+    PrintSummary(out, metrics, dir, !options.no_replay, options.html && !options.no_replay);
   } else if (misbehaved) {
     fmt::print(err, "syrof run: warning: the app misbehaved; see app in {}\n", (dir / "metrics.json").string());
   }

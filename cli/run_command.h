@@ -1,5 +1,5 @@
 // `syrof run SCENARIO.yaml`: runs a scenario in the simulated lab and writes
-// DIR/metrics.json and DIR/replay.
+// DIR/metrics.json and DIR/replay (and, with --html, DIR/replay.html).
 #pragma once
 
 #include <cstdint>
@@ -23,6 +23,7 @@ struct RunOptions {
   std::optional<double> duration_s;
   std::string out_dir;        ///< default: out/<scenario name>
   bool no_replay = false;
+  bool html = false;          ///< also write OUT/replay.html, the replay's page (syrof view)
   bool reproducible = false;  ///< wall_seconds written as 0, so identical runs give identical files
   bool quiet = false;         ///< no progress line, no summary
   bool strict = false;        ///< exit 3 when the app faulted, returned an invalid command or had a payload refused
