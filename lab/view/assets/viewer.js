@@ -68,6 +68,7 @@
 
   function finish(report) {
     report.status = data.status;
+    report.ready_ms = Math.round(performance.now());  // since navigation start
     $('report').textContent = JSON.stringify(report);
     document.body.dataset.ready = '1';
   }
@@ -156,7 +157,10 @@
     const aspect = data.arena[1] / data.arena[0];
     let w = width;
     let h = Math.round(w * aspect);
-    const maxH = Math.max(260, window.innerHeight * 0.62);
+    // Never taller than 640 px: a bigger arena is no easier to read, and the
+    // controls stay on a laptop's screen. Not tied to the window's height,
+    // which a screenshot and a DOM dump of the same window do not agree on.
+    const maxH = 640;
     if (h > maxH) { h = Math.round(maxH); w = Math.round(h / aspect); }
     const ratio = window.devicePixelRatio || 1;
     arena.style.width = w + 'px';
