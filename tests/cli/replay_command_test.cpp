@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -213,6 +215,77 @@ TEST(ReplayCommand, SetupRefusesSummaryWithFilters) {
 
   EXPECT_THROW(app.parse("replay run.replay --summary --robot 3", false), CLI::ExcludesError);
   EXPECT_THROW(app.parse("replay run.replay --robot 70000", false), CLI::ConversionError);
+}
+
+TEST(ReplayExport, CsvFramesHaveOneRowPerFrameWithTheDocumentedColumns) {
+  const ReplayOptions options{.file = SampleFile("csv_frames"), .format = "csv"};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 0) << output.err;
+  std::istringstream lines(output.out);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line,
+            "round,time_s,robot,presence,status,phase,mode,epoch,true_x_m,true_y_m,true_heading_rad,est_x_m,est_y_m,"
+            "est_heading_rad");
+  std::getline(lines, line);
+  EXPECT_EQ(line, "0,0.050000000,0,RUNNING,member,PROGRESS,COOPERATIVE,1,1,1,0.25,1.01,0.98,0.26");
+  size_t rows = 1;
+  while (std::getline(lines, line)) ++rows;
+  EXPECT_EQ(rows, 8u);  // the sample's frames
+}
+
+TEST(ReplayExport, CsvEventsAndMaps) {
+  const std::string file = SampleFile("csv_events");
+
+  const Output events = RunCommand(ReplayOptions{.file = file, .format = "csv", .table = "events"});
+  const Output maps = RunCommand(ReplayOptions{.file = file, .robot = 2, .format = "csv", .table = "maps"});
+
+  EXPECT_EQ(events.status, 0) << events.err;
+  EXPECT_EQ(events.out,
+            "round,time_s,kind,robot,other,partition,epoch,mode\n"
+            "0,0.050000000,EPOCH_START,0,,,1,COOPERATIVE\n"
+            "0,0.040000000,PARTITION_START,,,0,0,COOPERATIVE\n"
+            "1,0.090000000,COLLISION,0,1,,1,COOPERATIVE\n"
+            "1,0.095000000,CRASH,1,,,1,COOPERATIVE\n"
+            "1,0.100000000,JOIN,2,,,0,AUTONOMOUS\n"
+            "3,0.200000000,MEMBER_REMOVED,0,1,,2,COOPERATIVE\n");
+  EXPECT_EQ(maps.status, 0) << maps.err;
+  EXPECT_EQ(maps.out,
+            "round,time_s,robot,epoch,mode,member,member_phase,x_m,y_m,heading_rad,vx_m_s,vy_m_s,payload_hex\n"
+            "3,0.200000000,2,2,AUTONOMOUS,0,PROGRESS,1.000,0.000,0.250,0.000,0.000,\n"
+            "3,0.200000000,2,2,AUTONOMOUS,2,PROGRESS,1.200,-0.010,0.252,0.002,0.000,a2a2\n");
+}
+
+TEST(ReplayExport, JsonLinesHoldEveryRecordAsOneObjectPerLine) {
+  const ReplayOptions options{.file = SampleFile("jsonl"), .format = "jsonl"};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 0) << output.err;
+  std::istringstream lines(output.out);
+  std::string line;
+  std::map<std::string, int> types;
+  while (std::getline(lines, line)) {
+    const nlohmann::json record = nlohmann::json::parse(line);
+    ++types[record["type"].get<std::string>()];
+  }
+  EXPECT_EQ(types, (std::map<std::string, int>{{"header", 1}, {"frame", 8}, {"event", 6}, {"map", 3}}));
+  EXPECT_NE(output.out.find(R"({"type":"map","round":0,"time_ns":50000000,"robot":1,"epoch":1,"mode":"COOPERATIVE")"),
+            std::string::npos);
+  EXPECT_NE(output.out.find(R"("kind":"PARTITION_START","robot":null,"other":null,"partition":0)"), std::string::npos);
+}
+
+TEST(ReplayExport, TruncatedFileExportsWhatItHoldsThenFails) {
+  const std::string bytes = replay::testing::WriteSample().bytes;
+  const ReplayOptions options{.file = WriteFile("cut.replay", bytes.substr(0, bytes.size() - 25)), .format = "jsonl"};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 2);
+  EXPECT_NE(output.err.find("file ends after 3 rounds without the end marker"), std::string::npos) << output.err;
+  EXPECT_NE(output.out.find(R"("kind":"MEMBER_REMOVED")"), std::string::npos);
 }
 
 }  // namespace
