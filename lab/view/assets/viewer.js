@@ -12,6 +12,7 @@
 'use strict';
 
 (function () {
+  const scriptStart = performance.now();
   const COLOURS = {
     cooperative: [47, 127, 208],
     autonomous: [232, 134, 42],
@@ -69,6 +70,7 @@
   function finish(report) {
     report.status = data.status;
     report.ready_ms = Math.round(performance.now());  // since navigation start
+    report.script_ms = Math.round(performance.now() - scriptStart);  // parsing the data and the first drawing
     $('report').textContent = JSON.stringify(report);
     document.body.dataset.ready = '1';
   }
@@ -89,6 +91,7 @@
     showBanner(data.status, TITLES[data.status] || 'Problem', data.message || '', data.status === 'empty');
   }
 
+  const timings = { parse_ms: Math.round(performance.now() - scriptStart) };
   const robots = data.robots;
   const stride = data.stride;
   const roundIndex = undelta(data.rounds.index);
@@ -768,8 +771,10 @@
   window.addEventListener('resize', () => { layoutArena(); render(); });
 
   // ---- Start ------------------------------------------------------------------------------
+  timings.decode_ms = Math.round(performance.now() - scriptStart);
   legend();
   buildEvents();
+  timings.events_ms = Math.round(performance.now() - scriptStart);
   layoutArena();
   const params = new URLSearchParams(location.hash.replace(/^#/, ''));
   if (params.has('round') && rounds) {
@@ -782,5 +787,8 @@
     const slot = slotOf.get(Number(params.get('robot')));
     if (slot !== undefined) selected = slot;
   }
-  finish(render());
+  const report = render();
+  timings.render_ms = Math.round(performance.now() - scriptStart);
+  report.timings = timings;
+  finish(report);
 })();
