@@ -381,7 +381,7 @@
       const sharing = data.starts.filter((st) => st[2] === latest.map).length;
       children.push(el('h3', {}, [`LDMap it started epoch ${epoch} with `, pill(MODES[mode], mode ? COLOURS.autonomous : COLOURS.cooperative),
                                   ` (round ${roundIndex[latest.pos]}, ${members.length} members${sharing > 1 ? `, same map as ${sharing - 1} other robot start${sharing > 2 ? 's' : ''}` : ''})`]));
-      const head = el('tr', {}, ['member', 'phase', 'x m', 'y m', 'heading', 'vx', 'vy', 'payload'].map((t) => el('th', { textContent: t })));
+      const head = el('tr', {}, ['id', 'phase', 'x', 'y', 'θ', 'vx', 'vy', 'payload'].map((t) => el('th', { textContent: t })));
       const rows = members.map((m) => {
         const tr = el('tr', {}, [m[0], PHASES[m[1]] || m[1], fmt(m[2] / 1000, 3), fmt(m[3] / 1000, 3), fmt(m[4] / 1000, 2),
                                  fmt(m[5] / 1000, 2), fmt(m[6] / 1000, 2), m[7] || '–'].map((t) => el('td', { textContent: String(t) })));
@@ -389,7 +389,8 @@
         if (m[0] === robot.id) tr.className = 'self';
         return tr;
       });
-      children.push(el('div', { className: 'maptable' }, [el('table', { className: 'ldmap' }, [head, ...rows])]));
+      children.push(el('div', { className: 'maptable' }, [el('table', { className: 'ldmap' }, [head, ...rows])]),
+                    el('div', { className: 'hint', textContent: 'Each member\'s frozen snapshot as this robot\'s app received it: position (m), heading θ (rad), velocity (m/s), phase when last heard, payload bytes in hex.' }));
     }
     body.replaceChildren(...children);
     return report;
