@@ -10,8 +10,8 @@
 namespace syrof::cli {
 
 struct ViewOptions {
-  std::string file;    ///< the replay
-  std::string output;  ///< the page; default: the replay's path with .html
+  std::string file{};    ///< the replay
+  std::string output{};  ///< the page; default: the replay's path with .html
 };
 
 /// Declares the subcommand on `app`.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "replay_test_support.h"
+#include "view_command.h"
 
 namespace syrof::cli {
 namespace {
@@ -286,6 +287,40 @@ TEST(ReplayExport, TruncatedFileExportsWhatItHoldsThenFails) {
   EXPECT_EQ(output.status, 2);
   EXPECT_NE(output.err.find("file ends after 3 rounds without the end marker"), std::string::npos) << output.err;
   EXPECT_NE(output.out.find(R"("kind":"MEMBER_REMOVED")"), std::string::npos);
+}
+
+std::string ReadBack(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+TEST(ViewCommand, WritesTheSelfContainedPage) {
+  const ViewOptions options{.file = SampleFile("view"), .output = WriteFile("view_out.html", "")};
+  std::ostringstream out, err;
+
+  const int status = RunViewCommand(options, out, err);
+
+  EXPECT_EQ(status, 0) << err.str();
+  EXPECT_NE(out.str().find("wrote " + options.output + " (3 rounds, 6 events"), std::string::npos) << out.str();
+  const std::string page = ReadBack(options.output);
+  EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(page.find("\"scenario\":\"three_robots\""), std::string::npos);
+}
+
+TEST(ViewCommand, ABadReplayStillGetsAPageThatSaysWhyAndExitsTwo) {
+  const std::string bytes = replay::testing::WriteSample().bytes;
+  const ViewOptions options{.file = WriteFile("view_cut.replay", bytes.substr(0, bytes.size() - 25))};
+  std::ostringstream out, err;
+
+  const int status = RunViewCommand(options, out, err);
+
+  EXPECT_EQ(status, 2);
+  EXPECT_NE(err.str().find("file ends after 3 rounds without the end marker"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("wrote " + options.file + ".html"), std::string::npos) << err.str();
+  EXPECT_NE(ReadBack(options.file + ".html").find("\"status\":\"truncated\""), std::string::npos);
+  EXPECT_EQ(RunViewCommand(ViewOptions{.file = "/nonexistent/replay"}, out, err), 2);
 }
 
 }  // namespace

@@ -85,6 +85,22 @@ TEST(RunCommandTest, AReplayWriterFailureExitsOneWithTheReason) {
   EXPECT_EQ(outcome.out.find("outputs"), std::string::npos) << outcome.out;  // no summary naming the file
 }
 
+TEST(RunCommandTest, HtmlWritesTheReplaysPageNextToIt) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.duration_s = 2;
+  options.out_dir = TempDir("html").string();
+  options.html = true;
+
+  const Outcome outcome = RunWith(options);
+
+  ASSERT_EQ(outcome.status, 0) << outcome.err;
+  const std::string page = ReadFile(fs::path(options.out_dir) / "replay.html");
+  EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(page.find("\"status\":\"complete\""), std::string::npos);
+  EXPECT_NE(outcome.out.find((fs::path(options.out_dir) / "replay.html").string()), std::string::npos);
+}
+
 TEST(RunCommandTest, ReproducibleRunsWriteIdenticalBytes) {
   RunOptions first;
   first.scenario_path = kScenarios + "/demo_circle.yaml";
