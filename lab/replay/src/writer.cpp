@@ -57,6 +57,7 @@ Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
   ids_.reserve(header.robots.size());
   previous_.resize(header.robots.size());
   latest_.resize(header.robots.size());
+  latest_hash_.resize(header.robots.size());
   for (size_t index = 0; index < header.robots.size(); ++index) {
     ids_.push_back(header.robots[index].id);
     previous_[index].id = header.robots[index].id;
@@ -138,40 +139,77 @@ std::string Writer::CheckRound(uint32_t index, int64_t time_ns, std::span<const 
   return problem;
 }
 
-// How many full maps the writer remembers as reference targets: enough for
-// the groups a partition or a few AUTONOMOUS robots interleave, few enough
-// that the comparisons stay cheap.
-constexpr size_t kRecentMaps = 8;
+namespace {
+
+// FNV-1a over a map's contents: equal maps hash equal; candidates with the
+// same hash are compared in full before a reference is written.
+uint64_t MapHash(const EpochMap& map) {
+  uint64_t hash = 0xCBF29CE484222325ULL;
+  auto mix = [&hash](uint64_t value) {
+    for (int byte = 0; byte < 8; ++byte) {
+      hash ^= (value >> (8 * byte)) & 0xFF;
+      hash *= 0x100000001B3ULL;
+    }
+  };
+  mix(map.epoch);
+  mix(map.mode);
+  mix(map.members.size());
+  for (const MapMember& member : map.members) {
+    mix(member.id);
+    mix(member.phase);
+    mix(static_cast<uint16_t>(member.x_mm) | uint64_t{static_cast<uint16_t>(member.y_mm)} << 16 |
+        uint64_t{static_cast<uint16_t>(member.heading_mrad)} << 32);
+    mix(static_cast<uint16_t>(member.vx_mm_s) | uint64_t{static_cast<uint16_t>(member.vy_mm_s)} << 16);
+    mix(member.payload.size());
+    for (const uint8_t byte : member.payload) mix(byte);
+  }
+  return hash;
+}
+
+}  // namespace
 
 void Writer::PutMap(size_t slot, const std::shared_ptr<const EpochMap>& map) {
   PutU16(buffer_, ids_[slot]);
-  // A recent full map that its holder still holds and that equals this one.
-  for (auto candidate = recent_.rbegin(); candidate != recent_.rend(); ++candidate) {
-    const std::shared_ptr<const EpochMap>& held = latest_[*candidate];
-    if (held != nullptr && (held == map || *held == *map)) {
-      PutU16(buffer_, ids_[*candidate]);
-      latest_[slot] = held;
-      return;
+  const uint64_t hash = MapHash(*map);
+  // The robot's previous map is no longer what it holds.
+  if (latest_[slot] != nullptr) {
+    auto [first, last] = by_hash_.equal_range(latest_hash_[slot]);
+    for (auto entry = first; entry != last; ++entry) {
+      if (entry->second == slot) {
+        by_hash_.erase(entry);
+        break;
+      }
     }
   }
-  PutU16(buffer_, format::kSameAsNone);
-  PutU16(buffer_, map->epoch);
-  PutU8(buffer_, map->mode);
-  PutU16(buffer_, static_cast<uint16_t>(map->members.size()));
-  for (const MapMember& member : map->members) {
-    PutU16(buffer_, member.id);
-    PutU8(buffer_, member.phase);
-    for (const int16_t value : {member.x_mm, member.y_mm, member.heading_mrad, member.vx_mm_s, member.vy_mm_s}) {
-      PutU16(buffer_, static_cast<uint16_t>(value));
-    }
-    PutU8(buffer_, static_cast<uint8_t>(member.payload.size()));
-    buffer_.insert(buffer_.end(), member.payload.begin(), member.payload.end());
+  // Another robot holding an equal map: the lowest slot, so the choice
+  // depends only on the calls (same calls, same bytes).
+  size_t source = ids_.size();
+  auto [first, last] = by_hash_.equal_range(hash);
+  for (auto entry = first; entry != last; ++entry) {
+    const std::shared_ptr<const EpochMap>& held = latest_[entry->second];
+    if (entry->second < source && (held == map || *held == *map)) source = entry->second;
   }
-  latest_[slot] = map;
-  // A slot appears once: its older full map is no longer what it holds.
-  recent_.erase(std::remove(recent_.begin(), recent_.end(), slot), recent_.end());
-  if (recent_.size() == kRecentMaps) recent_.erase(recent_.begin());
-  recent_.push_back(slot);
+  if (source < ids_.size()) {
+    PutU16(buffer_, ids_[source]);
+    latest_[slot] = latest_[source];
+  } else {
+    PutU16(buffer_, format::kSameAsNone);
+    PutU16(buffer_, map->epoch);
+    PutU8(buffer_, map->mode);
+    PutU16(buffer_, static_cast<uint16_t>(map->members.size()));
+    for (const MapMember& member : map->members) {
+      PutU16(buffer_, member.id);
+      PutU8(buffer_, member.phase);
+      for (const int16_t value : {member.x_mm, member.y_mm, member.heading_mrad, member.vx_mm_s, member.vy_mm_s}) {
+        PutU16(buffer_, static_cast<uint16_t>(value));
+      }
+      PutU8(buffer_, static_cast<uint8_t>(member.payload.size()));
+      buffer_.insert(buffer_.end(), member.payload.begin(), member.payload.end());
+    }
+    latest_[slot] = map;
+  }
+  latest_hash_[slot] = hash;
+  by_hash_.emplace(hash, slot);
 }
 
 void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,

@@ -5,6 +5,7 @@
 #include <memory>
 #include <ostream>
 #include <span>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -38,9 +39,9 @@ class Writer {
   /// robot costs 4 bytes per round. `maps` holds the robots that started an
   /// epoch this round, in strictly increasing id order, each with the map it
   /// started with (non-null, members in increasing id order, header ids). A
-  /// map equal to a recently written one that its holder still holds is
-  /// stored as a 4-byte reference to that holder, so a COOPERATIVE epoch's
-  /// map costs its bytes once however many robots start it.
+  /// map equal to one another robot holds (its latest) is stored as a 4-byte
+  /// reference to that robot, so a COOPERATIVE epoch's map costs its bytes
+  /// once however many robots start it, whenever they start it.
   void WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
                   std::span<const Event> events, std::span<const RobotMap> maps = {});
 
@@ -73,7 +74,8 @@ class Writer {
   std::vector<RobotFrame> previous_;       // per header robot: its last frame written
   std::vector<uint8_t> buffer_;            // the record being built
   std::vector<std::shared_ptr<const EpochMap>> latest_;  // per header robot: its last map written
-  std::vector<size_t> recent_;             // slots whose maps were last written in full, newest last
+  std::vector<uint64_t> latest_hash_;      // per header robot: MapHash of latest_
+  std::unordered_multimap<uint64_t, size_t> by_hash_;  // MapHash -> slots holding such a map
   bool any_round_ = false;
   uint32_t last_index_ = 0;
   int64_t last_time_ns_ = 0;
