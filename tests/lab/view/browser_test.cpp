@@ -8,6 +8,7 @@
 // Pages and screenshots stay in SYROF_VIEW_ARTIFACTS for a person to look at.
 #include <gtest/gtest.h>
 #include <png.h>
+#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -45,8 +46,9 @@ fs::path Artifacts() {
 }
 
 std::string Chromium(const std::string& what, const fs::path& page, const std::string& fragment) {
-  // A profile folder per test program and page: parallel tests do not share one.
-  const fs::path profile = Artifacts() / ("profile-" + page.stem().string());
+  // A profile folder per process and page: ctest runs each test as its own
+  // process, in parallel, and two Chromiums cannot share a profile.
+  const fs::path profile = Artifacts() / ("profile-" + page.stem().string() + "-" + std::to_string(getpid()));
   return std::string(SYROF_CHROMIUM) + " --headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run" +
          " --disable-extensions --disable-dev-shm-usage --user-data-dir=" + profile.string() +
          " --window-size=" + kWindow + " --virtual-time-budget=3000 " + what + " 'file://" + page.string() +
@@ -149,12 +151,17 @@ class ScenarioPage : public ::testing::Test {
     sim::SimulationOptions options;
     options.replay = &bytes;
     (void)sim::Run(*loaded.scenario, options, 0.0);
-    replay_ = new Replay(ReadAll(bytes.str()));
-    page_ = new fs::path(WritePage(bytes.str(), "demo_circle_12s"));
+    bytes_ = new std::string(bytes.str());
+    replay_ = new Replay(ReadAll(*bytes_));
   }
   static void TearDownTestSuite() {
     delete replay_;
-    delete page_;
+    delete bytes_;
+  }
+  // Each test its own page file: tests run in parallel processes.
+  void SetUp() override {
+    page_ = WritePage(*bytes_, std::string("demo_circle_12s_") +
+                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
   }
 
   // A round, after the first seconds, where robots are in both modes (the
@@ -170,15 +177,16 @@ class ScenarioPage : public ::testing::Test {
   }
 
   static Replay* replay_;
-  static fs::path* page_;
+  static std::string* bytes_;
+  fs::path page_;
 };
 Replay* ScenarioPage::replay_ = nullptr;
-fs::path* ScenarioPage::page_ = nullptr;
+std::string* ScenarioPage::bytes_ = nullptr;
 
 TEST_F(ScenarioPage, DrawsEveryRobotAndListsEveryEvent) {
   const replay::Round& round = replay_->rounds[150];
 
-  const Loaded loaded = Load(*page_, "#round=" + std::to_string(round.index));
+  const Loaded loaded = Load(page_, "#round=" + std::to_string(round.index));
 
   ASSERT_NE(loaded.dom.find("data-ready=\"1\""), std::string::npos) << "the page never reported ready";
   ASSERT_TRUE(loaded.report.is_object()) << loaded.dom.substr(0, 2000);
@@ -207,7 +215,7 @@ TEST_F(ScenarioPage, InspectorShowsTheMapTheRobotStartedItsEpochWith) {
   }
   ASSERT_NE(map, nullptr);
 
-  const Loaded loaded = Load(*page_, "#round=" + std::to_string(at_round) + "&robot=3");
+  const Loaded loaded = Load(page_, "#round=" + std::to_string(at_round) + "&robot=3");
 
   const json& inspector = loaded.report["inspector"];
   ASSERT_TRUE(inspector.is_object()) << loaded.report.dump();
@@ -247,10 +255,10 @@ Image ReadPng(const fs::path& path) {
 TEST_F(ScenarioPage, ScreenshotHasEachRobotsColourWhereTheRobotIs) {
   const replay::Round& round = MixedRound();
   const std::string fragment = "#round=" + std::to_string(round.index);
-  const Loaded loaded = Load(*page_, fragment);
+  const Loaded loaded = Load(page_, fragment);
   const fs::path shot = Artifacts() / "demo_circle_12s.png";
   fs::remove(shot);
-  ASSERT_EQ(std::system(Chromium("--screenshot=" + shot.string(), *page_, fragment).c_str()), 0);
+  ASSERT_EQ(std::system(Chromium("--screenshot=" + shot.string(), page_, fragment).c_str()), 0);
 
   const Image image = ReadPng(shot);
   ASSERT_GT(image.width, 0u) << "no screenshot at " << shot;
