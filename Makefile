@@ -28,9 +28,10 @@ build: deps $(BUILD_DIR)/CMakeCache.txt
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 ## demo: the main job: ten robots form a circle in the simulated lab
-## (lab/scenarios/demo_circle.yaml); outputs in out/demo_circle/.
+## (lab/scenarios/demo_circle.yaml); outputs in out/demo_circle/, with
+## replay.html, the run's page (docs/viewer.md).
 demo: build
-	./$(BUILD_DIR)/bin/syrof run lab/scenarios/demo_circle.yaml
+	./$(BUILD_DIR)/bin/syrof run lab/scenarios/demo_circle.yaml --html
 
 ## test: the whole host test suite through ctest.
 test: build

@@ -1,5 +1,5 @@
 // The `syrof` command: one file per subcommand (run, validate, apps,
-// replay, new); main only wires them.
+// replay, view, new); main only wires them.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +12,7 @@
 #include "run_command.h"
 #include "usage.h"
 #include "validate_command.h"
+#include "view_command.h"
 
 int main(int argc, char** argv) {
   using namespace syrof::cli;
@@ -25,6 +26,8 @@ int main(int argc, char** argv) {
   CLI::App* apps = SetupAppsCommand(app, apps_options);
   ReplayOptions replay_options;
   CLI::App* replay = SetupReplayCommand(app, replay_options);
+  ViewOptions view_options;
+  CLI::App* view = SetupViewCommand(app, view_options);
   NewOptions new_options;
   CLI::App* new_command = SetupNewCommand(app, new_options);
   try {
@@ -38,6 +41,7 @@ int main(int argc, char** argv) {
     if (apps->parsed()) return RunAppsCommand(apps_options, std::cout);
     if (replay->parsed()) return RunReplayCommand(replay_options, std::cout, std::cerr);
     if (new_command->parsed()) return RunNewCommand(new_options, std::cout, std::cerr);
+    if (view->parsed()) return RunViewCommand(view_options, std::cout, std::cerr);
     return 1;
   } catch (const std::exception& error) {
     std::cerr << "syrof: internal error: " << error.what() << "\n";

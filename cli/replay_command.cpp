@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
 #include <exception>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "syrof/lab/replay/reader.h"
 #include "syrof/lab/replay/replay.h"
@@ -77,11 +79,25 @@ void PrintFrame(const RobotFrame& frame, int64_t time_ns, std::ostream& out) {
 }
 
 void PrintEvent(const Event& event, std::ostream& out) {
+  if (replay::IsPartitionEvent(event.kind)) {
+    out << fmt::format("  {} event {} partition {}\n", FormatTime(event.time_ns), replay::ToString(event.kind),
+                       event.partition);
+    return;
+  }
   std::string other;
   if (event.other != replay::kNoRobot) other = fmt::format(" other {}", event.other);
   out << fmt::format("  {} event {} robot {}{} epoch {} mode {}\n", FormatTime(event.time_ns),
                      replay::ToString(event.kind), RobotName(event.robot), other, event.epoch,
                      ModeName(event.mode));
+}
+
+// One line per map: who started which epoch with which members; the
+// snapshots are in the csv and jsonl exports.
+void PrintMap(const replay::RobotMap& entry, int64_t time_ns, std::ostream& out) {
+  std::string members;
+  for (const replay::MapMember& member : entry.map->members) members += fmt::format(" {}", member.id);
+  out << fmt::format("  {} map robot {} epoch {} {} members{}\n", FormatTime(time_ns), entry.robot,
+                     entry.map->epoch, ModeName(entry.map->mode), members);
 }
 
 bool Selected(const Event& event, const ReplayOptions& options) {
@@ -100,6 +116,11 @@ void PrintRound(const Round& round, const ReplayOptions& options, std::ostream& 
   }
   for (const Event& event : round.events) {
     if (Selected(event, options)) PrintEvent(event, out);
+  }
+  if (!options.events_only) {
+    for (const replay::RobotMap& entry : round.maps) {
+      if (!options.robot || entry.robot == *options.robot) PrintMap(entry, round.time_ns, out);
+    }
   }
 }
 
@@ -145,6 +166,173 @@ int Summarize(Reader& reader, std::ostream& out) {
   return reader.complete() ? kOk : kBadInput;
 }
 
+// ---- Exports (docs/replay.md, "Exporting") ----------------------------------
+
+// Seconds with nine decimals, no unit: the time column of every export.
+std::string Seconds(int64_t time_ns) {
+  std::string text = FormatTime(time_ns);
+  text.pop_back();  // the "s"
+  return text;
+}
+
+// JSON Lines records keep their keys in the documented order ("type" first).
+using Json = nlohmann::ordered_json;
+
+// A robot id or partition as a CSV cell: empty for none.
+std::string Cell(uint16_t value, uint16_t none) { return value == none ? std::string() : std::to_string(value); }
+// The same for JSON: null for none.
+Json JsonId(uint16_t value, uint16_t none) { return value == none ? Json() : Json(value); }
+
+std::string Hex(const std::vector<uint8_t>& bytes) {
+  std::string text;
+  for (const uint8_t byte : bytes) text += fmt::format("{:02x}", byte);
+  return text;
+}
+
+// Shortest text that reads back as the same float ("nan" and "inf" as such).
+std::string Float(float value) { return fmt::format("{}", value); }
+// JSON has no NaN or infinity: those become null. A float goes out as the
+// shortest decimal that reads back as it (1.1, not 1.100000023841858).
+Json JsonFloat(float value) {
+  if (!std::isfinite(value)) return Json();
+  return Json(std::strtod(Float(value).c_str(), nullptr));
+}
+
+constexpr const char* kFramesColumns =
+    "round,time_s,robot,presence,status,phase,mode,epoch,true_x_m,true_y_m,true_heading_rad,est_x_m,est_y_m,"
+    "est_heading_rad";
+constexpr const char* kEventsColumns = "round,time_s,kind,robot,other,partition,epoch,mode";
+constexpr const char* kMapsColumns =
+    "round,time_s,robot,epoch,mode,member,member_phase,x_m,y_m,heading_rad,vx_m_s,vy_m_s,payload_hex";
+
+class Exporter {
+ public:
+  Exporter(const ReplayOptions& options, std::ostream& out) : options_(options), out_(out) {}
+
+  void Header(const replay::Header& header, uint16_t version) {
+    if (options_.format == "csv") {
+      out_ << (options_.table == "events" ? kEventsColumns : options_.table == "maps" ? kMapsColumns : kFramesColumns)
+           << "\n";
+      return;
+    }
+    Json robots = Json::array();
+    for (const replay::RobotInfo& robot : header.robots) {
+      robots.push_back({{"id", robot.id}, {"kind", KindName(robot.kind)}, {"body_radius_m", JsonFloat(robot.body_radius_m)}});
+    }
+    Json anchors = Json::array();
+    for (const replay::AnchorInfo& anchor : header.anchors) anchors.push_back({JsonFloat(anchor.x_m), JsonFloat(anchor.y_m)});
+    Line({{"type", "header"}, {"format_version", version}, {"scenario", header.scenario_name},
+          {"app", header.app_name}, {"seed", header.seed}, {"radio_round_ns", header.radio_round_ns},
+          {"arena_width_m", JsonFloat(header.arena_width_m)}, {"arena_height_m", JsonFloat(header.arena_height_m)},
+          {"robots", std::move(robots)}, {"anchors", std::move(anchors)}});
+  }
+
+  void Round(const replay::Round& round) {
+    const bool csv = options_.format == "csv";
+    if (!options_.events_only && (!csv || options_.table == "frames")) {
+      for (const RobotFrame& frame : round.robots) {
+        if (!options_.robot || frame.id == *options_.robot) Frame(round, frame, csv);
+      }
+    }
+    if (!csv || options_.table == "events") {
+      for (const Event& event : round.events) {
+        if (Selected(event, options_)) EventLine(round, event, csv);
+      }
+    }
+    if (!options_.events_only && (!csv || options_.table == "maps")) {
+      for (const replay::RobotMap& entry : round.maps) {
+        if (!options_.robot || entry.robot == *options_.robot) Map(round, entry, csv);
+      }
+    }
+  }
+
+ private:
+  void Line(const Json& record) { out_ << record.dump() << "\n"; }
+
+  void Frame(const replay::Round& round, const RobotFrame& frame, bool csv) {
+    if (csv) {
+      out_ << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", round.index, Seconds(round.time_ns), frame.id,
+                          replay::ToString(frame.presence), frame.status == 0 ? "member" : "joining",
+                          PhaseName(frame.phase), ModeName(frame.mode), frame.epoch, Float(frame.true_x_m),
+                          Float(frame.true_y_m), Float(frame.true_heading_rad), Float(frame.est_x_m),
+                          Float(frame.est_y_m), Float(frame.est_heading_rad));
+      return;
+    }
+    Line({{"type", "frame"}, {"round", round.index}, {"time_ns", round.time_ns}, {"robot", frame.id},
+          {"presence", replay::ToString(frame.presence)}, {"status", frame.status == 0 ? "member" : "joining"},
+          {"phase", PhaseName(frame.phase)}, {"mode", ModeName(frame.mode)}, {"epoch", frame.epoch},
+          {"true_x_m", JsonFloat(frame.true_x_m)}, {"true_y_m", JsonFloat(frame.true_y_m)},
+          {"true_heading_rad", JsonFloat(frame.true_heading_rad)}, {"est_x_m", JsonFloat(frame.est_x_m)},
+          {"est_y_m", JsonFloat(frame.est_y_m)}, {"est_heading_rad", JsonFloat(frame.est_heading_rad)}});
+  }
+
+  void EventLine(const replay::Round& round, const Event& event, bool csv) {
+    if (csv) {
+      out_ << fmt::format("{},{},{},{},{},{},{},{}\n", round.index, Seconds(event.time_ns),
+                          replay::ToString(event.kind), Cell(event.robot, replay::kNoRobot),
+                          Cell(event.other, replay::kNoRobot), Cell(event.partition, replay::kNoPartition),
+                          event.epoch, ModeName(event.mode));
+      return;
+    }
+    Line({{"type", "event"}, {"round", round.index}, {"time_ns", event.time_ns},
+          {"kind", replay::ToString(event.kind)}, {"robot", JsonId(event.robot, replay::kNoRobot)},
+          {"other", JsonId(event.other, replay::kNoRobot)},
+          {"partition", JsonId(event.partition, replay::kNoPartition)}, {"epoch", event.epoch},
+          {"mode", ModeName(event.mode)}});
+  }
+
+  void Map(const replay::Round& round, const replay::RobotMap& entry, bool csv) {
+    const replay::EpochMap& map = *entry.map;
+    if (csv) {
+      for (const replay::MapMember& member : map.members) {
+        out_ << fmt::format("{},{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{}\n", round.index,
+                            Seconds(round.time_ns), entry.robot, map.epoch, ModeName(map.mode), member.id,
+                            PhaseName(member.phase), member.x_mm / 1000.0, member.y_mm / 1000.0,
+                            member.heading_mrad / 1000.0, member.vx_mm_s / 1000.0, member.vy_mm_s / 1000.0,
+                            Hex(member.payload));
+      }
+      return;
+    }
+    Json members = Json::array();
+    for (const replay::MapMember& member : map.members) {
+      members.push_back({{"id", member.id}, {"phase", PhaseName(member.phase)}, {"x_m", member.x_mm / 1000.0},
+                         {"y_m", member.y_mm / 1000.0}, {"heading_rad", member.heading_mrad / 1000.0},
+                         {"vx_m_s", member.vx_mm_s / 1000.0}, {"vy_m_s", member.vy_mm_s / 1000.0},
+                         {"payload_hex", Hex(member.payload)}});
+    }
+    Line({{"type", "map"}, {"round", round.index}, {"time_ns", round.time_ns}, {"robot", entry.robot},
+          {"epoch", map.epoch}, {"mode", ModeName(map.mode)}, {"members", std::move(members)}});
+  }
+
+  const ReplayOptions& options_;
+  std::ostream& out_;
+};
+
+int Export(const ReplayOptions& options, Reader& reader, const replay::Header& header, std::ostream& out,
+           std::ostream& err) {
+  Exporter exporter(options, out);
+  exporter.Header(header, reader.version());
+  Round round;
+  bool round_found = false;
+  while (reader.Next(round)) {
+    if (options.round) {
+      if (round.index > *options.round) break;
+      if (round.index != *options.round) continue;
+      round_found = true;
+    }
+    exporter.Round(round);
+  }
+  if (reader.failed() && !round_found) {
+    err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
+    return kBadInput;
+  }
+  if (options.round && !round_found) {
+    err << fmt::format("syrof replay: {}: no round {} in this replay\n", options.file, *options.round);
+    return kBadInput;
+  }
+  return kOk;
+}
+
 int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
   std::ifstream in(options.file, std::ios::binary);
   if (!in) {
@@ -157,12 +345,6 @@ int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
     err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
     return kBadInput;
   }
-  PrintHeader(header, reader.version(), out);
-  if (options.summary) {
-    const int status = Summarize(reader, out);
-    if (status != kOk) err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
-    return status;
-  }
   if (options.robot) {
     bool known = false;
     for (const replay::RobotInfo& robot : header.robots) known = known || robot.id == *options.robot;
@@ -171,7 +353,13 @@ int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
       return kBadInput;
     }
   }
-
+  if (options.format != "text") return Export(options, reader, header, out, err);
+  PrintHeader(header, reader.version(), out);
+  if (options.summary) {
+    const int status = Summarize(reader, out);
+    if (status != kOk) err << fmt::format("syrof replay: {}: {}\n", options.file, reader.error().ToString());
+    return status;
+  }
   if (!options.events_only) PrintLegend(out);
   Round round;
   bool round_found = false;
@@ -205,10 +393,17 @@ CLI::App* SetupReplayCommand(CLI::App& app, ReplayOptions& options) {
       command->add_option("--robot", options.robot, "Print only robot ID and events naming it");
   CLI::Option* events_only =
       command->add_flag("--events-only", options.events_only, "Print events, not frames");
-  command->add_flag("--summary", options.summary, "Print counts and whether the file is complete")
-      ->excludes(round)
-      ->excludes(robot)
-      ->excludes(events_only);
+  CLI::Option* summary = command->add_flag("--summary", options.summary, "Print counts and whether the file is complete")
+                             ->excludes(round)
+                             ->excludes(robot)
+                             ->excludes(events_only);
+  CLI::Option* format =
+      command->add_option("--format", options.format, "text (default), csv or jsonl (columns: docs/replay.md)")
+          ->check(CLI::IsMember({"text", "csv", "jsonl"}));
+  command->add_option("--table", options.table, "With --format csv: frames (default), events or maps")
+      ->check(CLI::IsMember({"frames", "events", "maps"}))
+      ->needs(format);
+  summary->excludes(format);
   return command;
 }
 

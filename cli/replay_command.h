@@ -1,5 +1,7 @@
-// `syrof replay FILE [--round N] [--robot ID] [--events-only] [--summary]`:
-// prints a replay file (docs/replay.md) as text.
+// `syrof replay FILE [--round N] [--robot ID] [--events-only] [--summary]
+// [--format text|csv|jsonl] [--table frames|events|maps]`: prints a replay
+// file (docs/replay.md) as text, or exports it as CSV or JSON Lines with the
+// columns docs/replay.md documents ("Exporting").
 #pragma once
 
 #include <cstdint>
@@ -18,6 +20,8 @@ struct ReplayOptions {
   std::optional<uint16_t> robot{};  ///< only this robot's frames and the events naming it
   bool events_only = false;         ///< events only, no frames
   bool summary = false;             ///< counts instead of rounds; ignores the three filters
+  std::string format = "text";      ///< text, csv or jsonl
+  std::string table = "frames";     ///< with csv: frames, events or maps
 };
 
 /// Adds the `replay` subcommand to `app`, filling `options` when parsed, and

@@ -18,6 +18,7 @@
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 #include "usage.h"
+#include "view_command.h"
 
 namespace syrof::cli {
 namespace {
@@ -141,7 +142,7 @@ std::optional<app_host::HostLimits> LimitsFor(const scenario::AppSpec& app, cons
 }
 
 void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay,
-                  bool library) {
+                  bool library, bool html) {
   const double sim = m.value("sim_seconds", 0.0);
   const double wall = m.value("wall_seconds", 0.0);
   fmt::print(out, "\nSyROF run: {} ({}), {} robots, seed {}\n", m.value("scenario", std::string()),
@@ -175,9 +176,10 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
                goal.value("detail", std::string()));
   }
   PrintAppLines(out, m);
-  fmt::print(out, "  {:<17} {}{}{}\n", "outputs", (dir / "metrics.json").string(),
+  fmt::print(out, "  {:<17} {}{}{}{}\n", "outputs", (dir / "metrics.json").string(),
              replay ? ", " + (dir / "replay").string() : std::string(),
-             library ? ", " + (dir / "robots").string() + "/<id>.log" : std::string());
+             library ? ", " + (dir / "robots").string() + "/<id>.log" : std::string(),
+             html ? ", " + (dir / "replay.html").string() : std::string());
 }
 
 }  // namespace
@@ -198,7 +200,9 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_option("--wall-cap-ms", options.wall_cap_ms,
                   "A library app's wall time per callback, ms, instead of the scenario's (default 2000)")
       ->check(CLI::Range(uint32_t{1}, scenario::kMaxWallCapMs));
-  run->add_flag("--no-replay", options.no_replay, "Do not write the replay");
+  CLI::Option* no_replay = run->add_flag("--no-replay", options.no_replay, "Do not write the replay");
+  run->add_flag("--html", options.html, "Also write OUT/replay.html, the replay's page (as `syrof view` does)")
+      ->excludes(no_replay);
   run->add_flag("--reproducible", options.reproducible,
                 "Write wall_seconds as 0 so identical runs give byte-identical outputs");
   run->add_flag("--quiet", options.quiet, "No progress line and no summary");
@@ -295,14 +299,28 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
 
   std::ofstream metrics_file(dir / "metrics.json", std::ios::binary | std::ios::trunc);
   metrics_file << report.metrics_json;
+  if (report.replay_error) {
+    // The file ends where the writer stopped: it is not the run's record.
+    fmt::print(err, "syrof run: the replay {} is incomplete: {}\n", (dir / "replay").string(),
+               report.replay_error->ToString());
+    return 1;
+  }
   if (!metrics_file || (!options.no_replay && !replay_file)) {
     fmt::print(err, "syrof run: writing the outputs in {} failed\n", dir.string());
     return 1;
   }
+  replay_file.close();
+  if (options.html && !options.no_replay) {
+    if (std::string problem = WritePage((dir / "replay").string(), (dir / "replay.html").string());
+        !problem.empty()) {
+      fmt::print(err, "syrof run: writing {} failed: {}\n", (dir / "replay.html").string(), problem);
+      return 1;
+    }
+  }
   const nlohmann::json metrics = nlohmann::json::parse(report.metrics_json);
   const bool misbehaved = AppMisbehaved(metrics);
   if (!options.quiet) {
-    PrintSummary(out, metrics, dir, !options.no_replay, scenario.app.is_library());
+    PrintSummary(out, metrics, dir, !options.no_replay, scenario.app.is_library(), options.html && !options.no_replay);
   } else if (misbehaved) {
     fmt::print(err, "syrof run: warning: the app misbehaved; see app in {}\n", (dir / "metrics.json").string());
   }

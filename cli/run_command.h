@@ -1,6 +1,6 @@
 // `syrof run SCENARIO.yaml [--app builtin:NAME | --app path/to/libmyapp.so]`:
 // runs a scenario in the simulated lab and writes DIR/metrics.json and
-// DIR/replay; with a student's library also DIR/robots/<id>.log, each
+// DIR/replay (and, with --html, DIR/replay.html); with a student's library also DIR/robots/<id>.log, each
 // robot's app host's output.
 #pragma once
 
@@ -27,6 +27,7 @@ struct RunOptions {
   std::optional<double> duration_s;
   std::string out_dir;        ///< default: out/<scenario name>
   bool no_replay = false;
+  bool html = false;          ///< also write OUT/replay.html, the replay's page (syrof view)
   bool reproducible = false;  ///< wall_seconds written as 0, so identical runs give identical files
   bool quiet = false;         ///< no progress line, no summary
   bool strict = false;        ///< exit 3 when the app faulted, returned an invalid command or had a payload refused

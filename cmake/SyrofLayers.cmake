@@ -28,7 +28,8 @@
 #   uses the sensors' TrueState; the scenario holds the world's specs
 #   (arena, kinds, channel), the sensors' noise models and checks app names
 #   against lab/apps' catalog; metrics and replay are fed by the engine and
-#   know no scenario; lab/sim runs all of them.
+#   know no scenario; lab/sim runs all of them. lab/view (the viewer's
+#   page) reads replays only, beside lab/sim; the grader embeds its page.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
 # - grader/app_host (a student's library in a sandboxed process per robot)
@@ -48,7 +49,7 @@ set(SYROF_LAYERS
   "lab/world"
   "lab/scenario"
   "lab/metrics lab/replay"
-  "lab/sim"
+  "lab/sim lab/view"
   "grader/app_host"
   "sim_dds firmware"
   "grader"

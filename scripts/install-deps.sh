@@ -16,6 +16,8 @@ packages=(
   libseccomp-dev
   # fuzzing and sanitizers with clang
   clang libclang-rt-14-dev
+  # the viewer's browser tests (syrof view's page in headless Chromium; PNG screenshots)
+  chromium libpng-dev
   # Teensy 3.2 cross toolchain and the emulated Cortex-M4
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
 )

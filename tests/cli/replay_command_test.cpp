@@ -4,12 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "replay_test_support.h"
+#include "view_command.h"
 
 namespace syrof::cli {
 namespace {
@@ -42,7 +45,7 @@ Output RunCommand(const ReplayOptions& options) {
 }
 
 const char* const kHeaderText =
-    "SyROF replay, format version 2\n"
+    "SyROF replay, format version 3\n"
     "scenario: three_robots\n"
     "app: builtin:idle\n"
     "seed: 42\n"
@@ -75,7 +78,9 @@ TEST(ReplayCommand, PrintsHeaderFramesAndEvents) {
                 "  0.050000000s robot 1 RUNNING member PROGRESS COOPERATIVE epoch 1 true (2.000, 1.000, 0.250) est (2.010, 0.980, 0.260)\n"
                 "  0.050000000s robot 2 ABSENT member PROGRESS COOPERATIVE epoch 0 true (0.000, 0.000, 0.000) est (0.000, 0.000, 0.000)\n"
                 "  0.050000000s event EPOCH_START robot 0 epoch 1 mode COOPERATIVE\n"
-                "  0.040000000s event PARTITION_START robot - epoch 0 mode COOPERATIVE\n"
+                "  0.040000000s event PARTITION_START partition 0\n"
+                "  0.050000000s map robot 0 epoch 1 COOPERATIVE members 0 1\n"
+                "  0.050000000s map robot 1 epoch 1 COOPERATIVE members 0 1\n"
                 "round 1 t=0.100000000s\n"
                 "  0.100000000s robot 0 RUNNING member WAIT COOPERATIVE epoch 1 true (1.100, 1.000, 0.250) est (1.110, 0.980, 0.260)\n"
                 "  0.100000000s robot 1 CRASHED member PROGRESS COOPERATIVE epoch 1 true (2.000, 1.000, 0.250) est (2.010, 0.980, 0.260)\n"
@@ -86,7 +91,8 @@ TEST(ReplayCommand, PrintsHeaderFramesAndEvents) {
                 "round 3 t=0.200000000s\n"
                 "  0.200000000s robot 0 RUNNING member VOTE COOPERATIVE epoch 2 true (1.200, 1.000, 0.250) est (1.210, 0.980, 0.260)\n"
                 "  0.200000000s robot 2 RUNNING member PROGRESS AUTONOMOUS epoch 2 true (3.000, 2.100, 0.250) est (3.010, 2.080, 0.260)\n"
-                "  0.200000000s event MEMBER_REMOVED robot 0 other 1 epoch 2 mode COOPERATIVE\n");
+                "  0.200000000s event MEMBER_REMOVED robot 0 other 1 epoch 2 mode COOPERATIVE\n"
+                "  0.200000000s map robot 2 epoch 2 AUTONOMOUS members 0 2\n");
 }
 
 TEST(ReplayCommand, FiltersByRoundAndRobot) {
@@ -139,6 +145,8 @@ TEST(ReplayCommand, SummaryCountsEventsByKind) {
       "  APP_FAULT: 0\n"
       "  INVALID_COMMAND: 0\n"
       "  PAYLOAD_REFUSED: 0\n"
+      "  SAFETY_INTERVENTION: 0\n"
+      "  JOIN_WAIT: 0\n"
                             "file: complete\n");
 }
 
@@ -208,6 +216,111 @@ TEST(ReplayCommand, SetupRefusesSummaryWithFilters) {
 
   EXPECT_THROW(app.parse("replay run.replay --summary --robot 3", false), CLI::ExcludesError);
   EXPECT_THROW(app.parse("replay run.replay --robot 70000", false), CLI::ConversionError);
+}
+
+TEST(ReplayExport, CsvFramesHaveOneRowPerFrameWithTheDocumentedColumns) {
+  const ReplayOptions options{.file = SampleFile("csv_frames"), .format = "csv"};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 0) << output.err;
+  std::istringstream lines(output.out);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line,
+            "round,time_s,robot,presence,status,phase,mode,epoch,true_x_m,true_y_m,true_heading_rad,est_x_m,est_y_m,"
+            "est_heading_rad");
+  std::getline(lines, line);
+  EXPECT_EQ(line, "0,0.050000000,0,RUNNING,member,PROGRESS,COOPERATIVE,1,1,1,0.25,1.01,0.98,0.26");
+  size_t rows = 1;
+  while (std::getline(lines, line)) ++rows;
+  EXPECT_EQ(rows, 8u);  // the sample's frames
+}
+
+TEST(ReplayExport, CsvEventsAndMaps) {
+  const std::string file = SampleFile("csv_events");
+
+  const Output events = RunCommand(ReplayOptions{.file = file, .format = "csv", .table = "events"});
+  const Output maps = RunCommand(ReplayOptions{.file = file, .robot = 2, .format = "csv", .table = "maps"});
+
+  EXPECT_EQ(events.status, 0) << events.err;
+  EXPECT_EQ(events.out,
+            "round,time_s,kind,robot,other,partition,epoch,mode\n"
+            "0,0.050000000,EPOCH_START,0,,,1,COOPERATIVE\n"
+            "0,0.040000000,PARTITION_START,,,0,0,COOPERATIVE\n"
+            "1,0.090000000,COLLISION,0,1,,1,COOPERATIVE\n"
+            "1,0.095000000,CRASH,1,,,1,COOPERATIVE\n"
+            "1,0.100000000,JOIN,2,,,0,AUTONOMOUS\n"
+            "3,0.200000000,MEMBER_REMOVED,0,1,,2,COOPERATIVE\n");
+  EXPECT_EQ(maps.status, 0) << maps.err;
+  EXPECT_EQ(maps.out,
+            "round,time_s,robot,epoch,mode,member,member_phase,x_m,y_m,heading_rad,vx_m_s,vy_m_s,payload_hex\n"
+            "3,0.200000000,2,2,AUTONOMOUS,0,PROGRESS,1.000,0.000,0.250,0.000,0.000,\n"
+            "3,0.200000000,2,2,AUTONOMOUS,2,PROGRESS,1.200,-0.010,0.252,0.002,0.000,a2a2\n");
+}
+
+TEST(ReplayExport, JsonLinesHoldEveryRecordAsOneObjectPerLine) {
+  const ReplayOptions options{.file = SampleFile("jsonl"), .format = "jsonl"};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 0) << output.err;
+  std::istringstream lines(output.out);
+  std::string line;
+  std::map<std::string, int> types;
+  while (std::getline(lines, line)) {
+    const nlohmann::json record = nlohmann::json::parse(line);
+    ++types[record["type"].get<std::string>()];
+  }
+  EXPECT_EQ(types, (std::map<std::string, int>{{"header", 1}, {"frame", 8}, {"event", 6}, {"map", 3}}));
+  EXPECT_NE(output.out.find(R"({"type":"map","round":0,"time_ns":50000000,"robot":1,"epoch":1,"mode":"COOPERATIVE")"),
+            std::string::npos);
+  EXPECT_NE(output.out.find(R"("kind":"PARTITION_START","robot":null,"other":null,"partition":0)"), std::string::npos);
+}
+
+TEST(ReplayExport, TruncatedFileExportsWhatItHoldsThenFails) {
+  const std::string bytes = replay::testing::WriteSample().bytes;
+  const ReplayOptions options{.file = WriteFile("cut.replay", bytes.substr(0, bytes.size() - 25)), .format = "jsonl"};
+
+  const Output output = RunCommand(options);
+
+  EXPECT_EQ(output.status, 2);
+  EXPECT_NE(output.err.find("file ends after 3 rounds without the end marker"), std::string::npos) << output.err;
+  EXPECT_NE(output.out.find(R"("kind":"MEMBER_REMOVED")"), std::string::npos);
+}
+
+std::string ReadBack(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+TEST(ViewCommand, WritesTheSelfContainedPage) {
+  const ViewOptions options{.file = SampleFile("view"), .output = WriteFile("view_out.html", "")};
+  std::ostringstream out, err;
+
+  const int status = RunViewCommand(options, out, err);
+
+  EXPECT_EQ(status, 0) << err.str();
+  EXPECT_NE(out.str().find("wrote " + options.output + " (3 rounds, 6 events"), std::string::npos) << out.str();
+  const std::string page = ReadBack(options.output);
+  EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(page.find("\"scenario\":\"three_robots\""), std::string::npos);
+}
+
+TEST(ViewCommand, ABadReplayStillGetsAPageThatSaysWhyAndExitsTwo) {
+  const std::string bytes = replay::testing::WriteSample().bytes;
+  const ViewOptions options{.file = WriteFile("view_cut.replay", bytes.substr(0, bytes.size() - 25))};
+  std::ostringstream out, err;
+
+  const int status = RunViewCommand(options, out, err);
+
+  EXPECT_EQ(status, 2);
+  EXPECT_NE(err.str().find("file ends after 3 rounds without the end marker"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("wrote " + options.file + ".html"), std::string::npos) << err.str();
+  EXPECT_NE(ReadBack(options.file + ".html").find("\"status\":\"truncated\""), std::string::npos);
+  EXPECT_EQ(RunViewCommand(ViewOptions{.file = "/nonexistent/replay"}, out, err), 2);
 }
 
 }  // namespace

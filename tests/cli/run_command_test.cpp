@@ -64,6 +64,43 @@ TEST(RunCommandTest, WritesMetricsAndReplayAndPrintsTheSummary) {
   EXPECT_GT(fs::file_size(fs::path(options.out_dir) / "replay"), 100u);
 }
 
+// Before, a replay writer failure went unnoticed: the run printed the path
+// of a cut-short file and exited 0. /dev/full fails every write (ENOSPC).
+TEST(RunCommandTest, AReplayWriterFailureExitsOneWithTheReason) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this host";
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.duration_s = 2;
+  options.out_dir = TempDir("full_disk").string();
+  fs::create_directories(options.out_dir);
+  fs::create_symlink("/dev/full", fs::path(options.out_dir) / "replay");
+
+  const Outcome outcome = RunWith(options);
+
+  EXPECT_EQ(outcome.status, 1);
+  EXPECT_NE(outcome.err.find("the replay " + (fs::path(options.out_dir) / "replay").string() + " is incomplete"),
+            std::string::npos)
+      << outcome.err;
+  EXPECT_NE(outcome.err.find("the output stream failed"), std::string::npos) << outcome.err;
+  EXPECT_EQ(outcome.out.find("outputs"), std::string::npos) << outcome.out;  // no summary naming the file
+}
+
+TEST(RunCommandTest, HtmlWritesTheReplaysPageNextToIt) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.duration_s = 2;
+  options.out_dir = TempDir("html").string();
+  options.html = true;
+
+  const Outcome outcome = RunWith(options);
+
+  ASSERT_EQ(outcome.status, 0) << outcome.err;
+  const std::string page = ReadFile(fs::path(options.out_dir) / "replay.html");
+  EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(page.find("\"status\":\"complete\""), std::string::npos);
+  EXPECT_NE(outcome.out.find((fs::path(options.out_dir) / "replay.html").string()), std::string::npos);
+}
+
 TEST(RunCommandTest, ReproducibleRunsWriteIdenticalBytes) {
   RunOptions first;
   first.scenario_path = kScenarios + "/demo_circle.yaml";

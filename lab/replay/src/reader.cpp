@@ -175,9 +175,24 @@ bool Reader::ReadHeader(Header& header) {
     header.robots.push_back(robot);
     ids_.push_back(robot.id);
   }
+  header.anchors.clear();
+  if (version_ >= 3) {
+    at = offset_;
+    if ((bytes = Take(2, "anchor count")) == nullptr) return false;
+    const uint16_t anchor_count = GetU16(bytes);
+    if (std::string problem = detail::CheckAnchorCount(anchor_count); !problem.empty()) return Fail(at, problem);
+    for (uint16_t index = 0; index < anchor_count; ++index) {
+      at = offset_;
+      if ((bytes = Take(format::kAnchorBytes, "anchor")) == nullptr) return false;
+      const AnchorInfo anchor{GetF32(bytes), GetF32(bytes + 4)};
+      if (std::string problem = detail::CheckAnchor(anchor, index); !problem.empty()) return Fail(at, problem);
+      header.anchors.push_back(anchor);
+    }
+  }
   if (!CheckCrc(0, "header")) return false;
 
   previous_.assign(ids_.size(), RobotFrame{});
+  latest_.assign(ids_.size(), nullptr);
   for (size_t index = 0; index < ids_.size(); ++index) previous_[index].id = ids_[index];
   state_ = State::kRounds;
   return true;
@@ -224,7 +239,8 @@ bool Reader::ReadFrame(RobotFrame& frame, size_t& next_robot) {
 
 bool Reader::ReadEvent(Event& event) {
   const uint64_t at = offset_;
-  const uint8_t* bytes = Take(format::kEventBytes, "event");
+  const size_t size = version_ >= 3 ? format::kEventBytes : format::kEventBytesV2;
+  const uint8_t* bytes = Take(size, "event");
   if (bytes == nullptr) return false;
   if (std::string problem = detail::CheckEventKind(bytes[0], version_); !problem.empty()) return Fail(at, problem);
   event.kind = static_cast<EventKind>(bytes[0]);
@@ -233,12 +249,89 @@ bool Reader::ReadEvent(Event& event) {
   event.epoch = GetU16(bytes + 5);
   event.mode = bytes[7];
   event.time_ns = GetI64(bytes + 8);
+  event.partition = version_ >= 3 ? GetU16(bytes + 16) : kNoPartition;
   if (std::string problem = detail::CheckEventRobot(event.robot, ids_, "robot"); !problem.empty()) {
     return Fail(at + 1, problem);
   }
   if (std::string problem = detail::CheckEventRobot(event.other, ids_, "other"); !problem.empty()) {
     return Fail(at + 3, problem);
   }
+  if (version_ >= 3) {
+    if (std::string problem = detail::CheckEventPartition(event); !problem.empty()) return Fail(at, problem);
+  } else if (IsPartitionEvent(event.kind)) {
+    // Versions 1 and 2 kept the partition's index in the robot field.
+    event.partition = event.robot;
+    event.robot = kNoRobot;
+  }
+  return true;
+}
+
+bool Reader::ReadMap(RobotMap& entry, size_t& next_robot) {
+  uint64_t at = offset_;
+  const uint8_t* bytes = Take(format::kMapEntryBytes, "map");
+  if (bytes == nullptr) return false;
+  const uint16_t robot = GetU16(bytes);
+  const uint16_t same_as = GetU16(bytes + 2);
+  const size_t slot = detail::FindRobot(ids_, robot);
+  if (slot == ids_.size()) return Fail(at, fmt::format("map of robot {}, which is not in the header", robot));
+  if (slot < next_robot) {
+    return Fail(at, fmt::format("map of robot {} after robot {}; maps must be in increasing robot order", robot,
+                                ids_[next_robot - 1]));
+  }
+  next_robot = slot + 1;
+  entry.robot = robot;
+  if (same_as != format::kSameAsNone) {
+    const size_t source = detail::FindRobot(ids_, same_as);
+    if (source == ids_.size()) {
+      return Fail(at + 2, fmt::format("map of robot {} is the same as robot {}'s, which is not in the header", robot,
+                                      same_as));
+    }
+    if (latest_[source] == nullptr) {
+      return Fail(at + 2, fmt::format("map of robot {} is the same as robot {}'s, but robot {} has no map yet", robot,
+                                      same_as, same_as));
+    }
+    entry.map = latest_[source];
+    latest_[slot] = entry.map;
+    return true;
+  }
+
+  auto map = std::make_shared<EpochMap>();
+  at = offset_;
+  if ((bytes = Take(format::kMapBodyFixedBytes, "map body")) == nullptr) return false;
+  map->epoch = GetU16(bytes);
+  map->mode = bytes[2];
+  const uint16_t member_count = GetU16(bytes + 3);
+  if (std::string problem = detail::CheckMapMode(map->mode); !problem.empty()) {
+    return Fail(at + 2, fmt::format("map of robot {}: {}", robot, problem));
+  }
+  if (std::string problem = detail::CheckMemberCount(member_count, ids_.size()); !problem.empty()) {
+    return Fail(at + 3, fmt::format("map of robot {}: {}", robot, problem));
+  }
+  // Grown as members are read: a short file with a large count costs nothing.
+  for (uint16_t index = 0; index < member_count; ++index) {
+    at = offset_;
+    if ((bytes = Take(format::kMapMemberFixedBytes, "map member")) == nullptr) return false;
+    MapMember member;
+    member.id = GetU16(bytes);
+    member.phase = bytes[2];
+    member.x_mm = static_cast<int16_t>(GetU16(bytes + 3));
+    member.y_mm = static_cast<int16_t>(GetU16(bytes + 5));
+    member.heading_mrad = static_cast<int16_t>(GetU16(bytes + 7));
+    member.vx_mm_s = static_cast<int16_t>(GetU16(bytes + 9));
+    member.vy_mm_s = static_cast<int16_t>(GetU16(bytes + 11));
+    const uint8_t payload_length = bytes[13];
+    if (std::string problem =
+            detail::CheckMember(member.id, map->members.empty() ? nullptr : &map->members.back().id, member.phase,
+                                payload_length, ids_);
+        !problem.empty()) {
+      return Fail(at, fmt::format("map of robot {}: {}", robot, problem));
+    }
+    if ((bytes = Take(payload_length, "map member payload")) == nullptr) return false;
+    member.payload.assign(bytes, bytes + payload_length);
+    map->members.push_back(std::move(member));
+  }
+  entry.map = map;
+  latest_[slot] = std::move(map);
   return true;
 }
 
@@ -282,11 +375,13 @@ bool Reader::Next(Round& round) {
                                           bytes[0]));
   }
 
-  if ((bytes = Take(format::kRoundFixedBytes - 1, "round header")) == nullptr) return false;
+  const size_t fixed = version_ >= 3 ? format::kRoundFixedBytes : format::kRoundFixedBytesV2;
+  if ((bytes = Take(fixed - 1, "round header")) == nullptr) return false;
   const uint32_t index = GetU32(bytes);
   const int64_t time_ns = GetI64(bytes + 4);
   const uint32_t frame_count = GetU32(bytes + 12);
   const uint32_t event_count = GetU32(bytes + 16);
+  const uint32_t map_count = version_ >= 3 ? GetU32(bytes + 20) : 0;
   if (std::string problem =
           detail::CheckRoundOrder(any_round_, last_index_, last_time_ns_, index, time_ns);
       !problem.empty()) {
@@ -298,11 +393,15 @@ bool Reader::Next(Round& round) {
   if (std::string problem = detail::CheckEventCount(event_count); !problem.empty()) {
     return Fail(record_start + 17, fmt::format("round {}: {}", index, problem));
   }
+  if (std::string problem = detail::CheckMapCount(map_count, ids_.size()); !problem.empty()) {
+    return Fail(record_start + 21, fmt::format("round {}: {}", index, problem));
+  }
 
   round.index = index;
   round.time_ns = time_ns;
   round.robots.clear();
   round.events.clear();
+  round.maps.clear();
   size_t next_robot = 0;
   for (uint32_t position = 0; position < frame_count; ++position) {
     RobotFrame frame;
@@ -313,6 +412,12 @@ bool Reader::Next(Round& round) {
     Event event;
     if (!ReadEvent(event)) return false;
     round.events.push_back(event);
+  }
+  size_t next_map_robot = 0;
+  for (uint32_t position = 0; position < map_count; ++position) {
+    RobotMap entry;
+    if (!ReadMap(entry, next_map_robot)) return false;
+    round.maps.push_back(std::move(entry));
   }
   if (!CheckCrc(record_start, "round")) return false;
 

@@ -53,6 +53,16 @@ std::string CheckBodyRadius(float radius_m, uint16_t id) {
   return fmt::format("robot {} has body radius {}; it must be finite and not negative", id, radius_m);
 }
 
+std::string CheckAnchorCount(uint64_t count) {
+  if (count <= kMaxAnchors) return {};
+  return fmt::format("anchor count {} is more than the {} allowed", count, kMaxAnchors);
+}
+
+std::string CheckAnchor(const AnchorInfo& anchor, size_t index) {
+  if (std::isfinite(anchor.x_m) && std::isfinite(anchor.y_m)) return {};
+  return fmt::format("anchor {} at ({}, {}) is not finite", index, anchor.x_m, anchor.y_m);
+}
+
 std::string CheckRoundOrder(bool any_round, uint32_t last_index, int64_t last_time_ns,
                             uint32_t index, int64_t time_ns) {
   if (!any_round) return {};
@@ -131,6 +141,64 @@ std::string CheckEvent(const Event& event, std::span<const uint16_t> ids) {
   std::string problem = CheckEventKind(static_cast<uint8_t>(event.kind));
   if (problem.empty()) problem = CheckEventRobot(event.robot, ids, "robot");
   if (problem.empty()) problem = CheckEventRobot(event.other, ids, "other");
+  if (problem.empty()) problem = CheckEventPartition(event);
+  return problem;
+}
+
+std::string CheckEventPartition(const Event& event) {
+  if (IsPartitionEvent(event.kind)) {
+    if (event.partition == kNoPartition) {
+      return fmt::format("{} event names no partition (partition {} means none)", ToString(event.kind),
+                         kNoPartition);
+    }
+    if (event.robot != kNoRobot || event.other != kNoRobot) {
+      return fmt::format("{} event names robot {} and other {}; a partition event names no robot",
+                         ToString(event.kind), event.robot, event.other);
+    }
+  } else if (event.partition != kNoPartition) {
+    return fmt::format("{} event names partition {}; only partition events do", ToString(event.kind),
+                       event.partition);
+  }
+  return {};
+}
+
+std::string CheckMapCount(uint64_t count, size_t robot_count) {
+  if (count <= robot_count) return {};
+  return fmt::format("map count {} is more than the header's {} robots", count, robot_count);
+}
+
+std::string CheckMapMode(uint8_t mode) {
+  if (mode <= format::kMaxMode) return {};
+  return fmt::format("map mode {}; 0 COOPERATIVE or 1 AUTONOMOUS", mode);
+}
+
+std::string CheckMemberCount(uint64_t count, size_t robot_count) {
+  if (count <= robot_count) return {};
+  return fmt::format("member count {} is more than the header's {} robots", count, robot_count);
+}
+
+std::string CheckMember(uint16_t id, const uint16_t* previous, uint8_t phase, size_t payload_length,
+                        std::span<const uint16_t> ids) {
+  if (FindRobot(ids, id) == ids.size()) return fmt::format("map member {} is not a robot of the header", id);
+  if (previous != nullptr && id <= *previous) {
+    return fmt::format("map member {} follows member {}; members must be in increasing id order", id, *previous);
+  }
+  if (phase > format::kMaxPhase) return fmt::format("map member {} has phase {}; 0 .. {}", id, phase, format::kMaxPhase);
+  if (payload_length > kMaxPayloadBytes) {
+    return fmt::format("map member {} has a payload of {} bytes, more than the {} allowed", id, payload_length,
+                       kMaxPayloadBytes);
+  }
+  return {};
+}
+
+std::string CheckMap(const EpochMap& map, std::span<const uint16_t> ids) {
+  std::string problem = CheckMapMode(map.mode);
+  if (problem.empty()) problem = CheckMemberCount(map.members.size(), ids.size());
+  for (size_t index = 0; problem.empty() && index < map.members.size(); ++index) {
+    const MapMember& member = map.members[index];
+    problem = CheckMember(member.id, index == 0 ? nullptr : &map.members[index - 1].id, member.phase,
+                          member.payload.size(), ids);
+  }
   return problem;
 }
 

@@ -21,6 +21,8 @@ std::string CheckRobotCount(uint64_t count);
 /// `previous` is the id before `id` in the header, or nullptr for the first.
 std::string CheckRobotId(uint16_t id, const uint16_t* previous);
 std::string CheckBodyRadius(float radius_m, uint16_t id);
+std::string CheckAnchorCount(uint64_t count);
+std::string CheckAnchor(const AnchorInfo& anchor, size_t index);
 
 std::string CheckRoundOrder(bool any_round, uint32_t last_index, int64_t last_time_ns,
                             uint32_t index, int64_t time_ns);
@@ -37,6 +39,20 @@ std::string UnpackState(uint8_t state, RobotFrame& frame);
 
 /// An event's fields outside the rules; "" when fine.
 std::string CheckEvent(const Event& event, std::span<const uint16_t> ids);  // kFormatVersion's kinds
+/// A version-3 event's partition field against its kind (a partition event
+/// names a partition and no robot; any other kind names no partition).
+std::string CheckEventPartition(const Event& event);
+
+std::string CheckMapCount(uint64_t count, size_t robot_count);
+/// A map's mode (0 .. 1) and member count (at most the header's robots).
+std::string CheckMapMode(uint8_t mode);
+std::string CheckMemberCount(uint64_t count, size_t robot_count);
+/// A member: a header id above `previous` (nullptr for the first), phase
+/// 0 .. 2, payload at most kMaxPayloadBytes.
+std::string CheckMember(uint16_t id, const uint16_t* previous, uint8_t phase, size_t payload_length,
+                        std::span<const uint16_t> ids);
+/// A whole map, for the writer.
+std::string CheckMap(const EpochMap& map, std::span<const uint16_t> ids);
 std::string CheckEventKind(uint8_t kind, uint16_t version = kFormatVersion);
 std::string CheckEventRobot(uint16_t robot, std::span<const uint16_t> ids, const char* what);
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 
 #include "little_endian.h"
@@ -34,6 +35,10 @@ std::string CheckHeader(const Header& header) {
     problem = detail::CheckRobotId(robot.id, index == 0 ? nullptr : &header.robots[index - 1].id);
     if (problem.empty()) problem = detail::CheckBodyRadius(robot.body_radius_m, robot.id);
   }
+  if (problem.empty()) problem = detail::CheckAnchorCount(header.anchors.size());
+  for (size_t index = 0; problem.empty() && index < header.anchors.size(); ++index) {
+    problem = detail::CheckAnchor(header.anchors[index], index);
+  }
   return problem;
 }
 
@@ -51,6 +56,8 @@ Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
   }
   ids_.reserve(header.robots.size());
   previous_.resize(header.robots.size());
+  latest_.resize(header.robots.size());
+  latest_hash_.resize(header.robots.size());
   for (size_t index = 0; index < header.robots.size(); ++index) {
     ids_.push_back(header.robots[index].id);
     previous_[index].id = header.robots[index].id;
@@ -69,6 +76,11 @@ Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
     PutU16(buffer_, robot.id);
     PutU8(buffer_, robot.kind);
     PutF32(buffer_, robot.body_radius_m);
+  }
+  PutU16(buffer_, static_cast<uint16_t>(header.anchors.size()));
+  for (const AnchorInfo& anchor : header.anchors) {
+    PutF32(buffer_, anchor.x_m);
+    PutF32(buffer_, anchor.y_m);
   }
   Emit();
 }
@@ -91,7 +103,7 @@ void Writer::Emit() {
 }
 
 std::string Writer::CheckRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
-                               std::span<const Event> events) const {
+                               std::span<const Event> events, std::span<const RobotMap> maps) const {
   std::string problem = detail::CheckRoundOrder(any_round_, last_index_, last_time_ns_, index, time_ns);
   if (problem.empty()) problem = detail::CheckFrameCount(robots.size(), ids_.size());
   if (problem.empty()) problem = detail::CheckEventCount(events.size());
@@ -109,15 +121,102 @@ std::string Writer::CheckRound(uint32_t index, int64_t time_ns, std::span<const 
   for (size_t position = 0; problem.empty() && position < events.size(); ++position) {
     problem = detail::CheckEvent(events[position], ids_);
   }
+  if (problem.empty()) problem = detail::CheckMapCount(maps.size(), ids_.size());
+  for (size_t position = 0; problem.empty() && position < maps.size(); ++position) {
+    const RobotMap& entry = maps[position];
+    if (position > 0 && entry.robot <= maps[position - 1].robot) {
+      problem = fmt::format("map of robot {} follows robot {}; maps must be in increasing robot order", entry.robot,
+                            maps[position - 1].robot);
+    } else if (detail::FindRobot(ids_, entry.robot) == ids_.size()) {
+      problem = fmt::format("map of robot {}, which is not in the header", entry.robot);
+    } else if (entry.map == nullptr) {
+      problem = fmt::format("map of robot {} is null", entry.robot);
+    } else if (std::string map_problem = detail::CheckMap(*entry.map, ids_); !map_problem.empty()) {
+      problem = fmt::format("map of robot {}: {}", entry.robot, map_problem);
+    }
+  }
   if (!problem.empty()) problem = fmt::format("round {}: {}", index, problem);
   return problem;
 }
 
+namespace {
+
+// FNV-1a over a map's contents: equal maps hash equal; candidates with the
+// same hash are compared in full before a reference is written.
+uint64_t MapHash(const EpochMap& map) {
+  uint64_t hash = 0xCBF29CE484222325ULL;
+  auto mix = [&hash](uint64_t value) {
+    for (int byte = 0; byte < 8; ++byte) {
+      hash ^= (value >> (8 * byte)) & 0xFF;
+      hash *= 0x100000001B3ULL;
+    }
+  };
+  mix(map.epoch);
+  mix(map.mode);
+  mix(map.members.size());
+  for (const MapMember& member : map.members) {
+    mix(member.id);
+    mix(member.phase);
+    mix(static_cast<uint16_t>(member.x_mm) | uint64_t{static_cast<uint16_t>(member.y_mm)} << 16 |
+        uint64_t{static_cast<uint16_t>(member.heading_mrad)} << 32);
+    mix(static_cast<uint16_t>(member.vx_mm_s) | uint64_t{static_cast<uint16_t>(member.vy_mm_s)} << 16);
+    mix(member.payload.size());
+    for (const uint8_t byte : member.payload) mix(byte);
+  }
+  return hash;
+}
+
+}  // namespace
+
+void Writer::PutMap(size_t slot, const std::shared_ptr<const EpochMap>& map) {
+  PutU16(buffer_, ids_[slot]);
+  const uint64_t hash = MapHash(*map);
+  // The robot's previous map is no longer what it holds.
+  if (latest_[slot] != nullptr) {
+    auto [first, last] = by_hash_.equal_range(latest_hash_[slot]);
+    for (auto entry = first; entry != last; ++entry) {
+      if (entry->second == slot) {
+        by_hash_.erase(entry);
+        break;
+      }
+    }
+  }
+  // Another robot holding an equal map: the lowest slot, so the choice
+  // depends only on the calls (same calls, same bytes).
+  size_t source = ids_.size();
+  auto [first, last] = by_hash_.equal_range(hash);
+  for (auto entry = first; entry != last; ++entry) {
+    const std::shared_ptr<const EpochMap>& held = latest_[entry->second];
+    if (entry->second < source && (held == map || *held == *map)) source = entry->second;
+  }
+  if (source < ids_.size()) {
+    PutU16(buffer_, ids_[source]);
+    latest_[slot] = latest_[source];
+  } else {
+    PutU16(buffer_, format::kSameAsNone);
+    PutU16(buffer_, map->epoch);
+    PutU8(buffer_, map->mode);
+    PutU16(buffer_, static_cast<uint16_t>(map->members.size()));
+    for (const MapMember& member : map->members) {
+      PutU16(buffer_, member.id);
+      PutU8(buffer_, member.phase);
+      for (const int16_t value : {member.x_mm, member.y_mm, member.heading_mrad, member.vx_mm_s, member.vy_mm_s}) {
+        PutU16(buffer_, static_cast<uint16_t>(value));
+      }
+      PutU8(buffer_, static_cast<uint8_t>(member.payload.size()));
+      buffer_.insert(buffer_.end(), member.payload.begin(), member.payload.end());
+    }
+    latest_[slot] = map;
+  }
+  latest_hash_[slot] = hash;
+  by_hash_.emplace(hash, slot);
+}
+
 void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
-                        std::span<const Event> events) {
+                        std::span<const Event> events, std::span<const RobotMap> maps) {
   if (state_ == State::kFinished) Fail("WriteRound after Finish");
   if (state_ != State::kWriting) return;
-  if (std::string problem = CheckRound(index, time_ns, robots, events); !problem.empty()) {
+  if (std::string problem = CheckRound(index, time_ns, robots, events, maps); !problem.empty()) {
     Fail(std::move(problem));
     return;
   }
@@ -128,6 +227,7 @@ void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFr
   PutI64(buffer_, time_ns);
   PutU32(buffer_, static_cast<uint32_t>(robots.size()));
   PutU32(buffer_, static_cast<uint32_t>(events.size()));
+  PutU32(buffer_, static_cast<uint32_t>(maps.size()));
   size_t slot = 0;  // frames and ids_ both increase, so one walk finds every slot
   for (const RobotFrame& frame : robots) {
     while (ids_[slot] != frame.id) ++slot;
@@ -161,7 +261,11 @@ void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFr
     PutU16(buffer_, event.epoch);
     PutU8(buffer_, event.mode);
     PutI64(buffer_, event.time_ns);
+    PutU16(buffer_, event.partition);
   }
+  // In order: a reference may name a robot whose map came earlier in this
+  // round, as the reader resolves it.
+  for (const RobotMap& entry : maps) PutMap(detail::FindRobot(ids_, entry.robot), entry.map);
   Emit();
   any_round_ = true;
   last_index_ = index;

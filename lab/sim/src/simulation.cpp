@@ -118,6 +118,7 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   FaultSchedule faults_;
   std::vector<replay::Event> round_events_;
   std::vector<replay::RobotFrame> frames_;
+  std::vector<replay::RobotMap> round_maps_;  // the maps robots started an epoch with this round
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
 
@@ -141,6 +142,23 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
 };
 
 namespace {
+
+static_assert(replay::kMaxPayloadBytes == wire::kMaxPayloadBytes);
+
+// The replay's copy of an LDMap: every member's snapshot and phase.
+std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
+  auto map = std::make_shared<replay::EpochMap>();
+  map->epoch = ldmap.epoch;
+  map->mode = static_cast<uint8_t>(ldmap.mode);
+  for (const uint16_t id : ldmap.members) {
+    const wire::Snapshot& snapshot = ldmap.snapshots[id];
+    const std::span<const uint8_t> payload = snapshot.payload_bytes();
+    map->members.push_back(replay::MapMember{id, static_cast<uint8_t>(ldmap.phases[id]), snapshot.x_mm,
+                                             snapshot.y_mm, snapshot.heading_mrad, snapshot.vx_mm_s,
+                                             snapshot.vy_mm_s, std::vector<uint8_t>(payload.begin(), payload.end())});
+  }
+  return map;
+}
 
 std::vector<world::BodySpec> Bodies(const Scenario& scenario) {
   std::vector<world::BodySpec> bodies;
@@ -225,6 +243,9 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
     for (const scenario::RobotSpec& spec : scenario_.robots) {
       header.robots.push_back(replay::RobotInfo{spec.id, static_cast<uint8_t>(spec.kind),
                                                 static_cast<float>(scenario_.kind_spec(spec.kind).body_radius_m)});
+    }
+    for (const world::AnchorSpec& anchor : scenario_.arena.anchors) {
+      header.anchors.push_back(replay::AnchorInfo{static_cast<float>(anchor.x_m), static_cast<float>(anchor.y_m)});
     }
     replay_ = std::make_unique<replay::Writer>(*options_.replay, header);
   }
@@ -342,7 +363,8 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     const uint8_t active = partition.start_s <= now && now < partition.end_s ? 1 : 0;
     if (active != partition_active_[i]) {
       AddEvent(active != 0 ? replay::EventKind::kPartitionStart : replay::EventKind::kPartitionEnd, now_ns,
-               static_cast<uint16_t>(i), replay::kNoRobot, 0, wire::Mode::kCooperative);
+               replay::kNoRobot, replay::kNoRobot, 0, wire::Mode::kCooperative);
+      round_events_.back().partition = static_cast<uint16_t>(i);
       partition_active_[i] = active;
     }
   }
@@ -357,8 +379,15 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     frames_[i] = ToRobotFrame(observation);
   }
   collector_.OnRoundEnd(round, robot_rounds_);
-  if (replay_ != nullptr) replay_->WriteRound(static_cast<uint32_t>(round), now_ns, frames_, round_events_);
+  if (replay_ != nullptr) {
+    // Round tasks run in robot id order, so the maps arrive sorted; a
+    // stable sort keeps that a fact rather than an assumption.
+    std::stable_sort(round_maps_.begin(), round_maps_.end(),
+                     [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
+    replay_->WriteRound(static_cast<uint32_t>(round), now_ns, frames_, round_events_, round_maps_);
+  }
   round_events_.clear();
+  round_maps_.clear();
   if (options_.progress && options_.progress_period_s > 0) {
     const int64_t period_ns = Nanoseconds(options_.progress_period_s);
     if (now_ns % period_ns < radio_round_ns_) options_.progress(now);
@@ -368,6 +397,7 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
 void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) {
   collector_.OnEpochStart(robot, RoundOf(now_ns), ldmap);
   AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
+  if (replay_ != nullptr) round_maps_.push_back(replay::RobotMap{robot, ToEpochMap(ldmap)});
 }
 
 void Simulation::Impl::OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
@@ -453,6 +483,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   RunReport report;
   report.metrics = collector_.Finish(facts);
   report.metrics_json = metrics::ToJson(report.metrics);
+  if (replay_ != nullptr && !replay_->ok()) report.replay_error = replay_->error();
   return report;
 }
 

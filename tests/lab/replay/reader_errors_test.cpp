@@ -31,11 +31,16 @@ constexpr size_t kIndexAt = 1;
 constexpr size_t kTimeAt = 5;
 constexpr size_t kFrameCountAt = 13;
 constexpr size_t kEventCountAt = 17;
-constexpr size_t kFirstFrameAt = 21;
+constexpr size_t kMapCountAt = 21;
+constexpr size_t kFirstFrameAt = 25;
 // In the sample's first round, robots 0 and 1 change every field (30 bytes
 // each) and robot 2 is all zero (4 bytes).
 constexpr size_t kSecondFrameAt = kFirstFrameAt + 30;
 constexpr size_t kFirstEventAt = kFirstFrameAt + 30 + 30 + 4;
+// Two events of 18 bytes, then robot 0's map in full, then robot 1's
+// reference to it.
+constexpr size_t kFirstMapAt = kFirstEventAt + 2 * 18;
+constexpr size_t kSecondMapAt = kFirstMapAt + 9 + 2 * 14 + 1;
 
 std::string At(size_t offset) { return "offset " + std::to_string(offset) + ": "; }
 
@@ -57,12 +62,12 @@ TEST(ReplayReader, RefusesWrongMagic) {
 
 TEST(ReplayReader, RefusesNewerAndUnknownVersions) {
   std::string newer = WriteSample().bytes;
-  PutU16At(newer, kVersionAt, 3);
+  PutU16At(newer, kVersionAt, 4);
   std::string zero = newer;
   PutU16At(zero, kVersionAt, 0);
 
-  ExpectError(Read(newer), kVersionAt, "format version 3 is newer than this reader's (2)");
-  ExpectError(Read(zero), kVersionAt, "format version 0 does not exist (this reader knows versions 1 to 2)");
+  ExpectError(Read(newer), kVersionAt, "format version 4 is newer than this reader's (3)");
+  ExpectError(Read(zero), kVersionAt, "format version 0 does not exist (this reader knows versions 1 to 3)");
 }
 
 TEST(ReplayReader, TruncatedAtEveryOffsetGivesCleanIncompleteState) {
@@ -110,6 +115,18 @@ TEST(ReplayReader, LargeRobotCountInShortFileIsTruncationNotAllocation) {
 
   ExpectError(back, kRobotCountAt + 4, "file ends inside robot entry");
   EXPECT_TRUE(back.truncated);
+}
+
+TEST(ReplayReader, RefusesTooManyOrNonFiniteAnchors) {
+  const Written written = WriteSample();
+  const size_t anchor_count_at = kRobotCountAt + 4 + 3 * 7;
+  std::string many = written.bytes;
+  PutU16At(many, anchor_count_at, 300);
+  std::string infinite = written.bytes;
+  PutU32At(infinite, anchor_count_at + 2 + 8 + 4, 0x7F800000);  // anchor 1's y
+
+  ExpectError(Read(many), anchor_count_at, "anchor count 300 is more than the 256 allowed");
+  ExpectError(Read(infinite), anchor_count_at + 2 + 8, "anchor 1 at (4, inf) is not finite");
 }
 
 TEST(ReplayReader, RefusesNameTooLongOrWithControlCharacters) {
@@ -180,25 +197,68 @@ TEST(ReplayReader, RefusesUnknownEventKindAndRobot) {
   const Written written = WriteSample();
   const size_t event_at = written.header_end + kFirstEventAt;
   std::string kind = written.bytes;
-  kind[event_at] = 15;
+  kind[event_at] = 17;
   std::string robot = written.bytes;
   PutU16At(robot, event_at + 1, 9);
+  std::string partition = written.bytes;
+  PutU16At(partition, event_at + 16, 3);  // on the EPOCH_START
 
-  ExpectError(Read(kind), event_at, "unknown event kind 15 (format version 2)");
+  ExpectError(Read(kind), event_at, "unknown event kind 17 (format version 3)");
   ExpectError(Read(robot), event_at + 1, "event robot 9 is not a robot of the header");
+  ExpectError(Read(partition), event_at, "EPOCH_START event names partition 3; only partition events do");
+}
+
+TEST(ReplayReader, RefusesBadMaps) {
+  const Written written = WriteSample();
+  const size_t round = written.header_end;
+  const size_t map_at = round + kFirstMapAt;
+  const size_t member_at = map_at + 9;
+  auto damaged = [&](auto edit) {
+    std::string bytes = written.bytes;
+    edit(bytes);
+    FixCrc(bytes, round, written.round_ends[0] - 4);
+    return Read(bytes);
+  };
+
+  ExpectError(damaged([&](std::string& b) { PutU32At(b, round + kMapCountAt, 4); }), round + kMapCountAt,
+              "round 0: map count 4 is more than the header's 3 robots");
+  ExpectError(damaged([&](std::string& b) { PutU16At(b, map_at, 9); }), map_at,
+              "map of robot 9, which is not in the header");
+  ExpectError(damaged([&](std::string& b) { PutU16At(b, round + kSecondMapAt, 0); }), round + kSecondMapAt,
+              "map of robot 0 after robot 0");
+  ExpectError(damaged([&](std::string& b) { PutU16At(b, round + kSecondMapAt + 2, 2); }), round + kSecondMapAt + 2,
+              "map of robot 1 is the same as robot 2's, but robot 2 has no map yet");
+  ExpectError(damaged([&](std::string& b) { b[map_at + 6] = 2; }), map_at + 6, "map of robot 0: map mode 2");
+  ExpectError(damaged([&](std::string& b) { PutU16At(b, map_at + 7, 0xFFFF); }), map_at + 7,
+              "map of robot 0: member count 65535 is more than the header's 3 robots");
+  ExpectError(damaged([&](std::string& b) { PutU16At(b, member_at, 7); }), member_at,
+              "map of robot 0: map member 7 is not a robot of the header");
+  ExpectError(damaged([&](std::string& b) { b[member_at + 2] = 3; }), member_at,
+              "map of robot 0: map member 0 has phase 3");
+  ExpectError(damaged([&](std::string& b) { b[member_at + 13] = 10; }), member_at,
+              "map of robot 0: map member 0 has a payload of 10 bytes");
+  ExpectError(damaged([&](std::string& b) { PutU16At(b, member_at + 14, 0); }), member_at + 14,
+              "map of robot 0: map member 0 follows member 0");
 }
 
 TEST(ReplayReader, AVersion1FileHasNoAppEvents) {
-  // Arrange: the sample as a version-1 file whose first event is APP_FAULT,
+  // Arrange: version 2's golden file as version 1 with its event APP_FAULT,
   // a kind version 1 did not have.
-  const Written written = WriteSample();
-  const size_t event_at = written.header_end + kFirstEventAt;
-  std::string bytes = written.bytes;
+  const std::vector<uint8_t>& golden = testing::GoldenFileVersion2();
+  std::string bytes(golden.begin(), golden.end());
   PutU16At(bytes, kVersionAt, 1);
-  testing::FixCrc(bytes, 0, written.header_end - 4);
-  bytes[event_at] = static_cast<char>(EventKind::kAppFault);
+  FixCrc(bytes, 0, testing::kGoldenV2HeaderEnd - 4);
+  bytes[testing::kGoldenV2EventAt] = static_cast<char>(EventKind::kAppFault);
 
-  ExpectError(Read(bytes), event_at, "unknown event kind 12 (format version 1)");
+  ExpectError(Read(bytes), testing::kGoldenV2EventAt, "unknown event kind 12 (format version 1)");
+}
+
+TEST(ReplayReader, AVersion2FileHasNoSafetyEvents) {
+  const std::vector<uint8_t>& golden = testing::GoldenFileVersion2();
+  std::string bytes(golden.begin(), golden.end());
+  bytes[testing::kGoldenV2EventAt] = static_cast<char>(EventKind::kSafetyIntervention);
+
+  ExpectError(Read(bytes), testing::kGoldenV2EventAt, "unknown event kind 15 (format version 2)");
 }
 
 TEST(ReplayReader, RefusesDamagedBytesByChecksum) {

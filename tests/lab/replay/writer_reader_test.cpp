@@ -78,22 +78,23 @@ TEST(ReplayWriterReader, UnchangedRobotCostsFourBytes) {
   Round repeat = rounds[0];
   repeat.index = 1;
   repeat.events.clear();
+  repeat.maps.clear();
   rounds.push_back(repeat);
 
   const testing::Written written = Write(header, rounds);
 
-  // Three robots, nothing changed: tag, index, time, two counts, 3 x 4, crc.
+  // Three robots, nothing changed: tag, index, time, three counts, 3 x 4, crc.
   EXPECT_EQ(written.round_ends[1] - written.round_ends[0], format::kRoundFixedBytes + 3 * 4 + 4);
   EXPECT_EQ(Read(written.bytes).rounds, rounds);
 }
 
-// Version 2, written out by hand from docs/replay.md; the CRCs come from
+// Version 3, written out by hand from docs/replay.md; the CRCs come from
 // zlib.crc32. Any change to the layout shows up here: bump kFormatVersion,
 // update docs/replay.md, then this.
 const std::vector<uint8_t> kGoldenFile = {
     // header
     'S', 'Y', 'R', 'O', 'F', 'R', 'P', 'L',          // magic
-    0x02, 0x00,                                      // version 2
+    0x03, 0x00,                                      // version 3
     0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01,  // seed 0x0102030405060708
     0x80, 0xF0, 0xFA, 0x02, 0x00, 0x00, 0x00, 0x00,  // radio_round_ns 50000000
     0x00, 0x00, 0x80, 0x40,                          // arena_width_m 4.0
@@ -102,13 +103,16 @@ const std::vector<uint8_t> kGoldenFile = {
     0x01, 0x00, 'c',                                 // app_name "c"
     0x01, 0x00, 0x00, 0x00,                          // robot count 1
     0x07, 0x00, 0x01, 0x00, 0x00, 0x00, 0x3E,        // robot 7, rover, radius 0.125
-    0x05, 0xE8, 0xE3, 0xFC,                          // crc
+    0x01, 0x00,                                      // anchor count 1
+    0x00, 0x00, 0x00, 0x3F, 0x00, 0x00, 0x00, 0x40,  // anchor (0.5, 2.0)
+    0xA1, 0x5E, 0x06, 0x91,                          // crc
     // round
     'R',                                             // tag
     0x03, 0x00, 0x00, 0x00,                          // index 3
     0x80, 0xD1, 0xF0, 0x08, 0x00, 0x00, 0x00, 0x00,  // time_ns 150000000
     0x01, 0x00, 0x00, 0x00,                          // frame count 1
-    0x01, 0x00, 0x00, 0x00,                          // event count 1
+    0x02, 0x00, 0x00, 0x00,                          // event count 2
+    0x01, 0x00, 0x00, 0x00,                          // map count 1
     0x07, 0x00,                                      // frame: robot 7
     0x35,                                            // running, joining, VOTE, AUTONOMOUS
     0x1B,                                            // changed: epoch, true_x, true_heading, est_x
@@ -120,13 +124,26 @@ const std::vector<uint8_t> kGoldenFile = {
     0x07, 0x00, 0xFF, 0xFF,                          // robot 7, other none
     0x02, 0x01, 0x01,                                // epoch 0x0102, AUTONOMOUS
     0x80, 0xD1, 0xF0, 0x08, 0x00, 0x00, 0x00, 0x00,  // time_ns 150000000
-    0xA0, 0x86, 0x17, 0xA0,                          // crc
+    0xFF, 0xFF,                                      // partition none
+    0x0A,                                            // event: PARTITION_START
+    0xFF, 0xFF, 0xFF, 0xFF,                          // robot none, other none
+    0x00, 0x00, 0x00,                                // epoch 0, mode 0
+    0x00, 0x3B, 0x58, 0x08, 0x00, 0x00, 0x00, 0x00,  // time_ns 140000000
+    0x05, 0x00,                                      // partition 5
+    0x07, 0x00, 0xFF, 0xFF,                          // map: robot 7, same_as none (the map follows)
+    0x02, 0x01, 0x01,                                // epoch 0x0102, AUTONOMOUS
+    0x01, 0x00,                                      // member count 1
+    0x07, 0x00, 0x02,                                // member 7, VOTE
+    0xE8, 0x03, 0xFF, 0xFF, 0xF4, 0x01,              // x_mm 1000, y_mm -1, heading_mrad 500
+    0x00, 0x00, 0x00, 0x00,                          // vx_mm_s 0, vy_mm_s 0
+    0x02, 0xAB, 0xCD,                                // payload of 2 bytes
+    0x8F, 0xA4, 0x40, 0xD3,                          // crc
     // end marker
     'E',                                             // tag
     0x01, 0x00, 0x00, 0x00,                          // 1 round
-    0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // 1 event
+    0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // 2 events
     0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // 1 frame
-    0x16, 0xA5, 0x63, 0x3F,                          // crc
+    0xE4, 0x11, 0xAB, 0x16,                          // crc
 };
 
 TEST(ReplayWriterReader, LayoutMatchesTheGoldenFile) {
@@ -138,15 +155,22 @@ TEST(ReplayWriterReader, LayoutMatchesTheGoldenFile) {
   header.scenario_name = "ab";
   header.app_name = "c";
   header.robots = {{7, 1, 0.125f}};
+  header.anchors = {{0.5f, 2.0f}};
   RobotFrame frame{.id = 7, .presence = Presence::kRunning, .status = 1, .phase = 2, .mode = 1, .epoch = 0x0102};
   frame.true_x_m = 1.0f;
   frame.true_heading_rad = -0.5f;
   frame.est_x_m = 1.0f;
-  const Event event{EventKind::kEpochStart, 7, kNoRobot, 0x0102, 1, 150'000'000};
+  const std::array<Event, 2> events = {Event{EventKind::kEpochStart, 7, kNoRobot, 0x0102, 1, 150'000'000},
+                                       Event{EventKind::kPartitionStart, kNoRobot, kNoRobot, 0, 0, 140'000'000, 5}};
+  auto map = std::make_shared<EpochMap>();
+  map->epoch = 0x0102;
+  map->mode = 1;
+  map->members = {MapMember{7, 2, 1000, -1, 500, 0, 0, {0xAB, 0xCD}}};
+  const RobotMap robot_map{7, map};
   std::ostringstream out;
 
   Writer writer(out, header);
-  writer.WriteRound(3, 150'000'000, {&frame, 1}, {&event, 1});
+  writer.WriteRound(3, 150'000'000, {&frame, 1}, events, {&robot_map, 1});
   writer.Finish();
 
   ASSERT_TRUE(writer.ok()) << writer.error();
@@ -154,14 +178,18 @@ TEST(ReplayWriterReader, LayoutMatchesTheGoldenFile) {
   EXPECT_EQ(std::vector<uint8_t>(bytes.begin(), bytes.end()), kGoldenFile);
   const testing::ReadBack back = Read(std::string(kGoldenFile.begin(), kGoldenFile.end()));
   EXPECT_TRUE(back.complete) << back.error;
+  EXPECT_EQ(back.header, header);
   ASSERT_EQ(back.rounds.size(), 1u);
   EXPECT_EQ(back.rounds[0].robots[0], frame);
+  EXPECT_EQ(back.rounds[0].events, std::vector<Event>(events.begin(), events.end()));
+  ASSERT_EQ(back.rounds[0].maps.size(), 1u);
+  EXPECT_EQ(back.rounds[0].maps[0], robot_map);
 }
 
-// The same file as version 1 wrote it: only the version and the header's
-// CRC differ (version 2 only added event kinds).
+// The same file as version 1 wrote it: version 2's golden file with only the
+// version and the header's CRC changed (version 2 only added event kinds).
 std::vector<uint8_t> GoldenFileVersion1() {
-  std::vector<uint8_t> bytes = kGoldenFile;
+  std::vector<uint8_t> bytes = testing::GoldenFileVersion2();
   bytes[8] = 0x01;
   const std::array<uint8_t, 4> crc = {0xA3, 0xA0, 0x9B, 0x82};
   std::copy(crc.begin(), crc.end(), bytes.begin() + 52);  // the header crc
@@ -181,6 +209,102 @@ TEST(ReplayReader, ReadsAVersion1File) {
   EXPECT_EQ(round.events[0].kind, EventKind::kEpochStart);
   EXPECT_FALSE(reader.Next(round));
   EXPECT_TRUE(reader.complete()) << reader.error();
+}
+
+TEST(ReplayReader, ReadsAVersion2File) {
+  const std::vector<uint8_t>& bytes = testing::GoldenFileVersion2();
+
+  const testing::ReadBack back = Read(std::string(bytes.begin(), bytes.end()));
+
+  EXPECT_TRUE(back.complete) << back.error;
+  ASSERT_EQ(back.rounds.size(), 1u);
+  EXPECT_EQ(back.rounds[0].events,
+            (std::vector<Event>{Event{EventKind::kEpochStart, 7, kNoRobot, 0x0102, 1, 150'000'000}}));
+  EXPECT_TRUE(back.rounds[0].maps.empty());
+}
+
+// Versions 1 and 2 kept a partition's index in the robot field; the reader
+// moves it to `partition`, as version 3 writes it.
+TEST(ReplayReader, AVersion2PartitionEventGetsItsPartitionField) {
+  std::vector<uint8_t> bytes = testing::GoldenFileVersion2();
+  bytes[testing::kGoldenV2EventAt] = static_cast<uint8_t>(EventKind::kPartitionStart);  // robot field: 7
+  std::string file(bytes.begin(), bytes.end());
+  testing::FixCrc(file, testing::kGoldenV2HeaderEnd, testing::kGoldenV2RoundEnd - 4);
+
+  const testing::ReadBack back = Read(file);
+
+  EXPECT_TRUE(back.complete) << back.error;
+  ASSERT_EQ(back.rounds.size(), 1u);
+  EXPECT_EQ(back.rounds[0].events[0].kind, EventKind::kPartitionStart);
+  EXPECT_EQ(back.rounds[0].events[0].partition, 7);
+  EXPECT_EQ(back.rounds[0].events[0].robot, kNoRobot);
+}
+
+// The reason for the partition field: with more partitions than robots the
+// index is no robot of the header, which version 2 could not store.
+TEST(ReplayWriterReader, MorePartitionsThanRobotsReadBackWhole) {
+  const Header header = SampleHeader();  // three robots
+  std::vector<Round> rounds = SampleRounds();
+  for (uint16_t partition = 0; partition < 5; ++partition) {
+    rounds[1].events.push_back(Event{EventKind::kPartitionEnd, kNoRobot, kNoRobot, 0, 0, 60'000'000, partition});
+  }
+
+  const testing::ReadBack back = Read(Write(header, rounds).bytes);
+
+  EXPECT_TRUE(back.complete) << back.error;
+  EXPECT_EQ(back.rounds, rounds);
+}
+
+TEST(ReplayWriterReader, SharedMapIsStoredOnce) {
+  const Header header = SampleHeader();
+  std::vector<Round> with_maps = SampleRounds();
+  std::vector<Round> copies = with_maps;
+  // The same content in two objects: the writer compares contents.
+  copies[0].maps[1].map = std::make_shared<EpochMap>(*copies[0].maps[0].map);
+  std::vector<Round> without_maps = with_maps;
+  for (Round& round : without_maps) round.maps.clear();
+
+  const size_t bare = Write(header, without_maps).bytes.size();
+  const size_t shared = Write(header, with_maps).bytes.size();
+  const size_t copied = Write(header, copies).bytes.size();
+  const testing::ReadBack back = Read(Write(header, copies).bytes);
+
+  // Round 0: robot 0's map in full (9 + 2 members of 14 bytes + 0 and 1
+  // payload bytes), robot 1's as a 4-byte reference; round 2: robot 2's in
+  // full (9 + 28 + 0 + 2).
+  EXPECT_EQ(shared - bare, (9 + 28 + 1) + 4 + (9 + 28 + 2));
+  EXPECT_EQ(copied, shared);
+  EXPECT_EQ(back.rounds, with_maps);
+  EXPECT_EQ(back.rounds[0].maps[0].map, back.rounds[0].maps[1].map);  // one object for both
+}
+
+TEST(ReplayWriter, RefusesMapsTheFormatCannotHold) {
+  const Header header = SampleHeader();
+  std::vector<Round> rounds = SampleRounds();
+  auto bad = std::make_shared<EpochMap>(*rounds[0].maps[0].map);
+  bad->members[1].payload.assign(10, 0);
+  rounds[0].maps[1].map = bad;
+  std::ostringstream out;
+
+  Writer writer(out, header);
+  writer.WriteRound(rounds[0].index, rounds[0].time_ns, rounds[0].robots, rounds[0].events, rounds[0].maps);
+
+  EXPECT_FALSE(writer.ok());
+  EXPECT_NE(writer.error().message.find("map of robot 1: map member 1 has a payload of 10 bytes"), std::string::npos)
+      << writer.error();
+}
+
+TEST(ReplayWriter, RefusesAPartitionEventWithoutItsPartition) {
+  const Header header = SampleHeader();
+  const Event event{EventKind::kPartitionStart, 0, kNoRobot, 0, 0, 0};
+  std::ostringstream out;
+
+  Writer writer(out, header);
+  writer.WriteRound(0, 0, {}, {&event, 1});
+
+  EXPECT_FALSE(writer.ok());
+  EXPECT_NE(writer.error().message.find("PARTITION_START event names no partition"), std::string::npos)
+      << writer.error();
 }
 
 TEST(ReplayWriterReader, AppEventsOfVersion2ReadBack) {
@@ -238,7 +362,7 @@ TEST(ReplayWriter, RefusesRoundItCannotRecordAndWritesNoMore) {
       {{RobotFrame{.id = 0, .status = 2}}, {}, 1, "status 2"},
       {{RobotFrame{.id = 0, .mode = 2}}, {}, 1, "mode 2"},
       {{RobotFrame{.id = 0, .presence = static_cast<Presence>(4)}}, {}, 1, "presence 4"},
-      {{}, {Event{.kind = static_cast<EventKind>(15)}}, 1, "unknown event kind 15"},
+      {{}, {Event{.kind = static_cast<EventKind>(17)}}, 1, "unknown event kind 17"},
       {{}, {Event{.kind = EventKind::kCollision, .robot = 0, .other = 9}}, 1, "other 9"},
       {{}, {}, 0, "round index 0 does not follow round 0"},
   };
@@ -278,7 +402,9 @@ TEST(ReplayNames, EveryEnumeratorHasAName) {
   EXPECT_STREQ(ToString(EventKind::kAppFault), "APP_FAULT");
   EXPECT_STREQ(ToString(EventKind::kInvalidCommand), "INVALID_COMMAND");
   EXPECT_STREQ(ToString(EventKind::kPayloadRefused), "PAYLOAD_REFUSED");
-  EXPECT_STREQ(ToString(static_cast<EventKind>(15)), "?");
+  EXPECT_STREQ(ToString(EventKind::kSafetyIntervention), "SAFETY_INTERVENTION");
+  EXPECT_STREQ(ToString(EventKind::kJoinWait), "JOIN_WAIT");
+  EXPECT_STREQ(ToString(static_cast<EventKind>(17)), "?");
   EXPECT_STREQ(ToString(Presence::kAbsent), "ABSENT");
   EXPECT_STREQ(ToString(Presence::kRunning), "RUNNING");
   EXPECT_STREQ(ToString(Presence::kPaused), "PAUSED");

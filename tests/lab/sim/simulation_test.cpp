@@ -5,12 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <streambuf>
 #include <string>
 #include <utility>
 #include <vector>
@@ -140,37 +142,120 @@ TEST(SimulationTest, PartitionGivesAutonomousEpochsThenRecovery) {
   }
 }
 
-TEST(SimulationTest, PartitionEventsNameThePartitionByItsIndex) {
+// Version 2 kept a partition's index in the robot field, so with more
+// partitions than robots the writer refused the event, stopped, and the
+// replay ended early. Partition events now have their own field.
+TEST(SimulationTest, MorePartitionsThanRobotsReadBackWhole) {
   const std::string partitions =
-      "channel: {model: iid, loss: 0, partitions: [{start_s: 2, end_s: 3, groups: [[0, 1, 2], [3, 4, 5]]}, "
-      "{start_s: 4, end_s: 5, groups: [[0], [1, 2, 3, 4, 5]]}]}\n";
-  std::string text = Swarm("", 0.0, 6);
+      "channel: {model: iid, loss: 0, partitions: [{start_s: 1, end_s: 2, groups: [[0], [1]]}, "
+      "{start_s: 2.5, end_s: 3, groups: [[0], [1]]}, {start_s: 3.5, end_s: 4, groups: [[0], [1]]}]}\n";
+  std::string text = Swarm("", 0.0, 5, 2);
   text.replace(text.find("channel:"), text.find('\n', text.find("channel:")) - text.find("channel:") + 1, partitions);
   SimulationOptions options;
   std::stringstream bytes;
   options.replay = &bytes;
-  (void)sim::Run(Load(text), options, 0.0);
+  const RunReport report = sim::Run(Load(text), options, 0.0);
 
+  EXPECT_FALSE(report.replay_error.has_value()) << report.replay_error->ToString();
   replay::Reader reader(bytes);
   replay::Header header;
   ASSERT_TRUE(reader.ReadHeader(header));
+  ASSERT_EQ(header.robots.size(), 2u);
   replay::Round round;
   std::vector<std::pair<replay::EventKind, uint16_t>> seen;
   while (reader.Next(round)) {
     for (const replay::Event& event : round.events) {
-      if (event.kind == replay::EventKind::kPartitionStart || event.kind == replay::EventKind::kPartitionEnd) {
-        seen.emplace_back(event.kind, event.robot);
+      if (replay::IsPartitionEvent(event.kind)) {
+        seen.emplace_back(event.kind, event.partition);
+        EXPECT_EQ(event.robot, replay::kNoRobot);
         EXPECT_EQ(event.other, replay::kNoRobot);
+      } else {
+        EXPECT_EQ(event.partition, replay::kNoPartition);
       }
     }
   }
   EXPECT_TRUE(reader.complete()) << reader.error();
   const std::vector<std::pair<replay::EventKind, uint16_t>> expected = {
-      {replay::EventKind::kPartitionStart, 0},
-      {replay::EventKind::kPartitionEnd, 0},
-      {replay::EventKind::kPartitionStart, 1},
-      {replay::EventKind::kPartitionEnd, 1}};
-  EXPECT_EQ(seen, expected);  // docs/replay.md: `robot` is the partition's index
+      {replay::EventKind::kPartitionStart, 0}, {replay::EventKind::kPartitionEnd, 0},
+      {replay::EventKind::kPartitionStart, 1}, {replay::EventKind::kPartitionEnd, 1},
+      {replay::EventKind::kPartitionStart, 2}, {replay::EventKind::kPartitionEnd, 2}};
+  EXPECT_EQ(seen, expected);
+}
+
+// Every EPOCH_START has the map its robot started with; in a COOPERATIVE
+// epoch every robot holds the same one, and the file stores it once.
+TEST(SimulationTest, ReplayHoldsTheMapEachRobotStartedItsEpochWith) {
+  const scenario::Scenario scenario = Load(Swarm("", 0.0, 6));
+  SimulationOptions options;
+  std::stringstream bytes;
+  options.replay = &bytes;
+  (void)sim::Run(scenario, options, 0.0);
+
+  replay::Reader reader(bytes);
+  replay::Header header;
+  ASSERT_TRUE(reader.ReadHeader(header));
+  replay::Round round;
+  int starts = 0;
+  int cooperative = 0;
+  std::map<uint16_t, std::shared_ptr<const replay::EpochMap>> by_epoch;  // COOPERATIVE epochs only
+  while (reader.Next(round)) {
+    std::vector<uint16_t> started;
+    for (const replay::Event& event : round.events) {
+      if (event.kind == replay::EventKind::kEpochStart) started.push_back(event.robot);
+    }
+    ASSERT_EQ(round.maps.size(), started.size()) << "round " << round.index;
+    for (size_t i = 0; i < round.maps.size(); ++i) {
+      const replay::RobotMap& entry = round.maps[i];
+      EXPECT_EQ(entry.robot, started[i]);
+      ++starts;
+      if (entry.map->mode != 0) continue;
+      ++cooperative;
+      EXPECT_EQ(entry.map->members.size(), 6u);
+      auto [it, inserted] = by_epoch.emplace(entry.map->epoch, entry.map);
+      if (!inserted) {
+        EXPECT_EQ(it->second, entry.map) << "epoch " << entry.map->epoch << " stored twice";
+      }
+    }
+  }
+  EXPECT_TRUE(reader.complete()) << reader.error();
+  EXPECT_GT(cooperative, 6 * 3);
+  EXPECT_GE(starts, cooperative);
+}
+
+// A stream that accepts `limit` bytes, then fails as a full disk does.
+class FullDisk final : public std::streambuf {
+ public:
+  explicit FullDisk(size_t limit) : limit_(limit) {}
+
+ protected:
+  int overflow(int c) override {
+    if (written_ >= limit_) return traits_type::eof();
+    ++written_;
+    return c;
+  }
+  std::streamsize xsputn(const char*, std::streamsize count) override {
+    const auto room = static_cast<std::streamsize>(limit_ - written_);
+    const std::streamsize taken = std::min(count, room);
+    written_ += static_cast<size_t>(taken);
+    return taken;
+  }
+
+ private:
+  size_t limit_;
+  size_t written_ = 0;
+};
+
+TEST(SimulationTest, ReportsAReplayWriterFailure) {
+  FullDisk disk(5000);
+  std::ostream replay(&disk);
+  SimulationOptions options;
+  options.replay = &replay;
+
+  const RunReport report = sim::Run(Load(Swarm("", 0.0, 3)), options, 0.0);
+
+  ASSERT_TRUE(report.replay_error.has_value());
+  EXPECT_NE(report.replay_error->ToString().find("writing to the output stream failed"), std::string::npos)
+      << report.replay_error->ToString();
 }
 
 TEST(SimulationTest, PausedRobotIsRemovedThenRejoins) {

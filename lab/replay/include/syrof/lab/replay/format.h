@@ -12,15 +12,26 @@
 //            arena_width_m:f32 arena_height_m:f32
 //            scenario_name:name app_name:name
 //            robot_count:u32 (id:u16 kind:u8 body_radius_m:f32)*robot_count
+//            anchor_count:u16 (x_m:f32 y_m:f32)*anchor_count
 //            crc:u32
 //   name   = length:u16 bytes[length]
 //   round  = 'R' index:u32 time_ns:i64 frame_count:u32 event_count:u32
-//            frame*frame_count event*event_count crc:u32
+//            map_count:u32 frame*frame_count event*event_count map*map_count
+//            crc:u32
 //   frame  = id:u16 state:u8 changed:u8 then, for each bit set in `changed`
 //            in bit order, that field: epoch:u16 true_x_m:f32 true_y_m:f32
 //            true_heading_rad:f32 est_x_m:f32 est_y_m:f32 est_heading_rad:f32
 //   event  = kind:u8 robot:u16 other:u16 epoch:u16 mode:u8 time_ns:i64
+//            partition:u16
+//   map    = robot:u16 same_as:u16, then only when same_as is 0xFFFF:
+//            epoch:u16 mode:u8 member_count:u16 member*member_count
+//   member = id:u16 phase:u8 x_mm:i16 y_mm:i16 heading_mrad:i16 vx_mm_s:i16
+//            vy_mm_s:i16 payload_length:u8 payload[payload_length]
 //   end    = 'E' round_count:u32 event_count:u64 frame_count:u64 crc:u32
+//
+// Versions 1 and 2 had no anchors, no map_count, no maps and no event partition field
+// (a partition event kept its index in `robot`). A map whose same_as names a
+// robot equals that robot's latest map, as of this point of the file.
 //
 // A field missing from a frame equals the same robot's value in its previous
 // frame (all zero before its first), compared bit for bit. Each crc is the
@@ -65,10 +76,18 @@ inline constexpr uint8_t kChangedReservedMask = 0x80;
 /// Sizes of the fixed parts, in bytes.
 inline constexpr size_t kHeaderFixedBytes = 8 + 2 + 8 + 8 + 4 + 4;  ///< magic .. arena_height_m
 inline constexpr size_t kRobotInfoBytes = 2 + 1 + 4;
-inline constexpr size_t kRoundFixedBytes = 1 + 4 + 8 + 4 + 4;       ///< tag .. event_count
+inline constexpr size_t kAnchorBytes = 4 + 4;
+inline constexpr size_t kRoundFixedBytes = 1 + 4 + 8 + 4 + 4 + 4;   ///< tag .. map_count
+inline constexpr size_t kRoundFixedBytesV2 = 1 + 4 + 8 + 4 + 4;     ///< versions 1, 2: tag .. event_count
 inline constexpr size_t kFrameFixedBytes = 2 + 1 + 1;               ///< id, state, changed
 inline constexpr size_t kFrameMaxBytes = kFrameFixedBytes + 2 + 6 * 4;
-inline constexpr size_t kEventBytes = 1 + 2 + 2 + 2 + 1 + 8;
+inline constexpr size_t kEventBytes = 1 + 2 + 2 + 2 + 1 + 8 + 2;
+inline constexpr size_t kEventBytesV2 = 1 + 2 + 2 + 2 + 1 + 8;      ///< versions 1, 2: no partition
+inline constexpr size_t kMapEntryBytes = 2 + 2;                     ///< robot, same_as
+inline constexpr size_t kMapBodyFixedBytes = 2 + 1 + 2;             ///< epoch, mode, member_count
+inline constexpr size_t kMapMemberFixedBytes = 2 + 1 + 5 * 2 + 1;   ///< id .. payload_length
+/// A map's same_as when the map itself follows.
+inline constexpr uint16_t kSameAsNone = 0xFFFF;
 inline constexpr size_t kEndBytes = 1 + 4 + 8 + 8;                  ///< tag .. frame_count
 inline constexpr size_t kCrcBytes = 4;
 

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <istream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,7 +13,8 @@
 namespace syrof::lab::replay {
 
 /// Streams a replay back: ReadHeader() once, then Next() until it returns
-/// false. Holds one round and one frame per robot, never the whole file.
+/// false. Holds one round and one frame and one map per robot, never the
+/// whole file.
 ///
 /// The file is untrusted. Whatever its bytes, the reader neither crashes nor
 /// allocates more than the data it has actually read justifies (counts are
@@ -65,6 +67,8 @@ class Reader {
   // `next_robot`: the header slot after the previous frame's robot, 0 for a round's first.
   bool ReadFrame(RobotFrame& frame, size_t& next_robot);
   bool ReadEvent(Event& event);
+  // `next_robot` as for frames: maps come in increasing robot order.
+  bool ReadMap(RobotMap& entry, size_t& next_robot);
   bool ReadEnd(uint64_t record_start);
 
   std::istream& in_;
@@ -77,6 +81,7 @@ class Reader {
   uint16_t version_ = 0;
   std::vector<uint16_t> ids_;         // header ids, increasing
   std::vector<RobotFrame> previous_;  // per header robot: its last frame read
+  std::vector<std::shared_ptr<const EpochMap>> latest_;  // per header robot: its last map read (references)
   bool any_round_ = false;
   uint32_t last_index_ = 0;
   int64_t last_time_ns_ = 0;

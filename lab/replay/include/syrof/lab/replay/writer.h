@@ -2,8 +2,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <ostream>
 #include <span>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -34,9 +36,14 @@ class Writer {
   /// below it. A frame's fields must fit the format (status <= 1, phase <= 2,
   /// mode <= 1, presence a Presence); events name header ids or kNoRobot.
   /// Unchanged fields of a robot are not repeated (format.h), so a still
-  /// robot costs 4 bytes per round.
+  /// robot costs 4 bytes per round. `maps` holds the robots that started an
+  /// epoch this round, in strictly increasing id order, each with the map it
+  /// started with (non-null, members in increasing id order, header ids). A
+  /// map equal to one another robot holds (its latest) is stored as a 4-byte
+  /// reference to that robot, so a COOPERATIVE epoch's map costs its bytes
+  /// once however many robots start it, whenever they start it.
   void WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
-                  std::span<const Event> events);
+                  std::span<const Event> events, std::span<const RobotMap> maps = {});
 
   /// Writes the end marker with the totals, then flushes. Without it a
   /// reader reports the file as truncated. Later calls write nothing.
@@ -56,7 +63,8 @@ class Writer {
 
   void Fail(std::string message, std::string where = "");
   std::string CheckRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
-                         std::span<const Event> events) const;
+                         std::span<const Event> events, std::span<const RobotMap> maps) const;
+  void PutMap(size_t slot, const std::shared_ptr<const EpochMap>& map);
   void Emit();  // writes buffer_ with its CRC appended
 
   std::ostream& out_;
@@ -65,6 +73,9 @@ class Writer {
   std::vector<uint16_t> ids_;              // header ids, increasing
   std::vector<RobotFrame> previous_;       // per header robot: its last frame written
   std::vector<uint8_t> buffer_;            // the record being built
+  std::vector<std::shared_ptr<const EpochMap>> latest_;  // per header robot: its last map written
+  std::vector<uint64_t> latest_hash_;      // per header robot: MapHash of latest_
+  std::unordered_multimap<uint64_t, size_t> by_hash_;  // MapHash -> slots holding such a map
   bool any_round_ = false;
   uint32_t last_index_ = 0;
   int64_t last_time_ns_ = 0;

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "syrof/app/app.h"
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/world/world.h"
@@ -53,6 +54,11 @@ struct SimulationOptions {
 struct RunReport {
   metrics::Metrics metrics;
   std::string metrics_json;  ///< ToJson(metrics)
+  /// Why the replay writer stopped (a value the format cannot hold, a
+  /// failing stream); empty when the replay was written whole or not at all.
+  /// The file then ends early and reads as truncated, so a caller must not
+  /// present it as the run's record.
+  std::optional<Error> replay_error;
 };
 
 class Simulation {

@@ -1,0 +1,33 @@
+// `syrof view REPLAY [-o FILE.html]`: writes the replay's page, one
+// self-contained HTML file (lab/view, docs/viewer.md).
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace syrof::cli {
+
+struct ViewOptions {
+  std::string file{};    ///< the replay
+  std::string output{};  ///< the page; default: the replay's path with .html
+};
+
+/// Declares the subcommand on `app`.
+CLI::App* SetupViewCommand(CLI::App& app, ViewOptions& options);
+
+/// Writes the page. Returns 0 when the replay was complete; 2 for bad input
+/// (a replay that cannot be opened, or is empty, cut short, damaged or of a
+/// newer format: the page is still written and says so, and `err` says
+/// why); 1 when the page cannot be written.
+int RunViewCommand(const ViewOptions& options, std::ostream& out, std::ostream& err);
+
+/// The page's path for a replay when no -o is given: REPLAY.html next to it.
+std::string DefaultPagePath(const std::string& replay_path);
+
+/// Writes the page of the replay at `replay_path` to `page_path` (for `syrof
+/// run --html`). Returns "" or what went wrong.
+std::string WritePage(const std::string& replay_path, const std::string& page_path);
+
+}  // namespace syrof::cli

@@ -1,0 +1,376 @@
+// The viewer's page in a real browser (headless Chromium): it is written for
+// a fixed scenario and seed (or a replay made by hand), loaded from file://,
+// and what it reports and draws is compared with what the C++ reader reads
+// from the same replay. The page says it is ready with <body data-ready="1">
+// and a JSON summary in #report (viewer.js); the test reads the DOM Chromium
+// dumps after the page's scripts ran, and the pixels of a screenshot.
+//
+// Pages and screenshots stay in SYROF_VIEW_ARTIFACTS for a person to look at.
+#include <gtest/gtest.h>
+#include <png.h>
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "replay_test_support.h"
+#include "syrof/lab/replay/reader.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/simulation.h"
+#include "syrof/lab/view/view.h"
+
+namespace syrof::lab::view {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// The browser window: large enough that the arena is at the top of the
+// screenshot, the same for the DOM dump and the screenshot so the layout is.
+constexpr const char* kWindow = "1280,1000";
+
+fs::path Artifacts() {
+  const fs::path dir = SYROF_VIEW_ARTIFACTS;
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string Chromium(const std::string& what, const fs::path& page, const std::string& fragment) {
+  // A profile folder per process and page: ctest runs each test as its own
+  // process, in parallel, and two Chromiums cannot share a profile.
+  const fs::path profile = Artifacts() / ("profile-" + page.stem().string() + "-" + std::to_string(getpid()));
+  return std::string(SYROF_CHROMIUM) + " --headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run" +
+         " --disable-extensions --disable-dev-shm-usage --user-data-dir=" + profile.string() +
+         " --window-size=" + kWindow + " --virtual-time-budget=3000 " + what + " 'file://" + page.string() +
+         fragment + "' 2>/dev/null";
+}
+
+// The DOM after the page's scripts ran.
+std::string DumpDom(const fs::path& page, const std::string& fragment = "") {
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(Chromium("--dump-dom", page, fragment).c_str(), "r"), pclose);
+  if (!pipe) return {};
+  std::string dom;
+  std::array<char, 65536> buffer;
+  size_t got = 0;
+  while ((got = fread(buffer.data(), 1, buffer.size(), pipe.get())) > 0) dom.append(buffer.data(), got);
+  return dom;
+}
+
+std::string Unescape(std::string text) {
+  for (const auto& [from, to] : std::array<std::pair<std::string, std::string>, 3>{
+           {{"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}}}) {
+    for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+      text.replace(at, from.size(), to);
+    }
+  }
+  return text;
+}
+
+// What the page reported, and the DOM it is in.
+struct Loaded {
+  std::string dom;
+  json report;
+};
+
+Loaded Load(const fs::path& page, const std::string& fragment = "") {
+  Loaded loaded;
+  loaded.dom = DumpDom(page, fragment);
+  std::smatch match;
+  if (std::regex_search(loaded.dom, match, std::regex(R"re(<pre id="report" hidden="">([^<]*)</pre>)re"))) {
+    loaded.report = json::parse(Unescape(match[1].str()), nullptr, false);
+  }
+  return loaded;
+}
+
+size_t Count(const std::string& text, const std::string& what) {
+  size_t count = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++count;
+  return count;
+}
+
+fs::path WritePage(const std::string& replay_bytes, const std::string& name) {
+  std::istringstream in(replay_bytes);
+  const Page page = BuildPage(in, name);
+  const fs::path path = Artifacts() / (name + ".html");
+  std::ofstream(path, std::ios::binary) << page.html;
+  return path;
+}
+
+// ---- The replay as the C++ reader sees it ---------------------------------
+
+struct Replay {
+  replay::Header header;
+  std::vector<replay::Round> rounds;  // frames carried forward: every robot in every round
+  size_t events = 0;
+};
+
+Replay ReadAll(const std::string& bytes) {
+  std::istringstream in(bytes);
+  replay::Reader reader(in);
+  Replay result;
+  EXPECT_TRUE(reader.ReadHeader(result.header)) << reader.error();
+  std::vector<replay::RobotFrame> current(result.header.robots.size());
+  for (size_t i = 0; i < current.size(); ++i) current[i].id = result.header.robots[i].id;
+  replay::Round round;
+  while (reader.Next(round)) {
+    for (const replay::RobotFrame& frame : round.robots) {
+      for (replay::RobotFrame& slot : current) {
+        if (slot.id == frame.id) slot = frame;
+      }
+    }
+    result.events += round.events.size();
+    round.robots = current;
+    result.rounds.push_back(round);
+  }
+  EXPECT_TRUE(reader.complete()) << reader.error();
+  return result;
+}
+
+// ---- A scenario run: demo_circle, 12 s, seed 7 -------------------------------
+
+class ScenarioPage : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    scenario::Overrides overrides;
+    overrides.duration_s = 12;
+    overrides.seed = 7;
+    const scenario::LoadResult loaded =
+        scenario::LoadScenarioFile(std::string(SYROF_SCENARIOS_DIR) + "/demo_circle.yaml", overrides);
+    ASSERT_TRUE(loaded.ok());
+    std::ostringstream bytes;
+    sim::SimulationOptions options;
+    options.replay = &bytes;
+    (void)sim::Run(*loaded.scenario, options, 0.0);
+    bytes_ = new std::string(bytes.str());
+    replay_ = new Replay(ReadAll(*bytes_));
+  }
+  static void TearDownTestSuite() {
+    delete replay_;
+    delete bytes_;
+  }
+  // Each test its own page file: tests run in parallel processes.
+  void SetUp() override {
+    page_ = WritePage(*bytes_, std::string("demo_circle_12s_") +
+                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
+
+  // A round, after the first seconds, where robots are in both modes (the
+  // demo loses 10% of beacons), so the screenshot holds both colours.
+  static const replay::Round& MixedRound() {
+    for (const replay::Round& round : replay_->rounds) {
+      if (round.index < 60) continue;
+      bool cooperative = false, autonomous = false;
+      for (const replay::RobotFrame& frame : round.robots) (frame.mode == 0 ? cooperative : autonomous) = true;
+      if (cooperative && autonomous) return round;
+    }
+    return replay_->rounds[100];
+  }
+
+  static Replay* replay_;
+  static std::string* bytes_;
+  fs::path page_;
+};
+Replay* ScenarioPage::replay_ = nullptr;
+std::string* ScenarioPage::bytes_ = nullptr;
+
+TEST_F(ScenarioPage, DrawsEveryRobotAndListsEveryEvent) {
+  const replay::Round& round = replay_->rounds[150];
+
+  const Loaded loaded = Load(page_, "#round=" + std::to_string(round.index));
+
+  ASSERT_NE(loaded.dom.find("data-ready=\"1\""), std::string::npos) << "the page never reported ready";
+  ASSERT_TRUE(loaded.report.is_object()) << loaded.dom.substr(0, 2000);
+  EXPECT_EQ(loaded.report["status"], "complete");
+  EXPECT_EQ(loaded.report["round"], round.index);
+  size_t present = 0;
+  for (const replay::RobotFrame& frame : round.robots) present += frame.presence != replay::Presence::kAbsent;
+  EXPECT_EQ(loaded.report["robots_drawn"], present);
+  EXPECT_EQ(present, 10u);
+  // Counted in the DOM itself, not in the page's own summary.
+  EXPECT_EQ(Count(loaded.dom, "<li class=\"ev "), replay_->events);
+  EXPECT_EQ(loaded.report["events_listed"], replay_->events);
+}
+
+TEST_F(ScenarioPage, InspectorShowsTheMapTheRobotStartedItsEpochWith) {
+  // Robot 3's latest epoch start at or before round 200, from the reader.
+  const uint16_t robot = 3;
+  std::shared_ptr<const replay::EpochMap> map;
+  uint32_t at_round = 0;
+  for (const replay::Round& round : replay_->rounds) {
+    if (round.index > 200) break;
+    for (const replay::RobotMap& entry : round.maps) {
+      if (entry.robot == robot) map = entry.map;
+    }
+    at_round = round.index;
+  }
+  ASSERT_NE(map, nullptr);
+
+  const Loaded loaded = Load(page_, "#round=" + std::to_string(at_round) + "&robot=3");
+
+  const json& inspector = loaded.report["inspector"];
+  ASSERT_TRUE(inspector.is_object()) << loaded.report.dump();
+  EXPECT_EQ(inspector["robot"], robot);
+  EXPECT_EQ(inspector["epoch"], map->epoch);
+  std::vector<int> members;
+  for (const replay::MapMember& member : map->members) members.push_back(member.id);
+  EXPECT_EQ(inspector["members"].get<std::vector<int>>(), members);
+  // And the DOM's table has a row per member.
+  EXPECT_EQ(Count(loaded.dom, "<tr data-member="), members.size());
+}
+
+// Reads a PNG as RGBA.
+struct Image {
+  unsigned width = 0;
+  unsigned height = 0;
+  std::vector<uint8_t> rgba;
+  std::array<int, 3> At(int x, int y) const {
+    const size_t i = (static_cast<size_t>(y) * width + static_cast<size_t>(x)) * 4;
+    return {rgba[i], rgba[i + 1], rgba[i + 2]};
+  }
+};
+
+Image ReadPng(const fs::path& path) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  Image image;
+  if (png_image_begin_read_from_file(&png, path.c_str()) == 0) return image;
+  png.format = PNG_FORMAT_RGBA;
+  image.rgba.resize(PNG_IMAGE_SIZE(png));
+  if (png_image_finish_read(&png, nullptr, image.rgba.data(), 0, nullptr) == 0) return {};
+  image.width = png.width;
+  image.height = png.height;
+  return image;
+}
+
+TEST_F(ScenarioPage, ScreenshotHasEachRobotsColourWhereTheRobotIs) {
+  const replay::Round& round = MixedRound();
+  const std::string fragment = "#round=" + std::to_string(round.index);
+  const Loaded loaded = Load(page_, fragment);
+  const fs::path shot = Artifacts() / "demo_circle_12s.png";
+  fs::remove(shot);
+  ASSERT_EQ(std::system(Chromium("--screenshot=" + shot.string(), page_, fragment).c_str()), 0);
+
+  const Image image = ReadPng(shot);
+  ASSERT_GT(image.width, 0u) << "no screenshot at " << shot;
+  const json& arena = loaded.report["arena"];
+  const json& colours = loaded.report["colours"];
+  ASSERT_TRUE(arena.is_object() && colours.is_object()) << loaded.report.dump();
+  const double scale = arena["scale"];
+  int checked = 0;
+  for (const replay::RobotFrame& frame : round.robots) {
+    ASSERT_EQ(frame.presence, replay::Presence::kRunning);
+    const double radius = replay_->header.robots[frame.id].body_radius_m * scale;
+    // Inside the body, behind the heading line (which is white), away from the label.
+    const double x = arena["left"].get<double>() + arena["ox"].get<double>() + frame.true_x_m * scale -
+                     0.45 * radius * std::cos(frame.true_heading_rad);
+    const double y = arena["top"].get<double>() + arena["oy"].get<double>() - frame.true_y_m * scale +
+                     0.45 * radius * std::sin(frame.true_heading_rad);
+    const json& want = frame.status == 1 ? colours["joining"]
+                                         : frame.mode == 0 ? colours["cooperative"] : colours["autonomous"];
+    const std::array<int, 3> got = image.At(static_cast<int>(std::lround(x)), static_cast<int>(std::lround(y)));
+    for (int channel = 0; channel < 3; ++channel) {
+      EXPECT_NEAR(got[channel], want[channel].get<int>(), 6)
+          << "robot " << frame.id << " (mode " << int{frame.mode} << ") at pixel (" << x << ", " << y << ")";
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 10);
+}
+
+// ---- A replay made by hand: two robots that collide in round 30 ------------
+
+std::string CollisionReplay() {
+  replay::Header header;
+  header.seed = 1;
+  header.radio_round_ns = 50'000'000;
+  header.arena_width_m = 4;
+  header.arena_height_m = 2;
+  header.scenario_name = "collision";
+  header.app_name = "by hand";
+  header.robots = {{0, 0, 0.1f}, {1, 0, 0.1f}};
+  std::ostringstream bytes;
+  replay::Writer writer(bytes, header);
+  auto map = std::make_shared<replay::EpochMap>();
+  map->epoch = 1;
+  map->members = {replay::MapMember{0, 0, 1000, 1000, 0, 0, 0, {}}, replay::MapMember{1, 0, 3000, 1000, 0, 0, 0, {}}};
+  for (uint32_t index = 1; index <= 60; ++index) {
+    const float gap = std::max(0.2f, 2.0f - 0.06f * static_cast<float>(index));  // they meet in round 30
+    std::vector<replay::RobotFrame> frames(2);
+    for (uint16_t id = 0; id < 2; ++id) {
+      frames[id] = replay::RobotFrame{.id = id, .presence = replay::Presence::kRunning, .epoch = 1};
+      frames[id].true_x_m = frames[id].est_x_m = 2.0f + (id == 0 ? -gap : gap) / 2;
+      frames[id].true_y_m = frames[id].est_y_m = 1.0f;
+    }
+    std::vector<replay::Event> events;
+    std::vector<replay::RobotMap> maps;
+    const int64_t time_ns = int64_t{index} * 50'000'000;
+    if (index == 1) {
+      events = {{replay::EventKind::kEpochStart, 0, replay::kNoRobot, 1, 0, time_ns},
+                {replay::EventKind::kEpochStart, 1, replay::kNoRobot, 1, 0, time_ns}};
+      maps = {{0, map}, {1, map}};
+    }
+    if (index == 30) events = {{replay::EventKind::kCollision, 0, 1, 1, 0, time_ns}};
+    writer.WriteRound(index, time_ns, frames, events, maps);
+  }
+  writer.Finish();
+  EXPECT_TRUE(writer.ok()) << writer.error();
+  return bytes.str();
+}
+
+TEST(CollisionPage, SteppingToTheCollisionRoundShowsItMarked) {
+  const fs::path page = WritePage(CollisionReplay(), "collision");
+
+  const Loaded before = Load(page, "#round=29");
+  const Loaded at = Load(page, "#round=30");
+
+  EXPECT_EQ(before.report["marks"], json::array()) << before.report.dump();
+  ASSERT_EQ(at.report["marks"].size(), 1u) << at.report.dump();
+  EXPECT_EQ(at.report["marks"][0]["kind"], "COLLISION");
+  EXPECT_EQ(at.report["marks"][0]["robot"], 0);
+  EXPECT_EQ(at.report["marks"][0]["other"], 1);
+  EXPECT_EQ(at.report["marks"][0]["round"], 30);
+  EXPECT_NE(at.dom.find("<li class=\"ev k4 now\""), std::string::npos);  // listed (kind 4), as happening now
+}
+
+// ---- Replays the page cannot show whole ------------------------------------
+
+TEST(ProblemPages, SayClearlyWhatIsWrong) {
+  const std::string good = replay::testing::WriteSample().bytes;
+  std::string newer = good;
+  replay::testing::PutU16At(newer, 8, 4);
+  struct Case {
+    std::string name, bytes, status, title, detail;
+  };
+  const std::vector<Case> cases = {
+      {"empty", "", "empty", "Nothing to show", "The replay file is empty (0 bytes)"},
+      {"truncated", good.substr(0, good.size() - 25), "truncated", "This replay is cut short",
+       "cut short after 3 rounds"},
+      {"newer", newer, "newer", "This replay is from a newer SyROF", "format version 4 is newer than this reader"},
+  };
+  for (const Case& c : cases) {
+    const Loaded loaded = Load(WritePage(c.bytes, "problem_" + c.name));
+
+    SCOPED_TRACE(c.name);
+    ASSERT_NE(loaded.dom.find("data-ready=\"1\""), std::string::npos);
+    EXPECT_EQ(loaded.report["status"], c.status);
+    std::smatch banner;
+    ASSERT_TRUE(std::regex_search(loaded.dom, banner, std::regex(R"re(<div id="banner" class="([^"]*)"><h2>([^<]*)</h2><div>([^<]*)</div>)re")))
+        << loaded.dom.substr(0, 3000);
+    EXPECT_NE(banner[1].str().find(c.status), std::string::npos);
+    EXPECT_EQ(banner[2].str(), c.title);
+    EXPECT_NE(Unescape(banner[3].str()).find(c.detail), std::string::npos) << banner[3].str();
+  }
+}
+
+}  // namespace
+}  // namespace syrof::lab::view

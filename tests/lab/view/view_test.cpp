@@ -1,0 +1,108 @@
+// lab/view without a browser: the page's data is what the reader accepted,
+// the template's markers are all filled, and the page refers to nothing
+// outside itself.
+#include "syrof/lab/view/view.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "replay_test_support.h"
+
+namespace syrof::lab::view {
+namespace {
+
+using nlohmann::json;
+
+json DataOf(const std::string& bytes, Page& page, const PageOptions& options = {}) {
+  std::istringstream in(bytes);
+  return json::parse(ReplayJson(in, "sample.replay", options, page));
+}
+
+TEST(ViewData, HoldsEveryEventMapAndRoundOfTheSample) {
+  Page page;
+  const json data = DataOf(replay::testing::WriteSample().bytes, page);
+
+  EXPECT_TRUE(page.complete);
+  EXPECT_EQ(data["status"], "complete");
+  EXPECT_EQ(page.rounds, 3u);
+  EXPECT_EQ(page.events, 6u);
+  EXPECT_EQ(data["events"].size(), 6u);
+  EXPECT_EQ(data["robots"].size(), 3u);
+  EXPECT_EQ(data["anchors"].size(), 2u);
+  EXPECT_EQ(data["rounds"]["index"], json::array({0, 1, 2}));  // deltas of 0, 1, 3
+  // Robots 0 and 1 share one map; robot 2 has its own.
+  EXPECT_EQ(data["maps"].size(), 2u);
+  EXPECT_EQ(data["starts"], json::parse("[[0, 0, 0], [0, 1, 0], [2, 2, 1]]"));
+  // The partition event names its partition, not a robot.
+  EXPECT_EQ(data["events"][1], json::parse("[0, 10, -1, -1, 0, 0, 40000, 0]"));
+  // Robot 0's x in mm, 1000, 1100, 1200, as deltas.
+  EXPECT_EQ(data["frames"][0]["x"], json::array({1000, 100, 100}));
+}
+
+TEST(ViewData, DecimatesFramesButNeverEvents) {
+  Page page;
+  PageOptions options;
+  options.max_robot_frames = 4;  // 3 robots x 3 rounds = 9 frames: keep every 3rd round
+  const json data = DataOf(replay::testing::WriteSample().bytes, page, options);
+
+  EXPECT_EQ(page.frame_stride, 3u);
+  EXPECT_EQ(data["stride"], 3);
+  EXPECT_EQ(data["frames"][0]["s"].size(), 1u);
+  EXPECT_EQ(data["events"].size(), 6u);
+}
+
+TEST(ViewData, SaysWhatIsWrongWithABadReplay) {
+  const std::string good = replay::testing::WriteSample().bytes;
+  std::string newer = good;
+  replay::testing::PutU16At(newer, 8, 4);
+  Page page;
+
+  EXPECT_EQ(DataOf("", page)["status"], "empty");
+  EXPECT_FALSE(page.complete);
+  const json truncated = DataOf(good.substr(0, good.size() - 25), page);
+  EXPECT_EQ(truncated["status"], "truncated");
+  EXPECT_EQ(page.rounds, 3u);
+  EXPECT_NE(truncated["message"].get<std::string>().find("cut short after 3 rounds"), std::string::npos);
+  const json newer_data = DataOf(newer, page);
+  EXPECT_EQ(newer_data["status"], "newer");
+  EXPECT_NE(newer_data["message"].get<std::string>().find("format version 4 is newer"), std::string::npos);
+  EXPECT_EQ(DataOf("not a replay", page)["status"], "invalid");
+}
+
+TEST(ViewPage, FillsEveryMarkerAndEscapesTheData) {
+  replay::Header header = replay::testing::SampleHeader();
+  header.scenario_name = "</script><b>x";
+  const std::vector<replay::Round> rounds = replay::testing::SampleRounds();
+  std::istringstream in(replay::testing::Write(header, rounds).bytes);
+
+  const Page page = BuildPage(in, "a<b>.replay");
+
+  for (const char* marker : {"@TITLE@", "/*@CSS@*/", "@DATA@", "/*@JS@*/"}) {
+    EXPECT_EQ(page.html.find(marker), std::string::npos) << marker;
+  }
+  EXPECT_EQ(page.html.find("</script><b>x"), std::string::npos);
+  EXPECT_NE(page.html.find("<\\/script><b>x"), std::string::npos);
+  EXPECT_NE(page.html.find("<title>SyROF viewer: a&lt;b&gt;.replay</title>"), std::string::npos);
+  EXPECT_NE(page.html.find("'use strict'"), std::string::npos);  // the script is inside
+}
+
+TEST(ViewPage, RefersToNothingOutsideItself) {
+  std::istringstream in(replay::testing::WriteSample().bytes);
+
+  const Page page = BuildPage(in, "sample.replay");
+
+  // No external script, style sheet, image, font or fetch.
+  EXPECT_FALSE(std::regex_search(page.html, std::regex(R"((src|href)\s*=\s*["']?[a-z]+:)", std::regex::icase)));
+  EXPECT_FALSE(std::regex_search(page.html, std::regex(R"(https?://)", std::regex::icase)));
+  EXPECT_EQ(page.html.find("fetch("), std::string::npos);
+  EXPECT_EQ(page.html.find("XMLHttpRequest"), std::string::npos);
+  EXPECT_EQ(page.html.find("@import"), std::string::npos);
+  EXPECT_NE(page.html.find("default-src 'none'"), std::string::npos);  // and the browser enforces it
+}
+
+}  // namespace
+}  // namespace syrof::lab::view
