@@ -19,6 +19,8 @@ const char* ToString(EventKind kind) {
     case EventKind::kAppFault: return "APP_FAULT";
     case EventKind::kInvalidCommand: return "INVALID_COMMAND";
     case EventKind::kPayloadRefused: return "PAYLOAD_REFUSED";
+    case EventKind::kSafetyIntervention: return "SAFETY_INTERVENTION";
+    case EventKind::kJoinWait: return "JOIN_WAIT";
   }
   return "?";
 }

@@ -180,11 +180,11 @@ TEST(ReplayReader, RefusesUnknownEventKindAndRobot) {
   const Written written = WriteSample();
   const size_t event_at = written.header_end + kFirstEventAt;
   std::string kind = written.bytes;
-  kind[event_at] = 15;
+  kind[event_at] = 17;
   std::string robot = written.bytes;
   PutU16At(robot, event_at + 1, 9);
 
-  ExpectError(Read(kind), event_at, "unknown event kind 15 (format version 2)");
+  ExpectError(Read(kind), event_at, "unknown event kind 17 (format version 2)");
   ExpectError(Read(robot), event_at + 1, "event robot 9 is not a robot of the header");
 }
 

@@ -238,7 +238,7 @@ TEST(ReplayWriter, RefusesRoundItCannotRecordAndWritesNoMore) {
       {{RobotFrame{.id = 0, .status = 2}}, {}, 1, "status 2"},
       {{RobotFrame{.id = 0, .mode = 2}}, {}, 1, "mode 2"},
       {{RobotFrame{.id = 0, .presence = static_cast<Presence>(4)}}, {}, 1, "presence 4"},
-      {{}, {Event{.kind = static_cast<EventKind>(15)}}, 1, "unknown event kind 15"},
+      {{}, {Event{.kind = static_cast<EventKind>(17)}}, 1, "unknown event kind 17"},
       {{}, {Event{.kind = EventKind::kCollision, .robot = 0, .other = 9}}, 1, "other 9"},
       {{}, {}, 0, "round index 0 does not follow round 0"},
   };
@@ -278,7 +278,7 @@ TEST(ReplayNames, EveryEnumeratorHasAName) {
   EXPECT_STREQ(ToString(EventKind::kAppFault), "APP_FAULT");
   EXPECT_STREQ(ToString(EventKind::kInvalidCommand), "INVALID_COMMAND");
   EXPECT_STREQ(ToString(EventKind::kPayloadRefused), "PAYLOAD_REFUSED");
-  EXPECT_STREQ(ToString(static_cast<EventKind>(15)), "?");
+  EXPECT_STREQ(ToString(static_cast<EventKind>(17)), "?");
   EXPECT_STREQ(ToString(Presence::kAbsent), "ABSENT");
   EXPECT_STREQ(ToString(Presence::kRunning), "RUNNING");
   EXPECT_STREQ(ToString(Presence::kPaused), "PAUSED");

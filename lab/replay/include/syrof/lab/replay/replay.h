@@ -19,6 +19,8 @@ namespace syrof::lab::replay {
 /// and refuses a newer one (docs/replay.md, "Versions").
 ///   1: the first layout.
 ///   2: event kinds APP_FAULT, INVALID_COMMAND and PAYLOAD_REFUSED.
+///   (Event kinds SAFETY_INTERVENTION and JOIN_WAIT are accepted from
+///   version 2 on until the next version bump, which should list them.)
 inline constexpr uint16_t kFormatVersion = 2;
 inline constexpr uint16_t kOldestFormatVersion = 1;
 
@@ -101,12 +103,15 @@ enum class EventKind : uint8_t {
   kAppFault = 12,       ///< `robot`'s app call failed in `epoch`; the robot stopped (presence CRASHED)
   kInvalidCommand = 13, ///< `robot`'s first command refused in the run (it held still that epoch)
   kPayloadRefused = 14, ///< `robot`'s first sendMessageData refused in the run
+  // Since the next version (accepted in version 2 files until it exists):
+  kSafetyIntervention = 15, ///< the safety filter began to limit `robot`'s command, against `other` (kNoRobot: a wall)
+  kJoinWait = 16,           ///< joiner `robot` waits to be switched on: a body is on its start disc
 };
 
 /// The last EventKind of format `version`; a larger value in a file of that
 /// version is an error.
 constexpr EventKind LastEventKind(uint16_t version) {
-  return version >= 2 ? EventKind::kPayloadRefused : EventKind::kPartitionEnd;
+  return version >= 2 ? EventKind::kJoinWait : EventKind::kPartitionEnd;
 }
 
 /// The last EventKind of the version the writer writes.

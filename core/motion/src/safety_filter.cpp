@@ -1,0 +1,276 @@
+#include "syrof/motion/safety_filter.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace syrof::motion {
+namespace {
+
+// A command changed by less than this (m/s) counts as unchanged: rounding.
+constexpr float kLimitedThresholdMps = 1e-3f;
+// A final velocity may break a constraint by this much (m/s) before the
+// filter falls back to stopping: float rounding of the projections.
+constexpr float kFeasibilityToleranceMps = 1e-4f;
+// Below this distance (m) a centre gives no direction: the robot stops.
+constexpr float kMinDistanceM = 1e-4f;
+// Directions with |h . n| below this do not constrain a rover's forward speed.
+constexpr float kParallelEpsilon = 1e-6f;
+
+float Dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
+
+}  // namespace
+
+void SafetyReports::Report(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps,
+                           float vy_mps, float braking_mps2) {
+  if (id >= entries_.size()) return;
+  SafetyReport& entry = entries_[id];
+  entry.time_ns = time_ns;
+  entry.x_m = x_m;
+  entry.y_m = y_m;
+  entry.allowance_m = parked && braking_mps2 > 0 ? (vx_mps * vx_mps + vy_mps * vy_mps) / (2.0f * braking_mps2) : 0.0f;
+  entry.valid = std::isfinite(x_m) && std::isfinite(y_m) && std::isfinite(entry.allowance_m);
+}
+
+void SafetyReports::CopyFrom(const SafetyReports& other, size_t count) {
+  const size_t n = std::min(count, entries_.size());
+  std::copy(other.entries_.begin(), other.entries_.begin() + static_cast<std::ptrdiff_t>(n), entries_.begin());
+}
+
+SafetyFilter::SafetyFilter(const SafetyConfig& config, const ControllerConfig& controller, uint16_t swarm_size)
+    : config_(config),
+      own_radius_m_(controller.limits.body_radius_m),
+      own_max_speed_mps_(controller.limits.max_speed_mps),
+      own_braking_mps2_(controller.braking_fraction * controller.limits.max_accel_mps2),
+      kind_(controller.kind),
+      swarm_size_(std::min<uint16_t>(swarm_size, wire::kMaxSwarmSize)) {}
+
+float SafetyFilter::ApproachBound(float gap_m) const {
+  if (gap_m <= 0.0f) return 0.0f;
+  return std::min(config_.gain_per_s * gap_m, std::sqrt(2.0f * own_braking_mps2_ * gap_m));
+}
+
+void SafetyFilter::Keep(const Constraint& constraint, float slack) {
+  if (count_ < constraints_.size()) {
+    constraints_[count_] = constraint;
+    slack_[count_] = slack;
+    ++count_;
+    return;
+  }
+  // Full: replace the loosest one if this one is tighter.
+  size_t loosest = 0;
+  for (size_t i = 1; i < count_; ++i) {
+    if (slack_[i] > slack_[loosest]) loosest = i;
+  }
+  if (slack < slack_[loosest]) {
+    constraints_[loosest] = constraint;
+    slack_[loosest] = slack;
+  }
+}
+
+void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64_t now_ns) {
+  count_ = 0;
+  // A linear constraint whose bound reaches the speed limit cannot bind.
+  const float reach_m = std::max(own_max_speed_mps_ / config_.gain_per_s,
+                                 own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * own_braking_mps2_));
+  const float base_m = own_radius_m_ + config_.others_radius_m + config_.margin_m;
+  for (uint16_t id = 0; id < swarm_size_; ++id) {
+    const SafetyReport& report = reports[id];
+    if (!report.valid || id == config_.self_id) continue;
+    const float age_s = std::clamp(static_cast<float>(now_ns - report.time_ns) * 1e-9f, 0.0f, config_.horizon_s);
+    const float sigma_m = config_.others_max_speed_mps * age_s + report.allowance_m;
+    const float radius_m = base_m + sigma_m;
+    const float dx = report.x_m - x;
+    const float dy = report.y_m - y;
+    const float squared = dx * dx + dy * dy;
+    const float far_m = radius_m + reach_m;
+    if (squared > far_m * far_m) continue;
+    const float distance_m = std::sqrt(squared);
+    Constraint constraint{};
+    constraint.other = id;
+    if (distance_m < kMinDistanceM) {
+      // On top of the centre: no direction leads away; stop.
+      constraint.nx = 1.0f;
+      constraint.ny = 0.0f;
+      constraint.cone = true;
+      constraint.bound = 1.0f;
+      Keep(constraint, -radius_m);
+      continue;
+    }
+    constraint.nx = dx / distance_m;
+    constraint.ny = dy / distance_m;
+    const float gap_m = distance_m - radius_m;
+    if (gap_m > 0.0f) {
+      constraint.bound = ApproachBound(gap_m);
+      constraint.cone = false;
+    } else {
+      constraint.bound = std::min(1.0f, sigma_m / distance_m);
+      constraint.cone = true;
+    }
+    Keep(constraint, gap_m);
+  }
+  if (config_.arena_width_m > 0 && config_.arena_height_m > 0) {
+    const float inset_m = own_radius_m_ + config_.margin_m;
+    const float gaps[4] = {x - inset_m, config_.arena_width_m - x - inset_m, y - inset_m,
+                           config_.arena_height_m - y - inset_m};
+    const float normals[4][2] = {{-1.0f, 0.0f}, {1.0f, 0.0f}, {0.0f, -1.0f}, {0.0f, 1.0f}};
+    for (int wall = 0; wall < 4; ++wall) {
+      if (gaps[wall] > reach_m) continue;
+      Constraint constraint{};
+      constraint.nx = normals[wall][0];
+      constraint.ny = normals[wall][1];
+      constraint.bound = ApproachBound(gaps[wall]);
+      constraint.cone = false;
+      constraint.other = kWallObstacle;
+      Keep(constraint, gaps[wall]);
+    }
+  }
+}
+
+void SafetyFilter::LimitOmni(float& vx, float& vy) const {
+  float ux = vx;
+  float uy = vy;
+  for (int pass = 0; pass < kSafetyPasses; ++pass) {
+    for (size_t i = 0; i < count_; ++i) {
+      const Constraint& c = constraints_[i];
+      const float along = Dot(ux, uy, c.nx, c.ny);
+      if (!c.cone) {
+        const float excess = along - c.bound;
+        if (excess > 0.0f) {
+          ux -= excess * c.nx;
+          uy -= excess * c.ny;
+        }
+        continue;
+      }
+      // The cone of directions at least phi away from every point of the
+      // other's disc: axis -n, u . (-n) >= sin(phi) |u|.
+      const float speed = std::sqrt(ux * ux + uy * uy);
+      if (-along >= c.bound * speed) continue;
+      // Project onto the cone's edge on u's side: w = s (-n) + sqrt(1 - s^2) t.
+      float tx = ux - along * c.nx;
+      float ty = uy - along * c.ny;
+      const float tangent = std::sqrt(tx * tx + ty * ty);
+      if (tangent < kMinDistanceM) {
+        ux = 0.0f;
+        uy = 0.0f;
+        continue;
+      }
+      tx /= tangent;
+      ty /= tangent;
+      const float s = c.bound;
+      const float c_side = std::sqrt(std::max(0.0f, 1.0f - s * s));
+      const float wx = -s * c.nx + c_side * tx;
+      const float wy = -s * c.ny + c_side * ty;
+      const float length = std::max(0.0f, Dot(ux, uy, wx, wy));
+      ux = length * wx;
+      uy = length * wy;
+    }
+  }
+  // Whatever the passes left unsatisfied, stopping satisfies.
+  const float speed = std::sqrt(ux * ux + uy * uy);
+  for (size_t i = 0; i < count_; ++i) {
+    const Constraint& c = constraints_[i];
+    const float along = Dot(ux, uy, c.nx, c.ny);
+    const float limit = c.cone ? -c.bound * speed : c.bound;
+    if (along > limit + kFeasibilityToleranceMps) {
+      ux = 0.0f;
+      uy = 0.0f;
+      break;
+    }
+  }
+  vx = ux;
+  vy = uy;
+}
+
+float SafetyFilter::LimitForward(float speed, float hx, float hy) const {
+  float lowest = -own_max_speed_mps_;
+  float highest = own_max_speed_mps_;
+  bool forward_ok = true;
+  bool backward_ok = true;
+  for (size_t i = 0; i < count_; ++i) {
+    const Constraint& c = constraints_[i];
+    const float along = Dot(hx, hy, c.nx, c.ny);
+    if (c.cone) {
+      // v > 0 moves along h, v < 0 along -h: each is allowed only inside the cone.
+      if (along > -c.bound) forward_ok = false;
+      if (-along > -c.bound) backward_ok = false;
+      continue;
+    }
+    if (along > kParallelEpsilon) {
+      highest = std::min(highest, c.bound / along);
+    } else if (along < -kParallelEpsilon) {
+      lowest = std::max(lowest, c.bound / along);
+    }
+  }
+  float limited = std::clamp(speed, std::min(lowest, 0.0f), std::max(highest, 0.0f));
+  if ((limited > 0.0f && !forward_ok) || (limited < 0.0f && !backward_ok)) limited = 0.0f;
+  return limited;
+}
+
+DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::StateEstimate& estimate,
+                                 const SafetyReports& reports, int64_t now_ns, SafetyOutcome& outcome) {
+  outcome = SafetyOutcome{};
+  const bool usable = (estimate.status & estimation::kEstimateInitialized) != 0 && std::isfinite(estimate.x_m) &&
+                      std::isfinite(estimate.y_m) && std::isfinite(estimate.heading_rad);
+  if (!config_.enabled || !usable) {
+    was_limited_ = false;
+    return desired;
+  }
+  const bool wheels = kind_ == DriveKind::kWheels;
+  const float desired_vx = wheels ? 0.0f : desired.vx_mps;
+  const float desired_vy = wheels ? 0.0f : desired.vy_mps;
+  const float desired_forward = wheels ? 0.5f * (desired.left_mps + desired.right_mps) : 0.0f;
+  const bool moving = wheels ? desired_forward != 0.0f : (desired_vx != 0.0f || desired_vy != 0.0f);
+  count_ = 0;
+  if (moving) Collect(estimate.x_m, estimate.y_m, reports, now_ns);
+  if (count_ == 0) {
+    was_limited_ = false;
+    return desired;
+  }
+
+  DriveCommand limited = desired;
+  float ux = desired_vx;
+  float uy = desired_vy;
+  float change = 0.0f;
+  const float hx = std::cos(estimate.heading_rad);
+  const float hy = std::sin(estimate.heading_rad);
+  if (wheels) {
+    const float half_difference = 0.5f * (desired.right_mps - desired.left_mps);
+    const float forward = LimitForward(desired_forward, hx, hy);
+    limited.left_mps = forward - half_difference;
+    limited.right_mps = forward + half_difference;
+    change = std::fabs(forward - desired_forward);
+    ux = desired_forward * hx;
+    uy = desired_forward * hy;
+  } else {
+    float vx = desired_vx;
+    float vy = desired_vy;
+    LimitOmni(vx, vy);
+    limited.vx_mps = vx;
+    limited.vy_mps = vy;
+    change = std::sqrt((vx - desired_vx) * (vx - desired_vx) + (vy - desired_vy) * (vy - desired_vy));
+  }
+  outcome.limited = change > kLimitedThresholdMps;
+  if (!outcome.limited) {
+    was_limited_ = false;
+    return desired;
+  }
+  // The obstacle the desired velocity pressed hardest against.
+  const float desired_speed = std::sqrt(ux * ux + uy * uy);
+  float worst = -1e30f;
+  for (size_t i = 0; i < count_; ++i) {
+    const Constraint& c = constraints_[i];
+    const float along = Dot(ux, uy, c.nx, c.ny);
+    const float violation = c.cone ? along + c.bound * desired_speed : along - c.bound;
+    if (violation > worst) {
+      worst = violation;
+      outcome.other = c.other;
+    }
+  }
+  outcome.started = !was_limited_;
+  was_limited_ = true;
+  ++limited_steps_;
+  if (outcome.started) ++interventions_;
+  return limited;
+}
+
+}  // namespace syrof::motion
