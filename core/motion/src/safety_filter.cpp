@@ -211,10 +211,7 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
   outcome = SafetyOutcome{};
   const bool usable = (estimate.status & estimation::kEstimateInitialized) != 0 && std::isfinite(estimate.x_m) &&
                       std::isfinite(estimate.y_m) && std::isfinite(estimate.heading_rad);
-  if (!config_.enabled || !usable) {
-    was_limited_ = false;
-    return desired;
-  }
+  if (!config_.enabled || !usable) return desired;
   const bool wheels = kind_ == DriveKind::kWheels;
   const float desired_vx = wheels ? 0.0f : desired.vx_mps;
   const float desired_vy = wheels ? 0.0f : desired.vy_mps;
@@ -222,10 +219,7 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
   const bool moving = wheels ? desired_forward != 0.0f : (desired_vx != 0.0f || desired_vy != 0.0f);
   count_ = 0;
   if (moving) Collect(estimate.x_m, estimate.y_m, reports, now_ns);
-  if (count_ == 0) {
-    was_limited_ = false;
-    return desired;
-  }
+  if (count_ == 0) return desired;
 
   DriveCommand limited = desired;
   float ux = desired_vx;
@@ -250,10 +244,7 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
     change = std::sqrt((vx - desired_vx) * (vx - desired_vx) + (vy - desired_vy) * (vy - desired_vy));
   }
   outcome.limited = change > kLimitedThresholdMps;
-  if (!outcome.limited) {
-    was_limited_ = false;
-    return desired;
-  }
+  if (!outcome.limited) return desired;
   // The obstacle the desired velocity pressed hardest against.
   const float desired_speed = std::sqrt(ux * ux + uy * uy);
   float worst = -1e30f;
@@ -266,8 +257,9 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
       outcome.other = c.other;
     }
   }
-  outcome.started = !was_limited_;
-  was_limited_ = true;
+  outcome.started = !ever_limited_ || now_ns - last_limited_ns_ > kInterventionReleaseNs;
+  ever_limited_ = true;
+  last_limited_ns_ = now_ns;
   ++limited_steps_;
   if (outcome.started) ++interventions_;
   return limited;

@@ -53,6 +53,10 @@ inline constexpr uint16_t kWallObstacle = 0xFFFF;
 inline constexpr size_t kMaxSafetyConstraints = 16;
 /// Projection passes over the kept constraints.
 inline constexpr int kSafetyPasses = 4;
+/// An intervention ends after this long without a limited command; a robot
+/// held at a disc's edge is limited on and off from step to step, and that
+/// is one intervention, not dozens.
+inline constexpr int64_t kInterventionReleaseNs = 500'000'000;
 
 /// What the filter assumes about the swarm. SI units.
 struct SafetyConfig {
@@ -61,7 +65,7 @@ struct SafetyConfig {
   float others_max_speed_mps = 0.5f;  ///< the fastest kind in the swarm (a beacon does not say its sender's kind)
   float others_radius_m = 0.12f;      ///< the largest body radius in the swarm
   float others_braking_mps2 = 0.8f;   ///< the weakest deceleration in the swarm (braking allowance)
-  float margin_m = 0.03f;             ///< covers two estimates' errors (docs/safety.md)
+  float margin_m = 0.06f;             ///< covers two estimates' errors (docs/safety.md)
   float horizon_s = 0.5f;             ///< a disc grows for at most this long; older reports keep the capped disc
   float gain_per_s = 4.0f;            ///< approach speed = gain * gap near an edge
   float arena_width_m = 0;            ///< walls at x = 0, x = width, y = 0, y = height; 0: no walls
@@ -97,7 +101,7 @@ class SafetyReports {
 /// What one Apply did.
 struct SafetyOutcome {
   bool limited = false;  ///< the command was changed
-  bool started = false;  ///< limited now but not at the previous Apply: an intervention starts
+  bool started = false;  ///< limited now, and not in the kInterventionReleaseNs before: an intervention starts
   uint16_t other = 0;    ///< the robot (or kWallObstacle) whose constraint the command broke most
 };
 
@@ -141,7 +145,8 @@ class SafetyFilter {
   std::array<Constraint, kMaxSafetyConstraints> constraints_{};
   std::array<float, kMaxSafetyConstraints> slack_{};
   size_t count_ = 0;
-  bool was_limited_ = false;
+  bool ever_limited_ = false;
+  int64_t last_limited_ns_ = 0;
   uint32_t limited_steps_ = 0;
   uint32_t interventions_ = 0;
 };
