@@ -44,9 +44,9 @@ SafetyFilter::SafetyFilter(const SafetyConfig& config, const ControllerConfig& c
       kind_(controller.kind),
       swarm_size_(std::min<uint16_t>(swarm_size, wire::kMaxSwarmSize)) {}
 
-float SafetyFilter::ApproachBound(float gap_m) const {
+float SafetyFilter::ApproachBound(float gap_m, float braking_mps2) const {
   if (gap_m <= 0.0f) return 0.0f;
-  return std::min(config_.gain_per_s * gap_m, std::sqrt(2.0f * own_braking_mps2_ * gap_m));
+  return std::min(config_.gain_per_s * gap_m, std::sqrt(2.0f * braking_mps2 * gap_m));
 }
 
 void SafetyFilter::Keep(const Constraint& constraint, float slack) {
@@ -69,9 +69,13 @@ void SafetyFilter::Keep(const Constraint& constraint, float slack) {
 
 void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64_t now_ns) {
   count_ = 0;
+  // Against another robot this one brakes with half its deceleration: the
+  // other may be closing in too, and brakes with half of its own, so the two
+  // stop within the gap between them (docs/safety.md, "Proof sketch").
+  const float shared_braking_mps2 = 0.5f * own_braking_mps2_;
   // A linear constraint whose bound reaches the speed limit cannot bind.
   const float reach_m = std::max(own_max_speed_mps_ / config_.gain_per_s,
-                                 own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * own_braking_mps2_));
+                                 own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * shared_braking_mps2));
   const float base_m = own_radius_m_ + config_.others_radius_m + config_.margin_m;
   for (uint16_t id = 0; id < swarm_size_; ++id) {
     const SafetyReport& report = reports[id];
@@ -100,7 +104,7 @@ void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64
     constraint.ny = dy / distance_m;
     const float gap_m = distance_m - radius_m;
     if (gap_m > 0.0f) {
-      constraint.bound = ApproachBound(gap_m);
+      constraint.bound = ApproachBound(gap_m, shared_braking_mps2);
       constraint.cone = false;
     } else {
       constraint.bound = std::min(1.0f, sigma_m / distance_m);
@@ -118,7 +122,7 @@ void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64
       Constraint constraint{};
       constraint.nx = normals[wall][0];
       constraint.ny = normals[wall][1];
-      constraint.bound = ApproachBound(gaps[wall]);
+      constraint.bound = ApproachBound(gaps[wall], own_braking_mps2_);
       constraint.cone = false;
       constraint.other = kWallObstacle;
       Keep(constraint, gaps[wall]);

@@ -188,6 +188,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
     config.queries_workspace = workspace_.handle();
+    if (options_.configure_robot) options_.configure_robot(config);
     std::unique_ptr<app::App> app =
         options_.app_factory ? options_.app_factory(spec.id)
                              : apps::MakeBuiltinApp(apps::BareAppName(scenario_.app.name), scenario_.app.params);

@@ -13,8 +13,10 @@
 // With h the gap between this robot's estimated position and a disc's edge
 // and n the unit vector towards the disc's centre, the command's velocity u
 // is limited so that:
-//   outside (h > 0):  u . n <= min(gain * h, sqrt(2 a h))   (it can still
-//                     brake to a stop at the edge);
+//   outside (h > 0):  u . n <= min(gain * h, sqrt(a h))   (it can still
+//                     brake to a stop at the edge with half its
+//                     deceleration a: the other may be closing in too, and
+//                     brakes with half of its own);
 //   inside (h <= 0):  u moves away from every point where the other robot
 //                     can be: u . n <= -sin(phi) |u|, sin(phi) = sigma / d,
 //                     d the distance to the centre (no direction when
@@ -134,7 +136,7 @@ class SafetyFilter {
   void Keep(const Constraint& constraint, float slack);
   void LimitOmni(float& vx, float& vy) const;
   float LimitForward(float speed, float hx, float hy) const;
-  float ApproachBound(float gap_m) const;
+  float ApproachBound(float gap_m, float braking_mps2) const;
 
   SafetyConfig config_;
   float own_radius_m_;

@@ -43,6 +43,9 @@ struct SimulationOptions {
   /// What metrics.json's app.source says when app_factory supplies the apps
   /// (a library's path); empty: the scenario's app ("builtin:NAME").
   std::string app_source;
+  /// For tests and tools: adjusts each robot's start-up config after the
+  /// scenario's (RobotConfigFor), before the robot is built. Empty: none.
+  std::function<void(runtime::RobotConfig&)> configure_robot;
 };
 
 /// What a finished run reports.
