@@ -96,7 +96,7 @@ void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64
       constraint.nx = 1.0f;
       constraint.ny = 0.0f;
       constraint.cone = true;
-      constraint.bound = 1.0f;
+      constraint.bound = 2.0f;  // above 1: only u = 0
       Keep(constraint, -radius_m);
       continue;
     }
@@ -107,7 +107,9 @@ void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64
       constraint.bound = ApproachBound(gap_m, shared_braking_mps2);
       constraint.cone = false;
     } else {
-      constraint.bound = std::min(1.0f, sigma_m / distance_m);
+      // sigma >= d: this robot stands where the other may be; every
+      // direction may lead towards it (a bound above 1 admits only u = 0).
+      constraint.bound = sigma_m / distance_m;
       constraint.cone = true;
     }
     Keep(constraint, gap_m);
@@ -160,6 +162,11 @@ void SafetyFilter::LimitOmni(float& vx, float& vy) const {
       }
       tx /= tangent;
       ty /= tangent;
+      if (c.bound >= 1.0f) {
+        ux = 0.0f;
+        uy = 0.0f;
+        continue;
+      }
       const float s = c.bound;
       const float c_side = std::sqrt(std::max(0.0f, 1.0f - s * s));
       const float wx = -s * c.nx + c_side * tx;

@@ -68,7 +68,7 @@ struct SafetyConfig {
   float others_radius_m = 0.12f;      ///< the largest body radius in the swarm
   float others_braking_mps2 = 0.8f;   ///< the weakest deceleration in the swarm (braking allowance)
   float margin_m = 0.06f;             ///< covers two estimates' errors (docs/safety.md)
-  float horizon_s = 0.5f;             ///< a disc grows for at most this long; older reports keep the capped disc
+  float horizon_s = 1.0f;             ///< a disc grows for at most this long; older reports keep the capped disc
   float gain_per_s = 4.0f;            ///< approach speed = gain * gap near an edge
   float arena_width_m = 0;            ///< walls at x = 0, x = width, y = 0, y = height; 0: no walls
   float arena_height_m = 0;
