@@ -139,6 +139,8 @@ TEST(ReplayCommand, SummaryCountsEventsByKind) {
       "  APP_FAULT: 0\n"
       "  INVALID_COMMAND: 0\n"
       "  PAYLOAD_REFUSED: 0\n"
+      "  SAFETY_INTERVENTION: 0\n"
+      "  JOIN_WAIT: 0\n"
                             "file: complete\n");
 }
 

@@ -53,7 +53,7 @@ void Fill(SafetyReports& reports, int near) {
   for (uint16_t id = 1; id < kSwarm; ++id) {
     const float angle = 0.7f * static_cast<float>(id);
     const float radius = id <= near ? 0.35f + 0.02f * static_cast<float>(id) : 1.0f + 0.05f * static_cast<float>(id);
-    reports.Report(id, 0, 2.0f + radius * std::cos(angle), 2.0f + radius * std::sin(angle), id % 3 == 0, 0.1f,
+    reports.ReportMetres(id, 0, 2.0f + radius * std::cos(angle), 2.0f + radius * std::sin(angle), id % 3 == 0, 0.1f,
                    0.0f, 0.8f);
   }
 }
@@ -85,7 +85,7 @@ uint64_t MeasureReport() {
   const uint64_t begin = syrof::board::cycle_counter_read();
   for (int step = 0; step < kSteps; ++step) {
     const uint16_t id = static_cast<uint16_t>(1 + step % (kSwarm - 1));
-    reports.Report(id, step, 1.0f + 0.001f * static_cast<float>(step), 2.0f, step % 2 == 0, 0.2f, 0.1f, 0.8f);
+    reports.ReportMetres(id, step, 1.0f + 0.001f * static_cast<float>(step), 2.0f, step % 2 == 0, 0.2f, 0.1f, 0.8f);
   }
   return (syrof::board::cycle_counter_read() - begin) / kSteps;
 }

@@ -20,15 +20,36 @@ float Dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 
 }  // namespace
 
-void SafetyReports::Report(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps,
-                           float vy_mps, float braking_mps2) {
+void SafetyReports::Report(uint16_t id, int64_t time_ns, int16_t x_mm, int16_t y_mm, bool parked, int16_t vx_mm_s,
+                           int16_t vy_mm_s, float braking_mps2) {
   if (id >= entries_.size()) return;
   SafetyReport& entry = entries_[id];
   entry.time_ns = time_ns;
-  entry.x_m = x_m;
-  entry.y_m = y_m;
-  entry.allowance_m = parked && braking_mps2 > 0 ? (vx_mps * vx_mps + vy_mps * vy_mps) / (2.0f * braking_mps2) : 0.0f;
-  entry.valid = std::isfinite(x_m) && std::isfinite(y_m) && std::isfinite(entry.allowance_m);
+  entry.x_mm = x_mm;
+  entry.y_mm = y_mm;
+  entry.allowance_mm = 0;
+  entry.valid = true;
+  if (parked && (vx_mm_s != 0 || vy_mm_s != 0)) {
+    // A braking distance in millimetres: v^2 / 2a, v in mm/s, a in mm/s^2.
+    const float vx = static_cast<float>(vx_mm_s);
+    const float vy = static_cast<float>(vy_mm_s);
+    const float braking_mm_s2 = std::max(braking_mps2, 1e-3f) * 1000.0f;
+    const float allowance = std::ceil((vx * vx + vy * vy) / (2.0f * braking_mm_s2));
+    entry.allowance_mm = static_cast<uint16_t>(std::min(allowance, 65535.0f));
+  }
+}
+
+void SafetyReports::ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps,
+                                 float vy_mps, float braking_mps2) {
+  const auto millimetres = [](float metres) {
+    if (!std::isfinite(metres)) return int16_t{0};
+    return static_cast<int16_t>(std::lround(std::clamp(metres * 1000.0f, -32768.0f, 32767.0f)));
+  };
+  Report(id, time_ns, millimetres(x_m), millimetres(y_m), parked, millimetres(vx_mps), millimetres(vy_mps),
+         braking_mps2);
+  if (!std::isfinite(x_m) || !std::isfinite(y_m) || id >= wire::kMaxSwarmSize) {
+    if (id < wire::kMaxSwarmSize) entries_[id].valid = false;
+  }
 }
 
 void SafetyReports::CopyFrom(const SafetyReports& other, size_t count) {
@@ -81,10 +102,10 @@ void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64
     const SafetyReport& report = reports[id];
     if (!report.valid || id == config_.self_id) continue;
     const float age_s = std::clamp(static_cast<float>(now_ns - report.time_ns) * 1e-9f, 0.0f, config_.horizon_s);
-    const float sigma_m = config_.others_max_speed_mps * age_s + report.allowance_m;
+    const float sigma_m = config_.others_max_speed_mps * age_s + 0.001f * static_cast<float>(report.allowance_mm);
     const float radius_m = base_m + sigma_m;
-    const float dx = report.x_m - x;
-    const float dy = report.y_m - y;
+    const float dx = 0.001f * static_cast<float>(report.x_mm) - x;
+    const float dy = 0.001f * static_cast<float>(report.y_mm) - y;
     const float squared = dx * dx + dy * dy;
     const float far_m = radius_m + reach_m;
     if (squared > far_m * far_m) continue;

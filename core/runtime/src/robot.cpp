@@ -318,9 +318,8 @@ void Robot::TakeSafetyReports(int64_t now_ns) {
       const wire::Beacon& beacon = *inbox_[i];
       const wire::Snapshot& snapshot = beacon.snapshot;
       const bool parked = !beacon.presence_only && beacon.phase != wire::Phase::kProgress;
-      shared_reports_.Report(beacon.robot_id, sent_ns, wire::ToMetres(snapshot.x_mm), wire::ToMetres(snapshot.y_mm),
-                             parked, wire::ToMetresPerSecond(snapshot.vx_mm_s),
-                             wire::ToMetresPerSecond(snapshot.vy_mm_s), braking_mps2);
+      shared_reports_.Report(beacon.robot_id, sent_ns, snapshot.x_mm, snapshot.y_mm, parked, snapshot.vx_mm_s,
+                             snapshot.vy_mm_s, braking_mps2);
     }
     if (inbox_count_ > 0) reports_changed_ = true;
   }

@@ -63,7 +63,7 @@ DriveCommand Wheels(float left, float right) {
 TEST(SafetyFilterTest, PassesACommandWhenNobodyIsNear) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;
-  reports.Report(1, 0, 3.0f, 3.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(1, 0, 3.0f, 3.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
   const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
@@ -76,7 +76,7 @@ TEST(SafetyFilterTest, StopsTheApproachAtTheEdgeOfAFreshDisc) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;
   // Disc radius 0.1 + 0.1 + 0.05 = 0.25 m; the robot is 0.25 m from the centre.
-  reports.Report(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
   const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
@@ -90,7 +90,7 @@ TEST(SafetyFilterTest, StopsTheApproachAtTheEdgeOfAFreshDisc) {
 TEST(SafetyFilterTest, SlowsTheApproachOnTheBrakingCurveAndKeepsTheTangent) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;
-  reports.Report(1, 0, 1.35f, 1.0f, false, 0, 0, 0.8f);  // gap 0.1 m
+  reports.ReportMetres(1, 0, 1.35f, 1.0f, false, 0, 0, 0.8f);  // gap 0.1 m
   SafetyOutcome outcome;
 
   const DriveCommand out = filter.Apply(Velocity(0.4f, 0.3f), At(1, 1), reports, 0, outcome);
@@ -104,7 +104,7 @@ TEST(SafetyFilterTest, SlowsTheApproachOnTheBrakingCurveAndKeepsTheTangent) {
 TEST(SafetyFilterTest, AStaleReportGrowsItsDiscAtTheSpeedLimit) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;
-  reports.Report(1, 0, 1.5f, 1.0f, false, 0, 0, 0.8f);  // 0.5 m away: clear when fresh
+  reports.ReportMetres(1, 0, 1.5f, 1.0f, false, 0, 0, 0.8f);  // 0.5 m away: clear when fresh
   SafetyOutcome fresh;
   SafetyOutcome stale;
 
@@ -121,7 +121,7 @@ TEST(SafetyFilterTest, AStaleReportGrowsItsDiscAtTheSpeedLimit) {
 TEST(SafetyFilterTest, InsideADiscOnlyMovesAwayFromEveryPlaceTheOtherCanBe) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;
-  reports.Report(1, 0, 1.2f, 1.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(1, 0, 1.2f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
   const int64_t later = kSecond / 10;  // sigma = 0.05 m, d = 0.2 m: sin(phi) = 0.25
 
@@ -156,7 +156,7 @@ TEST(SafetyFilterTest, KeepsOffTheWalls) {
 TEST(SafetyFilterTest, LimitsARoversForwardSpeedAndKeepsItsTurn) {
   SafetyFilter filter(Config(), Rover(), 4);
   SafetyReports reports;
-  reports.Report(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
   const DriveCommand out = filter.Apply(Wheels(0.3f, 0.4f), At(1, 1, 0), reports, 0, outcome);
@@ -169,7 +169,7 @@ TEST(SafetyFilterTest, LimitsARoversForwardSpeedAndKeepsItsTurn) {
 TEST(SafetyFilterTest, ARoverFacingAwayMayDriveOn) {
   SafetyFilter filter(Config(), Rover(), 4);
   SafetyReports reports;
-  reports.Report(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
   const DriveCommand out = filter.Apply(Wheels(0.3f, 0.3f), At(1, 1, 3.14159f), reports, 0, outcome);
@@ -182,8 +182,8 @@ TEST(SafetyFilterTest, AParkedReportAddsItsSendersBrakingDistance) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports moving;
   SafetyReports parked;
-  moving.Report(1, 0, 1.4f, 1.0f, false, -0.4f, 0, 0.8f);
-  parked.Report(1, 0, 1.4f, 1.0f, true, -0.4f, 0, 0.8f);  // may still brake 0.1 m towards us
+  moving.ReportMetres(1, 0, 1.4f, 1.0f, false, -0.4f, 0, 0.8f);
+  parked.ReportMetres(1, 0, 1.4f, 1.0f, true, -0.4f, 0, 0.8f);  // may still brake 0.1 m towards us
   SafetyOutcome a;
   SafetyOutcome b;
 
@@ -196,8 +196,8 @@ TEST(SafetyFilterTest, AParkedReportAddsItsSendersBrakingDistance) {
 TEST(SafetyFilterTest, IgnoresItsOwnReportAndInvalidOnes) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;
-  reports.Report(0, 0, 1.0f, 1.0f, false, 0, 0, 0.8f);  // self
-  reports.Report(2, 0, NAN, 1.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(0, 0, 1.0f, 1.0f, false, 0, 0, 0.8f);  // self
+  reports.ReportMetres(2, 0, NAN, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
   const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
@@ -211,7 +211,7 @@ TEST(SafetyFilterTest, DisabledPassesEverything) {
   config.enabled = false;
   SafetyFilter filter(config, Omni(), 4);
   SafetyReports reports;
-  reports.Report(1, 0, 1.1f, 1.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(1, 0, 1.1f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
   const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
@@ -223,18 +223,18 @@ TEST(SafetyFilterTest, DisabledPassesEverything) {
 TEST(SafetyFilterTest, AnInterventionStartsOnceUntilItHasBeenQuietForHalfASecond) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;
-  reports.Report(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
   int starts = 0;
   const int64_t step = kSecond / 100;
 
   for (int i = 0; i < 10; ++i) {
-    reports.Report(1, i * step, 1.25f, 1.0f, false, 0, 0, 0.8f);
+    reports.ReportMetres(1, i * step, 1.25f, 1.0f, false, 0, 0, 0.8f);
     (void)filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, i * step, outcome);
     starts += outcome.started ? 1 : 0;
     (void)filter.Apply(Velocity(-0.5f, 0), At(1, 1), reports, i * step, outcome);  // not limited
   }
-  reports.Report(1, 2 * kSecond, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  reports.ReportMetres(1, 2 * kSecond, 1.25f, 1.0f, false, 0, 0, 0.8f);
   (void)filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 2 * kSecond, outcome);
   starts += outcome.started ? 1 : 0;
 
@@ -261,8 +261,8 @@ TEST(SafetyFilterTest, TwoRobotsDrivingHeadOnNeverTouch) {
   for (int i = 0; i < 800; ++i) {
     const int64_t now = i * step;
     if (i % 5 == 0) {  // a beacon per round, a round old when heard
-      reports.Report(0, now - 5 * step, ax - avx * 0.05f, 1, false, avx, 0, 0.8f);
-      reports.Report(1, now - 5 * step, bx - bvx * 0.05f, 1, false, bvx, 0, 0.8f);
+      reports.ReportMetres(0, now - 5 * step, ax - avx * 0.05f, 1, false, avx, 0, 0.8f);
+      reports.ReportMetres(1, now - 5 * step, bx - bvx * 0.05f, 1, false, bvx, 0, 0.8f);
     }
     SafetyOutcome outcome;
     const float a_cmd = a.Apply(Velocity(0.5f, 0), At(ax, 1), reports, now, outcome).vx_mps;

@@ -74,12 +74,14 @@ struct SafetyConfig {
   float arena_height_m = 0;
 };
 
-/// The last report of one robot: where it was at `time_ns` (port clock).
+/// The last report of one robot: where it was at `time_ns` (port clock), in
+/// the beacon's own units, so recording one (every beacon heard, O(N^2) per
+/// round in a swarm) is a copy; the filter converts the few it looks at.
 struct SafetyReport {
   int64_t time_ns = 0;
-  float x_m = 0;
-  float y_m = 0;
-  float allowance_m = 0;  ///< added to the disc: the sender may still brake this far
+  int16_t x_mm = 0;
+  int16_t y_mm = 0;
+  uint16_t allowance_mm = 0;  ///< added to the disc: the sender may still brake this far
   bool valid = false;
 };
 
@@ -87,11 +89,15 @@ struct SafetyReport {
 /// read by the motion task.
 class SafetyReports {
  public:
-  /// Records robot `id`'s position at `time_ns`; `parked` (a frozen WAIT /
-  /// VOTE snapshot) with velocity (vx, vy) adds its braking distance at
-  /// `braking_mps2`. Ids >= wire::kMaxSwarmSize are ignored.
-  void Report(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps, float vy_mps,
-              float braking_mps2);
+  /// Records robot `id`'s position (millimetres, as beacons carry it) at
+  /// `time_ns`; `parked` (a frozen WAIT / VOTE snapshot) with velocity (vx,
+  /// vy) in mm/s adds its braking distance at `braking_mps2`. Ids >=
+  /// wire::kMaxSwarmSize are ignored.
+  void Report(uint16_t id, int64_t time_ns, int16_t x_mm, int16_t y_mm, bool parked, int16_t vx_mm_s,
+              int16_t vy_mm_s, float braking_mps2);
+  /// The same in metres (tests, benches): rounded to millimetres.
+  void ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps, float vy_mps,
+                    float braking_mps2);
   /// Copies the first `count` entries of `other` (the motion task's handoff).
   void CopyFrom(const SafetyReports& other, size_t count);
   const SafetyReport& operator[](size_t id) const { return entries_[id]; }
