@@ -20,23 +20,19 @@ float Dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 
 }  // namespace
 
-void SafetyReports::Report(uint16_t id, int64_t time_ns, int16_t x_mm, int16_t y_mm, bool parked, int16_t vx_mm_s,
-                           int16_t vy_mm_s, float braking_mps2) {
-  if (id >= entries_.size()) return;
-  SafetyReport& entry = entries_[id];
-  entry.time_ns = time_ns;
-  entry.x_mm = x_mm;
-  entry.y_mm = y_mm;
-  entry.allowance_mm = 0;
-  entry.valid = true;
-  if (parked && (vx_mm_s != 0 || vy_mm_s != 0)) {
-    // A braking distance in millimetres: v^2 / 2a, v in mm/s, a in mm/s^2.
-    const float vx = static_cast<float>(vx_mm_s);
-    const float vy = static_cast<float>(vy_mm_s);
-    const float braking_mm_s2 = std::max(braking_mps2, 1e-3f) * 1000.0f;
-    const float allowance = std::ceil((vx * vx + vy * vy) / (2.0f * braking_mm_s2));
-    entry.allowance_mm = static_cast<uint16_t>(std::min(allowance, 65535.0f));
-  }
+// A braking distance in millimetres: v^2 / 2a, v in mm/s, a in mm/s^2.
+uint16_t SafetyReports::BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2) {
+  const float vx = static_cast<float>(vx_mm_s);
+  const float vy = static_cast<float>(vy_mm_s);
+  const float braking_mm_s2 = std::max(braking_mps2, 1e-3f) * 1000.0f;
+  const float allowance = std::ceil((vx * vx + vy * vy) / (2.0f * braking_mm_s2));
+  return static_cast<uint16_t>(std::min(allowance, 65535.0f));
+}
+
+bool SafetyFilter::NeedsReports(const DriveCommand& desired) const {
+  if (!config_.enabled) return false;
+  if (kind_ == DriveKind::kWheels) return desired.left_mps + desired.right_mps != 0.0f;
+  return desired.vx_mps != 0.0f || desired.vy_mps != 0.0f;
 }
 
 void SafetyReports::ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps,

@@ -325,12 +325,11 @@ void Robot::TakeSafetyReports(int64_t now_ns) {
   }
   size_t kept = 0;
   for (size_t i = 0; i < inbox_count_; ++i) {
-    if (inbox_[i]->presence_only) {
-      ++counters_.presence_received;
-    } else {
-      inbox_[kept++] = inbox_[i];
-    }
+    const wire::Beacon* beacon = inbox_[i];
+    inbox_[kept] = beacon;
+    kept += beacon->presence_only ? 0 : 1;
   }
+  counters_.presence_received += static_cast<uint32_t>(inbox_count_ - kept);
   inbox_count_ = kept;
 }
 
@@ -392,7 +391,9 @@ void Robot::RunMotion(int64_t now_ns) {
   estimation::StateEstimate latest{};
   if (motion_estimate_subscriber_.TakeLatest(latest)) motion_estimate_ = latest;
   const motion::DriveCommand desired = controller_.Update(motion_estimate_, now_ns);
-  if (!safety_filter_.config().enabled) {
+  // A robot that stands still (or turns in place) needs no reports: most of
+  // a swarm, most of the time.
+  if (!safety_filter_.NeedsReports(desired)) {
     (void)drive_publisher_.Publish(desired);
     return;
   }

@@ -94,7 +94,16 @@ class SafetyReports {
   /// vy) in mm/s adds its braking distance at `braking_mps2`. Ids >=
   /// wire::kMaxSwarmSize are ignored.
   void Report(uint16_t id, int64_t time_ns, int16_t x_mm, int16_t y_mm, bool parked, int16_t vx_mm_s,
-              int16_t vy_mm_s, float braking_mps2);
+              int16_t vy_mm_s, float braking_mps2) {
+    // Inline: the runtime records every beacon heard.
+    if (id >= entries_.size()) return;
+    SafetyReport& entry = entries_[id];
+    entry.time_ns = time_ns;
+    entry.x_mm = x_mm;
+    entry.y_mm = y_mm;
+    entry.allowance_mm = parked && (vx_mm_s != 0 || vy_mm_s != 0) ? BrakingMillimetres(vx_mm_s, vy_mm_s, braking_mps2) : 0;
+    entry.valid = true;
+  }
   /// The same in metres (tests, benches): rounded to millimetres.
   void ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps, float vy_mps,
                     float braking_mps2);
@@ -103,6 +112,8 @@ class SafetyReports {
   const SafetyReport& operator[](size_t id) const { return entries_[id]; }
 
  private:
+  static uint16_t BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2);
+
   std::array<SafetyReport, wire::kMaxSwarmSize> entries_{};
 };
 
@@ -124,6 +135,11 @@ class SafetyFilter {
   /// controller then commands zero anyway) or when nothing binds.
   DriveCommand Apply(const DriveCommand& desired, const estimation::StateEstimate& estimate,
                      const SafetyReports& reports, int64_t now_ns, SafetyOutcome& outcome);
+
+  /// Whether Apply would look at the reports for `desired`: only a command
+  /// that moves the robot's centre (a rover turning in place does not). The
+  /// runtime hands the reports to the motion task only then.
+  bool NeedsReports(const DriveCommand& desired) const;
 
   const SafetyConfig& config() const { return config_; }
   /// Applies that changed the command, and how many of them started an intervention.
