@@ -85,7 +85,8 @@ uint64_t MeasureReport() {
   const uint64_t begin = syrof::board::cycle_counter_read();
   for (int step = 0; step < kSteps; ++step) {
     const uint16_t id = static_cast<uint16_t>(1 + step % (kSwarm - 1));
-    reports.ReportMetres(id, step, 1.0f + 0.001f * static_cast<float>(step), 2.0f, step % 2 == 0, 0.2f, 0.1f, 0.8f);
+    // As the runtime records a beacon: its millimetres, half of them parked.
+    reports.Report(id, step, static_cast<int16_t>(1000 + step), 2000, step % 2 == 0, 200, 100, 0.8f);
   }
   return (syrof::board::cycle_counter_read() - begin) / kSteps;
 }

@@ -94,9 +94,21 @@ void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64
   const float reach_m = std::max(own_max_speed_mps_ / config_.gain_per_s,
                                  own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * shared_braking_mps2));
   const float base_m = own_radius_m_ + config_.others_radius_m + config_.margin_m;
+  // A first, integer-only test in millimetres against the largest disc any
+  // report can have (a full horizon's growth): on a soft-float core most
+  // robots are rejected without one float operation.
+  const float largest_m = base_m + config_.others_max_speed_mps * config_.horizon_s + reach_m;
+  const auto largest_mm = static_cast<int32_t>(largest_m * 1000.0f) + 1;
+  // Clamped: an estimate far outside any arena must not overflow the cast.
+  const auto own_x_mm = static_cast<int32_t>(std::clamp(x * 1000.0f, -1e6f, 1e6f));
+  const auto own_y_mm = static_cast<int32_t>(std::clamp(y * 1000.0f, -1e6f, 1e6f));
   for (uint16_t id = 0; id < swarm_size_; ++id) {
     const SafetyReport& report = reports[id];
     if (!report.valid || id == config_.self_id) continue;
+    const int32_t reach_mm = largest_mm + report.allowance_mm;
+    const int32_t dx_mm = int32_t{report.x_mm} - own_x_mm;
+    const int32_t dy_mm = int32_t{report.y_mm} - own_y_mm;
+    if (dx_mm > reach_mm || dx_mm < -reach_mm || dy_mm > reach_mm || dy_mm < -reach_mm) continue;
     const float age_s = std::clamp(static_cast<float>(now_ns - report.time_ns) * 1e-9f, 0.0f, config_.horizon_s);
     const float sigma_m = config_.others_max_speed_mps * age_s + 0.001f * static_cast<float>(report.allowance_mm);
     const float radius_m = base_m + sigma_m;
