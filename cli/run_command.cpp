@@ -311,9 +311,9 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   }
   replay_file.close();
   if (options.html && !options.no_replay) {
-    if (std::string problem = WritePage((dir / "replay").string(), (dir / "replay.html").string());
-        !problem.empty()) {
-      fmt::print(err, "syrof run: writing {} failed: {}\n", (dir / "replay.html").string(), problem);
+    if (std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string());
+        !page_problem.empty()) {
+      fmt::print(err, "syrof run: writing {} failed: {}\n", (dir / "replay.html").string(), page_problem);
       return 1;
     }
   }

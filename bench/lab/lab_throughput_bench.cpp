@@ -6,8 +6,11 @@
 // builtin:idle, so the figure is the platform's cost (sensors, estimator,
 // synchronizer, radio, physics, metrics, replay); apps add their own (the
 // second table runs builtin:circle, whose matching every robot computes).
+// A last table runs 100 robots with the safety filter (docs/safety.md) on
+// and off: its cost is the difference (target: at most 10%).
 //
-// Usage: bench_lab_throughput [--quick]   (--quick: shorter runs, for CI smoke)
+// Usage: bench_lab_throughput [--quick | --safety]   (--quick: shorter runs,
+// for CI smoke; --safety: only the safety filter's table)
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -25,7 +28,7 @@ namespace {
 
 using namespace syrof::lab;
 
-std::string StandardScenario(int robots, const char* app, double duration_s) {
+std::string StandardScenario(int robots, const char* app, double duration_s, bool safety = true) {
   const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(robots))));
   const double arena_m = side + 1.0;
   return fmt::format(R"(name: bench_standard_{robots}
@@ -51,16 +54,18 @@ channel:
   model: iid
   loss: 0.05
 app: {app}
+safety: {safety}
 )",
                      fmt::arg("robots", robots), fmt::arg("arena", arena_m), fmt::arg("duration", duration_s),
-                     fmt::arg("app", app));
+                     fmt::arg("app", app), fmt::arg("safety", safety ? "on" : "off"));
 }
 
 double CpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 // Returns robot-seconds per CPU second (construction excluded).
-double Measure(int robots, const char* app, double duration_s, bool replay) {
-  const scenario::LoadResult loaded = scenario::LoadScenarioText(StandardScenario(robots, app, duration_s), "bench");
+double Measure(int robots, const char* app, double duration_s, bool replay, bool safety = true) {
+  const scenario::LoadResult loaded =
+      scenario::LoadScenarioText(StandardScenario(robots, app, duration_s, safety), "bench");
   if (!loaded.ok()) {
     fmt::print(stderr, "bench scenario refused: {}\n", loaded.error->ToString());
     std::exit(1);
@@ -81,6 +86,7 @@ double Measure(int robots, const char* app, double duration_s, bool replay) {
 
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const bool safety_only = argc > 1 && std::strcmp(argv[1], "--safety") == 0;
   fmt::print("simulated lab throughput, robot-seconds per CPU-second on one core (targets: >= 10,000 at 100 robots;\n"
              ">= 1,000 at 1000 robots, i.e. real time)\n\n");
   fmt::print("{:<16} {:>8} {:>12} {:>27} {:>10}\n", "app", "robots", "sim seconds", "robot-s per CPU-s, best of 3",
@@ -100,11 +106,26 @@ int main(int argc, char** argv) {
   // shows the spread.
   constexpr int kRepeats = 3;
   for (const Case& c : cases) {
+    if (safety_only) break;
     std::vector<double> rates;
     for (int run = 0; run < kRepeats; ++run) rates.push_back(Measure(c.robots, c.app, c.duration_s, true));
     std::sort(rates.begin(), rates.end());
     fmt::print("{:<16} {:>8} {:>12.1f} {:>10.0f} (median {:>6.0f}) {:>10.1f}\n", c.app, c.robots, c.duration_s,
                rates.back(), rates[kRepeats / 2], rates.back() / c.robots);
+  }
+
+  fmt::print("\nthe safety filter's cost at 100 robots (best of 3 each; runs alternate on and off)\n\n");
+  fmt::print("{:<16} {:>8} {:>14} {:>14} {:>8}\n", "app", "robots", "filter on", "filter off", "cost");
+  for (const char* app : {"builtin:idle", "builtin:circle", "builtin:gather"}) {
+    const double duration_s = quick ? 2.0 : 10.0;
+    double best_on = 0;
+    double best_off = 0;
+    for (int run = 0; run < kRepeats; ++run) {
+      best_on = std::max(best_on, Measure(100, app, duration_s, true, true));
+      best_off = std::max(best_off, Measure(100, app, duration_s, true, false));
+    }
+    fmt::print("{:<16} {:>8} {:>14.0f} {:>14.0f} {:>7.1f}%\n", app, 100, best_on, best_off,
+               100.0 * (best_off / best_on - 1.0));
   }
   return 0;
 }

@@ -24,6 +24,16 @@ const char* ToString(RobotSetupError error) {
   return "?";
 }
 
+namespace {
+
+motion::SafetyConfig SafetyConfigFor(const RobotConfig& config) {
+  motion::SafetyConfig safety = config.safety;
+  safety.self_id = config.sync.self_id;
+  return safety;
+}
+
+}  // namespace
+
 syrof_app_info AppInfo(const RobotConfig& config) {
   syrof_app_info info{};
   info.abi_version = SYROF_APP_ABI_VERSION;
@@ -47,7 +57,8 @@ Robot::Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<w
       controller_(config.motion),
       round_task_(*this),
       motion_task_(*this),
-      bank_size_(std::min(receive_storage.size() / 2, size_t{wire::kMaxSwarmSize})) {}
+      bank_size_(std::min(receive_storage.size() / 2, size_t{wire::kMaxSwarmSize})),
+      safety_filter_(SafetyConfigFor(config), config.motion, config.sync.swarm_size) {}
 
 RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   if (port_ != nullptr) return RobotSetupError::kAlreadyAttached;
@@ -233,10 +244,12 @@ void Robot::RunRound(int64_t now_ns) {
   }
   ++counters_.rounds;
   RefreshEstimate();
+  ReportInterventions();
   const bool in_progress = state_.status == sync::Status::kMember && state_.phase == wire::Phase::kProgress;
   if (in_progress) ++rounds_in_progress_;
 
   TakeReceivedBank();
+  TakeSafetyReports(now_ns);
   sync::StepInput input;
   input.own_snapshot = OwnSnapshot();
   input.maneuver_finished = in_progress && rounds_in_progress_ >= config_.maneuver_rounds;
@@ -285,7 +298,69 @@ void Robot::RunRound(int64_t now_ns) {
   if (out_.send) {
     radio_.Broadcast(out_.beacon);
     ++counters_.beacons_sent;
+  } else {
+    AnnouncePresence();
   }
+}
+
+// Every beacon heard this round reports where its sender was one radio round
+// ago (it was built at the end of the sender's previous round); a WAIT or
+// VOTE beacon carries the snapshot frozen when the sender's maneuver ended,
+// so its sender may have braked from the frozen velocity since (the braking
+// allowance). Presence-only beacons then leave the inbox: the synchronizer
+// never sees them.
+void Robot::TakeSafetyReports(int64_t now_ns) {
+  const int64_t sent_ns = now_ns - config_.radio_round_ns;
+  const float braking_mps2 = config_.safety.others_braking_mps2;
+  if (config_.safety.enabled) {
+    os::CriticalSection lock(*port_);
+    for (size_t i = 0; i < inbox_count_; ++i) {
+      const wire::Beacon& beacon = *inbox_[i];
+      const wire::Snapshot& snapshot = beacon.snapshot;
+      const bool parked = !beacon.presence_only && beacon.phase != wire::Phase::kProgress;
+      shared_reports_.Report(beacon.robot_id, sent_ns, snapshot.x_mm, snapshot.y_mm, parked, snapshot.vx_mm_s,
+                             snapshot.vy_mm_s, braking_mps2);
+    }
+    if (inbox_count_ > 0) reports_changed_ = true;
+  }
+  size_t kept = 0;
+  for (size_t i = 0; i < inbox_count_; ++i) {
+    const wire::Beacon* beacon = inbox_[i];
+    inbox_[kept] = beacon;
+    kept += beacon->presence_only ? 0 : 1;
+  }
+  counters_.presence_received += static_cast<uint32_t>(inbox_count_ - kept);
+  inbox_count_ = kept;
+}
+
+void Robot::ReportInterventions() {
+  std::array<InterventionStart, 8> starts{};
+  size_t count = 0;
+  {
+    os::CriticalSection lock(*port_);
+    count = intervention_count_;
+    std::copy(intervention_starts_.begin(), intervention_starts_.begin() + static_cast<std::ptrdiff_t>(count),
+              starts.begin());
+    intervention_count_ = 0;
+  }
+  if (observer_ == nullptr) return;
+  for (size_t i = 0; i < count; ++i) observer_->OnSafetyIntervention(id(), starts[i].time_ns, starts[i].other);
+}
+
+// A joiner sends no synchronizer beacon; it says where it is instead.
+void Robot::AnnouncePresence() {
+  if (!config_.announce_presence || state_.status != sync::Status::kJoining) return;
+  wire::Beacon beacon;
+  beacon.robot_id = id();
+  beacon.presence_only = true;
+  const wire::Snapshot own = OwnSnapshot();
+  beacon.snapshot.x_mm = own.x_mm;
+  beacon.snapshot.y_mm = own.y_mm;
+  beacon.snapshot.heading_mrad = own.heading_mrad;
+  beacon.snapshot.vx_mm_s = own.vx_mm_s;
+  beacon.snapshot.vy_mm_s = own.vy_mm_s;
+  radio_.Broadcast(beacon);
+  ++counters_.presence_sent;
 }
 
 // The round task and the motion task may run on different threads (the
@@ -315,7 +390,32 @@ void Robot::RunMotion(int64_t now_ns) {
   if (handed) controller_.SetCommand(command);
   estimation::StateEstimate latest{};
   if (motion_estimate_subscriber_.TakeLatest(latest)) motion_estimate_ = latest;
-  (void)drive_publisher_.Publish(controller_.Update(motion_estimate_, now_ns));
+  const motion::DriveCommand desired = controller_.Update(motion_estimate_, now_ns);
+  // A robot that stands still (or turns in place) needs no reports: most of
+  // a swarm, most of the time.
+  if (!safety_filter_.NeedsReports(desired)) {
+    (void)drive_publisher_.Publish(desired);
+    return;
+  }
+  {
+    os::CriticalSection lock(*port_);
+    if (reports_changed_) {
+      motion_reports_.CopyFrom(shared_reports_, config_.sync.swarm_size);
+      reports_changed_ = false;
+    }
+  }
+  motion::SafetyOutcome outcome;
+  const motion::DriveCommand drive = safety_filter_.Apply(desired, motion_estimate_, motion_reports_, now_ns, outcome);
+  if (outcome.started) {
+    os::CriticalSection lock(*port_);
+    ++counters_.safety_interventions;
+    if (intervention_count_ < intervention_starts_.size()) {
+      intervention_starts_[intervention_count_++] = InterventionStart{now_ns, outcome.other};
+    } else {
+      ++counters_.safety_reports_dropped;
+    }
+  }
+  (void)drive_publisher_.Publish(drive);
 }
 
 }  // namespace syrof::runtime

@@ -17,6 +17,7 @@ const char* ToString(WireError error) {
     case WireError::kMemberOutOfRange: return "MemberOutOfRange";
     case WireError::kHeadingOutOfRange: return "HeadingOutOfRange";
     case WireError::kNonZeroPadding: return "NonZeroPadding";
+    case WireError::kPresenceOutOfRange: return "PresenceOutOfRange";
   }
   return "?";
 }

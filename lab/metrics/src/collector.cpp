@@ -33,7 +33,29 @@ void Collector::SkewTotals::Add(uint16_t epoch, int64_t skew_rounds) {
 }
 
 Collector::Collector(const CollectorConfig& config)
-    : config_(config), tracks_(std::min<size_t>(config.robots, wire::kMaxSwarmSize)) {}
+    : config_(config),
+      tracks_(std::min<size_t>(config.robots, wire::kMaxSwarmSize)),
+      robot_interventions_(tracks_.size(), 0) {}
+
+void Collector::OnSafetyIntervention(int64_t time_ns, uint16_t robot, std::optional<uint16_t> other) {
+  if (!Known(robot) || (other.has_value() && !Known(*other))) {
+    ++ignored_observations_;
+    return;
+  }
+  ++interventions_;
+  ++robot_interventions_[robot];
+  if (first_interventions_.size() < kMaxListedInterventions) {
+    first_interventions_.push_back(SafetyIntervention{time_ns, robot, other});
+  }
+}
+
+void Collector::OnJoinWait(uint16_t robot) {
+  if (!Known(robot)) {
+    ++ignored_observations_;
+    return;
+  }
+  ++join_waits_;
+}
 
 bool Collector::Known(uint16_t robot) const { return robot < tracks_.size(); }
 
@@ -339,6 +361,16 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   metrics.walls.contacts = wall_contacts_;
   metrics.walls.robots_involved = robots_touched_wall_;
   metrics.walls.first_contacts = first_wall_contacts_;
+  metrics.safety.enabled = facts.safety_enabled;
+  metrics.safety.interventions = interventions_;
+  for (size_t robot = 0; robot < robot_interventions_.size(); ++robot) {
+    if (robot_interventions_[robot] == 0) continue;
+    ++metrics.safety.robots_involved;
+    metrics.safety.per_robot.push_back(
+        RobotInterventions{static_cast<uint16_t>(robot), robot_interventions_[robot]});
+  }
+  metrics.safety.first = first_interventions_;
+  metrics.safety.join_waits = join_waits_;
 
   EstimationMetrics& estimation = metrics.estimation;
   estimation.samples = estimate_samples_;

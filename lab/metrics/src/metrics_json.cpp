@@ -143,6 +143,31 @@ Json WallsJson(const WallMetrics& walls, int64_t radio_round_ns) {
   return json;
 }
 
+Json SafetyJson(const SafetyMetrics& safety, int64_t radio_round_ns) {
+  Json json;
+  json["enabled"] = safety.enabled;
+  json["interventions"] = safety.interventions;
+  json["robots_involved"] = safety.robots_involved;
+  json["per_robot"] = Json::array();
+  for (const RobotInterventions& robot : safety.per_robot) {
+    Json entry;
+    entry["robot"] = robot.robot;
+    entry["interventions"] = robot.interventions;
+    json["per_robot"].push_back(entry);
+  }
+  json["first_interventions"] = Json::array();
+  for (const SafetyIntervention& intervention : safety.first) {
+    Json entry;
+    entry["time_s"] = Seconds(intervention.time_ns);
+    entry["round"] = RoundOf(intervention.time_ns, radio_round_ns);
+    entry["robot"] = intervention.robot;
+    entry["against"] = intervention.other.has_value() ? Json(*intervention.other) : Json("wall");
+    json["first_interventions"].push_back(entry);
+  }
+  json["join_waits"] = safety.join_waits;
+  return json;
+}
+
 Json EstimationJson(const EstimationMetrics& estimation) {
   Json json;
   json["position_rmse_m"] = FiniteOrNull(estimation.position_rmse_m);
@@ -189,6 +214,7 @@ std::string ToJson(const Metrics& metrics) {
   json["common_knowledge"] = CommonKnowledgeJson(metrics.common_knowledge);
   json["collisions"] = CollisionsJson(metrics.collisions, metrics.radio_round_ns);
   json["walls"] = WallsJson(metrics.walls, metrics.radio_round_ns);
+  json["safety"] = SafetyJson(metrics.safety, metrics.radio_round_ns);
   json["estimation"] = EstimationJson(metrics.estimation);
   json["membership"] = MembershipJson(metrics.membership);
   Json diagnostics;

@@ -63,8 +63,8 @@ bool ReadRobotId(const YamlNode& node, const std::string& path, const Scenario& 
 }
 
 bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& scenario, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"name",   "seed",    "arena",   "kinds",  "robots",
-                                               "timing", "sensors", "channel", "faults", "app"};
+  static constexpr std::string_view kKeys[] = {"name",    "seed",    "arena",  "kinds", "robots", "timing",
+                                               "sensors", "channel", "faults", "app",   "safety"};
   if (root.is_null()) {
     return diagnostics.Fail(0, 0, "the scenario is empty; it needs at least 'robots' and 'app'");
   }
@@ -99,6 +99,12 @@ bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& sc
       !ReadFaults(root.Find("faults"), scenario, diagnostics) ||
       !ReadApp(*root.Find("app"), apps::BuiltinApps(), LibraryBaseDir(scenario), scenario.app, diagnostics)) {
     return false;
+  }
+  if (const YamlNode* safety = root.Find("safety")) {
+    static constexpr std::string_view kSwitch[] = {"on", "off"};
+    size_t choice = 0;
+    if (!ReadChoice(*safety, "safety", kSwitch, choice, diagnostics)) return false;
+    scenario.safety = choice == 0;
   }
   return !overrides.app || OverrideApp(*overrides.app, apps::BuiltinApps(), scenario.app, diagnostics);
 }

@@ -12,6 +12,8 @@ namespace syrof::lab::scenario {
 namespace {
 
 constexpr NumberRange kArenaSideRange{0, 1000, true};
+// The largest position a beacon carries: 32767 mm (wire::ToMillimetres saturates beyond).
+constexpr double kMaxArenaSideM = 32.767;
 constexpr NumberRange kTagHeightRange{0, 10};
 constexpr double kMaxAnchorHeightM = 20;
 // Two anchors closer than this are one anchor listed twice.
@@ -266,6 +268,19 @@ bool ReadArena(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostic
         !ReadNumberAt(*node, path, "height_m", kArenaSideRange, scenario.arena.height_m, diagnostics) ||
         !ReadNumberAt(*node, path, "tag_height_m", kTagHeightRange, tag_height_m, diagnostics)) {
       return false;
+    }
+    // Beacons carry positions as int16 millimetres: beyond 32.767 m they
+    // would be clipped silently, and every robot would plan with wrong maps.
+    for (const std::string_view side : {std::string_view("width_m"), std::string_view("height_m")}) {
+      const YamlNode* value = node->Find(side);
+      const double metres = side == "width_m" ? scenario.arena.width_m : scenario.arena.height_m;
+      if (value != nullptr && metres > kMaxArenaSideM) {
+        return FailAt(*value, path + "." + std::string(side),
+                      "the arena is " + value->scalar + " m " + (side == "width_m" ? "wide" : "high") +
+                          ", more than the beacon can express: positions travel as int16 millimetres, so at most " +
+                          FormatNumber(kMaxArenaSideM) + " m (docs/beacon.md, \"Fixed-point units\")",
+                      diagnostics);
+      }
     }
   }
   const YamlNode* anchors = node != nullptr ? node->Find("anchors") : nullptr;

@@ -66,7 +66,34 @@ runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const sc
   config.motion = ControllerConfigFor(robot.kind, scenario.kind_spec(robot.kind));
   config.arena_width_m = static_cast<float>(scenario.arena.width_m);
   config.arena_height_m = static_cast<float>(scenario.arena.height_m);
+  config.safety = SafetyConfigFor(scenario);
+  config.announce_presence = scenario.safety;
   return config;
+}
+
+motion::SafetyConfig SafetyConfigFor(const scenario::Scenario& scenario) {
+  motion::SafetyConfig safety;
+  safety.enabled = scenario.safety;
+  // A beacon does not say its sender's kind: assume the fastest, largest and
+  // slowest-braking kind present.
+  bool first = true;
+  for (const world::RobotKind kind : {world::RobotKind::kOmni, world::RobotKind::kRover}) {
+    const bool present = std::any_of(scenario.robots.begin(), scenario.robots.end(),
+                                     [kind](const scenario::RobotSpec& robot) { return robot.kind == kind; });
+    if (!present) continue;
+    const world::KindSpec& spec = scenario.kind_spec(kind);
+    const motion::ControllerConfig controller = ControllerConfigFor(kind, spec);
+    const float braking = controller.braking_fraction * controller.limits.max_accel_mps2;
+    safety.others_max_speed_mps =
+        first ? controller.limits.max_speed_mps : std::max(safety.others_max_speed_mps, controller.limits.max_speed_mps);
+    safety.others_radius_m =
+        first ? controller.limits.body_radius_m : std::max(safety.others_radius_m, controller.limits.body_radius_m);
+    safety.others_braking_mps2 = first ? braking : std::min(safety.others_braking_mps2, braking);
+    first = false;
+  }
+  safety.arena_width_m = static_cast<float>(scenario.arena.width_m);
+  safety.arena_height_m = static_cast<float>(scenario.arena.height_m);
+  return safety;
 }
 
 }  // namespace syrof::lab::sim

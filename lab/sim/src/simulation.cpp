@@ -95,6 +95,7 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
                   const app::CallStatus& status) override;
   void OnInvalidCommand(uint16_t robot, int64_t now_ns, uint16_t epoch, const app::CommandCheck& check) override;
   void OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) override;
+  void OnSafetyIntervention(uint16_t robot, int64_t time_ns, uint16_t other) override;
 
   Scenario scenario_;
   SimulationOptions options_;
@@ -121,6 +122,7 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   std::vector<replay::RobotMap> round_maps_;  // the maps robots started an epoch with this round
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
+  std::vector<uint16_t> waiting_joiners_;  // due to join, start disc occupied; in the order they became due
 
  private:
   int64_t RoundOf(int64_t now_ns) const { return now_ns / radio_round_ns_; }
@@ -138,6 +140,9 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other, uint16_t epoch,
                 wire::Mode mode);
   void StartRobot(LabRobot& robot, int64_t now_ns);
+  // Whether no other body stands within reach of `robot`'s start disc.
+  bool StartDiscClear(uint16_t robot) const;
+  void Join(LabRobot& robot, int64_t now_ns);
   void StopRobot(LabRobot& robot, replay::Presence presence);
 };
 
@@ -201,6 +206,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
     config.queries_workspace = workspace_.handle();
+    if (options_.configure_robot) options_.configure_robot(config);
     std::unique_ptr<app::App> app =
         options_.app_factory ? options_.app_factory(spec.id)
                              : apps::MakeBuiltinApp(apps::BareAppName(scenario_.app.name), scenario_.app.params);
@@ -298,8 +304,52 @@ void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t
   round_events_.push_back(event);
 }
 
+// A joiner's start disc is clear when every other body in the arena is
+// farther than both radii, the safety margin and what a robot at the
+// swarm's speed limit covers in two radio rounds (the joiner's first
+// presence beacon reaches the others' filters after one or two rounds).
+bool Simulation::Impl::StartDiscClear(uint16_t robot) const {
+  const scenario::RobotSpec& spec = scenario_.robots[robot];
+  const motion::SafetyConfig safety = SafetyConfigFor(scenario_);
+  const double reach_m = safety.margin_m + safety.others_max_speed_mps * 2.0 * scenario_.timing.radio_round_s;
+  for (uint16_t other = 0; other < world_.size(); ++other) {
+    if (other == robot || world_.presence(other) == world::BodyPresence::kAbsent) continue;
+    const world::BodyState& body = world_.state(other);
+    const double clearance_m = world_.body_radius_m(robot) + world_.body_radius_m(other) + reach_m;
+    if (std::hypot(body.x_m - spec.x_m, body.y_m - spec.y_m) < clearance_m) return false;
+  }
+  return true;
+}
+
+// With safety on, a joiner whose start disc is occupied waits (JOIN_WAIT)
+// and is switched on at the first physics step that finds it clear.
+void Simulation::Impl::Join(LabRobot& robot, int64_t now_ns) {
+  if (scenario_.safety && !StartDiscClear(robot.id())) {
+    waiting_joiners_.push_back(robot.id());
+    collector_.OnJoinWait(robot.id());
+    AddEvent(replay::EventKind::kJoinWait, now_ns, robot.id());
+    return;
+  }
+  StartRobot(robot, now_ns);
+  AddEvent(replay::EventKind::kJoin, now_ns, robot.id());
+}
+
 // Faults take effect on the radio-round grid (fault_schedule.h).
 void Simulation::Impl::StepFaults(int64_t now_ns) {
+  // Waiting joiners first, in the order they became due; one that crashed
+  // while it waited (presence no longer absent) stops waiting.
+  for (auto it = waiting_joiners_.begin(); it != waiting_joiners_.end();) {
+    LabRobot& robot = *robots_[*it];
+    if (robot.presence != replay::Presence::kAbsent) {
+      it = waiting_joiners_.erase(it);
+    } else if (StartDiscClear(robot.id())) {
+      StartRobot(robot, now_ns);
+      AddEvent(replay::EventKind::kJoin, now_ns, robot.id());
+      it = waiting_joiners_.erase(it);
+    } else {
+      ++it;
+    }
+  }
   for (const FaultAction& action : faults_.Due(now_ns)) {
     LabRobot& robot = *robots_[action.robot];
     switch (action.kind) {
@@ -312,8 +362,7 @@ void Simulation::Impl::StepFaults(int64_t now_ns) {
         AddEvent(replay::EventKind::kPause, now_ns, action.robot);
         break;
       case FaultAction::Kind::kJoin:
-        StartRobot(robot, now_ns);
-        AddEvent(replay::EventKind::kJoin, now_ns, action.robot);
+        Join(robot, now_ns);
         break;
       case FaultAction::Kind::kResume:
         // A robot that crashed during its pause stays crashed.
@@ -448,6 +497,12 @@ void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t
   AddEvent(replay::EventKind::kPayloadRefused, now_ns, robot, replay::kNoRobot, epoch, mode);
 }
 
+void Simulation::Impl::OnSafetyIntervention(uint16_t robot, int64_t time_ns, uint16_t other) {
+  const bool wall = other == motion::kWallObstacle;
+  collector_.OnSafetyIntervention(time_ns, robot, wall ? std::nullopt : std::optional<uint16_t>(other));
+  AddEvent(replay::EventKind::kSafetyIntervention, time_ns, robot, wall ? replay::kNoRobot : other);
+}
+
 void Simulation::Impl::RunUntil(double end_s) {
   const int64_t end_ns = std::min(end_ns_, Nanoseconds(end_s));
   if (end_ns > scheduler_.now_ns()) scheduler_.RunUntil(end_ns);
@@ -476,6 +531,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   facts.radio_rounds = static_cast<int64_t>(scheduler_.now_ns() / radio_round_ns_);
   facts.min_separation_m = world_.min_separation_m();
   facts.scenario = scenario_.name;
+  facts.safety_enabled = scenario_.safety;
   facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
   facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
   facts.app_sandbox = options_.app_sandbox;

@@ -37,10 +37,10 @@ Beacon golden_beacon() {
   return beacon;
 }
 
-// Version 1 for 32 robots, written out by hand from docs/beacon.md: any
+// Version 2 for 32 robots, written out by hand from docs/beacon.md: any
 // change to the layout shows up here.
 const Bytes kGoldenBytes = {
-    0x01,                                                  // version
+    0x02,                                                  // version
     0x11,                                                  // robot_id 17
     0x34, 0x12,                                            // epoch 0x1234
     0x36,                                                  // phase 2, mode 1, payload_length 3
@@ -204,11 +204,30 @@ TEST(BeaconDecodeTest, RejectsAnOutOfRangePhase) {
   EXPECT_EQ(decode_error(bytes), WireError::kPhaseOutOfRange);
 }
 
-TEST(BeaconDecodeTest, RejectsAnOutOfRangeMode) {
+// Version 2 gave the mode's second bit to presence_only: bit 3 of the flags
+// byte, which version 1 read as "mode 2" and rejected.
+TEST(BeaconDecodeTest, ReadsBitThreeOfTheFlagsAsPresenceOnly) {
   Bytes bytes = kGoldenBytes;
-  bytes[kFlagsByte] = static_cast<uint8_t>((bytes[kFlagsByte] & ~0x0C) | 0x08);  // mode 2
+  bytes[kFlagsByte] = static_cast<uint8_t>((bytes[kFlagsByte] & ~0x0C) | 0x08);  // mode 0, presence_only
 
-  EXPECT_EQ(decode_error(bytes), WireError::kModeOutOfRange);
+  const auto decoded = Decode(bytes, kSwarm);
+  ASSERT_TRUE(decoded.ok());
+  EXPECT_TRUE(decoded.value().presence_only);
+  EXPECT_EQ(decoded.value().mode, Mode::kCooperative);
+}
+
+TEST(BeaconCodecTest, RoundTripsAPresenceOnlyBeacon) {
+  Beacon beacon;
+  beacon.robot_id = 5;
+  beacon.presence_only = true;
+  beacon.snapshot.x_mm = 1200;
+  beacon.snapshot.y_mm = -300;
+  std::array<uint8_t, kMaxBeaconBytes> buffer{};
+  const auto size = Encode(beacon, kSwarm, buffer);
+  ASSERT_TRUE(size.ok());
+  const auto decoded = Decode(std::span<const uint8_t>(buffer.data(), size.value()), kSwarm);
+  ASSERT_TRUE(decoded.ok());
+  EXPECT_EQ(decoded.value(), beacon);
 }
 
 TEST(BeaconDecodeTest, RejectsAPayloadLengthOverNine) {

@@ -52,7 +52,7 @@ TEST(BeaconTest, PhaseAndModeHaveProtocolNames) {
 }
 
 TEST(WireErrorTest, EveryErrorHasItsOwnName) {
-  constexpr int kErrors = static_cast<int>(WireError::kNonZeroPadding) + 1;
+  constexpr int kErrors = static_cast<int>(WireError::kPresenceOutOfRange) + 1;
   for (int first = 0; first < kErrors; ++first) {
     const char* name = ToString(static_cast<WireError>(first));
     EXPECT_STRNE(name, "?") << first;

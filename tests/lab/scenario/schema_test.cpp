@@ -377,3 +377,44 @@ TEST(Schema, PartitionsMustNotOverlap) {
 
 }  // namespace
 }  // namespace syrof::lab::scenario
+
+namespace syrof::lab::scenario {
+namespace {
+
+// --- safety (docs/safety.md) --------------------------------------------------
+
+TEST(SchemaSafety, IsOnUnlessTheScenarioSaysOff) {
+  const LoadResult plain = testing::Load(testing::kMinimal);
+  const LoadResult off = testing::Load(std::string(testing::kMinimal) + "safety: off\n");
+  const LoadResult on = testing::Load(std::string(testing::kMinimal) + "safety: on\n");
+
+  ASSERT_TRUE(plain.ok() && off.ok() && on.ok());
+  EXPECT_TRUE(plain.scenario->safety);
+  EXPECT_FALSE(off.scenario->safety);
+  EXPECT_TRUE(on.scenario->safety);
+}
+
+TEST(SchemaSafety, AnUnknownValueNamesThePlaceAndTheNearest) {
+  EXPECT_TRUE(testing::FailsAt(testing::Load(std::string(testing::kMinimal) + "safety: offf\n"), 3, 9,
+                               {"safety: unknown value 'offf'", "did you mean 'off'?", "on, off"}));
+}
+
+TEST(SchemaSafety, AMisspelledKeySuggestsSafety) {
+  EXPECT_TRUE(testing::FailsAt(testing::Load(std::string(testing::kMinimal) + "safty: off\n"), 3, 1,
+                               {"unknown key 'safty'", "did you mean 'safety'?"}));
+}
+
+// Beacons carry positions as int16 millimetres: a 60 m arena was accepted and
+// its positions silently clipped at 32.767 m (gather aimed at 18.9 m, not 30).
+TEST(SchemaSafety, AnArenaLargerThanTheBeaconCanExpressIsRefused) {
+  EXPECT_TRUE(testing::FailsAt(
+      testing::Load(std::string(testing::kMinimal) + "arena: { width_m: 60, height_m: 4 }\n"), 3, 19,
+      {"arena.width_m", "60 m wide", "int16 millimetres", "at most 32.767 m"}));
+  EXPECT_TRUE(testing::FailsAt(
+      testing::Load(std::string(testing::kMinimal) + "arena: { width_m: 4, height_m: 32.8 }\n"), 3, 32,
+      {"arena.height_m", "32.8 m high"}));
+  EXPECT_TRUE(testing::Load(std::string(testing::kMinimal) + "arena: { width_m: 32.767, height_m: 4 }\n").ok());
+}
+
+}  // namespace
+}  // namespace syrof::lab::scenario

@@ -337,8 +337,10 @@ class RamApp final : public app::App {
   syrof_app_info info_{};
 };
 
+// With the safety filter off (docs/safety.md), as a course teaching
+// collisions runs it.
 TEST(SimulationTest, CollisionsAreCountedAndBodiesDoNotPassThrough) {
-  const scenario::Scenario scenario = Load(Swarm("", 0.0, 8, 4));
+  const scenario::Scenario scenario = Load(Swarm("safety: off\n", 0.0, 8, 4));
   SimulationOptions options;
   options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
   Simulation simulation(scenario, options);
@@ -354,12 +356,28 @@ TEST(SimulationTest, CollisionsAreCountedAndBodiesDoNotPassThrough) {
   EXPECT_DOUBLE_EQ(metrics["collisions"]["min_separation_m"].get<double>(), 0.0);
 }
 
+// The same rammers with the safety filter on: it keeps every body clear, and
+// says so in metrics.json.
+TEST(SimulationTest, TheSafetyFilterStopsRammers) {
+  const scenario::Scenario scenario = Load(Swarm("", 0.0, 8, 4));
+  SimulationOptions options;
+  options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
+
+  const json metrics = json::parse(sim::Run(scenario, options, 0.0).metrics_json);
+
+  EXPECT_EQ(metrics["collisions"]["count"], 0);
+  EXPECT_GT(metrics["collisions"]["min_separation_m"].get<double>(), 0.0);
+  EXPECT_GT(metrics["safety"]["interventions"].get<int>(), 0);
+  EXPECT_EQ(metrics["safety"]["robots_involved"], 4);
+}
+
 // Every robot's event carries the robot's epoch and that epoch's mode at the
 // moment (docs/replay.md), not the defaults 0 and COOPERATIVE: the same as
 // the robot's frame of the round before the event or of the round after it.
 TEST(SimulationTest, EventsCarryTheRobotsEpochAndModeThen) {
   const scenario::Scenario scenario =
-      Load(Swarm("faults: [{crash: 2, at_s: 4}, {pause: 1, at_s: 3, until_s: 6}, {join: 3, at_s: 2}]\n", 0.0, 9, 5));
+      Load(Swarm("faults: [{crash: 2, at_s: 4}, {pause: 1, at_s: 3, until_s: 6}, {join: 3, at_s: 2}]\nsafety: off\n",
+                 0.0, 9, 5));
   SimulationOptions options;
   options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
   std::stringstream bytes;

@@ -4,7 +4,8 @@
 //   sensor drivers -> state task -> Kalman task -> StateEstimate
 //   radio -> Receive() / ReceiveBytes() ... round task: synchronizer Step(),
 //                          app callbacks, Radio::Broadcast() (radio.h)
-//   StateEstimate + the app's command -> motion task -> DriveCommand
+//   StateEstimate + the app's command -> motion task: controller, then the
+//                          safety filter (docs/safety.md) -> DriveCommand
 //
 // The round task runs once per radio round. It hands the synchronizer the
 // beacons received since its last step and the robot's own snapshot (the
@@ -21,6 +22,14 @@
 // The receive storage is two banks: one fills while the round task steps the
 // other; the round task swaps them under the same critical section, so a
 // frame that arrives during a step counts for the next round.
+//
+// Safety: every beacon heard (member or presence-only) updates the safety
+// filter's report of its sender; the motion task limits every drive command
+// against those reports, in every mode. A robot that is joining, and so
+// sends no synchronizer beacon, broadcasts a presence-only beacon each round
+// (wire::Beacon::presence_only) so the others' filters see it; presence-only
+// beacons are removed from the round's beacons before the synchronizer's
+// step, which therefore sees exactly what it would without them.
 //
 // The app is untrusted: a command app::CheckCommand refuses becomes STOP, and
 // a refused payload changes nothing; both are counted and reported. A call
@@ -42,6 +51,7 @@
 #include "syrof/estimation/estimator.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/drive.h"
+#include "syrof/motion/safety_filter.h"
 #include "syrof/os/port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
@@ -63,6 +73,12 @@ struct RobotConfig {
   estimation::EstimatorConfig<float> estimator{};
   estimation::InitialPose<float> initial_pose{};  ///< where the robot starts (known placement)
   motion::ControllerConfig motion{};
+  /// The safety filter (its self_id is taken from sync.self_id). Disabled:
+  /// drive commands pass unchanged and no presence-only beacon is sent.
+  motion::SafetyConfig safety{};
+  /// Send presence-only beacons while joining (normally: safety.enabled;
+  /// tests switch it alone).
+  bool announce_presence = true;
   float arena_width_m = 4;
   float arena_height_m = 4;
   syrof_queries_workspace* queries_workspace = nullptr;  ///< shared scratch for the app's queries
@@ -94,6 +110,10 @@ struct RobotCounters {
   uint32_t end_of_rounds = 0;      ///< endOfRound calls
   uint32_t payloads_refused = 0;   ///< sendMessageData calls over the limit
   uint32_t invalid_commands = 0;   ///< newRound commands CheckCommand refused (replaced by STOP)
+  uint32_t presence_sent = 0;      ///< presence-only beacons broadcast while joining
+  uint32_t presence_received = 0;  ///< presence-only beacons heard (kept from the synchronizer)
+  uint32_t safety_interventions = 0;  ///< drive commands the safety filter began to limit (starts)
+  uint32_t safety_reports_dropped = 0;  ///< intervention starts not reported (more than a round holds)
 };
 
 class Robot final : private app::Platform {
@@ -213,6 +233,11 @@ class Robot final : private app::Platform {
   sync::LDMap ldmap_;  // the current epoch's map
   void TakeReceivedBank();
   void HandToMotion(const syrof_car_command& command);
+  // Safety: the round's beacons into the reports, presence-only ones out of
+  // the inbox; the motion task's intervention starts out to the observer.
+  void TakeSafetyReports(int64_t now_ns);
+  void ReportInterventions();
+  void AnnouncePresence();
 
   // The round's inbox: read by the step, filled by Receive() and, at the
   // step's start, by TakeReceivedBank(). Only the round task's thread.
@@ -233,6 +258,24 @@ class Robot final : private app::Platform {
   // critical section (the controller is the motion task's alone).
   syrof_car_command handed_command_{};
   bool command_handed_ = false;
+
+  // Safety. The round task writes shared_reports_ under the port's critical
+  // section and sets reports_changed_; the motion task copies them into
+  // motion_reports_ under it, then filters from its copy without the lock.
+  motion::SafetyFilter safety_filter_;
+  motion::SafetyReports shared_reports_;
+  motion::SafetyReports motion_reports_;
+  bool reports_changed_ = false;
+  // Intervention starts from the motion task to the round task (which tells
+  // the observer), under the port's critical section. A round has at most
+  // radio_round / motion period motion steps, so 8 is plenty; more are
+  // counted in safety_reports_dropped.
+  struct InterventionStart {
+    int64_t time_ns;
+    uint16_t other;
+  };
+  std::array<InterventionStart, 8> intervention_starts_{};
+  size_t intervention_count_ = 0;
   uint8_t global_state_ = 0;
   uint8_t payload_length_ = 0;
   std::array<uint8_t, wire::kMaxPayloadBytes> payload_{};

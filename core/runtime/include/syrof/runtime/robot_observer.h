@@ -6,7 +6,9 @@
 // OnEpochStart (if an epoch started), OnMembership (if members were removed
 // or joined), OnBecameJoiner (if the robot lost its group). The app hooks
 // (OnAppFault, OnInvalidCommand, OnPayloadRefused) come from the same task
-// as the app call they report (Attach for init).
+// as the app call they report (Attach for init). OnSafetyIntervention comes
+// from the round task, before the synchronizer's step, for the interventions
+// the motion task started since the previous round.
 #pragma once
 
 #include <cstddef>
@@ -55,6 +57,15 @@ class RobotObserver {
   /// SYROF_APP_MAX_PAYLOAD_BYTES) in a callback of `epoch`; the previous
   /// payload stays.
   virtual void OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) = 0;
+  /// The safety filter began to limit the robot's drive command at
+  /// `time_ns` (in the motion task; reported by the round task's next step,
+  /// so `time_ns` may be up to a round before `now`), against robot `other`
+  /// or motion::kWallObstacle. One call per intervention start, not per step.
+  virtual void OnSafetyIntervention(uint16_t robot, int64_t time_ns, uint16_t other) {
+    (void)robot;
+    (void)time_ns;
+    (void)other;
+  }
 
  protected:
   ~RobotObserver() = default;

@@ -18,7 +18,9 @@
 namespace syrof::wire {
 
 /// Version of the layout in beacon_layout.h; a decoder rejects any other.
-inline constexpr uint8_t kBeaconVersion = 1;
+///   1: the first layout.
+///   2: the mode takes one bit; the freed bit is `presence_only`.
+inline constexpr uint8_t kBeaconVersion = 2;
 
 /// Most bytes an application may send per round (sendMessageData).
 inline constexpr size_t kMaxPayloadBytes = 9;
@@ -73,11 +75,19 @@ struct Snapshot {
 
 /// One robot's beacon for one radio round. The snapshot is the sender's
 /// frozen estimate for this epoch (its live one in PROGRESS).
+///
+/// A presence-only beacon (presence_only set) is a robot that is not a
+/// member yet (a joiner) saying where it is, so that every robot's safety
+/// filter sees it (docs/safety.md). Only robot_id and the snapshot's pose and
+/// velocity mean anything; every other field is zero. The runtime hands it to
+/// the safety filter only, never to the synchronizer, so membership and
+/// common knowledge are what they would be without it.
 struct Beacon {
   uint16_t robot_id = 0;  // sender, 0 .. swarm size - 1
   uint16_t epoch = 0;     // maneuver number; wraps from 65535 to 0
   Phase phase = Phase::kProgress;
   Mode mode = Mode::kCooperative;
+  bool presence_only = false;  // a joiner's position report; not for the synchronizer
   uint8_t vote_counter = 0;    // rounds counted in VOTE (docs/protocol.md)
   MemberSet waiting;           // members the sender knows to be waiting, ids < swarm size
   Snapshot snapshot;           // pose, velocity and payload (the wire order is beacon_layout.h's)

@@ -61,8 +61,10 @@ constexpr void DescribeBeacon(Codec& codec, BeaconT& beacon, uint16_t swarm_size
   codec.number({"epoch", "maneuver number, wraps to 0"}, 16, beacon.epoch);
   codec.number({"phase", "synchronizer phase"}, 2, beacon.phase, Phase::kProgress, Phase::kVote,
                WireError::kPhaseOutOfRange);
-  codec.number({"mode", "operation mode"}, 2, beacon.mode, Mode::kCooperative, Mode::kAutonomous,
+  codec.number({"mode", "operation mode"}, 1, beacon.mode, Mode::kCooperative, Mode::kAutonomous,
                WireError::kModeOutOfRange);
+  codec.number({"presence_only", "1: a joiner's position report, for safety filters only"}, 1,
+               beacon.presence_only, false, true, WireError::kPresenceOutOfRange);
   codec.number({"payload_length", "payload bytes in use"}, 4, beacon.snapshot.payload_length, uint8_t{0},
                uint8_t{kMaxPayloadBytes}, WireError::kPayloadTooLong);
   codec.number({"vote_counter", "rounds counted in VOTE"}, 8, beacon.vote_counter);

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -74,6 +75,13 @@ class Collector {
 
   /// `robot`'s body came into contact with a wall (a contact start).
   void OnWallContact(int64_t time_ns, uint16_t robot);
+
+  /// `robot`'s safety filter began to limit its command at `time_ns`,
+  /// against robot `other` (none: a wall).
+  void OnSafetyIntervention(int64_t time_ns, uint16_t robot, std::optional<uint16_t> other);
+
+  /// Joiner `robot` waits to be switched on: its start disc is occupied.
+  void OnJoinWait(uint16_t robot);
 
   /// `robot`'s app failed in `fault.callback`; the fault is listed as given
   /// (a robot's app faults at most once: later faults of it are ignored).
@@ -179,6 +187,11 @@ class Collector {
   int64_t join_latency_samples_ = 0;
   int64_t join_latency_sum_rounds_ = 0;
   int64_t join_latency_max_rounds_ = 0;
+
+  int64_t interventions_ = 0;
+  std::vector<int64_t> robot_interventions_;  // by robot id
+  std::vector<SafetyIntervention> first_interventions_;
+  int64_t join_waits_ = 0;
 
   std::vector<AppFault> app_faults_;
   AppIncidents invalid_commands_;

@@ -34,6 +34,9 @@ inline constexpr size_t kMaxListedCollisions = 100;
 /// At most this many wall contacts are listed, the first ones (all are counted).
 inline constexpr size_t kMaxListedWallContacts = 100;
 
+/// At most this many safety interventions are listed, the first ones (all are counted).
+inline constexpr size_t kMaxListedInterventions = 10;
+
 /// The assignment's own goal, as the app's goal checker judged it.
 struct GoalResult {
   std::string app;     ///< the app whose goal was checked
@@ -59,6 +62,7 @@ struct RunFacts {
   /// one line each (empty: everything applied). Unset for a built-in app.
   std::optional<std::vector<std::string>> app_sandbox;
   std::string scenario;    ///< scenario name or file
+  bool safety_enabled = true;  ///< the scenario's `safety` (docs/safety.md)
 };
 
 /// One P3 breach: `robot` started `epoch` COOPERATIVE with a map that is not
@@ -150,6 +154,29 @@ struct WallMetrics {
   std::vector<WallContactEvent> first_contacts;  ///< the first kMaxListedWallContacts
 };
 
+/// One safety intervention start: `robot`'s command was limited against
+/// `other` (a robot id, or none for a wall).
+struct SafetyIntervention {
+  int64_t time_ns = 0;
+  uint16_t robot = 0;
+  std::optional<uint16_t> other;
+};
+
+/// A robot's intervention count (robots with none are not listed).
+struct RobotInterventions {
+  uint16_t robot = 0;
+  int64_t interventions = 0;
+};
+
+struct SafetyMetrics {
+  bool enabled = true;                          ///< from RunFacts
+  int64_t interventions = 0;                    ///< intervention starts, all robots
+  int64_t robots_involved = 0;                  ///< robots with at least one
+  std::vector<RobotInterventions> per_robot;    ///< by robot id, robots with at least one
+  std::vector<SafetyIntervention> first;        ///< the first kMaxListedInterventions
+  int64_t join_waits = 0;                       ///< joiners that waited for their start disc to clear
+};
+
 struct EstimationMetrics {
   std::optional<double> position_rmse_m;
   std::optional<double> max_error_m;
@@ -194,6 +221,7 @@ struct Metrics {
   CommonKnowledgeMetrics common_knowledge;
   CollisionMetrics collisions;
   WallMetrics walls;
+  SafetyMetrics safety;
   EstimationMetrics estimation;
   MembershipMetrics membership;
   Diagnostics diagnostics;

@@ -106,6 +106,10 @@ struct Scenario {
   world::ChannelSpec channel;
   std::vector<FaultSpec> faults;      ///< sorted by at_s, then robot
   AppSpec app;
+  /// The platform's safety filter on every robot (docs/safety.md), with
+  /// presence beacons for joiners and the joiners' start-disc wait.
+  /// `safety: off` switches all three off, so a course can teach collisions.
+  bool safety = true;
 
   const world::KindSpec& kind_spec(world::RobotKind kind) const { return kind == world::RobotKind::kRover ? rover : omni; }
 };

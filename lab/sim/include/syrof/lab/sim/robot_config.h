@@ -9,6 +9,7 @@
 
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/motion/controller.h"
+#include "syrof/motion/safety_filter.h"
 #include "syrof/runtime/robot.h"
 #include "syrof/wire/member_set.h"
 
@@ -48,6 +49,12 @@ wire::MemberSet InitialMembers(const scenario::Scenario& scenario);
 /// float) and the default gains and tolerances; the drive kind follows the
 /// robot kind (omni: velocity, rover: wheels).
 motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world::KindSpec& spec);
+
+/// The safety filter's view of `scenario`'s swarm (docs/safety.md): on or off
+/// as the scenario says; the fastest speed limit, largest body and weakest
+/// braking among the kinds present (a beacon does not carry its sender's
+/// kind); the arena's walls.
+motion::SafetyConfig SafetyConfigFor(const scenario::Scenario& scenario);
 
 /// Robot `robot`'s start-up config in `scenario` (a resolved, validated
 /// scenario; `robot` one of its robots): the synchronizer's swarm, K, F and

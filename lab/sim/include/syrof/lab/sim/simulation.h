@@ -48,6 +48,9 @@ struct SimulationOptions {
   /// metrics.json's app.sandbox: the app host's notes on what its sandbox
   /// could not apply (a library run); unset (null) for in-process apps.
   std::optional<std::vector<std::string>> app_sandbox;
+  /// For tests and tools: adjusts each robot's start-up config after the
+  /// scenario's (RobotConfigFor), before the robot is built. Empty: none.
+  std::function<void(runtime::RobotConfig&)> configure_robot;
 };
 
 /// What a finished run reports.

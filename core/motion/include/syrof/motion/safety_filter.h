@@ -1,0 +1,178 @@
+// The safety filter: the last word on every drive command, in every mode
+// (docs/safety.md is the specification, with the proof sketch).
+//
+// Every robot heard recently is an obstacle disc: centred at its last
+// reported position, of radius
+//     rho = own radius + the swarm's largest radius + margin + sigma,
+//     sigma = others' speed limit * min(age, horizon) + braking allowance,
+// where `age` is how old the report's position is and the braking allowance
+// (v^2 / 2 a from the report's own velocity) covers a robot that froze its
+// snapshot while still moving and then braked (WAIT / VOTE beacons carry the
+// snapshot frozen at the end of the maneuver). The walls are obstacles too.
+//
+// With h the gap between this robot's estimated position and a disc's edge
+// and n the unit vector towards the disc's centre, the command's velocity u
+// is limited so that:
+//   outside (h > 0):  u . n <= min(gain * h, sqrt(a h))   (it can still
+//                     brake to a stop at the edge with half its
+//                     deceleration a: the other may be closing in too, and
+//                     brakes with half of its own);
+//   inside (h <= 0):  u moves away from every point where the other robot
+//                     can be: u . n <= -sin(phi) |u|, sin(phi) = sigma / d,
+//                     d the distance to the centre (no direction when
+//                     sigma >= d: the robot stops).
+// Walls: u . n <= min(gain * h, sqrt(2 a h)) with h the distance to the wall
+// less radius and margin, and u . n <= 0 once there. A stopped robot
+// satisfies every constraint, so the filter always has an answer.
+//
+// Omni: u is the velocity setpoint, corrected by cyclic projection onto the
+// constraints (a fixed number of passes); if the result still breaks one,
+// the robot stops. Rover: only the forward speed is limited (along the
+// heading; turning in place moves no point of the disc), by the interval the
+// constraints leave; empty interval: forward speed 0, the turn is kept.
+//
+// Portable: no allocation, no exceptions, no I/O; float math (sqrt only),
+// fine on a soft-float core. Cost: one pass over the table (swarm size
+// entries; a squared-distance test rejects far robots without a square
+// root), then at most kMaxSafetyConstraints constraints times
+// kSafetyPasses projections. Plain data, copyable.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "syrof/estimation/messages.h"
+#include "syrof/motion/controller.h"
+#include "syrof/motion/drive.h"
+#include "syrof/wire/member_set.h"
+
+namespace syrof::motion {
+
+/// The "other" of an intervention against a wall.
+inline constexpr uint16_t kWallObstacle = 0xFFFF;
+/// The constraints one step keeps (the nearest ones: smallest slack first).
+inline constexpr size_t kMaxSafetyConstraints = 16;
+/// Projection passes over the kept constraints.
+inline constexpr int kSafetyPasses = 4;
+/// An intervention ends after this long without a limited command; a robot
+/// held at a disc's edge is limited on and off from step to step, and that
+/// is one intervention, not dozens.
+inline constexpr int64_t kInterventionReleaseNs = 500'000'000;
+
+/// What the filter assumes about the swarm. SI units.
+struct SafetyConfig {
+  bool enabled = true;
+  uint16_t self_id = 0;
+  float others_max_speed_mps = 0.5f;  ///< the fastest kind in the swarm (a beacon does not say its sender's kind)
+  float others_radius_m = 0.12f;      ///< the largest body radius in the swarm
+  float others_braking_mps2 = 0.8f;   ///< the weakest deceleration in the swarm (braking allowance)
+  float margin_m = 0.06f;             ///< covers two estimates' errors (docs/safety.md)
+  float horizon_s = 1.0f;             ///< a disc grows for at most this long; older reports keep the capped disc
+  float gain_per_s = 4.0f;            ///< approach speed = gain * gap near an edge
+  float arena_width_m = 0;            ///< walls at x = 0, x = width, y = 0, y = height; 0: no walls
+  float arena_height_m = 0;
+};
+
+/// The last report of one robot: where it was at `time_ns` (port clock), in
+/// the beacon's own units, so recording one (every beacon heard, O(N^2) per
+/// round in a swarm) is a copy; the filter converts the few it looks at.
+struct SafetyReport {
+  int64_t time_ns = 0;
+  int16_t x_mm = 0;
+  int16_t y_mm = 0;
+  uint16_t allowance_mm = 0;  ///< added to the disc: the sender may still brake this far
+  bool valid = false;
+};
+
+/// One report per robot id, by id. Filled by the round task from beacons,
+/// read by the motion task.
+class SafetyReports {
+ public:
+  /// Records robot `id`'s position (millimetres, as beacons carry it) at
+  /// `time_ns`; `parked` (a frozen WAIT / VOTE snapshot) with velocity (vx,
+  /// vy) in mm/s adds its braking distance at `braking_mps2`. Ids >=
+  /// wire::kMaxSwarmSize are ignored.
+  void Report(uint16_t id, int64_t time_ns, int16_t x_mm, int16_t y_mm, bool parked, int16_t vx_mm_s,
+              int16_t vy_mm_s, float braking_mps2) {
+    // Inline: the runtime records every beacon heard.
+    if (id >= entries_.size()) return;
+    SafetyReport& entry = entries_[id];
+    entry.time_ns = time_ns;
+    entry.x_mm = x_mm;
+    entry.y_mm = y_mm;
+    entry.allowance_mm = parked && (vx_mm_s != 0 || vy_mm_s != 0) ? BrakingMillimetres(vx_mm_s, vy_mm_s, braking_mps2) : 0;
+    entry.valid = true;
+  }
+  /// The same in metres (tests, benches): rounded to millimetres.
+  void ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps, float vy_mps,
+                    float braking_mps2);
+  /// Copies the first `count` entries of `other` (the motion task's handoff).
+  void CopyFrom(const SafetyReports& other, size_t count);
+  const SafetyReport& operator[](size_t id) const { return entries_[id]; }
+
+ private:
+  static uint16_t BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2);
+
+  std::array<SafetyReport, wire::kMaxSwarmSize> entries_{};
+};
+
+/// What one Apply did.
+struct SafetyOutcome {
+  bool limited = false;  ///< the command was changed
+  bool started = false;  ///< limited now, and not in the kInterventionReleaseNs before: an intervention starts
+  uint16_t other = 0;    ///< the robot (or kWallObstacle) whose constraint the command broke most
+};
+
+class SafetyFilter {
+ public:
+  /// `controller` gives this robot's kind, radius, speed and braking;
+  /// `swarm_size` bounds the table scan.
+  SafetyFilter(const SafetyConfig& config, const ControllerConfig& controller, uint16_t swarm_size);
+
+  /// `desired` limited against `reports` from this robot's `estimate` at
+  /// `now_ns`. Unchanged when disabled, when the estimate is unusable (the
+  /// controller then commands zero anyway) or when nothing binds.
+  DriveCommand Apply(const DriveCommand& desired, const estimation::StateEstimate& estimate,
+                     const SafetyReports& reports, int64_t now_ns, SafetyOutcome& outcome);
+
+  /// Whether Apply would look at the reports for `desired`: only a command
+  /// that moves the robot's centre (a rover turning in place does not). The
+  /// runtime hands the reports to the motion task only then.
+  bool NeedsReports(const DriveCommand& desired) const;
+
+  const SafetyConfig& config() const { return config_; }
+  /// Applies that changed the command, and how many of them started an intervention.
+  uint32_t limited_steps() const { return limited_steps_; }
+  uint32_t interventions() const { return interventions_; }
+
+ private:
+  struct Constraint {
+    float nx, ny;     // unit vector towards the obstacle
+    float bound;      // u . n <= bound (linear), or the cone's sin(phi)
+    bool cone;        // u . n <= -bound * |u|
+    float violation;  // of the desired velocity, for `other`
+    uint16_t other;
+  };
+  void Collect(float x, float y, const SafetyReports& reports, int64_t now_ns);
+  void Keep(const Constraint& constraint, float slack);
+  void LimitOmni(float& vx, float& vy) const;
+  float LimitForward(float speed, float hx, float hy) const;
+  float ApproachBound(float gap_m, float braking_mps2) const;
+
+  SafetyConfig config_;
+  float own_radius_m_;
+  float own_max_speed_mps_;
+  float own_braking_mps2_;
+  DriveKind kind_;
+  uint16_t swarm_size_;
+  std::array<Constraint, kMaxSafetyConstraints> constraints_{};
+  std::array<float, kMaxSafetyConstraints> slack_{};
+  size_t count_ = 0;
+  bool ever_limited_ = false;
+  int64_t last_limited_ns_ = 0;
+  uint32_t limited_steps_ = 0;
+  uint32_t interventions_ = 0;
+};
+
+}  // namespace syrof::motion

@@ -1,0 +1,308 @@
+#include "syrof/motion/safety_filter.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace syrof::motion {
+namespace {
+
+// A command changed by less than this (m/s) counts as unchanged: rounding.
+constexpr float kLimitedThresholdMps = 1e-3f;
+// A final velocity may break a constraint by this much (m/s) before the
+// filter falls back to stopping: float rounding of the projections.
+constexpr float kFeasibilityToleranceMps = 1e-4f;
+// Below this distance (m) a centre gives no direction: the robot stops.
+constexpr float kMinDistanceM = 1e-4f;
+// Directions with |h . n| below this do not constrain a rover's forward speed.
+constexpr float kParallelEpsilon = 1e-6f;
+
+float Dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
+
+}  // namespace
+
+// A braking distance in millimetres: v^2 / 2a, v in mm/s, a in mm/s^2.
+uint16_t SafetyReports::BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2) {
+  const float vx = static_cast<float>(vx_mm_s);
+  const float vy = static_cast<float>(vy_mm_s);
+  const float braking_mm_s2 = std::max(braking_mps2, 1e-3f) * 1000.0f;
+  const float allowance = std::ceil((vx * vx + vy * vy) / (2.0f * braking_mm_s2));
+  return static_cast<uint16_t>(std::min(allowance, 65535.0f));
+}
+
+bool SafetyFilter::NeedsReports(const DriveCommand& desired) const {
+  if (!config_.enabled) return false;
+  if (kind_ == DriveKind::kWheels) return desired.left_mps + desired.right_mps != 0.0f;
+  return desired.vx_mps != 0.0f || desired.vy_mps != 0.0f;
+}
+
+void SafetyReports::ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps,
+                                 float vy_mps, float braking_mps2) {
+  const auto millimetres = [](float metres) {
+    if (!std::isfinite(metres)) return int16_t{0};
+    return static_cast<int16_t>(std::lround(std::clamp(metres * 1000.0f, -32768.0f, 32767.0f)));
+  };
+  Report(id, time_ns, millimetres(x_m), millimetres(y_m), parked, millimetres(vx_mps), millimetres(vy_mps),
+         braking_mps2);
+  if (!std::isfinite(x_m) || !std::isfinite(y_m) || id >= wire::kMaxSwarmSize) {
+    if (id < wire::kMaxSwarmSize) entries_[id].valid = false;
+  }
+}
+
+void SafetyReports::CopyFrom(const SafetyReports& other, size_t count) {
+  const size_t n = std::min(count, entries_.size());
+  std::copy(other.entries_.begin(), other.entries_.begin() + static_cast<std::ptrdiff_t>(n), entries_.begin());
+}
+
+SafetyFilter::SafetyFilter(const SafetyConfig& config, const ControllerConfig& controller, uint16_t swarm_size)
+    : config_(config),
+      own_radius_m_(controller.limits.body_radius_m),
+      own_max_speed_mps_(controller.limits.max_speed_mps),
+      own_braking_mps2_(controller.braking_fraction * controller.limits.max_accel_mps2),
+      kind_(controller.kind),
+      swarm_size_(std::min<uint16_t>(swarm_size, wire::kMaxSwarmSize)) {}
+
+float SafetyFilter::ApproachBound(float gap_m, float braking_mps2) const {
+  if (gap_m <= 0.0f) return 0.0f;
+  return std::min(config_.gain_per_s * gap_m, std::sqrt(2.0f * braking_mps2 * gap_m));
+}
+
+void SafetyFilter::Keep(const Constraint& constraint, float slack) {
+  if (count_ < constraints_.size()) {
+    constraints_[count_] = constraint;
+    slack_[count_] = slack;
+    ++count_;
+    return;
+  }
+  // Full: replace the loosest one if this one is tighter.
+  size_t loosest = 0;
+  for (size_t i = 1; i < count_; ++i) {
+    if (slack_[i] > slack_[loosest]) loosest = i;
+  }
+  if (slack < slack_[loosest]) {
+    constraints_[loosest] = constraint;
+    slack_[loosest] = slack;
+  }
+}
+
+void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64_t now_ns) {
+  count_ = 0;
+  // Against another robot this one brakes with half its deceleration: the
+  // other may be closing in too, and brakes with half of its own, so the two
+  // stop within the gap between them (docs/safety.md, "Proof sketch").
+  const float shared_braking_mps2 = 0.5f * own_braking_mps2_;
+  // A linear constraint whose bound reaches the speed limit cannot bind.
+  const float reach_m = std::max(own_max_speed_mps_ / config_.gain_per_s,
+                                 own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * shared_braking_mps2));
+  const float base_m = own_radius_m_ + config_.others_radius_m + config_.margin_m;
+  // A first, integer-only test in millimetres against the largest disc any
+  // report can have (a full horizon's growth): on a soft-float core most
+  // robots are rejected without one float operation.
+  const float largest_m = base_m + config_.others_max_speed_mps * config_.horizon_s + reach_m;
+  const auto largest_mm = static_cast<int32_t>(largest_m * 1000.0f) + 1;
+  // Clamped: an estimate far outside any arena must not overflow the cast.
+  const auto own_x_mm = static_cast<int32_t>(std::clamp(x * 1000.0f, -1e6f, 1e6f));
+  const auto own_y_mm = static_cast<int32_t>(std::clamp(y * 1000.0f, -1e6f, 1e6f));
+  for (uint16_t id = 0; id < swarm_size_; ++id) {
+    const SafetyReport& report = reports[id];
+    if (!report.valid || id == config_.self_id) continue;
+    const int32_t reach_mm = largest_mm + report.allowance_mm;
+    const int32_t dx_mm = int32_t{report.x_mm} - own_x_mm;
+    const int32_t dy_mm = int32_t{report.y_mm} - own_y_mm;
+    if (dx_mm > reach_mm || dx_mm < -reach_mm || dy_mm > reach_mm || dy_mm < -reach_mm) continue;
+    const float age_s = std::clamp(static_cast<float>(now_ns - report.time_ns) * 1e-9f, 0.0f, config_.horizon_s);
+    const float sigma_m = config_.others_max_speed_mps * age_s + 0.001f * static_cast<float>(report.allowance_mm);
+    const float radius_m = base_m + sigma_m;
+    const float dx = 0.001f * static_cast<float>(report.x_mm) - x;
+    const float dy = 0.001f * static_cast<float>(report.y_mm) - y;
+    const float squared = dx * dx + dy * dy;
+    const float far_m = radius_m + reach_m;
+    if (squared > far_m * far_m) continue;
+    const float distance_m = std::sqrt(squared);
+    Constraint constraint{};
+    constraint.other = id;
+    if (distance_m < kMinDistanceM) {
+      // On top of the centre: no direction leads away; stop.
+      constraint.nx = 1.0f;
+      constraint.ny = 0.0f;
+      constraint.cone = true;
+      constraint.bound = 2.0f;  // above 1: only u = 0
+      Keep(constraint, -radius_m);
+      continue;
+    }
+    constraint.nx = dx / distance_m;
+    constraint.ny = dy / distance_m;
+    const float gap_m = distance_m - radius_m;
+    if (gap_m > 0.0f) {
+      constraint.bound = ApproachBound(gap_m, shared_braking_mps2);
+      constraint.cone = false;
+    } else {
+      // sigma >= d: this robot stands where the other may be; every
+      // direction may lead towards it (a bound above 1 admits only u = 0).
+      constraint.bound = sigma_m / distance_m;
+      constraint.cone = true;
+    }
+    Keep(constraint, gap_m);
+  }
+  if (config_.arena_width_m > 0 && config_.arena_height_m > 0) {
+    const float inset_m = own_radius_m_ + config_.margin_m;
+    const float gaps[4] = {x - inset_m, config_.arena_width_m - x - inset_m, y - inset_m,
+                           config_.arena_height_m - y - inset_m};
+    const float normals[4][2] = {{-1.0f, 0.0f}, {1.0f, 0.0f}, {0.0f, -1.0f}, {0.0f, 1.0f}};
+    for (int wall = 0; wall < 4; ++wall) {
+      if (gaps[wall] > reach_m) continue;
+      Constraint constraint{};
+      constraint.nx = normals[wall][0];
+      constraint.ny = normals[wall][1];
+      constraint.bound = ApproachBound(gaps[wall], own_braking_mps2_);
+      constraint.cone = false;
+      constraint.other = kWallObstacle;
+      Keep(constraint, gaps[wall]);
+    }
+  }
+}
+
+void SafetyFilter::LimitOmni(float& vx, float& vy) const {
+  float ux = vx;
+  float uy = vy;
+  for (int pass = 0; pass < kSafetyPasses; ++pass) {
+    for (size_t i = 0; i < count_; ++i) {
+      const Constraint& c = constraints_[i];
+      const float along = Dot(ux, uy, c.nx, c.ny);
+      if (!c.cone) {
+        const float excess = along - c.bound;
+        if (excess > 0.0f) {
+          ux -= excess * c.nx;
+          uy -= excess * c.ny;
+        }
+        continue;
+      }
+      // The cone of directions at least phi away from every point of the
+      // other's disc: axis -n, u . (-n) >= sin(phi) |u|.
+      const float speed = std::sqrt(ux * ux + uy * uy);
+      if (-along >= c.bound * speed) continue;
+      // Project onto the cone's edge on u's side: w = s (-n) + sqrt(1 - s^2) t.
+      float tx = ux - along * c.nx;
+      float ty = uy - along * c.ny;
+      const float tangent = std::sqrt(tx * tx + ty * ty);
+      if (tangent < kMinDistanceM) {
+        ux = 0.0f;
+        uy = 0.0f;
+        continue;
+      }
+      tx /= tangent;
+      ty /= tangent;
+      if (c.bound >= 1.0f) {
+        ux = 0.0f;
+        uy = 0.0f;
+        continue;
+      }
+      const float s = c.bound;
+      const float c_side = std::sqrt(std::max(0.0f, 1.0f - s * s));
+      const float wx = -s * c.nx + c_side * tx;
+      const float wy = -s * c.ny + c_side * ty;
+      const float length = std::max(0.0f, Dot(ux, uy, wx, wy));
+      ux = length * wx;
+      uy = length * wy;
+    }
+  }
+  // Whatever the passes left unsatisfied, stopping satisfies.
+  const float speed = std::sqrt(ux * ux + uy * uy);
+  for (size_t i = 0; i < count_; ++i) {
+    const Constraint& c = constraints_[i];
+    const float along = Dot(ux, uy, c.nx, c.ny);
+    const float limit = c.cone ? -c.bound * speed : c.bound;
+    if (along > limit + kFeasibilityToleranceMps) {
+      ux = 0.0f;
+      uy = 0.0f;
+      break;
+    }
+  }
+  vx = ux;
+  vy = uy;
+}
+
+float SafetyFilter::LimitForward(float speed, float hx, float hy) const {
+  float lowest = -own_max_speed_mps_;
+  float highest = own_max_speed_mps_;
+  bool forward_ok = true;
+  bool backward_ok = true;
+  for (size_t i = 0; i < count_; ++i) {
+    const Constraint& c = constraints_[i];
+    const float along = Dot(hx, hy, c.nx, c.ny);
+    if (c.cone) {
+      // v > 0 moves along h, v < 0 along -h: each is allowed only inside the cone.
+      if (along > -c.bound) forward_ok = false;
+      if (-along > -c.bound) backward_ok = false;
+      continue;
+    }
+    if (along > kParallelEpsilon) {
+      highest = std::min(highest, c.bound / along);
+    } else if (along < -kParallelEpsilon) {
+      lowest = std::max(lowest, c.bound / along);
+    }
+  }
+  float limited = std::clamp(speed, std::min(lowest, 0.0f), std::max(highest, 0.0f));
+  if ((limited > 0.0f && !forward_ok) || (limited < 0.0f && !backward_ok)) limited = 0.0f;
+  return limited;
+}
+
+DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::StateEstimate& estimate,
+                                 const SafetyReports& reports, int64_t now_ns, SafetyOutcome& outcome) {
+  outcome = SafetyOutcome{};
+  const bool usable = (estimate.status & estimation::kEstimateInitialized) != 0 && std::isfinite(estimate.x_m) &&
+                      std::isfinite(estimate.y_m) && std::isfinite(estimate.heading_rad);
+  if (!config_.enabled || !usable) return desired;
+  const bool wheels = kind_ == DriveKind::kWheels;
+  const float desired_vx = wheels ? 0.0f : desired.vx_mps;
+  const float desired_vy = wheels ? 0.0f : desired.vy_mps;
+  const float desired_forward = wheels ? 0.5f * (desired.left_mps + desired.right_mps) : 0.0f;
+  const bool moving = wheels ? desired_forward != 0.0f : (desired_vx != 0.0f || desired_vy != 0.0f);
+  count_ = 0;
+  if (moving) Collect(estimate.x_m, estimate.y_m, reports, now_ns);
+  if (count_ == 0) return desired;
+
+  DriveCommand limited = desired;
+  float ux = desired_vx;
+  float uy = desired_vy;
+  float change = 0.0f;
+  const float hx = std::cos(estimate.heading_rad);
+  const float hy = std::sin(estimate.heading_rad);
+  if (wheels) {
+    const float half_difference = 0.5f * (desired.right_mps - desired.left_mps);
+    const float forward = LimitForward(desired_forward, hx, hy);
+    limited.left_mps = forward - half_difference;
+    limited.right_mps = forward + half_difference;
+    change = std::fabs(forward - desired_forward);
+    ux = desired_forward * hx;
+    uy = desired_forward * hy;
+  } else {
+    float vx = desired_vx;
+    float vy = desired_vy;
+    LimitOmni(vx, vy);
+    limited.vx_mps = vx;
+    limited.vy_mps = vy;
+    change = std::sqrt((vx - desired_vx) * (vx - desired_vx) + (vy - desired_vy) * (vy - desired_vy));
+  }
+  outcome.limited = change > kLimitedThresholdMps;
+  if (!outcome.limited) return desired;
+  // The obstacle the desired velocity pressed hardest against.
+  const float desired_speed = std::sqrt(ux * ux + uy * uy);
+  float worst = -1e30f;
+  for (size_t i = 0; i < count_; ++i) {
+    const Constraint& c = constraints_[i];
+    const float along = Dot(ux, uy, c.nx, c.ny);
+    const float violation = c.cone ? along + c.bound * desired_speed : along - c.bound;
+    if (violation > worst) {
+      worst = violation;
+      outcome.other = c.other;
+    }
+  }
+  outcome.started = !ever_limited_ || now_ns - last_limited_ns_ > kInterventionReleaseNs;
+  ever_limited_ = true;
+  last_limited_ns_ = now_ns;
+  ++limited_steps_;
+  if (outcome.started) ++interventions_;
+  return limited;
+}
+
+}  // namespace syrof::motion

@@ -1,0 +1,282 @@
+// The safety filter on hand-built situations: what it lets through, what it
+// limits, against whom, and when an intervention starts.
+#include "syrof/motion/safety_filter.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace syrof::motion {
+namespace {
+
+constexpr int64_t kSecond = 1'000'000'000;
+
+ControllerConfig Omni() {
+  ControllerConfig config;
+  config.kind = DriveKind::kOmni;
+  config.limits.max_speed_mps = 0.5f;
+  config.limits.max_accel_mps2 = 1.0f;
+  config.limits.body_radius_m = 0.1f;
+  return config;
+}
+
+ControllerConfig Rover() {
+  ControllerConfig config = Omni();
+  config.kind = DriveKind::kWheels;
+  return config;
+}
+
+SafetyConfig Config() {
+  SafetyConfig config;
+  config.self_id = 0;
+  config.others_max_speed_mps = 0.5f;
+  config.others_radius_m = 0.1f;
+  config.margin_m = 0.05f;
+  return config;
+}
+
+estimation::StateEstimate At(float x, float y, float heading = 0) {
+  estimation::StateEstimate estimate{};
+  estimate.x_m = x;
+  estimate.y_m = y;
+  estimate.heading_rad = heading;
+  estimate.status = estimation::kEstimateInitialized;
+  return estimate;
+}
+
+DriveCommand Velocity(float vx, float vy) {
+  DriveCommand drive;
+  drive.kind = DriveKind::kOmni;
+  drive.vx_mps = vx;
+  drive.vy_mps = vy;
+  return drive;
+}
+
+DriveCommand Wheels(float left, float right) {
+  DriveCommand drive;
+  drive.kind = DriveKind::kWheels;
+  drive.left_mps = left;
+  drive.right_mps = right;
+  return drive;
+}
+
+TEST(SafetyFilterTest, PassesACommandWhenNobodyIsNear) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 3.0f, 3.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+
+  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
+
+  EXPECT_FALSE(outcome.limited);
+  EXPECT_FLOAT_EQ(out.vx_mps, 0.5f);
+}
+
+TEST(SafetyFilterTest, StopsTheApproachAtTheEdgeOfAFreshDisc) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  // Disc radius 0.1 + 0.1 + 0.05 = 0.25 m; the robot is 0.25 m from the centre.
+  reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+
+  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
+
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_TRUE(outcome.started);
+  EXPECT_EQ(outcome.other, 1);
+  EXPECT_LE(out.vx_mps, 1e-4f);
+}
+
+TEST(SafetyFilterTest, SlowsTheApproachOnTheBrakingCurveAndKeepsTheTangent) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.35f, 1.0f, false, 0, 0, 0.8f);  // gap 0.1 m
+  SafetyOutcome outcome;
+
+  const DriveCommand out = filter.Apply(Velocity(0.4f, 0.3f), At(1, 1), reports, 0, outcome);
+
+  // min(gain 4 * 0.1, sqrt(0.8 * 0.1)) = 0.283 m/s towards it; the sideways
+  // part is never touched.
+  EXPECT_NEAR(out.vx_mps, std::sqrt(0.08f), 1e-4f);
+  EXPECT_FLOAT_EQ(out.vy_mps, 0.3f);
+}
+
+TEST(SafetyFilterTest, AStaleReportGrowsItsDiscAtTheSpeedLimit) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.5f, 1.0f, false, 0, 0, 0.8f);  // 0.5 m away: clear when fresh
+  SafetyOutcome fresh;
+  SafetyOutcome stale;
+
+  (void)filter.Apply(Velocity(0.3f, 0), At(1, 1), reports, 0, fresh);
+  // 0.4 s later the other may have come 0.2 m closer: the disc's edge is at
+  // 0.45 m, a gap of 0.05 m allows min(4 * 0.05, sqrt(0.8 * 0.05)) = 0.2 m/s.
+  const DriveCommand out = filter.Apply(Velocity(0.3f, 0), At(1, 1), reports, 4 * kSecond / 10, stale);
+
+  EXPECT_FALSE(fresh.limited);
+  EXPECT_TRUE(stale.limited);
+  EXPECT_NEAR(out.vx_mps, 0.2f, 1e-4f);
+}
+
+TEST(SafetyFilterTest, InsideADiscOnlyMovesAwayFromEveryPlaceTheOtherCanBe) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.2f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+  const int64_t later = kSecond / 10;  // sigma = 0.05 m, d = 0.2 m: sin(phi) = 0.25
+
+  const DriveCommand towards = filter.Apply(Velocity(0.3f, 0), At(1, 1), reports, later, outcome);
+  const DriveCommand sideways = filter.Apply(Velocity(0, 0.3f), At(1, 1), reports, later, outcome);
+  const DriveCommand away = filter.Apply(Velocity(-0.3f, 0), At(1, 1), reports, later, outcome);
+
+  EXPECT_NEAR(towards.vx_mps, 0, 1e-4f);
+  EXPECT_NEAR(towards.vy_mps, 0, 1e-4f);
+  // Sideways is tilted away until it leaves every point of the other's disc.
+  EXPECT_LT(sideways.vx_mps, 0);
+  EXPECT_LE(sideways.vx_mps, -0.25f * std::hypot(sideways.vx_mps, sideways.vy_mps) + 1e-4f);
+  EXPECT_FLOAT_EQ(away.vx_mps, -0.3f);
+}
+
+TEST(SafetyFilterTest, KeepsOffTheWalls) {
+  SafetyConfig config = Config();
+  config.arena_width_m = 4;
+  config.arena_height_m = 4;
+  SafetyFilter filter(config, Omni(), 1);
+  SafetyReports reports;
+  SafetyOutcome outcome;
+
+  // Radius 0.1 + margin 0.05: the wall's edge is at x = 3.85.
+  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(3.85f, 2), reports, 0, outcome);
+
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_EQ(outcome.other, kWallObstacle);
+  EXPECT_LE(out.vx_mps, 1e-4f);
+}
+
+TEST(SafetyFilterTest, LimitsARoversForwardSpeedAndKeepsItsTurn) {
+  SafetyFilter filter(Config(), Rover(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+
+  const DriveCommand out = filter.Apply(Wheels(0.3f, 0.4f), At(1, 1, 0), reports, 0, outcome);
+
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_NEAR(0.5f * (out.left_mps + out.right_mps), 0, 1e-4f);
+  EXPECT_NEAR(out.right_mps - out.left_mps, 0.1f, 1e-5f);
+}
+
+TEST(SafetyFilterTest, ARoverFacingAwayMayDriveOn) {
+  SafetyFilter filter(Config(), Rover(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+
+  const DriveCommand out = filter.Apply(Wheels(0.3f, 0.3f), At(1, 1, 3.14159f), reports, 0, outcome);
+
+  EXPECT_FALSE(outcome.limited);
+  EXPECT_FLOAT_EQ(out.left_mps, 0.3f);
+}
+
+TEST(SafetyFilterTest, AParkedReportAddsItsSendersBrakingDistance) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports moving;
+  SafetyReports parked;
+  moving.ReportMetres(1, 0, 1.4f, 1.0f, false, -0.4f, 0, 0.8f);
+  parked.ReportMetres(1, 0, 1.4f, 1.0f, true, -0.4f, 0, 0.8f);  // may still brake 0.1 m towards us
+  SafetyOutcome a;
+  SafetyOutcome b;
+
+  const DriveCommand free = filter.Apply(Velocity(0.3f, 0), At(1, 1), moving, 0, a);
+  const DriveCommand braked = filter.Apply(Velocity(0.3f, 0), At(1, 1), parked, 0, b);
+
+  EXPECT_LT(braked.vx_mps, free.vx_mps);
+}
+
+TEST(SafetyFilterTest, IgnoresItsOwnReportAndInvalidOnes) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(0, 0, 1.0f, 1.0f, false, 0, 0, 0.8f);  // self
+  reports.ReportMetres(2, 0, NAN, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+
+  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
+
+  EXPECT_FALSE(outcome.limited);
+  EXPECT_FLOAT_EQ(out.vx_mps, 0.5f);
+}
+
+TEST(SafetyFilterTest, DisabledPassesEverything) {
+  SafetyConfig config = Config();
+  config.enabled = false;
+  SafetyFilter filter(config, Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.1f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+
+  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
+
+  EXPECT_FALSE(outcome.limited);
+  EXPECT_FLOAT_EQ(out.vx_mps, 0.5f);
+}
+
+TEST(SafetyFilterTest, AnInterventionStartsOnceUntilItHasBeenQuietForHalfASecond) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+  int starts = 0;
+  const int64_t step = kSecond / 100;
+
+  for (int i = 0; i < 10; ++i) {
+    reports.ReportMetres(1, i * step, 1.25f, 1.0f, false, 0, 0, 0.8f);
+    (void)filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, i * step, outcome);
+    starts += outcome.started ? 1 : 0;
+    (void)filter.Apply(Velocity(-0.5f, 0), At(1, 1), reports, i * step, outcome);  // not limited
+  }
+  reports.ReportMetres(1, 2 * kSecond, 1.25f, 1.0f, false, 0, 0, 0.8f);
+  (void)filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 2 * kSecond, outcome);
+  starts += outcome.started ? 1 : 0;
+
+  EXPECT_EQ(starts, 2);
+  EXPECT_EQ(filter.interventions(), 2u);
+  EXPECT_EQ(filter.limited_steps(), 11u);
+}
+
+// Two robots driving head-on, each filtering against the other's report of
+// the previous 50 ms round (the lab's timing), never come closer than their
+// radii: the filter alone keeps them apart.
+TEST(SafetyFilterTest, TwoRobotsDrivingHeadOnNeverTouch) {
+  SafetyFilter a(Config(), Omni(), 2);
+  SafetyConfig b_config = Config();
+  b_config.self_id = 1;
+  SafetyFilter b(b_config, Omni(), 2);
+  SafetyReports reports;
+  float ax = 0.5f;
+  float bx = 2.5f;
+  float avx = 0;
+  float bvx = 0;
+  float closest = 10;
+  const int64_t step = kSecond / 100;
+  for (int i = 0; i < 800; ++i) {
+    const int64_t now = i * step;
+    if (i % 5 == 0) {  // a beacon per round, a round old when heard
+      reports.ReportMetres(0, now - 5 * step, ax - avx * 0.05f, 1, false, avx, 0, 0.8f);
+      reports.ReportMetres(1, now - 5 * step, bx - bvx * 0.05f, 1, false, bvx, 0, 0.8f);
+    }
+    SafetyOutcome outcome;
+    const float a_cmd = a.Apply(Velocity(0.5f, 0), At(ax, 1), reports, now, outcome).vx_mps;
+    const float b_cmd = b.Apply(Velocity(-0.5f, 0), At(bx, 1), reports, now, outcome).vx_mps;
+    // Bodies slew towards the setpoint at 1 m/s^2, as the lab's omni bodies do.
+    avx += std::clamp(a_cmd - avx, -0.01f, 0.01f);
+    bvx += std::clamp(b_cmd - bvx, -0.01f, 0.01f);
+    ax += avx * 0.01f;
+    bx += bvx * 0.01f;
+    closest = std::min(closest, bx - ax);
+  }
+  EXPECT_GT(closest, 0.2f);
+  EXPECT_LT(closest, 0.5f);  // and they did come close: the filter let them approach
+}
+
+}  // namespace
+}  // namespace syrof::motion
