@@ -1,6 +1,5 @@
 #include "syrof/app/c_abi_app.h"
 
-#include <cstring>
 #include <span>
 #include <string_view>
 
@@ -94,7 +93,9 @@ extern "C" int syrofAppParameter(const char* name, double* value) {
   if (name == nullptr || value == nullptr) return SYROF_APP_NULL_ARGUMENT;
   // At most one byte past the longest name is read: a name without a NUL
   // within that bound cannot be one the scenario gave.
-  const size_t length = strnlen(name, SYROF_APP_MAX_PARAMETER_NAME_LENGTH + 1);
+  // (A loop, not strnlen: that is POSIX, not in every MCU C library.)
+  size_t length = 0;
+  while (length <= SYROF_APP_MAX_PARAMETER_NAME_LENGTH && name[length] != '\0') ++length;
   if (length > SYROF_APP_MAX_PARAMETER_NAME_LENGTH) return SYROF_APP_NO_SUCH_PARAMETER;
   return current_platform->AppParameter(std::string_view(name, length), *value);
 }
