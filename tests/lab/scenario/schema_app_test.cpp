@@ -226,15 +226,15 @@ TEST_F(LibraryAppTest, ParamsOfALibraryAreAnyNamedNumbers) {
 }
 
 TEST_F(LibraryAppTest, ALibraryParamMustBeANumber) {
-  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { radius_m: big } }\n"), 2, 52,
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { radius_m: big } }\n"), 2, 51,
                       {"app.params.radius_m:"}));
-  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: [1, 2] }\n"), 2, 40, {"app.params:"}));
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: [1, 2] }\n"), 2, 39, {"app.params:"}));
 }
 
 TEST_F(LibraryAppTest, ALibraryParamNameIsAnIdentifier) {
-  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { 2fast: 1 } }\n"), 2, 42,
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { 2fast: 1 } }\n"), 2, 41,
                       {"app.params: parameter name '2fast' must start with a letter"}));
-  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { \"radius m\": 1 } }\n"), 2, 42,
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { \"radius m\": 1 } }\n"), 2, 41,
                       {"parameter name 'radius m'"}));
 }
 
@@ -245,7 +245,7 @@ TEST_F(LibraryAppTest, ALibraryParamNameHasALengthLimit) {
   EXPECT_EQ(ok.scenario->app.params.count(longest), 1u);
 
   const std::string too_long(SYROF_APP_MAX_PARAMETER_NAME_LENGTH + 1, 'a');
-  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { " + too_long + ": 1 } }\n"), 2, 42,
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { " + too_long + ": 1 } }\n"), 2, 41,
                       {"characters long; at most 63"}));
 }
 
