@@ -234,6 +234,7 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   if (library) {
     host.library_path = scenario.app.library;
     host.limits = *limits;
+    host.params = scenario.app.params;
     const app_host::LibraryCheck check = app_host::CheckLibrary(host);
     if (!check.ok) {
       fmt::print(err, "syrof run: {}\n", check.error);

@@ -12,15 +12,20 @@
  * It then drives its own part. In AUTONOMOUS epochs the map is only this
  * robot's view, so it holds still (the command arrives as STOP).
  *
- * Change it: the radius, the shape, the rule. docs/apps.md has the API. */
+ * The radius and margin come from the scenario (app.params in
+ * scenario.yaml, read with syrofAppParameter); without them the defaults
+ * below stay. Change it: the radius, the shape, the rule. docs/apps.md has
+ * the API. */
 #include <math.h>
 #include <stdio.h>
 
 #include "syrof/app.h"
 
-#define RADIUS_M 1.0f    /* the circle's radius, raised when the robots do not fit */
-#define MARGIN_M 0.12f   /* extra room between bodies: covers both robots' position errors */
 #define MAX_ROBOTS 64    /* this starter plans for at most this many members */
+
+/* Defaults, replaced in init by the scenario's params of the same name. */
+static double radius_m = 1.0;  /* the circle's radius, raised when the robots do not fit */
+static double margin_m = 0.12; /* extra room between bodies: covers both robots' position errors */
 
 static syrof_app_info me; /* this robot's facts; globals are per robot */
 
@@ -52,9 +57,13 @@ static float segment_distance(point a, point b, point c, point d) {
 
 static uint8_t app_init(const syrof_app_info* info) {
   me = *info;
+  /* SYROF_APP_NO_SUCH_PARAMETER when the scenario gives none: the default stays. */
+  syrofAppParameter("radius_m", &radius_m);
+  syrofAppParameter("margin_m", &margin_m);
   /* Goes to this robot's log (out/<scenario>/robots/<id>.log); flushed at
    * once so it is there even if the robot is stopped later. */
-  printf("robot %u of %u: spreading on a circle\n", (unsigned)info->self_id, (unsigned)info->swarm_size);
+  printf("robot %u of %u: spreading on a circle of radius %.2f m\n", (unsigned)info->self_id,
+         (unsigned)info->swarm_size, radius_m);
   fflush(stdout);
   return 0;
 }
@@ -73,11 +82,11 @@ static uint8_t app_new_round(syrof_car_command* command, const syrof_ldmap* map,
     centre.y += members[i].y_mm / 1000.0f / (float)n;
   }
   const float pi = 3.14159265f;
-  const float clearance = 2 * me.body_radius_m + MARGIN_M;
-  float radius = RADIUS_M;
+  const float clearance = 2 * me.body_radius_m + (float)margin_m;
+  float radius = (float)radius_m;
   const float fit = (clearance + 0.05f) / (2 * sinf(pi / (float)n)); /* neighbours this far apart */
   if (radius < fit) radius = fit;
-  const float room = radius + me.body_radius_m + MARGIN_M; /* keep the circle off the walls */
+  const float room = radius + me.body_radius_m + (float)margin_m; /* keep the circle off the walls */
   if (centre.x < room) centre.x = room;
   if (centre.y < room) centre.y = room;
   if (centre.x > me.arena_width_m - room) centre.x = me.arena_width_m - room;

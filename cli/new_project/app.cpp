@@ -26,8 +26,9 @@
 
 namespace {
 
-constexpr float kRadiusM = 1.0f;   // the circle's radius, raised when the robots do not fit
-constexpr float kMarginM = 0.12f;  // extra room between bodies: covers both robots' position errors
+// Defaults, replaced in Init by the scenario's params of the same name.
+double radius_m = 1.0;   // the circle's radius, raised when the robots do not fit
+double margin_m = 0.12;  // extra room between bodies: covers both robots' position errors
 
 syrof_app_info me;  // this robot's facts; globals are per robot
 
@@ -57,8 +58,12 @@ float SegmentDistance(Point a, Point b, Point c, Point d) {
 
 uint8_t Init(const syrof_app_info* info) {
   me = *info;
+  // SYROF_APP_NO_SUCH_PARAMETER when the scenario gives none: the default stays.
+  syrofAppParameter("radius_m", &radius_m);
+  syrofAppParameter("margin_m", &margin_m);
   // Goes to this robot's log (out/<scenario>/robots/<id>.log).
-  std::printf("robot %u of %u: spreading on a circle\n", unsigned{info->self_id}, unsigned{info->swarm_size});
+  std::printf("robot %u of %u: spreading on a circle of radius %.2f m\n", unsigned{info->self_id},
+              unsigned{info->swarm_size}, radius_m);
   std::fflush(stdout);
   return 0;
 }
@@ -76,9 +81,9 @@ uint8_t NewRound(syrof_car_command* command, const syrof_ldmap* map, uint8_t sta
     centre.y += member.y_mm / 1000.0f / static_cast<float>(n);
   }
   const float pi = std::numbers::pi_v<float>;
-  const float clearance = 2 * me.body_radius_m + kMarginM;
-  const float radius = std::max(kRadiusM, (clearance + 0.05f) / (2 * std::sin(pi / static_cast<float>(n))));
-  const float room = radius + me.body_radius_m + kMarginM;  // keep the circle off the walls
+  const float clearance = 2 * me.body_radius_m + static_cast<float>(margin_m);
+  const float radius = std::max(static_cast<float>(radius_m), (clearance + 0.05f) / (2 * std::sin(pi / static_cast<float>(n))));
+  const float room = radius + me.body_radius_m + static_cast<float>(margin_m);  // keep the circle off the walls
   centre.x = std::clamp(centre.x, room, std::max(room, me.arena_width_m - room));
   centre.y = std::clamp(centre.y, room, std::max(room, me.arena_height_m - room));
   std::vector<syrof_queries_point> targets(n);

@@ -83,7 +83,34 @@ TEST(LibraryRunTest, TheStarterAppRunsInTheHostWithALogPerRobot) {
   EXPECT_EQ(metrics["app"]["faults"], nlohmann::json::array());
   for (int id = 0; id < 4; ++id) {
     EXPECT_EQ(ReadFile(dir / "out" / "robots" / (std::to_string(id) + ".log")),
-              "robot " + std::to_string(id) + " of 4: spreading on a circle\n");
+              "robot " + std::to_string(id) + " of 4: spreading on a circle of radius 1.00 m\n");
+  }
+}
+
+// app.params in the scenario reach each robot's host (syrofAppParameter),
+// and the app acts on them: the starters' circle is wider.
+TEST(LibraryRunTest, TheScenariosParamsReachTheLibrary) {
+  for (const std::string starter : {"starter_c", "starter_cpp"}) {
+    const fs::path dir = TempDir("params_" + starter);
+    RunOptions options;
+    options.scenario_path = WriteScenario(dir, "{ library: " + Lib(starter) + ", params: { radius_m: 1.3 } }");
+    options.out_dir = (dir / "out").string();
+    RunOptions defaults = options;
+    const fs::path dir_defaults = TempDir("params_defaults_" + starter);
+    defaults.scenario_path = WriteScenario(dir_defaults, "{ library: " + Lib(starter) + " }");
+    defaults.out_dir = (dir_defaults / "out").string();
+
+    const Outcome outcome = RunSyrof(options);
+    const Outcome outcome_defaults = RunSyrof(defaults);
+
+    ASSERT_EQ(outcome.status, 0) << outcome.err;
+    ASSERT_EQ(outcome_defaults.status, 0) << outcome_defaults.err;
+    for (int id = 0; id < 4; ++id) {
+      EXPECT_EQ(ReadFile(dir / "out" / "robots" / (std::to_string(id) + ".log")),
+                "robot " + std::to_string(id) + " of 4: spreading on a circle of radius 1.30 m\n")
+          << starter;
+    }
+    EXPECT_NE(ReadFile(dir / "out" / "replay"), ReadFile(dir_defaults / "out" / "replay")) << starter;
   }
 }
 

@@ -77,6 +77,9 @@ TEST(NewCommandTest, WritesACProjectWithTheNameAndTheHintFilledIn) {
       << cmake;
   EXPECT_NE(cmake.find("syrof_add_app(flock app.c)"), std::string::npos) << cmake;
   EXPECT_NE(ReadFile(dir / "scenario.yaml").find("library: build/libflock.so"), std::string::npos);
+  // The scenario shows the app's parameter, which the app reads.
+  EXPECT_NE(ReadFile(dir / "scenario.yaml").find("params: { radius_m: 1.0 }"), std::string::npos);
+  EXPECT_NE(ReadFile(dir / "app.c").find("syrofAppParameter(\"radius_m\", &radius_m)"), std::string::npos);
   EXPECT_NE(ReadFile(dir / "app.c").find("SYROF_APP_DEFINE(\"flock\""), std::string::npos);
   for (const char* file : {"app.c", "CMakeLists.txt", "scenario.yaml", "README.md"}) {
     EXPECT_EQ(ReadFile(dir / file).find("{{"), std::string::npos) << file << " keeps a placeholder";

@@ -1,6 +1,7 @@
 #include "syrof/app/c_abi_app.h"
 
 #include <span>
+#include <string_view>
 
 #include "syrof/base/check.h"
 
@@ -84,4 +85,17 @@ extern "C" int sendMessageData(const uint8_t* payload, size_t length) {
 extern "C" syrof_queries_workspace* syrofQueriesWorkspace(void) {
   using syrof::app::current_platform;
   return current_platform != nullptr ? current_platform->queries_workspace() : nullptr;
+}
+
+extern "C" int syrofAppParameter(const char* name, double* value) {
+  using syrof::app::current_platform;
+  if (current_platform == nullptr) return SYROF_APP_NOT_RUNNING;
+  if (name == nullptr || value == nullptr) return SYROF_APP_NULL_ARGUMENT;
+  // At most one byte past the longest name is read: a name without a NUL
+  // within that bound cannot be one the scenario gave.
+  // (A loop, not strnlen: that is POSIX, not in every MCU C library.)
+  size_t length = 0;
+  while (length <= SYROF_APP_MAX_PARAMETER_NAME_LENGTH && name[length] != '\0') ++length;
+  if (length > SYROF_APP_MAX_PARAMETER_NAME_LENGTH) return SYROF_APP_NO_SUCH_PARAMETER;
+  return current_platform->AppParameter(std::string_view(name, length), *value);
 }

@@ -30,6 +30,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string_view>
 
 #include "allocation_guard.h"
 #include "platform_binding.h"
@@ -243,6 +244,36 @@ int RecordPayload(void*, const uint8_t* payload, size_t length) {
   return SYROF_APP_OK;
 }
 
+// The scenario's parameters, from the init request: the app's
+// syrofAppParameter is answered here, in the host, without a round trip.
+p::ParameterEntry parameters[p::kMaxParameters];
+size_t parameter_count = 0;
+
+int LookUpParameter(void*, const char* name, size_t length, double* value) {
+  const std::string_view wanted(name, length);
+  for (size_t i = 0; i < parameter_count; ++i) {
+    if (wanted == parameters[i].name) {
+      *value = parameters[i].value;
+      return SYROF_APP_OK;
+    }
+  }
+  return SYROF_APP_NO_SUCH_PARAMETER;
+}
+
+// Takes the parameters that follow an init request's header (`bytes` of
+// them, `count` announced); false for a malformed list: a wrong size, too
+// many, or a name that is empty or fills its field without a NUL.
+bool ReadParameters(const unsigned char* data, size_t bytes, size_t count) {
+  if (count > p::kMaxParameters || bytes != count * sizeof(p::ParameterEntry)) return false;
+  for (size_t i = 0; i < count; ++i) {
+    memcpy(&parameters[i], data + i * sizeof(p::ParameterEntry), sizeof(p::ParameterEntry));
+    const size_t length = strnlen(parameters[i].name, sizeof(parameters[i].name));
+    if (length == 0 || length == sizeof(parameters[i].name)) return false;
+  }
+  parameter_count = count;
+  return true;
+}
+
 alignas(8) unsigned char request_buffer[p::kMaxRequestBytes];
 
 [[noreturn]] void Serve() {
@@ -255,9 +286,15 @@ alignas(8) unsigned char request_buffer[p::kMaxRequestBytes];
     p::RequestHeader header;
     if (static_cast<size_t>(got) < sizeof(header)) _exit(p::kExitUsage);
     memcpy(&header, request_buffer, sizeof(header));
-    const size_t members_bytes = static_cast<size_t>(got) - sizeof(header);
-    if (header.magic != p::kRequestMagic || header.member_count > p::kMaxMembers ||
-        members_bytes != header.member_count * sizeof(syrof_member_state)) {
+    const size_t tail_bytes = static_cast<size_t>(got) - sizeof(header);
+    if (header.magic != p::kRequestMagic) _exit(p::kExitUsage);
+    if (header.kind == static_cast<uint8_t>(p::RequestKind::kInit)) {
+      if (header.member_count != 0 ||
+          !ReadParameters(request_buffer + sizeof(header), tail_bytes, header.parameter_count)) {
+        _exit(p::kExitUsage);
+      }
+    } else if (header.parameter_count != 0 || header.member_count > p::kMaxMembers ||
+               tail_bytes != header.member_count * sizeof(syrof_member_state)) {
       _exit(p::kExitUsage);
     }
     current_sequence = header.sequence;
@@ -414,7 +451,7 @@ int main(int argc, char** argv) {
     AppendNumber(detail, sizeof(detail), SYROF_APP_ABI_VERSION);
     ReportFault(syrof::app::Verdict::kBadAbi, detail);
   }
-  const int bound = syrof_internal_host_bind(descriptor, RecordPayload, nullptr);
+  const int bound = syrof_internal_host_bind(descriptor, RecordPayload, LookUpParameter, nullptr);
   if (bound == 1) Fail(syrof::app::Verdict::kBadAbi, SYROF_APP_ENTRY_SYMBOL "() returned no descriptor", nullptr);
   if (bound != 0) Fail(syrof::app::Verdict::kBadAbi, "the descriptor lacks a callback", nullptr);
 

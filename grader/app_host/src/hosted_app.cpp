@@ -1,6 +1,8 @@
 // HostedApp: an app::App whose callbacks run in a syrof-app-host process.
 #include <cstring>
+#include <map>
 #include <memory>
+#include <string>
 #include <span>
 #include <vector>
 
@@ -23,6 +25,7 @@ class HostedApp final : public app::App {
  public:
   HostedApp(const HostOptions& options, uint16_t robot_id) : request_(p::kMaxRequestBytes) {
     start_status_ = process_.Spawn(options, robot_id, HostProcess::Mode::kRun);
+    if (start_status_.ok()) start_status_ = EncodeParameters(options.params);
   }
 
   // The name comes with the host's hello: asking for it waits for the load
@@ -38,6 +41,7 @@ class HostedApp final : public app::App {
     p::RequestHeader header;
     header.kind = static_cast<uint8_t>(p::RequestKind::kInit);
     header.info = info;
+    header.parameter_count = static_cast<uint16_t>(parameters_.size());
     p::Reply reply;
     const CallStatus status = Send(header, nullptr, reply);
     if (status.ok()) global_state = reply.global_state;
@@ -78,6 +82,23 @@ class HostedApp final : public app::App {
     return header;
   }
 
+  // The init request's parameter entries, checked once (they never change).
+  CallStatus EncodeParameters(const std::map<std::string, double>& params) {
+    if (params.size() > p::kMaxParameters) {
+      return CallStatus::Fault(app::Verdict::kBadAbi, "more app parameters than the app API takes");
+    }
+    for (const auto& [name, value] : params) {
+      if (name.empty() || name.size() > SYROF_APP_MAX_PARAMETER_NAME_LENGTH || name.find('\0') != std::string::npos) {
+        return CallStatus::Fault(app::Verdict::kBadAbi, "an app parameter name the app API cannot carry");
+      }
+      p::ParameterEntry entry;
+      std::memcpy(entry.name, name.data(), name.size());
+      entry.value = value;
+      parameters_.push_back(entry);
+    }
+    return CallStatus::Ok();
+  }
+
   CallStatus Send(p::RequestHeader& header, const syrof_ldmap* ldmap, p::Reply& reply) {
     if (!start_status_.ok()) return start_status_;
     if (platform_ == nullptr) return CallStatus::Fault(app::Verdict::kBadAbi, "a callback before init");
@@ -90,6 +111,10 @@ class HostedApp final : public app::App {
       const size_t members = size_t{ldmap->member_count} * sizeof(syrof_member_state);
       if (members > 0) std::memcpy(request_.data() + sizeof(header), ldmap->members, members);
       size += members;
+    } else if (header.parameter_count > 0) {
+      const size_t bytes = parameters_.size() * sizeof(p::ParameterEntry);
+      std::memcpy(request_.data() + sizeof(header), parameters_.data(), bytes);
+      size += bytes;
     }
     std::memcpy(request_.data(), &header, sizeof(header));
     app::Platform& platform = *platform_;
@@ -107,6 +132,7 @@ class HostedApp final : public app::App {
   mutable HostProcess process_;  // name() may have to wait for the hello
   CallStatus start_status_;
   std::vector<unsigned char> request_;
+  std::vector<p::ParameterEntry> parameters_;
   app::Platform* platform_ = nullptr;
   uint32_t sequence_ = 0;
 };

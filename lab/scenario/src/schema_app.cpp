@@ -1,12 +1,15 @@
 // The app: a built-in one and its parameters, checked against the catalog,
 // or a student's shared library, checked to be a file (the app host checks
 // its entry symbol and ABI before a run).
+#include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <string_view>
 #include <system_error>
 #include <vector>
 
 #include "nearest_name.h"
+#include "syrof/app.h"
 #include "schema.h"
 #include "value_reader.h"
 
@@ -64,6 +67,44 @@ bool ReadParams(const YamlNode& node, const std::string& path, const apps::Built
       return false;
     }
     params[key.scalar] = value;
+  }
+  return true;
+}
+
+// A library's params: any names the app asks for with syrofAppParameter
+// (the platform cannot know which), so only their form, count and length are
+// checked; any finite number.
+bool ReadLibraryParams(const YamlNode& node, const std::string& path, std::map<std::string, double>& params,
+                       Diagnostics& diagnostics) {
+  if (!ExpectMap(node, path, diagnostics)) return false;
+  if (node.keys.size() > SYROF_APP_MAX_PARAMETERS) {
+    return FailAt(node.keys[SYROF_APP_MAX_PARAMETERS], path,
+                  "too many parameters: " + std::to_string(node.keys.size()) + ", a library app takes at most " +
+                      std::to_string(SYROF_APP_MAX_PARAMETERS),
+                  diagnostics);
+  }
+  for (size_t i = 0; i < node.keys.size(); ++i) {
+    const std::string& name = node.keys[i].scalar;
+    if (name.size() > SYROF_APP_MAX_PARAMETER_NAME_LENGTH) {
+      return FailAt(node.keys[i], path,
+                    "parameter name '" + name.substr(0, 24) + "...' is " + std::to_string(name.size()) +
+                        " characters long; at most " + std::to_string(SYROF_APP_MAX_PARAMETER_NAME_LENGTH),
+                    diagnostics);
+    }
+    const auto is_letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
+    const bool well_formed =
+        !name.empty() && is_letter(name[0]) &&
+        std::all_of(name.begin(), name.end(), [&](char c) { return is_letter(c) || (c >= '0' && c <= '9'); });
+    if (!well_formed) {
+      return FailAt(node.keys[i], path,
+                    "parameter name '" + name +
+                        "' must start with a letter or '_' and hold only letters, digits and '_' (as radius_m)",
+                    diagnostics);
+    }
+    double value = 0;
+    const NumberRange any{std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max()};
+    if (!ReadNumber(node.values[i], JoinPath(path, name), any, value, diagnostics)) return false;
+    params[name] = value;
   }
   return true;
 }
@@ -178,14 +219,7 @@ bool ReadApp(const YamlNode& node, std::span<const apps::BuiltinAppInfo> catalog
   }
   if (library != nullptr) {
     if (!ReadLibrary(*library, "app.library", base_dir, app, diagnostics)) return false;
-    if (params != nullptr) {
-      // Silently dropping them would be worse: the student would tune
-      // numbers that never reach the app.
-      return FailAt(KeyNode(node, "params"), path,
-                    "a library app takes no 'params': the app API (ABI version 1) has no way to pass them to it; "
-                    "write them as constants in the app",
-                    diagnostics);
-    }
+    if (params != nullptr && !ReadLibraryParams(*params, "app.params", app.params, diagnostics)) return false;
     return ReadLibraryLimits(node, app, diagnostics);
   }
   if (name == nullptr) {
@@ -218,14 +252,15 @@ bool OverrideApp(const std::string& name, std::span<const apps::BuiltinAppInfo> 
     if (const std::string problem = LibraryFileProblem(name, name); !problem.empty()) {
       return diagnostics.Fail(0, 0, "app override: " + problem);
     }
-    // A library's limits in the file stay when one library replaces another.
+    // A library's limits and params in the file stay when one library
+    // replaces another (`--app build/libmyapp.so` on the file's scenario).
     if (!app.is_library()) {
       app.cpu_budget_ms.reset();
       app.wall_cap_ms.reset();
+      app.params.clear();
     }
     app.name = name;
     app.library = name;
-    app.params.clear();
     return true;
   }
   std::string problem;

@@ -105,6 +105,9 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   os::SimScheduler scheduler_;
   os::SimPort world_port_;
   QueriesWorkspace workspace_;
+  // The scenario's app params as syrofAppParameter answers them (names view
+  // scenario_.app.params' keys, which never change during the run).
+  std::vector<app::Parameter> app_params_;
   world::World world_;
   RadioNetwork radio_;
   std::vector<std::unique_ptr<LabRobot>> robots_;
@@ -202,10 +205,12 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
       faults_(scenario.faults, radio_round_ns_),
       partition_active_(scenario.channel.partitions.size(), 0) {
+  for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
   robots_.reserve(scenario_.robots.size());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
     config.queries_workspace = workspace_.handle();
+    config.app_params = app_params_;
     if (options_.configure_robot) options_.configure_robot(config);
     std::unique_ptr<app::App> app =
         options_.app_factory ? options_.app_factory(spec.id)

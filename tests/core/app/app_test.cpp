@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
 #include <span>
+#include <string>
 
 #include "syrof/app/c_abi_app.h"
 
@@ -109,6 +111,95 @@ TEST(AppTest, PlatformFunctionsOutsideACallbackRefuse) {
   const uint8_t payload[1] = {1};
   EXPECT_EQ(sendMessageData(payload, 1), SYROF_APP_NOT_RUNNING);
   EXPECT_EQ(syrofQueriesWorkspace(), nullptr);
+  double value = 3;
+  EXPECT_EQ(syrofAppParameter("radius_m", &value), SYROF_APP_NOT_RUNNING);
+  EXPECT_EQ(value, 3);
+}
+
+TEST(AppTest, FindParameterFindsByWholeName) {
+  const Parameter params[] = {{"radius_m", 1.5}, {"margin", -2}};
+  double value = 9;
+
+  EXPECT_EQ(FindParameter(params, "margin", value), SYROF_APP_OK);
+  EXPECT_EQ(value, -2);
+  EXPECT_EQ(FindParameter(params, "radius", value), SYROF_APP_NO_SUCH_PARAMETER);
+  EXPECT_EQ(FindParameter(params, "radius_m_", value), SYROF_APP_NO_SUCH_PARAMETER);
+  EXPECT_EQ(FindParameter({}, "radius_m", value), SYROF_APP_NO_SUCH_PARAMETER);
+  EXPECT_EQ(value, -2);
+}
+
+// A platform that gives the parameters of a table.
+class ParameterPlatform final : public Platform {
+ public:
+  syrof_app_status SendMessageData(std::span<const uint8_t>) override { return SYROF_APP_OK; }
+  syrof_queries_workspace* queries_workspace() override { return nullptr; }
+  syrof_app_status AppParameter(std::string_view name, double& value) override {
+    ++asked;
+    return FindParameter(params, name, value);
+  }
+  std::array<Parameter, 2> params{{{"radius_m", 1.5}, {std::string_view(kLongestName), 4}}};
+  static constexpr char kLongestName[] =
+      "abcdefghijklmnopqrstuvwxyzabcdefghijklmnopqrstuvwxyzabcdefghijk";  // 63 characters
+  int asked = 0;
+};
+static_assert(sizeof(ParameterPlatform::kLongestName) == SYROF_APP_MAX_PARAMETER_NAME_LENGTH + 1);
+
+// What the init below saw, for the test to check.
+struct ParameterResults {
+  int found = -1;
+  double radius_m = 0;
+  int missing = -1;
+  double missing_value = 0;
+  int null_name = -1;
+  int null_value = -1;
+  int longest = -1;
+  double longest_value = 0;
+  int too_long = -1;
+} parameter_results;
+
+uint8_t InitReadsParameters(const syrof_app_info*) {
+  ParameterResults& r = parameter_results;
+  r.found = syrofAppParameter("radius_m", &r.radius_m);
+  r.missing_value = 0.25;  // the default stays
+  r.missing = syrofAppParameter("margin_m", &r.missing_value);
+  double ignored = 0;
+  r.null_name = syrofAppParameter(nullptr, &ignored);
+  r.null_value = syrofAppParameter("radius_m", nullptr);
+  r.longest = syrofAppParameter(ParameterPlatform::kLongestName, &r.longest_value);
+  // 64 characters and more: never found, and only 64 bytes are read (the
+  // rest of this buffer is not even NUL-terminated).
+  static char too_long[200];
+  std::memset(too_long, 'a', sizeof too_long);
+  r.too_long = syrofAppParameter(too_long, &ignored);
+  return 0;
+}
+
+TEST(CAbiAppTest, AnAppReadsItsParametersFromThePlatform) {
+  const syrof_app_descriptor descriptor = {SYROF_APP_ABI_VERSION, "c", InitReadsParameters, NewRound, EndOfRound};
+  CAbiApp app(descriptor);
+  ParameterPlatform platform;
+  uint8_t global_state = 0;
+
+  ASSERT_TRUE(app.Init(syrof_app_info{}, platform, global_state).ok());
+
+  const ParameterResults& r = parameter_results;
+  EXPECT_EQ(r.found, SYROF_APP_OK);
+  EXPECT_EQ(r.radius_m, 1.5);
+  EXPECT_EQ(r.missing, SYROF_APP_NO_SUCH_PARAMETER);
+  EXPECT_EQ(r.missing_value, 0.25);
+  EXPECT_EQ(r.null_name, SYROF_APP_NULL_ARGUMENT);
+  EXPECT_EQ(r.null_value, SYROF_APP_NULL_ARGUMENT);
+  EXPECT_EQ(r.longest, SYROF_APP_OK);
+  EXPECT_EQ(r.longest_value, 4);
+  EXPECT_EQ(r.too_long, SYROF_APP_NO_SUCH_PARAMETER);
+  EXPECT_EQ(platform.asked, 3);  // the NULLs and the overlong name never reach the platform
+}
+
+TEST(CAbiAppTest, APlatformWithoutParametersHasNone) {
+  RecordingPlatform platform;
+  double value = 1;
+  EXPECT_EQ(static_cast<Platform&>(platform).AppParameter("radius_m", value), SYROF_APP_NO_SUCH_PARAMETER);
+  EXPECT_EQ(value, 1);
 }
 
 }  // namespace

@@ -236,6 +236,48 @@ TEST_F(HostedAppTest, EachRobotKeepsItsOwnGlobals) {
   }
 }
 
+// The host answers syrofAppParameter from the init request: here the most
+// parameters, with the longest names, one of which the app reads.
+TEST_F(HostedAppTest, TheAppReadsItsParametersInTheHost) {
+  options_.library_path = Library("parameters");
+  for (unsigned i = 1; i < SYROF_APP_MAX_PARAMETERS; ++i) {
+    std::string name = "p" + std::to_string(i);
+    name.resize(SYROF_APP_MAX_PARAMETER_NAME_LENGTH, 'x');
+    options_.params[name] = i;
+  }
+  options_.params["target_x_m"] = 2.5;
+  ASSERT_EQ(options_.params.size(), SYROF_APP_MAX_PARAMETERS);
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  uint8_t state = 0;
+  info_.self_id = 1;
+  ASSERT_TRUE(app->Init(info_, platform_, state).ok());
+  EXPECT_EQ(state, 15);  // missing, NULL name, NULL value and overlong name all answered as documented
+
+  syrof_car_command command{};
+  ASSERT_TRUE(app->NewRound(command, Map(1), state, 10).ok());
+
+  ASSERT_EQ(platform_.accepted.size(), 1u);
+  EXPECT_EQ(platform_.accepted[0], (std::vector<uint8_t>{15, 250, 0}));  // 250 cm
+  EXPECT_EQ(command.kind, SYROF_COMMAND_MOVE_TO);
+  EXPECT_EQ(command.x_m, 2.5f);
+}
+
+TEST_F(HostedAppTest, ParametersTheAppApiCannotCarryAreRefusedAtInit) {
+  options_.library_path = Library("parameters");
+  HostOptions too_many = options_;
+  for (unsigned i = 0; i <= SYROF_APP_MAX_PARAMETERS; ++i) too_many.params["p" + std::to_string(i)] = i;
+  HostOptions too_long = options_;
+  too_long.params[std::string(SYROF_APP_MAX_PARAMETER_NAME_LENGTH + 1, 'a')] = 1;
+  HostOptions empty_name = options_;
+  empty_name.params[""] = 1;
+
+  for (const HostOptions* options : {&too_many, &too_long, &empty_name}) {
+    std::unique_ptr<app::App> app = MakeHostedApp(*options, 0);
+    uint8_t state = 0;
+    EXPECT_VERDICT(app->Init(info_, platform_, state), kBadAbi, "app parameter");
+  }
+}
+
 TEST_F(HostedAppTest, ManyHostsPassALowSoftDescriptorLimit) {
   // Each host holds four descriptors in the parent; a soft limit of 64
   // would stop at about 14 robots unless the limit is raised.

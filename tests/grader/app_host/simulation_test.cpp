@@ -24,6 +24,9 @@
 #include "syrof/lab/sim/simulation.h"
 
 extern "C" const syrof_app_descriptor* cooperative_app_entry(void);
+extern "C" const syrof_app_descriptor* parameters_app_entry(void);
+extern "C" double parameters_app_target_x_m(void);
+extern "C" uint8_t parameters_app_checks(void);
 
 namespace syrof::app_host {
 namespace {
@@ -119,6 +122,41 @@ TEST(HostedAppSimulationTest, ALibraryRunsAsTheSameCodeLinkedInAndRerunsIdentica
   }
   EXPECT_TRUE(hosted.metrics == linked_in.metrics);
   EXPECT_TRUE(hosted.replay == linked_in.replay);
+}
+
+// The scenario's app params reach a library through syrofAppParameter the
+// same way in-process (the robot's Platform answers from the scenario) and
+// hosted (the host answers from its init request): the same bytes, and not
+// those of a run without the params.
+TEST(HostedAppSimulationTest, ALibraryReadsTheScenariosParamsTheSameWayHostedAndInProcess) {
+  scenario::Scenario scenario = Load(4, 6);
+  scenario.app.params = {{"target_x_m", 1.25}, {"speed_mps", 0.2}, {"unused_by_the_app", -1}};
+  const ScopedFolder folder(::testing::TempDir() + "app_host_sim_params_" + std::to_string(getpid()));
+  HostOptions options = Options("parameters", folder.path());
+  options.params = scenario.app.params;
+
+  const Outcome hosted = RunWith(scenario, [&](uint16_t id) { return MakeHostedApp(options, id); });
+  const Outcome linked_in =
+      RunWith(scenario, [](uint16_t) { return std::make_unique<app::CAbiApp>(*parameters_app_entry()); });
+  EXPECT_EQ(parameters_app_target_x_m(), 1.25);
+  EXPECT_EQ(parameters_app_checks(), 15);  // missing, NULL name, NULL value, overlong name
+  scenario::Scenario defaults = scenario;
+  defaults.app.params.clear();
+  options.params.clear();
+  const ScopedFolder folder_defaults(folder.path() + "_defaults");
+  options.log_directory = folder_defaults.path();
+  const Outcome hosted_defaults = RunWith(defaults, [&](uint16_t id) { return MakeHostedApp(options, id); });
+
+  EXPECT_TRUE(json::parse(hosted.metrics)["app"]["faults"].empty()) << hosted.metrics;
+  EXPECT_TRUE(hosted.metrics == linked_in.metrics);
+  EXPECT_TRUE(hosted.replay == linked_in.replay);
+  EXPECT_FALSE(hosted.replay == hosted_defaults.replay);
+  for (int id = 0; id < 4; ++id) {
+    EXPECT_EQ(ReadFile(folder.path() + "/" + std::to_string(id) + ".log"),
+              "robot " + std::to_string(id) + ": target_x_m 1.250 (status 0), speed_mps 0.200, checks 15\n");
+    EXPECT_EQ(ReadFile(folder_defaults.path() + "/" + std::to_string(id) + ".log"),
+              "robot " + std::to_string(id) + ": target_x_m 0.500 (status 4), speed_mps 0.100, checks 15\n");
+  }
 }
 
 TEST(HostedAppSimulationTest, ARobotWhoseLibraryCrashesStopsAndTheOthersGoOn) {

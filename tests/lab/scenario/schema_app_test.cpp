@@ -3,9 +3,11 @@
 #include <array>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include "scenario_test_util.h"
+#include "syrof/app.h"
 #include "schema.h"
 #include "syrof/lab/apps/catalog.h"
 #include "text_checks.h"
@@ -214,10 +216,57 @@ TEST_F(LibraryAppTest, NameAndLibraryTogetherAreRefused) {
   EXPECT_TRUE(FailsAt(result, 2, 28, {"either 'name'", "or 'library'", "not both"}));
 }
 
-TEST_F(LibraryAppTest, ParamsOfALibraryAreRefusedNotDropped) {
-  const LoadResult result = LoadWithApp("app: { library: lib/libmy.so, params: { radius_m: 1 } }\n");
+TEST_F(LibraryAppTest, ParamsOfALibraryAreAnyNamedNumbers) {
+  const LoadResult result =
+      LoadWithApp("app: { library: lib/libmy.so, params: { radius_m: 1.5, _gain2: -3e-2, Margin: 0 } }\n");
 
-  EXPECT_TRUE(FailsAt(result, 2, 31, {"a library app takes no 'params'"}));
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  const std::map<std::string, double> expected{{"radius_m", 1.5}, {"_gain2", -0.03}, {"Margin", 0}};
+  EXPECT_EQ(result.scenario->app.params, expected);
+}
+
+TEST_F(LibraryAppTest, ALibraryParamMustBeANumber) {
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { radius_m: big } }\n"), 2, 51,
+                      {"app.params.radius_m:"}));
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: [1, 2] }\n"), 2, 39, {"app.params:"}));
+}
+
+TEST_F(LibraryAppTest, ALibraryParamNameIsAnIdentifier) {
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { 2fast: 1 } }\n"), 2, 41,
+                      {"app.params: parameter name '2fast' must start with a letter"}));
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { \"radius m\": 1 } }\n"), 2, 41,
+                      {"parameter name 'radius m'"}));
+}
+
+TEST_F(LibraryAppTest, ALibraryParamNameHasALengthLimit) {
+  const std::string longest(SYROF_APP_MAX_PARAMETER_NAME_LENGTH, 'a');
+  const LoadResult ok = LoadWithApp("app: { library: lib/libmy.so, params: { " + longest + ": 1 } }\n");
+  ASSERT_TRUE(ok.ok()) << ok.error->ToString();
+  EXPECT_EQ(ok.scenario->app.params.count(longest), 1u);
+
+  const std::string too_long(SYROF_APP_MAX_PARAMETER_NAME_LENGTH + 1, 'a');
+  EXPECT_TRUE(FailsAt(LoadWithApp("app: { library: lib/libmy.so, params: { " + too_long + ": 1 } }\n"), 2, 41,
+                      {"characters long; at most 63"}));
+}
+
+TEST_F(LibraryAppTest, ALibraryTakesAtMostSoManyParams) {
+  std::string params;
+  for (unsigned i = 0; i <= SYROF_APP_MAX_PARAMETERS; ++i) params += "    p" + std::to_string(i) + ": 1\n";
+  // 32 are fine, the 33rd is refused where it stands.
+  const LoadResult result = LoadWithApp("app:\n  library: lib/libmy.so\n  params:\n" + params);
+
+  EXPECT_TRUE(FailsAt(result, 5 + static_cast<int>(SYROF_APP_MAX_PARAMETERS), 5,
+                      {"too many parameters: 33, a library app takes at most 32"}));
+}
+
+TEST_F(LibraryAppTest, ALibraryOverrideKeepsTheFilesParams) {
+  Overrides overrides;
+  overrides.app = (dir_ / "lib" / "libmy.so").string();
+
+  const LoadResult result = LoadWithApp("app: { library: lib/libmy.so, params: { radius_m: 2 } }\n", overrides);
+
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_EQ(result.scenario->app.params.at("radius_m"), 2.0);
 }
 
 TEST_F(LibraryAppTest, BudgetsAreReadAndChecked) {

@@ -6,10 +6,13 @@
  *   newRound    at the start of every epoch, with the local dynamic map
  *               (LDMap): it sets the robot's command for the maneuver;
  *   endOfRound  when the maneuver ends and the robot's snapshot freezes;
- * and one platform function the app may call at any time:
+ * and platform functions the app may call from any callback:
  *   sendMessageData  up to SYROF_APP_MAX_PAYLOAD_BYTES bytes, carried in the
  *               robot's next frozen snapshot, so every robot sees them in the
- *               next LDMap.
+ *               next LDMap;
+ *   syrofAppParameter  a number the scenario gives the app by name
+ *               (`app: {library: ..., params: {radius_m: 1.5}}`), usually
+ *               read in init.
  * Each returns the app's one-byte global state, which the platform hands back
  * on the next call (the paper's globalState).
  *
@@ -39,7 +42,16 @@
 extern "C" {
 #endif
 
-/* Bumped whenever a struct, constant or signature below changes. */
+/* Bumped whenever a struct, constant or signature below changes.
+ *
+ * Additions keep it: a new platform function or a new status code changes
+ * nothing an existing library relies on, so every library built against an
+ * older header still loads and runs. syrofAppParameter (and the status
+ * SYROF_APP_NO_SUCH_PARAMETER) came that way, still version 1: a library
+ * that calls it, run on a platform without it, fails to load with
+ * "undefined symbol: syrofAppParameter", which the loader reports (verdict
+ * load_failed, naming the symbol), a clearer message than a version number,
+ * while a bump would have refused every library built before. */
 #define SYROF_APP_ABI_VERSION 1u
 
 /* Most bytes sendMessageData accepts (the beacon's payload). */
@@ -50,8 +62,14 @@ typedef enum syrof_app_status {
   SYROF_APP_OK = 0,
   SYROF_APP_PAYLOAD_TOO_LONG = 1, /* more than SYROF_APP_MAX_PAYLOAD_BYTES; nothing was changed */
   SYROF_APP_NULL_ARGUMENT = 2,    /* payload NULL with a non-zero length */
-  SYROF_APP_NOT_RUNNING = 3       /* called outside a callback of a running robot */
+  SYROF_APP_NOT_RUNNING = 3,      /* called outside a callback of a running robot */
+  SYROF_APP_NO_SUCH_PARAMETER = 4 /* the scenario gives no parameter of that name; *value is unchanged */
 } syrof_app_status;
+
+/* Most parameters a scenario gives an app, and the longest name of one
+ * (bytes, without the terminating NUL). */
+#define SYROF_APP_MAX_PARAMETERS 32u
+#define SYROF_APP_MAX_PARAMETER_NAME_LENGTH 63u
 
 /* The operation mode an epoch started in. */
 typedef enum syrof_mode {
@@ -161,6 +179,21 @@ typedef const syrof_app_descriptor* (*syrof_app_entry_fn)(void);
  * SYROF_APP_PAYLOAD_TOO_LONG and the previous payload stays. A length of 0
  * clears it. The payload is frozen with the snapshot when the maneuver ends. */
 int sendMessageData(const uint8_t* payload, size_t length);
+
+/* Reads the scenario's parameter `name` (`app.params` in the scenario,
+ * docs/apps.md "Parameters") into *value: SYROF_APP_OK. When the scenario
+ * gives none of that name: SYROF_APP_NO_SUCH_PARAMETER and *value is left as
+ * it was, so the usual pattern keeps the app's default:
+ *     double radius_m = 1.0;
+ *     syrofAppParameter("radius_m", &radius_m);
+ * `name` must be NUL-terminated; at most SYROF_APP_MAX_PARAMETER_NAME_LENGTH
+ * + 1 of its bytes are read, and a longer name is never found (the scenario
+ * refuses one). A name without a NUL that ends in unreadable memory cannot
+ * be detected and crashes the app, as any bad pointer does.
+ * SYROF_APP_NULL_ARGUMENT for a NULL `name` or `value`; SYROF_APP_NOT_RUNNING
+ * outside a callback. Callable in any callback; the values never change
+ * during a run. Added in ABI version 1 (see SYROF_APP_ABI_VERSION). */
+int syrofAppParameter(const char* name, double* value);
 
 /* A workspace for the queries that need one (syrof/queries/queries.h),
  * owned by the platform; valid for the robot's lifetime. */

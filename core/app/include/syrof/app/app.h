@@ -15,11 +15,24 @@
 
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "syrof/app.h"
 #include "syrof/app/call_status.h"
 
 namespace syrof::app {
+
+/// One number the scenario gives the app by name (syrofAppParameter). The
+/// name is a view: whoever builds a table of these keeps the names alive.
+struct Parameter {
+  std::string_view name;
+  double value = 0;
+};
+
+/// Looks `name` up in `params`: SYROF_APP_OK and `value` set, or
+/// SYROF_APP_NO_SUCH_PARAMETER with `value` unchanged. Linear: a table holds
+/// at most SYROF_APP_MAX_PARAMETERS.
+syrof_app_status FindParameter(std::span<const Parameter> params, std::string_view name, double& value);
 
 /// What the platform offers an app besides its callbacks. One per robot.
 class Platform {
@@ -32,6 +45,12 @@ class Platform {
   /// Scratch memory for the queries; shared by the apps of one thread, valid
   /// while the platform lives.
   virtual syrof_queries_workspace* queries_workspace() = 0;
+
+  /// The scenario's parameter `name` (syrofAppParameter, which has already
+  /// checked the arguments and bounded the name's length): SYROF_APP_OK and
+  /// `value`, or SYROF_APP_NO_SUCH_PARAMETER leaving `value` alone. The
+  /// default is a platform that gives no parameters.
+  virtual syrof_app_status AppParameter(std::string_view name, double& value);
 
  protected:
   ~Platform() = default;

@@ -1,8 +1,8 @@
 // An App over the C ABI: wraps a syrof_app_descriptor (an app written in C
 // against syrof/app.h) so the runtime calls it like any built-in app.
 //
-// The C functions the app calls back (sendMessageData, syrofQueriesWorkspace)
-// carry no robot handle, so while a callback runs this adapter makes its
+// The C functions the app calls back (sendMessageData, syrofAppParameter,
+// syrofQueriesWorkspace) carry no robot handle, so while a callback runs this adapter makes its
 // robot's Platform the current one, and those functions act on it. Outside
 // a callback they answer SYROF_APP_NOT_RUNNING (or NULL). In a process that
 // hosts one robot (the grader's app host, the firmware) that is all there

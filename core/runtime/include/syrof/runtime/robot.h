@@ -44,6 +44,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "syrof/app/app.h"
 #include "syrof/app/call_status.h"
@@ -82,6 +83,9 @@ struct RobotConfig {
   float arena_width_m = 4;
   float arena_height_m = 4;
   syrof_queries_workspace* queries_workspace = nullptr;  ///< shared scratch for the app's queries
+  /// What syrofAppParameter answers (the scenario's app params); the table
+  /// and its names must outlive the robot. Empty: no parameters.
+  std::span<const app::Parameter> app_params;
 };
 
 /// Why a robot could not be set up.
@@ -200,6 +204,9 @@ class Robot final : private app::Platform {
   // app::Platform
   syrof_app_status SendMessageData(std::span<const uint8_t> payload) override;
   syrof_queries_workspace* queries_workspace() override { return config_.queries_workspace; }
+  syrof_app_status AppParameter(std::string_view name, double& value) override {
+    return app::FindParameter(config_.app_params, name, value);
+  }
 
   void RunRound(int64_t now_ns);
   void RunMotion(int64_t now_ns);

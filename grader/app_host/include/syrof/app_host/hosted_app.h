@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,6 +44,12 @@ struct HostOptions {
   std::string host_binary;   ///< path to syrof-app-host; empty: FindHostBinary()
   std::string log_directory; ///< where <id>.log goes (created if missing); empty: output discarded
   HostLimits limits;
+  /// What the app's syrofAppParameter answers (the scenario's app.params),
+  /// sent to each host with the init request. At most
+  /// SYROF_APP_MAX_PARAMETERS, names 1 .. SYROF_APP_MAX_PARAMETER_NAME_LENGTH
+  /// bytes without a NUL (the scenario checks); otherwise Init reports a
+  /// bad_abi fault.
+  std::map<std::string, double> params;
 };
 
 /// Where syrof-app-host is: beside the running executable (a build tree's

@@ -72,7 +72,10 @@ struct FaultSpec {
 /// sandboxed process per robot).
 struct AppSpec {
   std::string name = "builtin:idle";     ///< "builtin:NAME"; for a library the path as written
-  std::map<std::string, double> params;  ///< a built-in app's numbers (docs/scenarios.md lists each app's)
+  /// A built-in app's numbers (docs/scenarios.md lists each app's), or what a
+  /// library's syrofAppParameter answers (any names, at most
+  /// SYROF_APP_MAX_PARAMETERS).
+  std::map<std::string, double> params;
   /// The library to open, empty for a built-in app. A relative path in a
   /// file is resolved against the scenario file's folder; one on the command
   /// line (Overrides::app) against the working directory. The loader checks
