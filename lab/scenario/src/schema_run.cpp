@@ -32,6 +32,13 @@ const YamlNode& Blame(const YamlNode& map, std::initializer_list<std::string_vie
   return map;
 }
 
+// The synchronizer's limits (sync::kMaxSilenceRounds, runtime::kMaxManeuverRounds),
+// restated here: the scenario layer sits below core/sync. They keep a
+// legitimate epoch far shorter than the stay after which a robot rejoins
+// (docs/protocol.md, "Epoch numbers").
+constexpr int64_t kMaxSilenceRounds = 4096;
+constexpr int64_t kMaxAppRoundRounds = 4096;
+
 bool CheckTimingRules(const YamlNode& node, const TimingSpec& timing, Diagnostics& diagnostics) {
   std::string path;
   if (timing.silence_rounds <= timing.vote_rounds) {
@@ -61,6 +68,14 @@ bool CheckTimingRules(const YamlNode& node, const TimingSpec& timing, Diagnostic
                   "app_round_s (" + FormatNumber(timing.app_round_s) + ") must last at least K = " +
                       std::to_string(timing.vote_rounds) + " radio rounds (" +
                       FormatNumber(timing.vote_rounds * timing.radio_round_s) + " s)",
+                  diagnostics);
+  }
+  if (std::round(timing.app_round_s / timing.radio_round_s) > kMaxAppRoundRounds) {
+    const YamlNode& at = Blame(node, {"app_round_s", "radio_round_s"}, path);
+    return FailAt(at, path,
+                  "app_round_s (" + FormatNumber(timing.app_round_s) + ") must last at most " +
+                      std::to_string(kMaxAppRoundRounds) + " radio rounds (" +
+                      FormatNumber(kMaxAppRoundRounds * timing.radio_round_s) + " s)",
                   diagnostics);
   }
   return true;
@@ -301,7 +316,7 @@ bool ReadTiming(const YamlNode* node, const Overrides& overrides, TimingSpec& ti
   if (!ReadNumberAt(map, path, "radio_round_s", NumberRange{0.001, 10}, timing.radio_round_s, diagnostics) ||
       !ReadNumberAt(map, path, "app_round_s", NumberRange{0, 3600, true}, timing.app_round_s, diagnostics) ||
       !ReadIntegerAt(map, path, "vote_rounds", 1, 200, vote_rounds, diagnostics) ||
-      !ReadIntegerAt(map, path, "silence_rounds", 2, 65535, silence_rounds, diagnostics) ||
+      !ReadIntegerAt(map, path, "silence_rounds", 2, kMaxSilenceRounds, silence_rounds, diagnostics) ||
       !ReadNumberAt(map, path, "duration_s", NumberRange{0, kTimeOfRun.max, true}, timing.duration_s, diagnostics) ||
       !ReadNumberAt(map, path, "physics_step_s", NumberRange{0.0001, 1}, timing.physics_step_s, diagnostics)) {
     return false;

@@ -25,7 +25,11 @@ FaultSchedule::FaultSchedule(std::span<const scenario::FaultSpec> faults, int64_
   SYROF_CHECK(radio_round_ns_ > 0);
   resume_ns_.reserve(faults_.size());
   for (const scenario::FaultSpec& fault : faults_) {
-    resume_ns_.push_back(fault.kind == scenario::FaultKind::kPause ? EffectiveNs(fault.until_s) : -1);
+    // The software restarts one radio round before until_s takes effect, so
+    // its first round ends there: a pause of P rounds misses exactly P round
+    // ends (docs/scenarios.md, "Pause timing").
+    resume_ns_.push_back(fault.kind == scenario::FaultKind::kPause ? EffectiveNs(fault.until_s) - radio_round_ns_
+                                                                   : -1);
   }
   due_.reserve(2 * faults_.size());
 }

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -186,6 +187,25 @@ TEST(SimulationTest, PausedRobotIsRemovedThenRejoins) {
   EXPECT_EQ(metrics["membership"]["removals"], 5);
   EXPECT_GE(metrics["membership"]["joins"].get<int>(), 5);
   for (uint16_t id = 0; id < 6; ++id) EXPECT_TRUE(simulation.robot(id).ldmap().members.test(4)) << "robot " << id;
+}
+
+// Pause timing (docs/scenarios.md, "Faults"): a pause of P radio rounds
+// makes the robot miss exactly P round ends, so the others' failure
+// detectors (F = 6 by default) keep it for P = F - 1 and remove it for P = F.
+// Before, its first step came one round after until_s, so F - 1 removed it.
+int RemovalsAfterPauseOf(int rounds) {
+  const double until_s = 3.0 + 0.05 * rounds;
+  char fault[96];
+  std::snprintf(fault, sizeof fault, "faults: [{pause: 4, at_s: 3, until_s: %.2f}]\n", until_s);
+  const Outcome run = RunScenario(Load(Swarm(fault, 0.0, 6)));
+  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
+  return run.metrics["membership"]["removals"].get<int>();
+}
+
+TEST(SimulationTest, APauseOfFMinusOneRoundsKeepsTheRobotAndOfFRemovesIt) {
+  EXPECT_EQ(RemovalsAfterPauseOf(5), 0);
+  EXPECT_EQ(RemovalsAfterPauseOf(6), 5);
+  EXPECT_EQ(RemovalsAfterPauseOf(7), 5);
 }
 
 TEST(SimulationTest, JoiningRobotEntersEveryMap) {
