@@ -110,6 +110,8 @@ void StartEpoch(const SyncConfig& config, SyncState& state, Mode mode, StepOutpu
   state.view.clear();
   state.votes_matched.clear();
   state.held.clear();
+  state.added_previous = state.added_current;
+  state.added_current.clear();
 
   out.epoch_started = true;
   ++state.stats.epochs_started;
@@ -133,6 +135,8 @@ void BecomeJoiner(SyncState& state, StepOutput& out) {
   state.stay_rounds = 0;
   state.rounds_joining = 0;
   state.excluded.clear();
+  state.added_current.clear();
+  state.added_previous.clear();
   out.became_joiner = true;
 }
 
@@ -256,7 +260,9 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
 
   // "Exclusion": a member that votes with a view without this robot does
   // not hear it; it leaves the members and its beacons are ignored until
-  // one names this robot again (then it is handled as any other robot).
+  // one names this robot again (then it is handled as any other robot). A
+  // robot added in this epoch or the previous one is spared: it may not
+  // have heard this robot yet (a joiner's group, a robot just readmitted).
   received.RetainIf([&](const wire::Beacon& beacon) {
     const uint16_t id = beacon.robot_id;
     const bool names_self = beacon.waiting.test(self);
@@ -265,7 +271,8 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
       state.excluded.reset(id);
       return true;
     }
-    if (beacon.phase == Phase::kVote && !names_self && state.members.test(id)) {
+    if (beacon.phase == Phase::kVote && !names_self && state.members.test(id) && !state.added_current.test(id) &&
+        !state.added_previous.test(id)) {
       state.excluded.set(id);
       state.members.reset(id);
       out.removed.set(id);
@@ -469,6 +476,7 @@ void StepWith(const SyncConfig& config, SyncState& state, UsableBeacons& usable,
   } else {
     StepMember(config, state, usable, input, out, ldmap);
   }
+  if (state.status == Status::kMember) state.added_current |= out.joined;
   out.send = state.status == Status::kMember;
   out.beacon = MakeBeacon(config, state);
 }

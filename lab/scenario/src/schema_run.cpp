@@ -220,7 +220,7 @@ bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagn
   return true;
 }
 
-constexpr std::string_view kFaultKinds[] = {"crash", "pause", "join"};  // FaultKind's order
+constexpr std::string_view kFaultKinds[] = {"crash", "pause", "join", "deaf", "mute"};  // FaultKind's order
 
 struct PlacedFault {
   FaultSpec fault;
@@ -230,14 +230,14 @@ struct PlacedFault {
 
 bool ReadFault(const YamlNode& node, const std::string& path, const Scenario& scenario, PlacedFault& placed,
                Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"crash", "pause", "join", "at_s", "until_s"};
+  static constexpr std::string_view kKeys[] = {"crash", "pause", "join", "deaf", "mute", "at_s", "until_s"};
   if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics)) return false;
   const YamlNode* robot = nullptr;
   for (size_t kind = 0; kind < std::size(kFaultKinds); ++kind) {
     const YamlNode* named = node.Find(kFaultKinds[kind]);
     if (named == nullptr) continue;
     if (robot != nullptr) {
-      return FailAt(node, path, "names two fault kinds; give one of crash, pause, join per entry", diagnostics);
+      return FailAt(node, path, "names two fault kinds; give one of crash, pause, join, deaf, mute per entry", diagnostics);
     }
     robot = named;
     placed.fault.kind = static_cast<FaultKind>(kind);
@@ -246,7 +246,7 @@ bool ReadFault(const YamlNode& node, const std::string& path, const Scenario& sc
     }
   }
   if (robot == nullptr) {
-    return FailAt(node, path, "a fault needs one of crash, pause, join (the robot id)", diagnostics);
+    return FailAt(node, path, "a fault needs one of crash, pause, join, deaf, mute (the robot id)", diagnostics);
   }
   if (!RequireKey(node, path, "at_s", diagnostics)) return false;
   const YamlNode& at = *node.Find("at_s");
@@ -258,9 +258,11 @@ bool ReadFault(const YamlNode& node, const std::string& path, const Scenario& sc
                   diagnostics);
   }
   const YamlNode* until = node.Find("until_s");
-  if (placed.fault.kind != FaultKind::kPause) {
+  if (placed.fault.kind != FaultKind::kPause && !IsRadioFault(placed.fault.kind)) {
     for (const YamlNode& key : node.keys) {
-      if (key.scalar == "until_s") return FailAt(key, path, "'until_s' applies to pause faults only", diagnostics);
+      if (key.scalar == "until_s") {
+        return FailAt(key, path, "'until_s' applies to pause, deaf and mute faults only", diagnostics);
+      }
     }
     return true;
   }
@@ -281,7 +283,8 @@ bool CheckFaultStory(const std::vector<PlacedFault>& faults, Diagnostics& diagno
     const FaultSpec& later = faults[i].fault;
     for (size_t j = 0; j < i; ++j) {
       const FaultSpec& earlier = faults[j].fault;
-      if (earlier.robot != later.robot) continue;
+      // Deaf and mute act on the radio alone: any time, any overlap.
+      if (earlier.robot != later.robot || IsRadioFault(earlier.kind) || IsRadioFault(later.kind)) continue;
       const std::string robot = "robot " + std::to_string(later.robot);
       const std::string when = " at " + FormatNumber(earlier.at_s) + " s (" + faults[j].path + ")";
       std::string problem;

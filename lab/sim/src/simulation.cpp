@@ -179,6 +179,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
       faults_(scenario.faults, radio_round_ns_),
       partition_active_(scenario.channel.partitions.size(), 0) {
+  radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);

@@ -208,6 +208,60 @@ TEST(SimulationTest, APauseOfFMinusOneRoundsKeepsTheRobotAndOfFRemovesIt) {
   EXPECT_EQ(RemovalsAfterPauseOf(7), 5);
 }
 
+// A deaf robot (hears nobody, is heard) or a mute one (hears, is not heard)
+// from 5 s to 12 s. Before the exclusion rule the deaf robot's votes vetoed
+// every epoch: no COOPERATIVE epoch until it heard again. Now the others
+// exclude it and are COOPERATIVE again within two epochs (an epoch lasts
+// about 1.2 s here), and it is back in every map once it hears again.
+struct SilencedRun {
+  int first_cooperative_epoch_after_fault = -1;  // epochs after the fault, robot 0
+  bool cooperative_until_heal = true;             // robot 0, once back
+  bool back_in_every_map = true;
+  json metrics;
+};
+
+SilencedRun RunSilenced(const char* kind) {
+  const std::string fault = std::string("faults: [{") + kind + ": 2, at_s: 5, until_s: 12}]\n";
+  Simulation simulation(Load(Swarm(fault, 0.0, 20)));
+  SilencedRun run;
+  simulation.RunUntil(5.0);
+  const uint16_t epoch_at_fault = simulation.robot(0).ldmap().epoch;
+  for (double t = 5.05; t < 12.0; t += 0.05) {
+    simulation.RunUntil(t);
+    const sync::LDMap& map = simulation.robot(0).ldmap();
+    const int since = sync::EpochDifference(map.epoch, epoch_at_fault);
+    if (run.first_cooperative_epoch_after_fault < 0) {
+      if (map.mode == wire::Mode::kCooperative && since > 0) run.first_cooperative_epoch_after_fault = since;
+    } else if (map.mode != wire::Mode::kCooperative) {
+      run.cooperative_until_heal = false;
+    }
+  }
+  simulation.RunUntil(20);
+  for (uint16_t id = 0; id < 6; ++id) {
+    run.back_in_every_map = run.back_in_every_map && simulation.robot(id).ldmap().members.test(2);
+  }
+  run.metrics = json::parse(simulation.Finish(0).metrics_json);
+  return run;
+}
+
+TEST(SimulationTest, ADeafRobotIsExcludedAndTheRestCooperateWithinTwoEpochs) {
+  const SilencedRun run = RunSilenced("deaf");
+  EXPECT_GE(run.first_cooperative_epoch_after_fault, 1);
+  EXPECT_LE(run.first_cooperative_epoch_after_fault, 2);
+  EXPECT_TRUE(run.cooperative_until_heal);
+  EXPECT_TRUE(run.back_in_every_map);
+  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
+}
+
+TEST(SimulationTest, AMuteRobotIsRemovedAndTheRestCooperateWithinTwoEpochs) {
+  const SilencedRun run = RunSilenced("mute");
+  EXPECT_GE(run.first_cooperative_epoch_after_fault, 1);
+  EXPECT_LE(run.first_cooperative_epoch_after_fault, 2);
+  EXPECT_TRUE(run.cooperative_until_heal);
+  EXPECT_TRUE(run.back_in_every_map);
+  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
+}
+
 TEST(SimulationTest, JoiningRobotEntersEveryMap) {
   const scenario::Scenario scenario = Load(Swarm("faults: [{join: 5, at_s: 3}]\n", 0.0, 10));
   Simulation simulation(scenario);

@@ -97,6 +97,10 @@ struct SyncState {
   // "Exclusion": members heard voting with a view without this robot; their
   // beacons are ignored until one names this robot again.
   MemberSet excluded;
+  // Robots added to the members in the current and in the previous epoch:
+  // their views may not name this robot yet, so they are not excluded.
+  MemberSet added_current;
+  MemberSet added_previous;
 
   std::array<uint16_t, wire::kMaxSwarmSize> silent_rounds{};  // per member, consecutive
   std::array<wire::Snapshot, wire::kMaxSwarmSize> snapshots{};      // valid where `held`
