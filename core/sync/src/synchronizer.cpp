@@ -135,6 +135,7 @@ void BecomeJoiner(SyncState& state, StepOutput& out) {
   state.stay_rounds = 0;
   state.rounds_joining = 0;
   state.excluded.clear();
+  state.struck.clear();
   state.added_current.clear();
   state.added_previous.clear();
   out.became_joiner = true;
@@ -258,31 +259,49 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     return;
   }
 
-  // "Exclusion": a member that votes with a view without this robot does
-  // not hear it; it leaves the members and its beacons are ignored until
-  // one names this robot again (then it is handled as any other robot). A
-  // robot added in this epoch or the previous one is spared: it may not
-  // have heard this robot yet (a joiner's group, a robot just readmitted).
+  // "Catching up" from any robot, excluded ones included; used below only by
+  // a robot left alone, which follows whoever it hears.
+  bool catch_up_any = false;
+  for (const wire::Beacon* beacon : received) {
+    if (EpochDifference(beacon->epoch, state.epoch) == 1 && state.phase != Phase::kProgress) catch_up_any = true;
+  }
+
+  // "Exclusion": a member that votes with a view without this robot, in two
+  // of its epochs with no beacon naming this robot in between, does not hear
+  // it: it leaves the members and its beacons are ignored until one names
+  // this robot again (then it is handled as any other robot). A robot added
+  // in this epoch or the previous one is spared: it may not have heard this
+  // robot yet (a joiner's group, a robot just readmitted).
   received.RetainIf([&](const wire::Beacon& beacon) {
     const uint16_t id = beacon.robot_id;
     const bool names_self = beacon.waiting.test(self);
+    if (names_self) state.struck.reset(id);
     if (state.excluded.test(id)) {
       if (!names_self) return false;
       state.excluded.reset(id);
       return true;
     }
-    if (beacon.phase == Phase::kVote && !names_self && state.members.test(id) && !state.added_current.test(id) &&
-        !state.added_previous.test(id)) {
-      state.excluded.set(id);
-      state.members.reset(id);
-      out.removed.set(id);
-      ++state.stats.exclusions;
-      return false;
+    if (beacon.phase != Phase::kVote || names_self || !state.members.test(id) || state.added_current.test(id) ||
+        state.added_previous.test(id)) {
+      return true;
     }
-    return true;
+    if (!state.struck.test(id) || state.struck_epoch[id] == beacon.epoch) {
+      state.struck.set(id);
+      state.struck_epoch[id] = beacon.epoch;
+      return true;
+    }
+    state.struck.reset(id);
+    state.excluded.set(id);
+    state.members.reset(id);
+    out.removed.set(id);
+    ++state.stats.exclusions;
+    return false;
   });
 
-  bool catch_up = false;
+  // "Catching up": a member one epoch ahead. A robot alone also follows an
+  // excluded robot, so that robot, if it only lost it for a while, hears it
+  // in its own epoch again and adds it back.
+  bool catch_up = catch_up_any && state.members.count() == 1;
   for (const wire::Beacon* beacon : received) {
     if (EpochDifference(beacon->epoch, state.epoch) == 1 && state.phase != Phase::kProgress) catch_up = true;
   }

@@ -397,9 +397,15 @@ TEST_F(SynchronizerTest, AMemberVotingWithoutThisRobotIsExcludedUntilItNamesThis
   deaf.waiting.clear();
   deaf.waiting.set(3);
   StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), deaf});
+  StepWith({deaf});
+  EXPECT_TRUE(state_.members.test(3)) << "one epoch of its votes is a strike, not yet an exclusion";
+  EXPECT_TRUE(state_.struck.test(3));
+  deaf.epoch = 1;  // its next epoch (it runs alone): the second strike
+  StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), deaf});
   EXPECT_FALSE(state_.members.test(3));
   EXPECT_TRUE(state_.excluded.test(3));
   EXPECT_TRUE(out_.removed.test(3));
+  EXPECT_EQ(state_.epoch, 0) << "an excluded robot one epoch ahead is not followed";
   // Ignored while excluded: no evidence, no rejoin, no catch-up.
   wire::Beacon ahead = From(3, 1, Phase::kWait);
   StepWith({ahead}, true);
@@ -411,6 +417,22 @@ TEST_F(SynchronizerTest, AMemberVotingWithoutThisRobotIsExcludedUntilItNamesThis
   StepWith({hears});
   EXPECT_FALSE(state_.excluded.test(3));
   EXPECT_TRUE(state_.members.test(3));
+}
+
+TEST_F(SynchronizerTest, AStrikeIsForgivenWhenTheMemberNamesThisRobotAgain) {
+  state_.phase = Phase::kProgress;
+  wire::Beacon lost_me = From(3, 0, Phase::kVote, 1);
+  lost_me.waiting.reset(0);
+  StepWith({lost_me});
+  EXPECT_TRUE(state_.struck.test(3));
+  StepWith({From(3, 1, Phase::kProgress)});  // PROGRESS names nobody yet: no news
+  wire::Beacon found_me = From(3, 1, Phase::kWait);
+  found_me.waiting.set(0);
+  StepWith({found_me});
+  EXPECT_FALSE(state_.struck.test(3));
+  lost_me.epoch = 1;
+  StepWith({lost_me});
+  EXPECT_TRUE(state_.members.test(3)) << "one strike again, not two";
 }
 
 TEST_F(SynchronizerTest, ARobotAloneIsNotFollowedButWaitsForAGroupBehindIt) {

@@ -94,8 +94,11 @@ struct SyncState {
   uint16_t rounds_joining = 0;    // joining: rounds since it was last a member (saturates)
   uint16_t join_credit = kMaxJoinCredit;  // epochs a join may still skip forward
 
-  // "Exclusion": members heard voting with a view without this robot; their
-  // beacons are ignored until one names this robot again.
+  // "Exclusion": members heard voting with a view without this robot in two
+  // of their epochs (a strike, then exclusion); an excluded robot's beacons
+  // are ignored until one names this robot again.
+  MemberSet struck;
+  std::array<uint16_t, wire::kMaxSwarmSize> struck_epoch{};  // the epoch of each strike
   MemberSet excluded;
   // Robots added to the members in the current and in the previous epoch:
   // their views may not name this robot yet, so they are not excluded.
