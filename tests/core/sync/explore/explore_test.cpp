@@ -595,7 +595,7 @@ class Explorer {
       put(set_bits(s.votes_matched), 1);
       put(set_bits(s.held), 1);
       put(set_bits(s.excluded) | (set_bits(s.struck) << 4), 1);
-      for (const uint16_t id : s.struck) put(static_cast<uint16_t>(s.struck_epoch[id] - base), 2);
+      for (const uint16_t member : s.struck) put(static_cast<uint16_t>(s.struck_epoch[member] - base), 2);
       put(set_bits(s.added_current) | (set_bits(s.added_previous) << 4), 1);
       if (s.status == Status::kJoining) {  // stale in members
         put(set_bits(s.join_group), 1);
