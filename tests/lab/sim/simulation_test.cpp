@@ -193,19 +193,33 @@ TEST(SimulationTest, PausedRobotIsRemovedThenRejoins) {
 // makes the robot miss exactly P round ends, so the others' failure
 // detectors (F = 6 by default) keep it for P = F - 1 and remove it for P = F.
 // Before, its first step came one round after until_s, so F - 1 removed it.
-int RemovalsAfterPauseOf(int rounds) {
+struct PauseOutcome {
+  int removals = 0;
+  uint32_t restarts = 0;  // the paused robot's own restarts as a joiner after the gap
+};
+
+PauseOutcome AfterPauseOf(int rounds) {
   const double until_s = 3.0 + 0.05 * rounds;
   char fault[96];
   std::snprintf(fault, sizeof fault, "faults: [{pause: 4, at_s: 3, until_s: %.2f}]\n", until_s);
-  const Outcome run = RunScenario(Load(Swarm(fault, 0.0, 6)));
-  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
-  return run.metrics["membership"]["removals"].get<int>();
+  Simulation simulation(Load(Swarm(fault, 0.0, 6)));
+  simulation.RunUntil(6);
+  const json metrics = json::parse(simulation.Finish(0).metrics_json);
+  EXPECT_EQ(metrics["common_knowledge"]["violations"], 0);
+  return PauseOutcome{metrics["membership"]["removals"].get<int>(),
+                      simulation.robot(4).sync_state().stats.restarts_after_gap};
 }
 
 TEST(SimulationTest, APauseOfFMinusOneRoundsKeepsTheRobotAndOfFRemovesIt) {
-  EXPECT_EQ(RemovalsAfterPauseOf(5), 0);
-  EXPECT_EQ(RemovalsAfterPauseOf(6), 5);
-  EXPECT_EQ(RemovalsAfterPauseOf(7), 5);
+  const PauseOutcome f_minus_one = AfterPauseOf(5);
+  const PauseOutcome f = AfterPauseOf(6);
+  const PauseOutcome f_plus_one = AfterPauseOf(7);
+  EXPECT_EQ(f_minus_one.removals, 0);
+  EXPECT_EQ(f_minus_one.restarts, 0u);
+  EXPECT_EQ(f.removals, 5);
+  EXPECT_EQ(f.restarts, 1u) << "the runtime tells the synchronizer it missed F rounds";
+  EXPECT_EQ(f_plus_one.removals, 5);
+  EXPECT_EQ(f_plus_one.restarts, 1u);
 }
 
 // A deaf robot (hears nobody, is heard) or a mute one (hears, is not heard)
