@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <nlohmann/json.hpp>
@@ -40,13 +41,23 @@ struct Cell {
 
 std::string Scenario(int robots, int k, const std::string& channel, const std::string& faults, double duration_s,
                      uint64_t seed) {
+  const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(robots))));
+  const double arena_m = side + 1.0;
   return fmt::format(R"(seed: {seed}
+arena:
+  width_m: {arena}
+  height_m: {arena}
+  anchors:
+    - {{x_m: 0, y_m: 0, z_m: 0}}
+    - {{x_m: {arena}, y_m: {arena}, z_m: 0}}
+    - {{x_m: 0, y_m: {arena}, z_m: 2}}
+    - {{x_m: {arena}, y_m: 0, z_m: 2}}
 robots: {{count: {robots}, placement: grid, spacing_m: 1.0}}
 timing: {{radio_round_s: 0.05, app_round_s: 1.0, vote_rounds: {k}, silence_rounds: {f}, duration_s: {duration}}}
 channel: {channel}
 app: builtin:idle
 {faults})",
-                     fmt::arg("seed", seed), fmt::arg("robots", robots), fmt::arg("k", k), fmt::arg("f", 2 * k),
+                     fmt::arg("seed", seed), fmt::arg("arena", arena_m), fmt::arg("robots", robots), fmt::arg("k", k), fmt::arg("f", 2 * k),
                      fmt::arg("duration", duration_s), fmt::arg("channel", channel), fmt::arg("faults", faults));
 }
 
