@@ -63,7 +63,8 @@ Robot::Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<w
 RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   if (port_ != nullptr) return RobotSetupError::kAlreadyAttached;
   if (sync::Validate(config_.sync) != sync::ConfigError::kOk) return RobotSetupError::kInvalidSyncConfig;
-  if (config_.radio_round_ns <= 0 || config_.maneuver_rounds < config_.sync.vote_rounds) {
+  if (config_.radio_round_ns <= 0 || config_.maneuver_rounds < config_.sync.vote_rounds ||
+      config_.maneuver_rounds > kMaxManeuverRounds) {
     return RobotSetupError::kInvalidTiming;
   }
   if (estimator_.Attach(port, broker) != estimation::EstimatorSetupError::kOk) {
@@ -241,7 +242,12 @@ void Robot::RunRound(int64_t now_ns) {
   if (!started_) {
     started_ = true;
     start_ns_ = now_ns - config_.radio_round_ns;
+    last_round_ns_ = start_ns_;
   }
+  // Rounds since the previous step, to the nearest round: 1 unless the task
+  // did not run (a pause), which the synchronizer must know of.
+  const int64_t gap_rounds = (now_ns - last_round_ns_ + config_.radio_round_ns / 2) / config_.radio_round_ns;
+  last_round_ns_ = now_ns;
   ++counters_.rounds;
   RefreshEstimate();
   ReportInterventions();
@@ -253,6 +259,7 @@ void Robot::RunRound(int64_t now_ns) {
   sync::StepInput input;
   input.own_snapshot = OwnSnapshot();
   input.maneuver_finished = in_progress && rounds_in_progress_ >= config_.maneuver_rounds;
+  input.rounds_elapsed = gap_rounds < 1 ? 1u : gap_rounds > 0xFFFFFFFF ? 0xFFFFFFFFu : static_cast<uint32_t>(gap_rounds);
   sync::Step(config_.sync, state_, std::span<const wire::Beacon* const>(inbox_.data(), inbox_count_), input, out_,
              ldmap_);
   counters_.beacons_stepped += static_cast<uint32_t>(inbox_count_);

@@ -9,6 +9,7 @@ const char* ToString(ConfigError error) {
     case ConfigError::kSelfOutOfRange: return "SelfOutOfRange";
     case ConfigError::kVoteRoundsOutOfRange: return "VoteRoundsOutOfRange";
     case ConfigError::kSilenceNotAboveVote: return "SilenceNotAboveVote";
+    case ConfigError::kSilenceTooLong: return "SilenceTooLong";
     case ConfigError::kQuorumNotMajority: return "QuorumNotMajority";
     case ConfigError::kInitialMemberOutOfRange: return "InitialMemberOutOfRange";
   }
@@ -37,6 +38,7 @@ ConfigError Validate(const SyncConfig& config) {
     return ConfigError::kVoteRoundsOutOfRange;
   }
   if (config.silence_rounds <= config.vote_rounds) return ConfigError::kSilenceNotAboveVote;
+  if (config.silence_rounds > kMaxSilenceRounds) return ConfigError::kSilenceTooLong;
   // Two disjoint sets of robots can never both reach a quorum above N / 2:
   // the heart of the safety argument (docs/protocol.md, "Safety").
   if (config.quorum <= config.swarm_size / 2 || config.quorum > config.swarm_size) {

@@ -2,6 +2,7 @@
 // docs/protocol.md, which this code follows.
 #include "syrof/sync/synchronizer.h"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 
@@ -60,6 +61,16 @@ class UsableBeacons {
   const wire::Beacon* const* end() const { return beacons_.data() + count_; }
   bool empty() const { return count_ == 0; }
 
+  // Keeps only the beacons for which `keep` holds, in their order.
+  template <typename Keep>
+  void RetainIf(Keep keep) {
+    size_t kept = 0;
+    for (size_t i = 0; i < count_; ++i) {
+      if (keep(*beacons_[i])) beacons_[kept++] = beacons_[i];
+    }
+    count_ = kept;
+  }
+
  private:
   // Only the first count_ entries are ever read; left uninitialized, since
   // zeroing the whole array (8 KB on the host) would cost more than the step.
@@ -94,10 +105,13 @@ void StartEpoch(const SyncConfig& config, SyncState& state, Mode mode, StepOutpu
   state.vote = 0;
   state.veto = false;
   state.epoch_mode = mode;
+  state.stay_rounds = 0;
   state.waiting.clear();
   state.view.clear();
   state.votes_matched.clear();
   state.held.clear();
+  state.added_previous = state.added_current;
+  state.added_current.clear();
 
   out.epoch_started = true;
   ++state.stats.epochs_started;
@@ -118,7 +132,36 @@ void BecomeJoiner(SyncState& state, StepOutput& out) {
   state.rounds_alone = 0;
   state.veto = false;
   state.vote = 0;
+  state.stay_rounds = 0;
+  state.rounds_joining = 0;
+  state.excluded.clear();
+  state.struck.clear();
+  state.added_current.clear();
+  state.added_previous.clear();
   out.became_joiner = true;
+}
+
+// Whether `beacon` speaks for a group: its set names a robot besides its
+// sender. A robot alone (a deaf one, or one cut off) never drags others
+// along ("Falling behind", "Alone ahead").
+bool FromGroup(const wire::Beacon& beacon) {
+  MemberSet others = beacon.waiting;
+  others.reset(beacon.robot_id);
+  return !others.empty();
+}
+
+// "Epoch numbers": whether a joiner may move from its epoch to `target`,
+// and what that costs. A joiner that has not been a member for
+// kJoinFreeRounds may take any epoch, at no cost.
+bool JoinAllowed(const SyncState& state, uint16_t target) {
+  if (state.rounds_joining >= kJoinFreeRounds) return true;
+  const int16_t jump = EpochDifference(target, state.epoch);
+  return jump > 0 && jump <= static_cast<int16_t>(state.join_credit);
+}
+
+void PayForJoin(SyncState& state, uint16_t target) {
+  if (state.rounds_joining >= kJoinFreeRounds) return;
+  state.join_credit = static_cast<uint16_t>(state.join_credit - EpochDifference(target, state.epoch));
 }
 
 // "Joining" and "Founding".
@@ -128,9 +171,10 @@ void StepJoining(const SyncConfig& config, SyncState& state, const UsableBeacons
     const wire::Beacon& beacon = *usable;
     if (beacon.phase != Phase::kVote) continue;
     const uint16_t target = static_cast<uint16_t>(beacon.epoch + 1);
-    // Only an epoch after every one this robot has been in: a robot never
-    // takes part in the same epoch twice (docs/protocol.md, "Safety").
-    if (EpochDifference(target, state.epoch) <= 0) continue;
+    // Only an epoch after every one this robot has been in, within its join
+    // credit: a robot never takes part in the same epoch twice within
+    // 21,846 rounds (docs/protocol.md, "Epoch numbers").
+    if (!JoinAllowed(state, target)) continue;
     const auto rounds_left = static_cast<uint8_t>(config.vote_rounds - beacon.vote_counter);
     const int16_t ahead = state.join_target_known ? EpochDifference(target, state.join_epoch) : 1;
     if (ahead > 0) {
@@ -159,6 +203,7 @@ void StepJoining(const SyncConfig& config, SyncState& state, const UsableBeacons
       return;
     }
     // The group starts join_epoch at the end of this round; so does the joiner.
+    PayForJoin(state, state.join_epoch);
     state.status = Status::kMember;
     state.epoch = static_cast<uint16_t>(state.join_epoch - 1);
     state.members = state.join_group;
@@ -170,8 +215,10 @@ void StepJoining(const SyncConfig& config, SyncState& state, const UsableBeacons
     StartEpoch(config, state, Mode::kAutonomous, out, ldmap);
     return;
   }
-  if (state.rounds_alone >= config.silence_rounds) {
+  const auto founded = static_cast<uint16_t>(state.epoch + 1);
+  if (state.rounds_alone >= config.silence_rounds && JoinAllowed(state, founded)) {
     // Nobody to join: found a group of one in a fresh epoch.
+    PayForJoin(state, founded);
     state.status = Status::kMember;
     state.members.clear();
     state.members.set(config.self_id);
@@ -181,7 +228,7 @@ void StepJoining(const SyncConfig& config, SyncState& state, const UsableBeacons
   }
 }
 
-void StepMember(const SyncConfig& config, SyncState& state, const UsableBeacons& received,
+void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& received,
                 const StepInput& input, StepOutput& out, LDMap& ldmap) {
   const uint16_t self = config.self_id;
 
@@ -193,21 +240,70 @@ void StepMember(const SyncConfig& config, SyncState& state, const UsableBeacons&
     state.waiting.set(self);
   }
 
-  // First pass: where the other robots are relative to this one's epoch.
+  // First pass: where the groups this robot hears are relative to its epoch.
+  const bool alone = state.members.count() == 1;
   bool lost_group = false;
-  bool catch_up = false;
   for (const wire::Beacon* beacon : received) {
+    if (!FromGroup(*beacon)) continue;
     const int16_t ahead = EpochDifference(beacon->epoch, state.epoch);
-    if (ahead >= 2) lost_group = true;
-    if (ahead == 1 && state.phase != Phase::kProgress) catch_up = true;
+    if (ahead >= 2 || (alone && ahead <= -2)) lost_group = true;
   }
 
-  // "Falling behind": a robot two or more epochs ahead means this robot's
-  // group is gone; it rejoins, and this round's beacons already count.
+  // "Falling behind": a group two or more epochs ahead means this robot's
+  // group is gone. "Alone ahead": a robot with no other member that hears a
+  // group two or more epochs behind waits for it. Either way it rejoins,
+  // and this round's beacons already count.
   if (lost_group) {
     BecomeJoiner(state, out);
     StepJoining(config, state, received, out, ldmap);
     return;
+  }
+
+  // "Catching up" from any robot, excluded ones included; used below only by
+  // a robot left alone, which follows whoever it hears.
+  bool catch_up_any = false;
+  for (const wire::Beacon* beacon : received) {
+    if (EpochDifference(beacon->epoch, state.epoch) == 1 && state.phase != Phase::kProgress) catch_up_any = true;
+  }
+
+  // "Exclusion": a member that votes with a view without this robot, in two
+  // of its epochs with no beacon naming this robot in between, does not hear
+  // it: it leaves the members and its beacons are ignored until one names
+  // this robot again (then it is handled as any other robot). A robot added
+  // in this epoch or the previous one is spared: it may not have heard this
+  // robot yet (a joiner's group, a robot just readmitted).
+  received.RetainIf([&](const wire::Beacon& beacon) {
+    const uint16_t id = beacon.robot_id;
+    const bool names_self = beacon.waiting.test(self);
+    if (names_self) state.struck.reset(id);
+    if (state.excluded.test(id)) {
+      if (!names_self) return false;
+      state.excluded.reset(id);
+      return true;
+    }
+    if (beacon.phase != Phase::kVote || names_self || !state.members.test(id) || state.added_current.test(id) ||
+        state.added_previous.test(id)) {
+      return true;
+    }
+    if (!state.struck.test(id) || state.struck_epoch[id] == beacon.epoch) {
+      state.struck.set(id);
+      state.struck_epoch[id] = beacon.epoch;
+      return true;
+    }
+    state.struck.reset(id);
+    state.excluded.set(id);
+    state.members.reset(id);
+    out.removed.set(id);
+    ++state.stats.exclusions;
+    return false;
+  });
+
+  // "Catching up": a member one epoch ahead. A robot alone also follows an
+  // excluded robot, so that robot, if it only lost it for a while, hears it
+  // in its own epoch again and adds it back.
+  bool catch_up = catch_up_any && state.members.count() == 1;
+  for (const wire::Beacon* beacon : received) {
+    if (EpochDifference(beacon->epoch, state.epoch) == 1 && state.phase != Phase::kProgress) catch_up = true;
   }
   // "Catching up": a robot one epoch ahead started it without this one.
   if (catch_up) {
@@ -322,6 +418,7 @@ SyncState InitialState(const SyncConfig& config, const wire::Snapshot& initial_s
   state.live = initial_snapshot;
   if (!config.initial_members.test(config.self_id)) {
     state.status = Status::kJoining;
+    state.rounds_joining = kJoinFreeRounds;  // never in an epoch: any epoch will do
     return state;
   }
   state.status = Status::kMember;
@@ -363,13 +460,42 @@ wire::Beacon MakeBeacon(const SyncConfig& config, const SyncState& state) {
 namespace {
 
 // The body of both Step() overloads.
-void StepWith(const SyncConfig& config, SyncState& state, const UsableBeacons& usable, const StepInput& input,
+void StepWith(const SyncConfig& config, SyncState& state, UsableBeacons& usable, const StepInput& input,
               StepOutput& out, LDMap& ldmap) {
+  // "Epoch numbers": time passes, missed rounds included.
+  const uint32_t elapsed = input.rounds_elapsed == 0 ? 1 : input.rounds_elapsed;
+  const auto saturate = [](uint32_t value) { return static_cast<uint16_t>(value > 0xFFFFu ? 0xFFFFu : value); };
+  state.join_credit = saturate(std::min<uint32_t>(kMaxJoinCredit, state.join_credit + elapsed));
+  if (state.status == Status::kMember) {
+    state.stay_rounds = saturate(state.stay_rounds + elapsed);
+    const uint32_t missed = elapsed - 1;
+    const bool gap = missed >= config.silence_rounds;
+    if (gap || state.stay_rounds >= kMaxStayRounds) {
+      // The others have removed it (gap), or its knowledge is too old to
+      // be trusted under 16-bit epoch numbers: start over as a joiner.
+      if (gap) {
+        ++state.stats.restarts_after_gap;
+      } else {
+        ++state.stats.restarts_long_stay;
+      }
+      BecomeJoiner(state, out);
+      state.rounds_joining = saturate(missed);
+    }
+  } else {
+    state.rounds_joining = saturate(state.rounds_joining + elapsed);
+    if (elapsed > 1) {
+      // A countdown heard before a pause is stale.
+      state.join_target_known = false;
+      state.join_group.clear();
+      state.held.clear();
+    }
+  }
   if (state.status == Status::kJoining) {
     StepJoining(config, state, usable, out, ldmap);
   } else {
     StepMember(config, state, usable, input, out, ldmap);
   }
+  if (state.status == Status::kMember) state.added_current |= out.joined;
   out.send = state.status == Status::kMember;
   out.beacon = MakeBeacon(config, state);
 }
@@ -387,14 +513,14 @@ void BeginStep(SyncState& state, const StepInput& input, StepOutput& out) {
 void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon> received,
           const StepInput& input, StepOutput& out, LDMap& ldmap) {
   BeginStep(state, input, out);
-  const UsableBeacons usable(config, received, state.stats);
+  UsableBeacons usable(config, received, state.stats);
   StepWith(config, state, usable, input, out, ldmap);
 }
 
 void Step(const SyncConfig& config, SyncState& state, std::span<const wire::Beacon* const> received,
           const StepInput& input, StepOutput& out, LDMap& ldmap) {
   BeginStep(state, input, out);
-  const UsableBeacons usable(config, received, state.stats);
+  UsableBeacons usable(config, received, state.stats);
   StepWith(config, state, usable, input, out, ldmap);
 }
 

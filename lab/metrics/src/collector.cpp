@@ -32,6 +32,12 @@ void Collector::SkewTotals::Add(uint16_t epoch, int64_t skew_rounds) {
   ++histogram[bin];
 }
 
+void Collector::MixedModeTotals::Add(const EpochRecord& record) {
+  if (!record.any_cooperative || !record.any_autonomous) return;
+  ++epochs;
+  robot_epochs += record.starts;
+}
+
 Collector::Collector(const CollectorConfig& config)
     : config_(config),
       tracks_(std::min<size_t>(config.robots, wire::kMaxSwarmSize)),
@@ -66,14 +72,36 @@ Collector::EpochRecord* Collector::FindRecord(uint16_t epoch) {
   return nullptr;
 }
 
-void Collector::CloseOldRecords() {
-  const auto too_old = [this](const EpochRecord& record) {
-    return sync::EpochDifference(newest_epoch_, record.epoch) >= kEpochWindow;
+// A record stays open while a robot could still start its epoch (collector.h,
+// kRecordGraceRounds); closing it measures its skew and mode agreement.
+void Collector::CloseRecords(int64_t round, std::span<const RobotRound> robots) {
+  if (open_epochs_.empty()) return;
+  for (const RobotRound& robot : robots) {
+    if (!Known(robot.id) || !robot.sync_member) continue;
+    const bool able = robot.running || (robot.paused && tracks_[robot.id].paused_rounds < config_.silence_rounds);
+    if (!able) continue;
+    EpochRecord* record = FindRecord(static_cast<uint16_t>(robot.epoch + 1));
+    if (record != nullptr) record->last_able_round = round;
+  }
+  const auto closed = [round](const EpochRecord& record) {
+    return round - record.last_able_round >= kRecordGraceRounds;
   };
   for (const EpochRecord& record : open_epochs_) {
-    if (too_old(record)) skews_.Add(record.epoch, record.last_round - record.first_round);
+    if (!closed(record)) continue;
+    skews_.Add(record.epoch, record.last_round - record.first_round);
+    mixed_.Add(record);
   }
-  std::erase_if(open_epochs_, too_old);
+  std::erase_if(open_epochs_, closed);
+}
+
+int64_t Collector::OfflineRounds(const RobotTrack& track, int64_t after, int64_t until) const {
+  int64_t rounds = 0;
+  for (const auto& [start, end] : track.offline) {
+    const int64_t from = std::max(start, after);
+    const int64_t to = std::min(end, until);
+    if (to > from) rounds += to - from;
+  }
+  return rounds;
 }
 
 void Collector::OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& ldmap) {
@@ -86,22 +114,6 @@ void Collector::OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& l
   if (cooperative) ++cooperative_starts_;
 
   const uint16_t epoch = ldmap.epoch;
-  if (!any_start_) {
-    any_start_ = true;
-    newest_epoch_ = epoch;
-  } else {
-    // int, not int16_t: the distance -32768 must stay negative when negated.
-    const int ahead = sync::EpochDifference(epoch, newest_epoch_);
-    if (ahead > 0) {
-      newest_epoch_ = epoch;
-      CloseOldRecords();
-    } else if (-ahead >= kEpochWindow) {
-      ++stale_starts_;
-      if (cooperative) ++unchecked_cooperative_starts_;
-      return;
-    }
-  }
-
   EpochRecord* record = FindRecord(epoch);
   if (record == nullptr) {
     ++epochs_started_;
@@ -109,6 +121,7 @@ void Collector::OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& l
     opened.epoch = epoch;
     opened.first_round = round;
     opened.last_round = round;
+    opened.last_able_round = round;
     open_epochs_.push_back(std::move(opened));
     record = &open_epochs_.back();
   } else {
@@ -117,6 +130,8 @@ void Collector::OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& l
     record->last_round = std::max(record->last_round, round);
   }
   record->starters.set(robot);
+  ++record->starts;
+  (cooperative ? record->any_cooperative : record->any_autonomous) = true;
 
   if (!cooperative) return;
   if (record->first_cooperative == nullptr) {
@@ -151,7 +166,10 @@ void Collector::OnMembership(uint16_t observer, int64_t round, const wire::Membe
     if (track.running) {
       ++removals_of_running_;
     } else if (track.stopped_round >= 0) {
-      const int64_t latency = std::max<int64_t>(0, round - track.stopped_round);
+      // Rounds the observer itself was stopped (paused) are not silence it
+      // heard: its failure detector did not run.
+      const int64_t offline = OfflineRounds(tracks_[observer], track.stopped_round, round);
+      const int64_t latency = std::max<int64_t>(0, round - track.stopped_round - offline);
       ++removal_latency_samples_;
       removal_latency_sum_rounds_ += latency;
       removal_latency_max_rounds_ = std::max(removal_latency_max_rounds_, latency);
@@ -183,7 +201,9 @@ void Collector::OnRoundEnd(int64_t round, std::span<const RobotRound> robots) {
     RobotTrack& track = tracks_[robot.id];
     const bool member = robot.running && robot.member;
 
+    track.paused_rounds = robot.paused ? track.paused_rounds + 1 : 0;
     if (robot.running) {
+      if (!track.offline.empty() && track.offline.back().second < 0) track.offline.back().second = round;
       track.running = true;
       track.stopped_round = -1;
       if (!member && track.joining_since < 0) {
@@ -196,7 +216,10 @@ void Collector::OnRoundEnd(int64_t round, std::span<const RobotRound> robots) {
         track.joining_since = -1;
       }
     } else {
-      if (track.running) track.stopped_round = round;
+      if (track.running) {
+        track.stopped_round = round;
+        track.offline.emplace_back(round, -1);
+      }
       track.running = false;
       track.joining_since = -1;
     }
@@ -227,6 +250,8 @@ void Collector::OnRoundEnd(int64_t round, std::span<const RobotRound> robots) {
       }
     }
   }
+
+  CloseRecords(round, robots);
 
   if (any_cooperative && any_autonomous) {
     ++disagreement_run_rounds_;
@@ -326,8 +351,10 @@ Metrics Collector::Finish(const RunFacts& facts) const {
 
   // Epochs still open are measured as they stand, in the order they opened.
   SkewTotals skews = skews_;
+  MixedModeTotals mixed = mixed_;
   for (const EpochRecord& record : open_epochs_) {
     skews.Add(record.epoch, record.last_round - record.first_round);
+    mixed.Add(record);
   }
   SynchronyMetrics& synchrony = metrics.synchrony;
   synchrony.epochs_measured = skews.epochs;
@@ -351,6 +378,8 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   knowledge.cooperative_epochs = cooperative_epochs_;
   knowledge.unchecked_cooperative_starts = unchecked_cooperative_starts_;
   knowledge.max_mode_disagreement_rounds = max_disagreement_rounds_;
+  knowledge.mixed_mode_epochs = mixed.epochs;
+  knowledge.mixed_mode_robot_epochs = mixed.robot_epochs;
   knowledge.mode_disagreement_rounds = disagreement_rounds_;
 
   metrics.collisions.count = collisions_;

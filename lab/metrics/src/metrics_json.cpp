@@ -108,6 +108,8 @@ Json CommonKnowledgeJson(const CommonKnowledgeMetrics& knowledge) {
   json["unchecked_cooperative_starts"] = knowledge.unchecked_cooperative_starts;
   json["max_mode_disagreement_rounds"] = knowledge.max_mode_disagreement_rounds;
   json["mode_disagreement_rounds"] = knowledge.mode_disagreement_rounds;
+  json["mixed_mode_epochs"] = knowledge.mixed_mode_epochs;
+  json["mixed_mode_robot_epochs"] = knowledge.mixed_mode_robot_epochs;
   return json;
 }
 

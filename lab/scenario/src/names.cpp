@@ -26,6 +26,10 @@ const char* ToString(FaultKind kind) {
       return "pause";
     case FaultKind::kJoin:
       return "join";
+    case FaultKind::kDeaf:
+      return "deaf";
+    case FaultKind::kMute:
+      return "mute";
   }
   return "?";
 }

@@ -32,6 +32,13 @@ const YamlNode& Blame(const YamlNode& map, std::initializer_list<std::string_vie
   return map;
 }
 
+// The synchronizer's limits (sync::kMaxSilenceRounds, runtime::kMaxManeuverRounds),
+// restated here: the scenario layer sits below core/sync. They keep a
+// legitimate epoch far shorter than the stay after which a robot rejoins
+// (docs/protocol.md, "Epoch numbers").
+constexpr int64_t kMaxSilenceRounds = 4096;
+constexpr int64_t kMaxAppRoundRounds = 4096;
+
 bool CheckTimingRules(const YamlNode& node, const TimingSpec& timing, Diagnostics& diagnostics) {
   std::string path;
   if (timing.silence_rounds <= timing.vote_rounds) {
@@ -61,6 +68,14 @@ bool CheckTimingRules(const YamlNode& node, const TimingSpec& timing, Diagnostic
                   "app_round_s (" + FormatNumber(timing.app_round_s) + ") must last at least K = " +
                       std::to_string(timing.vote_rounds) + " radio rounds (" +
                       FormatNumber(timing.vote_rounds * timing.radio_round_s) + " s)",
+                  diagnostics);
+  }
+  if (std::round(timing.app_round_s / timing.radio_round_s) > kMaxAppRoundRounds) {
+    const YamlNode& at = Blame(node, {"app_round_s", "radio_round_s"}, path);
+    return FailAt(at, path,
+                  "app_round_s (" + FormatNumber(timing.app_round_s) + ") must last at most " +
+                      std::to_string(kMaxAppRoundRounds) + " radio rounds (" +
+                      FormatNumber(kMaxAppRoundRounds * timing.radio_round_s) + " s)",
                   diagnostics);
   }
   return true;
@@ -205,7 +220,7 @@ bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagn
   return true;
 }
 
-constexpr std::string_view kFaultKinds[] = {"crash", "pause", "join"};  // FaultKind's order
+constexpr std::string_view kFaultKinds[] = {"crash", "pause", "join", "deaf", "mute"};  // FaultKind's order
 
 struct PlacedFault {
   FaultSpec fault;
@@ -215,14 +230,14 @@ struct PlacedFault {
 
 bool ReadFault(const YamlNode& node, const std::string& path, const Scenario& scenario, PlacedFault& placed,
                Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"crash", "pause", "join", "at_s", "until_s"};
+  static constexpr std::string_view kKeys[] = {"crash", "pause", "join", "deaf", "mute", "at_s", "until_s"};
   if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics)) return false;
   const YamlNode* robot = nullptr;
   for (size_t kind = 0; kind < std::size(kFaultKinds); ++kind) {
     const YamlNode* named = node.Find(kFaultKinds[kind]);
     if (named == nullptr) continue;
     if (robot != nullptr) {
-      return FailAt(node, path, "names two fault kinds; give one of crash, pause, join per entry", diagnostics);
+      return FailAt(node, path, "names two fault kinds; give one of crash, pause, join, deaf, mute per entry", diagnostics);
     }
     robot = named;
     placed.fault.kind = static_cast<FaultKind>(kind);
@@ -231,7 +246,7 @@ bool ReadFault(const YamlNode& node, const std::string& path, const Scenario& sc
     }
   }
   if (robot == nullptr) {
-    return FailAt(node, path, "a fault needs one of crash, pause, join (the robot id)", diagnostics);
+    return FailAt(node, path, "a fault needs one of crash, pause, join, deaf, mute (the robot id)", diagnostics);
   }
   if (!RequireKey(node, path, "at_s", diagnostics)) return false;
   const YamlNode& at = *node.Find("at_s");
@@ -243,9 +258,11 @@ bool ReadFault(const YamlNode& node, const std::string& path, const Scenario& sc
                   diagnostics);
   }
   const YamlNode* until = node.Find("until_s");
-  if (placed.fault.kind != FaultKind::kPause) {
+  if (placed.fault.kind != FaultKind::kPause && !IsRadioFault(placed.fault.kind)) {
     for (const YamlNode& key : node.keys) {
-      if (key.scalar == "until_s") return FailAt(key, path, "'until_s' applies to pause faults only", diagnostics);
+      if (key.scalar == "until_s") {
+        return FailAt(key, path, "'until_s' applies to pause, deaf and mute faults only", diagnostics);
+      }
     }
     return true;
   }
@@ -266,7 +283,8 @@ bool CheckFaultStory(const std::vector<PlacedFault>& faults, Diagnostics& diagno
     const FaultSpec& later = faults[i].fault;
     for (size_t j = 0; j < i; ++j) {
       const FaultSpec& earlier = faults[j].fault;
-      if (earlier.robot != later.robot) continue;
+      // Deaf and mute act on the radio alone: any time, any overlap.
+      if (earlier.robot != later.robot || IsRadioFault(earlier.kind) || IsRadioFault(later.kind)) continue;
       const std::string robot = "robot " + std::to_string(later.robot);
       const std::string when = " at " + FormatNumber(earlier.at_s) + " s (" + faults[j].path + ")";
       std::string problem;
@@ -301,7 +319,7 @@ bool ReadTiming(const YamlNode* node, const Overrides& overrides, TimingSpec& ti
   if (!ReadNumberAt(map, path, "radio_round_s", NumberRange{0.001, 10}, timing.radio_round_s, diagnostics) ||
       !ReadNumberAt(map, path, "app_round_s", NumberRange{0, 3600, true}, timing.app_round_s, diagnostics) ||
       !ReadIntegerAt(map, path, "vote_rounds", 1, 200, vote_rounds, diagnostics) ||
-      !ReadIntegerAt(map, path, "silence_rounds", 2, 65535, silence_rounds, diagnostics) ||
+      !ReadIntegerAt(map, path, "silence_rounds", 2, kMaxSilenceRounds, silence_rounds, diagnostics) ||
       !ReadNumberAt(map, path, "duration_s", NumberRange{0, kTimeOfRun.max, true}, timing.duration_s, diagnostics) ||
       !ReadNumberAt(map, path, "physics_step_s", NumberRange{0.0001, 1}, timing.physics_step_s, diagnostics)) {
     return false;

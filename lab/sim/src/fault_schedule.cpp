@@ -14,6 +14,8 @@ FaultAction::Kind ActionFor(scenario::FaultKind kind) {
     case scenario::FaultKind::kCrash: return FaultAction::Kind::kCrash;
     case scenario::FaultKind::kPause: return FaultAction::Kind::kPause;
     case scenario::FaultKind::kJoin: return FaultAction::Kind::kJoin;
+    case scenario::FaultKind::kDeaf:
+    case scenario::FaultKind::kMute: break;  // filtered out by the constructor
   }
   return FaultAction::Kind::kCrash;
 }
@@ -21,11 +23,19 @@ FaultAction::Kind ActionFor(scenario::FaultKind kind) {
 }  // namespace
 
 FaultSchedule::FaultSchedule(std::span<const scenario::FaultSpec> faults, int64_t radio_round_ns)
-    : faults_(faults.begin(), faults.end()), radio_round_ns_(radio_round_ns) {
+    : radio_round_ns_(radio_round_ns) {
   SYROF_CHECK(radio_round_ns_ > 0);
+  // Deaf and mute act on the radio (RadioNetwork), not on the robot.
+  for (const scenario::FaultSpec& fault : faults) {
+    if (!scenario::IsRadioFault(fault.kind)) faults_.push_back(fault);
+  }
   resume_ns_.reserve(faults_.size());
   for (const scenario::FaultSpec& fault : faults_) {
-    resume_ns_.push_back(fault.kind == scenario::FaultKind::kPause ? EffectiveNs(fault.until_s) : -1);
+    // The software restarts one radio round before until_s takes effect, so
+    // its first round ends there: a pause of P rounds misses exactly P round
+    // ends (docs/scenarios.md, "Pause timing").
+    resume_ns_.push_back(fault.kind == scenario::FaultKind::kPause ? EffectiveNs(fault.until_s) - radio_round_ns_
+                                                                   : -1);
   }
   due_.reserve(2 * faults_.size());
 }

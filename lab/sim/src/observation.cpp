@@ -27,6 +27,8 @@ metrics::RobotRound ToRobotRound(const RobotObservation& observation) {
   record.id = observation.id;
   record.running = observation.running();
   record.member = observation.running() && observation.status == sync::Status::kMember;
+  record.paused = observation.presence == replay::Presence::kPaused;
+  record.sync_member = observation.status == sync::Status::kMember;
   record.epoch = observation.epoch;
   record.epoch_mode = observation.epoch_mode;
   record.phase = observation.phase;

@@ -197,7 +197,8 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       world_(scenario.arena, Bodies(scenario)),
       radio_(scenario.channel, static_cast<uint16_t>(scenario.robots.size()), ChannelSeed(scenario.seed)),
       collector_(metrics::CollectorConfig{static_cast<uint16_t>(scenario.robots.size()),
-                                          Nanoseconds(scenario.timing.radio_round_s)}),
+                                          Nanoseconds(scenario.timing.radio_round_s),
+                                          static_cast<uint16_t>(scenario.timing.silence_rounds)}),
       fault_task_([this](int64_t now_ns) { StepFaults(now_ns); }),
       physics_task_([this](int64_t now_ns) { StepPhysics(now_ns); }),
       hardware_task_([this](int64_t now_ns) { StepHardware(now_ns); }),
@@ -206,6 +207,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       faults_(scenario.faults, radio_round_ns_),
       partition_active_(scenario.channel.partitions.size(), 0) {
   for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
+  radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);

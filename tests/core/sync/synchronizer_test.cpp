@@ -317,6 +317,144 @@ TEST_F(SynchronizerTest, MalformedBeaconsAreCountedAndDropped) {
   EXPECT_EQ(state_.stats.last_issue, BeaconIssue::kDuplicate);
 }
 
+// Pauses and epoch numbers (docs/protocol.md, "Epoch numbers").
+TEST_F(SynchronizerTest, AMemberThatMissedFRoundsRestartsAsAJoinerButFMinusOneDoesNot) {
+  EnterVote();
+  StepInput input;
+  input.own_snapshot = Own();
+  input.rounds_elapsed = config_.silence_rounds;  // missed F - 1 rounds
+  Step(config_, state_, std::span<const wire::Beacon>(), input, out_, ldmap_);
+  EXPECT_EQ(state_.status, Status::kMember);
+  EXPECT_FALSE(out_.became_joiner);
+  input.rounds_elapsed = config_.silence_rounds + 1u;  // missed F rounds
+  Step(config_, state_, std::span<const wire::Beacon>(), input, out_, ldmap_);
+  EXPECT_EQ(state_.status, Status::kJoining);
+  EXPECT_TRUE(out_.became_joiner);
+  EXPECT_FALSE(state_.held.test(1)) << "the others' snapshots are forgotten";
+  EXPECT_EQ(state_.stats.restarts_after_gap, 1u);
+}
+
+// The issue's case: paused in VOTE of epoch 0, resumed 65,536 epochs later
+// when the group's counter reads 0 again. Before, it voted with its old view
+// and started epoch 1 COOPERATIVE with the old snapshots.
+TEST_F(SynchronizerTest, APauseAcrossTheEpochWrapNeverReusesOldSnapshots) {
+  EnterVote();
+  StepWith(Votes(1));
+  StepInput input;
+  input.own_snapshot = Own();
+  input.rounds_elapsed = 2u * 65536u * 25u;
+  std::vector<wire::Beacon> fresh = Votes(3);
+  for (wire::Beacon& beacon : fresh) beacon.snapshot.x_mm = static_cast<int16_t>(beacon.snapshot.x_mm + 1);
+  Step(config_, state_, fresh, input, out_, ldmap_);
+  EXPECT_TRUE(out_.became_joiner);
+  EXPECT_EQ(state_.stats.restarts_after_gap, 1u);
+  // It joined the group's boundary at once (the votes say K), AUTONOMOUS,
+  // holding only this round's snapshots.
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(ldmap_.mode, Mode::kAutonomous);
+  for (const uint16_t id : {1, 2, 3}) EXPECT_EQ(ldmap_.snapshots[id].x_mm, 100 * id + 1) << id;
+}
+
+TEST_F(SynchronizerTest, AMemberStuckInOneEpochForTheStayLimitRestartsAsAJoiner) {
+  state_.phase = Phase::kProgress;
+  StepInput input;
+  input.own_snapshot = Own();
+  input.rounds_elapsed = 1;
+  for (uint32_t round = 1; round < kMaxStayRounds; ++round) {
+    Step(config_, state_, Votes(1), input, out_, ldmap_);  // heard, never finishing
+    ASSERT_EQ(state_.status, Status::kMember) << round;
+  }
+  Step(config_, state_, Votes(1), input, out_, ldmap_);
+  EXPECT_EQ(state_.status, Status::kJoining);
+  EXPECT_EQ(state_.stats.restarts_long_stay, 1u);
+}
+
+TEST_F(SynchronizerTest, JoinsSpendCreditSoNoRobotCirclesTheEpochNumbersQuickly) {
+  state_ = SyncState{};
+  state_.status = Status::kJoining;
+  state_.epoch = 0;
+  state_.join_credit = 20000;
+  StepWith({From(1, 30000, Phase::kVote, 3)});
+  EXPECT_FALSE(out_.epoch_started) << "a jump of 30,001 epochs exceeds the credit";
+  StepWith({From(1, 10000, Phase::kVote, 3)});
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(state_.epoch, 10001);
+  EXPECT_EQ(state_.join_credit, 20000 + 2 - 10001);
+}
+
+TEST_F(SynchronizerTest, ARobotSwitchedOnLateMayJoinAnyEpoch) {
+  config_.initial_members.reset(0);
+  state_ = InitialState(config_, Own());
+  StepWith({From(1, 50000, Phase::kVote, 3)});  // "behind" 0 by serial arithmetic
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(state_.epoch, 50001);
+}
+
+// "Exclusion": the deaf robot's votes name only itself.
+TEST_F(SynchronizerTest, AMemberVotingWithoutThisRobotIsExcludedUntilItNamesThisRobotAgain) {
+  state_.phase = Phase::kProgress;
+  wire::Beacon deaf = From(3, 0, Phase::kVote, 1);
+  deaf.waiting.clear();
+  deaf.waiting.set(3);
+  StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), deaf});
+  StepWith({deaf});
+  EXPECT_TRUE(state_.members.test(3)) << "one epoch of its votes is a strike, not yet an exclusion";
+  EXPECT_TRUE(state_.struck.test(3));
+  deaf.epoch = 1;  // its next epoch (it runs alone): the second strike
+  StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), deaf});
+  EXPECT_FALSE(state_.members.test(3));
+  EXPECT_TRUE(state_.excluded.test(3));
+  EXPECT_TRUE(out_.removed.test(3));
+  EXPECT_EQ(state_.epoch, 0) << "an excluded robot one epoch ahead is not followed";
+  // Ignored while excluded: no evidence, no rejoin, no catch-up.
+  wire::Beacon ahead = From(3, 1, Phase::kWait);
+  StepWith({ahead}, true);
+  EXPECT_FALSE(state_.members.test(3));
+  EXPECT_EQ(state_.epoch, 0);
+  // It hears this robot again: back as any robot.
+  wire::Beacon hears = From(3, 0, Phase::kWait);
+  hears.waiting.set(0);
+  StepWith({hears});
+  EXPECT_FALSE(state_.excluded.test(3));
+  EXPECT_TRUE(state_.members.test(3));
+}
+
+TEST_F(SynchronizerTest, AStrikeIsForgivenWhenTheMemberNamesThisRobotAgain) {
+  state_.phase = Phase::kProgress;
+  wire::Beacon lost_me = From(3, 0, Phase::kVote, 1);
+  lost_me.waiting.reset(0);
+  StepWith({lost_me});
+  EXPECT_TRUE(state_.struck.test(3));
+  StepWith({From(3, 1, Phase::kProgress)});  // PROGRESS names nobody yet: no news
+  wire::Beacon found_me = From(3, 1, Phase::kWait);
+  found_me.waiting.set(0);
+  StepWith({found_me});
+  EXPECT_FALSE(state_.struck.test(3));
+  lost_me.epoch = 1;
+  StepWith({lost_me});
+  EXPECT_TRUE(state_.members.test(3)) << "one strike again, not two";
+}
+
+TEST_F(SynchronizerTest, ARobotAloneIsNotFollowedButWaitsForAGroupBehindIt) {
+  // A lone robot two epochs ahead does not drag this one along...
+  wire::Beacon lone = From(1, 7, Phase::kVote, 1);
+  lone.waiting.clear();
+  lone.waiting.set(1);
+  StepWith({lone});
+  EXPECT_EQ(state_.status, Status::kMember);
+  // ... and a robot alone that hears a group behind it waits for that group.
+  state_.members.clear();
+  state_.members.set(0);
+  state_.epoch = 9;
+  StepWith({From(1, 5, Phase::kVote, 1)});
+  EXPECT_EQ(state_.status, Status::kJoining);
+  StepWith({From(1, 8, Phase::kVote, 3)});
+  EXPECT_FALSE(out_.epoch_started) << "epoch 9 again is not allowed";
+  StepWith({From(1, 9, Phase::kVote, 3)});
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(state_.epoch, 10);
+}
+
 TEST(EpochDifferenceTest, UsesSerialArithmeticAcrossTheWrap) {
   EXPECT_EQ(EpochDifference(5, 3), 2);
   EXPECT_EQ(EpochDifference(3, 5), -2);
@@ -341,6 +479,9 @@ TEST(SyncConfigTest, ValidateNamesEachBrokenRule) {
   bad = config;
   bad.silence_rounds = bad.vote_rounds;
   EXPECT_EQ(Validate(bad), ConfigError::kSilenceNotAboveVote);
+  bad = config;
+  bad.silence_rounds = kMaxSilenceRounds + 1;
+  EXPECT_EQ(Validate(bad), ConfigError::kSilenceTooLong);
   bad = config;
   bad.quorum = 2;
   EXPECT_EQ(Validate(bad), ConfigError::kQuorumNotMajority);

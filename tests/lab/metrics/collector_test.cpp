@@ -138,23 +138,88 @@ TEST(CollectorSynchrony, LargeSkewsFallInTheLastHistogramBin) {
   EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 15);
 }
 
-TEST(CollectorSynchrony, StartsBeyondTheWindowAreStaleAndUnchecked) {
-  Collector collector = MakeCollector(2);
-  for (uint16_t epoch = 1; epoch <= 40; ++epoch) {
-    StartAll(collector, epoch, 10 * epoch, Mode::kCooperative, {0});
-  }
+RobotRound InEpoch(RobotRound robot, uint16_t epoch) {
+  robot.epoch = epoch;
+  robot.sync_member = robot.member;
+  return robot;
+}
 
-  // 38 epochs behind the newest: no longer matched to epoch 2's starts.
-  collector.OnEpochStart(1, 500, MapFor(2, Mode::kCooperative, {1}));
+// The blind spot: a lone robot running 40 epochs ahead made every
+// start of the others "stale" and unchecked (a 32-epoch window). Now the
+// others' epoch stays open while they can start it, and is compared.
+TEST(CollectorCommonKnowledge, ALoneRobotRunningAheadLeavesTheOthersStartsChecked) {
+  Collector collector = MakeCollector(3);
+  for (uint16_t epoch = 1; epoch <= 40; ++epoch) {
+    StartAll(collector, epoch, 10 * epoch, Mode::kAutonomous, {0});
+    collector.OnRoundEnd(10 * epoch, std::vector<RobotRound>{InEpoch(Member(0, Mode::kAutonomous), epoch),
+                                                             InEpoch(Member(1, Mode::kCooperative), 1),
+                                                             InEpoch(Member(2, Mode::kCooperative), 1)});
+  }
+  collector.OnEpochStart(1, 500, MapFor(2, Mode::kCooperative, {1, 2}));
+  sync::LDMap other = MapFor(2, Mode::kCooperative, {1, 2});
+  other.snapshots[2].x_mm = 99;
+  collector.OnEpochStart(2, 500, other);
   const Metrics metrics = collector.Finish(RunFacts{});
 
-  EXPECT_EQ(metrics.epochs_started, 40);
-  EXPECT_EQ(metrics.epoch_starts, 41);
-  EXPECT_EQ(metrics.synchrony.stale_starts, 1);
-  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 0);
-  EXPECT_EQ(metrics.synchrony.epochs_measured, 40);
-  EXPECT_EQ(metrics.common_knowledge.unchecked_cooperative_starts, 1);
+  EXPECT_EQ(metrics.epoch_starts, 42);
+  EXPECT_EQ(metrics.synchrony.stale_starts, 0);
+  EXPECT_EQ(metrics.common_knowledge.unchecked_cooperative_starts, 0);
+  EXPECT_EQ(metrics.common_knowledge.violations, 1);
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 480) << "robot 0 started epoch 2 at round 20";
+}
+
+// Once nobody can start an epoch any more (grace rounds after the last robot
+// left the epoch before), its record closes: the same number reached again
+// after the 16-bit wrap is another epoch, not compared with the old one.
+TEST(CollectorCommonKnowledge, ARecordClosesWhenNobodyCanStartItAndTheNumberMayReturn) {
+  Collector collector = MakeCollector(2);
+  StartAll(collector, 7, 10, Mode::kCooperative, {0, 1});
+  for (int64_t round = 11; round < 11 + kRecordGraceRounds; ++round) {
+    collector.OnRoundEnd(round, std::vector<RobotRound>{InEpoch(Member(0, Mode::kCooperative), 7),
+                                                        InEpoch(Member(1, Mode::kCooperative), 7)});
+  }
+  sync::LDMap later = MapFor(7, Mode::kCooperative, {0, 1});
+  later.snapshots[0].x_mm = 1234;
+  collector.OnEpochStart(0, 9000, later);
+  collector.OnEpochStart(1, 9000, later);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.epochs_started, 2);
   EXPECT_EQ(metrics.common_knowledge.violations, 0);
+  EXPECT_EQ(metrics.synchrony.repeated_starts, 0);
+  EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 0);
+}
+
+// A robot paused in the epoch before for fewer than F rounds may still start
+// it when it resumes: the record stays open, and its start is compared.
+TEST(CollectorCommonKnowledge, ARobotPausedBrieflyKeepsTheEpochOpen) {
+  Collector collector = Collector(CollectorConfig{2, kRoundNs, 1000});
+  StartAll(collector, 3, 10, Mode::kCooperative, {0});
+  RobotRound paused = InEpoch(Stopped(1), 2);
+  paused.paused = true;
+  paused.sync_member = true;
+  for (int64_t round = 11; round < 11 + 2 * kRecordGraceRounds; ++round) {
+    collector.OnRoundEnd(round, std::vector<RobotRound>{InEpoch(Member(0, Mode::kCooperative), 3), paused});
+  }
+  sync::LDMap stale = MapFor(3, Mode::kCooperative, {0});
+  stale.snapshots[0].x_mm = 5;
+  collector.OnEpochStart(1, 11 + 2 * kRecordGraceRounds, stale);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.violations, 1);
+}
+
+// P4 per epoch: epochs whose robots did not all start in the same mode.
+TEST(CollectorModeDisagreement, EpochsStartedInBothModesAreCountedWithTheirStarts) {
+  Collector collector = MakeCollector(3);
+  StartAll(collector, 1, 10, Mode::kCooperative, {0, 1, 2});
+  StartAll(collector, 2, 20, Mode::kCooperative, {0, 1});
+  StartAll(collector, 2, 20, Mode::kAutonomous, {2});
+  StartAll(collector, 3, 30, Mode::kAutonomous, {0, 1, 2});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.common_knowledge.mixed_mode_epochs, 1);
+  EXPECT_EQ(metrics.common_knowledge.mixed_mode_robot_epochs, 3);
 }
 
 TEST(CollectorSynchrony, EpochNumbersWrapWithSerialArithmetic) {
@@ -478,6 +543,30 @@ TEST(CollectorMembership, RemovalsAreSummedOverObserversWithLatency) {
   EXPECT_EQ(metrics.membership.removals_of_running_robots, 0);
   EXPECT_EQ(metrics.membership.max_removal_latency_rounds, std::optional<int64_t>(7));
   EXPECT_EQ(metrics.membership.mean_removal_latency_rounds, std::optional<double>(6.5));
+}
+
+// Robot 0 is paused for 4 rounds while robot 2 is silent: its failure
+// detector did not run then, so those rounds are not counted as latency
+// (before, they were: 11 instead of 7).
+TEST(CollectorMembership, APausedObserversOwnStopIsNotRemovalLatency) {
+  Collector collector = MakeCollector(3);
+  wire::MemberSet crashed;
+  crashed.set(2);
+  RobotRound paused = Stopped(0);
+  paused.paused = true;
+  for (int64_t round = 0; round < 5; ++round) {
+    collector.OnRoundEnd(round, std::vector<RobotRound>{Member(0, Mode::kCooperative), Member(1, Mode::kCooperative),
+                                                        Member(2, Mode::kCooperative)});
+  }
+  for (int64_t round = 5; round < 16; ++round) {
+    const bool observer_paused = round >= 7 && round < 11;
+    collector.OnRoundEnd(round, std::vector<RobotRound>{observer_paused ? paused : Member(0, Mode::kCooperative),
+                                                        Member(1, Mode::kCooperative), Stopped(2)});
+  }
+  collector.OnMembership(0, 16, crashed, wire::MemberSet{});
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  EXPECT_EQ(metrics.membership.max_removal_latency_rounds, std::optional<int64_t>(7));
 }
 
 TEST(CollectorMembership, RemovingARunningRobotIsCountedApart) {

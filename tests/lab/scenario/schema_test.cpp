@@ -273,7 +273,29 @@ TEST(Schema, PauseNeedsUntil) {
 
 TEST(Schema, UntilIsForPausesOnly) {
   EXPECT_TRUE(FailsAt(LoadWith("faults:\n  - { crash: 1, at_s: 5, until_s: 6 }\n"), 4, 26,
-                      {"faults[0]: 'until_s' applies to pause faults only"}));
+                      {"faults[0]: 'until_s' applies to pause, deaf and mute faults only"}));
+}
+
+TEST(Schema, DeafAndMuteNeedAnIntervalAndMayOverlapAnything) {
+  EXPECT_TRUE(FailsAt(LoadWith("faults:\n  - { deaf: 1, at_s: 5 }\n"), 4, 5, {"missing required key 'faults[0].until_s'"}));
+  EXPECT_TRUE(FailsAt(LoadWith("faults:\n  - { mute: 1, at_s: 5, until_s: 4 }\n"), 4, 34,
+                      {"faults[0].until_s: must be greater than at_s (5)"}));
+  const LoadResult result = LoadWith(
+      "faults:\n"
+      "  - { pause: 1, at_s: 2, until_s: 6 }\n"
+      "  - { deaf: 1, at_s: 3, until_s: 99 }\n"
+      "  - { mute: 1, at_s: 4, until_s: 5 }\n");
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  ASSERT_EQ(result.scenario->faults.size(), 3u);
+  EXPECT_EQ(result.scenario->faults[1].kind, FaultKind::kDeaf);
+  EXPECT_EQ(result.scenario->faults[1].until_s, 99);
+  EXPECT_EQ(result.scenario->faults[2].kind, FaultKind::kMute);
+}
+
+TEST(Schema, SilenceAndAppRoundAreBoundedForTheEpochNumbers) {
+  EXPECT_TRUE(FailsAt(LoadWith("timing: { silence_rounds: 4097 }\n"), 3, 27, {"timing.silence_rounds"}));
+  EXPECT_TRUE(FailsAt(LoadWith("timing: { radio_round_s: 0.01, app_round_s: 41 }\n"), 3, 45,
+                      {"must last at most 4096 radio rounds"}));
 }
 
 TEST(Schema, FaultAfterTheDurationIsRefused) {

@@ -28,19 +28,28 @@ TEST(FaultScheduleTest, AFaultTakesEffectAtTheFirstRoundBoundaryAtOrAfterItsTime
   EXPECT_EQ(schedule.EffectiveNs(1.05), 1'050'000'000);
 }
 
-TEST(FaultScheduleTest, APauseResumesOnTheGridAfterUntil) {
+// The resume is due one round before the grid point after until_s, so the
+// robot's first step (one round after its restart) is at that grid point.
+TEST(FaultScheduleTest, APauseResumesOneRoundBeforeTheGridPointAfterUntil) {
   const std::vector<scenario::FaultSpec> faults = {{scenario::FaultKind::kPause, 4, 3.0, 6.02}};
   FaultSchedule schedule(faults, kRoundNs);
 
   EXPECT_EQ(DueAt(schedule, 3'000'000'000), (std::vector<FaultAction>{{Kind::kPause, 4}}));
-  EXPECT_TRUE(DueAt(schedule, 6'000'000'000).empty());
-  EXPECT_EQ(DueAt(schedule, 6'050'000'000), (std::vector<FaultAction>{{Kind::kResume, 4}}));
-  EXPECT_TRUE(DueAt(schedule, 6'100'000'000).empty());
+  EXPECT_TRUE(DueAt(schedule, 5'950'000'000).empty());
+  EXPECT_EQ(DueAt(schedule, 6'000'000'000), (std::vector<FaultAction>{{Kind::kResume, 4}}));
+  EXPECT_TRUE(DueAt(schedule, 6'050'000'000).empty());
+}
+
+TEST(FaultScheduleTest, APauseOfOneRoundResumesWhereItStarts) {
+  const std::vector<scenario::FaultSpec> faults = {{scenario::FaultKind::kPause, 1, 3.0, 3.05}};
+  FaultSchedule schedule(faults, kRoundNs);
+
+  EXPECT_EQ(DueAt(schedule, 3'000'000'000), (std::vector<FaultAction>{{Kind::kPause, 1}, {Kind::kResume, 1}}));
 }
 
 TEST(FaultScheduleTest, FaultsDueTogetherComeInScenarioOrderThenResumes) {
   const std::vector<scenario::FaultSpec> faults = {
-      {scenario::FaultKind::kPause, 1, 1.0, 2.0},
+      {scenario::FaultKind::kPause, 1, 1.0, 2.05},
       {scenario::FaultKind::kJoin, 5, 1.98, 0},
       {scenario::FaultKind::kCrash, 0, 2.0, 0},
   };

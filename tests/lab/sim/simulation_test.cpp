@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -271,6 +272,94 @@ TEST(SimulationTest, PausedRobotIsRemovedThenRejoins) {
   EXPECT_EQ(metrics["membership"]["removals"], 5);
   EXPECT_GE(metrics["membership"]["joins"].get<int>(), 5);
   for (uint16_t id = 0; id < 6; ++id) EXPECT_TRUE(simulation.robot(id).ldmap().members.test(4)) << "robot " << id;
+}
+
+// Pause timing (docs/scenarios.md, "Faults"): a pause of P radio rounds
+// makes the robot miss exactly P round ends, so the others' failure
+// detectors (F = 6 by default) keep it for P = F - 1 and remove it for P = F.
+// Before, its first step came one round after until_s, so F - 1 removed it.
+struct PauseOutcome {
+  int removals = 0;
+  uint32_t restarts = 0;  // the paused robot's own restarts as a joiner after the gap
+};
+
+PauseOutcome AfterPauseOf(int rounds) {
+  const double until_s = 3.0 + 0.05 * rounds;
+  char fault[96];
+  std::snprintf(fault, sizeof fault, "faults: [{pause: 4, at_s: 3, until_s: %.2f}]\n", until_s);
+  Simulation simulation(Load(Swarm(fault, 0.0, 6)));
+  simulation.RunUntil(6);
+  const json metrics = json::parse(simulation.Finish(0).metrics_json);
+  EXPECT_EQ(metrics["common_knowledge"]["violations"], 0);
+  return PauseOutcome{metrics["membership"]["removals"].get<int>(),
+                      simulation.robot(4).sync_state().stats.restarts_after_gap};
+}
+
+TEST(SimulationTest, APauseOfFMinusOneRoundsKeepsTheRobotAndOfFRemovesIt) {
+  const PauseOutcome f_minus_one = AfterPauseOf(5);
+  const PauseOutcome f = AfterPauseOf(6);
+  const PauseOutcome f_plus_one = AfterPauseOf(7);
+  EXPECT_EQ(f_minus_one.removals, 0);
+  EXPECT_EQ(f_minus_one.restarts, 0u);
+  EXPECT_EQ(f.removals, 5);
+  EXPECT_EQ(f.restarts, 1u) << "the runtime tells the synchronizer it missed F rounds";
+  EXPECT_EQ(f_plus_one.removals, 5);
+  EXPECT_EQ(f_plus_one.restarts, 1u);
+}
+
+// A deaf robot (hears nobody, is heard) or a mute one (hears, is not heard)
+// from 5 s to 12 s. Before the exclusion rule the deaf robot's votes vetoed
+// every epoch: no COOPERATIVE epoch until it heard again. Now the others
+// exclude it: robot 0 starts at most two epochs AUTONOMOUS after the fault,
+// then only COOPERATIVE ones until the fault ends (an epoch lasts about
+// 1.2 s here), and the silenced robot is back in every map once it hears.
+struct SilencedRun {
+  int epochs = 0;               // robot 0's epochs started in (5 s, 12 s)
+  int autonomous = 0;           // of which AUTONOMOUS
+  int last_autonomous = 0;      // the index (1 = first after the fault) of the last one
+  bool back_in_every_map = true;
+  json metrics;
+};
+
+SilencedRun RunSilenced(const char* kind) {
+  const std::string fault = std::string("faults: [{") + kind + ": 2, at_s: 5, until_s: 12}]\n";
+  Simulation simulation(Load(Swarm(fault, 0.0, 20)));
+  SilencedRun run;
+  simulation.RunUntil(5.0);
+  uint16_t epoch = simulation.robot(0).ldmap().epoch;
+  for (double t = 5.05; t < 12.0; t += 0.05) {
+    simulation.RunUntil(t);
+    const sync::LDMap& map = simulation.robot(0).ldmap();
+    if (map.epoch == epoch) continue;
+    epoch = map.epoch;
+    ++run.epochs;
+    if (map.mode != wire::Mode::kCooperative) {
+      ++run.autonomous;
+      run.last_autonomous = run.epochs;
+    }
+  }
+  simulation.RunUntil(20);
+  for (uint16_t id = 0; id < 6; ++id) {
+    run.back_in_every_map = run.back_in_every_map && simulation.robot(id).ldmap().members.test(2);
+  }
+  run.metrics = json::parse(simulation.Finish(0).metrics_json);
+  return run;
+}
+
+void ExpectCooperativeWithinTwoEpochs(const SilencedRun& run) {
+  EXPECT_GE(run.epochs, 5);
+  EXPECT_LE(run.autonomous, 2);
+  EXPECT_LE(run.last_autonomous, 3) << "AUTONOMOUS after the first two epochs that followed the fault";
+  EXPECT_TRUE(run.back_in_every_map);
+  EXPECT_EQ(run.metrics["common_knowledge"]["violations"], 0);
+}
+
+TEST(SimulationTest, ADeafRobotIsExcludedAndTheRestCooperateWithinTwoEpochs) {
+  ExpectCooperativeWithinTwoEpochs(RunSilenced("deaf"));
+}
+
+TEST(SimulationTest, AMuteRobotIsRemovedAndTheRestCooperateWithinTwoEpochs) {
+  ExpectCooperativeWithinTwoEpochs(RunSilenced("mute"));
 }
 
 TEST(SimulationTest, JoiningRobotEntersEveryMap) {

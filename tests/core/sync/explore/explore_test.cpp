@@ -11,7 +11,17 @@
 //   b) any loss at all, up to a depth: checks P3, reports the largest start
 //      skew and mode disagreement reached;
 //   c) as (a), plus one robot crashing at any round, or one robot switched
-//      on at any round: checks P3 and P6.
+//      on at any round: checks P3 and P6;
+//   d) as (a), plus one robot paused at any round for any number of rounds,
+//      then resumed: after a short pause as it is, or as after a pause so
+//      long that the others' 16-bit epochs have come round to the same
+//      numbers (every later snapshot differs from every earlier one, so a
+//      robot holding an old snapshot shows): checks P3;
+//   e) (a) and (b) starting at epoch 65533, with no reduction of epochs, so
+//      the wrap to 0 happens inside the explored space: checks P1 and P3;
+//   f) as (a), plus robot 0 turning deaf (hears nobody, is heard) or mute
+//      (hears, is not heard) at any round: checks P3 and that the others
+//      start COOPERATIVE epochs again within a bound.
 // A violation prints the shortest round-by-round trace that reaches it.
 #include <gtest/gtest.h>
 
@@ -34,13 +44,18 @@ static_assert(wire::kMaxSwarmSize == 4, "the exploration is built for swarms of 
 constexpr uint16_t kMaxRobots = 4;
 constexpr uint8_t kCap = 15;  // counters in the global state saturate here
 
-wire::Snapshot SnapshotFor(uint16_t id, uint16_t epoch) {
+// `era` counts pauses that spanned a wrap of the epoch numbers: snapshots
+// taken after one differ from every snapshot taken before.
+wire::Snapshot SnapshotFor(uint16_t id, uint16_t epoch, uint8_t era = 0) {
   wire::Snapshot snapshot;
-  snapshot.x_mm = static_cast<int16_t>(100 * id + epoch % 3);
+  snapshot.x_mm = static_cast<int16_t>(100 * id + 10 * era + epoch % 3);
   return snapshot;
 }
 
-enum class Adversary { kBoundedLoss, kAnyLoss, kCrash, kJoin };
+enum class Adversary { kBoundedLoss, kAnyLoss, kCrash, kJoin, kPause, kDeaf, kMute };
+
+// A pause long enough for the others' epochs to wrap to the same numbers.
+constexpr uint32_t kWrapPauseRounds = 2u * 65536u * 8u;
 
 struct Params {
   Adversary adversary;
@@ -49,6 +64,7 @@ struct Params {
   uint16_t silence_rounds;   // F
   uint16_t maneuver_rounds;  // D
   int max_depth;             // rounds; 0 = until no new state
+  uint16_t first_epoch = 0;  // where the initial members start (e: near the wrap)
 };
 
 // What the checks remember about one epoch.
@@ -65,6 +81,9 @@ struct Robot {
   SyncState state;
   bool alive = true;
   bool present = true;
+  bool paused = false;
+  bool resuming = false;       // resumed this round: listens, steps, has nothing to send yet
+  uint8_t paused_rounds = 0;   // saturating
   uint8_t progress_rounds = 0;
 };
 
@@ -80,6 +99,10 @@ struct Global {
   int8_t joiner = -1;
   uint16_t joiner_first_epoch = 0;
   bool joiner_started = false;
+  uint8_t era = 0;             // d) pauses that spanned a wrap
+  bool deaf = false;           // f) robot 0 hears nobody
+  bool mute = false;           // f) nobody hears robot 0
+  uint8_t since_cooperative = 0;  // f) rounds since the others' last COOPERATIVE start (saturating)
 };
 
 // One round's choices: the delivered links, which robots' maneuvers end,
@@ -89,6 +112,10 @@ struct Choice {
   uint8_t finishing = 0;    // robots whose maneuver ends this round (if allowed)
   int8_t crash = -1;
   int8_t switch_on = -1;
+  int8_t pause = -1;
+  int8_t resume = -1;
+  bool wrapped = false;     // the resume comes after a pause spanning a wrap
+  bool silence = false;     // f) robot 0 turns deaf or mute
 };
 
 struct Outcome {
@@ -96,6 +123,7 @@ struct Outcome {
   int skew = 0;
   int disagreement = 0;
   int epochs_started = 0;
+  int back_to_cooperative = 0;  // f) rounds the others went without a COOPERATIVE start after the fault
 };
 
 class Explorer {
@@ -109,7 +137,8 @@ class Explorer {
       configs_[id] = config;
     }
     for (uint16_t id = 0; id < params.robots; ++id) {
-      initial_.robots[id].state = InitialState(configs_[id], SnapshotFor(id, 0));
+      initial_.robots[id].state = InitialState(configs_[id], SnapshotFor(id, params.first_epoch));
+      initial_.robots[id].state.epoch = params.first_epoch;
     }
     if (params.adversary == Adversary::kJoin) {
       initial_.robots[params.robots - 1].present = false;
@@ -124,6 +153,7 @@ class Explorer {
     bool exhausted = false;  // no new state: the whole reachable space was seen
     int max_skew = 0;
     int max_disagreement = 0;
+    int max_back_to_cooperative = 0;
     std::string violation;
   };
 
@@ -151,6 +181,7 @@ class Explorer {
           ++report.transitions;
           report.max_skew = std::max(report.max_skew, outcome.skew);
           report.max_disagreement = std::max(report.max_disagreement, outcome.disagreement);
+          report.max_back_to_cooperative = std::max(report.max_back_to_cooperative, outcome.back_to_cooperative);
           const uint64_t successor_key = Key(successor);
           const bool fresh = seen.emplace(successor_key, Seen{key, choices[index]}).second;
           if (!outcome.violation.empty()) {
@@ -191,6 +222,7 @@ class Explorer {
       if (!Sends(sender)) continue;
       for (uint16_t to = 0; to < n; ++to) {
         if (to == from || !Listens(global.robots[to])) continue;
+        if ((global.deaf && to == 0) || (global.mute && from == 0)) continue;  // never delivered
         const uint16_t bit = static_cast<uint16_t>(1u << (from * n + to));
         const bool bounded = params_.adversary != Adversary::kAnyLoss;
         if (bounded && global.consecutive_losses[from][to] + 1 >= params_.vote_rounds) {
@@ -213,14 +245,37 @@ class Explorer {
       }
     }
     // Faults: at most one per run, at the start of any round.
-    std::vector<std::pair<int8_t, int8_t>> faults{{-1, -1}};
+    std::vector<Choice> faults{Choice{}};
+    auto fault = [&faults](auto set) {
+      Choice choice;
+      set(choice);
+      faults.push_back(choice);
+    };
     if (!global.fault_used && params_.adversary == Adversary::kCrash) {
-      for (int8_t id = 0; id < static_cast<int8_t>(n); ++id) faults.push_back({id, -1});
+      for (int8_t id = 0; id < static_cast<int8_t>(n); ++id) fault([id](Choice& c) { c.crash = id; });
     }
     if (!global.fault_used && params_.adversary == Adversary::kJoin) {
-      faults.push_back({-1, global.joiner});
+      fault([&global](Choice& c) { c.switch_on = global.joiner; });
     }
-    for (const auto& [crash, switch_on] : faults) {
+    if (params_.adversary == Adversary::kPause) {
+      for (int8_t id = 0; id < static_cast<int8_t>(n); ++id) {
+        const Robot& robot = global.robots[id];
+        if (!global.fault_used) fault([id](Choice& c) { c.pause = id; });
+        if (robot.paused) {
+          fault([id](Choice& c) { c.resume = id; });
+          if (global.era == 0) {
+            fault([id](Choice& c) {
+              c.resume = id;
+              c.wrapped = true;
+            });
+          }
+        }
+      }
+    }
+    if (!global.fault_used && (params_.adversary == Adversary::kDeaf || params_.adversary == Adversary::kMute)) {
+      fault([](Choice& c) { c.silence = true; });
+    }
+    for (const Choice& injected : faults) {
       for (uint32_t finish_mask = 0; finish_mask < (1u << optional_finish.size()); ++finish_mask) {
         uint8_t finishing = forced;
         for (size_t i = 0; i < optional_finish.size(); ++i) {
@@ -231,7 +286,10 @@ class Explorer {
           for (size_t i = 0; i < links.size(); ++i) {
             if (((loss_mask >> i) & 1u) == 0) delivered |= links[i];
           }
-          out.push_back(Choice{delivered, finishing, crash, switch_on});
+          Choice choice = injected;
+          choice.delivered = delivered;
+          choice.finishing = finishing;
+          out.push_back(choice);
         }
       }
     }
@@ -239,9 +297,10 @@ class Explorer {
 
   bool VariableManeuvers() const { return params_.adversary != Adversary::kAnyLoss; }
   static bool Sends(const Robot& robot) {
-    return robot.alive && robot.present && robot.state.status == Status::kMember;
+    return robot.alive && robot.present && !robot.paused && !robot.resuming &&
+           robot.state.status == Status::kMember;
   }
-  static bool Listens(const Robot& robot) { return robot.alive && robot.present; }
+  static bool Listens(const Robot& robot) { return robot.alive && robot.present && !robot.paused; }
   static bool InProgress(const Robot& robot) {
     return Listens(robot) && robot.state.status == Status::kMember &&
            robot.state.phase == Phase::kProgress;
@@ -278,6 +337,41 @@ class Explorer {
       global.robots[choice.switch_on].present = true;
       global.fault_used = true;
       global.since_fault = 0;
+    }
+    if (choice.pause >= 0) {
+      Robot& robot = global.robots[choice.pause];
+      robot.paused = true;
+      robot.paused_rounds = 0;
+      global.fault_used = true;
+    }
+    uint32_t resume_elapsed = 1;
+    if (choice.resume >= 0) {
+      Robot& robot = global.robots[choice.resume];
+      robot.paused = false;
+      robot.resuming = true;
+      resume_elapsed = robot.paused_rounds + 1u;
+      if (choice.wrapped) {
+        // The others ran ~65,536 epochs meanwhile and read the same numbers
+        // now: nothing seen before is the same epoch any more.
+        resume_elapsed += kWrapPauseRounds;
+        global.era = 1;
+        for (EpochRecord& record : global.records) record.used = false;
+        // What the others hold now was frozen in the new era too.
+        for (uint16_t other = 0; other < params_.robots; ++other) {
+          if (other == choice.resume) continue;
+          SyncState& state = global.robots[other].state;
+          for (const uint16_t holder : state.held) state.snapshots[holder].x_mm = static_cast<int16_t>(state.snapshots[holder].x_mm + 10);
+        }
+      }
+    }
+    for (Robot& robot : global.robots) {
+      if (robot.paused) robot.paused_rounds = static_cast<uint8_t>(std::min<int>(kCap, robot.paused_rounds + 1));
+    }
+    if (choice.silence) {
+      global.deaf = params_.adversary == Adversary::kDeaf;
+      global.mute = params_.adversary == Adversary::kMute;
+      global.fault_used = true;
+      global.since_cooperative = 0;
     }
     // The radio.
     std::array<wire::Beacon, kMaxRobots> beacons{};
@@ -320,7 +414,9 @@ class Explorer {
       Robot& robot = global.robots[id];
       if (!Listens(robot)) continue;
       StepInput input;
-      input.own_snapshot = SnapshotFor(id, robot.state.epoch);
+      input.own_snapshot = SnapshotFor(id, robot.state.epoch, global.era);
+      if (robot.resuming) input.rounds_elapsed = resume_elapsed;
+      robot.resuming = false;
       input.maneuver_finished = InProgress(robot) && ((choice.finishing >> id) & 1u);
       if (InProgress(robot)) robot.progress_rounds = static_cast<uint8_t>(std::min<int>(kCap, robot.progress_rounds + 1));
       StepOutput out;
@@ -371,7 +467,10 @@ class Explorer {
       bool someone_before_or_at = false;
       for (uint16_t id = 0; id < n; ++id) {
         const Robot& robot = global.robots[id];
-        if (!Listens(robot)) continue;
+        // A member paused for fewer than F rounds may resume and start the
+        // epoch after its own (after F or more it rejoins).
+        const bool may_resume = robot.alive && robot.paused && robot.paused_rounds < params_.silence_rounds;
+        if (!Listens(robot) && !may_resume) continue;
         if (robot.state.status == Status::kMember && EpochDifference(robot.state.epoch, record.epoch) <= 0) {
           someone_before_or_at = true;
         }
@@ -415,6 +514,21 @@ class Explorer {
       outcome.violation = "progress: no epoch started for " + std::to_string(global.rounds_without_start) + " rounds";
       return outcome;
     }
+    // f) The others (a quorum) start COOPERATIVE epochs again: the rounds
+    // since the fault, or since their last COOPERATIVE start, stay bounded.
+    if (global.deaf || global.mute) {
+      bool cooperative = false;
+      for (uint16_t id = 1; id < n; ++id) cooperative = cooperative || (started[id] && maps[id].mode == Mode::kCooperative);
+      global.since_cooperative =
+          cooperative ? 0 : static_cast<uint8_t>(std::min<int>(kCap * 4, global.since_cooperative + 1));
+      outcome.back_to_cooperative = global.since_cooperative;
+      if (global.since_cooperative >= kCap * 4) {
+        outcome.violation = "liveness: no COOPERATIVE start by the others for " +
+                            std::to_string(global.since_cooperative) + " rounds with robot 0 " +
+                            (global.deaf ? "deaf" : "mute");
+        return outcome;
+      }
+    }
     // P6: a crashed robot leaves every member set within F rounds.
     if (global.crashed >= 0) {
       global.since_fault = static_cast<uint8_t>(std::min<int>(kCap, global.since_fault + 1));
@@ -449,6 +563,15 @@ class Explorer {
     return outcome;
   }
 
+  bool StrikeStillMatters(const Global& global, uint16_t epoch) const {
+    for (uint16_t id = 0; id < params_.robots; ++id) {
+      const Robot& robot = global.robots[id];
+      if (!robot.alive || !robot.present || robot.state.status != Status::kMember) continue;
+      if (EpochDifference(robot.state.epoch, epoch) <= 0) return true;
+    }
+    return false;
+  }
+
   // The canonical form of a global state: epochs shifted by a multiple of 6
   // (snapshots encode epoch modulo 3, so the shift preserves them), and only
   // the fields that influence future behaviour.
@@ -462,6 +585,7 @@ class Explorer {
     }
     if (base == 0x7fffffff) base = 0;
     base -= base % 6;
+    if (params_.first_epoch != 0) base = 0;  // e) no reduction: the wrap stays visible
     std::string bytes;
     auto put = [&bytes](uint64_t value, int size) {
       for (int i = 0; i < size; ++i) bytes.push_back(static_cast<char>(value >> (8 * i)));
@@ -470,8 +594,9 @@ class Explorer {
     for (uint16_t id = 0; id < params_.robots; ++id) {
       const Robot& robot = global.robots[id];
       const SyncState& s = robot.state;
-      put(robot.alive | (robot.present << 1), 1);
-      if (!Listens(robot)) continue;
+      put(robot.alive | (robot.present << 1) | (robot.paused << 2), 1);
+      if (robot.paused) put(robot.paused_rounds, 1);
+      if (!Listens(robot) && !robot.paused) continue;
       put(robot.progress_rounds, 1);
       put(static_cast<uint8_t>(s.status), 1);
       const int relative_epoch = EpochDifference(s.epoch, static_cast<uint16_t>(base));
@@ -484,6 +609,15 @@ class Explorer {
       put(set_bits(s.view), 1);
       put(set_bits(s.votes_matched), 1);
       put(set_bits(s.held), 1);
+      put(set_bits(s.excluded) | (set_bits(s.struck) << 4), 1);
+      // A strike's epoch matters only while some robot may still send a
+      // beacon of it: one behind every live member's epoch never returns.
+      for (const uint16_t member : s.struck) {
+        put(StrikeStillMatters(global, s.struck_epoch[member]) ? static_cast<uint16_t>(s.struck_epoch[member] - base)
+                                                               : 0xFFFFu,
+            2);
+      }
+      put(set_bits(s.added_current) | (set_bits(s.added_previous) << 4), 1);
       if (s.status == Status::kJoining) {  // stale in members
         put(set_bits(s.join_group), 1);
         put(s.join_rounds_left, 1);
@@ -511,7 +645,8 @@ class Explorer {
     }
     put(global.rounds_without_start, 1);
     put(global.disagreement_rounds, 1);
-    put(global.fault_used | (global.joiner_started << 1), 1);
+    put(global.fault_used | (global.joiner_started << 1) | (global.era << 2) | (global.deaf << 3) | (global.mute << 4), 1);
+    put(global.since_cooperative, 1);
     put(static_cast<uint8_t>(global.crashed), 1);
     put(global.since_fault, 1);
     if (global.joiner_started) put(static_cast<uint16_t>(global.joiner_first_epoch - base), 2);
@@ -532,6 +667,12 @@ class Explorer {
       trace += "round " + std::to_string(round);
       if (path[round].crash >= 0) trace += " (robot " + std::to_string(path[round].crash) + " crashes)";
       if (path[round].switch_on >= 0) trace += " (robot " + std::to_string(path[round].switch_on) + " switched on)";
+      if (path[round].pause >= 0) trace += " (robot " + std::to_string(path[round].pause) + " paused)";
+      if (path[round].resume >= 0) {
+        trace += " (robot " + std::to_string(path[round].resume) + " resumed" +
+                 (path[round].wrapped ? " after a pause spanning the wrap)" : ")");
+      }
+      if (path[round].silence) trace += " (robot 0 turns deaf or mute)";
       trace += ":\n";
       Apply(global, path[round], &trace);
       for (uint16_t id = 0; id < params_.robots; ++id) {
@@ -554,10 +695,11 @@ void RunAndReport(const char* name, const Params& params) {
   Explorer explorer(params);
   const Explorer::Report report = explorer.Run();
   std::printf("[ explore ] %-40s n=%u K=%u F=%u D=%u: %zu states, %zu transitions, depth %d%s, "
-              "max skew %d rounds, max mode disagreement %d rounds\n",
+              "max skew %d rounds, max mode disagreement %d rounds, longest wait for COOPERATIVE %d rounds\n",
               name, params.robots, params.vote_rounds, params.silence_rounds, params.maneuver_rounds,
               report.states, report.transitions, report.depth,
-              report.exhausted ? " (exhausted)" : " (depth bound)", report.max_skew, report.max_disagreement);
+              report.exhausted ? " (exhausted)" : " (depth bound)", report.max_skew, report.max_disagreement,
+              report.max_back_to_cooperative);
   EXPECT_TRUE(report.violation.empty()) << report.violation;
   if (params.max_depth == 0) {
     EXPECT_TRUE(report.exhausted);
@@ -591,6 +733,42 @@ TEST(SyncExploreTest, CrashThreeRobots) {
 
 TEST(SyncExploreTest, JoinThreeRobots) {
   RunAndReport("c) loss < K, one join", {Adversary::kJoin, 3, 2, 3, 2, 30});
+}
+
+// The pause, deaf and mute adversaries let one robot's epoch drift from the
+// others' without bound, so they run to a depth. The CI runs the depths
+// below; the DISABLED_ variants are the full runs (--gtest_also_run_disabled_tests).
+TEST(SyncExploreTest, PauseTwoRobots) {
+  RunAndReport("d) loss < K, one pause", {Adversary::kPause, 2, 2, 3, 2, 30});
+}
+
+TEST(SyncExploreTest, PauseThreeRobots) {
+  RunAndReport("d) loss < K, one pause", {Adversary::kPause, 3, 2, 3, 2, 10});
+}
+
+TEST(SyncExploreTest, DISABLED_PauseThreeRobotsDeep) {
+  RunAndReport("d) loss < K, one pause", {Adversary::kPause, 3, 2, 3, 2, 16});
+}
+
+TEST(SyncExploreTest, NearTheWrapThreeRobots) {
+  RunAndReport("e) loss < K from epoch 65533", {Adversary::kBoundedLoss, 3, 2, 3, 2, 40, 65533});
+}
+
+TEST(SyncExploreTest, NearTheWrapAnyLossTwoRobots) {
+  RunAndReport("e) any loss from epoch 65533", {Adversary::kAnyLoss, 2, 2, 3, 2, 30, 65533});
+}
+
+TEST(SyncExploreTest, DeafRobotThreeRobots) {
+  RunAndReport("f) loss < K, robot 0 turns deaf", {Adversary::kDeaf, 3, 2, 3, 2, 30});
+}
+
+TEST(SyncExploreTest, MuteRobotThreeRobots) {
+  RunAndReport("f) loss < K, robot 0 turns mute", {Adversary::kMute, 3, 2, 3, 2, 30});
+}
+
+TEST(SyncExploreTest, DISABLED_DeafAndMuteDeep) {
+  RunAndReport("f) loss < K, robot 0 turns deaf", {Adversary::kDeaf, 3, 2, 3, 2, 60});
+  RunAndReport("f) loss < K, robot 0 turns mute", {Adversary::kMute, 3, 2, 3, 2, 60});
 }
 
 }  // namespace

@@ -66,11 +66,16 @@
 
 namespace syrof::runtime {
 
+/// Longest PROGRESS, in radio rounds: with F <= sync::kMaxSilenceRounds it
+/// keeps every legitimate stay in one epoch well below sync::kMaxStayRounds
+/// (docs/protocol.md, "Epoch numbers").
+inline constexpr uint16_t kMaxManeuverRounds = 4096;
+
 /// Everything one robot needs to know at start-up.
 struct RobotConfig {
   sync::SyncConfig sync;                       ///< swarm size, self id, K, F, quorum, initial members
   int64_t radio_round_ns = registry::kDefaultRadioRoundNs;  ///< alpha
-  uint16_t maneuver_rounds = 20;               ///< radio rounds PROGRESS lasts (>= K)
+  uint16_t maneuver_rounds = 20;               ///< radio rounds PROGRESS lasts (K .. kMaxManeuverRounds)
   estimation::EstimatorConfig<float> estimator{};
   estimation::InitialPose<float> initial_pose{};  ///< where the robot starts (known placement)
   motion::ControllerConfig motion{};
@@ -92,7 +97,7 @@ struct RobotConfig {
 enum class [[nodiscard]] RobotSetupError : uint8_t {
   kOk = 0,
   kInvalidSyncConfig,   ///< sync::Validate refused the config
-  kInvalidTiming,       ///< radio_round_ns <= 0, or maneuver_rounds < K
+  kInvalidTiming,       ///< radio_round_ns <= 0, or maneuver_rounds < K or above kMaxManeuverRounds
   kEstimatorFailed,     ///< the estimator could not attach (sensor topics missing?)
   kAddTaskFailed,       ///< the port refused a task
   kBrokerFailed,        ///< a topic could not be advertised or subscribed
@@ -293,6 +298,7 @@ class Robot final : private app::Platform {
   uint16_t app_call_epoch_ = 0;
   int64_t start_ns_ = 0;
   bool started_ = false;
+  int64_t last_round_ns_ = 0;  // when the round task last stepped; a longer gap is a pause
   RobotCounters counters_;
 };
 

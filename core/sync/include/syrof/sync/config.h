@@ -14,6 +14,7 @@ enum class [[nodiscard]] ConfigError : uint8_t {
   kSelfOutOfRange,          // self_id >= swarm_size
   kVoteRoundsOutOfRange,    // vote_rounds (K) 0 or above kMaxVoteRounds
   kSilenceNotAboveVote,     // silence_rounds (F) not above vote_rounds (K)
+  kSilenceTooLong,          // silence_rounds (F) above kMaxSilenceRounds
   kQuorumNotMajority,       // quorum not above swarm_size / 2, or above swarm_size
   kInitialMemberOutOfRange, // initial_members names an id >= swarm_size
 };
@@ -23,6 +24,27 @@ const char* ToString(ConfigError error);
 
 /// Largest K: the vote counter travels in one byte.
 inline constexpr uint8_t kMaxVoteRounds = 200;
+
+/// Largest F. Bounds how long a robot may legitimately stay in one epoch,
+/// which the epoch-wrap argument needs (docs/protocol.md, "Epoch numbers").
+inline constexpr uint16_t kMaxSilenceRounds = 4096;
+
+/// A member that has spent this many radio rounds in one epoch (counting
+/// rounds it missed while paused) restarts as a joiner: knowledge a robot
+/// holds is never older than this, so it cannot outlive its epoch number
+/// (docs/protocol.md, "Epoch numbers"). Far above any legitimate epoch:
+/// PROGRESS (at most runtime::kMaxManeuverRounds) plus WAIT and VOTE.
+inline constexpr uint16_t kMaxStayRounds = 16384;
+
+/// A joiner may move its epoch forward by at most this many epochs in
+/// total, earning one back per radio round (a token bucket), so no robot
+/// can go round the 16-bit circle of epoch numbers in fewer than 21,846
+/// rounds (docs/protocol.md, "Epoch numbers").
+inline constexpr uint16_t kMaxJoinCredit = 32767;
+
+/// A joiner that has not been a member for this many rounds may take any
+/// epoch: its last one is far enough in the past (docs/protocol.md).
+inline constexpr uint16_t kJoinFreeRounds = 32768;
 
 /// Every robot of a swarm must use the same values (except self_id).
 struct SyncConfig {

@@ -59,6 +59,9 @@ struct SyncStats {
   uint32_t epochs_cooperative = 0;
   uint32_t catch_ups = 0;  // epochs started late because a member was already in the next one
   uint32_t joins_started = 0;
+  uint32_t restarts_after_gap = 0;   // rejoined: missed F or more rounds (a pause)
+  uint32_t restarts_long_stay = 0;   // rejoined: kMaxStayRounds in one epoch
+  uint32_t exclusions = 0;           // members excluded for voting without this robot
 
   bool operator==(const SyncStats&) const = default;
 };
@@ -86,6 +89,22 @@ struct SyncState {
   uint16_t join_epoch = 0;        // epoch the joiner will start with the group
   uint16_t rounds_alone = 0;      // joining: consecutive rounds with no beacon heard
 
+  // Epoch numbers (docs/protocol.md, "Epoch numbers").
+  uint16_t stay_rounds = 0;       // member: rounds in the current epoch, missed ones included (saturates)
+  uint16_t rounds_joining = 0;    // joining: rounds since it was last a member (saturates)
+  uint16_t join_credit = kMaxJoinCredit;  // epochs a join may still skip forward
+
+  // "Exclusion": members heard voting with a view without this robot in two
+  // of their epochs (a strike, then exclusion); an excluded robot's beacons
+  // are ignored until one names this robot again.
+  MemberSet struck;
+  std::array<uint16_t, wire::kMaxSwarmSize> struck_epoch{};  // the epoch of each strike
+  MemberSet excluded;
+  // Robots added to the members in the current and in the previous epoch:
+  // their views may not name this robot yet, so they are not excluded.
+  MemberSet added_current;
+  MemberSet added_previous;
+
   std::array<uint16_t, wire::kMaxSwarmSize> silent_rounds{};  // per member, consecutive
   std::array<wire::Snapshot, wire::kMaxSwarmSize> snapshots{};      // valid where `held`
   std::array<Phase, wire::kMaxSwarmSize> last_phase{};         // phase each member was last heard in
@@ -100,6 +119,10 @@ struct SyncState {
 struct StepInput {
   bool maneuver_finished = false;  // the maneuver of the current epoch is over
   wire::Snapshot own_snapshot;           // the robot's state now; frozen when PROGRESS ends
+  // Radio rounds since the previous Step() of this robot: 1 when it missed
+  // none; more after a pause (its round task did not run). 0 counts as 1. A
+  // member that missed F or more rounds restarts as a joiner.
+  uint32_t rounds_elapsed = 1;
 };
 
 /// What Step() produced. `ldmap` is filled only when `epoch_started`.

@@ -3,9 +3,10 @@
 // contacts) and asks for the Metrics at the end. docs/metrics.md defines each
 // metric; this class computes exactly that.
 //
-// Memory is bounded independently of the run's length: per-robot tables, a
-// window of the kEpochWindow most recent epochs, and short lists of the first
-// events. Nothing is kept per round. The same sequence of calls gives the
+// Memory is bounded independently of the run's length: per-robot tables, the
+// epochs some robot can still start (at most one per robot, plus those in
+// their grace rounds), and short lists of the first events. Nothing is kept
+// per round. The same sequence of calls gives the
 // same Metrics, bit for bit.
 //
 // Call order within radio round r: OnEpochStart and OnMembership for the
@@ -18,6 +19,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <string_view>
 #include <vector>
 
@@ -28,15 +30,22 @@
 
 namespace syrof::lab::metrics {
 
-/// Epochs are tracked (skew, P3) while they are fewer than this many epochs
-/// behind the newest epoch started; a start further behind is stale.
-inline constexpr int kEpochWindow = 32;
+/// An epoch's record (skew, P3, mode agreement) stays open while some robot
+/// can still start it: a member (running, or paused for fewer than F rounds)
+/// in the epoch before it, and for this many round ends after the last such
+/// robot left, which covers a joiner (it starts at most K <= 200 rounds after
+/// hearing a vote of the epoch before). There is no window in epochs: every
+/// COOPERATIVE start is compared with every other start of its epoch by the
+/// robots of its group, however far other groups have run ahead.
+inline constexpr int64_t kRecordGraceRounds = 256;
 
 /// One robot at the end of one radio round, after its synchronizer step.
 struct RobotRound {
   uint16_t id = 0;
   bool running = false;         ///< switched on, not crashed, not paused
   bool member = false;          ///< running and its synchronizer status is MEMBER (not joining)
+  bool paused = false;          ///< software stopped by a pause fault (its synchronizer state is kept)
+  bool sync_member = false;     ///< synchronizer status is MEMBER, running or not
   uint16_t epoch = 0;
   wire::Mode epoch_mode = wire::Mode::kAutonomous;  ///< the mode its current epoch started in
   wire::Phase phase = wire::Phase::kWait;
@@ -50,6 +59,9 @@ struct RobotRound {
 struct CollectorConfig {
   uint16_t robots = 0;         ///< robot ids are 0 .. robots - 1
   int64_t radio_round_ns = 0;  ///< alpha; converts contact times to rounds in the JSON
+  /// F: a robot paused for F or more rounds restarts as a joiner, so it can
+  /// no longer start the epoch after the one it was paused in.
+  uint16_t silence_rounds = 6;
 };
 
 class Collector {
@@ -99,12 +111,16 @@ class Collector {
   Metrics Finish(const RunFacts& facts) const;
 
  private:
-  // Starts of one epoch number, kept while the epoch is in the window.
+  // Starts of one epoch number, kept while some robot can still start it.
   struct EpochRecord {
     uint16_t epoch = 0;
     int64_t first_round = 0;
     int64_t last_round = 0;
+    int64_t last_able_round = 0;  // last round end a robot could still start it
     wire::MemberSet starters;
+    int64_t starts = 0;
+    bool any_cooperative = false;
+    bool any_autonomous = false;
     uint16_t first_cooperative_robot = 0;
     // The first COOPERATIVE map of the epoch; only COOPERATIVE epochs hold
     // one, so the window costs one map per COOPERATIVE epoch at most.
@@ -124,6 +140,14 @@ class Collector {
     void Add(uint16_t epoch, int64_t skew_rounds);
   };
 
+  // P4 per epoch: epochs (and their starts) in which robots started in
+  // different modes.
+  struct MixedModeTotals {
+    int64_t epochs = 0;
+    int64_t robot_epochs = 0;
+    void Add(const EpochRecord& record);
+  };
+
   // Per robot, what the membership latencies need.
   struct RobotTrack {
     bool running = false;
@@ -134,19 +158,23 @@ class Collector {
     bool removed = false;
     bool joined = false;
     bool app_faulted = false;
+    int64_t paused_rounds = 0;     // consecutive round ends paused
+    // Round ends [start, end) at which the robot was stopped after having
+    // run (pauses, then a crash): its failure detector did not count them.
+    std::vector<std::pair<int64_t, int64_t>> offline;
   };
 
   bool Known(uint16_t robot) const;
   EpochRecord* FindRecord(uint16_t epoch);
-  void CloseOldRecords();
+  void CloseRecords(int64_t round, std::span<const RobotRound> robots);
+  int64_t OfflineRounds(const RobotTrack& track, int64_t after, int64_t until) const;
 
   CollectorConfig config_;
   std::vector<RobotTrack> tracks_;
 
   std::vector<EpochRecord> open_epochs_;  // in the order they were opened
-  bool any_start_ = false;
-  uint16_t newest_epoch_ = 0;
   SkewTotals skews_;
+  MixedModeTotals mixed_;
   int64_t epochs_started_ = 0;
   int64_t epoch_starts_ = 0;
   int64_t stale_starts_ = 0;

@@ -139,6 +139,8 @@ struct CommonKnowledgeMetrics {
   int64_t unchecked_cooperative_starts = 0; ///< COOPERATIVE stale starts, not compared
   int64_t max_mode_disagreement_rounds = 0;
   int64_t mode_disagreement_rounds = 0;     ///< all rounds with a disagreement
+  int64_t mixed_mode_epochs = 0;            ///< P4 per epoch: epochs started in both modes
+  int64_t mixed_mode_robot_epochs = 0;      ///< the starts (robot-epochs) of those epochs
 };
 
 struct CollisionMetrics {

@@ -56,7 +56,12 @@ enum class FaultKind : uint8_t {
   kCrash = 0,  ///< the robot stops for good at `at_s` (it stays where it is, as an obstacle)
   kPause = 1,  ///< the robot's software stops at `at_s` and restarts at `until_s` (it rejoins)
   kJoin = 2,   ///< the robot is switched on at `at_s` (absent before; it joins the swarm)
+  kDeaf = 3,   ///< from `at_s` to `until_s` the robot hears no beacon (it is still heard)
+  kMute = 4,   ///< from `at_s` to `until_s` no robot hears the robot's beacons (it still hears)
 };
+
+/// Whether `kind` acts on the radio only (deaf, mute) rather than on the software.
+constexpr bool IsRadioFault(FaultKind kind) { return kind == FaultKind::kDeaf || kind == FaultKind::kMute; }
 
 const char* ToString(FaultKind kind);
 
@@ -64,7 +69,7 @@ struct FaultSpec {
   FaultKind kind = FaultKind::kCrash;
   uint16_t robot = 0;
   double at_s = 0;
-  double until_s = 0;  ///< pause only; > at_s
+  double until_s = 0;  ///< pause, deaf and mute only; > at_s
 };
 
 /// The app every robot runs: a built-in app ("builtin:NAME", with its

@@ -2,8 +2,10 @@
 //
 // A fault at t takes effect at the first radio-round boundary at or after t
 // (docs/scenarios.md), so a robot that starts or resumes runs its rounds in
-// step with the others; a pause's resume likewise at the first boundary at or
-// after until_s. The schedule only says what is due; the engine applies it
+// step with the others. A pause's resume is due one radio round before the
+// first boundary at or after until_s: the robot's round task first runs one
+// round after it restarts, so its first step is at that boundary and a pause
+// from T to U misses exactly (U - T) / alpha round ends (docs/scenarios.md). The schedule only says what is due; the engine applies it
 // (and decides, for a resume, whether the robot is still paused: a robot that
 // crashed while paused stays crashed).
 #pragma once

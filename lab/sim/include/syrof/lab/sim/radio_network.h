@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "syrof/lab/scenario/scenario.h"
@@ -57,6 +58,12 @@ class RadioNetwork {
   /// `sent_at_s` (the channel's partitions are in seconds), to `receivers`.
   void Deliver(int64_t round, double sent_at_s, BeaconReceivers& receivers);
 
+  /// Applies the scenario's deaf and mute faults (other kinds are ignored): a
+  /// beacon sent at t is not heard by a robot deaf at t, and nobody hears a
+  /// robot mute at t, where deaf or mute from T to U means T <= t < U. The
+  /// channel still draws for those links, so the other links are unchanged.
+  void SetRadioFaults(std::span<const scenario::FaultSpec> faults);
+
   /// Whether `robot` broadcast since the last delivery.
   bool waiting(uint16_t robot) const { return sent_[robot] != 0; }
   /// Beacons that did not decode after encoding (never, unless the codec is broken).
@@ -74,7 +81,10 @@ class RadioNetwork {
     uint16_t id_;
   };
 
+  bool Silenced(scenario::FaultKind kind, uint16_t robot, double at_s) const;
+
   world::Channel channel_;
+  std::vector<scenario::FaultSpec> radio_faults_;
   std::vector<LabRadio> radios_;
   std::vector<wire::Beacon> outbox_;
   std::vector<uint8_t> sent_;

@@ -1,0 +1,159 @@
+// The synchronizer measured in the simulated lab: COOPERATIVE fraction,
+// start skew and mode agreement per epoch against loss (i.i.d. 0-60 %, and
+// bursty) and K, for 10 and 50 robots; then the faults that stretch the
+// skew (a deaf robot, a pause). These are the tables of docs/protocol.md,
+// "Measured"; the figures are deterministic (fixed seeds), so the table
+// regenerates exactly.
+//
+// Every run: builtin:idle, 50 ms radio rounds, 1 s app rounds, F = 2K,
+// robots on a 1 m grid; three seeds per cell, figures pooled over them.
+//
+// Usage: bench_lab_sync_table [--quick]   (--quick: 10 robots, one seed, 30 s runs)
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/simulation.h"
+
+namespace {
+
+using namespace syrof::lab;
+using nlohmann::json;
+
+struct Cell {
+  int64_t starts = 0;
+  int64_t cooperative_starts = 0;
+  int64_t epochs = 0;
+  int64_t mixed_epochs = 0;
+  int64_t skew_sum_x_epochs = 0;  // mean skew times epochs, summed
+  double skew_sum = 0;
+  int64_t max_skew = 0;
+  int64_t max_disagreement = 0;
+  int64_t violations = 0;
+};
+
+std::string Scenario(int robots, int k, const std::string& channel, const std::string& faults, double duration_s,
+                     uint64_t seed) {
+  const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(robots))));
+  const double arena_m = side + 1.0;
+  return fmt::format(R"(seed: {seed}
+arena:
+  width_m: {arena}
+  height_m: {arena}
+  anchors:
+    - {{x_m: 0, y_m: 0, z_m: 0}}
+    - {{x_m: {arena}, y_m: {arena}, z_m: 0}}
+    - {{x_m: 0, y_m: {arena}, z_m: 2}}
+    - {{x_m: {arena}, y_m: 0, z_m: 2}}
+robots: {{count: {robots}, placement: grid, spacing_m: 1.0}}
+timing: {{radio_round_s: 0.05, app_round_s: 1.0, vote_rounds: {k}, silence_rounds: {f}, duration_s: {duration}}}
+channel: {channel}
+app: builtin:idle
+{faults})",
+                     fmt::arg("seed", seed), fmt::arg("arena", arena_m), fmt::arg("robots", robots), fmt::arg("k", k), fmt::arg("f", 2 * k),
+                     fmt::arg("duration", duration_s), fmt::arg("channel", channel), fmt::arg("faults", faults));
+}
+
+void Add(Cell& cell, const std::string& text) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioText(text, "bench");
+  if (!loaded.ok()) {
+    fmt::print(stderr, "bench scenario refused: {}\n{}\n", loaded.error->ToString(), text);
+    std::exit(1);
+  }
+  const sim::RunReport report = sim::Run(*loaded.scenario, sim::SimulationOptions{}, 0.0);
+  const json metrics = json::parse(report.metrics_json);
+  const json& knowledge = metrics["common_knowledge"];
+  const json& synchrony = metrics["synchrony"];
+  cell.starts += metrics["epoch_starts"].get<int64_t>();
+  cell.cooperative_starts += knowledge["cooperative_starts"].get<int64_t>();
+  const int64_t epochs = synchrony["epochs_measured"].get<int64_t>();
+  cell.epochs += epochs;
+  cell.mixed_epochs += knowledge["mixed_mode_epochs"].get<int64_t>();
+  if (!synchrony["mean_start_skew_rounds"].is_null()) {
+    cell.skew_sum += synchrony["mean_start_skew_rounds"].get<double>() * static_cast<double>(epochs);
+  }
+  cell.max_skew = std::max(cell.max_skew, synchrony["max_start_skew_rounds"].get<int64_t>());
+  cell.max_disagreement = std::max(cell.max_disagreement, knowledge["max_mode_disagreement_rounds"].get<int64_t>());
+  cell.violations += knowledge["violations"].get<int64_t>();
+}
+
+void PrintRow(const std::string& label, int robots, int k, const Cell& cell) {
+  const double cooperative = cell.starts > 0 ? 100.0 * cell.cooperative_starts / cell.starts : 0;
+  const double mixed = cell.epochs > 0 ? 100.0 * cell.mixed_epochs / cell.epochs : 0;
+  const double mean_skew = cell.epochs > 0 ? cell.skew_sum / cell.epochs : 0;
+  fmt::print("| {} | {} | {} | {:.1f} % | {:.2f} | {} | {:.1f} % | {} | {} |\n", label, robots, k, cooperative, mean_skew,
+             cell.max_skew, mixed, cell.max_disagreement, cell.violations);
+}
+
+void PrintHeader() {
+  fmt::print("| channel | robots | K | COOPERATIVE starts | mean skew (rounds) | max skew | mixed-mode epochs | "
+             "longest disagreement (rounds) | P3 violations |\n");
+  fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const double duration_s = quick ? 30 : 120;
+  const std::vector<uint64_t> seeds = quick ? std::vector<uint64_t>{1} : std::vector<uint64_t>{1, 2, 3};
+  const std::vector<int> sizes = quick ? std::vector<int>{10} : std::vector<int>{10, 50};
+  const std::vector<int> ks = {2, 3, 5, 8};
+  struct Channel {
+    std::string label;
+    std::string yaml;
+  };
+  const std::vector<Channel> channels = {
+      {"i.i.d. 0 %", "{model: iid, loss: 0}"},
+      {"i.i.d. 10 %", "{model: iid, loss: 0.1}"},
+      {"i.i.d. 20 %", "{model: iid, loss: 0.2}"},
+      {"i.i.d. 40 %", "{model: iid, loss: 0.4}"},
+      {"i.i.d. 60 %", "{model: iid, loss: 0.6}"},
+      {"bursty (GE 0.05/0.3, 1 %/90 %)",
+       "{model: gilbert_elliott, good_to_bad: 0.05, bad_to_good: 0.3, loss_good: 0.01, loss_bad: 0.9}"},
+  };
+
+  fmt::print("synchronizer in the simulated lab: {} s runs, seeds", duration_s);
+  for (const uint64_t seed : seeds) fmt::print(" {}", seed);
+  fmt::print(" pooled; builtin:idle, alpha = 50 ms, app round 1 s, F = 2K\n\n");
+  PrintHeader();
+  for (const Channel& channel : channels) {
+    for (const int robots : sizes) {
+      for (const int k : ks) {
+        Cell cell;
+        for (const uint64_t seed : seeds) Add(cell, Scenario(robots, k, channel.yaml, "", duration_s, seed));
+        PrintRow(channel.label, robots, k, cell);
+      }
+    }
+  }
+
+  fmt::print("\nfaults, K = 3, i.i.d. 5 % loss, 10 robots\n\n");
+  PrintHeader();
+  struct Fault {
+    std::string label;
+    std::string yaml;
+  };
+  const std::vector<Fault> faults = {
+      {"robot 2 deaf 10-60 s", "faults: [{deaf: 2, at_s: 10, until_s: 60}]\n"},
+      {"robot 2 mute 10-60 s", "faults: [{mute: 2, at_s: 10, until_s: 60}]\n"},
+      {"robot 2 paused 5 rounds, every 10 s",
+       "faults: [{pause: 2, at_s: 10, until_s: 10.25}, {pause: 2, at_s: 20, until_s: 20.25}, "
+       "{pause: 2, at_s: 30, until_s: 30.25}, {pause: 2, at_s: 40, until_s: 40.25}]\n"},
+      {"robot 2 paused 2 s at 10 s", "faults: [{pause: 2, at_s: 10, until_s: 12}]\n"},
+  };
+  for (const Fault& fault : faults) {
+    Cell cell;
+    for (const uint64_t seed : seeds) {
+      Add(cell, Scenario(10, 3, "{model: iid, loss: 0.05}", fault.yaml, std::max(duration_s, 60.0), seed));
+    }
+    PrintRow(fault.label, 10, 3, cell);
+  }
+  return 0;
+}
