@@ -27,8 +27,10 @@
 # - In lab, the sensors and the apps use only core (and queries); the world
 #   uses the sensors' TrueState; the scenario holds the world's specs
 #   (arena, kinds, channel), the sensors' noise models and checks app names
-#   against lab/apps' catalog; metrics and replay are fed by the engine and
-#   know no scenario; lab/sim runs all of them.
+#   against lab/apps' catalog; lab/goals (the declarative goal checks:
+#   geometry on true poses, with the queries) sits beside the apps so the
+#   scenario can hold its checks; metrics and replay are fed by the engine
+#   and know no scenario; lab/sim runs all of them.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
 # - grader/app_host (a student's library in a sandboxed process per robot)
@@ -44,7 +46,7 @@ set(SYROF_LAYERS
   "core/motion"
   "core/runtime"
   "lab/base"
-  "lab/sensors lab/apps"
+  "lab/sensors lab/apps lab/goals"
   "lab/world"
   "lab/scenario"
   "lab/metrics lab/replay"
