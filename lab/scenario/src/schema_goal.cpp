@@ -212,7 +212,7 @@ bool ReadKindKeys(const YamlNode& node, const std::string& path, const Scenario&
       if (cells > static_cast<double>(goals::kMaxCoverageCells)) {
         const YamlNode& cell = node.Find("cell_m") ? *node.Find("cell_m") : node;
         return FailAt(cell, JoinPath(path, "cell_m"),
-                      "the area would have " + FormatShort(cells) + " cells; at most " +
+                      "the area would have " + (cells < 1e15 ? std::to_string(static_cast<int64_t>(cells)) : FormatShort(cells)) + " cells; at most " +
                           std::to_string(goals::kMaxCoverageCells) + " are allowed (use larger cells)",
                       diagnostics);
       }
