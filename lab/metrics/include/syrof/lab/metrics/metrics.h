@@ -59,7 +59,7 @@ struct GoalResult {
   double error_m = 0;  ///< distance from the goal, metres; non-finite prints null
   std::string detail;  ///< one human-readable line
   std::string source = "builtin";       ///< "builtin" or "scenario"
-  std::vector<GoalCheckResult> checks;  ///< the scenario's checks, in file order
+  std::vector<GoalCheckResult> checks{};  ///< the scenario's checks, in file order
 };
 
 /// The first call whose global state differed from its group's reference.
