@@ -8,6 +8,7 @@
 
 #include "nearest_name.h"
 #include "schema.h"
+#include "syrof/lab/scenario/yaml/document.h"
 #include "value_reader.h"
 
 namespace syrof::lab::scenario {
@@ -271,8 +272,12 @@ bool ReadCheck(const YamlNode& node, const std::string& path, const Scenario& sc
 }  // namespace
 
 bool ReadGoal(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics) {
-  if (node == nullptr) return true;
-  const std::string path = "goal";
+  return node == nullptr || ReadGoalChecks(*node, "goal", scenario, scenario.goal, diagnostics);
+}
+
+bool ReadGoalChecks(const YamlNode& goal, const std::string& path, const Scenario& scenario,
+                    std::vector<goals::GoalCheck>& result, Diagnostics& diagnostics) {
+  const YamlNode* node = &goal;
   if (!ExpectList(*node, path, diagnostics)) return false;
   std::vector<GoalCheck> checks(node->values.size());
   std::set<std::string> names;
@@ -293,7 +298,7 @@ bool ReadGoal(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics
     const std::string plain(goals::ToString(checks[i].kind));
     if (same_kind == 1 && names.count(plain) == 0) checks[i].name = plain;
   }
-  scenario.goal = std::move(checks);
+  result = std::move(checks);
   return true;
 }
 
