@@ -36,6 +36,8 @@
 # - grader/app_host (a student's library in a sandboxed process per robot)
 #   needs only core/app and queries; it sits below sim_dds so the DDS robots
 #   run student libraries through it too, though its folder is the grader's.
+# - grader/assignment (assignment files and the rubric's scoring) reads
+#   scenarios and metrics; the grade command's runner (grader) sits on it.
 set(SYROF_LAYERS
   "core/base"
   "core/registry core/wire queries core/estimation"
@@ -53,6 +55,7 @@ set(SYROF_LAYERS
   "lab/sim"
   "grader/app_host"
   "sim_dds firmware"
+  "grader/assignment"
   "grader"
   "cli")
 
@@ -69,7 +72,7 @@ set(SYROF_EXCLUSIVE_HEADERS
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.
-set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/app_host")
+set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/app_host" "grader/assignment")
 
 # The top-level folders whose sources the check walks.
 set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds grader)
