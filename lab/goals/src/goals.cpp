@@ -488,7 +488,8 @@ void GoalMonitor::OnEpoch(uint16_t epoch, double time_s, std::span<const RobotPo
     const Measure measure = MeasurePoses(check, running, *workspace_);
     if (sampled) {
       ++track.samples;
-      if (!(measure.value <= track.worst)) track.worst = measure.value;  // NaN sticks
+      // The worst value; an unmeasurable sample (NaN) stays the worst.
+      if (!std::isnan(track.worst) && !(measure.value <= track.worst)) track.worst = measure.value;
       if (!measure.holds && !track.first_failure) {
         track.first_failure = Format("at epoch %u (%.2f s): ", unsigned{epoch}, time_s) + measure.reason;
       }

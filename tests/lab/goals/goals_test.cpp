@@ -252,6 +252,21 @@ TEST(GoalMonitorTest, EveryEpochReportsTheFirstEpochThatFailed) {
   EXPECT_EQ(results[0].reason.rfind("at epoch 3 (3.00 s): ", 0), 0u) << results[0].reason;
 }
 
+TEST(GoalMonitorTest, AnUnmeasurableSampleStaysTheWorstValue) {
+  GoalCheck check = Gathered(0.5);
+  check.when = When::kEveryEpoch;
+  GoalMonitor monitor({check});
+  const std::vector<RobotPose> near = Poses({{1, 1}, {1.2, 1}});
+
+  monitor.OnEpoch(1, 1.0, {});  // no robot running: not measurable
+  monitor.OnEpoch(2, 2.0, Poses({{1, 1}, {3, 1}}));
+  const std::vector<CheckResult> results = monitor.Finish(3.0, near);
+
+  EXPECT_FALSE(results[0].passed);
+  EXPECT_TRUE(std::isnan(results[0].value));
+  EXPECT_EQ(results[0].reason, "at epoch 1 (1.00 s): no robot is running");
+}
+
 TEST(GoalMonitorTest, DeadlineReportsTheEpochFromWhichTheGoalHeld) {
   GoalCheck check = Gathered(0.5);
   check.deadline_s = 3.5;
