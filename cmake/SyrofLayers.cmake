@@ -27,14 +27,18 @@
 # - In lab, the sensors and the apps use only core (and queries); the world
 #   uses the sensors' TrueState; the scenario holds the world's specs
 #   (arena, kinds, channel), the sensors' noise models and checks app names
-#   against lab/apps' catalog; metrics and replay are fed by the engine and
-#   know no scenario; lab/sim runs all of them. lab/view (the viewer's
+#   against lab/apps' catalog; lab/goals (the declarative goal checks:
+#   geometry on true poses, with the queries) sits beside the apps so the
+#   scenario can hold its checks; metrics and replay are fed by the engine
+#   and know no scenario; lab/sim runs all of them. lab/view (the viewer's
 #   page) reads replays only, beside lab/sim; the grader embeds its page.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
 # - grader/app_host (a student's library in a sandboxed process per robot)
 #   needs only core/app and queries; it sits below sim_dds so the DDS robots
 #   run student libraries through it too, though its folder is the grader's.
+# - grader/assignment (assignment files and the rubric's scoring) reads
+#   scenarios and metrics; the grade command's runner (grader) sits on it.
 set(SYROF_LAYERS
   "core/base"
   "core/registry core/wire queries core/estimation"
@@ -45,13 +49,14 @@ set(SYROF_LAYERS
   "core/motion"
   "core/runtime"
   "lab/base"
-  "lab/sensors lab/apps"
+  "lab/sensors lab/apps lab/goals"
   "lab/world"
   "lab/scenario"
   "lab/metrics lab/replay"
   "lab/sim lab/view"
   "grader/app_host"
   "sim_dds firmware"
+  "grader/assignment"
   "grader"
   "cli")
 
@@ -68,7 +73,7 @@ set(SYROF_EXCLUSIVE_HEADERS
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.
-set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/app_host")
+set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/app_host" "grader/assignment")
 
 # The top-level folders whose sources the check walks.
 set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds grader)

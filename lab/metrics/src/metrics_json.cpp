@@ -36,6 +36,24 @@ Json GoalJson(const GoalResult& goal) {
   json["reached"] = goal.reached;
   json["error_m"] = FiniteOrNull(goal.error_m);
   json["detail"] = goal.detail;
+  json["source"] = goal.source;
+  json["checks"] = Json::array();
+  for (const GoalCheckResult& check : goal.checks) {
+    Json entry;
+    entry["name"] = check.name;
+    entry["check"] = check.check;
+    entry["when"] = check.when;
+    entry["passed"] = check.passed;
+    entry["value"] = FiniteOrNull(check.value);
+    entry["limit"] = FiniteOrNull(check.limit);
+    entry["unit"] = check.unit;
+    entry["reason"] = check.reason;
+    entry["samples"] = check.samples;
+    entry["deadline_s"] = FiniteOrNull(check.deadline_s);
+    entry["held_from_epoch"] = IntegerOrNull(check.held_from_epoch);
+    entry["held_from_s"] = FiniteOrNull(check.held_from_s);
+    json["checks"].push_back(entry);
+  }
   return json;
 }
 
@@ -110,6 +128,33 @@ Json CommonKnowledgeJson(const CommonKnowledgeMetrics& knowledge) {
   json["mode_disagreement_rounds"] = knowledge.mode_disagreement_rounds;
   json["mixed_mode_epochs"] = knowledge.mixed_mode_epochs;
   json["mixed_mode_robot_epochs"] = knowledge.mixed_mode_robot_epochs;
+  return json;
+}
+
+Json AgreementJson(const AgreementMetrics& agreement) {
+  Json json;
+  json["cooperative_epochs"] = agreement.cooperative_epochs;
+  json["agreed_epochs"] = agreement.agreed_epochs;
+  json["agreed_fraction"] = FiniteOrNull(agreement.agreed_fraction);
+  json["split_epochs"] = agreement.split_epochs;
+  json["new_round_calls"] = agreement.new_round_calls;
+  json["end_of_round_calls"] = agreement.end_of_round_calls;
+  json["disagreeing_calls"] = agreement.disagreeing_calls;
+  json["unchecked_calls"] = agreement.unchecked_calls;
+  if (agreement.first_disagreement) {
+    const Disagreement& first = *agreement.first_disagreement;
+    Json entry;
+    entry["epoch"] = first.epoch;
+    entry["round"] = first.round;
+    entry["callback"] = first.callback;
+    entry["robot"] = first.robot;
+    entry["state"] = first.state;
+    entry["reference_robot"] = first.reference_robot;
+    entry["reference_state"] = first.reference_state;
+    json["first_disagreement"] = entry;
+  } else {
+    json["first_disagreement"] = nullptr;
+  }
   return json;
 }
 
@@ -214,6 +259,7 @@ std::string ToJson(const Metrics& metrics) {
   json["goal"] = GoalJson(metrics.goal);
   json["synchrony"] = SynchronyJson(metrics.synchrony);
   json["common_knowledge"] = CommonKnowledgeJson(metrics.common_knowledge);
+  json["agreement"] = AgreementJson(metrics.agreement);
   json["collisions"] = CollisionsJson(metrics.collisions, metrics.radio_round_ns);
   json["walls"] = WallsJson(metrics.walls, metrics.radio_round_ns);
   json["safety"] = SafetyJson(metrics.safety, metrics.radio_round_ns);

@@ -7,6 +7,7 @@
 #include <iterator>
 
 #include "diagnostics.h"
+#include "syrof/lab/scenario/yaml/document.h"
 #include "schema.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "text_checks.h"
@@ -50,36 +51,42 @@ LoadResult Load(const std::string& text, const std::string& file, const std::str
   return Finish(diagnostics, std::move(scenario));
 }
 
-}  // namespace
-
-LoadResult LoadScenarioFile(const std::string& path, const Overrides& overrides) {
-  Diagnostics diagnostics(path);
+// The file's text, at most kMaxScenarioBytes; false with the error recorded.
+// `what` names the file in messages ("scenario").
+bool ReadCappedFile(const std::string& path, const std::string& what, std::string& text, Diagnostics& diagnostics) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
-    diagnostics.Fail(0, 0, "is a directory, not a scenario file");
-    return Finish(diagnostics, std::nullopt);
+    return diagnostics.Fail(0, 0, "is a directory, not a " + what + " file");
   }
   std::ifstream stream(path, std::ios::binary);
-  if (!stream) {
-    diagnostics.Fail(0, 0, std::string("cannot open: ") + std::strerror(errno));
-    return Finish(diagnostics, std::nullopt);
-  }
+  if (!stream) return diagnostics.Fail(0, 0, std::string("cannot open: ") + std::strerror(errno));
   // Read at most one byte past the cap: a larger file is refused without
   // being read whole (it may be a device or a pipe that never ends).
-  std::string text(kMaxScenarioBytes + 1, '\0');
+  text.assign(kMaxScenarioBytes + 1, '\0');
   stream.read(text.data(), static_cast<std::streamsize>(text.size()));
-  if (stream.bad()) {
-    diagnostics.Fail(0, 0, "read error");
-    return Finish(diagnostics, std::nullopt);
-  }
+  if (stream.bad()) return diagnostics.Fail(0, 0, "read error");
   text.resize(static_cast<size_t>(stream.gcount()));
   if (text.size() > kMaxScenarioBytes) {
     const auto size = std::filesystem::file_size(path, error);
     const std::string size_text = error ? "more than " + std::to_string(kMaxScenarioBytes) : std::to_string(size);
-    diagnostics.Fail(0, 0, "the scenario is " + size_text + " bytes; the limit is " +
-                               std::to_string(kMaxScenarioBytes) + " bytes");
-    return Finish(diagnostics, std::nullopt);
+    return diagnostics.Fail(0, 0, "the " + what + " is " + size_text + " bytes; the limit is " +
+                                      std::to_string(kMaxScenarioBytes) + " bytes");
   }
+  return true;
+}
+
+}  // namespace
+
+bool ReadYamlFile(const std::string& path, YamlNode& root, Diagnostics& diagnostics) {
+  std::string text;
+  return ReadCappedFile(path, "YAML", text, diagnostics) && CheckScenarioText(text, diagnostics) &&
+         ReadYamlDocument(text, root, diagnostics);
+}
+
+LoadResult LoadScenarioFile(const std::string& path, const Overrides& overrides) {
+  Diagnostics diagnostics(path);
+  std::string text;
+  if (!ReadCappedFile(path, "scenario", text, diagnostics)) return Finish(diagnostics, std::nullopt);
   return Load(text, path, path, overrides);
 }
 

@@ -31,6 +31,9 @@ bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnost
 // Needs the robots and the timing; marks joining robots absent at start.
 bool ReadFaults(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
 
+// Needs the arena, the robots and the timing.
+bool ReadGoal(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+
 // `app:` against a catalog of built-in apps (the real one is
 // apps::BuiltinApps(); tests pass their own). A library's relative path is
 // resolved against `base_dir` (the scenario file's folder; "" for the

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <new>
 #include <span>
 #include <string>
@@ -11,8 +13,11 @@
 #include "syrof/base/split_mix64.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
+#include "syrof/lab/goals/goals.h"
+#include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/replay/writer.h"
 #include "lab_robot.h"
+#include "recording_app.h"
 #include "syrof/lab/sim/fault_schedule.h"
 #include "syrof/lab/sim/observation.h"
 #include "syrof/lab/sim/radio_network.h"
@@ -78,7 +83,7 @@ class CallbackTask final : public os::Task {
 
 // ---- The simulation -------------------------------------------------------
 
-class Simulation::Impl final : public runtime::RobotObserver, private BeaconReceivers {
+class Simulation::Impl final : public runtime::RobotObserver, private BeaconReceivers, public AppStateSink {
  public:
   Impl(const Scenario& scenario, const SimulationOptions& options);
 
@@ -126,8 +131,19 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
   std::vector<uint16_t> waiting_joiners_;  // due to join, start disc occupied; in the order they became due
+  // The scenario's declared goal checks, and app-level agreement.
+  goals::GoalMonitor goal_monitor_;
+  metrics::AgreementTracker agreement_;
+  bool any_epoch_ = false;
+  uint16_t newest_epoch_ = 0;
+  std::optional<uint16_t> epoch_sample_;  // a newer epoch started this round: sample the poses
+
+  // AppStateSink (public: the robots' RecordingApps report here)
+  void OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) override;
 
  private:
+  // The running robots' true positions, for the goal checks.
+  std::vector<goals::RobotPose> RunningPoses() const;
   int64_t RoundOf(int64_t now_ns) const { return now_ns / radio_round_ns_; }
   void StepFaults(int64_t now_ns);
   void StepPhysics(int64_t now_ns);
@@ -168,6 +184,42 @@ std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
   return map;
 }
 
+// metrics.json's `goal` from the scenario's checks: reached when every
+// check passed; the detail names the first that failed.
+metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals::CheckResult>& results) {
+  metrics::GoalResult goal;
+  goal.app = app;
+  goal.source = "scenario";
+  goal.error_m = std::numeric_limits<double>::quiet_NaN();
+  size_t passed = 0;
+  std::string first_failure;
+  for (const goals::CheckResult& result : results) {
+    metrics::GoalCheckResult check;
+    check.name = result.name;
+    check.check = std::string(goals::ToString(result.kind));
+    check.when = std::string(goals::ToString(result.when));
+    check.passed = result.passed;
+    check.value = result.value;
+    check.limit = result.limit;
+    check.unit = std::string(goals::Unit(result.kind));
+    check.reason = result.reason;
+    check.samples = result.samples;
+    check.deadline_s = result.deadline_s;
+    if (result.held_from_epoch) check.held_from_epoch = *result.held_from_epoch;
+    check.held_from_s = result.held_from_s;
+    goal.checks.push_back(std::move(check));
+    if (result.passed) {
+      ++passed;
+    } else if (first_failure.empty()) {
+      first_failure = result.name + ": " + result.reason;
+    }
+  }
+  goal.reached = passed == results.size();
+  goal.detail = std::to_string(passed) + " of " + std::to_string(results.size()) + " checks passed" +
+                (first_failure.empty() ? "" : "; " + first_failure);
+  return goal;
+}
+
 std::vector<world::BodySpec> Bodies(const Scenario& scenario) {
   std::vector<world::BodySpec> bodies;
   for (const scenario::RobotSpec& robot : scenario.robots) {
@@ -205,7 +257,8 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       radio_task_([this](int64_t now_ns) { StepRadio(now_ns); }),
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
       faults_(scenario.faults, radio_round_ns_),
-      partition_active_(scenario.channel.partitions.size(), 0) {
+      partition_active_(scenario.channel.partitions.size(), 0),
+      goal_monitor_(scenario.goal) {
   for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
   radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
@@ -218,6 +271,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
         options_.app_factory ? options_.app_factory(spec.id)
                              : apps::MakeBuiltinApp(apps::BareAppName(scenario_.app.name), scenario_.app.params);
     SYROF_CHECK(app != nullptr);
+    app = std::make_unique<RecordingApp>(std::move(app), spec.id, *this);
     robots_.push_back(std::make_unique<LabRobot>(scenario_, spec, scheduler_, world_, config, std::move(app),
                                                  radio_.radio(spec.id)));
   }
@@ -435,6 +489,12 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     frames_[i] = ToRobotFrame(observation);
   }
   collector_.OnRoundEnd(round, robot_rounds_);
+  if (!goal_monitor_.empty()) {
+    const std::vector<goals::RobotPose> running = RunningPoses();
+    goal_monitor_.OnRound(now, running);
+    if (epoch_sample_) goal_monitor_.OnEpoch(*epoch_sample_, now, running);
+  }
+  epoch_sample_.reset();
   if (replay_ != nullptr) {
     // Round tasks run in robot id order, so the maps arrive sorted; a
     // stable sort keeps that a fact rather than an assumption.
@@ -452,6 +512,11 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
 
 void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) {
   collector_.OnEpochStart(robot, RoundOf(now_ns), ldmap);
+  if (!any_epoch_ || sync::EpochDifference(ldmap.epoch, newest_epoch_) > 0) {
+    any_epoch_ = true;
+    newest_epoch_ = ldmap.epoch;
+    epoch_sample_ = ldmap.epoch;
+  }
   AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
   if (replay_ != nullptr) round_maps_.push_back(replay::RobotMap{robot, ToEpochMap(ldmap)});
 }
@@ -461,6 +526,22 @@ void Simulation::Impl::OnMembership(uint16_t robot, int64_t now_ns, const wire::
   collector_.OnMembership(robot, RoundOf(now_ns), removed, joined);
   for (const uint16_t member : removed) AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member);
   for (const uint16_t member : joined) AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member);
+}
+
+std::vector<goals::RobotPose> Simulation::Impl::RunningPoses() const {
+  std::vector<goals::RobotPose> poses;
+  for (const auto& robot : robots_) {
+    if (robot->presence != replay::Presence::kRunning) continue;
+    const world::BodyState& body = world_.state(robot->id());
+    poses.push_back(goals::RobotPose{robot->id(), body.x_m, body.y_m, world_.body_radius_m(robot->id())});
+  }
+  return poses;
+}
+
+void Simulation::Impl::OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) {
+  using Call = metrics::AgreementTracker::Call;
+  agreement_.OnAppState(robot, RoundOf(scheduler_.now_ns()), new_round ? Call::kNewRound : Call::kEndOfRound,
+                        ldmap.epoch, ldmap.mode == SYROF_MODE_COOPERATIVE, MapFingerprint(ldmap), state);
 }
 
 void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t now_ns) {
@@ -542,9 +623,14 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
   facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
   facts.app_sandbox = options_.app_sandbox;
-  facts.goal = metrics::GoalResult{scenario_.app.name, goal.reached, goal.error_m, goal.detail};
+  facts.goal.app = scenario_.app.name;
+  facts.goal.reached = goal.reached;
+  facts.goal.error_m = goal.error_m;
+  facts.goal.detail = goal.detail;
+  if (!scenario_.goal.empty()) facts.goal = DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(now_s(), RunningPoses()));
   RunReport report;
   report.metrics = collector_.Finish(facts);
+  report.metrics.agreement = agreement_.Finish();
   report.metrics_json = metrics::ToJson(report.metrics);
   if (replay_ != nullptr && !replay_->ok()) report.replay_error = replay_->error();
   return report;

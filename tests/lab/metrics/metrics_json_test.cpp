@@ -177,12 +177,64 @@ TEST(MetricsJson, FieldsKeepTheDocumentedOrder) {
   const std::vector<std::string> expected = {
       "schema_version", "scenario", "app", "seed", "robots", "sim_seconds", "wall_seconds",
       "radio_rounds", "radio_round_s", "epochs_started", "epoch_starts", "goal", "synchrony",
-      "common_knowledge", "collisions", "walls", "safety", "estimation", "membership", "diagnostics"};
+      "common_knowledge", "agreement", "collisions", "walls", "safety", "estimation", "membership", "diagnostics"};
 
   std::vector<std::string> keys;
   for (const auto& item : json.items()) keys.push_back(item.key());
 
   EXPECT_EQ(keys, expected);
+}
+
+TEST(MetricsJson, DeclaredGoalChecksPrintEveryField) {
+  RunFacts facts = Facts();
+  facts.goal.source = "scenario";
+  GoalCheckResult check;
+  check.name = "together";
+  check.check = "gathered";
+  check.when = "final";
+  check.passed = false;
+  check.value = 0.62;
+  check.limit = 0.5;
+  check.unit = "m";
+  check.reason = "held only from epoch 40 (45.00 s) on; the deadline is 30.00 s";
+  check.samples = 60;
+  check.deadline_s = 30.0;
+  check.held_from_epoch = 40;
+  check.held_from_s = 45.0;
+  facts.goal.checks.push_back(check);
+  check.name = "unjudged";
+  check.value = std::numeric_limits<double>::quiet_NaN();
+  check.deadline_s.reset();
+  check.held_from_epoch.reset();
+  check.held_from_s.reset();
+  facts.goal.checks.push_back(check);
+
+  const Json goal = Parse(ToJson(ObservedRun().Finish(facts)))["goal"];
+
+  EXPECT_EQ(goal["source"], "scenario");
+  ASSERT_EQ(goal["checks"].size(), 2u);
+  EXPECT_EQ(goal["checks"][0], Json::parse(R"({"name": "together", "check": "gathered", "when": "final",
+      "passed": false, "value": 0.62, "limit": 0.5, "unit": "m",
+      "reason": "held only from epoch 40 (45.00 s) on; the deadline is 30.00 s", "samples": 60,
+      "deadline_s": 30.0, "held_from_epoch": 40, "held_from_s": 45.0})"));
+  EXPECT_TRUE(goal["checks"][1]["value"].is_null());
+  EXPECT_TRUE(goal["checks"][1]["held_from_epoch"].is_null());
+}
+
+TEST(MetricsJson, AgreementPrintsTheFirstDisagreement) {
+  Metrics metrics = ObservedRun().Finish(Facts());
+  EXPECT_TRUE(Parse(ToJson(metrics))["agreement"]["first_disagreement"].is_null());
+  EXPECT_TRUE(Parse(ToJson(metrics))["agreement"]["agreed_fraction"].is_null());
+  metrics.agreement.cooperative_epochs = 4;
+  metrics.agreement.agreed_epochs = 3;
+  metrics.agreement.agreed_fraction = 0.75;
+  metrics.agreement.first_disagreement = Disagreement{12, 250, "new_round", 3, 7, 0, 2};
+
+  const Json agreement = Parse(ToJson(metrics))["agreement"];
+
+  EXPECT_EQ(agreement["agreed_fraction"], 0.75);
+  EXPECT_EQ(agreement["first_disagreement"], Json::parse(R"({"epoch": 12, "round": 250, "callback": "new_round",
+      "robot": 3, "state": 7, "reference_robot": 0, "reference_state": 2})"));
 }
 
 TEST(MetricsJson, IdenticalObservationsGiveIdenticalBytes) {

@@ -37,12 +37,56 @@ inline constexpr size_t kMaxListedWallContacts = 100;
 /// At most this many safety interventions are listed, the first ones (all are counted).
 inline constexpr size_t kMaxListedInterventions = 10;
 
-/// The assignment's own goal, as the app's goal checker judged it.
+/// One declarative goal check of the scenario (lab/goals), as judged.
+struct GoalCheckResult {
+  std::string name;
+  std::string check;        ///< "slots", "shape", "line", "gathered", "circle", "coverage"
+  std::string when;         ///< "final" or "every_epoch"
+  bool passed = false;
+  double value = 0;         ///< the measured value; non-finite prints null
+  double limit = 0;         ///< what it is compared with
+  std::string unit;         ///< "m", "rad" or "fraction"
+  std::string reason;       ///< one line a student understands
+  int64_t samples = 0;      ///< epoch samples judged
+  std::optional<double> deadline_s;
+  std::optional<int64_t> held_from_epoch;  ///< deadline checks: the epoch it held from to the end
+  std::optional<double> held_from_s;
+};
+
+/// The assignment's own goal: the scenario's declared checks when it has
+/// any (`source` "scenario", every check in `checks`), else the built-in
+/// app's goal checker ("builtin").
 struct GoalResult {
   std::string app;     ///< the app whose goal was checked
   bool reached = false;
   double error_m = 0;  ///< distance from the goal, metres; non-finite prints null
   std::string detail;  ///< one human-readable line
+  std::string source = "builtin";       ///< "builtin" or "scenario"
+  std::vector<GoalCheckResult> checks{};  ///< the scenario's checks, in file order
+};
+
+/// The first call whose global state differed from its group's reference.
+struct Disagreement {
+  uint16_t epoch = 0;
+  int64_t round = 0;
+  std::string callback;         ///< "new_round" or "end_of_round"
+  uint16_t robot = 0;
+  uint8_t state = 0;
+  uint16_t reference_robot = 0;  ///< the robot whose state came first for that epoch and map
+  uint8_t reference_state = 0;
+};
+
+/// App-level agreement over COOPERATIVE epochs (AgreementTracker).
+struct AgreementMetrics {
+  int64_t cooperative_epochs = 0;          ///< epochs with at least one COOPERATIVE call reported
+  int64_t agreed_epochs = 0;               ///< of those, epochs where every state agreed within its map
+  std::optional<double> agreed_fraction;   ///< agreed / cooperative; none without epochs
+  int64_t split_epochs = 0;                ///< epochs whose COOPERATIVE robots held more than one map
+  int64_t new_round_calls = 0;             ///< COOPERATIVE newRound returns compared
+  int64_t end_of_round_calls = 0;          ///< COOPERATIVE endOfRound returns compared
+  int64_t disagreeing_calls = 0;           ///< returns that differed from their reference
+  int64_t unchecked_calls = 0;             ///< too far behind, or beyond kMaxMapGroups maps
+  std::optional<Disagreement> first_disagreement;
 };
 
 /// What the simulator knows about the run as a whole, handed to Finish().
@@ -221,6 +265,7 @@ struct Metrics {
   GoalResult goal;
   SynchronyMetrics synchrony;
   CommonKnowledgeMetrics common_knowledge;
+  AgreementMetrics agreement;  ///< filled by the engine from its AgreementTracker
   CollisionMetrics collisions;
   WallMetrics walls;
   SafetyMetrics safety;

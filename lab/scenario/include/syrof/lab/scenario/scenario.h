@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "syrof/lab/base/error.h"
+#include "syrof/lab/goals/goals.h"
 #include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/lab/world/arena.h"
 #include "syrof/lab/world/channel.h"
@@ -118,6 +119,10 @@ struct Scenario {
   /// presence beacons for joiners and the joiners' start-disc wait.
   /// `safety: off` switches all three off, so a course can teach collisions.
   bool safety = true;
+  /// `goal:`: the declarative checks the lab judges on true poses
+  /// (lab/goals); empty when the file declares none (the built-in app's own
+  /// goal is then reported).
+  std::vector<goals::GoalCheck> goal;
 
   const world::KindSpec& kind_spec(world::RobotKind kind) const { return kind == world::RobotKind::kRover ? rover : omni; }
 };

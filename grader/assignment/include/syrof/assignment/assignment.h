@@ -1,0 +1,107 @@
+// An assignment, as data: `assignments/<name>/assignment.yaml` read,
+// validated and resolved (docs/grading.md, "The assignment file"). The
+// grader runs every scenario of a set with every seed of it and scores each
+// run with the rubric (score.h).
+//
+// The file is untrusted text held to the scenario files' standard: the same
+// YAML reader (syrof/lab/scenario/yaml/), errors as file:line:column with
+// the key path and the nearest valid key, and every scenario it names loaded
+// and validated (its own errors keep its own file and place).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "syrof/lab/base/error.h"
+#include "syrof/lab/goals/goals.h"
+
+namespace syrof::grader::assignment {
+
+/// Whether students see a set: public sets are in their folder, hidden sets
+/// only the grader has.
+enum class Visibility : uint8_t { kPublic = 0, kHidden = 1 };
+
+/// One scenario of a set, with the seeds it runs.
+struct ScenarioRun {
+  std::string name;               ///< `name`, default the file's stem
+  std::string file;               ///< as written, relative to the assignment folder
+  std::string path;               ///< resolved: assignment folder / file
+  std::vector<uint64_t> seeds;    ///< each seed is one graded run, in file order
+  double time_limit_s = 60;       ///< wall time for one run (the grader's limit, not simulated time)
+  /// The assignment's `goal:` resolved against this scenario; empty when the
+  /// assignment declares none (the scenario's own `goal:` is then used).
+  std::vector<lab::goals::GoalCheck> goal;
+  bool scenario_has_goal = false; ///< the scenario file declares `goal:` itself
+};
+
+/// Points for a criterion; every criterion is optional (absent: not scored).
+/// The scoring rules are docs/grading.md's ("Scoring one run").
+struct GoalCriterion {
+  double points = 0;
+  bool per_check = true;  ///< points shared among the checks; false: all or nothing
+};
+struct CollisionCriterion {
+  double points = 0;
+  double per_collision = 0;     ///< lost per body-body collision (default: all the points)
+  double per_wall_contact = 0;  ///< lost per wall contact
+};
+struct SafetyCriterion {
+  double points = 0;
+  double per_intervention = 0;  ///< lost per safety-filter intervention
+};
+struct SynchronyCriterion {
+  double points = 0;
+  int64_t max_skew_rounds = 2;  ///< full points when every epoch's start skew is at most this
+};
+struct CommonKnowledgeCriterion {
+  double points = 0;            ///< full points without a P3 violation
+};
+struct AgreementCriterion {
+  double points = 0;
+  double min_fraction = 1.0;    ///< full points at or above this agreed fraction, else points x fraction
+};
+struct FaultCriterion {
+  double points = 0;
+  double per_fault = 0;             ///< lost per robot whose app faulted (default: all the points)
+  double per_invalid_command = 0;   ///< lost per refused command
+  double per_refused_payload = 0;   ///< lost per refused sendMessageData
+};
+
+struct Rubric {
+  std::optional<GoalCriterion> goal;
+  std::optional<CollisionCriterion> collisions;
+  std::optional<SafetyCriterion> safety;
+  std::optional<SynchronyCriterion> synchrony;
+  std::optional<CommonKnowledgeCriterion> common_knowledge;
+  std::optional<AgreementCriterion> agreement;
+  std::optional<FaultCriterion> faults;
+};
+
+struct Assignment {
+  std::string name;    ///< the folder's name
+  std::string folder;  ///< where assignment.yaml is
+  std::string title;
+  double points = 100;  ///< the rubric's criteria add up to this
+  std::vector<ScenarioRun> public_runs;
+  std::vector<ScenarioRun> hidden_runs;
+  Rubric rubric;
+};
+
+/// Either an assignment or the first error found (in assignment.yaml, or in
+/// a scenario it names, with that file's place).
+struct LoadResult {
+  std::optional<Assignment> assignment;
+  std::optional<lab::Error> error;
+  bool ok() const { return assignment.has_value(); }
+};
+
+/// Reads `path` (an assignment.yaml; or a folder holding one).
+LoadResult LoadAssignmentFile(const std::string& path);
+
+/// Most seeds in one set entry, and most scenarios in one set.
+inline constexpr size_t kMaxSeeds = 1000;
+inline constexpr size_t kMaxScenariosPerSet = 100;
+
+}  // namespace syrof::grader::assignment

@@ -1,0 +1,39 @@
+// Scoring one run: a pure function from the rubric and the run's metrics to
+// points per criterion, each with the reason a student reads
+// (docs/grading.md, "Scoring one run"). No I/O, no clock: the same input
+// gives the same score.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "syrof/assignment/assignment.h"
+#include "syrof/lab/metrics/metrics.h"
+
+namespace syrof::grader::assignment {
+
+struct CriterionScore {
+  std::string criterion;  ///< "goal", "collisions", "safety", "synchrony", "common_knowledge", "agreement", "faults"
+  double points = 0;      ///< earned, in [0, max_points]
+  double max_points = 0;
+  std::string reason;     ///< why points were lost, or what earned them
+};
+
+struct RunScore {
+  std::vector<CriterionScore> criteria;  ///< in the rubric's order above; absent criteria left out
+  double points = 0;
+  double max_points = 0;
+};
+
+/// What scoring needs beyond metrics.json's fields of today: safety-filter
+/// interventions come from the metrics' `safety` object when the run has
+/// one (unset: the criterion says it was not measured and gives full
+/// points).
+struct RunExtras {
+  std::optional<int64_t> safety_interventions;
+};
+
+/// Scores `metrics` with `rubric`.
+RunScore ScoreRun(const Rubric& rubric, const lab::metrics::Metrics& metrics, const RunExtras& extras = {});
+
+}  // namespace syrof::grader::assignment

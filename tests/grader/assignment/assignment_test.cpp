@@ -1,0 +1,165 @@
+// assignment.yaml: the example assignments load and every scenario they name
+// validates; a wrong file gets the error a student or instructor can act on
+// (file:line:column, key path, nearest key), and a scenario's own error
+// keeps its own file and place.
+#include "syrof/assignment/assignment.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace syrof::grader::assignment {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(AssignmentTest, TheGatherExampleLoadsWithEveryScenario) {
+  const LoadResult result = LoadAssignmentFile(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather");
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  const Assignment& assignment = *result.assignment;
+
+  EXPECT_EQ(assignment.name, "gather");
+  EXPECT_EQ(assignment.title, "Gather the swarm");
+  EXPECT_EQ(assignment.points, 100);
+  ASSERT_EQ(assignment.public_runs.size(), 2u);
+  ASSERT_EQ(assignment.hidden_runs.size(), 1u);
+  EXPECT_EQ(assignment.public_runs[0].name, "gather_6");
+  EXPECT_EQ(assignment.public_runs[0].seeds, (std::vector<uint64_t>{1, 2, 3}));
+  EXPECT_TRUE(assignment.public_runs[0].scenario_has_goal);
+  EXPECT_EQ(assignment.hidden_runs[0].time_limit_s, 120);
+  ASSERT_TRUE(assignment.rubric.collisions.has_value());
+  EXPECT_EQ(assignment.rubric.collisions->per_collision, 5);
+  ASSERT_TRUE(assignment.rubric.common_knowledge.has_value());
+  EXPECT_EQ(assignment.rubric.common_knowledge->points, 5);
+}
+
+TEST(AssignmentTest, EveryExampleAssignmentLoads) {
+  int loaded = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator(SYROF_ASSIGNMENTS_DIR)) {
+    if (!fs::exists(entry.path() / "assignment.yaml")) continue;
+    const LoadResult result = LoadAssignmentFile(entry.path().string());
+    EXPECT_TRUE(result.ok()) << result.error->ToString();
+    ++loaded;
+  }
+  EXPECT_GE(loaded, 1);
+}
+
+// A scratch assignment folder with a valid scenario in it.
+class AssignmentFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() / ("syrof_assignment_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_ / "s");
+    Write("s/three.yaml", "robots: {count: 3}\napp: builtin:idle\ngoal: [{check: gathered, radius_m: 2}]\n");
+    Write("s/nogoal.yaml", "robots: {count: 3}\napp: builtin:idle\n");
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  void Write(const std::string& name, const std::string& text) { std::ofstream(folder_ / name) << text; }
+
+  LoadResult Load(const std::string& text) {
+    Write("assignment.yaml", text);
+    return LoadAssignmentFile(folder_.string());
+  }
+
+  ::testing::AssertionResult FailsAt(const LoadResult& result, const std::string& file, int line, int column,
+                                     const std::string& fragment) {
+    if (result.ok()) return ::testing::AssertionFailure() << "loaded";
+    const lab::Error& error = *result.error;
+    if (error.where != (folder_ / file).string() || error.line != line || error.column != column ||
+        error.message.find(fragment) == std::string::npos) {
+      return ::testing::AssertionFailure() << error.ToString();
+    }
+    return ::testing::AssertionSuccess();
+  }
+
+  fs::path folder_;
+};
+
+const char* const kValidRubric = "rubric: {goal: 60, agreement: 40}\n";
+
+TEST_F(AssignmentFileTest, AMinimalAssignmentLoads) {
+  const LoadResult result =
+      Load(std::string("title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n") + kValidRubric);
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_EQ(result.assignment->public_runs[0].path, (folder_ / "s/three.yaml").string());
+  EXPECT_EQ(result.assignment->public_runs[0].time_limit_s, 60);
+  EXPECT_TRUE(result.assignment->rubric.goal->per_check);
+  EXPECT_FALSE(result.assignment->rubric.collisions.has_value());
+}
+
+TEST_F(AssignmentFileTest, AMisspeltKeySuggestsTheNearest) {
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  publik: []\n") + kValidRubric), "assignment.yaml", 3,
+                      3, "scenarios: unknown key 'publik' (did you mean 'public'?)"));
+}
+
+TEST_F(AssignmentFileTest, AMissingScenarioFileIsNamed) {
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/four.yaml, seeds: [1]}]\n") +
+                           kValidRubric),
+                      "assignment.yaml", 3, 19, "scenarios.public[0].file: no such scenario file 's/four.yaml'"));
+}
+
+TEST_F(AssignmentFileTest, AScenarioErrorKeepsItsOwnFileAndPlace) {
+  Write("s/broken.yaml", "robots: {count: 3}\napp: builtin:idle\ntiming: {duraton_s: 3}\n");
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/broken.yaml, seeds: [1]}]\n") +
+                           kValidRubric),
+                      "s/broken.yaml", 3, 10, "did you mean 'duration_s'?"));
+}
+
+TEST_F(AssignmentFileTest, ASeedTwiceIsRefused) {
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1, 2, 1]}]\n") +
+                           kValidRubric),
+                      "assignment.yaml", 3, 47, "scenarios.public[0].seeds[2]: seed 1 is listed twice"));
+}
+
+TEST_F(AssignmentFileTest, TheRubricMustAddUpToThePoints) {
+  EXPECT_TRUE(FailsAt(Load("title: T\npoints: 50\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n"
+                           "rubric:\n  goal: 30\n  collisions: {points: 10, per_collision: 2}\n"),
+                      "assignment.yaml", 6, 3, "the criteria's points add up to 40, but the assignment's 'points' is 50"));
+}
+
+TEST_F(AssignmentFileTest, AnUnknownCriterionKeySuggestsTheNearest) {
+  EXPECT_TRUE(FailsAt(Load("title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n"
+                           "rubric:\n  goal: 90\n  collisions: {points: 10, per_colision: 2}\n"),
+                      "assignment.yaml", 6, 28, "rubric.collisions: unknown key 'per_colision' (did you mean 'per_collision'?)"));
+}
+
+TEST_F(AssignmentFileTest, AGoalCriterionNeedsAGoalForEveryScenario) {
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/nogoal.yaml, seeds: [1]}]\n") +
+                           kValidRubric),
+                      "assignment.yaml", 4, 16, "scenario 's/nogoal.yaml' declares no 'goal:'"));
+}
+
+TEST_F(AssignmentFileTest, TheAssignmentsGoalIsResolvedAgainstEachScenario) {
+  const LoadResult result =
+      Load(std::string("title: T\nscenarios:\n  public: [{file: s/nogoal.yaml, seeds: [1]}]\n"
+                       "goal:\n  - {check: line, spacing_m: 0.5}\n") +
+           kValidRubric);
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  ASSERT_EQ(result.assignment->public_runs[0].goal.size(), 1u);
+  EXPECT_EQ(result.assignment->public_runs[0].goal[0].kind, lab::goals::CheckKind::kLine);
+
+  // Checked against the scenario: one slot per robot.
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/nogoal.yaml, seeds: [1]}]\n"
+                                       "goal:\n  - {check: slots, assign: by_id, points: [{x_m: 1, y_m: 1}]}\n") +
+                           kValidRubric),
+                      "assignment.yaml", 5, 43, "the scenario has 3 robots"));
+}
+
+TEST_F(AssignmentFileTest, TwoScenariosWithOneNameAreRefused) {
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n"
+                                       "  hidden: [{file: s/three.yaml, seeds: [2]}]\n") +
+                           kValidRubric),
+                      "assignment.yaml", 4, 19, "already named 'three'"));
+}
+
+TEST_F(AssignmentFileTest, AnEmptyFileSaysWhatItNeeds) {
+  EXPECT_TRUE(FailsAt(Load(""), "assignment.yaml", 0, 0, "it needs 'title', 'scenarios' and 'rubric'"));
+}
+
+}  // namespace
+}  // namespace syrof::grader::assignment
