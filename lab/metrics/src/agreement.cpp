@@ -36,7 +36,7 @@ void AgreementTracker::OnAppState(uint16_t robot, int64_t round, Call call, uint
   if (record == nullptr) {
     // A new epoch opens only ahead of the newest (serial arithmetic, as the
     // collector's window); one that far behind is not compared.
-    if (any_ && sync::EpochDifference(epoch, newest_) <= -kEpochWindow) {
+    if (any_ && sync::EpochDifference(epoch, newest_) <= -kAgreementEpochWindow) {
       ++unchecked_calls_;
       return;
     }
@@ -47,7 +47,7 @@ void AgreementTracker::OnAppState(uint16_t robot, int64_t round, Call call, uint
     record = &open_.back();
     // Epochs too far behind the newest are final now.
     const auto stale = [this](const EpochRecord& open) {
-      return sync::EpochDifference(open.epoch, newest_) <= -kEpochWindow;
+      return sync::EpochDifference(open.epoch, newest_) <= -kAgreementEpochWindow;
     };
     for (const EpochRecord& open : open_) {
       if (stale(open)) Close(open);

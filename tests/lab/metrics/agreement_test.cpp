@@ -96,7 +96,7 @@ TEST(AgreementTrackerTest, MemoryStaysBoundedOverWrappingEpochs) {
 TEST(AgreementTrackerTest, ACallFarBehindIsNotCompared) {
   AgreementTracker tracker;
   tracker.OnAppState(0, 1, Call::kNewRound, 100, true, kMap, 3);
-  tracker.OnAppState(1, 2, Call::kNewRound, 100 - kEpochWindow, true, kMap, 3);
+  tracker.OnAppState(1, 2, Call::kNewRound, 100 - kAgreementEpochWindow, true, kMap, 3);
   EXPECT_EQ(tracker.Finish().unchecked_calls, 1);
   EXPECT_EQ(tracker.Finish().cooperative_epochs, 1);
 }

@@ -12,7 +12,7 @@
 // the app sees except self_id and the members' phases (which P3 does not
 // compare either).
 //
-// Bounded memory: a window of the kEpochWindow newest epochs, each with at
+// Bounded memory: a window of the kAgreementEpochWindow newest epochs, each with at
 // most kMaxMapGroups groups of a few numbers; an epoch's verdict is final
 // when it leaves the window or at Finish. Deterministic: the same calls give
 // the same result.
@@ -26,6 +26,11 @@
 #include "syrof/lab/metrics/metrics.h"
 
 namespace syrof::lab::metrics {
+
+/// Epochs compared while fewer than this many epochs behind the newest
+/// epoch a call was recorded for; a call further behind is not compared
+/// (AgreementMetrics::unchecked_calls).
+inline constexpr int kAgreementEpochWindow = 32;
 
 /// Distinct maps compared within one epoch; further ones are not compared
 /// (AgreementMetrics::unchecked_calls).
