@@ -168,8 +168,9 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
              Number(Field(m, "estimation", "position_rmse_m"), 3), Number(Field(m, "estimation", "max_error_m"), 3));
   fmt::print(out, "  {:<17} {} removals, {} joins\n", "membership", Number(Field(m, "membership", "removals"), 0),
              Number(Field(m, "membership", "joins"), 0));
-  if (library) {
-    fmt::print(out, "  {:<17} none: the lab judges goals of built-in apps only\n", "goal");
+  const bool declared_goal = m.contains("goal") && m["goal"].is_object() && m["goal"].value("source", "") == "scenario";
+  if (library && !declared_goal) {
+    fmt::print(out, "  {:<17} none: declare checks under goal: in the scenario (docs/scenarios.md)\n", "goal");
   } else if (m.contains("goal")) {
     const nlohmann::json& goal = m["goal"];
     fmt::print(out, "  {:<17} {} ({})\n", "goal", goal.value("reached", false) ? "reached" : "NOT reached",

@@ -75,7 +75,7 @@ TEST(LibraryRunTest, TheStarterAppRunsInTheHostWithALogPerRobot) {
   ASSERT_EQ(outcome.status, 0) << outcome.err;
   EXPECT_NE(outcome.out.find("each robot's app in its own sandboxed process: CPU budget 100 ms"), std::string::npos)
       << outcome.out;
-  EXPECT_NE(outcome.out.find("goal              none"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("goal              none: declare checks under goal:"), std::string::npos) << outcome.out;
   const nlohmann::json metrics = Metrics(options);
   EXPECT_EQ(metrics["app"]["name"], "{{NAME}}");  // the template's placeholder, unfilled
   EXPECT_EQ(metrics["app"]["source"], Lib("starter_c"));
@@ -85,6 +85,24 @@ TEST(LibraryRunTest, TheStarterAppRunsInTheHostWithALogPerRobot) {
     EXPECT_EQ(ReadFile(dir / "out" / "robots" / (std::to_string(id) + ".log")),
               "robot " + std::to_string(id) + " of 4: spreading on a circle of radius 1.00 m\n");
   }
+}
+
+// A library run is judged by the scenario's goal checks, and the summary
+// says so (it said "none" whatever the scenario declared).
+TEST(LibraryRunTest, TheSummaryGivesTheScenariosGoalChecks) {
+  const fs::path dir = TempDir("goal");
+  RunOptions options;
+  options.scenario_path = WriteScenario(dir, "{ library: " + Lib("starter_c") + " }\n" +
+                                                 "goal:\n  - { check: gathered, radius_m: 5 }\n" +
+                                                 "  - { check: gathered, radius_m: 0.01 }");
+  options.out_dir = (dir / "out").string();
+
+  const Outcome outcome = RunSyrof(options);
+
+  ASSERT_EQ(outcome.status, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("goal              NOT reached (1 of 2 checks passed"), std::string::npos)
+      << outcome.out;
+  EXPECT_EQ(Metrics(options)["goal"]["source"], "scenario");
 }
 
 // app.params in the scenario reach each robot's host (syrofAppParameter),
