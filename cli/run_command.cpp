@@ -164,6 +164,23 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
   fmt::print(out, "  {:<17} {} (min separation {} m), wall contacts {}\n", "collisions",
              Number(Field(m, "collisions", "count"), 0), Number(Field(m, "collisions", "min_separation_m"), 3),
              Number(Field(m, "walls", "contacts"), 0));
+  const nlohmann::json& safety = Field(m, "safety", "enabled");
+  if (safety.is_boolean() && !safety.get<bool>()) {
+    fmt::print(out, "  {:<17} off (safety: off in the scenario)\n", "safety");
+  } else if (safety.is_boolean()) {
+    fmt::print(out, "  {:<17} {} interventions on {} robots, {} join waits\n", "safety",
+               Number(Field(m, "safety", "interventions"), 0), Number(Field(m, "safety", "robots_involved"), 0),
+               Number(Field(m, "safety", "join_waits"), 0));
+  }
+  const nlohmann::json& agreed = Field(m, "agreement", "agreed_epochs");
+  if (agreed.is_number()) {
+    const nlohmann::json& first = Field(m, "agreement", "first_disagreement");
+    fmt::print(out, "  {:<17} the app's global state agreed in {} of {} COOPERATIVE epochs{}\n", "agreement",
+               Number(agreed, 0), Number(Field(m, "agreement", "cooperative_epochs"), 0),
+               first.is_object() ? fmt::format(" (first disagreement: epoch {}, robot {})", Number(first["epoch"], 0),
+                                               Number(first["robot"], 0))
+                                 : std::string());
+  }
   fmt::print(out, "  {:<17} position RMSE {} m, max {} m\n", "estimation",
              Number(Field(m, "estimation", "position_rmse_m"), 3), Number(Field(m, "estimation", "max_error_m"), 3));
   fmt::print(out, "  {:<17} {} removals, {} joins\n", "membership", Number(Field(m, "membership", "removals"), 0),

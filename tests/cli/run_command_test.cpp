@@ -2,12 +2,13 @@
 // the files written, and identical bytes for identical runs.
 #include "run_command.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <memory>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -59,6 +60,18 @@ TEST(RunCommandTest, WritesMetricsAndReplayAndPrintsTheSummary) {
   EXPECT_NE(outcome.out.find("common knowledge"), std::string::npos) << outcome.out;
   EXPECT_NE(outcome.out.find("collisions"), std::string::npos);
   const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
+  // The safety layer and app-level agreement are summarised from metrics.json.
+  EXPECT_NE(outcome.out.find(fmt::format("safety            {} interventions on {} robots, {} join waits",
+                                         metrics["safety"]["interventions"].get<int64_t>(),
+                                         metrics["safety"]["robots_involved"].get<int64_t>(),
+                                         metrics["safety"]["join_waits"].get<int64_t>())),
+            std::string::npos)
+      << outcome.out;
+  EXPECT_NE(outcome.out.find(fmt::format("agreement         the app's global state agreed in {} of {} COOPERATIVE epochs",
+                                         metrics["agreement"]["agreed_epochs"].get<int64_t>(),
+                                         metrics["agreement"]["cooperative_epochs"].get<int64_t>())),
+            std::string::npos)
+      << outcome.out;
   EXPECT_DOUBLE_EQ(metrics["sim_seconds"].get<double>(), 5.0);
   EXPECT_GT(metrics["wall_seconds"].get<double>(), 0.0);
   EXPECT_GT(fs::file_size(fs::path(options.out_dir) / "replay"), 100u);
