@@ -15,36 +15,26 @@
 #include "apps_command.h"
 #include "run_command.h"
 #include "validate_command.h"
+#include "cli_test_support.h"
 
 namespace syrof::cli {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::FreshDir;
+using testing::Outcome;
+using testing::ReadFile;
 
 const std::string kLibs = SYROF_TEST_LIBS_DIR;
 const std::string kScenarios = SYROF_SCENARIOS_DIR;
 
 std::string Lib(const std::string& name) { return kLibs + "/lib" + name + ".so"; }
 
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("syrof_cli_library_test_" + name);
-  fs::remove_all(dir);
+  const fs::path dir = FreshDir("syrof_cli_library_test_", name);
   fs::create_directories(dir);
   return dir;
 }
-
-struct Outcome {
-  int status;
-  std::string out;
-  std::string err;
-};
 
 Outcome RunSyrof(const RunOptions& options) {
   std::ostringstream out, err;

@@ -9,30 +9,20 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include "cli_test_support.h"
 
 namespace syrof::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
+using testing::FreshDir;
+using testing::Outcome;
+using testing::ReadFile;
 
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("syrof_new_test_" + name);
-  fs::remove_all(dir);
+  const fs::path dir = FreshDir("syrof_new_test_", name);
   return dir;
 }
-
-struct Outcome {
-  int status;
-  std::string out;
-  std::string err;
-};
 
 Outcome New(const NewOptions& options) {
   std::ostringstream out, err;

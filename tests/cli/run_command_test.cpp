@@ -14,33 +14,22 @@
 
 #include "apps_command.h"
 #include "validate_command.h"
+#include "cli_test_support.h"
 
 namespace syrof::cli {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::FreshDir;
+using testing::Outcome;
+using testing::ReadFile;
 
 const std::string kScenarios = SYROF_SCENARIOS_DIR;
 
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-// A fresh folder under the test's temporary directory.
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("syrof_cli_test_" + name);
-  fs::remove_all(dir);
+  const fs::path dir = FreshDir("syrof_cli_test_", name);
   return dir;
 }
-
-struct Outcome {
-  int status;
-  std::string out;
-  std::string err;
-};
 
 Outcome RunWith(RunOptions options) {
   std::ostringstream out, err;
