@@ -1,0 +1,67 @@
+// What grading a submission produced: the build, one test per scenario and
+// seed with its run's score, and the submission's total. The runner
+// (`syrof grade`, grader/) fills it; the reports (grader/report: Gradescope
+// results.json, JUnit XML, the HTML report, the class CSV) only read it.
+//
+// How runs add up (docs/grading.md, "A submission's score"): every test is
+// worth the same share of the assignment's points, `points / tests`; a test
+// earns that share times its run's fraction (run points / run max points).
+// A test passes when its run earned every point. A submission that does not
+// build gets 0 on every test. With `public_only` the hidden sets are not run
+// and the total is out of the public tests alone.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "syrof/assignment/assignment.h"
+#include "syrof/assignment/score.h"
+
+namespace syrof::grader::assignment {
+
+/// How building the submission ended.
+struct BuildResult {
+  /// "ok", "no_sources" (nothing to build), "build_failed" (the compiler or
+  /// CMake said no), "timeout", "output_limit", "no_library" (it built but
+  /// no app library came out), "bad_library" (the library is refused by the
+  /// app host's CheckLibrary: no entry point, wrong ABI, undefined symbol).
+  std::string verdict = "ok";
+  std::string detail;        ///< one line a student understands, e.g. the first compiler error
+  std::string log_path;      ///< the build's kept output, relative to the submission's out dir
+  std::string library_path;  ///< the app library built (absolute), when verdict is "ok"
+  double wall_seconds = 0;   ///< timing: not part of any byte-identical output
+  bool ok() const { return verdict == "ok"; }
+};
+
+/// One graded run: one scenario of a set with one seed.
+struct TestResult {
+  std::string name;      ///< "<scenario name>/seed-<seed>", unique in the submission
+  std::string scenario;  ///< the ScenarioRun's name
+  uint64_t seed = 0;
+  Visibility visibility = Visibility::kPublic;
+  RunScore score;              ///< per criterion (empty when the run did not finish)
+  double max_points = 0;       ///< this test's share of the assignment's points
+  double points = 0;           ///< earned: max_points x score.points / score.max_points, to the hundredth
+  bool passed = false;         ///< every criterion at full points
+  std::string run_error;       ///< empty, or why the run has no score ("time limit of 60 s reached", ...)
+  std::string replay_command;  ///< the command that reruns it, as a student types it
+  std::string output_dir;      ///< the run's folder (metrics.json, robots/*.log), relative to the submission's out dir
+  std::string replay_path;     ///< a failed run's replay, relative to the submission's out dir; empty when passed
+  double wall_seconds = 0;     ///< timing: not part of any byte-identical output
+};
+
+/// One submission, graded.
+struct SubmissionResult {
+  std::string submission;  ///< the submission folder's name (the student, in a class)
+  std::string assignment;  ///< Assignment::name
+  std::string title;       ///< Assignment::title
+  bool public_only = false;
+  BuildResult build;
+  std::vector<TestResult> tests;  ///< public sets first, each in file order, seeds in order
+  double points = 0;              ///< sum of the tests' points, to the hundredth
+  double max_points = 0;          ///< the assignment's points
+  int tests_passed = 0;
+};
+
+}  // namespace syrof::grader::assignment
