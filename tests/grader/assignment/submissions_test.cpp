@@ -1,0 +1,106 @@
+// Every assignment's submission folders (starter/, reference/,
+// broken/<variant>/), built as a student's library, graded on every public
+// and hidden run: each gets exactly the points its expected.yaml says, and
+// loses points only in the criteria it names. The reference's file says
+// full marks, so "the reference scores 100% on every seed" is one of these.
+//
+// expected.yaml (one per submission folder):
+//   points: 62.5          # the submission's total, to the hundredth
+//   loses: [agreement]    # criteria below full marks on some run, in the rubric's order ([] for none)
+//
+// One test per folder, found by scanning SYROF_ASSIGNMENTS_DIR; the
+// libraries come from tests/grader/assignment/CMakeLists.txt under
+// SYROF_SUBMISSION_LIBRARIES/<assignment>/<folder>/lib<assignment>.so.
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "grade_support.h"
+
+namespace syrof::grader::assignment {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Submission {
+  std::string assignment;  // the assignment folder's name
+  std::string folder;      // "starter", "reference", "broken/rand"
+};
+
+std::vector<Submission> FindSubmissions() {
+  std::vector<Submission> found;
+  for (const fs::directory_entry& entry : fs::directory_iterator(SYROF_ASSIGNMENTS_DIR)) {
+    if (!fs::exists(entry.path() / "assignment.yaml")) continue;
+    const std::string name = entry.path().filename().string();
+    std::vector<std::string> folders = {"starter", "reference"};
+    if (fs::is_directory(entry.path() / "broken")) {
+      for (const fs::directory_entry& variant : fs::directory_iterator(entry.path() / "broken")) {
+        if (variant.is_directory()) folders.push_back("broken/" + variant.path().filename().string());
+      }
+    }
+    for (const std::string& folder : folders) {
+      if (fs::exists(entry.path() / folder / "expected.yaml")) found.push_back({name, folder});
+    }
+  }
+  std::sort(found.begin(), found.end(), [](const Submission& a, const Submission& b) {
+    return std::tie(a.assignment, a.folder) < std::tie(b.assignment, b.folder);
+  });
+  return found;
+}
+
+std::string TestName(const ::testing::TestParamInfo<Submission>& info) {
+  std::string name = info.param.assignment + "_" + info.param.folder;
+  for (char& c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return name;
+}
+
+class SubmissionTest : public ::testing::TestWithParam<Submission> {};
+
+TEST_P(SubmissionTest, GetsThePointsItsExpectedFileSays) {
+  const Submission& submission = GetParam();
+  const fs::path folder = fs::path(SYROF_ASSIGNMENTS_DIR) / submission.assignment / submission.folder;
+  const YAML::Node expected = YAML::LoadFile((folder / "expected.yaml").string());
+  ASSERT_TRUE(expected["points"]) << folder << "/expected.yaml: no points";
+  const double expected_points = expected["points"].as<double>();
+  std::vector<std::string> expected_loses;
+  for (const YAML::Node& criterion : expected["loses"]) expected_loses.push_back(criterion.as<std::string>());
+
+  const std::string library = std::string(SYROF_SUBMISSION_LIBRARIES) + "/" + submission.assignment + "/" +
+                              submission.folder + "/lib" + submission.assignment + ".so";
+  ASSERT_TRUE(fs::exists(library)) << library << " was not built";
+  const Assignment assignment = testing::LoadNamedAssignment(SYROF_ASSIGNMENTS_DIR, submission.assignment);
+  const SubmissionResult result = testing::GradeLibrary(
+      assignment, library, ::testing::TempDir() + "submission_" + TestName({GetParam(), 0}) + "_" + std::to_string(getpid()));
+
+  std::vector<std::string> loses;
+  for (const char* criterion : {"goal", "collisions", "safety", "synchrony", "common_knowledge", "agreement", "faults"}) {
+    for (const TestResult& test : result.tests) {
+      const auto lost = std::find_if(test.score.criteria.begin(), test.score.criteria.end(), [&](const CriterionScore& c) {
+        return c.criterion == criterion && c.points < c.max_points;
+      });
+      if (lost != test.score.criteria.end()) {
+        loses.push_back(criterion);
+        break;
+      }
+    }
+  }
+  EXPECT_EQ(result.points, expected_points) << testing::Describe(result);
+  EXPECT_EQ(loses, expected_loses) << testing::Describe(result);
+  if (submission.folder == "reference") {
+    EXPECT_EQ(result.points, assignment.points) << "a reference scores full marks";
+    EXPECT_EQ(result.tests_passed, static_cast<int>(result.tests.size())) << testing::Describe(result);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Assignments, SubmissionTest, ::testing::ValuesIn(FindSubmissions()), TestName);
+
+}  // namespace
+}  // namespace syrof::grader::assignment
