@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct Submission {
   std::string assignment;  // the assignment folder's name
   std::string folder;      // "starter", "reference", "broken/rand"
 };
+
+void PrintTo(const Submission& submission, std::ostream* out) {
+  *out << submission.assignment << "/" << submission.folder;
+}
 
 std::vector<Submission> FindSubmissions() {
   std::vector<Submission> found;
