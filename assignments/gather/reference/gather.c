@@ -8,8 +8,10 @@
  *      body's width plus a margin apart;
  *   3. who goes where: MinWeightedMatching (a SyROF query);
  *   4. collision safety: each robot's straight path is cut short where it
- *      would come closer than two body radii plus a margin to any other
- *      member's path.
+ *      would come closer than CLEARANCE_M to any other member's path;
+ *   5. a cruise speed well below the limit: the platform's safety filter
+ *      (docs/safety.md) holds back a robot that heads fast towards another
+ *      within about half a metre, and each time costs points.
  * Its global state is the member count, computed from the map, so it is the
  * same on every robot (app-level agreement). In AUTONOMOUS epochs the map is
  * only this robot's view, so it holds still. */
@@ -17,7 +19,9 @@
 
 #include "syrof/app.h"
 
-#define MARGIN_M 0.12f  /* extra room between bodies: covers both robots' position errors */
+#define CLEARANCE_M 0.42f /* centre to centre between paths: two bodies, position errors, the filter's margin */
+#define SPACING_M 0.48f   /* between places */
+#define CRUISE_MPS 0.25f  /* the speed while moving */
 #define MAX_ROBOTS 64
 #define LATTICE 4       /* the packing's half-width in points: room for 81 places */
 
@@ -100,9 +104,9 @@ static uint8_t app_new_round(syrof_car_command* command, const syrof_ldmap* map,
     centre.x += members[i].x_mm / 1000.0f / (float)n;
     centre.y += members[i].y_mm / 1000.0f / (float)n;
   }
-  const float clearance = 2 * me.body_radius_m + MARGIN_M;
-  const float spacing = clearance + 0.05f;
-  const float room = 2 * spacing + me.body_radius_m + MARGIN_M;
+  const float clearance = CLEARANCE_M;
+  const float spacing = SPACING_M;
+  const float room = 2 * spacing + me.body_radius_m + 0.12f;
   if (centre.x < room) centre.x = room;
   if (centre.y < room) centre.y = room;
   if (centre.x > me.arena_width_m - room) centre.x = me.arena_width_m - room;
@@ -123,7 +127,8 @@ static uint8_t app_new_round(syrof_car_command* command, const syrof_ldmap* map,
 
   point from[MAX_ROBOTS], to[MAX_ROBOTS];
   size_t self = 0;
-  const float reach = 0.8f * me.max_speed_mps * (float)me.maneuver_ms / 1000.0f;
+  const float cruise = CRUISE_MPS < me.max_speed_mps ? CRUISE_MPS : me.max_speed_mps;
+  const float reach = 0.8f * cruise * (float)me.maneuver_ms / 1000.0f;
   for (size_t i = 0; i < n; ++i) {
     const syrof_queries_point target = targets[by_robot[i].target_index];
     from[i] = (point){members[i].x_mm / 1000.0f, members[i].y_mm / 1000.0f};
@@ -153,7 +158,7 @@ static uint8_t app_new_round(syrof_car_command* command, const syrof_ldmap* map,
   command->x_m = end.x;
   command->y_m = end.y;
   command->speed_mps = length / (0.8f * (float)me.maneuver_ms / 1000.0f);
-  if (command->speed_mps > me.max_speed_mps) command->speed_mps = me.max_speed_mps;
+  if (command->speed_mps > cruise) command->speed_mps = cruise;
   return decided;
 }
 
