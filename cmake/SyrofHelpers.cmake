@@ -132,13 +132,13 @@ function(syrof_add_library)
   add_library(syrof::${ARG_NAME} ALIAS ${ARG_NAME})
 endfunction()
 
-# syrof_add_test(NAME <name> SOURCES ... [LIBS ...] [LABELS ...] [HOST_ONLY])
+# syrof_add_test(NAME <name> SOURCES ... [LIBS ...] [LABELS ...] [HOST_ONLY] [DISCOVER_AT_TEST_TIME])
 # One GoogleTest executable (name it test_<module>_<unit>), registered with CTest. On the host each TEST()
 # becomes its own CTest entry. In a Cortex-M4 build (SYROF_M4_TESTS) the same
 # sources are linked into a bare-metal image run under qemu, unless HOST_ONLY
 # (tests that need threads, files or other host services).
 function(syrof_add_test)
-  cmake_parse_arguments(ARG "HOST_ONLY" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "HOST_ONLY;DISCOVER_AT_TEST_TIME" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
   if(SYROF_TARGET_MCU)
     if(NOT ARG_HOST_ONLY)
       syrof_add_m4_test(NAME ${ARG_NAME} SOURCES ${ARG_SOURCES} LIBS ${ARG_LIBS} LABELS ${ARG_LABELS})
@@ -149,7 +149,15 @@ function(syrof_add_test)
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBS} GTest::gtest_main GTest::gmock)
   syrof_set_warnings(${ARG_NAME})
   include(GoogleTest)
-  gtest_discover_tests(${ARG_NAME} PROPERTIES LABELS "${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
+  # DISCOVER_AT_TEST_TIME: for tests whose list comes from files read at run
+  # time (a folder per case), listed when ctest starts rather than when the
+  # executable is linked, so a new folder needs no relink.
+  set(discovery_mode POST_BUILD)
+  if(ARG_DISCOVER_AT_TEST_TIME)
+    set(discovery_mode PRE_TEST)
+  endif()
+  gtest_discover_tests(${ARG_NAME} PROPERTIES LABELS "${ARG_LABELS}" DISCOVERY_TIMEOUT 60
+    DISCOVERY_MODE ${discovery_mode})
 endfunction()
 
 # syrof_add_bench(NAME <name> SOURCES ... [LIBS ...])

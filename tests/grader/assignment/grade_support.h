@@ -53,6 +53,7 @@ inline SubmissionResult GradeLibrary(const Assignment& assignment, const std::st
     for (const ScenarioRun& run : assignment.hidden_runs) sets.emplace_back(&run, Visibility::kHidden);
   }
   size_t tests = 0;
+  double exact_total = 0;
   for (const auto& [run, visibility] : sets) tests += run->seeds.size();
 
   for (const auto& [run, visibility] : sets) {
@@ -93,12 +94,12 @@ inline SubmissionResult GradeLibrary(const Assignment& assignment, const std::st
       const double fraction = test.score.max_points > 0 ? test.score.points / test.score.max_points : 1.0;
       test.points = RoundPoints(test.max_points * fraction);
       test.passed = test.score.points == test.score.max_points;
-      result.points += test.points;
+      exact_total += test.max_points * fraction;
       result.tests_passed += test.passed ? 1 : 0;
       result.tests.push_back(std::move(test));
     }
   }
-  result.points = RoundPoints(result.points);
+  result.points = RoundPoints(exact_total);
   return result;
 }
 

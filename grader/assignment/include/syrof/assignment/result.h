@@ -6,6 +6,9 @@
 // How runs add up (docs/grading.md, "A submission's score"): every test is
 // worth the same share of the assignment's points, `points / tests`; a test
 // earns that share times its run's fraction (run points / run max points).
+// The total is the exact sum rounded once to the hundredth (each test's
+// points are rounded for display only), so full marks on every run is
+// exactly the assignment's points whatever the number of tests.
 // A test passes when its run earned every point. A submission that does not
 // build gets 0 on every test. With `public_only` the hidden sets are not run
 // and the total is out of the public tests alone.
@@ -59,7 +62,7 @@ struct SubmissionResult {
   bool public_only = false;
   BuildResult build;
   std::vector<TestResult> tests;  ///< public sets first, each in file order, seeds in order
-  double points = 0;              ///< sum of the tests' points, to the hundredth
+  double points = 0;              ///< the exact sum of the tests' shares, rounded once to the hundredth
   double max_points = 0;          ///< the assignment's points
   int tests_passed = 0;
 };
