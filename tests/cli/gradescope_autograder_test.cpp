@@ -43,9 +43,11 @@ int Shell(const std::string& command, std::string& output) {
 
 std::string BinDir() { return fs::path(SYROF_EXECUTABLE).parent_path().string(); }
 
+// (Not `syrof grade --help`: --help answers 0 whatever the words before it.)
 bool HasGradeCommand() {
   std::string output;
-  return Shell(std::string(SYROF_EXECUTABLE) + " grade --help", output) == 0;
+  Shell(std::string(SYROF_EXECUTABLE) + " grade", output);
+  return output.find("is not a syrof subcommand") == std::string::npos;
 }
 
 // /autograder as Gradescope lays it out, under a temporary root.
