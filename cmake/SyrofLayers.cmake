@@ -39,6 +39,10 @@
 #   run student libraries through it too, though its folder is the grader's.
 # - grader/assignment (assignment files and the rubric's scoring) reads
 #   scenarios and metrics; the grade command's runner (grader) sits on it.
+# - grader/report (results.json, JUnit, the HTML report with lab/view's
+#   pages, the Gradescope bundle) only reads a SubmissionResult
+#   (grader/assignment's result.h), so it sits between grader/assignment
+#   and the runner, which calls it.
 set(SYROF_LAYERS
   "core/base"
   "core/registry core/wire queries core/estimation"
@@ -57,6 +61,7 @@ set(SYROF_LAYERS
   "grader/app_host"
   "sim_dds firmware"
   "grader/assignment"
+  "grader/report"
   "grader"
   "cli")
 
@@ -73,7 +78,7 @@ set(SYROF_EXCLUSIVE_HEADERS
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.
-set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/app_host" "grader/assignment")
+set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/app_host" "grader/assignment" "grader/report")
 
 # The top-level folders whose sources the check walks.
 set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds grader)

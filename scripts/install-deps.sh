@@ -14,6 +14,8 @@ packages=(
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev
   # the app host's system call filter (grader/app_host)
   libseccomp-dev
+  # the Gradescope bundle's zip (grader/report; found through pkg-config)
+  libzip-dev
   # fuzzing and sanitizers with clang
   clang libclang-rt-14-dev
   # the viewer's browser tests (syrof view's page in headless Chromium; PNG screenshots)

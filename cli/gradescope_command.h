@@ -1,0 +1,40 @@
+// `syrof gradescope NAME|PATH [-o autograder.zip] [--deb FILE]`: the zip an
+// instructor uploads to Gradescope as an assignment's autograder (setup.sh,
+// run_autograder, SyROF's Debian package, the assignment with its hidden
+// sets; grader/report's gradescope_bundle.h, docs/grading.md "Publishing to
+// Gradescope").
+#pragma once
+
+#include <filesystem>
+#include <ostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace syrof::cli {
+
+struct GradescopeOptions {
+  std::string assignment{};               ///< a name under ./assignments/, or a folder (or its assignment.yaml)
+  std::string output{"autograder.zip"};  ///< the zip to write
+  std::string deb{};                      ///< the package; empty: PackageBesideBuild of the running syrof
+};
+
+/// Declares the subcommand on `app`.
+CLI::App* SetupGradescopeCommand(CLI::App& app, GradescopeOptions& options);
+
+/// Writes the bundle. Returns 0 when it is written; 2 for bad input (no
+/// such assignment, an assignment that does not load, no package); 1 when
+/// the zip cannot be written.
+int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, std::ostream& err);
+
+/// The assignment folder `name_or_path` names: a folder holding
+/// assignment.yaml, an assignment.yaml itself, or a name NAME for
+/// ./assignments/NAME. Empty, with `error` set, when there is none.
+std::string FindAssignmentFolder(const std::string& name_or_path, std::string& error);
+
+/// The package `make package` wrote into the build tree `build_dir`:
+/// syrof_<this version>_<arch>.deb. Empty, with `error` set, when there is
+/// none or more than one.
+std::string PackageBesideBuild(const std::filesystem::path& build_dir, std::string& error);
+
+}  // namespace syrof::cli

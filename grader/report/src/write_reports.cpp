@@ -1,0 +1,72 @@
+// WriteSubmissionReports: the one call the runner makes.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "syrof/lab/view/view.h"
+#include "syrof/report/reports.h"
+
+namespace syrof::grader::report {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Writes `bytes` to `path`; "" or what went wrong.
+std::string WriteFile(const fs::path& path, const std::string& bytes) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  if (!file) return fmt::format("cannot write {}", path.string());
+  file << bytes;
+  file.flush();
+  if (!file) return fmt::format("writing {} failed", path.string());
+  return {};
+}
+
+void Add(std::string& problems, const std::string& problem) {
+  if (problem.empty()) return;
+  if (!problems.empty()) problems += "\n";
+  problems += problem;
+}
+
+}  // namespace
+
+std::string WriteSubmissionReports(const SubmissionResult& result, const std::string& out_dir,
+                                   const ReportOptions& options) {
+  const fs::path dir(out_dir);
+  std::string problems;
+  std::map<std::string, ReplayPageNote> notes;
+  for (const TestResult& test : result.tests) {
+    if (test.passed || test.replay_path.empty()) continue;
+    const std::string page_path = ReplayPagePath(test);
+    if (page_path.empty()) {
+      notes[test.name] = {false, fmt::format("No viewer: the replay path '{}' is not inside the report's folder.",
+                                             test.replay_path)};
+      continue;
+    }
+    std::ifstream replay(dir / test.replay_path, std::ios::binary);
+    if (!replay) {
+      notes[test.name] = {false, fmt::format("No viewer: the run left no replay at {}.", test.replay_path)};
+      continue;
+    }
+    // Named by the test, not by a path, so the page's bytes do not depend
+    // on where the reports are written.
+    const lab::view::Page page = lab::view::BuildPage(replay, test.name);
+    std::error_code error;
+    fs::create_directories((dir / page_path).parent_path(), error);
+    if (const std::string problem = WriteFile(dir / page_path, page.html); !problem.empty()) {
+      Add(problems, problem);
+      notes[test.name] = {false, "No viewer: " + problem + "."};
+      continue;
+    }
+    if (!page.complete) {
+      notes[test.name] = {true, fmt::format("The replay is not whole ({}); the viewer shows what was read.",
+                                            page.error ? page.error->ToString() : "it ends early")};
+    }
+  }
+  Add(problems, WriteFile(dir / "results.json", GradescopeResultsJson(result, options)));
+  Add(problems, WriteFile(dir / "junit.xml", JunitXml(result, options)));
+  Add(problems, WriteFile(dir / "report.html", ReportHtml(result, notes)));
+  return problems;
+}
+
+}  // namespace syrof::grader::report

@@ -1,0 +1,167 @@
+// The Gradescope bundle's scripts, run as Gradescope runs them, in a
+// temporary folder laid out as Gradescope lays out /autograder
+// (AUTOGRADER_ROOT): source/ holds the zip's contents (extracted with their
+// modes), submission/ the student's files, results/ what Gradescope reads.
+// setup.sh runs without its apt-get step (SYROF_SKIP_INSTALL=1); `syrof` is
+// the build tree's, on PATH.
+//
+// Grading a real submission needs `syrof grade`; until this tree has it,
+// those tests say so and skip. A grader that fails is tested with a
+// stand-in `syrof` that exits 3.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_test_support.h"
+#include "gradescope_command.h"
+#include "zip_test_support.h"
+
+namespace syrof::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using testing::FreshDir;
+using testing::ReadFile;
+
+// Runs `command` with bash; its exit status, and its output in `output`.
+int Shell(const std::string& command, std::string& output) {
+  const std::string line = "bash -c '" + command + "' 2>&1";
+  FILE* pipe = popen(line.c_str(), "r");
+  output.clear();
+  char buffer[4096];
+  size_t got = 0;
+  while (pipe != nullptr && (got = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, got);
+  const int status = pipe == nullptr ? -1 : pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string BinDir() { return fs::path(SYROF_EXECUTABLE).parent_path().string(); }
+
+// (Not `syrof grade --help`: --help answers 0 whatever the words before it.)
+bool HasGradeCommand() {
+  std::string output;
+  Shell(std::string(SYROF_EXECUTABLE) + " grade", output);
+  return output.find("is not a syrof subcommand") == std::string::npos;
+}
+
+// /autograder as Gradescope lays it out, under a temporary root.
+class AutograderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = FreshDir("syrof_autograder_", ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+                                              std::string("_") + std::to_string(getpid()));
+    fs::create_directories(root_ / "source");
+    fs::create_directories(root_ / "submission");
+    fs::create_directories(root_ / "results");
+    const fs::path deb = root_ / ("syrof_" + std::string(SYROF_VERSION) + "_amd64.deb");
+    std::ofstream(deb, std::ios::binary) << "!<arch>\ndebian-binary   0           0     0     100644  4         `\n2.0\n";
+    GradescopeOptions options;
+    options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
+    options.output = (root_ / "autograder.zip").string();
+    options.deb = deb.string();
+    std::ostringstream out;
+    std::ostringstream err;
+    ASSERT_EQ(RunGradescopeCommand(options, out, err), 0) << err.str();
+    ASSERT_EQ(grader::report::testing::ExtractZip(options.output, root_ / "source"), "");
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  // Runs one of the bundle's scripts from source/ with `path` first on PATH.
+  int Script(const std::string& script, const std::string& path, std::string& output,
+             const std::string& environment = "") {
+    return Shell("cd " + root_.string() + " && AUTOGRADER_ROOT=" + root_.string() + " PATH=" + path +
+                     ":/usr/bin:/bin " + environment + " ./source/" + script,
+                 output);
+  }
+
+  json Results() { return json::parse(ReadFile(root_ / "results/results.json"), nullptr, false); }
+
+  fs::path root_;
+};
+
+TEST_F(AutograderTest, TheScriptsAreExecutableAfterUnzipping) {
+  for (const std::string script : {"setup.sh", "run_autograder"}) {
+    const fs::perms perms = fs::status(root_ / "source" / script).permissions();
+    EXPECT_NE(perms & fs::perms::owner_exec, fs::perms::none) << script;
+  }
+  EXPECT_EQ(fs::status(root_ / "source/assignment/assignment.yaml").permissions() & fs::perms::owner_exec,
+            fs::perms::none);
+}
+
+TEST_F(AutograderTest, SetupChecksThatSyrofRunsOnceInstalled) {
+  std::string output;
+  EXPECT_EQ(Script("setup.sh", BinDir(), output, "SYROF_SKIP_INSTALL=1"), 0) << output;
+  EXPECT_NE(output.find("is ready to grade " + (root_ / "source/assignment").string()), std::string::npos) << output;
+
+  // Without syrof on PATH (its install step skipped) it stops and says so.
+  const fs::path empty = root_ / "empty_bin";
+  fs::create_directories(empty);
+  EXPECT_NE(Shell("cd " + root_.string() + " && AUTOGRADER_ROOT=" + root_.string() + " PATH=" + empty.string() +
+                      " SYROF_SKIP_INSTALL=1 /bin/bash ./source/setup.sh",
+                  output),
+            0);
+  EXPECT_NE(output.find("the syrof command is not on PATH"), std::string::npos) << output;
+}
+
+TEST_F(AutograderTest, AGraderThatFailsStillGivesAResultsJsonWithTheReason) {
+  const fs::path fake = root_ / "fake_bin";
+  fs::create_directories(fake);
+  std::ofstream(fake / "syrof") << "#!/bin/sh\necho 'syrof: internal error' >&2\nexit 3\n";
+  fs::permissions(fake / "syrof", fs::perms::owner_all);
+
+  std::string output;
+  EXPECT_EQ(Script("run_autograder", fake.string(), output), 0) << output;
+
+  const json results = Results();
+  ASSERT_TRUE(results.is_object()) << ReadFile(root_ / "results/results.json");
+  EXPECT_EQ(results["score"], 0);
+  EXPECT_NE(results["output"].get<std::string>().find("syrof grade stopped with status 3 and wrote no results.json"),
+            std::string::npos)
+      << results["output"];
+  EXPECT_EQ(results["tests"], json::array());
+}
+
+TEST_F(AutograderTest, GradesTheReferenceToFullMarks) {
+  if (!HasGradeCommand()) GTEST_SKIP() << "this tree's syrof has no `grade` command yet";
+  fs::copy(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather/reference", root_ / "submission",
+           fs::copy_options::recursive);
+  fs::remove(root_ / "submission/expected.yaml");
+
+  std::string output;
+  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+
+  const json results = Results();
+  ASSERT_TRUE(results.is_object()) << output;
+  EXPECT_EQ(results["score"], 100.0) << results.dump(2);
+  ASSERT_EQ(results["tests"].size(), 8u);
+  int hidden = 0;
+  for (const json& test : results["tests"]) {
+    EXPECT_EQ(test["status"], "passed") << test.dump(2);
+    hidden += test["visibility"] == "after_due_date" ? 1 : 0;
+  }
+  EXPECT_EQ(hidden, 3);
+  EXPECT_TRUE(fs::exists(root_ / "results/grade/report.html"));
+  EXPECT_TRUE(fs::exists(root_ / "results/grade/junit.xml"));
+}
+
+TEST_F(AutograderTest, ASubmissionThatDoesNotBuildScoresZeroAndSaysWhy) {
+  if (!HasGradeCommand()) GTEST_SKIP() << "this tree's syrof has no `grade` command yet";
+  std::ofstream(root_ / "submission/gather.c") << "this is not C\n";
+
+  std::string output;
+  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+
+  const json results = Results();
+  ASSERT_TRUE(results.is_object()) << output;
+  EXPECT_EQ(results["score"], 0.0);
+  EXPECT_NE(results["output"].get<std::string>().find("did not build"), std::string::npos) << results["output"];
+}
+
+}  // namespace
+}  // namespace syrof::cli

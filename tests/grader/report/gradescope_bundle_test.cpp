@@ -1,0 +1,194 @@
+// The Gradescope bundle: what goes in (the scripts, the package, the
+// assignment without its reference and broken folders), the zip's listing,
+// modes and timestamps, the same bytes from the same inputs whenever and
+// wherever it is written, and the inputs it refuses.
+#include "syrof/report/gradescope_bundle.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "zip_test_support.h"
+
+namespace syrof::grader::report {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ReadZip;
+using testing::ZipEntry;
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+std::string Octal(uint32_t value) {
+  std::ostringstream text;
+  text << std::oct << value;
+  return text.str();
+}
+
+void Write(const fs::path& path, const std::string& bytes) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// An assignment folder with every kind of thing a real one holds, and a
+// stand-in package (an ar archive's first bytes are all the bundle checks).
+class BundleTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("syrof_bundle_" + std::string(::testing::UnitTest::GetInstance()
+                                                                            ->current_test_info()
+                                                                            ->name()) +
+                                         "_" + std::to_string(getpid()));
+    fs::remove_all(root_);
+    folder_ = root_ / "gather";
+    Write(folder_ / "assignment.yaml", "title: Gather\n");
+    Write(folder_ / "README.md", "# Gather\n");
+    Write(folder_ / "scenarios/gather_6.yaml", "name: gather_6\n");
+    Write(folder_ / "hidden/gather_10_crash.yaml", "name: crash\n");
+    Write(folder_ / "starter/app.c", "int x;\n");
+    Write(folder_ / "reference/gather.c", "solution\n");
+    Write(folder_ / "broken/uses_rand/gather.c", "rand\n");
+    Write(folder_ / ".git/config", "[core]\n");
+    Write(folder_ / ".hidden_notes", "notes\n");
+    deb_ = root_ / "syrof_0.1.0_amd64.deb";
+    Write(deb_, "!<arch>\ndebian-binary   0           0     0     100644  4         `\n2.0\n");
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  fs::path root_;
+  fs::path folder_;
+  fs::path deb_;
+};
+
+TEST_F(BundleTest, HoldsTheScriptsThePackageAndTheAssignmentButNotItsSolutions) {
+  const BundleResult result = GradescopeBundle(folder_.string(), deb_.string());
+
+  ASSERT_TRUE(result.ok()) << result.error;
+  std::vector<std::string> names;
+  for (const BundleFile& file : result.bundle->files) names.push_back(file.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"assignment/README.md", "assignment/assignment.yaml",
+                                             "assignment/hidden/gather_10_crash.yaml",
+                                             "assignment/scenarios/gather_6.yaml", "assignment/starter/app.c",
+                                             "run_autograder", "setup.sh", "syrof_0.1.0_amd64.deb"}));
+}
+
+TEST_F(BundleTest, TheZipListsFoldersBeforeTheirFilesWithModesAndOneFixedTime) {
+  const BundleResult result = GradescopeBundle(folder_.string(), deb_.string());
+  ASSERT_TRUE(result.ok()) << result.error;
+  const fs::path zip = root_ / "autograder.zip";
+
+  ASSERT_EQ(WriteBundleZip(*result.bundle, zip.string()), "");
+
+  std::string error;
+  const std::vector<ZipEntry> entries = ReadZip(zip.string(), error);
+  ASSERT_EQ(error, "");
+  std::vector<std::string> listing;
+  for (const ZipEntry& entry : entries) {
+    listing.push_back(entry.name + " " + Octal(entry.mode));
+    EXPECT_EQ(entry.opsys, ZIP_OPSYS_UNIX) << entry.name;
+    EXPECT_EQ(entry.dos_time, 0) << entry.name;                         // 00:00:00
+    EXPECT_EQ(entry.dos_date, (0 << 9) | (1 << 5) | 1) << entry.name;  // 1980-01-01
+  }
+  EXPECT_EQ(listing, (std::vector<std::string>{
+                         "assignment/ 40755", "assignment/README.md 100644", "assignment/assignment.yaml 100644",
+                         "assignment/hidden/ 40755", "assignment/hidden/gather_10_crash.yaml 100644",
+                         "assignment/scenarios/ 40755", "assignment/scenarios/gather_6.yaml 100644",
+                         "assignment/starter/ 40755", "assignment/starter/app.c 100644", "run_autograder 100755",
+                         "setup.sh 100755", "syrof_0.1.0_amd64.deb 100644"}));
+  EXPECT_EQ(entries[9].bytes, GradescopeRunScript());
+  EXPECT_EQ(entries[10].bytes, GradescopeSetupScript());
+  EXPECT_EQ(entries[11].bytes, ReadFile(deb_));
+  EXPECT_EQ(entries[11].method, ZIP_CM_STORE);  // compressed already
+  EXPECT_EQ(entries[2].bytes, "title: Gather\n");
+}
+
+TEST_F(BundleTest, TheSameInputsGiveTheSameBytesWhateverTheClockAndTimeZone) {
+  const fs::path first = root_ / "first.zip";
+  const fs::path second = root_ / "second.zip";
+  const char* zone = std::getenv("TZ");
+  const std::string saved = zone == nullptr ? "" : zone;
+
+  setenv("TZ", "UTC", 1);
+  tzset();
+  ASSERT_EQ(WriteBundleZip(*GradescopeBundle(folder_.string(), deb_.string()).bundle, first.string()), "");
+  // Newer files, another time zone, a folder listed in another order.
+  fs::last_write_time(folder_ / "README.md", fs::file_time_type::clock::now() + std::chrono::hours(30));
+  fs::remove(folder_ / "scenarios/gather_6.yaml");
+  Write(folder_ / "scenarios/gather_6.yaml", "name: gather_6\n");
+  setenv("TZ", "Pacific/Kiritimati", 1);
+  tzset();
+  ASSERT_EQ(WriteBundleZip(*GradescopeBundle(folder_.string(), deb_.string()).bundle, second.string()), "");
+
+  if (saved.empty()) {
+    unsetenv("TZ");
+  } else {
+    setenv("TZ", saved.c_str(), 1);
+  }
+  tzset();
+  EXPECT_EQ(ReadFile(first), ReadFile(second));
+  EXPECT_FALSE(ReadFile(first).empty());
+}
+
+TEST_F(BundleTest, RefusesAFolderWithoutAnAssignment) {
+  const BundleResult result = GradescopeBundle((folder_ / "scenarios").string(), deb_.string());
+
+  EXPECT_FALSE(result.ok());
+  EXPECT_NE(result.error.find("holds no assignment.yaml"), std::string::npos) << result.error;
+}
+
+TEST_F(BundleTest, RefusesAPackageThatIsNotOneOrIsNamedOtherwise) {
+  const fs::path renamed = root_ / "syrof.deb";
+  fs::copy_file(deb_, renamed);
+  const fs::path text = root_ / "syrof_0.1.0_amd64_text.deb";
+  Write(text, "not a package\n");
+
+  const BundleResult named = GradescopeBundle(folder_.string(), renamed.string());
+  const BundleResult fake = GradescopeBundle(folder_.string(), text.string());
+  const BundleResult missing = GradescopeBundle(folder_.string(), (root_ / "syrof_9_amd64.deb").string());
+
+  EXPECT_NE(named.error.find("must be named syrof_<version>_<arch>.deb"), std::string::npos) << named.error;
+  EXPECT_NE(fake.error.find("is not a Debian package"), std::string::npos) << fake.error;
+  EXPECT_NE(missing.error.find("is not a Debian package"), std::string::npos) << missing.error;
+}
+
+TEST_F(BundleTest, RefusesASymbolicLinkInTheAssignment) {
+  fs::create_symlink("/etc/passwd", folder_ / "scenarios/passwd");
+
+  const BundleResult result = GradescopeBundle(folder_.string(), deb_.string());
+
+  EXPECT_FALSE(result.ok());
+  EXPECT_NE(result.error.find("is a symbolic link"), std::string::npos) << result.error;
+}
+
+TEST_F(BundleTest, AZipThatCannotBeWrittenSaysWhere) {
+  const BundleResult result = GradescopeBundle(folder_.string(), deb_.string());
+  ASSERT_TRUE(result.ok());
+
+  const std::string problem = WriteBundleZip(*result.bundle, "/nonexistent/folder/autograder.zip");
+
+  EXPECT_NE(problem.find("/nonexistent/folder/autograder.zip"), std::string::npos) << problem;
+}
+
+TEST(GradescopeScriptsTest, TheScriptsTakeTheirRootFromAutograderRoot) {
+  for (const std::string& script : {GradescopeSetupScript(), GradescopeRunScript()}) {
+    EXPECT_TRUE(script.starts_with("#!/usr/bin/env bash\n"));
+    EXPECT_NE(script.find("root=\"${AUTOGRADER_ROOT:-/autograder}\""), std::string::npos);
+  }
+  EXPECT_NE(GradescopeRunScript().find(
+                "syrof grade \"$root/submission\" --assignment \"$root/source/assignment\" --out \"$out\""),
+            std::string::npos);
+  EXPECT_NE(GradescopeSetupScript().find("apt-get install -y"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace syrof::grader::report
