@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
   const fs::path root = fs::temp_directory_path() / ("syrof_bench_grade_" + std::to_string(getpid()));
   fs::remove_all(root);
   WriteAssignment(root / "assignment" / "gather_bench", runs, duration_s);
+  fs::create_directories(root / "class");
   for (int i = 0; i < submissions; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "student%03d", i);
