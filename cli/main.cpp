@@ -1,5 +1,5 @@
 // The `syrof` command: one file per subcommand (run, validate, apps,
-// replay, view, new, gradescope); main only wires them.
+// replay, view, new, grade, gradescope); main only wires them.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "apps_command.h"
+#include "grade_command.h"
 #include "gradescope_command.h"
 #include "new_command.h"
 #include "replay_command.h"
@@ -31,6 +32,8 @@ int main(int argc, char** argv) {
   CLI::App* view = SetupViewCommand(app, view_options);
   NewOptions new_options;
   CLI::App* new_command = SetupNewCommand(app, new_options);
+  GradeOptions grade_options;
+  CLI::App* grade = SetupGradeCommand(app, grade_options);
   GradescopeOptions gradescope_options;
   CLI::App* gradescope = SetupGradescopeCommand(app, gradescope_options);
   try {
@@ -45,6 +48,7 @@ int main(int argc, char** argv) {
     if (replay->parsed()) return RunReplayCommand(replay_options, std::cout, std::cerr);
     if (new_command->parsed()) return RunNewCommand(new_options, std::cout, std::cerr);
     if (view->parsed()) return RunViewCommand(view_options, std::cout, std::cerr);
+    if (grade->parsed()) return RunGradeCommand(grade_options, std::cout, std::cerr);
     if (gradescope->parsed()) return RunGradescopeCommand(gradescope_options, std::cout, std::cerr);
     return 1;
   } catch (const std::exception& error) {

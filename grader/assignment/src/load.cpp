@@ -47,6 +47,8 @@ struct Context {
   std::string folder;
   const YamlNode* goal = nullptr;  // the assignment's goal:, if any
   std::set<std::string> names;
+  bool skip_missing = false;       // reading the hidden sets with LoadOptions::allow_missing_hidden
+  bool missing = false;            // a file was missing and skipped
 };
 
 bool ReadRun(const YamlNode& node, const std::string& path, Context& context, ScenarioRun& run,
@@ -66,6 +68,10 @@ bool ReadRun(const YamlNode& node, const std::string& path, Context& context, Sc
   run.path = (std::filesystem::path(context.folder) / run.file).string();
   std::error_code error;
   if (!std::filesystem::is_regular_file(run.path, error)) {
+    if (context.skip_missing) {
+      context.missing = true;
+      return true;
+    }
     return FailAt(file, JoinPath(path, "file"), "no such scenario file '" + run.file + "' (looked for " + run.path + ")",
                   diagnostics);
   }
@@ -243,9 +249,9 @@ bool ReadRubric(const YamlNode& node, const std::string& path, double total, Rub
   return true;
 }
 
-bool ReadAssignment(const YamlNode& root, Assignment& assignment, std::optional<lab::Error>& scenario_error,
-                    Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"title", "points", "scenarios", "goal", "rubric"};
+bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment& assignment,
+                    std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"title", "points", "scenarios", "goal", "rubric", "mixable"};
   if (root.is_null()) return diagnostics.Fail(0, 0, "the assignment is empty; it needs 'title', 'scenarios' and 'rubric'");
   if (!root.is_map()) return diagnostics.Fail(root.line, root.column, "the top level must be a map of keys (title, scenarios, rubric, ...)");
   if (!CheckKeys(root, "", kKeys, diagnostics) || !RequireKey(root, "", "title", diagnostics) ||
@@ -255,6 +261,12 @@ bool ReadAssignment(const YamlNode& root, Assignment& assignment, std::optional<
     return false;
   }
   if (assignment.title.empty()) return FailAt(*root.Find("title"), "title", "must not be empty", diagnostics);
+  if (const YamlNode* mixable = root.Find("mixable")) {
+    if (!mixable->is_scalar() || mixable->quoted || (mixable->scalar != "true" && mixable->scalar != "false")) {
+      return FailAt(*mixable, "mixable", "expected true or false", diagnostics);
+    }
+    assignment.mixable = mixable->scalar == "true";
+  }
   Context context;
   context.folder = assignment.folder;
   context.goal = root.Find("goal");
@@ -267,10 +279,16 @@ bool ReadAssignment(const YamlNode& root, Assignment& assignment, std::optional<
     return false;
   }
   if (const YamlNode* hidden = sets.Find("hidden")) {
+    context.skip_missing = allow_missing_hidden;
     if (!ReadSet(*hidden, "scenarios.hidden", context, assignment.hidden_runs, scenario_error, diagnostics)) {
       return false;
     }
+    if (context.missing) {
+      assignment.hidden_runs.clear();
+      assignment.hidden_missing = true;
+    }
   }
+  context.skip_missing = false;
   if (!ReadRubric(*root.Find("rubric"), "rubric", assignment.points, assignment.rubric, diagnostics)) return false;
   if (assignment.rubric.goal && context.goal == nullptr) {
     // A student's library has no built-in goal checker: every scenario must
@@ -290,7 +308,7 @@ bool ReadAssignment(const YamlNode& root, Assignment& assignment, std::optional<
 
 }  // namespace
 
-LoadResult LoadAssignmentFile(const std::string& path) {
+LoadResult LoadAssignmentFile(const std::string& path, const LoadOptions& options) {
   std::string file = path;
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) file = (std::filesystem::path(path) / "assignment.yaml").string();
@@ -302,7 +320,7 @@ LoadResult LoadAssignmentFile(const std::string& path) {
   assignment.name = std::filesystem::absolute(std::filesystem::path(file)).parent_path().filename().string();
   std::optional<lab::Error> scenario_error;
   if (!lab::scenario::ReadYamlFile(file, root, diagnostics) ||
-      !ReadAssignment(root, assignment, scenario_error, diagnostics)) {
+      !ReadAssignment(root, options.allow_missing_hidden, assignment, scenario_error, diagnostics)) {
     result.error = scenario_error ? scenario_error : diagnostics.error();
     return result;
   }

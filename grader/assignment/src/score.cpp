@@ -62,11 +62,11 @@ CriterionScore ScoreCollisions(const CollisionCriterion& rule, const Metrics& me
   return Make("collisions", rule.points, rule.points - lost, reason);
 }
 
-CriterionScore ScoreSafety(const SafetyCriterion& rule, const RunExtras& extras) {
-  if (!extras.safety_interventions) {
-    return Make("safety", rule.points, rule.points, "safety-filter interventions were not measured in this run");
+CriterionScore ScoreSafety(const SafetyCriterion& rule, const Metrics& metrics) {
+  if (!metrics.safety.enabled) {
+    return Make("safety", rule.points, rule.points, "the scenario turns the safety filter off: nothing to score");
   }
-  const int64_t count = *extras.safety_interventions;
+  const int64_t count = metrics.safety.interventions;
   return Make("safety", rule.points, rule.points - rule.per_intervention * static_cast<double>(count),
               count == 0 ? "the safety filter never had to step in"
                          : Plural(count, "safety-filter intervention", "safety-filter interventions") +
@@ -153,11 +153,11 @@ CriterionScore ScoreFaults(const FaultCriterion& rule, const Metrics& metrics) {
 
 }  // namespace
 
-RunScore ScoreRun(const Rubric& rubric, const Metrics& metrics, const RunExtras& extras) {
+RunScore ScoreRun(const Rubric& rubric, const Metrics& metrics) {
   RunScore score;
   if (rubric.goal) score.criteria.push_back(ScoreGoal(*rubric.goal, metrics));
   if (rubric.collisions) score.criteria.push_back(ScoreCollisions(*rubric.collisions, metrics));
-  if (rubric.safety) score.criteria.push_back(ScoreSafety(*rubric.safety, extras));
+  if (rubric.safety) score.criteria.push_back(ScoreSafety(*rubric.safety, metrics));
   if (rubric.synchrony) score.criteria.push_back(ScoreSynchrony(*rubric.synchrony, metrics));
   if (rubric.common_knowledge) score.criteria.push_back(ScoreCommonKnowledge(*rubric.common_knowledge, metrics));
   if (rubric.agreement) score.criteria.push_back(ScoreAgreement(*rubric.agreement, metrics));

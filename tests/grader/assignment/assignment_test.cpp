@@ -103,6 +103,33 @@ TEST_F(AssignmentFileTest, AMissingScenarioFileIsNamed) {
                       "assignment.yaml", 3, 19, "scenarios.public[0].file: no such scenario file 's/four.yaml'"));
 }
 
+TEST_F(AssignmentFileTest, MixableIsABooleanThatDefaultsToFalse) {
+  const std::string rest = "title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n" + std::string(kValidRubric);
+  const LoadResult plain = Load(rest);
+  ASSERT_TRUE(plain.ok()) << plain.error->ToString();
+  EXPECT_FALSE(plain.assignment->mixable);
+  const LoadResult mixable = Load("mixable: true\n" + rest);
+  ASSERT_TRUE(mixable.ok()) << mixable.error->ToString();
+  EXPECT_TRUE(mixable.assignment->mixable);
+  EXPECT_TRUE(FailsAt(Load("mixable: yes\n" + rest), "assignment.yaml", 1, 10, "mixable: expected true or false"));
+}
+
+TEST_F(AssignmentFileTest, MissingHiddenFilesAreDroppedOnlyWhenAllowed) {
+  const std::string text = "title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n"
+                           "  hidden: [{file: h/secret.yaml, seeds: [2]}]\n" + std::string(kValidRubric);
+  EXPECT_TRUE(FailsAt(Load(text), "assignment.yaml", 4, 19, "no such scenario file 'h/secret.yaml'"));
+  LoadOptions options;
+  options.allow_missing_hidden = true;
+  const LoadResult student_copy = LoadAssignmentFile(folder_.string(), options);
+  ASSERT_TRUE(student_copy.ok()) << student_copy.error->ToString();
+  EXPECT_TRUE(student_copy.assignment->hidden_missing);
+  EXPECT_TRUE(student_copy.assignment->hidden_runs.empty());
+  EXPECT_EQ(student_copy.assignment->public_runs.size(), 1u);
+  Write("missing_public.yaml", "title: T\nscenarios:\n  public: [{file: s/four.yaml, seeds: [1]}]\n" + std::string(kValidRubric));
+  EXPECT_FALSE(LoadAssignmentFile((folder_ / "missing_public.yaml").string(), options).ok())
+      << "a public file is never optional";
+}
+
 TEST_F(AssignmentFileTest, AScenarioErrorKeepsItsOwnFileAndPlace) {
   Write("s/broken.yaml", "robots: {count: 3}\napp: builtin:idle\ntiming: {duraton_s: 3}\n");
   EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/broken.yaml, seeds: [1]}]\n") +

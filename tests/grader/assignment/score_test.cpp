@@ -47,7 +47,7 @@ const CriterionScore& Find(const RunScore& score, const std::string& name) {
 }
 
 TEST(ScoreRunTest, ACleanRunGetsFullMarks) {
-  const RunScore score = ScoreRun(FullRubric(), CleanRun(), RunExtras{0});
+  const RunScore score = ScoreRun(FullRubric(), CleanRun());
   EXPECT_EQ(score.points, 100);
   EXPECT_EQ(score.max_points, 100);
   ASSERT_EQ(score.criteria.size(), 7u);
@@ -99,11 +99,14 @@ TEST(ScoreRunTest, CollisionsAndWallContactsCostTheirPenaltyDownToZero) {
   EXPECT_EQ(Find(ScoreRun(FullRubric(), metrics), "collisions").points, 0);
 }
 
-TEST(ScoreRunTest, SafetyInterventionsCostPointsWhenMeasured) {
-  EXPECT_EQ(Find(ScoreRun(FullRubric(), CleanRun(), RunExtras{3}), "safety").points, 3.5);
-  const CriterionScore unmeasured = Find(ScoreRun(FullRubric(), CleanRun(), RunExtras{}), "safety");
-  EXPECT_EQ(unmeasured.points, 5);
-  EXPECT_EQ(unmeasured.reason, "safety-filter interventions were not measured in this run");
+TEST(ScoreRunTest, SafetyInterventionsCostPointsWhenTheFilterIsOn) {
+  Metrics metrics = CleanRun();
+  metrics.safety.interventions = 3;
+  EXPECT_EQ(Find(ScoreRun(FullRubric(), metrics), "safety").points, 3.5);
+  metrics.safety.enabled = false;
+  const CriterionScore off = Find(ScoreRun(FullRubric(), metrics), "safety");
+  EXPECT_EQ(off.points, 5);
+  EXPECT_EQ(off.reason, "the scenario turns the safety filter off: nothing to score");
 }
 
 TEST(ScoreRunTest, SkewAboveTheLimitLosesSynchrony) {

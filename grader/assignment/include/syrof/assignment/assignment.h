@@ -87,6 +87,20 @@ struct Assignment {
   std::vector<ScenarioRun> public_runs;
   std::vector<ScenarioRun> hidden_runs;
   Rubric rubric;
+  /// `mixable: true`: the README specifies the robots' message format, so
+  /// robots of different submissions can share a swarm (`syrof grade --mix`).
+  bool mixable = false;
+  /// Loaded with LoadOptions::allow_missing_hidden and a hidden scenario file
+  /// was missing: hidden_runs is empty and only the public sets can be graded.
+  bool hidden_missing = false;
+};
+
+/// How to load an assignment.
+struct LoadOptions {
+  /// A student's copy has no hidden scenario files. With this set, a hidden
+  /// entry whose file is missing is no error: the hidden sets are dropped
+  /// and Assignment::hidden_missing says so. Every other error still fails.
+  bool allow_missing_hidden = false;
 };
 
 /// Either an assignment or the first error found (in assignment.yaml, or in
@@ -98,7 +112,7 @@ struct LoadResult {
 };
 
 /// Reads `path` (an assignment.yaml; or a folder holding one).
-LoadResult LoadAssignmentFile(const std::string& path);
+LoadResult LoadAssignmentFile(const std::string& path, const LoadOptions& options = {});
 
 /// Most seeds in one set entry, and most scenarios in one set.
 inline constexpr size_t kMaxSeeds = 1000;

@@ -25,15 +25,9 @@ struct RunScore {
   double max_points = 0;
 };
 
-/// What scoring needs beyond metrics.json's fields of today: safety-filter
-/// interventions come from the metrics' `safety` object when the run has
-/// one (unset: the criterion says it was not measured and gives full
-/// points).
-struct RunExtras {
-  std::optional<int64_t> safety_interventions;
-};
-
-/// Scores `metrics` with `rubric`.
-RunScore ScoreRun(const Rubric& rubric, const lab::metrics::Metrics& metrics, const RunExtras& extras = {});
+/// Scores `metrics` with `rubric`. The safety criterion reads
+/// metrics.safety: interventions cost points when the filter was on; a
+/// scenario with `safety: off` gives full points and says so.
+RunScore ScoreRun(const Rubric& rubric, const lab::metrics::Metrics& metrics);
 
 }  // namespace syrof::grader::assignment

@@ -1,0 +1,271 @@
+#include "grade_command.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "syrof/assignment/assignment.h"
+#include "syrof/grader/class_grading.h"
+#include "syrof/grader/grade.h"
+#include "syrof/grader/grade_json.h"
+#include "syrof/grader/mix.h"
+#include "syrof/grader/outputs.h"
+#include "syrof/grader/table.h"
+
+#ifndef SYROF_SOURCE_ASSIGNMENTS_DIR
+#define SYROF_SOURCE_ASSIGNMENTS_DIR ""
+#endif
+
+namespace syrof::cli {
+namespace {
+
+namespace fs = std::filesystem;
+namespace assignment = grader::assignment;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kUsage = 2;
+constexpr int kFailed = 1;
+
+double Since(Clock::time_point started) { return std::chrono::duration<double>(Clock::now() - started).count(); }
+
+// Finds and loads --assignment; prints the error and returns empty when it
+// cannot.
+std::optional<assignment::Assignment> LoadAssignment(const GradeOptions& options, std::string& folder,
+                                                     std::ostream& out, std::ostream& err) {
+  std::vector<std::string> looked;
+  const std::string found = grader::FindAssignment(options.assignment, SYROF_SOURCE_ASSIGNMENTS_DIR, looked);
+  if (found.empty()) {
+    fmt::print(err, "syrof grade: no assignment '{}'; looked in:\n", options.assignment);
+    for (const std::string& place : looked) fmt::print(err, "  {}\n", place);
+    fmt::print(err, "Give a folder holding assignment.yaml, or set SYROF_ASSIGNMENTS_DIR.\n");
+    return std::nullopt;
+  }
+  assignment::LoadOptions load;
+  load.allow_missing_hidden = true;
+  const assignment::LoadResult loaded = assignment::LoadAssignmentFile(found, load);
+  if (!loaded.ok()) {
+    fmt::print(err, "syrof grade: {}\n", loaded.error->ToString());
+    return std::nullopt;
+  }
+  folder = loaded.assignment->folder;
+  if (loaded.assignment->hidden_missing && !options.public_only) {
+    fmt::print(out, "syrof grade: this copy of '{}' has no hidden scenario files: grading the public tests only\n",
+               loaded.assignment->name);
+  }
+  return loaded.assignment;
+}
+
+grader::GradeOptions GradeOptionsOf(const GradeOptions& options) {
+  grader::GradeOptions grade;
+  grade.public_only = options.public_only;
+  grade.jobs = options.jobs;
+  grade.build.timeout_s = options.build_timeout_s;
+  return grade;
+}
+
+bool IsFolder(const std::string& path) {
+  std::error_code error;
+  return fs::is_directory(path, error);
+}
+
+int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) {
+  if (!IsFolder(options.submission)) {
+    fmt::print(err, "syrof grade: the submission '{}' is not a folder\n", options.submission);
+    return kUsage;
+  }
+  std::string folder;
+  const std::optional<assignment::Assignment> loaded = LoadAssignment(options, folder, out, err);
+  if (!loaded) return kUsage;
+  const std::string name = fs::absolute(options.submission).lexically_normal().filename().string();
+  const std::string out_dir = options.out_dir.empty() ? "grade-out/" + (name.empty() ? "submission" : name)
+                                                      : options.out_dir;
+  grader::GradeOptions grade = GradeOptionsOf(options);
+  if (!options.quiet) {
+    fmt::print(out, "syrof grade: {} for {} ({} jobs), into {}\n", options.submission, loaded->name, options.jobs,
+               out_dir);
+    grade.on_test = [&out](const assignment::TestResult& test) {
+      fmt::print(out, "  {:<40} {}  {:.1f} s\n", test.name, test.passed ? "PASS" : "FAIL", test.wall_seconds);
+    };
+  }
+  const auto started = Clock::now();
+  std::vector<std::string> notes;
+  assignment::SubmissionResult result =
+      grader::GradeSubmission(*loaded, options.submission, out_dir, grade, notes);
+  const std::string hash = grader::InputsHash(options.submission, folder, result.public_only);
+  if (std::string problem = grader::WriteSubmissionOutputs(result, hash, notes, out_dir); !problem.empty()) {
+    fmt::print(err, "syrof grade: {}\n", problem);
+    return kFailed;
+  }
+  out << "\n";
+  grader::PrintSubmissionTable(result, out_dir, out);
+  for (const std::string& note : notes) fmt::print(out, "sandbox: {}\n", note);
+  fmt::print(out, "\nBuild {:.1f} s, graded in {:.1f} s; details in {}/grade.json\n", result.build.wall_seconds,
+             Since(started), out_dir);
+  return 0;
+}
+
+int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err) {
+  if (!IsFolder(options.class_dir)) {
+    fmt::print(err, "syrof grade: --class '{}' is not a folder\n", options.class_dir);
+    return kUsage;
+  }
+  grader::Shard shard;
+  if (!options.shard.empty()) {
+    std::string problem;
+    const std::optional<grader::Shard> parsed = grader::ParseShard(options.shard, problem);
+    if (!parsed) {
+      fmt::print(err, "syrof grade: {}\n", problem);
+      return kUsage;
+    }
+    shard = *parsed;
+  }
+  std::string folder;
+  const std::optional<assignment::Assignment> loaded = LoadAssignment(options, folder, out, err);
+  if (!loaded) return kUsage;
+  const std::string out_dir = options.out_dir.empty() ? "grade-out/class" : options.out_dir;
+  grader::ClassOptions class_options;
+  class_options.grade = GradeOptionsOf(options);
+  class_options.jobs = options.jobs;
+  class_options.shard = shard;
+  class_options.resume = !options.regrade;
+  class_options.assignment_dir = folder;
+  const size_t total = grader::ShardOf(grader::ListStudents(options.class_dir), shard).size();
+  size_t done = 0;
+  if (!options.quiet) {
+    fmt::print(out, "syrof grade: class {} ({} students{}) for {}, {} jobs, into {}\n", options.class_dir, total,
+               options.shard.empty() ? "" : ", shard " + options.shard, loaded->name, options.jobs, out_dir);
+  }
+  class_options.on_student = [&](const assignment::SubmissionResult& result, bool resumed) {
+    ++done;
+    if (options.quiet) return;
+    fmt::print(out, "  [{}/{}] {:<24} {:>7.2f}/{:.2f}  {}{}\n", done, total, result.submission, result.points,
+               result.max_points, result.build.ok() ? "" : "build " + result.build.verdict,
+               resumed ? " (resumed)" : "");
+  };
+  const auto started = Clock::now();
+  const grader::ClassResult result = grader::GradeClass(*loaded, options.class_dir, out_dir, class_options);
+  if (!fs::exists(fs::path(out_dir) / "class.csv")) {
+    fmt::print(err, "syrof grade: cannot write the class files in {}\n", out_dir);
+    return kFailed;
+  }
+  out << "\n" << grader::ClassSummary(result.students);
+  for (const std::string& note : result.notes) fmt::print(out, "sandbox: {}\n", note);
+  fmt::print(out, "Graded {}, resumed {}, in {:.1f} s; {}/class.csv, {}/summary.txt\n", result.graded,
+             result.resumed, Since(started), out_dir, out_dir);
+  return 0;
+}
+
+int GradeMix(const GradeOptions& options, std::ostream& out, std::ostream& err) {
+  if (options.mix.size() < 2) {
+    fmt::print(err, "syrof grade: --mix needs at least two submissions\n");
+    return kUsage;
+  }
+  for (const std::string& submission : options.mix) {
+    if (!IsFolder(submission)) {
+      fmt::print(err, "syrof grade: the submission '{}' is not a folder\n", submission);
+      return kUsage;
+    }
+  }
+  std::string folder;
+  const std::optional<assignment::Assignment> loaded = LoadAssignment(options, folder, out, err);
+  if (!loaded) return kUsage;
+  if (!loaded->mixable) {
+    fmt::print(err,
+               "syrof grade: assignment '{}' is not mixable: its README must fix the robots' message format and its "
+               "assignment.yaml say 'mixable: true'\n",
+               loaded->name);
+    return kUsage;
+  }
+  const std::string out_dir = options.out_dir.empty() ? "grade-out/mix" : options.out_dir;
+  grader::GradeOptions grade = GradeOptionsOf(options);
+  std::vector<grader::MixEntry> entries;
+  for (size_t i = 0; i < options.mix.size(); ++i) {
+    const std::string name = fs::absolute(options.mix[i]).lexically_normal().filename().string();
+    const std::string build_dir = (fs::path(out_dir) / "builds" / (std::to_string(i) + "-" + name)).string();
+    std::vector<std::string> notes;
+    const assignment::BuildResult build = grader::BuildSubmission(options.mix[i], build_dir, grade.build, notes);
+    if (!build.ok()) {
+      fmt::print(out, "syrof grade: {} did not build ({}): {}; see {}/build.log\n", name, build.verdict, build.detail,
+                 build_dir);
+      return 0;
+    }
+    entries.push_back({name, build.library_path});
+  }
+  const std::vector<grader::MixRun> runs = grader::RunMix(*loaded, entries, out_dir, grade);
+  grader::PrintMixReport(runs, entries, out);
+  return 0;
+}
+
+int Merge(const GradeOptions& options, std::ostream& out, std::ostream& err) {
+  if (options.merge_dirs.empty()) {
+    fmt::print(err, "syrof grade merge: name the class outputs to merge (OUT1 OUT2 ...)\n");
+    return kUsage;
+  }
+  std::string problem;
+  const auto students = grader::MergeClassOutputs(options.merge_dirs, options.merge_out, problem);
+  if (!students) {
+    fmt::print(err, "syrof grade merge: {}\n", problem);
+    return kUsage;
+  }
+  out << grader::ClassSummary(*students);
+  fmt::print(out, "Merged {} students from {} folders into {}/class.csv and {}/summary.txt\n", students->size(),
+             options.merge_dirs.size(), options.merge_out, options.merge_out);
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
+  CLI::App* grade = app.add_subcommand(
+      "grade", "Grade a submission (or a class, or a mixed swarm) against an assignment; docs/grading.md");
+  grade->add_option("submission", options.submission,
+                    "The submission: a folder with a CMakeLists.txt (as syrof new writes) or C/C++ sources");
+  grade->add_option("--assignment", options.assignment,
+                    "The assignment: a folder with assignment.yaml, or a NAME found in $SYROF_ASSIGNMENTS_DIR, "
+                    "the installed share/syrof/assignments or the source tree");
+  CLI::Option* class_option =
+      grade->add_option("--class", options.class_dir, "Grade a class: one folder per student in this folder");
+  CLI::Option* mix_option = grade->add_option(
+      "--mix", options.mix, "Run swarms mixing these submissions' robots (robot i runs submission i mod k)");
+  grade->add_flag("--public-only", options.public_only, "Leave the hidden tests out");
+  grade->add_option("--jobs", options.jobs, "Runs (or, with --class, students) side by side (default 1)")
+      ->check(CLI::Range(1, 256));
+  grade->add_option("--out", options.out_dir, "Output folder (default grade-out/<submission>)");
+  grade->add_option("--build-timeout-s", options.build_timeout_s, "Wall time for a build, seconds (default 120)")
+      ->check(CLI::Range(1.0, 3600.0));
+  grade->add_option("--shard", options.shard, "With --class: grade the I-th of N slices of the sorted students")
+      ->needs(class_option);
+  grade->add_flag("--regrade", options.regrade, "With --class: grade every student again (no resume)")
+      ->needs(class_option);
+  grade->add_flag("--quiet", options.quiet, "No progress lines");
+  class_option->excludes(mix_option);
+
+  CLI::App* merge = grade->add_subcommand("merge", "Combine the outputs of class shards into one CSV and summary");
+  merge->add_option("outputs", options.merge_dirs, "The shards' --out folders")->required();
+  merge->add_option("--out", options.merge_out, "Where class.csv and summary.txt go")->required();
+  merge->callback([&options] { options.merge = true; });
+  return grade;
+}
+
+int RunGradeCommand(const GradeOptions& options, std::ostream& out, std::ostream& err) {
+  if (options.merge) return Merge(options, out, err);
+  const int modes = (options.submission.empty() ? 0 : 1) + (options.class_dir.empty() ? 0 : 1) +
+                    (options.mix.empty() ? 0 : 1);
+  if (modes != 1) {
+    fmt::print(err,
+               "syrof grade: give one of SUBMISSION_DIR, --class SUBMISSIONS_DIR or --mix SUB1 SUB2 ...\n"
+               "Run with --help for more information.\n");
+    return kUsage;
+  }
+  if (options.assignment.empty()) {
+    fmt::print(err, "syrof grade: --assignment NAME|PATH is required\nRun with --help for more information.\n");
+    return kUsage;
+  }
+  if (!options.class_dir.empty()) return GradeClass(options, out, err);
+  if (!options.mix.empty()) return GradeMix(options, out, err);
+  return GradeOne(options, out, err);
+}
+
+}  // namespace syrof::cli

@@ -1,0 +1,43 @@
+// `syrof grade`: grade a student's submission, a class, or a mixed swarm,
+// and `syrof grade merge` (docs/grading.md):
+//   syrof grade SUBMISSION_DIR --assignment NAME|PATH [--public-only] [--jobs N] [--out DIR]
+//   syrof grade --class SUBMISSIONS_DIR --assignment NAME --jobs N --out DIR [--shard I/N]
+//   syrof grade --mix SUB1 SUB2 ... --assignment NAME [--out DIR]
+//   syrof grade merge OUT1 OUT2 ... --out DIR
+#pragma once
+
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace syrof::cli {
+
+struct GradeOptions {
+  std::string submission;               ///< one student's folder
+  std::string assignment;               ///< NAME or a path to the assignment's folder
+  std::string class_dir;                ///< --class: one folder per student
+  std::vector<std::string> mix;         ///< --mix: submissions sharing a swarm
+  bool public_only = false;
+  int jobs = 1;
+  std::string out_dir;                  ///< default: grade-out/<submission> (or grade-out/class, grade-out/mix)
+  double build_timeout_s = 120;
+  std::string shard;                    ///< "I/N"
+  bool regrade = false;                 ///< --class: ignore earlier results
+  bool quiet = false;
+  // `syrof grade merge`
+  bool merge = false;
+  std::vector<std::string> merge_dirs;
+  std::string merge_out;
+};
+
+/// Declares `grade` (and its `merge` subcommand) on `app`.
+CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options);
+
+/// Runs it. 0 when graded (whatever the score), 2 for a usage error (the
+/// message on `err`), 1 when grading itself failed (outputs not written).
+int RunGradeCommand(const GradeOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace syrof::cli

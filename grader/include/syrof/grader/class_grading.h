@@ -1,0 +1,83 @@
+// Grading a class (docs/grading.md, "Grading a class"): every student's
+// folder of SUBMISSIONS_DIR graded into OUT/<student>/ as one submission
+// (grade.h), then OUT/class.csv and OUT/summary.txt.
+//
+// - Resumable: a student whose OUT/<student>/grade.json exists with the
+//   same InputsHash (submission files, assignment files, SyROF's version)
+//   is not graded again.
+// - Sharded: the sorted student list is cut in N slices; shard I (1-based)
+//   grades slice I. MergeClassOutputs then combines the shards' folders.
+// - Isolated: each submission's build and runs have their own limits; one
+//   that does not compile, crashes, loops or floods its output costs at most
+//   its own limits and never stops the others.
+// - Deterministic: class.csv and summary.txt hold no timings; rerunning
+//   gives the same bytes.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "syrof/assignment/assignment.h"
+#include "syrof/assignment/result.h"
+#include "syrof/grader/grade.h"
+
+namespace syrof::grader {
+
+/// One slice of a class: `index` of `count`, 1-based.
+struct Shard {
+  int index = 1;
+  int count = 1;
+};
+
+/// Parses "I/N" (1 <= I <= N <= 10000); empty and `error` set otherwise.
+std::optional<Shard> ParseShard(const std::string& text, std::string& error);
+
+/// The students (folder names, sorted, hidden folders left out) of `submissions_dir`.
+std::vector<std::string> ListStudents(const std::string& submissions_dir);
+
+/// The slice of `students` that `shard` grades.
+std::vector<std::string> ShardOf(const std::vector<std::string>& students, const Shard& shard);
+
+struct ClassOptions {
+  GradeOptions grade;           ///< grade.jobs is ignored: each student is graded on one thread
+  int jobs = 1;                 ///< students graded side by side
+  Shard shard;
+  bool resume = true;           ///< false: grade every student again
+  std::string assignment_dir;   ///< the assignment's folder (for the inputs' hash)
+  /// Called once per student when done (serialised): the result and whether it was resumed.
+  std::function<void(const assignment::SubmissionResult&, bool resumed)> on_student;
+};
+
+struct ClassResult {
+  std::vector<assignment::SubmissionResult> students;  ///< sorted by name
+  int graded = 0;
+  int resumed = 0;
+  std::vector<std::string> notes;  ///< the sandboxes' notes, each once
+};
+
+/// Grades the class into `out_dir` and writes class.csv and summary.txt.
+ClassResult GradeClass(const assignment::Assignment& assignment, const std::string& submissions_dir,
+                       const std::string& out_dir, const ClassOptions& options);
+
+/// class.csv: student, points, max_points, tests_passed, tests, build, then
+/// one column per scenario (its points summed over seeds), rows by student.
+std::string ClassCsv(const std::vector<assignment::SubmissionResult>& students);
+
+/// summary.txt: count, mean, median, a histogram of the points in deciles,
+/// build failures, the most-failed tests.
+std::string ClassSummary(const std::vector<assignment::SubmissionResult>& students);
+
+/// Writes class.csv and summary.txt into `out_dir`; "" or what failed.
+std::string WriteClassFiles(const std::vector<assignment::SubmissionResult>& students, const std::string& out_dir);
+
+/// Reads every OUT/<student>/grade.json of each of `shard_dirs` and writes
+/// the combined class.csv and summary.txt into `out_dir`. Empty and `error`
+/// set when a folder cannot be read or a student appears twice.
+std::optional<std::vector<assignment::SubmissionResult>> MergeClassOutputs(const std::vector<std::string>& shard_dirs,
+                                                                           const std::string& out_dir,
+                                                                           std::string& error);
+
+}  // namespace syrof::grader

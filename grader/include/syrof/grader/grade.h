@@ -1,0 +1,66 @@
+// Grading one submission: build it (build.h), run every scenario x seed of
+// the assignment through the app host, score each run with the rubric
+// (syrof/assignment/score.h) and add the runs up as
+// syrof/assignment/result.h says (docs/grading.md, "A submission's score").
+//
+// The submission's folder OUT holds:
+//   source/, build/, build.log       the copy, its build and the build's output
+//   runs/<scenario>/seed-<seed>/     metrics.json, robots/<id>.log, and for a
+//                                    failed run replay.bin (runs are
+//                                    deterministic: a failed run is run again
+//                                    with a replay, so passed runs keep none)
+//   grade.json                       the SubmissionResult (grade_json.h)
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "syrof/assignment/assignment.h"
+#include "syrof/assignment/result.h"
+#include "syrof/grader/build.h"
+
+namespace syrof::grader {
+
+struct GradeOptions {
+  bool public_only = false;  ///< leave the hidden sets out (the total is then out of the public tests)
+  int jobs = 1;              ///< runs side by side, each on its own thread
+  BuildOptions build;
+  /// Called after each test is graded (from the thread that ran it; calls
+  /// are serialised). Optional: progress lines.
+  std::function<void(const assignment::TestResult&)> on_test;
+};
+
+/// The tests of `assignment`, in result.h's order, with name, scenario,
+/// seed, visibility, output folder and max_points set, nothing run.
+std::vector<assignment::TestResult> PlanTests(const assignment::Assignment& assignment, bool public_only);
+
+/// result.h's rule: each test is worth `total_points / tests`, earns that
+/// times its run's fraction (0 with a run_error), passes with every point;
+/// the submission's points and tests_passed are the sums. Rounds to the
+/// hundredth.
+void AddUp(assignment::SubmissionResult& result, double total_points);
+
+/// Grades an app library already built (and checked): every test run into
+/// `out_dir`/runs/. The build part of the result says "ok" with `library`.
+assignment::SubmissionResult GradeLibrary(const assignment::Assignment& assignment, const std::string& library,
+                                          const std::string& out_dir, const GradeOptions& options);
+
+/// Builds `submission_dir` into `out_dir` and grades it. A submission that
+/// does not build gets every test with 0 points and a run_error naming the
+/// build's verdict. `notes` receives the sandboxes' notes (build.h).
+assignment::SubmissionResult GradeSubmission(const assignment::Assignment& assignment,
+                                             const std::string& submission_dir, const std::string& out_dir,
+                                             const GradeOptions& options, std::vector<std::string>& notes);
+
+/// Where an assignment named on the command line is: `name_or_path` itself
+/// when it is a folder holding assignment.yaml (or the file); else
+/// $SYROF_ASSIGNMENTS_DIR/NAME; else the installed share/syrof/assignments/NAME
+/// beside this executable's prefix; else `source_tree_dir`/NAME (the build
+/// tree's own assignments/). Empty when none has it; `looked` lists the
+/// places tried.
+std::string FindAssignment(const std::string& name_or_path, const std::string& source_tree_dir,
+                           std::vector<std::string>& looked);
+
+}  // namespace syrof::grader

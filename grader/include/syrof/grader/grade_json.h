@@ -1,0 +1,45 @@
+// OUT/grade.json: a graded submission in full (docs/grading.md, "grade.json").
+//
+// Format "syrof-grade", version 1: an object with format, version,
+// syrof_version, inputs_hash, notes, then the SubmissionResult's fields
+// (submission, assignment, title, public_only, points, max_points,
+// tests_passed, tests_total, build, tests: each with its criteria), and last
+// "timings" (build_s, tests: name -> seconds). Wall times appear only in
+// "timings", so two gradings of the same inputs give the same bytes but
+// there. Pretty-printed, 2-space indent, keys in this fixed order.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "syrof/assignment/result.h"
+
+namespace syrof::grader {
+
+inline constexpr int kGradeJsonVersion = 1;
+
+/// A grade.json read back.
+struct GradeFile {
+  assignment::SubmissionResult result;
+  std::string inputs_hash;           ///< InputsHash() of what was graded
+  std::string syrof_version;
+  std::vector<std::string> notes;    ///< the sandboxes' notes
+};
+
+/// The text of grade.json.
+std::string GradeJson(const GradeFile& file);
+
+/// Reads `path`; empty and `error` set when it is missing or not a grade.json
+/// of this version.
+std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& error);
+
+/// A hash (16 hex digits, FNV-1a 64) of everything a grade depends on: the
+/// submission's files (names and bytes), the assignment folder's files,
+/// SyROF's version and whether only public tests were graded.
+std::string InputsHash(const std::string& submission_dir, const std::string& assignment_dir, bool public_only);
+
+/// SyROF's version, e.g. "0.1.0".
+std::string SyrofVersion();
+
+}  // namespace syrof::grader

@@ -1,0 +1,17 @@
+// What a graded submission leaves in its folder besides its runs: grade.json
+// (grade_json.h) and, once grader/report is wired in, the reports.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "syrof/assignment/result.h"
+
+namespace syrof::grader {
+
+/// Writes `out_dir`/grade.json for `result` (with the inputs' hash and the
+/// sandboxes' notes). Returns "" or what failed.
+std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, const std::string& inputs_hash,
+                                   const std::vector<std::string>& notes, const std::string& out_dir);
+
+}  // namespace syrof::grader

@@ -1,0 +1,298 @@
+// The run loop: every test through the app host, on `jobs` threads, with a
+// wall time limit per run; failed runs again with a replay.
+#include "syrof/grader/grade.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "syrof/app_host/hosted_app.h"
+#include "syrof/assignment/score.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/simulation.h"
+#include "run_scenario.h"
+
+namespace syrof::grader {
+namespace {
+
+namespace fs = std::filesystem;
+using assignment::Assignment;
+using assignment::ScenarioRun;
+using assignment::SubmissionResult;
+using assignment::TestResult;
+using assignment::Visibility;
+using Clock = std::chrono::steady_clock;
+
+double RoundPoints(double points) { return std::round(points * 100.0) / 100.0; }
+
+// One test's share of the points: result.h's rule.
+// Scores `test` and returns its exact (unrounded) points.
+double ScoreTest(TestResult& test, double share, bool built) {
+  test.max_points = share;
+  const bool scored = built && test.run_error.empty();
+  const double fraction =
+      !scored ? 0.0 : (test.score.max_points > 0 ? test.score.points / test.score.max_points : 1.0);
+  test.points = RoundPoints(share * fraction);
+  test.passed = scored && test.score.points == test.score.max_points;
+  return share * fraction;
+}
+
+std::string Seconds(double seconds) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%g", seconds);
+  return text;
+}
+
+const ScenarioRun* FindRun(const Assignment& assignment, const TestResult& test) {
+  for (const auto* runs : {&assignment.public_runs, &assignment.hidden_runs}) {
+    for (const ScenarioRun& run : *runs) {
+      if (run.name == test.scenario) return &run;
+    }
+  }
+  return nullptr;
+}
+
+// The host's limits for a run: the scenario's app section over the host's
+// defaults, as `syrof run` sets them (an unset wall cap is at least 4x the
+// CPU budget).
+app_host::HostLimits LimitsFor(const lab::scenario::AppSpec& app) {
+  app_host::HostLimits limits;
+  if (app.cpu_budget_ms) limits.cpu_budget_ms = *app.cpu_budget_ms;
+  limits.wall_cap_ms = app.wall_cap_ms ? *app.wall_cap_ms : std::max(limits.wall_cap_ms, 4 * limits.cpu_budget_ms);
+  return limits;
+}
+
+}  // namespace
+
+namespace internal {
+
+RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
+                       const std::string& dir_name, bool replay) {
+  const auto started = Clock::now();
+  RunOutcome outcome;
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - started).count(); };
+  lab::scenario::Overrides overrides;
+  overrides.seed = seed;
+  const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(run.path, overrides);
+  if (!loaded.ok()) {
+    outcome.run_error = "the scenario does not load: " + loaded.error->ToString();
+    return outcome;
+  }
+  lab::scenario::Scenario scenario = *loaded.scenario;
+  if (!run.goal.empty()) scenario.goal = run.goal;
+
+  const fs::path dir(dir_name);
+  std::error_code error;
+  fs::remove_all(dir / "robots", error);
+  fs::remove(dir / "replay.bin", error);
+  fs::create_directories(dir, error);
+  std::vector<app_host::HostOptions> hosts(libraries.size());
+  for (size_t i = 0; i < libraries.size(); ++i) {
+    hosts[i].library_path = libraries[i];
+    hosts[i].log_directory = (dir / "robots").string();
+    hosts[i].params = scenario.app.params;
+    hosts[i].limits = LimitsFor(scenario.app);
+  }
+  std::ofstream replay_file;
+  lab::sim::SimulationOptions options;
+  if (replay) {
+    replay_file.open(dir / "replay.bin", std::ios::binary | std::ios::trunc);
+    options.replay = &replay_file;
+  }
+  options.app_factory = [&hosts](uint16_t id) { return app_host::MakeHostedApp(hosts[id % hosts.size()], id); };
+  std::string source;
+  for (const std::string& library : libraries) source += (source.empty() ? "" : " + ") + library;
+  options.app_source = source;
+  options.app_sandbox = app_host::SandboxNotes();
+
+  // The hosts are spawned by this thread (in the Simulation's constructor),
+  // which outlives them: their parent-death signal follows it.
+  const auto deadline =
+      started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(run.time_limit_s));
+  lab::sim::Simulation simulation(scenario, options);
+  const double duration_s = scenario.timing.duration_s;
+  for (double until = 1.0; simulation.now_s() < duration_s; until += 1.0) {
+    if (Clock::now() >= deadline) {
+      outcome.run_error = "the run took longer than its time limit of " + Seconds(run.time_limit_s) +
+                          " s (wall clock) and was stopped";
+      replay_file.close();
+      fs::remove(dir / "replay.bin", error);
+      outcome.wall_seconds = elapsed();
+      return outcome;
+    }
+    simulation.RunUntil(std::min(until, duration_s));
+  }
+  const lab::sim::RunReport report = simulation.Finish(0.0);
+  std::ofstream(dir / "metrics.json", std::ios::binary | std::ios::trunc) << report.metrics_json;
+  if (report.replay_error) fs::remove(dir / "replay.bin", error);
+  outcome.metrics = report.metrics;
+  outcome.wall_seconds = elapsed();
+  return outcome;
+}
+
+}  // namespace internal
+
+namespace {
+
+// Runs one test into out_dir/test.output_dir and scores it (or sets
+// run_error). With `replay`, the run also writes replay.bin there.
+void RunTest(const Assignment& assignment, const ScenarioRun& run, const std::string& library,
+             const fs::path& out_dir, bool replay, TestResult& test) {
+  const internal::RunOutcome outcome =
+      internal::RunScenario(run, test.seed, {library}, (out_dir / test.output_dir).string(), replay);
+  test.wall_seconds = outcome.wall_seconds;
+  test.run_error = outcome.run_error;
+  if (outcome.metrics) test.score = assignment::ScoreRun(assignment.rubric, *outcome.metrics);
+}
+
+std::string ReplayCommand(const ScenarioRun& run, const TestResult& test, const std::string& library) {
+  if (test.visibility == Visibility::kHidden) return {};
+  return "syrof run " + fs::absolute(run.path).lexically_normal().string() + " --app " + library + " --seed " +
+         std::to_string(test.seed) + " --out rerun/" + test.scenario + "-seed-" + std::to_string(test.seed);
+}
+
+std::string ExecutableDir() {
+  char buffer[4096];
+  const ssize_t length = readlink("/proc/self/exe", buffer, sizeof(buffer) - 1);
+  if (length <= 0) return {};
+  return fs::path(std::string(buffer, static_cast<size_t>(length))).parent_path().string();
+}
+
+}  // namespace
+
+std::vector<TestResult> PlanTests(const Assignment& assignment, bool public_only) {
+  std::vector<std::pair<const ScenarioRun*, Visibility>> sets;
+  for (const ScenarioRun& run : assignment.public_runs) sets.emplace_back(&run, Visibility::kPublic);
+  if (!public_only) {
+    for (const ScenarioRun& run : assignment.hidden_runs) sets.emplace_back(&run, Visibility::kHidden);
+  }
+  std::vector<TestResult> tests;
+  for (const auto& [run, visibility] : sets) {
+    for (const uint64_t seed : run->seeds) {
+      TestResult test;
+      test.name = run->name + "/seed-" + std::to_string(seed);
+      test.scenario = run->name;
+      test.seed = seed;
+      test.visibility = visibility;
+      test.output_dir = "runs/" + run->name + "/seed-" + std::to_string(seed);
+      tests.push_back(std::move(test));
+    }
+  }
+  return tests;
+}
+
+void AddUp(SubmissionResult& result, double total_points) {
+  result.max_points = total_points;
+  result.points = 0;
+  result.tests_passed = 0;
+  const double share = result.tests.empty() ? 0.0 : total_points / static_cast<double>(result.tests.size());
+  double exact = 0;  // rounded once, so full marks on every test is exactly total_points
+  for (TestResult& test : result.tests) {
+    exact += ScoreTest(test, share, result.build.ok());
+    result.tests_passed += test.passed ? 1 : 0;
+  }
+  result.points = RoundPoints(exact);
+}
+
+SubmissionResult GradeLibrary(const Assignment& assignment, const std::string& library, const std::string& out_dir,
+                              const GradeOptions& options) {
+  SubmissionResult result;
+  result.assignment = assignment.name;
+  result.title = assignment.title;
+  result.public_only = options.public_only || assignment.hidden_missing;
+  result.build.library_path = library;
+  result.build.verdict = "ok";
+  result.tests = PlanTests(assignment, result.public_only);
+
+  const fs::path out = fs::absolute(out_dir);
+  std::atomic<size_t> next{0};
+  std::mutex report_mutex;
+  auto work = [&] {
+    for (size_t index = next++; index < result.tests.size(); index = next++) {
+      TestResult& test = result.tests[index];
+      const ScenarioRun& run = *FindRun(assignment, test);
+      test.replay_command = ReplayCommand(run, test, library);
+      RunTest(assignment, run, library, out, false, test);
+      const bool failed = test.run_error.empty() && test.score.points != test.score.max_points;
+      if (failed) {
+        // Deterministic: the same run again, now with its replay.
+        TestResult again = test;
+        RunTest(assignment, run, library, out, true, again);
+        test.replay_path = test.output_dir + "/replay.bin";
+        test.wall_seconds += again.wall_seconds;
+      }
+      if (options.on_test) {
+        const std::lock_guard<std::mutex> lock(report_mutex);
+        TestResult shown = test;
+        ScoreTest(shown, assignment.points / static_cast<double>(result.tests.size()), true);
+        options.on_test(shown);
+      }
+    }
+  };
+  const int jobs = std::clamp(options.jobs, 1, 256);
+  std::vector<std::thread> workers;
+  for (int i = 1; i < jobs && static_cast<size_t>(i) < result.tests.size(); ++i) workers.emplace_back(work);
+  work();
+  for (std::thread& worker : workers) worker.join();
+  AddUp(result, assignment.points);
+  return result;
+}
+
+SubmissionResult GradeSubmission(const Assignment& assignment, const std::string& submission_dir,
+                                 const std::string& out_dir, const GradeOptions& options,
+                                 std::vector<std::string>& notes) {
+  const assignment::BuildResult build = BuildSubmission(submission_dir, out_dir, options.build, notes);
+  SubmissionResult result;
+  if (build.ok()) {
+    result = GradeLibrary(assignment, build.library_path, out_dir, options);
+  } else {
+    result.assignment = assignment.name;
+    result.title = assignment.title;
+    result.public_only = options.public_only || assignment.hidden_missing;
+    result.tests = PlanTests(assignment, result.public_only);
+    for (TestResult& test : result.tests) {
+      test.run_error = "not run: the submission did not build (" + build.verdict + ")";
+    }
+  }
+  result.build = build;
+  result.submission = fs::absolute(submission_dir).lexically_normal().filename().string();
+  if (result.submission.empty()) result.submission = fs::absolute(submission_dir).lexically_normal().parent_path().filename().string();
+  AddUp(result, assignment.points);
+  return result;
+}
+
+std::string FindAssignment(const std::string& name_or_path, const std::string& source_tree_dir,
+                           std::vector<std::string>& looked) {
+  std::error_code error;
+  auto holds = [&](const fs::path& candidate) {
+    looked.push_back(candidate.string());
+    if (fs::is_regular_file(candidate, error) && candidate.filename() == "assignment.yaml") return true;
+    return fs::is_regular_file(candidate / "assignment.yaml", error);
+  };
+  if (holds(name_or_path)) return name_or_path;
+  const bool plain_name = name_or_path.find('/') == std::string::npos && !name_or_path.empty() &&
+                          name_or_path != "." && name_or_path != "..";
+  if (!plain_name) return {};
+  if (const char* dir = std::getenv("SYROF_ASSIGNMENTS_DIR"); dir != nullptr && *dir != '\0') {
+    if (holds(fs::path(dir) / name_or_path)) return (fs::path(dir) / name_or_path).string();
+  }
+  if (const std::string exe_dir = ExecutableDir(); !exe_dir.empty()) {
+    const fs::path installed = fs::path(exe_dir) / ".." / "share" / "syrof" / "assignments" / name_or_path;
+    if (holds(installed)) return installed.lexically_normal().string();
+  }
+  if (!source_tree_dir.empty() && holds(fs::path(source_tree_dir) / name_or_path)) {
+    return (fs::path(source_tree_dir) / name_or_path).string();
+  }
+  return {};
+}
+
+}  // namespace syrof::grader

@@ -1,0 +1,28 @@
+// One run of a scenario with a seed through the app host (grade.cpp's and
+// mix.cpp's shared step). Internal to grader/.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "syrof/assignment/assignment.h"
+#include "syrof/lab/metrics/metrics.h"
+
+namespace syrof::grader::internal {
+
+struct RunOutcome {
+  std::optional<lab::metrics::Metrics> metrics;  ///< when the run finished
+  std::string run_error;                         ///< why it has no metrics
+  double wall_seconds = 0;
+};
+
+/// Runs `run` with `seed` into `dir` (metrics.json, robots/<id>.log, with
+/// `replay` also replay.bin); robot i runs libraries[i % size]. Hosts are
+/// started by the calling thread, which must outlive the call (it does).
+/// Stopped at run.time_limit_s of wall time (run_error says so).
+RunOutcome RunScenario(const assignment::ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
+                       const std::string& dir, bool replay);
+
+}  // namespace syrof::grader::internal

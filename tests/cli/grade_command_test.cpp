@@ -1,0 +1,90 @@
+// `syrof grade`'s command line: --help, and every wrong way to call it
+// exiting 2 with a message that says what to do. (Grading itself is
+// tests/grader/grade_test.cpp's.)
+#include "grade_command.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+#include "cli_test_support.h"
+#include "usage.h"
+
+namespace syrof::cli {
+namespace {
+
+using testing::Outcome;
+
+// `syrof grade ARGS...` parsed as main() parses it, then run.
+Outcome Grade(std::vector<std::string> arguments) {
+  CLI::App app{"syrof"};
+  app.require_subcommand(1);
+  GradeOptions options;
+  SetupGradeCommand(app, options);
+  arguments.insert(arguments.begin(), "grade");
+  std::vector<const char*> argv = {"syrof"};
+  for (const std::string& argument : arguments) argv.push_back(argument.c_str());
+  std::ostringstream out;
+  std::ostringstream err;
+  int status = 0;
+  try {
+    app.parse(static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
+    status = RunGradeCommand(options, out, err);
+  } catch (const CLI::ParseError& error) {
+    status = ReportParseError(app, error, out, err);
+  }
+  return {status, out.str(), err.str()};
+}
+
+TEST(GradeCommandTest, HelpListsTheModesAndOptions) {
+  const Outcome outcome = Grade({"--help"});
+  EXPECT_EQ(outcome.status, 0);
+  for (const char* option : {"--assignment", "--class", "--mix", "--public-only", "--jobs", "--out", "--shard",
+                             "--build-timeout-s", "merge"}) {
+    EXPECT_NE(outcome.out.find(option), std::string::npos) << option << " missing from\n" << outcome.out;
+  }
+}
+
+TEST(GradeCommandTest, NothingToGradeIsAUsageError) {
+  const Outcome outcome = Grade({"--assignment", "gather"});
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_EQ(outcome.err,
+            "syrof grade: give one of SUBMISSION_DIR, --class SUBMISSIONS_DIR or --mix SUB1 SUB2 ...\n"
+            "Run with --help for more information.\n");
+}
+
+TEST(GradeCommandTest, AMissingAssignmentIsAUsageError) {
+  EXPECT_EQ(Grade({SYROF_ASSIGNMENTS_DIR}).status, 2);
+  const Outcome outcome = Grade({SYROF_ASSIGNMENTS_DIR, "--assignment", "no_such_assignment"});
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_TRUE(outcome.err.starts_with("syrof grade: no assignment 'no_such_assignment'; looked in:\n")) << outcome.err;
+}
+
+TEST(GradeCommandTest, ASubmissionThatIsNoFolderIsAUsageError) {
+  const Outcome outcome = Grade({"/no/such/folder", "--assignment", "gather"});
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_EQ(outcome.err, "syrof grade: the submission '/no/such/folder' is not a folder\n");
+}
+
+TEST(GradeCommandTest, WrongOptionsAreUsageErrors) {
+  EXPECT_EQ(Grade({"x", "--assignment", "gather", "--jobs", "0"}).status, 2);
+  EXPECT_EQ(Grade({"x", "--assignment", "gather", "--shard", "1/2"}).status, 2) << "--shard needs --class";
+  const Outcome shard = Grade({"--class", SYROF_ASSIGNMENTS_DIR, "--assignment", "gather", "--shard", "5/2"});
+  EXPECT_EQ(shard.status, 2);
+  EXPECT_EQ(shard.err, "syrof grade: --shard I/N needs 1 <= I <= N <= 10000, not '5/2'\n");
+  EXPECT_EQ(Grade({"merge"}).status, 2) << "merge needs folders and --out";
+}
+
+TEST(GradeCommandTest, MixRefusesAnAssignmentThatIsNotMixable) {
+  const std::string gather = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
+  const Outcome outcome =
+      Grade({"--mix", gather + "/reference", gather + "/reference", "--assignment", gather});
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_NE(outcome.err.find("assignment 'gather' is not mixable"), std::string::npos) << outcome.err;
+}
+
+}  // namespace
+}  // namespace syrof::cli

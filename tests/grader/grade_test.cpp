@@ -1,0 +1,321 @@
+// The grade command's runner (grader/): building submissions in the
+// sandbox, grading through the app host, a class of hostile submissions
+// (each with its verdict, the others unaffected), determinism, resume,
+// shards and merge, mixed swarms. Runs are short (tests/grader/tiny).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "syrof/assignment/assignment.h"
+#include "syrof/grader/build.h"
+#include "syrof/grader/class_grading.h"
+#include "syrof/grader/grade.h"
+#include "syrof/grader/grade_json.h"
+#include "syrof/grader/mix.h"
+#include "syrof/grader/table.h"
+
+namespace syrof::grader {
+namespace {
+
+namespace fs = std::filesystem;
+using assignment::Assignment;
+using assignment::SubmissionResult;
+
+const fs::path kTiny = fs::path(SYROF_TEST_DATA_DIR) / "tiny";
+const fs::path kReference = fs::path(SYROF_ASSIGNMENTS_DIR) / "gather" / "reference";
+const fs::path kHostileLibs = fs::path(SYROF_HOSTILE_LIBS_DIR);
+
+fs::path Fresh(const std::string& name) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("grade_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+void Write(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+std::string Read(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+Assignment LoadTiny(const std::string& file = "assignment.yaml") {
+  const assignment::LoadResult loaded = assignment::LoadAssignmentFile((kTiny / file).string());
+  EXPECT_TRUE(loaded.ok()) << (loaded.error ? loaded.error->ToString() : "");
+  return loaded.ok() ? *loaded.assignment : Assignment{};
+}
+
+// A sources-only submission: one of the app host's hostile libraries.
+void HostileSubmission(const fs::path& folder, const std::string& library) {
+  fs::create_directories(folder);
+  fs::copy_file(kHostileLibs / (library + ".c"), folder / (library + ".c"));
+  fs::copy_file(kHostileLibs / "hostile.h", folder / "hostile.h");
+}
+
+// Every file under `dir` by relative path, grade.json without its timings.
+std::map<std::string, std::string> Snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(dir)) {
+    const std::string relative = entry.path().lexically_relative(dir).generic_string();
+    // The build's own folders and log are CMake's and the compiler's output.
+    // A flooding app's log is cut where the host was stopped, which
+    // depends on timing: robots' logs are not compared.
+    if (relative.find("/build/") != std::string::npos || relative.find("/source/") != std::string::npos ||
+        relative.find("/robots/") != std::string::npos || relative.ends_with("build.log") ||
+        !entry.is_regular_file()) {
+      continue;
+    }
+    std::string bytes = Read(entry.path());
+    if (relative.ends_with("grade.json")) bytes = bytes.substr(0, bytes.find("\"timings\""));
+    files[relative] = bytes;
+  }
+  return files;
+}
+
+// The faults criterion's reason of a submission's first test.
+std::string FaultReason(const SubmissionResult& student) {
+  if (student.tests.empty()) return {};
+  for (const assignment::CriterionScore& criterion : student.tests[0].score.criteria) {
+    if (criterion.criterion == "faults") return criterion.reason;
+  }
+  return {};
+}
+
+TEST(BuildSubmissionTest, BuildsACMakeSubmission) {
+  const fs::path out = Fresh("cmake");
+  std::vector<std::string> notes;
+  const assignment::BuildResult build = BuildSubmission(kReference.string(), out.string(), {}, notes);
+  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << Read(out / "build.log");
+  EXPECT_EQ(build.detail, "built libgather.so");
+  EXPECT_TRUE(fs::exists(build.library_path));
+  EXPECT_TRUE(fs::exists(out / "source" / "gather.c"));
+}
+
+TEST(BuildSubmissionTest, BuildsASubmissionOfSourcesOnly) {
+  const fs::path submission = Fresh("sources_in");
+  fs::copy_file(kReference / "gather.c", submission / "gather.c");
+  const fs::path out = Fresh("sources");
+  std::vector<std::string> notes;
+  const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), {}, notes);
+  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << Read(out / "build.log");
+  EXPECT_EQ(build.detail, "built libsubmission.so");
+  EXPECT_NE(Read(out / "source" / "CMakeLists.txt").find("add_library(submission MODULE"), std::string::npos);
+  EXPECT_FALSE(fs::exists(submission / "CMakeLists.txt")) << "the student's folder is never written";
+}
+
+TEST(BuildSubmissionTest, ACompileErrorGivesTheFirstErrorLine) {
+  const fs::path submission = Fresh("broken_in");
+  Write(submission / "app.c", "#include \"syrof/app.h\"\nint broken(void) { return undeclared_thing; }\n");
+  const fs::path out = Fresh("broken");
+  std::vector<std::string> notes;
+  const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), {}, notes);
+  EXPECT_EQ(build.verdict, "build_failed");
+  EXPECT_TRUE(build.detail.starts_with("app.c:2:")) << build.detail;
+  EXPECT_NE(build.detail.find("error:"), std::string::npos) << build.detail;
+  EXPECT_NE(build.detail.find("undeclared_thing"), std::string::npos) << build.detail;
+}
+
+TEST(BuildSubmissionTest, ABuildThatLoopsIsStoppedAtItsTimeLimit) {
+  const fs::path submission = Fresh("loop_in");
+  Write(submission / "CMakeLists.txt",
+        "cmake_minimum_required(VERSION 3.16)\nproject(loop LANGUAGES NONE)\n"
+        "execute_process(COMMAND sleep 600)\n");
+  const fs::path out = Fresh("loop");
+  BuildOptions options;
+  options.timeout_s = 2;
+  std::vector<std::string> notes;
+  const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), options, notes);
+  EXPECT_EQ(build.verdict, "timeout");
+  EXPECT_EQ(build.detail, "the build took longer than its limit of 2 s");
+  EXPECT_LT(build.wall_seconds, 30.0) << "the sleeping child was killed with its group";
+}
+
+TEST(BuildSubmissionTest, AFolderWithoutSourcesHasNothingToBuild) {
+  const fs::path submission = Fresh("empty_in");
+  Write(submission / "notes.txt", "nothing here\n");
+  const fs::path out = Fresh("empty");
+  std::vector<std::string> notes;
+  EXPECT_EQ(BuildSubmission(submission.string(), out.string(), {}, notes).verdict, "no_sources");
+}
+
+TEST(GradeSubmissionTest, TheReferenceGetsFullMarksAndTheTableSaysSo) {
+  const Assignment tiny = LoadTiny();
+  const fs::path out = Fresh("reference");
+  std::vector<std::string> notes;
+  GradeOptions options;
+  options.jobs = 2;
+  const SubmissionResult result = GradeSubmission(tiny, kReference.string(), out.string(), options, notes);
+  ASSERT_EQ(result.build.verdict, "ok") << result.build.detail;
+  ASSERT_EQ(result.tests.size(), 3u);
+  EXPECT_EQ(result.tests[0].name, "tiny/seed-1");
+  EXPECT_EQ(result.tests[2].name, "secret/seed-3");
+  EXPECT_EQ(result.tests[2].visibility, assignment::Visibility::kHidden);
+  EXPECT_EQ(result.points, 60) << FirstLoss(result.tests[0]);
+  EXPECT_EQ(result.tests_passed, 3);
+  EXPECT_TRUE(fs::exists(out / "runs" / "tiny" / "seed-1" / "metrics.json"));
+  EXPECT_TRUE(fs::exists(out / "runs" / "tiny" / "seed-1" / "robots" / "0.log"));
+  EXPECT_FALSE(fs::exists(out / "runs" / "tiny" / "seed-1" / "replay.bin")) << "a passed run keeps no replay";
+  std::ostringstream table;
+  PrintSubmissionTable(result, out.string(), table);
+  EXPECT_NE(table.str().find("Tests passed 3/3, Points 60.00/60.00\n"), std::string::npos) << table.str();
+}
+
+TEST(GradeSubmissionTest, ARunOverItsTimeLimitIsStoppedWithARunError) {
+  const Assignment slow = LoadTiny("time_limit.yaml");
+  const fs::path out = Fresh("time_limit");
+  std::vector<std::string> notes;
+  const SubmissionResult result = GradeSubmission(slow, kReference.string(), out.string(), {}, notes);
+  ASSERT_EQ(result.tests.size(), 1u);
+  EXPECT_EQ(result.tests[0].run_error,
+            "the run took longer than its time limit of 1e-06 s (wall clock) and was stopped");
+  EXPECT_EQ(result.points, 0);
+}
+
+TEST(GradeSubmissionTest, WithoutTheHiddenFilesOnlyPublicTestsAreGraded) {
+  const fs::path copy = Fresh("student_copy");
+  fs::copy(kTiny, copy, fs::copy_options::recursive);
+  fs::remove_all(copy / "hidden");
+  assignment::LoadOptions load;
+  load.allow_missing_hidden = true;
+  const assignment::LoadResult loaded = assignment::LoadAssignmentFile(copy.string(), load);
+  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
+  EXPECT_TRUE(loaded.assignment->hidden_missing);
+  EXPECT_TRUE(loaded.assignment->hidden_runs.empty());
+  EXPECT_EQ(PlanTests(*loaded.assignment, false).size(), 2u);
+  EXPECT_FALSE(assignment::LoadAssignmentFile(copy.string()).ok()) << "without the option a missing file is an error";
+}
+
+// The hostile libraries as a class, with a good submission (the gather
+// reference, a CMake project) and one that does not compile.
+class ClassTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    submissions_ = new fs::path(Fresh("class_in"));
+    fs::copy(kReference, *submissions_ / "good", fs::copy_options::recursive);
+    for (const char* library : {"segfault", "infinite_loop", "flood_output", "missing_entry", "fork"}) {
+      HostileSubmission(*submissions_ / library, library);
+    }
+    Write(*submissions_ / "syntax" / "app.c", "this is not C\n");
+  }
+  static void TearDownTestSuite() { delete submissions_; }
+  static ClassResult Grade(const fs::path& out, Shard shard = {}, bool resume = true) {
+    ClassOptions options;
+    options.jobs = 2;
+    options.shard = shard;
+    options.resume = resume;
+    options.assignment_dir = kTiny.string();
+    return GradeClass(LoadTiny(), submissions_->string(), out.string(), options);
+  }
+  static fs::path* submissions_;
+};
+fs::path* ClassTest::submissions_ = nullptr;
+
+TEST_F(ClassTest, EachSubmissionGetsItsVerdictRerunsAreIdenticalAndShardsMerge) {
+  const fs::path out = Fresh("class_out");
+  const ClassResult first = Grade(out);
+  ASSERT_EQ(first.students.size(), 7u);
+  std::map<std::string, SubmissionResult> by_name;
+  for (const SubmissionResult& student : first.students) by_name[student.submission] = student;
+
+  EXPECT_EQ(by_name["good"].points, 60) << "the others' crashes, loops and floods cost it nothing";
+  EXPECT_EQ(by_name["syntax"].build.verdict, "build_failed");
+  EXPECT_EQ(by_name["missing_entry"].build.verdict, "bad_library");
+  EXPECT_NE(by_name["missing_entry"].build.detail.find("syrof_app_entry"), std::string::npos)
+      << by_name["missing_entry"].build.detail;
+  for (const char* name : {"segfault", "infinite_loop", "flood_output", "fork"}) {
+    const SubmissionResult& student = by_name[name];
+    EXPECT_EQ(student.build.verdict, "ok") << name << ": " << student.build.detail;
+    EXPECT_LT(student.points, 60) << name;
+    ASSERT_FALSE(student.tests.empty());
+    EXPECT_TRUE(student.tests[0].run_error.empty()) << name << ": " << student.tests[0].run_error;
+    EXPECT_FALSE(FirstLoss(student.tests[0]).empty()) << name;
+    EXPECT_FALSE(student.tests[0].replay_path.empty()) << name << ": a failed run keeps its replay";
+    EXPECT_TRUE(fs::exists(out / name / student.tests[0].replay_path)) << name;
+  }
+  EXPECT_NE(FaultReason(by_name["segfault"]).find("crashed"), std::string::npos) << FaultReason(by_name["segfault"]);
+  EXPECT_NE(FaultReason(by_name["infinite_loop"]).find("timeout"), std::string::npos) << FaultReason(by_name["infinite_loop"]);
+  EXPECT_NE(FaultReason(by_name["flood_output"]).find("output_limit"), std::string::npos) << FaultReason(by_name["flood_output"]);
+  EXPECT_NE(FaultReason(by_name["fork"]).find("forbidden_syscall"), std::string::npos) << FaultReason(by_name["fork"]);
+
+  const std::string csv = Read(out / "class.csv");
+  EXPECT_TRUE(csv.starts_with("student,points,max_points,tests_passed,tests,build,tiny,secret\n")) << csv;
+  EXPECT_NE(csv.find("\ngood,60.00,60.00,3,3,ok,40.00,20.00\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nsyntax,0.00,60.00,0,3,build_failed,0.00,0.00\n"), std::string::npos) << csv;
+  EXPECT_NE(Read(out / "summary.txt").find("Builds failed: 2\n"), std::string::npos) << Read(out / "summary.txt");
+
+  // Determinism: the same class graded again into the same folder.
+  const std::map<std::string, std::string> before = Snapshot(out);
+  const fs::path kept = out.string() + "_first";
+  fs::rename(out, kept);
+  const ClassResult second = Grade(out, {}, /*resume=*/false);
+  EXPECT_EQ(second.graded, 7);
+  const std::map<std::string, std::string> after = Snapshot(out);
+  ASSERT_EQ(before.size(), after.size());
+  for (const auto& [name, bytes] : before) {
+    // Known: the app host's timeout detail carries the CPU time it measured
+    // ("CPU time over 100 ms (101.2 ms)"), which reaches metrics.json and the
+    // faults reason; until the host rounds it away, the looping submission
+    // is left out of the byte comparison.
+    if (name.starts_with("infinite_loop/")) continue;
+    EXPECT_TRUE(bytes == after.at(name)) << name << " differs between two gradings";
+  }
+
+  // Resume: nothing changed, nothing graded again.
+  const ClassResult third = Grade(out);
+  EXPECT_EQ(third.resumed, 7);
+  EXPECT_EQ(third.graded, 0);
+  EXPECT_EQ(Read(out / "class.csv"), before.at("class.csv"));
+
+  // Shards, merged, give the unsharded class's CSV and summary.
+  const fs::path shard1 = Fresh("class_shard1");
+  const fs::path shard2 = Fresh("class_shard2");
+  EXPECT_EQ(Grade(shard1, {1, 2}).students.size(), 3u);
+  EXPECT_EQ(Grade(shard2, {2, 2}).students.size(), 4u);
+  const fs::path merged = Fresh("class_merged");
+  std::string error;
+  ASSERT_TRUE(MergeClassOutputs({shard1.string(), shard2.string()}, merged.string(), error)) << error;
+  EXPECT_EQ(Read(merged / "class.csv"), before.at("class.csv"));
+  EXPECT_EQ(Read(merged / "summary.txt"), before.at("summary.txt"));
+  EXPECT_FALSE(MergeClassOutputs({shard1.string(), shard1.string()}, merged.string(), error));
+  EXPECT_NE(error.find("is in two of the folders"), std::string::npos) << error;
+}
+
+TEST(MixTest, NamesTheSubmissionWhoseRobotsFaulted) {
+  const Assignment tiny = LoadTiny();
+  const fs::path segfault = Fresh("mix_segfault_in");
+  HostileSubmission(segfault, "segfault");
+  const fs::path out = Fresh("mix");
+  std::vector<MixEntry> entries;
+  for (const auto& [name, folder] : {std::pair{"good", kReference}, std::pair{"bad", segfault}}) {
+    std::vector<std::string> notes;
+    const assignment::BuildResult build = BuildSubmission(folder.string(), (out / "builds" / name).string(), {}, notes);
+    ASSERT_TRUE(build.ok()) << build.detail;
+    entries.push_back({name, build.library_path});
+  }
+  GradeOptions options;
+  options.public_only = true;
+  const std::vector<MixRun> runs = RunMix(tiny, entries, out.string(), options);
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0].shares[0].robots, (std::vector<uint16_t>{0, 2}));
+  EXPECT_EQ(runs[0].shares[0].faults, 0);
+  EXPECT_EQ(runs[0].shares[1].faults, 2);
+  std::ostringstream report;
+  PrintMixReport(runs, entries, report);
+  EXPECT_NE(report.str().find("  good (robots 0,2): ok\n"), std::string::npos) << report.str();
+  EXPECT_NE(report.str().find("  bad (robots 1,3): 2 faulted, first robot "), std::string::npos) << report.str();
+}
+
+}  // namespace
+}  // namespace syrof::grader
