@@ -1,5 +1,6 @@
 // What a graded submission leaves in its folder besides its runs: grade.json
-// (grade_json.h) and, once grader/report is wired in, the reports.
+// (grade_json.h) and the reports (grader/report: results.json, junit.xml,
+// report.html with the viewer of each failing run).
 #pragma once
 
 #include <string>
@@ -10,7 +11,7 @@
 namespace syrof::grader {
 
 /// Writes `out_dir`/grade.json for `result` (with the inputs' hash and the
-/// sandboxes' notes). Returns "" or what failed.
+/// sandboxes' notes), then the reports. Returns "" or what failed.
 std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, const std::string& inputs_hash,
                                    const std::vector<std::string>& notes, const std::string& out_dir);
 
