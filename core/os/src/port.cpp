@@ -10,6 +10,7 @@ const char* ToString(PortError error) {
     case PortError::kAlreadyStarted: return "already started";
     case PortError::kNotStarted: return "not started";
     case PortError::kSystemError: return "system error";
+    case PortError::kUnsupported: return "unsupported";
   }
   return "unknown port error";
 }

@@ -78,6 +78,7 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   const auto motion_id = port.AddTask(
       motion_task_, {"runtime.motion", os::Trigger::periodic(registry::kMotionPeriodNs), registry::kMotionTaskPriority});
   if (!round_id.ok() || !motion_id.ok()) return RobotSetupError::kAddTaskFailed;
+  round_task_id_ = round_id.value();
   // One estimate subscription per task: the round and motion tasks may run
   // on different threads, so each keeps its own copy of the latest estimate.
   if (estimate_subscriber_.Subscribe(broker, estimation::kStateEstimateTopic, round_id.value()) !=
@@ -104,13 +105,22 @@ RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   return RobotSetupError::kOk;
 }
 
-void Robot::Receive(const wire::Beacon& beacon) {
+void Robot::Receive(const wire::Beacon& beacon) { Receive(beacon, kArrivalUnknown); }
+
+void Robot::Receive(const wire::Beacon& beacon, int64_t arrival_ns) {
   if (inbox_count_ >= inbox_.size()) {
     ++counters_.beacons_overflow;
     return;
   }
+  inbox_arrival_ns_[inbox_count_] = arrival_ns;
   inbox_[inbox_count_++] = &beacon;
   ++counters_.beacons_received;
+}
+
+void Robot::DropReceived() {
+  counters_.beacons_dropped += static_cast<uint32_t>(inbox_count_ + deferred_count_);
+  inbox_count_ = 0;
+  deferred_count_ = 0;
 }
 
 void Robot::ReceiveBytes(std::span<const uint8_t> frame) {
@@ -126,6 +136,7 @@ void Robot::ReceiveBytes(std::span<const uint8_t> frame) {
   } else if (stored_count_ >= bank_size_) {
     ++counters_.beacons_overflow;
   } else {
+    received_arrival_ns_[receiving_bank_ * bank_size_ + stored_count_] = port != nullptr ? port->now_ns() : 0;
     receive_storage_[receiving_bank_ * bank_size_ + stored_count_++] = decoded.value();
     ++counters_.beacons_received;
   }
@@ -153,7 +164,10 @@ void Robot::TakeReceivedBank() {
   }
   // The taken bank is the round task's until the next swap: no lock needed.
   const wire::Beacon* const first = receive_storage_.data() + bank * bank_size_;
-  for (size_t i = 0; i < count; ++i) inbox_[inbox_count_++] = first + i;
+  for (size_t i = 0; i < count; ++i) {
+    inbox_arrival_ns_[inbox_count_] = received_arrival_ns_[bank * bank_size_ + i];
+    inbox_[inbox_count_++] = first + i;
+  }
 }
 
 syrof_app_status Robot::SendMessageData(std::span<const uint8_t> payload) {
@@ -246,7 +260,11 @@ void Robot::RunRound(int64_t now_ns) {
   }
   // Rounds since the previous step, to the nearest round: 1 unless the task
   // did not run (a pause), which the synchronizer must know of.
-  const int64_t gap_rounds = (now_ns - last_round_ns_ + config_.radio_round_ns / 2) / config_.radio_round_ns;
+  // A boundary the alignment moved is a round, however long.
+  const int64_t gap_rounds =
+      (now_ns - last_round_ns_ - last_shift_ns_ + config_.radio_round_ns / 2) / config_.radio_round_ns;
+  const int64_t round_start_ns = last_round_ns_;
+  last_shift_ns_ = 0;
   last_round_ns_ = now_ns;
   ++counters_.rounds;
   RefreshEstimate();
@@ -255,6 +273,10 @@ void Robot::RunRound(int64_t now_ns) {
   if (in_progress) ++rounds_in_progress_;
 
   TakeReceivedBank();
+  DeferLateArrivals(now_ns);
+  // The samples are read before the safety reports compact the inbox; the
+  // correction is applied after the step, when the robot's status is known.
+  const bool aligned_gap = gap_rounds == 1;
   TakeSafetyReports(now_ns);
   sync::StepInput input;
   input.own_snapshot = OwnSnapshot();
@@ -263,7 +285,14 @@ void Robot::RunRound(int64_t now_ns) {
   sync::Step(config_.sync, state_, std::span<const wire::Beacon* const>(inbox_.data(), inbox_count_), input, out_,
              ldmap_);
   counters_.beacons_stepped += static_cast<uint32_t>(inbox_count_);
+  if (aligned_gap) AlignRound(now_ns, round_start_ns);
   inbox_count_ = 0;
+  for (size_t i = 0; i < deferred_count_; ++i) {
+    inbox_[i] = deferred_[i];
+    inbox_arrival_ns_[i] = deferred_arrival_ns_[i];
+  }
+  inbox_count_ = deferred_count_;
+  deferred_count_ = 0;
 
   // The maneuver ends when PROGRESS ends, whatever ended it (its time is up,
   // or the robot lost its group).
@@ -334,10 +363,54 @@ void Robot::TakeSafetyReports(int64_t now_ns) {
   for (size_t i = 0; i < inbox_count_; ++i) {
     const wire::Beacon* beacon = inbox_[i];
     inbox_[kept] = beacon;
+    inbox_arrival_ns_[kept] = inbox_arrival_ns_[i];
     kept += beacon->presence_only ? 0 : 1;
   }
   counters_.presence_received += static_cast<uint32_t>(inbox_count_ - kept);
   inbox_count_ = kept;
+}
+
+// A beacon belongs to the round containing its arrival: one that arrived at
+// or after this boundary waits in deferred_ for the next step.
+void Robot::DeferLateArrivals(int64_t now_ns) {
+  size_t kept = 0;
+  for (size_t i = 0; i < inbox_count_; ++i) {
+    const int64_t arrival = inbox_arrival_ns_[i];
+    if (arrival != kArrivalUnknown && arrival >= now_ns && deferred_count_ < deferred_.size()) {
+      deferred_[deferred_count_] = inbox_[i];
+      deferred_arrival_ns_[deferred_count_++] = arrival;
+      ++counters_.beacons_deferred;
+      continue;
+    }
+    inbox_[kept] = inbox_[i];
+    inbox_arrival_ns_[kept++] = arrival;
+  }
+  inbox_count_ = kept;
+}
+
+// Where this round's synchronizer beacons arrived says where their senders'
+// boundaries are (round_alignment.h); the next boundary moves accordingly.
+// Presence-only beacons were removed by TakeSafetyReports: a joiner is not
+// followed. The inbox is still this round's (the step does not change it).
+void Robot::AlignRound(int64_t now_ns, int64_t round_start_ns) {
+  std::array<sync::AlignmentSample, sync::kMaxAlignmentSamples> samples{};
+  size_t count = 0;
+  for (size_t i = 0; i < inbox_count_ && count < samples.size(); ++i) {
+    const int64_t arrival = inbox_arrival_ns_[i];
+    if (arrival == kArrivalUnknown || arrival < round_start_ns || arrival >= now_ns) continue;
+    samples[count++] = sync::AlignmentSample{inbox_[i]->robot_id, arrival - round_start_ns};
+  }
+  sync::AlignmentConfig alignment = sync::AlignmentConfig::ForRound(config_.radio_round_ns, id());
+  alignment.expected_delay_ns = config_.beacon_delay_ns;
+  alignment.enabled = config_.align_rounds;
+  const bool member = state_.status == sync::Status::kMember;
+  last_alignment_ = sync::Align(alignment, std::span<const sync::AlignmentSample>(samples.data(), count), member,
+                                alignment_stats_);
+  if (last_alignment_.correction_ns != 0 &&
+      port_->ShiftPeriodic(round_task_id_, last_alignment_.correction_ns) == os::PortError::kOk) {
+    ++counters_.alignment_shifts;
+    last_shift_ns_ = last_alignment_.correction_ns;
+  }
 }
 
 void Robot::ReportInterventions() {

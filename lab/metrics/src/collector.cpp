@@ -17,9 +17,18 @@ std::optional<double> Mean(int64_t sum, int64_t samples) {
 
 }  // namespace
 
-void Collector::SkewTotals::Add(uint16_t epoch, int64_t skew_rounds) {
+namespace {
+constexpr int64_t kFineBinNs = 1'000;       // 1 us
+constexpr int64_t kFineLimitNs = 2'000'000; // fine bins below 2 ms
+constexpr int64_t kCoarseBinNs = 100'000;   // 100 us
+constexpr size_t kFineBins = kFineLimitNs / kFineBinNs;
+}  // namespace
+
+void Collector::SkewTotals::Add(uint16_t epoch, int64_t skew_rounds, int64_t skew_ns) {
   ++epochs;
   sum_rounds += skew_rounds;
+  sum_ns += skew_ns;
+  max_ns = std::max(max_ns, skew_ns);
   if (skew_rounds > 0) ++with_skew;
   // Strictly greater: ties keep the epoch closed first.
   if (!has_max || skew_rounds > max_rounds) {
@@ -32,6 +41,79 @@ void Collector::SkewTotals::Add(uint16_t epoch, int64_t skew_rounds) {
   ++histogram[bin];
 }
 
+void Collector::PhaseHistogram::Add(int64_t error_ns) {
+  size_t bin = 0;
+  if (error_ns < kFineLimitNs) {
+    bin = static_cast<size_t>(error_ns / kFineBinNs);
+  } else {
+    bin = kFineBins + static_cast<size_t>((error_ns - kFineLimitNs) / kCoarseBinNs);
+  }
+  if (bin >= bins.size()) bin = bins.size() - 1;
+  ++bins[bin];
+  ++samples;
+  max_ns = std::max(max_ns, error_ns);
+}
+
+void Collector::PhaseHistogram::Clear() {
+  std::fill(bins.begin(), bins.end(), 0);
+  samples = 0;
+  max_ns = 0;
+}
+
+// A percentile is the upper edge of the bin holding it (never above max).
+PhaseErrorStats Collector::PhaseHistogram::Stats() const {
+  PhaseErrorStats stats;
+  stats.samples = samples;
+  stats.max_ms = static_cast<double>(max_ns) * 1e-6;
+  if (samples == 0) return stats;
+  const auto percentile = [&](double fraction) {
+    const auto wanted = static_cast<int64_t>(std::ceil(fraction * static_cast<double>(samples)));
+    int64_t seen = 0;
+    for (size_t bin = 0; bin < bins.size(); ++bin) {
+      seen += bins[bin];
+      if (seen >= wanted) {
+        const int64_t edge = bin < kFineBins ? static_cast<int64_t>(bin + 1) * kFineBinNs
+                                             : kFineLimitNs + static_cast<int64_t>(bin - kFineBins + 1) * kCoarseBinNs;
+        return static_cast<double>(std::min(edge, max_ns)) * 1e-6;
+      }
+    }
+    return stats.max_ms;
+  };
+  stats.p50_ms = percentile(0.5);
+  stats.p99_ms = percentile(0.99);
+  return stats;
+}
+
+void Collector::OnRoundPhases(std::span<const int64_t> boundaries_ns) {
+  const int64_t round_ns = config_.radio_round_ns;
+  const int64_t index = phase_round_index_++;
+  if (boundaries_ns.size() < 2 || round_ns <= 0) return;
+  ++phase_rounds_;
+  int64_t worst = 0;
+  for (size_t a = 0; a < boundaries_ns.size(); ++a) {
+    for (size_t b = a + 1; b < boundaries_ns.size(); ++b) {
+      int64_t d = (boundaries_ns[a] - boundaries_ns[b]) % round_ns;
+      if (d < 0) d += round_ns;
+      const int64_t error = std::min(d, round_ns - d);
+      worst = std::max(worst, error);
+      phase_run_.Add(error);
+    }
+  }
+  if (worst > kPhaseThresholdNs) {
+    phase_converged_.reset();
+    phase_residual_.Clear();
+    return;
+  }
+  if (!phase_converged_) phase_converged_ = index;
+  for (size_t a = 0; a < boundaries_ns.size(); ++a) {
+    for (size_t b = a + 1; b < boundaries_ns.size(); ++b) {
+      int64_t d = (boundaries_ns[a] - boundaries_ns[b]) % round_ns;
+      if (d < 0) d += round_ns;
+      phase_residual_.Add(std::min(d, round_ns - d));
+    }
+  }
+}
+
 void Collector::MixedModeTotals::Add(const EpochRecord& record) {
   if (!record.any_cooperative || !record.any_autonomous) return;
   ++epochs;
@@ -41,7 +123,13 @@ void Collector::MixedModeTotals::Add(const EpochRecord& record) {
 Collector::Collector(const CollectorConfig& config)
     : config_(config),
       tracks_(std::min<size_t>(config.robots, wire::kMaxSwarmSize)),
-      robot_interventions_(tracks_.size(), 0) {}
+      robot_interventions_(tracks_.size(), 0) {
+  // Errors reach half a round at most.
+  const int64_t half_round_ns = std::max<int64_t>(config.radio_round_ns / 2, kFineLimitNs);
+  const size_t bins = kFineBins + static_cast<size_t>((half_round_ns - kFineLimitNs) / kCoarseBinNs) + 2;
+  phase_run_.bins.assign(bins, 0);
+  phase_residual_.bins.assign(bins, 0);
+}
 
 void Collector::OnSafetyIntervention(int64_t time_ns, uint16_t robot, std::optional<uint16_t> other) {
   if (!Known(robot) || (other.has_value() && !Known(*other))) {
@@ -88,7 +176,7 @@ void Collector::CloseRecords(int64_t round, std::span<const RobotRound> robots) 
   };
   for (const EpochRecord& record : open_epochs_) {
     if (!closed(record)) continue;
-    skews_.Add(record.epoch, record.last_round - record.first_round);
+    skews_.Add(record.epoch, record.last_round - record.first_round, record.last_ns - record.first_ns);
     mixed_.Add(record);
   }
   std::erase_if(open_epochs_, closed);
@@ -105,6 +193,10 @@ int64_t Collector::OfflineRounds(const RobotTrack& track, int64_t after, int64_t
 }
 
 void Collector::OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& ldmap) {
+  OnEpochStart(robot, round, (round + 1) * config_.radio_round_ns, ldmap);
+}
+
+void Collector::OnEpochStart(uint16_t robot, int64_t round, int64_t time_ns, const sync::LDMap& ldmap) {
   if (!Known(robot)) {
     ++ignored_observations_;
     return;
@@ -121,6 +213,8 @@ void Collector::OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& l
     opened.epoch = epoch;
     opened.first_round = round;
     opened.last_round = round;
+    opened.first_ns = time_ns;
+    opened.last_ns = time_ns;
     opened.last_able_round = round;
     open_epochs_.push_back(std::move(opened));
     record = &open_epochs_.back();
@@ -128,6 +222,8 @@ void Collector::OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& l
     if (record->starters.test(robot)) ++repeated_starts_;
     record->first_round = std::min(record->first_round, round);
     record->last_round = std::max(record->last_round, round);
+    record->first_ns = std::min(record->first_ns, time_ns);
+    record->last_ns = std::max(record->last_ns, time_ns);
   }
   record->starters.set(robot);
   ++record->starts;
@@ -353,7 +449,7 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   SkewTotals skews = skews_;
   MixedModeTotals mixed = mixed_;
   for (const EpochRecord& record : open_epochs_) {
-    skews.Add(record.epoch, record.last_round - record.first_round);
+    skews.Add(record.epoch, record.last_round - record.first_round, record.last_ns - record.first_ns);
     mixed.Add(record);
   }
   SynchronyMetrics& synchrony = metrics.synchrony;
@@ -364,6 +460,20 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   synchrony.epochs_with_skew = skews.with_skew;
   synchrony.skew_histogram = skews.histogram;
   synchrony.stale_starts = stale_starts_;
+  synchrony.max_start_skew_ms = static_cast<double>(skews.max_ns) * 1e-6;
+  if (skews.epochs > 0) synchrony.mean_start_skew_ms = static_cast<double>(skews.sum_ns) * 1e-6 / static_cast<double>(skews.epochs);
+
+  RoundPhaseMetrics& phase = metrics.round_phase;
+  phase.threshold_ms = static_cast<double>(kPhaseThresholdNs) * 1e-6;
+  phase.rounds_measured = phase_rounds_;
+  phase.run = phase_run_.Stats();
+  if (phase_converged_) {
+    // The end of the round that began the stretch (OnRoundPhases is called
+    // at every round end from the first).
+    phase.converged_s =
+        static_cast<double>(*phase_converged_ + 1) * static_cast<double>(config_.radio_round_ns) * 1e-9;
+    phase.residual = phase_residual_.Stats();
+  }
   synchrony.repeated_starts = repeated_starts_;
 
   CommonKnowledgeMetrics& knowledge = metrics.common_knowledge;

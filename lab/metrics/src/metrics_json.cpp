@@ -104,6 +104,27 @@ Json SynchronyJson(const SynchronyMetrics& synchrony) {
   for (const int64_t epochs : synchrony.skew_histogram) json["skew_histogram"].push_back(epochs);
   json["stale_starts"] = synchrony.stale_starts;
   json["repeated_starts"] = synchrony.repeated_starts;
+  json["max_start_skew_ms"] = FiniteOrNull(synchrony.max_start_skew_ms);
+  json["mean_start_skew_ms"] = FiniteOrNull(synchrony.mean_start_skew_ms);
+  return json;
+}
+
+Json PhaseStatsJson(const PhaseErrorStats& stats) {
+  Json json;
+  json["samples"] = stats.samples;
+  json["p50_ms"] = FiniteOrNull(stats.p50_ms);
+  json["p99_ms"] = FiniteOrNull(stats.p99_ms);
+  json["max_ms"] = FiniteOrNull(stats.max_ms);
+  return json;
+}
+
+Json RoundPhaseJson(const RoundPhaseMetrics& phase) {
+  Json json;
+  json["threshold_ms"] = FiniteOrNull(phase.threshold_ms);
+  json["rounds_measured"] = phase.rounds_measured;
+  json["converged_s"] = FiniteOrNull(phase.converged_s);
+  json["run"] = PhaseStatsJson(phase.run);
+  json["residual"] = PhaseStatsJson(phase.residual);
   return json;
 }
 
@@ -258,6 +279,7 @@ std::string ToJson(const Metrics& metrics) {
   json["epoch_starts"] = metrics.epoch_starts;
   json["goal"] = GoalJson(metrics.goal);
   json["synchrony"] = SynchronyJson(metrics.synchrony);
+  json["round_phase"] = RoundPhaseJson(metrics.round_phase);
   json["common_knowledge"] = CommonKnowledgeJson(metrics.common_knowledge);
   json["agreement"] = AgreementJson(metrics.agreement);
   json["collisions"] = CollisionsJson(metrics.collisions, metrics.radio_round_ns);

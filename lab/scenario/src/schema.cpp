@@ -64,7 +64,7 @@ bool ReadRobotId(const YamlNode& node, const std::string& path, const Scenario& 
 
 bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& scenario, Diagnostics& diagnostics) {
   static constexpr std::string_view kKeys[] = {"name",   "seed",    "arena",   "kinds",  "robots", "timing",
-                                               "sensors", "channel", "faults", "app",   "safety", "goal"};
+                                               "sensors", "channel", "clocks", "faults", "app",  "safety", "goal"};
   if (root.is_null()) {
     return diagnostics.Fail(0, 0, "the scenario is empty; it needs at least 'robots' and 'app'");
   }
@@ -96,6 +96,7 @@ bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& sc
       !ReadRobots(*root.Find("robots"), overrides, scenario, diagnostics) ||
       !ReadSensors(root.Find("sensors"), scenario, diagnostics) ||
       !ReadChannel(root.Find("channel"), scenario, diagnostics) ||
+      !ReadClocks(root.Find("clocks"), scenario, diagnostics) ||
       !ReadFaults(root.Find("faults"), scenario, diagnostics) ||
       !ReadGoal(root.Find("goal"), scenario, diagnostics) ||
       !ReadApp(*root.Find("app"), apps::BuiltinApps(), LibraryBaseDir(scenario), scenario.app, diagnostics)) {

@@ -28,6 +28,8 @@ bool ReadRobots(const YamlNode& node, const Overrides& overrides, Scenario& scen
 bool ReadSensors(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
 // Needs the robots and the timing.
 bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+// Needs the robots, the timing and the seed.
+bool ReadClocks(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
 // Needs the robots and the timing; marks joining robots absent at start.
 bool ReadFaults(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
 

@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "schema.h"
+#include "syrof/base/split_mix64.h"
 #include "value_reader.h"
 
 namespace syrof::lab::scenario {
@@ -411,6 +412,101 @@ bool ReadFaults(const YamlNode* node, Scenario& scenario, Diagnostics& diagnosti
   for (const PlacedFault& placed : faults) {
     scenario.faults.push_back(placed.fault);
     if (placed.fault.kind == FaultKind::kJoin) scenario.robots[placed.fault.robot].present_at_start = false;
+  }
+  return true;
+}
+
+}  // namespace syrof::lab::scenario
+
+namespace syrof::lab::scenario {
+namespace {
+
+// A number for every robot, or a list with one per robot, in `range`.
+bool ReadPerRobot(const YamlNode& node, const std::string& path, const NumberRange& range, size_t robots,
+                  std::vector<double>& values, Diagnostics& diagnostics) {
+  values.assign(robots, 0.0);
+  if (node.is_scalar()) {
+    double value = 0;
+    if (!ReadNumber(node, path, range, value, diagnostics)) return false;
+    values.assign(robots, value);
+    return true;
+  }
+  if (!node.is_sequence()) return FailAt(node, path, "must be a number or a list with one per robot", diagnostics);
+  if (node.values.size() != robots) {
+    return FailAt(node, path,
+                  "has " + std::to_string(node.values.size()) + " values; the scenario has " + std::to_string(robots) +
+                      " robots (give one each, or one number for all)",
+                  diagnostics);
+  }
+  for (size_t i = 0; i < robots; ++i) {
+    if (!ReadNumber(node.values[i], IndexPath(path, i), range, values[i], diagnostics)) return false;
+  }
+  return true;
+}
+
+// Uniform in [0, 1) from the seed, a purpose and a robot: one stream per
+// use, so adding a robot changes no other robot's clock.
+double ClockDraw(uint64_t seed, uint64_t purpose, uint16_t robot) {
+  const uint64_t hash = base::SplitMix64Hash(seed ^ base::SplitMix64Hash(purpose + robot));
+  return static_cast<double>(hash >> 11) * 0x1.0p-53;
+}
+
+}  // namespace
+
+bool ReadClocks(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics) {
+  if (node == nullptr) return true;
+  static constexpr std::string_view kKeys[] = {"offset_ms", "offset_max_ms", "drift_ppm", "drift_max_ppm", "jitter_ms",
+                                               "alignment"};
+  const std::string path = "clocks";
+  if (!ExpectMap(*node, path, diagnostics) || !CheckKeys(*node, path, kKeys, diagnostics)) return false;
+  ClockSpec& clocks = scenario.clocks;
+  clocks.enabled = true;
+  const size_t robots = scenario.robots.size();
+  const double round_ms = scenario.timing.radio_round_s * 1e3;
+  const NumberRange offset_range{0, round_ms};
+  const NumberRange drift_range{-kMaxDriftPpm, kMaxDriftPpm};
+  for (const auto& [fixed, random] : {std::pair<std::string_view, std::string_view>{"offset_ms", "offset_max_ms"},
+                                      std::pair<std::string_view, std::string_view>{"drift_ppm", "drift_max_ppm"}}) {
+    if (node->Find(fixed) != nullptr && node->Find(random) != nullptr) {
+      return FailAt(*node->Find(random), JoinPath(path, random),
+                    "give either '" + std::string(fixed) + "' (fixed) or '" + std::string(random) +
+                        "' (drawn from the seed), not both",
+                    diagnostics);
+    }
+  }
+  clocks.offset_ms.assign(robots, 0.0);
+  clocks.drift_ppm.assign(robots, 0.0);
+  if (const YamlNode* offset = node->Find("offset_ms")) {
+    if (!ReadPerRobot(*offset, JoinPath(path, "offset_ms"), offset_range, robots, clocks.offset_ms, diagnostics)) {
+      return false;
+    }
+  }
+  if (const YamlNode* drift = node->Find("drift_ppm")) {
+    if (!ReadPerRobot(*drift, JoinPath(path, "drift_ppm"), drift_range, robots, clocks.drift_ppm, diagnostics)) {
+      return false;
+    }
+  }
+  double offset_max_ms = 0;
+  double drift_max_ppm = 0;
+  if (!ReadNumberAt(*node, path, "offset_max_ms", offset_range, offset_max_ms, diagnostics) ||
+      !ReadNumberAt(*node, path, "drift_max_ppm", NumberRange{0, kMaxDriftPpm}, drift_max_ppm, diagnostics) ||
+      !ReadNumberAt(*node, path, "jitter_ms", NumberRange{0, round_ms / 4}, clocks.jitter_ms, diagnostics)) {
+    return false;
+  }
+  for (size_t i = 0; i < robots; ++i) {
+    const auto id = static_cast<uint16_t>(i);
+    if (node->Find("offset_max_ms") != nullptr) {
+      clocks.offset_ms[i] = offset_max_ms * ClockDraw(scenario.seed, 0x4f4646534554ULL << 8, id);
+    }
+    if (node->Find("drift_max_ppm") != nullptr) {
+      clocks.drift_ppm[i] = drift_max_ppm * (2 * ClockDraw(scenario.seed, 0x4452494654ULL << 8, id) - 1);
+    }
+  }
+  if (const YamlNode* alignment = node->Find("alignment")) {
+    static constexpr std::string_view kSwitch[] = {"on", "off"};
+    size_t choice = 0;
+    if (!ReadChoice(*alignment, JoinPath(path, "alignment"), kSwitch, choice, diagnostics)) return false;
+    clocks.alignment = choice == 0;
   }
   return true;
 }

@@ -40,7 +40,9 @@ void LabRobot::Attach() {
 void LabRobot::StepHardware(int64_t now_ns) {
   motion::DriveCommand drive{};
   if (drive_.TakeLatest(drive)) world_.SetDrive(spec_.id, drive);
-  bank_.Sample(now_ns, world_.true_state(spec_.id), publishers_);
+  // Readings are stamped by the robot's own clock, as its drivers would.
+  (void)now_ns;
+  bank_.Sample(port_.now_ns(), world_.true_state(spec_.id), publishers_);
 }
 
 }  // namespace syrof::lab::sim

@@ -1,6 +1,9 @@
 #include "syrof/lab/sim/radio_network.h"
 
+#include <algorithm>
 #include <span>
+
+#include "syrof/base/split_mix64.h"
 
 #include "syrof/base/check.h"
 #include "syrof/wire/beacon_codec.h"
@@ -14,8 +17,57 @@ RadioNetwork::RadioNetwork(const world::ChannelSpec& channel, uint16_t robots, u
 }
 
 void RadioNetwork::LabRadio::Broadcast(const wire::Beacon& beacon) {
+  if (network_->clocked_receivers_ != nullptr) {
+    network_->SendNow(id_, beacon);
+    return;
+  }
   network_->outbox_[id_] = beacon;
   network_->sent_[id_] = 1;
+}
+
+void RadioNetwork::UseClocks(std::function<int64_t()> now_ns, BeaconReceivers& receivers, int64_t round_ns,
+                             int64_t jitter_ns, uint64_t seed) {
+  SYROF_CHECK(round_ns > 0 && jitter_ns >= 0);
+  now_ns_ = std::move(now_ns);
+  clocked_receivers_ = &receivers;
+  round_ns_ = round_ns;
+  jitter_ns_ = jitter_ns;
+  jitter_seed_ = seed;
+  slots_.assign(radios_.size() * kClockedSlots, wire::Beacon{});
+  broadcasts_.assign(radios_.size(), 0);
+}
+
+void RadioNetwork::SendNow(uint16_t sender, const wire::Beacon& beacon) {
+  const uint16_t swarm_size = size();
+  const int64_t now = now_ns_();
+  const uint64_t count = broadcasts_[sender]++;
+  int64_t jitter = 0;
+  if (jitter_ns_ > 0) {
+    const uint64_t hash = base::SplitMix64Hash(jitter_seed_ ^ base::SplitMix64Hash((uint64_t{sender} << 40) ^ count));
+    jitter = static_cast<int64_t>(hash % static_cast<uint64_t>(jitter_ns_ + 1));
+  }
+  // The radio transmits in its slot, half a round after the boundary that
+  // handed it the beacon: a receiver whose boundary is within half a round
+  // of the sender's steps it in the round after the send, as the shared clock does.
+  const int64_t arrival = now + round_ns_ / 2 + jitter;
+  const int64_t round = std::max<int64_t>(0, now / round_ns_ - 1);
+  const double sent_at_s = static_cast<double>(round * round_ns_) * 1e-9;
+  const auto encoded = wire::Encode(beacon, swarm_size, frame_bytes_);
+  SYROF_CHECK(encoded.ok());
+  const auto decoded = wire::Decode(std::span<const uint8_t>(frame_bytes_.data(), encoded.value()), swarm_size);
+  if (!decoded.ok()) {
+    ++beacons_malformed_;
+    return;
+  }
+  wire::Beacon& slot = slots_[sender * kClockedSlots + count % kClockedSlots];
+  slot = decoded.value();
+  const bool mute = !radio_faults_.empty() && Silenced(scenario::FaultKind::kMute, sender, sent_at_s);
+  for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) {
+    if (receiver == sender || !clocked_receivers_->Listening(receiver)) continue;
+    if (!channel_.Delivers(sender, receiver, round, sent_at_s)) continue;
+    if (mute || (!radio_faults_.empty() && Silenced(scenario::FaultKind::kDeaf, receiver, sent_at_s))) continue;
+    clocked_receivers_->ReceiveAt(receiver, slot, arrival);
+  }
 }
 
 void RadioNetwork::SetRadioFaults(std::span<const scenario::FaultSpec> faults) {

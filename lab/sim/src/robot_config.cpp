@@ -68,6 +68,11 @@ runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const sc
   config.arena_height_m = static_cast<float>(scenario.arena.height_m);
   config.safety = SafetyConfigFor(scenario);
   config.announce_presence = scenario.safety;
+  // With a clocks section the robots align their rounds unless it says
+  // alignment: off; without one every robot shares the lab's clock.
+  config.align_rounds = scenario.clocks.enabled && scenario.clocks.alignment;
+  // The lab's radio sends in the middle of the round (radio_network.h).
+  if (scenario.clocks.enabled) config.beacon_delay_ns = std::llround(scenario.timing.radio_round_s * 1e9) / 2;
   return config;
 }
 

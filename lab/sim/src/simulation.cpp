@@ -48,6 +48,7 @@ int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 // The channel's seed, derived from the scenario seed as each robot's sensor
 // seed is (SensorSeed, lab_robot.h), one stream per use.
 uint64_t ChannelSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4348414e4e454cULL); }
+uint64_t JitterSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4a4954544552ULL); }
 
 // One queries workspace for every app of the run: the lab runs one robot's
 // callback at a time, and a workspace holds nothing between queries.
@@ -153,6 +154,11 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   // BeaconReceivers
   bool Listening(uint16_t robot) const override;
   void Receive(uint16_t robot, const wire::Beacon& beacon) override;
+  void ReceiveAt(uint16_t robot, const wire::Beacon& beacon, int64_t arrival_ns) override;
+  // Observations carry the robots' local times; the lab's records use the
+  // scheduler's (true) time, which is the same without clocks.
+  int64_t TrueNow() const { return scheduler_.now_ns(); }
+  std::vector<int64_t> phase_boundaries_;
   // An event of `robot` (or replay::kNoRobot) stamped with the robot's
   // epoch and that epoch's mode at this moment (docs/replay.md).
   void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other = replay::kNoRobot);
@@ -274,7 +280,15 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
     app = std::make_unique<RecordingApp>(std::move(app), spec.id, *this);
     robots_.push_back(std::make_unique<LabRobot>(scenario_, spec, scheduler_, world_, config, std::move(app),
                                                  radio_.radio(spec.id)));
+    if (scenario_.clocks.enabled) {
+      robots_.back()->port().SetDriftPpb(static_cast<int32_t>(std::llround(scenario_.clocks.drift_ppm[spec.id] * 1e3)));
+    }
   }
+  if (scenario_.clocks.enabled) {
+    radio_.UseClocks([this] { return scheduler_.now_ns(); }, *this, radio_round_ns_,
+                     Nanoseconds(scenario_.clocks.jitter_ms * 1e-3), JitterSeed(scenario_.seed));
+  }
+  phase_boundaries_.reserve(robots_.size());
 
   SYROF_CHECK(world_port_.AddTask(fault_task_, {"lab.faults", os::Trigger::periodic(physics_step_ns_),
                                                 kFaultPriority})
@@ -332,7 +346,10 @@ void Simulation::Impl::StartRobot(LabRobot& robot, int64_t now_ns) {
     world_.SetPresence(robot.id(), world::BodyPresence::kStopped);
     return;
   }
-  SYROF_CHECK(robot.port().Start() == os::PortError::kOk);
+  // With clocks, a robot boots its offset later than the lab switches it on.
+  const int64_t boot_delay_ns =
+      scenario_.clocks.enabled ? Nanoseconds(scenario_.clocks.offset_ms[robot.id()] * 1e-3) : 0;
+  SYROF_CHECK(robot.port().StartAfter(boot_delay_ns) == os::PortError::kOk);
   robot.presence = replay::Presence::kRunning;
   robot.scored_from_ns = now_ns + kEstimationWarmupNs;
   world_.SetPresence(robot.id(), world::BodyPresence::kActive);
@@ -340,6 +357,7 @@ void Simulation::Impl::StartRobot(LabRobot& robot, int64_t now_ns) {
 
 void Simulation::Impl::StopRobot(LabRobot& robot, replay::Presence presence) {
   if (robot.port().running()) SYROF_CHECK(robot.port().Stop() == os::PortError::kOk);
+  robot.robot().DropReceived();  // what its radio held is lost with it
   robot.presence = robot.app_faulted ? replay::Presence::kCrashed : presence;
   world_.SetPresence(robot.id(), world::BodyPresence::kStopped);
 }
@@ -457,6 +475,7 @@ void Simulation::Impl::StepHardware(int64_t now_ns) {
 // The beacons broadcast at the end of the previous round travel now
 // (radio_network.h), to every running robot.
 void Simulation::Impl::StepRadio(int64_t now_ns) {
+  if (scenario_.clocks.enabled) return;  // beacons travel when sent (radio_network.h)
   const int64_t round = RoundOf(now_ns) - 1;
   radio_.Deliver(round, static_cast<double>(round * radio_round_ns_) * 1e-9, *this);
 }
@@ -464,6 +483,11 @@ void Simulation::Impl::StepRadio(int64_t now_ns) {
 bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
 
 void Simulation::Impl::Receive(uint16_t robot, const wire::Beacon& beacon) { robots_[robot]->robot().Receive(beacon); }
+
+void Simulation::Impl::ReceiveAt(uint16_t robot, const wire::Beacon& beacon, int64_t arrival_ns) {
+  LabRobot& receiver = *robots_[robot];
+  receiver.robot().Receive(beacon, receiver.port().LocalFromTrue(arrival_ns));
+}
 
 void Simulation::Impl::StepRecorder(int64_t now_ns) {
   const int64_t round = RoundOf(now_ns);
@@ -488,6 +512,17 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     robot_rounds_[i] = ToRobotRound(observation);
     frames_[i] = ToRobotFrame(observation);
   }
+  // Round phase: each running member's latest boundary, in true time.
+  phase_boundaries_.clear();
+  for (const auto& lab_robot : robots_) {
+    const runtime::Robot& robot = lab_robot->robot();
+    if (lab_robot->presence != replay::Presence::kRunning || robot.counters().rounds == 0 ||
+        robot.sync_state().status != sync::Status::kMember) {
+      continue;
+    }
+    phase_boundaries_.push_back(lab_robot->port().TrueFromLocal(robot.last_round_ns()));
+  }
+  collector_.OnRoundPhases(phase_boundaries_);
   collector_.OnRoundEnd(round, robot_rounds_);
   if (!goal_monitor_.empty()) {
     const std::vector<goals::RobotPose> running = RunningPoses();
@@ -510,8 +545,9 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
   }
 }
 
-void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) {
-  collector_.OnEpochStart(robot, RoundOf(now_ns), ldmap);
+void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t /*local_ns*/, const sync::LDMap& ldmap) {
+  const int64_t now_ns = TrueNow();
+  collector_.OnEpochStart(robot, RoundOf(now_ns), now_ns, ldmap);
   if (!any_epoch_ || sync::EpochDifference(ldmap.epoch, newest_epoch_) > 0) {
     any_epoch_ = true;
     newest_epoch_ = ldmap.epoch;
@@ -521,8 +557,9 @@ void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t now_ns, const sync::
   if (replay_ != nullptr) round_maps_.push_back(replay::RobotMap{robot, ToEpochMap(ldmap)});
 }
 
-void Simulation::Impl::OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,
+void Simulation::Impl::OnMembership(uint16_t robot, int64_t /*local_ns*/, const wire::MemberSet& removed,
                                     const wire::MemberSet& joined) {
+  const int64_t now_ns = TrueNow();
   collector_.OnMembership(robot, RoundOf(now_ns), removed, joined);
   for (const uint16_t member : removed) AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member);
   for (const uint16_t member : joined) AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member);
@@ -544,8 +581,8 @@ void Simulation::Impl::OnAppState(uint16_t robot, bool new_round, const syrof_ld
                         ldmap.epoch, ldmap.mode == SYROF_MODE_COOPERATIVE, MapFingerprint(ldmap), state);
 }
 
-void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t now_ns) {
-  AddEvent(replay::EventKind::kBecameJoiner, now_ns, robot);
+void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t /*local_ns*/) {
+  AddEvent(replay::EventKind::kBecameJoiner, TrueNow(), robot);
 }
 
 // ---- The app's failures ----------------------------------------------------
@@ -554,8 +591,9 @@ void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t now_ns) {
 // run goes on. Called from inside the robot's own step (or from Attach, for
 // init), which the robot ends without another app call.
 
-void Simulation::Impl::OnAppFault(uint16_t robot, int64_t now_ns, app::Callback callback, uint16_t epoch,
+void Simulation::Impl::OnAppFault(uint16_t robot, int64_t /*local_ns*/, app::Callback callback, uint16_t epoch,
                                   const app::CallStatus& status) {
+  const int64_t now_ns = TrueNow();
   collector_.OnAppFault(metrics::AppFault{robot, app::ToString(callback), epoch, now_ns,
                                           app::ToString(status.verdict()), status.detail()});
   LabRobot& lab_robot = *robots_[robot];
@@ -565,8 +603,9 @@ void Simulation::Impl::OnAppFault(uint16_t robot, int64_t now_ns, app::Callback 
   if (lab_robot.presence != replay::Presence::kAbsent) StopRobot(lab_robot, replay::Presence::kCrashed);
 }
 
-void Simulation::Impl::OnInvalidCommand(uint16_t robot, int64_t now_ns, uint16_t epoch,
+void Simulation::Impl::OnInvalidCommand(uint16_t robot, int64_t /*local_ns*/, uint16_t epoch,
                                         const app::CommandCheck& check) {
+  const int64_t now_ns = TrueNow();
   std::array<char, 64> what{};
   collector_.OnInvalidCommand(robot, epoch, app::Describe(check, what.data(), what.size()));
   LabRobot& lab_robot = *robots_[robot];
@@ -576,7 +615,8 @@ void Simulation::Impl::OnInvalidCommand(uint16_t robot, int64_t now_ns, uint16_t
   AddEvent(replay::EventKind::kInvalidCommand, now_ns, robot, replay::kNoRobot, epoch, mode);
 }
 
-void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) {
+void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t /*local_ns*/, uint16_t epoch, size_t length) {
+  const int64_t now_ns = TrueNow();
   collector_.OnPayloadRefused(robot, epoch, std::to_string(length) + " bytes");
   LabRobot& lab_robot = *robots_[robot];
   if (lab_robot.payload_refusal_recorded) return;
@@ -585,7 +625,8 @@ void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t
   AddEvent(replay::EventKind::kPayloadRefused, now_ns, robot, replay::kNoRobot, epoch, mode);
 }
 
-void Simulation::Impl::OnSafetyIntervention(uint16_t robot, int64_t time_ns, uint16_t other) {
+void Simulation::Impl::OnSafetyIntervention(uint16_t robot, int64_t local_ns, uint16_t other) {
+  const int64_t time_ns = robots_[robot]->port().TrueFromLocal(local_ns);
   const bool wall = other == motion::kWallObstacle;
   collector_.OnSafetyIntervention(time_ns, robot, wall ? std::nullopt : std::optional<uint16_t>(other));
   AddEvent(replay::EventKind::kSafetyIntervention, time_ns, robot, wall ? replay::kNoRobot : other);

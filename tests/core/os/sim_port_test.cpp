@@ -313,3 +313,76 @@ TEST(SimPortTest, SameProgramAndSeedGiveTheSameTrace) {
 
 }  // namespace
 }  // namespace syrof::os
+
+namespace syrof::os {
+namespace {
+
+// Records the scheduler's (true) time of each step and the local time it got.
+class ClockTask final : public Task {
+ public:
+  explicit ClockTask(const SimScheduler& scheduler) : scheduler_(scheduler) {}
+  void Step(int64_t now_ns) override {
+    true_ns.push_back(scheduler_.now_ns());
+    local_ns.push_back(now_ns);
+  }
+  std::vector<int64_t> true_ns;
+  std::vector<int64_t> local_ns;
+
+ private:
+  const SimScheduler& scheduler_;
+};
+
+TEST(SimPortClockTest, DriftingPortKeepsItsGridInLocalTime) {
+  SimScheduler scheduler(4);
+  SimPort port(scheduler);
+  port.SetDriftPpb(1'000'000);  // 1000 ppm fast
+  ClockTask task(scheduler);
+  ASSERT_TRUE(port.AddTask(task, {"t", Trigger::periodic(kMillisecond * 50, kMillisecond * 50), 0}).ok());
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  scheduler.RunUntil(kMillisecond * 1000);
+  ASSERT_EQ(task.local_ns.size(), 20u);  // 20 local periods end before 1 s of true time
+  for (size_t i = 0; i < task.local_ns.size(); ++i) {
+    EXPECT_EQ(task.local_ns[i], static_cast<int64_t>(i + 1) * 50 * kMillisecond);
+    EXPECT_EQ(task.true_ns[i], port.TrueFromLocal(task.local_ns[i]));
+    EXPECT_GE(port.LocalFromTrue(task.true_ns[i]), task.local_ns[i]);
+    EXPECT_LT(port.LocalFromTrue(task.true_ns[i] - 1), task.local_ns[i]);
+  }
+  EXPECT_EQ(task.true_ns[19], port.TrueFromLocal(kMillisecond * 1000));
+  EXPECT_LT(task.true_ns[19], kMillisecond * 1000);  // fast: earlier in true time
+  EXPECT_NEAR(static_cast<double>(task.true_ns[19]), 1e9 / 1.001, 1.0);
+}
+
+TEST(SimPortClockTest, StartAfterDelaysTheGridAndShiftMovesIt) {
+  SimScheduler scheduler(4);
+  SimPort port(scheduler);
+  ClockTask task(scheduler);
+  const auto id = port.AddTask(task, {"t", Trigger::periodic(kMillisecond * 50, kMillisecond * 50), 0});
+  ASSERT_TRUE(id.ok());
+  ASSERT_EQ(port.StartAfter(kMillisecond * 7), PortError::kOk);
+  scheduler.RunUntil(kMillisecond * 60);
+  ASSERT_EQ(task.true_ns.size(), 1u);
+  EXPECT_EQ(task.true_ns[0], kMillisecond * 57);
+  EXPECT_EQ(port.ShiftPeriodic(id.value(), -kMillisecond * 5), PortError::kOk);
+  scheduler.RunUntil(kMillisecond * 200);
+  ASSERT_EQ(task.true_ns.size(), 3u);
+  EXPECT_EQ(task.true_ns[1], kMillisecond * 102);
+  EXPECT_EQ(task.true_ns[2], kMillisecond * 152);
+  EXPECT_EQ(port.ShiftPeriodic(7, 1), PortError::kInvalidTrigger);
+}
+
+TEST(SimPortClockTest, ShiftNeverMovesBeforeNow) {
+  SimScheduler scheduler(4);
+  SimPort port(scheduler);
+  ClockTask task(scheduler);
+  const auto id = port.AddTask(task, {"t", Trigger::periodic(kMillisecond * 50, kMillisecond * 50), 0});
+  ASSERT_TRUE(id.ok());
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  scheduler.RunUntil(kMillisecond * 10);
+  EXPECT_EQ(port.ShiftPeriodic(id.value(), -kMillisecond * 500), PortError::kOk);
+  scheduler.RunUntil(kMillisecond * 10);
+  ASSERT_EQ(task.true_ns.size(), 1u);
+  EXPECT_EQ(task.true_ns[0], kMillisecond * 10);
+}
+
+}  // namespace
+}  // namespace syrof::os

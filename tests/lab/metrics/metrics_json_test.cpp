@@ -177,7 +177,7 @@ TEST(MetricsJson, FieldsKeepTheDocumentedOrder) {
   const std::vector<std::string> expected = {
       "schema_version", "scenario", "app", "seed", "robots", "sim_seconds", "wall_seconds",
       "radio_rounds", "radio_round_s", "epochs_started", "epoch_starts", "goal", "synchrony",
-      "common_knowledge", "agreement", "collisions", "walls", "safety", "estimation", "membership", "diagnostics"};
+      "round_phase", "common_knowledge", "agreement", "collisions", "walls", "safety", "estimation", "membership", "diagnostics"};
 
   std::vector<std::string> keys;
   for (const auto& item : json.items()) keys.push_back(item.key());

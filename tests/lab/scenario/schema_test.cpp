@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "scenario_test_util.h"
 
@@ -436,6 +437,52 @@ TEST(SchemaSafety, AnArenaLargerThanTheBeaconCanExpressIsRefused) {
       testing::Load(std::string(testing::kMinimal) + "arena: { width_m: 4, height_m: 32.8 }\n"), 3, 32,
       {"arena.height_m", "32.8 m high"}));
   EXPECT_TRUE(testing::Load(std::string(testing::kMinimal) + "arena: { width_m: 32.767, height_m: 4 }\n").ok());
+}
+
+// --- clocks ------------------------------------------------------------------
+
+TEST(Schema, NoClocksSectionKeepsTheSharedClock) {
+  const LoadResult result = LoadWith("");
+  ASSERT_TRUE(result.ok());
+  EXPECT_FALSE(result.scenario->clocks.enabled);
+}
+
+TEST(Schema, ClocksFixedAndSeededValuesResolvePerRobot) {
+  const LoadResult fixed = LoadWith("clocks: { offset_ms: [0, 10, 20, 49.5], drift_ppm: -30, alignment: off }\n");
+  ASSERT_TRUE(fixed.ok()) << fixed.error->ToString();
+  const ClockSpec& clocks = fixed.scenario->clocks;
+  EXPECT_TRUE(clocks.enabled);
+  EXPECT_FALSE(clocks.alignment);
+  EXPECT_EQ(clocks.offset_ms, (std::vector<double>{0, 10, 20, 49.5}));
+  EXPECT_EQ(clocks.drift_ppm, (std::vector<double>(4, -30.0)));
+
+  const LoadResult seeded = LoadWith("clocks: { offset_max_ms: 50, drift_max_ppm: 100, jitter_ms: 0.5 }\n");
+  ASSERT_TRUE(seeded.ok());
+  const ClockSpec& drawn = seeded.scenario->clocks;
+  ASSERT_EQ(drawn.offset_ms.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_GE(drawn.offset_ms[i], 0);
+    EXPECT_LE(drawn.offset_ms[i], 50);
+    EXPECT_GE(drawn.drift_ppm[i], -100);
+    EXPECT_LE(drawn.drift_ppm[i], 100);
+  }
+  EXPECT_NE(drawn.offset_ms[0], drawn.offset_ms[1]);
+  EXPECT_EQ(LoadWith("clocks: { offset_max_ms: 50, drift_max_ppm: 100, jitter_ms: 0.5 }\n").scenario->clocks.offset_ms,
+            drawn.offset_ms);
+}
+
+TEST(Schema, ClocksOffsetBeyondARoundIsRefused) {
+  EXPECT_TRUE(FailsAt(LoadWith("clocks: {offset_ms: 60}\n"), 3, 21, {"clocks.offset_ms: must be in [0, 50], got 60"}));
+}
+
+TEST(Schema, ClocksListNeedsOneValuePerRobot) {
+  EXPECT_TRUE(FailsAt(LoadWith("clocks: {offset_ms: [1, 2]}\n"), 3, 21,
+                      {"clocks.offset_ms: has 2 values; the scenario has 4 robots"}));
+}
+
+TEST(Schema, ClocksFixedAndDrawnExcludeEachOther) {
+  EXPECT_TRUE(FailsAt(LoadWith("clocks: {drift_ppm: 5, drift_max_ppm: 3}\n"), 3, 39,
+                      {"clocks.drift_max_ppm: give either 'drift_ppm' (fixed) or 'drift_max_ppm'"}));
 }
 
 }  // namespace

@@ -21,9 +21,14 @@ class RecordingReceivers final : public BeaconReceivers {
  public:
   bool Listening(uint16_t robot) const override { return listening[robot]; }
   void Receive(uint16_t robot, const wire::Beacon& beacon) override { deliveries.push_back({robot, &beacon}); }
+  void ReceiveAt(uint16_t robot, const wire::Beacon& beacon, int64_t arrival_ns) override {
+    deliveries.push_back({robot, &beacon});
+    arrivals.push_back(arrival_ns);
+  }
 
   std::array<bool, kRobots> listening{true, true, true, true};
   std::vector<Delivery> deliveries;
+  std::vector<int64_t> arrivals;
 };
 
 wire::Beacon BeaconFrom(uint16_t id, uint16_t epoch) {
@@ -130,6 +135,34 @@ TEST(RadioNetworkTest, FullLossDeliversNothing) {
 
   EXPECT_TRUE(receivers.deliveries.empty());
   EXPECT_FALSE(network.waiting(2));
+}
+
+}  // namespace
+}  // namespace syrof::lab::sim
+
+namespace syrof::lab::sim {
+namespace {
+
+TEST(RadioNetworkClocksTest, ABroadcastTravelsAtOnceWithItsSeededJitter) {
+  RadioNetwork network(world::ChannelSpec{}, kRobots, 1);
+  RecordingReceivers receivers;
+  int64_t now_ns = 1'234'000'000;
+  network.UseClocks([&] { return now_ns; }, receivers, 50'000'000, 200'000, 9);
+  network.radio(1).Broadcast(BeaconFrom(1, 5));
+  ASSERT_EQ(receivers.deliveries.size(), 3u);  // at once, to 0, 2 and 3
+  EXPECT_FALSE(network.waiting(1));
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(receivers.deliveries[i].beacon->epoch, 5);
+    EXPECT_GE(receivers.arrivals[i], now_ns + 25'000'000);  // its slot: half a round later
+    EXPECT_LE(receivers.arrivals[i], now_ns + 25'200'000);
+    EXPECT_EQ(receivers.arrivals[i], receivers.arrivals[0]);  // one transmission
+  }
+  // The decoded beacon stays valid while the sender sends again.
+  const wire::Beacon* first = receivers.deliveries[0].beacon;
+  now_ns += 50'000'000;
+  network.radio(1).Broadcast(BeaconFrom(1, 6));
+  EXPECT_EQ(first->epoch, 5);
+  EXPECT_EQ(receivers.deliveries.back().beacon->epoch, 6);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "syrof/os/sim_port.h"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "syrof/base/check.h"
 
@@ -24,7 +25,7 @@ SimScheduler::SimScheduler(size_t max_tasks) : max_tasks_(max_tasks) {
 base::Result<uint32_t, PortError> SimScheduler::RegisterTask(SimPort& port, Task& task,
                                                              const TaskConfig& config, TaskId local_id) {
   if (tasks_.size() == max_tasks_) return PortError::kTooManyTasks;
-  tasks_.push_back(TaskRecord{&task, &port, config, local_id, false});
+  tasks_.push_back(TaskRecord{&task, &port, config, local_id, false, 0});
   return static_cast<uint32_t>(tasks_.size() - 1);
 }
 
@@ -63,8 +64,13 @@ bool SimScheduler::RunNext() {
   // (vTaskDelayUntil semantics), and is queued before the step runs so that a
   // step which stops its own port also cancels it. It takes the place of the
   // activation just taken: one sift instead of a removal and an insertion.
+  // A periodic step is told the local time it was due (the first scheduler
+  // instant at or after it may read a nanosecond later on a drifting clock).
+  int64_t step_now_ns = record.port->now_ns();
   if (record.config.trigger.kind == TriggerKind::kPeriodic) {
-    heap_.front() = MakeActivation(activation.task_index, activation.time_ns + record.config.trigger.period_ns);
+    step_now_ns = record.local_due_ns;
+    record.local_due_ns += record.config.trigger.period_ns;
+    heap_.front() = MakeActivation(activation.task_index, record.port->TrueFromLocal(record.local_due_ns));
     SiftDown(0);
   } else {
     record.pending = false;
@@ -74,7 +80,7 @@ bool SimScheduler::RunNext() {
   }
   ++steps_run_;
   if (trace_ != nullptr) trace_->OnStep(now_ns_, *record.port, record.local_id, record.config);
-  record.task->Step(now_ns_);
+  record.task->Step(step_now_ns);
   return true;
 }
 
@@ -108,6 +114,23 @@ void SimScheduler::SiftDown(size_t position) {
   heap_[position] = moving;
 }
 
+void SimScheduler::Reschedule(uint32_t task_index, int64_t time_ns) {
+  for (size_t position = 0; position < heap_.size(); ++position) {
+    if (heap_[position].task_index != task_index) continue;
+    heap_[position] = MakeActivation(task_index, time_ns);
+    SiftUp(position);
+    // SiftUp may have moved it; find it again before sifting down.
+    for (size_t again = 0; again < heap_.size(); ++again) {
+      if (heap_[again].task_index == task_index) {
+        SiftDown(again);
+        break;
+      }
+    }
+    return;
+  }
+  SYROF_CHECK(false);  // the task had no pending activation
+}
+
 void SimScheduler::RunUntil(int64_t end_ns) {
   while (!heap_.empty() && heap_.front().time_ns <= end_ns) RunNext();
   now_ns_ = std::max(now_ns_, end_ns);
@@ -126,15 +149,59 @@ base::Result<TaskId, PortError> SimPort::AddTask(Task& task, const TaskConfig& c
   return local_id;
 }
 
-PortError SimPort::Start() {
+PortError SimPort::Start() { return StartAfter(0); }
+
+PortError SimPort::StartAfter(int64_t delay_ns) {
   if (running_) return PortError::kAlreadyStarted;
+  if (delay_ns < 0) return PortError::kInvalidTrigger;
   running_ = true;
-  const int64_t now = scheduler_.now_ns();
+  const int64_t now = now_ns();
   for (const uint32_t index : task_indices_) {
-    const Trigger& trigger = scheduler_.tasks_[index].config.trigger;
-    if (trigger.kind == TriggerKind::kPeriodic) scheduler_.Schedule(index, now + trigger.offset_ns);
+    SimScheduler::TaskRecord& record = scheduler_.tasks_[index];
+    if (record.config.trigger.kind != TriggerKind::kPeriodic) continue;
+    record.local_due_ns = now + delay_ns + record.config.trigger.offset_ns;
+    scheduler_.Schedule(index, TrueFromLocal(record.local_due_ns));
   }
   return PortError::kOk;
+}
+
+PortError SimPort::ShiftPeriodic(TaskId task, int64_t delta_ns) {
+  if (task >= task_indices_.size()) return PortError::kInvalidTrigger;
+  const uint32_t index = task_indices_[task];
+  SimScheduler::TaskRecord& record = scheduler_.tasks_[index];
+  if (record.config.trigger.kind != TriggerKind::kPeriodic) return PortError::kInvalidTrigger;
+  if (!record.pending || delta_ns == 0) return PortError::kOk;
+  const int64_t now = now_ns();
+  record.local_due_ns = std::max(record.local_due_ns + delta_ns, now);
+  scheduler_.Reschedule(index, std::max(TrueFromLocal(record.local_due_ns), scheduler_.now_ns()));
+  return PortError::kOk;
+}
+
+void SimPort::SetDriftPpb(int32_t drift_ppb) {
+  SYROF_CHECK(drift_ppb > -100'000'000 && drift_ppb < 100'000'000);
+  drift_ppb_ = drift_ppb;
+}
+
+int64_t SimPort::LocalFromTrue(int64_t true_ns) const {
+  if (drift_ppb_ == 0) return true_ns;
+  // floor(t * ppb / 10^9) without overflow: whole seconds times ppb is exact,
+  // the rest of a second times ppb stays below 10^17.
+  constexpr int64_t kBillion = 1'000'000'000;
+  const int64_t seconds = true_ns / kBillion;
+  const int64_t rest = (true_ns % kBillion) * drift_ppb_;
+  int64_t rest_ns = rest / kBillion;
+  if (rest % kBillion != 0 && rest < 0) --rest_ns;  // floor
+  return true_ns + seconds * drift_ppb_ + rest_ns;
+}
+
+int64_t SimPort::TrueFromLocal(int64_t local_ns) const {
+  if (drift_ppb_ == 0) return local_ns;
+  // A close guess, then exact steps (local time is strictly increasing).
+  int64_t t = static_cast<int64_t>(static_cast<double>(local_ns) / (1.0 + drift_ppb_ * 1e-9));
+  if (t < 0) t = 0;
+  while (LocalFromTrue(t) < local_ns) ++t;
+  while (t > 0 && LocalFromTrue(t - 1) >= local_ns) --t;
+  return t;
 }
 
 PortError SimPort::Stop() {

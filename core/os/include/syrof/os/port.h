@@ -69,6 +69,7 @@ enum class [[nodiscard]] PortError : uint8_t {
   kAlreadyStarted,    ///< add_task or start after Start()
   kNotStarted,        ///< Stop() before Start()
   kSystemError,       ///< the host refused a thread or clock (PosixPort only)
+  kUnsupported,       ///< the port cannot do this (ShiftPeriodic on a port without it)
 };
 
 /// A short, stable name for logs and tests.
@@ -97,6 +98,14 @@ class Port {
 
   /// The port's clock in nanoseconds since its epoch (monotonic).
   virtual int64_t now_ns() const = 0;
+
+  /// Moves a periodic task's grid by `delta_ns` (later when positive) from
+  /// its next activation on; the period stays. Round alignment
+  /// (sync/round_alignment.h) moves the round task's boundary this way. The
+  /// next activation never moves before now. Call it from a task of this
+  /// port. kInvalidTrigger for a notified task or an unknown id;
+  /// kUnsupported on a port that cannot (the default).
+  virtual PortError ShiftPeriodic(TaskId /*task*/, int64_t /*delta_ns*/) { return PortError::kUnsupported; }
 
   /// A short critical section that excludes every other task of this port
   /// (used by the broker around queue copies). Not recursive.

@@ -61,6 +61,7 @@
 #include "syrof/runtime/robot_observer.h"
 #include "syrof/sync/config.h"
 #include "syrof/sync/ldmap.h"
+#include "syrof/sync/round_alignment.h"
 #include "syrof/sync/synchronizer.h"
 #include "syrof/wire/beacon.h"
 
@@ -88,6 +89,14 @@ struct RobotConfig {
   float arena_width_m = 4;
   float arena_height_m = 4;
   syrof_queries_workspace* queries_workspace = nullptr;  ///< shared scratch for the app's queries
+  /// Round alignment (sync/round_alignment.h, docs/clocks.md): move the
+  /// round task's boundary onto the group's, from where beacons arrive.
+  /// Needs arrival times (Receive with a time, or ReceiveBytes) and a port
+  /// that can ShiftPeriodic. Off: the errors are still measured.
+  bool align_rounds = false;
+  /// From a sender's round boundary to its beacon's arrival on an aligned
+  /// link (the radio's latency).
+  int64_t beacon_delay_ns = 0;
   /// What syrofAppParameter answers (the scenario's app params); the table
   /// and its names must outlive the robot. Empty: no parameters.
   std::span<const app::Parameter> app_params;
@@ -123,6 +132,9 @@ struct RobotCounters {
   uint32_t presence_received = 0;  ///< presence-only beacons heard (kept from the synchronizer)
   uint32_t safety_interventions = 0;  ///< drive commands the safety filter began to limit (starts)
   uint32_t safety_reports_dropped = 0;  ///< intervention starts not reported (more than a round holds)
+  uint32_t beacons_deferred = 0;   ///< arrived at or after a round's boundary: stepped the round after
+  uint32_t beacons_dropped = 0;    ///< forgotten unstepped (DropReceived)
+  uint32_t alignment_shifts = 0;   ///< rounds whose boundary alignment moved
 };
 
 class Robot final : private app::Platform {
@@ -150,6 +162,19 @@ class Robot final : private app::Platform {
   /// Surplus beacons (more than wire::kMaxSwarmSize in a round) are counted
   /// as overflow and dropped.
   void Receive(const wire::Beacon& beacon);
+
+  /// The same, for a beacon that arrived at `arrival_ns` on this robot's
+  /// clock (port time): it is stepped in the round that contains its
+  /// arrival, [previous boundary, boundary), so one arriving at or after the
+  /// boundary being stepped waits for the next (the lab with real clocks,
+  /// docs/clocks.md). It also tells the round alignment where the sender's
+  /// boundary is. The beacon must stay valid until the step that takes it.
+  void Receive(const wire::Beacon& beacon, int64_t arrival_ns);
+
+  /// Forgets the beacons received and not yet stepped: a robot switched off
+  /// loses its radio's buffer. Counted in beacons_dropped. Only between
+  /// steps, from the round task's thread.
+  void DropReceived();
 
   /// A frame heard: decoded outside any lock, then copied into the receiving
   /// bank of receive storage under the port's critical section, for the
@@ -187,6 +212,12 @@ class Robot final : private app::Platform {
   const estimation::Estimator<float>& estimator() const { return estimator_; }
   const sync::LDMap& ldmap() const { return ldmap_; }
   const RobotConfig& config() const { return config_; }
+  /// Round alignment's figures (measured even when alignment is off).
+  const sync::AlignmentStats& alignment_stats() const { return alignment_stats_; }
+  /// The last round's alignment decision.
+  const sync::AlignmentStep& last_alignment() const { return last_alignment_; }
+  /// When the round task last stepped (a round boundary), port time.
+  int64_t last_round_ns() const { return last_round_ns_; }
 
  private:
   class RoundTask final : public os::Task {
@@ -253,8 +284,22 @@ class Robot final : private app::Platform {
 
   // The round's inbox: read by the step, filled by Receive() and, at the
   // step's start, by TakeReceivedBank(). Only the round task's thread.
-  std::array<const wire::Beacon*, wire::kMaxSwarmSize> inbox_{};
+  // Each entry's arrival time (port clock; kArrivalUnknown when not given).
+  // Room for two rounds: beacons deferred to the next round stay here.
+  static constexpr int64_t kArrivalUnknown = INT64_MIN;
+  std::array<const wire::Beacon*, 2 * wire::kMaxSwarmSize> inbox_{};
+  std::array<int64_t, 2 * wire::kMaxSwarmSize> inbox_arrival_ns_{};
   size_t inbox_count_ = 0;
+  std::array<const wire::Beacon*, 2 * wire::kMaxSwarmSize> deferred_{};
+  std::array<int64_t, 2 * wire::kMaxSwarmSize> deferred_arrival_ns_{};
+  size_t deferred_count_ = 0;
+  std::array<int64_t, 2 * wire::kMaxSwarmSize> received_arrival_ns_{};  // parallel to receive_storage_
+  void DeferLateArrivals(int64_t now_ns);
+  void AlignRound(int64_t now_ns, int64_t round_start_ns);
+  os::TaskId round_task_id_ = 0;
+  int64_t last_shift_ns_ = 0;  // the last round's alignment correction
+  sync::AlignmentStats alignment_stats_;
+  sync::AlignmentStep last_alignment_;
   // receive_storage_ in two banks of bank_size_ slots. Under the port's
   // critical section: receiving_bank_ and stored_count_ (what ReceiveBytes
   // fills) and the receive counters. The other bank belongs to the round

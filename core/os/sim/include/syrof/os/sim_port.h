@@ -10,6 +10,13 @@
 // A notification raised during a step schedules the notified task at the
 // current instant; it runs after the current step returns (run to
 // completion), in the same order as above.
+//
+// A port may have its own drifting clock (SetDriftPpb, the lab's clocks,
+// docs/clocks.md): its now_ns() and its tasks' `now_ns` read local time,
+// local(t) = t + floor(t * drift_ppb / 1e9) for the scheduler's time t, and
+// its periodic tasks keep their grid in local time (each activation runs at
+// the first scheduler instant whose local time has reached it). Without
+// drift local time is the scheduler's time.
 #pragma once
 
 #include <cstddef>
@@ -71,6 +78,7 @@ class SimScheduler {
     TaskConfig config;
     TaskId local_id;
     bool pending;  // has an entry in the activation heap
+    int64_t local_due_ns;  // periodic: the pending activation, in the port's local time
   };
   // Ordered by (time_ns, order): order packs "higher priority first, then
   // earlier registration" into one integer, so a comparison is two.
@@ -89,6 +97,8 @@ class SimScheduler {
   void SiftUp(size_t position);
   void SiftDown(size_t position);
   void CancelPort(const SimPort& port);
+  // Moves task_index's pending activation to time_ns (it must be pending).
+  void Reschedule(uint32_t task_index, int64_t time_ns);
 
   size_t max_tasks_;
   std::vector<TaskRecord> tasks_;
@@ -111,11 +121,25 @@ class SimPort final : public Port {
   /// Schedules periodic tasks at now + offset. A stopped port may be started
   /// again (a robot that pauses and resumes).
   PortError Start() override;
+  /// Start() with every periodic task's first activation `delay_ns` (local
+  /// time, >= 0) later: a robot that boots part of a round after another.
+  PortError StartAfter(int64_t delay_ns);
   /// Drops every pending activation of this port (a robot that crashes or
   /// pauses). Other ports are unaffected.
   PortError Stop() override;
   void Notify(TaskId task) override;
-  int64_t now_ns() const override { return scheduler_.now_ns(); }
+  /// The port's local time (the scheduler's without drift).
+  int64_t now_ns() const override { return LocalFromTrue(scheduler_.now_ns()); }
+  PortError ShiftPeriodic(TaskId task, int64_t delta_ns) override;
+
+  /// The clock's rate error in parts per billion (|ppb| < 10^8); set before
+  /// the first Start. 0: the scheduler's clock.
+  void SetDriftPpb(int32_t drift_ppb);
+  int32_t drift_ppb() const { return drift_ppb_; }
+  /// Local time at scheduler time `true_ns` (>= 0).
+  int64_t LocalFromTrue(int64_t true_ns) const;
+  /// The first scheduler time whose local time is at least `local_ns`.
+  int64_t TrueFromLocal(int64_t local_ns) const;
   void Lock() override;
   void Unlock() override;
 
@@ -131,6 +155,7 @@ class SimPort final : public Port {
   std::vector<uint32_t> task_indices_;  // local TaskId -> scheduler task index
   bool running_ = false;
   bool locked_ = false;
+  int32_t drift_ppb_ = 0;
 };
 
 }  // namespace syrof::os

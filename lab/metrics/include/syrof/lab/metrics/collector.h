@@ -64,6 +64,10 @@ struct CollectorConfig {
   uint16_t silence_rounds = 6;
 };
 
+/// Round phase: robots are aligned when every pair's boundaries are within
+/// this (docs/clocks.md).
+inline constexpr int64_t kPhaseThresholdNs = 1'000'000;
+
 class Collector {
  public:
   /// Observations naming a robot id at or above `config.robots` (or above the
@@ -73,6 +77,13 @@ class Collector {
   /// `robot` started epoch `ldmap.epoch` at the end of `round`, handing
   /// `ldmap` (its mode and contents) to newRound.
   void OnEpochStart(uint16_t robot, int64_t round, const sync::LDMap& ldmap);
+  /// The same, with the start's true time (for the skew in ms); without it
+  /// the start counts as at the end of `round`.
+  void OnEpochStart(uint16_t robot, int64_t round, int64_t time_ns, const sync::LDMap& ldmap);
+
+  /// At the end of a round: the latest round boundary (true time, ns) of
+  /// every running member. Feeds round_phase. Fixed memory: two histograms.
+  void OnRoundPhases(std::span<const int64_t> boundaries_ns);
 
   /// `observer`'s failure detector removed `removed` and it added `joined`
   /// to its members in `round` (the StepOutput sets).
@@ -116,6 +127,8 @@ class Collector {
     uint16_t epoch = 0;
     int64_t first_round = 0;
     int64_t last_round = 0;
+    int64_t first_ns = 0;
+    int64_t last_ns = 0;
     int64_t last_able_round = 0;  // last round end a robot could still start it
     wire::MemberSet starters;
     int64_t starts = 0;
@@ -136,8 +149,20 @@ class Collector {
     uint16_t max_epoch = 0;
     int64_t with_skew = 0;
     std::array<int64_t, kSkewHistogramBins> histogram{};
+    int64_t max_ns = 0;
+    int64_t sum_ns = 0;
 
-    void Add(uint16_t epoch, int64_t skew_rounds);
+    void Add(uint16_t epoch, int64_t skew_rounds, int64_t skew_ns);
+  };
+
+  // Pairwise phase errors: 1 us bins below 2 ms, 100 us bins above.
+  struct PhaseHistogram {
+    std::vector<int64_t> bins;
+    int64_t samples = 0;
+    int64_t max_ns = 0;
+    void Add(int64_t error_ns);
+    void Clear();
+    PhaseErrorStats Stats() const;
   };
 
   // P4 per epoch: epochs (and their starts) in which robots started in
@@ -175,6 +200,11 @@ class Collector {
   std::vector<EpochRecord> open_epochs_;  // in the order they were opened
   SkewTotals skews_;
   MixedModeTotals mixed_;
+  PhaseHistogram phase_run_;
+  PhaseHistogram phase_residual_;
+  int64_t phase_rounds_ = 0;
+  int64_t phase_round_index_ = 0;         // OnRoundPhases calls
+  std::optional<int64_t> phase_converged_;  // OnRoundPhases call that began the aligned stretch
   int64_t epochs_started_ = 0;
   int64_t epoch_starts_ = 0;
   int64_t stale_starts_ = 0;

@@ -171,6 +171,27 @@ struct SynchronyMetrics {
   std::array<int64_t, kSkewHistogramBins> skew_histogram{};
   int64_t stale_starts = 0;                 ///< starts too far behind to be matched (docs/metrics.md)
   int64_t repeated_starts = 0;              ///< a robot starting an epoch it already started
+  double max_start_skew_ms = 0;             ///< the same skews in true time: last start - first start
+  std::optional<double> mean_start_skew_ms;
+};
+
+/// Percentiles of the pairwise round-phase errors in a set of rounds.
+struct PhaseErrorStats {
+  int64_t samples = 0;  ///< robot pairs x rounds
+  double p50_ms = 0;
+  double p99_ms = 0;
+  double max_ms = 0;
+};
+
+/// How far apart the robots' radio-round boundaries are (docs/clocks.md):
+/// at every round end, for every pair of running members, the distance
+/// between their latest boundaries modulo a round, in true time.
+struct RoundPhaseMetrics {
+  double threshold_ms = 1.0;              ///< "aligned": every pair within this
+  int64_t rounds_measured = 0;            ///< round ends with two or more members running
+  std::optional<double> converged_s;      ///< start of the final stretch of aligned rounds; null if the last was not
+  PhaseErrorStats run;                    ///< every round measured
+  PhaseErrorStats residual;               ///< the rounds since converged_s (samples 0 when null)
 };
 
 struct CommonKnowledgeMetrics {
@@ -264,6 +285,7 @@ struct Metrics {
   int64_t epoch_starts = 0;    ///< robot-epoch starts
   GoalResult goal;
   SynchronyMetrics synchrony;
+  RoundPhaseMetrics round_phase;
   CommonKnowledgeMetrics common_knowledge;
   AgreementMetrics agreement;  ///< filled by the engine from its AgreementTracker
   CollisionMetrics collisions;

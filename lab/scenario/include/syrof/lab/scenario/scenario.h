@@ -53,6 +53,24 @@ struct TimingSpec {
   double physics_step_s = 0.01;  ///< world integration and collision step
 };
 
+/// Every robot's own clock (docs/clocks.md). Without a `clocks` section the
+/// lab keeps one perfect clock for all (enabled false).
+struct ClockSpec {
+  bool enabled = false;            ///< the scenario has a `clocks` section
+  /// Start offset of each robot, ms in [0, radio round]: its rounds begin
+  /// this much after the lab's (it boots later). Resolved: one per robot,
+  /// fixed (`offset_ms`) or drawn from the seed (`offset_max_ms`).
+  std::vector<double> offset_ms;
+  /// Rate error of each robot's crystal, ppm (positive: fast). Resolved: one
+  /// per robot, fixed (`drift_ppm`) or drawn from the seed (`drift_max_ppm`).
+  std::vector<double> drift_ppm;
+  double jitter_ms = 0;            ///< a beacon leaves up to this long after its boundary (uniform, seeded)
+  bool alignment = true;           ///< robots align their rounds (`alignment: on|off`)
+};
+
+/// Largest |drift| a scenario may give, ppm.
+inline constexpr double kMaxDriftPpm = 2000;
+
 enum class FaultKind : uint8_t {
   kCrash = 0,  ///< the robot stops for good at `at_s` (it stays where it is, as an obstacle)
   kPause = 1,  ///< the robot's software stops at `at_s` and restarts at `until_s` (it rejoins)
@@ -113,6 +131,7 @@ struct Scenario {
   TimingSpec timing;
   sensors::SensorBankConfig sensors;  ///< noise models; its arena is set from `arena` (and arena.tag_height_m)
   world::ChannelSpec channel;
+  ClockSpec clocks;
   std::vector<FaultSpec> faults;      ///< sorted by at_s, then robot
   AppSpec app;
   /// The platform's safety filter on every robot (docs/safety.md), with

@@ -16,10 +16,22 @@
 //      flight (valid) until the sender's next delivery.
 // Determinism: the channel's draws depend on (seed, round, link) only, and
 // deliveries go in (sender, receiver) order.
+//
+// With real clocks (UseClocks, docs/clocks.md) rounds no longer share
+// boundaries, so a beacon travels when it is sent instead: Broadcast encodes
+// and decodes it at once, and hands it, with its arrival time (its send
+// slot, half a round after the boundary that broadcast it, plus a seeded
+// jitter), to every receiver the channel lets hear it;
+// each receiver's robot steps it in its own round that contains the arrival
+// (runtime::Robot::Receive with a time). The channel's round is the true
+// round the send falls in, minus one (what the shared clock gives for a
+// beacon sent at the end of a round). The decoded beacon stays valid for
+// kClockedSlots of the sender's broadcasts.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -38,6 +50,9 @@ class BeaconReceivers {
   virtual bool Listening(uint16_t robot) const = 0;
   /// Hands `beacon` to `robot`; valid until the sender's next delivery.
   virtual void Receive(uint16_t robot, const wire::Beacon& beacon) = 0;
+  /// With real clocks: `beacon` reaches `robot` at `arrival_ns` (true
+  /// time); valid for the sender's next kClockedSlots - 1 broadcasts.
+  virtual void ReceiveAt(uint16_t robot, const wire::Beacon& beacon, int64_t arrival_ns) = 0;
 
  protected:
   ~BeaconReceivers() = default;
@@ -64,6 +79,16 @@ class RadioNetwork {
   /// channel still draws for those links, so the other links are unchanged.
   void SetRadioFaults(std::span<const scenario::FaultSpec> faults);
 
+  /// Switches to sending at once (above). `now_ns` tells the true time;
+  /// jitter_ns: a beacon leaves uniformly 0 .. jitter_ns after its send
+  /// slot (half a round after the broadcast), drawn from `seed`, the sender
+  /// and its broadcast count.
+  void UseClocks(std::function<int64_t()> now_ns, BeaconReceivers& receivers, int64_t round_ns, int64_t jitter_ns,
+                 uint64_t seed);
+
+  /// How many of a sender's decoded beacons stay valid with real clocks.
+  static constexpr size_t kClockedSlots = 8;
+
   /// Whether `robot` broadcast since the last delivery.
   bool waiting(uint16_t robot) const { return sent_[robot] != 0; }
   /// Beacons that did not decode after encoding (never, unless the codec is broken).
@@ -82,6 +107,16 @@ class RadioNetwork {
   };
 
   bool Silenced(scenario::FaultKind kind, uint16_t robot, double at_s) const;
+  void SendNow(uint16_t sender, const wire::Beacon& beacon);
+
+  // Real clocks (UseClocks).
+  std::function<int64_t()> now_ns_;
+  BeaconReceivers* clocked_receivers_ = nullptr;
+  int64_t round_ns_ = 0;
+  int64_t jitter_ns_ = 0;
+  uint64_t jitter_seed_ = 0;
+  std::vector<wire::Beacon> slots_;     // kClockedSlots per sender
+  std::vector<uint64_t> broadcasts_;    // per sender
 
   world::Channel channel_;
   std::vector<scenario::FaultSpec> radio_faults_;
