@@ -14,7 +14,7 @@ TEENSY_TOOLCHAIN := cmake/toolchains/teensy32.cmake
 # DEBUG_INFO: the debug-information option that replaces -g in the Debug and
 # RelWithDebInfo builds (SYROF_DEBUG_INFO); empty keeps -g. CI sets -g1
 # (line tables only): a fifth to a third less compile time on the heavy
-# sources, the same code, warnings and test results (docs/building.md, "CI").
+# sources; GCC emits the same code at every -g level (docs/building.md, "CI").
 DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))

@@ -81,8 +81,9 @@ endfunction()
 # build types that have one (Debug, RelWithDebInfo) in place of CMake's -g.
 # CI uses -g1 (line tables: backtraces and sanitizer reports keep file:line):
 # full -g costs GCC a fifth to a third of the compile time of Eigen-, CGAL-,
-# CLI11- and gtest-heavy sources, and GCC generates the same code at every -g level, so warnings and
-# test results do not change (docs/building.md, "CI").
+# CLI11- and gtest-heavy sources, and GCC is made to generate the same code
+# at every -g level, so warnings and test results should not change
+# (docs/building.md, "CI").
 set(SYROF_DEBUG_INFO "" CACHE STRING "Debug-information option replacing -g in Debug and RelWithDebInfo (e.g. -g1)")
 if(SYROF_DEBUG_INFO)
   if(NOT SYROF_DEBUG_INFO MATCHES "^-g[0-3]?$")
@@ -151,50 +152,13 @@ function(syrof_add_library)
   add_library(syrof::${ARG_NAME} ALIAS ${ARG_NAME})
 endfunction()
 
-# Parsing gtest.h and gmock.h costs each test source about 1.8 s of the
-# compiler's time (GCC 12, -O2 -g), more than many a test's own code: with
-# SYROF_TEST_PCH every host test executable reuses one precompiled header of
-# the two, built once per build folder by the object library syrof_test_pch
-# (a single empty source, compiled with the tests' flags). GCC takes a
-# precompiled header only when the flags that matter match and warns
-# otherwise (CMake adds -Winvalid-pch), which -Werror turns into an error, so
-# a mismatch cannot pass unnoticed. A test still includes what it uses.
-# Off by default under ccache: ccache does not cache a source compiled with a
-# precompiled header (unless its sloppiness allows it), and a cached object
-# is cheaper still. CI has no cache.
-if(CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache")
-  set(_syrof_test_pch_default OFF)
-else()
-  set(_syrof_test_pch_default ON)
-endif()
-option(SYROF_TEST_PCH "Share one precompiled gtest/gmock header between the host test executables"
-       ${_syrof_test_pch_default})
-function(_syrof_add_test_pch)
-  if(TARGET syrof_test_pch)
-    return()
-  endif()
-  set(source ${PROJECT_BINARY_DIR}/syrof_test_pch.cpp)
-  if(NOT EXISTS ${source})
-    file(WRITE ${source} "// The donor of the shared gtest/gmock precompiled header (SYROF_TEST_PCH).\n")
-  endif()
-  add_library(syrof_test_pch OBJECT ${source})
-  target_link_libraries(syrof_test_pch PRIVATE GTest::gtest_main GTest::gmock)
-  syrof_set_warnings(syrof_test_pch)
-  target_precompile_headers(syrof_test_pch PRIVATE
-      "$<$<COMPILE_LANGUAGE:CXX>:<gtest/gtest.h$<ANGLE-R>>"
-      "$<$<COMPILE_LANGUAGE:CXX>:<gmock/gmock.h$<ANGLE-R>>")
-endfunction()
-
-# syrof_add_test(NAME <name> SOURCES ... [LIBS ...] [LABELS ...] [HOST_ONLY] [NO_SHARED_PCH])
+# syrof_add_test(NAME <name> SOURCES ... [LIBS ...] [LABELS ...] [HOST_ONLY])
 # One GoogleTest executable (name it test_<module>_<unit>), registered with CTest. On the host each TEST()
 # becomes its own CTest entry. In a Cortex-M4 build (SYROF_M4_TESTS) the same
 # sources are linked into a bare-metal image run under qemu, unless HOST_ONLY
-# (tests that need threads, files or other host services). NO_SHARED_PCH:
-# the test's sources define a macro differently from the rest of the build
-# (GCC refuses the shared precompiled header then), so they parse gtest
-# themselves.
+# (tests that need threads, files or other host services).
 function(syrof_add_test)
-  cmake_parse_arguments(ARG "HOST_ONLY;NO_SHARED_PCH" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "HOST_ONLY" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
   if(SYROF_TARGET_MCU)
     if(NOT ARG_HOST_ONLY)
       syrof_add_m4_test(NAME ${ARG_NAME} SOURCES ${ARG_SOURCES} LIBS ${ARG_LIBS} LABELS ${ARG_LABELS})
@@ -204,16 +168,6 @@ function(syrof_add_test)
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBS} GTest::gtest_main GTest::gmock)
   syrof_set_warnings(${ARG_NAME})
-  if(SYROF_TEST_PCH AND NOT ARG_NO_SHARED_PCH)
-    _syrof_add_test_pch()
-    target_precompile_headers(${ARG_NAME} REUSE_FROM syrof_test_pch)
-    # The header is C++; a test's C sources (C API checks) go without.
-    foreach(source IN LISTS ARG_SOURCES)
-      if(source MATCHES "\\.c$")
-        set_source_files_properties(${source} TARGET_DIRECTORY ${ARG_NAME} PROPERTIES SKIP_PRECOMPILE_HEADERS ON)
-      endif()
-    endforeach()
-  endif()
   # tests_<label> builds every test executable with that label, so a build
   # folder that runs only some labels (make asan) builds only what they need.
   foreach(label IN LISTS ARG_LABELS)
