@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "exit_status.h"
 #include "syrof/lab/replay/reader.h"
 #include "syrof/lab/replay/replay.h"
 #include "syrof/wire/beacon.h"
@@ -23,10 +24,6 @@ using replay::Header;
 using replay::Reader;
 using replay::RobotFrame;
 using replay::Round;
-
-constexpr int kOk = 0;
-constexpr int kInternalError = 1;
-constexpr int kBadInput = 2;
 
 // Seconds with all nine digits of the nanoseconds: exact, and the same text
 // on every host.

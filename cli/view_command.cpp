@@ -5,14 +5,11 @@
 
 #include <fstream>
 
+#include "exit_status.h"
 #include "syrof/lab/view/view.h"
 
 namespace syrof::cli {
 namespace {
-
-constexpr int kOk = 0;
-constexpr int kInternalError = 1;
-constexpr int kBadInput = 2;
 
 // Writes `page` to `path`; "" or what went wrong.
 std::string WriteHtml(const lab::view::Page& page, const std::string& path) {

@@ -77,6 +77,26 @@ function(syrof_set_warnings target)
   endif()
 endfunction()
 
+# SYROF_DEBUG_INFO (empty by default): the debug-information option of the
+# build types that have one (Debug, RelWithDebInfo) in place of CMake's -g.
+# CI uses -g1 (line tables: backtraces and sanitizer reports keep file:line):
+# full -g costs GCC a fifth to a third of the compile time of Eigen-, CGAL-,
+# CLI11- and gtest-heavy sources, and GCC is made to generate the same code
+# at every -g level, so warnings and test results should not change
+# (docs/building.md, "CI").
+set(SYROF_DEBUG_INFO "" CACHE STRING "Debug-information option replacing -g in Debug and RelWithDebInfo (e.g. -g1)")
+if(SYROF_DEBUG_INFO)
+  if(NOT SYROF_DEBUG_INFO MATCHES "^-g[0-3]?$")
+    message(FATAL_ERROR "SYROF_DEBUG_INFO must be -g, -g0, -g1, -g2 or -g3, not '${SYROF_DEBUG_INFO}'")
+  endif()
+  foreach(language C CXX)
+    foreach(config DEBUG RELWITHDEBINFO)
+      string(REGEX REPLACE "(^| )-g( |$)" "\\1${SYROF_DEBUG_INFO}\\2"
+             CMAKE_${language}_FLAGS_${config} "${CMAKE_${language}_FLAGS_${config}}")
+    endforeach()
+  endforeach()
+endif()
+
 # Determinism: no fused multiply-add contraction anywhere, so the same source
 # computes the same bits on x86-64 and on the Cortex-M4 soft-float build.
 add_compile_options(-ffp-contract=off)
@@ -148,6 +168,14 @@ function(syrof_add_test)
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBS} GTest::gtest_main GTest::gmock)
   syrof_set_warnings(${ARG_NAME})
+  # tests_<label> builds every test executable with that label, so a build
+  # folder that runs only some labels (make asan) builds only what they need.
+  foreach(label IN LISTS ARG_LABELS)
+    if(NOT TARGET tests_${label})
+      add_custom_target(tests_${label})
+    endif()
+    add_dependencies(tests_${label} ${ARG_NAME})
+  endforeach()
   include(GoogleTest)
   # DISCOVER_AT_TEST_TIME: for tests whose list comes from files read at run
   # time (a folder per case), listed when ctest starts rather than when the
