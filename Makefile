@@ -5,7 +5,6 @@ BUILD_DIR   ?= build
 CROSS_DIR   ?= build-cross
 M4_DIR      ?= build-m4
 ASAN_DIR    ?= build-asan
-RELEASE_DIR ?= build-release
 TSAN_DIR    ?= build-tsan
 FUZZ_DIR    ?= build-fuzz
 JOBS        ?= $(shell nproc)
@@ -19,7 +18,7 @@ DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))
 
-.PHONY: all deps build demo test package release bench bench-m4 cross test-m4 asan tsan fuzz clean
+.PHONY: all deps build demo test package bench bench-m4 cross test-m4 asan tsan fuzz clean
 
 all: build
 
@@ -47,14 +46,6 @@ test: build
 ## CMake package and syrof-app.pc; Depends worked out by dpkg-shlibdeps.
 package: build
 	cmake --build $(BUILD_DIR) --target package
-
-## release: the whole tree but the benchmarks (make bench builds those) in a
-## Release build (-O3, warnings as errors), and its tests: warnings and bugs
-## that only optimisation brings out show up here.
-release: deps
-	$(CMAKE_CONFIGURE) -S . -B $(RELEASE_DIR) -DCMAKE_BUILD_TYPE=Release -DSYROF_BUILD_BENCH=OFF
-	cmake --build $(RELEASE_DIR) -j $(JOBS)
-	ctest --test-dir $(RELEASE_DIR) --output-on-failure -j $(JOBS)
 
 ## bench: every program in bench/, each printing its figures.
 bench: build
@@ -115,4 +106,4 @@ fuzz: deps
 	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
 
 clean:
-	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR) $(RELEASE_DIR)
+	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR)

@@ -13,6 +13,7 @@
 #include "syrof/grader/mix.h"
 #include "syrof/grader/outputs.h"
 #include "syrof/grader/table.h"
+#include "exit_status.h"
 
 #ifndef SYROF_SOURCE_ASSIGNMENTS_DIR
 #define SYROF_SOURCE_ASSIGNMENTS_DIR ""
@@ -24,9 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 namespace assignment = grader::assignment;
 using Clock = std::chrono::steady_clock;
-
-constexpr int kUsage = 2;
-constexpr int kFailed = 1;
 
 double Since(Clock::time_point started) { return std::chrono::duration<double>(Clock::now() - started).count(); }
 
@@ -73,11 +71,11 @@ bool IsFolder(const std::string& path) {
 int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) {
   if (!IsFolder(options.submission)) {
     fmt::print(err, "syrof grade: the submission '{}' is not a folder\n", options.submission);
-    return kUsage;
+    return kBadInput;
   }
   std::string folder;
   const std::optional<assignment::Assignment> loaded = LoadAssignment(options, folder, out, err);
-  if (!loaded) return kUsage;
+  if (!loaded) return kBadInput;
   const std::string name = fs::absolute(options.submission).lexically_normal().filename().string();
   const std::string out_dir = options.out_dir.empty() ? "grade-out/" + (name.empty() ? "submission" : name)
                                                       : options.out_dir;
@@ -96,7 +94,7 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
   const std::string hash = grader::InputsHash(options.submission, folder, result.public_only);
   if (std::string problem = grader::WriteSubmissionOutputs(result, hash, notes, out_dir); !problem.empty()) {
     fmt::print(err, "syrof grade: {}\n", problem);
-    return kFailed;
+    return kInternalError;
   }
   out << "\n";
   grader::PrintSubmissionTable(result, out_dir, out);
@@ -109,7 +107,7 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
 int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err) {
   if (!IsFolder(options.class_dir)) {
     fmt::print(err, "syrof grade: --class '{}' is not a folder\n", options.class_dir);
-    return kUsage;
+    return kBadInput;
   }
   grader::Shard shard;
   if (!options.shard.empty()) {
@@ -117,13 +115,13 @@ int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err
     const std::optional<grader::Shard> parsed = grader::ParseShard(options.shard, problem);
     if (!parsed) {
       fmt::print(err, "syrof grade: {}\n", problem);
-      return kUsage;
+      return kBadInput;
     }
     shard = *parsed;
   }
   std::string folder;
   const std::optional<assignment::Assignment> loaded = LoadAssignment(options, folder, out, err);
-  if (!loaded) return kUsage;
+  if (!loaded) return kBadInput;
   const std::string out_dir = options.out_dir.empty() ? "grade-out/class" : options.out_dir;
   grader::ClassOptions class_options;
   class_options.grade = GradeOptionsOf(options);
@@ -148,7 +146,7 @@ int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err
   const grader::ClassResult result = grader::GradeClass(*loaded, options.class_dir, out_dir, class_options);
   if (!fs::exists(fs::path(out_dir) / "class.csv")) {
     fmt::print(err, "syrof grade: cannot write the class files in {}\n", out_dir);
-    return kFailed;
+    return kInternalError;
   }
   out << "\n" << grader::ClassSummary(result.students);
   for (const std::string& note : result.notes) fmt::print(out, "sandbox: {}\n", note);
@@ -160,23 +158,23 @@ int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err
 int GradeMix(const GradeOptions& options, std::ostream& out, std::ostream& err) {
   if (options.mix.size() < 2) {
     fmt::print(err, "syrof grade: --mix needs at least two submissions\n");
-    return kUsage;
+    return kBadInput;
   }
   for (const std::string& submission : options.mix) {
     if (!IsFolder(submission)) {
       fmt::print(err, "syrof grade: the submission '{}' is not a folder\n", submission);
-      return kUsage;
+      return kBadInput;
     }
   }
   std::string folder;
   const std::optional<assignment::Assignment> loaded = LoadAssignment(options, folder, out, err);
-  if (!loaded) return kUsage;
+  if (!loaded) return kBadInput;
   if (!loaded->mixable) {
     fmt::print(err,
                "syrof grade: assignment '{}' is not mixable: its README must fix the robots' message format and its "
                "assignment.yaml say 'mixable: true'\n",
                loaded->name);
-    return kUsage;
+    return kBadInput;
   }
   const std::string out_dir = options.out_dir.empty() ? "grade-out/mix" : options.out_dir;
   grader::GradeOptions grade = GradeOptionsOf(options);
@@ -201,13 +199,13 @@ int GradeMix(const GradeOptions& options, std::ostream& out, std::ostream& err) 
 int Merge(const GradeOptions& options, std::ostream& out, std::ostream& err) {
   if (options.merge_dirs.empty()) {
     fmt::print(err, "syrof grade merge: name the class outputs to merge (OUT1 OUT2 ...)\n");
-    return kUsage;
+    return kBadInput;
   }
   std::string problem;
   const auto students = grader::MergeClassOutputs(options.merge_dirs, options.merge_out, problem);
   if (!students) {
     fmt::print(err, "syrof grade merge: {}\n", problem);
-    return kUsage;
+    return kBadInput;
   }
   out << grader::ClassSummary(*students);
   fmt::print(out, "Merged {} students from {} folders into {}/class.csv and {}/summary.txt\n", students->size(),
@@ -257,11 +255,11 @@ int RunGradeCommand(const GradeOptions& options, std::ostream& out, std::ostream
     fmt::print(err,
                "syrof grade: give one of SUBMISSION_DIR, --class SUBMISSIONS_DIR or --mix SUB1 SUB2 ...\n"
                "Run with --help for more information.\n");
-    return kUsage;
+    return kBadInput;
   }
   if (options.assignment.empty()) {
     fmt::print(err, "syrof grade: --assignment NAME|PATH is required\nRun with --help for more information.\n");
-    return kUsage;
+    return kBadInput;
   }
   if (!options.class_dir.empty()) return GradeClass(options, out, err);
   if (!options.mix.empty()) return GradeMix(options, out, err);

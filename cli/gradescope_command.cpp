@@ -7,16 +7,13 @@
 #include <vector>
 
 #include "syrof/assignment/assignment.h"
+#include "exit_status.h"
 #include "syrof/report/gradescope_bundle.h"
 
 namespace syrof::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr int kOk = 0;
-constexpr int kInternalError = 1;
-constexpr int kBadInput = 2;
 
 size_t Tests(const std::vector<grader::assignment::ScenarioRun>& runs) {
   size_t tests = 0;

@@ -27,6 +27,23 @@ install(TARGETS syrof_app_shared LIBRARY DESTINATION lib)
 install(FILES ${PROJECT_SOURCE_DIR}/core/app/include/syrof/app.h DESTINATION include/syrof)
 install(FILES ${PROJECT_SOURCE_DIR}/queries/include/syrof/queries/queries.h DESTINATION include/syrof/queries)
 
+# The assignments as students get them (share/syrof/assignments/<name>/):
+# assignment.yaml, the README, the public scenarios and the starter. Not the
+# hidden scenarios, the reference or the broken variants: the package is
+# what students install. `syrof grade --assignment NAME` finds these and,
+# the hidden files being absent, grades the public sets only
+# (docs/grading.md); instructors grade from the source tree or a Gradescope
+# bundle, which carry the hidden sets.
+file(GLOB syrof_assignment_folders LIST_DIRECTORIES true ${PROJECT_SOURCE_DIR}/assignments/*)
+foreach(folder IN LISTS syrof_assignment_folders)
+  if(EXISTS ${folder}/assignment.yaml)
+    get_filename_component(name ${folder} NAME)
+    install(FILES ${folder}/assignment.yaml ${folder}/README.md DESTINATION share/syrof/assignments/${name})
+    install(DIRECTORY ${folder}/scenarios ${folder}/starter DESTINATION share/syrof/assignments/${name}
+            PATTERN expected.yaml EXCLUDE)
+  endif()
+endforeach()
+
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/SyROFConfigVersion.cmake
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 

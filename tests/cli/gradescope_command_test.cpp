@@ -63,7 +63,7 @@ TEST_F(GradescopeCommandTest, WritesTheBundleOfAnAssignmentFolder) {
   ASSERT_EQ(error, "");
   for (const std::string& name : std::vector<std::string>{
            "setup.sh", "run_autograder", deb_.filename().string(), "assignment/assignment.yaml", "assignment/README.md",
-           "assignment/scenarios/gather_6.yaml", "assignment/hidden/gather_10_crash.yaml"}) {
+           "assignment/scenarios/gather_6.yaml", "assignment/hidden/gather_10_join.yaml"}) {
     EXPECT_TRUE(names.contains(name)) << name;
   }
   for (const std::string& name : names) {
