@@ -4,7 +4,9 @@
 # the source tree, with a clean environment, `syrof new` (C and C++) ->
 # cmake build -> `syrof run` with /usr/bin/syrof, and the Makefile way
 # through pkg-config. Fails unless every run reached its end and wrote
-# metrics.json without faults.
+# metrics.json without faults. Then a student grades the installed gather
+# starter with `syrof grade` (the public tests, the hidden ones not being
+# installed).
 set -euo pipefail
 syrof=${SYROF:-/usr/bin/syrof}
 [ -x "$syrof" ] || { echo "try-installed-package: no $syrof; install the package first" >&2; exit 1; }
@@ -48,3 +50,17 @@ done
 )
 check_run "$work/installed_c/out/by_hand/metrics.json"
 echo "try-installed-package: gcc with pkg-config --cflags --libs syrof-app: ok"
+
+# A student grading the installed gather starter: the package carries the
+# assignment as students get it (no hidden sets), so the public tests only.
+(
+  cd "$work"
+  cp -r /usr/share/syrof/assignments/gather/starter gather_starter
+  "${clean[@]}" "$syrof" grade gather_starter --assignment gather --out graded > grade.txt 2>&1 ||
+    { cat grade.txt >&2; exit 1; }
+  grep -q 'Tests passed 0/5, Points 50.00/100.00' grade.txt || { cat grade.txt >&2; exit 1; }
+  for file in grade.json results.json junit.xml report.html; do
+    [ -s "graded/$file" ] || { echo "try-installed-package: syrof grade wrote no $file" >&2; exit 1; }
+  done
+)
+echo "try-installed-package: syrof grade of the installed gather starter (public tests): ok"
