@@ -49,7 +49,10 @@ void Attribute(const lab::metrics::Metrics& metrics, const std::vector<MixEntry>
   }
   if (metrics.app.invalid_commands.first) run.shares[metrics.app.invalid_commands.first->robot % k].invalid_commands = 1;
   if (const auto& first = metrics.agreement.first_disagreement) {
-    run.shares[first->robot % k].first_to_disagree = true;
+    // Both sides are named: which of two differing states is "wrong" is not
+    // known from the pair alone (robot 0 is usually the reference side).
+    run.shares[first->robot % k].in_first_disagreement = true;
+    run.shares[first->reference_robot % k].in_first_disagreement = true;
     run.disagreement = Format("epoch %u: robot %u (%s) returned %u in %s, robot %u (%s) %u", unsigned{first->epoch},
                               unsigned{first->robot}, entries[first->robot % k].name.c_str(), unsigned{first->state},
                               first->callback.c_str(), unsigned{first->reference_robot},
@@ -112,7 +115,7 @@ void PrintMixReport(const std::vector<MixRun>& runs, const std::vector<MixEntry>
       if (share.faults > 0) problems.push_back(std::to_string(share.faults) + " faulted, first " + share.first_fault);
       if (share.collisions > 0) problems.push_back("in " + std::to_string(share.collisions) + " collisions");
       if (share.invalid_commands > 0) problems.push_back("gave the run's first invalid command");
-      if (share.first_to_disagree) problems.push_back("first to disagree");
+      if (share.in_first_disagreement) problems.push_back("in the first disagreement");
       if (problems.empty()) {
         out << "ok\n";
       } else {

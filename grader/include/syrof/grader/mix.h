@@ -2,7 +2,9 @@
 // come from several submissions, robot i running submission i mod k, on
 // every test of an assignment whose README fixes the robots' message format
 // (`mixable: true`). The report says, per submission, which of its robots
-// faulted, collided, or were first to disagree in a COOPERATIVE epoch.
+// faulted, collided, or took part in the first disagreement of a
+// COOPERATIVE epoch (both robots of it are named: two of one submission
+// disagreeing pins it down; one of each names both).
 #pragma once
 
 #include <cstdint>
@@ -29,7 +31,7 @@ struct MixShare {
   std::string first_fault;          ///< "robot 2 in new_round at 3.50 s: crashed (SIGSEGV)"
   int collisions = 0;               ///< collisions one of its robots was in (of the listed ones)
   int invalid_commands = 0;         ///< only the first is attributed: 1 when it was one of its robots
-  bool first_to_disagree = false;   ///< the run's first disagreement names one of its robots
+  bool in_first_disagreement = false;  ///< the run's first disagreement names one of its robots (either side)
 };
 
 struct MixRun {
