@@ -142,7 +142,7 @@ std::optional<app_host::HostLimits> LimitsFor(const scenario::AppSpec& app, cons
 }
 
 void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay,
-                  bool library, bool html) {
+                  bool library, bool html, bool clocks) {
   const double sim = m.value("sim_seconds", 0.0);
   const double wall = m.value("wall_seconds", 0.0);
   fmt::print(out, "\nSyROF run: {} ({}), {} robots, seed {}\n", m.value("scenario", std::string()),
@@ -154,8 +154,9 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
   } else {
     fmt::print(out, "  {:<17} {:.1f} s ({} radio rounds)\n", "simulated", sim, m.value("radio_rounds", int64_t{0}));
   }
-  fmt::print(out, "  {:<17} {} epochs, start skew max {} rounds\n", "synchrony", Number(m["epochs_started"], 0),
-             Number(Field(m, "synchrony", "max_start_skew_rounds"), 0));
+  fmt::print(out, "  {:<17} {} epochs, start skew max {} rounds ({} ms)\n", "synchrony", Number(m["epochs_started"], 0),
+             Number(Field(m, "synchrony", "max_start_skew_rounds"), 0),
+             Number(Field(m, "synchrony", "max_start_skew_ms"), 1));
   const nlohmann::json& fraction = Field(m, "common_knowledge", "cooperative_fraction");
   fmt::print(out, "  {:<17} {} P3 violations, {} COOPERATIVE starts, mode disagreement max {} rounds\n",
              "common knowledge", Number(Field(m, "common_knowledge", "violations"), 0),
@@ -185,6 +186,17 @@ void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesys
              Number(Field(m, "estimation", "position_rmse_m"), 3), Number(Field(m, "estimation", "max_error_m"), 3));
   fmt::print(out, "  {:<17} {} removals, {} joins\n", "membership", Number(Field(m, "membership", "removals"), 0),
              Number(Field(m, "membership", "joins"), 0));
+  if (const nlohmann::json& phase = m.contains("round_phase") ? m["round_phase"] : nlohmann::json();
+      clocks && phase.is_object() && phase.contains("residual") && phase["residual"].is_object()) {
+    // Real clocks (docs/clocks.md): how long until every pair of members
+    // stayed within the threshold, and the phase error left after that.
+    const nlohmann::json& converged = phase.contains("converged_s") ? phase["converged_s"] : nlohmann::json();
+    fmt::print(out, "  {:<17} {}, phase error after that p99 {} ms, max {} ms\n", "round phase",
+               converged.is_number() ? fmt::format("aligned within {} ms after {:.2f} s", Number(phase["threshold_ms"], 1),
+                                                   converged.get<double>())
+                                     : std::string("never aligned within ") + Number(phase["threshold_ms"], 1) + " ms",
+               Number(phase["residual"]["p99_ms"], 3), Number(phase["residual"]["max_ms"], 3));
+  }
   const bool declared_goal = m.contains("goal") && m["goal"].is_object() && m["goal"].value("source", "") == "scenario";
   if (library && !declared_goal) {
     fmt::print(out, "  {:<17} none: declare checks under goal: in the scenario (docs/scenarios.md)\n", "goal");
@@ -339,7 +351,8 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   const nlohmann::json metrics = nlohmann::json::parse(report.metrics_json);
   const bool misbehaved = AppMisbehaved(metrics);
   if (!options.quiet) {
-    PrintSummary(out, metrics, dir, !options.no_replay, scenario.app.is_library(), options.html && !options.no_replay);
+    PrintSummary(out, metrics, dir, !options.no_replay, scenario.app.is_library(), options.html && !options.no_replay,
+                 scenario.clocks.enabled);
   } else if (misbehaved) {
     fmt::print(err, "syrof run: warning: the app misbehaved; see app in {}\n", (dir / "metrics.json").string());
   }

@@ -66,6 +66,33 @@ TEST(RunCommandTest, WritesMetricsAndReplayAndPrintsTheSummary) {
   EXPECT_GT(fs::file_size(fs::path(options.out_dir) / "replay"), 100u);
 }
 
+// Real clocks: the summary gives the start skew in milliseconds too, and a
+// round-phase line (only when the scenario has a clocks section).
+TEST(RunCommandTest, WithClocksTheSummaryGivesTheRoundPhase) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/clocks_circle.yaml";
+  options.duration_s = 10;
+  options.out_dir = TempDir("clocks").string();
+  const Outcome clocked = RunWith(options);
+  ASSERT_EQ(clocked.status, 0) << clocked.err;
+  const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
+  EXPECT_NE(clocked.out.find(fmt::format("start skew max {} rounds ({:.1f} ms)",
+                                         metrics["synchrony"]["max_start_skew_rounds"].get<int64_t>(),
+                                         metrics["synchrony"]["max_start_skew_ms"].get<double>())),
+            std::string::npos)
+      << clocked.out;
+  EXPECT_NE(clocked.out.find(fmt::format("round phase       aligned within 1.0 ms after {:.2f} s",
+                                         metrics["round_phase"]["converged_s"].get<double>())),
+            std::string::npos)
+      << clocked.out;
+
+  options.scenario_path = kScenarios + "/demo_circle.yaml";
+  options.out_dir = TempDir("no_clocks").string();
+  const Outcome shared = RunWith(options);
+  ASSERT_EQ(shared.status, 0) << shared.err;
+  EXPECT_EQ(shared.out.find("round phase"), std::string::npos) << shared.out;
+}
+
 // Before, a replay writer failure went unnoticed: the run printed the path
 // of a cut-short file and exited 0. /dev/full fails every write (ENOSPC).
 TEST(RunCommandTest, AReplayWriterFailureExitsOneWithTheReason) {
