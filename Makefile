@@ -81,12 +81,16 @@ bench-m4: deps
 ## cmake/SyrofHelpers.cmake): not the app host's, the grader's, the viewer's
 ## browser test or the exhaustive exploration.
 ASAN_LABELS = core queries lab cli
+# Left out under the sanitizers: the 200-robot adversarial crowd (177 s
+# under ASan at -O0 against 12 s in stage 1, and last to finish); the same
+# code runs under ASan in the smaller adversarial scenarios.
+ASAN_EXCLUDE = crowdx200xshort
 empty :=
 space := $(empty) $(empty)
 asan: deps
 	$(CMAKE_CONFIGURE) -S . -B $(ASAN_DIR) -DSYROF_SANITIZE=ON -DSYROF_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug
 	cmake --build $(ASAN_DIR) -j $(JOBS) --target $(addprefix tests_,$(ASAN_LABELS))
-	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L '^($(subst $(space),|,$(ASAN_LABELS)))$$'
+	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L '^($(subst $(space),|,$(ASAN_LABELS)))$$' -E '$(ASAN_EXCLUDE)'
 
 ## tsan: the tests where threads meet (the POSIX port, the broker across
 ## threads, the robot's receive edge) under ThreadSanitizer. Their suites:
