@@ -57,7 +57,7 @@ Robot::Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<w
       controller_(config.motion),
       round_task_(*this),
       motion_task_(*this),
-      bank_size_(std::min(receive_storage.size() / 2, size_t{wire::kMaxSwarmSize})),
+      bank_size_(std::min(receive_storage.size() / kReceiveBanks, size_t{wire::kMaxSwarmSize})),
       safety_filter_(SafetyConfigFor(config), config.motion, config.sync.swarm_size) {}
 
 RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
@@ -121,6 +121,7 @@ void Robot::DropReceived() {
   counters_.beacons_dropped += static_cast<uint32_t>(inbox_count_ + deferred_count_);
   inbox_count_ = 0;
   deferred_count_ = 0;
+  carried_count_ = 0;
 }
 
 void Robot::ReceiveBytes(std::span<const uint8_t> frame) {
@@ -151,7 +152,9 @@ void Robot::TakeReceivedBank() {
     os::CriticalSection lock(*port_);
     bank = receiving_bank_;
     count = stored_count_;
-    receiving_bank_ = static_cast<uint8_t>(receiving_bank_ ^ 1U);
+    // Round robin over three banks: the one taken two swaps ago may still
+    // hold beacons deferred to this step, so it is not the next to receive.
+    receiving_bank_ = static_cast<uint8_t>((receiving_bank_ + 1U) % kReceiveBanks);
     stored_count_ = 0;
     // Only when Receive() and ReceiveBytes() are mixed can the inbox be short
     // of room: the surplus becomes overflow, so each frame still counts once.
@@ -292,6 +295,7 @@ void Robot::RunRound(int64_t now_ns) {
     inbox_arrival_ns_[i] = deferred_arrival_ns_[i];
   }
   inbox_count_ = deferred_count_;
+  carried_count_ = deferred_count_;
   deferred_count_ = 0;
 
   // The maneuver ends when PROGRESS ends, whatever ended it (its time is up,
@@ -371,12 +375,15 @@ void Robot::TakeSafetyReports(int64_t now_ns) {
 }
 
 // A beacon belongs to the round containing its arrival: one that arrived at
-// or after this boundary waits in deferred_ for the next step.
+// or after this boundary waits in deferred_ for the next step. A beacon
+// carried from the last step is stepped now, never deferred twice: its bank
+// receives again after the next swap.
 void Robot::DeferLateArrivals(int64_t now_ns) {
   size_t kept = 0;
   for (size_t i = 0; i < inbox_count_; ++i) {
     const int64_t arrival = inbox_arrival_ns_[i];
-    if (arrival != kArrivalUnknown && arrival >= now_ns && deferred_count_ < deferred_.size()) {
+    if (i >= carried_count_ && arrival != kArrivalUnknown && arrival >= now_ns &&
+        deferred_count_ < deferred_.size()) {
       deferred_[deferred_count_] = inbox_[i];
       deferred_arrival_ns_[deferred_count_++] = arrival;
       ++counters_.beacons_deferred;

@@ -144,7 +144,7 @@ struct TestRobot {
   pubsub::Publisher<estimation::FlowReading> flow;
   pubsub::Publisher<estimation::UwbReading> uwb;
   TestRadio radio;
-  std::array<wire::Beacon, 2 * kRobots> storage{};  // two banks: one round each
+  std::array<wire::Beacon, Robot::kReceiveBanks * kRobots> storage{};  // a round's worth per bank
   Robot robot;
 };
 

@@ -8,6 +8,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -101,7 +103,7 @@ TEST_F(RobotThreadsTest, EveryFrameFromAProducerThreadIsCountedOnceWhileTheRound
   config.maneuver_rounds = 4;
   IdleApp app;
   CountingRadio radio;
-  std::array<wire::Beacon, 2 * kSwarm> storage{};  // two banks of a swarm's worth
+  std::array<wire::Beacon, Robot::kReceiveBanks * kSwarm> storage{};  // a swarm's worth per bank
   Robot robot(config, app, radio, storage);
   ASSERT_EQ(robot.Attach(port, broker), RobotSetupError::kOk);
   ASSERT_EQ(port.Start(), os::PortError::kOk);
@@ -133,7 +135,7 @@ TEST_F(RobotThreadsTest, FramesBeyondABankInOneRoundOverflow) {
   config.radio_round_ns = 1'000'000'000;  // no round ends during the burst
   IdleApp app;
   CountingRadio radio;
-  std::array<wire::Beacon, 2 * kSwarm> storage{};
+  std::array<wire::Beacon, Robot::kReceiveBanks * kSwarm> storage{};
   Robot robot(config, app, radio, storage);
   ASSERT_EQ(robot.Attach(port, broker), RobotSetupError::kOk);
   ASSERT_EQ(port.Start(), os::PortError::kOk);
@@ -149,6 +151,100 @@ TEST_F(RobotThreadsTest, FramesBeyondABankInOneRoundOverflow) {
   EXPECT_EQ(robot.counters().beacons_received, kSwarm);
   EXPECT_EQ(robot.counters().beacons_overflow, frames.size() - malformed - kSwarm);
   EXPECT_EQ(robot.counters().beacons_malformed, malformed);
+}
+
+// A port the test drives by hand, on one thread: it steps the round task at
+// the times it chooses, and after each Unlock() it may run a hook, as if a
+// producer thread took the lock the moment the round task let go of it.
+class InterleavingPort final : public os::Port {
+ public:
+  base::Result<os::TaskId, os::PortError> AddTask(os::Task& task, const os::TaskConfig& config) override {
+    if (std::string_view(config.name) == "runtime.round") round_task = &task;
+    return base::Result<os::TaskId, os::PortError>(static_cast<os::TaskId>(next_id_++));
+  }
+  os::PortError Start() override { return os::PortError::kOk; }
+  os::PortError Stop() override { return os::PortError::kOk; }
+  void Notify(os::TaskId) override {}
+  int64_t now_ns() const override { return now; }
+  void Lock() override {}
+  void Unlock() override {
+    if (after_unlock && !in_hook_) {
+      in_hook_ = true;
+      after_unlock();
+      in_hook_ = false;
+    }
+  }
+
+  os::Task* round_task = nullptr;
+  int64_t now = 0;
+  std::function<void()> after_unlock;
+
+ private:
+  size_t next_id_ = 0;
+  bool in_hook_ = false;
+};
+
+// A beacon that arrives at a round's boundary is stepped the round after,
+// from the bank it was received in. A producer that writes the moment the
+// next swap releases the lock must not write over it: with two banks it
+// did (the bank holding the deferred beacon was the next to receive), and
+// the step saw the producer's frame in its place.
+TEST(RobotReceiveEdgeTest, ABeaconDeferredAtABoundarySurvivesAProducerWritingAfterTheNextSwap) {
+  InterleavingPort port;
+  pubsub::StaticBroker<8, 12> broker{port};
+  pubsub::Publisher<estimation::ImuReading> imu;
+  pubsub::Publisher<estimation::FlowReading> flow;
+  pubsub::Publisher<estimation::UwbReading> uwb;
+  ASSERT_EQ(imu.Advertise(broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
+  ASSERT_EQ(flow.Advertise(broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
+  ASSERT_EQ(uwb.Advertise(broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+
+  RobotConfig config;
+  config.sync = sync::SyncConfig::ForSwarm(kSwarm, 0);
+  config.radio_round_ns = kRoundNs;
+  config.maneuver_rounds = 4;
+  IdleApp app;
+  CountingRadio radio;
+  std::array<wire::Beacon, Robot::kReceiveBanks * kSwarm> storage{};
+  Robot robot(config, app, radio, storage);
+  ASSERT_EQ(robot.Attach(port, broker), RobotSetupError::kOk);
+  ASSERT_NE(port.round_task, nullptr);
+
+  const auto frame_from = [](uint16_t sender, bool presence_only) {
+    wire::Beacon beacon;
+    beacon.robot_id = sender;
+    beacon.presence_only = presence_only;
+    Frame frame;
+    const auto size = wire::Encode(beacon, kSwarm, frame.bytes);
+    EXPECT_TRUE(size.ok());
+    frame.size = size.value();
+    return frame;
+  };
+  const Frame from_one = frame_from(1, false);
+  const Frame from_two = frame_from(2, false);
+  const Frame presence = frame_from(3, true);
+  const auto receive = [&](const Frame& frame) {
+    robot.ReceiveBytes(std::span<const uint8_t>(frame.bytes.data(), frame.size));
+  };
+
+  // Robot 1's beacon arrives exactly at the first boundary: deferred.
+  port.now = kRoundNs;
+  receive(from_one);
+  port.round_task->Step(kRoundNs);
+  EXPECT_EQ(robot.counters().beacons_deferred, 1u);
+  EXPECT_EQ(robot.counters().beacons_stepped, 0u);
+
+  // Robot 2's beacon arrives within the second round; at its boundary a
+  // producer writes presence reports after every unlock, the swap's too.
+  port.now = kRoundNs + kRoundNs / 2;
+  receive(from_two);
+  port.now = 2 * kRoundNs;
+  port.after_unlock = [&] { receive(presence); };
+  port.round_task->Step(2 * kRoundNs);
+  port.after_unlock = nullptr;
+
+  // Both robots' beacons were stepped: the deferred one was not replaced.
+  EXPECT_EQ(robot.counters().beacons_stepped, 2u);
 }
 
 // Moves on every new round: the round task hands commands to the motion

@@ -19,8 +19,10 @@
 // ReceiveBytes() may run on another thread or in an interrupt while the
 // round task runs (a DDS listener, a UART interrupt): it decodes outside the
 // port's critical section and holds it only to copy the beacon into a slot.
-// The receive storage is two banks: one fills while the round task steps the
-// other; the round task swaps them under the same critical section, so a
+// The receive storage is three banks used in turn: one fills while the round
+// task steps the one it last took, and the one before keeps the beacons that
+// arrived at that round's boundary (deferred, stepped one round later). The
+// round task moves to the next bank under the same critical section, so a
 // frame that arrives during a step counts for the next round.
 //
 // Safety: every beacon heard (member or presence-only) updates the safety
@@ -139,12 +141,16 @@ struct RobotCounters {
 
 class Robot final : private app::Platform {
  public:
+  static constexpr size_t kReceiveBanks = 3;
+
   /// `app` and `radio` must outlive the robot. `receive_storage` holds beacons
-  /// that arrive as bytes (ReceiveBytes), in two banks of size() / 2 slots:
-  /// one receives while the round task steps the other, so give it twice the
-  /// frames one round may accept (2 x swarm size; at most 2 x
-  /// wire::kMaxSwarmSize are used). It may be empty when beacons only arrive
-  /// decoded (Receive). Not owned; it must outlive the robot.
+  /// that arrive as bytes (ReceiveBytes), in kReceiveBanks banks of
+  /// size() / kReceiveBanks slots: one receives while the round task steps
+  /// another, and the third keeps the beacons deferred to the next step. Give
+  /// it kReceiveBanks times the frames one round may accept (kReceiveBanks x
+  /// swarm size; at most kReceiveBanks x wire::kMaxSwarmSize are used). It may
+  /// be empty when beacons only arrive decoded (Receive). Not owned; it must
+  /// outlive the robot.
   Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<wire::Beacon> receive_storage = {});
   Robot(const Robot&) = delete;
   Robot& operator=(const Robot&) = delete;
@@ -293,17 +299,19 @@ class Robot final : private app::Platform {
   std::array<const wire::Beacon*, 2 * wire::kMaxSwarmSize> deferred_{};
   std::array<int64_t, 2 * wire::kMaxSwarmSize> deferred_arrival_ns_{};
   size_t deferred_count_ = 0;
-  std::array<int64_t, 2 * wire::kMaxSwarmSize> received_arrival_ns_{};  // parallel to receive_storage_
+  size_t carried_count_ = 0;  // the inbox's first entries: deferred by the last step
+  std::array<int64_t, kReceiveBanks * wire::kMaxSwarmSize> received_arrival_ns_{};  // parallel to receive_storage_
   void DeferLateArrivals(int64_t now_ns);
   void AlignRound(int64_t now_ns, int64_t round_start_ns);
   os::TaskId round_task_id_ = 0;
   int64_t last_shift_ns_ = 0;  // the last round's alignment correction
   sync::AlignmentStats alignment_stats_;
   sync::AlignmentStep last_alignment_;
-  // receive_storage_ in two banks of bank_size_ slots. Under the port's
-  // critical section: receiving_bank_ and stored_count_ (what ReceiveBytes
-  // fills) and the receive counters. The other bank belongs to the round
-  // task between its swap and the next one.
+  // receive_storage_ in kReceiveBanks banks of bank_size_ slots. Under the
+  // port's critical section: receiving_bank_ and stored_count_ (what
+  // ReceiveBytes fills) and the receive counters. The other two banks belong
+  // to the round task: the one its last swap took, and the one before, whose
+  // deferred beacons (carried_count_) it steps in between.
   size_t bank_size_ = 0;
   uint8_t receiving_bank_ = 0;
   size_t stored_count_ = 0;
