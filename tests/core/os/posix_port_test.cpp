@@ -289,5 +289,39 @@ TEST(PosixPortTest, ShiftPeriodicNeverMovesBeforeNowAndRefusesNotifiedAndUnknown
   EXPECT_LT(times[0], shifted_at + kPeriod);  // woke for the shift, not for the old due time
 }
 
+// A step that takes longer than several periods, as a stopped process does.
+class SlowFirstStepTask final : public Task {
+ public:
+  void Step(int64_t now_ns) override {
+    if (first_) {
+      first_ = false;
+      std::this_thread::sleep_for(milliseconds(32));
+    }
+    counter_.Step(now_ns);
+  }
+  CountingTask& counter() { return counter_; }
+
+ private:
+  bool first_ = true;
+  CountingTask counter_;
+};
+
+TEST(PosixPortTest, AnActivationLateByPeriodsSkipsThePassedGridPointsInsteadOfRunningThemBackToBack) {
+  PosixPort port;
+  SlowFirstStepTask task;
+  constexpr int64_t kPeriod = 5'000'000;
+  ASSERT_TRUE(port.AddTask(task, {"periodic", Trigger::periodic(kPeriod), 0}));
+  const int64_t before_start = port.now_ns();
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  ASSERT_TRUE(task.counter().wait_for_steps(3));
+  ASSERT_EQ(port.Stop(), PortError::kOk);
+  const std::vector<int64_t> times = task.counter().times_ns();
+  // The first step ends 32 ms in, six grid points late: the late point runs
+  // once, right away, and the third activation is back on the grid after
+  // the passed points (7 periods in), not one of a burst.
+  EXPECT_GE(times[1], before_start + 6 * kPeriod);
+  EXPECT_GE(times[2], before_start + 7 * kPeriod);
+}
+
 }  // namespace
 }  // namespace syrof::os

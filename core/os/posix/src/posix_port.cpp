@@ -152,7 +152,11 @@ void PosixPort::RunPeriodic(Worker& worker) {
       if (!running_) break;
       continue;
     }
+    // An activation more than a period late (a stopped process, SIGSTOP)
+    // runs once; the missed grid points are skipped, not run back to back.
     worker.due = due + period;
+    const auto now = std::chrono::steady_clock::now();
+    if (worker.due <= now) worker.due += ((now - worker.due) / period + 1) * period;
     state.unlock();
     worker.task->Step(now_ns());
     state.lock();

@@ -33,7 +33,10 @@ class PosixPort final : public Port {
   base::Result<TaskId, PortError> AddTask(Task& task, const TaskConfig& config) override;
   /// Starts one thread per task. Periodic activations are absolute
   /// (start + offset + k * period, like vTaskDelayUntil): a late step does
-  /// not shift later ones. Returns kSystemError if a thread cannot start.
+  /// not shift later ones. A step so late that further grid points have
+  /// passed (the process was stopped) runs once and the passed points are
+  /// skipped: no burst of stale activations. Returns kSystemError if a thread
+  /// cannot start.
   PortError Start() override;
   /// Start() with the periodic grid anchored at `origin_ns` (port time, may
   /// be in the past or the future): a task's activations are at origin +
