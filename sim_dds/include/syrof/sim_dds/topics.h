@@ -66,6 +66,8 @@ class Qos {
   Qos(const Qos&) = delete;
   Qos& operator=(const Qos&) = delete;
   const dds_qos_t* get() const { return qos_; }
+  /// To add a policy of one endpoint's own (ignore local, a listener mask).
+  dds_qos_t* mutable_get() { return qos_; }
 
  private:
   dds_qos_t* qos_;
