@@ -141,6 +141,7 @@ struct RobotSlot {
   uint32_t heard = 0;        // the radio's received count in `last`
   double cpu_seconds = 0;
   bool reaped = false;
+  std::optional<int> exit;
   dds_entity_t imu = 0, flow = 0, uwb = 0, drive = 0;
   std::unique_ptr<lab::sensors::SensorBank> bank;
   std::unique_ptr<DdsSensorSink> sink;
@@ -287,6 +288,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     const pid_t done = wait4(r.pid, &status, block ? 0 : WNOHANG, &usage);
     if (done == r.pid) {
       r.reaped = true;
+      r.exit = WIFSIGNALED(status) ? -WTERMSIG(status) : WEXITSTATUS(status);
       r.cpu_seconds = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
                       static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
     }
@@ -363,7 +365,6 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   std::vector<int64_t> skews_ns;
   std::vector<lab::metrics::RobotRound> robot_rounds(n);
   std::vector<replay::RobotFrame> frames(n);
-  std::vector<std::vector<int>> reporters_by_round;  // unused placeholder for clarity
   std::map<int64_t, std::vector<uint16_t>> round_senders;  // robots that reported (broadcast) in a round
   int64_t reports_rejected = 0, reports_late = 0, reports_foreign = 0;
   int64_t next_recorded = 1;
@@ -679,7 +680,10 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   result.skew.p50_us = Percentile(skews_ns, 0.50) * 1e-3;
   result.skew.p99_us = Percentile(skews_ns, 0.99) * 1e-3;
   result.skew.max_us = skews_ns.empty() ? 0 : static_cast<double>(*std::max_element(skews_ns.begin(), skews_ns.end())) * 1e-3;
-  for (const RobotSlot& r : robots) result.cpu_seconds.push_back(r.cpu_seconds);
+  for (const RobotSlot& r : robots) {
+    result.cpu_seconds.push_back(r.cpu_seconds);
+    result.robot_exits.push_back(r.exit);
+  }
 
   lab::metrics::RunFacts facts;
   facts.seed = sc.seed;
@@ -711,6 +715,9 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   dds["reports_late"] = reports_late;
   dds["reports_other_runs"] = reports_foreign;
   dds["stopped_early"] = result.stopped_early;
+  nlohmann::json exits = nlohmann::json::array();
+  for (const RobotSlot& r : robots) exits.push_back(r.exit ? nlohmann::json(*r.exit) : nlohmann::json());
+  dds["robot_exits"] = exits;
   json["dds"] = dds;
   result.metrics_json = json.dump(2) + "\n";
   std::ofstream(std::filesystem::path(options.out_dir) / "metrics.json") << result.metrics_json;

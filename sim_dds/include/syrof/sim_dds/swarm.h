@@ -65,6 +65,10 @@ struct SwarmResult {
   SkewStats skew;
   std::vector<double> cpu_seconds;  ///< per robot process (0 for one never started)
   std::vector<int> robot_pids;      ///< every robot process started (for tests: none may be left)
+  /// Per robot: its exit code, or minus the signal that ended it (-9: a
+  /// crash fault's SIGKILL, or one that did not stop in time); unset for
+  /// a robot never started.
+  std::vector<std::optional<int>> robot_exits;
   bool stopped_early = false;
 };
 
