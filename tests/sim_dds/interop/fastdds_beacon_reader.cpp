@@ -196,6 +196,11 @@ int main(int argc, char** argv) {
   reader_qos.durability().kind = VOLATILE_DURABILITY_QOS;
   reader_qos.history().kind = KEEP_LAST_HISTORY_QOS;
   reader_qos.history().depth = 1;
+  // One instance per sender: Fast DDS's default of 10 instances would drop
+  // every robot past the tenth (seen with 16 and 32 processes).
+  reader_qos.resource_limits().max_instances = static_cast<int32_t>(swarm);
+  reader_qos.resource_limits().max_samples_per_instance = 1;
+  reader_qos.resource_limits().max_samples = static_cast<int32_t>(swarm);
   BeaconListener listener(static_cast<unsigned>(swarm));
   DataReader* reader = topic == nullptr || subscriber == nullptr
                            ? nullptr
@@ -220,6 +225,9 @@ int main(int argc, char** argv) {
       break;
     }
   }
+  SubscriptionMatchedStatus matched;
+  reader->get_subscription_matched_status(matched);
+  std::printf("fastdds_beacon_reader: %d beacon writers matched\n", matched.current_count);
   participant->delete_contained_entities();
   DomainParticipantFactory::get_instance()->delete_participant(participant);
 
