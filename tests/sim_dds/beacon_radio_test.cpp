@@ -288,9 +288,10 @@ TEST(BeaconRadioRogue, RejectedAndCountedWhileGoodBeaconsArrive) {
     rogue_write(2, ur - 5, Encoded(2, kRobots));               // an old round
     rogue_write(2, ur, Encoded(2, kRobots));                   // a forged but valid beacon of robot 2 ...
     rogue_write(2, ur, Encoded(2, kRobots));                   // ... replayed
-    // A sequence beyond BEACON_MAX_BYTES: refused by the writer or dropped
-    // by the reader's deserializer, never delivered.
-    (void)rogue.Write(2, ur, std::vector<uint8_t>(2000, 0x02));
+    // A sequence beyond BEACON_MAX_BYTES: Cyclone's writer refuses it (a
+    // writer of another stack would see it dropped when Cyclone's reader
+    // checks incoming data against the type's bounds).
+    EXPECT_EQ(rogue.Write(2, ur, std::vector<uint8_t>(2000, 0x02)), DDS_RETCODE_BAD_PARAMETER);
     const uint64_t before = heard.size();
     good.radio->Broadcast(BeaconOf(1));
     ASSERT_TRUE(WaitFor([&] { return heard.size() >= before + 1; })) << "round " << r;
