@@ -1,5 +1,5 @@
 // A DDS swarm of 8, 16 and 32 robot processes at 20 Hz rounds on loopback
-// (lab/scenarios/idle.yaml with the robot count overridden): delivery
+// (bench/sim_dds/swarm_idle.yaml with the robot count overridden): delivery
 // ratio, round-start skew p50 / p99 / max, CPU per robot process, and P3.
 //
 // Usage: bench_sim_dds_swarm [--seconds S] [--robots N ...]
@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   std::printf("robots  seconds  delivery  skew_p50_us  skew_p99_us  skew_max_us  cpu_mean_s  cpu_max_s  cpu_pct  p3_violations  epochs\n");
   for (const int robots : counts) {
     syrof::sim_dds::SwarmOptions options;
-    options.scenario_path = std::string(SYROF_SCENARIOS_DIR) + "/idle.yaml";
+    options.scenario_path = std::string(SYROF_BENCH_DIR) + "/swarm_idle.yaml";
     options.overrides.robots = robots;
     options.overrides.duration_s = seconds;
     options.robot_binary = std::getenv("SYROF_ROBOT_BINARY") != nullptr ? std::getenv("SYROF_ROBOT_BINARY") : SYROF_ROBOT_BINARY;
