@@ -17,6 +17,7 @@
 
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/base/split_mix64.h"
+#include "syrof/estimation/topics.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/sensors/sensor_publishers.h"
 #include "syrof/lab/sim/robot_config.h"
@@ -144,6 +145,17 @@ class RoundTap final : public runtime::Radio {
     robot_ = robot;
   }
   void set_start(int64_t start_monotonic_ns) { start_monotonic_ns_.store(start_monotonic_ns); }
+  // The newest StateEstimate, from the main thread's polled subscription:
+  // Robot::estimate() reads the motion task's copy too, which is only safe
+  // from the port's own thread on SimPort.
+  void set_estimate(const estimation::StateEstimate& estimate) {
+    std::lock_guard<std::mutex> guard(estimate_mutex_);
+    estimate_ = estimate;
+  }
+  estimation::StateEstimate latest_estimate() const {
+    std::lock_guard<std::mutex> guard(estimate_mutex_);
+    return estimate_;
+  }
   // The current round on the world's grid, or -1 before the start.
   int64_t CurrentRound() const {
     const int64_t start = start_monotonic_ns_.load();
@@ -164,8 +176,8 @@ class RoundTap final : public runtime::Radio {
     report.phase = static_cast<uint8_t>(state.phase);
     report.epoch_mode = static_cast<uint8_t>(state.epoch_mode);
     report.epoch = state.epoch;
-    report.estimate_valid = robot_->estimate_valid() ? 1 : 0;
-    const estimation::StateEstimate& estimate = robot_->estimate();
+    const estimation::StateEstimate estimate = latest_estimate();
+    report.estimate_valid = (estimate.status & estimation::kEstimateInitialized) != 0 ? 1 : 0;
     report.est_x_m = estimate.x_m;
     report.est_y_m = estimate.y_m;
     report.est_heading_rad = estimate.heading_rad;
@@ -178,6 +190,8 @@ class RoundTap final : public runtime::Radio {
   const os::PosixPort& port_;
   int64_t radio_round_ns_;
   std::atomic<int64_t> start_monotonic_ns_{-1};
+  mutable std::mutex estimate_mutex_;
+  estimation::StateEstimate estimate_{};
   BeaconRadio* radio_ = nullptr;
   const runtime::Robot* robot_ = nullptr;
 };
@@ -367,8 +381,10 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
     err << who << "the robot could not be set up: " << runtime::ToString(error) << "\n";
     return 1;
   }
-  if (drive.Subscribe(broker, motion::kDriveTopic, kPolledTask) != pubsub::BrokerError::kOk) {
-    err << who << "the drive topic could not be subscribed\n";
+  pubsub::Subscriber<estimation::StateEstimate> estimates;
+  if (drive.Subscribe(broker, motion::kDriveTopic, kPolledTask) != pubsub::BrokerError::kOk ||
+      estimates.Subscribe(broker, estimation::kStateEstimateTopic, kPolledTask) != pubsub::BrokerError::kOk) {
+    err << who << "the drive or estimate topic could not be subscribed\n";
     return 1;
   }
   BeaconRadioOptions radio_options;
@@ -460,6 +476,8 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
       reading.sweep = s.sweep;
       sensors.OnUwb(reading);
     });
+    estimation::StateEstimate estimate{};
+    if (estimates.TakeLatest(estimate)) tap.set_estimate(estimate);
     motion::DriveCommand command{};
     if (drive.TakeLatest(command)) {
       syrof_msg_dds__Drive_ sample{};
