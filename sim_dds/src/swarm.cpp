@@ -1,5 +1,7 @@
 #include "syrof/sim_dds/swarm.h"
 
+#include <fcntl.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
@@ -22,6 +24,8 @@
 #include "syrof/app/call_status.h"
 #include "syrof/base/split_mix64.h"
 #include "syrof/motion/safety_filter.h"
+#include "syrof/lab/apps/catalog.h"
+#include "syrof/lab/apps/goal.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/replay/writer.h"
 #include "syrof/lab/sensors/sensor_bank.h"
@@ -261,20 +265,34 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   robot_options.parent_pid = getpid();
   auto spawn = [&](uint16_t id) -> bool {
     robot_options.robot = id;
+    const SwarmOptions::RobotNetwork* network =
+        id < options.robot_networks.size() ? &options.robot_networks[id] : nullptr;
+    robot_options.interface =
+        network != nullptr && !network->interface.empty() ? network->interface : options.interface;
+    int netns = -1;
+    if (network != nullptr && !network->netns_path.empty()) {
+      netns = open(network->netns_path.c_str(), O_RDONLY | O_CLOEXEC);
+      if (netns < 0) return false;
+    }
     std::vector<std::string> args = RobotArguments(robot_options);
     args.insert(args.begin(), robot_binary);
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     const pid_t pid = fork();
-    if (pid < 0) return false;
+    if (pid < 0) {
+      if (netns >= 0) close(netns);
+      return false;
+    }
     if (pid == 0) {
       // Only async-signal-safe calls between fork and exec.
       (void)prctl(PR_SET_PDEATHSIG, SIGKILL);
       (void)setpgid(0, group);
+      if (netns >= 0 && setns(netns, CLONE_NEWNET) != 0) _exit(126);
       execv(argv[0], argv.data());
       _exit(127);
     }
+    if (netns >= 0) close(netns);
     (void)setpgid(pid, group);  // both sides, so neither races the other
     if (group == 0) group = pid;
     robots[id].pid = pid;
@@ -644,6 +662,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       next_progress_ns += 1'000'000'000;
     }
   }
+  const double wall_seconds = static_cast<double>(MonotonicNow() - start) * 1e-9;
   // Let the last rounds' reports arrive, then record them.
   const int64_t last_round = step_ns / alpha;
   const int64_t drain_until = MonotonicNow() + 300'000'000;
@@ -689,17 +708,29 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   facts.seed = sc.seed;
   facts.robots = n;
   facts.sim_seconds = static_cast<double>(step_ns) * 1e-9;
-  facts.wall_seconds = static_cast<double>(step_ns) * 1e-9;
+  facts.wall_seconds = wall_seconds;
   facts.radio_rounds = last_round;
   facts.min_separation_m = world.min_separation_m();
   facts.scenario = sc.name;
   facts.safety_enabled = sc.safety;
   facts.app_name = sc.app.name;
   facts.app_source = sc.app.is_library() ? sc.app.library : sc.app.name;
+  // The built-in app's goal from the final true poses, as the lab does;
+  // a scenario's declared checks (goal:) are not evaluated in a DDS run.
+  std::vector<lab::apps::GoalPose> poses;
+  for (uint16_t id = 0; id < n; ++id) {
+    const lab::world::BodyState& body = world.state(id);
+    poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad,
+                                        robots[id].presence == replay::Presence::kRunning && !robots[id].app_faulted,
+                                        world.body_radius_m(id)});
+  }
+  const lab::apps::GoalReport goal = lab::apps::EvaluateGoal(
+      lab::apps::BareAppName(sc.app.name), sc.app.params, lab::apps::ArenaSize{sc.arena.width_m, sc.arena.height_m},
+      sc.omni.body_radius_m, poses);
   facts.goal.app = sc.app.name;
-  facts.goal.reached = false;
-  facts.goal.error_m = std::numeric_limits<double>::quiet_NaN();
-  facts.goal.detail = "not evaluated in a DDS run";
+  facts.goal.reached = goal.reached && sc.goal.empty();
+  facts.goal.error_m = goal.error_m;
+  facts.goal.detail = sc.goal.empty() ? goal.detail : "the scenario's goal checks are not evaluated in a DDS run";
   const lab::metrics::Metrics metrics = collector.Finish(facts);
   nlohmann::json json = nlohmann::json::parse(lab::metrics::ToJson(metrics));
   json["runtime"] = "dds";

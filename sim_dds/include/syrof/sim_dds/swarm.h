@@ -40,6 +40,16 @@ struct SwarmOptions {
   /// this executable.
   std::string robot_binary;
   std::string interface = "lo";
+  /// Where each robot runs, by robot id (missing or empty entries: beside
+  /// the world). `netns_path` is a network namespace (/var/run/netns/NAME)
+  /// the robot's process joins before exec (setns; needs CAP_SYS_ADMIN);
+  /// `interface` its DDS interface there. How one machine stands in for
+  /// several hosts (two namespaces joined by a veth pair).
+  struct RobotNetwork {
+    std::string netns_path;
+    std::string interface;
+  };
+  std::vector<RobotNetwork> robot_networks;
   std::optional<uint32_t> domain_id;     ///< unset: SYROF_DDS_DOMAIN or one derived from the run id
   double discovery_timeout_s = 30;       ///< robots must report attached within this
   /// Set (by a signal handler) to end the run early and cleanly.
