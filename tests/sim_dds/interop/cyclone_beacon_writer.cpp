@@ -99,9 +99,16 @@ int main(int argc, char** argv) {
     }
     garbage_writer = made.entity;
   }
+  // One beacon per robot per round of the grid; a process that starts (or
+  // wakes) late skips the rounds it missed rather than sending them in a burst.
   const int64_t rounds = seconds * 1000 / round_ms;
-  for (int64_t round = 0; round < rounds; ++round) {
-    std::this_thread::sleep_until(start + round * round_length);
+  for (;;) {
+    const int64_t round = current_round();
+    if (round >= rounds) break;
+    if (round < 0) {
+      std::this_thread::sleep_until(start);
+      continue;
+    }
     for (long robot = first; robot < last; ++robot) {
       syrof::wire::Beacon beacon;
       beacon.robot_id = static_cast<uint16_t>(robot);
@@ -121,6 +128,7 @@ int main(int argc, char** argv) {
       sample.wire._buffer = bytes.data();
       (void)dds_write(garbage_writer, &sample);
     }
+    std::this_thread::sleep_until(start + (round + 1) * round_length);
   }
   BeaconRadioCounters total;
   for (const auto& radio : radios) {
