@@ -18,14 +18,14 @@ constexpr int32_t kTakeBatch = 16;
 
 }  // namespace
 
-BeaconRadio::BeaconRadio(BeaconRadioOptions options, BeaconSink sink)
-    : options_(std::move(options)),
-      sink_(std::move(sink)),
+BeaconRadio::BeaconRadio(const Participant& participant, BeaconRadioOptions options)
+    : participant_(&participant),
+      options_(std::move(options)),
       send_bytes_(wire::EncodedSize(options_.swarm_size)),
       filter_(options_.self, options_.swarm_size),
       channel_(options_.channel, options_.swarm_size, options_.seed) {}
 
-BeaconRadioOrError BeaconRadio::Create(const Participant& participant, BeaconRadioOptions options, BeaconSink sink) {
+BeaconRadioOrError BeaconRadio::Create(const Participant& participant, BeaconRadioOptions options) {
   if (options.swarm_size < 1 || options.swarm_size > kMaxDdsSwarm) {
     return BeaconRadioOrError::Failed(Error{.where = "swarm_size", .message = "must be in 1 .. " +
                                                                               std::to_string(kMaxDdsSwarm) + ", not " +
@@ -43,37 +43,48 @@ BeaconRadioOrError BeaconRadio::Create(const Participant& participant, BeaconRad
   if (!options.current_round) {
     return BeaconRadioOrError::Failed(Error{.where = "current_round", .message = "is not set"});
   }
-  if (!sink) return BeaconRadioOrError::Failed(Error{.where = "sink", .message = "is not set"});
   if (std::optional<Error> problem = lab::world::CheckChannelSpec(options.channel, options.swarm_size)) {
     problem->where = problem->where.empty() ? "channel" : "channel " + problem->where;
     return BeaconRadioOrError::Failed(*problem);
   }
-
-  std::unique_ptr<BeaconRadio> radio(new BeaconRadio(std::move(options), std::move(sink)));
-  const std::string name = TopicName(TopicKind::kBeacon);
+  std::unique_ptr<BeaconRadio> radio(new BeaconRadio(participant, std::move(options)));
   const EntityOrError writer = CreateWriter(participant, TopicKind::kBeacon);
   if (!writer.ok()) return BeaconRadioOrError::Failed(*writer.error);
   radio->writer_ = writer.entity;
-
-  const EntityOrError topic = CreateTopic(participant, TopicKind::kBeacon);
-  if (!topic.ok()) return BeaconRadioOrError::Failed(*topic.error);
-  Qos qos(TopicKind::kBeacon);
-  // Its own participant's beacon would only be counted as kFromSelf.
-  dds_qset_ignorelocal(qos.mutable_get(), DDS_IGNORELOCAL_PARTICIPANT);
-  dds_listener_t* listener = dds_create_listener(radio.get());
-  dds_lset_data_available(listener, &BeaconRadio::OnDataAvailable);
-  const dds_entity_t reader = dds_create_reader(participant.handle(), topic.entity, qos.get(), listener);
-  dds_delete_listener(listener);
-  if (reader < 0) return BeaconRadioOrError::Failed(DdsError(name, "dds_create_reader", reader));
-  radio->reader_ = reader;
   return BeaconRadioOrError{std::move(radio), std::nullopt};
 }
 
-BeaconRadioOrError BeaconRadio::Create(const Participant& participant, BeaconRadioOptions options,
-                                       runtime::Robot& robot) {
+BeaconRadioOrError BeaconRadio::Create(const Participant& participant, BeaconRadioOptions options, BeaconSink sink) {
+  BeaconRadioOrError made = Create(participant, std::move(options));
+  if (!made.ok()) return made;
+  if (std::optional<Error> problem = made.radio->StartReceiving(std::move(sink))) {
+    return BeaconRadioOrError::Failed(*problem);
+  }
+  return made;
+}
+
+std::optional<Error> BeaconRadio::StartReceiving(BeaconSink sink) {
+  const std::string name = TopicName(TopicKind::kBeacon);
+  if (reader_ != 0) return Error{.where = name, .message = "this radio already receives"};
+  if (!sink) return Error{.where = "sink", .message = "is not set"};
+  sink_ = std::move(sink);
+  const EntityOrError topic = CreateTopic(*participant_, TopicKind::kBeacon);
+  if (!topic.ok()) return topic.error;
+  Qos qos(TopicKind::kBeacon);
+  // Its own participant's beacon would only be counted as kFromSelf.
+  dds_qset_ignorelocal(qos.mutable_get(), DDS_IGNORELOCAL_PARTICIPANT);
+  dds_listener_t* listener = dds_create_listener(this);
+  dds_lset_data_available(listener, &BeaconRadio::OnDataAvailable);
+  const dds_entity_t reader = dds_create_reader(participant_->handle(), topic.entity, qos.get(), listener);
+  dds_delete_listener(listener);
+  if (reader < 0) return DdsError(name, "dds_create_reader", reader);
+  reader_ = reader;
+  return std::nullopt;
+}
+
+std::optional<Error> BeaconRadio::StartReceiving(runtime::Robot& robot) {
   runtime::Robot* target = &robot;
-  return Create(participant, std::move(options),
-                [target](std::span<const uint8_t> frame, uint16_t, uint32_t) { target->ReceiveBytes(frame); });
+  return StartReceiving([target](std::span<const uint8_t> frame, uint16_t, uint32_t) { target->ReceiveBytes(frame); });
 }
 
 BeaconRadio::~BeaconRadio() {
@@ -125,8 +136,8 @@ void BeaconRadio::TakeAll(dds_entity_t reader) {
         lost_.fetch_add(1, std::memory_order_relaxed);
         continue;
       }
-      delivered_.fetch_add(1, std::memory_order_relaxed);
       sink_(bytes, sample->sender, sample->round);
+      delivered_.fetch_add(1, std::memory_order_release);  // after the sink: a reader of the count sees its effects
     }
     dds_return_loan(reader, samples, taken);
     if (taken < kTakeBatch) return;
@@ -145,7 +156,7 @@ BeaconRadioCounters BeaconRadio::counters() const {
                              .received = received_.load(std::memory_order_relaxed),
                              .rejected = filter_.counters().rejected(),
                              .lost = lost_.load(std::memory_order_relaxed),
-                             .delivered = delivered_.load(std::memory_order_relaxed)};
+                             .delivered = delivered_.load(std::memory_order_acquire)};
 }
 
 }  // namespace syrof::sim_dds

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <map>
@@ -10,7 +11,13 @@
 #include <thread>
 #include <vector>
 
+#include "syrof/app/app.h"
 #include "syrof/base/split_mix64.h"
+#include "syrof/estimation/topics.h"
+#include "syrof/os/posix_port.h"
+#include "syrof/pubsub/broker.h"
+#include "syrof/pubsub/topic.h"
+#include "syrof/runtime/robot.h"
 #include "syrof/sim_dds/topics.h"
 #include "syrof/wire/beacon_codec.h"
 #include "test_domain.h"
@@ -105,6 +112,66 @@ TEST(BeaconRadio, TwoParticipantsExchangeBeacons) {
   EXPECT_EQ(b.radio->sample_counters().count(SampleVerdict::kFromSelf), 0u);
 }
 
+class IdleApp final : public app::App {
+ public:
+  const char* name() const override { return "idle"; }
+  app::CallStatus Init(const syrof_app_info&, app::Platform&, uint8_t& global_state) override {
+    global_state = 0;
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus NewRound(syrof_car_command&, const syrof_ldmap&, uint8_t&, uint32_t) override {
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
+};
+
+// The wiring of a robot process: the radio first (the Robot takes it), then
+// receiving into the Robot.
+TEST(BeaconRadio, DeliversIntoARobot) {
+  constexpr uint16_t kRobots = 4;
+  const uint32_t domain = testing::FreshDomainId();
+  ParticipantOrError pr = Participant::Create(domain, CycloneOptions{});
+  ParticipantOrError ps = Participant::Create(domain, CycloneOptions{});
+  ASSERT_TRUE(pr.ok() && ps.ok());
+  std::atomic<int64_t> round{0};
+  BeaconRadioOrError radio = BeaconRadio::Create(*pr.participant, Options(0, kRobots, round));
+  ASSERT_TRUE(radio.ok()) << radio.error->ToString();
+
+  os::PosixPort port;
+  pubsub::StaticBroker<8, 12> broker{port};
+  pubsub::Publisher<estimation::ImuReading> imu;
+  pubsub::Publisher<estimation::FlowReading> flow;
+  pubsub::Publisher<estimation::UwbReading> uwb;
+  ASSERT_EQ(imu.Advertise(broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
+  ASSERT_EQ(flow.Advertise(broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
+  ASSERT_EQ(uwb.Advertise(broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+  runtime::RobotConfig config;
+  config.sync = sync::SyncConfig::ForSwarm(kRobots, 0);
+  config.radio_round_ns = 1'000'000'000;  // the port does not run: nothing is stepped
+  IdleApp app;
+  std::array<wire::Beacon, 2 * kRobots> storage{};
+  runtime::Robot robot(config, app, *radio.radio, storage);
+  ASSERT_EQ(robot.Attach(port, broker), runtime::RobotSetupError::kOk);
+  ASSERT_FALSE(radio.radio->StartReceiving(robot).has_value());
+  const std::optional<Error> again = radio.radio->StartReceiving(robot);
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->ToString(), "rt/syrof/beacon: this radio already receives");
+
+  Heard unused(kRobots);
+  BeaconRadioOrError sender = BeaconRadio::Create(*ps.participant, Options(2, kRobots, round), unused.Sink());
+  ASSERT_TRUE(sender.ok());
+  ASSERT_TRUE(WaitFor([&] { return sender.radio->matched_readers() >= 1; }));
+  for (int64_t r = 0; r < 3; ++r) {
+    round = r;
+    sender.radio->Broadcast(BeaconOf(2));
+    ASSERT_TRUE(WaitFor([&] { return radio.radio->counters().delivered == static_cast<uint64_t>(r + 1); }));
+  }
+  EXPECT_EQ(robot.counters().beacons_received, 3u);
+  EXPECT_EQ(robot.counters().beacons_malformed, 0u);
+  sender.radio.reset();
+  radio.radio.reset();  // stops receiving before the robot goes
+}
+
 TEST(BeaconRadio, RefusesBadOptionsWithTheirName) {
   ParticipantOrError made = Participant::Create(testing::FreshDomainId(), CycloneOptions{});
   ASSERT_TRUE(made.ok());
@@ -122,6 +189,10 @@ TEST(BeaconRadio, RefusesBadOptionsWithTheirName) {
   EXPECT_EQ(BeaconRadio::Create(*made.participant, options, heard.Sink()).error->where, "channel link 0 -> 7");
   options = Options(0, 0, round);
   EXPECT_EQ(BeaconRadio::Create(*made.participant, options, heard.Sink()).error->where, "swarm_size");
+  options = Options(0, 3, round);
+  options.current_round = nullptr;
+  EXPECT_EQ(BeaconRadio::Create(*made.participant, options, heard.Sink()).error->where, "current_round");
+  EXPECT_EQ(BeaconRadio::Create(*made.participant, Options(0, 3, round), BeaconSink{}).error->where, "sink");
 }
 
 // A channel with every feature: Gilbert-Elliott, a per-link override and a

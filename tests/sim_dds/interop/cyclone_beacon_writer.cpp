@@ -6,6 +6,7 @@
 // --only I runs robot I alone (of a swarm of N), one process per robot;
 // --origin-ms T puts round 0 at T (CLOCK_REALTIME, ms since the epoch), a
 // grid shared by processes started apart (default: this process's start).
+// --multicast 0 discovers by unicast only (CycloneOptions::multicast).
 // At the end it prints the beacons it sent and its radios' receive counters.
 // --garbage 1 adds, every round, a raw Beacon_ sample claiming robot 0 whose
 // bytes are not a beacon (a wrong version byte): the reader must call it
@@ -25,7 +26,7 @@
 namespace {
 
 int Usage() {
-  std::fprintf(stderr, "usage: cyclone_beacon_writer --domain D --robots N [--seconds S] [--round-ms R] [--garbage 1] [--only I] [--origin-ms T]\n");
+  std::fprintf(stderr, "usage: cyclone_beacon_writer --domain D --robots N [--seconds S] [--round-ms R] [--garbage 1] [--only I] [--origin-ms T] [--multicast 0]\n");
   return 2;
 }
 
@@ -34,7 +35,7 @@ int Usage() {
 int main(int argc, char** argv) {
   using namespace syrof::sim_dds;
   long long origin_ms = -1;
-  long domain = -1, robots = 0, seconds = 20, round_ms = 50, garbage = 0, only = -1;
+  long domain = -1, robots = 0, seconds = 20, round_ms = 50, garbage = 0, only = -1, multicast = 1;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     char* end = nullptr;
@@ -50,6 +51,7 @@ int main(int argc, char** argv) {
     else if (flag == "--round-ms") round_ms = value;
     else if (flag == "--garbage") garbage = value;
     else if (flag == "--only") only = value;
+    else if (flag == "--multicast") multicast = value;
     else return Usage();
   }
   if (argc % 2 == 0 || domain < 0 || domain > kMaxDomainId || robots < 1 || robots > 64 || round_ms < 1 || only >= robots) return Usage();
@@ -67,7 +69,9 @@ int main(int argc, char** argv) {
   std::vector<std::unique_ptr<Participant>> participants;
   std::vector<std::unique_ptr<BeaconRadio>> radios;
   for (long robot = first; robot < last; ++robot) {
-    ParticipantOrError made = Participant::Create(static_cast<uint32_t>(domain), CycloneOptions{});
+    CycloneOptions cyclone;
+    cyclone.multicast = multicast != 0;
+    ParticipantOrError made = Participant::Create(static_cast<uint32_t>(domain), cyclone);
     if (!made.ok()) {
       std::fprintf(stderr, "cyclone_beacon_writer: %s\n", made.error->ToString().c_str());
       return 1;
@@ -95,9 +99,16 @@ int main(int argc, char** argv) {
     }
     garbage_writer = made.entity;
   }
+  // One beacon per robot per round of the grid; a process that starts (or
+  // wakes) late skips the rounds it missed rather than sending them in a burst.
   const int64_t rounds = seconds * 1000 / round_ms;
-  for (int64_t round = 0; round < rounds; ++round) {
-    std::this_thread::sleep_until(start + round * round_length);
+  for (;;) {
+    const int64_t round = current_round();
+    if (round >= rounds) break;
+    if (round < 0) {
+      std::this_thread::sleep_until(start);
+      continue;
+    }
     for (long robot = first; robot < last; ++robot) {
       syrof::wire::Beacon beacon;
       beacon.robot_id = static_cast<uint16_t>(robot);
@@ -117,6 +128,7 @@ int main(int argc, char** argv) {
       sample.wire._buffer = bytes.data();
       (void)dds_write(garbage_writer, &sample);
     }
+    std::this_thread::sleep_until(start + (round + 1) * round_length);
   }
   BeaconRadioCounters total;
   for (const auto& radio : radios) {

@@ -25,6 +25,7 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -91,6 +92,7 @@ std::string DecodeBeacon(const std::vector<uint8_t>& bytes, unsigned swarm, Deco
 }
 
 struct SenderCount {
+  double first_ms = 0;  // since the reader started
   uint64_t samples = 0;
   uint64_t valid = 0;
   uint64_t invalid = 0;
@@ -101,7 +103,7 @@ struct SenderCount {
 
 class BeaconListener : public DataReaderListener {
  public:
-  explicit BeaconListener(unsigned swarm) : swarm_(swarm) {}
+  explicit BeaconListener(unsigned swarm) : swarm_(swarm), start_(std::chrono::steady_clock::now()) {}
 
   void on_data_available(DataReader* reader) override {
     syrof::msg::dds_::Beacon_ sample;
@@ -110,7 +112,9 @@ class BeaconListener : public DataReaderListener {
       if (!info.valid_data) continue;
       std::lock_guard<std::mutex> lock(mutex_);
       SenderCount& count = senders_[sample.sender()];
-      ++count.samples;
+      if (count.samples++ == 0) {
+        count.first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+      }
       count.last_round = sample.round();
       Decoded decoded;
       std::string problem = DecodeBeacon(sample.wire(), swarm_, decoded);
@@ -132,6 +136,7 @@ class BeaconListener : public DataReaderListener {
 
  private:
   unsigned swarm_;
+  std::chrono::steady_clock::time_point start_;
   std::mutex mutex_;
   std::map<uint16_t, SenderCount> senders_;
 };
@@ -227,7 +232,13 @@ int main(int argc, char** argv) {
   }
   SubscriptionMatchedStatus matched;
   reader->get_subscription_matched_status(matched);
-  std::printf("fastdds_beacon_reader: %d beacon writers matched\n", matched.current_count);
+  double first_ms = 0, last_ms = 0;
+  for (const auto& [sender, count] : senders) {
+    first_ms = first_ms == 0 ? count.first_ms : std::min(first_ms, count.first_ms);
+    last_ms = std::max(last_ms, count.first_ms);
+  }
+  std::printf("fastdds_beacon_reader: %d beacon writers matched; first beacon after %.0f ms, every sender's after %.0f ms\n",
+              matched.current_count, first_ms, last_ms);
   participant->delete_contained_entities();
   DomainParticipantFactory::get_instance()->delete_participant(participant);
 

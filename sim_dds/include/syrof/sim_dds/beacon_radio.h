@@ -82,15 +82,29 @@ struct BeaconRadioOrError {
   static BeaconRadioOrError Failed(Error why) { return {nullptr, std::move(why)}; }
 };
 
+/// A robot process wires it in two steps, since the Robot takes its Radio
+/// when it is built and the radio delivers to the Robot:
+///   BeaconRadioOrError radio = BeaconRadio::Create(participant, options);
+///   runtime::Robot robot(config, app, *radio.radio, storage);
+///   radio.radio->StartReceiving(robot);
+/// The robot (or sink) must outlive the radio's receiving: destroy the radio
+/// first, or let the participant go before the robot.
 class BeaconRadio final : public runtime::Radio {
  public:
-  /// A radio whose delivered frames go to `sink`. Errors: options that do
-  /// not hold (swarm size, self, the channel spec: where = "channel ..."),
-  /// or Cyclone's refusal to make the writer or reader. The participant
-  /// outlives the radio.
+  /// A radio that can send; it receives nothing until StartReceiving.
+  /// Errors: options that do not hold (swarm size, self, the channel spec:
+  /// where = "channel ..."), or Cyclone's refusal to make the writer. The
+  /// participant outlives the radio.
+  static BeaconRadioOrError Create(const Participant& participant, BeaconRadioOptions options);
+  /// Create, then StartReceiving(sink).
   static BeaconRadioOrError Create(const Participant& participant, BeaconRadioOptions options, BeaconSink sink);
-  /// The same, delivering to robot.ReceiveBytes (the robot outlives the radio).
-  static BeaconRadioOrError Create(const Participant& participant, BeaconRadioOptions options, runtime::Robot& robot);
+
+  /// Creates the beacon reader: from now on accepted, delivered frames go
+  /// to `sink` (or to robot.ReceiveBytes). Once per radio (a second call is
+  /// an error, where = "rt/syrof/beacon"); errors: an empty sink, Cyclone's
+  /// refusal to make the reader.
+  std::optional<Error> StartReceiving(BeaconSink sink);
+  std::optional<Error> StartReceiving(runtime::Robot& robot);
 
   /// Stops receiving (deletes the reader and writer; waits for a listener
   /// call in progress).
@@ -109,12 +123,13 @@ class BeaconRadio final : public runtime::Radio {
   const SampleCounters& sample_counters() const { return filter_.counters(); }
 
  private:
-  BeaconRadio(BeaconRadioOptions options, BeaconSink sink);
+  BeaconRadio(const Participant& participant, BeaconRadioOptions options);
   static void OnDataAvailable(dds_entity_t reader, void* self);
   void TakeAll(dds_entity_t reader);
 
+  const Participant* participant_;
   BeaconRadioOptions options_;
-  BeaconSink sink_;
+  BeaconSink sink_;  // set before the reader exists, never after
   dds_entity_t writer_ = 0;
   dds_entity_t reader_ = 0;
   std::vector<uint8_t> send_bytes_;
