@@ -396,9 +396,13 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   radio_options.seed = base::SplitMix64Hash(scenario.seed ^ 0x4348414e4e454cULL);
   radio_options.radio_round_ns = config.radio_round_ns;
   radio_options.current_round = [&tap] { return tap.CurrentRound(); };
-  BeaconRadioOrError radio = BeaconRadio::Create(participant, radio_options, robot);
+  BeaconRadioOrError radio = BeaconRadio::Create(participant, radio_options);
   if (!radio.ok()) {
     err << who << radio.error->ToString() << "\n";
+    return 1;
+  }
+  if (const std::optional<Error> error = radio.radio->StartReceiving(robot)) {
+    err << who << error->ToString() << "\n";
     return 1;
   }
   tap.Connect(radio.radio.get(), &robot);
