@@ -102,12 +102,13 @@ tsan: deps
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target $(TSAN_TESTS)
 	TSAN_OPTIONS=halt_on_error=1 ctest --test-dir $(TSAN_DIR) --output-on-failure --no-tests=error -j $(JOBS) -R '$(TSAN_SUITES)'
 
-## fuzz: libFuzzer on the beacon decoder for FUZZ_SECONDS.
+## fuzz: libFuzzer on the beacon decoder, then on the DDS sample checks, for FUZZ_SECONDS each.
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE_CONFIGURE) -S . -B $(FUZZ_DIR) -DSYROF_FUZZ=ON -DSYROF_BUILD_TESTS=OFF -DSYROF_BUILD_BENCH=OFF
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode
-	mkdir -p $(FUZZ_DIR)/corpus/beacon
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode fuzz_beacon_sample
+	mkdir -p $(FUZZ_DIR)/corpus/beacon $(FUZZ_DIR)/corpus/beacon_sample
 	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
+	./$(FUZZ_DIR)/bin/fuzz_beacon_sample -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon_sample
 
 clean:
 	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR)

@@ -1,5 +1,5 @@
 // The `syrof` command: one file per subcommand (run, validate, apps,
-// replay, view, new, grade, gradescope); main only wires them.
+// replay, view, new, grade, gradescope, swarm); main only wires them.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +12,7 @@
 #include "new_command.h"
 #include "replay_command.h"
 #include "run_command.h"
+#include "swarm_command.h"
 #include "usage.h"
 #include "validate_command.h"
 #include "view_command.h"
@@ -36,6 +37,8 @@ int main(int argc, char** argv) {
   CLI::App* grade = SetupGradeCommand(app, grade_options);
   GradescopeOptions gradescope_options;
   CLI::App* gradescope = SetupGradescopeCommand(app, gradescope_options);
+  SwarmOptions swarm_options;
+  CLI::App* swarm = SetupSwarmCommand(app, swarm_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -50,6 +53,7 @@ int main(int argc, char** argv) {
     if (view->parsed()) return RunViewCommand(view_options, std::cout, std::cerr);
     if (grade->parsed()) return RunGradeCommand(grade_options, std::cout, std::cerr);
     if (gradescope->parsed()) return RunGradescopeCommand(gradescope_options, std::cout, std::cerr);
+    if (swarm->parsed()) return RunSwarmCommand(swarm_options, std::cout, std::cerr);
     return 1;
   } catch (const std::exception& error) {
     std::cerr << "syrof: internal error: " << error.what() << "\n";

@@ -22,6 +22,7 @@ set(syrof_package_in ${PROJECT_SOURCE_DIR}/cmake/package)
 set(syrof_package_out ${PROJECT_BINARY_DIR}/package)
 
 install(TARGETS syrof RUNTIME DESTINATION bin)
+install(TARGETS syrof-robot RUNTIME DESTINATION bin)  # `syrof swarm` finds it beside syrof
 install(TARGETS syrof-app-host RUNTIME DESTINATION libexec/syrof)
 install(TARGETS syrof_app_shared LIBRARY DESTINATION lib)
 install(FILES ${PROJECT_SOURCE_DIR}/core/app/include/syrof/app.h DESTINATION include/syrof)

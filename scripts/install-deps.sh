@@ -12,6 +12,8 @@ packages=(
   # design dependencies
   libeigen3-dev libcgal-dev cyclonedds-dev cyclonedds-tools libgtest-dev libgmock-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev
+  # the independent Fast DDS 2.9 reader of the swarm's beacons (tests/sim_dds/interop; fastddsgen runs on Java)
+  libfastrtps-dev libfastcdr-dev fastddsgen
   # the app host's system call filter (grader/app_host)
   libseccomp-dev
   # the Gradescope bundle's zip (grader/report; found through pkg-config)

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <thread>
 #include <vector>
 
 #include "port_contract.h"
@@ -172,6 +173,154 @@ TEST(PosixPortTest, CriticalSectionExcludesOtherTasks) {
   ASSERT_EQ(port.Stop(), PortError::kOk);
 
   EXPECT_EQ(counter, 1000L * steps.load());
+}
+
+// A periodic task that shifts its own grid once, from its first step.
+class ShiftingTask final : public Task {
+ public:
+  ShiftingTask(Port& port, int64_t delta_ns) : port_(port), delta_ns_(delta_ns) {}
+  void set_id(TaskId id) { id_ = id; }
+  void Step(int64_t now_ns) override {
+    if (!shifted_) {
+      shifted_ = true;
+      result_ = port_.ShiftPeriodic(id_, delta_ns_);
+    }
+    counter_.Step(now_ns);
+  }
+  CountingTask& counter() { return counter_; }
+  PortError result() const { return result_; }
+
+ private:
+  Port& port_;
+  int64_t delta_ns_;
+  TaskId id_ = 0;
+  bool shifted_ = false;
+  PortError result_ = PortError::kSystemError;
+  CountingTask counter_;
+};
+
+TEST(PosixPortTest, StartAtPutsActivationsOnTheOriginsGridNeverBeforeTheirPoint) {
+  PosixPort port;
+  CountingTask task;
+  constexpr int64_t kPeriod = 5'000'000;
+  ASSERT_TRUE(port.AddTask(task, {"periodic", Trigger::periodic(kPeriod), 0}));
+  // An origin in the past, off the port's start: activations stay on its grid.
+  const int64_t origin = port.now_ns() + 1'234'567;
+  std::this_thread::sleep_for(milliseconds(12));
+  const int64_t before_start = port.now_ns();
+  ASSERT_EQ(port.StartAt(origin), PortError::kOk);
+  ASSERT_TRUE(task.wait_for_steps(3));
+  ASSERT_EQ(port.Stop(), PortError::kOk);
+
+  const std::vector<int64_t> times = task.times_ns();
+  // The first activation is the first grid point not before the start.
+  const int64_t first_point = origin + ((before_start - origin + kPeriod - 1) / kPeriod) * kPeriod;
+  for (size_t k = 0; k < times.size(); ++k) {
+    EXPECT_GE(times[k], first_point + static_cast<int64_t>(k) * kPeriod) << "activation " << k;
+  }
+  EXPECT_EQ(port.StartAt(-1), PortError::kInvalidTrigger);
+}
+
+TEST(PosixPortTest, TwoPortsStartedApartShareTheGridOfOneMonotonicOrigin) {
+  PosixPort first;
+  std::this_thread::sleep_for(milliseconds(3));
+  PosixPort second;  // a later epoch: port times differ, monotonic times do not
+  const int64_t origin_monotonic = PosixPort::MonotonicNowNs() + 20'000'000;
+  EXPECT_EQ(first.PortToMonotonic(first.MonotonicToPort(origin_monotonic)), origin_monotonic);
+  EXPECT_GT(first.MonotonicToPort(origin_monotonic), second.MonotonicToPort(origin_monotonic));
+  CountingTask a, b;
+  constexpr int64_t kPeriod = 10'000'000;
+  ASSERT_TRUE(first.AddTask(a, {"a", Trigger::periodic(kPeriod), 0}));
+  ASSERT_TRUE(second.AddTask(b, {"b", Trigger::periodic(kPeriod), 0}));
+  ASSERT_EQ(first.StartAt(first.MonotonicToPort(origin_monotonic)), PortError::kOk);
+  ASSERT_EQ(second.StartAt(second.MonotonicToPort(origin_monotonic)), PortError::kOk);
+  ASSERT_TRUE(a.wait_for_steps(2));
+  ASSERT_TRUE(b.wait_for_steps(2));
+  ASSERT_EQ(first.Stop(), PortError::kOk);
+  ASSERT_EQ(second.Stop(), PortError::kOk);
+  // Neither runs before the shared origin's grid points (no upper bound: a
+  // loaded machine may wake late).
+  EXPECT_GE(first.PortToMonotonic(a.times_ns()[0]), origin_monotonic);
+  EXPECT_GE(second.PortToMonotonic(b.times_ns()[0]), origin_monotonic);
+  EXPECT_GE(first.PortToMonotonic(a.times_ns()[1]), origin_monotonic + kPeriod);
+  EXPECT_GE(second.PortToMonotonic(b.times_ns()[1]), origin_monotonic + kPeriod);
+}
+
+TEST(PosixPortTest, ShiftPeriodicFromTheStepMovesTheNextActivation) {
+  PosixPort port;
+  constexpr int64_t kPeriod = 5'000'000;
+  constexpr int64_t kShift = 40'000'000;  // eight periods later
+  ShiftingTask task(port, kShift);
+  const auto id = port.AddTask(task, {"periodic", Trigger::periodic(kPeriod), 0});
+  ASSERT_TRUE(id);
+  task.set_id(id.value());
+  const int64_t before_start = port.now_ns();
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  ASSERT_TRUE(task.counter().wait_for_steps(3));
+  ASSERT_EQ(port.Stop(), PortError::kOk);
+
+  EXPECT_EQ(task.result(), PortError::kOk);
+  const std::vector<int64_t> times = task.counter().times_ns();
+  for (size_t k = 1; k < times.size(); ++k) {
+    EXPECT_GE(times[k], before_start + kShift + static_cast<int64_t>(k) * kPeriod) << "activation " << k;
+  }
+}
+
+TEST(PosixPortTest, ShiftPeriodicNeverMovesBeforeNowAndRefusesNotifiedAndUnknownTasks) {
+  PosixPort port;
+  CountingTask periodic, notified;
+  constexpr int64_t kPeriod = 2'000'000'000;  // far: only a shift can bring it near
+  const auto periodic_id = port.AddTask(periodic, {"periodic", Trigger::periodic(kPeriod, kPeriod), 0});
+  const auto notified_id = port.AddTask(notified, {"notified", Trigger::notified(), 0});
+  ASSERT_TRUE(periodic_id);
+  ASSERT_TRUE(notified_id);
+  EXPECT_EQ(port.ShiftPeriodic(periodic_id.value(), 5), PortError::kOk);  // before Start: nothing to move
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  const int64_t shifted_at = port.now_ns();
+  // From another thread while the task waits: far into the past means now.
+  EXPECT_EQ(port.ShiftPeriodic(periodic_id.value(), -100 * kPeriod), PortError::kOk);
+  ASSERT_TRUE(periodic.wait_for_steps(1));
+  EXPECT_EQ(port.ShiftPeriodic(notified_id.value(), 1), PortError::kInvalidTrigger);
+  EXPECT_EQ(port.ShiftPeriodic(9, 1), PortError::kInvalidTrigger);
+  ASSERT_EQ(port.Stop(), PortError::kOk);
+  const std::vector<int64_t> times = periodic.times_ns();
+  ASSERT_GE(times.size(), 1u);
+  EXPECT_GE(times[0], shifted_at);
+  EXPECT_LT(times[0], shifted_at + kPeriod);  // woke for the shift, not for the old due time
+}
+
+// A step that takes longer than several periods, as a stopped process does.
+class SlowFirstStepTask final : public Task {
+ public:
+  void Step(int64_t now_ns) override {
+    if (first_) {
+      first_ = false;
+      std::this_thread::sleep_for(milliseconds(32));
+    }
+    counter_.Step(now_ns);
+  }
+  CountingTask& counter() { return counter_; }
+
+ private:
+  bool first_ = true;
+  CountingTask counter_;
+};
+
+TEST(PosixPortTest, AnActivationLateByPeriodsSkipsThePassedGridPointsInsteadOfRunningThemBackToBack) {
+  PosixPort port;
+  SlowFirstStepTask task;
+  constexpr int64_t kPeriod = 5'000'000;
+  ASSERT_TRUE(port.AddTask(task, {"periodic", Trigger::periodic(kPeriod), 0}));
+  const int64_t before_start = port.now_ns();
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  ASSERT_TRUE(task.counter().wait_for_steps(3));
+  ASSERT_EQ(port.Stop(), PortError::kOk);
+  const std::vector<int64_t> times = task.counter().times_ns();
+  // The first step ends 32 ms in, six grid points late: the late point runs
+  // once, right away, and the third activation is back on the grid after
+  // the passed points (7 periods in), not one of a burst.
+  EXPECT_GE(times[1], before_start + 6 * kPeriod);
+  EXPECT_GE(times[2], before_start + 7 * kPeriod);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <system_error>
 
 namespace syrof::os {
@@ -11,6 +12,10 @@ struct PosixPort::Worker {
   Task* task;
   TaskConfig config;
   bool pending = false;
+  // Periodic: the next activation (under state_mutex_). RunPeriodic moves it
+  // one period on before each step, so ShiftPeriodic from the step itself
+  // moves the activation after it.
+  std::chrono::steady_clock::time_point due;
   std::condition_variable wake;
   std::thread thread;
 };
@@ -34,13 +39,31 @@ base::Result<TaskId, PortError> PosixPort::AddTask(Task& task, const TaskConfig&
   return static_cast<TaskId>(workers_.size() - 1);
 }
 
-PortError PosixPort::Start() {
+PortError PosixPort::Start() { return StartFrom(std::chrono::steady_clock::now(), false); }
+
+PortError PosixPort::StartAt(int64_t origin_ns) {
+  if (origin_ns < 0) return PortError::kInvalidTrigger;
+  return StartFrom(epoch_ + std::chrono::nanoseconds(origin_ns), true);
+}
+
+PortError PosixPort::StartFrom(std::chrono::steady_clock::time_point origin, bool skip_past) {
   {
     std::lock_guard<std::mutex> guard(state_mutex_);
     if (running_) return PortError::kAlreadyStarted;
     running_ = true;
-    started_ = std::chrono::steady_clock::now();
-    for (auto& worker : workers_) worker->pending = false;
+    const auto now = std::chrono::steady_clock::now();
+    for (auto& worker : workers_) {
+      worker->pending = false;
+      const Trigger& trigger = worker->config.trigger;
+      if (trigger.kind != TriggerKind::kPeriodic) continue;
+      worker->due = origin + std::chrono::nanoseconds(trigger.offset_ns);
+      if (skip_past && worker->due < now) {
+        // The first grid point at or after now.
+        const int64_t behind_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(now - worker->due).count();
+        const int64_t periods = (behind_ns + trigger.period_ns - 1) / trigger.period_ns;
+        worker->due += std::chrono::nanoseconds(periods * trigger.period_ns);
+      }
+    }
   }
   for (auto& worker : workers_) {
     Worker& w = *worker;
@@ -89,20 +112,54 @@ void PosixPort::Notify(TaskId task) {
   worker.wake.notify_one();
 }
 
+PortError PosixPort::ShiftPeriodic(TaskId task, int64_t delta_ns) {
+  if (task >= workers_.size()) return PortError::kInvalidTrigger;
+  Worker& worker = *workers_[task];
+  if (worker.config.trigger.kind != TriggerKind::kPeriodic) return PortError::kInvalidTrigger;
+  {
+    std::lock_guard<std::mutex> guard(state_mutex_);
+    if (!running_ || delta_ns == 0) return PortError::kOk;
+    worker.due = std::max(worker.due + std::chrono::nanoseconds(delta_ns), std::chrono::steady_clock::now());
+  }
+  worker.wake.notify_all();
+  return PortError::kOk;
+}
+
+int64_t PosixPort::MonotonicNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+int64_t PosixPort::MonotonicToPort(int64_t monotonic_ns) const {
+  return monotonic_ns - std::chrono::duration_cast<std::chrono::nanoseconds>(epoch_.time_since_epoch()).count();
+}
+
+int64_t PosixPort::PortToMonotonic(int64_t port_ns) const {
+  return port_ns + std::chrono::duration_cast<std::chrono::nanoseconds>(epoch_.time_since_epoch()).count();
+}
+
 int64_t PosixPort::now_ns() const {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - epoch_).count();
 }
 
 void PosixPort::RunPeriodic(Worker& worker) {
   const auto period = std::chrono::nanoseconds(worker.config.trigger.period_ns);
-  auto due = started_ + std::chrono::nanoseconds(worker.config.trigger.offset_ns);
   std::unique_lock<std::mutex> state(state_mutex_);
   while (running_) {
-    if (worker.wake.wait_until(state, due, [this] { return !running_; })) break;
+    // Re-wait when ShiftPeriodic moved the due time while we slept.
+    const auto due = worker.due;
+    if (worker.wake.wait_until(state, due, [&] { return !running_ || worker.due != due; })) {
+      if (!running_) break;
+      continue;
+    }
+    // An activation more than a period late (a stopped process, SIGSTOP)
+    // runs once; the missed grid points are skipped, not run back to back.
+    worker.due = due + period;
+    const auto now = std::chrono::steady_clock::now();
+    if (worker.due <= now) worker.due += ((now - worker.due) / period + 1) * period;
     state.unlock();
     worker.task->Step(now_ns());
     state.lock();
-    due += period;
   }
 }
 

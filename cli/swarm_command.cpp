@@ -1,0 +1,101 @@
+#include "swarm_command.h"
+
+#include <signal.h>
+
+#include <atomic>
+#include <filesystem>
+
+#include <fmt/ostream.h>
+
+#include "exit_status.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/sim_dds/swarm.h"
+
+namespace syrof::cli {
+namespace {
+
+std::atomic<bool> g_swarm_stop{false};
+void StopSwarm(int) { g_swarm_stop.store(true); }
+
+}  // namespace
+
+CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
+  CLI::App* swarm = app.add_subcommand(
+      "swarm", "Run a scenario as a DDS swarm: one syrof-robot process per robot, in wall-clock time");
+  swarm->add_option("scenario", options.scenario_path, "Scenario file (YAML, docs/scenarios.md)")->required();
+  swarm->add_option("--app", options.app,
+                    "App to run instead of the scenario's: builtin:NAME, or your library's path (build/libmyapp.so)");
+  swarm->add_option("--seed", options.seed, "Seed instead of the scenario's");
+  swarm->add_option("--robots", options.robots, "Robot count instead of the scenario's")->check(CLI::Range(1, 110));
+  swarm->add_option("--duration", options.duration_s, "Seconds (wall clock) instead of the scenario's")
+      ->check(CLI::PositiveNumber);
+  swarm->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>-dds)");
+  swarm->add_option("--interface", options.interface,
+                    "Network interface for DDS: lo keeps the swarm on this machine (default lo)");
+  swarm->add_option("--domain", options.domain, "DDS domain id (default: $SYROF_DDS_DOMAIN, else one per run)")
+      ->check(CLI::Range(0, 232));
+  swarm->add_flag("--no-replay", options.no_replay, "Do not write the replay");
+  swarm->add_flag("--quiet", options.quiet, "No progress line, no summary");
+  swarm->footer(
+      "Each robot is a process (syrof-robot) running the robot software on the POSIX port; this process is the\n"
+      "world (bodies, sensors, faults, metrics). Faults are real: crash = SIGKILL, pause = SIGSTOP/SIGCONT,\n"
+      "join = a process started late. Ctrl-C stops every process. See docs/dds.md.");
+  return swarm;
+}
+
+int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream& err) {
+  lab::scenario::Overrides overrides;
+  overrides.seed = options.seed;
+  overrides.robots = options.robots;
+  overrides.duration_s = options.duration_s;
+  overrides.app = options.app;
+  // The scenario is read here once for its name and errors; the world and
+  // every robot read it again with the same overrides.
+  const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(options.scenario_path, overrides);
+  if (!loaded.ok()) {
+    fmt::print(err, "syrof swarm: {}\n", loaded.error->ToString());
+    return kBadInput;
+  }
+  sim_dds::SwarmOptions swarm;
+  // Robots may run in another working directory's meaning of a relative
+  // path: hand them absolute ones.
+  swarm.scenario_path = std::filesystem::absolute(options.scenario_path).string();
+  swarm.overrides = overrides;
+  if (overrides.app && lab::scenario::IsLibraryPath(*overrides.app)) {
+    swarm.overrides.app = std::filesystem::absolute(*overrides.app).string();
+  }
+  swarm.out_dir = options.out_dir.empty() ? (std::filesystem::path("out") / (loaded.scenario->name + "-dds")).string()
+                                          : options.out_dir;
+  swarm.replay = !options.no_replay;
+  swarm.interface = options.interface;
+  swarm.domain_id = options.domain;
+  g_swarm_stop.store(false);
+  swarm.stop = &g_swarm_stop;
+  struct sigaction action {};
+  struct sigaction old_int {}, old_term {};
+  action.sa_handler = StopSwarm;
+  sigaction(SIGINT, &action, &old_int);
+  sigaction(SIGTERM, &action, &old_term);
+  if (!options.quiet) {
+    fmt::print(out, "syrof swarm: {} ({}), {} robot processes, seed {}, {:.1f} s\n", loaded.scenario->name,
+               loaded.scenario->app.name, loaded.scenario->robots.size(), loaded.scenario->seed,
+               loaded.scenario->timing.duration_s);
+    swarm.progress = [&out](double seconds) { fmt::print(out, "  {:.0f} s\n", seconds); };
+  }
+  const sim_dds::SwarmResult result = sim_dds::RunSwarm(swarm, err);
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+  if (result.exit_code != 0) {
+    fmt::print(err, "syrof swarm: {}\n", result.error);
+    return result.exit_code == 2 ? kBadInput : kInternalError;
+  }
+  if (!options.quiet) {
+    fmt::print(out, "{}  delivery ratio {:.4f}; round-start skew p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us\n",
+               result.stopped_early ? "  stopped early (signal)\n" : "", result.delivery_ratio, result.skew.p50_us,
+               result.skew.p99_us, result.skew.max_us);
+    fmt::print(out, "  wrote {}/metrics.json{}\n", swarm.out_dir, swarm.replay ? " and replay" : "");
+  }
+  return kOk;
+}
+
+}  // namespace syrof::cli

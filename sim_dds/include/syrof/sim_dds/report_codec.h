@@ -1,0 +1,97 @@
+// What a robot process tells the world on rt/syrof/report (Report_.body):
+// every event the lab's observer gets, plus one observation per round, so
+// that the world feeds lab/metrics' Collector exactly as the lab does and
+// checks P3 from the very maps the robots handed to newRound.
+//
+// The body is little-endian, fixed layouts per kind (docs/dds.md, "Reports"):
+//   kEpochStart     epoch u16, mode u8, count u16, then per member in id order:
+//                   id u16, phase u8, x_mm i16, y_mm i16, heading_mrad i16,
+//                   vx_mm_s i16, vy_mm_s i16, payload_length u8, payload[9]
+//   kMembership     removed: count u16 + ids u16..., joined: the same
+//   kBecameJoiner   (empty)
+//   kAppFault       callback u8, epoch u16, verdict u8, detail (rest, text)
+//   kInvalidCommand epoch u16, what (rest, text)
+//   kPayloadRefused epoch u16, length u32
+//   kSafety         time_ns i64 (the robot's monotonic clock), other u16
+//   kRound          RoundReport (below), 32 bytes
+// A sample is untrusted (any participant may write the topic): Decode checks
+// the kind, every length and enum, and says what is wrong.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "syrof/sync/ldmap.h"
+#include "syrof/wire/member_set.h"
+
+namespace syrof::sim_dds {
+
+enum class ReportKind : uint8_t {
+  kEpochStart = 0,
+  kMembership = 1,
+  kBecameJoiner = 2,
+  kAppFault = 3,
+  kInvalidCommand = 4,
+  kPayloadRefused = 5,
+  kSafety = 6,
+  kRound = 7,
+};
+inline constexpr uint8_t kReportKinds = 8;
+
+/// A robot at the end of one of its rounds (after the synchronizer's step):
+/// what the lab's recorder reads from each robot (observation.h).
+struct RoundReport {
+  uint32_t round = 0;           ///< on the world's grid: (activation - start) / alpha, rounded
+  int64_t activation_ns = 0;    ///< the round task's activation, CLOCK_MONOTONIC (the skew's sample)
+  uint8_t status = 1;           ///< sync::Status
+  uint8_t phase = 1;            ///< wire::Phase
+  uint8_t epoch_mode = 1;       ///< wire::Mode
+  uint8_t estimate_valid = 0;   ///< initialized and warmed up
+  uint16_t epoch = 0;
+  float est_x_m = 0;
+  float est_y_m = 0;
+  float est_heading_rad = 0;
+  uint32_t beacons_heard = 0;   ///< beacons the transport delivered so far (the radio's count, before loss)
+};
+
+/// One decoded report body.
+struct ReportBody {
+  ReportKind kind = ReportKind::kBecameJoiner;
+  sync::LDMap ldmap;                     ///< kEpochStart
+  wire::MemberSet removed, joined;       ///< kMembership
+  uint8_t callback = 0;                  ///< kAppFault: app::Callback
+  uint8_t verdict = 0;                   ///< kAppFault: app::Verdict
+  uint16_t epoch = 0;                    ///< kAppFault, kInvalidCommand, kPayloadRefused
+  std::string text;                      ///< kAppFault's detail, kInvalidCommand's what
+  uint32_t length = 0;                   ///< kPayloadRefused
+  int64_t time_ns = 0;                   ///< kSafety
+  uint16_t other = 0;                    ///< kSafety
+  RoundReport round;                     ///< kRound
+};
+
+std::vector<uint8_t> EncodeEpochStart(const sync::LDMap& ldmap);
+std::vector<uint8_t> EncodeMembership(const wire::MemberSet& removed, const wire::MemberSet& joined);
+std::vector<uint8_t> EncodeAppFault(uint8_t callback, uint16_t epoch, uint8_t verdict, std::string_view detail);
+std::vector<uint8_t> EncodeInvalidCommand(uint16_t epoch, std::string_view what);
+std::vector<uint8_t> EncodePayloadRefused(uint16_t epoch, uint32_t length);
+std::vector<uint8_t> EncodeSafety(int64_t time_ns, uint16_t other);
+std::vector<uint8_t> EncodeRound(const RoundReport& round);
+
+/// The body of `kind` (a Report_'s kind byte) or what is wrong with it
+/// ("epoch start: member 70 at or above the swarm size 8", ...). `swarm_size`
+/// bounds every robot id.
+struct DecodedReport {
+  std::optional<ReportBody> body;
+  std::string error;
+};
+DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> body, uint16_t swarm_size);
+
+/// Report bodies above this are refused by the writer's type (the IDL's
+/// REPORT_MAX_BYTES); an epoch start fits it up to kMaxReportMembers members.
+inline constexpr size_t kMaxReportBytes = 8192;
+inline constexpr size_t kMaxReportMembers = (kMaxReportBytes - 5) / 23;
+
+}  // namespace syrof::sim_dds

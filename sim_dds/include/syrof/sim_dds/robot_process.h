@@ -1,0 +1,66 @@
+// The robot process, syrof-robot: one scenario robot's software
+// (core/runtime's Robot on the POSIX port, with its own broker) as its own
+// process on DDS (docs/dds.md, "Running a swarm on one machine").
+//
+//   - sensor drivers: Imu_/Flow_/Uwb_ samples for this robot, stamped with
+//     the robot's port clock on arrival and published on its broker exactly
+//     as lab/sensors' SensorPublishers does;
+//   - actuator driver: the drive topic's latest command, written as Drive_;
+//   - radio: BeaconRadio on rt/syrof/beacon (the lab's channel model in the
+//     receiver);
+//   - observer: every event the lab's observer gets, plus one observation a
+//     round, as Report_ samples (report_codec.h); Status_ at start-up and
+//     once a second;
+//   - rounds: on the grid of the world's Control_ start time
+//     (PosixPort::StartAt on CLOCK_MONOTONIC).
+// Its RobotConfig is the lab's for the same scenario robot
+// (lab::sim::RobotConfigFor); the app is a built-in one or a student library
+// through the app host, as `syrof run --app` runs it.
+//
+// Lifetime: it dies with its parent (PR_SET_PDEATHSIG, and a check of the
+// parent's pid), and exits when Control_ says stop, when the world's
+// participant has been gone for kWorldLostNs, or on SIGINT/SIGTERM.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "syrof/lab/scenario/scenario.h"
+
+namespace syrof::sim_dds {
+
+/// What syrof-robot is told on its command line.
+struct RobotProcessOptions {
+  std::string scenario_path;
+  lab::scenario::Overrides overrides;  ///< the same the world loaded the scenario with
+  uint16_t robot = 0;
+  uint64_t run_id = 0;
+  uint32_t domain_id = 0;
+  std::string interface = "lo";        ///< CycloneOptions::interface
+  std::string log_directory;           ///< a library app's host log goes to <dir>/<id>.log; empty: none
+  int64_t parent_pid = 0;              ///< exit if the parent is no longer this process (0: no check)
+};
+
+/// The arguments (argv[1..]) that make syrof-robot run `options`.
+std::vector<std::string> RobotArguments(const RobotProcessOptions& options);
+
+/// Parses them back; an error names the argument.
+struct ParsedRobotArguments {
+  std::optional<RobotProcessOptions> options;
+  std::string error;
+};
+ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& arguments);
+
+/// The world's participant gone for this long (its liveliness lost): the
+/// robot stops.
+inline constexpr int64_t kWorldLostNs = 3'000'000'000;
+
+/// Runs the robot until the world stops it. 0 on a clean stop, 2 on bad
+/// input (scenario, robot id, app), 1 on a DDS or system failure; the reason
+/// goes to `err`.
+int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err);
+
+}  // namespace syrof::sim_dds

@@ -1,0 +1,117 @@
+// The checks every received Beacon_ sample passes before its bytes reach a
+// robot (docs/dds.md, "Sample checks"). Anyone on the domain can write to
+// rt/syrof/beacon, so a sample is untrusted input: its wire bytes, its
+// sender and its round are checked against each other and against the
+// receiver, and a rejected sample is counted by its reason.
+//
+// Pure code on explicit state, no DDS header, so tests and the fuzz target
+// (tests/fuzz/beacon_sample_fuzz.cpp) run it without a participant.
+//
+// The checks, in this order (the first that fails is the reason):
+//   kOversized        more wire bytes than this swarm's beacon
+//                     (wire::EncodedSize(swarm_size))
+//   kSenderOutOfSwarm the sample's sender >= swarm size
+//   kFromSelf         the sample's sender is the receiver (its own beacon
+//                     comes back through DDS, or someone forges it)
+//   kMalformed        wire::Decode fails (truncated, wrong version, a field
+//                     out of range, ...)
+//   kSenderMismatch   the sample's sender is not the beacon's robot_id
+//   kRoundOutOfWindow the sample's round is more than kRoundWindow rounds
+//                     before or after the receiver's current round (replays
+//                     of old rounds, or a writer far ahead)
+//   kDuplicate        the sender's round is not after the last round
+//                     accepted from that sender (a replay within the window,
+//                     or a reordered sample)
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "syrof/wire/beacon.h"
+#include "syrof/wire/beacon_layout.h"
+
+namespace syrof::sim_dds {
+
+/// The largest swarm over DDS: every beacon of it fits the IDL's
+/// BEACON_MAX_BYTES (beacon_radio.cpp checks at compile time).
+inline constexpr uint16_t kMaxDdsSwarm = wire::kMaxSwarmSize;
+
+/// Rounds a sample's round may lie before or after the receiver's round.
+/// Robots follow one grid from the world's start time, so a fresh beacon is
+/// of the receiver's round or, at a boundary, one off; two rounds leave room
+/// for a late process without accepting replays of older rounds.
+inline constexpr int64_t kRoundWindow = 2;
+
+enum class SampleVerdict : uint8_t {
+  kAccepted = 0,
+  kOversized,
+  kSenderOutOfSwarm,
+  kFromSelf,
+  kMalformed,
+  kSenderMismatch,
+  kRoundOutOfWindow,
+  kDuplicate,
+};
+inline constexpr int kSampleVerdicts = 8;
+
+/// "accepted", "oversized", "sender_out_of_swarm", ... (the names metrics
+/// and logs use); "?" for an unknown value.
+const char* ToString(SampleVerdict verdict);
+
+/// What the receiver knows when it checks a sample.
+struct ReceiverView {
+  uint16_t self = 0;
+  uint16_t swarm_size = 0;     ///< 1 .. kMaxDdsSwarm
+  int64_t current_round = -1;  ///< the receiver's round; < 0: not started, no window check
+  /// The last round accepted from the sample's sender; < 0: none yet.
+  int64_t last_round_from_sender = -1;
+};
+
+/// Checks one sample (sender, round and wire bytes as they arrived) for the
+/// receiver; on kAccepted writes the decoded beacon to `beacon` (otherwise
+/// leaves it unspecified). Never reads past `wire`; any input is allowed.
+SampleVerdict CheckSample(uint16_t sample_sender, uint32_t sample_round, std::span<const uint8_t> wire,
+                          const ReceiverView& receiver, wire::Beacon& beacon);
+
+/// Counts of samples by verdict; readable from any thread while one thread
+/// checks.
+class SampleCounters {
+ public:
+  void Add(SampleVerdict verdict) { counts_[static_cast<int>(verdict)].fetch_add(1, std::memory_order_relaxed); }
+  uint64_t count(SampleVerdict verdict) const { return counts_[static_cast<int>(verdict)].load(std::memory_order_relaxed); }
+  uint64_t accepted() const { return count(SampleVerdict::kAccepted); }
+  /// Every reason but kAccepted.
+  uint64_t rejected() const;
+
+ private:
+  std::array<std::atomic<uint64_t>, kSampleVerdicts> counts_{};
+};
+
+/// A receiver's state for CheckSample: the last round accepted from each
+/// sender, and the counters. One thread calls Check (the radio's reader);
+/// any thread reads counters().
+class SampleFilter {
+ public:
+  /// `self` < `swarm_size` <= kMaxDdsSwarm (SYROF_CHECK).
+  SampleFilter(uint16_t self, uint16_t swarm_size);
+
+  /// CheckSample with the sender's last accepted round; remembers the round
+  /// of an accepted sample and counts the verdict.
+  SampleVerdict Check(uint16_t sample_sender, uint32_t sample_round, std::span<const uint8_t> wire,
+                      int64_t current_round, wire::Beacon& beacon);
+
+  const SampleCounters& counters() const { return counters_; }
+  uint16_t self() const { return self_; }
+  uint16_t swarm_size() const { return swarm_size_; }
+
+ private:
+  uint16_t self_;
+  uint16_t swarm_size_;
+  std::vector<int64_t> last_round_;  // per sender; -1 none
+  SampleCounters counters_;
+};
+
+}  // namespace syrof::sim_dds

@@ -1,0 +1,521 @@
+#include "syrof/sim_dds/robot_process.h"
+
+#include <signal.h>
+#include <sys/prctl.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <thread>
+
+#include "syrof/app_host/hosted_app.h"
+#include "syrof/base/split_mix64.h"
+#include "syrof/estimation/topics.h"
+#include "syrof/lab/apps/catalog.h"
+#include "syrof/lab/sensors/sensor_publishers.h"
+#include "syrof/lab/sim/robot_config.h"
+#include "syrof/motion/drive.h"
+#include "syrof/os/posix_port.h"
+#include "syrof/pubsub/broker.h"
+#include "syrof/queries/queries.h"
+#include "syrof/runtime/robot.h"
+#include "syrof/sim_dds/beacon_radio.h"
+#include "syrof/sim_dds/report_codec.h"
+#include "syrof/sim_dds/topics.h"
+#include "take_samples.h"
+
+namespace syrof::sim_dds {
+namespace {
+
+std::atomic<bool> g_stop_requested{false};
+void RequestStop(int) { g_stop_requested.store(true); }
+
+int64_t CpuTimeNs() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+// The queries' scratch memory for this robot's app.
+class QueriesWorkspace {
+ public:
+  QueriesWorkspace()
+      : memory_(static_cast<unsigned char*>(::operator new(syrof_queries_workspace_size(),
+                                                            std::align_val_t(syrof_queries_workspace_alignment())))) {
+    if (syrof_queries_workspace_init(memory_, syrof_queries_workspace_size(), &handle_) != SYROF_QUERIES_OK) {
+      handle_ = nullptr;
+    }
+  }
+  ~QueriesWorkspace() { ::operator delete(memory_, std::align_val_t(syrof_queries_workspace_alignment())); }
+  QueriesWorkspace(const QueriesWorkspace&) = delete;
+  QueriesWorkspace& operator=(const QueriesWorkspace&) = delete;
+  syrof_queries_workspace* handle() const { return handle_; }
+
+ private:
+  unsigned char* memory_;
+  syrof_queries_workspace* handle_ = nullptr;
+};
+
+// Writes Report_ samples: from the round task (observer hooks, round
+// observations) and, for init's fault, from the main thread before the port
+// starts. The mutex keeps sequence numbers in writing order.
+class ReportWriter {
+ public:
+  ReportWriter(dds_entity_t writer, uint64_t run_id, uint16_t robot) : writer_(writer), run_id_(run_id), robot_(robot) {}
+  void Write(ReportKind kind, int64_t monotonic_ns, const std::vector<uint8_t>& body) {
+    std::lock_guard<std::mutex> guard(mutex_);
+    syrof_msg_dds__Report_ sample{};
+    sample.run_id = run_id_;
+    sample.robot = robot_;
+    sample.sequence_number = sequence_++;
+    sample.kind = static_cast<uint8_t>(kind);
+    sample.robot_time_ns = monotonic_ns;
+    sample.body._length = static_cast<uint32_t>(body.size());
+    sample.body._maximum = sample.body._length;
+    sample.body._buffer = const_cast<uint8_t*>(body.data());
+    sample.body._release = false;
+    if (dds_write(writer_, &sample) < 0) ++failed_;
+  }
+  uint64_t failed() const { return failed_; }
+
+ private:
+  std::mutex mutex_;
+  dds_entity_t writer_;
+  uint64_t run_id_;
+  uint16_t robot_;
+  uint32_t sequence_ = 0;
+  uint64_t failed_ = 0;
+};
+
+// The robot's observer: every hook becomes a Report_ (report_codec.h), its
+// time on CLOCK_MONOTONIC so the world can place it on the run's grid.
+class ReportObserver final : public runtime::RobotObserver {
+ public:
+  ReportObserver(ReportWriter& writer, const os::PosixPort& port) : writer_(writer), port_(port) {}
+  void OnEpochStart(uint16_t, int64_t now_ns, const sync::LDMap& ldmap) override {
+    writer_.Write(ReportKind::kEpochStart, port_.PortToMonotonic(now_ns), EncodeEpochStart(ldmap));
+  }
+  void OnMembership(uint16_t, int64_t now_ns, const wire::MemberSet& removed, const wire::MemberSet& joined) override {
+    writer_.Write(ReportKind::kMembership, port_.PortToMonotonic(now_ns), EncodeMembership(removed, joined));
+  }
+  void OnBecameJoiner(uint16_t, int64_t now_ns) override {
+    writer_.Write(ReportKind::kBecameJoiner, port_.PortToMonotonic(now_ns), {});
+  }
+  void OnAppFault(uint16_t, int64_t now_ns, app::Callback callback, uint16_t epoch,
+                  const app::CallStatus& status) override {
+    writer_.Write(ReportKind::kAppFault, port_.PortToMonotonic(now_ns),
+                  EncodeAppFault(static_cast<uint8_t>(callback), epoch, static_cast<uint8_t>(status.verdict()),
+                                 status.detail()));
+  }
+  void OnInvalidCommand(uint16_t, int64_t now_ns, uint16_t epoch, const app::CommandCheck& check) override {
+    std::array<char, 64> what{};
+    writer_.Write(ReportKind::kInvalidCommand, port_.PortToMonotonic(now_ns),
+                  EncodeInvalidCommand(epoch, app::Describe(check, what.data(), what.size())));
+  }
+  void OnPayloadRefused(uint16_t, int64_t now_ns, uint16_t epoch, size_t length) override {
+    writer_.Write(ReportKind::kPayloadRefused, port_.PortToMonotonic(now_ns),
+                  EncodePayloadRefused(epoch, static_cast<uint32_t>(length)));
+  }
+  void OnSafetyIntervention(uint16_t, int64_t time_ns, uint16_t other) override {
+    const int64_t monotonic = port_.PortToMonotonic(time_ns);
+    writer_.Write(ReportKind::kSafety, monotonic, EncodeSafety(monotonic, other));
+  }
+
+ private:
+  ReportWriter& writer_;
+  const os::PosixPort& port_;
+};
+
+// The robot's Radio: the beacon goes to BeaconRadio; then, still in the
+// round task after the synchronizer's step, the round's observation goes to
+// the world (the lab's recorder reads the same fields from each robot).
+class RoundTap final : public runtime::Radio {
+ public:
+  RoundTap(ReportWriter& writer, const os::PosixPort& port, int64_t radio_round_ns)
+      : writer_(writer), port_(port), radio_round_ns_(radio_round_ns) {}
+  void Connect(BeaconRadio* radio, const runtime::Robot* robot) {
+    radio_ = radio;
+    robot_ = robot;
+  }
+  void set_start(int64_t start_monotonic_ns) { start_monotonic_ns_.store(start_monotonic_ns); }
+  // The newest StateEstimate, from the main thread's polled subscription:
+  // Robot::estimate() reads the motion task's copy too, which is only safe
+  // from the port's own thread on SimPort.
+  void set_estimate(const estimation::StateEstimate& estimate) {
+    std::lock_guard<std::mutex> guard(estimate_mutex_);
+    estimate_ = estimate;
+  }
+  estimation::StateEstimate latest_estimate() const {
+    std::lock_guard<std::mutex> guard(estimate_mutex_);
+    return estimate_;
+  }
+  // The current round on the world's grid, or -1 before the start.
+  int64_t CurrentRound() const {
+    const int64_t start = start_monotonic_ns_.load();
+    if (start < 0) return -1;
+    const int64_t since = os::PosixPort::MonotonicNowNs() - start;
+    return since < 0 ? -1 : since / radio_round_ns_;
+  }
+  void Broadcast(const wire::Beacon& beacon) override {
+    if (radio_ != nullptr) radio_->Broadcast(beacon);
+    if (robot_ == nullptr) return;
+    const int64_t activation = port_.PortToMonotonic(robot_->last_round_ns());
+    RoundReport report;
+    const int64_t since = activation - start_monotonic_ns_.load();
+    report.round = static_cast<uint32_t>(std::max<int64_t>(0, (since + radio_round_ns_ / 2) / radio_round_ns_));
+    report.activation_ns = activation;
+    const sync::SyncState& state = robot_->sync_state();
+    report.status = static_cast<uint8_t>(state.status);
+    report.phase = static_cast<uint8_t>(state.phase);
+    report.epoch_mode = static_cast<uint8_t>(state.epoch_mode);
+    report.epoch = state.epoch;
+    const estimation::StateEstimate estimate = latest_estimate();
+    report.estimate_valid = (estimate.status & estimation::kEstimateInitialized) != 0 ? 1 : 0;
+    report.est_x_m = estimate.x_m;
+    report.est_y_m = estimate.y_m;
+    report.est_heading_rad = estimate.heading_rad;
+    report.beacons_heard = radio_ != nullptr ? static_cast<uint32_t>(radio_->counters().received) : 0;
+    writer_.Write(ReportKind::kRound, activation, EncodeRound(report));
+  }
+
+ private:
+  ReportWriter& writer_;
+  const os::PosixPort& port_;
+  int64_t radio_round_ns_;
+  std::atomic<int64_t> start_monotonic_ns_{-1};
+  mutable std::mutex estimate_mutex_;
+  estimation::StateEstimate estimate_{};
+  BeaconRadio* radio_ = nullptr;
+  const runtime::Robot* robot_ = nullptr;
+};
+
+// Polled subscriptions name no task (a port ignores unknown ids).
+constexpr os::TaskId kPolledTask = UINT16_MAX;
+
+std::string fmt_double(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+struct Entities {
+  dds_entity_t imu = 0, flow = 0, uwb = 0, control = 0;
+  dds_entity_t drive = 0, report = 0, status = 0;
+};
+
+}  // namespace
+
+std::vector<std::string> RobotArguments(const RobotProcessOptions& o) {
+  std::vector<std::string> a = {"--scenario", o.scenario_path, "--robot", std::to_string(o.robot), "--run-id",
+                                std::to_string(o.run_id), "--domain", std::to_string(o.domain_id), "--interface",
+                                o.interface, "--parent", std::to_string(o.parent_pid)};
+  if (o.overrides.seed) a.insert(a.end(), {"--seed", std::to_string(*o.overrides.seed)});
+  if (o.overrides.robots) a.insert(a.end(), {"--robots", std::to_string(*o.overrides.robots)});
+  if (o.overrides.duration_s) a.insert(a.end(), {"--duration", fmt_double(*o.overrides.duration_s)});
+  if (o.overrides.app) a.insert(a.end(), {"--app", *o.overrides.app});
+  if (!o.log_directory.empty()) a.insert(a.end(), {"--log-dir", o.log_directory});
+  return a;
+}
+
+ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& arguments) {
+  ParsedRobotArguments parsed;
+  RobotProcessOptions o;
+  bool have_scenario = false, have_robot = false, have_run = false, have_domain = false;
+  for (size_t i = 0; i < arguments.size(); i += 2) {
+    const std::string& name = arguments[i];
+    if (i + 1 >= arguments.size()) {
+      parsed.error = "argument " + name + " has no value";
+      return parsed;
+    }
+    const std::string& value = arguments[i + 1];
+    try {
+      size_t used = 0;
+      auto whole = [&](unsigned long long bound) {
+        const unsigned long long number = std::stoull(value, &used, 10);
+        if (used != value.size() || number > bound || value.front() == '-') throw std::out_of_range(name);
+        return number;
+      };
+      if (name == "--scenario") {
+        o.scenario_path = value;
+        have_scenario = true;
+      } else if (name == "--robot") {
+        o.robot = static_cast<uint16_t>(whole(UINT16_MAX));
+        have_robot = true;
+      } else if (name == "--run-id") {
+        o.run_id = whole(UINT64_MAX);
+        have_run = true;
+      } else if (name == "--domain") {
+        o.domain_id = static_cast<uint32_t>(whole(kMaxDomainId));
+        have_domain = true;
+      } else if (name == "--interface") {
+        o.interface = value;
+      } else if (name == "--parent") {
+        o.parent_pid = static_cast<int64_t>(whole(INT32_MAX));
+      } else if (name == "--seed") {
+        o.overrides.seed = whole(UINT64_MAX);
+      } else if (name == "--robots") {
+        o.overrides.robots = static_cast<int>(whole(INT32_MAX));
+      } else if (name == "--duration") {
+        o.overrides.duration_s = std::stod(value, &used);
+        if (used != value.size() || !std::isfinite(*o.overrides.duration_s)) throw std::out_of_range(name);
+      } else if (name == "--app") {
+        o.overrides.app = value;
+      } else if (name == "--log-dir") {
+        o.log_directory = value;
+      } else {
+        parsed.error = "unknown argument " + name;
+        return parsed;
+      }
+    } catch (const std::exception&) {
+      parsed.error = "argument " + name + ": \"" + value + "\" is not a valid value";
+      return parsed;
+    }
+  }
+  if (!have_scenario || !have_robot || !have_run || !have_domain) {
+    parsed.error = "--scenario, --robot, --run-id and --domain are required";
+    return parsed;
+  }
+  parsed.options = o;
+  return parsed;
+}
+
+int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
+  // Die with the world, even if it is SIGKILLed; and if it already died
+  // between fork and here, stop now.
+  (void)prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (options.parent_pid != 0 && getppid() != static_cast<pid_t>(options.parent_pid)) return 1;
+  struct sigaction action {};
+  action.sa_handler = RequestStop;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  const std::string who = "syrof-robot " + std::to_string(options.robot) + ": ";
+
+  const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(options.scenario_path, options.overrides);
+  if (!loaded.ok()) {
+    err << who << loaded.error->ToString() << "\n";
+    return 2;
+  }
+  const lab::scenario::Scenario& scenario = *loaded.scenario;
+  if (options.robot >= scenario.robots.size()) {
+    err << who << "robot " << options.robot << " is not in the scenario (" << scenario.robots.size() << " robots)\n";
+    return 2;
+  }
+  const auto swarm_size = static_cast<uint16_t>(scenario.robots.size());
+  const lab::scenario::RobotSpec& spec = scenario.robots[options.robot];
+
+  // The app, as `syrof run` makes it.
+  std::unique_ptr<app::App> app;
+  if (scenario.app.is_library()) {
+    app_host::HostOptions host;
+    host.library_path = scenario.app.library;
+    host.log_directory = options.log_directory;
+    host.params = scenario.app.params;
+    if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
+    if (scenario.app.wall_cap_ms) host.limits.wall_cap_ms = *scenario.app.wall_cap_ms;
+    app = app_host::MakeHostedApp(host, options.robot);
+  } else {
+    app = lab::apps::MakeBuiltinApp(lab::apps::BareAppName(scenario.app.name), scenario.app.params);
+  }
+  if (app == nullptr) {
+    err << who << "no app named " << scenario.app.name << "\n";
+    return 2;
+  }
+
+  CycloneOptions cyclone;
+  cyclone.interface = options.interface;
+  ParticipantOrError made = Participant::Create(options.domain_id, cyclone);
+  if (!made.ok()) {
+    err << who << made.error->ToString() << "\n";
+    return 1;
+  }
+  const Participant& participant = *made.participant;
+  Entities e;
+  {
+    const std::pair<dds_entity_t*, EntityOrError> entities[] = {
+        {&e.imu, CreateReader(participant, TopicKind::kImu, options.robot)},
+        {&e.flow, CreateReader(participant, TopicKind::kFlow, options.robot)},
+        {&e.uwb, CreateReader(participant, TopicKind::kUwb, options.robot)},
+        {&e.control, CreateReader(participant, TopicKind::kControl)},
+        {&e.drive, CreateWriter(participant, TopicKind::kDrive, options.robot)},
+        {&e.report, CreateWriter(participant, TopicKind::kReport)},
+        {&e.status, CreateWriter(participant, TopicKind::kStatus)},
+    };
+    for (const auto& [slot, entity] : entities) {
+      if (!entity.ok()) {
+        err << who << entity.error->ToString() << "\n";
+        return 1;
+      }
+      *slot = entity.entity;
+    }
+  }
+
+  runtime::RobotConfig config = lab::sim::RobotConfigFor(scenario, spec);
+  QueriesWorkspace workspace;
+  config.queries_workspace = workspace.handle();
+  std::vector<app::Parameter> params;
+  for (const auto& [name, value] : scenario.app.params) params.push_back(app::Parameter{name, value});
+  config.app_params = params;
+
+  os::PosixPort port;
+  pubsub::StaticBroker<8, 12> broker(port);
+  lab::sensors::SensorPublishers sensors;
+  ReportWriter reports(e.report, options.run_id, options.robot);
+  ReportObserver observer(reports, port);
+  RoundTap tap(reports, port, config.radio_round_ns);
+  std::vector<wire::Beacon> receive_storage(runtime::Robot::kReceiveBanks * static_cast<size_t>(swarm_size));
+  runtime::Robot robot(config, *app, tap, receive_storage);
+  pubsub::Subscriber<motion::DriveCommand> drive;
+  if (sensors.Advertise(broker) != pubsub::BrokerError::kOk) {
+    err << who << "the sensor topics could not be advertised\n";
+    return 1;
+  }
+  robot.set_observer(&observer);
+  if (const runtime::RobotSetupError error = robot.Attach(port, broker); error != runtime::RobotSetupError::kOk) {
+    err << who << "the robot could not be set up: " << runtime::ToString(error) << "\n";
+    return 1;
+  }
+  pubsub::Subscriber<estimation::StateEstimate> estimates;
+  if (drive.Subscribe(broker, motion::kDriveTopic, kPolledTask) != pubsub::BrokerError::kOk ||
+      estimates.Subscribe(broker, estimation::kStateEstimateTopic, kPolledTask) != pubsub::BrokerError::kOk) {
+    err << who << "the drive or estimate topic could not be subscribed\n";
+    return 1;
+  }
+  BeaconRadioOptions radio_options;
+  radio_options.self = options.robot;
+  radio_options.swarm_size = swarm_size;
+  radio_options.channel = scenario.channel;
+  // The lab derives its channel seed from the scenario seed this way
+  // (lab/sim simulation.cpp, ChannelSeed): the same loss in both runtimes.
+  radio_options.seed = base::SplitMix64Hash(scenario.seed ^ 0x4348414e4e454cULL);
+  radio_options.radio_round_ns = config.radio_round_ns;
+  radio_options.current_round = [&tap] { return tap.CurrentRound(); };
+  BeaconRadioOrError radio = BeaconRadio::Create(participant, radio_options);
+  if (!radio.ok()) {
+    err << who << radio.error->ToString() << "\n";
+    return 1;
+  }
+  if (const std::optional<Error> error = radio.radio->StartReceiving(robot)) {
+    err << who << error->ToString() << "\n";
+    return 1;
+  }
+  tap.Connect(radio.radio.get(), &robot);
+
+  uint8_t state = 1;  // attached
+  int64_t start_monotonic = -1;
+  auto write_status = [&] {
+    syrof_msg_dds__Status_ status{};
+    status.robot = options.robot;
+    status.run_id = options.run_id;
+    status.pid = static_cast<uint32_t>(getpid());
+    status.state = state;
+    const BeaconRadioCounters c = radio.radio->counters();
+    status.rounds = static_cast<uint32_t>(tap.CurrentRound() < 0 ? 0 : tap.CurrentRound());
+    status.beacons_sent = static_cast<uint32_t>(c.sent);
+    status.beacons_received = static_cast<uint32_t>(c.delivered);
+    status.beacons_rejected = static_cast<uint32_t>(c.rejected);
+    status.beacons_lost = static_cast<uint32_t>(c.lost);
+    status.cpu_ns = static_cast<uint64_t>(CpuTimeNs());
+    (void)dds_write(e.status, &status);
+  };
+  write_status();
+
+  // Wait for the world, then drive the robot's hardware until it says stop.
+  const dds_entity_t waitset = dds_create_waitset(participant.handle());
+  for (const dds_entity_t reader : {e.imu, e.flow, e.uwb, e.control}) {
+    (void)dds_set_status_mask(reader, DDS_DATA_AVAILABLE_STATUS);
+    (void)dds_waitset_attach(waitset, reader, reader);
+  }
+  bool stop = false;
+  bool world_seen = false;
+  int64_t world_missing_since = -1;
+  int64_t next_status_ns = port.now_ns() + 1'000'000'000;
+  int exit_code = 0;
+  while (!stop) {
+    (void)dds_waitset_wait(waitset, nullptr, 0, DDS_MSECS(4));
+    if (g_stop_requested.load()) break;
+    if (options.parent_pid != 0 && getppid() != static_cast<pid_t>(options.parent_pid)) break;
+    TakeSamples<syrof_msg_dds__Control_>(e.control, [&](const syrof_msg_dds__Control_& control, const dds_sample_info_t&) {
+      if (control.run_id != options.run_id) return;  // another run's world
+      if (control.state == 2) stop = true;
+      if (control.state == 1 && start_monotonic < 0 && control.radio_round_ns == config.radio_round_ns &&
+          control.start_monotonic_ns > 0) {
+        start_monotonic = control.start_monotonic_ns;
+        tap.set_start(start_monotonic);
+        const int64_t origin = port.MonotonicToPort(start_monotonic);
+        if (port.StartAt(std::max<int64_t>(0, origin)) != os::PortError::kOk) {
+          err << who << "the port did not start\n";
+          stop = true;
+          exit_code = 1;
+        }
+        state = 2;
+        write_status();
+      }
+    });
+    const int64_t now = port.now_ns();
+    TakeSamples<syrof_msg_dds__Imu_>(e.imu, [&](const syrof_msg_dds__Imu_& s, const dds_sample_info_t&) {
+      if (s.robot != options.robot || start_monotonic < 0) return;
+      estimation::ImuReading reading{};
+      reading.timestamp_ns = now;
+      std::memcpy(reading.accel_g, s.accel_g, sizeof reading.accel_g);
+      std::memcpy(reading.gyro_dps, s.gyro_dps, sizeof reading.gyro_dps);
+      sensors.OnImu(reading);
+    });
+    TakeSamples<syrof_msg_dds__Flow_>(e.flow, [&](const syrof_msg_dds__Flow_& s, const dds_sample_info_t&) {
+      if (s.robot != options.robot || start_monotonic < 0 || s.interval_ns == 0) return;
+      sensors.OnFlow(estimation::FlowReading{now, s.interval_ns, s.delta_x_px, s.delta_y_px});
+    });
+    TakeSamples<syrof_msg_dds__Uwb_>(e.uwb, [&](const syrof_msg_dds__Uwb_& s, const dds_sample_info_t&) {
+      if (s.robot != options.robot || start_monotonic < 0) return;
+      estimation::UwbReading reading{};
+      reading.timestamp_ns = now;
+      std::memcpy(reading.range_m, s.range_m, sizeof reading.range_m);
+      reading.valid_mask = s.valid_mask & ((1u << estimation::kMaxAnchors) - 1);
+      reading.sweep = s.sweep;
+      sensors.OnUwb(reading);
+    });
+    estimation::StateEstimate estimate{};
+    if (estimates.TakeLatest(estimate)) tap.set_estimate(estimate);
+    motion::DriveCommand command{};
+    if (drive.TakeLatest(command)) {
+      syrof_msg_dds__Drive_ sample{};
+      sample.robot = options.robot;
+      sample.robot_time_ns = port.PortToMonotonic(command.timestamp_ns);
+      sample.kind = static_cast<uint8_t>(command.kind);
+      sample.vx_mps = command.vx_mps;
+      sample.vy_mps = command.vy_mps;
+      sample.yaw_rate_radps = command.yaw_rate_radps;
+      sample.left_mps = command.left_mps;
+      sample.right_mps = command.right_mps;
+      (void)dds_write(e.drive, &sample);
+    }
+    // The world's liveliness: its control writer matched, then gone.
+    dds_subscription_matched_status_t matched{};
+    if (dds_get_subscription_matched_status(e.control, &matched) == DDS_RETCODE_OK) {
+      if (matched.current_count > 0) {
+        world_seen = true;
+        world_missing_since = -1;
+      } else if (world_seen) {
+        if (world_missing_since < 0) world_missing_since = now;
+        if (now - world_missing_since > kWorldLostNs) break;
+      }
+    }
+    if (now >= next_status_ns) {
+      next_status_ns += 1'000'000'000;
+      write_status();
+    }
+  }
+  if (start_monotonic >= 0) (void)port.Stop();
+  state = 3;
+  write_status();
+  (void)dds_delete(waitset);
+  return exit_code;
+}
+
+}  // namespace syrof::sim_dds

@@ -1,0 +1,758 @@
+#include "syrof/sim_dds/swarm.h"
+
+#include <fcntl.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "syrof/app/call_status.h"
+#include "syrof/base/split_mix64.h"
+#include "syrof/motion/safety_filter.h"
+#include "syrof/lab/apps/catalog.h"
+#include "syrof/lab/apps/goal.h"
+#include "syrof/lab/metrics/collector.h"
+#include "syrof/lab/replay/writer.h"
+#include "syrof/lab/sensors/sensor_bank.h"
+#include "syrof/lab/sim/fault_schedule.h"
+#include "syrof/lab/world/world.h"
+#include "syrof/os/posix_port.h"
+#include "syrof/sim_dds/participant.h"
+#include "syrof/sim_dds/report_codec.h"
+#include "syrof/sim_dds/robot_process.h"
+#include "syrof/sim_dds/topics.h"
+#include "take_samples.h"
+
+namespace syrof::sim_dds {
+namespace {
+
+namespace scenario = lab::scenario;
+namespace replay = lab::replay;
+using lab::sim::FaultAction;
+
+int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
+int64_t MonotonicNow() { return os::PosixPort::MonotonicNowNs(); }
+
+// Each robot's sensor noise: one stream per robot from the scenario seed
+// (a stream of its own, not the lab's: a DDS run is not bit-identical).
+uint64_t DdsSensorSeed(uint64_t seed, uint16_t robot) {
+  return base::SplitMix64Hash(seed ^ base::SplitMix64Hash(0x4444535345ULL + robot));
+}
+
+std::vector<lab::world::BodySpec> Bodies(const scenario::Scenario& s) {
+  std::vector<lab::world::BodySpec> bodies;
+  for (const scenario::RobotSpec& robot : s.robots) {
+    lab::world::BodySpec body{};
+    body.id = robot.id;
+    body.kind = robot.kind;
+    body.spec = s.kind_spec(robot.kind);
+    body.x_m = robot.x_m;
+    body.y_m = robot.y_m;
+    body.heading_rad = robot.heading_rad;
+    body.presence = robot.present_at_start ? lab::world::BodyPresence::kActive : lab::world::BodyPresence::kAbsent;
+    bodies.push_back(body);
+  }
+  return bodies;
+}
+
+std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
+  auto map = std::make_shared<replay::EpochMap>();
+  map->epoch = ldmap.epoch;
+  map->mode = static_cast<uint8_t>(ldmap.mode);
+  for (const uint16_t id : ldmap.members) {
+    const wire::Snapshot& s = ldmap.snapshots[id];
+    const std::span<const uint8_t> payload = s.payload_bytes();
+    map->members.push_back(replay::MapMember{id, static_cast<uint8_t>(ldmap.phases[id]), s.x_mm, s.y_mm,
+                                             s.heading_mrad, s.vx_mm_s, s.vy_mm_s,
+                                             std::vector<uint8_t>(payload.begin(), payload.end())});
+  }
+  return map;
+}
+
+double Percentile(std::vector<int64_t> values, double fraction) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const size_t index = std::min(values.size() - 1, static_cast<size_t>(std::ceil(fraction * values.size())) - (fraction > 0 ? 1 : 0));
+  return static_cast<double>(values[index]);
+}
+
+// Sends one robot's simulated readings as its DDS sensor samples.
+class DdsSensorSink final : public lab::sensors::ReadingSink {
+ public:
+  DdsSensorSink(uint16_t robot, dds_entity_t imu, dds_entity_t flow, dds_entity_t uwb)
+      : robot_(robot), imu_(imu), flow_(flow), uwb_(uwb) {}
+  void OnImu(const estimation::ImuReading& r) override {
+    syrof_msg_dds__Imu_ s{};
+    s.robot = robot_;
+    s.world_time_ns = r.timestamp_ns;
+    std::memcpy(s.accel_g, r.accel_g, sizeof s.accel_g);
+    std::memcpy(s.gyro_dps, r.gyro_dps, sizeof s.gyro_dps);
+    (void)dds_write(imu_, &s);
+  }
+  void OnFlow(const estimation::FlowReading& r) override {
+    syrof_msg_dds__Flow_ s{};
+    s.robot = robot_;
+    s.world_time_ns = r.timestamp_ns;
+    s.interval_ns = r.interval_ns;
+    s.delta_x_px = r.delta_x_px;
+    s.delta_y_px = r.delta_y_px;
+    (void)dds_write(flow_, &s);
+  }
+  void OnUwb(const estimation::UwbReading& r) override {
+    syrof_msg_dds__Uwb_ s{};
+    s.robot = robot_;
+    s.world_time_ns = r.timestamp_ns;
+    std::memcpy(s.range_m, r.range_m, sizeof s.range_m);
+    s.valid_mask = r.valid_mask;
+    s.sweep = r.sweep;
+    (void)dds_write(uwb_, &s);
+  }
+
+ private:
+  uint16_t robot_;
+  dds_entity_t imu_, flow_, uwb_;
+};
+
+// A report placed on the run's grid.
+struct Received {
+  uint16_t robot = 0;
+  int64_t time_ns = 0;  // run time (since the grid's origin)
+  ReportBody body;
+};
+
+struct RobotSlot {
+  pid_t pid = -1;
+  replay::Presence presence = replay::Presence::kAbsent;
+  bool app_faulted = false;
+  int64_t scored_from_ns = 0;
+  RoundReport last;          // the newest round observation
+  bool has_last = false;
+  uint32_t heard = 0;        // the radio's received count in `last`
+  double cpu_seconds = 0;
+  bool reaped = false;
+  std::optional<int> exit;
+  dds_entity_t imu = 0, flow = 0, uwb = 0, drive = 0;
+  std::unique_ptr<lab::sensors::SensorBank> bank;
+  std::unique_ptr<DdsSensorSink> sink;
+};
+
+// What the world saw at a round boundary (the recorder runs later, once
+// the round's reports are in).
+struct BoundaryTruth {
+  std::vector<lab::world::BodyState> bodies;
+  std::vector<replay::Presence> presence;
+  std::vector<replay::Event> events;  // the simulator's own (faults, contacts) in the round
+};
+
+constexpr int64_t kEstimationWarmupNs = 1'000'000'000;
+// Reports of round r are recorded once the grid is this far past r.
+constexpr int64_t kRecordLagRounds = 10;
+
+}  // namespace
+
+std::string DefaultRobotBinary() {
+  if (const char* env = std::getenv("SYROF_ROBOT_BINARY"); env != nullptr && *env != '\0') return env;
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) return "syrof-robot";
+  return (self.parent_path() / "syrof-robot").string();
+}
+
+SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
+  SwarmResult result;
+  auto fail = [&](int code, std::string why) {
+    result.exit_code = code;
+    result.error = std::move(why);
+    return result;
+  };
+  const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path, options.overrides);
+  if (!loaded.ok()) return fail(2, loaded.error->ToString());
+  const scenario::Scenario& sc = *loaded.scenario;
+  const auto n = static_cast<uint16_t>(sc.robots.size());
+  const int64_t alpha = Nanoseconds(sc.timing.radio_round_s);
+  const int64_t physics_ns = Nanoseconds(sc.timing.physics_step_s);
+  const int64_t end_ns = Nanoseconds(sc.timing.duration_s);
+  const std::string robot_binary = options.robot_binary.empty() ? DefaultRobotBinary() : options.robot_binary;
+  if (access(robot_binary.c_str(), X_OK) != 0) return fail(1, "the robot binary " + robot_binary + " is not executable");
+  std::error_code fs_error;
+  std::filesystem::create_directories(options.out_dir, fs_error);
+  if (fs_error) return fail(1, options.out_dir + ": " + fs_error.message());
+
+  const uint64_t run_id = base::SplitMix64Hash(static_cast<uint64_t>(MonotonicNow()) ^ (static_cast<uint64_t>(getpid()) << 40));
+  uint32_t domain = 0;
+  if (options.domain_id) {
+    domain = *options.domain_id;
+  } else {
+    const DomainIdOrError id = DomainIdFromEnvironment(run_id);
+    if (!id.ok()) return fail(2, id.error->ToString());
+    domain = id.domain_id;
+  }
+  CycloneOptions cyclone;
+  cyclone.interface = options.interface;
+  ParticipantOrError made = Participant::Create(domain, cyclone);
+  if (!made.ok()) return fail(1, made.error->ToString());
+  const Participant& participant = *made.participant;
+
+  auto entity = [&](EntityOrError e, dds_entity_t& out) {
+    if (!e.ok()) return false;
+    out = e.entity;
+    return true;
+  };
+  dds_entity_t control = 0, report_reader = 0, status_reader = 0;
+  std::vector<RobotSlot> robots(n);
+  bool entities_ok = entity(CreateWriter(participant, TopicKind::kControl), control) &&
+                     entity(CreateReader(participant, TopicKind::kReport), report_reader) &&
+                     entity(CreateReader(participant, TopicKind::kStatus), status_reader);
+  for (uint16_t id = 0; id < n && entities_ok; ++id) {
+    RobotSlot& r = robots[id];
+    entities_ok = entity(CreateWriter(participant, TopicKind::kImu, id), r.imu) &&
+                  entity(CreateWriter(participant, TopicKind::kFlow, id), r.flow) &&
+                  entity(CreateWriter(participant, TopicKind::kUwb, id), r.uwb) &&
+                  entity(CreateReader(participant, TopicKind::kDrive, id), r.drive);
+    r.bank = std::make_unique<lab::sensors::SensorBank>(sc.sensors, DdsSensorSeed(sc.seed, id));
+    r.sink = std::make_unique<DdsSensorSink>(id, r.imu, r.flow, r.uwb);
+  }
+  if (!entities_ok) return fail(1, "the world's DDS readers and writers could not be created (domain " + std::to_string(domain) + ")");
+
+  lab::world::World world(sc.arena, Bodies(sc));
+  lab::sim::FaultSchedule faults(sc.faults, alpha);
+  lab::metrics::Collector collector(lab::metrics::CollectorConfig{n, alpha, static_cast<uint16_t>(sc.timing.silence_rounds)});
+  std::ofstream replay_file;
+  std::unique_ptr<replay::Writer> replay_writer;
+  if (options.replay) {
+    replay_file.open(std::filesystem::path(options.out_dir) / "replay", std::ios::binary);
+    replay::Header header;
+    header.seed = sc.seed;
+    header.radio_round_ns = alpha;
+    header.arena_width_m = static_cast<float>(sc.arena.width_m);
+    header.arena_height_m = static_cast<float>(sc.arena.height_m);
+    header.scenario_name = sc.name;
+    header.app_name = sc.app.name;
+    for (const scenario::RobotSpec& spec : sc.robots) {
+      header.robots.push_back(replay::RobotInfo{spec.id, static_cast<uint8_t>(spec.kind),
+                                                static_cast<float>(sc.kind_spec(spec.kind).body_radius_m)});
+    }
+    for (const lab::world::AnchorSpec& anchor : sc.arena.anchors) {
+      header.anchors.push_back(replay::AnchorInfo{static_cast<float>(anchor.x_m), static_cast<float>(anchor.y_m)});
+    }
+    replay_writer = std::make_unique<replay::Writer>(replay_file, header);
+  }
+
+  // ---- Processes ----------------------------------------------------------
+  pid_t group = 0;  // the robots' process group (the first robot's pid)
+  RobotProcessOptions robot_options;
+  robot_options.scenario_path = options.scenario_path;
+  robot_options.overrides = options.overrides;
+  robot_options.run_id = run_id;
+  robot_options.domain_id = domain;
+  robot_options.interface = options.interface;
+  robot_options.log_directory = (std::filesystem::path(options.out_dir) / "robots").string();
+  robot_options.parent_pid = getpid();
+  auto spawn = [&](uint16_t id) -> bool {
+    robot_options.robot = id;
+    const SwarmOptions::RobotNetwork* network =
+        id < options.robot_networks.size() ? &options.robot_networks[id] : nullptr;
+    robot_options.interface =
+        network != nullptr && !network->interface.empty() ? network->interface : options.interface;
+    int netns = -1;
+    if (network != nullptr && !network->netns_path.empty()) {
+      netns = open(network->netns_path.c_str(), O_RDONLY | O_CLOEXEC);
+      if (netns < 0) return false;
+    }
+    std::vector<std::string> args = RobotArguments(robot_options);
+    args.insert(args.begin(), robot_binary);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const pid_t pid = fork();
+    if (pid < 0) {
+      if (netns >= 0) close(netns);
+      return false;
+    }
+    if (pid == 0) {
+      // Only async-signal-safe calls between fork and exec.
+      (void)prctl(PR_SET_PDEATHSIG, SIGKILL);
+      (void)setpgid(0, group);
+      if (netns >= 0 && setns(netns, CLONE_NEWNET) != 0) _exit(126);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    if (netns >= 0) close(netns);
+    (void)setpgid(pid, group);  // both sides, so neither races the other
+    if (group == 0) group = pid;
+    robots[id].pid = pid;
+    result.robot_pids.push_back(pid);
+    return true;
+  };
+  auto reap = [&](RobotSlot& r, bool block) {
+    if (r.pid <= 0 || r.reaped) return;
+    int status = 0;
+    rusage usage{};
+    const pid_t done = wait4(r.pid, &status, block ? 0 : WNOHANG, &usage);
+    if (done == r.pid) {
+      r.reaped = true;
+      r.exit = WIFSIGNALED(status) ? -WTERMSIG(status) : WEXITSTATUS(status);
+      r.cpu_seconds = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                      static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
+    }
+  };
+  // Every exit path ends every robot: SIGKILL to the group, then reap.
+  auto end_all = [&] {
+    if (group > 0) (void)kill(-group, SIGKILL);
+    for (RobotSlot& r : robots) {
+      if (r.pid > 0 && !r.reaped) (void)kill(r.pid, SIGKILL);
+      reap(r, true);
+    }
+  };
+  struct EndGuard {
+    std::function<void()> end;
+    ~EndGuard() { end(); }
+  } guard{end_all};
+
+  for (uint16_t id = 0; id < n; ++id) {
+    if (sc.robots[id].present_at_start && !spawn(id)) return fail(1, "fork failed for robot " + std::to_string(id));
+  }
+
+  // ---- Discovery: every present robot attached ------------------------------
+  std::vector<uint8_t> attached(n, 0);
+  std::vector<syrof_msg_dds__Status_> last_status(n);
+  auto take_status = [&] {
+    TakeSamples<syrof_msg_dds__Status_>(status_reader, [&](const syrof_msg_dds__Status_& s, const dds_sample_info_t&) {
+      if (s.run_id != run_id || s.robot >= n) return;
+      last_status[s.robot] = s;
+      if (s.state >= 1) attached[s.robot] = 1;
+    });
+  };
+  const int64_t discovery_deadline = MonotonicNow() + Nanoseconds(options.discovery_timeout_s);
+  for (;;) {
+    take_status();
+    bool all = true;
+    for (uint16_t id = 0; id < n; ++id) all = all && (!sc.robots[id].present_at_start || attached[id] != 0);
+    if (all) break;
+    for (RobotSlot& r : robots) {
+      reap(r, false);
+      if (r.reaped) return fail(1, "a robot process exited before it attached (see its messages above)");
+    }
+    if (MonotonicNow() > discovery_deadline) return fail(1, "robots did not attach within the discovery timeout");
+    if (options.stop != nullptr && options.stop->load()) {
+      result.stopped_early = true;
+      return fail(0, "");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+
+  // ---- The run --------------------------------------------------------------
+  const int64_t start = MonotonicNow() + 300'000'000;  // every robot hears it before the first round
+  syrof_msg_dds__Control_ control_sample{};
+  control_sample.run_id = run_id;
+  control_sample.state = 1;
+  control_sample.start_monotonic_ns = start;
+  {
+    timespec realtime{};
+    clock_gettime(CLOCK_REALTIME, &realtime);
+    control_sample.start_realtime_ns =
+        static_cast<int64_t>(realtime.tv_sec) * 1'000'000'000 + realtime.tv_nsec + (start - MonotonicNow());
+  }
+  control_sample.radio_round_ns = alpha;
+  if (dds_write(control, &control_sample) < 0) return fail(1, "the control sample could not be written");
+  for (uint16_t id = 0; id < n; ++id) {
+    if (sc.robots[id].present_at_start) {
+      robots[id].presence = replay::Presence::kRunning;
+      robots[id].scored_from_ns = kEstimationWarmupNs;
+    }
+  }
+
+  std::map<int64_t, std::vector<Received>> reports_by_round;
+  std::map<int64_t, BoundaryTruth> truths;
+  std::vector<replay::Event> pending_events;  // simulator events of the round in progress
+  std::vector<int64_t> skews_ns;
+  std::vector<lab::metrics::RobotRound> robot_rounds(n);
+  std::vector<replay::RobotFrame> frames(n);
+  std::map<int64_t, std::vector<uint16_t>> round_senders;  // robots that reported (broadcast) in a round
+  int64_t reports_rejected = 0, reports_late = 0, reports_foreign = 0;
+  int64_t next_recorded = 1;
+  double expected_deliveries = 0;
+
+  auto add_event = [&](replay::EventKind kind, int64_t time_ns, uint16_t robot, uint16_t other = replay::kNoRobot) {
+    replay::Event event{};
+    event.kind = kind;
+    event.robot = robot;
+    event.other = other;
+    if (robot < n && robots[robot].has_last) {
+      event.epoch = robots[robot].last.epoch;
+      event.mode = robots[robot].last.epoch_mode;
+    }
+    event.time_ns = time_ns;
+    pending_events.push_back(event);
+  };
+
+  auto take_reports = [&] {
+    TakeSamples<syrof_msg_dds__Report_>(report_reader, [&](const syrof_msg_dds__Report_& s, const dds_sample_info_t&) {
+      if (s.run_id != run_id) {
+        ++reports_foreign;
+        return;
+      }
+      if (s.robot >= n) {
+        ++reports_rejected;
+        return;
+      }
+      DecodedReport decoded = DecodeReport(s.kind, std::span<const uint8_t>(s.body._buffer, s.body._length), n);
+      if (!decoded.body) {
+        ++reports_rejected;
+        log << "syrof swarm: robot " << s.robot << "'s report " << s.sequence_number << " refused: " << decoded.error << "\n";
+        return;
+      }
+      Received received{s.robot, s.robot_time_ns - start, std::move(*decoded.body)};
+      const int64_t round = received.body.kind == ReportKind::kRound
+                                ? static_cast<int64_t>(received.body.round.round)
+                                : (received.time_ns + alpha / 2) / alpha;
+      if (round < next_recorded) {
+        ++reports_late;
+        return;
+      }
+      reports_by_round[round].push_back(std::move(received));
+    });
+  };
+
+  // The recorder of round r: the lab's StepRecorder from reports.
+  auto record = [&](int64_t round) {
+    const auto truth_it = truths.find(round);
+    std::vector<Received> reports;
+    if (auto it = reports_by_round.find(round); it != reports_by_round.end()) {
+      reports = std::move(it->second);
+      reports_by_round.erase(it);
+    }
+    std::stable_sort(reports.begin(), reports.end(), [](const Received& a, const Received& b) { return a.robot < b.robot; });
+    std::vector<replay::Event> events;
+    std::vector<replay::RobotMap> maps;
+    std::vector<int64_t> activations;
+    std::vector<int64_t> phase_boundaries;
+    std::vector<uint16_t> senders;
+    auto event = [&](replay::EventKind kind, int64_t time_ns, uint16_t robot, uint16_t epoch, uint8_t mode,
+                     uint16_t other = replay::kNoRobot) {
+      replay::Event e{};
+      e.kind = kind;
+      e.robot = robot;
+      e.other = other;
+      e.epoch = epoch;
+      e.mode = mode;
+      e.time_ns = time_ns;
+      events.push_back(e);
+    };
+    for (Received& r : reports) {
+      RobotSlot& slot = robots[r.robot];
+      const uint16_t epoch = slot.has_last ? slot.last.epoch : 0;
+      const uint8_t mode = slot.has_last ? slot.last.epoch_mode : 1;
+      switch (r.body.kind) {
+        case ReportKind::kEpochStart:
+          collector.OnEpochStart(r.robot, round, r.time_ns, r.body.ldmap);
+          event(replay::EventKind::kEpochStart, r.time_ns, r.robot, r.body.ldmap.epoch,
+                static_cast<uint8_t>(r.body.ldmap.mode));
+          maps.push_back(replay::RobotMap{r.robot, ToEpochMap(r.body.ldmap)});
+          break;
+        case ReportKind::kMembership:
+          collector.OnMembership(r.robot, round, r.body.removed, r.body.joined);
+          for (const uint16_t m : r.body.removed) event(replay::EventKind::kMemberRemoved, r.time_ns, r.robot, epoch, mode, m);
+          for (const uint16_t m : r.body.joined) event(replay::EventKind::kMemberJoined, r.time_ns, r.robot, epoch, mode, m);
+          break;
+        case ReportKind::kBecameJoiner:
+          event(replay::EventKind::kBecameJoiner, r.time_ns, r.robot, epoch, mode);
+          break;
+        case ReportKind::kAppFault:
+          collector.OnAppFault(lab::metrics::AppFault{
+              r.robot, app::ToString(static_cast<app::Callback>(r.body.callback)), r.body.epoch, r.time_ns,
+              app::ToString(static_cast<app::Verdict>(r.body.verdict)), r.body.text});
+          event(replay::EventKind::kAppFault, r.time_ns, r.robot, r.body.epoch, mode);
+          slot.app_faulted = true;
+          break;
+        case ReportKind::kInvalidCommand:
+          collector.OnInvalidCommand(r.robot, r.body.epoch, r.body.text);
+          break;
+        case ReportKind::kPayloadRefused:
+          collector.OnPayloadRefused(r.robot, r.body.epoch, std::to_string(r.body.length) + " bytes");
+          break;
+        case ReportKind::kSafety:
+          collector.OnSafetyIntervention(r.body.time_ns - start, r.robot,
+                                         r.body.other == motion::kWallObstacle ? std::nullopt
+                                                                               : std::optional<uint16_t>(r.body.other));
+          event(replay::EventKind::kSafetyIntervention, r.body.time_ns - start, r.robot, epoch, mode,
+                r.body.other == motion::kWallObstacle ? replay::kNoRobot : r.body.other);
+          break;
+        case ReportKind::kRound:
+          slot.last = r.body.round;
+          slot.has_last = true;
+          slot.heard = r.body.round.beacons_heard;
+          activations.push_back(r.body.round.activation_ns);
+          senders.push_back(r.robot);
+          if (r.body.round.status == 0) phase_boundaries.push_back(r.body.round.activation_ns - start);
+          break;
+      }
+    }
+    // Delivery: each robot that ran this round could hear the beacons of
+    // the others that ran the round before.
+    if (auto previous = round_senders.find(round - 1); previous != round_senders.end()) {
+      for (const uint16_t receiver : senders) {
+        const auto& before = previous->second;
+        expected_deliveries += static_cast<double>(before.size()) -
+                               (std::find(before.begin(), before.end(), receiver) != before.end() ? 1.0 : 0.0);
+      }
+      round_senders.erase(previous);
+    }
+    round_senders[round] = senders;
+    if (activations.size() >= 2) {
+      const auto [low, high] = std::minmax_element(activations.begin(), activations.end());
+      skews_ns.push_back(*high - *low);
+    }
+    collector.OnRoundPhases(phase_boundaries);
+    for (uint16_t id = 0; id < n; ++id) {
+      RobotSlot& slot = robots[id];
+      const replay::Presence presence = truth_it != truths.end() ? truth_it->second.presence[id] : slot.presence;
+      const lab::world::BodyState body = truth_it != truths.end() ? truth_it->second.bodies[id] : world.state(id);
+      lab::metrics::RobotRound& rr = robot_rounds[id];
+      rr = lab::metrics::RobotRound{};
+      rr.id = id;
+      rr.running = presence == replay::Presence::kRunning && !slot.app_faulted;
+      rr.sync_member = slot.has_last && slot.last.status == 0;
+      rr.member = rr.running && rr.sync_member;
+      rr.paused = presence == replay::Presence::kPaused;
+      rr.epoch = slot.last.epoch;
+      rr.epoch_mode = static_cast<wire::Mode>(slot.last.epoch_mode);
+      rr.phase = static_cast<wire::Phase>(slot.last.phase);
+      rr.estimate_valid = rr.running && slot.last.estimate_valid != 0 && round * alpha >= slot.scored_from_ns;
+      rr.true_x_m = body.x_m;
+      rr.true_y_m = body.y_m;
+      rr.est_x_m = slot.last.est_x_m;
+      rr.est_y_m = slot.last.est_y_m;
+      replay::RobotFrame& f = frames[id];
+      f.id = id;
+      f.presence = slot.app_faulted && presence != replay::Presence::kAbsent ? replay::Presence::kCrashed : presence;
+      f.status = slot.has_last ? slot.last.status : 1;
+      f.phase = slot.last.phase;
+      f.mode = slot.last.epoch_mode;
+      f.epoch = slot.last.epoch;
+      f.true_x_m = static_cast<float>(body.x_m);
+      f.true_y_m = static_cast<float>(body.y_m);
+      f.true_heading_rad = static_cast<float>(body.heading_rad);
+      f.est_x_m = slot.last.est_x_m;
+      f.est_y_m = slot.last.est_y_m;
+      f.est_heading_rad = slot.last.est_heading_rad;
+    }
+    collector.OnRoundEnd(round, robot_rounds);
+    if (truth_it != truths.end()) {
+      events.insert(events.begin(), truth_it->second.events.begin(), truth_it->second.events.end());
+      truths.erase(truth_it);
+    }
+    std::stable_sort(events.begin(), events.end(), [](const replay::Event& a, const replay::Event& b) { return a.time_ns < b.time_ns; });
+    if (replay_writer != nullptr) replay_writer->WriteRound(static_cast<uint32_t>(round), round * alpha, frames, events, maps);
+  };
+
+  int64_t step_ns = 0;
+  int64_t next_progress_ns = 1'000'000'000;
+  while (step_ns < end_ns) {
+    if (options.stop != nullptr && options.stop->load()) {
+      result.stopped_early = true;
+      break;
+    }
+    step_ns += physics_ns;
+    // Sleep until this step's instant on the grid.
+    const int64_t due = start + step_ns;
+    const int64_t wait = due - MonotonicNow();
+    if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+    // Faults on the radio-round grid, as real ones.
+    for (const FaultAction& action : faults.Due(step_ns)) {
+      RobotSlot& r = robots[action.robot];
+      switch (action.kind) {
+        case FaultAction::Kind::kCrash:
+          if (r.pid > 0) (void)kill(r.pid, SIGKILL);
+          r.presence = replay::Presence::kCrashed;
+          world.SetPresence(action.robot, lab::world::BodyPresence::kStopped);
+          add_event(replay::EventKind::kCrash, step_ns, action.robot);
+          break;
+        case FaultAction::Kind::kPause:
+          if (r.pid > 0 && r.presence == replay::Presence::kRunning) {
+            (void)kill(r.pid, SIGSTOP);
+            r.presence = replay::Presence::kPaused;
+            world.SetPresence(action.robot, lab::world::BodyPresence::kStopped);
+            add_event(replay::EventKind::kPause, step_ns, action.robot);
+          }
+          break;
+        case FaultAction::Kind::kResume:
+          if (r.presence == replay::Presence::kPaused) {
+            (void)kill(r.pid, SIGCONT);
+            r.presence = replay::Presence::kRunning;
+            r.scored_from_ns = step_ns + kEstimationWarmupNs;
+            world.SetPresence(action.robot, lab::world::BodyPresence::kActive);
+            add_event(replay::EventKind::kResume, step_ns, action.robot);
+          }
+          break;
+        case FaultAction::Kind::kJoin:
+          if (r.pid <= 0 && spawn(action.robot)) {
+            r.presence = replay::Presence::kRunning;
+            r.scored_from_ns = step_ns + kEstimationWarmupNs;
+            world.SetPresence(action.robot, lab::world::BodyPresence::kActive);
+            add_event(replay::EventKind::kJoin, step_ns, action.robot);
+          }
+          break;
+      }
+    }
+    // Drive commands to the bodies of running robots.
+    for (uint16_t id = 0; id < n; ++id) {
+      RobotSlot& r = robots[id];
+      TakeSamples<syrof_msg_dds__Drive_>(r.drive, [&](const syrof_msg_dds__Drive_& s, const dds_sample_info_t&) {
+        if (s.robot != id || r.presence != replay::Presence::kRunning || s.kind > 1) return;
+        motion::DriveCommand command{};
+        command.timestamp_ns = s.robot_time_ns;
+        command.kind = static_cast<motion::DriveKind>(s.kind);
+        command.vx_mps = s.vx_mps;
+        command.vy_mps = s.vy_mps;
+        command.yaw_rate_radps = s.yaw_rate_radps;
+        command.left_mps = s.left_mps;
+        command.right_mps = s.right_mps;
+        world.SetDrive(id, command);
+      });
+    }
+    world.Step(step_ns, static_cast<double>(physics_ns) * 1e-9);
+    for (const lab::world::Contact& contact : world.new_contacts()) {
+      collector.OnCollision(contact.time_ns, contact.a, contact.b);
+      add_event(replay::EventKind::kCollision, contact.time_ns, contact.a, contact.b);
+    }
+    for (const lab::world::WallContact& contact : world.new_wall_contacts()) {
+      collector.OnWallContact(contact.time_ns, contact.robot);
+      add_event(replay::EventKind::kWallContact, contact.time_ns, contact.robot);
+    }
+    // Sensors of running robots.
+    for (uint16_t id = 0; id < n; ++id) {
+      RobotSlot& r = robots[id];
+      if (r.presence == replay::Presence::kRunning) r.bank->Sample(step_ns, world.true_state(id), *r.sink);
+    }
+    // A round boundary: keep the truth for the recorder.
+    if (step_ns % alpha == 0) {
+      BoundaryTruth truth;
+      for (uint16_t id = 0; id < n; ++id) {
+        truth.bodies.push_back(world.state(id));
+        truth.presence.push_back(robots[id].presence);
+      }
+      truth.events = std::move(pending_events);
+      pending_events.clear();
+      truths[step_ns / alpha] = std::move(truth);
+    }
+    take_reports();
+    take_status();
+    for (RobotSlot& r : robots) {
+      if (r.presence == replay::Presence::kCrashed) reap(r, false);
+    }
+    while (next_recorded + kRecordLagRounds <= step_ns / alpha) record(next_recorded++);
+    if (options.progress && step_ns >= next_progress_ns) {
+      options.progress(static_cast<double>(step_ns) * 1e-9);
+      next_progress_ns += 1'000'000'000;
+    }
+  }
+  const double wall_seconds = static_cast<double>(MonotonicNow() - start) * 1e-9;
+  // Let the last rounds' reports arrive, then record them.
+  const int64_t last_round = step_ns / alpha;
+  const int64_t drain_until = MonotonicNow() + 300'000'000;
+  while (MonotonicNow() < drain_until) {
+    take_reports();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  while (next_recorded <= last_round) record(next_recorded++);
+  if (replay_writer != nullptr) replay_writer->Finish();
+
+  // Stop: Control_ says so, robots exit; SIGKILL whoever has not.
+  control_sample.state = 2;
+  (void)dds_write(control, &control_sample);
+  for (RobotSlot& r : robots) {
+    if (r.presence == replay::Presence::kPaused && r.pid > 0) (void)kill(r.pid, SIGCONT);
+  }
+  const int64_t exit_deadline = MonotonicNow() + 2'000'000'000;
+  for (;;) {
+    bool all = true;
+    for (RobotSlot& r : robots) {
+      reap(r, false);
+      all = all && (r.pid <= 0 || r.reaped);
+    }
+    if (all || MonotonicNow() > exit_deadline) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  end_all();
+
+  // ---- Metrics ----------------------------------------------------------------
+  double heard = 0;
+  for (const RobotSlot& r : robots) heard += r.heard;
+  result.delivery_ratio = expected_deliveries > 0 ? heard / expected_deliveries : 0;
+  result.skew.rounds = static_cast<int64_t>(skews_ns.size());
+  result.skew.p50_us = Percentile(skews_ns, 0.50) * 1e-3;
+  result.skew.p99_us = Percentile(skews_ns, 0.99) * 1e-3;
+  result.skew.max_us = skews_ns.empty() ? 0 : static_cast<double>(*std::max_element(skews_ns.begin(), skews_ns.end())) * 1e-3;
+  for (const RobotSlot& r : robots) {
+    result.cpu_seconds.push_back(r.cpu_seconds);
+    result.robot_exits.push_back(r.exit);
+  }
+
+  lab::metrics::RunFacts facts;
+  facts.seed = sc.seed;
+  facts.robots = n;
+  facts.sim_seconds = static_cast<double>(step_ns) * 1e-9;
+  facts.wall_seconds = wall_seconds;
+  facts.radio_rounds = last_round;
+  facts.min_separation_m = world.min_separation_m();
+  facts.scenario = sc.name;
+  facts.safety_enabled = sc.safety;
+  facts.app_name = sc.app.name;
+  facts.app_source = sc.app.is_library() ? sc.app.library : sc.app.name;
+  // The built-in app's goal from the final true poses, as the lab does;
+  // a scenario's declared checks (goal:) are not evaluated in a DDS run.
+  std::vector<lab::apps::GoalPose> poses;
+  for (uint16_t id = 0; id < n; ++id) {
+    const lab::world::BodyState& body = world.state(id);
+    poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad,
+                                        robots[id].presence == replay::Presence::kRunning && !robots[id].app_faulted,
+                                        world.body_radius_m(id)});
+  }
+  const lab::apps::GoalReport goal = lab::apps::EvaluateGoal(
+      lab::apps::BareAppName(sc.app.name), sc.app.params, lab::apps::ArenaSize{sc.arena.width_m, sc.arena.height_m},
+      sc.omni.body_radius_m, poses);
+  facts.goal.app = sc.app.name;
+  facts.goal.reached = goal.reached && sc.goal.empty();
+  facts.goal.error_m = goal.error_m;
+  facts.goal.detail = sc.goal.empty() ? goal.detail : "the scenario's goal checks are not evaluated in a DDS run";
+  const lab::metrics::Metrics metrics = collector.Finish(facts);
+  nlohmann::json json = nlohmann::json::parse(lab::metrics::ToJson(metrics));
+  json["runtime"] = "dds";
+  nlohmann::json dds;
+  dds["domain_id"] = domain;
+  dds["delivery_ratio"] = result.delivery_ratio;
+  dds["round_start_skew_us"] = {{"rounds", result.skew.rounds},
+                                {"p50", result.skew.p50_us},
+                                {"p99", result.skew.p99_us},
+                                {"max", result.skew.max_us}};
+  dds["cpu_seconds_per_robot"] = result.cpu_seconds;
+  dds["reports_rejected"] = reports_rejected;
+  dds["reports_late"] = reports_late;
+  dds["reports_other_runs"] = reports_foreign;
+  dds["stopped_early"] = result.stopped_early;
+  nlohmann::json exits = nlohmann::json::array();
+  for (const RobotSlot& r : robots) exits.push_back(r.exit ? nlohmann::json(*r.exit) : nlohmann::json());
+  dds["robot_exits"] = exits;
+  json["dds"] = dds;
+  result.metrics_json = json.dump(2) + "\n";
+  std::ofstream(std::filesystem::path(options.out_dir) / "metrics.json") << result.metrics_json;
+  return result;
+}
+
+}  // namespace syrof::sim_dds

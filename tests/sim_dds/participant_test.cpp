@@ -1,0 +1,136 @@
+#include "syrof/sim_dds/participant.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+#include "syrof/sim_dds/topics.h"
+#include "test_domain.h"
+
+namespace syrof::sim_dds {
+namespace {
+
+TEST(CycloneConfig, LoopbackByDefault) {
+  const std::string xml = CycloneConfig(CycloneOptions{});
+  EXPECT_NE(xml.find("<NetworkInterface name=\"lo\" multicast=\"true\"/>"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<AllowMulticast>spdp</AllowMulticast>"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<ParticipantIndex>auto</ParticipantIndex>"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<Peer address=\"127.0.0.1\"/>"), std::string::npos) << xml;
+}
+
+TEST(CycloneConfig, ParticipantIndexAboveTheProcessCount) {
+  CycloneOptions options;
+  options.max_processes = 40;
+  const std::string xml = CycloneConfig(options);
+  EXPECT_NE(xml.find("<MaxAutoParticipantIndex>48</MaxAutoParticipantIndex>"), std::string::npos) << xml;
+}
+
+TEST(CycloneConfig, NamedInterfaceWithoutMulticast) {
+  CycloneOptions options;
+  options.interface = "veth-a";
+  options.multicast = false;
+  options.peers = {"10.0.0.2"};
+  const std::string xml = CycloneConfig(options);
+  EXPECT_NE(xml.find("<NetworkInterface name=\"veth-a\"/>"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<AllowMulticast>false</AllowMulticast>"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<Peer address=\"10.0.0.2\"/>"), std::string::npos) << xml;
+  EXPECT_EQ(xml.find("127.0.0.1"), std::string::npos) << xml;
+}
+
+TEST(CycloneConfig, RefusesXmlInNamesAndTooManyProcesses) {
+  CycloneOptions options;
+  options.interface = "lo\"/><x";
+  ASSERT_TRUE(CheckCycloneOptions(options).has_value());
+  EXPECT_EQ(CheckCycloneOptions(options)->where, "interface");
+  options = CycloneOptions{};
+  options.peers = {"1.2.3.4<"};
+  EXPECT_EQ(CheckCycloneOptions(options)->where, "peer");
+  options = CycloneOptions{};
+  options.max_processes = kMaxProcesses + 1;
+  EXPECT_EQ(CheckCycloneOptions(options)->where, "max_processes");
+  EXPECT_FALSE(CheckCycloneOptions(CycloneOptions{}).has_value());
+}
+
+TEST(DdsDomainId, FromTheRunIdInRangeAndNeverZero) {
+  std::set<uint32_t> seen;
+  for (uint64_t run = 0; run < 5000; ++run) {
+    const uint32_t id = DomainIdForRun(run);
+    ASSERT_GE(id, 1u);
+    ASSERT_LT(id, kMaxDomainId);
+    seen.insert(id);
+  }
+  EXPECT_EQ(seen.size(), kMaxDomainId - 1);  // every id 1 .. 231 is used
+  EXPECT_EQ(DomainIdForRun(42), DomainIdForRun(42));
+}
+
+TEST(DdsDomainId, EnvironmentOverride) {
+  EXPECT_EQ(DomainIdFromText(nullptr, 7).domain_id, DomainIdForRun(7));
+  EXPECT_EQ(DomainIdFromText("0", 7).domain_id, 0u);
+  EXPECT_EQ(DomainIdFromText("232", 7).domain_id, 232u);
+  for (const char* bad : {"233", "-1", "", "12a", "1000", " 3"}) {
+    const DomainIdOrError got = DomainIdFromText(bad, 7);
+    ASSERT_FALSE(got.ok()) << bad;
+    EXPECT_EQ(got.error->where, "SYROF_DDS_DOMAIN");
+    EXPECT_NE(got.error->message.find(std::string("'") + bad + "'"), std::string::npos) << got.error->message;
+  }
+}
+
+TEST(DdsParticipant, TwoInOneProcessShareTheDomain) {
+  const uint32_t domain = testing::FreshDomainId();
+  ParticipantOrError first = Participant::Create(domain, CycloneOptions{});
+  ASSERT_TRUE(first.ok()) << first.error->ToString();
+  ParticipantOrError second = Participant::Create(domain, CycloneOptions{});
+  ASSERT_TRUE(second.ok()) << second.error->ToString();
+  EXPECT_EQ(first.participant->domain_id(), domain);
+  first.participant.reset();
+  // The domain lives on with the second participant.
+  EXPECT_TRUE(CreateWriter(*second.participant, TopicKind::kBeacon).ok());
+  second.participant.reset();
+  ParticipantOrError again = Participant::Create(domain, CycloneOptions{});
+  EXPECT_TRUE(again.ok());
+}
+
+TEST(DdsParticipant, RefusesADomainAboveTheRange) {
+  const ParticipantOrError made = Participant::Create(kMaxDomainId + 1, CycloneOptions{});
+  ASSERT_FALSE(made.ok());
+  EXPECT_EQ(made.error->where, "domain 233");
+}
+
+TEST(DdsTopics, NamesTheRos2Way) {
+  EXPECT_EQ(TopicName(TopicKind::kBeacon), "rt/syrof/beacon");
+  EXPECT_EQ(TopicName(TopicKind::kImu, 3), "rt/robot_3/syrof/imu");
+  EXPECT_EQ(TopicName(TopicKind::kFlow, 0), "rt/robot_0/syrof/flow");
+  EXPECT_EQ(TopicName(TopicKind::kUwb, 12), "rt/robot_12/syrof/uwb");
+  EXPECT_EQ(TopicName(TopicKind::kDrive, 1), "rt/robot_1/syrof/drive");
+  EXPECT_EQ(TopicName(TopicKind::kControl), "rt/syrof/control");
+  EXPECT_EQ(TopicName(TopicKind::kReport), "rt/syrof/report");
+  EXPECT_EQ(TopicName(TopicKind::kStatus), "rt/syrof/status");
+  EXPECT_STREQ(TopicDescriptor(TopicKind::kBeacon)->m_typename, "syrof::msg::dds_::Beacon_");
+}
+
+TEST(DdsTopics, QosAsTheIdlSays) {
+  EXPECT_FALSE(QosOf(TopicKind::kBeacon).reliable);
+  EXPECT_EQ(QosOf(TopicKind::kBeacon).keep_last, 1);
+  EXPECT_EQ(QosOf(TopicKind::kImu).keep_last, 4);
+  EXPECT_TRUE(QosOf(TopicKind::kControl).reliable);
+  EXPECT_TRUE(QosOf(TopicKind::kControl).transient_local);
+  EXPECT_EQ(QosOf(TopicKind::kReport).keep_last, 0);
+  EXPECT_FALSE(QosOf(TopicKind::kReport).transient_local);
+  EXPECT_TRUE(QosOf(TopicKind::kStatus).transient_local);
+}
+
+TEST(DdsTopics, EveryTopicGetsAReaderAndAWriter) {
+  ParticipantOrError made = Participant::Create(testing::FreshDomainId(), CycloneOptions{});
+  ASSERT_TRUE(made.ok()) << made.error->ToString();
+  for (int kind = 0; kind < kTopicKinds; ++kind) {
+    const auto topic = static_cast<TopicKind>(kind);
+    const EntityOrError writer = CreateWriter(*made.participant, topic, 2);
+    ASSERT_TRUE(writer.ok()) << writer.error->ToString();
+    const EntityOrError reader = CreateReader(*made.participant, topic, 2);
+    ASSERT_TRUE(reader.ok()) << reader.error->ToString();
+  }
+}
+
+}  // namespace
+}  // namespace syrof::sim_dds

@@ -1,0 +1,48 @@
+#include <gtest/gtest.h>
+
+#include "syrof/sim_dds/robot_process.h"
+
+namespace syrof::sim_dds {
+namespace {
+
+TEST(RobotArgumentsTest, WhatTheWorldWritesTheRobotReadsBack) {
+  RobotProcessOptions options;
+  options.scenario_path = "/tmp/a b.yaml";
+  options.robot = 31;
+  options.run_id = 18446744073709551615ull;
+  options.domain_id = 232;
+  options.interface = "veth0";
+  options.parent_pid = 4242;
+  options.log_directory = "/tmp/out/robots";
+  options.overrides.seed = 7;
+  options.overrides.robots = 32;
+  options.overrides.duration_s = 0.1;
+  options.overrides.app = "/tmp/libmyapp.so";
+  const ParsedRobotArguments parsed = ParseRobotArguments(RobotArguments(options));
+  ASSERT_TRUE(parsed.options) << parsed.error;
+  const RobotProcessOptions& back = *parsed.options;
+  EXPECT_EQ(back.scenario_path, options.scenario_path);
+  EXPECT_EQ(back.robot, 31);
+  EXPECT_EQ(back.run_id, options.run_id);
+  EXPECT_EQ(back.domain_id, 232u);
+  EXPECT_EQ(back.interface, "veth0");
+  EXPECT_EQ(back.parent_pid, 4242);
+  EXPECT_EQ(back.log_directory, options.log_directory);
+  EXPECT_EQ(back.overrides.seed, 7u);
+  EXPECT_EQ(back.overrides.robots, 32);
+  EXPECT_EQ(back.overrides.duration_s, 0.1);  // printed with 17 digits: exact
+  EXPECT_EQ(back.overrides.app, options.overrides.app);
+}
+
+TEST(RobotArgumentsTest, BadArgumentsAreNamed) {
+  EXPECT_NE(ParseRobotArguments({"--robot", "70000", "--scenario", "s", "--run-id", "1", "--domain", "1"}).error.find("--robot"),
+            std::string::npos);
+  EXPECT_NE(ParseRobotArguments({"--domain", "233"}).error.find("--domain"), std::string::npos);
+  EXPECT_NE(ParseRobotArguments({"--robot", "-1"}).error.find("--robot"), std::string::npos);
+  EXPECT_NE(ParseRobotArguments({"--colour", "red"}).error.find("unknown argument --colour"), std::string::npos);
+  EXPECT_NE(ParseRobotArguments({"--scenario"}).error.find("no value"), std::string::npos);
+  EXPECT_NE(ParseRobotArguments({"--scenario", "s"}).error.find("required"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace syrof::sim_dds

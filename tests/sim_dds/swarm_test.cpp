@@ -1,0 +1,116 @@
+// The DDS swarm end to end: robot processes, the world, real faults and a
+// clean stop (sim_dds/swarm.h). Wall-clock runs of a few seconds each; the
+// bounds are generous for a loaded 2-core CI machine.
+#include "syrof/sim_dds/swarm.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "test_domain.h"
+
+namespace syrof::sim_dds {
+namespace {
+
+SwarmOptions OptionsFor(const std::string& scenario) {
+  SwarmOptions options;
+  options.scenario_path = std::string(SYROF_SWARM_SCENARIOS_DIR) + "/" + scenario;
+  options.robot_binary = SYROF_ROBOT_BINARY;
+  options.domain_id = testing::FreshDomainId();
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  options.out_dir = (std::filesystem::temp_directory_path() /
+                     ("syrof_swarm_test_" + std::string(test->name()) + "_" + std::to_string(getpid())))
+                        .string();
+  return options;
+}
+
+// Every robot process the run started is gone (reaped: kill finds nothing).
+void ExpectNoRobotLeft(const SwarmResult& result) {
+  for (const int pid : result.robot_pids) {
+    EXPECT_EQ(kill(pid, 0), -1) << "robot process " << pid << " is still there";
+    EXPECT_EQ(errno, ESRCH);
+  }
+}
+
+TEST(SwarmTest, EightRobotProcessesForTenSecondsWithLossKeepP3AndAgreeOnMembership) {
+  const SwarmOptions options = OptionsFor("swarm8_loss.yaml");
+  std::ostringstream log;
+  const SwarmResult result = RunSwarm(options, log);
+  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
+
+  EXPECT_EQ(m["runtime"], "dds");
+  EXPECT_EQ(m["common_knowledge"]["violations"], 0);  // P3, checked as the lab checks it
+  EXPECT_GE(m["epochs_started"].get<int>(), 3);       // 10 s of 1 s epochs, minus start-up
+  EXPECT_GT(m["common_knowledge"]["cooperative_starts"].get<int>(), 0);
+  EXPECT_EQ(m["membership"]["removals"], 0);          // nobody crashed: nobody removed
+  EXPECT_EQ(m["dds"]["reports_rejected"], 0);
+  EXPECT_GT(result.delivery_ratio, 0.8);              // loopback delivers nearly all
+  EXPECT_GT(result.skew.rounds, 100);
+  ASSERT_EQ(result.robot_exits.size(), 8u);
+  for (size_t id = 0; id < 8; ++id) {
+    ASSERT_TRUE(result.robot_exits[id].has_value()) << "robot " << id;
+    EXPECT_EQ(*result.robot_exits[id], 0) << "robot " << id << " did not stop cleanly";
+    EXPECT_GT(result.cpu_seconds[id], 0.0);
+  }
+  EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(options.out_dir) / "metrics.json"));
+  EXPECT_GT(std::filesystem::file_size(std::filesystem::path(options.out_dir) / "replay"), 0u);
+  ExpectNoRobotLeft(result);
+  std::filesystem::remove_all(options.out_dir);
+}
+
+TEST(SwarmTest, CrashPauseAndJoinAreRealSignalsAndTheSwarmKeepsP3) {
+  const SwarmOptions options = OptionsFor("swarm_faults.yaml");
+  std::ostringstream log;
+  const SwarmResult result = RunSwarm(options, log);
+  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
+
+  EXPECT_EQ(m["common_knowledge"]["violations"], 0);
+  // The crashed robot died of SIGKILL; the paused one was resumed and, like
+  // the late joiner, stopped cleanly at the end.
+  ASSERT_EQ(result.robot_exits.size(), 6u);
+  ASSERT_TRUE(result.robot_exits[1].has_value());
+  EXPECT_EQ(*result.robot_exits[1], -SIGKILL);
+  ASSERT_TRUE(result.robot_exits[2].has_value());
+  EXPECT_EQ(*result.robot_exits[2], 0);
+  ASSERT_TRUE(result.robot_exits[5].has_value());
+  EXPECT_EQ(*result.robot_exits[5], 0);
+  // The others removed the crashed robot and the paused one, and admitted
+  // the joiner (and the paused robot back).
+  EXPECT_GE(m["membership"]["robots_removed"].get<int>(), 2);
+  EXPECT_GE(m["membership"]["robots_joined"].get<int>(), 1);
+  ExpectNoRobotLeft(result);
+  std::filesystem::remove_all(options.out_dir);
+}
+
+TEST(SwarmTest, AStopRequestEndsTheRunEarlyWithEveryRobotStopped) {
+  SwarmOptions options = OptionsFor("swarm8_loss.yaml");
+  std::atomic<bool> stop{false};
+  options.stop = &stop;
+  options.replay = false;
+  std::thread stopper([&stop] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    stop.store(true);  // what the SIGINT handler of `syrof swarm` does
+  });
+  std::ostringstream log;
+  const auto before = std::chrono::steady_clock::now();
+  const SwarmResult result = RunSwarm(options, log);
+  stopper.join();
+  EXPECT_EQ(result.exit_code, 0) << result.error;
+  EXPECT_TRUE(result.stopped_early);
+  EXPECT_LT(std::chrono::steady_clock::now() - before, std::chrono::seconds(9));  // not the full 10 s
+  EXPECT_FALSE(result.robot_pids.empty());
+  ExpectNoRobotLeft(result);
+  std::filesystem::remove_all(options.out_dir);
+}
+
+}  // namespace
+}  // namespace syrof::sim_dds
