@@ -221,6 +221,49 @@ TEST(PosixPortTest, StartAtPutsActivationsOnTheOriginsGridNeverBeforeTheirPoint)
   EXPECT_EQ(port.StartAt(-1), PortError::kInvalidTrigger);
 }
 
+// A step is given its release on the grid, not the moment its thread woke
+// (always a little later): a beacon that arrives between the two belongs to
+// the next round, and a DDS robot whose thread woke late counted such
+// beacons one round early (docs/os.md).
+TEST(PosixPortTest, APeriodicStepIsGivenItsReleaseOnTheGridNotTheTimeItsThreadWoke) {
+  class ClockReadingTask final : public Task {
+   public:
+    explicit ClockReadingTask(const PosixPort& port) : port_(port) {}
+    void Step(int64_t now_ns) override {
+      const int64_t clock = port_.now_ns();
+      std::lock_guard<std::mutex> guard(mutex_);
+      given.push_back(now_ns);
+      read.push_back(clock);
+    }
+    size_t steps() {
+      std::lock_guard<std::mutex> guard(mutex_);
+      return given.size();
+    }
+    std::vector<int64_t> given, read;
+
+   private:
+    const PosixPort& port_;
+    std::mutex mutex_;
+  };
+  PosixPort port;
+  ClockReadingTask task(port);
+  constexpr int64_t kPeriod = 4'000'000;
+  ASSERT_TRUE(port.AddTask(task, {"periodic", Trigger::periodic(kPeriod, kPeriod), 0}));
+  const int64_t origin = port.now_ns() + 2'000'000;
+  ASSERT_EQ(port.StartAt(origin), PortError::kOk);
+  const auto deadline = std::chrono::steady_clock::now() + kPatience;
+  while (task.steps() < 5 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(milliseconds(1));
+  ASSERT_EQ(port.Stop(), PortError::kOk);
+  ASSERT_GE(task.given.size(), 5u);
+  for (size_t k = 0; k < task.given.size(); ++k) {
+    EXPECT_EQ((task.given[k] - origin - kPeriod) % kPeriod, 0) << "activation " << k << " is off the grid";
+    EXPECT_GE(task.read[k], task.given[k]) << "activation " << k;
+    if (k > 0) {
+      EXPECT_GT(task.given[k], task.given[k - 1]);
+    }
+  }
+}
+
 TEST(PosixPortTest, TwoPortsStartedApartShareTheGridOfOneMonotonicOrigin) {
   PosixPort first;
   std::this_thread::sleep_for(milliseconds(3));

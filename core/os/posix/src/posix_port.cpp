@@ -157,8 +157,12 @@ void PosixPort::RunPeriodic(Worker& worker) {
     worker.due = due + period;
     const auto now = std::chrono::steady_clock::now();
     if (worker.due <= now) worker.due += ((now - worker.due) / period + 1) * period;
+    // The step is given its release, the latest grid point at or before
+    // now, not the moment the thread woke: what arrived after the release
+    // belongs to the next activation however late this one runs.
+    const auto release = worker.due - period;
     state.unlock();
-    worker.task->Step(now_ns());
+    worker.task->Step(std::chrono::duration_cast<std::chrono::nanoseconds>(release - epoch_).count());
     state.lock();
   }
 }

@@ -55,7 +55,9 @@ struct TaskConfig {
 class Task {
  public:
   /// Runs one activation. `now_ns` is the port's clock at activation, in
-  /// nanoseconds since the port's epoch (virtual time on SimPort).
+  /// nanoseconds since the port's epoch (virtual time on SimPort): for a
+  /// periodic task its release on the grid, which a real-time port's thread
+  /// may run a little after (now_ns() then reads later).
   virtual void Step(int64_t now_ns) = 0;
 
  protected:
