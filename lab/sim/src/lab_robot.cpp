@@ -1,7 +1,7 @@
 #include "lab_robot.h"
 
 #include "syrof/base/check.h"
-#include "syrof/base/split_mix64.h"
+#include "syrof/lab/sim/run_parts.h"
 
 namespace syrof::lab::sim {
 namespace {
@@ -14,10 +14,6 @@ namespace {
 constexpr os::TaskId kPolledTask = UINT16_MAX;
 
 }  // namespace
-
-uint64_t SensorSeed(uint64_t seed, uint16_t robot) {
-  return base::SplitMix64Hash(seed ^ base::SplitMix64Hash(0x53454e534f52ULL + robot));
-}
 
 LabRobot::LabRobot(const scenario::Scenario& scenario, const scenario::RobotSpec& spec, os::SimScheduler& scheduler,
                    world::World& world, const runtime::RobotConfig& config, std::unique_ptr<app::App> app,

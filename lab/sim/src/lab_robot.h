@@ -22,11 +22,6 @@
 
 namespace syrof::lab::sim {
 
-/// The seed of robot `robot`'s sensor noise: one stream per robot, derived
-/// from the scenario seed, so adding a robot does not change another robot's
-/// noise.
-uint64_t SensorSeed(uint64_t seed, uint16_t robot);
-
 class LabRobot {
  public:
   /// `world`, `radio` and `scheduler` outlive the robot; the app is owned.

@@ -1,4 +1,4 @@
-#include "recording_app.h"
+#include "syrof/lab/sim/recording_app.h"
 
 #include "syrof/base/split_mix64.h"
 

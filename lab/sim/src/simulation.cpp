@@ -10,18 +10,18 @@
 #include <string>
 
 #include "syrof/base/check.h"
-#include "syrof/base/split_mix64.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/replay/writer.h"
 #include "lab_robot.h"
-#include "recording_app.h"
 #include "syrof/lab/sim/fault_schedule.h"
 #include "syrof/lab/sim/observation.h"
 #include "syrof/lab/sim/radio_network.h"
+#include "syrof/lab/sim/recording_app.h"
 #include "syrof/lab/sim/robot_config.h"
+#include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/os/sim_port.h"
 #include "syrof/pubsub/broker.h"
@@ -39,16 +39,7 @@ using registry::kRecorderPriority;
 constexpr int kTasksPerRobot = 4;  // state, Kalman, round, motion
 constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
 
-// An estimate is scored only this long after its robot started or resumed:
-// the filter converges from the known start pose within it.
-constexpr int64_t kEstimationWarmupNs = 1'000'000'000;
-
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
-
-// The channel's seed, derived from the scenario seed as each robot's sensor
-// seed is (SensorSeed, lab_robot.h), one stream per use.
-uint64_t ChannelSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4348414e4e454cULL); }
-uint64_t JitterSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4a4954544552ULL); }
 
 // One queries workspace for every app of the run: the lab runs one robot's
 // callback at a time, and a workspace holds nothing between queries.
@@ -170,79 +161,6 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   void Join(LabRobot& robot, int64_t now_ns);
   void StopRobot(LabRobot& robot, replay::Presence presence);
 };
-
-namespace {
-
-static_assert(replay::kMaxPayloadBytes == wire::kMaxPayloadBytes);
-
-// The replay's copy of an LDMap: every member's snapshot and phase.
-std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
-  auto map = std::make_shared<replay::EpochMap>();
-  map->epoch = ldmap.epoch;
-  map->mode = static_cast<uint8_t>(ldmap.mode);
-  for (const uint16_t id : ldmap.members) {
-    const wire::Snapshot& snapshot = ldmap.snapshots[id];
-    const std::span<const uint8_t> payload = snapshot.payload_bytes();
-    map->members.push_back(replay::MapMember{id, static_cast<uint8_t>(ldmap.phases[id]), snapshot.x_mm,
-                                             snapshot.y_mm, snapshot.heading_mrad, snapshot.vx_mm_s,
-                                             snapshot.vy_mm_s, std::vector<uint8_t>(payload.begin(), payload.end())});
-  }
-  return map;
-}
-
-// metrics.json's `goal` from the scenario's checks: reached when every
-// check passed; the detail names the first that failed.
-metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals::CheckResult>& results) {
-  metrics::GoalResult goal;
-  goal.app = app;
-  goal.source = "scenario";
-  goal.error_m = std::numeric_limits<double>::quiet_NaN();
-  size_t passed = 0;
-  std::string first_failure;
-  for (const goals::CheckResult& result : results) {
-    metrics::GoalCheckResult check;
-    check.name = result.name;
-    check.check = std::string(goals::ToString(result.kind));
-    check.when = std::string(goals::ToString(result.when));
-    check.passed = result.passed;
-    check.value = result.value;
-    check.limit = result.limit;
-    check.unit = std::string(goals::Unit(result.kind));
-    check.reason = result.reason;
-    check.samples = result.samples;
-    check.deadline_s = result.deadline_s;
-    if (result.held_from_epoch) check.held_from_epoch = *result.held_from_epoch;
-    check.held_from_s = result.held_from_s;
-    goal.checks.push_back(std::move(check));
-    if (result.passed) {
-      ++passed;
-    } else if (first_failure.empty()) {
-      first_failure = result.name + ": " + result.reason;
-    }
-  }
-  goal.reached = passed == results.size();
-  goal.detail = std::to_string(passed) + " of " + std::to_string(results.size()) + " checks passed" +
-                (first_failure.empty() ? "" : "; " + first_failure);
-  return goal;
-}
-
-std::vector<world::BodySpec> Bodies(const Scenario& scenario) {
-  std::vector<world::BodySpec> bodies;
-  for (const scenario::RobotSpec& robot : scenario.robots) {
-    world::BodySpec body{};
-    body.id = robot.id;
-    body.kind = robot.kind;
-    body.spec = scenario.kind_spec(robot.kind);
-    body.x_m = robot.x_m;
-    body.y_m = robot.y_m;
-    body.heading_rad = robot.heading_rad;
-    body.presence = robot.present_at_start ? world::BodyPresence::kActive : world::BodyPresence::kAbsent;
-    bodies.push_back(body);
-  }
-  return bodies;
-}
-
-}  // namespace
 
 Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& options)
     : scenario_(scenario),

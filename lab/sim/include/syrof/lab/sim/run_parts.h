@@ -1,0 +1,49 @@
+// What every runtime that plays a scenario's world shares with the lab's
+// engine, so a scenario means the same in each (the lab, the DDS world of
+// `syrof swarm`): the seeds derived from the scenario seed, the bodies,
+// when an estimate starts being scored, the replay's copy of a map and
+// metrics.json's `goal` from the scenario's declared checks.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "syrof/lab/goals/goals.h"
+#include "syrof/lab/metrics/metrics.h"
+#include "syrof/lab/replay/replay.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/world/world.h"
+#include "syrof/sync/ldmap.h"
+
+namespace syrof::lab::sim {
+
+/// An estimate is scored only this long after its robot started or resumed:
+/// the filter converges from the known start pose within it.
+inline constexpr int64_t kEstimationWarmupNs = 1'000'000'000;
+
+/// The seed of robot `robot`'s sensor noise: one stream per robot, derived
+/// from the scenario seed, so adding a robot does not change another robot's
+/// noise.
+uint64_t SensorSeed(uint64_t seed, uint16_t robot);
+
+/// The channel's seed (its loss draws), one stream of the scenario seed: the
+/// lab's radio and every DDS robot's receiver draw the same losses from it.
+uint64_t ChannelSeed(uint64_t seed);
+
+/// The seed of the radio's delivery jitter with real clocks (docs/clocks.md).
+uint64_t JitterSeed(uint64_t seed);
+
+/// The scenario's robots as the world's bodies, at their start poses; robots
+/// that join later start absent.
+std::vector<world::BodySpec> Bodies(const scenario::Scenario& scenario);
+
+/// The replay's copy of an LDMap: every member's snapshot and phase.
+std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap);
+
+/// metrics.json's `goal` from the scenario's checks: reached when every
+/// check passed; the detail names the first that failed.
+metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals::CheckResult>& results);
+
+}  // namespace syrof::lab::sim
