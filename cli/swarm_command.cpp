@@ -1,13 +1,18 @@
 #include "swarm_command.h"
 
 #include <signal.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
+#include <iostream>
 
 #include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
 
 #include "exit_status.h"
+#include "run_summary.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/sim_dds/swarm.h"
 
@@ -35,6 +40,12 @@ CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
   swarm->add_option("--domain", options.domain, "DDS domain id (default: $SYROF_DDS_DOMAIN, else one per run)")
       ->check(CLI::Range(0, 232));
   swarm->add_flag("--no-replay", options.no_replay, "Do not write the replay");
+  swarm->add_flag("--realtime", options.realtime,
+                  "Robot tasks at SCHED_FIFO priorities (root or CAP_SYS_NICE; without it robots say so and go on)");
+  swarm->add_flag("--align-rounds", options.align_rounds,
+                  "Experimental: robots align their rounds from the beacons they hear (docs/dds.md: the group drifts)");
+  swarm->add_flag("--realtime-start", options.realtime_start,
+                  "Robots read the start on CLOCK_REALTIME (robots on several hosts whose clocks are kept in sync)");
   swarm->add_flag("--quiet", options.quiet, "No progress line, no summary");
   swarm->footer(
       "Each robot is a process (syrof-robot) running the robot software on the POSIX port; this process is the\n"
@@ -68,6 +79,9 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
                                           : options.out_dir;
   swarm.replay = !options.no_replay;
   swarm.interface = options.interface;
+  swarm.realtime = options.realtime;
+  swarm.align_rounds = options.align_rounds;
+  swarm.realtime_start = options.realtime_start;
   swarm.domain_id = options.domain;
   g_swarm_stop.store(false);
   swarm.stop = &g_swarm_stop;
@@ -80,9 +94,20 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
     fmt::print(out, "syrof swarm: {} ({}), {} robot processes, seed {}, {:.1f} s\n", loaded.scenario->name,
                loaded.scenario->app.name, loaded.scenario->robots.size(), loaded.scenario->seed,
                loaded.scenario->timing.duration_s);
-    swarm.progress = [&out](double seconds) { fmt::print(out, "  {:.0f} s\n", seconds); };
+    // One line, rewritten each second on a terminal; every 10 s otherwise.
+    const bool terminal = &out == &std::cout && isatty(STDOUT_FILENO) != 0;
+    const double duration = loaded.scenario->timing.duration_s;
+    swarm.progress = [&out, terminal, duration](double seconds) {
+      if (terminal) {
+        fmt::print(out, "\r  {:.0f} of {:.0f} s", seconds, duration);
+        out.flush();
+      } else if (static_cast<int64_t>(seconds) % 10 == 0) {
+        fmt::print(out, "  {:.0f} of {:.0f} s\n", seconds, duration);
+      }
+    };
   }
   const sim_dds::SwarmResult result = sim_dds::RunSwarm(swarm, err);
+  if (!options.quiet && &out == &std::cout && isatty(STDOUT_FILENO) != 0) fmt::print(out, "\n");
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
   if (result.exit_code != 0) {
@@ -90,10 +115,24 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
     return result.exit_code == 2 ? kBadInput : kInternalError;
   }
   if (!options.quiet) {
-    fmt::print(out, "{}  delivery ratio {:.4f}; round-start skew p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us\n",
-               result.stopped_early ? "  stopped early (signal)\n" : "", result.delivery_ratio, result.skew.p50_us,
-               result.skew.p99_us, result.skew.max_us);
-    fmt::print(out, "  wrote {}/metrics.json{}\n", swarm.out_dir, swarm.replay ? " and replay" : "");
+    const nlohmann::json metrics = nlohmann::json::parse(result.metrics_json, nullptr, false);
+    if (result.stopped_early) fmt::print(out, "  stopped early (signal): the metrics cover what ran\n");
+    if (metrics.is_object()) {
+      PrintSummary(out, metrics, swarm.out_dir, swarm.replay, loaded.scenario->app.is_library(), false, false,
+                   "SyROF swarm");
+    }
+    double cpu_max = 0, cpu_sum = 0;
+    for (const double seconds : result.cpu_seconds) {
+      cpu_max = std::max(cpu_max, seconds);
+      cpu_sum += seconds;
+    }
+    const double wall = metrics.is_object() ? metrics.value("wall_seconds", 0.0) : 0.0;
+    fmt::print(out, "  {:<17} in-round delivery {:.2f}%; round-start skew p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us\n",
+               "dds", 100.0 * result.delivery_ratio, result.skew.p50_us, result.skew.p99_us, result.skew.max_us);
+    if (!result.cpu_seconds.empty() && wall > 0) {
+      fmt::print(out, "  {:<17} CPU per robot process {:.1f}% mean, {:.1f}% max (of one core)\n", "",
+                 100.0 * cpu_sum / static_cast<double>(result.cpu_seconds.size()) / wall, 100.0 * cpu_max / wall);
+    }
   }
   return kOk;
 }

@@ -23,6 +23,9 @@ struct SwarmOptions {
   std::optional<uint32_t> domain;  ///< default: SYROF_DDS_DOMAIN, else one per run
   bool no_replay = false;
   bool quiet = false;
+  bool realtime = false;
+  bool align_rounds = false;
+  bool realtime_start = false;
 };
 
 CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options);

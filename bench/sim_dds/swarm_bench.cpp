@@ -2,8 +2,10 @@
 // (bench/sim_dds/swarm_idle.yaml with the robot count overridden): delivery
 // ratio, round-start skew p50 / p99 / max, CPU per robot process, and P3.
 //
-// Usage: bench_sim_dds_swarm [--seconds S] [--robots N ...]
-// (defaults 10 s, robots 8 16 32). syrof-robot is found beside this
+// Usage: bench_sim_dds_swarm [--seconds S] [--robots N ...] [--realtime]
+// (defaults 10 s, robots 8 16 32; --realtime: robot tasks at SCHED_FIFO,
+// as `syrof swarm --realtime`, which needs root or CAP_SYS_NICE). The load
+// average is printed first: skew is the machine's scheduling as much as DDS's. syrof-robot is found beside this
 // program's build (SYROF_ROBOT_BINARY) or through $SYROF_ROBOT_BINARY.
 #include <unistd.h>
 
@@ -22,19 +24,25 @@
 
 int main(int argc, char** argv) {
   double seconds = 10;
+  bool realtime = false;
   std::vector<int> counts;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--seconds" && i + 1 < argc) {
       seconds = std::atof(argv[++i]);
+    } else if (arg == "--realtime") {
+      realtime = true;
     } else if (arg == "--robots") {
       while (i + 1 < argc && argv[i + 1][0] != '-') counts.push_back(std::atoi(argv[++i]));
     } else {
-      std::fprintf(stderr, "usage: bench_sim_dds_swarm [--seconds S] [--robots N ...]\n");
+      std::fprintf(stderr, "usage: bench_sim_dds_swarm [--seconds S] [--robots N ...] [--realtime]\n");
       return 2;
     }
   }
   if (counts.empty()) counts = {8, 16, 32};
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) == 3) std::printf("load average %.2f %.2f %.2f; robot tasks %s\n", load[0], load[1], load[2],
+                                            realtime ? "SCHED_FIFO (--realtime)" : "SCHED_OTHER");
   std::printf("robots  seconds  delivery  skew_p50_us  skew_p99_us  skew_max_us  cpu_mean_s  cpu_max_s  cpu_pct  p3_violations  epochs\n");
   for (const int robots : counts) {
     syrof::sim_dds::SwarmOptions options;
@@ -45,6 +53,7 @@ int main(int argc, char** argv) {
     options.domain_id = syrof::sim_dds::DomainIdForRun(static_cast<uint64_t>(getpid()) * 131 + static_cast<uint64_t>(robots));
     options.out_dir = (std::filesystem::temp_directory_path() / ("syrof_bench_swarm_" + std::to_string(getpid()))).string();
     options.replay = false;
+    options.realtime = realtime;
     std::ostringstream log;
     const syrof::sim_dds::SwarmResult result = syrof::sim_dds::RunSwarm(options, log);
     if (result.exit_code != 0) {

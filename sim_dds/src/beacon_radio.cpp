@@ -131,6 +131,11 @@ void BeaconRadio::TakeAll(dds_entity_t reader) {
       if (filter_.Check(sample->sender, sample->round, bytes, current_round, beacon) != SampleVerdict::kAccepted) {
         continue;
       }
+      if (static_cast<int64_t>(sample->round) == current_round) {
+        HeardRound& heard = heard_[static_cast<size_t>(current_round) % kHeardRounds];
+        if (heard.round != current_round) heard = HeardRound{current_round, {}};
+        heard.senders.set(sample->sender);
+      }
       const double sent_at_s = static_cast<double>(static_cast<int64_t>(sample->round) * options_.radio_round_ns) * 1e-9;
       if (!channel_.Delivers(sample->sender, options_.self, sample->round, sent_at_s)) {
         lost_.fetch_add(1, std::memory_order_relaxed);
@@ -142,6 +147,13 @@ void BeaconRadio::TakeAll(dds_entity_t reader) {
     dds_return_loan(reader, samples, taken);
     if (taken < kTakeBatch) return;
   }
+}
+
+wire::MemberSet BeaconRadio::HeardInRound(int64_t round) const {
+  if (round < 0) return {};
+  std::lock_guard<std::mutex> lock(receive_mutex_);
+  const HeardRound& heard = heard_[static_cast<size_t>(round) % kHeardRounds];
+  return heard.round == round ? heard.senders : wire::MemberSet{};
 }
 
 uint32_t BeaconRadio::matched_readers() const {

@@ -16,6 +16,7 @@ class Writer {
   void I16(int16_t v) { Raw(&v, 2); }
   void U32(uint32_t v) { Raw(&v, 4); }
   void I64(int64_t v) { Raw(&v, 8); }
+  void U64(uint64_t v) { Raw(&v, 8); }
   void F32(float v) { Raw(&v, 4); }
   void Text(std::string_view text) {
     const size_t room = kMaxReportBytes - std::min(kMaxReportBytes, bytes_.size());
@@ -40,6 +41,7 @@ class Reader {
   bool I16(int16_t& v) { return Raw(&v, 2); }
   bool U32(uint32_t& v) { return Raw(&v, 4); }
   bool I64(int64_t& v) { return Raw(&v, 8); }
+  bool U64(uint64_t& v) { return Raw(&v, 8); }
   bool F32(float& v) { return Raw(&v, 4); }
   std::string Rest() {
     std::string text(bytes_.begin() + static_cast<std::ptrdiff_t>(offset_), bytes_.end());
@@ -152,6 +154,17 @@ std::vector<uint8_t> EncodeRound(const RoundReport& round) {
   w.F32(round.est_y_m);
   w.F32(round.est_heading_rad);
   w.U32(round.beacons_heard);
+  WriteSet(w, round.heard_in_round);
+  return w.Take();
+}
+
+std::vector<uint8_t> EncodeAppState(const AppStateReport& app_state) {
+  Writer w(ReportKind::kAppState);
+  w.U8(app_state.new_round ? 1 : 0);
+  w.U16(app_state.epoch);
+  w.U8(app_state.cooperative ? 1 : 0);
+  w.U64(app_state.map_fingerprint);
+  w.U8(app_state.state);
   return w.Take();
 }
 
@@ -239,6 +252,20 @@ DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_
         error = "round report: status, phase, mode or estimate flag out of range";
         return result;
       }
+      if (ok && !ReadSet(r, swarm_size, round.heard_in_round, error, "round report heard_in_round")) return result;
+      break;
+    }
+    case ReportKind::kAppState: {
+      AppStateReport& app_state = body.app_state;
+      uint8_t new_round = 0, cooperative = 0;
+      ok = r.U8(new_round) && r.U16(app_state.epoch) && r.U8(cooperative) && r.U64(app_state.map_fingerprint) &&
+           r.U8(app_state.state);
+      if (ok && (new_round > 1 || cooperative > 1)) {
+        error = "app state report: call or mode flag out of range";
+        return result;
+      }
+      app_state.new_round = new_round != 0;
+      app_state.cooperative = cooperative != 0;
       break;
     }
   }

@@ -1,5 +1,7 @@
 #include "syrof/sim_dds/robot_process.h"
 
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <time.h>
@@ -16,11 +18,12 @@
 #include <thread>
 
 #include "syrof/app_host/hosted_app.h"
-#include "syrof/base/split_mix64.h"
 #include "syrof/estimation/topics.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/sensors/sensor_publishers.h"
+#include "syrof/lab/sim/recording_app.h"
 #include "syrof/lab/sim/robot_config.h"
+#include "syrof/lab/sim/run_parts.h"
 #include "syrof/motion/drive.h"
 #include "syrof/os/posix_port.h"
 #include "syrof/pubsub/broker.h"
@@ -166,11 +169,13 @@ class RoundTap final : public runtime::Radio {
   void Broadcast(const wire::Beacon& beacon) override {
     if (radio_ != nullptr) radio_->Broadcast(beacon);
     if (robot_ == nullptr) return;
-    const int64_t activation = port_.PortToMonotonic(robot_->last_round_ns());
+    // The round from the step's release on the grid; the skew's sample is
+    // when the beacon actually went out, however late the thread woke.
+    const int64_t release = port_.PortToMonotonic(robot_->last_round_ns());
     RoundReport report;
-    const int64_t since = activation - start_monotonic_ns_.load();
+    const int64_t since = release - start_monotonic_ns_.load();
     report.round = static_cast<uint32_t>(std::max<int64_t>(0, (since + radio_round_ns_ / 2) / radio_round_ns_));
-    report.activation_ns = activation;
+    report.activation_ns = os::PosixPort::MonotonicNowNs();
     const sync::SyncState& state = robot_->sync_state();
     report.status = static_cast<uint8_t>(state.status);
     report.phase = static_cast<uint8_t>(state.phase);
@@ -182,7 +187,8 @@ class RoundTap final : public runtime::Radio {
     report.est_y_m = estimate.y_m;
     report.est_heading_rad = estimate.heading_rad;
     report.beacons_heard = radio_ != nullptr ? static_cast<uint32_t>(radio_->counters().received) : 0;
-    writer_.Write(ReportKind::kRound, activation, EncodeRound(report));
+    if (radio_ != nullptr) report.heard_in_round = radio_->HeardInRound(static_cast<int64_t>(report.round) - 1);
+    writer_.Write(ReportKind::kRound, report.activation_ns, EncodeRound(report));
   }
 
  private:
@@ -195,6 +201,45 @@ class RoundTap final : public runtime::Radio {
   BeaconRadio* radio_ = nullptr;
   const runtime::Robot* robot_ = nullptr;
 };
+
+// The app's returned global states, for app-level agreement: the lab's
+// RecordingApp feed, as reports.
+class AppStateReporter final : public lab::sim::AppStateSink {
+ public:
+  explicit AppStateReporter(ReportWriter& writer) : writer_(writer) {}
+  void OnAppState(uint16_t, bool new_round, const syrof_ldmap& ldmap, uint8_t state) override {
+    AppStateReport report;
+    report.new_round = new_round;
+    report.epoch = ldmap.epoch;
+    report.cooperative = ldmap.mode == SYROF_MODE_COOPERATIVE;
+    report.map_fingerprint = lab::sim::MapFingerprint(ldmap);
+    report.state = state;
+    writer_.Write(ReportKind::kAppState, os::PosixPort::MonotonicNowNs(), EncodeAppState(report));
+  }
+
+ private:
+  ReportWriter& writer_;
+};
+
+// A CLOCK_REALTIME instant on this host's CLOCK_MONOTONIC.
+int64_t RealtimeToMonotonic(int64_t realtime_ns) {
+  timespec realtime{};
+  clock_gettime(CLOCK_REALTIME, &realtime);
+  const int64_t monotonic_now = os::PosixPort::MonotonicNowNs();
+  const int64_t realtime_now = static_cast<int64_t>(realtime.tv_sec) * 1'000'000'000 + realtime.tv_nsec;
+  return realtime_ns - realtime_now + monotonic_now;
+}
+
+// Whether this process may use SCHED_FIFO: tried on the calling thread,
+// then put back.
+bool CanUseRealtimePriorities() {
+  sched_param low{};
+  low.sched_priority = sched_get_priority_min(SCHED_FIFO);
+  if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &low) != 0) return false;
+  sched_param normal{};
+  (void)pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
+  return true;
+}
 
 // Polled subscriptions name no task (a port ignores unknown ids).
 constexpr os::TaskId kPolledTask = UINT16_MAX;
@@ -221,6 +266,9 @@ std::vector<std::string> RobotArguments(const RobotProcessOptions& o) {
   if (o.overrides.duration_s) a.insert(a.end(), {"--duration", fmt_double(*o.overrides.duration_s)});
   if (o.overrides.app) a.insert(a.end(), {"--app", *o.overrides.app});
   if (!o.log_directory.empty()) a.insert(a.end(), {"--log-dir", o.log_directory});
+  if (o.realtime) a.insert(a.end(), {"--realtime", "1"});
+  if (o.align_rounds) a.insert(a.end(), {"--align-rounds", "1"});
+  if (o.realtime_start) a.insert(a.end(), {"--realtime-start", "1"});
   return a;
 }
 
@@ -269,6 +317,12 @@ ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& argumen
         o.overrides.app = value;
       } else if (name == "--log-dir") {
         o.log_directory = value;
+      } else if (name == "--realtime") {
+        o.realtime = whole(1) == 1;
+      } else if (name == "--align-rounds") {
+        o.align_rounds = whole(1) == 1;
+      } else if (name == "--realtime-start") {
+        o.realtime_start = whole(1) == 1;
       } else {
         parsed.error = "unknown argument " + name;
         return parsed;
@@ -357,20 +411,33 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   }
 
   runtime::RobotConfig config = lab::sim::RobotConfigFor(scenario, spec);
+  // Every process reads one CLOCK_MONOTONIC on a host: the world's start
+  // grid lines rounds up. Across hosts without synchronised clocks the
+  // robots align from their beacons instead, which arrive a transport's
+  // latency after the sender's boundary (docs/dds.md).
+  config.align_rounds = options.align_rounds;
+  if (options.align_rounds) config.beacon_delay_ns = kBeaconLatencyNs;
   QueriesWorkspace workspace;
   config.queries_workspace = workspace.handle();
   std::vector<app::Parameter> params;
   for (const auto& [name, value] : scenario.app.params) params.push_back(app::Parameter{name, value});
   config.app_params = params;
 
-  os::PosixPort port;
+  os::PosixPortOptions port_options;
+  port_options.realtime_priorities = options.realtime;
+  if (options.realtime && !CanUseRealtimePriorities()) {
+    err << who << "--realtime: SCHED_FIFO refused (needs root or CAP_SYS_NICE); the tasks run at normal priority\n";
+  }
+  os::PosixPort port(port_options);
   pubsub::StaticBroker<8, 12> broker(port);
   lab::sensors::SensorPublishers sensors;
   ReportWriter reports(e.report, options.run_id, options.robot);
   ReportObserver observer(reports, port);
   RoundTap tap(reports, port, config.radio_round_ns);
+  AppStateReporter app_states(reports);
+  lab::sim::RecordingApp recorded_app(std::move(app), options.robot, app_states);
   std::vector<wire::Beacon> receive_storage(runtime::Robot::kReceiveBanks * static_cast<size_t>(swarm_size));
-  runtime::Robot robot(config, *app, tap, receive_storage);
+  runtime::Robot robot(config, recorded_app, tap, receive_storage);
   pubsub::Subscriber<motion::DriveCommand> drive;
   if (sensors.Advertise(broker) != pubsub::BrokerError::kOk) {
     err << who << "the sensor topics could not be advertised\n";
@@ -391,9 +458,8 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   radio_options.self = options.robot;
   radio_options.swarm_size = swarm_size;
   radio_options.channel = scenario.channel;
-  // The lab derives its channel seed from the scenario seed this way
-  // (lab/sim simulation.cpp, ChannelSeed): the same loss in both runtimes.
-  radio_options.seed = base::SplitMix64Hash(scenario.seed ^ 0x4348414e4e454cULL);
+  // The lab's channel seed: the same loss in both runtimes.
+  radio_options.seed = lab::sim::ChannelSeed(scenario.seed);
   radio_options.radio_round_ns = config.radio_round_ns;
   radio_options.current_round = [&tap] { return tap.CurrentRound(); };
   BeaconRadioOrError radio = BeaconRadio::Create(participant, radio_options);
@@ -446,7 +512,11 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
       if (control.state == 2) stop = true;
       if (control.state == 1 && start_monotonic < 0 && control.radio_round_ns == config.radio_round_ns &&
           control.start_monotonic_ns > 0) {
-        start_monotonic = control.start_monotonic_ns;
+        // On several hosts only CLOCK_REALTIME is shared (kept in sync by
+        // the hosts): the start is read on it and converted to this host's
+        // CLOCK_MONOTONIC.
+        start_monotonic = options.realtime_start ? RealtimeToMonotonic(control.start_realtime_ns)
+                                                 : control.start_monotonic_ns;
         tap.set_start(start_monotonic);
         const int64_t origin = port.MonotonicToPort(start_monotonic);
         if (port.StartAt(std::max<int64_t>(0, origin)) != os::PortError::kOk) {

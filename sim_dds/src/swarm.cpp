@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -26,11 +27,15 @@
 #include "syrof/motion/safety_filter.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/goal.h"
+#include "syrof/lab/goals/goals.h"
+#include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/replay/writer.h"
 #include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/lab/sim/fault_schedule.h"
+#include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/world/world.h"
+#include "syrof/sync/synchronizer.h"
 #include "syrof/os/posix_port.h"
 #include "syrof/sim_dds/participant.h"
 #include "syrof/sim_dds/report_codec.h"
@@ -47,42 +52,6 @@ using lab::sim::FaultAction;
 
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 int64_t MonotonicNow() { return os::PosixPort::MonotonicNowNs(); }
-
-// Each robot's sensor noise: one stream per robot from the scenario seed
-// (a stream of its own, not the lab's: a DDS run is not bit-identical).
-uint64_t DdsSensorSeed(uint64_t seed, uint16_t robot) {
-  return base::SplitMix64Hash(seed ^ base::SplitMix64Hash(0x4444535345ULL + robot));
-}
-
-std::vector<lab::world::BodySpec> Bodies(const scenario::Scenario& s) {
-  std::vector<lab::world::BodySpec> bodies;
-  for (const scenario::RobotSpec& robot : s.robots) {
-    lab::world::BodySpec body{};
-    body.id = robot.id;
-    body.kind = robot.kind;
-    body.spec = s.kind_spec(robot.kind);
-    body.x_m = robot.x_m;
-    body.y_m = robot.y_m;
-    body.heading_rad = robot.heading_rad;
-    body.presence = robot.present_at_start ? lab::world::BodyPresence::kActive : lab::world::BodyPresence::kAbsent;
-    bodies.push_back(body);
-  }
-  return bodies;
-}
-
-std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
-  auto map = std::make_shared<replay::EpochMap>();
-  map->epoch = ldmap.epoch;
-  map->mode = static_cast<uint8_t>(ldmap.mode);
-  for (const uint16_t id : ldmap.members) {
-    const wire::Snapshot& s = ldmap.snapshots[id];
-    const std::span<const uint8_t> payload = s.payload_bytes();
-    map->members.push_back(replay::MapMember{id, static_cast<uint8_t>(ldmap.phases[id]), s.x_mm, s.y_mm,
-                                             s.heading_mrad, s.vx_mm_s, s.vy_mm_s,
-                                             std::vector<uint8_t>(payload.begin(), payload.end())});
-  }
-  return map;
-}
 
 double Percentile(std::vector<int64_t> values, double fraction) {
   if (values.empty()) return 0;
@@ -142,7 +111,6 @@ struct RobotSlot {
   int64_t scored_from_ns = 0;
   RoundReport last;          // the newest round observation
   bool has_last = false;
-  uint32_t heard = 0;        // the radio's received count in `last`
   double cpu_seconds = 0;
   bool reaped = false;
   std::optional<int> exit;
@@ -159,7 +127,7 @@ struct BoundaryTruth {
   std::vector<replay::Event> events;  // the simulator's own (faults, contacts) in the round
 };
 
-constexpr int64_t kEstimationWarmupNs = 1'000'000'000;
+using lab::sim::kEstimationWarmupNs;
 // Reports of round r are recorded once the grid is this far past r.
 constexpr int64_t kRecordLagRounds = 10;
 
@@ -224,12 +192,12 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
                   entity(CreateWriter(participant, TopicKind::kFlow, id), r.flow) &&
                   entity(CreateWriter(participant, TopicKind::kUwb, id), r.uwb) &&
                   entity(CreateReader(participant, TopicKind::kDrive, id), r.drive);
-    r.bank = std::make_unique<lab::sensors::SensorBank>(sc.sensors, DdsSensorSeed(sc.seed, id));
+    r.bank = std::make_unique<lab::sensors::SensorBank>(sc.sensors, lab::sim::SensorSeed(sc.seed, id));
     r.sink = std::make_unique<DdsSensorSink>(id, r.imu, r.flow, r.uwb);
   }
   if (!entities_ok) return fail(1, "the world's DDS readers and writers could not be created (domain " + std::to_string(domain) + ")");
 
-  lab::world::World world(sc.arena, Bodies(sc));
+  lab::world::World world(sc.arena, lab::sim::Bodies(sc));
   lab::sim::FaultSchedule faults(sc.faults, alpha);
   lab::metrics::Collector collector(lab::metrics::CollectorConfig{n, alpha, static_cast<uint16_t>(sc.timing.silence_rounds)});
   std::ofstream replay_file;
@@ -263,6 +231,9 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   robot_options.interface = options.interface;
   robot_options.log_directory = (std::filesystem::path(options.out_dir) / "robots").string();
   robot_options.parent_pid = getpid();
+  robot_options.realtime = options.realtime;
+  robot_options.align_rounds = options.align_rounds;
+  robot_options.realtime_start = options.realtime_start;
   auto spawn = [&](uint16_t id) -> bool {
     robot_options.robot = id;
     const SwarmOptions::RobotNetwork* network =
@@ -383,10 +354,15 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   std::vector<int64_t> skews_ns;
   std::vector<lab::metrics::RobotRound> robot_rounds(n);
   std::vector<replay::RobotFrame> frames(n);
-  std::map<int64_t, std::vector<uint16_t>> round_senders;  // robots that reported (broadcast) in a round
+  std::map<int64_t, wire::MemberSet> round_senders;  // robots that reported (broadcast) in a round
   int64_t reports_rejected = 0, reports_late = 0, reports_foreign = 0;
   int64_t next_recorded = 1;
   double expected_deliveries = 0;
+  double in_round_deliveries = 0;
+  lab::metrics::AgreementTracker agreement;
+  lab::goals::GoalMonitor goal_monitor(sc.goal);
+  bool any_epoch = false;
+  uint16_t newest_epoch = 0;
 
   auto add_event = [&](replay::EventKind kind, int64_t time_ns, uint16_t robot, uint16_t other = replay::kNoRobot) {
     replay::Event event{};
@@ -429,6 +405,19 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     });
   };
 
+  // The running robots' true positions (at a recorded boundary, or now),
+  // for the scenario's goal checks.
+  auto running_poses = [&](const BoundaryTruth* truth) {
+    std::vector<lab::goals::RobotPose> poses;
+    for (uint16_t id = 0; id < n; ++id) {
+      const replay::Presence presence = truth != nullptr ? truth->presence[id] : robots[id].presence;
+      if (presence != replay::Presence::kRunning || robots[id].app_faulted) continue;
+      const lab::world::BodyState& body = truth != nullptr ? truth->bodies[id] : world.state(id);
+      poses.push_back(lab::goals::RobotPose{id, body.x_m, body.y_m, world.body_radius_m(id)});
+    }
+    return poses;
+  };
+
   // The recorder of round r: the lab's StepRecorder from reports.
   auto record = [&](int64_t round) {
     const auto truth_it = truths.find(round);
@@ -442,7 +431,9 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     std::vector<replay::RobotMap> maps;
     std::vector<int64_t> activations;
     std::vector<int64_t> phase_boundaries;
-    std::vector<uint16_t> senders;
+    wire::MemberSet senders;
+    std::vector<std::pair<uint16_t, wire::MemberSet>> heard;  // each reporting robot's in-round deliveries
+    std::optional<uint16_t> epoch_sample;  // a newer epoch started this round: the goal checks sample poses
     auto event = [&](replay::EventKind kind, int64_t time_ns, uint16_t robot, uint16_t epoch, uint8_t mode,
                      uint16_t other = replay::kNoRobot) {
       replay::Event e{};
@@ -461,9 +452,14 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       switch (r.body.kind) {
         case ReportKind::kEpochStart:
           collector.OnEpochStart(r.robot, round, r.time_ns, r.body.ldmap);
+          if (!any_epoch || sync::EpochDifference(r.body.ldmap.epoch, newest_epoch) > 0) {
+            any_epoch = true;
+            newest_epoch = r.body.ldmap.epoch;
+            epoch_sample = newest_epoch;
+          }
           event(replay::EventKind::kEpochStart, r.time_ns, r.robot, r.body.ldmap.epoch,
                 static_cast<uint8_t>(r.body.ldmap.mode));
-          maps.push_back(replay::RobotMap{r.robot, ToEpochMap(r.body.ldmap)});
+          maps.push_back(replay::RobotMap{r.robot, lab::sim::ToEpochMap(r.body.ldmap)});
           break;
         case ReportKind::kMembership:
           collector.OnMembership(r.robot, round, r.body.removed, r.body.joined);
@@ -496,20 +492,31 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
         case ReportKind::kRound:
           slot.last = r.body.round;
           slot.has_last = true;
-          slot.heard = r.body.round.beacons_heard;
           activations.push_back(r.body.round.activation_ns);
-          senders.push_back(r.robot);
+          senders.set(r.robot);
+          heard.emplace_back(r.robot, r.body.round.heard_in_round);
           if (r.body.round.status == 0) phase_boundaries.push_back(r.body.round.activation_ns - start);
           break;
+        case ReportKind::kAppState: {
+          const AppStateReport& a = r.body.app_state;
+          using Call = lab::metrics::AgreementTracker::Call;
+          agreement.OnAppState(r.robot, round, a.new_round ? Call::kNewRound : Call::kEndOfRound, a.epoch,
+                               a.cooperative, a.map_fingerprint, a.state);
+          break;
+        }
       }
     }
-    // Delivery: each robot that ran this round could hear the beacons of
-    // the others that ran the round before.
+    // In-round delivery: each robot that reported this round could have
+    // heard, within the round before, the beacon of every other robot that
+    // sent one then; its report says whose it did hear.
     if (auto previous = round_senders.find(round - 1); previous != round_senders.end()) {
-      for (const uint16_t receiver : senders) {
-        const auto& before = previous->second;
-        expected_deliveries += static_cast<double>(before.size()) -
-                               (std::find(before.begin(), before.end(), receiver) != before.end() ? 1.0 : 0.0);
+      for (const auto& [receiver, heard_set] : heard) {
+        wire::MemberSet expected = previous->second;
+        expected.reset(receiver);
+        wire::MemberSet delivered = heard_set;
+        delivered &= expected;
+        expected_deliveries += expected.count();
+        in_round_deliveries += delivered.count();
       }
       round_senders.erase(previous);
     }
@@ -553,6 +560,12 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       f.est_heading_rad = slot.last.est_heading_rad;
     }
     collector.OnRoundEnd(round, robot_rounds);
+    if (!goal_monitor.empty()) {
+      const std::vector<lab::goals::RobotPose> running = running_poses(truth_it != truths.end() ? &truth_it->second : nullptr);
+      const double time_s = static_cast<double>(round * alpha) * 1e-9;
+      goal_monitor.OnRound(time_s, running);
+      if (epoch_sample) goal_monitor.OnEpoch(*epoch_sample, time_s, running);
+    }
     if (truth_it != truths.end()) {
       events.insert(events.begin(), truth_it->second.events.begin(), truth_it->second.events.end());
       truths.erase(truth_it);
@@ -692,9 +705,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   end_all();
 
   // ---- Metrics ----------------------------------------------------------------
-  double heard = 0;
-  for (const RobotSlot& r : robots) heard += r.heard;
-  result.delivery_ratio = expected_deliveries > 0 ? heard / expected_deliveries : 0;
+  result.delivery_ratio = expected_deliveries > 0 ? in_round_deliveries / expected_deliveries : 0;
   result.skew.rounds = static_cast<int64_t>(skews_ns.size());
   result.skew.p50_us = Percentile(skews_ns, 0.50) * 1e-3;
   result.skew.p99_us = Percentile(skews_ns, 0.99) * 1e-3;
@@ -715,8 +726,8 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   facts.safety_enabled = sc.safety;
   facts.app_name = sc.app.name;
   facts.app_source = sc.app.is_library() ? sc.app.library : sc.app.name;
-  // The built-in app's goal from the final true poses, as the lab does;
-  // a scenario's declared checks (goal:) are not evaluated in a DDS run.
+  // The built-in app's goal from the final true poses, as the lab does, or
+  // the scenario's declared checks (goal:), sampled on the recorded rounds.
   std::vector<lab::apps::GoalPose> poses;
   for (uint16_t id = 0; id < n; ++id) {
     const lab::world::BodyState& body = world.state(id);
@@ -728,10 +739,14 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       lab::apps::BareAppName(sc.app.name), sc.app.params, lab::apps::ArenaSize{sc.arena.width_m, sc.arena.height_m},
       sc.omni.body_radius_m, poses);
   facts.goal.app = sc.app.name;
-  facts.goal.reached = goal.reached && sc.goal.empty();
+  facts.goal.reached = goal.reached;
   facts.goal.error_m = goal.error_m;
-  facts.goal.detail = sc.goal.empty() ? goal.detail : "the scenario's goal checks are not evaluated in a DDS run";
-  const lab::metrics::Metrics metrics = collector.Finish(facts);
+  facts.goal.detail = goal.detail;
+  if (!sc.goal.empty()) {
+    facts.goal = lab::sim::DeclaredGoal(sc.app.name, goal_monitor.Finish(facts.sim_seconds, running_poses(nullptr)));
+  }
+  lab::metrics::Metrics metrics = collector.Finish(facts);
+  metrics.agreement = agreement.Finish();
   nlohmann::json json = nlohmann::json::parse(lab::metrics::ToJson(metrics));
   json["runtime"] = "dds";
   nlohmann::json dds;

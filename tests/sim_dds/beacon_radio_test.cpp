@@ -149,7 +149,7 @@ TEST(BeaconRadio, DeliversIntoARobot) {
   config.sync = sync::SyncConfig::ForSwarm(kRobots, 0);
   config.radio_round_ns = 1'000'000'000;  // the port does not run: nothing is stepped
   IdleApp app;
-  std::array<wire::Beacon, 2 * kRobots> storage{};
+  std::array<wire::Beacon, runtime::Robot::kReceiveBanks * kRobots> storage{};
   runtime::Robot robot(config, app, *radio.radio, storage);
   ASSERT_EQ(robot.Attach(port, broker), runtime::RobotSetupError::kOk);
   ASSERT_FALSE(radio.radio->StartReceiving(robot).has_value());
@@ -168,6 +168,25 @@ TEST(BeaconRadio, DeliversIntoARobot) {
   }
   EXPECT_EQ(robot.counters().beacons_received, 3u);
   EXPECT_EQ(robot.counters().beacons_malformed, 0u);
+  // Each beacon arrived in the round it was sent for: heard in-round.
+  for (int64_t r = 0; r < 3; ++r) {
+    const wire::MemberSet heard = radio.radio->HeardInRound(r);
+    EXPECT_TRUE(heard.test(2)) << "round " << r;
+    EXPECT_EQ(heard.count(), 1) << "round " << r;
+  }
+  EXPECT_TRUE(radio.radio->HeardInRound(3).empty());
+  // A beacon of round 3 that arrives in round 4 is delivered, not in-round.
+  round = 4;
+  BeaconRadioOptions late = Options(2, kRobots, round);
+  late.current_round = [] { return int64_t{3}; };
+  BeaconRadioOrError late_sender = BeaconRadio::Create(*ps.participant, late);
+  ASSERT_TRUE(late_sender.ok());
+  ASSERT_TRUE(WaitFor([&] { return late_sender.radio->matched_readers() >= 1; }));
+  late_sender.radio->Broadcast(BeaconOf(2));
+  ASSERT_TRUE(WaitFor([&] { return radio.radio->counters().delivered == 4u; }));
+  EXPECT_TRUE(radio.radio->HeardInRound(3).empty());
+  EXPECT_TRUE(radio.radio->HeardInRound(4).empty());
+  late_sender.radio.reset();
   sender.radio.reset();
   radio.radio.reset();  // stops receiving before the robot goes
 }

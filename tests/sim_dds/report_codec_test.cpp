@@ -65,6 +65,8 @@ TEST(ReportCodecTest, EveryOtherKindRoundTrips) {
   round.epoch = 12;
   round.est_x_m = 1.25f;
   round.beacons_heard = 99;
+  round.heard_in_round.set(3);
+  round.heard_in_round.set(6);
   d = DecodeReport(static_cast<uint8_t>(ReportKind::kRound), EncodeRound(round), 8);
   ASSERT_TRUE(d.body) << d.error;
   EXPECT_EQ(d.body->round.round, 77u);
@@ -72,6 +74,21 @@ TEST(ReportCodecTest, EveryOtherKindRoundTrips) {
   EXPECT_EQ(d.body->round.epoch, 12);
   EXPECT_EQ(d.body->round.est_x_m, 1.25f);
   EXPECT_EQ(d.body->round.beacons_heard, 99u);
+  EXPECT_EQ(d.body->round.heard_in_round, round.heard_in_round);
+
+  AppStateReport app_state;
+  app_state.new_round = false;
+  app_state.epoch = 513;
+  app_state.cooperative = true;
+  app_state.map_fingerprint = 0x0123456789abcdefULL;
+  app_state.state = 200;
+  d = DecodeReport(static_cast<uint8_t>(ReportKind::kAppState), EncodeAppState(app_state), 8);
+  ASSERT_TRUE(d.body) << d.error;
+  EXPECT_FALSE(d.body->app_state.new_round);
+  EXPECT_EQ(d.body->app_state.epoch, 513);
+  EXPECT_TRUE(d.body->app_state.cooperative);
+  EXPECT_EQ(d.body->app_state.map_fingerprint, 0x0123456789abcdefULL);
+  EXPECT_EQ(d.body->app_state.state, 200);
 }
 
 TEST(ReportCodecTest, MalformedBodiesAreRefusedWithAReasonNeverRead) {
@@ -90,6 +107,15 @@ TEST(ReportCodecTest, MalformedBodiesAreRefusedWithAReasonNeverRead) {
   RoundReport round;
   round.phase = 9;
   EXPECT_NE(DecodeReport(static_cast<uint8_t>(ReportKind::kRound), EncodeRound(round), 8).error.find("out of range"),
+            std::string::npos);
+  // A heard robot outside the swarm; an app state with a flag that is not 0 or 1.
+  round.phase = 0;
+  round.heard_in_round.set(9);
+  EXPECT_NE(DecodeReport(static_cast<uint8_t>(ReportKind::kRound), EncodeRound(round), 8).error.find("heard_in_round"),
+            std::string::npos);
+  std::vector<uint8_t> app_state = EncodeAppState(AppStateReport{});
+  app_state[0] = 2;
+  EXPECT_NE(DecodeReport(static_cast<uint8_t>(ReportKind::kAppState), app_state, 8).error.find("out of range"),
             std::string::npos);
 }
 

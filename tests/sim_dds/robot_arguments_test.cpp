@@ -18,6 +18,9 @@ TEST(RobotArgumentsTest, WhatTheWorldWritesTheRobotReadsBack) {
   options.overrides.robots = 32;
   options.overrides.duration_s = 0.1;
   options.overrides.app = "/tmp/libmyapp.so";
+  options.realtime = true;
+  options.align_rounds = true;
+  options.realtime_start = true;
   const ParsedRobotArguments parsed = ParseRobotArguments(RobotArguments(options));
   ASSERT_TRUE(parsed.options) << parsed.error;
   const RobotProcessOptions& back = *parsed.options;
@@ -32,6 +35,15 @@ TEST(RobotArgumentsTest, WhatTheWorldWritesTheRobotReadsBack) {
   EXPECT_EQ(back.overrides.robots, 32);
   EXPECT_EQ(back.overrides.duration_s, 0.1);  // printed with 17 digits: exact
   EXPECT_EQ(back.overrides.app, options.overrides.app);
+  EXPECT_TRUE(back.realtime);
+  EXPECT_TRUE(back.align_rounds);
+  EXPECT_TRUE(back.realtime_start);
+  // Flags left off are not written, and read back off.
+  RobotProcessOptions plain_options;
+  plain_options.scenario_path = "s";
+  const ParsedRobotArguments plain = ParseRobotArguments(RobotArguments(plain_options));
+  ASSERT_TRUE(plain.options) << plain.error;
+  EXPECT_FALSE(plain.options->realtime || plain.options->align_rounds || plain.options->realtime_start);
 }
 
 TEST(RobotArgumentsTest, BadArgumentsAreNamed) {

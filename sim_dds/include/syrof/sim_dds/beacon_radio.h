@@ -25,6 +25,7 @@
 // never asked about (tests/sim_dds/beacon_radio_test.cpp checks it).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -38,6 +39,7 @@
 #include "syrof/runtime/radio.h"
 #include "syrof/sim_dds/participant.h"
 #include "syrof/sim_dds/sample_check.h"
+#include "syrof/wire/member_set.h"
 
 namespace syrof::runtime {
 class Robot;
@@ -122,6 +124,13 @@ class BeaconRadio final : public runtime::Radio {
   /// Rejections by reason (SampleVerdict), for the robot's Status_.
   const SampleCounters& sample_counters() const { return filter_.counters(); }
 
+  /// The senders whose beacon of `round` this radio accepted while `round`
+  /// was still its own current round (in-round delivery, measured before the
+  /// channel's simulated loss). Kept for the newest kHeardRounds rounds; an
+  /// older round gives an empty set.
+  static constexpr size_t kHeardRounds = 4;
+  wire::MemberSet HeardInRound(int64_t round) const;
+
  private:
   BeaconRadio(const Participant& participant, BeaconRadioOptions options);
   static void OnDataAvailable(dds_entity_t reader, void* self);
@@ -135,9 +144,14 @@ class BeaconRadio final : public runtime::Radio {
   std::vector<uint8_t> send_bytes_;
 
   // The receive side, on Cyclone's threads: one at a time.
-  std::mutex receive_mutex_;
+  mutable std::mutex receive_mutex_;
   SampleFilter filter_;
   lab::world::Channel channel_;
+  struct HeardRound {
+    int64_t round = -1;
+    wire::MemberSet senders;
+  };
+  std::array<HeardRound, kHeardRounds> heard_{};  // by round % kHeardRounds; under receive_mutex_
 
   std::atomic<uint64_t> sent_{0};
   std::atomic<uint64_t> send_failed_{0};

@@ -13,7 +13,12 @@
 //   kInvalidCommand epoch u16, what (rest, text)
 //   kPayloadRefused epoch u16, length u32
 //   kSafety         time_ns i64 (the robot's monotonic clock), other u16
-//   kRound          RoundReport (below), 32 bytes
+//   kRound          RoundReport (below): round u32, activation_ns i64, status u8,
+//                   phase u8, mode u8, estimate_valid u8, epoch u16, est x, y,
+//                   heading f32, beacons_heard u32, heard_in_round (count u16
+//                   + ids u16...)
+//   kAppState       new_round u8, epoch u16, cooperative u8, map
+//                   fingerprint u64, global state u8
 // A sample is untrusted (any participant may write the topic): Decode checks
 // the kind, every length and enum, and says what is wrong.
 #pragma once
@@ -38,14 +43,15 @@ enum class ReportKind : uint8_t {
   kPayloadRefused = 5,
   kSafety = 6,
   kRound = 7,
+  kAppState = 8,
 };
-inline constexpr uint8_t kReportKinds = 8;
+inline constexpr uint8_t kReportKinds = 9;
 
 /// A robot at the end of one of its rounds (after the synchronizer's step):
 /// what the lab's recorder reads from each robot (observation.h).
 struct RoundReport {
   uint32_t round = 0;           ///< on the world's grid: (activation - start) / alpha, rounded
-  int64_t activation_ns = 0;    ///< the round task's activation, CLOCK_MONOTONIC (the skew's sample)
+  int64_t activation_ns = 0;    ///< when the round's beacon went out, CLOCK_MONOTONIC (the skew's sample)
   uint8_t status = 1;           ///< sync::Status
   uint8_t phase = 1;            ///< wire::Phase
   uint8_t epoch_mode = 1;       ///< wire::Mode
@@ -55,6 +61,20 @@ struct RoundReport {
   float est_y_m = 0;
   float est_heading_rad = 0;
   uint32_t beacons_heard = 0;   ///< beacons the transport delivered so far (the radio's count, before loss)
+  /// The robots whose beacon of the previous round reached this robot within
+  /// that round (accepted, before the channel's simulated loss): the world's
+  /// in-round delivery ratio compares it with who sent one.
+  wire::MemberSet heard_in_round;
+};
+
+/// What an app's newRound or endOfRound returned, for app-level agreement
+/// (lab/metrics/agreement.h): the lab's RecordingApp feed, over DDS.
+struct AppStateReport {
+  bool new_round = true;      ///< newRound, else endOfRound
+  uint16_t epoch = 0;
+  bool cooperative = false;   ///< the map's mode
+  uint64_t map_fingerprint = 0;  ///< lab::sim::MapFingerprint of the map the app saw
+  uint8_t state = 0;          ///< the global state it returned
 };
 
 /// One decoded report body.
@@ -70,6 +90,7 @@ struct ReportBody {
   int64_t time_ns = 0;                   ///< kSafety
   uint16_t other = 0;                    ///< kSafety
   RoundReport round;                     ///< kRound
+  AppStateReport app_state;              ///< kAppState
 };
 
 std::vector<uint8_t> EncodeEpochStart(const sync::LDMap& ldmap);
@@ -79,6 +100,7 @@ std::vector<uint8_t> EncodeInvalidCommand(uint16_t epoch, std::string_view what)
 std::vector<uint8_t> EncodePayloadRefused(uint16_t epoch, uint32_t length);
 std::vector<uint8_t> EncodeSafety(int64_t time_ns, uint16_t other);
 std::vector<uint8_t> EncodeRound(const RoundReport& round);
+std::vector<uint8_t> EncodeAppState(const AppStateReport& app_state);
 
 /// The body of `kind` (a Report_'s kind byte) or what is wrong with it
 /// ("epoch start: member 70 at or above the swarm size 8", ...). `swarm_size`

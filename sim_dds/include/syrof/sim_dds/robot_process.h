@@ -42,6 +42,16 @@ struct RobotProcessOptions {
   std::string interface = "lo";        ///< CycloneOptions::interface
   std::string log_directory;           ///< a library app's host log goes to <dir>/<id>.log; empty: none
   int64_t parent_pid = 0;              ///< exit if the parent is no longer this process (0: no check)
+  /// The robot's task threads at SCHED_FIFO priorities (PosixPortOptions::
+  /// realtime_priorities); refused without CAP_SYS_NICE, and said so.
+  bool realtime = false;
+  /// Rounds aligned from the beacons heard (RobotConfig::align_rounds,
+  /// docs/clocks.md) rather than held on the world's start grid alone.
+  bool align_rounds = false;
+  /// The run's start read from the control sample's CLOCK_REALTIME instant
+  /// (hosts whose clocks are kept in sync) instead of its CLOCK_MONOTONIC one
+  /// (meaningful on one host only).
+  bool realtime_start = false;
 };
 
 /// The arguments (argv[1..]) that make syrof-robot run `options`.
@@ -53,6 +63,11 @@ struct ParsedRobotArguments {
   std::string error;
 };
 ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& arguments);
+
+/// What a beacon's trip from one robot process's round boundary to another's
+/// receive takes on loopback (bench_sim_dds_beacon_latency: p50 121 us):
+/// the delay round alignment expects on an aligned link.
+inline constexpr int64_t kBeaconLatencyNs = 150'000;
 
 /// The world's participant gone for this long (its liveliness lost): the
 /// robot stops.

@@ -40,6 +40,9 @@ struct SwarmOptions {
   /// this executable.
   std::string robot_binary;
   std::string interface = "lo";
+  bool realtime = false;      ///< RobotProcessOptions::realtime for every robot
+  bool align_rounds = false;  ///< RobotProcessOptions::align_rounds for every robot
+  bool realtime_start = false;  ///< RobotProcessOptions::realtime_start for every robot
   /// Where each robot runs, by robot id (missing or empty entries: beside
   /// the world). `netns_path` is a network namespace (/var/run/netns/NAME)
   /// the robot's process joins before exec (setns; needs CAP_SYS_ADMIN);
