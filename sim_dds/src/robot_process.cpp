@@ -46,26 +46,6 @@ int64_t CpuTimeNs() {
   return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-// The queries' scratch memory for this robot's app.
-class QueriesWorkspace {
- public:
-  QueriesWorkspace()
-      : memory_(static_cast<unsigned char*>(::operator new(syrof_queries_workspace_size(),
-                                                            std::align_val_t(syrof_queries_workspace_alignment())))) {
-    if (syrof_queries_workspace_init(memory_, syrof_queries_workspace_size(), &handle_) != SYROF_QUERIES_OK) {
-      handle_ = nullptr;
-    }
-  }
-  ~QueriesWorkspace() { ::operator delete(memory_, std::align_val_t(syrof_queries_workspace_alignment())); }
-  QueriesWorkspace(const QueriesWorkspace&) = delete;
-  QueriesWorkspace& operator=(const QueriesWorkspace&) = delete;
-  syrof_queries_workspace* handle() const { return handle_; }
-
- private:
-  unsigned char* memory_;
-  syrof_queries_workspace* handle_ = nullptr;
-};
-
 // Writes Report_ samples: from the round task (observer hooks, round
 // observations) and, for init's fault, from the main thread before the port
 // starts. The mutex keeps sequence numbers in writing order.
@@ -417,7 +397,7 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   // latency after the sender's boundary (docs/dds.md).
   config.align_rounds = options.align_rounds;
   if (options.align_rounds) config.beacon_delay_ns = kBeaconLatencyNs;
-  QueriesWorkspace workspace;
+  lab::sim::QueriesWorkspace workspace;
   config.queries_workspace = workspace.handle();
   std::vector<app::Parameter> params;
   for (const auto& [name, value] : scenario.app.params) params.push_back(app::Parameter{name, value});

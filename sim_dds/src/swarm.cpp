@@ -204,21 +204,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   std::unique_ptr<replay::Writer> replay_writer;
   if (options.replay) {
     replay_file.open(std::filesystem::path(options.out_dir) / "replay", std::ios::binary);
-    replay::Header header;
-    header.seed = sc.seed;
-    header.radio_round_ns = alpha;
-    header.arena_width_m = static_cast<float>(sc.arena.width_m);
-    header.arena_height_m = static_cast<float>(sc.arena.height_m);
-    header.scenario_name = sc.name;
-    header.app_name = sc.app.name;
-    for (const scenario::RobotSpec& spec : sc.robots) {
-      header.robots.push_back(replay::RobotInfo{spec.id, static_cast<uint8_t>(spec.kind),
-                                                static_cast<float>(sc.kind_spec(spec.kind).body_radius_m)});
-    }
-    for (const lab::world::AnchorSpec& anchor : sc.arena.anchors) {
-      header.anchors.push_back(replay::AnchorInfo{static_cast<float>(anchor.x_m), static_cast<float>(anchor.y_m)});
-    }
-    replay_writer = std::make_unique<replay::Writer>(replay_file, header);
+    replay_writer = std::make_unique<replay::Writer>(replay_file, lab::sim::ReplayHeader(sc));
   }
 
   // ---- Processes ----------------------------------------------------------

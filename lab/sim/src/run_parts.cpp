@@ -1,8 +1,11 @@
 #include "syrof/lab/sim/run_parts.h"
 
+#include <cmath>
 #include <limits>
+#include <new>
 #include <span>
 
+#include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
 
 namespace syrof::lab::sim {
@@ -16,6 +19,24 @@ uint64_t SensorSeed(uint64_t seed, uint16_t robot) {
 uint64_t ChannelSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4348414e4e454cULL); }
 
 uint64_t JitterSeed(uint64_t seed) { return base::SplitMix64Hash(seed ^ 0x4a4954544552ULL); }
+
+replay::Header ReplayHeader(const scenario::Scenario& scenario) {
+  replay::Header header;
+  header.seed = scenario.seed;
+  header.radio_round_ns = std::llround(scenario.timing.radio_round_s * 1e9);
+  header.arena_width_m = static_cast<float>(scenario.arena.width_m);
+  header.arena_height_m = static_cast<float>(scenario.arena.height_m);
+  header.scenario_name = scenario.name;
+  header.app_name = scenario.app.name;
+  for (const scenario::RobotSpec& spec : scenario.robots) {
+    header.robots.push_back(replay::RobotInfo{spec.id, static_cast<uint8_t>(spec.kind),
+                                              static_cast<float>(scenario.kind_spec(spec.kind).body_radius_m)});
+  }
+  for (const world::AnchorSpec& anchor : scenario.arena.anchors) {
+    header.anchors.push_back(replay::AnchorInfo{static_cast<float>(anchor.x_m), static_cast<float>(anchor.y_m)});
+  }
+  return header;
+}
 
 std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
   auto map = std::make_shared<replay::EpochMap>();
@@ -79,6 +100,16 @@ std::vector<world::BodySpec> Bodies(const scenario::Scenario& scenario) {
     bodies.push_back(body);
   }
   return bodies;
+}
+
+QueriesWorkspace::QueriesWorkspace()
+    : memory_(static_cast<unsigned char*>(
+          ::operator new(syrof_queries_workspace_size(), std::align_val_t(syrof_queries_workspace_alignment())))) {
+  SYROF_CHECK(syrof_queries_workspace_init(memory_, syrof_queries_workspace_size(), &handle_) == SYROF_QUERIES_OK);
+}
+
+QueriesWorkspace::~QueriesWorkspace() {
+  ::operator delete(memory_, std::align_val_t(syrof_queries_workspace_alignment()));
 }
 
 }  // namespace syrof::lab::sim

@@ -41,26 +41,6 @@ constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
 
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 
-// One queries workspace for every app of the run: the lab runs one robot's
-// callback at a time, and a workspace holds nothing between queries.
-class QueriesWorkspace {
- public:
-  QueriesWorkspace()
-      : memory_(static_cast<unsigned char*>(::operator new(syrof_queries_workspace_size(),
-                                                            std::align_val_t(syrof_queries_workspace_alignment())))) {
-    SYROF_CHECK(syrof_queries_workspace_init(memory_, syrof_queries_workspace_size(), &handle_) ==
-                SYROF_QUERIES_OK);
-  }
-  ~QueriesWorkspace() { ::operator delete(memory_, std::align_val_t(syrof_queries_workspace_alignment())); }
-  QueriesWorkspace(const QueriesWorkspace&) = delete;
-  QueriesWorkspace& operator=(const QueriesWorkspace&) = delete;
-  syrof_queries_workspace* handle() const { return handle_; }
-
- private:
-  unsigned char* memory_;
-  syrof_queries_workspace* handle_ = nullptr;
-};
-
 // A periodic task that calls a member function of the simulation.
 class CallbackTask final : public os::Task {
  public:
@@ -232,21 +212,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   }
 
   if (options_.replay != nullptr) {
-    replay::Header header;
-    header.seed = scenario_.seed;
-    header.radio_round_ns = radio_round_ns_;
-    header.arena_width_m = static_cast<float>(scenario_.arena.width_m);
-    header.arena_height_m = static_cast<float>(scenario_.arena.height_m);
-    header.scenario_name = scenario_.name;
-    header.app_name = scenario_.app.name;
-    for (const scenario::RobotSpec& spec : scenario_.robots) {
-      header.robots.push_back(replay::RobotInfo{spec.id, static_cast<uint8_t>(spec.kind),
-                                                static_cast<float>(scenario_.kind_spec(spec.kind).body_radius_m)});
-    }
-    for (const world::AnchorSpec& anchor : scenario_.arena.anchors) {
-      header.anchors.push_back(replay::AnchorInfo{static_cast<float>(anchor.x_m), static_cast<float>(anchor.y_m)});
-    }
-    replay_ = std::make_unique<replay::Writer>(*options_.replay, header);
+    replay_ = std::make_unique<replay::Writer>(*options_.replay, ReplayHeader(scenario_));
   }
   frames_.resize(robots_.size());
   robot_rounds_.resize(robots_.size());

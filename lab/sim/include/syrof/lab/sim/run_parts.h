@@ -15,6 +15,7 @@
 #include "syrof/lab/replay/replay.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/world/world.h"
+#include "syrof/queries/queries.h"
 #include "syrof/sync/ldmap.h"
 
 namespace syrof::lab::sim {
@@ -39,11 +40,31 @@ uint64_t JitterSeed(uint64_t seed);
 /// that join later start absent.
 std::vector<world::BodySpec> Bodies(const scenario::Scenario& scenario);
 
+/// The replay's header for a run of `scenario`: seed, round, arena, names,
+/// robots with their body radii, anchors.
+replay::Header ReplayHeader(const scenario::Scenario& scenario);
+
 /// The replay's copy of an LDMap: every member's snapshot and phase.
 std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap);
 
 /// metrics.json's `goal` from the scenario's checks: reached when every
 /// check passed; the detail names the first that failed.
 metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals::CheckResult>& results);
+
+/// The queries' scratch memory (syrof/queries.h's workspace), owned. The lab
+/// shares one among every app of a run (it runs one callback at a time, and
+/// a workspace holds nothing between queries); a robot process has its own.
+class QueriesWorkspace {
+ public:
+  QueriesWorkspace();
+  ~QueriesWorkspace();
+  QueriesWorkspace(const QueriesWorkspace&) = delete;
+  QueriesWorkspace& operator=(const QueriesWorkspace&) = delete;
+  syrof_queries_workspace* handle() const { return handle_; }
+
+ private:
+  unsigned char* memory_;
+  syrof_queries_workspace* handle_ = nullptr;
+};
 
 }  // namespace syrof::lab::sim
