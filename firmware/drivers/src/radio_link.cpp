@@ -1,7 +1,6 @@
 #include "syrof/firmware/drivers/radio_link.h"
 
 #include <algorithm>
-#include <cstdio>
 
 namespace syrof::firmware::drivers {
 namespace {
@@ -298,35 +297,63 @@ LinkError FrameDecoder::Finish() {
   return LinkError::kOk;
 }
 
-base::Result<size_t, LinkError> RenderFrameTable(std::span<char> out) {
-  size_t at = 0;
-  bool fits = true;
-  auto append = [&](const char* format, auto... arguments) {
-    if (!fits) return;
-    const size_t room = out.size() - at;
-    const int written = std::snprintf(out.data() + at, room, format, arguments...);
-    if (written < 0 || static_cast<size_t>(written) >= room) {
-      fits = false;
+namespace {
+
+// Appends text and numbers to a fixed buffer; remembers when it ran out.
+class TableWriter {
+ public:
+  explicit TableWriter(std::span<char> out) : out_(out) {}
+
+  TableWriter& operator<<(const char* text) {
+    for (; *text != '\0'; ++text) Put(*text);
+    return *this;
+  }
+  TableWriter& operator<<(size_t number) {
+    char digits[20];
+    size_t count = 0;
+    do {
+      digits[count++] = static_cast<char>('0' + number % 10);
+      number /= 10;
+    } while (number > 0);
+    while (count > 0) Put(digits[--count]);
+    return *this;
+  }
+  bool fits() const { return fits_; }
+  size_t length() const { return at_; }
+
+ private:
+  void Put(char c) {
+    if (at_ >= out_.size()) {
+      fits_ = false;
       return;
     }
-    at += static_cast<size_t>(written);
-  };
-  append("| Kind | Value | Direction | Payload | Body bytes | Wire bytes |\n");
-  append("| --- | --- | --- | --- | --- | --- |\n");
+    out_[at_++] = c;
+  }
+
+  std::span<char> out_;
+  size_t at_ = 0;
+  bool fits_ = true;
+};
+
+}  // namespace
+
+base::Result<size_t, LinkError> RenderFrameTable(std::span<char> out) {
+  TableWriter table(out);
+  table << "| Kind | Value | Direction | Payload | Body bytes | Wire bytes |\n";
+  table << "| --- | --- | --- | --- | --- | --- |\n";
   for (const KindDescription& description : kKinds) {
     const size_t low = MinBodyBytes(description);
     const size_t high = MaxBodyBytes(description);
-    append("| %s | %u | %s | %s | ", ToString(description.kind), static_cast<unsigned>(description.kind),
-           description.direction, description.payload);
+    table << "| " << ToString(description.kind) << " | " << static_cast<size_t>(description.kind) << " | "
+          << description.direction << " | " << description.payload << " | ";
     if (low == high) {
-      append("%u | %u |\n", static_cast<unsigned>(low), static_cast<unsigned>(WireBytes(low)));
+      table << low << " | " << WireBytes(low) << " |\n";
     } else {
-      append("%u to %u | %u to %u |\n", static_cast<unsigned>(low), static_cast<unsigned>(high),
-             static_cast<unsigned>(WireBytes(low)), static_cast<unsigned>(WireBytes(high)));
+      table << low << " to " << high << " | " << WireBytes(low) << " to " << WireBytes(high) << " |\n";
     }
   }
-  if (!fits) return LinkError::kBufferTooSmall;
-  return at;
+  if (!table.fits()) return LinkError::kBufferTooSmall;
+  return table.length();
 }
 
 }  // namespace syrof::firmware::drivers
