@@ -189,6 +189,12 @@ int64_t syrof::board::teensy32::now_ns() {
          static_cast<int64_t>(elapsed_cycles) * 1'000'000'000 / kCoreHz;
 }
 
+void syrof::board::teensy32::BusyDelay::WaitUs(uint32_t microseconds) {
+  const int64_t until_ns = now_ns() + static_cast<int64_t>(microseconds) * 1000;
+  while (now_ns() < until_ns) {
+  }
+}
+
 extern "C" void fault_handler() {
   // Interrupts off and spin, so nothing else runs: a debugger finds the
   // exception number in IPSR. (No bkpt: without a debugger attached it
