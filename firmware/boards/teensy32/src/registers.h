@@ -93,9 +93,10 @@ inline constexpr uintptr_t kNvicIser = 0xE000E100;  // + 4 x (irq / 32)
 inline constexpr uintptr_t kNvicIpr = 0xE000E400;   // one byte per irq
 inline constexpr uintptr_t kScbShpr3 = 0xE000ED20;  // SysTick priority in bits 31..24
 
-// Interrupt numbers (vector index - 16) of the MK20DX256.
-inline constexpr int kIrqUart0Status = 16;
-inline constexpr int kIrqUart2Status = 20;
+// Interrupt numbers (vector index - 16) of the MK20DX256 (the 72 MHz K20's
+// 95-entry map; the 50 MHz MK20DX128's shorter map numbers them 16 and 20).
+inline constexpr int kIrqUart0Status = 45;
+inline constexpr int kIrqUart2Status = 49;
 
 inline void EnableIrq(int irq, uint8_t level) {
   R8(kNvicIpr + static_cast<uintptr_t>(irq)) = static_cast<uint8_t>(level << 4);  // 4 priority bits

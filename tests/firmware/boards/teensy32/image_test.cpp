@@ -94,6 +94,15 @@ TEST_F(Teensy32ImageTest, EveryVectorIsAThumbAddressInFlash) {
   }
 }
 
+TEST_F(Teensy32ImageTest, SysTickAndUartInterruptsReachTheirHandlers) {
+  // Vector 15 is SysTick; the MK20DX256's interrupt 45 is UART0's status
+  // (the radio link), 49 UART2's (the console): vectors 61 and 65.
+  EXPECT_EQ(Word(4 * 15) & ~1u, Symbol("systick_handler") & ~1u);
+  EXPECT_EQ(Word(4 * (16 + 45)) & ~1u, Symbol("uart0_status_handler") & ~1u);
+  EXPECT_EQ(Word(4 * (16 + 49)) & ~1u, Symbol("uart2_status_handler") & ~1u);
+  EXPECT_EQ(Word(4 * 3) & ~1u, Symbol("fault_handler") & ~1u);  // HardFault
+}
+
 TEST_F(Teensy32ImageTest, FlashConfigurationFieldHoldsExactlyTheUnsecuredBytes) {
   // Backdoor key, FPROT0-3 (no protection), FSEC 0xDE (unsecured; another
   // value can lock the chip), FOPT 0xF9, FEPROT, FDPROT.
