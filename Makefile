@@ -3,6 +3,7 @@
 
 BUILD_DIR   ?= build
 CROSS_DIR   ?= build-cross
+TEENSY_DIR  ?= build-teensy
 M4_DIR      ?= build-m4
 ASAN_DIR    ?= build-asan
 TSAN_DIR    ?= build-tsan
@@ -18,7 +19,7 @@ DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))
 
-.PHONY: all deps build demo test package bench bench-m4 cross test-m4 asan tsan fuzz clean
+.PHONY: all deps build demo test package bench bench-m4 cross firmware test-m4 asan tsan fuzz clean
 
 all: build
 
@@ -58,6 +59,18 @@ cross: deps
 	$(CMAKE_CONFIGURE) -S . -B $(CROSS_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DCMAKE_BUILD_TYPE=MinSizeRel
 	cmake --build $(CROSS_DIR) -j $(JOBS)
 	@bash scripts/size-table.sh $(CROSS_DIR)/lib
+
+## firmware: syrof-robot for the Teensy 3.2 in $(TEENSY_DIR)/bin: ELF, Intel
+## HEX (teensy-loader-cli --mcu=TEENSY32 -w -v syrof-robot.hex), linker map,
+## and the size table; the link fails past the budgets (flash 128 KB, RAM
+## 48 KB) or the chip. APP=path/app.c compiles a student's C app in place of
+## the built-in one (docs/firmware.md, "Teensy 3.2 board").
+APP ?=
+firmware: deps
+	$(CMAKE_CONFIGURE) -S . -B $(TEENSY_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DCMAKE_BUILD_TYPE=MinSizeRel \
+	  -DSYROF_TEENSY_IMAGE=ON -DSYROF_FIRMWARE_APP=$(if $(APP),$(abspath $(APP)))
+	cmake --build $(TEENSY_DIR) -j $(JOBS) --target syrof-robot
+	@bash scripts/firmware-size.sh $(TEENSY_DIR)/bin/syrof-robot.elf
 
 ## test-m4: core's unit tests on an emulated Cortex-M4 (qemu mps2-an386).
 test-m4: deps
@@ -102,12 +115,14 @@ tsan: deps
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target $(TSAN_TESTS)
 	TSAN_OPTIONS=halt_on_error=1 ctest --test-dir $(TSAN_DIR) --output-on-failure --no-tests=error -j $(JOBS) -R '$(TSAN_SUITES)'
 
-## fuzz: libFuzzer on the beacon decoder for FUZZ_SECONDS.
+## fuzz: libFuzzer on the beacon decoder and on the radio link's frame
+## decoder (docs/radio-link.md), FUZZ_SECONDS each.
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE_CONFIGURE) -S . -B $(FUZZ_DIR) -DSYROF_FUZZ=ON -DSYROF_BUILD_TESTS=OFF -DSYROF_BUILD_BENCH=OFF
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode
-	mkdir -p $(FUZZ_DIR)/corpus/beacon
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode fuzz_radio_link
+	mkdir -p $(FUZZ_DIR)/corpus/beacon $(FUZZ_DIR)/corpus/radio_link
 	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
+	./$(FUZZ_DIR)/bin/fuzz_radio_link -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/radio_link
 
 clean:
-	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR)
+	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(TEENSY_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR)
