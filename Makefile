@@ -59,7 +59,7 @@ cross: deps
 	cmake --build $(CROSS_DIR) -j $(JOBS)
 	@bash scripts/size-table.sh $(CROSS_DIR)/lib
 
-## test-m4: core's unit tests on an emulated Cortex-M4 (qemu mps2-an386).
+## test-m4: core's unit tests and the firmware kernel's tests on an emulated Cortex-M4 (qemu mps2-an386).
 test-m4: deps
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS)
