@@ -40,7 +40,7 @@ class PreemptedTask final : public syrof::os::Task {
 };
 
 void Report(const char* what, uint64_t cycles, int count) {
-  std::printf("  %-58s %6llu\n", what, static_cast<unsigned long long>((cycles + count / 2) / count));
+  std::printf("  %-66s %6llu\n", what, static_cast<unsigned long long>((cycles + count / 2) / count));
 }
 
 }  // namespace

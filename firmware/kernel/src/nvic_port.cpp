@@ -1,5 +1,7 @@
 #include "syrof/firmware/kernel/nvic_port.h"
 
+#include <atomic>
+
 #include "syrof/base/check.h"
 
 namespace syrof::firmware::kernel {
@@ -52,6 +54,12 @@ void NvicPort::Notify(TaskId task) {
   if (task >= task_count_ || (periodic_mask_ & (1u << task)) != 0) return;
   const uint8_t level = tasks_[task].config.priority;
   const uint32_t bit = 1u << task;
+  // Already ready: its step has not begun (the bit is cleared just before
+  // the step starts), so it will see whatever the caller published; nothing
+  // to do, and no need to mask. One aligned word read, atomic on one core;
+  // the fence keeps the caller's writes before it.
+  std::atomic_signal_fence(std::memory_order_seq_cst);
+  if ((static_cast<const volatile uint32_t&>(ready_[level]) & bit) != 0) return;
   const uint32_t saved = hardware_.MaskKernel();
   if (started_ && (ready_[level] & bit) == 0) {
     ready_[level] |= bit;

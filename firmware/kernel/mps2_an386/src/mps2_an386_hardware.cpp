@@ -14,6 +14,8 @@ volatile uint32_t* const kNvicSetPending = reinterpret_cast<volatile uint32_t*>(
 volatile uint32_t* const kNvicClearPending = reinterpret_cast<volatile uint32_t*>(0xE000E280u);
 volatile uint8_t* const kNvicPriority = reinterpret_cast<volatile uint8_t*>(0xE000E400u);  // IPR, a byte each
 volatile uint32_t& vector_table_offset() { return *reinterpret_cast<volatile uint32_t*>(0xE000ED08u); }  // VTOR
+// Application Interrupt and Reset Control; bits 10:8 are PRIGROUP.
+volatile uint32_t& interrupt_reset_control() { return *reinterpret_cast<volatile uint32_t*>(0xE000ED0Cu); }
 
 // CMSDK APB timer (ARM CoreLink SDK TRM): a 32-bit down-counter that
 // interrupts on reaching 0 and reloads.
@@ -73,9 +75,14 @@ alignas(256) uint32_t ram_vectors[kVectors];
 }  // namespace
 
 Mps2An386Hardware::Mps2An386Hardware() {
+  // With PRIGROUP above 3 the NVIC would merge priorities that differ only
+  // in the low bits of the top nibble, and with them the kernel's levels.
+  SYROF_CHECK(((interrupt_reset_control() >> 8) & 7u) <= 3u);
   const uint32_t saved = MaskKernel();
-  std::memcpy(ram_vectors, reinterpret_cast<const void*>(static_cast<uintptr_t>(vector_table_offset())),
-              sizeof(ram_vectors));
+  const uintptr_t current_table = vector_table_offset();
+  if (current_table != reinterpret_cast<uintptr_t>(ram_vectors)) {  // a second instance keeps the table
+    std::memcpy(ram_vectors, reinterpret_cast<const void*>(current_table), sizeof(ram_vectors));
+  }
   for (uint8_t level = 0; level < kLevelCount; ++level) {
     ram_vectors[kSystemExceptions + kLevelIrq[level]] = reinterpret_cast<uint32_t>(kLevelHandlers[level]);
   }
