@@ -72,7 +72,7 @@ firmware: deps
 	cmake --build $(TEENSY_DIR) -j $(JOBS) --target syrof-robot
 	@bash scripts/firmware-size.sh $(TEENSY_DIR)/bin/syrof-robot.elf
 
-## test-m4: core's unit tests on an emulated Cortex-M4 (qemu mps2-an386).
+## test-m4: core's unit tests and the firmware kernel's tests on an emulated Cortex-M4 (qemu mps2-an386).
 test-m4: deps
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS)

@@ -114,7 +114,7 @@ syrof::pubsub::StaticBroker<8, 12> broker(port);
 syrof::pubsub::Publisher<syrof::estimation::ImuReading> imu;
 syrof::pubsub::Publisher<syrof::estimation::FlowReading> flow;
 syrof::pubsub::Publisher<syrof::estimation::UwbReading> uwb;
-std::array<syrof::wire::Beacon, 2 * kSwarmSize> receive_storage{};
+std::array<syrof::wire::Beacon, syrof::runtime::Robot::kReceiveBanks * kSwarmSize> receive_storage{};
 
 [[noreturn]] void Halt(const char* what) {
   std::printf("syrof-robot: %s; halted\n", what);
