@@ -97,6 +97,8 @@ inline constexpr uintptr_t kScbShpr3 = 0xE000ED20;  // SysTick priority in bits 
 // 95-entry map; the 50 MHz MK20DX128's shorter map numbers them 16 and 20).
 inline constexpr int kIrqUart0Status = 45;
 inline constexpr int kIrqUart2Status = 49;
+inline constexpr int kIrqDmaChannel0 = 0;  // channels 0..15 are interrupts 0..15
+inline constexpr int kIrqPit0 = 68;        // PIT channels 0..3 are interrupts 68..71
 
 inline void EnableIrq(int irq, uint8_t level) {
   R8(kNvicIpr + static_cast<uintptr_t>(irq)) = static_cast<uint8_t>(level << 4);  // 4 priority bits

@@ -33,6 +33,25 @@ void systick_handler();
 void uart0_status_handler();
 void uart2_status_handler();
 
+// The kernel's interrupts (firmware/kernel/teensy32: the ten DMA channels'
+// interrupts are its levels, the image uses no DMA; PIT channel 0 is its
+// alarm), named after their sources. Weak: an image without the kernel
+// keeps them on unrouted_interrupt_handler, which stops in the fault handler.
+void unrouted_interrupt_handler();
+#define SYROF_WEAK_HANDLER(name) void name() __attribute__((weak, alias("unrouted_interrupt_handler")));
+SYROF_WEAK_HANDLER(dma_channel0_handler)
+SYROF_WEAK_HANDLER(dma_channel1_handler)
+SYROF_WEAK_HANDLER(dma_channel2_handler)
+SYROF_WEAK_HANDLER(dma_channel3_handler)
+SYROF_WEAK_HANDLER(dma_channel4_handler)
+SYROF_WEAK_HANDLER(dma_channel5_handler)
+SYROF_WEAK_HANDLER(dma_channel6_handler)
+SYROF_WEAK_HANDLER(dma_channel7_handler)
+SYROF_WEAK_HANDLER(dma_channel8_handler)
+SYROF_WEAK_HANDLER(dma_channel9_handler)
+SYROF_WEAK_HANDLER(pit0_handler)
+#undef SYROF_WEAK_HANDLER
+
 }  // extern "C"
 
 // The program's main(); C++ forbids calling main by name.
@@ -62,6 +81,14 @@ constexpr VectorTable MakeVectorTable() {
   table.handlers[15 - 1] = systick_handler;
   table.handlers[16 + reg::kIrqUart0Status - 1] = uart0_status_handler;
   table.handlers[16 + reg::kIrqUart2Status - 1] = uart2_status_handler;
+  constexpr Handler kDmaChannelHandlers[] = {dma_channel0_handler, dma_channel1_handler, dma_channel2_handler,
+                                             dma_channel3_handler, dma_channel4_handler, dma_channel5_handler,
+                                             dma_channel6_handler, dma_channel7_handler, dma_channel8_handler,
+                                             dma_channel9_handler};
+  for (int channel = 0; channel < 10; ++channel) {
+    table.handlers[16 + reg::kIrqDmaChannel0 + channel - 1] = kDmaChannelHandlers[channel];
+  }
+  table.handlers[16 + reg::kIrqPit0 - 1] = pit0_handler;
   return table;
 }
 
@@ -121,9 +148,10 @@ bool StartClock() {
 void StartSysTick() {
   reg::R32(reg::kSystRvr) = kSysTickReload;
   reg::R32(reg::kSystCvr) = 0;
-  // SysTick at the lowest priority of the 4 bits (0xF0); the kernel's own
-  // timer source takes over when it lands.
-  reg::R32(reg::kScbShpr3) = (reg::R32(reg::kScbShpr3) & 0x00FFFFFFu) | (0xF0u << 24);
+  // SysTick at priority 1 (0x10), above the kernel (timer 4, levels 5-14):
+  // BusyDelay's clock keeps counting inside a task. It never calls the
+  // kernel, whose own clock is the PIT (firmware/kernel/teensy32).
+  reg::R32(reg::kScbShpr3) = (reg::R32(reg::kScbShpr3) & 0x00FFFFFFu) | (0x10u << 24);
   reg::R32(reg::kSystCsr) = 0x7;  // ENABLE, TICKINT, CLKSOURCE = core clock
 }
 
@@ -205,3 +233,6 @@ extern "C" void fault_handler() {
 }
 
 extern "C" void unexpected_interrupt_handler() { fault_handler(); }
+// Not [[noreturn]], so the kernel's handlers (which return) may replace its
+// weak aliases with the same declaration.
+extern "C" void unrouted_interrupt_handler() { fault_handler(); }

@@ -3,19 +3,13 @@
 #include <cstring>
 #include <utility>
 
+#include "../../armv7m/armv7m_nvic.h"
 #include "syrof/base/check.h"
 
 namespace syrof::firmware::kernel {
 namespace {
 
-// System control space (Armv7-M Architecture Reference Manual, B3.2 and B3.4).
-volatile uint32_t* const kNvicSetEnable = reinterpret_cast<volatile uint32_t*>(0xE000E100u);   // ISER
-volatile uint32_t* const kNvicSetPending = reinterpret_cast<volatile uint32_t*>(0xE000E200u);  // ISPR
-volatile uint32_t* const kNvicClearPending = reinterpret_cast<volatile uint32_t*>(0xE000E280u);
-volatile uint8_t* const kNvicPriority = reinterpret_cast<volatile uint8_t*>(0xE000E400u);  // IPR, a byte each
 volatile uint32_t& vector_table_offset() { return *reinterpret_cast<volatile uint32_t*>(0xE000ED08u); }  // VTOR
-// Application Interrupt and Reset Control; bits 10:8 are PRIGROUP.
-volatile uint32_t& interrupt_reset_control() { return *reinterpret_cast<volatile uint32_t*>(0xE000ED0Cu); }
 
 // CMSDK APB timer (ARM CoreLink SDK TRM): a 32-bit down-counter that
 // interrupts on reaching 0 and reloads.
@@ -33,19 +27,6 @@ constexpr uint32_t kTimerInterruptEnable = 1u << 3;
 // interrupt reads the 32-bit clock (and counts its wrap) many times per wrap,
 // and the distance in nanoseconds fits 32 bits (no 64-bit division).
 constexpr uint32_t kLongestAlarmTicks = 1u << 26;
-
-void Pend(uint8_t irq) {
-  kNvicSetPending[irq >> 5] = 1u << (irq & 31);
-  // The write must reach the NVIC before the next instruction (qemu does not
-  // need it, an M4 does).
-  asm volatile("dsb" ::: "memory");
-}
-
-void Enable(uint8_t irq, uint8_t priority) {
-  kNvicPriority[irq] = static_cast<uint8_t>(priority << 4);
-  kNvicClearPending[irq >> 5] = 1u << (irq & 31);
-  kNvicSetEnable[irq >> 5] = 1u << (irq & 31);
-}
 
 NvicPort* attached_port = nullptr;
 
@@ -75,9 +56,7 @@ alignas(256) uint32_t ram_vectors[kVectors];
 }  // namespace
 
 Mps2An386Hardware::Mps2An386Hardware() {
-  // With PRIGROUP above 3 the NVIC would merge priorities that differ only
-  // in the low bits of the top nibble, and with them the kernel's levels.
-  SYROF_CHECK(((interrupt_reset_control() >> 8) & 7u) <= 3u);
+  SYROF_CHECK(armv7m::PriorityGrouping() <= 3u);
   const uint32_t saved = MaskKernel();
   const uintptr_t current_table = vector_table_offset();
   if (current_table != reinterpret_cast<uintptr_t>(ram_vectors)) {  // a second instance keeps the table
@@ -97,9 +76,19 @@ Mps2An386Hardware::Mps2An386Hardware() {
   alarm_timer().control = 0;
   alarm_timer().interrupt = 1;
 
-  for (uint8_t level = 0; level < kLevelCount; ++level) Enable(kLevelIrq[level], LevelPriority(level));
-  Enable(kTimerIrq, kTimerPriority);
+  for (uint8_t level = 0; level < kLevelCount; ++level) armv7m::Enable(kLevelIrq[level], LevelPriority(level));
+  armv7m::Enable(kTimerIrq, kTimerPriority);
   RestoreMask(saved);
+}
+
+void Mps2An386Hardware::RouteInterrupt(uint8_t irq, uint8_t priority, void (*handler)()) {
+  SYROF_CHECK(irq < kVectors - kSystemExceptions && priority >= 1 && priority <= 15);
+  for (const uint8_t level_irq : kLevelIrq) SYROF_CHECK(irq != level_irq);
+  SYROF_CHECK(irq != kTimerIrq);
+  armv7m::Disable(irq);
+  ram_vectors[kSystemExceptions + irq] = reinterpret_cast<uint32_t>(handler);
+  asm volatile("dsb" ::: "memory");
+  armv7m::Enable(irq, priority);
 }
 
 void Mps2An386Hardware::Attach(NvicPort& port) {
@@ -108,22 +97,13 @@ void Mps2An386Hardware::Attach(NvicPort& port) {
   RestoreMask(saved);
 }
 
-void Mps2An386Hardware::PendLevel(uint8_t level) { Pend(kLevelIrq[level]); }
+void Mps2An386Hardware::PendLevel(uint8_t level) { armv7m::Pend(kLevelIrq[level]); }
 
-uint32_t Mps2An386Hardware::MaskKernel() {
-  uint32_t previous;
-  // basepri_max only ever raises the mask, so nested sections keep the outer
-  // one (and a caller already above the kernel's priority stays there).
-  asm volatile(
-      "mrs %0, basepri\n"
-      "msr basepri_max, %1"
-      : "=&r"(previous)
-      : "r"(kKernelMask)
-      : "memory");
-  return previous;
-}
+// basepri_max only ever raises the mask, so nested sections keep the outer
+// one (and a caller already above the kernel's priority stays there).
+uint32_t Mps2An386Hardware::MaskKernel() { return armv7m::RaiseBasepri(kKernelMask); }
 
-void Mps2An386Hardware::RestoreMask(uint32_t previous) { asm volatile("msr basepri, %0" ::"r"(previous) : "memory"); }
+void Mps2An386Hardware::RestoreMask(uint32_t previous) { armv7m::RestoreBasepri(previous); }
 
 int64_t Mps2An386Hardware::now_ns() {
   const uint32_t low = 0xFFFFFFFFu - clock_timer().value;
@@ -135,11 +115,11 @@ int64_t Mps2An386Hardware::now_ns() {
 void Mps2An386Hardware::SetAlarm(int64_t at_ns) {
   alarm_timer().control = 0;
   alarm_timer().interrupt = 1;
-  kNvicClearPending[kTimerIrq >> 5] = 1u << (kTimerIrq & 31);
+  armv7m::ClearPending(kTimerIrq);
   if (at_ns < 0) return;
   const int64_t ahead_ns = at_ns - now_ns();
   if (ahead_ns <= 0) {
-    Pend(kTimerIrq);
+    armv7m::Pend(kTimerIrq);
     return;
   }
   // Round up: the interrupt must never come before at_ns.

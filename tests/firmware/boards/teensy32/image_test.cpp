@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdlib>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,22 @@ TEST_F(Teensy32ImageTest, SysTickAndUartInterruptsReachTheirHandlers) {
   EXPECT_EQ(Word(4 * (16 + 45)) & ~1u, Symbol("uart0_status_handler") & ~1u);
   EXPECT_EQ(Word(4 * (16 + 49)) & ~1u, Symbol("uart2_status_handler") & ~1u);
   EXPECT_EQ(Word(4 * 3) & ~1u, Symbol("fault_handler") & ~1u);  // HardFault
+}
+
+TEST_F(Teensy32ImageTest, KernelInterruptsReachTheKernelsHandlers) {
+  // The firmware kernel's levels are DMA channels 0-9's interrupts (vectors
+  // 16-25) and its alarm PIT channel 0's (interrupt 68, vector 84): the
+  // kernel's handlers, not the board's weak defaults, which would all be one
+  // address (unrouted_interrupt_handler).
+  std::set<uint32_t> level_handlers;
+  for (int channel = 0; channel < 10; ++channel) {
+    const std::string name = "dma_channel" + std::to_string(channel) + "_handler";
+    EXPECT_EQ(Word(4 * (16 + channel)) & ~1u, Symbol(name) & ~1u) << name;
+    level_handlers.insert(Word(4 * (16 + channel)) & ~1u);
+  }
+  EXPECT_EQ(level_handlers.size(), 10u) << "a level's vector is the weak default";
+  EXPECT_EQ(Word(4 * (16 + 68)) & ~1u, Symbol("pit0_handler") & ~1u);
+  EXPECT_EQ(level_handlers.count(Symbol("pit0_handler") & ~1u), 0u);
 }
 
 TEST_F(Teensy32ImageTest, FlashConfigurationFieldHoldsExactlyTheUnsecuredBytes) {

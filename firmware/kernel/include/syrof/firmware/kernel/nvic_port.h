@@ -82,6 +82,10 @@ class NvicPort final : public os::Port {
   /// stopped or for a notified task.
   int64_t next_release_ns(os::TaskId task) const;
   bool running() const { return started_; }
+  /// Tasks added so far (ids 0 .. task_count() - 1).
+  uint16_t task_count() const { return task_count_; }
+  /// The name `task` was added with; "" for unknown ids.
+  const char* task_name(os::TaskId task) const { return task < task_count_ ? tasks_[task].config.name : ""; }
 
  private:
   struct TaskRecord {

@@ -44,6 +44,12 @@ class Mps2An386Hardware final : public KernelHardware {
   /// entry. The clock starts at 0 here. One instance per program.
   Mps2An386Hardware();
 
+  /// Routes a device's interrupt `irq` (not a level's or the timer's) to
+  /// `handler` at NVIC priority `priority` (1..15, unshifted) and enables it.
+  /// A handler at 1-3 runs above the kernel and must not call it; at 4-15 it
+  /// may call Notify (section comment above).
+  void RouteInterrupt(uint8_t irq, uint8_t priority, void (*handler)());
+
   /// Sends the interrupts to `port` (a later Attach replaces it).
   void Attach(NvicPort& port);
 
