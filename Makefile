@@ -19,7 +19,7 @@ DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))
 
-.PHONY: all deps build demo test package bench bench-m4 cross firmware test-m4 asan tsan fuzz clean
+.PHONY: all deps build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm asan tsan fuzz clean
 
 all: build
 
@@ -77,6 +77,25 @@ test-m4: deps
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS)
 	ctest --test-dir $(M4_DIR) --output-on-failure -j $(JOBS)
+
+## test-firmware-swarm: an emulated swarm of real firmware (docs/firmware.md,
+## "The emulated swarm"): SWARM_ROBOTS qemu instances of syrof-robot-mps2
+## (4 in CI, 8 otherwise) joined through syrof-firmware-swarm, which plays the
+## lab's radio channel. Two runs: no loss (every robot must start one epoch
+## COOPERATIVE) and SWARM_LOSS loss (P3 must stay 0); outputs, metrics.json
+## included, in out/firmware-swarm/{no-loss,loss}/. About 3 x SWARM_SECONDS
+## (qemu runs with -icount: host load stretches the runs).
+SWARM_ROBOTS  ?= $(if $(CI),4,8)
+SWARM_SECONDS ?= $(if $(CI),30,60)
+SWARM_LOSS    ?= 0.3
+test-firmware-swarm: $(BUILD_DIR)/CMakeCache.txt
+	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm
+	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --robots $(SWARM_ROBOTS) \
+	  --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --out out/firmware-swarm/no-loss --expect-cooperative
+	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --robots $(SWARM_ROBOTS) \
+	  --seconds $(SWARM_SECONDS) --loss $(SWARM_LOSS) --seed 2 --out out/firmware-swarm/loss
 
 ## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
 QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \

@@ -10,7 +10,8 @@
 //
 // Command line (semihosting, -append): `id N` (default 0), `swarm N`
 // (default 4), `seconds S` (stop after S seconds of guest time and exit 0;
-// default 0: run for ever), `align 0|1` (round alignment, default 1). A word
+// default 0: run for ever), `align 0|1` (round alignment, default 1),
+// `report 0|1` (the swarm host's "R" and "E" lines, default 0). A word
 // it does not know stops the image with exit status 2 and names the word.
 // Both UARTs interrupt at priority 2, above the kernel; their handlers only
 // move bytes between the UART and its rings.
@@ -76,15 +77,23 @@ size_t ReadRadio(std::span<uint8_t> out, void* /*context*/) {
   return radio.Read(out);
 }
 
+// Writes the whole line, a ring's worth at a time: between chunks the
+// console's interrupt (above every task) sends what is queued. Bounded: a
+// console that stops taking bytes loses the rest of the line.
 void ConsoleWrite(const char* line, size_t length, void* /*context*/) {
-  MaskUarts masked;
-  (void)console.Write(std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(line), length));
+  const auto* bytes = reinterpret_cast<const uint8_t*>(line);
+  size_t sent = 0;
+  for (uint32_t spin = 0; sent < length && spin < 1'000'000; ++spin) {
+    MaskUarts masked;
+    sent += console.Write(std::span<const uint8_t>(bytes + sent, length - sent));
+  }
 }
 
 void ConsoleInterrupt() { console.OnInterrupt(); }
 void RadioInterrupt() { radio.OnInterrupt(); }
 
 alignas(16) unsigned char queries_memory[SYROF_FIRMWARE_QUERIES_BYTES];
+char report_line[2048];
 
 struct Options {
   robot::ImageConfig image{};
@@ -97,7 +106,7 @@ bool ParseOptions(int argc, char** argv, Options& options) {
   for (int i = 1; i < argc; i += 2) {
     const char* key = argv[i];
     if (i + 1 >= argc) {
-      std::printf("syrof-robot: -append word %d '%s' has no value (expected: id N swarm N seconds S align 0|1)\n", i,
+      std::printf("syrof-robot: -append word %d '%s' has no value (expected: id N swarm N seconds S align 0|1 report 0|1)\n", i,
                   key);
       return false;
     }
@@ -115,9 +124,11 @@ bool ParseOptions(int argc, char** argv, Options& options) {
       options.seconds = value;
     } else if (std::strcmp(key, "align") == 0 && value <= 1) {
       options.image.align_rounds = value == 1;
+    } else if (std::strcmp(key, "report") == 0 && value <= 1) {
+      options.image.report_rounds = value == 1;
     } else {
       std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
-                  "(id 0..31, swarm 1..32, seconds >= 0, align 0|1)\n",
+                  "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1)\n",
                   i, key, value);
       return false;
     }
@@ -135,6 +146,7 @@ bool ParseOptions(int argc, char** argv, Options& options) {
 int main(int argc, char** argv) {
   Options options;
   if (!ParseOptions(argc, argv, options)) return 2;
+  options.image.report_line = report_line;
 
   static kernel::Mps2An386Hardware hardware;
   static kernel::NvicPort port(hardware);

@@ -59,6 +59,8 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
   robot_config.sync = sync::SyncConfig::ForSwarm(config.swarm_size, config.self_id);
   robot_config.queries_workspace = workspace;
   robot_config.align_rounds = config.align_rounds;
+  // The link's latency on an aligned link (kBeaconLatencyNs).
+  robot_config.beacon_delay_ns = kBeaconLatencyNs;
   radio_.set_swarm_size(config.swarm_size);
   const std::span<wire::Beacon> storage(receive_storage_.data(),
                                         size_t{runtime::Robot::kReceiveBanks} * config.swarm_size);
@@ -77,6 +79,14 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
       !port_.AddTask(status_task_, {"status", os::Trigger::periodic(kStatusPeriodNs), registry::kRecorderPriority})
            .ok()) {
     return "the image's tasks";
+  }
+  if (config.report_rounds) {
+    robot_->set_observer(&observer_);
+    if (!port_.AddTask(report_task_, {"report", os::Trigger::periodic(robot_config.radio_round_ns),
+                                      registry::kRecorderPriority})
+             .ok()) {
+      return "the report task";
+    }
   }
   if (port_.Start() != os::PortError::kOk) return "port start";
   return nullptr;
@@ -98,6 +108,83 @@ void RobotImage::RadioTask::Step(int64_t /*now_ns*/) {
   }
 }
 
+size_t FormatEpochLine(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap, std::span<char> out) {
+  size_t used = 0;
+  auto append = [&](int written) {
+    if (written < 0 || used + static_cast<size_t>(written) >= out.size()) return false;
+    used += static_cast<size_t>(written);
+    return true;
+  };
+  if (!append(std::snprintf(out.data(), out.size(), "E t_ms=%lu robot=%u epoch=%u mode=%u members=",
+                            static_cast<unsigned long>(now_ns / 1'000'000), static_cast<unsigned>(robot),
+                            static_cast<unsigned>(ldmap.epoch), static_cast<unsigned>(ldmap.mode)))) {
+    return 0;
+  }
+  // Each member: id:x:y:heading:vx:vy:payload (hex, may be empty), ';' between.
+  bool first = true;
+  for (const uint16_t id : ldmap.members) {
+    const wire::Snapshot& snapshot = ldmap.snapshots[id];
+    if (!append(std::snprintf(out.data() + used, out.size() - used, "%s%u:%d:%d:%d:%d:%d:", first ? "" : ";",
+                              static_cast<unsigned>(id), snapshot.x_mm, snapshot.y_mm, snapshot.heading_mrad,
+                              snapshot.vx_mm_s, snapshot.vy_mm_s))) {
+      return 0;
+    }
+    for (const uint8_t byte : snapshot.payload_bytes()) {
+      if (!append(std::snprintf(out.data() + used, out.size() - used, "%02x", byte))) return 0;
+    }
+    first = false;
+  }
+  if (!append(std::snprintf(out.data() + used, out.size() - used, "\n"))) return 0;
+  return used;
+}
+
+void RobotImage::EpochObserver::OnEpochStart(uint16_t /*robot*/, int64_t now_ns, const sync::LDMap& ldmap) {
+  image_.port_.Lock();
+  if (image_.pending_sequence_ != image_.printed_sequence_) ++image_.epoch_lines_lost_;
+  image_.pending_map_ = ldmap;
+  image_.pending_ns_ = now_ns;
+  ++image_.pending_sequence_;
+  image_.port_.Unlock();
+}
+
+void RobotImage::Report(int64_t now_ns) {
+  if (robot_ == nullptr) return;
+  // An epoch start first, so the host sees it before the round's state.
+  sync::LDMap& map = report_map_;  // kept off the stack
+  bool have_map = false;
+  int64_t map_ns = 0;
+  port_.Lock();
+  if (pending_sequence_ != printed_sequence_) {
+    map = pending_map_;
+    map_ns = pending_ns_;
+    printed_sequence_ = pending_sequence_;
+    have_map = true;
+  }
+  port_.Unlock();
+  const std::span<char> line = config_.report_line;
+  if (line.size() < 128) return;
+  if (have_map) {
+    const size_t length = FormatEpochLine(config_.self_id, map_ns, map, line);
+    if (length > 0) {
+      console_(line.data(), length, console_context_);
+    } else {
+      ++epoch_lines_lost_;
+    }
+  }
+  const sync::SyncState& state = robot_->sync_state();
+  const estimation::StateEstimate& estimate = robot_->estimate();
+  const int length = std::snprintf(
+      line.data(), line.size(), "R t_ms=%lu robot=%u epoch=%u mode=%u phase=%u member=%u valid=%u x_mm=%ld y_mm=%ld lost=%lu\n",
+      static_cast<unsigned long>(now_ns / 1'000'000), static_cast<unsigned>(config_.self_id),
+      static_cast<unsigned>(state.epoch), static_cast<unsigned>(state.epoch_mode), static_cast<unsigned>(state.phase),
+      state.status == sync::Status::kMember ? 1u : 0u, robot_->estimate_valid() ? 1u : 0u,
+      static_cast<long>(estimate.x_m * 1000.0f), static_cast<long>(estimate.y_m * 1000.0f),
+      static_cast<unsigned long>(epoch_lines_lost_));
+  if (length > 0 && static_cast<size_t>(length) < line.size()) {
+    console_(line.data(), static_cast<size_t>(length), console_context_);
+  }
+}
+
 void RobotImage::PrintStatus(int64_t now_ns) {
   if (robot_ == nullptr) return;
   // Steps per task, by the names the robot and the estimator registered.
@@ -110,17 +197,20 @@ void RobotImage::PrintStatus(int64_t now_ns) {
     used += static_cast<size_t>(written);
   }
   const sync::SyncState& state = robot_->sync_state();
-  char line[320];
+  char line[400];
   const int length = std::snprintf(
       line, sizeof line,
       "status t_ms=%lu board=%s robot=%u/%u steps%s overruns=%lu sync=%s epoch=%u mode=%s phase=%s members=%u "
-      "sent=%lu heard=%lu link_rejected=%lu\n",
+      "sent=%lu heard=%lu link_rejected=%lu align_rounds=%lu shifts=%lu phase_error_us=%ld\n",
       static_cast<unsigned long>(now_ns / 1'000'000), config_.board, static_cast<unsigned>(config_.self_id),
       static_cast<unsigned>(config_.swarm_size), steps, static_cast<unsigned long>(port_.total_overruns()),
       sync::ToString(state.status), static_cast<unsigned>(state.epoch), wire::ToString(state.epoch_mode),
       wire::ToString(state.phase), static_cast<unsigned>(state.members.count()),
       static_cast<unsigned long>(radio_.sent()), static_cast<unsigned long>(beacons_received_),
-      static_cast<unsigned long>(decoder_.counters().rejected));
+      static_cast<unsigned long>(decoder_.counters().rejected),
+      static_cast<unsigned long>(robot_->alignment_stats().rounds_with_samples),
+      static_cast<unsigned long>(robot_->counters().alignment_shifts),
+      static_cast<long>(robot_->alignment_stats().last_error_ns / 1000));
   if (length > 0) console_(line, static_cast<size_t>(length) < sizeof line ? length : sizeof line - 1, console_context_);
 }
 

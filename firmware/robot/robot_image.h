@@ -10,9 +10,15 @@
 //       never call it, so the task polls their queue.
 //   status (kRecorderPriority, every kStatusPeriodNs): one line on the
 //       console, "status t_ms=... robot=i/n steps ... overruns=... sync=... mode=...".
+//   report (kRecorderPriority, every radio round; only with
+//       ImageConfig::report_rounds): the lines an emulated swarm's host reads
+//       (docs/firmware.md, "The emulated swarm"): "R ..." the robot's state
+//       each round, and "E ..." each epoch start with its LDMap, queued by
+//       the round task (the robot's observer) and printed here, so every
+//       console line comes from one level and none interleave.
 //
 // The sensor topics (IMU, flow, UWB) are advertised here; the board's
-// drivers publish on them (SensorPublishers) or, with none wired, the
+// drivers publish on them (imu(), flow(), uwb()) or, with none wired, the
 // estimator predicts from the start pose.
 #pragma once
 
@@ -29,7 +35,10 @@
 #include "syrof/firmware/kernel/nvic_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/runtime/robot.h"
+#include "syrof/runtime/robot_observer.h"
+#include "syrof/sync/ldmap.h"
 #include "syrof/wire/beacon.h"
 
 namespace syrof::firmware::robot {
@@ -50,7 +59,27 @@ struct ImageConfig {
   uint16_t swarm_size = 4;
   bool align_rounds = true;  ///< round alignment from arrivals (docs/clocks.md)
   const char* board = "";    ///< named in the status line
+  bool report_rounds = false;  ///< print the "R" and "E" lines
+  /// Where the report task formats them (not owned): an "E" line of 32
+  /// members takes about 1.5 KB; shorter maps need less.
+  std::span<char> report_line{};
 };
+
+/// The "E" line: `robot` started `ldmap.epoch` at `now_ns` (its own clock)
+/// with this map. Members and snapshots in full, so the host can rebuild the
+/// map and compare it (SameKnowledge). Returns the length written (< size),
+/// or 0 when `out` is too small.
+size_t FormatEpochLine(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap, std::span<char> out);
+
+/// From a sender's round boundary to its beacon's arrival, on an aligned
+/// link: the beacon is sent at the boundary, and the radio delivers it half a
+/// round later, as the lab's radio does (docs/clocks.md; the emulated swarm's
+/// host holds each beacon that long), plus up to one radio-task period before
+/// the receiver reads it. A beacon that arrived right at the receivers'
+/// boundaries would land in one round or the next by a microsecond; mid-round
+/// it lands in the round it belongs to. Real nRF51822 firmware has to keep
+/// the same latency (docs/firmware.md).
+inline constexpr int64_t kBeaconLatencyNs = registry::kDefaultRadioRoundNs / 2 + kRadioPollPeriodNs;
 
 /// The robot's radio edge over the radio link: each beacon one SendBeacon frame.
 class LinkRadio final : public runtime::Radio {
@@ -104,6 +133,28 @@ class RobotImage {
    private:
     RobotImage& image_;
   };
+  class ReportTask final : public os::Task {
+   public:
+    explicit ReportTask(RobotImage& image) : image_(image) {}
+    void Step(int64_t now_ns) override { image_.Report(now_ns); }
+
+   private:
+    RobotImage& image_;
+  };
+  // Hears the robot's epoch starts (in the round task) for the report task.
+  class EpochObserver final : public runtime::RobotObserver {
+   public:
+    explicit EpochObserver(RobotImage& image) : image_(image) {}
+    void OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) override;
+    void OnMembership(uint16_t, int64_t, const wire::MemberSet&, const wire::MemberSet&) override {}
+    void OnBecameJoiner(uint16_t, int64_t) override {}
+    void OnAppFault(uint16_t, int64_t, app::Callback, uint16_t, const app::CallStatus&) override {}
+    void OnInvalidCommand(uint16_t, int64_t, uint16_t, const app::CommandCheck&) override {}
+    void OnPayloadRefused(uint16_t, int64_t, uint16_t, size_t) override {}
+
+   private:
+    RobotImage& image_;
+  };
   class StatusTask final : public os::Task {
    public:
     explicit StatusTask(RobotImage& image) : image_(image) {}
@@ -132,6 +183,19 @@ class RobotImage {
   uint32_t beacons_received_ = 0;
   RadioTask radio_task_{*this};
   StatusTask status_task_{*this};
+  ReportTask report_task_{*this};
+  EpochObserver observer_{*this};
+  // The latest epoch start, written by the round task under the port's lock
+  // and printed by the report task; epochs last many rounds, so one slot
+  // holds each start until it is printed.
+  sync::LDMap pending_map_{};
+  sync::LDMap report_map_{};
+  int64_t pending_ns_ = 0;
+  uint32_t pending_sequence_ = 0;
+  uint32_t printed_sequence_ = 0;
+  uint32_t epoch_lines_lost_ = 0;
+
+  void Report(int64_t now_ns);
 };
 
 }  // namespace syrof::firmware::robot
