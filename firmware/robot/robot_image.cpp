@@ -5,6 +5,7 @@
 #include <new>
 
 #include "syrof/estimation/topics.h"
+#include "syrof/firmware/robot/report_lines.h"
 #include "syrof/queries/queries.h"
 #include "syrof/registry/tasks.h"
 #include "syrof/wire/beacon_codec.h"
@@ -74,8 +75,11 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
   if (const runtime::RobotSetupError setup = robot_->Attach(port_, broker_); setup != runtime::RobotSetupError::kOk) {
     return runtime::ToString(setup);
   }
-  if (!port_.AddTask(radio_task_, {"radio", os::Trigger::periodic(kRadioPollPeriodNs), registry::kRadioDeliveryPriority})
-           .ok() ||
+  const os::Trigger radio_trigger =
+      config.poll_radio ? os::Trigger::periodic(kRadioPollPeriodNs) : os::Trigger::notified();
+  const auto radio_id = port_.AddTask(radio_task_, {"radio", radio_trigger, registry::kRadioDeliveryPriority});
+  if (radio_id.ok()) radio_task_id_ = radio_id.value();
+  if (!radio_id.ok() ||
       !port_.AddTask(status_task_, {"status", os::Trigger::periodic(kStatusPeriodNs), registry::kRecorderPriority})
            .ok()) {
     return "the image's tasks";
@@ -106,36 +110,6 @@ void RobotImage::RadioTask::Step(int64_t /*now_ns*/) {
     }
     if (count < sizeof bytes) return;  // bounded: the queue holds a few hundred bytes
   }
-}
-
-size_t FormatEpochLine(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap, std::span<char> out) {
-  size_t used = 0;
-  auto append = [&](int written) {
-    if (written < 0 || used + static_cast<size_t>(written) >= out.size()) return false;
-    used += static_cast<size_t>(written);
-    return true;
-  };
-  if (!append(std::snprintf(out.data(), out.size(), "E t_ms=%lu robot=%u epoch=%u mode=%u members=",
-                            static_cast<unsigned long>(now_ns / 1'000'000), static_cast<unsigned>(robot),
-                            static_cast<unsigned>(ldmap.epoch), static_cast<unsigned>(ldmap.mode)))) {
-    return 0;
-  }
-  // Each member: id:x:y:heading:vx:vy:payload (hex, may be empty), ';' between.
-  bool first = true;
-  for (const uint16_t id : ldmap.members) {
-    const wire::Snapshot& snapshot = ldmap.snapshots[id];
-    if (!append(std::snprintf(out.data() + used, out.size() - used, "%s%u:%d:%d:%d:%d:%d:", first ? "" : ";",
-                              static_cast<unsigned>(id), snapshot.x_mm, snapshot.y_mm, snapshot.heading_mrad,
-                              snapshot.vx_mm_s, snapshot.vy_mm_s))) {
-      return 0;
-    }
-    for (const uint8_t byte : snapshot.payload_bytes()) {
-      if (!append(std::snprintf(out.data() + used, out.size() - used, "%02x", byte))) return 0;
-    }
-    first = false;
-  }
-  if (!append(std::snprintf(out.data() + used, out.size() - used, "\n"))) return 0;
-  return used;
 }
 
 void RobotImage::EpochObserver::OnEpochStart(uint16_t /*robot*/, int64_t now_ns, const sync::LDMap& ldmap) {
@@ -171,18 +145,10 @@ void RobotImage::Report(int64_t now_ns) {
       ++epoch_lines_lost_;
     }
   }
-  const sync::SyncState& state = robot_->sync_state();
   const estimation::StateEstimate& estimate = robot_->estimate();
-  const int length = std::snprintf(
-      line.data(), line.size(), "R t_ms=%lu robot=%u epoch=%u mode=%u phase=%u member=%u valid=%u x_mm=%ld y_mm=%ld lost=%lu\n",
-      static_cast<unsigned long>(now_ns / 1'000'000), static_cast<unsigned>(config_.self_id),
-      static_cast<unsigned>(state.epoch), static_cast<unsigned>(state.epoch_mode), static_cast<unsigned>(state.phase),
-      state.status == sync::Status::kMember ? 1u : 0u, robot_->estimate_valid() ? 1u : 0u,
-      static_cast<long>(estimate.x_m * 1000.0f), static_cast<long>(estimate.y_m * 1000.0f),
-      static_cast<unsigned long>(epoch_lines_lost_));
-  if (length > 0 && static_cast<size_t>(length) < line.size()) {
-    console_(line.data(), static_cast<size_t>(length), console_context_);
-  }
+  const size_t length = FormatRoundLine(config_.self_id, now_ns, robot_->sync_state(), robot_->estimate_valid(),
+                                        estimate.x_m, estimate.y_m, epoch_lines_lost_, line);
+  if (length > 0) console_(line.data(), length, console_context_);
 }
 
 void RobotImage::PrintStatus(int64_t now_ns) {

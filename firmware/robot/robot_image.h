@@ -2,12 +2,13 @@
 // (teensy32_main.cpp) and the mps2-an386 image that runs under qemu
 // (mps2_an386_main.cpp): core/runtime's Robot with the compiled-in app on
 // the firmware kernel (NvicPort), its beacons framed for the radio link
-// (docs/radio-link.md) on a UART, and two tasks of its own:
+// (docs/radio-link.md) on a UART, and tasks of its own:
 //
-//   radio link (kRadioDeliveryPriority, every 1 ms): decodes the bytes the
-//       radio UART's interrupt queued and hands each ReceivedBeacon frame to
-//       Robot::ReceiveBytes. The UART interrupts run above the kernel and
-//       never call it, so the task polls their queue.
+//   radio link (kRadioDeliveryPriority, every 1 ms, or when the board's
+//       receive interrupt notifies it: ImageConfig::poll_radio): decodes the
+//       bytes the radio UART's interrupt queued and hands each
+//       ReceivedBeacon frame to Robot::ReceiveBytes. On the Teensy the UART
+//       interrupts run above the kernel and never call it, so the task polls.
 //   status (kRecorderPriority, every kStatusPeriodNs): one line on the
 //       console, "status t_ms=... robot=i/n steps ... overruns=... sync=... mode=...".
 //   report (kRecorderPriority, every radio round; only with
@@ -45,7 +46,8 @@ namespace syrof::firmware::robot {
 
 /// The status line's period.
 inline constexpr int64_t kStatusPeriodNs = 1'000'000'000;
-/// The radio link task's period: at 1 Mbaud 100 bytes arrive per period.
+/// The radio link task's period when it polls: at 1 Mbaud 100 bytes arrive
+/// per period.
 inline constexpr int64_t kRadioPollPeriodNs = 1'000'000;
 
 /// Where the radio UART's interrupt queued received bytes: copies up to
@@ -60,16 +62,14 @@ struct ImageConfig {
   bool align_rounds = true;  ///< round alignment from arrivals (docs/clocks.md)
   const char* board = "";    ///< named in the status line
   bool report_rounds = false;  ///< print the "R" and "E" lines
+  /// The radio-link task polls every kRadioPollPeriodNs (true), or runs when
+  /// notified (false): the board's receive interrupt, at a priority the
+  /// kernel masks, calls NotifyRadio() (mps2-an386; fewer wake-ups under qemu).
+  bool poll_radio = true;
   /// Where the report task formats them (not owned): an "E" line of 32
   /// members takes about 1.5 KB; shorter maps need less.
   std::span<char> report_line{};
 };
-
-/// The "E" line: `robot` started `ldmap.epoch` at `now_ns` (its own clock)
-/// with this map. Members and snapshots in full, so the host can rebuild the
-/// map and compare it (SameKnowledge). Returns the length written (< size),
-/// or 0 when `out` is too small.
-size_t FormatEpochLine(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap, std::span<char> out);
 
 /// From a sender's round boundary to its beacon's arrival, on an aligned
 /// link: the beacon is sent at the boundary, and the radio delivers it half a
@@ -113,6 +113,10 @@ class RobotImage {
   /// or what failed (for the console; the image then halts).
   const char* Start(const ImageConfig& config, const syrof_app_descriptor* descriptor,
                     std::span<unsigned char> queries_memory);
+
+  /// Makes the radio-link task ready (ImageConfig::poll_radio false). Safe
+  /// from an interrupt whose priority the kernel masks (4..15).
+  void NotifyRadio() { port_.Notify(radio_task_id_); }
 
   /// Writes the status line now (also done every kStatusPeriodNs).
   void PrintStatus(int64_t now_ns);
@@ -182,6 +186,7 @@ class RobotImage {
   drivers::FrameDecoder decoder_;
   uint32_t beacons_received_ = 0;
   RadioTask radio_task_{*this};
+  os::TaskId radio_task_id_ = 0;
   StatusTask status_task_{*this};
   ReportTask report_task_{*this};
   EpochObserver observer_{*this};
