@@ -3,6 +3,7 @@
 
 BUILD_DIR   ?= build
 CROSS_DIR   ?= build-cross
+TEENSY_DIR  ?= build-teensy
 M4_DIR      ?= build-m4
 ASAN_DIR    ?= build-asan
 TSAN_DIR    ?= build-tsan
@@ -18,7 +19,7 @@ DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))
 
-.PHONY: all deps build demo test package bench bench-m4 cross test-m4 asan tsan fuzz clean
+.PHONY: all deps build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm asan tsan fuzz clean
 
 all: build
 
@@ -59,11 +60,42 @@ cross: deps
 	cmake --build $(CROSS_DIR) -j $(JOBS)
 	@bash scripts/size-table.sh $(CROSS_DIR)/lib
 
-## test-m4: core's unit tests on an emulated Cortex-M4 (qemu mps2-an386).
+## firmware: syrof-robot for the Teensy 3.2 in $(TEENSY_DIR)/bin: ELF, Intel
+## HEX (teensy-loader-cli --mcu=TEENSY32 -w -v syrof-robot.hex), linker map,
+## and the size table; the link fails past the budgets (flash 128 KB, RAM
+## 48 KB) or the chip. APP=path/app.c compiles a student's C app in place of
+## the built-in one (docs/firmware.md, "Teensy 3.2 board").
+APP ?=
+firmware: deps
+	$(CMAKE_CONFIGURE) -S . -B $(TEENSY_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DCMAKE_BUILD_TYPE=MinSizeRel \
+	  -DSYROF_TEENSY_IMAGE=ON -DSYROF_FIRMWARE_APP=$(if $(APP),$(abspath $(APP)))
+	cmake --build $(TEENSY_DIR) -j $(JOBS) --target syrof-robot
+	@bash scripts/firmware-size.sh $(TEENSY_DIR)/bin/syrof-robot.elf
+
+## test-m4: core's unit tests and the firmware kernel's tests on an emulated Cortex-M4 (qemu mps2-an386).
 test-m4: deps
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS)
 	ctest --test-dir $(M4_DIR) --output-on-failure -j $(JOBS)
+
+## test-firmware-swarm: an emulated swarm of real firmware (docs/firmware.md,
+## "The emulated swarm"): SWARM_ROBOTS qemu instances of syrof-robot-mps2
+## (4 in CI, 8 otherwise) joined through syrof-firmware-swarm, which plays the
+## lab's radio channel. Two runs: no loss (every robot must start one epoch
+## COOPERATIVE) and SWARM_LOSS loss (P3 must stay 0); outputs, metrics.json
+## included, in out/firmware-swarm/{no-loss,loss}/. About 3 x SWARM_SECONDS
+## (qemu runs with -icount: host load stretches the runs).
+SWARM_ROBOTS  ?= $(if $(CI),4,8)
+SWARM_SECONDS ?= $(if $(CI),30,60)
+SWARM_LOSS    ?= 0.3
+test-firmware-swarm: $(BUILD_DIR)/CMakeCache.txt
+	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm
+	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --robots $(SWARM_ROBOTS) \
+	  --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --out out/firmware-swarm/no-loss --expect-cooperative
+	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --robots $(SWARM_ROBOTS) \
+	  --seconds $(SWARM_SECONDS) --loss $(SWARM_LOSS) --seed 2 --out out/firmware-swarm/loss
 
 ## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
 QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \
@@ -102,13 +134,15 @@ tsan: deps
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target $(TSAN_TESTS)
 	TSAN_OPTIONS=halt_on_error=1 ctest --test-dir $(TSAN_DIR) --output-on-failure --no-tests=error -j $(JOBS) -R '$(TSAN_SUITES)'
 
-## fuzz: libFuzzer on the beacon decoder, then on the DDS sample checks, for FUZZ_SECONDS each.
+## fuzz: libFuzzer on the beacon decoder, the DDS sample checks and the
+## radio link's frame decoder (docs/radio-link.md), FUZZ_SECONDS each.
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE_CONFIGURE) -S . -B $(FUZZ_DIR) -DSYROF_FUZZ=ON -DSYROF_BUILD_TESTS=OFF -DSYROF_BUILD_BENCH=OFF
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode fuzz_beacon_sample
-	mkdir -p $(FUZZ_DIR)/corpus/beacon $(FUZZ_DIR)/corpus/beacon_sample
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode fuzz_beacon_sample fuzz_radio_link
+	mkdir -p $(FUZZ_DIR)/corpus/beacon $(FUZZ_DIR)/corpus/beacon_sample $(FUZZ_DIR)/corpus/radio_link
 	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
 	./$(FUZZ_DIR)/bin/fuzz_beacon_sample -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon_sample
+	./$(FUZZ_DIR)/bin/fuzz_radio_link -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/radio_link
 
 clean:
-	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR)
+	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(TEENSY_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR)

@@ -9,7 +9,7 @@
 //     virtual time, for the simulated lab and tests;
 //   - PosixPort (core/os/posix): one thread per task and the monotonic clock,
 //     for robots running as processes;
-//   - the FreeRTOS port (firmware/), for the Teensy 3.2.
+//   - NvicPort (firmware/kernel), a kernel on the NVIC, for the Teensy 3.2.
 // Code above the port (broker, estimator, synchronizer, app) sees only this
 // header, so it cannot tell which runtime it runs in.
 #pragma once

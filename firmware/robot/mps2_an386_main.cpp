@@ -1,0 +1,200 @@
+// syrof-robot for qemu's mps2-an386: the same robot image as the Teensy's
+// (robot_image.h) on the firmware kernel's mps2-an386 hardware, for tests and
+// emulated swarms. UART0 is the console (the status lines), UART1 the radio
+// link; qemu's -serial options map to them in order, so
+//
+//   qemu-system-arm -M mps2-an386 -nographic -monitor none
+//       -semihosting-config enable=on,target=native -icount shift=0,sleep=off
+//       -serial stdio -chardev socket,id=radio,path=SOCK -serial chardev:radio
+//       -kernel syrof-robot-mps2.elf -append "id 0 swarm 4 seconds 5"
+//
+// Command line (semihosting, -append): `id N` (default 0), `swarm N`
+// (default 4), `seconds S` (stop after S seconds of guest time and exit 0;
+// default 0: run for ever), `align 0|1` (round alignment, default 1),
+// `report 0|1` (the swarm host's "R" and "E" lines, default 0). A word
+// it does not know stops the image with exit status 2 and names the word.
+// The UARTs interrupt at priority 2, above the kernel, and their handlers
+// only move bytes between the UART and its rings; but the radio's receive
+// interrupt sits at 4, masked by the kernel, and also notifies the image's
+// radio-link task (no polling: fewer wake-ups for qemu to emulate).
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "robot_image.h"
+#include "syrof/board/mps2_an386/cmsdk_uart.h"
+#include "syrof/firmware/kernel/mps2_an386_hardware.h"
+#include "syrof/firmware/kernel/nvic_port.h"
+
+extern "C" const syrof_app_descriptor* syrof_app_entry(void);
+
+namespace {
+
+namespace board = syrof::board::mps2_an386;
+namespace kernel = syrof::firmware::kernel;
+namespace robot = syrof::firmware::robot;
+
+constexpr uint8_t kUartPriority = 2;  // above the kernel (4): never calls it
+// The radio's receive interrupt notifies the radio-link task, so it sits
+// where the kernel masks it (BASEPRI at the timer's 4): at 4 itself.
+constexpr uint8_t kRadioReceivePriority = 4;
+
+board::CmsdkUart console(board::kCmsdkUart0);
+board::CmsdkUart radio(board::kCmsdkUart1);
+
+// The UART's rings are shared with its interrupt handler; the kernel's tasks
+// touch them with the UART interrupts masked (BASEPRI at their priority).
+class MaskUarts {
+ public:
+  MaskUarts() {
+    asm volatile(
+        "mrs %0, basepri\n"
+        "msr basepri_max, %1"
+        : "=&r"(previous_)
+        : "r"(uint32_t{kUartPriority} << 4)
+        : "memory");
+  }
+  ~MaskUarts() { asm volatile("msr basepri, %0" ::"r"(previous_) : "memory"); }
+  MaskUarts(const MaskUarts&) = delete;
+  MaskUarts& operator=(const MaskUarts&) = delete;
+
+ private:
+  uint32_t previous_;
+};
+
+// The radio UART as the drivers' UartTx, safe to call from any task.
+class RadioUart final : public syrof::firmware::drivers::UartTx {
+ public:
+  size_t Free() const override {
+    MaskUarts masked;
+    return radio.Free();
+  }
+  size_t Write(std::span<const uint8_t> bytes) override {
+    MaskUarts masked;
+    return radio.Write(bytes);
+  }
+};
+RadioUart radio_tx;
+
+size_t ReadRadio(std::span<uint8_t> out, void* /*context*/) {
+  MaskUarts masked;
+  return radio.Read(out);
+}
+
+// Writes the whole line, a ring's worth at a time: between chunks the
+// console's interrupt (above every task) sends what is queued. Bounded: a
+// console that stops taking bytes loses the rest of the line.
+void ConsoleWrite(const char* line, size_t length, void* /*context*/) {
+  const auto* bytes = reinterpret_cast<const uint8_t*>(line);
+  size_t sent = 0;
+  for (uint32_t spin = 0; sent < length && spin < 1'000'000; ++spin) {
+    MaskUarts masked;
+    sent += console.Write(std::span<const uint8_t>(bytes + sent, length - sent));
+  }
+}
+
+robot::RobotImage* image_for_interrupts = nullptr;
+
+void ConsoleInterrupt() { console.OnInterrupt(); }
+void RadioInterrupt() { radio.OnInterrupt(); }
+void RadioReceiveInterrupt() {
+  {
+    MaskUarts masked;  // the transmit interrupt (2) shares the rings
+    radio.OnInterrupt();
+  }
+  if (image_for_interrupts != nullptr) image_for_interrupts->NotifyRadio();
+}
+
+alignas(16) unsigned char queries_memory[SYROF_FIRMWARE_QUERIES_BYTES];
+char report_line[2048];
+
+struct Options {
+  robot::ImageConfig image{};
+  long seconds = 0;
+};
+
+// Reads `key value` pairs; on error prints which word and why, returns false.
+bool ParseOptions(int argc, char** argv, Options& options) {
+  options.image.board = "mps2-an386";
+  for (int i = 1; i < argc; i += 2) {
+    const char* key = argv[i];
+    if (i + 1 >= argc) {
+      std::printf("syrof-robot: -append word %d '%s' has no value (expected: id N swarm N seconds S align 0|1 report 0|1)\n", i,
+                  key);
+      return false;
+    }
+    char* end = nullptr;
+    const long value = std::strtol(argv[i + 1], &end, 10);
+    if (end == argv[i + 1] || *end != '\0' || value < 0) {
+      std::printf("syrof-robot: -append word %d '%s': '%s' is not a whole number >= 0\n", i + 1, key, argv[i + 1]);
+      return false;
+    }
+    if (std::strcmp(key, "id") == 0 && value < syrof::wire::kMaxSwarmSize) {
+      options.image.self_id = static_cast<uint16_t>(value);
+    } else if (std::strcmp(key, "swarm") == 0 && value >= 1 && value <= syrof::wire::kMaxSwarmSize) {
+      options.image.swarm_size = static_cast<uint16_t>(value);
+    } else if (std::strcmp(key, "seconds") == 0) {
+      options.seconds = value;
+    } else if (std::strcmp(key, "align") == 0 && value <= 1) {
+      options.image.align_rounds = value == 1;
+    } else if (std::strcmp(key, "report") == 0 && value <= 1) {
+      options.image.report_rounds = value == 1;
+    } else {
+      std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
+                  "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1)\n",
+                  i, key, value);
+      return false;
+    }
+  }
+  if (options.image.self_id >= options.image.swarm_size) {
+    std::printf("syrof-robot: id %u is not below swarm %u\n", static_cast<unsigned>(options.image.self_id),
+                static_cast<unsigned>(options.image.swarm_size));
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  if (!ParseOptions(argc, argv, options)) return 2;
+  options.image.report_line = report_line;
+
+  static kernel::Mps2An386Hardware hardware;
+  static kernel::NvicPort port(hardware);
+  hardware.Attach(port);
+  console.Start(/*interrupts=*/true);
+  radio.Start(/*interrupts=*/true);
+  const int console_irq = board::CmsdkUartRxIrq(board::kCmsdkUart0);
+  const int radio_irq = board::CmsdkUartRxIrq(board::kCmsdkUart1);
+  hardware.RouteInterrupt(static_cast<uint8_t>(console_irq), kUartPriority, &ConsoleInterrupt);
+  hardware.RouteInterrupt(static_cast<uint8_t>(console_irq + 1), kUartPriority, &ConsoleInterrupt);
+  static robot::RobotImage image(port, radio_tx, &ReadRadio, nullptr, &ConsoleWrite, nullptr);
+  options.image.poll_radio = false;
+  hardware.RouteInterrupt(static_cast<uint8_t>(radio_irq + 1), kUartPriority, &RadioInterrupt);
+  if (const char* error = image.Start(options.image, syrof_app_entry(), queries_memory)) {
+    std::printf("syrof-robot: %s\n", error);
+    return 1;
+  }
+  // Receiving starts once the radio task exists; the receive interrupt is a
+  // level, so a byte already waiting raises it again.
+  image_for_interrupts = &image;
+  hardware.RouteInterrupt(static_cast<uint8_t>(radio_irq), kRadioReceivePriority, &RadioReceiveInterrupt);
+  const int64_t stop_ns = options.seconds * int64_t{1'000'000'000};
+  while (options.seconds == 0 || port.now_ns() < stop_ns) asm volatile("wfi");
+
+  (void)port.Stop();
+  image.PrintStatus(port.now_ns());
+  // Let the console's interrupt send the last line before qemu exits.
+  for (int spin = 0; spin < 1'000'000; ++spin) {
+    bool idle;
+    {
+      MaskUarts masked;
+      idle = console.transmit_idle();
+    }
+    if (idle) break;
+  }
+  return 0;
+}

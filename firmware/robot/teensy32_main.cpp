@@ -1,0 +1,105 @@
+// syrof-robot for the Teensy 3.2: the board brought up (startup.cpp), the
+// firmware kernel on the NVIC with the PIT (firmware/kernel/teensy32), and
+// the robot image (robot_image.h: core/runtime's Robot with the app compiled
+// in by `make firmware` or `make firmware APP=path/app.c`, its beacons
+// framed for the nRF51822 over UART0, docs/radio-link.md).
+//
+// The radio's receive interrupt (priority 2, above the kernel) only queues
+// bytes; the image's radio task decodes them. No sensor driver publishes yet
+// (the topics are advertised), so the estimator predicts from the start pose.
+
+#include <cstdio>
+
+#include "robot_image.h"
+#include "syrof/board/teensy32/board.h"
+#include "syrof/firmware/kernel/nvic_port.h"
+#include "syrof/firmware/kernel/teensy32_hardware.h"
+
+// The compiled-in app (app.c) defines it (SYROF_APP_DEFINE).
+extern "C" const syrof_app_descriptor* syrof_app_entry(void);
+
+namespace {
+
+namespace board = syrof::board::teensy32;
+namespace kernel = syrof::firmware::kernel;
+namespace robot = syrof::firmware::robot;
+
+// This robot's place in its swarm: set per robot at build time
+// (-DSYROF_ROBOT_ID=..., -DSYROF_ROBOT_SWARM_SIZE=...).
+#ifndef SYROF_ROBOT_ID
+#define SYROF_ROBOT_ID 0
+#endif
+#ifndef SYROF_ROBOT_SWARM_SIZE
+#define SYROF_ROBOT_SWARM_SIZE 4
+#endif
+constexpr uint16_t kSelfId = SYROF_ROBOT_ID;
+constexpr uint16_t kSwarmSize = SYROF_ROBOT_SWARM_SIZE;
+static_assert(kSwarmSize >= 1 && kSwarmSize <= syrof::wire::kMaxSwarmSize && kSelfId < kSwarmSize);
+
+constexpr uint32_t kConsoleBaud = 115'200;
+constexpr uint32_t kRadioBaud = 1'000'000;
+
+// Received radio bytes, from the UART0 interrupt (the only writer) to the
+// radio task (the only reader).
+class ReceiveQueue {
+ public:
+  static void Push(uint8_t byte, void* context) { static_cast<ReceiveQueue*>(context)->PushByte(byte); }
+  static size_t Read(std::span<uint8_t> out, void* context) { return static_cast<ReceiveQueue*>(context)->Pop(out); }
+
+ private:
+  void PushByte(uint8_t byte) {
+    if (head_ - tail_ == kCapacity) {
+      dropped_ = dropped_ + 1;
+      return;
+    }
+    bytes_[head_ % kCapacity] = byte;
+    head_ = head_ + 1;
+  }
+  size_t Pop(std::span<uint8_t> out) {
+    size_t taken = 0;
+    uint32_t tail = tail_;
+    while (taken < out.size() && tail != head_) out[taken++] = bytes_[tail++ % kCapacity];
+    tail_ = tail;
+    return taken;
+  }
+
+  static constexpr uint32_t kCapacity = 512;
+  uint8_t bytes_[kCapacity];
+  volatile uint32_t head_ = 0;
+  volatile uint32_t tail_ = 0;
+  volatile uint32_t dropped_ = 0;
+};
+
+void ConsoleWrite(const char* line, size_t length, void* /*context*/) {
+  (void)board::ConsoleUart().Write(std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(line), length));
+}
+
+// The queries' scratch memory; its size is checked at start-up.
+alignas(16) unsigned char queries_memory[SYROF_FIRMWARE_QUERIES_BYTES];
+ReceiveQueue receive_queue;
+
+[[noreturn]] void Halt(const char* what) {
+  std::printf("syrof-robot: %s; halted\n", what);
+  board::ConsoleUart().Flush();
+  for (;;) asm volatile("wfi");
+}
+
+}  // namespace
+
+int main() {
+  board::ConsoleUart().Start(kConsoleBaud);
+  std::printf("syrof-robot %u of %u (Teensy 3.2, 72 MHz)\n", static_cast<unsigned>(kSelfId),
+              static_cast<unsigned>(kSwarmSize));
+  if (!board::RadioUart().Start(kRadioBaud, &ReceiveQueue::Push, &receive_queue)) Halt("radio UART rate");
+  board::I2cBus0().Start(400'000);
+
+  static kernel::Teensy32Hardware hardware;
+  static kernel::NvicPort port(hardware);
+  hardware.Attach(port);
+  static robot::RobotImage image(port, board::RadioUart(), &ReceiveQueue::Read, &receive_queue, &ConsoleWrite, nullptr);
+  if (const char* error = image.Start({kSelfId, kSwarmSize, true, "teensy32"}, syrof_app_entry(), queries_memory)) {
+    Halt(error);
+  }
+  std::printf("robot started\n");
+  for (;;) asm volatile("wfi");  // thread mode idles; every task runs in an interrupt
+}

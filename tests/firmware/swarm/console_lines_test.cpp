@@ -1,0 +1,78 @@
+#include "syrof/firmware/swarm/console_lines.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace syrof::firmware::swarm {
+namespace {
+
+TEST(ConsoleLinesTest, RoundLineGivesTheRobotsState) {
+  const ConsoleLine line = ParseConsoleLine(
+      "R t_ms=1250 robot=2 epoch=7 mode=0 phase=2 member=1 valid=1 x_mm=-1500 y_mm=2250 lost=3", 4);
+  const auto* round = std::get_if<RoundLine>(&line);
+  ASSERT_NE(round, nullptr);
+  EXPECT_EQ(round->t_ms, 1250);
+  EXPECT_EQ(round->robot, 2);
+  EXPECT_EQ(round->epoch, 7);
+  EXPECT_EQ(round->mode, wire::Mode::kCooperative);
+  EXPECT_EQ(round->phase, wire::Phase::kVote);
+  EXPECT_TRUE(round->member);
+  EXPECT_TRUE(round->estimate_valid);
+  EXPECT_DOUBLE_EQ(round->x_m, -1.5);
+  EXPECT_DOUBLE_EQ(round->y_m, 2.25);
+  EXPECT_EQ(round->epoch_lines_lost, 3u);
+}
+
+TEST(ConsoleLinesTest, EpochLineRebuildsTheMapSoSameKnowledgeCanCompareIt) {
+  const ConsoleLine line =
+      ParseConsoleLine("E t_ms=450 robot=1 epoch=3 mode=0 members=0:100:-200:31:5:-6:;1:7:8:9:10:11:0aff", 4);
+  const auto* epoch = std::get_if<EpochLine>(&line);
+  ASSERT_NE(epoch, nullptr);
+  EXPECT_EQ(epoch->robot, 1);
+  sync::LDMap expected;
+  expected.epoch = 3;
+  expected.mode = wire::Mode::kCooperative;
+  expected.members.set(0);
+  expected.members.set(1);
+  expected.snapshots[0] = wire::Snapshot{100, -200, 31, 5, -6, 0, {}};
+  expected.snapshots[1] = wire::Snapshot{7, 8, 9, 10, 11, 0, {}};
+  const uint8_t payload[] = {0x0a, 0xff};
+  ASSERT_EQ(expected.snapshots[1].SetPayload(payload), wire::WireError::kOk);
+  EXPECT_TRUE(epoch->map.SameKnowledge(expected));
+  expected.snapshots[1].x_mm = 6;
+  EXPECT_FALSE(epoch->map.SameKnowledge(expected));
+}
+
+TEST(ConsoleLinesTest, OtherLinesAreIgnored) {
+  EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("status t_ms=1000 board=mps2-an386", 4)));
+  EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("robot 0 of 4: spreading on a circle", 4)));
+  EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("", 4)));
+}
+
+// A garbled line names the field and where it is.
+TEST(ConsoleLinesTest, GarbledLinesNameTheFieldAndColumn) {
+  const auto error_of = [](std::string_view text) {
+    const ConsoleLine line = ParseConsoleLine(text, 4);
+    const auto* error = std::get_if<LineError>(&line);
+    return error != nullptr ? *error : LineError{"parsed", 0};
+  };
+  LineError error = error_of("R t_ms=5 robot=9 epoch=1 mode=0 phase=0 member=1 valid=1 x_mm=0 y_mm=0 lost=0");
+  EXPECT_EQ(error.what, "robot: 9 is outside [0, 3]");
+  EXPECT_EQ(error.column, 15u);
+  error = error_of("R t_ms=5 robot=1 epoch=1 mode=0 phase=0 member=1 valid=1 x_mm=0 y_mm=0");
+  EXPECT_EQ(error.what, "expected ' lost='");
+  error = error_of("R t_ms=5 robot=1 epoch=1 mode=0 phase=0 member=1 valid=1 x_mm=0 y_mm=0 lost=0 extra");
+  EXPECT_EQ(error.what, "unexpected text after lost=");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:2:3:4:5:;0:1:2:3:4:5:");
+  EXPECT_EQ(error.what, "member 0 listed twice");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:2:3:4:5:0g");
+  EXPECT_EQ(error.what, "payload: expected pairs of hex digits");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:2:3:4:5:00112233445566778899");
+  EXPECT_EQ(error.what, "payload: more than 9 bytes");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:40000:3:4:5:");
+  EXPECT_EQ(error.what, "y_mm: 40000 is outside [-32768, 32767]");
+}
+
+}  // namespace
+}  // namespace syrof::firmware::swarm
