@@ -235,7 +235,7 @@ class OverrunningTask final : public os::Task {
 TEST_F(NvicPortM4Test, AnOverrunningTaskIsReportedByTheDeadlineMissCounter) {
   OverrunningTask slow(port);
   slow.first_step_ns = 2 * kMillisecond + 500 * kMicrosecond;  // over the releases at 1 and 2 ms
-  StampTask fine;
+  StampTask fine(port);
   const TaskId slow_id = port.AddTask(slow, {"slow", Trigger::periodic(kMillisecond, kMicrosecond), 3}).value();
   const TaskId fine_id = port.AddTask(fine, {"fine", Trigger::periodic(kMillisecond, kMicrosecond), 8}).value();
   ASSERT_EQ(port.Start(), PortError::kOk);
@@ -251,7 +251,7 @@ TEST_F(NvicPortM4Test, AnOverrunningTaskIsReportedByTheDeadlineMissCounter) {
 }
 
 TEST_F(NvicPortM4Test, ShiftPeriodicMovesTheGrid) {
-  StampTask task;
+  StampTask task(port);
   const TaskId id = port.AddTask(task, {"round", Trigger::periodic(kMillisecond, kMicrosecond), 4}).value();
   ASSERT_EQ(port.Start(), PortError::kOk);
   const int64_t start_ns = GridStart(port, id, kMicrosecond);
