@@ -168,6 +168,18 @@ function(syrof_add_test)
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBS} GTest::gtest_main GTest::gmock)
   syrof_set_warnings(${ARG_NAME})
+  # A test executable's own sources compile as one translation unit (a unity
+  # build): GoogleTest's and gmock's headers are parsed once per executable
+  # instead of once per file (docs/building.md, "CI"). Sources from outside
+  # tests/ (the exploration's copy of core) keep their own units. Names at
+  # file scope must therefore be unique across one executable's test files.
+  set_target_properties(${ARG_NAME} PROPERTIES UNITY_BUILD ${SYROF_UNITY_TESTS} UNITY_BUILD_BATCH_SIZE 0)
+  foreach(source IN LISTS ARG_SOURCES)
+    get_filename_component(absolute ${source} ABSOLUTE)
+    if(NOT absolute MATCHES "^${PROJECT_SOURCE_DIR}/tests/.*\\.cpp$")
+      set_source_files_properties(${source} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+    endif()
+  endforeach()
   # tests_<label> builds every test executable with that label, so a build
   # folder that runs only some labels (make asan) builds only what they need.
   foreach(label IN LISTS ARG_LABELS)

@@ -26,7 +26,7 @@ using testing::ReadFile;
 
 const std::string kScenarios = SYROF_SCENARIOS_DIR;
 
-fs::path TempDir(const std::string& name) {
+fs::path RunTempDir(const std::string& name) {
   const fs::path dir = FreshDir("syrof_cli_test_", name);
   return dir;
 }
@@ -41,7 +41,7 @@ TEST(RunCommandTest, WritesMetricsAndReplayAndPrintsTheSummary) {
   RunOptions options;
   options.scenario_path = kScenarios + "/idle.yaml";
   options.duration_s = 5;
-  options.out_dir = TempDir("summary").string();
+  options.out_dir = RunTempDir("summary").string();
 
   const Outcome outcome = RunWith(options);
 
@@ -72,7 +72,7 @@ TEST(RunCommandTest, WithClocksTheSummaryGivesTheRoundPhase) {
   RunOptions options;
   options.scenario_path = kScenarios + "/clocks_circle.yaml";
   options.duration_s = 10;
-  options.out_dir = TempDir("clocks").string();
+  options.out_dir = RunTempDir("clocks").string();
   const Outcome clocked = RunWith(options);
   ASSERT_EQ(clocked.status, 0) << clocked.err;
   const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
@@ -87,7 +87,7 @@ TEST(RunCommandTest, WithClocksTheSummaryGivesTheRoundPhase) {
       << clocked.out;
 
   options.scenario_path = kScenarios + "/demo_circle.yaml";
-  options.out_dir = TempDir("no_clocks").string();
+  options.out_dir = RunTempDir("no_clocks").string();
   const Outcome shared = RunWith(options);
   ASSERT_EQ(shared.status, 0) << shared.err;
   EXPECT_EQ(shared.out.find("round phase"), std::string::npos) << shared.out;
@@ -100,7 +100,7 @@ TEST(RunCommandTest, AReplayWriterFailureExitsOneWithTheReason) {
   RunOptions options;
   options.scenario_path = kScenarios + "/idle.yaml";
   options.duration_s = 2;
-  options.out_dir = TempDir("full_disk").string();
+  options.out_dir = RunTempDir("full_disk").string();
   fs::create_directories(options.out_dir);
   fs::create_symlink("/dev/full", fs::path(options.out_dir) / "replay");
 
@@ -118,7 +118,7 @@ TEST(RunCommandTest, HtmlWritesTheReplaysPageNextToIt) {
   RunOptions options;
   options.scenario_path = kScenarios + "/idle.yaml";
   options.duration_s = 2;
-  options.out_dir = TempDir("html").string();
+  options.out_dir = RunTempDir("html").string();
   options.html = true;
 
   const Outcome outcome = RunWith(options);
@@ -136,9 +136,9 @@ TEST(RunCommandTest, ReproducibleRunsWriteIdenticalBytes) {
   first.duration_s = 6;
   first.reproducible = true;
   first.quiet = true;
-  first.out_dir = TempDir("repro_a").string();
+  first.out_dir = RunTempDir("repro_a").string();
   RunOptions second = first;
-  second.out_dir = TempDir("repro_b").string();
+  second.out_dir = RunTempDir("repro_b").string();
 
   ASSERT_EQ(RunWith(first).status, 0);
   ASSERT_EQ(RunWith(second).status, 0);
@@ -156,7 +156,7 @@ TEST(RunCommandTest, OverridesReachTheRun) {
   options.app = "builtin:circle";
   options.quiet = true;
   options.no_replay = true;
-  options.out_dir = TempDir("overrides").string();
+  options.out_dir = RunTempDir("overrides").string();
 
   ASSERT_EQ(RunWith(options).status, 0);
 
@@ -179,7 +179,7 @@ TEST(RunCommandTest, MissingScenarioIsBadInputWithItsName) {
 }
 
 TEST(RunCommandTest, InvalidScenarioNamesFileLineAndColumn) {
-  const fs::path dir = TempDir("invalid");
+  const fs::path dir = RunTempDir("invalid");
   fs::create_directories(dir);
   const fs::path path = dir / "bad.yaml";
   std::ofstream(path) << "robots: {count: 3}\napp: builtin:idle\nchanel: {loss: 0.1}\n";
@@ -232,7 +232,7 @@ RunOptions MisbehavingRun(const std::string& name) {
   options.scenario_path = kScenarios + "/idle.yaml";
   options.robots = 4;
   options.duration_s = 5;
-  options.out_dir = TempDir(name).string();
+  options.out_dir = RunTempDir(name).string();
   options.app_factory = [](uint16_t id) { return std::make_unique<MisbehavingApp>(id); };
   options.app_source = "test:misbehaving";
   return options;
@@ -282,7 +282,7 @@ TEST(RunCommandTest, StrictExitsWithZeroWhenTheAppBehaved) {
   options.scenario_path = kScenarios + "/idle.yaml";
   options.duration_s = 3;
   options.strict = true;
-  options.out_dir = TempDir("strict_clean").string();
+  options.out_dir = RunTempDir("strict_clean").string();
 
   const Outcome outcome = RunWith(options);
 

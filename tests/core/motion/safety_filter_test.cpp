@@ -20,7 +20,7 @@ ControllerConfig Omni() {
   return config;
 }
 
-ControllerConfig Rover() {
+ControllerConfig WheeledConfig() {
   ControllerConfig config = Omni();
   config.kind = DriveKind::kWheels;
   return config;
@@ -44,7 +44,7 @@ estimation::StateEstimate At(float x, float y, float heading = 0) {
   return estimate;
 }
 
-DriveCommand Velocity(float vx, float vy) {
+DriveCommand DriveVelocity(float vx, float vy) {
   DriveCommand drive;
   drive.kind = DriveKind::kOmni;
   drive.vx_mps = vx;
@@ -66,7 +66,7 @@ TEST(SafetyFilterTest, PassesACommandWhenNobodyIsNear) {
   reports.ReportMetres(1, 0, 3.0f, 3.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
-  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
+  const DriveCommand out = filter.Apply(DriveVelocity(0.5f, 0), At(1, 1), reports, 0, outcome);
 
   EXPECT_FALSE(outcome.limited);
   EXPECT_FLOAT_EQ(out.vx_mps, 0.5f);
@@ -79,7 +79,7 @@ TEST(SafetyFilterTest, StopsTheApproachAtTheEdgeOfAFreshDisc) {
   reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
-  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
+  const DriveCommand out = filter.Apply(DriveVelocity(0.5f, 0), At(1, 1), reports, 0, outcome);
 
   EXPECT_TRUE(outcome.limited);
   EXPECT_TRUE(outcome.started);
@@ -93,7 +93,7 @@ TEST(SafetyFilterTest, SlowsTheApproachOnTheBrakingCurveAndKeepsTheTangent) {
   reports.ReportMetres(1, 0, 1.35f, 1.0f, false, 0, 0, 0.8f);  // gap 0.1 m
   SafetyOutcome outcome;
 
-  const DriveCommand out = filter.Apply(Velocity(0.4f, 0.3f), At(1, 1), reports, 0, outcome);
+  const DriveCommand out = filter.Apply(DriveVelocity(0.4f, 0.3f), At(1, 1), reports, 0, outcome);
 
   // min(gain 4 * 0.1, sqrt(0.8 * 0.1)) = 0.283 m/s towards it; the sideways
   // part is never touched.
@@ -108,10 +108,10 @@ TEST(SafetyFilterTest, AStaleReportGrowsItsDiscAtTheSpeedLimit) {
   SafetyOutcome fresh;
   SafetyOutcome stale;
 
-  (void)filter.Apply(Velocity(0.3f, 0), At(1, 1), reports, 0, fresh);
+  (void)filter.Apply(DriveVelocity(0.3f, 0), At(1, 1), reports, 0, fresh);
   // 0.4 s later the other may have come 0.2 m closer: the disc's edge is at
   // 0.45 m, a gap of 0.05 m allows min(4 * 0.05, sqrt(0.8 * 0.05)) = 0.2 m/s.
-  const DriveCommand out = filter.Apply(Velocity(0.3f, 0), At(1, 1), reports, 4 * kSecond / 10, stale);
+  const DriveCommand out = filter.Apply(DriveVelocity(0.3f, 0), At(1, 1), reports, 4 * kSecond / 10, stale);
 
   EXPECT_FALSE(fresh.limited);
   EXPECT_TRUE(stale.limited);
@@ -125,9 +125,9 @@ TEST(SafetyFilterTest, InsideADiscOnlyMovesAwayFromEveryPlaceTheOtherCanBe) {
   SafetyOutcome outcome;
   const int64_t later = kSecond / 10;  // sigma = 0.05 m, d = 0.2 m: sin(phi) = 0.25
 
-  const DriveCommand towards = filter.Apply(Velocity(0.3f, 0), At(1, 1), reports, later, outcome);
-  const DriveCommand sideways = filter.Apply(Velocity(0, 0.3f), At(1, 1), reports, later, outcome);
-  const DriveCommand away = filter.Apply(Velocity(-0.3f, 0), At(1, 1), reports, later, outcome);
+  const DriveCommand towards = filter.Apply(DriveVelocity(0.3f, 0), At(1, 1), reports, later, outcome);
+  const DriveCommand sideways = filter.Apply(DriveVelocity(0, 0.3f), At(1, 1), reports, later, outcome);
+  const DriveCommand away = filter.Apply(DriveVelocity(-0.3f, 0), At(1, 1), reports, later, outcome);
 
   EXPECT_NEAR(towards.vx_mps, 0, 1e-4f);
   EXPECT_NEAR(towards.vy_mps, 0, 1e-4f);
@@ -146,7 +146,7 @@ TEST(SafetyFilterTest, KeepsOffTheWalls) {
   SafetyOutcome outcome;
 
   // Radius 0.1 + margin 0.05: the wall's edge is at x = 3.85.
-  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(3.85f, 2), reports, 0, outcome);
+  const DriveCommand out = filter.Apply(DriveVelocity(0.5f, 0), At(3.85f, 2), reports, 0, outcome);
 
   EXPECT_TRUE(outcome.limited);
   EXPECT_EQ(outcome.other, kWallObstacle);
@@ -154,7 +154,7 @@ TEST(SafetyFilterTest, KeepsOffTheWalls) {
 }
 
 TEST(SafetyFilterTest, LimitsARoversForwardSpeedAndKeepsItsTurn) {
-  SafetyFilter filter(Config(), Rover(), 4);
+  SafetyFilter filter(Config(), WheeledConfig(), 4);
   SafetyReports reports;
   reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
@@ -167,7 +167,7 @@ TEST(SafetyFilterTest, LimitsARoversForwardSpeedAndKeepsItsTurn) {
 }
 
 TEST(SafetyFilterTest, ARoverFacingAwayMayDriveOn) {
-  SafetyFilter filter(Config(), Rover(), 4);
+  SafetyFilter filter(Config(), WheeledConfig(), 4);
   SafetyReports reports;
   reports.ReportMetres(1, 0, 1.25f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
@@ -187,8 +187,8 @@ TEST(SafetyFilterTest, AParkedReportAddsItsSendersBrakingDistance) {
   SafetyOutcome a;
   SafetyOutcome b;
 
-  const DriveCommand free = filter.Apply(Velocity(0.3f, 0), At(1, 1), moving, 0, a);
-  const DriveCommand braked = filter.Apply(Velocity(0.3f, 0), At(1, 1), parked, 0, b);
+  const DriveCommand free = filter.Apply(DriveVelocity(0.3f, 0), At(1, 1), moving, 0, a);
+  const DriveCommand braked = filter.Apply(DriveVelocity(0.3f, 0), At(1, 1), parked, 0, b);
 
   EXPECT_LT(braked.vx_mps, free.vx_mps);
 }
@@ -200,7 +200,7 @@ TEST(SafetyFilterTest, IgnoresItsOwnReportAndInvalidOnes) {
   reports.ReportMetres(2, 0, NAN, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
-  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
+  const DriveCommand out = filter.Apply(DriveVelocity(0.5f, 0), At(1, 1), reports, 0, outcome);
 
   EXPECT_FALSE(outcome.limited);
   EXPECT_FLOAT_EQ(out.vx_mps, 0.5f);
@@ -214,7 +214,7 @@ TEST(SafetyFilterTest, DisabledPassesEverything) {
   reports.ReportMetres(1, 0, 1.1f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
 
-  const DriveCommand out = filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 0, outcome);
+  const DriveCommand out = filter.Apply(DriveVelocity(0.5f, 0), At(1, 1), reports, 0, outcome);
 
   EXPECT_FALSE(outcome.limited);
   EXPECT_FLOAT_EQ(out.vx_mps, 0.5f);
@@ -230,12 +230,12 @@ TEST(SafetyFilterTest, AnInterventionStartsOnceUntilItHasBeenQuietForHalfASecond
 
   for (int i = 0; i < 10; ++i) {
     reports.ReportMetres(1, i * step, 1.25f, 1.0f, false, 0, 0, 0.8f);
-    (void)filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, i * step, outcome);
+    (void)filter.Apply(DriveVelocity(0.5f, 0), At(1, 1), reports, i * step, outcome);
     starts += outcome.started ? 1 : 0;
-    (void)filter.Apply(Velocity(-0.5f, 0), At(1, 1), reports, i * step, outcome);  // not limited
+    (void)filter.Apply(DriveVelocity(-0.5f, 0), At(1, 1), reports, i * step, outcome);  // not limited
   }
   reports.ReportMetres(1, 2 * kSecond, 1.25f, 1.0f, false, 0, 0, 0.8f);
-  (void)filter.Apply(Velocity(0.5f, 0), At(1, 1), reports, 2 * kSecond, outcome);
+  (void)filter.Apply(DriveVelocity(0.5f, 0), At(1, 1), reports, 2 * kSecond, outcome);
   starts += outcome.started ? 1 : 0;
 
   EXPECT_EQ(starts, 2);
@@ -265,8 +265,8 @@ TEST(SafetyFilterTest, TwoRobotsDrivingHeadOnNeverTouch) {
       reports.ReportMetres(1, now - 5 * step, bx - bvx * 0.05f, 1, false, bvx, 0, 0.8f);
     }
     SafetyOutcome outcome;
-    const float a_cmd = a.Apply(Velocity(0.5f, 0), At(ax, 1), reports, now, outcome).vx_mps;
-    const float b_cmd = b.Apply(Velocity(-0.5f, 0), At(bx, 1), reports, now, outcome).vx_mps;
+    const float a_cmd = a.Apply(DriveVelocity(0.5f, 0), At(ax, 1), reports, now, outcome).vx_mps;
+    const float b_cmd = b.Apply(DriveVelocity(-0.5f, 0), At(bx, 1), reports, now, outcome).vx_mps;
     // Bodies slew towards the setpoint at 1 m/s^2, as the lab's omni bodies do.
     avx += std::clamp(a_cmd - avx, -0.01f, 0.01f);
     bvx += std::clamp(b_cmd - bvx, -0.01f, 0.01f);

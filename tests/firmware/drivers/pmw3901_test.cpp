@@ -53,7 +53,7 @@ class FakeSpi : public SpiBus {
   bool address_known_ = false;
 };
 
-class FakeDelay : public Delay {
+class RecordingDelay : public Delay {
  public:
   std::vector<uint32_t> waits;
   void WaitUs(uint32_t microseconds) override { waits.push_back(microseconds); }
@@ -85,7 +85,7 @@ TEST(Pmw3901Test, ParsesTheBurstLittleEndianDeltasAndBigEndianShutter) {
 
 TEST(Pmw3901Test, StartResetsChecksIdentityAndWritesTheTuning) {
   FakeSpi bus = SensorPresent();
-  FakeDelay delay;
+  RecordingDelay delay;
   const RegisterWrite tuning[] = {{0x7F, 0x00, 0}, {0x61, 0xAD, 0}, {0x7F, 0x03, 10}};
   Pmw3901Config config;
   config.tuning = tuning;
@@ -105,7 +105,7 @@ TEST(Pmw3901Test, StartResetsChecksIdentityAndWritesTheTuning) {
 TEST(Pmw3901Test, WrongIdentityIsReported) {
   FakeSpi bus;
   bus.registers[pmw3901::kProductId] = pmw3901::kProductIdValue;  // the inverse reads 0
-  FakeDelay delay;
+  RecordingDelay delay;
   Pmw3901 flow(bus, delay, Pmw3901Config{});
   EXPECT_EQ(flow.Start(0), DriverError::kWrongDevice);
   EXPECT_EQ(flow.Read(1).error(), DriverError::kNotStarted);
@@ -114,7 +114,7 @@ TEST(Pmw3901Test, WrongIdentityIsReported) {
 TEST(Pmw3901Test, BusFailureReleasesChipSelect) {
   FakeSpi bus = SensorPresent();
   bus.fail_with = BusStatus::kError;
-  FakeDelay delay;
+  RecordingDelay delay;
   Pmw3901 flow(bus, delay, Pmw3901Config{});
   EXPECT_EQ(flow.Start(0), DriverError::kBus);
   EXPECT_EQ(flow.last_bus_status(), BusStatus::kError);
@@ -154,7 +154,7 @@ TEST(Pmw3901Test, GatesDarkFeaturelessBursts) {
 
 TEST(Pmw3901Test, ReadCoversTheIntervalSinceThePreviousRead) {
   FakeSpi bus = SensorPresent();
-  FakeDelay delay;
+  RecordingDelay delay;
   Pmw3901 flow(bus, delay, Pmw3901Config{});
   ASSERT_EQ(flow.Start(1'000), DriverError::kOk);
 

@@ -35,7 +35,7 @@ using nlohmann::json;
 namespace sim = lab::sim;
 namespace scenario = lab::scenario;
 
-std::string Library(const std::string& name) { return std::string(SYROF_TEST_LIBS_DIR) + "/lib" + name + ".so"; }
+std::string HostedLibrary(const std::string& name) { return std::string(SYROF_TEST_LIBS_DIR) + "/lib" + name + ".so"; }
 
 scenario::Scenario Load(int robots, double duration_s) {
   const std::string text = "seed: 5\nrobots: {count: " + std::to_string(robots) +
@@ -86,7 +86,7 @@ std::string ReadFile(const std::string& path) {
 
 HostOptions Options(const std::string& library, const std::string& logs) {
   HostOptions options;
-  options.library_path = Library(library);
+  options.library_path = HostedLibrary(library);
   options.log_directory = logs;
   return options;
 }

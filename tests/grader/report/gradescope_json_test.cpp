@@ -60,7 +60,7 @@ constexpr const char* kGolden = R"({
 }
 )";
 
-std::string ReadFile(const std::string& path) {
+std::string ReadText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream bytes;
   bytes << in.rdbuf();
@@ -72,7 +72,7 @@ TEST(GradescopeJsonTest, MatchesTheDocumentedFormatByteForByte) {
 }
 
 TEST(GradescopeJsonTest, TheDocsShowTheSameExample) {
-  const std::string docs = ReadFile(SYROF_GRADING_DOC);
+  const std::string docs = ReadText(SYROF_GRADING_DOC);
   ASSERT_FALSE(docs.empty()) << SYROF_GRADING_DOC;
   EXPECT_NE(docs.find(std::string("```json\n") + kGolden + "```\n"), std::string::npos)
       << "docs/grading.md's results.json example differs from this test's golden";

@@ -26,7 +26,7 @@ size_t Count(const std::string& text, const std::string& what) {
   return count;
 }
 
-std::string ReadFile(const fs::path& path) {
+std::string ReadHtml(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream bytes;
   bytes << in.rdbuf();
@@ -161,10 +161,10 @@ TEST(WriteSubmissionReportsTest, WritesTheThreeReportsAndEachFailingRunsViewer) 
 
   EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), "");
 
-  EXPECT_EQ(ReadFile(dir / "results.json"), GradescopeResultsJson(ExampleResult()));
-  EXPECT_EQ(ReadFile(dir / "junit.xml"), JunitXml(ExampleResult()));
-  EXPECT_EQ(ReadFile(dir / "report.html"), ReportHtml(ExampleResult()));
-  const std::string page = ReadFile(dir / "runs/gather_6/seed-2/replay.html");
+  EXPECT_EQ(ReadHtml(dir / "results.json"), GradescopeResultsJson(ExampleResult()));
+  EXPECT_EQ(ReadHtml(dir / "junit.xml"), JunitXml(ExampleResult()));
+  EXPECT_EQ(ReadHtml(dir / "report.html"), ReportHtml(ExampleResult()));
+  const std::string page = ReadHtml(dir / "runs/gather_6/seed-2/replay.html");
   EXPECT_TRUE(page.starts_with("<!DOCTYPE html>")) << page.substr(0, 200);
   EXPECT_NE(page.find("gather_6/seed-2"), std::string::npos);  // named by the test, not a path
   EXPECT_EQ(page.find(dir.string()), std::string::npos);
@@ -187,8 +187,8 @@ TEST(WriteSubmissionReportsTest, TheSameResultGivesTheSameBytesWhereverItIsWritt
   ASSERT_EQ(WriteSubmissionReports(slower, b.string(), zero), "");
 
   for (const std::string file : {"results.json", "junit.xml", "report.html", "runs/gather_6/seed-2/replay.html"}) {
-    EXPECT_EQ(ReadFile(a / file), ReadFile(b / file)) << file;
-    EXPECT_FALSE(ReadFile(a / file).empty()) << file;
+    EXPECT_EQ(ReadHtml(a / file), ReadHtml(b / file)) << file;
+    EXPECT_FALSE(ReadHtml(a / file).empty()) << file;
   }
   fs::remove_all(a);
   fs::remove_all(b);
@@ -199,7 +199,7 @@ TEST(WriteSubmissionReportsTest, AMissingReplayIsSaidWhereItsViewerWouldBe) {
 
   EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), "");
 
-  const std::string html = ReadFile(dir / "report.html");
+  const std::string html = ReadHtml(dir / "report.html");
   EXPECT_NE(html.find("No viewer: the run left no replay at runs/gather_6/seed-2/replay."), std::string::npos);
   EXPECT_EQ(Count(html, "<iframe"), 0u);
   fs::remove_all(dir);
@@ -213,7 +213,7 @@ TEST(WriteSubmissionReportsTest, AReplayCutShortStillGetsItsViewerAndANote) {
   EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), "");
 
   EXPECT_TRUE(fs::exists(dir / "runs/gather_6/seed-2/replay.html"));
-  const std::string html = ReadFile(dir / "report.html");
+  const std::string html = ReadHtml(dir / "report.html");
   EXPECT_NE(html.find("The replay is not whole ("), std::string::npos);
   EXPECT_EQ(Count(html, "<iframe"), 1u);
   fs::remove_all(dir);
@@ -230,7 +230,7 @@ TEST(WriteSubmissionReportsTest, AReplayPathOutsideTheFolderWritesNothingThere) 
   EXPECT_EQ(WriteSubmissionReports(result, dir.string()), "");
 
   EXPECT_FALSE(fs::exists(root / "replay.html"));
-  EXPECT_NE(ReadFile(dir / "report.html").find("is not inside the report&#39;s folder"), std::string::npos);
+  EXPECT_NE(ReadHtml(dir / "report.html").find("is not inside the report&#39;s folder"), std::string::npos);
   fs::remove_all(root);
 }
 

@@ -7,8 +7,8 @@
 namespace syrof::lab::apps {
 namespace {
 
-constexpr ArenaSize kArena{4.0, 4.0};
-constexpr double kRadiusM = 0.1;
+constexpr ArenaSize kGoalArena{4.0, 4.0};
+constexpr double kGoalRadiusM = 0.1;
 
 std::vector<GoalPose> PosesAt(const std::vector<Position>& positions) {
   std::vector<GoalPose> poses;
@@ -20,7 +20,7 @@ std::vector<GoalPose> PosesAt(const std::vector<Position>& positions) {
 
 TEST(EvaluateGoalTest, IdleHasNoGoal) {
   // Act
-  const GoalReport report = EvaluateGoal("idle", {}, kArena, kRadiusM, PosesAt({{1, 1}, {1.05, 1}}));
+  const GoalReport report = EvaluateGoal("idle", {}, kGoalArena, kGoalRadiusM, PosesAt({{1, 1}, {1.05, 1}}));
 
   // Assert
   EXPECT_TRUE(report.reached);
@@ -28,17 +28,17 @@ TEST(EvaluateGoalTest, IdleHasNoGoal) {
 }
 
 TEST(EvaluateGoalTest, UnknownAppIsNotReached) {
-  EXPECT_FALSE(EvaluateGoal("dance", {}, kArena, kRadiusM, PosesAt({{1, 1}})).reached);
+  EXPECT_FALSE(EvaluateGoal("dance", {}, kGoalArena, kGoalRadiusM, PosesAt({{1, 1}})).reached);
 }
 
 TEST(EvaluateGoalTest, CircleReachedOnShuffledPointsWithinTolerance) {
   // Arrange: robots on the points in another order, one 0.05 m off.
-  std::vector<Position> points = CircleTargets(CircleParams{}, 6, kArena, kRadiusM);
+  std::vector<Position> points = CircleTargets(CircleParams{}, 6, kGoalArena, kGoalRadiusM);
   std::swap(points[0], points[4]);
   points[2].x_m += 0.05;
 
   // Act
-  const GoalReport report = EvaluateGoal("circle", {}, kArena, kRadiusM, PosesAt(points));
+  const GoalReport report = EvaluateGoal("circle", {}, kGoalArena, kGoalRadiusM, PosesAt(points));
 
   // Assert
   EXPECT_TRUE(report.reached) << report.detail;
@@ -47,11 +47,11 @@ TEST(EvaluateGoalTest, CircleReachedOnShuffledPointsWithinTolerance) {
 
 TEST(EvaluateGoalTest, CircleMissedWhenARobotIsOffItsPoint) {
   // Arrange
-  std::vector<Position> points = CircleTargets(CircleParams{}, 6, kArena, kRadiusM);
+  std::vector<Position> points = CircleTargets(CircleParams{}, 6, kGoalArena, kGoalRadiusM);
   points[2].y_m += 0.3;
 
   // Act
-  const GoalReport report = EvaluateGoal("circle", {}, kArena, kRadiusM, PosesAt(points));
+  const GoalReport report = EvaluateGoal("circle", {}, kGoalArena, kGoalRadiusM, PosesAt(points));
 
   // Assert
   EXPECT_FALSE(report.reached);
@@ -60,11 +60,11 @@ TEST(EvaluateGoalTest, CircleMissedWhenARobotIsOffItsPoint) {
 
 TEST(EvaluateGoalTest, CircleCountsOnlyPresentRobots) {
   // Arrange: five robots on the five-point circle, a sixth crashed elsewhere.
-  std::vector<GoalPose> poses = PosesAt(CircleTargets(CircleParams{}, 5, kArena, kRadiusM));
+  std::vector<GoalPose> poses = PosesAt(CircleTargets(CircleParams{}, 5, kGoalArena, kGoalRadiusM));
   poses.push_back({9, 0.5, 0.5, 0.0, false});
 
   // Act
-  const GoalReport report = EvaluateGoal("circle", {}, kArena, kRadiusM, poses);
+  const GoalReport report = EvaluateGoal("circle", {}, kGoalArena, kGoalRadiusM, poses);
 
   // Assert
   EXPECT_TRUE(report.reached) << report.detail;
@@ -73,19 +73,19 @@ TEST(EvaluateGoalTest, CircleCountsOnlyPresentRobots) {
 TEST(EvaluateGoalTest, CircleParamsChangeTheGoal) {
   // Arrange
   const std::map<std::string, double> params{{"radius_m", 0.8}, {"centre_x_m", 1.5}};
-  const std::vector<Position> points = CircleTargets(ReadCircleParams(params), 4, kArena, kRadiusM);
+  const std::vector<Position> points = CircleTargets(ReadCircleParams(params), 4, kGoalArena, kGoalRadiusM);
 
   // Act, assert
-  EXPECT_TRUE(EvaluateGoal("circle", params, kArena, kRadiusM, PosesAt(points)).reached);
-  EXPECT_FALSE(EvaluateGoal("circle", {}, kArena, kRadiusM, PosesAt(points)).reached);
+  EXPECT_TRUE(EvaluateGoal("circle", params, kGoalArena, kGoalRadiusM, PosesAt(points)).reached);
+  EXPECT_FALSE(EvaluateGoal("circle", {}, kGoalArena, kGoalRadiusM, PosesAt(points)).reached);
 }
 
 TEST(EvaluateGoalTest, GatherReachedWhenPacked) {
   // Arrange
-  const std::vector<Position> slots = GatherSlots({2, 2}, 7, GatherParams{}, kArena, kRadiusM);
+  const std::vector<Position> slots = GatherSlots({2, 2}, 7, GatherParams{}, kGoalArena, kGoalRadiusM);
 
   // Act
-  const GoalReport report = EvaluateGoal("gather", {}, kArena, kRadiusM, PosesAt(slots));
+  const GoalReport report = EvaluateGoal("gather", {}, kGoalArena, kGoalRadiusM, PosesAt(slots));
 
   // Assert
   EXPECT_TRUE(report.reached) << report.detail;
@@ -97,7 +97,7 @@ TEST(EvaluateGoalTest, GatherMissedWhenSpreadOut) {
   const std::vector<Position> spread{{1, 1}, {3, 1}, {2, 3}};
 
   // Act
-  const GoalReport report = EvaluateGoal("gather", {}, kArena, kRadiusM, PosesAt(spread));
+  const GoalReport report = EvaluateGoal("gather", {}, kGoalArena, kGoalRadiusM, PosesAt(spread));
 
   // Assert
   EXPECT_FALSE(report.reached);
@@ -106,13 +106,13 @@ TEST(EvaluateGoalTest, GatherMissedWhenSpreadOut) {
 
 TEST(EvaluateGoalTest, OverlappingBodiesMissTheGoal) {
   // Arrange: packed tighter than two radii.
-  const std::vector<Position> slots = GatherSlots({2, 2}, 3, {0.1, 0.1, 0.08}, kArena, kRadiusM);
+  const std::vector<Position> slots = GatherSlots({2, 2}, 3, {0.1, 0.1, 0.08}, kGoalArena, kGoalRadiusM);
   std::vector<GoalPose> poses = PosesAt(slots);
   poses[1].x_m = poses[0].x_m + 0.15;
   poses[1].y_m = poses[0].y_m;
 
   // Act
-  const GoalReport report = EvaluateGoal("gather", {}, kArena, kRadiusM, poses);
+  const GoalReport report = EvaluateGoal("gather", {}, kGoalArena, kGoalRadiusM, poses);
 
   // Assert
   EXPECT_FALSE(report.reached);
@@ -127,7 +127,7 @@ TEST(EvaluateGoalTest, MixedKindsOverlapByTheirOwnRadii) {
   poses[1].radius_m = 0.12;
 
   // Act
-  const GoalReport report = EvaluateGoal("gather", {}, kArena, kRadiusM, poses);
+  const GoalReport report = EvaluateGoal("gather", {}, kGoalArena, kGoalRadiusM, poses);
 
   // Assert
   EXPECT_FALSE(report.reached);
@@ -137,12 +137,12 @@ TEST(EvaluateGoalTest, MixedKindsOverlapByTheirOwnRadii) {
 
 TEST(EvaluateGoalTest, LeaderFollowReachedWithTheLineBehindTheLeader) {
   // Arrange: leader 0 at angle 1 rad, followers on their slots.
-  const LeaderPath path = MakeLeaderPath(LeaderFollowParams{}, 5, kArena, kRadiusM);
+  const LeaderPath path = MakeLeaderPath(LeaderFollowParams{}, 5, kGoalArena, kGoalRadiusM);
   std::vector<Position> positions{PathPoint(path, 1.0)};
   for (const Position& slot : FollowerSlots(path, 1.0, 4)) positions.push_back(slot);
 
   // Act
-  const GoalReport report = EvaluateGoal("leader_follow", {}, kArena, kRadiusM, PosesAt(positions));
+  const GoalReport report = EvaluateGoal("leader_follow", {}, kGoalArena, kGoalRadiusM, PosesAt(positions));
 
   // Assert
   EXPECT_TRUE(report.reached) << report.detail;
@@ -151,12 +151,12 @@ TEST(EvaluateGoalTest, LeaderFollowReachedWithTheLineBehindTheLeader) {
 
 TEST(EvaluateGoalTest, LeaderFollowMissedWhenTheLineIsAhead) {
   // Arrange: followers ahead of the leader instead of behind.
-  const LeaderPath path = MakeLeaderPath(LeaderFollowParams{}, 5, kArena, kRadiusM);
+  const LeaderPath path = MakeLeaderPath(LeaderFollowParams{}, 5, kGoalArena, kGoalRadiusM);
   std::vector<Position> positions{PathPoint(path, 1.0)};
   for (int k = 1; k <= 4; ++k) positions.push_back(PathPoint(path, 1.0 + k * path.slot_angle_rad));
 
   // Act
-  const GoalReport report = EvaluateGoal("leader_follow", {}, kArena, kRadiusM, PosesAt(positions));
+  const GoalReport report = EvaluateGoal("leader_follow", {}, kGoalArena, kGoalRadiusM, PosesAt(positions));
 
   // Assert
   EXPECT_FALSE(report.reached);
@@ -168,7 +168,7 @@ TEST(EvaluateGoalTest, NoPresentRobotReachesTheGoal) {
   poses[0].present = false;
 
   // Act, assert
-  EXPECT_TRUE(EvaluateGoal("circle", {}, kArena, kRadiusM, poses).reached);
+  EXPECT_TRUE(EvaluateGoal("circle", {}, kGoalArena, kGoalRadiusM, poses).reached);
 }
 
 }  // namespace

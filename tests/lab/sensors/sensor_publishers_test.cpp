@@ -13,7 +13,7 @@
 namespace syrof::lab::sensors {
 namespace {
 
-constexpr int64_t kMillisecond = 1'000'000;
+constexpr int64_t kPublishMs = 1'000'000;
 
 class CountingTask final : public os::Task {
  public:
@@ -50,7 +50,7 @@ TEST(SensorPublishersTest, PublishesOnTheDriversTopicsAtTheirRates) {
   ASSERT_EQ(counter.flow.Subscribe(broker, estimation::kFlowTopic, counter_id.value()), pubsub::BrokerError::kOk);
   ASSERT_EQ(counter.uwb.Subscribe(broker, estimation::kUwbTopic, counter_id.value()), pubsub::BrokerError::kOk);
   ASSERT_EQ(port.Start(), os::PortError::kOk);
-  scheduler.RunUntil(995 * kMillisecond);
+  scheduler.RunUntil(995 * kPublishMs);
   EXPECT_EQ(counter.imu_count, 100);
   EXPECT_EQ(counter.flow_count, 50);
   EXPECT_EQ(counter.uwb_count, 10);
@@ -78,7 +78,7 @@ TEST(SensorPublishersTest, FeedTheEstimatorOnTheSameBroker) {
   ASSERT_EQ(publishers.Advertise(broker), pubsub::BrokerError::kOk);
   ASSERT_EQ(estimator.Attach(port, broker), estimation::EstimatorSetupError::kOk);
   ASSERT_EQ(port.Start(), os::PortError::kOk);
-  scheduler.RunUntil(10'000 * kMillisecond);
+  scheduler.RunUntil(10'000 * kPublishMs);
   ASSERT_TRUE(estimator.initialized());
   EXPECT_NEAR(estimator.last_estimate().x_m, 2.5f, 0.05f);
   EXPECT_NEAR(estimator.last_estimate().y_m, 1.5f, 0.05f);

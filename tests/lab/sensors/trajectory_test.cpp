@@ -8,13 +8,13 @@
 namespace syrof::lab::sensors {
 namespace {
 
-constexpr int64_t kMillisecond = 1'000'000;
+constexpr int64_t kTrajectoryMs = 1'000'000;
 
 double Wrap(double radians) { return std::remainder(radians, 2 * std::numbers::pi); }
 
 // Central differences of position, velocity and heading over +-1 ms.
 void ExpectDerivativesAgree(const Trajectory& trajectory, int64_t time_ns) {
-  constexpr int64_t kStep = kMillisecond;
+  constexpr int64_t kStep = kTrajectoryMs;
   constexpr double kStepS = 1e-3;
   const TrueState before = trajectory.At(time_ns - kStep);
   const TrueState now = trajectory.At(time_ns);
@@ -33,7 +33,7 @@ TEST(FigureEightTest, StartsAtTheCentreHeadingUpAndKeepsItsSpeed) {
   EXPECT_DOUBLE_EQ(start.y_m, 2.0);
   EXPECT_NEAR(start.heading_rad, std::numbers::pi / 2, 1e-12);
   EXPECT_NEAR(eight.lap_s(), 4 * std::numbers::pi * 0.8 / 0.5, 1e-12);
-  for (int64_t t = 0; t < 45'000 * kMillisecond; t += 37 * kMillisecond) {
+  for (int64_t t = 0; t < 45'000 * kTrajectoryMs; t += 37 * kTrajectoryMs) {
     const TrueState state = eight.At(t);
     EXPECT_NEAR(std::hypot(state.vx_mps, state.vy_mps), 0.5, 1e-12);
     EXPECT_NEAR(std::hypot(state.ax_mps2, state.ay_mps2), 0.5 * 0.5 / 0.8, 1e-12);
@@ -48,18 +48,18 @@ TEST(FigureEightTest, StartsAtTheCentreHeadingUpAndKeepsItsSpeed) {
 TEST(FigureEightTest, VelocityAccelerationAndYawRateAreTheDerivatives) {
   const FigureEight eight(FigureEight::Params{});
   const int64_t half_lap_ns = static_cast<int64_t>(eight.lap_s() / 2 * 1e9);
-  for (int64_t t = 100 * kMillisecond; t < 40'000 * kMillisecond; t += 173 * kMillisecond) {
+  for (int64_t t = 100 * kTrajectoryMs; t < 40'000 * kTrajectoryMs; t += 173 * kTrajectoryMs) {
     // Acceleration and yaw rate switch sign at the centre, every half lap.
     const int64_t from_switch = t % half_lap_ns;
-    if (from_switch < 2 * kMillisecond || half_lap_ns - from_switch < 2 * kMillisecond) continue;
+    if (from_switch < 2 * kTrajectoryMs || half_lap_ns - from_switch < 2 * kTrajectoryMs) continue;
     ExpectDerivativesAgree(eight, t);
   }
 }
 
 TEST(FigureEightTest, DrivesTheRightLoopClockwiseAndTheLeftLoopCounterClockwise) {
   const FigureEight eight(FigureEight::Params{});
-  EXPECT_LT(eight.At(1000 * kMillisecond).yaw_rate_radps, 0.0);
-  EXPECT_GT(eight.At(1000 * kMillisecond).x_m, 2.0);
+  EXPECT_LT(eight.At(1000 * kTrajectoryMs).yaw_rate_radps, 0.0);
+  EXPECT_GT(eight.At(1000 * kTrajectoryMs).x_m, 2.0);
   const int64_t three_quarters = static_cast<int64_t>(eight.lap_s() * 0.75 * 1e9);
   EXPECT_GT(eight.At(three_quarters).yaw_rate_radps, 0.0);
   EXPECT_LT(eight.At(three_quarters).x_m, 2.0);
@@ -71,17 +71,17 @@ TEST(FigureEightTest, DrivesTheRightLoopClockwiseAndTheLeftLoopCounterClockwise)
 
 TEST(StraightLineTest, MovesAtConstantVelocity) {
   const StraightLine line(StraightLine::Params{0.5, 1.0, std::numbers::pi / 4, 0.2});
-  const TrueState state = line.At(10'000 * kMillisecond);
+  const TrueState state = line.At(10'000 * kTrajectoryMs);
   EXPECT_NEAR(state.x_m, 0.5 + 2.0 / std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(state.y_m, 1.0 + 2.0 / std::sqrt(2.0), 1e-12);
   EXPECT_DOUBLE_EQ(state.ax_mps2, 0.0);
   EXPECT_DOUBLE_EQ(state.yaw_rate_radps, 0.0);
-  ExpectDerivativesAgree(line, 5000 * kMillisecond);
+  ExpectDerivativesAgree(line, 5000 * kTrajectoryMs);
 }
 
 TEST(StationaryTest, StandsStill) {
   const StraightLine standing = Stationary(1.0, 3.0, -2.0);
-  const TrueState state = standing.At(60'000 * kMillisecond);
+  const TrueState state = standing.At(60'000 * kTrajectoryMs);
   EXPECT_DOUBLE_EQ(state.x_m, 1.0);
   EXPECT_DOUBLE_EQ(state.y_m, 3.0);
   EXPECT_DOUBLE_EQ(state.vx_mps, 0.0);

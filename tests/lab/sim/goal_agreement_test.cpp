@@ -19,7 +19,7 @@ namespace {
 
 using nlohmann::json;
 
-scenario::Scenario Load(const std::string& text) {
+scenario::Scenario LoadText(const std::string& text) {
   const scenario::LoadResult loaded = scenario::LoadScenarioText(text, "test.yaml");
   EXPECT_TRUE(loaded.ok()) << (loaded.error ? loaded.error->ToString() : "");
   return *loaded.scenario;
@@ -77,7 +77,7 @@ const char* const kStill =
     "seed: 5\nrobots: {count: 4, placement: grid, spacing_m: 0.6}\ntiming: {duration_s: 10}\napp: builtin:idle\n";
 
 TEST(AgreementEndToEnd, AnAppDecidingFromTheMapAgreesInEveryCooperativeEpoch) {
-  const json agreement = RunWith(Load(kStill), StateRule::kFromMap)["agreement"];
+  const json agreement = RunWith(LoadText(kStill), StateRule::kFromMap)["agreement"];
 
   EXPECT_GE(agreement["cooperative_epochs"].get<int>(), 5);
   EXPECT_EQ(agreement["agreed_epochs"], agreement["cooperative_epochs"]);
@@ -87,7 +87,7 @@ TEST(AgreementEndToEnd, AnAppDecidingFromTheMapAgreesInEveryCooperativeEpoch) {
 }
 
 TEST(AgreementEndToEnd, AnAppReadingItsIdIntoItsStateIsCaught) {
-  const json agreement = RunWith(Load(kStill), StateRule::kOwnId)["agreement"];
+  const json agreement = RunWith(LoadText(kStill), StateRule::kOwnId)["agreement"];
 
   EXPECT_EQ(agreement["agreed_epochs"], 0);
   const json& first = agreement["first_disagreement"];
@@ -100,7 +100,7 @@ TEST(AgreementEndToEnd, AnAppReadingItsIdIntoItsStateIsCaught) {
 }
 
 TEST(AgreementEndToEnd, AnAppUsingRandomNumbersIsCaughtAndTheRunStaysDeterministic) {
-  const scenario::Scenario scenario = Load(kStill);
+  const scenario::Scenario scenario = LoadText(kStill);
   const json first = RunWith(scenario, StateRule::kSeededRandom);
   const json second = RunWith(scenario, StateRule::kSeededRandom);
 
@@ -111,7 +111,7 @@ TEST(AgreementEndToEnd, AnAppUsingRandomNumbersIsCaughtAndTheRunStaysDeterminist
 
 TEST(GoalEndToEnd, DeclaredChecksJudgeAnyApp) {
   // A 2 x 2 grid 0.6 m apart around the arena's centre (2, 2), held still.
-  const scenario::Scenario scenario = Load(std::string(kStill) +
+  const scenario::Scenario scenario = LoadText(std::string(kStill) +
                                            "goal:\n"
                                            "  - check: slots\n"
                                            "    assign: by_id\n"
@@ -136,7 +136,7 @@ TEST(GoalEndToEnd, DeclaredChecksJudgeAnyApp) {
 }
 
 TEST(GoalEndToEnd, TheBuiltinAppsGatherMeetsADeclaredDeadline) {
-  const scenario::Scenario scenario = Load(
+  const scenario::Scenario scenario = LoadText(
       "seed: 2\nrobots: {count: 6, placement: random}\ntiming: {duration_s: 60}\napp: builtin:gather\n"
       "goal:\n  - {check: gathered, radius_m: 0.8, deadline_s: 50}\n  - {check: coverage, min_fraction: 0.05}\n");
   SimulationOptions options;
