@@ -112,7 +112,11 @@ void NvicPort::RunLevel(uint8_t level) {
     ready_[level] = ready & ~(1u << id);
     TaskRecord& record = tasks_[id];
     record.in_step = true;
-    const int64_t now = hardware_.now_ns();
+    // A periodic step is given its release on the grid, however long higher
+    // levels kept it waiting: what arrived after the release (a beacon at the
+    // round boundary) belongs to the next activation (os/port.h).
+    const int64_t now =
+        record.config.trigger.kind == os::TriggerKind::kPeriodic ? record.release_ns : hardware_.now_ns();
     hardware_.RestoreMask(saved);
 
     record.task->Step(now);
@@ -143,6 +147,7 @@ void NvicPort::OnTimer() {
       // when more than one period late.
       const int64_t late = now - record.next_release_ns;
       const int64_t skipped = late < period ? 0 : late / period;
+      record.release_ns = record.next_release_ns + skipped * period;  // the latest grid point at or before now
       record.next_release_ns += (skipped + 1) * period;
       const uint8_t level = record.config.priority;
       const uint32_t bit = 1u << id;

@@ -80,13 +80,18 @@ struct Options {
   double latency_ms = 25;  // from a beacon's send to its delivery
 };
 
+// The robot image is built with SYROF_MAX_SWARM_SIZE=32 (the Teensy's).
+constexpr int kMaxImageRobots = 32;
+
+constexpr const char* kUsage =
+    "usage: syrof-firmware-swarm --image ELF [--robots 1..32] [--seconds S] [--loss 0..1] [--seed N]\n"
+    "       [--out DIR] [--qemu PATH] [--icount SHIFT] [--align 0|1] [--latency-ms MS]\n"
+    "       [--expect-cooperative]\n"
+    "Starts --robots qemu mps2-an386 instances of the robot image and plays the radio channel between\n"
+    "them; writes metrics.json, firmware-swarm.json and logs in --out (docs/firmware.md).\n";
+
 [[noreturn]] void Usage(const std::string& what) {
-  std::fprintf(stderr,
-               "syrof-firmware-swarm: %s\n"
-               "usage: syrof-firmware-swarm --image ELF [--robots 1..32] [--seconds S] [--loss 0..1] [--seed N]\n"
-               "       [--out DIR] [--qemu PATH] [--icount SHIFT] [--align 0|1] [--latency-ms MS]\n"
-               "       [--expect-cooperative]\n",
-               what.c_str());
+  std::fprintf(stderr, "syrof-firmware-swarm: %s\n%s", what.c_str(), kUsage);
   std::exit(2);
 }
 
@@ -94,6 +99,10 @@ Options ParseOptions(int argc, char** argv) {
   Options options;
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
+    if (key == "--help" || key == "-h") {
+      std::fputs(kUsage, stdout);
+      std::exit(0);
+    }
     if (key == "--expect-cooperative") {
       options.expect_cooperative = true;
       continue;
@@ -104,7 +113,9 @@ Options ParseOptions(int argc, char** argv) {
     auto number = [&](double low, double high) {
       const double parsed = std::strtod(value.c_str(), &end);
       if (end == value.c_str() || *end != '\0' || !(parsed >= low && parsed <= high)) {
-        Usage(key + ": '" + value + "' is not a number in [" + std::to_string(low) + ", " + std::to_string(high) + "]");
+        char range[64];
+        std::snprintf(range, sizeof range, "[%g, %g]", low, high);
+        Usage(key + ": '" + value + "' is not a number in " + range);
       }
       return parsed;
     };
@@ -115,7 +126,7 @@ Options ParseOptions(int argc, char** argv) {
     } else if (key == "--out") {
       options.out = value;
     } else if (key == "--robots") {
-      options.robots = static_cast<int>(number(1, syrof::wire::kMaxSwarmSize));
+      options.robots = static_cast<int>(number(1, kMaxImageRobots));
     } else if (key == "--seconds") {
       options.seconds = static_cast<int>(number(1, 3600));
     } else if (key == "--loss") {
@@ -133,6 +144,9 @@ Options ParseOptions(int argc, char** argv) {
     }
   }
   if (options.image.empty()) Usage("--image is required");
+  if (access(options.image.c_str(), R_OK) != 0) {
+    Usage("--image: cannot read " + options.image + " (build it: make test-m4, or cmake --build build-m4 --target syrof-robot-mps2)");
+  }
   return options;
 }
 

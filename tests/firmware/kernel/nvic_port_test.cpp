@@ -89,7 +89,7 @@ TEST_F(NvicPortTest, LateTimerCatchesUpOnTheGridAndCountsTheMissedReleases) {
   hardware.AdvanceTo(35 * kMillisecond, /*timer_late=*/true);  // releases 3, 13, 23, 33 merged
   hardware.AdvanceTo(54 * kMillisecond);
 
-  EXPECT_EQ(log, (std::vector<std::string>{"35:t", "43:t", "53:t"}));
+  EXPECT_EQ(log, (std::vector<std::string>{"33:t", "43:t", "53:t"}));  // each step given its release
   EXPECT_EQ(port.overruns(id), 3u);
   EXPECT_EQ(port.next_release_ns(id), 63 * kMillisecond);
 }
@@ -107,6 +107,22 @@ TEST_F(NvicPortTest, ThousandsOfPeriodsNeverDrift) {
     ASSERT_EQ(task.step_times_ns[k], kMillisecond + static_cast<int64_t>(k) * (10 * kMillisecond + 1)) << k;
   }
   EXPECT_EQ(port.overruns(id), 0u);
+}
+
+// The lower task runs 2 ms after its release (the higher level's step
+// first) and is given its release, not the time it ran: a frame that arrived
+// in those 2 ms belongs to its next activation.
+TEST_F(NvicPortTest, APeriodicStepKeptWaitingByAHigherLevelIsGivenItsRelease) {
+  ScriptedTask low(hardware, log, "low"), high(hardware, log, "high");
+  high.step_ns = 2 * kMillisecond;
+  Add(low, Trigger::periodic(10 * kMillisecond, 10 * kMillisecond), 1);
+  Add(high, Trigger::periodic(10 * kMillisecond, 10 * kMillisecond), 5);
+  ASSERT_EQ(port.Start(), PortError::kOk);
+
+  hardware.AdvanceTo(25 * kMillisecond);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"10:high", "10:low", "20:high", "20:low"}));
+  EXPECT_EQ(low.step_times_ns, (std::vector<int64_t>{10 * kMillisecond, 20 * kMillisecond}));
 }
 
 TEST_F(NvicPortTest, HigherLevelPreemptsALowerStepAtOnce) {
@@ -217,7 +233,8 @@ TEST_F(NvicPortTest, LockMasksTheTimerAndEveryLevelUntilUnlock) {
   EXPECT_EQ(hardware.timer_interrupts, 0);
   port.Unlock();
 
-  EXPECT_EQ(log, (std::vector<std::string>{"12:periodic", "12:notified"}));
+  // Both run at 12; the periodic step is given its release at 10.
+  EXPECT_EQ(log, (std::vector<std::string>{"10:periodic", "12:notified"}));
   EXPECT_EQ(hardware.entries, (std::vector<std::string>{"T", "L9"}));
   EXPECT_EQ(port.next_release_ns(0), 20 * kMillisecond);
 }
@@ -233,9 +250,10 @@ TEST_F(NvicPortTest, APeriodicTaskStillRunningAtItsNextReleaseIsAnOverrun) {
 
   // The release at 10 finds slow running (one miss, queued once); the one at
   // 20 finds it running and already queued (another miss, nothing more
-  // queued). It runs again at 25, then keeps the grid.
+  // queued). It runs again at 25, given its latest release (20), then keeps
+  // the grid.
   EXPECT_EQ(slow.step_times_ns,
-            (std::vector<int64_t>{0, 25 * kMillisecond, 30 * kMillisecond}));
+            (std::vector<int64_t>{0, 20 * kMillisecond, 30 * kMillisecond}));
   EXPECT_EQ(port.overruns(slow_id), 2u);
   EXPECT_EQ(port.overruns(fine_id), 0u);
   EXPECT_EQ(port.steps(fine_id), 4u);  // preempted slow at 10, 20, 30

@@ -167,22 +167,31 @@ TEST_F(NvicPortM4Test, BasepriMasksTheKernelUntilUnlock) {
   EXPECT_EQ(BasePriority(), 0u);
 }
 
-// Records the clock at every step.
+// Records, at every step, the time it was given (its release) and the
+// clock when it ran.
 class StampTask final : public os::Task {
  public:
   static constexpr int kCapacity = 400;
+  explicit StampTask(NvicPort& port) : port_(port) {}
   void Step(int64_t now_ns) override {
-    if (count < kCapacity) stamps_ns[count] = now_ns;
+    if (count < kCapacity) {
+      given_ns[count] = now_ns;
+      stamps_ns[count] = port_.now_ns();
+    }
     ++count;
   }
+  std::array<int64_t, kCapacity> given_ns{};
   std::array<int64_t, kCapacity> stamps_ns{};
   int count = 0;
+
+ private:
+  NvicPort& port_;
 };
 
 TEST_F(NvicPortM4Test, PeriodicReleasesNeverDriftOverManyPeriods) {
   constexpr int kPeriods = 300;
   constexpr int64_t kPeriod = kMillisecond + 7 * kMicrosecond + 40;  // not a multiple of anything tidy
-  StampTask fast, slow;
+  StampTask fast(port), slow(port);
   const TaskId fast_id = port.AddTask(fast, {"fast", Trigger::periodic(kPeriod, 200 * kMicrosecond), 5}).value();
   ASSERT_TRUE(port.AddTask(slow, {"slow", Trigger::periodic(3 * kPeriod, 200 * kMicrosecond), 2}));
   ASSERT_EQ(port.Start(), PortError::kOk);
@@ -195,6 +204,7 @@ TEST_F(NvicPortM4Test, PeriodicReleasesNeverDriftOverManyPeriods) {
   int64_t worst_latency_ns = 0;
   for (int k = 0; k < kPeriods; ++k) {
     const int64_t release = start_ns + 200 * kMicrosecond + k * kPeriod;
+    ASSERT_EQ(fast.given_ns[k], release) << k;  // each step is given its release on the grid
     const int64_t latency = fast.stamps_ns[k] - release;
     ASSERT_GE(latency, 0) << k;
     if (latency > worst_latency_ns) worst_latency_ns = latency;
@@ -225,7 +235,7 @@ class OverrunningTask final : public os::Task {
 TEST_F(NvicPortM4Test, AnOverrunningTaskIsReportedByTheDeadlineMissCounter) {
   OverrunningTask slow(port);
   slow.first_step_ns = 2 * kMillisecond + 500 * kMicrosecond;  // over the releases at 1 and 2 ms
-  StampTask fine;
+  StampTask fine(port);
   const TaskId slow_id = port.AddTask(slow, {"slow", Trigger::periodic(kMillisecond, kMicrosecond), 3}).value();
   const TaskId fine_id = port.AddTask(fine, {"fine", Trigger::periodic(kMillisecond, kMicrosecond), 8}).value();
   ASSERT_EQ(port.Start(), PortError::kOk);
@@ -241,7 +251,7 @@ TEST_F(NvicPortM4Test, AnOverrunningTaskIsReportedByTheDeadlineMissCounter) {
 }
 
 TEST_F(NvicPortM4Test, ShiftPeriodicMovesTheGrid) {
-  StampTask task;
+  StampTask task(port);
   const TaskId id = port.AddTask(task, {"round", Trigger::periodic(kMillisecond, kMicrosecond), 4}).value();
   ASSERT_EQ(port.Start(), PortError::kOk);
   const int64_t start_ns = GridStart(port, id, kMicrosecond);

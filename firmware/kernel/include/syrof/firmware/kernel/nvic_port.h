@@ -92,6 +92,7 @@ class NvicPort final : public os::Port {
     os::Task* task = nullptr;
     os::TaskConfig config;
     int64_t next_release_ns = -1;  ///< periodic, while started
+    int64_t release_ns = -1;       ///< periodic: the grid instant of the pending activation (its step's now_ns)
     uint32_t overruns = 0;
     uint32_t steps = 0;
     bool in_step = false;
