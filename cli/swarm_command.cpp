@@ -43,7 +43,7 @@ CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
   swarm->add_flag("--realtime", options.realtime,
                   "Robot tasks at SCHED_FIFO priorities (root or CAP_SYS_NICE; without it robots say so and go on)");
   swarm->add_flag("--align-rounds", options.align_rounds,
-                  "Experimental: robots align their rounds from the beacons they hear (docs/dds.md: the group drifts)");
+                  "Robots align their rounds from the beacons they hear and number their own (hosts without synchronised clocks; docs/dds.md)");
   swarm->add_flag("--realtime-start", options.realtime_start,
                   "Robots read the start on CLOCK_REALTIME (robots on several hosts whose clocks are kept in sync)");
   swarm->add_flag("--quiet", options.quiet, "No progress line, no summary");

@@ -23,7 +23,8 @@ BeaconRadio::BeaconRadio(const Participant& participant, BeaconRadioOptions opti
       options_(std::move(options)),
       send_bytes_(wire::EncodedSize(options_.swarm_size)),
       filter_(options_.self, options_.swarm_size),
-      channel_(options_.channel, options_.swarm_size, options_.seed) {}
+      channel_(options_.channel, options_.swarm_size, options_.seed),
+      offsets_(options_.swarm_size) {}
 
 BeaconRadioOrError BeaconRadio::Create(const Participant& participant, BeaconRadioOptions options) {
   if (options.swarm_size < 1 || options.swarm_size > kMaxDdsSwarm) {
@@ -122,18 +123,23 @@ void BeaconRadio::TakeAll(dds_entity_t reader) {
     const dds_return_t taken = dds_take(reader, samples, infos, kTakeBatch, kTakeBatch);
     if (taken <= 0) return;
     const int64_t current_round = options_.current_round();
+    const int64_t expected_round = ExpectedRound();
     for (int32_t i = 0; i < taken; ++i) {
       if (!infos[i].valid_data) continue;
       received_.fetch_add(1, std::memory_order_relaxed);
       const auto* sample = static_cast<const syrof_msg_dds__Beacon_*>(samples[i]);
       const std::span<const uint8_t> bytes(sample->wire._buffer, sample->wire._length);
       wire::Beacon beacon;
-      if (filter_.Check(sample->sender, sample->round, bytes, current_round, beacon) != SampleVerdict::kAccepted) {
-        continue;
+      const SampleVerdict verdict = filter_.Check(sample->sender, sample->round, bytes, current_round, beacon);
+      // A well-formed sample from another robot, in or out of the window:
+      // its sender's count against this robot's.
+      if ((verdict == SampleVerdict::kAccepted || verdict == SampleVerdict::kRoundOutOfWindow) && expected_round >= 0) {
+        offsets_[sample->sender] = SenderRoundOffset{expected_round, static_cast<int64_t>(sample->round) - expected_round};
       }
-      if (static_cast<int64_t>(sample->round) == current_round) {
-        HeardRound& heard = heard_[static_cast<size_t>(current_round) % kHeardRounds];
-        if (heard.round != current_round) heard = HeardRound{current_round, {}};
+      if (verdict != SampleVerdict::kAccepted) continue;
+      if (static_cast<int64_t>(sample->round) == expected_round) {
+        HeardRound& heard = heard_[static_cast<size_t>(expected_round) % kHeardRounds];
+        if (heard.round != expected_round) heard = HeardRound{expected_round, {}};
         heard.senders.set(sample->sender);
       }
       const double sent_at_s = static_cast<double>(static_cast<int64_t>(sample->round) * options_.radio_round_ns) * 1e-9;
@@ -154,6 +160,20 @@ wire::MemberSet BeaconRadio::HeardInRound(int64_t round) const {
   std::lock_guard<std::mutex> lock(receive_mutex_);
   const HeardRound& heard = heard_[static_cast<size_t>(round) % kHeardRounds];
   return heard.round == round ? heard.senders : wire::MemberSet{};
+}
+
+int64_t BeaconRadio::ExpectedRound() const {
+  return options_.expected_round ? options_.expected_round() : options_.current_round();
+}
+
+int64_t BeaconRadio::AgreedRoundOffset(int64_t since_round) const {
+  std::lock_guard<std::mutex> lock(receive_mutex_);
+  return sim_dds::AgreedRoundOffset(offsets_, since_round);
+}
+
+void BeaconRadio::ForgetRoundOffsets() {
+  std::lock_guard<std::mutex> lock(receive_mutex_);
+  for (SenderRoundOffset& offset : offsets_) offset = SenderRoundOffset{};
 }
 
 uint32_t BeaconRadio::matched_readers() const {

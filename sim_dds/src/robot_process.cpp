@@ -121,13 +121,17 @@ class ReportObserver final : public runtime::RobotObserver {
 // the world (the lab's recorder reads the same fields from each robot).
 class RoundTap final : public runtime::Radio {
  public:
-  RoundTap(ReportWriter& writer, const os::PosixPort& port, int64_t radio_round_ns)
-      : writer_(writer), port_(port), radio_round_ns_(radio_round_ns) {}
+  // align: the robot aligns its rounds from the beacons it hears (and moves
+  // its boundaries), so it numbers its own rounds rather than reading them
+  // off the world's grid; beacon_delay_ns: the arrival expected from an
+  // aligned sender after its boundary.
+  RoundTap(ReportWriter& writer, const os::PosixPort& port, int64_t radio_round_ns, bool align, int64_t beacon_delay_ns)
+      : writer_(writer), port_(port), radio_round_ns_(radio_round_ns), align_(align), beacon_delay_ns_(beacon_delay_ns) {}
   void Connect(BeaconRadio* radio, const runtime::Robot* robot) {
     radio_ = radio;
     robot_ = robot;
   }
-  void set_start(int64_t start_monotonic_ns) { start_monotonic_ns_.store(start_monotonic_ns); }
+  void set_start(int64_t start_monotonic_ns) { origin_ns_.store(start_monotonic_ns); }
   // The newest StateEstimate, from the main thread's polled subscription:
   // Robot::estimate() reads the motion task's copy too, which is only safe
   // from the port's own thread on SimPort.
@@ -139,22 +143,48 @@ class RoundTap final : public runtime::Radio {
     std::lock_guard<std::mutex> guard(estimate_mutex_);
     return estimate_;
   }
-  // The current round on the world's grid, or -1 before the start.
+  // The current round, or -1 before the start: on the world's grid, or with
+  // alignment on the robot's own, whose origin follows its moved boundaries.
   int64_t CurrentRound() const {
-    const int64_t start = start_monotonic_ns_.load();
-    if (start < 0) return -1;
-    const int64_t since = os::PosixPort::MonotonicNowNs() - start;
+    const int64_t origin = origin_ns_.load();
+    if (origin < 0) return -1;
+    const int64_t since = os::PosixPort::MonotonicNowNs() - origin;
+    return since < 0 ? -1 : since / radio_round_ns_;
+  }
+  // The round whose beacons arrive now: the nearest round to the arrival
+  // expected from an aligned sender (its boundary plus beacon_delay_ns).
+  int64_t ExpectedRound() const {
+    const int64_t origin = origin_ns_.load();
+    if (origin < 0) return -1;
+    const int64_t since = os::PosixPort::MonotonicNowNs() - origin - beacon_delay_ns_ + radio_round_ns_ / 2;
     return since < 0 ? -1 : since / radio_round_ns_;
   }
   void Broadcast(const wire::Beacon& beacon) override {
-    if (radio_ != nullptr) radio_->Broadcast(beacon);
-    if (robot_ == nullptr) return;
-    // The round from the step's release on the grid; the skew's sample is
-    // when the beacon actually went out, however late the thread woke.
+    if (robot_ == nullptr) {
+      if (radio_ != nullptr) radio_->Broadcast(beacon);
+      return;
+    }
+    // The round from the step's release: the nearest on the grid (or the
+    // robot's own grid), so a boundary moved by the alignment keeps its
+    // number. The skew's sample is when the beacon actually went out,
+    // however late the thread woke.
     const int64_t release = port_.PortToMonotonic(robot_->last_round_ns());
+    int64_t round = std::max<int64_t>(0, (release - origin_ns_.load() + radio_round_ns_ / 2) / radio_round_ns_);
+    if (align_) {
+      // The swarm's count where the senders agree on another (a late
+      // joiner, a grid the swarm drifted off); then the origin under this
+      // boundary, so CurrentRound and the sample's round say `round`.
+      const int64_t offset = radio_ != nullptr ? radio_->AgreedRoundOffset(round - 1) : 0;
+      round = std::max<int64_t>(0, round + offset);
+      origin_ns_.store(release - round * radio_round_ns_);
+      if (offset != 0) {
+        radio_->ForgetRoundOffsets();  // measured against the old count
+        count_adoptions_.fetch_add(1, std::memory_order_relaxed);
+      }
+    }
+    if (radio_ != nullptr) radio_->Broadcast(beacon);
     RoundReport report;
-    const int64_t since = release - start_monotonic_ns_.load();
-    report.round = static_cast<uint32_t>(std::max<int64_t>(0, (since + radio_round_ns_ / 2) / radio_round_ns_));
+    report.round = static_cast<uint32_t>(round);
     report.activation_ns = os::PosixPort::MonotonicNowNs();
     const sync::SyncState& state = robot_->sync_state();
     report.status = static_cast<uint8_t>(state.status);
@@ -170,12 +200,17 @@ class RoundTap final : public runtime::Radio {
     if (radio_ != nullptr) report.heard_in_round = radio_->HeardInRound(static_cast<int64_t>(report.round) - 1);
     writer_.Write(ReportKind::kRound, report.activation_ns, EncodeRound(report));
   }
+  // Times this robot took the swarm's round count (align only).
+  uint64_t count_adoptions() const { return count_adoptions_.load(std::memory_order_relaxed); }
 
  private:
   ReportWriter& writer_;
   const os::PosixPort& port_;
   int64_t radio_round_ns_;
-  std::atomic<int64_t> start_monotonic_ns_{-1};
+  bool align_;
+  int64_t beacon_delay_ns_;
+  std::atomic<int64_t> origin_ns_{-1};  // monotonic instant of round 0's boundary; -1 before the start
+  std::atomic<uint64_t> count_adoptions_{0};
   mutable std::mutex estimate_mutex_;
   estimation::StateEstimate estimate_{};
   BeaconRadio* radio_ = nullptr;
@@ -249,6 +284,7 @@ std::vector<std::string> RobotArguments(const RobotProcessOptions& o) {
   if (o.realtime) a.insert(a.end(), {"--realtime", "1"});
   if (o.align_rounds) a.insert(a.end(), {"--align-rounds", "1"});
   if (o.realtime_start) a.insert(a.end(), {"--realtime-start", "1"});
+  if (o.clock_offset_us != 0) a.insert(a.end(), {"--clock-offset-us", std::to_string(o.clock_offset_us)});
   return a;
 }
 
@@ -303,6 +339,11 @@ ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& argumen
         o.align_rounds = whole(1) == 1;
       } else if (name == "--realtime-start") {
         o.realtime_start = whole(1) == 1;
+      } else if (name == "--clock-offset-us") {
+        o.clock_offset_us = std::stoll(value, &used, 10);
+        if (used != value.size() || o.clock_offset_us < -kMaxClockOffsetUs || o.clock_offset_us > kMaxClockOffsetUs) {
+          throw std::out_of_range(name);
+        }
       } else {
         parsed.error = "unknown argument " + name;
         return parsed;
@@ -413,7 +454,7 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   lab::sensors::SensorPublishers sensors;
   ReportWriter reports(e.report, options.run_id, options.robot);
   ReportObserver observer(reports, port);
-  RoundTap tap(reports, port, config.radio_round_ns);
+  RoundTap tap(reports, port, config.radio_round_ns, config.align_rounds, config.beacon_delay_ns);
   AppStateReporter app_states(reports);
   lab::sim::RecordingApp recorded_app(std::move(app), options.robot, app_states);
   std::vector<wire::Beacon> receive_storage(runtime::Robot::kReceiveBanks * static_cast<size_t>(swarm_size));
@@ -442,6 +483,7 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   radio_options.seed = lab::sim::ChannelSeed(scenario.seed);
   radio_options.radio_round_ns = config.radio_round_ns;
   radio_options.current_round = [&tap] { return tap.CurrentRound(); };
+  if (config.align_rounds) radio_options.expected_round = [&tap] { return tap.ExpectedRound(); };
   BeaconRadioOrError radio = BeaconRadio::Create(participant, radio_options);
   if (!radio.ok()) {
     err << who << radio.error->ToString() << "\n";
@@ -497,6 +539,7 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
         // CLOCK_MONOTONIC.
         start_monotonic = options.realtime_start ? RealtimeToMonotonic(control.start_realtime_ns)
                                                  : control.start_monotonic_ns;
+        start_monotonic += options.clock_offset_us * 1000;
         tap.set_start(start_monotonic);
         const int64_t origin = port.MonotonicToPort(start_monotonic);
         if (port.StartAt(std::max<int64_t>(0, origin)) != os::PortError::kOk) {

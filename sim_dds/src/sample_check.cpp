@@ -45,6 +45,26 @@ SampleVerdict CheckSample(uint16_t sample_sender, uint32_t sample_round, std::sp
   return SampleVerdict::kAccepted;
 }
 
+int64_t AgreedRoundOffset(std::span<const SenderRoundOffset> offsets, int64_t since_round) {
+  auto heard = [since_round](const SenderRoundOffset& o) { return o.heard_in >= 0 && o.heard_in >= since_round; };
+  size_t senders = 0;
+  size_t best_count = 0;
+  int64_t best = 0;
+  for (const SenderRoundOffset& a : offsets) {
+    if (!heard(a)) continue;
+    ++senders;
+    size_t count = 0;
+    for (const SenderRoundOffset& b : offsets) count += heard(b) && b.offset == a.offset ? 1 : 0;
+    if (count > best_count || (count == best_count && a.offset > best)) {
+      best_count = count;
+      best = a.offset;
+    }
+  }
+  if (best > 0 && 2 * best_count > senders) return best;
+  if (best < 0 && senders >= 2 && best_count == senders) return best;
+  return 0;
+}
+
 uint64_t SampleCounters::rejected() const {
   uint64_t total = 0;
   for (int verdict = 1; verdict < kSampleVerdicts; ++verdict) total += counts_[verdict].load(std::memory_order_relaxed);

@@ -122,6 +122,7 @@ struct RobotSlot {
 // What the world saw at a round boundary (the recorder runs later, once
 // the round's reports are in).
 struct BoundaryTruth {
+  int64_t time_ns = 0;  // run time of the physics step that took it
   std::vector<lab::world::BodyState> bodies;
   std::vector<replay::Presence> presence;
   std::vector<replay::Event> events;  // the simulator's own (faults, contacts) in the round
@@ -222,6 +223,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   robot_options.realtime_start = options.realtime_start;
   auto spawn = [&](uint16_t id) -> bool {
     robot_options.robot = id;
+    robot_options.clock_offset_us = id < options.robot_clock_offsets_us.size() ? options.robot_clock_offsets_us[id] : 0;
     const SwarmOptions::RobotNetwork* network =
         id < options.robot_networks.size() ? &options.robot_networks[id] : nullptr;
     robot_options.interface =
@@ -363,6 +365,27 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     pending_events.push_back(event);
   };
 
+  // The robots' rounds on the world's clock. On one grid (no alignment)
+  // round r starts at start + r * alpha. Aligning robots move their
+  // boundaries together and number their own rounds, so the world follows
+  // them: the origin is the median over running robots of (when a robot's
+  // round report went out) - round * alpha, from each robot's newest report.
+  int64_t round_origin = start;
+  std::vector<std::optional<int64_t>> robot_origins(n);
+  auto round_at = [&](int64_t monotonic_ns) {
+    const int64_t since = monotonic_ns - round_origin;
+    return since >= 0 ? since / alpha : -((-since + alpha - 1) / alpha);
+  };
+  auto follow_robots = [&] {
+    std::vector<int64_t> origins;
+    for (uint16_t id = 0; id < n; ++id) {
+      if (robots[id].presence == replay::Presence::kRunning && robot_origins[id]) origins.push_back(*robot_origins[id]);
+    }
+    if (origins.empty()) return;
+    std::nth_element(origins.begin(), origins.begin() + static_cast<std::ptrdiff_t>(origins.size() / 2), origins.end());
+    round_origin = origins[origins.size() / 2];
+  };
+
   auto take_reports = [&] {
     TakeSamples<syrof_msg_dds__Report_>(report_reader, [&](const syrof_msg_dds__Report_& s, const dds_sample_info_t&) {
       if (s.run_id != run_id) {
@@ -382,7 +405,10 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       Received received{s.robot, s.robot_time_ns - start, std::move(*decoded.body)};
       const int64_t round = received.body.kind == ReportKind::kRound
                                 ? static_cast<int64_t>(received.body.round.round)
-                                : (received.time_ns + alpha / 2) / alpha;
+                                : round_at(s.robot_time_ns + alpha / 2);
+      if (options.align_rounds && received.body.kind == ReportKind::kRound) {
+        robot_origins[s.robot] = received.body.round.activation_ns - round * alpha;
+      }
       if (round < next_recorded) {
         ++reports_late;
         return;
@@ -407,6 +433,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   // The recorder of round r: the lab's StepRecorder from reports.
   auto record = [&](int64_t round) {
     const auto truth_it = truths.find(round);
+    const int64_t round_time_ns = truth_it != truths.end() ? truth_it->second.time_ns : round_origin - start + round * alpha;
     std::vector<Received> reports;
     if (auto it = reports_by_round.find(round); it != reports_by_round.end()) {
       reports = std::move(it->second);
@@ -526,7 +553,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       rr.epoch = slot.last.epoch;
       rr.epoch_mode = static_cast<wire::Mode>(slot.last.epoch_mode);
       rr.phase = static_cast<wire::Phase>(slot.last.phase);
-      rr.estimate_valid = rr.running && slot.last.estimate_valid != 0 && round * alpha >= slot.scored_from_ns;
+      rr.estimate_valid = rr.running && slot.last.estimate_valid != 0 && round_time_ns >= slot.scored_from_ns;
       rr.true_x_m = body.x_m;
       rr.true_y_m = body.y_m;
       rr.est_x_m = slot.last.est_x_m;
@@ -548,7 +575,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     collector.OnRoundEnd(round, robot_rounds);
     if (!goal_monitor.empty()) {
       const std::vector<lab::goals::RobotPose> running = running_poses(truth_it != truths.end() ? &truth_it->second : nullptr);
-      const double time_s = static_cast<double>(round * alpha) * 1e-9;
+      const double time_s = static_cast<double>(round_time_ns) * 1e-9;
       goal_monitor.OnRound(time_s, running);
       if (epoch_sample) goal_monitor.OnEpoch(*epoch_sample, time_s, running);
     }
@@ -557,10 +584,11 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       truths.erase(truth_it);
     }
     std::stable_sort(events.begin(), events.end(), [](const replay::Event& a, const replay::Event& b) { return a.time_ns < b.time_ns; });
-    if (replay_writer != nullptr) replay_writer->WriteRound(static_cast<uint32_t>(round), round * alpha, frames, events, maps);
+    if (replay_writer != nullptr) replay_writer->WriteRound(static_cast<uint32_t>(round), round_time_ns, frames, events, maps);
   };
 
   int64_t step_ns = 0;
+  int64_t next_truth = 1;  // the next round whose boundary truth is taken
   int64_t next_progress_ns = 1'000'000'000;
   while (step_ns < end_ns) {
     if (options.stop != nullptr && options.stop->load()) {
@@ -639,23 +667,25 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       RobotSlot& r = robots[id];
       if (r.presence == replay::Presence::kRunning) r.bank->Sample(step_ns, world.true_state(id), *r.sink);
     }
-    // A round boundary: keep the truth for the recorder.
-    if (step_ns % alpha == 0) {
+    // A round boundary of the robots: keep the truth for the recorder.
+    while (next_truth <= round_at(start + step_ns)) {
       BoundaryTruth truth;
+      truth.time_ns = step_ns;
       for (uint16_t id = 0; id < n; ++id) {
         truth.bodies.push_back(world.state(id));
         truth.presence.push_back(robots[id].presence);
       }
       truth.events = std::move(pending_events);
       pending_events.clear();
-      truths[step_ns / alpha] = std::move(truth);
+      truths[next_truth++] = std::move(truth);
     }
     take_reports();
+    if (options.align_rounds) follow_robots();
     take_status();
     for (RobotSlot& r : robots) {
       if (r.presence == replay::Presence::kCrashed) reap(r, false);
     }
-    while (next_recorded + kRecordLagRounds <= step_ns / alpha) record(next_recorded++);
+    while (next_recorded + kRecordLagRounds <= round_at(start + step_ns)) record(next_recorded++);
     if (options.progress && step_ns >= next_progress_ns) {
       options.progress(static_cast<double>(step_ns) * 1e-9);
       next_progress_ns += 1'000'000'000;
@@ -663,7 +693,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   }
   const double wall_seconds = static_cast<double>(MonotonicNow() - start) * 1e-9;
   // Let the last rounds' reports arrive, then record them.
-  const int64_t last_round = step_ns / alpha;
+  const int64_t last_round = round_at(start + step_ns);
   const int64_t drain_until = MonotonicNow() + 300'000'000;
   while (MonotonicNow() < drain_until) {
     take_reports();

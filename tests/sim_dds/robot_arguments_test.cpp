@@ -21,6 +21,7 @@ TEST(RobotArgumentsTest, WhatTheWorldWritesTheRobotReadsBack) {
   options.realtime = true;
   options.align_rounds = true;
   options.realtime_start = true;
+  options.clock_offset_us = -41'000;
   const ParsedRobotArguments parsed = ParseRobotArguments(RobotArguments(options));
   ASSERT_TRUE(parsed.options) << parsed.error;
   const RobotProcessOptions& back = *parsed.options;
@@ -38,12 +39,14 @@ TEST(RobotArgumentsTest, WhatTheWorldWritesTheRobotReadsBack) {
   EXPECT_TRUE(back.realtime);
   EXPECT_TRUE(back.align_rounds);
   EXPECT_TRUE(back.realtime_start);
+  EXPECT_EQ(back.clock_offset_us, -41'000);
   // Flags left off are not written, and read back off.
   RobotProcessOptions plain_options;
   plain_options.scenario_path = "s";
   const ParsedRobotArguments plain = ParseRobotArguments(RobotArguments(plain_options));
   ASSERT_TRUE(plain.options) << plain.error;
   EXPECT_FALSE(plain.options->realtime || plain.options->align_rounds || plain.options->realtime_start);
+  EXPECT_EQ(plain.options->clock_offset_us, 0);
 }
 
 TEST(RobotArgumentsTest, BadArgumentsAreNamed) {
@@ -51,6 +54,8 @@ TEST(RobotArgumentsTest, BadArgumentsAreNamed) {
             std::string::npos);
   EXPECT_NE(ParseRobotArguments({"--domain", "233"}).error.find("--domain"), std::string::npos);
   EXPECT_NE(ParseRobotArguments({"--robot", "-1"}).error.find("--robot"), std::string::npos);
+  EXPECT_NE(ParseRobotArguments({"--clock-offset-us", "10000001"}).error.find("--clock-offset-us"), std::string::npos);
+  EXPECT_NE(ParseRobotArguments({"--clock-offset-us", "5ms"}).error.find("--clock-offset-us"), std::string::npos);
   EXPECT_NE(ParseRobotArguments({"--colour", "red"}).error.find("unknown argument --colour"), std::string::npos);
   EXPECT_NE(ParseRobotArguments({"--scenario"}).error.find("no value"), std::string::npos);
   EXPECT_NE(ParseRobotArguments({"--scenario", "s"}).error.find("required"), std::string::npos);

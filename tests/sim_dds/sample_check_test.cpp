@@ -99,5 +99,46 @@ TEST(SampleVerdictNames, EveryVerdictHasOne) {
   EXPECT_STREQ(ToString(SampleVerdict::kRoundOutOfWindow), "round_out_of_window");
 }
 
+// Round alignment: robots number their own rounds and take the swarm's count.
+TEST(AgreedRoundOffsetTest, NoneWhenTheSendersAgreeOrNoneWasHeard) {
+  EXPECT_EQ(AgreedRoundOffset({}, 5), 0);
+  const std::vector<SenderRoundOffset> agree = {{10, 0}, {10, 0}, {-1, 0}, {9, 0}};
+  EXPECT_EQ(AgreedRoundOffset(agree, 9), 0);
+}
+
+TEST(AgreedRoundOffsetTest, ALateJoinerTakesTheCountMostSendersAreAheadBy) {
+  // Three of four senders heard since round 9 are 3 ahead; one is 1 ahead.
+  const std::vector<SenderRoundOffset> offsets = {{10, 3}, {10, 3}, {9, 1}, {10, 3}, {-1, 0}};
+  EXPECT_EQ(AgreedRoundOffset(offsets, 9), 3);
+  // From round 10 on only the three that are 3 ahead were heard.
+  EXPECT_EQ(AgreedRoundOffset(offsets, 10), 3);
+  // A sender heard long ago (round 4) is left out.
+  const std::vector<SenderRoundOffset> stale = {{4, 2}, {10, 0}, {10, 0}};
+  EXPECT_EQ(AgreedRoundOffset(stale, 9), 0);
+}
+
+TEST(AgreedRoundOffsetTest, AheadNeedsMoreThanHalfOfTheSendersHeard) {
+  const std::vector<SenderRoundOffset> half = {{10, 1}, {10, 1}, {10, 0}, {10, 0}};
+  EXPECT_EQ(AgreedRoundOffset(half, 10), 0);
+  const std::vector<SenderRoundOffset> two_of_three = {{10, 1}, {10, 1}, {10, 0}};
+  EXPECT_EQ(AgreedRoundOffset(two_of_three, 10), 1);
+  // A two-robot swarm: the one behind takes the other's count.
+  const std::vector<SenderRoundOffset> pair = {{10, 2}};
+  EXPECT_EQ(AgreedRoundOffset(pair, 10), 2);
+}
+
+TEST(AgreedRoundOffsetTest, BehindOnlyWhenEverySenderOfAtLeastTwoIsBehindBySameCount) {
+  // A robot that started counting ahead of the swarm moves back...
+  const std::vector<SenderRoundOffset> all_behind = {{10, -2}, {10, -2}, {10, -2}};
+  EXPECT_EQ(AgreedRoundOffset(all_behind, 10), -2);
+  // ... but not because of one sender (its partner in a pair moves instead),
+  const std::vector<SenderRoundOffset> pair = {{10, -2}};
+  EXPECT_EQ(AgreedRoundOffset(pair, 10), 0);
+  // nor when some agree: in two halves that disagree only the half behind
+  // moves, so they never swap counts.
+  const std::vector<SenderRoundOffset> halves = {{10, -1}, {10, -1}, {10, 0}};
+  EXPECT_EQ(AgreedRoundOffset(halves, 10), 0);
+}
+
 }  // namespace
 }  // namespace syrof::sim_dds

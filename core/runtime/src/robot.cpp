@@ -374,15 +374,29 @@ void Robot::TakeSafetyReports(int64_t now_ns) {
   inbox_count_ = kept;
 }
 
-// A beacon belongs to the round containing its arrival: one that arrived at
-// or after this boundary waits in deferred_ for the next step. A beacon
-// carried from the last step is stepped now, never deferred twice: its bank
-// receives again after the next swap.
+// Where this step's beacons end: arrivals at or after it belong to the next
+// step. Without alignment, the boundary itself (a beacon belongs to the round
+// containing its arrival). With alignment, half a round before the arrival
+// expected from a sender aligned with this boundary, so that a sender may be
+// up to half a round early or late either way. Sending at the boundary (a
+// DDS robot sends right after its step), the boundary alone would tolerate a
+// sender early by less than the link's delay, a fraction of a millisecond;
+// the lab's radio sends half a round after the boundary, where the two agree.
+int64_t Robot::RoundSplitNs(int64_t boundary_ns) const {
+  if (!config_.align_rounds) return boundary_ns;
+  return boundary_ns + config_.beacon_delay_ns - config_.radio_round_ns / 2;
+}
+
+// A beacon belongs to the round that RoundSplitNs closes: one that arrived
+// at or after this step's split waits in deferred_ for the next step. A
+// beacon carried from the last step is stepped now, never deferred twice:
+// its bank receives again after the next swap.
 void Robot::DeferLateArrivals(int64_t now_ns) {
+  const int64_t split_ns = RoundSplitNs(now_ns);
   size_t kept = 0;
   for (size_t i = 0; i < inbox_count_; ++i) {
     const int64_t arrival = inbox_arrival_ns_[i];
-    if (i >= carried_count_ && arrival != kArrivalUnknown && arrival >= now_ns &&
+    if (i >= carried_count_ && arrival != kArrivalUnknown && arrival >= split_ns &&
         deferred_count_ < deferred_.size()) {
       deferred_[deferred_count_] = inbox_[i];
       deferred_arrival_ns_[deferred_count_++] = arrival;
@@ -402,9 +416,11 @@ void Robot::DeferLateArrivals(int64_t now_ns) {
 void Robot::AlignRound(int64_t now_ns, int64_t round_start_ns) {
   std::array<sync::AlignmentSample, sync::kMaxAlignmentSamples> samples{};
   size_t count = 0;
+  const int64_t from_ns = RoundSplitNs(round_start_ns);
+  const int64_t until_ns = RoundSplitNs(now_ns);
   for (size_t i = 0; i < inbox_count_ && count < samples.size(); ++i) {
     const int64_t arrival = inbox_arrival_ns_[i];
-    if (arrival == kArrivalUnknown || arrival < round_start_ns || arrival >= now_ns) continue;
+    if (arrival == kArrivalUnknown || arrival < from_ns || arrival >= until_ns) continue;
     samples[count++] = sync::AlignmentSample{inbox_[i]->robot_id, arrival - round_start_ns};
   }
   sync::AlignmentConfig alignment = sync::AlignmentConfig::ForRound(config_.radio_round_ns, id());

@@ -247,6 +247,64 @@ TEST(RobotReceiveEdgeTest, ABeaconDeferredAtABoundarySurvivesAProducerWritingAft
   EXPECT_EQ(robot.counters().beacons_stepped, 2u);
 }
 
+// With alignment, a beacon belongs to the round whose boundary it follows
+// by the link's delay give or take half a round. A DDS robot sends right
+// after its boundary, so a sender 250 us early (its beacon arrives 100 us
+// before this robot's boundary, the link's delay being 150 us) sent the
+// beacon of the round now ending, and it is stepped in the next round; at
+// the boundary alone it was stepped a round early, and the sender then
+// looked silent for the round after (the DDS swarm with --align-rounds lost
+// COOPERATIVE epochs that way). Without alignment the split stays at the
+// boundary.
+TEST(RobotReceiveEdgeTest, WithAlignmentABeaconJustBeforeTheBoundaryBelongsToTheNextRound) {
+  for (const bool align : {false, true}) {
+    SCOPED_TRACE(align ? "aligned" : "not aligned");
+    InterleavingPort port;
+    pubsub::StaticBroker<8, 12> broker{port};
+    pubsub::Publisher<estimation::ImuReading> imu;
+    pubsub::Publisher<estimation::FlowReading> flow;
+    pubsub::Publisher<estimation::UwbReading> uwb;
+    ASSERT_EQ(imu.Advertise(broker, estimation::kImuTopic), pubsub::BrokerError::kOk);
+    ASSERT_EQ(flow.Advertise(broker, estimation::kFlowTopic), pubsub::BrokerError::kOk);
+    ASSERT_EQ(uwb.Advertise(broker, estimation::kUwbTopic), pubsub::BrokerError::kOk);
+
+    RobotConfig config;
+    config.sync = sync::SyncConfig::ForSwarm(kSwarm, 0);
+    config.radio_round_ns = kRoundNs;
+    config.maneuver_rounds = 4;
+    config.align_rounds = align;
+    config.beacon_delay_ns = 150'000;
+    IdleApp app;
+    CountingRadio radio;
+    std::array<wire::Beacon, Robot::kReceiveBanks * kSwarm> storage{};
+    Robot robot(config, app, radio, storage);
+    ASSERT_EQ(robot.Attach(port, broker), RobotSetupError::kOk);
+    ASSERT_NE(port.round_task, nullptr);
+    const auto receive_from = [&](uint16_t sender) {
+      wire::Beacon beacon;
+      beacon.robot_id = sender;
+      Frame frame;
+      const auto size = wire::Encode(beacon, kSwarm, frame.bytes);
+      ASSERT_TRUE(size.ok());
+      robot.ReceiveBytes(std::span<const uint8_t>(frame.bytes.data(), size.value()));
+    };
+
+    // Robot 2's beacon arrives mid-round, robot 1's 100 us before the boundary.
+    port.now = kRoundNs / 2;
+    receive_from(2);
+    port.now = kRoundNs - 100'000;
+    receive_from(1);
+    port.now = kRoundNs + 300'000;  // the round task wakes a little late
+    port.round_task->Step(kRoundNs);
+
+    EXPECT_EQ(robot.counters().beacons_stepped, align ? 1u : 2u);
+    EXPECT_EQ(robot.counters().beacons_deferred, align ? 1u : 0u);
+    port.now = 2 * kRoundNs + 300'000;
+    port.round_task->Step(2 * kRoundNs);
+    EXPECT_EQ(robot.counters().beacons_stepped, 2u);
+  }
+}
+
 // Moves on every new round: the round task hands commands to the motion
 // task, which runs on another thread on the POSIX port.
 class MovingApp final : public app::App {

@@ -58,6 +58,12 @@ struct BeaconRadioOptions {
   /// incoming rounds against it (kRoundWindow). Called from the round task
   /// and from Cyclone's receive thread: must be thread-safe and quick.
   std::function<int64_t()> current_round;
+  /// With round alignment, where each robot numbers its own rounds: the
+  /// round whose beacons the robot expects now, the one whose window
+  /// (centred on the arrival expected from an aligned sender) contains now.
+  /// It decides in-round delivery (HeardInRound) and the senders' round
+  /// offsets (AgreedRoundOffset). Unset: current_round.
+  std::function<int64_t()> expected_round;
 };
 
 /// Receives an accepted, delivered frame: the wire bytes, valid for the call
@@ -131,6 +137,13 @@ class BeaconRadio final : public runtime::Radio {
   static constexpr size_t kHeardRounds = 4;
   wire::MemberSet HeardInRound(int64_t round) const;
 
+  /// sim_dds::AgreedRoundOffset over each sender's latest well-formed
+  /// sample (in kRoundWindow or not), measured against expected_round.
+  int64_t AgreedRoundOffset(int64_t since_round) const;
+  /// Forgets every sender's offset: after the robot changed its count, the
+  /// offsets measured against the old one are stale.
+  void ForgetRoundOffsets();
+
  private:
   BeaconRadio(const Participant& participant, BeaconRadioOptions options);
   static void OnDataAvailable(dds_entity_t reader, void* self);
@@ -152,6 +165,8 @@ class BeaconRadio final : public runtime::Radio {
     wire::MemberSet senders;
   };
   std::array<HeardRound, kHeardRounds> heard_{};  // by round % kHeardRounds; under receive_mutex_
+  std::vector<SenderRoundOffset> offsets_;  // per sender; under receive_mutex_
+  int64_t ExpectedRound() const;
 
   std::atomic<uint64_t> sent_{0};
   std::atomic<uint64_t> send_failed_{0};

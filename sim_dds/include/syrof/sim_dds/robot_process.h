@@ -52,7 +52,13 @@ struct RobotProcessOptions {
   /// (hosts whose clocks are kept in sync) instead of its CLOCK_MONOTONIC one
   /// (meaningful on one host only).
   bool realtime_start = false;
+  /// The start this robot reads is this far off the world's (within
+  /// +-kMaxClockOffsetUs): a host whose clock is not in sync with the
+  /// others', for tests of align_rounds on one machine.
+  int64_t clock_offset_us = 0;
 };
+
+inline constexpr int64_t kMaxClockOffsetUs = 10'000'000;
 
 /// The arguments (argv[1..]) that make syrof-robot run `options`.
 std::vector<std::string> RobotArguments(const RobotProcessOptions& options);

@@ -70,6 +70,22 @@ struct ReceiverView {
   int64_t last_round_from_sender = -1;
 };
 
+/// One sender's round count against a receiver's, from its latest sample.
+struct SenderRoundOffset {
+  int64_t heard_in = -1;  ///< the receiver's expected round when it arrived; < 0: none
+  int64_t offset = 0;     ///< the sample's round minus that round
+};
+
+/// By how many rounds the senders heard since `since_round` number their
+/// rounds ahead of the receiver: m > 0 when more than half of them are m
+/// ahead, m < 0 when at least two were heard and all of them are m behind,
+/// 0 otherwise. A robot that numbers its own rounds (round alignment) adds it
+/// to its count, so a late joiner, or a robot whose count started from a
+/// grid the swarm has drifted off, takes the swarm's count. The asymmetry
+/// keeps two halves that disagree from swapping counts: the half behind
+/// moves, the half ahead does not.
+int64_t AgreedRoundOffset(std::span<const SenderRoundOffset> offsets, int64_t since_round);
+
 /// Checks one sample (sender, round and wire bytes as they arrived) for the
 /// receiver; on kAccepted writes the decoded beacon to `beacon` (otherwise
 /// leaves it unspecified). Never reads past `wire`; any input is allowed.

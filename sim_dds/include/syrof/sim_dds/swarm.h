@@ -53,6 +53,9 @@ struct SwarmOptions {
     std::string interface;
   };
   std::vector<RobotNetwork> robot_networks;
+  /// RobotProcessOptions::clock_offset_us by robot id (missing entries: 0):
+  /// hosts whose clocks disagree, on one machine.
+  std::vector<int64_t> robot_clock_offsets_us;
   std::optional<uint32_t> domain_id;     ///< unset: SYROF_DDS_DOMAIN or one derived from the run id
   double discovery_timeout_s = 30;       ///< robots must report attached within this
   /// Set (by a signal handler) to end the run early and cleanly.

@@ -97,7 +97,10 @@ struct RobotConfig {
   /// that can ShiftPeriodic. Off: the errors are still measured.
   bool align_rounds = false;
   /// From a sender's round boundary to its beacon's arrival on an aligned
-  /// link (the radio's latency).
+  /// link (the radio's latency). With align_rounds, a beacon is stepped at
+  /// the end of the round in which it arrived no later than half a round
+  /// after this delay (earlier ones wait for the next round), so senders up
+  /// to half a round early or late either way land in the right round.
   int64_t beacon_delay_ns = 0;
   /// What syrofAppParameter answers (the scenario's app params); the table
   /// and its names must outlive the robot. Empty: no parameters.
@@ -301,6 +304,7 @@ class Robot final : private app::Platform {
   size_t deferred_count_ = 0;
   size_t carried_count_ = 0;  // the inbox's first entries: deferred by the last step
   std::array<int64_t, kReceiveBanks * wire::kMaxSwarmSize> received_arrival_ns_{};  // parallel to receive_storage_
+  int64_t RoundSplitNs(int64_t boundary_ns) const;
   void DeferLateArrivals(int64_t now_ns);
   void AlignRound(int64_t now_ns, int64_t round_start_ns);
   os::TaskId round_task_id_ = 0;
