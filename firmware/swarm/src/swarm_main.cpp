@@ -56,7 +56,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -425,9 +424,9 @@ int main(int argc, char** argv) {
   }
   const int64_t all_started_ns = HostNs();
 
-  syrof::lab::world::ChannelSpec spec;
-  spec.loss = options.loss;
-  syrof::lab::world::Channel channel(spec, robots, options.seed);
+  // The scenario's channel (its model, loss and partitions; --loss
+  // overrides the loss), drawing from the same seed stream as the lab's.
+  syrof::lab::world::Channel channel(scenario.channel, robots, lab::sim::ChannelSeed(scenario.seed));
   metrics::CollectorConfig collector_config;
   collector_config.robots = robots;
   collector_config.radio_round_ns = period_ns;
