@@ -188,7 +188,7 @@ struct LinkCounters {
 
 /// The streaming decoder: one byte at a time, from the UART's receive
 /// interrupt. O(1) per byte (the CRC runs as the bytes come), no allocation,
-/// 216 bytes of state on the Cortex-M4.
+/// 208 bytes of state on the Cortex-M4 (the sensor link's payloads included).
 ///
 /// Resynchronisation: after construction, Reset() or a frame too long, the
 /// decoder discards bytes until a 0x00; every 0x00 ends the frame in
