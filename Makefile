@@ -81,21 +81,28 @@ test-m4: deps
 ## test-firmware-swarm: an emulated swarm of real firmware (docs/firmware.md,
 ## "The emulated swarm"): SWARM_ROBOTS qemu instances of syrof-robot-mps2
 ## (4 in CI, 8 otherwise) joined through syrof-firmware-swarm, which plays the
-## lab's radio channel. Two runs: no loss (every robot must start one epoch
-## COOPERATIVE) and SWARM_LOSS loss (P3 must stay 0); outputs, metrics.json
-## included, in out/firmware-swarm/{no-loss,loss}/. About 3 x SWARM_SECONDS
-## (qemu runs with -icount: host load stretches the runs).
+## world of SWARM_SCENARIO, the robots' sensors and the lab's radio channel.
+## Two runs: no loss (every robot must start one epoch COOPERATIVE) and
+## SWARM_LOSS loss (P3 must stay 0); in both the largest estimation error
+## must stay within SWARM_MAX_ESTIMATION_ERROR_M and the replay must read
+## back; outputs (metrics.json, replay) in out/firmware-swarm/{no-loss,loss}/.
+## About 2 x SWARM_SECONDS each (qemu runs with -icount: the guests' clocks
+## run slower than the host's, and the world follows them).
 SWARM_ROBOTS  ?= $(if $(CI),4,8)
 SWARM_SECONDS ?= $(if $(CI),30,60)
 SWARM_LOSS    ?= 0.3
+SWARM_SCENARIO ?= lab/scenarios/firmware_swarm.yaml
+SWARM_MAX_ESTIMATION_ERROR_M ?= 1.0
 test-firmware-swarm: $(BUILD_DIR)/CMakeCache.txt
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm
-	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --robots $(SWARM_ROBOTS) \
-	  --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --out out/firmware-swarm/no-loss --expect-cooperative
-	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --robots $(SWARM_ROBOTS) \
-	  --seconds $(SWARM_SECONDS) --loss $(SWARM_LOSS) --seed 2 --out out/firmware-swarm/loss
+	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
+	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --out out/firmware-swarm/no-loss \
+	  --expect-cooperative --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
+	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
+	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss $(SWARM_LOSS) --seed 2 --out out/firmware-swarm/loss \
+	  --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
 
 ## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
 QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \

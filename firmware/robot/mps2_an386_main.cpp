@@ -1,7 +1,9 @@
 // syrof-robot for qemu's mps2-an386: the same robot image as the Teensy's
 // (robot_image.h) on the firmware kernel's mps2-an386 hardware, for tests and
 // emulated swarms. UART0 is the console (the status lines), UART1 the radio
-// link; qemu's -serial options map to them in order, so
+// link, UART2 the sensor link (sensor_link.h: the world's readings in, drive
+// commands out; only with `sensors 1`); qemu's -serial options map to them
+// in order, so
 //
 //   qemu-system-arm -M mps2-an386 -nographic -monitor none
 //       -semihosting-config enable=on,target=native -icount shift=0,sleep=off
@@ -11,7 +13,9 @@
 // Command line (semihosting, -append): `id N` (default 0), `swarm N`
 // (default 4), `seconds S` (stop after S seconds of guest time and exit 0;
 // default 0: run for ever), `align 0|1` (round alignment, default 1),
-// `report 0|1` (the swarm host's "R" and "E" lines, default 0). A word
+// `report 0|1` (the swarm host's "R" and "E" lines, default 0),
+// `sensors 0|1` (the sensor link on UART2, default 0), `x_mm N`, `y_mm N`,
+// `heading_mrad N` (the start pose, arena frame; heading 0..6283). A word
 // it does not know stops the image with exit status 2 and names the word.
 // The UARTs interrupt at priority 2, above the kernel, and their handlers
 // only move bytes between the UART and its rings; but the radio's receive
@@ -23,6 +27,7 @@
 #include <cstring>
 
 #include "robot_image.h"
+#include "sensor_link.h"
 #include "syrof/board/mps2_an386/cmsdk_uart.h"
 #include "syrof/firmware/kernel/mps2_an386_hardware.h"
 #include "syrof/firmware/kernel/nvic_port.h"
@@ -42,6 +47,7 @@ constexpr uint8_t kRadioReceivePriority = 4;
 
 board::CmsdkUart console(board::kCmsdkUart0);
 board::CmsdkUart radio(board::kCmsdkUart1);
+board::CmsdkUart sensor_uart(board::kCmsdkUart2);
 
 // The UART's rings are shared with its interrupt handler; the kernel's tasks
 // touch them with the UART interrupts masked (BASEPRI at their priority).
@@ -63,24 +69,32 @@ class MaskUarts {
   uint32_t previous_;
 };
 
-// The radio UART as the drivers' UartTx, safe to call from any task.
-class RadioUart final : public syrof::firmware::drivers::UartTx {
+// A UART as the drivers' UartTx, safe to call from any task.
+class MaskedUart final : public syrof::firmware::drivers::UartTx {
  public:
+  explicit MaskedUart(board::CmsdkUart& uart) : uart_(uart) {}
   size_t Free() const override {
     MaskUarts masked;
-    return radio.Free();
+    return uart_.Free();
   }
   size_t Write(std::span<const uint8_t> bytes) override {
     MaskUarts masked;
-    return radio.Write(bytes);
+    return uart_.Write(bytes);
   }
-};
-RadioUart radio_tx;
 
-size_t ReadRadio(std::span<uint8_t> out, void* /*context*/) {
+ private:
+  board::CmsdkUart& uart_;
+};
+MaskedUart radio_tx(radio);
+MaskedUart sensor_tx(sensor_uart);
+
+// context: the CmsdkUart to read.
+size_t ReadUart(std::span<uint8_t> out, void* context) {
   MaskUarts masked;
-  return radio.Read(out);
+  return static_cast<board::CmsdkUart*>(context)->Read(out);
 }
+
+robot::SensorLink sensor_link(sensor_tx, &ReadUart, &sensor_uart);
 
 // Writes the whole line, a ring's worth at a time: between chunks the
 // console's interrupt (above every task) sends what is queued. Bounded: a
@@ -98,6 +112,14 @@ robot::RobotImage* image_for_interrupts = nullptr;
 
 void ConsoleInterrupt() { console.OnInterrupt(); }
 void RadioInterrupt() { radio.OnInterrupt(); }
+void SensorInterrupt() { sensor_uart.OnInterrupt(); }
+void SensorReceiveInterrupt() {
+  {
+    MaskUarts masked;
+    sensor_uart.OnInterrupt();
+  }
+  sensor_link.Notify();
+}
 void RadioReceiveInterrupt() {
   {
     MaskUarts masked;  // the transmit interrupt (2) shares the rings
@@ -112,6 +134,7 @@ char report_line[2048];
 struct Options {
   robot::ImageConfig image{};
   long seconds = 0;
+  bool sensors = false;
 };
 
 // Reads `key value` pairs; on error prints which word and why, returns false.
@@ -120,7 +143,7 @@ bool ParseOptions(int argc, char** argv, Options& options) {
   for (int i = 1; i < argc; i += 2) {
     const char* key = argv[i];
     if (i + 1 >= argc) {
-      std::printf("syrof-robot: -append word %d '%s' has no value (expected: id N swarm N seconds S align 0|1 report 0|1)\n", i,
+      std::printf("syrof-robot: -append word %d '%s' has no value (expected: key value pairs, e.g. id 0 swarm 4)\n", i,
                   key);
       return false;
     }
@@ -140,9 +163,19 @@ bool ParseOptions(int argc, char** argv, Options& options) {
       options.image.align_rounds = value == 1;
     } else if (std::strcmp(key, "report") == 0 && value <= 1) {
       options.image.report_rounds = value == 1;
+    } else if (std::strcmp(key, "sensors") == 0 && value <= 1) {
+      options.sensors = value == 1;
+    } else if (std::strcmp(key, "x_mm") == 0 && value <= 1'000'000) {
+      options.image.start_x_m = static_cast<float>(value) * 1e-3f;
+    } else if (std::strcmp(key, "y_mm") == 0 && value <= 1'000'000) {
+      options.image.start_y_m = static_cast<float>(value) * 1e-3f;
+    } else if (std::strcmp(key, "heading_mrad") == 0 && value <= 6283) {
+      const float heading = static_cast<float>(value) * 1e-3f;
+      options.image.start_heading_rad = heading > 3.14159265f ? heading - 6.28318531f : heading;
     } else {
       std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
-                  "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1)\n",
+                  "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1, sensors 0|1, x_mm and y_mm 0..1000000, "
+                  "heading_mrad 0..6283)\n",
                   i, key, value);
       return false;
     }
@@ -171,9 +204,15 @@ int main(int argc, char** argv) {
   const int radio_irq = board::CmsdkUartRxIrq(board::kCmsdkUart1);
   hardware.RouteInterrupt(static_cast<uint8_t>(console_irq), kUartPriority, &ConsoleInterrupt);
   hardware.RouteInterrupt(static_cast<uint8_t>(console_irq + 1), kUartPriority, &ConsoleInterrupt);
-  static robot::RobotImage image(port, radio_tx, &ReadRadio, nullptr, &ConsoleWrite, nullptr);
+  static robot::RobotImage image(port, radio_tx, &ReadUart, &radio, &ConsoleWrite, nullptr);
   options.image.poll_radio = false;
   hardware.RouteInterrupt(static_cast<uint8_t>(radio_irq + 1), kUartPriority, &RadioInterrupt);
+  const int sensor_irq = board::CmsdkUartRxIrq(board::kCmsdkUart2);
+  if (options.sensors) {
+    sensor_uart.Start(/*interrupts=*/true);
+    hardware.RouteInterrupt(static_cast<uint8_t>(sensor_irq + 1), kUartPriority, &SensorInterrupt);
+    options.image.extension = &sensor_link;
+  }
   if (const char* error = image.Start(options.image, syrof_app_entry(), queries_memory)) {
     std::printf("syrof-robot: %s\n", error);
     return 1;
@@ -182,6 +221,9 @@ int main(int argc, char** argv) {
   // level, so a byte already waiting raises it again.
   image_for_interrupts = &image;
   hardware.RouteInterrupt(static_cast<uint8_t>(radio_irq), kRadioReceivePriority, &RadioReceiveInterrupt);
+  if (options.sensors) {
+    hardware.RouteInterrupt(static_cast<uint8_t>(sensor_irq), kRadioReceivePriority, &SensorReceiveInterrupt);
+  }
   const int64_t stop_ns = options.seconds * int64_t{1'000'000'000};
   while (options.seconds == 0 || port.now_ns() < stop_ns) asm volatile("wfi");
 

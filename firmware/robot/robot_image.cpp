@@ -62,6 +62,9 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
   robot_config.align_rounds = config.align_rounds;
   // The link's latency on an aligned link (kBeaconLatencyNs).
   robot_config.beacon_delay_ns = kBeaconLatencyNs;
+  robot_config.initial_pose.x_m = config.start_x_m;
+  robot_config.initial_pose.y_m = config.start_y_m;
+  robot_config.initial_pose.heading_rad = config.start_heading_rad;
   radio_.set_swarm_size(config.swarm_size);
   const std::span<wire::Beacon> storage(receive_storage_.data(),
                                         size_t{runtime::Robot::kReceiveBanks} * config.swarm_size);
@@ -91,6 +94,9 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
              .ok()) {
       return "the report task";
     }
+  }
+  if (config.extension != nullptr) {
+    if (const char* error = config.extension->Attach(*this, port_)) return error;
   }
   if (port_.Start() != os::PortError::kOk) return "port start";
   return nullptr;

@@ -20,7 +20,9 @@
 //
 // The sensor topics (IMU, flow, UWB) are advertised here; the board's
 // drivers publish on them (imu(), flow(), uwb()) or, with none wired, the
-// estimator predicts from the start pose.
+// estimator predicts from the start pose. Under qemu the emulated swarm's
+// sensor link (sensor_link.h, an ImageExtension) publishes the readings the
+// host's simulated world sends.
 #pragma once
 
 #include <array>
@@ -56,6 +58,19 @@ using ReadBytesFn = size_t (*)(std::span<uint8_t> out, void* context);
 /// Writes a finished console line (non-blocking; a full console drops it).
 using ConsoleFn = void (*)(const char* line, size_t length, void* context);
 
+class RobotImage;
+
+/// A board's addition to the image (the emulated swarm's sensor link):
+/// attached after the robot and before the port starts. Returns nullptr, or
+/// what failed.
+class ImageExtension {
+ public:
+  virtual const char* Attach(RobotImage& image, kernel::NvicPort& port) = 0;
+
+ protected:
+  ~ImageExtension() = default;
+};
+
 struct ImageConfig {
   uint16_t self_id = 0;
   uint16_t swarm_size = 4;
@@ -69,6 +84,11 @@ struct ImageConfig {
   /// Where the report task formats them (not owned): an "E" line of 32
   /// members takes about 1.5 KB; shorter maps need less.
   std::span<char> report_line{};
+  /// Where the robot starts, arena frame (the estimator's initial pose).
+  float start_x_m = 0;
+  float start_y_m = 0;
+  float start_heading_rad = 0;
+  ImageExtension* extension = nullptr;  ///< not owned
 };
 
 /// From a sender's round boundary to its beacon's arrival, on an aligned

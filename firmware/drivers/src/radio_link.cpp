@@ -1,6 +1,8 @@
 #include "syrof/firmware/drivers/radio_link.h"
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 
 namespace syrof::firmware::drivers {
 namespace {
@@ -22,7 +24,100 @@ constexpr KindDescription kKinds[] = {
     {FrameKind::kSendDone, "radio to M4", 1, false,
      "status (1 byte): 0 sent, 1 busy (dropped), 2 rejected (dropped)"},
     {FrameKind::kHello, "both", 1, false, "version (1 byte): 1"},
+    {FrameKind::kImu, "world to M4", 24, false,
+     "accel_g x, y, z, then gyro_dps x, y, z: six binary32, finite"},
+    {FrameKind::kFlow, "world to M4", 8, false,
+     "interval_ns (4 bytes, > 0), delta_x_px, delta_y_px (2 bytes each, signed)"},
+    {FrameKind::kUwb, "world to M4", 18, false,
+     "valid_mask (1 byte), sweep (1 byte), 8 ranges in mm (2 bytes each)"},
+    {FrameKind::kDrive, "M4 to world", 21, false,
+     "drive kind (1 byte: 0 omni, 1 wheels), vx_mps, vy_mps, yaw_rate_radps, left_mps, right_mps: five binary32, finite"},
 };
+
+// Big-endian fields of the sensor link's payloads.
+void PutU16(uint8_t* at, uint16_t value) {
+  at[0] = static_cast<uint8_t>(value >> 8);
+  at[1] = static_cast<uint8_t>(value & 0xFF);
+}
+void PutU32(uint8_t* at, uint32_t value) {
+  PutU16(at, static_cast<uint16_t>(value >> 16));
+  PutU16(at + 2, static_cast<uint16_t>(value & 0xFFFF));
+}
+void PutFloat(uint8_t* at, float value) { PutU32(at, std::bit_cast<uint32_t>(value)); }
+uint16_t GetU16(const uint8_t* at) { return static_cast<uint16_t>((uint16_t{at[0]} << 8) | at[1]); }
+uint32_t GetU32(const uint8_t* at) { return (uint32_t{GetU16(at)} << 16) | GetU16(at + 2); }
+float GetFloat(const uint8_t* at) { return std::bit_cast<float>(GetU32(at)); }
+
+bool AllFinite(std::span<const float> values) {
+  for (const float value : values) {
+    if (!std::isfinite(value)) return false;
+  }
+  return true;
+}
+
+// The sensor-link kinds' payloads: written into `at` (fixed_payload_bytes
+// long), or read from it; false for a value the link refuses.
+bool PutSensorPayload(const Frame& frame, uint8_t* at) {
+  switch (frame.kind) {
+    case FrameKind::kImu:
+      if (!AllFinite(frame.imu.accel_g) || !AllFinite(frame.imu.gyro_dps)) return false;
+      for (size_t i = 0; i < 3; ++i) PutFloat(at + 4 * i, frame.imu.accel_g[i]);
+      for (size_t i = 0; i < 3; ++i) PutFloat(at + 12 + 4 * i, frame.imu.gyro_dps[i]);
+      return true;
+    case FrameKind::kFlow:
+      if (frame.flow.interval_ns == 0) return false;
+      PutU32(at, frame.flow.interval_ns);
+      PutU16(at + 4, static_cast<uint16_t>(frame.flow.delta_x_px));
+      PutU16(at + 6, static_cast<uint16_t>(frame.flow.delta_y_px));
+      return true;
+    case FrameKind::kUwb:
+      at[0] = frame.uwb.valid_mask;
+      at[1] = frame.uwb.sweep;
+      for (size_t i = 0; i < kLinkAnchors; ++i) PutU16(at + 2 + 2 * i, frame.uwb.range_mm[i]);
+      return true;
+    case FrameKind::kDrive: {
+      const DrivePayload& drive = frame.drive;
+      const float values[] = {drive.vx_mps, drive.vy_mps, drive.yaw_rate_radps, drive.left_mps, drive.right_mps};
+      if (drive.kind > 1 || !AllFinite(values)) return false;
+      at[0] = drive.kind;
+      for (size_t i = 0; i < 5; ++i) PutFloat(at + 1 + 4 * i, values[i]);
+      return true;
+    }
+    default: return false;
+  }
+}
+
+bool GetSensorPayload(const uint8_t* at, Frame& frame) {
+  switch (frame.kind) {
+    case FrameKind::kImu:
+      for (size_t i = 0; i < 3; ++i) frame.imu.accel_g[i] = GetFloat(at + 4 * i);
+      for (size_t i = 0; i < 3; ++i) frame.imu.gyro_dps[i] = GetFloat(at + 12 + 4 * i);
+      return AllFinite(frame.imu.accel_g) && AllFinite(frame.imu.gyro_dps);
+    case FrameKind::kFlow:
+      frame.flow.interval_ns = GetU32(at);
+      frame.flow.delta_x_px = static_cast<int16_t>(GetU16(at + 4));
+      frame.flow.delta_y_px = static_cast<int16_t>(GetU16(at + 6));
+      return frame.flow.interval_ns != 0;
+    case FrameKind::kUwb:
+      frame.uwb.valid_mask = at[0];
+      frame.uwb.sweep = at[1];
+      for (size_t i = 0; i < kLinkAnchors; ++i) frame.uwb.range_mm[i] = GetU16(at + 2 + 2 * i);
+      return true;
+    case FrameKind::kDrive: {
+      DrivePayload& drive = frame.drive;
+      drive.kind = at[0];
+      float values[5];
+      for (size_t i = 0; i < 5; ++i) values[i] = GetFloat(at + 1 + 4 * i);
+      drive.vx_mps = values[0];
+      drive.vy_mps = values[1];
+      drive.yaw_rate_radps = values[2];
+      drive.left_mps = values[3];
+      drive.right_mps = values[4];
+      return drive.kind <= 1 && AllFinite(values);
+    }
+    default: return false;
+  }
+}
 
 const KindDescription* Describe(uint8_t kind) {
   for (const KindDescription& description : kKinds) {
@@ -81,6 +176,10 @@ const char* ToString(FrameKind kind) {
     case FrameKind::kReceivedBeacon: return "ReceivedBeacon";
     case FrameKind::kSendDone: return "SendDone";
     case FrameKind::kHello: return "Hello";
+    case FrameKind::kImu: return "Imu";
+    case FrameKind::kFlow: return "Flow";
+    case FrameKind::kUwb: return "Uwb";
+    case FrameKind::kDrive: return "Drive";
   }
   return "?";
 }
@@ -130,6 +229,41 @@ Frame MakeHello(uint8_t sequence) {
   return frame;
 }
 
+namespace {
+
+Frame WithKind(FrameKind kind, uint8_t sequence) {
+  Frame frame;
+  frame.kind = kind;
+  frame.sequence = sequence;
+  return frame;
+}
+
+}  // namespace
+
+Frame MakeImu(uint8_t sequence, const ImuPayload& imu) {
+  Frame frame = WithKind(FrameKind::kImu, sequence);
+  frame.imu = imu;
+  return frame;
+}
+
+Frame MakeFlow(uint8_t sequence, const FlowPayload& flow) {
+  Frame frame = WithKind(FrameKind::kFlow, sequence);
+  frame.flow = flow;
+  return frame;
+}
+
+Frame MakeUwb(uint8_t sequence, const UwbPayload& uwb) {
+  Frame frame = WithKind(FrameKind::kUwb, sequence);
+  frame.uwb = uwb;
+  return frame;
+}
+
+Frame MakeDrive(uint8_t sequence, const DrivePayload& drive) {
+  Frame frame = WithKind(FrameKind::kDrive, sequence);
+  frame.drive = drive;
+  return frame;
+}
+
 base::Result<size_t, LinkError> EncodeFrame(const Frame& frame, std::span<uint8_t> out) {
   const KindDescription* description = Describe(static_cast<uint8_t>(frame.kind));
   if (description == nullptr) return LinkError::kUnknownKind;
@@ -149,6 +283,13 @@ base::Result<size_t, LinkError> EncodeFrame(const Frame& frame, std::span<uint8_
       body[length++] = frame.version;
       break;
     case FrameKind::kSendBeacon: break;
+    case FrameKind::kImu:
+    case FrameKind::kFlow:
+    case FrameKind::kUwb:
+    case FrameKind::kDrive:
+      if (!PutSensorPayload(frame, body.data() + length)) return LinkError::kBadField;
+      length += description->fixed_payload_bytes;
+      break;
   }
   if (description->carries_beacon) {
     if (frame.beacon_length == 0 || frame.beacon_length > kMaxLinkBeaconBytes) return LinkError::kBadLength;
@@ -288,6 +429,12 @@ LinkError FrameDecoder::Finish() {
       frame.version = payload[0];
       break;
     case FrameKind::kSendBeacon: break;
+    case FrameKind::kImu:
+    case FrameKind::kFlow:
+    case FrameKind::kUwb:
+    case FrameKind::kDrive:
+      if (!GetSensorPayload(payload, frame)) return LinkError::kBadField;
+      break;
   }
   if (description->carries_beacon) {
     frame.beacon_length = static_cast<uint8_t>(beacon_bytes);

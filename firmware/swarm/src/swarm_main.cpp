@@ -1,30 +1,46 @@
 // syrof-firmware-swarm: an emulated swarm of real firmware. Starts N qemu
-// mps2-an386 instances of syrof-robot-mps2, each with its radio UART (UART1)
-// and its console (UART0) on Unix sockets this process listens on, and plays
-// the radio channel between them with the lab's channel model
+// mps2-an386 instances of syrof-robot-mps2, each with its console (UART0),
+// its radio UART (UART1) and its sensor UART (UART2) on Unix sockets this
+// process listens on. It plays the world: a scenario's arena and bodies
+// (lab::world::World, stepped every 10 ms of world time with the drive
+// commands the robots send back on their sensor links; world time is the
+// host's clock slowed to the robots' mean clock rate, guest_clock.h) and each robot's
+// simulated sensors (lab::sensors::SensorBank, seeded as the lab and the DDS
+// world seed them), whose readings go out as sensor-link frames
+// (docs/radio-link.md, "The sensor link"). It plays the radio channel
+// between the robots with the lab's channel model
 // (lab/world/channel.h): every SendBeacon frame a robot sends is delivered
 // to each other robot as a ReceivedBeacon frame unless the channel loses it
 // (a hash of seed, the sender's beacon count, sender and receiver), half a
-// radio round after it was sent, as the lab's radio delivers (the robots'
-// round alignment expects that latency: firmware/robot/robot_image.h,
-// kBeaconLatencyNs). It feeds
-// the lab's metrics collector from the robots' console reports and writes
-// DIR/metrics.json (docs/metrics.md) and DIR/firmware-swarm.json (timing
-// mode, round-start skew, channel counts), DIR/beacons.csv (when each
-// robot's beacons reached this process); DIR/robot_<i>.log holds each
-// robot's console and DIR/qemu_<i>.log qemu's own output.
+// radio round of the sender's clock after it was sent (scaled to host time
+// by the sender's measured clock rate, guest_clock.h), as the lab's radio
+// delivers (the robots' round alignment expects that latency:
+// firmware/robot/robot_image.h, kBeaconLatencyNs). It feeds
+// the lab's metrics collector from the robots' console reports (their
+// estimates) and the world's true poses (collisions, estimation error), and
+// writes DIR/metrics.json (docs/metrics.md), DIR/replay (lab/replay, for
+// `syrof view`; read back before the run ends), DIR/firmware-swarm.json
+// (timing mode, round-start skew, channel and sensor-link counts),
+// DIR/beacons.csv (when each robot's beacons reached this process);
+// DIR/robot_<i>.log holds each robot's console and DIR/qemu_<i>.log qemu's
+// own output.
 //
-// Not here (docs/firmware.md, "The emulated swarm"): no world physics and
-// no sensor UART, so the robots do not move and their estimates stay at
-// their start poses; no replay.
+// The scenario (--scenario FILE, else the built-in one below: 4 omni robots
+// on a grid in the default 4 m arena, builtin:circle, no loss) gives the
+// arena, the robots' start poses, the sensors' noise, the channel and the
+// goal; --robots, --seed and --loss override it. The robot image has its app,
+// arena, anchors and timing compiled in; the start pose reaches each robot
+// through -append.
 //
-//   syrof-firmware-swarm --image build-m4/bin/syrof-robot-mps2.elf --robots 4 --seconds 20
-//       --loss 0 --seed 1 --out DIR [--qemu qemu-system-arm] [--icount SHIFT|-1] [--align 0|1]
-//       [--latency-ms 25] [--expect-cooperative]
+//   syrof-firmware-swarm --image build-m4/bin/syrof-robot-mps2.elf [--scenario FILE] --robots 4
+//       --seconds 20 --loss 0 --seed 1 --out DIR [--qemu qemu-system-arm] [--icount SHIFT|-1]
+//       [--align 0|1] [--latency-ms 25] [--expect-cooperative] [--max-estimation-error M]
 //
 // Exit status 0 when every instance ran to the end and reported, no P3
-// breach happened, and (with --expect-cooperative) all robots started one
-// epoch COOPERATIVE; 1 otherwise; 2 for a usage error.
+// breach happened, the replay reads back whole, (with --expect-cooperative)
+// all robots started one epoch COOPERATIVE, and (with
+// --max-estimation-error) the largest scored estimation error stayed within
+// M metres; 1 otherwise; 2 for a usage error.
 
 #include <fcntl.h>
 #include <poll.h>
@@ -40,21 +56,32 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "syrof/firmware/drivers/radio_link.h"
 #include "syrof/firmware/swarm/console_lines.h"
+#include "syrof/firmware/swarm/guest_clock.h"
 #include "syrof/firmware/swarm/round_skew.h"
+#include "syrof/firmware/swarm/sensor_feed.h"
+#include "syrof/lab/apps/catalog.h"
+#include "syrof/lab/apps/goal.h"
+#include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/metrics/metrics.h"
+#include "syrof/lab/replay/reader.h"
+#include "syrof/lab/replay/writer.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sensors/sensor_bank.h"
+#include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/world/channel.h"
+#include "syrof/lab/world/world.h"
 #include "syrof/registry/tasks.h"
 
 namespace {
@@ -62,6 +89,19 @@ namespace {
 namespace drivers = syrof::firmware::drivers;
 namespace swarm = syrof::firmware::swarm;
 namespace metrics = syrof::lab::metrics;
+namespace lab = syrof::lab;
+namespace replay = syrof::lab::replay;
+
+// Without --scenario: what the swarm ran before it had a world (the image's
+// built-in app, its default arena and timing), with robots on a grid.
+constexpr const char* kBuiltInScenario =
+    "name: firmware-swarm\n"
+    "seed: 1\n"
+    "arena: { width_m: 4, height_m: 4 }\n"
+    "robots: { count: 4, kind: omni, placement: grid, spacing_m: 0.6 }\n"
+    "timing: { radio_round_s: 0.05, app_round_s: 1.0, duration_s: 20 }\n"
+    "channel: { model: iid, loss: 0 }\n"
+    "app: builtin:circle\n";
 
 struct Options {
   std::string image;
@@ -77,18 +117,24 @@ struct Options {
   int icount_shift = 4;
   bool expect_cooperative = false;
   bool align = true;  // the robots' round alignment (docs/clocks.md)
-  double latency_ms = 25;  // from a beacon's send to its delivery
+  double latency_ms = 25;  // from a beacon's send to its delivery, on the sender's clock (GuestClockRate)
+  std::string scenario;    // empty: kBuiltInScenario
+  std::optional<int> robots_override;
+  std::optional<uint64_t> seed_override;
+  std::optional<double> loss_override;
+  std::optional<double> max_estimation_error_m;
 };
 
 // The robot image is built with SYROF_MAX_SWARM_SIZE=32 (the Teensy's).
 constexpr int kMaxImageRobots = 32;
 
 constexpr const char* kUsage =
-    "usage: syrof-firmware-swarm --image ELF [--robots 1..32] [--seconds S] [--loss 0..1] [--seed N]\n"
-    "       [--out DIR] [--qemu PATH] [--icount SHIFT] [--align 0|1] [--latency-ms MS]\n"
-    "       [--expect-cooperative]\n"
-    "Starts --robots qemu mps2-an386 instances of the robot image and plays the radio channel between\n"
-    "them; writes metrics.json, firmware-swarm.json and logs in --out (docs/firmware.md).\n";
+    "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..32] [--seconds S] [--loss 0..1]\n"
+    "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT] [--align 0|1] [--latency-ms MS]\n"
+    "       [--expect-cooperative] [--max-estimation-error M]\n"
+    "Starts one qemu mps2-an386 instance of the robot image per robot of the scenario (--robots, --seed\n"
+    "and --loss override it) and plays the world, the robots' sensors and the radio channel between\n"
+    "them; writes metrics.json, replay, firmware-swarm.json and logs in --out (docs/firmware.md).\n";
 
 [[noreturn]] void Usage(const std::string& what) {
   std::fprintf(stderr, "syrof-firmware-swarm: %s\n%s", what.c_str(), kUsage);
@@ -127,12 +173,19 @@ Options ParseOptions(int argc, char** argv) {
       options.out = value;
     } else if (key == "--robots") {
       options.robots = static_cast<int>(number(1, kMaxImageRobots));
+      options.robots_override = options.robots;
     } else if (key == "--seconds") {
       options.seconds = static_cast<int>(number(1, 3600));
     } else if (key == "--loss") {
       options.loss = number(0, 1);
+      options.loss_override = options.loss;
     } else if (key == "--seed") {
       options.seed = static_cast<uint64_t>(number(0, 1e15));
+      options.seed_override = options.seed;
+    } else if (key == "--scenario") {
+      options.scenario = value;
+    } else if (key == "--max-estimation-error") {
+      options.max_estimation_error_m = number(0, 100);
     } else if (key == "--latency-ms") {
       options.latency_ms = number(0, 1000);
     } else if (key == "--align") {
@@ -206,6 +259,10 @@ struct Robot {
   pid_t pid = -1;
   int radio = -1;
   int console = -1;
+  int sensor = -1;
+  std::unique_ptr<lab::sensors::SensorBank> bank;
+  swarm::SensorFeed feed;
+  std::vector<uint8_t> sensor_out;  // frames not yet taken by the socket
   drivers::FrameDecoder decoder;
   std::string pending_line;
   std::ofstream log;
@@ -214,6 +271,7 @@ struct Robot {
   std::optional<swarm::RoundLine> latest;
   int64_t latest_ns = 0;
   int64_t last_boundary_ns = 0;
+  swarm::GuestClockRate clock_rate{syrof::registry::kDefaultRadioRoundNs};
   int64_t lines = 0;
   int64_t bad_lines = 0;
   std::string last_status;
@@ -222,8 +280,68 @@ struct Robot {
 
 }  // namespace
 
+// The scenario, with the command line's overrides; exits 2 with the
+// loader's file:line:column message when it is not valid.
+lab::scenario::Scenario LoadScenario(const Options& options) {
+  lab::scenario::Overrides overrides;
+  overrides.robots = options.robots_override;
+  overrides.seed = options.seed_override;
+  overrides.duration_s = options.seconds;
+  const lab::scenario::LoadResult loaded =
+      options.scenario.empty() ? lab::scenario::LoadScenarioText(kBuiltInScenario, "<built-in scenario>", overrides)
+                               : lab::scenario::LoadScenarioFile(options.scenario, overrides);
+  if (!loaded.ok()) Usage("--scenario: " + loaded.error->ToString());
+  lab::scenario::Scenario scenario = *loaded.scenario;
+  if (options.loss_override) {
+    scenario.channel.loss = *options.loss_override;
+  }
+  const auto robots = static_cast<int>(scenario.robots.size());
+  if (robots > kMaxImageRobots) {
+    Usage("--scenario: " + std::to_string(robots) + " robots; the robot image holds at most " +
+          std::to_string(kMaxImageRobots));
+  }
+  // What the image has compiled in and cannot be told (robot_image.cpp).
+  if (std::llround(scenario.timing.radio_round_s * 1e9) != syrof::registry::kDefaultRadioRoundNs) {
+    Usage("--scenario: timing.radio_round_s must be 0.05 (the robot image's radio round)");
+  }
+  for (const lab::scenario::RobotSpec& robot : scenario.robots) {
+    if (!robot.present_at_start) Usage("--scenario: robot " + std::to_string(robot.id) + " joins later; the firmware swarm starts every robot at once");
+    if (robot.kind != lab::world::RobotKind::kOmni) Usage("--scenario: robot " + std::to_string(robot.id) + " is not omni; the robot image drives omni robots");
+  }
+  if (!scenario.faults.empty()) {
+    std::fprintf(stderr, "syrof-firmware-swarm: the scenario's faults are not played here (docs/firmware.md)\n");
+  }
+  return scenario;
+}
+
+int64_t Milli(double value) { return std::llround(value * 1000.0); }
+
+// The start pose as the image's -append words (whole mm and mrad >= 0).
+std::string StartPoseWords(const lab::scenario::RobotSpec& robot) {
+  double heading = std::fmod(robot.heading_rad, 2 * M_PI);
+  if (heading < 0) heading += 2 * M_PI;
+  return " x_mm " + std::to_string(std::max<int64_t>(0, Milli(robot.x_m))) + " y_mm " +
+         std::to_string(std::max<int64_t>(0, Milli(robot.y_m))) + " heading_mrad " +
+         std::to_string(std::min<int64_t>(6283, Milli(heading)));
+}
+
+// Writes what the socket takes now, keeps the rest (a robot that stopped
+// reading must not stall the world).
+void Flush(int fd, std::vector<uint8_t>& pending) {
+  while (fd >= 0 && !pending.empty()) {
+    const ssize_t written = send(fd, pending.data(), pending.size(), MSG_DONTWAIT);
+    if (written <= 0) return;
+    pending.erase(pending.begin(), pending.begin() + written);
+  }
+}
+
 int main(int argc, char** argv) {
-  const Options options = ParseOptions(argc, argv);
+  const Options parsed_options = ParseOptions(argc, argv);
+  const lab::scenario::Scenario scenario = LoadScenario(parsed_options);
+  Options options = parsed_options;
+  options.robots = static_cast<int>(scenario.robots.size());
+  options.seed = scenario.seed;
+  options.loss = scenario.channel.loss;
   signal(SIGPIPE, SIG_IGN);
   std::error_code made;
   std::filesystem::create_directories(options.out, made);
@@ -241,16 +359,21 @@ int main(int argc, char** argv) {
   const auto robots = static_cast<uint16_t>(options.robots);
   const int64_t period_ns = syrof::registry::kDefaultRadioRoundNs;
   std::vector<Robot> swarm(robots);
-  std::vector<int> radio_listeners(robots), console_listeners(robots);
+  std::vector<int> radio_listeners(robots), console_listeners(robots), sensor_listeners(robots);
   std::vector<std::string> paths;
   for (uint16_t i = 0; i < robots; ++i) {
     const std::string radio_path = std::string(socket_dir) + "/radio" + std::to_string(i);
     const std::string console_path = std::string(socket_dir) + "/console" + std::to_string(i);
+    const std::string sensor_path = std::string(socket_dir) + "/sensor" + std::to_string(i);
     radio_listeners[i] = Listen(radio_path);
     console_listeners[i] = Listen(console_path);
+    sensor_listeners[i] = Listen(sensor_path);
     paths.push_back(radio_path);
     paths.push_back(console_path);
+    paths.push_back(sensor_path);
     swarm[i].log.open(options.out + "/robot_" + std::to_string(i) + ".log");
+    swarm[i].bank =
+        std::make_unique<lab::sensors::SensorBank>(scenario.sensors, lab::sim::SensorSeed(scenario.seed, i));
   }
 
   // One qemu per robot; each keeps its own virtual clock.
@@ -261,11 +384,13 @@ int main(int argc, char** argv) {
     std::vector<std::string> args = {
         options.qemu, "-M", "mps2-an386", "-nographic", "-monitor", "none", "-semihosting-config",
         "enable=on,target=native",
-        "-chardev", "socket,id=console,path=" + paths[2 * i + 1], "-serial", "chardev:console",
-        "-chardev", "socket,id=radio,path=" + paths[2 * i], "-serial", "chardev:radio",
+        "-chardev", "socket,id=console,path=" + paths[3 * i + 1], "-serial", "chardev:console",
+        "-chardev", "socket,id=radio,path=" + paths[3 * i], "-serial", "chardev:radio",
+        "-chardev", "socket,id=sensor,path=" + paths[3 * i + 2], "-serial", "chardev:sensor",
         "-kernel", options.image, "-append",
         "id " + std::to_string(i) + " swarm " + std::to_string(robots) + " seconds " +
-            std::to_string(options.seconds) + " report 1 align " + (options.align ? "1" : "0")};
+            std::to_string(options.seconds) + " report 1 sensors 1 align " + (options.align ? "1" : "0") +
+            StartPoseWords(scenario.robots[i])};
     if (options.icount_shift >= 0) {
       args.push_back("-icount");
       args.push_back("shift=" + std::to_string(options.icount_shift));
@@ -289,7 +414,8 @@ int main(int argc, char** argv) {
     // qemu connects to its chardevs in order while starting up.
     swarm[i].console = AcceptOne(console_listeners[i], 15'000, "robot " + std::to_string(i) + "'s console");
     swarm[i].radio = AcceptOne(radio_listeners[i], 15'000, "robot " + std::to_string(i) + "'s radio");
-    if (swarm[i].console < 0 || swarm[i].radio < 0) {
+    swarm[i].sensor = AcceptOne(sensor_listeners[i], 15'000, "robot " + std::to_string(i) + "'s sensor link");
+    if (swarm[i].console < 0 || swarm[i].radio < 0 || swarm[i].sensor < 0) {
       for (Robot& robot : swarm) {
         if (robot.pid > 0) kill(robot.pid, SIGKILL);
       }
@@ -298,19 +424,42 @@ int main(int argc, char** argv) {
   }
   const int64_t all_started_ns = HostNs();
 
-  syrof::lab::world::ChannelSpec spec;
-  spec.loss = options.loss;
-  syrof::lab::world::Channel channel(spec, robots, options.seed);
+  // The scenario's channel (its model, loss and partitions; --loss
+  // overrides the loss), drawing from the same seed stream as the lab's.
+  syrof::lab::world::Channel channel(scenario.channel, robots, lab::sim::ChannelSeed(scenario.seed));
   metrics::CollectorConfig collector_config;
   collector_config.robots = robots;
   collector_config.radio_round_ns = period_ns;
   metrics::Collector collector(collector_config);
 
+  // The world, on the host's clock from all_started_ns.
+  lab::world::World world(scenario.arena, lab::sim::Bodies(scenario));
+  constexpr int64_t kPhysicsNs = syrof::registry::kImuPeriodNs;
+  int64_t world_ns = 0;       // the world's time, stepped in kPhysicsNs
+  double world_clock_ns = 0;  // where the world's time should be now
+  int64_t last_loop_ns = 0;
+  lab::goals::GoalMonitor goal_monitor(scenario.goal);
+  uint16_t newest_epoch = 0;
+  bool any_epoch = false;
+  std::ofstream replay_file(options.out + "/replay", std::ios::binary);
+  replay::Writer replay_writer(replay_file, lab::sim::ReplayHeader(scenario));
+  std::vector<replay::Event> round_events;
+  std::vector<replay::RobotMap> round_maps;
+  std::vector<replay::RobotFrame> frames(robots);
+  auto running_poses = [&] {
+    std::vector<lab::goals::RobotPose> poses;
+    for (uint16_t id = 0; id < robots; ++id) {
+      const lab::world::BodyState& body = world.state(id);
+      poses.push_back(lab::goals::RobotPose{id, body.x_m, body.y_m, world.body_radius_m(id)});
+    }
+    return poses;
+  };
+
   // Every COOPERATIVE epoch start, to find the first epoch all robots started so.
   std::map<uint16_t, std::vector<uint16_t>> cooperative_starters;
   std::optional<double> all_cooperative_s;
   int64_t round = 0;
-  int64_t next_round_ns = all_started_ns + period_ns;
+  int64_t next_round_ns = period_ns;  // on the world's time
   int64_t link_errors = 0;
   int64_t offered = 0, delivered = 0;
   // With -icount a loaded host stretches the guests' time (1.3x for 4
@@ -319,31 +468,75 @@ int main(int argc, char** argv) {
   int open_consoles = robots;
 
   const auto latency_ns = static_cast<int64_t>(options.latency_ms * 1e6);
-  std::deque<Delivery> in_flight;  // in due order: one latency for all
+  // By due instant: the latency is scaled by each sender's clock rate.
+  std::multimap<int64_t, Delivery> in_flight;
   std::vector<pollfd> fds;
   while (open_consoles > 0 && HostNs() < deadline_ns) {
     fds.clear();
     for (const Robot& robot : swarm) {
       fds.push_back({robot.radio, POLLIN, 0});
       fds.push_back({robot.console, POLLIN, 0});
+      fds.push_back({robot.sensor, POLLIN, 0});
     }
     const int64_t now_before = HostNs();
-    int64_t next_event_ns = next_round_ns;
-    if (!in_flight.empty()) next_event_ns = std::min(next_event_ns, in_flight.front().due_ns);
+    int64_t next_event_ns = now_before + kPhysicsNs / 2;
+    if (!in_flight.empty()) next_event_ns = std::min(next_event_ns, in_flight.begin()->first);
     const int wait_ms = static_cast<int>(std::max<int64_t>(0, (next_event_ns - now_before) / 1'000'000));
     poll(fds.data(), fds.size(), std::min(wait_ms, 10));
     const int64_t now = HostNs();
-    while (!in_flight.empty() && in_flight.front().due_ns <= now) {
-      const Delivery& delivery = in_flight.front();
+    // The world follows the host's clock slowed to the robots' mean clock
+    // rate (GuestClockRate, from their beacons), so a robot gets a second of
+    // readings per second of its own time (docs/firmware.md, "How readings
+    // are timed").
+    double host_per_world = 0;
+    for (const Robot& robot : swarm) host_per_world += robot.clock_rate.host_per_guest();
+    host_per_world /= robots;
+    world_clock_ns += static_cast<double>(now - (last_loop_ns == 0 ? all_started_ns : last_loop_ns)) / host_per_world;
+    last_loop_ns = now;
+    // The world's steps due by now: bodies, contacts, then each robot's
+    // readings due at the step's instant, framed to its sensor link.
+    while (static_cast<double>(world_ns + kPhysicsNs) <= world_clock_ns) {
+      world_ns += kPhysicsNs;
+      world.Step(world_ns, static_cast<double>(kPhysicsNs) * 1e-9);
+      for (const lab::world::Contact& contact : world.new_contacts()) {
+        collector.OnCollision(contact.time_ns, contact.a, contact.b);
+        round_events.push_back(replay::Event{replay::EventKind::kCollision, contact.a, contact.b, 0, 0, contact.time_ns});
+      }
+      for (const lab::world::WallContact& contact : world.new_wall_contacts()) {
+        collector.OnWallContact(contact.time_ns, contact.robot);
+        round_events.push_back(replay::Event{replay::EventKind::kWallContact, contact.robot, replay::kNoRobot, 0, 0,
+                                             contact.time_ns});
+      }
+      for (uint16_t i = 0; i < robots; ++i) {
+        Robot& robot = swarm[i];
+        if (robot.sensor < 0) continue;
+        robot.bank->Sample(world_ns, world.true_state(i), robot.feed);
+        robot.sensor_out.insert(robot.sensor_out.end(), robot.feed.bytes().begin(), robot.feed.bytes().end());
+        robot.feed.clear();
+      }
+    }
+    for (Robot& robot : swarm) Flush(robot.sensor, robot.sensor_out);
+    while (!in_flight.empty() && in_flight.begin()->first <= now) {
+      const Delivery& delivery = in_flight.begin()->second;
       if (swarm[delivery.to].radio >= 0) {
         (void)WriteAll(swarm[delivery.to].radio, delivery.bytes.data(), delivery.bytes.size());
       }
-      in_flight.pop_front();
+      in_flight.erase(in_flight.begin());
     }
     for (uint16_t i = 0; i < robots; ++i) {
       Robot& robot = swarm[i];
       uint8_t buffer[4096];
-      if (robot.radio >= 0 && (fds[2 * i].revents & (POLLIN | POLLHUP)) != 0) {
+      if (robot.sensor >= 0 && (fds[3 * i + 2].revents & (POLLIN | POLLHUP)) != 0) {
+        const ssize_t count = read(robot.sensor, buffer, sizeof buffer);
+        if (count <= 0) {
+          close(robot.sensor);
+          robot.sensor = -1;
+        }
+        for (ssize_t k = 0; k < count; ++k) {
+          if (auto drive = robot.feed.PushFromRobot(buffer[k], world_ns)) world.SetDrive(i, *drive);
+        }
+      }
+      if (robot.radio >= 0 && (fds[3 * i].revents & (POLLIN | POLLHUP)) != 0) {
         const ssize_t count = read(robot.radio, buffer, sizeof buffer);
         if (count <= 0) {
           close(robot.radio);
@@ -357,11 +550,14 @@ int main(int argc, char** argv) {
           if (frame.kind != drivers::FrameKind::kSendBeacon) continue;
           robot.beacon_ns.push_back(now);
           robot.last_boundary_ns = now;
+          robot.clock_rate.OnBeacon(now);
+          // --latency-ms is on the robots' clocks: half their round by default.
+          const int64_t due_ns = now + robot.clock_rate.ToHost(latency_ns);
           const int64_t beacon_round = robot.beacons_sent++;
           for (uint16_t to = 0; to < robots; ++to) {
             if (to == i || swarm[to].radio < 0) continue;
             ++offered;
-            if (!channel.Delivers(i, to, beacon_round, static_cast<double>(now - all_started_ns) * 1e-9)) continue;
+            if (!channel.Delivers(i, to, beacon_round, static_cast<double>(world_ns) * 1e-9)) continue;
             ++delivered;
             uint8_t wire_bytes[drivers::kMaxWireBytes];
             const auto encoded = drivers::EncodeFrame(
@@ -369,13 +565,12 @@ int main(int argc, char** argv) {
                                             std::span<const uint8_t>(frame.beacon.data(), frame.beacon_length)),
                 wire_bytes);
             if (encoded.ok()) {
-              in_flight.push_back(
-                  Delivery{now + latency_ns, to, std::vector<uint8_t>(wire_bytes, wire_bytes + encoded.value())});
+              in_flight.emplace(due_ns, Delivery{due_ns, to, std::vector<uint8_t>(wire_bytes, wire_bytes + encoded.value())});
             }
           }
         }
       }
-      if (robot.console >= 0 && (fds[2 * i + 1].revents & (POLLIN | POLLHUP)) != 0) {
+      if (robot.console >= 0 && (fds[3 * i + 1].revents & (POLLIN | POLLHUP)) != 0) {
         const ssize_t count = read(robot.console, buffer, sizeof buffer);
         if (count <= 0) {
           close(robot.console);
@@ -400,7 +595,14 @@ int main(int argc, char** argv) {
             robot.latest = *round_line;
             robot.latest_ns = now;
           } else if (const auto* epoch_line = std::get_if<swarm::EpochLine>(&parsed)) {
-            collector.OnEpochStart(epoch_line->robot, round, now - all_started_ns, epoch_line->map);
+            collector.OnEpochStart(epoch_line->robot, round, world_ns, epoch_line->map);
+            round_events.push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line->robot, replay::kNoRobot,
+                                                 epoch_line->map.epoch,
+                                                 static_cast<uint8_t>(epoch_line->map.mode), world_ns});
+            if (std::none_of(round_maps.begin(), round_maps.end(),
+                             [&](const replay::RobotMap& entry) { return entry.robot == epoch_line->robot; })) {
+              round_maps.push_back(replay::RobotMap{epoch_line->robot, lab::sim::ToEpochMap(epoch_line->map)});
+            }
             if (epoch_line->map.mode == syrof::wire::Mode::kCooperative) {
               std::vector<uint16_t>& starters = cooperative_starters[epoch_line->map.epoch];
               starters.push_back(epoch_line->robot);
@@ -413,29 +615,66 @@ int main(int argc, char** argv) {
       }
     }
     // Round ends on the host's clock: every robot's latest report.
-    while (now >= next_round_ns) {
+    while (world_ns >= next_round_ns) {
       std::vector<metrics::RobotRound> rounds(robots);
       std::vector<int64_t> boundaries;
       for (uint16_t i = 0; i < robots; ++i) {
         const Robot& robot = swarm[i];
         metrics::RobotRound& entry = rounds[i];
         entry.id = i;
-        entry.running = robot.latest.has_value() && now - robot.latest_ns < 3 * period_ns;
+        entry.running = robot.latest.has_value() &&
+                        static_cast<double>(now - robot.latest_ns) < 3 * static_cast<double>(period_ns) * host_per_world;
         if (robot.latest) {
           entry.sync_member = robot.latest->member;
           entry.member = entry.running && robot.latest->member;
           entry.epoch = robot.latest->epoch;
           entry.epoch_mode = robot.latest->mode;
           entry.phase = robot.latest->phase;
-          entry.estimate_valid = robot.latest->estimate_valid;
-          // No world: the bodies stay where the estimates say.
-          entry.true_x_m = entry.est_x_m = robot.latest->x_m;
-          entry.true_y_m = entry.est_y_m = robot.latest->y_m;
+          // Scored once the filter had its warm-up after the world started.
+          entry.estimate_valid = robot.latest->estimate_valid && (round + 1) * period_ns >= lab::sim::kEstimationWarmupNs;
+          entry.est_x_m = robot.latest->x_m;
+          entry.est_y_m = robot.latest->y_m;
         }
+        const lab::world::BodyState& body = world.state(i);
+        entry.true_x_m = body.x_m;
+        entry.true_y_m = body.y_m;
+        replay::RobotFrame& frame = frames[i];
+        frame.id = i;
+        frame.presence = entry.running ? replay::Presence::kRunning : replay::Presence::kAbsent;
+        frame.status = entry.sync_member ? 0 : 1;
+        frame.phase = static_cast<uint8_t>(entry.phase);
+        frame.mode = static_cast<uint8_t>(entry.epoch_mode);
+        frame.epoch = entry.epoch;
+        frame.true_x_m = static_cast<float>(body.x_m);
+        frame.true_y_m = static_cast<float>(body.y_m);
+        frame.true_heading_rad = static_cast<float>(body.heading_rad);
+        // The report line has no heading: the replay shows the true one.
+        frame.est_x_m = static_cast<float>(entry.est_x_m);
+        frame.est_y_m = static_cast<float>(entry.est_y_m);
+        frame.est_heading_rad = frame.true_heading_rad;
         if (entry.member && robot.last_boundary_ns > 0) boundaries.push_back(robot.last_boundary_ns - all_started_ns);
       }
       collector.OnRoundPhases(boundaries);
       collector.OnRoundEnd(round, rounds);
+      const double time_s = static_cast<double>((round + 1) * period_ns) * 1e-9;
+      if (!goal_monitor.empty()) {
+        const std::vector<lab::goals::RobotPose> poses = running_poses();
+        goal_monitor.OnRound(time_s, poses);
+        for (const replay::Event& event : round_events) {
+          if (event.kind != replay::EventKind::kEpochStart || (any_epoch && event.epoch <= newest_epoch)) continue;
+          any_epoch = true;
+          newest_epoch = event.epoch;
+          goal_monitor.OnEpoch(event.epoch, time_s, poses);
+        }
+      }
+      std::stable_sort(round_events.begin(), round_events.end(),
+                       [](const replay::Event& a, const replay::Event& b) { return a.time_ns < b.time_ns; });
+      for (replay::Event& event : round_events) event.time_ns = std::min(event.time_ns, (round + 1) * period_ns);
+      std::sort(round_maps.begin(), round_maps.end(),
+                [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
+      replay_writer.WriteRound(static_cast<uint32_t>(round), (round + 1) * period_ns, frames, round_events, round_maps);
+      round_events.clear();
+      round_maps.clear();
       ++round;
       next_round_ns += period_ns;
     }
@@ -464,13 +703,60 @@ int main(int argc, char** argv) {
   facts.sim_seconds = static_cast<double>(round) * static_cast<double>(period_ns) * 1e-9;
   facts.wall_seconds = wall_s;
   facts.radio_rounds = round;
-  facts.min_separation_m = std::numeric_limits<double>::infinity();
-  facts.goal.app = "circle";
-  facts.goal.detail = "not checked: the firmware swarm has no world (robots do not move)";
-  facts.app_name = "circle";
-  facts.app_source = "builtin:circle";
-  facts.scenario = "firmware-swarm";
+  facts.min_separation_m = world.min_separation_m();
+  facts.scenario = scenario.name;
+  facts.safety_enabled = scenario.safety;
+  // The image runs its compiled-in app (builtin:circle unless built with APP=).
+  facts.app_name = scenario.app.name;
+  facts.app_source = scenario.app.is_library() ? scenario.app.library : scenario.app.name;
+  {
+    std::vector<lab::apps::GoalPose> poses;
+    for (uint16_t id = 0; id < robots; ++id) {
+      const lab::world::BodyState& body = world.state(id);
+      poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad, true, world.body_radius_m(id)});
+    }
+    const lab::apps::GoalReport goal = lab::apps::EvaluateGoal(
+        lab::apps::BareAppName(scenario.app.name), scenario.app.params,
+        lab::apps::ArenaSize{scenario.arena.width_m, scenario.arena.height_m}, scenario.omni.body_radius_m, poses);
+    facts.goal.app = scenario.app.name;
+    facts.goal.reached = goal.reached;
+    facts.goal.error_m = goal.error_m;
+    facts.goal.detail = goal.detail;
+    if (!scenario.goal.empty()) {
+      facts.goal = lab::sim::DeclaredGoal(scenario.app.name, goal_monitor.Finish(facts.sim_seconds, running_poses()));
+    }
+  }
   const metrics::Metrics result = collector.Finish(facts);
+
+  // The replay, then read back as the viewer reads it.
+  replay_writer.Finish();
+  replay_file.close();
+  int64_t replay_rounds = 0;
+  std::string replay_problem;
+  {
+    std::ifstream in(options.out + "/replay", std::ios::binary);
+    replay::Reader reader(in);
+    replay::Header header;
+    replay::Round replay_round;
+    if (reader.ReadHeader(header)) {
+      while (reader.Next(replay_round)) ++replay_rounds;
+    }
+    if (!reader.complete()) replay_problem = reader.error().ToString();
+  }
+  if (!replay_problem.empty() || replay_rounds != round) {
+    std::fprintf(stderr, "syrof-firmware-swarm: %s/replay does not read back (%lld of %lld rounds): %s\n",
+                 options.out.c_str(), static_cast<long long>(replay_rounds), static_cast<long long>(round),
+                 replay_problem.c_str());
+    ok = false;
+  }
+  const std::optional<double> max_error_m = result.estimation.max_error_m;
+  if (options.max_estimation_error_m &&
+      (!max_error_m || result.estimation.samples == 0 || *max_error_m > *options.max_estimation_error_m)) {
+    std::fprintf(stderr, "syrof-firmware-swarm: largest estimation error %s m over %lld samples, above --max-estimation-error %g\n",
+                 max_error_m ? std::to_string(*max_error_m).c_str() : "(none)",
+                 static_cast<long long>(result.estimation.samples), *options.max_estimation_error_m);
+    ok = false;
+  }
   std::ofstream metrics_file(options.out + "/metrics.json");
   metrics_file << metrics::ToJson(result);
   if (!metrics_file.flush()) {
@@ -503,7 +789,25 @@ int main(int argc, char** argv) {
          << ",\n  \"round_start_skew\": {\"samples\": " << skew.samples << ", \"median_ms\": " << skew.median_ns * 1e-6
          << ", \"p95_ms\": " << skew.p95_ns * 1e-6 << ", \"max_ms\": " << skew.max_ns * 1e-6 << "}"
          << ",\n  \"beacons\": {\"offered\": " << offered << ", \"delivered\": " << delivered
-         << ", \"link_errors\": " << link_errors << "},\n  \"exit_statuses\": [";
+         << ", \"link_errors\": " << link_errors << "}";
+  swarm::SensorFeedCounters sensor_totals;
+  uint64_t sensor_rejected = 0;
+  for (const Robot& robot : swarm) {
+    sensor_totals.imu += robot.feed.counters().imu;
+    sensor_totals.flow += robot.feed.counters().flow;
+    sensor_totals.uwb += robot.feed.counters().uwb;
+    sensor_totals.not_encoded += robot.feed.counters().not_encoded;
+    sensor_totals.drives += robot.feed.counters().drives;
+    sensor_rejected += robot.feed.link_counters().rejected;
+  }
+  report << ",\n  \"sensor_link\": {\"imu\": " << sensor_totals.imu << ", \"flow\": " << sensor_totals.flow
+         << ", \"uwb\": " << sensor_totals.uwb << ", \"not_encoded\": " << sensor_totals.not_encoded
+         << ", \"drives\": " << sensor_totals.drives << ", \"rejected_from_robots\": " << sensor_rejected << "}"
+         << ",\n  \"scenario\": \"" << scenario.name << "\", \"replay_rounds\": " << replay_rounds
+         << ",\n  \"estimation\": {\"samples\": " << result.estimation.samples << ", \"rmse_m\": "
+         << (result.estimation.position_rmse_m ? std::to_string(*result.estimation.position_rmse_m) : std::string("null"))
+         << ", \"max_m\": " << (max_error_m ? std::to_string(*max_error_m) : std::string("null")) << "}"
+         << ",\n  \"exit_statuses\": [";
   for (uint16_t i = 0; i < robots; ++i) report << (i ? ", " : "") << swarm[i].exit_status;
   report << "]\n}\n";
 
@@ -519,6 +823,18 @@ int main(int argc, char** argv) {
               skew.median_ns * 1e-6, skew.p95_ns * 1e-6, skew.max_ns * 1e-6, static_cast<long long>(skew.samples));
   std::printf("  beacons offered %lld, delivered %lld; radio-link errors %lld\n", static_cast<long long>(offered),
               static_cast<long long>(delivered), static_cast<long long>(link_errors));
+  std::printf("  scenario %s; sensor link: %lld IMU, %lld flow, %lld UWB frames sent, %lld drive commands back\n",
+              scenario.name.c_str(), static_cast<long long>(sensor_totals.imu),
+              static_cast<long long>(sensor_totals.flow), static_cast<long long>(sensor_totals.uwb),
+              static_cast<long long>(sensor_totals.drives));
+  std::printf("  estimation error over %lld samples: RMSE %s m, max %s m; collisions %lld; goal %s (%s)\n",
+              static_cast<long long>(result.estimation.samples),
+              result.estimation.position_rmse_m ? std::to_string(*result.estimation.position_rmse_m).c_str() : "-",
+              max_error_m ? std::to_string(*max_error_m).c_str() : "-",
+              static_cast<long long>(result.collisions.count), result.goal.reached ? "reached" : "not reached",
+              result.goal.detail.c_str());
+  std::printf("  %s/replay: %lld rounds%s\n", options.out.c_str(), static_cast<long long>(replay_rounds),
+              replay_problem.empty() ? "" : (", " + replay_problem).c_str());
   for (uint16_t i = 0; i < robots; ++i) {
     std::printf("  robot %u: exit %d, %s\n", static_cast<unsigned>(i), swarm[i].exit_status,
                 swarm[i].last_status.c_str());

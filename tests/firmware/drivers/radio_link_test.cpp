@@ -1,4 +1,4 @@
-// The radio link's framing: round trips of every kind, the encoder's
+// The radio link's framing (and the sensor link's kinds): round trips of every kind, the encoder's
 // refusals, the decoder's rejections (each LinkError), and resynchronisation
 // after garbage and corruption.
 #include "syrof/firmware/drivers/radio_link.h"
@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -76,10 +77,39 @@ std::vector<uint8_t> SampleBeacon(size_t length) {
   return beacon;
 }
 
+ImuPayload SampleImu() {
+  ImuPayload imu;
+  imu.accel_g = {0.012f, -0.25f, 1.0f};
+  imu.gyro_dps = {0.0f, -0.0f, 37.5f};
+  return imu;
+}
+
+UwbPayload SampleUwb() {
+  UwbPayload uwb;
+  uwb.valid_mask = 0x0B;  // anchors 0, 1, 3
+  uwb.sweep = 0;
+  uwb.range_mm = {1414, 65535, 0, 2830, 0, 0, 0, 0};
+  return uwb;
+}
+
+DrivePayload SampleDrive() {
+  DrivePayload drive;
+  drive.vx_mps = 0.25f;
+  drive.vy_mps = -0.125f;
+  drive.yaw_rate_radps = 1e-30f;
+  return drive;
+}
+
 std::vector<Frame> EveryKind() {
   const std::vector<uint8_t> beacon = SampleBeacon(29);
-  return {MakeSendBeacon(7, beacon), MakeReceivedBeacon(200, -87, beacon), MakeSendDone(7, SendStatus::kBusy),
-          MakeHello(0)};
+  return {MakeSendBeacon(7, beacon),
+          MakeReceivedBeacon(200, -87, beacon),
+          MakeSendDone(7, SendStatus::kBusy),
+          MakeHello(0),
+          MakeImu(1, SampleImu()),
+          MakeFlow(2, FlowPayload{20'000'000, -3, 32767}),
+          MakeUwb(3, SampleUwb()),
+          MakeDrive(255, SampleDrive())};
 }
 
 TEST(RadioLinkTest, Crc16HasTheCatalogueCheckValue) {
@@ -149,6 +179,46 @@ TEST(RadioLinkTest, EncoderRefusesWhatTheDecoderWouldReject) {
   const size_t needed = Encoded(frame).size();
   std::vector<uint8_t> short_out(needed - 1);
   EXPECT_EQ(EncodeFrame(frame, short_out).error(), LinkError::kBufferTooSmall);
+}
+
+TEST(RadioLinkTest, SensorLinkRefusesNonFiniteFloatsZeroIntervalsAndUnknownDriveKinds) {
+  std::array<uint8_t, kMaxWireBytes> out{};
+  ImuPayload imu = SampleImu();
+  imu.gyro_dps[2] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(EncodeFrame(MakeImu(1, imu), out).error(), LinkError::kBadField);
+  EXPECT_EQ(EncodeFrame(MakeFlow(1, FlowPayload{0, 1, 1}), out).error(), LinkError::kBadField);
+  DrivePayload drive = SampleDrive();
+  drive.right_mps = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(EncodeFrame(MakeDrive(1, drive), out).error(), LinkError::kBadField);
+  drive = SampleDrive();
+  drive.kind = 2;
+  EXPECT_EQ(EncodeFrame(MakeDrive(1, drive), out).error(), LinkError::kBadField);
+
+  // The same values as a sender that skipped the checks would write them.
+  std::vector<uint8_t> nan_imu = {5, 1};
+  for (int i = 0; i < 6; ++i) nan_imu.insert(nan_imu.end(), {0x7F, 0xC0, 0x00, 0x00});
+  std::vector<uint8_t> wheels_kind_two = {8, 1, 2};
+  wheels_kind_two.insert(wheels_kind_two.end(), 20, 0x00);
+  std::vector<uint8_t> short_uwb = {7, 1, 0x01, 0x00, 0x05};
+  const std::vector<std::pair<std::vector<uint8_t>, LinkError>> cases = {
+      {nan_imu, LinkError::kBadField},
+      {{6, 1, 0, 0, 0, 0, 0, 1, 0, 1}, LinkError::kBadField},  // flow interval 0
+      {wheels_kind_two, LinkError::kBadField},
+      {short_uwb, LinkError::kBadLength},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    FrameDecoder decoder;
+    EXPECT_EQ(Push(decoder, Stuffed(WithCrc(cases[i].first))).errors, std::vector<LinkError>{cases[i].second})
+        << "case " << i;
+  }
+}
+
+TEST(RadioLinkTest, SensorLinkFieldsAreBigEndian) {
+  const std::vector<uint8_t> bytes = Encoded(MakeFlow(9, FlowPayload{0x01020304, 0x0506, -2}));
+  // 0x00, COBS code, kind 6, sequence 9, interval, dx, dy, CRC, 0x00: no zero in this body.
+  ASSERT_EQ(bytes.size(), 2u + 1 + 12);
+  const std::vector<uint8_t> payload(bytes.begin() + 4, bytes.begin() + 12);
+  EXPECT_EQ(payload, (std::vector<uint8_t>{0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0xFF, 0xFE}));
 }
 
 TEST(RadioLinkTest, DecoderNamesEachMalformedFrame) {

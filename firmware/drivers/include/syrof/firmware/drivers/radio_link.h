@@ -1,5 +1,9 @@
 // The radio link: frames between the robot's Cortex-M4 and its nRF51822
-// over a UART. Spec and rationale: docs/radio-link.md.
+// over a UART. Spec and rationale: docs/radio-link.md. The emulated swarm's
+// sensor link (a second UART between a qemu robot and the host that plays
+// the world) uses the same framing with four more kinds: IMU, flow and UWB
+// readings to the robot, its drive command back (sensor_frames.h converts
+// them to and from the estimator's and the motion task's messages).
 //
 // A frame's body is [kind][sequence][payload][CRC-16, big-endian], the CRC
 // (CRC-16/GENIBUS: polynomial 0x1021, initial 0xFFFF, no reflection, final
@@ -53,6 +57,52 @@ enum class FrameKind : uint8_t {
   kReceivedBeacon = 2,  ///< radio -> M4: a beacon heard, with its RSSI
   kSendDone = 3,        ///< radio -> M4: what became of the kSendBeacon with this sequence
   kHello = 4,           ///< both ways: the sender (re)started; carries kRadioLinkVersion
+  // The sensor link (emulated swarm): world -> M4 readings, M4 -> world drive.
+  kImu = 5,    ///< world -> M4: one IMU sample (ImuPayload)
+  kFlow = 6,   ///< world -> M4: one optical-flow reading (FlowPayload)
+  kUwb = 7,    ///< world -> M4: one UWB sweep (UwbPayload)
+  kDrive = 8,  ///< M4 -> world: the motion task's drive command (DrivePayload)
+};
+
+/// Anchors a kUwb frame carries (estimation::kMaxAnchors).
+inline constexpr size_t kLinkAnchors = 8;
+
+/// kImu's payload: an MPU-9250 sample in the estimator's units (each an
+/// IEEE-754 binary32, big-endian on the wire; finite). No timestamp: the
+/// receiver stamps a reading with its own clock when it arrives.
+struct ImuPayload {
+  std::array<float, 3> accel_g{};   ///< body x, y, z, g
+  std::array<float, 3> gyro_dps{};  ///< body x, y, z, deg/s, counter-clockwise positive
+  friend bool operator==(const ImuPayload&, const ImuPayload&) = default;
+};
+
+/// kFlow's payload.
+struct FlowPayload {
+  uint32_t interval_ns = 1;  ///< the interval the deltas cover, > 0
+  int16_t delta_x_px = 0;    ///< body x, pixels
+  int16_t delta_y_px = 0;    ///< body y, pixels
+  friend bool operator==(const FlowPayload&, const FlowPayload&) = default;
+};
+
+/// kUwb's payload: a sweep's ranges in whole millimetres (0 .. 65.535 m; the
+/// DWM1000 resolves about 4.7 mm), in the arena's anchor order.
+struct UwbPayload {
+  uint8_t valid_mask = 0;  ///< bit i: range_mm[i] is a fresh range
+  uint8_t sweep = 0;       ///< the sender's sweep counter, low 8 bits
+  std::array<uint16_t, kLinkAnchors> range_mm{};
+  friend bool operator==(const UwbPayload&, const UwbPayload&) = default;
+};
+
+/// kDrive's payload: motion::DriveCommand without its timestamp (binary32s
+/// big-endian, finite; the fields of the other kind zero).
+struct DrivePayload {
+  uint8_t kind = 0;  ///< motion::DriveKind: 0 omni, 1 wheels
+  float vx_mps = 0;  ///< omni: arena frame, m/s
+  float vy_mps = 0;
+  float yaw_rate_radps = 0;
+  float left_mps = 0;  ///< wheels: ground speeds, m/s
+  float right_mps = 0;
+  friend bool operator==(const DrivePayload&, const DrivePayload&) = default;
 };
 
 /// kSendDone's outcome.
@@ -72,6 +122,10 @@ struct Frame {
   uint8_t version = 0;                 ///< kHello
   uint8_t beacon_length = 0;           ///< kSendBeacon, kReceivedBeacon: 1 .. kMaxLinkBeaconBytes
   std::array<uint8_t, kMaxLinkBeaconBytes> beacon{};  ///< the first beacon_length bytes in use
+  ImuPayload imu{};      ///< kImu
+  FlowPayload flow{};    ///< kFlow
+  UwbPayload uwb{};      ///< kUwb
+  DrivePayload drive{};  ///< kDrive
 
   friend bool operator==(const Frame&, const Frame&) = default;
 };
@@ -82,7 +136,7 @@ enum class [[nodiscard]] LinkError : uint8_t {
   kBufferTooSmall,  ///< encoder: output shorter than the frame (size it kMaxWireBytes)
   kUnknownKind,     ///< the kind byte names no FrameKind
   kBadLength,       ///< the payload's length does not fit the kind (an empty or over-long beacon, too)
-  kBadField,        ///< a field's value is out of range (send status, version)
+  kBadField,        ///< a field's value is out of range (send status, version, a non-finite float, a zero flow interval, a drive kind)
   kCrcMismatch,     ///< the CRC does not match the body
   kBadStuffing,     ///< the COBS structure ends inside a block
   kFrameTooLong,    ///< more bytes between delimiters than the longest frame
@@ -104,11 +158,16 @@ Frame MakeSendBeacon(uint8_t sequence, std::span<const uint8_t> beacon);
 Frame MakeReceivedBeacon(uint8_t sequence, int8_t rssi_dbm, std::span<const uint8_t> beacon);
 Frame MakeSendDone(uint8_t sequence, SendStatus status);
 Frame MakeHello(uint8_t sequence);
+Frame MakeImu(uint8_t sequence, const ImuPayload& imu);
+Frame MakeFlow(uint8_t sequence, const FlowPayload& flow);
+Frame MakeUwb(uint8_t sequence, const UwbPayload& uwb);
+Frame MakeDrive(uint8_t sequence, const DrivePayload& drive);
 
 /// Writes `frame` as it goes on the wire (0x00, stuffed body, 0x00) into
 /// `out` and returns the number of bytes. Errors: kUnknownKind, kBadLength
-/// (beacon_length 0 or above kMaxLinkBeaconBytes), kBadField (a send status
-/// or a version the decoder would reject), kBufferTooSmall. The decoder
+/// (beacon_length 0 or above kMaxLinkBeaconBytes), kBadField (a send status,
+/// version, float, flow interval or drive kind the decoder would reject),
+/// kBufferTooSmall. The decoder
 /// accepts exactly what this writes.
 base::Result<size_t, LinkError> EncodeFrame(const Frame& frame, std::span<uint8_t> out);
 
@@ -129,7 +188,7 @@ struct LinkCounters {
 
 /// The streaming decoder: one byte at a time, from the UART's receive
 /// interrupt. O(1) per byte (the CRC runs as the bytes come), no allocation,
-/// 136 bytes of state on the Cortex-M4.
+/// 208 bytes of state on the Cortex-M4 (the sensor link's payloads included).
 ///
 /// Resynchronisation: after construction, Reset() or a frame too long, the
 /// decoder discards bytes until a 0x00; every 0x00 ends the frame in
