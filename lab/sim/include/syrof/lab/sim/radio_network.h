@@ -46,7 +46,8 @@ namespace syrof::lab::sim {
 /// Who receives: the engine's robots, or a test's recorder.
 class BeaconReceivers {
  public:
-  /// Whether `robot` is on and hears the radio now (not crashed, paused or absent).
+  /// Whether `robot` is on and hears the radio now (not crashed, paused or
+  /// absent). Deliver() asks once per robot, before it hands any beacon over.
   virtual bool Listening(uint16_t robot) const = 0;
   /// Hands `beacon` to `robot`; valid until the sender's next delivery.
   virtual void Receive(uint16_t robot, const wire::Beacon& beacon) = 0;
@@ -124,6 +125,7 @@ class RadioNetwork {
   std::vector<wire::Beacon> outbox_;
   std::vector<uint8_t> sent_;
   std::vector<wire::Beacon> inflight_;
+  std::vector<uint8_t> listening_;  // Deliver's scratch: BeaconReceivers::Listening per robot
   std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes_{};
   uint64_t beacons_malformed_ = 0;
 };
