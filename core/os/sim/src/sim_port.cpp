@@ -8,8 +8,8 @@
 namespace syrof::os {
 namespace {
 
-// Children per node of the activation heap.
-constexpr size_t kHeapArity = 4;
+// Children per node of the activation heap (sim_port.h says why 2).
+constexpr size_t kHeapArity = 2;
 
 // Whether `a` runs before `b`: earlier, then higher priority, then
 // registered first (the order documented in sim_port.h).
