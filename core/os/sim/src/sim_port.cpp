@@ -8,6 +8,9 @@
 namespace syrof::os {
 namespace {
 
+// Children per node of the activation heap (sim_port.h says why 2).
+constexpr size_t kHeapArity = 2;
+
 // Whether `a` runs before `b`: earlier, then higher priority, then
 // registered first (the order documented in sim_port.h).
 template <typename Activation>
@@ -42,13 +45,15 @@ void SimScheduler::Schedule(uint32_t task_index, int64_t time_ns) {
 
 void SimScheduler::CancelPort(const SimPort& port) {
   const auto belongs_to_port = [&](const Activation& activation) {
-    return tasks_[activation.task_index].port == &port;
+    return tasks_[activation.task_index()].port == &port;
   };
   for (const Activation& activation : heap_) {
-    if (belongs_to_port(activation)) tasks_[activation.task_index].pending = false;
+    if (belongs_to_port(activation)) tasks_[activation.task_index()].pending = false;
   }
   heap_.erase(std::remove_if(heap_.begin(), heap_.end(), belongs_to_port), heap_.end());
-  for (size_t position = heap_.size() / 2; position-- > 0;) SiftDown(position);
+  for (size_t position = heap_.size() / kHeapArity + 1; position-- > 0;) {
+    if (position < heap_.size()) SiftDown(position);
+  }
 }
 
 int64_t SimScheduler::next_activation_ns() const { return heap_.empty() ? -1 : heap_.front().time_ns; }
@@ -56,7 +61,7 @@ int64_t SimScheduler::next_activation_ns() const { return heap_.empty() ? -1 : h
 bool SimScheduler::RunNext() {
   if (heap_.empty()) return false;
   const Activation activation = heap_.front();
-  TaskRecord& record = tasks_[activation.task_index];
+  TaskRecord& record = tasks_[activation.task_index()];
   SYROF_CHECK(activation.time_ns >= now_ns_);
   now_ns_ = activation.time_ns;
 
@@ -70,7 +75,7 @@ bool SimScheduler::RunNext() {
   if (record.config.trigger.kind == TriggerKind::kPeriodic) {
     step_now_ns = record.local_due_ns;
     record.local_due_ns += record.config.trigger.period_ns;
-    heap_.front() = MakeActivation(activation.task_index, record.port->TrueFromLocal(record.local_due_ns));
+    heap_.front() = MakeActivation(activation.task_index(), record.port->TrueFromLocal(record.local_due_ns));
     SiftDown(0);
   } else {
     record.pending = false;
@@ -86,13 +91,13 @@ bool SimScheduler::RunNext() {
 
 SimScheduler::Activation SimScheduler::MakeActivation(uint32_t task_index, int64_t time_ns) const {
   const uint64_t rank = 255u - tasks_[task_index].config.priority;
-  return Activation{time_ns, (rank << 32) | task_index, task_index};
+  return Activation{time_ns, (rank << 32) | task_index};
 }
 
 void SimScheduler::SiftUp(size_t position) {
   const Activation moving = heap_[position];
   while (position > 0) {
-    const size_t parent = (position - 1) / 2;
+    const size_t parent = (position - 1) / kHeapArity;
     if (!RunsFirst(moving, heap_[parent])) break;
     heap_[position] = heap_[parent];
     position = parent;
@@ -104,9 +109,13 @@ void SimScheduler::SiftDown(size_t position) {
   const Activation moving = heap_[position];
   const size_t size = heap_.size();
   for (;;) {
-    size_t child = 2 * position + 1;
-    if (child >= size) break;
-    if (child + 1 < size && RunsFirst(heap_[child + 1], heap_[child])) ++child;
+    const size_t first_child = kHeapArity * position + 1;
+    if (first_child >= size) break;
+    const size_t end = std::min(first_child + kHeapArity, size);
+    size_t child = first_child;
+    for (size_t other = first_child + 1; other < end; ++other) {
+      if (RunsFirst(heap_[other], heap_[child])) child = other;
+    }
     if (!RunsFirst(heap_[child], moving)) break;
     heap_[position] = heap_[child];
     position = child;
@@ -116,12 +125,12 @@ void SimScheduler::SiftDown(size_t position) {
 
 void SimScheduler::Reschedule(uint32_t task_index, int64_t time_ns) {
   for (size_t position = 0; position < heap_.size(); ++position) {
-    if (heap_[position].task_index != task_index) continue;
+    if (heap_[position].task_index() != task_index) continue;
     heap_[position] = MakeActivation(task_index, time_ns);
     SiftUp(position);
     // SiftUp may have moved it; find it again before sifting down.
     for (size_t again = 0; again < heap_.size(); ++again) {
-      if (heap_[again].task_index == task_index) {
+      if (heap_[again].task_index() == task_index) {
         SiftDown(again);
         break;
       }

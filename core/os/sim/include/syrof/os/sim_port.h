@@ -81,19 +81,23 @@ class SimScheduler {
     int64_t local_due_ns;  // periodic: the pending activation, in the port's local time
   };
   // Ordered by (time_ns, order): order packs "higher priority first, then
-  // earlier registration" into one integer, so a comparison is two.
+  // earlier registration" into one integer, so a comparison is two; 16
+  // bytes, the task index read from the order's low half.
   struct Activation {
     int64_t time_ns;
-    uint64_t order;       // (255 - priority) << 32 | task_index
-    uint32_t task_index;  // into tasks_
+    uint64_t order;  // (255 - priority) << 32 | task_index (into tasks_)
+    uint32_t task_index() const { return static_cast<uint32_t>(order); }
   };
 
   base::Result<uint32_t, PortError> RegisterTask(SimPort& port, Task& task, const TaskConfig& config,
                                                   TaskId local_id);
   void Schedule(uint32_t task_index, int64_t time_ns);
   Activation MakeActivation(uint32_t task_index, int64_t time_ns) const;
-  // A binary min-heap on (time_ns, order), written out so that a periodic
-  // task's next activation replaces the one just taken in a single pass.
+  // A min-heap on (time_ns, order), written out so that a periodic task's
+  // next activation replaces the one just taken in a single pass. Each task
+  // has at most one activation and order is unique per task, so any heap
+  // pops the same sequence (the arity, kHeapArity in sim_port.cpp, is 2: a
+  // 4-ary heap ran 20% more instructions at 100 robots).
   void SiftUp(size_t position);
   void SiftDown(size_t position);
   void CancelPort(const SimPort& port);

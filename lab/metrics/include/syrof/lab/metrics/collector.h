@@ -202,6 +202,7 @@ class Collector {
   MixedModeTotals mixed_;
   PhaseHistogram phase_run_;
   PhaseHistogram phase_residual_;
+  std::vector<int64_t> phase_residues_;   // OnRoundPhases' scratch: each boundary modulo the round
   int64_t phase_rounds_ = 0;
   int64_t phase_round_index_ = 0;         // OnRoundPhases calls
   std::optional<int64_t> phase_converged_;  // OnRoundPhases call that began the aligned stretch

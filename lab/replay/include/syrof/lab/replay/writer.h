@@ -76,6 +76,7 @@ class Writer {
   std::vector<std::shared_ptr<const EpochMap>> latest_;  // per header robot: its last map written
   std::vector<uint64_t> latest_hash_;      // per header robot: MapHash of latest_
   std::unordered_multimap<uint64_t, size_t> by_hash_;  // MapHash -> slots holding such a map
+  std::vector<size_t> candidates_;         // PutMap's scratch: slots whose map has the new map's hash
   bool any_round_ = false;
   uint32_t last_index_ = 0;
   int64_t last_time_ns_ = 0;

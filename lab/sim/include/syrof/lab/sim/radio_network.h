@@ -7,15 +7,16 @@
 //      beacon waits in the sender's outbox slot (one per robot; a second
 //      broadcast in the same round replaces the first);
 //   2. at the end of round r + 1 (before the round tasks of that instant),
-//      Deliver() takes every waiting beacon in sender order, encodes and
+//      Deliver() takes every waiting beacon in sender order and encodes and
 //      decodes it once (the wire format is exercised on every beacon; a
-//      beacon that does not survive is counted in beacons_malformed()), and
-//      hands the decoded beacon by address to every other receiver that is
-//      listening and that the channel lets hear it, in receiver order;
+//      beacon that does not survive is counted in beacons_malformed()); then,
+//      receiver by receiver, it hands each listening receiver every decoded
+//      beacon the channel lets it hear, by address, in sender order;
 //   3. the receivers' round tasks step with it. The decoded beacon stays in
 //      flight (valid) until the sender's next delivery.
 // Determinism: the channel's draws depend on (seed, round, link) only, and
-// deliveries go in (sender, receiver) order.
+// deliveries go in (receiver, sender) order: each receiver gets its beacons
+// of the round in one run of calls, in sender order.
 //
 // With real clocks (UseClocks, docs/clocks.md) rounds no longer share
 // boundaries, so a beacon travels when it is sent instead: Broadcast encodes
@@ -46,7 +47,8 @@ namespace syrof::lab::sim {
 /// Who receives: the engine's robots, or a test's recorder.
 class BeaconReceivers {
  public:
-  /// Whether `robot` is on and hears the radio now (not crashed, paused or absent).
+  /// Whether `robot` is on and hears the radio now (not crashed, paused or
+  /// absent). Deliver() asks once per robot, before it hands any beacon over.
   virtual bool Listening(uint16_t robot) const = 0;
   /// Hands `beacon` to `robot`; valid until the sender's next delivery.
   virtual void Receive(uint16_t robot, const wire::Beacon& beacon) = 0;
@@ -124,6 +126,12 @@ class RadioNetwork {
   std::vector<wire::Beacon> outbox_;
   std::vector<uint8_t> sent_;
   std::vector<wire::Beacon> inflight_;
+  std::vector<uint8_t> listening_;  // Deliver's scratch: BeaconReceivers::Listening per robot
+  struct Sent {
+    uint16_t sender;
+    bool mute;  // nobody hears it (a mute fault), though the channel still draws
+  };
+  std::vector<Sent> senders_;  // Deliver's scratch: this round's decoded beacons, in sender order
   std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes_{};
   uint64_t beacons_malformed_ = 0;
 };
