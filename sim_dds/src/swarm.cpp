@@ -751,13 +751,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
                                         robots[id].presence == replay::Presence::kRunning && !robots[id].app_faulted,
                                         world.body_radius_m(id)});
   }
-  const lab::apps::GoalReport goal = lab::apps::EvaluateGoal(
-      lab::apps::BareAppName(sc.app.name), sc.app.params, lab::apps::ArenaSize{sc.arena.width_m, sc.arena.height_m},
-      sc.omni.body_radius_m, poses);
-  facts.goal.app = sc.app.name;
-  facts.goal.reached = goal.reached;
-  facts.goal.error_m = goal.error_m;
-  facts.goal.detail = goal.detail;
+  facts.goal = lab::sim::BuiltinGoal(sc, poses);
   if (!sc.goal.empty()) {
     facts.goal = lab::sim::DeclaredGoal(sc.app.name, goal_monitor.Finish(facts.sim_seconds, running_poses(nullptr)));
   }

@@ -715,13 +715,7 @@ int main(int argc, char** argv) {
       const lab::world::BodyState& body = world.state(id);
       poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad, true, world.body_radius_m(id)});
     }
-    const lab::apps::GoalReport goal = lab::apps::EvaluateGoal(
-        lab::apps::BareAppName(scenario.app.name), scenario.app.params,
-        lab::apps::ArenaSize{scenario.arena.width_m, scenario.arena.height_m}, scenario.omni.body_radius_m, poses);
-    facts.goal.app = scenario.app.name;
-    facts.goal.reached = goal.reached;
-    facts.goal.error_m = goal.error_m;
-    facts.goal.detail = goal.detail;
+    facts.goal = lab::sim::BuiltinGoal(scenario, poses);
     if (!scenario.goal.empty()) {
       facts.goal = lab::sim::DeclaredGoal(scenario.app.name, goal_monitor.Finish(facts.sim_seconds, running_poses()));
     }

@@ -7,6 +7,7 @@
 
 #include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
+#include "syrof/lab/apps/catalog.h"
 
 namespace syrof::lab::sim {
 
@@ -50,6 +51,18 @@ std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
                                              snapshot.vy_mm_s, std::vector<uint8_t>(payload.begin(), payload.end())});
   }
   return map;
+}
+
+metrics::GoalResult BuiltinGoal(const scenario::Scenario& scenario, const std::vector<apps::GoalPose>& poses) {
+  const apps::GoalReport goal = apps::EvaluateGoal(apps::BareAppName(scenario.app.name), scenario.app.params,
+                                                   apps::ArenaSize{scenario.arena.width_m, scenario.arena.height_m},
+                                                   scenario.omni.body_radius_m, poses);
+  metrics::GoalResult result;
+  result.app = scenario.app.name;
+  result.reached = goal.reached;
+  result.error_m = goal.error_m;
+  result.detail = goal.detail;
+  return result;
 }
 
 metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals::CheckResult>& results) {

@@ -531,10 +531,6 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
     poses.push_back(apps::GoalPose{robot->id(), body.x_m, body.y_m, body.heading_rad,
                                    robot->presence == replay::Presence::kRunning, world_.body_radius_m(robot->id())});
   }
-  const apps::GoalReport goal =
-      apps::EvaluateGoal(apps::BareAppName(scenario_.app.name), scenario_.app.params,
-                         apps::ArenaSize{scenario_.arena.width_m, scenario_.arena.height_m},
-                         scenario_.omni.body_radius_m, poses);
 
   metrics::RunFacts facts;
   facts.seed = scenario_.seed;
@@ -548,10 +544,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
   facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
   facts.app_sandbox = options_.app_sandbox;
-  facts.goal.app = scenario_.app.name;
-  facts.goal.reached = goal.reached;
-  facts.goal.error_m = goal.error_m;
-  facts.goal.detail = goal.detail;
+  facts.goal = BuiltinGoal(scenario_, poses);
   if (!scenario_.goal.empty()) facts.goal = DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(now_s(), RunningPoses()));
   RunReport report;
   report.metrics = collector_.Finish(facts);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/apps/goal.h"
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/replay.h"
@@ -50,6 +51,10 @@ std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap);
 /// metrics.json's `goal` from the scenario's checks: reached when every
 /// check passed; the detail names the first that failed.
 metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals::CheckResult>& results);
+
+/// metrics.json's `goal` from the built-in app's own goal (apps::EvaluateGoal)
+/// for the robots' final true poses; for a library app, not judged.
+metrics::GoalResult BuiltinGoal(const scenario::Scenario& scenario, const std::vector<apps::GoalPose>& poses);
 
 /// The queries' scratch memory (syrof/queries.h's workspace), owned. The lab
 /// shares one among every app of a run (it runs one callback at a time, and
