@@ -731,17 +731,10 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     result.robot_exits.push_back(r.exit);
   }
 
-  lab::metrics::RunFacts facts;
-  facts.seed = sc.seed;
-  facts.robots = n;
+  lab::metrics::RunFacts facts = lab::sim::ScenarioFacts(sc, world);
   facts.sim_seconds = static_cast<double>(step_ns) * 1e-9;
   facts.wall_seconds = wall_seconds;
   facts.radio_rounds = last_round;
-  facts.min_separation_m = world.min_separation_m();
-  facts.scenario = sc.name;
-  facts.safety_enabled = sc.safety;
-  facts.app_name = sc.app.name;
-  facts.app_source = sc.app.is_library() ? sc.app.library : sc.app.name;
   // The built-in app's goal from the final true poses, as the lab does, or
   // the scenario's declared checks (goal:), sampled on the recorded rounds.
   std::vector<lab::apps::GoalPose> poses;

@@ -697,18 +697,11 @@ int main(int argc, char** argv) {
   rmdir(socket_dir);
   const double wall_s = static_cast<double>(HostNs() - start_ns) * 1e-9;
 
-  metrics::RunFacts facts;
-  facts.seed = options.seed;
-  facts.robots = robots;
+  // The image runs its compiled-in app (builtin:circle unless built with APP=).
+  metrics::RunFacts facts = lab::sim::ScenarioFacts(scenario, world);
   facts.sim_seconds = static_cast<double>(round) * static_cast<double>(period_ns) * 1e-9;
   facts.wall_seconds = wall_s;
   facts.radio_rounds = round;
-  facts.min_separation_m = world.min_separation_m();
-  facts.scenario = scenario.name;
-  facts.safety_enabled = scenario.safety;
-  // The image runs its compiled-in app (builtin:circle unless built with APP=).
-  facts.app_name = scenario.app.name;
-  facts.app_source = scenario.app.is_library() ? scenario.app.library : scenario.app.name;
   {
     std::vector<lab::apps::GoalPose> poses;
     for (uint16_t id = 0; id < robots; ++id) {

@@ -53,6 +53,18 @@ std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
   return map;
 }
 
+metrics::RunFacts ScenarioFacts(const scenario::Scenario& scenario, const world::World& world) {
+  metrics::RunFacts facts;
+  facts.seed = scenario.seed;
+  facts.robots = static_cast<uint16_t>(scenario.robots.size());
+  facts.min_separation_m = world.min_separation_m();
+  facts.scenario = scenario.name;
+  facts.safety_enabled = scenario.safety;
+  facts.app_name = scenario.app.name;
+  facts.app_source = scenario.app.is_library() ? scenario.app.library : scenario.app.name;
+  return facts;
+}
+
 metrics::GoalResult BuiltinGoal(const scenario::Scenario& scenario, const std::vector<apps::GoalPose>& poses) {
   const apps::GoalReport goal = apps::EvaluateGoal(apps::BareAppName(scenario.app.name), scenario.app.params,
                                                    apps::ArenaSize{scenario.arena.width_m, scenario.arena.height_m},

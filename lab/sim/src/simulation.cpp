@@ -532,15 +532,11 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
                                    robot->presence == replay::Presence::kRunning, world_.body_radius_m(robot->id())});
   }
 
-  metrics::RunFacts facts;
-  facts.seed = scenario_.seed;
+  metrics::RunFacts facts = ScenarioFacts(scenario_, world_);
   facts.robots = static_cast<uint16_t>(robots_.size());
   facts.sim_seconds = static_cast<double>(scheduler_.now_ns()) * 1e-9;
   facts.wall_seconds = wall_seconds;
   facts.radio_rounds = static_cast<int64_t>(scheduler_.now_ns() / radio_round_ns_);
-  facts.min_separation_m = world_.min_separation_m();
-  facts.scenario = scenario_.name;
-  facts.safety_enabled = scenario_.safety;
   facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
   facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
   facts.app_sandbox = options_.app_sandbox;

@@ -52,6 +52,12 @@ std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap);
 /// check passed; the detail names the first that failed.
 metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals::CheckResult>& results);
 
+/// metrics.json's run facts that a run of `scenario` takes from it and from
+/// its world at the end: seed, robots, scenario name, safety, the app's name
+/// and source ("builtin:NAME" or the library), the smallest separation. The
+/// runtime adds its times, rounds and goal.
+metrics::RunFacts ScenarioFacts(const scenario::Scenario& scenario, const world::World& world);
+
 /// metrics.json's `goal` from the built-in app's own goal (apps::EvaluateGoal)
 /// for the robots' final true poses; for a library app, not judged.
 metrics::GoalResult BuiltinGoal(const scenario::Scenario& scenario, const std::vector<apps::GoalPose>& poses);
