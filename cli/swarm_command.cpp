@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "exit_status.h"
+#include "usage.h"
 #include "run_summary.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/sim_dds/swarm.h"
@@ -33,7 +34,7 @@ CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
   swarm->add_option("--seed", options.seed, "Seed instead of the scenario's");
   swarm->add_option("--robots", options.robots, "Robot count instead of the scenario's")->check(CLI::Range(1, 110));
   swarm->add_option("--duration", options.duration_s, "Seconds (wall clock) instead of the scenario's")
-      ->check(CLI::PositiveNumber);
+      ->check(DurationValidator());
   swarm->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>-dds)");
   swarm->add_option("--interface", options.interface,
                     "Network interface for DDS: lo keeps the swarm on this machine (default lo)");
