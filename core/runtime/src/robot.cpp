@@ -267,6 +267,7 @@ void Robot::RunRound(int64_t now_ns) {
   const int64_t gap_rounds =
       (now_ns - last_round_ns_ - last_shift_ns_ + config_.radio_round_ns / 2) / config_.radio_round_ns;
   const int64_t round_start_ns = last_round_ns_;
+  const int64_t unseen_shift_ns = last_shift_ns_;  // moved the boundary now passing, after this round's beacons left
   last_shift_ns_ = 0;
   last_round_ns_ = now_ns;
   ++counters_.rounds;
@@ -288,7 +289,7 @@ void Robot::RunRound(int64_t now_ns) {
   sync::Step(config_.sync, state_, std::span<const wire::Beacon* const>(inbox_.data(), inbox_count_), input, out_,
              ldmap_);
   counters_.beacons_stepped += static_cast<uint32_t>(inbox_count_);
-  if (aligned_gap) AlignRound(now_ns, round_start_ns);
+  if (aligned_gap) AlignRound(now_ns, round_start_ns, unseen_shift_ns);
   inbox_count_ = 0;
   for (size_t i = 0; i < deferred_count_; ++i) {
     inbox_[i] = deferred_[i];
@@ -413,7 +414,7 @@ void Robot::DeferLateArrivals(int64_t now_ns) {
 // boundaries are (round_alignment.h); the next boundary moves accordingly.
 // Presence-only beacons were removed by TakeSafetyReports: a joiner is not
 // followed. The inbox is still this round's (the step does not change it).
-void Robot::AlignRound(int64_t now_ns, int64_t round_start_ns) {
+void Robot::AlignRound(int64_t now_ns, int64_t round_start_ns, int64_t unseen_shift_ns) {
   std::array<sync::AlignmentSample, sync::kMaxAlignmentSamples> samples{};
   size_t count = 0;
   const int64_t from_ns = RoundSplitNs(round_start_ns);
@@ -428,7 +429,7 @@ void Robot::AlignRound(int64_t now_ns, int64_t round_start_ns) {
   alignment.enabled = config_.align_rounds;
   const bool member = state_.status == sync::Status::kMember;
   last_alignment_ = sync::Align(alignment, std::span<const sync::AlignmentSample>(samples.data(), count), member,
-                                alignment_stats_);
+                                alignment_stats_, unseen_shift_ns);
   if (last_alignment_.correction_ns != 0 &&
       port_->ShiftPeriodic(round_task_id_, last_alignment_.correction_ns) == os::PortError::kOk) {
     ++counters_.alignment_shifts;

@@ -23,7 +23,7 @@ int64_t WrapPhase(int64_t x, int64_t round_ns) {
 }
 
 AlignmentStep Align(const AlignmentConfig& config, std::span<const AlignmentSample> samples, bool member,
-                    AlignmentStats& stats) {
+                    AlignmentStats& stats, int64_t unseen_correction_ns) {
   AlignmentStep step;
   std::array<int64_t, kMaxAlignmentSamples> errors{};
   size_t count = 0;
@@ -32,7 +32,8 @@ AlignmentStep Align(const AlignmentConfig& config, std::span<const AlignmentSamp
   for (const AlignmentSample& sample : samples) {
     if (count == errors.size()) break;
     // Insertion sort as the samples come: at most 64, so at most ~2000 moves.
-    const int64_t error = WrapPhase(sample.offset_ns - config.expected_delay_ns, config.round_ns);
+    const int64_t error =
+        WrapPhase(sample.offset_ns - config.expected_delay_ns - unseen_correction_ns, config.round_ns);
     if (sample.sender < lowest) {
       lowest = sample.sender;
       lowest_error = error;
@@ -62,9 +63,10 @@ AlignmentStep Align(const AlignmentConfig& config, std::span<const AlignmentSamp
       step.jumped = lowest_error != 0;
     }
   } else {
-    // Half the error: two robots that hear each other meet in the middle
-    // instead of swapping places; a group contracts onto its median.
-    int64_t correction = median / 2;
+    // A quarter of the error: two robots that hear each other meet in the
+    // middle instead of swapping places, a group contracts onto its median,
+    // and the peers' unseen corrections (header) do not make it ring.
+    int64_t correction = median / 4;
     if (correction > config.max_slew_ns) correction = config.max_slew_ns;
     if (correction < -config.max_slew_ns) correction = -config.max_slew_ns;
     step.correction_ns = correction;

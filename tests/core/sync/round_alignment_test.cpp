@@ -38,18 +38,29 @@ TEST(AlignTest, NoSamplesNoCorrection) {
   EXPECT_EQ(stats.rounds_with_samples, 0u);
 }
 
-TEST(AlignTest, MemberMovesHalfTheMedianErrorCappedBySlew) {
+TEST(AlignTest, MemberMovesAQuarterOfTheMedianErrorCappedBySlew) {
   AlignmentStats stats;
   const AlignmentConfig config = AlignmentConfig::ForRound(kRound);
   const std::vector<int64_t> offsets = {2'000'000, 4'000'000, kRound - 1'000'000};  // errors 2, 4, -1 ms
   const AlignmentStep step = Align(config, From(offsets), true, stats);
   EXPECT_EQ(step.median_error_ns, 2'000'000);
-  EXPECT_EQ(step.correction_ns, 1'000'000);
+  EXPECT_EQ(step.correction_ns, 500'000);
   AlignmentConfig tight = config;
   tight.max_slew_ns = 500'000;
   const std::vector<int64_t> far = {kRound / 2 - 1};
   EXPECT_EQ(Align(tight, From(far), true, stats).correction_ns, tight.max_slew_ns);
-  EXPECT_EQ(Align(config, From(far), true, stats).correction_ns, (kRound / 2 - 1) / 2);
+  EXPECT_EQ(Align(config, From(far), true, stats).correction_ns, (kRound / 2 - 1) / 4);
+}
+
+TEST(AlignTest, TheRobotsOwnUnseenCorrectionIsTakenOffEveryError) {
+  AlignmentStats stats;
+  const AlignmentConfig config = AlignmentConfig::ForRound(kRound);
+  const std::vector<int64_t> offsets = {9'000'000, 9'000'000, 9'000'000};
+  // A joiner that jumped 9 ms at the last boundary hears the same beacons'
+  // old offsets once more: no second jump.
+  EXPECT_EQ(Align(config, From(offsets), false, stats, 9'000'000).correction_ns, 0);
+  // A member that moved 1 ms, still 3 ms behind: a quarter of the 8 ms left.
+  EXPECT_EQ(Align(config, From(offsets), true, stats, 1'000'000).correction_ns, 2'000'000);
 }
 
 TEST(AlignTest, OutliersDoNotMoveTheMedian) {
@@ -97,13 +108,17 @@ TEST(AlignTest, UsesAtMostTheSampleCapacity) {
 
 // A closed loop of robots that hear each other every round: robot i's
 // boundaries are at b_i + k * round / (1 + drift_i) in true time; each hears
-// every other robot's beacon at the sender's boundary and corrects its next
-// boundary by Align's decision. Returns the largest pairwise error (ns) of
+// every other robot's beacon, sent at the sender's boundary, during its next
+// round, and at the end of that round corrects its next boundary by Align's
+// decision: the error it acts on is a round old, as on a robot
+// (core/runtime's AlignRound). Returns the largest pairwise error (ns) of
 // the robots in `measured` over the last `tail` rounds.
 struct Loop {
   std::vector<double> boundary_ns;  // next boundary, true time
   std::vector<double> drift_ppm;
   std::vector<bool> member;
+  std::vector<double> sent_ns;  // the boundary before it: the beacons heard this round left then
+  std::vector<int64_t> last_correction_ns;  // moved boundary_ns, unseen by this round's beacons
 
   double Spread(const std::vector<size_t>& measured) const {
     double worst = 0;
@@ -119,22 +134,33 @@ struct Loop {
   double Run(int rounds, int tail, const std::vector<size_t>& measured) {
     std::vector<AlignmentStats> stats(boundary_ns.size());
     double worst = 0;
+    if (sent_ns.empty()) {
+      for (size_t i = 0; i < boundary_ns.size(); ++i) sent_ns.push_back(boundary_ns[i] - kRound / (1 + drift_ppm[i] * 1e-6));
+      last_correction_ns.assign(boundary_ns.size(), 0);
+    }
     for (int round = 0; round < rounds; ++round) {
       std::vector<double> next = boundary_ns;
+      std::vector<int64_t> corrections(boundary_ns.size(), 0);
       for (size_t i = 0; i < boundary_ns.size(); ++i) {
         const double length = kRound / (1 + drift_ppm[i] * 1e-6);
-        const double start = boundary_ns[i] - length;
+        // The round ending at boundary_ns[i] started at sent_ns[i]; the
+        // beacons in it left their senders at sent_ns[j].
+        const double start = sent_ns[i] - length;
         std::vector<AlignmentSample> samples;
         for (size_t j = 0; j < boundary_ns.size(); ++j) {
           if (j == i || !member[j]) continue;
-          samples.push_back({static_cast<uint16_t>(j), static_cast<int64_t>(boundary_ns[j] - start) % kRound});
+          const auto offset = static_cast<int64_t>(sent_ns[j] - start);
+          samples.push_back({static_cast<uint16_t>(j), ((offset % kRound) + kRound) % kRound});
         }
         const AlignmentConfig config = AlignmentConfig::ForRound(kRound, static_cast<uint16_t>(i));
-        const AlignmentStep step = Align(config, samples, member[i], stats[i]);
+        const AlignmentStep step = Align(config, samples, member[i], stats[i], last_correction_ns[i]);
         next[i] = boundary_ns[i] + length + static_cast<double>(step.correction_ns);
+        corrections[i] = step.correction_ns;
         member[i] = true;  // a joiner that heard the group joins it
       }
+      sent_ns = boundary_ns;
       boundary_ns = next;
+      last_correction_ns = corrections;
       if (round >= rounds - tail) worst = std::max(worst, Spread(measured));
     }
     return worst;
@@ -165,7 +191,21 @@ TEST(AlignLoopTest, ABadCrystalIsTrackedAndDoesNotDisturbTheRest) {
   all.push_back(7);
   Loop copy = loop;
   EXPECT_LT(loop.Run(300, 100, good), 10'000);   // the rest: within 10 us
-  EXPECT_LT(copy.Run(300, 100, all), 200'000);   // the bad one: tracked within 0.2 ms
+  EXPECT_LT(copy.Run(300, 100, all), 300'000);   // the bad one (50 us a round): tracked within 0.3 ms
+}
+
+// The firmware swarm's regression: each robot of a pair moving half of a
+// round-old error closes their gap as x[n+2] = x[n+1] - x[n], which keeps a
+// gap of 10 ms swinging between +-10 ms with a period of six rounds for good.
+// (The joiner's test below caught the other half: without its own unseen
+// correction taken off, a joiner jumped again a round later.)
+TEST(AlignLoopTest, TwoRobotsTenMillisecondsApartSettleThoughTheErrorIsARoundOld) {
+  Loop loop;
+  loop.boundary_ns = {kRound, kRound + 10e6};
+  loop.drift_ppm = {0, 0};
+  loop.member = {true, true};
+  const std::vector<size_t> both = {0, 1};
+  EXPECT_LT(loop.Run(40, 10, both), 50'000);
 }
 
 TEST(AlignLoopTest, AJoinerWithAnArbitraryPhaseAlignsInARound) {

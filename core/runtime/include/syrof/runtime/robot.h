@@ -306,7 +306,7 @@ class Robot final : private app::Platform {
   std::array<int64_t, kReceiveBanks * wire::kMaxSwarmSize> received_arrival_ns_{};  // parallel to receive_storage_
   int64_t RoundSplitNs(int64_t boundary_ns) const;
   void DeferLateArrivals(int64_t now_ns);
-  void AlignRound(int64_t now_ns, int64_t round_start_ns);
+  void AlignRound(int64_t now_ns, int64_t round_start_ns, int64_t unseen_shift_ns);
   os::TaskId round_task_id_ = 0;
   int64_t last_shift_ns_ = 0;  // the last round's alignment correction
   sync::AlignmentStats alignment_stats_;

@@ -23,10 +23,19 @@
 //     otherwise stays: the swarm gathers on one robot's phase in a round or
 //     two, where averaging phases on a circle can stall with robots spread
 //     evenly round it;
-//   - otherwise a member moves half the median error, at most max_slew_ns
-//     per round. The median ignores any minority of bad clocks or late
-//     beacons; a robot whose crystal is off by 1000 ppm (50 us per 50 ms
-//     round) tracks the group with an error of about twice that.
+//   - otherwise a member moves a quarter of the median error, at most
+//     max_slew_ns per round. The median ignores any minority of bad clocks
+//     or late beacons; a robot whose crystal is off by 1000 ppm (50 us per
+//     50 ms round) tracks the group with an error of about five times that.
+//
+// The errors are a round old. A beacon heard in the round now ending left
+// its sender at the boundary that started this round, and the correction
+// this robot decided at that boundary moved the one now passing: the
+// samples cannot show it yet, so Align takes it off (`unseen_correction_ns`).
+// Without that a joiner jumped twice, and a pair of robots each moving half
+// of a round-old error swung between +-10 ms every six rounds for good (the
+// firmware swarm, docs/clocks.md). The peers' own last corrections stay
+// unseen; a quarter keeps the loop damped despite them.
 //
 // Pure: no clock, I/O or allocation; at most kMaxAlignmentSamples samples
 // are used (the rest ignored); time bounded by an insertion sort of them.
@@ -82,8 +91,11 @@ struct AlignmentStats {
 int64_t WrapPhase(int64_t x, int64_t round_ns);
 
 /// The round's decision from `samples` (any order). `member`: false for a
-/// robot that is joining (silent), which jumps. Updates `stats`.
+/// robot that is joining (silent), which jumps. `unseen_correction_ns`: the
+/// correction this robot made at the previous boundary (the last call's
+/// `correction_ns`, if it was applied), which the samples cannot show yet
+/// (below); it is taken off every error. Updates `stats`.
 AlignmentStep Align(const AlignmentConfig& config, std::span<const AlignmentSample> samples, bool member,
-                    AlignmentStats& stats);
+                    AlignmentStats& stats, int64_t unseen_correction_ns = 0);
 
 }  // namespace syrof::sync
