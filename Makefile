@@ -80,15 +80,15 @@ test-m4: deps
 
 ## test-firmware-swarm: an emulated swarm of real firmware (docs/firmware.md,
 ## "The emulated swarm"): SWARM_ROBOTS qemu instances of syrof-robot-mps2
-## (4 in CI, 8 otherwise) joined through syrof-firmware-swarm, which plays the
+## (4 in CI and on machines with fewer than 4 cores, 8 otherwise: eight
+## instances take about 2.4 cores) joined through syrof-firmware-swarm, which plays the
 ## world of SWARM_SCENARIO, the robots' sensors and the lab's radio channel.
 ## Two runs: no loss (every robot must start one epoch COOPERATIVE) and
 ## SWARM_LOSS loss (P3 must stay 0); in both the largest estimation error
 ## must stay within SWARM_MAX_ESTIMATION_ERROR_M and the replay must read
 ## back; outputs (metrics.json, replay) in out/firmware-swarm/{no-loss,loss}/.
-## About 2 x SWARM_SECONDS each (qemu runs with -icount: the guests' clocks
-## run slower than the host's, and the world follows them).
-SWARM_ROBOTS  ?= $(if $(CI),4,8)
+## About SWARM_SECONDS each (the guests' clocks are the host's).
+SWARM_ROBOTS  ?= $(if $(CI),4,$(shell [ $$(nproc) -ge 4 ] && echo 8 || echo 4))
 SWARM_SECONDS ?= $(if $(CI),30,60)
 SWARM_LOSS    ?= 0.3
 SWARM_SCENARIO ?= lab/scenarios/firmware_swarm.yaml

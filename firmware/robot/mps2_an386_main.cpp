@@ -113,19 +113,28 @@ robot::RobotImage* image_for_interrupts = nullptr;
 void ConsoleInterrupt() { console.OnInterrupt(); }
 void RadioInterrupt() { radio.OnInterrupt(); }
 void SensorInterrupt() { sensor_uart.OnInterrupt(); }
+// The receive handlers wake their task when a frame's closing 0x00 has
+// come in, not for every byte: a task run and its decoder's start-up per
+// frame instead of per byte.
 void SensorReceiveInterrupt() {
+  uint32_t zeros_before = 0, zeros_after = 0;
   {
     MaskUarts masked;
+    zeros_before = sensor_uart.zeros_received();
     sensor_uart.OnInterrupt();
+    zeros_after = sensor_uart.zeros_received();
   }
-  sensor_link.Notify();
+  if (zeros_after != zeros_before) sensor_link.Notify();
 }
 void RadioReceiveInterrupt() {
+  uint32_t zeros_before = 0, zeros_after = 0;
   {
     MaskUarts masked;  // the transmit interrupt (2) shares the rings
+    zeros_before = radio.zeros_received();
     radio.OnInterrupt();
+    zeros_after = radio.zeros_received();
   }
-  if (image_for_interrupts != nullptr) image_for_interrupts->NotifyRadio();
+  if (zeros_after != zeros_before && image_for_interrupts != nullptr) image_for_interrupts->NotifyRadio();
 }
 
 alignas(16) unsigned char queries_memory[SYROF_FIRMWARE_QUERIES_BYTES];

@@ -2,16 +2,18 @@
 
 namespace syrof::firmware::swarm {
 
-void GuestClockRate::OnBeacon(int64_t host_ns) {
-  const int64_t previous = last_ns_;
-  last_ns_ = host_ns;
-  if (previous < 0) return;
-  const int64_t gap = host_ns - previous;
-  if (2 * gap < round_ns_ || gap > 4 * round_ns_) return;
-  // An exponential average over about ten rounds: the host's scheduling
-  // jitters single gaps by milliseconds.
-  const double sample = static_cast<double>(gap) / static_cast<double>(round_ns_);
-  host_per_guest_ += 0.1 * (sample - host_per_guest_);
+void GuestClockRate::OnGuestTime(int64_t host_ns, int64_t guest_ns) {
+  if (!samples_.empty() && (guest_ns < samples_.back().guest_ns || host_ns < samples_.back().host_ns)) {
+    samples_.clear();
+  }
+  samples_.push_back(Sample{host_ns, guest_ns});
+  // Keep one sample at least a window older than the newest: the slope is
+  // taken across the whole window.
+  while (samples_.size() > 2 && guest_ns - samples_[1].guest_ns >= window_ns_) samples_.pop_front();
+  const Sample& oldest = samples_.front();
+  const int64_t guest_span = guest_ns - oldest.guest_ns;
+  if (10 * guest_span < window_ns_) return;
+  host_per_guest_ = static_cast<double>(host_ns - oldest.host_ns) / static_cast<double>(guest_span);
 }
 
 }  // namespace syrof::firmware::swarm

@@ -111,10 +111,11 @@ struct Options {
   int seconds = 20;
   double loss = 0;
   uint64_t seed = 1;
-  // -icount shift=4: a guest instruction is 16 ns of its virtual time (62.5
-  // MHz, near the Teensy's 72); -1: no -icount, guest clocks follow the host's
+  // -1 (the default): no -icount, the guests' clocks are the host's; 4:
+  // -icount shift=4, a guest instruction is 16 ns of its virtual time (62.5
+  // MHz, near the Teensy's 72), each guest's clock at its own rate
   // (docs/firmware.md, "The emulated swarm", says how this was chosen).
-  int icount_shift = 4;
+  int icount_shift = -1;
   bool expect_cooperative = false;
   bool align = true;  // the robots' round alignment (docs/clocks.md)
   double latency_ms = 25;  // from a beacon's send to its delivery, on the sender's clock (GuestClockRate)
@@ -130,11 +131,12 @@ constexpr int kMaxImageRobots = 32;
 
 constexpr const char* kUsage =
     "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..32] [--seconds S] [--loss 0..1]\n"
-    "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT] [--align 0|1] [--latency-ms MS]\n"
+    "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT|-1] [--align 0|1] [--latency-ms MS]\n"
     "       [--expect-cooperative] [--max-estimation-error M]\n"
     "Starts one qemu mps2-an386 instance of the robot image per robot of the scenario (--robots, --seed\n"
     "and --loss override it) and plays the world, the robots' sensors and the radio channel between\n"
-    "them; writes metrics.json, replay, firmware-swarm.json and logs in --out (docs/firmware.md).\n";
+    "them; writes metrics.json, replay, firmware-swarm.json and logs in --out (docs/firmware.md).\n"
+    "The guests run on the host's clock; --icount SHIFT runs them with qemu's -icount shift=SHIFT.\n";
 
 [[noreturn]] void Usage(const std::string& what) {
   std::fprintf(stderr, "syrof-firmware-swarm: %s\n%s", what.c_str(), kUsage);
@@ -271,7 +273,7 @@ struct Robot {
   std::optional<swarm::RoundLine> latest;
   int64_t latest_ns = 0;
   int64_t last_boundary_ns = 0;
-  swarm::GuestClockRate clock_rate{syrof::registry::kDefaultRadioRoundNs};
+  swarm::GuestClockRate clock_rate;  // from its R lines' t_ms
   int64_t lines = 0;
   int64_t bad_lines = 0;
   std::string last_status;
@@ -485,7 +487,7 @@ int main(int argc, char** argv) {
     poll(fds.data(), fds.size(), std::min(wait_ms, 10));
     const int64_t now = HostNs();
     // The world follows the host's clock slowed to the robots' mean clock
-    // rate (GuestClockRate, from their beacons), so a robot gets a second of
+    // rate (GuestClockRate, from the times they print), so a robot gets a second of
     // readings per second of its own time (docs/firmware.md, "How readings
     // are timed").
     double host_per_world = 0;
@@ -550,7 +552,6 @@ int main(int argc, char** argv) {
           if (frame.kind != drivers::FrameKind::kSendBeacon) continue;
           robot.beacon_ns.push_back(now);
           robot.last_boundary_ns = now;
-          robot.clock_rate.OnBeacon(now);
           // --latency-ms is on the robots' clocks: half their round by default.
           const int64_t due_ns = now + robot.clock_rate.ToHost(latency_ns);
           const int64_t beacon_round = robot.beacons_sent++;
@@ -594,6 +595,7 @@ int main(int argc, char** argv) {
           } else if (const auto* round_line = std::get_if<swarm::RoundLine>(&parsed)) {
             robot.latest = *round_line;
             robot.latest_ns = now;
+            robot.clock_rate.OnGuestTime(now, round_line->t_ms * 1'000'000);
           } else if (const auto* epoch_line = std::get_if<swarm::EpochLine>(&parsed)) {
             collector.OnEpochStart(epoch_line->robot, round, world_ns, epoch_line->map);
             round_events.push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line->robot, replay::kNoRobot,

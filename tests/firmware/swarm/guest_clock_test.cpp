@@ -1,4 +1,4 @@
-// GuestClockRate: a guest's slowdown from its beacons' host arrival times.
+// GuestClockRate: a guest's slowdown from (guest time, host time) pairs.
 #include "syrof/firmware/swarm/guest_clock.h"
 
 #include <gtest/gtest.h>
@@ -6,21 +6,47 @@
 namespace syrof::firmware::swarm {
 namespace {
 
-constexpr int64_t kRoundNs = 50'000'000;
+constexpr int64_t kMs = 1'000'000;
 
-TEST(GuestClockRateTest, ConvergesToTheGapOverTheRoundAndIgnoresOutliers) {
-  GuestClockRate rate(kRoundNs);
+TEST(GuestClockRateTest, IsTheSlopeOfHostOverGuestTimeOverTheWindow) {
+  GuestClockRate rate(2000 * kMs);
   EXPECT_EQ(rate.host_per_guest(), 1.0);
-  int64_t t = 1'000'000'000;
-  for (int i = 0; i < 100; ++i) {
-    rate.OnBeacon(t);
-    t += 120'000'000;  // 2.4 x the round
+  // A line a round (50 ms of guest time), reaching the host 2.4x later,
+  // stamped with up to 3 ms of host jitter and the guest's 1 ms resolution.
+  for (int i = 0; i < 200; ++i) {
+    const int64_t guest = 1000 * kMs + i * 50 * kMs;
+    const int64_t jitter = ((i * 7) % 4) * kMs;
+    rate.OnGuestTime(5000 * kMs + guest * 12 / 5 + jitter, guest);
   }
-  EXPECT_NEAR(rate.host_per_guest(), 2.4, 0.01);
-  EXPECT_NEAR(static_cast<double>(rate.ToHost(25'000'000)), 60e6, 1e6);
-  rate.OnBeacon(t + 10 * kRoundNs);  // a stall: ignored
-  rate.OnBeacon(t + 10 * kRoundNs + 1'000'000);  // a merged pair: ignored
-  EXPECT_NEAR(rate.host_per_guest(), 2.4, 0.01);
+  EXPECT_NEAR(rate.host_per_guest(), 2.4, 0.003);
+  EXPECT_NEAR(static_cast<double>(rate.ToHost(25 * kMs)), 60e6, 0.1e6);
+}
+
+TEST(GuestClockRateTest, StaysOneUntilATenthOfTheWindowWasSeen) {
+  GuestClockRate rate(2000 * kMs);
+  rate.OnGuestTime(100 * kMs, 0);
+  rate.OnGuestTime(400 * kMs, 150 * kMs);
+  EXPECT_EQ(rate.host_per_guest(), 1.0);
+  rate.OnGuestTime(500 * kMs, 200 * kMs);
+  EXPECT_DOUBLE_EQ(rate.host_per_guest(), 2.0);
+}
+
+// The regression: the host used to time the gaps between a robot's beacons,
+// which also hold the robot's round shifts. Shifts do not move the guest's
+// clock, and the rate from its printed times does not see them.
+TEST(GuestClockRateTest, FollowsARateChangeWithinAWindowAndRestartsWhenGuestTimeGoesBack) {
+  GuestClockRate rate(1000 * kMs);
+  int64_t host = 0;
+  int64_t guest = 0;
+  for (int i = 0; i < 40; ++i, guest += 50 * kMs, host += 100 * kMs) rate.OnGuestTime(host, guest);
+  EXPECT_NEAR(rate.host_per_guest(), 2.0, 1e-9);
+  for (int i = 0; i < 40; ++i, guest += 50 * kMs, host += 50 * kMs) rate.OnGuestTime(host, guest);
+  EXPECT_NEAR(rate.host_per_guest(), 1.0, 0.06);
+  const double before = rate.host_per_guest();
+  rate.OnGuestTime(host, 10 * kMs);  // the instance restarted: the last rate holds until a new span
+  EXPECT_EQ(rate.host_per_guest(), before);
+  rate.OnGuestTime(host + 300 * kMs, 210 * kMs);
+  EXPECT_NEAR(rate.host_per_guest(), 1.5, 1e-9);
 }
 
 }  // namespace

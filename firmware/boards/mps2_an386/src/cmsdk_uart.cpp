@@ -56,6 +56,7 @@ bool CmsdkUart::Poll() {
   }
   if ((state & kStateRxFull) != 0) {
     const auto byte = static_cast<uint8_t>(R(base_, kData));
+    if (byte == 0) zeros_received_ = zeros_received_ + 1;
     if (rx_head_ - rx_tail_ < kRing) {
       rx_[rx_head_ % kRing] = byte;
       rx_head_ = rx_head_ + 1;

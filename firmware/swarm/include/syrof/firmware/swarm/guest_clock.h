@@ -1,33 +1,48 @@
-// How fast an emulated robot's clock runs against the host's, from the
-// instants its beacons reach the host: a robot sends one beacon per radio
-// round of its own clock, so the host time between two of them over the
-// round's length is the guest's slowdown (about 2.4 under -icount with the
-// sensor link, docs/firmware.md). The host scales the channel's latency by
-// it, so a beacon still arrives half a round of the receivers' clocks after
-// it was sent, where round alignment expects it.
+// How fast an emulated robot's clock runs against the host's, from pairs of
+// instants: the guest time a robot printed on a console line (its `R` line's
+// t_ms, once a radio round) and the host time the line reached the host.
+// The slope over the last couple of seconds is the guest's slowdown (about
+// 2 under -icount with the sensor link, docs/firmware.md). The host runs the
+// world at the robots' mean rate and scales the channel's latency by it, so
+// a beacon still arrives half a round of the receivers' clocks after it was
+// sent, where round alignment expects it.
+//
+// A first version timed the gaps between a robot's beacons instead. Those
+// gaps also hold the robot's own round shifts: when round alignment moved
+// every robot later, the host read it as slower clocks, lengthened the
+// latency, and the robots moved later still; the rounds oscillated by
+// +-20 ms with a period of about six rounds (docs/firmware.md).
 #pragma once
 
 #include <cstdint>
+#include <deque>
 
 namespace syrof::firmware::swarm {
 
 class GuestClockRate {
  public:
-  explicit GuestClockRate(int64_t round_ns) : round_ns_(round_ns) {}
+  /// The slope is taken over about `window_ns` of guest time.
+  explicit GuestClockRate(int64_t window_ns = 2'000'000'000) : window_ns_(window_ns) {}
 
-  /// A beacon reached the host at `host_ns` (increasing). Gaps outside half
-  /// to four rounds (a lost or merged frame, a start-up) are ignored.
-  void OnBeacon(int64_t host_ns);
+  /// A line the guest printed at `guest_ns` of its clock reached the host at
+  /// `host_ns`. A guest time that goes backwards (a restarted instance)
+  /// starts the measurement again.
+  void OnGuestTime(int64_t host_ns, int64_t guest_ns);
 
-  /// Host nanoseconds per guest nanosecond, smoothed (1 until measured).
+  /// Host nanoseconds per guest nanosecond (1 until a tenth of the window
+  /// has been seen).
   double host_per_guest() const { return host_per_guest_; }
 
   /// `guest_ns` of the guest's time in host time.
   int64_t ToHost(int64_t guest_ns) const { return static_cast<int64_t>(static_cast<double>(guest_ns) * host_per_guest_); }
 
  private:
-  int64_t round_ns_;
-  int64_t last_ns_ = -1;
+  struct Sample {
+    int64_t host_ns;
+    int64_t guest_ns;
+  };
+  int64_t window_ns_;
+  std::deque<Sample> samples_;
   double host_per_guest_ = 1.0;
 };
 

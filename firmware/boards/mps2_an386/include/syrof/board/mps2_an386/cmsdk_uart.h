@@ -48,6 +48,10 @@ class CmsdkUart final : public firmware::drivers::UartTx {
   /// it moved any. Call it in a loop (or from the interrupts).
   bool Poll();
   void OnInterrupt() { while (Poll()) {} }
+  /// 0x00 bytes received so far (wrapping): the radio and sensor links end
+  /// every frame with one, so a handler can wake its task once a frame
+  /// rather than once a byte.
+  uint32_t zeros_received() const { return zeros_received_; }
   /// Bytes lost because the receive ring was full or the UART overran.
   uint32_t dropped() const { return dropped_; }
   bool transmit_idle() const { return tx_head_ == tx_tail_; }
@@ -59,6 +63,7 @@ class CmsdkUart final : public firmware::drivers::UartTx {
   uint8_t rx_[kRing];
   volatile uint32_t tx_head_ = 0, tx_tail_ = 0, rx_head_ = 0, rx_tail_ = 0;
   uint32_t dropped_ = 0;
+  volatile uint32_t zeros_received_ = 0;
 };
 
 /// A CMSDK APB timer (timer0 at 0x40000000, timer1 at 0x40001000): a 32-bit
