@@ -25,8 +25,9 @@
 // hand), so their first UWB sweeps place them by least squares: the Kalman
 // steps that fix a sweep, some with an outlier the sensors drew, are the
 // filter's slowest. Each app runs for kRunSeconds (several epochs); the
-// apps are the firmware image's built-in one (cli/new_project/app.c, C, on
-// robot 0, the others running the lab's circle) and the lab's built-in
+// apps are the firmware image's (the C app `make firmware` compiles in:
+// cli/new_project/app.c, unless SYROF_FIRMWARE_APP names another; on robot
+// 0 only, as its globals are per robot, the others running the lab's circle) and the lab's built-in
 // circle, gather and leader_follow; gather once more with rovers. Every
 // count is printed as worst and mean over the 32 robots' steps.
 #include <algorithm>
@@ -35,9 +36,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <numbers>
-#include <cstring>
 
 #include "measured_port.h"
 #include "syrof/app/c_abi_app.h"
