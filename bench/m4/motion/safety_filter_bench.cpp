@@ -1,27 +1,34 @@
-// Instructions per safety-filter step on the emulated Cortex-M4 with software
+// Instructions per motion step on the emulated Cortex-M4 with software
 // floating point (qemu mps2-an386, -icount shift=0: one counted cycle per
-// executed instruction), for a swarm of 32 robots: the robot filters its
-// command against the 31 others' reports and the walls, as the motion task
-// does at 100 Hz (docs/safety.md, "Cost"). Three situations:
+// executed instruction), for a swarm of 32 robots: what the motion task does
+// at 100 Hz (runtime::Robot::RunMotion, docs/safety.md "Cost"): the
+// controller's Update, the copy of the round task's reports, and the safety
+// filter's Apply against the 31 others' reports and the walls. Each step
+// drives towards a different point around the robot (200 directions), and
+// every step is counted: worst and mean. Situations (crowd.h):
 //   - clear: every other robot at least 1 m away (each costs the
 //     squared-distance test, no square root);
-//   - crowded: eight robots within reach, the command pressed against them
-//     (constraints kept, four projection passes);
-//   - rover: the crowded case for a differential-drive robot.
+//   - 8 within reach, and all 31 within reach (the registry's limit:
+//     more constraints than the filter keeps, so it picks the nearest);
+//   - rover: the same for a differential-drive robot.
 // Plus the round task's side: recording one beacon's report.
 // A 72 MHz Teensy 3.2 has 720,000 cycles per 10 ms motion period.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 
+#include "crowd.h"
 #include "syrof/board/cycles.h"
+#include "syrof/motion/controller.h"
 #include "syrof/motion/safety_filter.h"
 
 namespace {
 
 using namespace syrof::motion;
+using syrof::bench::kCrowdCentreM;
+using syrof::bench::kCrowdSwarm;
 
-constexpr uint16_t kSwarm = 32;
+constexpr uint16_t kSwarm = kCrowdSwarm;
 constexpr int kSteps = 200;
 
 ControllerConfig Config(DriveKind kind) {
@@ -47,38 +54,46 @@ syrof::estimation::StateEstimate At(float x, float y) {
   return estimate;
 }
 
-// Robot 0 at (2, 2); the others on rings around it: `near` of them 0.35 to
-// 0.5 m away, the rest more than 1 m.
-void Fill(SafetyReports& reports, int near) {
-  for (uint16_t id = 1; id < kSwarm; ++id) {
-    const float angle = 0.7f * static_cast<float>(id);
-    const float radius = id <= near ? 0.35f + 0.02f * static_cast<float>(id) : 1.0f + 0.05f * static_cast<float>(id);
-    reports.ReportMetres(id, 0, 2.0f + radius * std::cos(angle), 2.0f + radius * std::sin(angle), id % 3 == 0, 0.1f,
-                   0.0f, 0.8f);
-  }
-}
-
-SafetyReports reports;
+SafetyReports shared_reports;  // the round task's
+SafetyReports reports;         // the motion task's copy
 volatile float sink = 0;
 
-uint64_t MeasureApply(DriveKind kind, int near) {
-  Fill(reports, near);
+struct Counts {
+  uint64_t worst = 0;
+  uint64_t mean = 0;
+};
+
+Counts MeasureStep(DriveKind kind, int near) {
+  syrof::bench::FillCrowd(shared_reports, near);
+  MotionController controller(Config(kind));
   SafetyFilter filter(Safety(), Config(kind), kSwarm);
-  DriveCommand desired;
-  desired.kind = kind;
-  desired.vx_mps = 0.4f;
-  desired.vy_mps = 0.2f;
-  desired.left_mps = 0.3f;
-  desired.right_mps = 0.35f;
-  const auto estimate = At(2.0f, 2.0f);
-  const uint64_t begin = syrof::board::cycle_counter_read();
+  auto estimate = At(kCrowdCentreM, kCrowdCentreM);
+  uint64_t total = 0;
+  Counts counts;
   for (int step = 0; step < kSteps; ++step) {
-    SafetyOutcome outcome;
+    const float angle = 6.2831853f * static_cast<float>(step) / kSteps;
+    syrof_car_command command{};
+    command.kind = SYROF_COMMAND_MOVE_TO;
+    command.x_m = kCrowdCentreM + 1.5f * std::cos(angle);
+    command.y_m = kCrowdCentreM + 1.5f * std::sin(angle);
+    command.speed_mps = 0.4f;
     // 20 ms after the reports: the discs have grown a little.
-    const DriveCommand out = filter.Apply(desired, estimate, reports, 20'000'000 + step, outcome);
+    const int64_t now_ns = 20'000'000 + step;
+    estimate.timestamp_ns = now_ns;
+    estimate.heading_rad = angle;  // a rover faces its target, so it drives rather than turns
+    const uint64_t begin = syrof::board::cycle_counter_read();
+    controller.SetCommand(command);
+    const DriveCommand desired = controller.Update(estimate, now_ns);
+    reports.CopyFrom(shared_reports, kSwarm);
+    SafetyOutcome outcome;
+    const DriveCommand out = filter.Apply(desired, estimate, reports, now_ns, outcome);
+    const uint64_t instructions = syrof::board::cycle_counter_read() - begin;
     sink = sink + out.vx_mps + out.left_mps;
+    total += instructions;
+    if (instructions > counts.worst) counts.worst = instructions;
   }
-  return (syrof::board::cycle_counter_read() - begin) / kSteps;
+  counts.mean = total / kSteps;
+  return counts;
 }
 
 uint64_t MeasureReport() {
@@ -91,23 +106,31 @@ uint64_t MeasureReport() {
   return (syrof::board::cycle_counter_read() - begin) / kSteps;
 }
 
+void Print(const char* what, Counts counts) {
+  std::printf("  %-34s %8llu worst %8llu mean\n", what, static_cast<unsigned long long>(counts.worst),
+              static_cast<unsigned long long>(counts.mean));
+}
+
 }  // namespace
 
 int main() {
   syrof::board::cycle_counter_start();
-  const uint64_t clear = MeasureApply(DriveKind::kOmni, 0);
-  const uint64_t crowded = MeasureApply(DriveKind::kOmni, 8);
-  const uint64_t rover = MeasureApply(DriveKind::kWheels, 8);
+  const Counts clear = MeasureStep(DriveKind::kOmni, 0);
+  const Counts crowded = MeasureStep(DriveKind::kOmni, 8);
+  const Counts all = MeasureStep(DriveKind::kOmni, kSwarm - 1);
+  const Counts rover = MeasureStep(DriveKind::kWheels, 8);
+  const Counts rover_all = MeasureStep(DriveKind::kWheels, kSwarm - 1);
   const uint64_t report = MeasureReport();
-  std::printf("safety filter on Cortex-M4 soft-float, %d robots, %d steps averaged\n", kSwarm, kSteps);
-  std::printf("  omni, nobody within reach:       %8llu instructions per step\n",
-              static_cast<unsigned long long>(clear));
-  std::printf("  omni, 8 robots within reach:     %8llu instructions per step\n",
-              static_cast<unsigned long long>(crowded));
-  std::printf("  rover, 8 robots within reach:    %8llu instructions per step\n",
-              static_cast<unsigned long long>(rover));
+  std::printf("motion step (controller + report copy + safety filter) on Cortex-M4 soft-float, %d robots, "
+              "%d steps, instructions per step\n",
+              kSwarm, kSteps);
+  Print("omni, nobody within reach:", clear);
+  Print("omni, 8 robots within reach:", crowded);
+  Print("omni, 31 robots within reach:", all);
+  Print("rover, 8 robots within reach:", rover);
+  Print("rover, 31 robots within reach:", rover_all);
   std::printf("  one beacon's report (round task): %7llu instructions\n", static_cast<unsigned long long>(report));
-  std::printf("  worst step at 100 Hz: %.1f%% of a 72 MHz core\n",
-              100.0 * static_cast<double>(crowded > rover ? crowded : rover) / 720000.0);
+  const uint64_t worst = all.worst > rover_all.worst ? all.worst : rover_all.worst;
+  std::printf("  worst step at 100 Hz: %.1f%% of a 72 MHz core\n", 100.0 * static_cast<double>(worst) / 720000.0);
   return 0;
 }
