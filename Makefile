@@ -99,7 +99,7 @@ SWARM_LOSS    ?= 0.3
 SWARM_SCENARIO ?= lab/scenarios/firmware_swarm.yaml
 SWARM_MAX_ESTIMATION_ERROR_M ?= 1.0
 SWARM_FAULTS_SCENARIO ?= lab/scenarios/firmware_faults.yaml
-SWARM_FAULTS_SECONDS ?= 13
+SWARM_FAULTS_SECONDS ?= 14
 test-firmware-swarm: $(BUILD_DIR)/CMakeCache.txt
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
