@@ -87,12 +87,18 @@ test-m4: deps
 ## SWARM_LOSS loss (P3 must stay 0); in both the largest estimation error
 ## must stay within SWARM_MAX_ESTIMATION_ERROR_M and the replay must read
 ## back; outputs (metrics.json, replay) in out/firmware-swarm/{no-loss,loss}/.
+## A third, shorter run plays SWARM_FAULTS_SCENARIO's faults (4 robots: a late
+## join, a pause, a partition, a crash; --expect-faults: the crashed robot is
+## removed from the others' maps, the paused one comes back, the joiner
+## becomes a member; P3 0) into out/firmware-swarm/faults/.
 ## About SWARM_SECONDS each (the guests' clocks are the host's).
 SWARM_ROBOTS  ?= $(if $(CI),4,$(shell [ $$(nproc) -ge 4 ] && echo 8 || echo 4))
 SWARM_SECONDS ?= $(if $(CI),30,60)
 SWARM_LOSS    ?= 0.3
 SWARM_SCENARIO ?= lab/scenarios/firmware_swarm.yaml
 SWARM_MAX_ESTIMATION_ERROR_M ?= 1.0
+SWARM_FAULTS_SCENARIO ?= lab/scenarios/firmware_faults.yaml
+SWARM_FAULTS_SECONDS ?= 14
 test-firmware-swarm: $(BUILD_DIR)/CMakeCache.txt
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
@@ -103,6 +109,8 @@ test-firmware-swarm: $(BUILD_DIR)/CMakeCache.txt
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
 	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss $(SWARM_LOSS) --seed 2 --out out/firmware-swarm/loss \
 	  --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
+	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_FAULTS_SCENARIO) \
+	  --seconds $(SWARM_FAULTS_SECONDS) --icount -1 --out out/firmware-swarm/faults --expect-faults
 
 ## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
 QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \

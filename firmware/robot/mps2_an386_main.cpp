@@ -15,7 +15,9 @@
 // default 0: run for ever), `align 0|1` (round alignment, default 1),
 // `report 0|1` (the swarm host's "R" and "E" lines, default 0),
 // `sensors 0|1` (the sensor link on UART2, default 0), `x_mm N`, `y_mm N`,
-// `heading_mrad N` (the start pose, arena frame; heading 0..6283). A word
+// `heading_mrad N` (the start pose, arena frame; heading 0..6283), `late N`
+// (robot N is switched on later, so it is no initial member; repeatable:
+// the swarm host's late joiners, and the joiner itself). A word
 // it does not know stops the image with exit status 2 and names the word.
 // The UARTs interrupt at priority 2, above the kernel, and their handlers
 // only move bytes between the UART and its rings; but the radio's receive
@@ -181,10 +183,12 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     } else if (std::strcmp(key, "heading_mrad") == 0 && value <= 6283) {
       const float heading = static_cast<float>(value) * 1e-3f;
       options.image.start_heading_rad = heading > 3.14159265f ? heading - 6.28318531f : heading;
+    } else if (std::strcmp(key, "late") == 0 && value < syrof::wire::kMaxSwarmSize) {
+      options.image.late_joiners.set(static_cast<uint16_t>(value));
     } else {
       std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
                   "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1, sensors 0|1, x_mm and y_mm 0..1000000, "
-                  "heading_mrad 0..6283)\n",
+                  "heading_mrad 0..6283, late 0..31)\n",
                   i, key, value);
       return false;
     }

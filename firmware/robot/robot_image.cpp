@@ -58,6 +58,7 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
 
   runtime::RobotConfig robot_config;
   robot_config.sync = sync::SyncConfig::ForSwarm(config.swarm_size, config.self_id);
+  for (const uint16_t late : config.late_joiners) robot_config.sync.initial_members.reset(late);
   robot_config.queries_workspace = workspace;
   robot_config.align_rounds = config.align_rounds;
   // The link's latency on an aligned link (kBeaconLatencyNs).

@@ -43,6 +43,7 @@
 #include "syrof/runtime/robot_observer.h"
 #include "syrof/sync/ldmap.h"
 #include "syrof/wire/beacon.h"
+#include "syrof/wire/member_set.h"
 
 namespace syrof::firmware::robot {
 
@@ -88,6 +89,10 @@ struct ImageConfig {
   float start_x_m = 0;
   float start_y_m = 0;
   float start_heading_rad = 0;
+  /// Robots switched on later (a scenario's `join` faults): not initial
+  /// members, as in the lab (lab/sim robot_config). A robot in it starts as a
+  /// joiner; the others start their first epoch without it.
+  wire::MemberSet late_joiners{};
   ImageExtension* extension = nullptr;  ///< not owned
 };
 

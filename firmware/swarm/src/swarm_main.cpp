@@ -30,17 +30,22 @@
 // arena, the robots' start poses, the sensors' noise, the channel and the
 // goal; --robots, --seed and --loss override it. The robot image has its app,
 // arena, anchors and timing compiled in; the start pose reaches each robot
-// through -append.
+// through -append. The scenario's faults are played on world time
+// (fault_player.h): a join launches the robot's qemu late, a crash kills it,
+// a pause stops it (SIGSTOP/SIGCONT), deaf and mute drop beacons; partitions
+// are the channel's. fault_outcomes.h judges, from the robots' reports,
+// whether the swarm handled each (--expect-faults makes that a check).
 //
 //   syrof-firmware-swarm --image build-m4/bin/syrof-robot-mps2.elf [--scenario FILE] --robots 4
 //       --seconds 20 --loss 0 --seed 1 --out DIR [--qemu qemu-system-arm] [--icount SHIFT|-1]
-//       [--align 0|1] [--latency-ms 25] [--expect-cooperative] [--max-estimation-error M]
+//       [--align 0|1] [--latency-ms 25] [--expect-cooperative] [--expect-faults] [--max-estimation-error M]
 //
 // Exit status 0 when every instance ran to the end and reported, no P3
 // breach happened, the replay reads back whole, (with --expect-cooperative)
 // all robots started one epoch COOPERATIVE, and (with
 // --max-estimation-error) the largest scored estimation error stayed within
-// M metres; 1 otherwise; 2 for a usage error.
+// M metres, and (with --expect-faults) every crash, pause and join was
+// handled; 1 otherwise; 2 for a usage error.
 
 #include <fcntl.h>
 #include <poll.h>
@@ -51,6 +56,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -67,6 +73,8 @@
 
 #include "syrof/firmware/drivers/radio_link.h"
 #include "syrof/firmware/swarm/console_lines.h"
+#include "syrof/firmware/swarm/fault_outcomes.h"
+#include "syrof/firmware/swarm/fault_player.h"
 #include "syrof/firmware/swarm/guest_clock.h"
 #include "syrof/firmware/swarm/round_skew.h"
 #include "syrof/firmware/swarm/sensor_feed.h"
@@ -117,6 +125,7 @@ struct Options {
   // (docs/firmware.md, "The emulated swarm", says how this was chosen).
   int icount_shift = -1;
   bool expect_cooperative = false;
+  bool expect_faults = false;  // every crash, pause and join handled (FaultOutcomes)
   bool align = true;  // the robots' round alignment (docs/clocks.md)
   double latency_ms = 25;  // from a beacon's send to its delivery, on the sender's clock (GuestClockRate)
   std::string scenario;    // empty: kBuiltInScenario
@@ -132,10 +141,11 @@ constexpr int kMaxImageRobots = 32;
 constexpr const char* kUsage =
     "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..32] [--seconds S] [--loss 0..1]\n"
     "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT|-1] [--align 0|1] [--latency-ms MS]\n"
-    "       [--expect-cooperative] [--max-estimation-error M]\n"
+    "       [--expect-cooperative] [--expect-faults] [--max-estimation-error M]\n"
     "Starts one qemu mps2-an386 instance of the robot image per robot of the scenario (--robots, --seed\n"
     "and --loss override it) and plays the world, the robots' sensors and the radio channel between\n"
-    "them; writes metrics.json, replay, firmware-swarm.json and logs in --out (docs/firmware.md).\n"
+    "them; plays the scenario's faults (crash, pause, join, deaf, mute) and partitions on world time;\n"
+    "writes metrics.json, replay, firmware-swarm.json and logs in --out (docs/firmware.md).\n"
     "The guests run on the host's clock; --icount SHIFT runs them with qemu's -icount shift=SHIFT.\n";
 
 [[noreturn]] void Usage(const std::string& what) {
@@ -153,6 +163,10 @@ Options ParseOptions(int argc, char** argv) {
     }
     if (key == "--expect-cooperative") {
       options.expect_cooperative = true;
+      continue;
+    }
+    if (key == "--expect-faults") {
+      options.expect_faults = true;
       continue;
     }
     if (i + 1 >= argc) Usage("argument " + std::to_string(i) + " '" + key + "' has no value");
@@ -259,6 +273,9 @@ struct Delivery {
 
 struct Robot {
   pid_t pid = -1;
+  bool connecting = false;  // launched late (a join): its sockets not all accepted yet
+  int64_t launched_ns = 0;  // host time of a late launch
+  int64_t scored_from_ns = syrof::lab::sim::kEstimationWarmupNs;  // world time its estimates count from
   int radio = -1;
   int console = -1;
   int sensor = -1;
@@ -307,11 +324,15 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
     Usage("--scenario: timing.radio_round_s must be 0.05 (the robot image's radio round)");
   }
   for (const lab::scenario::RobotSpec& robot : scenario.robots) {
-    if (!robot.present_at_start) Usage("--scenario: robot " + std::to_string(robot.id) + " joins later; the firmware swarm starts every robot at once");
     if (robot.kind != lab::world::RobotKind::kOmni) Usage("--scenario: robot " + std::to_string(robot.id) + " is not omni; the robot image drives omni robots");
   }
-  if (!scenario.faults.empty()) {
-    std::fprintf(stderr, "syrof-firmware-swarm: the scenario's faults are not played here (docs/firmware.md)\n");
+  const bool pauses = std::any_of(scenario.faults.begin(), scenario.faults.end(), [](const auto& fault) {
+    return fault.kind == lab::scenario::FaultKind::kPause;
+  });
+  if (pauses && options.icount_shift >= 0) {
+    std::fprintf(stderr,
+                 "syrof-firmware-swarm: note: under -icount a paused robot sees its stall only if qemu was stopped "
+                 "while the guest slept; --icount -1 makes every pause visible (docs/firmware.md, \"Faults\")\n");
   }
   return scenario;
 }
@@ -327,6 +348,54 @@ std::string StartPoseWords(const lab::scenario::RobotSpec& robot) {
          std::to_string(std::min<int64_t>(6283, Milli(heading)));
 }
 
+// The -append words every robot gets for the robots switched on later (a
+// scenario's `join`): they are no initial members (the image's `late N`).
+std::string LateJoinerWords(const lab::scenario::Scenario& scenario) {
+  std::string words;
+  for (const lab::scenario::RobotSpec& robot : scenario.robots) {
+    if (!robot.present_at_start) words += " late " + std::to_string(robot.id);
+  }
+  return words;
+}
+
+// Starts robot `id`'s qemu, which runs `seconds` of its own time and then
+// exits; `paths` are its console, radio and sensor sockets (qemu connects to
+// them in that order). Returns its pid, or -1.
+pid_t LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id, int seconds,
+                 const std::string& console_path, const std::string& radio_path, const std::string& sensor_path) {
+  const auto robots = static_cast<uint16_t>(scenario.robots.size());
+  std::vector<std::string> args = {
+      options.qemu, "-M", "mps2-an386", "-nographic", "-monitor", "none", "-semihosting-config",
+      "enable=on,target=native",
+      "-chardev", "socket,id=console,path=" + console_path, "-serial", "chardev:console",
+      "-chardev", "socket,id=radio,path=" + radio_path, "-serial", "chardev:radio",
+      "-chardev", "socket,id=sensor,path=" + sensor_path, "-serial", "chardev:sensor",
+      "-kernel", options.image, "-append",
+      "id " + std::to_string(id) + " swarm " + std::to_string(robots) + " seconds " + std::to_string(seconds) +
+          " report 1 sensors 1 align " + (options.align ? "1" : "0") + StartPoseWords(scenario.robots[id]) +
+          LateJoinerWords(scenario)};
+  if (options.icount_shift >= 0) {
+    args.push_back("-icount");
+    args.push_back("shift=" + std::to_string(options.icount_shift));
+  }
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string log = options.out + "/qemu_" + std::to_string(id) + ".log";
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+    }
+    std::vector<char*> argv_child;
+    for (std::string& arg : args) argv_child.push_back(arg.data());
+    argv_child.push_back(nullptr);
+    execvp(argv_child[0], argv_child.data());
+    std::perror("syrof-firmware-swarm: exec qemu");
+    _exit(127);
+  }
+  return pid;
+}
+
 // Writes what the socket takes now, keeps the rest (a robot that stopped
 // reading must not stall the world).
 void Flush(int fd, std::vector<uint8_t>& pending) {
@@ -335,6 +404,157 @@ void Flush(int fd, std::vector<uint8_t>& pending) {
     if (written <= 0) return;
     pending.erase(pending.begin(), pending.begin() + written);
   }
+}
+
+// One robot's sockets and their listeners: console, radio, sensor link.
+struct RobotSockets {
+  std::string console_path, radio_path, sensor_path;
+  int console_listener = -1, radio_listener = -1, sensor_listener = -1;
+};
+
+// Plays one of the scenario's faults on robot `id`'s qemu at world time
+// `world_ns` (docs/firmware.md, "Faults"): a join launches it, a crash kills
+// it and closes its sockets, a pause stops it with SIGSTOP (its guest clock
+// keeps running: the stall shows as a jump of its time once it continues,
+// measured in FaultOutcomes) and a resume continues it. The body follows as
+// in the lab (absent, active, stopped); the replay gets the event.
+void PlayFault(const swarm::HostAction& action, int64_t world_ns, const Options& options,
+               const lab::scenario::Scenario& scenario, const RobotSockets& sockets, Robot& robot,
+               lab::world::World& world, std::vector<replay::Event>& events, int& open_consoles) {
+  const uint16_t id = action.robot;
+  replay::EventKind kind = replay::EventKind::kCrash;
+  switch (action.kind) {
+    case swarm::HostAction::Kind::kLaunch:
+      kind = replay::EventKind::kJoin;
+      robot.pid = LaunchQemu(options, scenario, id, swarm::FaultPlayer::RemainingSeconds(options.seconds, world_ns),
+                             sockets.console_path, sockets.radio_path, sockets.sensor_path);
+      robot.connecting = robot.pid > 0;
+      robot.launched_ns = HostNs();
+      robot.scored_from_ns = world_ns + lab::sim::kEstimationWarmupNs;
+      world.SetPresence(id, lab::world::BodyPresence::kActive);
+      if (robot.pid <= 0) --open_consoles;
+      break;
+    case swarm::HostAction::Kind::kKill:
+      kind = replay::EventKind::kCrash;
+      if (robot.pid > 0) kill(robot.pid, SIGKILL);
+      if (robot.console >= 0 || robot.connecting) --open_consoles;
+      for (int* fd : {&robot.console, &robot.radio, &robot.sensor}) {
+        if (*fd >= 0) close(*fd);
+        *fd = -1;
+      }
+      robot.connecting = false;
+      robot.sensor_out.clear();
+      world.SetPresence(id, lab::world::BodyPresence::kStopped);
+      break;
+    case swarm::HostAction::Kind::kStop:
+      kind = replay::EventKind::kPause;
+      if (robot.pid > 0) kill(robot.pid, SIGSTOP);
+      robot.sensor_out.clear();  // readings it would only get, stale, after the pause
+      world.SetPresence(id, lab::world::BodyPresence::kStopped);
+      break;
+    case swarm::HostAction::Kind::kContinue:
+      kind = replay::EventKind::kResume;
+      if (robot.pid > 0) kill(robot.pid, SIGCONT);
+      robot.scored_from_ns = world_ns + lab::sim::kEstimationWarmupNs;
+      world.SetPresence(id, lab::world::BodyPresence::kActive);
+      break;
+  }
+  events.push_back(replay::Event{kind, id, replay::kNoRobot, 0, 0, world_ns});
+}
+
+// A robot launched late: accepts its sockets as qemu connects (console,
+// radio, sensor link, in that order) without holding up the world. False
+// when it did not connect within 15 s (it is then killed).
+bool AcceptLate(Robot& robot, const RobotSockets& sockets, uint16_t id) {
+  const std::pair<int*, int> order[] = {{&robot.console, sockets.console_listener},
+                                        {&robot.radio, sockets.radio_listener},
+                                        {&robot.sensor, sockets.sensor_listener}};
+  for (const auto& [fd, listener] : order) {
+    if (*fd >= 0) continue;
+    pollfd entry{listener, POLLIN, 0};
+    if (poll(&entry, 1, 0) != 1) break;
+    *fd = accept(listener, nullptr, nullptr);
+    if (*fd < 0) break;
+  }
+  robot.connecting = robot.console < 0 || robot.radio < 0 || robot.sensor < 0;
+  if (robot.connecting && HostNs() - robot.launched_ns > 15'000'000'000) {
+    std::fprintf(stderr, "syrof-firmware-swarm: robot %u (a late joiner) did not connect within 15 s\n",
+                 static_cast<unsigned>(id));
+    kill(robot.pid, SIGKILL);
+    for (int* fd : {&robot.console, &robot.radio, &robot.sensor}) {
+      if (*fd >= 0) close(*fd);
+      *fd = -1;
+    }
+    return false;
+  }
+  return true;
+}
+
+// Host nanoseconds per world nanosecond: the mean of the running robots'
+// measured clock rates (GuestClockRate), 1 before any was measured.
+// Paused, crashed and not yet joined robots do not count, nor a joiner
+// before its first ten beacons (its rate starts at 1 and settles over them).
+double HostPerWorld(const std::vector<Robot>& swarm, const swarm::FaultPlayer& faults) {
+  double sum = 0;
+  int counted = 0;
+  for (uint16_t i = 0; i < swarm.size(); ++i) {
+    if (faults.presence(i) != swarm::Presence::kRunning || swarm[i].beacon_ns.size() < 10) continue;
+    sum += swarm[i].clock_rate.host_per_guest();
+    ++counted;
+  }
+  return counted == 0 ? 1.0 : sum / counted;
+}
+
+// A pause that lasts past the run: once only paused robots are left, they
+// continue (SIGCONT) so they can run out their time and exit.
+void ReleasePausedAtTheEnd(const std::vector<Robot>& swarm, const swarm::FaultPlayer& faults, bool& released) {
+  if (released) return;
+  bool any_paused = false;
+  for (uint16_t i = 0; i < swarm.size(); ++i) {
+    const bool open = swarm[i].console >= 0 || swarm[i].connecting;
+    if (open && faults.presence(i) != swarm::Presence::kPaused) return;
+    any_paused = any_paused || (open && faults.presence(i) == swarm::Presence::kPaused);
+  }
+  if (!any_paused) return;
+  for (uint16_t i = 0; i < swarm.size(); ++i) {
+    if (faults.presence(i) == swarm::Presence::kPaused && swarm[i].pid > 0) kill(swarm[i].pid, SIGCONT);
+  }
+  released = true;
+}
+
+replay::Presence ReplayPresence(swarm::Presence presence, bool reporting) {
+  switch (presence) {
+    case swarm::Presence::kAbsent: return replay::Presence::kAbsent;
+    case swarm::Presence::kRunning: return reporting ? replay::Presence::kRunning : replay::Presence::kAbsent;
+    case swarm::Presence::kPaused: return replay::Presence::kPaused;
+    case swarm::Presence::kCrashed: return replay::Presence::kCrashed;
+  }
+  return replay::Presence::kAbsent;
+}
+
+// firmware-swarm.json's "faults": one object per crash, pause and join.
+void WriteFaultOutcomes(std::ostream& out, const std::vector<swarm::FaultOutcome>& outcomes) {
+  auto optional_ms = [](const std::optional<int64_t>& value) {
+    return value ? std::to_string(*value) : std::string("null");
+  };
+  bool first = true;
+  for (const swarm::FaultOutcome& outcome : outcomes) {
+    const char* kind = outcome.kind == swarm::HostAction::Kind::kKill   ? "crash"
+                       : outcome.kind == swarm::HostAction::Kind::kStop ? "pause"
+                                                                        : "join";
+    out << (first ? "\n    " : ",\n    ") << "{\"kind\": \"" << kind << "\", \"robot\": " << outcome.robot
+        << ", \"at_s\": " << static_cast<double>(outcome.at_ns) * 1e-9 << ", \"ok\": " << (outcome.ok ? "true" : "false")
+        << ", \"done_s\": "
+        << (outcome.done_ns ? std::to_string(static_cast<double>(*outcome.done_ns) * 1e-9) : std::string("null"));
+    if (outcome.kind == swarm::HostAction::Kind::kStop) {
+      out << ", \"guest_gap_ms\": " << optional_ms(outcome.guest_gap_ms)
+          << ", \"world_gap_ms\": " << optional_ms(outcome.world_gap_ms)
+          << ", \"rejoined_as_joiner\": " << (outcome.rejoined_as_joiner ? "true" : "false");
+    }
+    out << "}";
+    first = false;
+  }
+  if (!first) out << "\n  ";
 }
 
 int main(int argc, char** argv) {
@@ -383,36 +603,8 @@ int main(int argc, char** argv) {
                                                 : "-icount shift=" + std::to_string(options.icount_shift);
   const int64_t start_ns = HostNs();
   for (uint16_t i = 0; i < robots; ++i) {
-    std::vector<std::string> args = {
-        options.qemu, "-M", "mps2-an386", "-nographic", "-monitor", "none", "-semihosting-config",
-        "enable=on,target=native",
-        "-chardev", "socket,id=console,path=" + paths[3 * i + 1], "-serial", "chardev:console",
-        "-chardev", "socket,id=radio,path=" + paths[3 * i], "-serial", "chardev:radio",
-        "-chardev", "socket,id=sensor,path=" + paths[3 * i + 2], "-serial", "chardev:sensor",
-        "-kernel", options.image, "-append",
-        "id " + std::to_string(i) + " swarm " + std::to_string(robots) + " seconds " +
-            std::to_string(options.seconds) + " report 1 sensors 1 align " + (options.align ? "1" : "0") +
-            StartPoseWords(scenario.robots[i])};
-    if (options.icount_shift >= 0) {
-      args.push_back("-icount");
-      args.push_back("shift=" + std::to_string(options.icount_shift));
-    }
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const std::string log = options.out + "/qemu_" + std::to_string(i) + ".log";
-      const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      if (fd >= 0) {
-        dup2(fd, 1);
-        dup2(fd, 2);
-      }
-      std::vector<char*> argv_child;
-      for (std::string& arg : args) argv_child.push_back(arg.data());
-      argv_child.push_back(nullptr);
-      execvp(argv_child[0], argv_child.data());
-      std::perror("syrof-firmware-swarm: exec qemu");
-      _exit(127);
-    }
-    swarm[i].pid = pid;
+    if (!scenario.robots[i].present_at_start) continue;  // launched when it joins (PlayFault)
+    swarm[i].pid = LaunchQemu(options, scenario, i, options.seconds, paths[3 * i + 1], paths[3 * i], paths[3 * i + 2]);
     // qemu connects to its chardevs in order while starting up.
     swarm[i].console = AcceptOne(console_listeners[i], 15'000, "robot " + std::to_string(i) + "'s console");
     swarm[i].radio = AcceptOne(radio_listeners[i], 15'000, "robot " + std::to_string(i) + "'s radio");
@@ -425,6 +617,14 @@ int main(int argc, char** argv) {
     }
   }
   const int64_t all_started_ns = HostNs();
+  std::vector<RobotSockets> sockets(robots);
+  for (uint16_t i = 0; i < robots; ++i) {
+    sockets[i] = RobotSockets{paths[3 * i + 1], paths[3 * i], paths[3 * i + 2], console_listeners[i],
+                              radio_listeners[i], sensor_listeners[i]};
+  }
+  // The scenario's faults on world time, and whether the robots handled them.
+  swarm::FaultPlayer fault_player(scenario, period_ns);
+  swarm::FaultOutcomes fault_outcomes(robots);
 
   // The scenario's channel (its model, loss and partitions; --loss
   // overrides the loss), drawing from the same seed stream as the lab's.
@@ -473,7 +673,15 @@ int main(int argc, char** argv) {
   // By due instant: the latency is scaled by each sender's clock rate.
   std::multimap<int64_t, Delivery> in_flight;
   std::vector<pollfd> fds;
+  bool released_paused = false;
   while (open_consoles > 0 && HostNs() < deadline_ns) {
+    for (uint16_t i = 0; i < robots; ++i) {
+      if (swarm[i].connecting && !AcceptLate(swarm[i], sockets[i], i)) {
+        swarm[i].connecting = false;
+        --open_consoles;
+      }
+    }
+    ReleasePausedAtTheEnd(swarm, fault_player, released_paused);
     fds.clear();
     for (const Robot& robot : swarm) {
       fds.push_back({robot.radio, POLLIN, 0});
@@ -490,15 +698,18 @@ int main(int argc, char** argv) {
     // rate (GuestClockRate, from the times they print), so a robot gets a second of
     // readings per second of its own time (docs/firmware.md, "How readings
     // are timed").
-    double host_per_world = 0;
-    for (const Robot& robot : swarm) host_per_world += robot.clock_rate.host_per_guest();
-    host_per_world /= robots;
+    const double host_per_world = HostPerWorld(swarm, fault_player);
     world_clock_ns += static_cast<double>(now - (last_loop_ns == 0 ? all_started_ns : last_loop_ns)) / host_per_world;
     last_loop_ns = now;
     // The world's steps due by now: bodies, contacts, then each robot's
     // readings due at the step's instant, framed to its sensor link.
     while (static_cast<double>(world_ns + kPhysicsNs) <= world_clock_ns) {
       world_ns += kPhysicsNs;
+      for (const swarm::HostAction& action : fault_player.Advance(world_ns)) {
+        PlayFault(action, world_ns, options, scenario, sockets[action.robot], swarm[action.robot], world,
+                  round_events, open_consoles);
+        fault_outcomes.OnAction(action, world_ns);
+      }
       world.Step(world_ns, static_cast<double>(kPhysicsNs) * 1e-9);
       for (const lab::world::Contact& contact : world.new_contacts()) {
         collector.OnCollision(contact.time_ns, contact.a, contact.b);
@@ -511,7 +722,7 @@ int main(int argc, char** argv) {
       }
       for (uint16_t i = 0; i < robots; ++i) {
         Robot& robot = swarm[i];
-        if (robot.sensor < 0) continue;
+        if (robot.sensor < 0 || fault_player.presence(i) != swarm::Presence::kRunning) continue;
         robot.bank->Sample(world_ns, world.true_state(i), robot.feed);
         robot.sensor_out.insert(robot.sensor_out.end(), robot.feed.bytes().begin(), robot.feed.bytes().end());
         robot.feed.clear();
@@ -520,7 +731,7 @@ int main(int argc, char** argv) {
     for (Robot& robot : swarm) Flush(robot.sensor, robot.sensor_out);
     while (!in_flight.empty() && in_flight.begin()->first <= now) {
       const Delivery& delivery = in_flight.begin()->second;
-      if (swarm[delivery.to].radio >= 0) {
+      if (swarm[delivery.to].radio >= 0 && fault_player.presence(delivery.to) == swarm::Presence::kRunning) {
         (void)WriteAll(swarm[delivery.to].radio, delivery.bytes.data(), delivery.bytes.size());
       }
       in_flight.erase(in_flight.begin());
@@ -556,9 +767,12 @@ int main(int argc, char** argv) {
           const int64_t due_ns = now + robot.clock_rate.ToHost(latency_ns);
           const int64_t beacon_round = robot.beacons_sent++;
           for (uint16_t to = 0; to < robots; ++to) {
-            if (to == i || swarm[to].radio < 0) continue;
+            // Paused, crashed and absent robots hear nothing (the lab's Listening).
+            if (to == i || swarm[to].radio < 0 || fault_player.presence(to) != swarm::Presence::kRunning) continue;
             ++offered;
-            if (!channel.Delivers(i, to, beacon_round, static_cast<double>(world_ns) * 1e-9)) continue;
+            // Partitions are on world time, as the lab's; then deaf and mute.
+            const double sent_s = static_cast<double>(world_ns) * 1e-9;
+            if (!channel.Delivers(i, to, beacon_round, sent_s) || fault_player.Blocked(i, to, sent_s)) continue;
             ++delivered;
             uint8_t wire_bytes[drivers::kMaxWireBytes];
             const auto encoded = drivers::EncodeFrame(
@@ -596,8 +810,10 @@ int main(int argc, char** argv) {
             robot.latest = *round_line;
             robot.latest_ns = now;
             robot.clock_rate.OnGuestTime(now, round_line->t_ms * 1'000'000);
+            fault_outcomes.OnRoundLine(*round_line, world_ns);
           } else if (const auto* epoch_line = std::get_if<swarm::EpochLine>(&parsed)) {
             collector.OnEpochStart(epoch_line->robot, round, world_ns, epoch_line->map);
+            fault_outcomes.OnEpochLine(*epoch_line, world_ns);
             round_events.push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line->robot, replay::kNoRobot,
                                                  epoch_line->map.epoch,
                                                  static_cast<uint8_t>(epoch_line->map.mode), world_ns});
@@ -624,8 +840,10 @@ int main(int argc, char** argv) {
         const Robot& robot = swarm[i];
         metrics::RobotRound& entry = rounds[i];
         entry.id = i;
-        entry.running = robot.latest.has_value() &&
+        const swarm::Presence presence = fault_player.presence(i);
+        entry.running = presence == swarm::Presence::kRunning && robot.latest.has_value() &&
                         static_cast<double>(now - robot.latest_ns) < 3 * static_cast<double>(period_ns) * host_per_world;
+        entry.paused = presence == swarm::Presence::kPaused;
         if (robot.latest) {
           entry.sync_member = robot.latest->member;
           entry.member = entry.running && robot.latest->member;
@@ -633,7 +851,8 @@ int main(int argc, char** argv) {
           entry.epoch_mode = robot.latest->mode;
           entry.phase = robot.latest->phase;
           // Scored once the filter had its warm-up after the world started.
-          entry.estimate_valid = robot.latest->estimate_valid && (round + 1) * period_ns >= lab::sim::kEstimationWarmupNs;
+          entry.estimate_valid =
+              entry.running && robot.latest->estimate_valid && (round + 1) * period_ns >= robot.scored_from_ns;
           entry.est_x_m = robot.latest->x_m;
           entry.est_y_m = robot.latest->y_m;
         }
@@ -642,7 +861,7 @@ int main(int argc, char** argv) {
         entry.true_y_m = body.y_m;
         replay::RobotFrame& frame = frames[i];
         frame.id = i;
-        frame.presence = entry.running ? replay::Presence::kRunning : replay::Presence::kAbsent;
+        frame.presence = ReplayPresence(presence, entry.running);
         frame.status = entry.sync_member ? 0 : 1;
         frame.phase = static_cast<uint8_t>(entry.phase);
         frame.mode = static_cast<uint8_t>(entry.epoch_mode);
@@ -686,14 +905,27 @@ int main(int argc, char** argv) {
   for (uint16_t i = 0; i < robots; ++i) {
     Robot& robot = swarm[i];
     int status = 0;
-    if (robot.console >= 0 || robot.radio >= 0) {  // the deadline passed
+    if (robot.pid <= 0) {  // a joiner whose time never came, or whose qemu did not start
+      ok = false;
+      std::fprintf(stderr, "robot %u: never started\n", static_cast<unsigned>(i));
+      continue;
+    }
+    if (robot.console >= 0 || robot.radio >= 0 || robot.connecting) {  // the deadline passed
       kill(robot.pid, SIGKILL);
       ok = false;
       std::fprintf(stderr, "robot %u: still running at the deadline\n", static_cast<unsigned>(i));
     }
     waitpid(robot.pid, &status, 0);
     robot.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    if (robot.exit_status != 0 || !robot.latest || robot.bad_lines > 0) ok = false;
+    // A crashed robot was killed (exit 137) and may have crashed before it reported.
+    const bool crashed = fault_player.presence(i) == swarm::Presence::kCrashed;
+    if ((!crashed && (robot.exit_status != 0 || !robot.latest)) || robot.bad_lines > 0) ok = false;
+  }
+  std::vector<swarm::Presence> final_presence;
+  for (uint16_t i = 0; i < robots; ++i) final_presence.push_back(fault_player.presence(i));
+  const std::vector<swarm::FaultOutcome> outcomes = fault_outcomes.Finish(final_presence);
+  for (const swarm::FaultOutcome& outcome : outcomes) {
+    if (options.expect_faults && !outcome.ok) ok = false;
   }
   for (const std::string& path : paths) unlink(path.c_str());
   rmdir(socket_dir);
@@ -798,6 +1030,8 @@ int main(int argc, char** argv) {
          << ", \"max_m\": " << (max_error_m ? std::to_string(*max_error_m) : std::string("null")) << "}"
          << ",\n  \"exit_statuses\": [";
   for (uint16_t i = 0; i < robots; ++i) report << (i ? ", " : "") << swarm[i].exit_status;
+  report << "],\n  \"partitioned_beacons\": " << channel.partitioned() << ",\n  \"faults\": [";
+  WriteFaultOutcomes(report, outcomes);
   report << "]\n}\n";
 
   std::printf("firmware swarm: %u robots, %d s, loss %.2f, seed %llu, timing %s, wall %.1f s\n",
@@ -827,6 +1061,10 @@ int main(int argc, char** argv) {
   for (uint16_t i = 0; i < robots; ++i) {
     std::printf("  robot %u: exit %d, %s\n", static_cast<unsigned>(i), swarm[i].exit_status,
                 swarm[i].last_status.c_str());
+  }
+  for (const swarm::FaultOutcome& outcome : outcomes) {
+    std::printf("  fault: %s: %s\n", outcome.ok ? "ok" : (options.expect_faults ? "FAILED" : "not seen"),
+                outcome.detail.c_str());
   }
   std::printf("  %s/metrics.json, %s/firmware-swarm.json: %s\n", options.out.c_str(), options.out.c_str(),
               ok ? "ok" : "FAILED");
