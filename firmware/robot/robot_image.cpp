@@ -47,6 +47,14 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
     return "robot id or swarm size out of range";
   }
   config_ = config;
+  // Motion (priority 1) runs a level above the round task (priority 2) on
+  // the NVIC: an epoch start's round step (the app's newRound, up to 2 M
+  // cycles at 32 robots) no longer holds the 10 ms motion task past its
+  // deadline (docs/firmware.md, "Utilisation and response times").
+  if (port_.MapPriority(registry::kMotionTaskPriority, registry::kRoundTaskPriority) != os::PortError::kOk ||
+      port_.MapPriority(registry::kRoundTaskPriority, registry::kMotionTaskPriority) != os::PortError::kOk) {
+    return "the kernel refused the priority map";
+  }
   if (app::Validate(descriptor) != app::DescriptorError::kOk) return "the app's descriptor is invalid";
   auto* app = new (app_memory_) app::CAbiApp(*descriptor);
 

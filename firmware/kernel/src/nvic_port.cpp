@@ -13,13 +13,24 @@ using os::TriggerKind;
 NvicPort::NvicPort(KernelHardware& hardware, uint16_t max_tasks)
     : hardware_(hardware), max_tasks_(max_tasks < kMaxTasks ? max_tasks : kMaxTasks) {}
 
+PortError NvicPort::MapPriority(uint8_t priority, uint8_t level) {
+  if (started_) return PortError::kAlreadyStarted;
+  if (priority >= kLevelCount || level >= kLevelCount) return PortError::kUnsupported;
+  level_of_priority_[priority] = level;
+  return PortError::kOk;
+}
+
 base::Result<TaskId, PortError> NvicPort::AddTask(os::Task& task, const os::TaskConfig& config) {
   if (const PortError error = os::Validate(config.trigger); error != PortError::kOk) return error;
   if (started_) return PortError::kAlreadyStarted;
   if (task_count_ >= max_tasks_) return PortError::kTooManyTasks;
   if (config.priority >= kLevelCount) return PortError::kUnsupported;
   const TaskId id = task_count_++;
-  tasks_[id] = TaskRecord{&task, config, -1, 0, 0, false};
+  TaskRecord record;
+  record.task = &task;
+  record.config = config;
+  record.level = level_of_priority_[config.priority];
+  tasks_[id] = record;
   if (config.trigger.kind == TriggerKind::kPeriodic) periodic_mask_ |= 1u << id;
   return id;
 }
@@ -52,7 +63,7 @@ PortError NvicPort::Stop() {
 
 void NvicPort::Notify(TaskId task) {
   if (task >= task_count_ || (periodic_mask_ & (1u << task)) != 0) return;
-  const uint8_t level = tasks_[task].config.priority;
+  const uint8_t level = tasks_[task].level;
   const uint32_t bit = 1u << task;
   // Already ready: its step has not begun (the bit is cleared just before
   // the step starts), so it will see whatever the caller published; nothing
@@ -149,7 +160,7 @@ void NvicPort::OnTimer() {
       const int64_t skipped = late < period ? 0 : late / period;
       record.release_ns = record.next_release_ns + skipped * period;  // the latest grid point at or before now
       record.next_release_ns += (skipped + 1) * period;
-      const uint8_t level = record.config.priority;
+      const uint8_t level = record.level;
       const uint32_t bit = 1u << id;
       uint32_t misses = static_cast<uint32_t>(skipped);
       if ((ready_[level] & bit) != 0 || record.in_step) ++misses;

@@ -140,6 +140,33 @@ TEST_F(NvicPortTest, HigherLevelPreemptsALowerStepAtOnce) {
   EXPECT_EQ(hardware.entries, (std::vector<std::string>{"L1", "L5"}));
 }
 
+// The robot images swap priorities 1 and 2 (motion above the round task),
+// so that an epoch start's long round step no longer holds motion back.
+TEST_F(NvicPortTest, AMappedPriorityRunsAtItsLevelAndPreemptsWhatItNowOutranks) {
+  ASSERT_EQ(port.MapPriority(1, 2), PortError::kOk);
+  ASSERT_EQ(port.MapPriority(2, 1), PortError::kOk);
+  ScriptedTask round(hardware, log, "round"), motion(hardware, log, "motion");
+  round.log_end = true;
+  motion.log_end = true;
+  const TaskId round_id = Add(round, Trigger::notified(), 2);
+  const TaskId motion_id = Add(motion, Trigger::notified(), 1);
+  EXPECT_EQ(port.level(round_id), 1);
+  EXPECT_EQ(port.level(motion_id), 2);
+  round.notify = {motion_id};
+  ASSERT_EQ(port.Start(), PortError::kOk);
+  EXPECT_EQ(port.MapPriority(3, 4), PortError::kAlreadyStarted);
+
+  port.Notify(round_id);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"0:round", "0:motion", "motion/", "round/"}));
+  EXPECT_EQ(hardware.entries, (std::vector<std::string>{"L1", "L2"}));
+}
+
+TEST_F(NvicPortTest, MapPriorityRefusesLevelsPastTheLast) {
+  EXPECT_EQ(port.MapPriority(kLevelCount, 0), PortError::kUnsupported);
+  EXPECT_EQ(port.MapPriority(0, kLevelCount), PortError::kUnsupported);
+}
+
 TEST_F(NvicPortTest, EqualOrLowerLevelRunsAfterTheNotifyingStep) {
   ScriptedTask high(hardware, log, "high"), same(hardware, log, "same"), low(hardware, log, "low");
   high.log_end = true;

@@ -45,6 +45,12 @@ class NvicPort final : public os::Port {
   NvicPort(const NvicPort&) = delete;
   NvicPort& operator=(const NvicPort&) = delete;
 
+  /// Tasks added from now on with `priority` run at interrupt level `level`
+  /// (by default a task's level is its priority). A board whose schedule
+  /// needs another order than the registry's data flow (docs/firmware.md,
+  /// "Utilisation and response times") maps it here; kAlreadyStarted after
+  /// Start, kUnsupported for a priority or level >= kLevelCount.
+  os::PortError MapPriority(uint8_t priority, uint8_t level);
   /// As os::Port; also kUnsupported when config.priority >= kLevelCount.
   base::Result<os::TaskId, os::PortError> AddTask(os::Task& task, const os::TaskConfig& config) override;
   /// Releases each periodic task first at now + offset.
@@ -86,6 +92,8 @@ class NvicPort final : public os::Port {
   uint16_t task_count() const { return task_count_; }
   /// The name `task` was added with; "" for unknown ids.
   const char* task_name(os::TaskId task) const { return task < task_count_ ? tasks_[task].config.name : ""; }
+  /// The interrupt level `task` runs at (its priority, unless mapped); 0 for unknown ids.
+  uint8_t level(os::TaskId task) const { return task < task_count_ ? tasks_[task].level : 0; }
 
  private:
   struct TaskRecord {
@@ -96,6 +104,7 @@ class NvicPort final : public os::Port {
     uint32_t overruns = 0;
     uint32_t steps = 0;
     bool in_step = false;
+    uint8_t level = 0;  ///< the interrupt level it runs at
   };
 
   /// Earliest next release, or -1; kernel masked.
@@ -107,6 +116,7 @@ class NvicPort final : public os::Port {
   uint16_t max_tasks_;
   /// Bit t of ready_[level] is set when task t (of that level) is ready.
   std::array<uint32_t, kLevelCount> ready_{};
+  std::array<uint8_t, kLevelCount> level_of_priority_{0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
   uint32_t periodic_mask_ = 0;  ///< bit t set for periodic tasks
   bool started_ = false;
   uint32_t lock_saved_mask_ = 0;
