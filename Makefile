@@ -80,8 +80,8 @@ test-m4: deps
 
 ## test-firmware-swarm: an emulated swarm of real firmware (docs/firmware.md,
 ## "The emulated swarm"): SWARM_ROBOTS qemu instances of syrof-robot-mps2
-## (4 in CI and on machines with fewer than 4 cores, 8 otherwise: eight
-## instances take about 2.4 cores) joined through syrof-firmware-swarm, which plays the
+## (4 in CI and on machines with fewer than 4 cores, 8 otherwise: two
+## instances a core, as CI runs them) joined through syrof-firmware-swarm, which plays the
 ## world of SWARM_SCENARIO, the robots' sensors and the lab's radio channel.
 ## Two runs: no loss (every robot must start one epoch COOPERATIVE) and
 ## SWARM_LOSS loss (P3 must stay 0); in both the largest estimation error
