@@ -1,0 +1,70 @@
+#include "worker_pool.h"
+
+#include "syrof/base/check.h"
+
+namespace syrof::lab::sim {
+namespace {
+
+// How long a waiting thread polls before it sleeps: a job of the lab lasts
+// microseconds to a millisecond, and at 100 robots the next one follows
+// within microseconds; polling longer only takes a core from whoever shares it.
+constexpr int kSpins = 2000;
+
+template <typename Value, typename Done>
+void SpinThenWait(const std::atomic<Value>& atomic, Done done) {
+  for (int spin = 0; spin < kSpins; ++spin) {
+    const Value value = atomic.load(std::memory_order_acquire);
+    if (done(value)) return;
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
+  for (;;) {
+    const Value value = atomic.load(std::memory_order_acquire);
+    if (done(value)) return;
+    atomic.wait(value, std::memory_order_acquire);
+  }
+}
+
+}  // namespace
+
+WorkerPool::WorkerPool(int workers) {
+  SYROF_CHECK(workers >= 1);
+  threads_.reserve(static_cast<size_t>(workers - 1));
+  for (int worker = 1; worker < workers; ++worker) threads_.emplace_back([this, worker] { WorkerLoop(worker); });
+}
+
+WorkerPool::~WorkerPool() {
+  stopping_ = true;
+  remaining_.store(static_cast<int32_t>(threads_.size()), std::memory_order_relaxed);
+  generation_.fetch_add(1, std::memory_order_release);
+  generation_.notify_all();
+  for (std::thread& thread : threads_) thread.join();
+}
+
+void WorkerPool::RunErased(void* context, Erased call) {
+  if (threads_.empty()) {
+    call(context, 0);
+    return;
+  }
+  context_ = context;
+  call_ = call;
+  remaining_.store(static_cast<int32_t>(threads_.size()), std::memory_order_relaxed);
+  generation_.fetch_add(1, std::memory_order_release);
+  generation_.notify_all();
+  call(context, 0);
+  SpinThenWait(remaining_, [](int32_t value) { return value == 0; });
+}
+
+void WorkerPool::WorkerLoop(int worker) {
+  uint32_t seen = 0;
+  for (;;) {
+    SpinThenWait(generation_, [seen](uint32_t value) { return value != seen; });
+    seen = generation_.load(std::memory_order_acquire);
+    if (stopping_) return;
+    call_(context_, worker);
+    if (remaining_.fetch_sub(1, std::memory_order_acq_rel) == 1) remaining_.notify_one();
+  }
+}
+
+}  // namespace syrof::lab::sim
