@@ -2,8 +2,8 @@
 // lab's `--threads` (simulation.cpp). Internal to lab/sim.
 //
 // Made once per run; Run() allocates nothing and, between jobs, the workers
-// spin briefly and then sleep on an atomic (a futex), so an idle pool costs
-// no CPU. The caller's thread is worker 0.
+// sleep on an atomic (a futex), so an idle pool costs no CPU. The caller's
+// thread is worker 0.
 #pragma once
 
 #include <atomic>
