@@ -39,9 +39,10 @@ using registry::kPhysicsPriority;
 using registry::kRecorderPriority;
 constexpr int kTasksPerRobot = 4;  // state, Kalman, round, motion
 constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
-// Below this many steps a batch runs on the calling thread: waking the pool
-// costs more than it saves (measured with bench_lab_throughput --threads,
-// docs/lab.md "Threads").
+// Below this many steps a batch runs on the calling thread: 16 robot steps
+// are a few microseconds, about what waking a sleeping worker takes. A
+// reasoned guess, not tuned: on the shared machine of docs/lab.md
+// ("Threads") no batch size gave a reliable gain to tune against.
 constexpr size_t kMinParallelSteps = 16;
 constexpr int kNoWorker = -1;
 
