@@ -83,7 +83,7 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>)");
   run->add_option("--threads", options.threads,
                   "Threads stepping robots side by side (default 1); the outputs are the same bytes as with 1. "
-                  "Helps from about 100 robots, not with clocks (docs/lab.md, Threads)")
+                  "Meant for hundreds of robots on idle cores; serial with clocks (docs/lab.md, Threads)")
       ->check(ThreadsValidator());
   run->add_option("--cpu-budget-ms", options.cpu_budget_ms,
                   "A library app's CPU time per callback, ms, instead of the scenario's (default 100)")
