@@ -149,10 +149,10 @@ asan: deps
 	ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L '^($(subst $(space),|,$(ASAN_LABELS)))$$' -E '$(ASAN_EXCLUDE)'
 
 ## tsan: the tests where threads meet (the POSIX port, the broker across
-## threads, the robot's receive edge) under ThreadSanitizer. Their suites:
+## threads, the robot's receive edge, the lab's --threads) under ThreadSanitizer. Their suites:
 ## TSAN_SUITES; add a suite there when a test starts threads.
-TSAN_TESTS = test_core_os_posix test_core_pubsub_threads test_core_runtime_threads
-TSAN_SUITES = ^(PosixPortTest|BrokerThreadsTest|RobotThreadsTest)\.
+TSAN_TESTS = test_core_os_posix test_core_pubsub_threads test_core_runtime_threads test_lab_sim_threads
+TSAN_SUITES = ^(PosixPortTest\.|BrokerThreadsTest\.|RobotThreadsTest\.|SimulationThreadsTest\.ShortRun)
 tsan: deps
 	$(CMAKE_CONFIGURE) -S . -B $(TSAN_DIR) -DSYROF_TSAN=ON -DSYROF_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target $(TSAN_TESTS)

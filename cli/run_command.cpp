@@ -81,6 +81,10 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_option("--duration", options.duration_s, "Simulated seconds instead of the scenario's")
       ->check(DurationValidator());
   run->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>)");
+  run->add_option("--threads", options.threads,
+                  "Threads stepping robots side by side (default 1); the outputs are the same bytes as with 1. "
+                  "Meant for hundreds of robots on idle cores; serial with clocks (docs/lab.md, Threads)")
+      ->check(ThreadsValidator());
   run->add_option("--cpu-budget-ms", options.cpu_budget_ms,
                   "A library app's CPU time per callback, ms, instead of the scenario's (default 100)")
       ->check(CLI::Range(uint32_t{1}, scenario::kMaxCpuBudgetMs));
@@ -165,6 +169,7 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   sim_options.replay = options.no_replay ? nullptr : &replay_file;
   sim_options.app_factory = options.app_factory;
   sim_options.app_source = options.app_source;
+  sim_options.threads = options.threads;
   if (library) {
     sim_options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
     sim_options.app_source = scenario.app.library;

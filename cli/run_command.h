@@ -26,6 +26,7 @@ struct RunOptions {
   std::optional<int> robots;
   std::optional<double> duration_s;
   std::string out_dir;        ///< default: out/<scenario name>
+  int threads = 1;            ///< threads stepping robots (lab::sim::SimulationOptions::threads)
   bool no_replay = false;
   bool html = false;          ///< also write OUT/replay.html, the replay's page (syrof view)
   bool reproducible = false;  ///< wall_seconds written as 0, so identical runs give identical files

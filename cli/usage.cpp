@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/simulation.h"
 
 namespace syrof::cli {
 namespace {
@@ -44,6 +45,26 @@ CLI::Validator RobotCountValidator() {
         return {};
       },
       fmt::format("1..{}", max), "ROBOTS");
+}
+
+CLI::Validator ThreadsValidator() {
+  static constexpr int kMax = lab::sim::kMaxThreads;
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        int64_t value = 0;
+        const char* end = text.data() + text.size();
+        const auto [rest, error] = std::from_chars(text.data(), end, value);
+        if (error != std::errc() || rest != end) {
+          return fmt::format("must be a whole number of threads from 1 to {}, not '{}'", kMax, text);
+        }
+        if (value < 1) return fmt::format("must be at least 1 thread, not {}", value);
+        if (value > kMax) {
+          return fmt::format("must be at most {} threads (more than the machine's cores only slows a run), not {}",
+                             kMax, value);
+        }
+        return {};
+      },
+      fmt::format("1..{}", kMax), "THREADS");
 }
 
 CLI::Validator DurationValidator() {

@@ -17,6 +17,9 @@ CLI::Validator RobotCountValidator();
 /// Simulated seconds, more than 0 and at most lab::scenario::kMaxDurationS.
 CLI::Validator DurationValidator();
 
+/// Threads of `run --threads`: a whole number, 1 to lab::sim::kMaxThreads.
+CLI::Validator ThreadsValidator();
+
 /// Reports a parse error of `app` (the `syrof` command with its subcommands
 /// set up) and returns the exit status: 0 for --help, 2 for a usage error.
 /// A word where a subcommand belongs that is not one gets "'grade' is not a

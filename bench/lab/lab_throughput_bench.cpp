@@ -9,13 +9,21 @@
 // A last table runs 100 robots with the safety filter (docs/safety.md) on
 // and off: its cost is the difference (target: at most 10%).
 //
-// Usage: bench_lab_throughput [--quick | --safety | --one ROBOTS SECONDS]
+// A table of the thread mode (`syrof run --threads`, docs/lab.md "Threads")
+// follows: 100 and 1000 robots, 1 thread against 2, in wall time (CPU time
+// adds up over threads), runs alternating; the speed-up is the best 1-thread
+// wall time over the best 2-thread one.
+//
+// Usage: bench_lab_throughput [--quick | --safety | --threads | --one ROBOTS SECONDS [THREADS]]
 //   --quick: shorter runs, for CI smoke; --safety: only the safety filter's
-//   table; --one: a single run of builtin:idle with the safety filter on, for
-//   profilers (valgrind --tool=callgrind, perf record), printing its figure.
+//   table; --threads: only the thread mode's table; --one: a single run of
+//   builtin:idle with the safety filter on, for profilers (valgrind
+//   --tool=callgrind, perf record), printing its figure (per wall second
+//   when THREADS > 1).
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -68,9 +76,14 @@ safety: {safety}
 }
 
 double CpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+double WallSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
-// Returns robot-seconds per CPU second (construction excluded).
-double Measure(int robots, const char* app, double duration_s, bool replay, bool safety = true) {
+// Returns robot-seconds per CPU second (construction excluded); with
+// `wall`, per wall second.
+double Measure(int robots, const char* app, double duration_s, bool replay, bool safety = true, int threads = 1,
+               bool wall = false) {
   const scenario::LoadResult loaded =
       scenario::LoadScenarioText(StandardScenario(robots, app, duration_s, safety), "bench");
   if (!loaded.ok()) {
@@ -80,10 +93,12 @@ double Measure(int robots, const char* app, double duration_s, bool replay, bool
   std::ostringstream replay_bytes;
   sim::SimulationOptions options;
   options.replay = replay ? &replay_bytes : nullptr;
+  options.threads = threads;
   sim::Simulation simulation(*loaded.scenario, options);
-  const double start = CpuSeconds();
+  const auto now = wall ? WallSeconds : CpuSeconds;
+  const double start = now();
   simulation.RunUntil(duration_s);
-  const double cpu = CpuSeconds() - start;
+  const double cpu = now() - start;
   const sim::RunReport report = simulation.Finish(cpu);
   (void)report;
   return robots * duration_s / cpu;
@@ -91,20 +106,46 @@ double Measure(int robots, const char* app, double duration_s, bool replay, bool
 
 }  // namespace
 
+// The thread mode's table (see the top of the file).
+void PrintThreads(bool quick) {
+  fmt::print("\nthe thread mode (--threads), builtin:idle, wall time, best of 3, runs alternating 1 and 2 threads\n\n");
+  fmt::print("{:<16} {:>8} {:>12} {:>20} {:>20} {:>9}\n", "app", "robots", "sim seconds", "1 thread, robot-s/s",
+             "2 threads, robot-s/s", "speed-up");
+  struct Case {
+    int robots;
+    double duration_s;
+  };
+  for (const Case c : {Case{100, quick ? 2.0 : 10.0}, Case{1000, quick ? 0.5 : 3.0}}) {
+    double best_one = 0;
+    double best_two = 0;
+    for (int run = 0; run < 3; ++run) {
+      best_one = std::max(best_one, Measure(c.robots, "builtin:idle", c.duration_s, true, true, 1, true));
+      best_two = std::max(best_two, Measure(c.robots, "builtin:idle", c.duration_s, true, true, 2, true));
+    }
+    fmt::print("{:<16} {:>8} {:>12.1f} {:>20.0f} {:>20.0f} {:>8.2f}x\n", "builtin:idle", c.robots, c.duration_s,
+               best_one, best_two, best_two / best_one);
+  }
+}
+
 int main(int argc, char** argv) {
-  if (argc == 4 && std::strcmp(argv[1], "--one") == 0) {
+  if ((argc == 4 || argc == 5) && std::strcmp(argv[1], "--one") == 0) {
     const int robots = std::atoi(argv[2]);
     const double duration_s = std::atof(argv[3]);
-    if (robots < 1 || !(duration_s > 0)) {
-      fmt::print(stderr, "--one needs ROBOTS >= 1 and SECONDS > 0\n");
+    const int threads = argc == 5 ? std::atoi(argv[4]) : 1;
+    if (robots < 1 || !(duration_s > 0) || threads < 1 || threads > sim::kMaxThreads) {
+      fmt::print(stderr, "--one needs ROBOTS >= 1, SECONDS > 0 and THREADS from 1 to {}\n", sim::kMaxThreads);
       return 2;
     }
-    fmt::print("builtin:idle {} robots {} s: {:.0f} robot-s per CPU-s\n", robots, duration_s,
-               Measure(robots, "builtin:idle", duration_s, true));
+    fmt::print("builtin:idle {} robots {} s, {} thread(s): {:.0f} robot-s per {} s\n", robots, duration_s, threads,
+               Measure(robots, "builtin:idle", duration_s, true, true, threads, threads > 1), threads > 1 ? "wall" : "CPU");
     return 0;
   }
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const bool safety_only = argc > 1 && std::strcmp(argv[1], "--safety") == 0;
+  if (argc > 1 && std::strcmp(argv[1], "--threads") == 0) {
+    PrintThreads(false);
+    return 0;
+  }
   fmt::print("simulated lab throughput, robot-seconds per CPU-second on one core, safety filter on (issue 15's\n"
              "targets: >= 20,000 at 100 robots; 1000 robots >= 10x real time)\n\n");
   fmt::print("{:<16} {:>8} {:>12} {:>27} {:>10}\n", "app", "robots", "sim seconds", "robot-s per CPU-s, best of 3",
@@ -145,5 +186,6 @@ int main(int argc, char** argv) {
     fmt::print("{:<16} {:>8} {:>14.0f} {:>14.0f} {:>7.1f}%\n", app, 100, best_on, best_off,
                100.0 * (best_off / best_on - 1.0));
   }
+  if (!safety_only) PrintThreads(quick);
   return 0;
 }

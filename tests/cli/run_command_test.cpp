@@ -147,6 +147,34 @@ TEST(RunCommandTest, ReproducibleRunsWriteIdenticalBytes) {
   EXPECT_EQ(ReadFile(fs::path(first.out_dir) / "replay"), ReadFile(fs::path(second.out_dir) / "replay"));
 }
 
+// --threads: the same standard output and files as one thread (30 robots,
+// so robots do run side by side); only the output folder's name differs.
+TEST(RunCommandTest, ThreadsWriteAndPrintTheSameBytes) {
+  RunOptions one;
+  one.scenario_path = kScenarios + "/demo_circle.yaml";
+  one.robots = 30;
+  one.duration_s = 4;
+  one.reproducible = true;
+  one.out_dir = RunTempDir("threads_1").string();
+  RunOptions two = one;
+  two.threads = 2;
+  two.out_dir = RunTempDir("threads_2").string();
+
+  const Outcome first = RunWith(one);
+  const Outcome second = RunWith(two);
+
+  ASSERT_EQ(first.status, 0) << first.err;
+  ASSERT_EQ(second.status, 0) << second.err;
+  std::string second_out = second.out;
+  for (size_t at = second_out.find(two.out_dir); at != std::string::npos; at = second_out.find(two.out_dir)) {
+    second_out.replace(at, two.out_dir.size(), one.out_dir);
+  }
+  EXPECT_EQ(second_out, first.out);
+  EXPECT_EQ(second.err, first.err);
+  EXPECT_TRUE(ReadFile(fs::path(one.out_dir) / "metrics.json") == ReadFile(fs::path(two.out_dir) / "metrics.json"));
+  EXPECT_TRUE(ReadFile(fs::path(one.out_dir) / "replay") == ReadFile(fs::path(two.out_dir) / "replay"));
+}
+
 TEST(RunCommandTest, OverridesReachTheRun) {
   RunOptions options;
   options.scenario_path = kScenarios + "/idle.yaml";

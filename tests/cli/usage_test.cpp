@@ -77,6 +77,22 @@ TEST(UsageTest, RobotsThatAreNotAWholeNumberAreRefused) {
   EXPECT_NE(report.err.find("--robots: must be a whole number from 1 to"), std::string::npos) << report.err;
 }
 
+TEST(UsageTest, ThreadsBelowOneAboveTheMaximumOrNotWholeAreRefused) {
+  const Report zero = Parse("run s.yaml --threads 0");
+  EXPECT_EQ(zero.status, 2);
+  EXPECT_NE(zero.err.find("--threads: must be at least 1 thread, not 0"), std::string::npos) << zero.err;
+  const Report absurd = Parse("run s.yaml --threads 1000");
+  EXPECT_EQ(absurd.status, 2);
+  EXPECT_NE(absurd.err.find("--threads: must be at most 64 threads"), std::string::npos) << absurd.err;
+  const Report fraction = Parse("run s.yaml --threads 1.5");
+  EXPECT_EQ(fraction.status, 2);
+  EXPECT_NE(fraction.err.find("--threads: must be a whole number of threads from 1 to 64, not '1.5'"),
+            std::string::npos)
+      << fraction.err;
+  EXPECT_EQ(Parse("run s.yaml --threads 64").status, 0);
+  EXPECT_EQ(Parse("run s.yaml --threads 2").status, 0);
+}
+
 // `syrof run` and `syrof swarm` say the same (swarm printed CLI11's
 // 300-digit range).
 TEST(UsageTest, DurationZeroOrNegativeSaysMoreThanZero) {

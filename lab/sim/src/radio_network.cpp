@@ -85,8 +85,22 @@ bool RadioNetwork::Silenced(scenario::FaultKind kind, uint16_t robot, double at_
   return false;
 }
 
+void RadioNetwork::SplitReceivers(std::span<const uint16_t> starts) {
+  SYROF_CHECK(!starts.empty() && starts[0] == 0);
+  for (size_t b = 1; b < starts.size(); ++b) SYROF_CHECK(starts[b] > starts[b - 1] && starts[b] < size());
+  block_starts_.assign(starts.begin(), starts.end());
+  block_channels_.assign(starts.size() - 1, channel_);
+}
+
 void RadioNetwork::Deliver(int64_t round, double sent_at_s, BeaconReceivers& receivers) {
+  BeginDelivery(round, sent_at_s, receivers);
+  for (size_t block = 0; block < block_starts_.size(); ++block) DeliverToBlock(block, receivers);
+}
+
+void RadioNetwork::BeginDelivery(int64_t round, double sent_at_s, BeaconReceivers& receivers) {
   const uint16_t swarm_size = size();
+  delivery_round_ = round;
+  delivery_sent_at_s_ = sent_at_s;
   // Receiving hands a beacon over and changes no robot's power, so who
   // listens is asked once per receiver, not once per (sender, receiver).
   for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) listening_[receiver] = receivers.Listening(receiver);
@@ -106,16 +120,24 @@ void RadioNetwork::Deliver(int64_t round, double sent_at_s, BeaconReceivers& rec
     const bool mute = !radio_faults_.empty() && Silenced(scenario::FaultKind::kMute, sender, sent_at_s);
     senders_.push_back({sender, mute});
   }
-  // Then each receiver gets all its beacons of the round at once, in sender
-  // order: its inbox fills as when deliveries went sender by sender, but one
-  // robot's inbox is touched at a time. The channel is asked about the same
-  // links (its draws depend on the link and the round, not on the order).
-  for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) {
+}
+
+// Each receiver gets all its beacons of the round at once, in sender order:
+// its inbox fills as when deliveries went sender by sender, but one robot's
+// inbox is touched at a time. The channel is asked about the same links (its
+// draws depend on the link and the round, not on the order).
+void RadioNetwork::DeliverToBlock(size_t block, BeaconReceivers& receivers) {
+  const uint16_t first = block_starts_[block];
+  const uint16_t end = block + 1 < block_starts_.size() ? block_starts_[block + 1] : size();
+  world::Channel& channel = block == 0 ? channel_ : block_channels_[block - 1];
+  const int64_t round = delivery_round_;
+  const double sent_at_s = delivery_sent_at_s_;
+  for (uint16_t receiver = first; receiver < end; ++receiver) {
     if (listening_[receiver] == 0) continue;
     const bool deaf = !radio_faults_.empty() && Silenced(scenario::FaultKind::kDeaf, receiver, sent_at_s);
     for (const Sent& sent : senders_) {
       if (sent.sender == receiver) continue;
-      if (!channel_.Delivers(sent.sender, receiver, round, sent_at_s)) continue;
+      if (!channel.Delivers(sent.sender, receiver, round, sent_at_s)) continue;
       if (deaf || sent.mute) continue;
       receivers.Receive(receiver, inflight_[sent.sender]);
     }

@@ -16,6 +16,7 @@
 #include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/replay/writer.h"
 #include "lab_robot.h"
+#include "worker_pool.h"
 #include "syrof/lab/sim/fault_schedule.h"
 #include "syrof/lab/sim/observation.h"
 #include "syrof/lab/sim/radio_network.h"
@@ -38,6 +39,12 @@ using registry::kPhysicsPriority;
 using registry::kRecorderPriority;
 constexpr int kTasksPerRobot = 4;  // state, Kalman, round, motion
 constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
+// Below this many steps a batch runs on the calling thread: 16 robot steps
+// are a few microseconds, about what waking a sleeping worker takes. A
+// reasoned guess, not tuned: on the shared machine of docs/lab.md
+// ("Threads") no batch size gave a reliable gain to tune against.
+constexpr size_t kMinParallelSteps = 16;
+constexpr int kNoWorker = -1;
 
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 
@@ -55,7 +62,10 @@ class CallbackTask final : public os::Task {
 
 // ---- The simulation -------------------------------------------------------
 
-class Simulation::Impl final : public runtime::RobotObserver, private BeaconReceivers, public AppStateSink {
+class Simulation::Impl final : public runtime::RobotObserver,
+                               private BeaconReceivers,
+                               public AppStateSink,
+                               private os::SimBatchRunner {
  public:
   Impl(const Scenario& scenario, const SimulationOptions& options);
 
@@ -74,6 +84,49 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   void OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) override;
   void OnSafetyIntervention(uint16_t robot, int64_t time_ns, uint16_t other) override;
 
+  // What a robot's step tells the lab (the observer calls above and
+  // OnAppState), as data: handled at once, or, during a parallel batch,
+  // kept per robot and handled when the batch ends, robot by robot in the
+  // order the steps would have run one at a time. It carries what the
+  // handling reads of the robot at the moment of the call (its epoch and
+  // mode), since the robot's step has gone on by then; ldmap, removed and
+  // joined point into the robot, unchanged until its next round step.
+  struct ObserverCall {
+    enum class Kind : uint8_t {
+      kEpochStart,
+      kMembership,
+      kBecameJoiner,
+      kAppFault,
+      kInvalidCommand,
+      kPayloadRefused,
+      kSafetyIntervention,
+      kAppState,
+    };
+    Kind kind;
+    uint16_t robot;
+    uint16_t epoch;   // the robot's epoch at the call (its events' stamp)
+    wire::Mode mode;  // that epoch's mode at the call
+    int64_t local_ns = 0;
+    const sync::LDMap* ldmap = nullptr;
+    const wire::MemberSet* removed = nullptr;
+    const wire::MemberSet* joined = nullptr;
+    uint16_t other = 0;       // kSafetyIntervention
+    uint16_t call_epoch = 0;  // the app call's epoch (kAppFault, kInvalidCommand, kPayloadRefused)
+    app::Callback callback = app::Callback::kInit;
+    app::CallStatus status;
+    app::CommandCheck check{};
+    size_t length = 0;
+    // kAppState
+    bool new_round = false;
+    bool cooperative = false;
+    uint16_t map_epoch = 0;
+    uint64_t fingerprint = 0;
+    uint8_t state = 0;
+  };
+  ObserverCall CallOf(ObserverCall::Kind kind, uint16_t robot) const;
+  void Report(const ObserverCall& call);
+  void Handle(const ObserverCall& call);
+
   Scenario scenario_;
   SimulationOptions options_;
   int64_t radio_round_ns_;
@@ -82,6 +135,7 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   os::SimScheduler scheduler_;
   os::SimPort world_port_;
   QueriesWorkspace workspace_;
+  std::vector<std::unique_ptr<QueriesWorkspace>> worker_workspaces_;  // --threads: workers 1.. (below)
   // The scenario's app params as syrofAppParameter answers them (names view
   // scenario_.app.params' keys, which never change during the run).
   std::vector<app::Parameter> app_params_;
@@ -109,6 +163,19 @@ class Simulation::Impl final : public runtime::RobotObserver, private BeaconRece
   bool any_epoch_ = false;
   uint16_t newest_epoch_ = 0;
   std::optional<uint16_t> epoch_sample_;  // a newer epoch started this round: sample the poses
+
+  // --threads: the pool (destroyed before the robots), each robot's worker
+  // by port (contiguous blocks of robots; kNoWorker for the world's port),
+  // and the observer calls kept during a parallel batch, per robot. Worker
+  // w > 0 lends its robots' apps worker_workspaces_[w - 1], worker 0 workspace_.
+  std::unique_ptr<WorkerPool> pool_;
+  std::vector<int> worker_of_port_;
+  std::vector<uint16_t> robot_of_port_;
+  std::vector<std::vector<ObserverCall>> kept_calls_;
+  std::span<const os::SimStep> batch_;
+  bool parallel_ = false;  // a parallel batch is running
+  // os::SimBatchRunner
+  void RunBatch(std::span<const os::SimStep> steps) override;
 
   // AppStateSink (public: the robots' RecordingApps report here)
   void OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) override;
@@ -166,9 +233,21 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
   radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
+  // Threads step robots of one batch side by side. With clocks the radio
+  // hands a beacon to its receivers inside the sender's round step
+  // (radio_network.h), so robots' steps are not independent, and drifting
+  // clocks rarely release two robots at one instant anyway: serial.
+  const size_t robot_count = scenario_.robots.size();
+  SYROF_CHECK(options_.threads >= 1 && options_.threads <= kMaxThreads);
+  const int workers = scenario_.clocks.enabled || robot_count < 2
+                          ? 1
+                          : static_cast<int>(std::min<size_t>(static_cast<size_t>(options_.threads), robot_count));
+  const auto worker_of_robot = [&](size_t robot) { return static_cast<int>(robot * workers / robot_count); };
+  for (int worker = 1; worker < workers; ++worker) worker_workspaces_.push_back(std::make_unique<QueriesWorkspace>());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
-    config.queries_workspace = workspace_.handle();
+    const int worker = worker_of_robot(spec.id);
+    config.queries_workspace = worker == 0 ? workspace_.handle() : worker_workspaces_[worker - 1]->handle();
     config.app_params = app_params_;
     if (options_.configure_robot) options_.configure_robot(config);
     std::unique_ptr<app::App> app =
@@ -220,6 +299,58 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   SYROF_CHECK(world_port_.Start() == os::PortError::kOk);
   for (auto& robot : robots_) {
     if (scenario_.robots[robot->id()].present_at_start) StartRobot(*robot, 0);
+  }
+  if (workers > 1) {
+    uint32_t ports = world_port_.index() + 1;
+    for (const auto& robot : robots_) ports = std::max(ports, robot->port().index() + 1);
+    worker_of_port_.assign(ports, kNoWorker);
+    robot_of_port_.assign(ports, 0);
+    for (const auto& robot : robots_) {
+      worker_of_port_[robot->port().index()] = worker_of_robot(robot->id());
+      robot_of_port_[robot->port().index()] = robot->id();
+    }
+    kept_calls_.resize(robot_count);
+    std::vector<uint16_t> block_starts;
+    for (size_t robot = 0; robot < robot_count; ++robot) {
+      if (robot == 0 || worker_of_robot(robot) != worker_of_robot(robot - 1)) {
+        block_starts.push_back(static_cast<uint16_t>(robot));
+      }
+    }
+    radio_.SplitReceivers(block_starts);  // worker w delivers to its own robots
+    pool_ = std::make_unique<WorkerPool>(workers);
+    scheduler_.set_batch_runner(this);
+  }
+}
+
+// A batch holds one task per robot, due at one instant with one priority
+// (os::SimScheduler); each robot's step touches its own robot, port, broker
+// and radio slot, and tells the lab what happened through the observer
+// calls, which are kept and handled afterwards in the serial order. The
+// world's tasks have priorities of their own (registry/tasks.h), so they
+// never share a batch with a robot's; a batch that holds one anyway runs
+// serially.
+void Simulation::Impl::RunBatch(std::span<const os::SimStep> steps) {
+  bool robots_only = steps.size() >= kMinParallelSteps;
+  for (size_t i = 0; robots_only && i < steps.size(); ++i) {
+    robots_only = worker_of_port_[steps[i].port->index()] != kNoWorker;
+  }
+  if (!robots_only) {
+    for (const os::SimStep& step : steps) step.task->Step(step.now_ns);
+    return;
+  }
+  parallel_ = true;
+  batch_ = steps;
+  auto job = [this](int worker) {
+    for (const os::SimStep& step : batch_) {
+      if (worker_of_port_[step.port->index()] == worker) step.task->Step(step.now_ns);
+    }
+  };
+  pool_->Run(job);
+  parallel_ = false;
+  for (const os::SimStep& step : steps) {
+    std::vector<ObserverCall>& calls = kept_calls_[robot_of_port_[step.port->index()]];
+    for (const ObserverCall& call : calls) Handle(call);
+    calls.clear();
   }
 }
 
@@ -361,7 +492,20 @@ void Simulation::Impl::StepHardware(int64_t now_ns) {
 void Simulation::Impl::StepRadio(int64_t now_ns) {
   if (scenario_.clocks.enabled) return;  // beacons travel when sent (radio_network.h)
   const int64_t round = RoundOf(now_ns) - 1;
-  radio_.Deliver(round, static_cast<double>(round * radio_round_ns_) * 1e-9, *this);
+  const double sent_at_s = static_cast<double>(round * radio_round_ns_) * 1e-9;
+  if (pool_ == nullptr) {
+    radio_.Deliver(round, sent_at_s, *this);
+    return;
+  }
+  // Worker w hands its own robots their beacons (each receiver's inbox and
+  // its block's channel copy are its own).
+  radio_.BeginDelivery(round, sent_at_s, *this);
+  if (robots_.size() < kMinParallelSteps) {
+    for (size_t block = 0; block < radio_.blocks(); ++block) radio_.DeliverToBlock(block, *this);
+    return;
+  }
+  auto job = [this](int worker) { radio_.DeliverToBlock(static_cast<size_t>(worker), *this); };
+  pool_->Run(job);
 }
 
 bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
@@ -429,26 +573,6 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
   }
 }
 
-void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t /*local_ns*/, const sync::LDMap& ldmap) {
-  const int64_t now_ns = TrueNow();
-  collector_.OnEpochStart(robot, RoundOf(now_ns), now_ns, ldmap);
-  if (!any_epoch_ || sync::EpochDifference(ldmap.epoch, newest_epoch_) > 0) {
-    any_epoch_ = true;
-    newest_epoch_ = ldmap.epoch;
-    epoch_sample_ = ldmap.epoch;
-  }
-  AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
-  if (replay_ != nullptr) round_maps_.push_back(replay::RobotMap{robot, ToEpochMap(ldmap)});
-}
-
-void Simulation::Impl::OnMembership(uint16_t robot, int64_t /*local_ns*/, const wire::MemberSet& removed,
-                                    const wire::MemberSet& joined) {
-  const int64_t now_ns = TrueNow();
-  collector_.OnMembership(robot, RoundOf(now_ns), removed, joined);
-  for (const uint16_t member : removed) AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member);
-  for (const uint16_t member : joined) AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member);
-}
-
 std::vector<goals::RobotPose> Simulation::Impl::RunningPoses() const {
   std::vector<goals::RobotPose> poses;
   for (const auto& robot : robots_) {
@@ -459,61 +583,157 @@ std::vector<goals::RobotPose> Simulation::Impl::RunningPoses() const {
   return poses;
 }
 
-void Simulation::Impl::OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) {
-  using Call = metrics::AgreementTracker::Call;
-  agreement_.OnAppState(robot, RoundOf(scheduler_.now_ns()), new_round ? Call::kNewRound : Call::kEndOfRound,
-                        ldmap.epoch, ldmap.mode == SYROF_MODE_COOPERATIVE, MapFingerprint(ldmap), state);
+// ---- What the robots tell the lab ------------------------------------------
+
+Simulation::Impl::ObserverCall Simulation::Impl::CallOf(ObserverCall::Kind kind, uint16_t robot) const {
+  ObserverCall call{};
+  call.kind = kind;
+  call.robot = robot;
+  const sync::SyncState& state = robots_[robot]->robot().sync_state();
+  call.epoch = state.epoch;
+  call.mode = state.epoch_mode;
+  return call;
+}
+
+void Simulation::Impl::Report(const ObserverCall& call) {
+  if (parallel_) {
+    kept_calls_[call.robot].push_back(call);  // this robot's own list: only its worker writes it
+    return;
+  }
+  Handle(call);
+}
+
+void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t /*local_ns*/, const sync::LDMap& ldmap) {
+  ObserverCall call = CallOf(ObserverCall::Kind::kEpochStart, robot);
+  call.ldmap = &ldmap;
+  Report(call);
+}
+
+void Simulation::Impl::OnMembership(uint16_t robot, int64_t /*local_ns*/, const wire::MemberSet& removed,
+                                    const wire::MemberSet& joined) {
+  ObserverCall call = CallOf(ObserverCall::Kind::kMembership, robot);
+  call.removed = &removed;
+  call.joined = &joined;
+  Report(call);
 }
 
 void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t /*local_ns*/) {
-  AddEvent(replay::EventKind::kBecameJoiner, TrueNow(), robot);
+  Report(CallOf(ObserverCall::Kind::kBecameJoiner, robot));
 }
 
-// ---- The app's failures ----------------------------------------------------
-// A robot whose app faulted is stopped as a crashed robot is (its software
-// stops, its body stays, the others' failure detectors remove it) and the
-// run goes on. Called from inside the robot's own step (or from Attach, for
-// init), which the robot ends without another app call.
+void Simulation::Impl::OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) {
+  ObserverCall call = CallOf(ObserverCall::Kind::kAppState, robot);
+  call.new_round = new_round;
+  call.map_epoch = ldmap.epoch;
+  call.cooperative = ldmap.mode == SYROF_MODE_COOPERATIVE;
+  call.fingerprint = MapFingerprint(ldmap);  // the app's map changes within the step: read it now
+  call.state = state;
+  Report(call);
+}
 
-void Simulation::Impl::OnAppFault(uint16_t robot, int64_t /*local_ns*/, app::Callback callback, uint16_t epoch,
+void Simulation::Impl::OnAppFault(uint16_t robot, int64_t local_ns, app::Callback callback, uint16_t epoch,
                                   const app::CallStatus& status) {
-  const int64_t now_ns = TrueNow();
-  collector_.OnAppFault(metrics::AppFault{robot, app::ToString(callback), epoch, now_ns,
-                                          app::ToString(status.verdict()), status.detail()});
-  LabRobot& lab_robot = *robots_[robot];
-  const wire::Mode mode = lab_robot.robot().sync_state().epoch_mode;
-  AddEvent(replay::EventKind::kAppFault, now_ns, robot, replay::kNoRobot, epoch, mode);
-  lab_robot.app_faulted = true;
-  if (lab_robot.presence != replay::Presence::kAbsent) StopRobot(lab_robot, replay::Presence::kCrashed);
+  ObserverCall call = CallOf(ObserverCall::Kind::kAppFault, robot);
+  call.local_ns = local_ns;
+  call.callback = callback;
+  call.call_epoch = epoch;
+  call.status = status;
+  Report(call);
 }
 
-void Simulation::Impl::OnInvalidCommand(uint16_t robot, int64_t /*local_ns*/, uint16_t epoch,
+void Simulation::Impl::OnInvalidCommand(uint16_t robot, int64_t local_ns, uint16_t epoch,
                                         const app::CommandCheck& check) {
-  const int64_t now_ns = TrueNow();
-  std::array<char, 64> what{};
-  collector_.OnInvalidCommand(robot, epoch, app::Describe(check, what.data(), what.size()));
-  LabRobot& lab_robot = *robots_[robot];
-  if (lab_robot.invalid_command_recorded) return;
-  lab_robot.invalid_command_recorded = true;
-  const wire::Mode mode = lab_robot.robot().sync_state().epoch_mode;
-  AddEvent(replay::EventKind::kInvalidCommand, now_ns, robot, replay::kNoRobot, epoch, mode);
+  ObserverCall call = CallOf(ObserverCall::Kind::kInvalidCommand, robot);
+  call.local_ns = local_ns;
+  call.call_epoch = epoch;
+  call.check = check;
+  Report(call);
 }
 
-void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t /*local_ns*/, uint16_t epoch, size_t length) {
-  const int64_t now_ns = TrueNow();
-  collector_.OnPayloadRefused(robot, epoch, std::to_string(length) + " bytes");
-  LabRobot& lab_robot = *robots_[robot];
-  if (lab_robot.payload_refusal_recorded) return;
-  lab_robot.payload_refusal_recorded = true;
-  const wire::Mode mode = lab_robot.robot().sync_state().epoch_mode;
-  AddEvent(replay::EventKind::kPayloadRefused, now_ns, robot, replay::kNoRobot, epoch, mode);
+void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t local_ns, uint16_t epoch, size_t length) {
+  ObserverCall call = CallOf(ObserverCall::Kind::kPayloadRefused, robot);
+  call.local_ns = local_ns;
+  call.call_epoch = epoch;
+  call.length = length;
+  Report(call);
 }
 
 void Simulation::Impl::OnSafetyIntervention(uint16_t robot, int64_t local_ns, uint16_t other) {
-  const int64_t time_ns = robots_[robot]->port().TrueFromLocal(local_ns);
-  const bool wall = other == motion::kWallObstacle;
-  collector_.OnSafetyIntervention(time_ns, robot, wall ? std::nullopt : std::optional<uint16_t>(other));
-  AddEvent(replay::EventKind::kSafetyIntervention, time_ns, robot, wall ? replay::kNoRobot : other);
+  ObserverCall call = CallOf(ObserverCall::Kind::kSafetyIntervention, robot);
+  call.local_ns = local_ns;
+  call.other = other;
+  Report(call);
+}
+
+// A robot whose app faulted is stopped as a crashed robot is (its software
+// stops, its body stays, the others' failure detectors remove it) and the
+// run goes on. Reported from inside the robot's own step (or from Attach,
+// for init), which the robot ends without another app call.
+void Simulation::Impl::Handle(const ObserverCall& call) {
+  const uint16_t robot = call.robot;
+  const int64_t now_ns = TrueNow();
+  LabRobot& lab_robot = *robots_[robot];
+  switch (call.kind) {
+    case ObserverCall::Kind::kEpochStart: {
+      const sync::LDMap& ldmap = *call.ldmap;
+      collector_.OnEpochStart(robot, RoundOf(now_ns), now_ns, ldmap);
+      if (!any_epoch_ || sync::EpochDifference(ldmap.epoch, newest_epoch_) > 0) {
+        any_epoch_ = true;
+        newest_epoch_ = ldmap.epoch;
+        epoch_sample_ = ldmap.epoch;
+      }
+      AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
+      if (replay_ != nullptr) round_maps_.push_back(replay::RobotMap{robot, ToEpochMap(ldmap)});
+      break;
+    }
+    case ObserverCall::Kind::kMembership:
+      collector_.OnMembership(robot, RoundOf(now_ns), *call.removed, *call.joined);
+      for (const uint16_t member : *call.removed) {
+        AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member, call.epoch, call.mode);
+      }
+      for (const uint16_t member : *call.joined) {
+        AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member, call.epoch, call.mode);
+      }
+      break;
+    case ObserverCall::Kind::kBecameJoiner:
+      AddEvent(replay::EventKind::kBecameJoiner, now_ns, robot, replay::kNoRobot, call.epoch, call.mode);
+      break;
+    case ObserverCall::Kind::kAppState: {
+      using Call = metrics::AgreementTracker::Call;
+      agreement_.OnAppState(robot, RoundOf(now_ns), call.new_round ? Call::kNewRound : Call::kEndOfRound,
+                            call.map_epoch, call.cooperative, call.fingerprint, call.state);
+      break;
+    }
+    case ObserverCall::Kind::kAppFault:
+      collector_.OnAppFault(metrics::AppFault{robot, app::ToString(call.callback), call.call_epoch, now_ns,
+                                              app::ToString(call.status.verdict()), call.status.detail()});
+      AddEvent(replay::EventKind::kAppFault, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
+      lab_robot.app_faulted = true;
+      if (lab_robot.presence != replay::Presence::kAbsent) StopRobot(lab_robot, replay::Presence::kCrashed);
+      break;
+    case ObserverCall::Kind::kInvalidCommand: {
+      std::array<char, 64> what{};
+      collector_.OnInvalidCommand(robot, call.call_epoch, app::Describe(call.check, what.data(), what.size()));
+      if (lab_robot.invalid_command_recorded) break;
+      lab_robot.invalid_command_recorded = true;
+      AddEvent(replay::EventKind::kInvalidCommand, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
+      break;
+    }
+    case ObserverCall::Kind::kPayloadRefused:
+      collector_.OnPayloadRefused(robot, call.call_epoch, std::to_string(call.length) + " bytes");
+      if (lab_robot.payload_refusal_recorded) break;
+      lab_robot.payload_refusal_recorded = true;
+      AddEvent(replay::EventKind::kPayloadRefused, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
+      break;
+    case ObserverCall::Kind::kSafetyIntervention: {
+      const int64_t time_ns = lab_robot.port().TrueFromLocal(call.local_ns);
+      const bool wall = call.other == motion::kWallObstacle;
+      collector_.OnSafetyIntervention(time_ns, robot, wall ? std::nullopt : std::optional<uint16_t>(call.other));
+      AddEvent(replay::EventKind::kSafetyIntervention, time_ns, robot, wall ? replay::kNoRobot : call.other,
+               call.epoch, call.mode);
+      break;
+    }
+  }
 }
 
 void Simulation::Impl::RunUntil(double end_s) {

@@ -23,6 +23,8 @@ bool RunsFirst(const Activation& a, const Activation& b) {
 SimScheduler::SimScheduler(size_t max_tasks) : max_tasks_(max_tasks) {
   tasks_.reserve(max_tasks);
   heap_.reserve(max_tasks);
+  batch_.reserve(max_tasks);
+  batch_steps_.reserve(max_tasks);
 }
 
 base::Result<uint32_t, PortError> SimScheduler::RegisterTask(SimPort& port, Task& task,
@@ -39,6 +41,10 @@ void SimScheduler::Schedule(uint32_t task_index, int64_t time_ns) {
   // per task, so this never reallocates.
   SYROF_CHECK(heap_.size() < max_tasks_);
   record.pending = true;
+  PushActivation(task_index, time_ns);
+}
+
+void SimScheduler::PushActivation(uint32_t task_index, int64_t time_ns) {
   heap_.push_back(MakeActivation(task_index, time_ns));
   SiftUp(heap_.size() - 1);
 }
@@ -60,6 +66,20 @@ int64_t SimScheduler::next_activation_ns() const { return heap_.empty() ? -1 : h
 
 bool SimScheduler::RunNext() {
   if (heap_.empty()) return false;
+  if (batch_runner_ != nullptr && trace_ == nullptr && BatchAhead()) {
+    RunBatch();
+    return true;
+  }
+  int64_t step_now_ns = 0;
+  TaskRecord& record = tasks_[TakeFront(step_now_ns)];
+  ++steps_run_;
+  if (trace_ != nullptr) trace_->OnStep(now_ns_, *record.port, record.local_id, record.config);
+  record.task->Step(step_now_ns);
+  return true;
+}
+
+// Inlined: RunNext runs it for every step, and a call costs 0.5% at 100 robots.
+[[gnu::always_inline]] inline uint32_t SimScheduler::TakeFront(int64_t& step_now_ns) {
   const Activation activation = heap_.front();
   TaskRecord& record = tasks_[activation.task_index()];
   SYROF_CHECK(activation.time_ns >= now_ns_);
@@ -71,7 +91,7 @@ bool SimScheduler::RunNext() {
   // activation just taken: one sift instead of a removal and an insertion.
   // A periodic step is told the local time it was due (the first scheduler
   // instant at or after it may read a nanosecond later on a drifting clock).
-  int64_t step_now_ns = record.port->now_ns();
+  step_now_ns = record.port->now_ns();
   if (record.config.trigger.kind == TriggerKind::kPeriodic) {
     step_now_ns = record.local_due_ns;
     record.local_due_ns += record.config.trigger.period_ns;
@@ -83,12 +103,71 @@ bool SimScheduler::RunNext() {
     heap_.pop_back();
     if (!heap_.empty()) SiftDown(0);
   }
-  ++steps_run_;
-  if (trace_ != nullptr) trace_->OnStep(now_ns_, *record.port, record.local_id, record.config);
-  record.task->Step(step_now_ns);
-  return true;
+  return activation.task_index();
 }
 
+// Due together: the same time and the same priority (the order's high half).
+bool SimScheduler::BatchAhead() const {
+  const Activation& front = heap_.front();
+  for (size_t child = 1; child <= 2 && child < heap_.size(); ++child) {
+    const Activation& other = heap_[child];
+    if (other.time_ns == front.time_ns && (other.order >> 32) == (front.order >> 32) &&
+        tasks_[other.task_index()].port != tasks_[front.task_index()].port) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void SimScheduler::RunBatch() {
+  const int64_t time_ns = heap_.front().time_ns;
+  const uint64_t rank = heap_.front().order >> 32;
+  const uint64_t mark = batches_run_ + 1;
+  batch_.clear();
+  batch_steps_.clear();
+  while (!heap_.empty() && heap_.front().time_ns == time_ns && (heap_.front().order >> 32) == rank) {
+    SimPort& port = *tasks_[heap_.front().task_index()].port;
+    if (port.batch_mark_ == mark) break;  // a port's steps never run side by side
+    port.batch_mark_ = mark;
+    int64_t step_now_ns = 0;
+    const uint32_t index = TakeFront(step_now_ns);
+    batch_.push_back(index);
+    batch_steps_.push_back(SimStep{tasks_[index].task, &port, step_now_ns});
+  }
+  ++batches_run_;
+  steps_run_ += batch_.size();
+  in_batch_ = true;
+  batch_runner_->RunBatch(batch_steps_);
+  in_batch_ = false;
+  ApplyDeferred();
+}
+
+void SimScheduler::ApplyDeferred() {
+  const uint64_t last_order = MakeActivation(batch_.back(), now_ns_).order;
+  for (size_t position = 0; position < batch_.size(); ++position) {
+    SimPort& port = *tasks_[batch_[position]].port;
+    if (port.deferred_.empty() && !port.stop_deferred_) continue;
+    const bool last = position + 1 == batch_.size();
+    for (const SimPort::Deferred& deferred : port.deferred_) {
+      // One at a time, an activation due now that orders before the batch's
+      // last step would have run inside the batch (sim_port.h).
+      SYROF_CHECK(last || deferred.time_ns > now_ns_ ||
+                  MakeActivation(deferred.task_index, now_ns_).order > last_order);
+      if (port.stop_deferred_) {
+        if (!deferred.reschedule) tasks_[deferred.task_index].pending = false;  // never queued
+      } else if (deferred.reschedule) {
+        Reschedule(deferred.task_index, deferred.time_ns);
+      } else {
+        PushActivation(deferred.task_index, deferred.time_ns);
+      }
+    }
+    port.deferred_.clear();
+    if (port.stop_deferred_) {
+      port.stop_deferred_ = false;
+      CancelPort(port);
+    }
+  }
+}
 SimScheduler::Activation SimScheduler::MakeActivation(uint32_t task_index, int64_t time_ns) const {
   const uint64_t rank = 255u - tasks_[task_index].config.priority;
   return Activation{time_ns, (rank << 32) | task_index};
@@ -145,7 +224,21 @@ void SimScheduler::RunUntil(int64_t end_ns) {
   now_ns_ = std::max(now_ns_, end_ns);
 }
 
-SimPort::SimPort(SimScheduler& scheduler, const char* name) : scheduler_(scheduler), name_(name) {}
+SimPort::SimPort(SimScheduler& scheduler, const char* name)
+    : scheduler_(scheduler), name_(name), index_(scheduler.ports_++) {}
+
+// Room for one notification and one shift per task (each coalesces), so a
+// batch never allocates.
+void SimPort::Defer(uint32_t task_index, int64_t time_ns, bool reschedule) {
+  for (Deferred& deferred : deferred_) {
+    if (deferred.task_index == task_index && deferred.reschedule == reschedule) {
+      deferred.time_ns = time_ns;
+      return;
+    }
+  }
+  SYROF_CHECK(deferred_.size() < deferred_.capacity());
+  deferred_.push_back(Deferred{task_index, time_ns, reschedule});
+}
 
 base::Result<TaskId, PortError> SimPort::AddTask(Task& task, const TaskConfig& config) {
   if (running_) return PortError::kAlreadyStarted;
@@ -155,6 +248,7 @@ base::Result<TaskId, PortError> SimPort::AddTask(Task& task, const TaskConfig& c
   const auto registered = scheduler_.RegisterTask(*this, task, config, local_id);
   if (!registered) return registered.error();
   task_indices_.push_back(registered.value());
+  deferred_.reserve(2 * task_indices_.size());
   return local_id;
 }
 
@@ -163,6 +257,7 @@ PortError SimPort::Start() { return StartAfter(0); }
 PortError SimPort::StartAfter(int64_t delay_ns) {
   if (running_) return PortError::kAlreadyStarted;
   if (delay_ns < 0) return PortError::kInvalidTrigger;
+  SYROF_CHECK(!scheduler_.in_batch_);  // sim_port.h: Start during a batch
   running_ = true;
   const int64_t now = now_ns();
   for (const uint32_t index : task_indices_) {
@@ -182,7 +277,12 @@ PortError SimPort::ShiftPeriodic(TaskId task, int64_t delta_ns) {
   if (!record.pending || delta_ns == 0) return PortError::kOk;
   const int64_t now = now_ns();
   record.local_due_ns = std::max(record.local_due_ns + delta_ns, now);
-  scheduler_.Reschedule(index, std::max(TrueFromLocal(record.local_due_ns), scheduler_.now_ns()));
+  const int64_t due_ns = std::max(TrueFromLocal(record.local_due_ns), scheduler_.now_ns());
+  if (scheduler_.in_batch_) {
+    Defer(index, due_ns, true);
+  } else {
+    scheduler_.Reschedule(index, due_ns);
+  }
   return PortError::kOk;
 }
 
@@ -216,15 +316,24 @@ int64_t SimPort::TrueFromLocal(int64_t local_ns) const {
 PortError SimPort::Stop() {
   if (!running_) return PortError::kNotStarted;
   running_ = false;
-  scheduler_.CancelPort(*this);
+  if (scheduler_.in_batch_) {
+    stop_deferred_ = true;
+  } else {
+    scheduler_.CancelPort(*this);
+  }
   return PortError::kOk;
 }
 
 void SimPort::Notify(TaskId task) {
   if (!running_ || task >= task_indices_.size()) return;
   const uint32_t index = task_indices_[task];
-  const SimScheduler::TaskRecord& record = scheduler_.tasks_[index];
+  SimScheduler::TaskRecord& record = scheduler_.tasks_[index];
   if (record.config.trigger.kind != TriggerKind::kNotified || record.pending) return;
+  if (scheduler_.in_batch_) {
+    record.pending = true;  // coalesces later notifications, as a queued one does
+    Defer(index, scheduler_.now_ns(), false);
+    return;
+  }
   scheduler_.Schedule(index, scheduler_.now_ns());
 }
 

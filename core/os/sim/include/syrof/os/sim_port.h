@@ -17,10 +17,19 @@
 // its periodic tasks keep their grid in local time (each activation runs at
 // the first scheduler instant whose local time has reached it). Without
 // drift local time is the scheduler's time.
+//
+// Batches (set_batch_runner): activations due at the same instant with the
+// same priority on different ports may be handed to a SimBatchRunner all at
+// once, which may run them in any order or at the same time (the lab's
+// `--threads`). The scheduler itself stays single-threaded: it takes the
+// whole batch off the queue before the runner starts, and what the batch's
+// steps ask of it (Notify, ShiftPeriodic, Stop) waits in each port until the
+// batch ends, then takes effect in the batch's order.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "syrof/os/port.h"
@@ -36,6 +45,27 @@ class SimTraceSink {
 
  protected:
   ~SimTraceSink() = default;
+};
+
+/// One step of a batch: what SimScheduler::RunNext would have run.
+struct SimStep {
+  Task* task;
+  const SimPort* port;
+  int64_t now_ns;  ///< what Task::Step is told (the port's local time)
+};
+
+/// Runs the steps of one batch (SimScheduler::set_batch_runner).
+class SimBatchRunner {
+ public:
+  /// Must call `task->Step(now_ns)` of every step exactly once and return
+  /// when all have returned. `steps` are on different ports, in the order a
+  /// one-at-a-time run takes them; the runner may reorder them or run them
+  /// at the same time, as long as what each step touches besides its own
+  /// port is made safe by the runner.
+  virtual void RunBatch(std::span<const SimStep> steps) = 0;
+
+ protected:
+  ~SimBatchRunner() = default;
 };
 
 /// The virtual clock and event queue shared by every SimPort of a world.
@@ -68,6 +98,22 @@ class SimScheduler {
 
   /// Installs (or, with nullptr, removes) a sink that sees every step.
   void set_trace(SimTraceSink* sink) { trace_ = sink; }
+
+  /// Installs (or, with nullptr, removes) a runner for batches. From then
+  /// on, when two or more activations on different ports are due at the
+  /// earliest instant with the same priority, RunNext() takes all of them
+  /// (in the order above, up to the first that repeats a port) and hands
+  /// them to `runner` at once; never while a trace sink is installed.
+  /// During a batch, a step's Notify, ShiftPeriodic and Stop take effect
+  /// when the batch ends, port by port in the batch's order, which gives the
+  /// same queue as running the steps one at a time, unless a step raised an
+  /// activation due at this instant that would have run before a later step
+  /// of the batch: that stops the program (SYROF_CHECK), so batch only tasks
+  /// that raise none. Start() during a batch is refused the same way.
+  void set_batch_runner(SimBatchRunner* runner) { batch_runner_ = runner; }
+
+  /// Batches handed to the runner so far (each counts its steps in steps_run()).
+  uint64_t batches_run() const { return batches_run_; }
 
  private:
   friend class SimPort;
@@ -103,6 +149,15 @@ class SimScheduler {
   void CancelPort(const SimPort& port);
   // Moves task_index's pending activation to time_ns (it must be pending).
   void Reschedule(uint32_t task_index, int64_t time_ns);
+  void PushActivation(uint32_t task_index, int64_t time_ns);
+  // Takes the earliest activation off the queue (queueing a periodic task's
+  // next one) and returns its task index; `step_now_ns` is what Step is told.
+  uint32_t TakeFront(int64_t& step_now_ns);
+  // Whether the earliest two activations are due together at one priority.
+  bool BatchAhead() const;
+  void RunBatch();
+  // Applies what the batch's ports asked for during the batch.
+  void ApplyDeferred();
 
   size_t max_tasks_;
   std::vector<TaskRecord> tasks_;
@@ -110,6 +165,13 @@ class SimScheduler {
   int64_t now_ns_ = 0;
   uint64_t steps_run_ = 0;
   SimTraceSink* trace_ = nullptr;
+  uint32_t ports_ = 0;  // SimPorts built on this scheduler
+  // Batches.
+  SimBatchRunner* batch_runner_ = nullptr;
+  bool in_batch_ = false;
+  uint64_t batches_run_ = 0;
+  std::vector<uint32_t> batch_;     // task indices, in queue order
+  std::vector<SimStep> batch_steps_;
 };
 
 /// One robot's port on a SimScheduler. Single-threaded: Lock() only checks
@@ -150,16 +212,31 @@ class SimPort final : public Port {
   const char* name() const { return name_; }
   bool running() const { return running_; }
   size_t task_count() const { return task_indices_.size(); }
+  /// The port's number on its scheduler: 0, 1, ... in construction order.
+  uint32_t index() const { return index_; }
 
  private:
   friend class SimScheduler;
 
+  // A Notify or ShiftPeriodic made during a batch (SimScheduler::RunBatch).
+  struct Deferred {
+    uint32_t task_index;
+    int64_t time_ns;
+    bool reschedule;  // ShiftPeriodic; otherwise a notification
+  };
+  void Defer(uint32_t task_index, int64_t time_ns, bool reschedule);
+
   SimScheduler& scheduler_;
   const char* name_;
+  uint32_t index_;
   std::vector<uint32_t> task_indices_;  // local TaskId -> scheduler task index
   bool running_ = false;
   bool locked_ = false;
   int32_t drift_ppb_ = 0;
+  // Written only by this port's own step during a batch; read after it.
+  std::vector<Deferred> deferred_;  // room for two per task, reserved by AddTask
+  bool stop_deferred_ = false;
+  uint64_t batch_mark_ = 0;  // the batch (batches_run_ + 1) this port is in
 };
 
 }  // namespace syrof::os

@@ -73,7 +73,25 @@ class RadioNetwork {
 
   /// Delivers the beacons broadcast in radio round `round`, sent at
   /// `sent_at_s` (the channel's partitions are in seconds), to `receivers`.
+  /// BeginDelivery and then DeliverToBlock of every block.
   void Deliver(int64_t round, double sent_at_s, BeaconReceivers& receivers);
+
+  /// Splits the receivers into `starts.size()` blocks of consecutive ids,
+  /// block b from starts[b] (starts[0] == 0, increasing), each with its own
+  /// copy of the channel: a link is always decided by its receiver's block,
+  /// and a copy's draws and Gilbert-Elliott states for its links are those
+  /// of the one channel, so deliveries are unchanged. Before the first
+  /// delivery; without it there is one block.
+  void SplitReceivers(std::span<const uint16_t> starts);
+  size_t blocks() const { return block_starts_.size(); }
+  /// Deliver() in two halves, for a caller that runs blocks on threads:
+  /// BeginDelivery encodes and decodes the round's beacons (sender order)
+  /// and asks who listens; DeliverToBlock then hands block `block`'s
+  /// listening receivers their beacons as Deliver does. Blocks of one round
+  /// may run at the same time, each touching only its receivers and its
+  /// channel copy (`receivers.Receive` is called for its receivers only).
+  void BeginDelivery(int64_t round, double sent_at_s, BeaconReceivers& receivers);
+  void DeliverToBlock(size_t block, BeaconReceivers& receivers);
 
   /// Applies the scenario's deaf and mute faults (other kinds are ignored): a
   /// beacon sent at t is not heard by a robot deaf at t, and nobody hears a
@@ -121,6 +139,12 @@ class RadioNetwork {
   std::vector<uint64_t> broadcasts_;    // per sender
 
   world::Channel channel_;
+  // SplitReceivers: the first receiver of each block and the blocks'
+  // channels (block 0 uses channel_); the round BeginDelivery set up.
+  std::vector<uint16_t> block_starts_{0};
+  std::vector<world::Channel> block_channels_;
+  int64_t delivery_round_ = 0;
+  double delivery_sent_at_s_ = 0;
   std::vector<scenario::FaultSpec> radio_faults_;
   std::vector<LabRadio> radios_;
   std::vector<wire::Beacon> outbox_;

@@ -34,6 +34,9 @@
 
 namespace syrof::lab::sim {
 
+/// The most threads SimulationOptions::threads (`syrof run --threads`) takes.
+inline constexpr int kMaxThreads = 64;
+
 struct SimulationOptions {
   std::ostream* replay = nullptr;    ///< where to write the replay (docs/replay.md); none if null
   /// Called about every `progress_period_s` of simulated time (and at the end).
@@ -51,6 +54,15 @@ struct SimulationOptions {
   /// For tests and tools: adjusts each robot's start-up config after the
   /// scenario's (RobotConfigFor), before the robot is built. Empty: none.
   std::function<void(runtime::RobotConfig&)> configure_robot;
+  /// Threads that step robots (`syrof run --threads`, docs/lab.md
+  /// "Threads"): the robots' tasks due at one instant with one priority run
+  /// side by side on this many threads (a pool made once, robots in
+  /// contiguous blocks), and every output is byte-identical to a run with 1.
+  /// 1 .. kMaxThreads (SYROF_CHECK); capped at the robot count; with clocks (scenario `clocks:`) the
+  /// run is serial whatever this says. With more than 1, the apps that
+  /// `app_factory` makes are called from several threads at once, each app
+  /// from one thread at a time: an app must touch only its own state.
+  int threads = 1;
 };
 
 /// What a finished run reports.
