@@ -140,6 +140,13 @@ int main(int argc, char** argv) {
                Measure(robots, "builtin:idle", duration_s, true, true, threads, threads > 1), threads > 1 ? "wall" : "CPU");
     return 0;
   }
+  if (argc > 2 || (argc == 2 && std::strcmp(argv[1], "--quick") != 0 && std::strcmp(argv[1], "--safety") != 0 &&
+                    std::strcmp(argv[1], "--threads") != 0)) {
+    fmt::print(stderr,
+               "usage: bench_lab_throughput [--quick | --safety | --threads | --one ROBOTS SECONDS [THREADS]]\n"
+               "  (no option: every table, a few minutes; docs/lab.md, \"Speed\")\n");
+    return 2;
+  }
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const bool safety_only = argc > 1 && std::strcmp(argv[1], "--safety") == 0;
   if (argc > 1 && std::strcmp(argv[1], "--threads") == 0) {
