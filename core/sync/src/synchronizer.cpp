@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
 
 #include "syrof/base/check.h"
@@ -145,9 +146,10 @@ void BecomeJoiner(SyncState& state, StepOutput& out) {
 // sender. A robot alone (a deaf one, or one cut off) never drags others
 // along ("Falling behind", "Alone ahead").
 bool FromGroup(const wire::Beacon& beacon) {
-  MemberSet others = beacon.waiting;
-  others.reset(beacon.robot_id);
-  return !others.empty();
+  // Its smallest member other than the sender, without copying the set.
+  const uint16_t first = beacon.waiting.next_member(0);
+  const uint16_t other = first == beacon.robot_id ? beacon.waiting.next_member(first + 1) : first;
+  return other != MemberSet::kCapacity;
 }
 
 // "Epoch numbers": whether a joiner may move from its epoch to `target`,
@@ -343,13 +345,24 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     }
   }
 
-  // "Failure detector".
-  for (const uint16_t id : Without(state.members, self)) {
-    if (alive.test(id)) {
-      state.silent_rounds[id] = 0;
-    } else if (++state.silent_rounds[id] >= config.silence_rounds) {
-      state.members.reset(id);
-      out.removed.set(id);
+  // "Failure detector", a word of members at a time: the heard ones reset
+  // their count without a branch per member (in a large swarm nearly all are
+  // heard, and the few lost beacons are unpredictable).
+  const size_t member_words = state.members.word_count();
+  for (size_t w = 0; w < member_words; ++w) {
+    uint32_t others = state.members.word(w);
+    if (w == self / MemberSet::kWordBits) others &= ~(uint32_t{1} << (self % MemberSet::kWordBits));
+    const uint32_t heard_word = alive.word(w);
+    const auto first_id = static_cast<uint16_t>(w * MemberSet::kWordBits);
+    for (uint32_t heard = others & heard_word; heard != 0; heard &= heard - 1) {
+      state.silent_rounds[first_id + std::countr_zero(heard)] = 0;
+    }
+    for (uint32_t unheard = others & ~heard_word; unheard != 0; unheard &= unheard - 1) {
+      const auto id = static_cast<uint16_t>(first_id + std::countr_zero(unheard));
+      if (++state.silent_rounds[id] >= config.silence_rounds) {
+        state.members.reset(id);
+        out.removed.set(id);
+      }
     }
   }
 

@@ -1,6 +1,7 @@
 #include "syrof/lab/world/channel.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "syrof/base/check.h"
@@ -116,6 +117,7 @@ Channel::Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed)
   }
   plain_iid_ = spec_.model == ChannelModel::kIid && partitions_.empty() && link_losses_.empty();
   loss_scaled_ = spec_.loss * 0x1.0p53;
+  loss_threshold_ = static_cast<uint64_t>(std::ceil(loss_scaled_));
 }
 
 double Channel::Draw(uint64_t purpose, int64_t round, uint16_t from, uint16_t to) const {
@@ -166,7 +168,7 @@ bool Channel::ChainBad(uint16_t from, uint16_t to, int64_t round) {
   return bad;
 }
 
-bool Channel::Delivers(uint16_t from, uint16_t to, int64_t round, double time_s) {
+bool Channel::DeliversSlow(uint16_t from, uint16_t to, int64_t round, double time_s) {
   SYROF_CHECK(from < robots_ && to < robots_);
   SYROF_CHECK(round >= 0);
   ++offered_;

@@ -35,6 +35,7 @@
 #include <optional>
 #include <vector>
 
+#include "syrof/base/split_mix64.h"
 #include "syrof/lab/base/error.h"
 
 namespace syrof::lab::world {
@@ -89,7 +90,19 @@ class Channel {
   /// Whether the beacon robot `from` sends in radio round `round` (>= 0),
   /// starting at `time_s`, reaches robot `to`. A robot >= robots() or a
   /// negative round is a caller's bug (SYROF_CHECK).
-  bool Delivers(uint16_t from, uint16_t to, int64_t round, double time_s);
+  bool Delivers(uint16_t from, uint16_t to, int64_t round, double time_s) {
+    // The common case inline (every link of a swarm asks each round): i.i.d.
+    // loss on every link, a round whose hash prefix is known. The decision
+    // is DeliversSlow's, on the integer bits.
+    if (plain_iid_ && round == loss_round_ && round >= 0 && from < robots_ && to < robots_) {
+      ++offered_;
+      const uint64_t link = (static_cast<uint64_t>(from) << 16) | to;
+      const bool delivered = (base::SplitMix64Hash(loss_round_hash_ ^ link) >> 11) >= loss_threshold_;
+      delivered_ += delivered ? 1 : 0;
+      return delivered;
+    }
+    return DeliversSlow(from, to, round, time_s);
+  }
 
   uint16_t robots() const { return robots_; }
   /// Beacons asked about, and delivered, since construction.
@@ -119,6 +132,7 @@ class Channel {
   // round's prefix.
   double LossDraw(int64_t round, uint16_t from, uint16_t to);
   uint64_t LossHash(int64_t round, uint16_t from, uint16_t to);
+  bool DeliversSlow(uint16_t from, uint16_t to, int64_t round, double time_s);
   bool Partitioned(uint16_t from, uint16_t to, double time_s) const;
   // Whether the Gilbert-Elliott chain of the link is bad at `round`.
   bool ChainBad(uint16_t from, uint16_t to, int64_t round);
@@ -136,6 +150,9 @@ class Channel {
   // drawn for: every link of a round shares it, so a draw costs one hash.
   bool plain_iid_ = false;   // i.i.d. loss, no partition, no per-link loss
   double loss_scaled_ = 0;   // loss * 2^53, exact
+  // ceil(loss_scaled_): for a draw's top 53 bits x, x < loss_scaled_ exactly
+  // when x < loss_threshold_.
+  uint64_t loss_threshold_ = 0;
   int64_t loss_round_ = -1;
   uint64_t loss_round_hash_ = 0;
   uint64_t offered_ = 0;
