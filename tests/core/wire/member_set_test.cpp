@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <iterator>
 #include <ranges>
 #include <vector>
@@ -95,6 +96,38 @@ TEST(MemberSetTest, UnionIntersectionAndIncludesSeeHighMembers) {
   high &= only_low;
   EXPECT_EQ(high, only_low);
   EXPECT_EQ(high.next_member(2), MemberSet::kCapacity);
+}
+
+TEST(MemberSetTest, WordsHoldThirtyTwoMembersLowBitFirst) {
+  MemberSet set;
+  EXPECT_EQ(set.word_count(), 0u);
+  EXPECT_EQ(set.word(0), 0u);
+  set.set(0);
+  set.set(5);
+  set.set(kLast);
+  const size_t last_word = kLast / MemberSet::kWordBits;
+  EXPECT_EQ(set.word_count(), last_word + 1);
+  EXPECT_EQ(set.word(0) & 0x21u, 0x21u);
+  EXPECT_EQ(set.word(last_word) >> (kLast % MemberSet::kWordBits), 1u);
+  EXPECT_EQ(set.word(last_word + 1), 0u);  // past the used words
+  size_t members = 0;
+  for (size_t w = 0; w < set.word_count(); ++w) members += static_cast<size_t>(std::popcount(set.word(w)));
+  EXPECT_EQ(members, set.count());
+}
+
+// == and includes() read every word, with no early exit: a difference in
+// any word, the last one too, still counts.
+TEST(MemberSetTest, EqualityAndInclusionSeeADifferenceInAnyWord) {
+  MemberSet full;
+  for (uint16_t id = 0; id <= kLast; ++id) full.set(id);
+  for (const uint16_t missing : {uint16_t{0}, uint16_t{31}, uint16_t(kLast / 2), kLast}) {
+    MemberSet holed = full;
+    holed.reset(missing);
+    EXPECT_NE(holed, full) << missing;
+    EXPECT_NE(full, holed) << missing;
+    EXPECT_TRUE(full.includes(holed)) << missing;
+    EXPECT_FALSE(holed.includes(full)) << missing;
+  }
 }
 
 TEST(MemberSetTest, BytesSetAnywhereAreSeen) {

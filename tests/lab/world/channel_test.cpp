@@ -181,6 +181,27 @@ TEST(ChannelTest, PerLinkLossReplacesTheGilbertElliottChain) {
   EXPECT_EQ(delivered_1_to_0, 99);
 }
 
+// The i.i.d. decision has a fast path (integers, inline) and the general
+// one (a draw in [0, 1) against the loss); a partition that never starts
+// within the asked rounds sends every question down the general path, with
+// the same draws, so both must give the same answers bit for bit, at
+// losses whose scaled value is and is not an integer.
+TEST(ChannelTest, TheInlineIidDecisionIsTheGeneralOne) {
+  for (const double loss : {0.0, 0.05, 0.3, 1.0 / 3.0, 0.5, 1.0}) {
+    ChannelSpec far_partition = Iid(loss);
+    PartitionSpec partition;
+    partition.start_s = 1e6;
+    partition.end_s = 2e6;
+    partition.groups = {{0}, {1}};
+    far_partition.partitions.push_back(partition);
+    Channel fast(Iid(loss), 9, 77);
+    Channel general(far_partition, 9, 77);
+    EXPECT_EQ(AskAll(fast, 40), AskAll(general, 40)) << "loss " << loss;
+    EXPECT_EQ(fast.offered(), general.offered());
+    EXPECT_EQ(fast.delivered(), general.delivered());
+  }
+}
+
 TEST(ChannelTest, PartitionDropsCrossGroupBeaconsOnlyInItsWindow) {
   ChannelSpec spec = Iid(0.0);
   PartitionSpec partition;
