@@ -242,13 +242,18 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     state.waiting.set(self);
   }
 
-  // First pass: where the groups this robot hears are relative to its epoch.
+  // First pass: where the groups this robot hears are relative to its
+  // epoch, and whether any robot, excluded ones included, is one epoch ahead
+  // ("Catching up", used below only by a robot left alone, which follows
+  // whoever it hears).
   const bool alone = state.members.count() == 1;
+  const bool past_progress = state.phase != Phase::kProgress;
   bool lost_group = false;
+  bool catch_up_any = false;
   for (const wire::Beacon* beacon : received) {
-    if (!FromGroup(*beacon)) continue;
     const int16_t ahead = EpochDifference(beacon->epoch, state.epoch);
-    if (ahead >= 2 || (alone && ahead <= -2)) lost_group = true;
+    if (ahead == 1 && past_progress) catch_up_any = true;
+    if ((ahead >= 2 || (alone && ahead <= -2)) && FromGroup(*beacon)) lost_group = true;
   }
 
   // "Falling behind": a group two or more epochs ahead means this robot's
@@ -261,20 +266,13 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     return;
   }
 
-  // "Catching up" from any robot, excluded ones included; used below only by
-  // a robot left alone, which follows whoever it hears.
-  bool catch_up_any = false;
-  for (const wire::Beacon* beacon : received) {
-    if (EpochDifference(beacon->epoch, state.epoch) == 1 && state.phase != Phase::kProgress) catch_up_any = true;
-  }
-
   // "Exclusion": a member that votes with a view without this robot, in two
   // of its epochs with no beacon naming this robot in between, does not hear
   // it: it leaves the members and its beacons are ignored until one names
   // this robot again (then it is handled as any other robot). A robot added
   // in this epoch or the previous one is spared: it may not have heard this
   // robot yet (a joiner's group, a robot just readmitted).
-  received.RetainIf([&](const wire::Beacon& beacon) {
+  const auto retain = [&](const wire::Beacon& beacon) {
     const uint16_t id = beacon.robot_id;
     const bool names_self = beacon.waiting.test(self);
     if (names_self) state.struck.reset(id);
@@ -298,15 +296,19 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     out.removed.set(id);
     ++state.stats.exclusions;
     return false;
+  };
+  // "Catching up": a robot kept one epoch ahead, found in the same pass.
+  bool catch_up_kept = false;
+  received.RetainIf([&](const wire::Beacon& beacon) {
+    if (!retain(beacon)) return false;
+    if (past_progress && EpochDifference(beacon.epoch, state.epoch) == 1) catch_up_kept = true;
+    return true;
   });
 
   // "Catching up": a member one epoch ahead. A robot alone also follows an
   // excluded robot, so that robot, if it only lost it for a while, hears it
   // in its own epoch again and adds it back.
-  bool catch_up = catch_up_any && state.members.count() == 1;
-  for (const wire::Beacon* beacon : received) {
-    if (EpochDifference(beacon->epoch, state.epoch) == 1 && state.phase != Phase::kProgress) catch_up = true;
-  }
+  const bool catch_up = catch_up_kept || (catch_up_any && state.members.count() == 1);
   // "Catching up": a robot one epoch ahead started it without this one.
   if (catch_up) {
     ++state.stats.catch_ups;
