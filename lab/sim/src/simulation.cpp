@@ -505,15 +505,21 @@ void Simulation::Impl::StepRadio(int64_t now_ns) {
     radio_.Deliver(round, sent_at_s, *this);
     return;
   }
-  // Worker w hands its own robots their beacons (each receiver's inbox and
-  // its block's channel copy are its own).
+  // Worker w encodes and decodes its own robots' beacons, then, once all
+  // are decoded, hands its own robots their beacons (each receiver's inbox
+  // and its block's channel copy are its own).
   radio_.BeginDelivery(round, sent_at_s, *this);
   if (robots_.size() < kMinParallelSteps) {
+    for (size_t block = 0; block < radio_.blocks(); ++block) radio_.EncodeBlock(block);
+    radio_.EndEncoding();
     for (size_t block = 0; block < radio_.blocks(); ++block) radio_.DeliverToBlock(block, *this);
     return;
   }
-  auto job = [this](int worker) { radio_.DeliverToBlock(static_cast<size_t>(worker), *this); };
-  pool_->Run(job);
+  auto encode = [this](int worker) { radio_.EncodeBlock(static_cast<size_t>(worker)); };
+  pool_->Run(encode);
+  radio_.EndEncoding();
+  auto deliver = [this](int worker) { radio_.DeliverToBlock(static_cast<size_t>(worker), *this); };
+  pool_->Run(deliver);
 }
 
 bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
