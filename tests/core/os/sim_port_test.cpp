@@ -304,6 +304,55 @@ std::string run_random_world(uint32_t seed) {
   return trace.text;
 }
 
+// Seeded periodic tasks of many periods, offsets and priorities on several
+// ports: the trace is every activation up to the end, sorted by the
+// documented order (time, then higher priority, then registration), which
+// the activation heap must give whatever its layout.
+TEST(SimPortTest, ManyPeriodicTasksRunInTheDocumentedOrder) {
+  constexpr int kPorts = 6;
+  constexpr int kTasksPerPort = 7;
+  constexpr int64_t kEndNs = 300 * kMillisecond;
+  std::mt19937 random(2026);
+  SimScheduler scheduler(kPorts * kTasksPerPort);
+  TextTrace trace;
+  scheduler.set_trace(&trace);
+  std::vector<std::unique_ptr<SimPort>> ports;
+  std::vector<Idle> tasks(kPorts * kTasksPerPort);
+  struct Expected {
+    int64_t time_ns;
+    int priority;
+    int registration;
+    std::string line;
+  };
+  std::vector<Expected> expected;
+  for (int p = 0; p < kPorts; ++p) {
+    ports.push_back(std::make_unique<SimPort>(scheduler, "p"));
+    for (int t = 0; t < kTasksPerPort; ++t) {
+      const int64_t period = static_cast<int64_t>(1 + random() % 7) * kMillisecond;
+      const int64_t offset = static_cast<int64_t>(random() % 8) * kMillisecond;
+      const auto priority = static_cast<uint8_t>(random() % 5);
+      ASSERT_TRUE(ports.back()->AddTask(tasks[p * kTasksPerPort + t], {"t", Trigger::periodic(period, offset), priority}));
+      for (int64_t time = offset; time <= kEndNs; time += period) {
+        expected.push_back(Expected{time, priority, p * kTasksPerPort + t,
+                                    std::to_string(time) + " p/" + std::to_string(t) + "/t\n"});
+      }
+    }
+    ASSERT_EQ(ports.back()->Start(), PortError::kOk);
+  }
+  std::sort(expected.begin(), expected.end(), [](const Expected& a, const Expected& b) {
+    if (a.time_ns != b.time_ns) return a.time_ns < b.time_ns;
+    if (a.priority != b.priority) return a.priority > b.priority;
+    return a.registration < b.registration;
+  });
+  std::string expected_text;
+  for (const Expected& step : expected) expected_text += step.line;
+
+  scheduler.RunUntil(kEndNs);
+
+  EXPECT_GT(expected.size(), 2000u);
+  EXPECT_EQ(trace.text, expected_text);
+}
+
 TEST(SimPortTest, SameProgramAndSeedGiveTheSameTrace) {
   const std::string first = run_random_world(7);
   const std::string second = run_random_world(7);

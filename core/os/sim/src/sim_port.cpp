@@ -184,22 +184,33 @@ void SimScheduler::SiftUp(size_t position) {
   heap_[position] = moving;
 }
 
+// Bottom-up: the hole at `position` goes down to a leaf along the earlier
+// child (one comparison a level), then the moving activation climbs back
+// to its place (rarely far: a periodic task's next activation is late).
+// Keys are unique, so this leaves the array exactly as the usual sift down
+// (which compares the moving activation at every level too) would.
 void SimScheduler::SiftDown(size_t position) {
   const Activation moving = heap_[position];
   const size_t size = heap_.size();
+  size_t hole = position;
   for (;;) {
-    const size_t first_child = kHeapArity * position + 1;
+    const size_t first_child = kHeapArity * hole + 1;
     if (first_child >= size) break;
     const size_t end = std::min(first_child + kHeapArity, size);
     size_t child = first_child;
     for (size_t other = first_child + 1; other < end; ++other) {
       if (RunsFirst(heap_[other], heap_[child])) child = other;
     }
-    if (!RunsFirst(heap_[child], moving)) break;
-    heap_[position] = heap_[child];
-    position = child;
+    heap_[hole] = heap_[child];
+    hole = child;
   }
-  heap_[position] = moving;
+  while (hole > position) {
+    const size_t parent = (hole - 1) / kHeapArity;
+    if (!RunsFirst(moving, heap_[parent])) break;
+    heap_[hole] = heap_[parent];
+    hole = parent;
+  }
+  heap_[hole] = moving;
 }
 
 void SimScheduler::Reschedule(uint32_t task_index, int64_t time_ns) {
