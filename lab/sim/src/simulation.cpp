@@ -179,6 +179,8 @@ class Simulation::Impl final : public runtime::RobotObserver,
   std::vector<uint16_t> robot_of_port_;
   std::vector<std::vector<ObserverCall>> kept_calls_;
   std::vector<std::shared_ptr<const replay::EpochMap>> last_replay_maps_;  // ReplayMapOf's, per worker
+  std::vector<size_t> worker_starts_;     // worker w's robots: worker_starts_[w] .. worker_starts_[w + 1]
+  std::vector<os::SimPort*> robot_ports_;  // in robot order
   std::span<const os::SimStep> batch_;
   bool parallel_ = false;  // a parallel batch is running
   // os::SimBatchRunner
@@ -325,6 +327,9 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       }
     }
     radio_.SplitReceivers(block_starts);  // worker w delivers to its own robots
+    worker_starts_.assign(block_starts.begin(), block_starts.end());
+    worker_starts_.push_back(robot_count);
+    for (const auto& robot : robots_) robot_ports_.push_back(&robot->port());
     pool_ = std::make_unique<WorkerPool>(workers);
     scheduler_.set_batch_runner(this);
   }
@@ -490,9 +495,24 @@ void Simulation::Impl::StepPhysics(int64_t now_ns) {
 }
 
 void Simulation::Impl::StepHardware(int64_t now_ns) {
-  for (auto& robot : robots_) {
-    if (robot->port().running()) robot->StepHardware(now_ns);
+  if (pool_ == nullptr || robots_.size() < kMinParallelSteps) {
+    for (auto& robot : robots_) {
+      if (robot->port().running()) robot->StepHardware(now_ns);
+    }
+    return;
   }
+  // Worker w samples its own robots' sensors, which publish to their own
+  // brokers (the notifications wait, os::SimScheduler::BeginSideBySide);
+  // the drive commands they took reach the bodies here, after.
+  scheduler_.BeginSideBySide(robot_ports_);
+  auto job = [this](int worker) {
+    for (size_t robot = worker_starts_[worker]; robot < worker_starts_[worker + 1]; ++robot) {
+      if (robots_[robot]->port().running()) robots_[robot]->SampleHardware();
+    }
+  };
+  pool_->Run(job);
+  scheduler_.EndSideBySide();
+  for (auto& robot : robots_) robot->ApplyDrive();
 }
 
 // The beacons broadcast at the end of the previous round travel now
