@@ -194,10 +194,19 @@ std::string CheckMember(uint16_t id, const uint16_t* previous, uint8_t phase, si
 std::string CheckMap(const EpochMap& map, std::span<const uint16_t> ids) {
   std::string problem = CheckMapMode(map.mode);
   if (problem.empty()) problem = CheckMemberCount(map.members.size(), ids.size());
+  // Members and header ids both increase, so one walk finds every member;
+  // CheckMember (a search per member, and a string) words what is wrong.
+  size_t cursor = 0;
   for (size_t index = 0; problem.empty() && index < map.members.size(); ++index) {
     const MapMember& member = map.members[index];
-    problem = CheckMember(member.id, index == 0 ? nullptr : &map.members[index - 1].id, member.phase,
-                          member.payload.size(), ids);
+    const uint16_t* previous = index == 0 ? nullptr : &map.members[index - 1].id;
+    const bool increasing = previous == nullptr || member.id > *previous;
+    if (increasing) {
+      while (cursor < ids.size() && ids[cursor] < member.id) ++cursor;
+    }
+    const bool fits = increasing && cursor < ids.size() && ids[cursor] == member.id &&
+                      member.phase <= format::kMaxPhase && member.payload.size() <= kMaxPayloadBytes;
+    if (!fits) problem = CheckMember(member.id, previous, member.phase, member.payload.size(), ids);
   }
   return problem;
 }

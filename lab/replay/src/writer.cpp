@@ -131,6 +131,8 @@ std::string Writer::CheckRound(uint32_t index, int64_t time_ns, std::span<const 
       problem = fmt::format("map of robot {}, which is not in the header", entry.robot);
     } else if (entry.map == nullptr) {
       problem = fmt::format("map of robot {} is null", entry.robot);
+    } else if (position > 0 && entry.map == maps[position - 1].map) {
+      // The same map as the robot before (a caller that shares equal maps): checked.
     } else if (std::string map_problem = detail::CheckMap(*entry.map, ids_); !map_problem.empty()) {
       problem = fmt::format("map of robot {}: {}", entry.robot, map_problem);
     }
@@ -170,31 +172,28 @@ uint64_t MapHash(const EpochMap& map) {
 
 void Writer::PutMap(size_t slot, const std::shared_ptr<const EpochMap>& map) {
   PutU16(buffer_, ids_[slot]);
-  const uint64_t hash = MapHash(*map);
-  // The robot's previous map is no longer what it holds.
-  if (latest_[slot] != nullptr) {
-    auto [first, last] = by_hash_.equal_range(latest_hash_[slot]);
-    for (auto entry = first; entry != last; ++entry) {
-      if (entry->second == slot) {
-        by_hash_.erase(entry);
-        break;
-      }
-    }
+  // A map handed again (the caller shares equal maps between robots) has
+  // the hash it had; the held pointer keeps its address from being reused.
+  if (map != hashed_map_) {
+    hashed_map_ = map;
+    hashed_map_hash_ = MapHash(*map);
+    hashed_map_equal_.reset();
   }
+  const uint64_t hash = hashed_map_hash_;
+  // The robot's previous map is no longer what it holds.
+  if (latest_[slot] != nullptr) by_hash_.erase({latest_hash_[slot], slot});
   // Another robot holding an equal map: the lowest slot, so the choice
-  // depends only on the calls (same calls, same bytes).
-  // Candidates in slot order, so the first equal one is the answer: one full
-  // comparison in the common case (every robot holding the same map), not
-  // one per robot holding it.
-  candidates_.clear();
-  auto [first, last] = by_hash_.equal_range(hash);
-  for (auto entry = first; entry != last; ++entry) candidates_.push_back(entry->second);
-  std::sort(candidates_.begin(), candidates_.end());
+  // depends only on the calls (same calls, same bytes). The index is
+  // ordered by (hash, slot), so the first equal candidate is the answer:
+  // one full comparison in the common case (every robot holding the same
+  // map), none when it is the same map object or one found equal to it
+  // before.
   size_t source = ids_.size();
-  for (const size_t candidate : candidates_) {
-    const std::shared_ptr<const EpochMap>& held = latest_[candidate];
-    if (held == map || *held == *map) {
-      source = candidate;
+  for (auto entry = by_hash_.lower_bound({hash, 0}); entry != by_hash_.end() && entry->first == hash; ++entry) {
+    const std::shared_ptr<const EpochMap>& held = latest_[entry->second];
+    if (held == map || held == hashed_map_equal_ || *held == *map) {
+      source = entry->second;
+      hashed_map_equal_ = held;
       break;
     }
   }
@@ -218,7 +217,7 @@ void Writer::PutMap(size_t slot, const std::shared_ptr<const EpochMap>& map) {
     latest_[slot] = map;
   }
   latest_hash_[slot] = hash;
-  by_hash_.emplace(hash, slot);
+  by_hash_.insert({hash, slot});
 }
 
 void Writer::WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,

@@ -34,11 +34,19 @@ void LabRobot::Attach() {
 }
 
 void LabRobot::StepHardware(int64_t now_ns) {
-  motion::DriveCommand drive{};
-  if (drive_.TakeLatest(drive)) world_.SetDrive(spec_.id, drive);
-  // Readings are stamped by the robot's own clock, as its drivers would.
-  (void)now_ns;
+  (void)now_ns;  // readings are stamped by the robot's own clock, as its drivers would
+  SampleHardware();
+  ApplyDrive();
+}
+
+void LabRobot::SampleHardware() {
+  drive_was_taken_ = drive_.TakeLatest(drive_taken_);
   bank_.Sample(port_.now_ns(), world_.true_state(spec_.id), publishers_);
+}
+
+void LabRobot::ApplyDrive() {
+  if (drive_was_taken_) world_.SetDrive(spec_.id, drive_taken_);
+  drive_was_taken_ = false;
 }
 
 }  // namespace syrof::lab::sim

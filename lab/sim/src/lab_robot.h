@@ -39,6 +39,13 @@ class LabRobot {
   /// latest drive command to its body, then the sensor readings due, sampled
   /// from the body's true state.
   void StepHardware(int64_t now_ns);
+  /// StepHardware in two halves, for `--threads`: SampleHardware takes the
+  /// latest drive command and samples the sensors (it touches this robot's
+  /// broker, noise and body state, read only); ApplyDrive then hands the
+  /// command taken to the body (the world counts refused ones). The
+  /// readings do not depend on the drive, so the halves give StepHardware.
+  void SampleHardware();
+  void ApplyDrive();
 
   uint16_t id() const { return spec_.id; }
   const char* app_name() const { return app_->name(); }
@@ -65,6 +72,8 @@ class LabRobot {
   sensors::SensorBank bank_;
   sensors::SensorPublishers publishers_;
   pubsub::Subscriber<motion::DriveCommand> drive_;
+  motion::DriveCommand drive_taken_{};  // SampleHardware's, for ApplyDrive
+  bool drive_was_taken_ = false;
   std::unique_ptr<app::App> app_;
   runtime::Robot robot_;
 };

@@ -11,7 +11,12 @@
 namespace syrof::lab::sim {
 
 RadioNetwork::RadioNetwork(const world::ChannelSpec& channel, uint16_t robots, uint64_t seed)
-    : channel_(channel, robots, seed), outbox_(robots), sent_(robots, 0), inflight_(robots), listening_(robots, 0) {
+    : channel_(channel, robots, seed),
+      outbox_(robots),
+      sent_(robots, 0),
+      inflight_(robots),
+      listening_(robots, 0),
+      decoded_(robots, 0) {
   radios_.reserve(robots);
   senders_.reserve(robots);
   for (uint16_t id = 0; id < robots; ++id) radios_.emplace_back(*this, id);
@@ -90,10 +95,13 @@ void RadioNetwork::SplitReceivers(std::span<const uint16_t> starts) {
   for (size_t b = 1; b < starts.size(); ++b) SYROF_CHECK(starts[b] > starts[b - 1] && starts[b] < size());
   block_starts_.assign(starts.begin(), starts.end());
   block_channels_.assign(starts.size() - 1, channel_);
+  block_codecs_.assign(starts.size(), BlockCodec{});
 }
 
 void RadioNetwork::Deliver(int64_t round, double sent_at_s, BeaconReceivers& receivers) {
   BeginDelivery(round, sent_at_s, receivers);
+  for (size_t block = 0; block < block_starts_.size(); ++block) EncodeBlock(block);
+  EndEncoding();
   for (size_t block = 0; block < block_starts_.size(); ++block) DeliverToBlock(block, receivers);
 }
 
@@ -104,20 +112,41 @@ void RadioNetwork::BeginDelivery(int64_t round, double sent_at_s, BeaconReceiver
   // Receiving hands a beacon over and changes no robot's power, so who
   // listens is asked once per receiver, not once per (sender, receiver).
   for (uint16_t receiver = 0; receiver < swarm_size; ++receiver) listening_[receiver] = receivers.Listening(receiver);
-  // Every beacon of the round is encoded and decoded first, in sender order.
-  senders_.clear();
-  for (uint16_t sender = 0; sender < swarm_size; ++sender) {
+}
+
+// Every beacon of the round is encoded and decoded before any is handed
+// over: a block's senders here, the senders' list in EndEncoding.
+void RadioNetwork::EncodeBlock(size_t block) {
+  const uint16_t swarm_size = size();
+  const uint16_t first = block_starts_[block];
+  const uint16_t end = block + 1 < block_starts_.size() ? block_starts_[block + 1] : swarm_size;
+  BlockCodec& codec = block_codecs_[block];
+  for (uint16_t sender = first; sender < end; ++sender) {
+    decoded_[sender] = 0;
     if (sent_[sender] == 0) continue;
     sent_[sender] = 0;
-    const auto encoded = wire::Encode(outbox_[sender], swarm_size, frame_bytes_);
+    const auto encoded = wire::Encode(outbox_[sender], swarm_size, codec.frame_bytes);
     SYROF_CHECK(encoded.ok());
-    const auto decoded = wire::Decode(std::span<const uint8_t>(frame_bytes_.data(), encoded.value()), swarm_size);
+    const auto decoded = wire::Decode(std::span<const uint8_t>(codec.frame_bytes.data(), encoded.value()), swarm_size);
     if (!decoded.ok()) {
-      ++beacons_malformed_;
+      ++codec.malformed;
       continue;
     }
     inflight_[sender] = decoded.value();
-    const bool mute = !radio_faults_.empty() && Silenced(scenario::FaultKind::kMute, sender, sent_at_s);
+    decoded_[sender] = 1;
+  }
+}
+
+void RadioNetwork::EndEncoding() {
+  const uint16_t swarm_size = size();
+  for (BlockCodec& codec : block_codecs_) {
+    beacons_malformed_ += codec.malformed;
+    codec.malformed = 0;
+  }
+  senders_.clear();
+  for (uint16_t sender = 0; sender < swarm_size; ++sender) {
+    if (decoded_[sender] == 0) continue;
+    const bool mute = !radio_faults_.empty() && Silenced(scenario::FaultKind::kMute, sender, delivery_sent_at_s_);
     senders_.push_back({sender, mute});
   }
 }

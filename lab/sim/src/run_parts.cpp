@@ -1,5 +1,6 @@
 #include "syrof/lab/sim/run_parts.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <new>
@@ -51,6 +52,25 @@ std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap) {
                                              snapshot.vy_mm_s, std::vector<uint8_t>(payload.begin(), payload.end())});
   }
   return map;
+}
+
+// Field by field what ToEpochMap copies, without copying.
+bool MatchesEpochMap(const replay::EpochMap& map, const sync::LDMap& ldmap) {
+  if (map.epoch != ldmap.epoch || map.mode != static_cast<uint8_t>(ldmap.mode)) return false;
+  size_t index = 0;
+  for (const uint16_t id : ldmap.members) {
+    if (index == map.members.size()) return false;
+    const replay::MapMember& member = map.members[index++];
+    const wire::Snapshot& snapshot = ldmap.snapshots[id];
+    if (member.id != id || member.phase != static_cast<uint8_t>(ldmap.phases[id]) || member.x_mm != snapshot.x_mm ||
+        member.y_mm != snapshot.y_mm || member.heading_mrad != snapshot.heading_mrad ||
+        member.vx_mm_s != snapshot.vx_mm_s || member.vy_mm_s != snapshot.vy_mm_s) {
+      return false;
+    }
+    const std::span<const uint8_t> payload = snapshot.payload_bytes();
+    if (!std::equal(member.payload.begin(), member.payload.end(), payload.begin(), payload.end())) return false;
+  }
+  return index == map.members.size();
 }
 
 metrics::RunFacts ScenarioFacts(const scenario::Scenario& scenario, const world::World& world) {

@@ -108,6 +108,7 @@ class Simulation::Impl final : public runtime::RobotObserver,
     wire::Mode mode;  // that epoch's mode at the call
     int64_t local_ns = 0;
     const sync::LDMap* ldmap = nullptr;
+    std::shared_ptr<const replay::EpochMap> map;  // kEpochStart with a replay: ldmap as the replay stores it
     const wire::MemberSet* removed = nullptr;
     const wire::MemberSet* joined = nullptr;
     uint16_t other = 0;       // kSafetyIntervention
@@ -124,6 +125,11 @@ class Simulation::Impl final : public runtime::RobotObserver,
     uint8_t state = 0;
   };
   ObserverCall CallOf(ObserverCall::Kind kind, uint16_t robot) const;
+  // `ldmap` as the replay stores it, made in the robot's step (so on its
+  // worker); the same object as the last map its worker made when equal,
+  // which spares the replay writer checking, hashing and comparing it again
+  // (a COOPERATIVE epoch's map of 1000 members, 1000 times, on one thread).
+  std::shared_ptr<const replay::EpochMap> ReplayMapOf(uint16_t robot, const sync::LDMap& ldmap);
   void Report(const ObserverCall& call);
   void Handle(const ObserverCall& call);
 
@@ -172,6 +178,9 @@ class Simulation::Impl final : public runtime::RobotObserver,
   std::vector<int> worker_of_port_;
   std::vector<uint16_t> robot_of_port_;
   std::vector<std::vector<ObserverCall>> kept_calls_;
+  std::vector<std::shared_ptr<const replay::EpochMap>> last_replay_maps_;  // ReplayMapOf's, per worker
+  std::vector<size_t> worker_starts_;     // worker w's robots: worker_starts_[w] .. worker_starts_[w + 1]
+  std::vector<os::SimPort*> robot_ports_;  // in robot order
   std::span<const os::SimStep> batch_;
   bool parallel_ = false;  // a parallel batch is running
   // os::SimBatchRunner
@@ -244,6 +253,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
                           : static_cast<int>(std::min<size_t>(static_cast<size_t>(options_.threads), robot_count));
   const auto worker_of_robot = [&](size_t robot) { return static_cast<int>(robot * workers / robot_count); };
   for (int worker = 1; worker < workers; ++worker) worker_workspaces_.push_back(std::make_unique<QueriesWorkspace>());
+  last_replay_maps_.resize(static_cast<size_t>(workers));
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
     const int worker = worker_of_robot(spec.id);
@@ -317,6 +327,9 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       }
     }
     radio_.SplitReceivers(block_starts);  // worker w delivers to its own robots
+    worker_starts_.assign(block_starts.begin(), block_starts.end());
+    worker_starts_.push_back(robot_count);
+    for (const auto& robot : robots_) robot_ports_.push_back(&robot->port());
     pool_ = std::make_unique<WorkerPool>(workers);
     scheduler_.set_batch_runner(this);
   }
@@ -482,9 +495,24 @@ void Simulation::Impl::StepPhysics(int64_t now_ns) {
 }
 
 void Simulation::Impl::StepHardware(int64_t now_ns) {
-  for (auto& robot : robots_) {
-    if (robot->port().running()) robot->StepHardware(now_ns);
+  if (pool_ == nullptr || robots_.size() < kMinParallelSteps) {
+    for (auto& robot : robots_) {
+      if (robot->port().running()) robot->StepHardware(now_ns);
+    }
+    return;
   }
+  // Worker w samples its own robots' sensors, which publish to their own
+  // brokers (the notifications wait, os::SimScheduler::BeginSideBySide);
+  // the drive commands they took reach the bodies here, after.
+  scheduler_.BeginSideBySide(robot_ports_);
+  auto job = [this](int worker) {
+    for (size_t robot = worker_starts_[worker]; robot < worker_starts_[worker + 1]; ++robot) {
+      if (robots_[robot]->port().running()) robots_[robot]->SampleHardware();
+    }
+  };
+  pool_->Run(job);
+  scheduler_.EndSideBySide();
+  for (auto& robot : robots_) robot->ApplyDrive();
 }
 
 // The beacons broadcast at the end of the previous round travel now
@@ -497,15 +525,21 @@ void Simulation::Impl::StepRadio(int64_t now_ns) {
     radio_.Deliver(round, sent_at_s, *this);
     return;
   }
-  // Worker w hands its own robots their beacons (each receiver's inbox and
-  // its block's channel copy are its own).
+  // Worker w encodes and decodes its own robots' beacons, then, once all
+  // are decoded, hands its own robots their beacons (each receiver's inbox
+  // and its block's channel copy are its own).
   radio_.BeginDelivery(round, sent_at_s, *this);
   if (robots_.size() < kMinParallelSteps) {
+    for (size_t block = 0; block < radio_.blocks(); ++block) radio_.EncodeBlock(block);
+    radio_.EndEncoding();
     for (size_t block = 0; block < radio_.blocks(); ++block) radio_.DeliverToBlock(block, *this);
     return;
   }
-  auto job = [this](int worker) { radio_.DeliverToBlock(static_cast<size_t>(worker), *this); };
-  pool_->Run(job);
+  auto encode = [this](int worker) { radio_.EncodeBlock(static_cast<size_t>(worker)); };
+  pool_->Run(encode);
+  radio_.EndEncoding();
+  auto deliver = [this](int worker) { radio_.DeliverToBlock(static_cast<size_t>(worker), *this); };
+  pool_->Run(deliver);
 }
 
 bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
@@ -606,7 +640,15 @@ void Simulation::Impl::Report(const ObserverCall& call) {
 void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t /*local_ns*/, const sync::LDMap& ldmap) {
   ObserverCall call = CallOf(ObserverCall::Kind::kEpochStart, robot);
   call.ldmap = &ldmap;
+  if (replay_ != nullptr) call.map = ReplayMapOf(robot, ldmap);
   Report(call);
+}
+
+std::shared_ptr<const replay::EpochMap> Simulation::Impl::ReplayMapOf(uint16_t robot, const sync::LDMap& ldmap) {
+  const int worker = pool_ == nullptr ? 0 : worker_of_port_[robots_[robot]->port().index()];
+  std::shared_ptr<const replay::EpochMap>& last = last_replay_maps_[static_cast<size_t>(worker)];
+  if (last == nullptr || !MatchesEpochMap(*last, ldmap)) last = ToEpochMap(ldmap);
+  return last;
 }
 
 void Simulation::Impl::OnMembership(uint16_t robot, int64_t /*local_ns*/, const wire::MemberSet& removed,
@@ -683,7 +725,7 @@ void Simulation::Impl::Handle(const ObserverCall& call) {
         epoch_sample_ = ldmap.epoch;
       }
       AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
-      if (replay_ != nullptr) round_maps_.push_back(replay::RobotMap{robot, ToEpochMap(ldmap)});
+      if (call.map != nullptr) round_maps_.push_back(replay::RobotMap{robot, call.map});
       break;
     }
     case ObserverCall::Kind::kMembership:

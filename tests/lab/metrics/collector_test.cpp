@@ -3,9 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
+#include <random>
 #include <vector>
 
 namespace syrof::lab::metrics {
@@ -264,6 +266,101 @@ TEST(CollectorSynchrony, ClosedAndOpenEpochsAreMeasuredAlike) {
   EXPECT_EQ(metrics.synchrony.skew_histogram[0], 1);
   EXPECT_EQ(metrics.synchrony.skew_histogram[1], 1);
   EXPECT_EQ(metrics.synchrony.max_start_skew_rounds, 3);
+}
+
+// ---- round phase ----
+
+// The round-phase statistics of `rounds` by the definition (docs/metrics.md):
+// every pair of boundaries one by one, its distance modulo the round, in
+// 1 us bins below 2 ms and 100 us bins above, a percentile being its bin's
+// upper edge (never above the largest).
+PhaseErrorStats PairByPair(const std::vector<std::vector<int64_t>>& rounds) {
+  std::vector<int64_t> errors;
+  for (const std::vector<int64_t>& boundaries : rounds) {
+    for (size_t a = 0; a < boundaries.size(); ++a) {
+      for (size_t b = a + 1; b < boundaries.size(); ++b) {
+        const int64_t d = ((boundaries[a] - boundaries[b]) % kRoundNs + kRoundNs) % kRoundNs;
+        errors.push_back(std::min(d, kRoundNs - d));
+      }
+    }
+  }
+  PhaseErrorStats stats;
+  stats.samples = static_cast<int64_t>(errors.size());
+  if (errors.empty()) return stats;
+  std::sort(errors.begin(), errors.end());
+  const auto upper_edge = [](int64_t error) {
+    return error < 2'000'000 ? (error / 1'000 + 1) * 1'000 : 2'000'000 + ((error - 2'000'000) / 100'000 + 1) * 100'000;
+  };
+  const auto percentile = [&](double fraction) {
+    const auto wanted = static_cast<size_t>(std::ceil(fraction * static_cast<double>(errors.size())));
+    return static_cast<double>(std::min(upper_edge(errors[wanted - 1]), errors.back())) * 1e-6;
+  };
+  stats.p50_ms = percentile(0.5);
+  stats.p99_ms = percentile(0.99);
+  stats.max_ms = static_cast<double>(errors.back()) * 1e-6;
+  return stats;
+}
+
+void ExpectSameStats(const PhaseErrorStats& actual, const PhaseErrorStats& expected) {
+  EXPECT_EQ(actual.samples, expected.samples);
+  EXPECT_DOUBLE_EQ(actual.p50_ms, expected.p50_ms);
+  EXPECT_DOUBLE_EQ(actual.p99_ms, expected.p99_ms);
+  EXPECT_DOUBLE_EQ(actual.max_ms, expected.max_ms);
+}
+
+// Equal boundaries are counted together (OnRoundPhases): the counts must be
+// those of the pairs one by one. Three boundaries at a round's start, one a
+// round later, one 0.2 ms before a round's start: 6 pairs of 0 and 4 of 0.2 ms.
+TEST(CollectorRoundPhase, RepeatedBoundariesCountEveryPair) {
+  Collector collector = MakeCollector(5);
+  const std::vector<int64_t> boundaries = {kRoundNs, kRoundNs, 2 * kRoundNs - 200'000, kRoundNs, 2 * kRoundNs};
+
+  collector.OnRoundPhases(boundaries);
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  const RoundPhaseMetrics& phase = metrics.round_phase;
+  EXPECT_EQ(phase.rounds_measured, 1);
+  EXPECT_EQ(phase.run.samples, 10);
+  EXPECT_DOUBLE_EQ(phase.run.p50_ms, 0.001);  // the 6 zeros' bin, [0, 1 us)
+  EXPECT_DOUBLE_EQ(phase.run.p99_ms, 0.2);    // its bin's edge, 0.201 ms, capped at the largest
+  EXPECT_DOUBLE_EQ(phase.run.max_ms, 0.2);
+  ExpectSameStats(phase.run, PairByPair({boundaries}));
+  ASSERT_TRUE(phase.converged_s.has_value());
+  ExpectSameStats(phase.residual, PairByPair({boundaries}));
+}
+
+// Seeded rounds of 2 to 60 boundaries drawn from a few residues (many
+// repeats), some rounds over the threshold (the residual restarts), some
+// boundaries negative or rounds apart: the same statistics as pair by pair.
+TEST(CollectorRoundPhase, GroupedCountsMatchPairByPair) {
+  std::mt19937_64 random(20261126);
+  Collector collector = MakeCollector(60);
+  std::vector<std::vector<int64_t>> rounds;
+  size_t residual_from = 0;
+  for (int round = 0; round < 40; ++round) {
+    // Late rounds stay within the threshold, so a residual remains to compare.
+    const int64_t spread_ns = round < 30 ? 3'000'000 : 900'000;
+    const int distinct = 1 + static_cast<int>(random() % 4);
+    std::vector<int64_t> residues;
+    for (int i = 0; i < distinct; ++i) residues.push_back(static_cast<int64_t>(random() % spread_ns) - spread_ns / 3);
+    std::vector<int64_t> boundaries;
+    const size_t count = 2 + random() % 59;
+    for (size_t i = 0; i < count; ++i) {
+      const int64_t whole_rounds = static_cast<int64_t>(random() % 5) - 1;
+      boundaries.push_back(whole_rounds * kRoundNs + residues[random() % residues.size()]);
+    }
+    collector.OnRoundPhases(boundaries);
+    rounds.push_back(boundaries);
+    const PhaseErrorStats alone = PairByPair({boundaries});
+    if (alone.max_ms > 1.0) residual_from = rounds.size();
+  }
+  const Metrics metrics = collector.Finish(RunFacts{});
+
+  ExpectSameStats(metrics.round_phase.run, PairByPair(rounds));
+  ASSERT_LT(residual_from, rounds.size());
+  ASSERT_TRUE(metrics.round_phase.converged_s.has_value());
+  ExpectSameStats(metrics.round_phase.residual,
+                  PairByPair({rounds.begin() + static_cast<std::ptrdiff_t>(residual_from), rounds.end()}));
 }
 
 // ---- common knowledge ----

@@ -278,6 +278,42 @@ TEST(ReplayWriterReader, SharedMapIsStoredOnce) {
   EXPECT_EQ(back.rounds[0].maps[0].map, back.rounds[0].maps[1].map);  // one object for both
 }
 
+// A reference names the lowest robot that still holds an equal map: after
+// robot 0 moves on to another map, robot 2's copy of the first one refers to
+// robot 1. The same bytes whether equal maps are one object or copies.
+TEST(ReplayWriterReader, AReferenceNamesTheLowestRobotStillHoldingTheMap) {
+  const Header header = SampleHeader();
+  std::vector<Round> rounds(3);
+  for (size_t i = 0; i < rounds.size(); ++i) {
+    rounds[i].index = static_cast<uint32_t>(i);
+    rounds[i].time_ns = static_cast<int64_t>(i + 1) * 50'000'000;
+    for (const uint16_t id : {0, 1, 2}) {
+      rounds[i].robots.push_back(testing::Frame(id, Presence::kRunning, 1, 1.0f + id, 1.0f));
+    }
+  }
+  const std::shared_ptr<const EpochMap> first = testing::Map(1, 0, {0, 1, 2});
+  rounds[0].maps = {{0, first}, {1, first}, {2, first}};
+  rounds[1].maps = {{0, testing::Map(2, 0, {0, 1, 2})}};
+  rounds[2].maps = {{2, testing::Map(1, 0, {0, 1, 2})}};  // equal to `first`, another object
+  std::vector<Round> copies = rounds;
+  copies[0].maps[1].map = testing::Map(1, 0, {0, 1, 2});
+  copies[0].maps[2].map = testing::Map(1, 0, {0, 1, 2});
+  std::vector<Round> without_round_2_map = rounds;
+  without_round_2_map[2].maps.clear();
+
+  const testing::Written shared = Write(header, rounds);
+  const testing::Written copied = Write(header, copies);
+  const testing::ReadBack back = Read(shared.bytes);
+
+  EXPECT_EQ(copied.bytes, shared.bytes);
+  EXPECT_EQ(shared.bytes.size() - Write(header, without_round_2_map).bytes.size(), 4u);  // a reference
+  // Robot 2's record is its id and the source's id, the round's last 4 bytes before the CRC.
+  const size_t record_end = shared.round_ends[2] - 4;
+  EXPECT_EQ(shared.bytes.substr(record_end - 4, 4), std::string("\x02\x00\x01\x00", 4));
+  ASSERT_EQ(back.rounds.size(), 3u);
+  EXPECT_EQ(back.rounds, rounds);
+}
+
 TEST(ReplayWriter, RefusesMapsTheFormatCannotHold) {
   const Header header = SampleHeader();
   std::vector<Round> rounds = SampleRounds();

@@ -25,6 +25,7 @@ SimScheduler::SimScheduler(size_t max_tasks) : max_tasks_(max_tasks) {
   heap_.reserve(max_tasks);
   batch_.reserve(max_tasks);
   batch_steps_.reserve(max_tasks);
+  batch_ports_.reserve(max_tasks);
 }
 
 base::Result<uint32_t, PortError> SimScheduler::RegisterTask(SimPort& port, Task& task,
@@ -122,9 +123,10 @@ bool SimScheduler::BatchAhead() const {
 void SimScheduler::RunBatch() {
   const int64_t time_ns = heap_.front().time_ns;
   const uint64_t rank = heap_.front().order >> 32;
-  const uint64_t mark = batches_run_ + 1;
+  const uint64_t mark = ++batch_mark_;
   batch_.clear();
   batch_steps_.clear();
+  batch_ports_.clear();
   while (!heap_.empty() && heap_.front().time_ns == time_ns && (heap_.front().order >> 32) == rank) {
     SimPort& port = *tasks_[heap_.front().task_index()].port;
     if (port.batch_mark_ == mark) break;  // a port's steps never run side by side
@@ -133,26 +135,45 @@ void SimScheduler::RunBatch() {
     const uint32_t index = TakeFront(step_now_ns);
     batch_.push_back(index);
     batch_steps_.push_back(SimStep{tasks_[index].task, &port, step_now_ns});
+    batch_ports_.push_back(&port);
   }
   ++batches_run_;
   steps_run_ += batch_.size();
   in_batch_ = true;
   batch_runner_->RunBatch(batch_steps_);
   in_batch_ = false;
-  ApplyDeferred();
+  const uint64_t last_order = MakeActivation(batch_.back(), now_ns_).order;
+  ApplyDeferred(&last_order);
 }
 
-void SimScheduler::ApplyDeferred() {
-  const uint64_t last_order = MakeActivation(batch_.back(), now_ns_).order;
-  for (size_t position = 0; position < batch_.size(); ++position) {
-    SimPort& port = *tasks_[batch_[position]].port;
+void SimScheduler::BeginSideBySide(std::span<SimPort* const> ports) {
+  SYROF_CHECK(!in_batch_);
+  const uint64_t mark = ++batch_mark_;
+  batch_ports_.clear();
+  for (SimPort* port : ports) {
+    SYROF_CHECK(&port->scheduler_ == this && port->batch_mark_ != mark);
+    port->batch_mark_ = mark;
+    batch_ports_.push_back(port);
+  }
+  in_batch_ = true;
+}
+
+void SimScheduler::EndSideBySide() {
+  SYROF_CHECK(in_batch_);
+  in_batch_ = false;
+  ApplyDeferred(nullptr);
+}
+
+void SimScheduler::ApplyDeferred(const uint64_t* last_order) {
+  for (size_t position = 0; position < batch_ports_.size(); ++position) {
+    SimPort& port = *batch_ports_[position];
     if (port.deferred_.empty() && !port.stop_deferred_) continue;
-    const bool last = position + 1 == batch_.size();
+    const bool last = position + 1 == batch_ports_.size();
     for (const SimPort::Deferred& deferred : port.deferred_) {
       // One at a time, an activation due now that orders before the batch's
       // last step would have run inside the batch (sim_port.h).
-      SYROF_CHECK(last || deferred.time_ns > now_ns_ ||
-                  MakeActivation(deferred.task_index, now_ns_).order > last_order);
+      SYROF_CHECK(last_order == nullptr || last || deferred.time_ns > now_ns_ ||
+                  MakeActivation(deferred.task_index, now_ns_).order > *last_order);
       if (port.stop_deferred_) {
         if (!deferred.reschedule) tasks_[deferred.task_index].pending = false;  // never queued
       } else if (deferred.reschedule) {
@@ -168,6 +189,7 @@ void SimScheduler::ApplyDeferred() {
     }
   }
 }
+
 SimScheduler::Activation SimScheduler::MakeActivation(uint32_t task_index, int64_t time_ns) const {
   const uint64_t rank = 255u - tasks_[task_index].config.priority;
   return Activation{time_ns, (rank << 32) | task_index};
@@ -184,22 +206,33 @@ void SimScheduler::SiftUp(size_t position) {
   heap_[position] = moving;
 }
 
+// Bottom-up: the hole at `position` goes down to a leaf along the earlier
+// child (one comparison a level), then the moving activation climbs back
+// to its place (rarely far: a periodic task's next activation is late).
+// Keys are unique, so this leaves the array exactly as the usual sift down
+// (which compares the moving activation at every level too) would.
 void SimScheduler::SiftDown(size_t position) {
   const Activation moving = heap_[position];
   const size_t size = heap_.size();
+  size_t hole = position;
   for (;;) {
-    const size_t first_child = kHeapArity * position + 1;
+    const size_t first_child = kHeapArity * hole + 1;
     if (first_child >= size) break;
     const size_t end = std::min(first_child + kHeapArity, size);
     size_t child = first_child;
     for (size_t other = first_child + 1; other < end; ++other) {
       if (RunsFirst(heap_[other], heap_[child])) child = other;
     }
-    if (!RunsFirst(heap_[child], moving)) break;
-    heap_[position] = heap_[child];
-    position = child;
+    heap_[hole] = heap_[child];
+    hole = child;
   }
-  heap_[position] = moving;
+  while (hole > position) {
+    const size_t parent = (hole - 1) / kHeapArity;
+    if (!RunsFirst(moving, heap_[parent])) break;
+    heap_[hole] = heap_[parent];
+    hole = parent;
+  }
+  heap_[hole] = moving;
 }
 
 void SimScheduler::Reschedule(uint32_t task_index, int64_t time_ns) {
@@ -230,6 +263,7 @@ SimPort::SimPort(SimScheduler& scheduler, const char* name)
 // Room for one notification and one shift per task (each coalesces), so a
 // batch never allocates.
 void SimPort::Defer(uint32_t task_index, int64_t time_ns, bool reschedule) {
+  SYROF_CHECK(batch_mark_ == scheduler_.batch_mark_);  // only a port of the batch (or side by side)
   for (Deferred& deferred : deferred_) {
     if (deferred.task_index == task_index && deferred.reschedule == reschedule) {
       deferred.time_ns = time_ns;
@@ -317,6 +351,7 @@ PortError SimPort::Stop() {
   if (!running_) return PortError::kNotStarted;
   running_ = false;
   if (scheduler_.in_batch_) {
+    SYROF_CHECK(batch_mark_ == scheduler_.batch_mark_);  // only a port of the batch (or side by side)
     stop_deferred_ = true;
   } else {
     scheduler_.CancelPort(*this);

@@ -115,6 +115,18 @@ class SimScheduler {
   /// Batches handed to the runner so far (each counts its steps in steps_run()).
   uint64_t batches_run() const { return batches_run_; }
 
+  /// Lets the step running now (a world task's, not a batch) step parts of
+  /// other ports' software side by side, as a batch's steps are run: from
+  /// BeginSideBySide to EndSideBySide, a Notify, ShiftPeriodic or Stop on
+  /// one of `ports` waits, and EndSideBySide applies them port by port in
+  /// `ports`' order, which gives the same queue as making them one at a
+  /// time (what they raise runs after the current step either way). The
+  /// lab's simulated sensors publish to every robot's broker this way on
+  /// `--threads`. No other port may be touched in between, and `ports`
+  /// (distinct) must stay valid until EndSideBySide.
+  void BeginSideBySide(std::span<SimPort* const> ports);
+  void EndSideBySide();
+
  private:
   friend class SimPort;
 
@@ -156,8 +168,10 @@ class SimScheduler {
   // Whether the earliest two activations are due together at one priority.
   bool BatchAhead() const;
   void RunBatch();
-  // Applies what the batch's ports asked for during the batch.
-  void ApplyDeferred();
+  // Applies what batch_ports_ asked for during a batch (or side by side),
+  // in their order; `last_order`: the order of a batch's last step, which
+  // nothing due now may precede (none for side by side).
+  void ApplyDeferred(const uint64_t* last_order);
 
   size_t max_tasks_;
   std::vector<TaskRecord> tasks_;
@@ -168,10 +182,12 @@ class SimScheduler {
   uint32_t ports_ = 0;  // SimPorts built on this scheduler
   // Batches.
   SimBatchRunner* batch_runner_ = nullptr;
-  bool in_batch_ = false;
+  bool in_batch_ = false;  // a batch or side by side: Notify, ShiftPeriodic and Stop wait
   uint64_t batches_run_ = 0;
+  uint64_t batch_mark_ = 0;  // the current batch's (or side by side's) number, over both kinds
   std::vector<uint32_t> batch_;     // task indices, in queue order
   std::vector<SimStep> batch_steps_;
+  std::vector<SimPort*> batch_ports_;  // the ports of batch_ (or side by side), in order
 };
 
 /// One robot's port on a SimScheduler. Single-threaded: Lock() only checks
@@ -236,7 +252,7 @@ class SimPort final : public Port {
   // Written only by this port's own step during a batch; read after it.
   std::vector<Deferred> deferred_;  // room for two per task, reserved by AddTask
   bool stop_deferred_ = false;
-  uint64_t batch_mark_ = 0;  // the batch (batches_run_ + 1) this port is in
+  uint64_t batch_mark_ = 0;  // the batch (or side by side) this port was last in (SimScheduler::batch_mark_)
 };
 
 }  // namespace syrof::os

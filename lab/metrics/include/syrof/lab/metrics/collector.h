@@ -160,7 +160,7 @@ class Collector {
     std::vector<int64_t> bins;
     int64_t samples = 0;
     int64_t max_ns = 0;
-    void Add(int64_t error_ns);
+    void Add(int64_t error_ns, int64_t count = 1);  // `count` pairs of one error
     void Clear();
     PhaseErrorStats Stats() const;
   };
@@ -203,6 +203,11 @@ class Collector {
   PhaseHistogram phase_run_;
   PhaseHistogram phase_residual_;
   std::vector<int64_t> phase_residues_;   // OnRoundPhases' scratch: each boundary modulo the round
+  struct PhaseGroup {
+    int64_t residue_ns;
+    int64_t count;  // boundaries with this residue
+  };
+  std::vector<PhaseGroup> phase_groups_;  // OnRoundPhases' scratch: the sorted residues' runs
   int64_t phase_rounds_ = 0;
   int64_t phase_round_index_ = 0;         // OnRoundPhases calls
   std::optional<int64_t> phase_converged_;  // OnRoundPhases call that began the aligned stretch

@@ -5,8 +5,9 @@
 #include <memory>
 #include <ostream>
 #include <span>
-#include <unordered_map>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "syrof/lab/base/error.h"
@@ -41,7 +42,9 @@ class Writer {
   /// started with (non-null, members in increasing id order, header ids). A
   /// map equal to one another robot holds (its latest) is stored as a 4-byte
   /// reference to that robot, so a COOPERATIVE epoch's map costs its bytes
-  /// once however many robots start it, whenever they start it.
+  /// once however many robots start it, whenever they start it. A map must
+  /// not change once handed over (the writer keeps it); handing robots one
+  /// shared object for equal maps spares the writer comparing them.
   void WriteRound(uint32_t index, int64_t time_ns, std::span<const RobotFrame> robots,
                   std::span<const Event> events, std::span<const RobotMap> maps = {});
 
@@ -75,8 +78,12 @@ class Writer {
   std::vector<uint8_t> buffer_;            // the record being built
   std::vector<std::shared_ptr<const EpochMap>> latest_;  // per header robot: its last map written
   std::vector<uint64_t> latest_hash_;      // per header robot: MapHash of latest_
-  std::unordered_multimap<uint64_t, size_t> by_hash_;  // MapHash -> slots holding such a map
-  std::vector<size_t> candidates_;         // PutMap's scratch: slots whose map has the new map's hash
+  std::set<std::pair<uint64_t, size_t>> by_hash_;  // (MapHash, slot) of every slot holding a map
+  // The map PutMap hashed last, its MapHash, and a map found equal to it
+  // (maps never change once handed over, and these keep them alive).
+  std::shared_ptr<const EpochMap> hashed_map_;
+  uint64_t hashed_map_hash_ = 0;
+  std::shared_ptr<const EpochMap> hashed_map_equal_;
   bool any_round_ = false;
   uint32_t last_index_ = 0;
   int64_t last_time_ns_ = 0;

@@ -84,13 +84,19 @@ class RadioNetwork {
   /// delivery; without it there is one block.
   void SplitReceivers(std::span<const uint16_t> starts);
   size_t blocks() const { return block_starts_.size(); }
-  /// Deliver() in two halves, for a caller that runs blocks on threads:
-  /// BeginDelivery encodes and decodes the round's beacons (sender order)
-  /// and asks who listens; DeliverToBlock then hands block `block`'s
-  /// listening receivers their beacons as Deliver does. Blocks of one round
-  /// may run at the same time, each touching only its receivers and its
-  /// channel copy (`receivers.Receive` is called for its receivers only).
+  /// Deliver() in parts, for a caller that runs blocks on threads:
+  /// BeginDelivery asks who listens; EncodeBlock encodes and decodes the
+  /// round's beacons of block `block`'s senders (the ids of its receivers);
+  /// EndEncoding lists the decoded beacons in sender order; DeliverToBlock
+  /// then hands block `block`'s listening receivers their beacons as
+  /// Deliver does. The EncodeBlock calls of one round may run at the same
+  /// time, each touching only its senders' slots and its own frame buffer,
+  /// and so may its DeliverToBlock calls, each touching only its receivers
+  /// and its channel copy (`receivers.Receive` is called for its receivers
+  /// only); EndEncoding runs between them, on one thread.
   void BeginDelivery(int64_t round, double sent_at_s, BeaconReceivers& receivers);
+  void EncodeBlock(size_t block);
+  void EndEncoding();
   void DeliverToBlock(size_t block, BeaconReceivers& receivers);
 
   /// Applies the scenario's deaf and mute faults (other kinds are ignored): a
@@ -156,7 +162,15 @@ class RadioNetwork {
     bool mute;  // nobody hears it (a mute fault), though the channel still draws
   };
   std::vector<Sent> senders_;  // Deliver's scratch: this round's decoded beacons, in sender order
-  std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes_{};
+  std::vector<uint8_t> decoded_;  // per sender: its beacon of this round decoded (EncodeBlock)
+  // Per block, what its EncodeBlock writes (a cache line apart, so that
+  // blocks encoding side by side do not share one).
+  struct alignas(64) BlockCodec {
+    std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes{};
+    uint64_t malformed = 0;  // since EndEncoding last added it up
+  };
+  std::vector<BlockCodec> block_codecs_{1};
+  std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes_{};  // the clocked radio's (SendNow)
   uint64_t beacons_malformed_ = 0;
 };
 

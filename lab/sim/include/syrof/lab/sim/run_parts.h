@@ -48,6 +48,10 @@ replay::Header ReplayHeader(const scenario::Scenario& scenario);
 /// The replay's copy of an LDMap: every member's snapshot and phase.
 std::shared_ptr<const replay::EpochMap> ToEpochMap(const sync::LDMap& ldmap);
 
+/// Whether `map` equals ToEpochMap(ldmap), found without building it (the
+/// lab shares one map between robots that start an epoch with equal ones).
+bool MatchesEpochMap(const replay::EpochMap& map, const sync::LDMap& ldmap);
+
 /// metrics.json's `goal` from the scenario's checks: reached when every
 /// check passed; the detail names the first that failed.
 metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals::CheckResult>& results);
