@@ -297,7 +297,7 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     ++state.stats.exclusions;
     return false;
   };
-  // "Catching up": a robot kept one epoch ahead, found in the same pass.
+  // The same pass finds a kept robot one epoch ahead ("Catching up").
   bool catch_up_kept = false;
   received.RetainIf([&](const wire::Beacon& beacon) {
     if (!retain(beacon)) return false;

@@ -116,8 +116,9 @@ Channel::Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed)
     }
   }
   plain_iid_ = spec_.model == ChannelModel::kIid && partitions_.empty() && link_losses_.empty();
-  loss_scaled_ = spec_.loss * 0x1.0p53;
-  loss_threshold_ = static_cast<uint64_t>(std::ceil(loss_scaled_));
+  // loss * 2^53 is exact; a draw's top 53 bits x (an integer) are below it
+  // exactly when they are below its ceiling.
+  loss_threshold_ = static_cast<uint64_t>(std::ceil(spec_.loss * 0x1.0p53));
 }
 
 double Channel::Draw(uint64_t purpose, int64_t round, uint16_t from, uint16_t to) const {
@@ -173,10 +174,10 @@ bool Channel::DeliversSlow(uint16_t from, uint16_t to, int64_t round, double tim
   SYROF_CHECK(round >= 0);
   ++offered_;
   if (plain_iid_) {
-    // The common case, i.i.d. loss on every link: the same decision as below
-    // (LossDraw() < loss, with LossDraw the top 53 bits over 2^53), taken on
-    // the integer bits.
-    const bool delivered = !(static_cast<double>(LossHash(round, from, to) >> 11) < loss_scaled_);
+    // The common case, i.i.d. loss on every link, in a round the inline path
+    // has no prefix for yet: the same decision as below (LossDraw() < loss,
+    // with LossDraw the top 53 bits over 2^53), taken on the integer bits.
+    const bool delivered = (LossHash(round, from, to) >> 11) >= loss_threshold_;
     delivered_ += delivered ? 1 : 0;
     return delivered;
   }

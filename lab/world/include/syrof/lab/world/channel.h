@@ -149,9 +149,8 @@ class Channel {
   // The hash prefix of (seed, purpose, round) for the last round a loss was
   // drawn for: every link of a round shares it, so a draw costs one hash.
   bool plain_iid_ = false;   // i.i.d. loss, no partition, no per-link loss
-  double loss_scaled_ = 0;   // loss * 2^53, exact
-  // ceil(loss_scaled_): for a draw's top 53 bits x, x < loss_scaled_ exactly
-  // when x < loss_threshold_.
+  // ceil(loss * 2^53): a draw's top 53 bits x lose the beacon exactly when
+  // x < loss_threshold_ (x < loss * 2^53, which is exact).
   uint64_t loss_threshold_ = 0;
   int64_t loss_round_ = -1;
   uint64_t loss_round_hash_ = 0;
