@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "syrof/app_host/landlock.h"
 #include "syrof/assignment/assignment.h"
 #include "syrof/grader/class_grading.h"
 #include "syrof/grader/grade.h"
@@ -60,6 +61,7 @@ grader::GradeOptions GradeOptionsOf(const GradeOptions& options) {
   grade.public_only = options.public_only;
   grade.jobs = options.jobs;
   grade.build.timeout_s = options.build_timeout_s;
+  grade.build.allow_unconfined = options.unsafe_no_file_isolation;
   return grade;
 }
 
@@ -238,6 +240,9 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
   grade->add_flag("--regrade", options.regrade, "With --class: grade every student again (no resume)")
       ->needs(class_option);
   grade->add_flag("--quiet", options.quiet, "No progress lines");
+  grade->add_flag("--unsafe-no-file-isolation", options.unsafe_no_file_isolation,
+                  "Grade even where the kernel has no Landlock (older than 5.13): submissions' builds and "
+                  "libraries can then read and write whatever uid 65534 (or yours) can; only for code you trust");
   class_option->excludes(mix_option);
 
   CLI::App* merge = grade->add_subcommand("merge", "Combine the outputs of class shards into one CSV and summary");
@@ -260,6 +265,20 @@ int RunGradeCommand(const GradeOptions& options, std::ostream& out, std::ostream
   if (options.assignment.empty()) {
     fmt::print(err, "syrof grade: --assignment NAME|PATH is required\nRun with --help for more information.\n");
     return kBadInput;
+  }
+  // Graded code is hostile until proven otherwise: without Landlock its
+  // build could read the hidden tests (docs/grading.md, "Threat model").
+  if (app_host::LandlockAbi() == 0) {
+    if (!options.unsafe_no_file_isolation) {
+      fmt::print(err,
+                 "syrof grade: this kernel has no Landlock (Linux 5.13 or later, with landlock among its LSMs), so "
+                 "a submission's build and library could read and write files outside their folders (the hidden "
+                 "tests, other students' work, the results); refusing to grade.\n"
+                 "Grade on a newer kernel, or give --unsafe-no-file-isolation for code you trust.\n");
+      return kBadInput;
+    }
+    fmt::print(out, "syrof grade: WARNING: no Landlock on this kernel; grading without file isolation "
+                    "(--unsafe-no-file-isolation)\n");
   }
   if (!options.class_dir.empty()) return GradeClass(options, out, err);
   if (!options.mix.empty()) return GradeMix(options, out, err);

@@ -27,6 +27,7 @@ struct GradeOptions {
   std::string shard;                    ///< "I/N"
   bool regrade = false;                 ///< --class: ignore earlier results
   bool quiet = false;
+  bool unsafe_no_file_isolation = false;  ///< build and run untrusted code even without Landlock
   // `syrof grade merge`
   bool merge = false;
   std::vector<std::string> merge_dirs;

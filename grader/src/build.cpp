@@ -3,11 +3,13 @@
 #include "syrof/grader/build.h"
 
 #include <fcntl.h>
+#include <grp.h>
 #include <poll.h>
 #include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -21,6 +23,7 @@
 #include <sstream>
 
 #include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/landlock.h"
 
 namespace syrof::grader {
 namespace {
@@ -28,6 +31,11 @@ namespace {
 namespace fs = std::filesystem;
 using assignment::BuildResult;
 using Clock = std::chrono::steady_clock;
+using app_host::FileRuleset;
+
+// The uid and gid a build started by root runs as (nobody, nogroup).
+constexpr uid_t kBuildUid = 65534;
+constexpr gid_t kBuildGid = 65534;
 
 bool IsSource(const fs::path& path) {
   const std::string extension = path.extension().string();
@@ -41,9 +49,42 @@ bool SkippedFolder(const fs::path& name) {
   return text.empty() || text[0] == '.' || text == "build" || text.starts_with("cmake-build");
 }
 
-// Copies regular files only (no symlinks, devices or FIFOs), at most
-// `max_bytes` in all. Returns "" or what went wrong.
-std::string CopySubmission(const fs::path& from, const fs::path& to, uint64_t max_bytes) {
+// Opens `path` for reading when it is a regular file with one link (not a
+// symbolic link, not a hard link to a file elsewhere), checked on the open
+// file so that what is read is what was checked. -1 otherwise.
+int OpenPlainFile(const fs::path& path, struct stat& status) {
+  const int fd = open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return -1;
+  if (fstat(fd, &status) != 0 || !S_ISREG(status.st_mode) || status.st_nlink != 1) {
+    close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+// Copies what `fd` holds into the new file `to` (0644), then closes `fd`.
+bool CopyOpenFile(int fd, const fs::path& to) {
+  const int copy = open(to.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+  bool ok = copy >= 0;
+  char buffer[65536];
+  for (ssize_t got; ok && (got = read(fd, buffer, sizeof buffer)) != 0;) {
+    if (got < 0) {
+      ok = errno == EINTR;
+      continue;
+    }
+    ok = write(copy, buffer, static_cast<size_t>(got)) == got;
+  }
+  close(fd);
+  if (copy >= 0) close(copy);
+  return ok;
+}
+
+// Copies regular files only, at most `max_bytes` in all. Symbolic links,
+// files with more than one hard link (a link to a file elsewhere on the
+// machine, which this process, often root, could read), devices and FIFOs
+// are left out, each named in `skipped`. Returns "" or what went wrong.
+std::string CopySubmission(const fs::path& from, const fs::path& to, uint64_t max_bytes,
+                           std::vector<std::string>& skipped) {
   std::error_code error;
   fs::remove_all(to, error);
   fs::create_directories(to, error);
@@ -55,7 +96,10 @@ std::string CopySubmission(const fs::path& from, const fs::path& to, uint64_t ma
     if (error) return "cannot read " + from.string() + ": " + error.message();
     const fs::directory_entry& entry = *it;
     const fs::path relative = entry.path().lexically_relative(from);
-    if (entry.is_symlink(error)) continue;
+    if (entry.is_symlink(error)) {
+      skipped.push_back(relative.generic_string() + " (a symbolic link)");
+      continue;
+    }
     if (entry.is_directory(error)) {
       if (SkippedFolder(entry.path().filename())) {
         it.disable_recursion_pending();
@@ -64,13 +108,22 @@ std::string CopySubmission(const fs::path& from, const fs::path& to, uint64_t ma
       fs::create_directories(to / relative, error);
       continue;
     }
-    if (!entry.is_regular_file(error)) continue;
-    total += entry.file_size(error);
+    if (!entry.is_regular_file(error)) {
+      skipped.push_back(relative.generic_string() + " (not a regular file)");
+      continue;
+    }
+    struct stat status {};
+    const int fd = OpenPlainFile(entry.path(), status);
+    if (fd < 0) {
+      skipped.push_back(relative.generic_string() + " (a hard link to another file)");
+      continue;
+    }
+    total += static_cast<uint64_t>(status.st_size);
     if (total > max_bytes) {
+      close(fd);
       return "the submission holds more than " + std::to_string(max_bytes >> 20) + " MB of files";
     }
-    fs::copy_file(entry.path(), to / relative, fs::copy_options::overwrite_existing, error);
-    if (error) return "cannot copy " + relative.string() + ": " + error.message();
+    if (!CopyOpenFile(fd, to / relative)) return "cannot copy " + relative.string() + ": " + std::strerror(errno);
   }
   return {};
 }
@@ -113,22 +166,59 @@ struct OutputLog {
   }
 };
 
+// What a build's processes may reach (docs/grading.md, "Threat model"),
+// made in the parent; the child applies it between fork and exec.
+struct BuildSandbox {
+  FileRuleset files;      // not created(): no Landlock (only with allow_unconfined)
+  bool drop_uid = false;  // started as root: the build runs as kBuildUid
+};
+
 struct ChildOutcome {
   bool started = false;
   bool timed_out = false;
   bool output_limit = false;
   int exit_code = -1;   // when it exited
   int signal = 0;       // when a signal ended it
-  int isolation = 0;    // 0 network isolated by a user+net namespace, 1 by a net namespace, 2 not isolated
+  // What the child could set up, as it reported before exec.
+  int isolation = 2;    // 0 network cut and processes in their own PID namespace, 1 network cut only, 2 neither
   int isolation_errno = 0;
+  int setup_failure = 0;  // kSetup*: a layer that must hold did not, and the build was not started
+  int setup_errno = 0;
 };
 
-// Runs `argv` in its own process group with rlimits and no network, output
-// to `log`, until it exits or `deadline`. Everything the child does between
-// fork and exec is async-signal-safe (the parent may have threads).
+enum SetupFailure { kSetupOk = 0, kSetupUid = 1, kSetupLandlock = 2 };
+
+// The child's report, written once before the build tool starts; with a
+// PID namespace its init writes the tool's wait status after it ends.
+struct SetupReport {
+  int isolation = 2;
+  int isolation_errno = 0;
+  int failure = kSetupOk;
+  int failure_errno = 0;
+};
+
+bool WriteText(const char* path, const char* text, size_t length) {
+  const int fd = open(path, O_WRONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = write(fd, text, length) == static_cast<ssize_t>(length);
+  close(fd);
+  return ok;
+}
+
+// Runs `argv` sandboxed until it exits or `deadline`, output to `log`.
+// The child, in its own process group: when root, the network, PID, IPC and
+// UTS namespaces, then uid 65534 (setgroups, setgid, setuid: never root
+// inside or outside a namespace); otherwise a user namespace mapping the
+// caller's own ids with the same namespaces; rlimits; no_new_privs and the
+// Landlock ruleset. In a PID namespace the first process is a small init
+// that starts the tool and reaps; when it exits the kernel kills whatever
+// is left in the namespace (a daemon that double-forked and called setsid
+// included), so no process of the build outlives it. Everything the child
+// does between fork and exec is async-signal-safe (the parent may have
+// threads).
 ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::string& working_dir,
                           const std::vector<std::string>& environment, const BuildOptions& options,
-                          Clock::time_point deadline, OutputLog& log) {
+                          const BuildSandbox& sandbox, Clock::time_point deadline, OutputLog& log) {
   ChildOutcome outcome;
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
@@ -148,46 +238,95 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
   const rlimit file_size{options.file_size_limit_bytes, options.file_size_limit_bytes};
   const rlimit cpu{options.cpu_limit_s, options.cpu_limit_s};
   const rlimit no_core{0, 0};
-  // The user namespace maps the caller's own ids (the one mapping an
-  // unprivileged process may write), so files the build creates are owned
-  // as usual; without a mapping creating files fails (EINVAL/EOVERFLOW).
+  const rlimit processes{options.max_processes, options.max_processes};
+  // Without root, the user namespace maps the caller's own ids (the one
+  // mapping an unprivileged process may write), so files the build creates
+  // are owned as usual.
   const std::string uid_map = std::to_string(geteuid()) + " " + std::to_string(geteuid()) + " 1\n";
   const std::string gid_map = std::to_string(getegid()) + " " + std::to_string(getegid()) + " 1\n";
-  auto write_file = [](const char* path, const std::string& text) {
-    const int fd = open(path, O_WRONLY | O_CLOEXEC);
-    if (fd < 0) return false;
-    const bool ok = write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
-    close(fd);
-    return ok;
-  };
-  const std::string deny = "deny";
+  static const char kDeny[] = "deny";
+  constexpr int kNamespaces = CLONE_NEWNET | CLONE_NEWPID | CLONE_NEWIPC | CLONE_NEWUTS;
   const pid_t pid = fork();
   if (pid == 0) {
     setpgid(0, 0);
     prctl(PR_SET_PDEATHSIG, SIGKILL);
-    int report[2] = {0, 0};
-    if (unshare(CLONE_NEWUSER | CLONE_NEWNET) == 0) {
-      report[0] = 0;
-      write_file("/proc/self/setgroups", deny);
-      if (!write_file("/proc/self/uid_map", uid_map) || !write_file("/proc/self/gid_map", gid_map)) {
-        report[1] = errno;
+    SetupReport report;
+    auto fail = [&](int failure) {
+      report.failure = failure;
+      report.failure_errno = errno;
+      (void)!write(status_pipe[1], &report, sizeof report);
+      _exit(125);
+    };
+    if (sandbox.drop_uid) {
+      // Namespaces while root may make them, then the uid.
+      if (unshare(kNamespaces) == 0) {
+        report.isolation = 0;
+      } else {
+        report.isolation_errno = errno;
+        report.isolation = unshare(CLONE_NEWNET) == 0 ? 1 : 2;
+      }
+      if (setgroups(0, nullptr) != 0 || setgid(kBuildGid) != 0 || setuid(kBuildUid) != 0) fail(kSetupUid);
+      if (getuid() == 0 || geteuid() == 0) fail(kSetupUid);
+      prctl(PR_SET_PDEATHSIG, SIGKILL);  // a change of uid clears it
+    } else if (unshare(CLONE_NEWUSER | kNamespaces) == 0) {
+      report.isolation = 0;
+      WriteText("/proc/self/setgroups", kDeny, sizeof kDeny - 1);
+      if (!WriteText("/proc/self/uid_map", uid_map.data(), uid_map.size()) ||
+          !WriteText("/proc/self/gid_map", gid_map.data(), gid_map.size())) {
+        report.isolation_errno = errno;
       }
     } else {
-      report[1] = errno;
-      report[0] = unshare(CLONE_NEWNET) == 0 ? 1 : 2;
+      report.isolation_errno = errno;
+      report.isolation = unshare(CLONE_NEWNET) == 0 ? 1 : 2;
     }
-    (void)!write(status_pipe[1], report, sizeof report);
     setrlimit(RLIMIT_FSIZE, &file_size);
     setrlimit(RLIMIT_CPU, &cpu);
     setrlimit(RLIMIT_CORE, &no_core);
-    if (null_fd >= 0) dup2(null_fd, 0);
-    dup2(output[1], 1);
-    dup2(output[1], 2);
-    if (chdir(working_dir.c_str()) != 0) _exit(126);
-    execve(args[0], args.data(), env.data());
-    static const char kFailed[] = "syrof grade: cannot start the build tool\n";
-    (void)!write(2, kFailed, sizeof kFailed - 1);
-    _exit(127);
+    setrlimit(RLIMIT_NPROC, &processes);
+    if (sandbox.files.created()) {
+      if (const int refused = sandbox.files.RestrictSelf(); refused != 0) {
+        errno = refused;
+        fail(kSetupLandlock);
+      }
+    } else {
+      prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0);
+    }
+    (void)!write(status_pipe[1], &report, sizeof report);
+    auto exec_tool = [&]() {
+      if (null_fd >= 0) dup2(null_fd, 0);
+      dup2(output[1], 1);
+      dup2(output[1], 2);
+      if (chdir(working_dir.c_str()) != 0) _exit(126);
+      execve(args[0], args.data(), env.data());
+      static const char kFailed[] = "syrof grade: cannot start the build tool\n";
+      (void)!write(2, kFailed, sizeof kFailed - 1);
+      _exit(127);
+    };
+    if (report.isolation != 0) exec_tool();
+    // The namespace's init (pid 1 inside), then the tool under it.
+    const pid_t init = fork();
+    if (init < 0) _exit(125);
+    if (init > 0) {
+      int status = 0;
+      while (waitpid(init, &status, 0) < 0 && errno == EINTR) {
+      }
+      _exit(WIFEXITED(status) ? WEXITSTATUS(status) : 125);
+    }
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    const pid_t tool = fork();
+    if (tool < 0) _exit(125);
+    if (tool == 0) exec_tool();
+    close(output[1]);
+    if (null_fd >= 0) close(null_fd);
+    for (;;) {
+      int status = 0;
+      const pid_t reaped = waitpid(-1, &status, 0);
+      if (reaped == tool) {
+        (void)!write(status_pipe[1], &status, sizeof status);
+        _exit(WIFEXITED(status) ? WEXITSTATUS(status) : 125);
+      }
+      if (reaped < 0 && errno != EINTR) _exit(125);
+    }
   }
   close(output[1]);
   close(status_pipe[1]);
@@ -199,16 +338,22 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
   }
   outcome.started = true;
   setpgid(pid, pid);  // also from the parent: no window where a kill(-pid) misses
-  int report[2] = {2, 0};
-  if (read(status_pipe[0], report, sizeof report) == static_cast<ssize_t>(sizeof report)) {
-    outcome.isolation = report[0];
-    outcome.isolation_errno = report[1];
+  SetupReport report;
+  if (read(status_pipe[0], &report, sizeof report) == static_cast<ssize_t>(sizeof report)) {
+    outcome.isolation = report.isolation;
+    outcome.isolation_errno = report.isolation_errno;
+    outcome.setup_failure = report.failure;
+    outcome.setup_errno = report.failure_errno;
   }
-  close(status_pipe[0]);
   const int pidfd = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));
   bool exited = false;
   bool output_open = true;
   char buffer[65536];
+  auto take_status = [&](int status) {
+    exited = true;
+    if (WIFEXITED(status)) outcome.exit_code = WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) outcome.signal = WTERMSIG(status);
+  };
   while (output_open || !exited) {
     const auto now = Clock::now();
     if (now >= deadline) {
@@ -226,11 +371,7 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
     if (ready < 0 && errno != EINTR) break;
     if (pidfd < 0 && !exited) {
       int status = 0;
-      if (waitpid(pid, &status, WNOHANG) == pid) {
-        exited = true;
-        if (WIFEXITED(status)) outcome.exit_code = WEXITSTATUS(status);
-        if (WIFSIGNALED(status)) outcome.signal = WTERMSIG(status);
-      }
+      if (waitpid(pid, &status, WNOHANG) == pid) take_status(status);
     }
     for (nfds_t i = 0; i < count; ++i) {
       if (fds[i].revents == 0) continue;
@@ -248,9 +389,7 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
       } else {
         int status = 0;
         if (waitpid(pid, &status, 0) == pid) {
-          exited = true;
-          if (WIFEXITED(status)) outcome.exit_code = WEXITSTATUS(status);
-          if (WIFSIGNALED(status)) outcome.signal = WTERMSIG(status);
+          take_status(status);
           // Whatever the build left behind in its group goes too; output
           // still in the pipe is read until every writer is gone.
           kill(-pid, SIGKILL);
@@ -263,11 +402,17 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
   if (!exited) {
     int status = 0;
     waitpid(pid, &status, 0);
-    if (!outcome.timed_out && !outcome.output_limit) {
-      if (WIFEXITED(status)) outcome.exit_code = WEXITSTATUS(status);
-      if (WIFSIGNALED(status)) outcome.signal = WTERMSIG(status);
-    }
+    if (!outcome.timed_out && !outcome.output_limit) take_status(status);
   }
+  // The tool's own wait status, from the namespace's init: a signal that
+  // ended the compiler is named as such.
+  int tool_status = 0;
+  if (outcome.isolation == 0 && !outcome.timed_out && !outcome.output_limit &&
+      read(status_pipe[0], &tool_status, sizeof tool_status) == static_cast<ssize_t>(sizeof tool_status)) {
+    outcome.exit_code = WIFEXITED(tool_status) ? WEXITSTATUS(tool_status) : -1;
+    outcome.signal = WIFSIGNALED(tool_status) ? WTERMSIG(tool_status) : 0;
+  }
+  close(status_pipe[0]);
   if (pidfd >= 0) close(pidfd);
   close(output[0]);
   return outcome;
@@ -275,15 +420,16 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
 
 // The first line of the kept log a student should read: a compiler's
 // "error:", else CMake's "CMake Error" with its message, else the last
-// non-empty line. The copy's absolute path is cut to the file's own name.
-std::string FirstErrorLine(const std::string& log_path, const std::string& source_dir) {
+// non-empty line. The build's folder (`work_dir`, a temporary one) is cut
+// from paths: its source/ to the file's own name, the rest to build/....
+std::string FirstErrorLine(const std::string& log_path, const std::string& work_dir) {
   std::ifstream in(log_path);
   std::vector<std::string> lines;
   std::string line;
   while (std::getline(in, line) && lines.size() < 100000) lines.push_back(line);
   auto clean = [&](std::string text) {
-    for (size_t at = text.find(source_dir + "/"); at != std::string::npos; at = text.find(source_dir + "/")) {
-      text.erase(at, source_dir.size() + 1);
+    for (const std::string& cut : {work_dir + "/source/", work_dir + "/"}) {
+      for (size_t at = text.find(cut); at != std::string::npos; at = text.find(cut)) text.erase(at, cut.size());
     }
     while (!text.empty() && (text.back() == ' ' || text.back() == '\r')) text.pop_back();
     const size_t first = text.find_first_not_of(' ');
@@ -313,6 +459,13 @@ std::string FirstErrorLine(const std::string& log_path, const std::string& sourc
   return "the build failed without a message";
 }
 
+// A command's argument as build.log shows it: the temporary build folder
+// left out (source, build).
+std::string Shown(const std::string& argument, const fs::path& work_dir) {
+  const std::string prefix = work_dir.string() + "/";
+  return argument.starts_with(prefix) ? argument.substr(prefix.size()) : argument;
+}
+
 std::string ExecutableDir() {
   char buffer[4096];
   const ssize_t length = readlink("/proc/self/exe", buffer, sizeof(buffer) - 1);
@@ -326,6 +479,137 @@ std::string FindOnPath(const std::string& name) {
     if (access(candidate.c_str(), X_OK) == 0) return candidate;
   }
   return {};
+}
+
+// SyROF's CMake package as a student's build reads it: the package's own
+// files (SyROFConfig.cmake, its version file, SyROFAddApp.cmake), the
+// library SyROF::app links and the include folders it names, read from
+// SyROFConfig.cmake itself, so a build tree (headers in the source tree,
+// library in build/lib) and an installed package are granted exactly what
+// they hold and nothing beside it: the source tree's assignments/ stays out
+// of reach. Empty and `error` when the file does not say.
+std::vector<std::string> PackagePaths(const std::string& syrof_dir, std::string& error) {
+  const fs::path config = fs::path(syrof_dir) / "SyROFConfig.cmake";
+  std::ifstream in(config);
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string content = text.str();
+  std::error_code ignored;
+  const std::string prefix = fs::weakly_canonical(fs::path(syrof_dir) / ".." / ".." / "..", ignored).string();
+  for (size_t at = content.find("${_syrof_prefix}"); at != std::string::npos; at = content.find("${_syrof_prefix}")) {
+    content.replace(at, std::strlen("${_syrof_prefix}"), prefix);
+  }
+  auto property = [&](const std::string& name) {
+    const size_t at = content.find(name + " \"");
+    if (at == std::string::npos) return std::string();
+    const size_t begin = at + name.size() + 2;
+    const size_t end = content.find('"', begin);
+    return end == std::string::npos ? std::string() : content.substr(begin, end - begin);
+  };
+  const std::string library = property("IMPORTED_LOCATION");
+  const std::string includes = property("INTERFACE_INCLUDE_DIRECTORIES");
+  if (library.empty() || includes.empty()) {
+    error = config.string() + " names no IMPORTED_LOCATION or INTERFACE_INCLUDE_DIRECTORIES";
+    return {};
+  }
+  std::vector<std::string> paths = {config.string(), (fs::path(syrof_dir) / "SyROFConfigVersion.cmake").string(),
+                                    (fs::path(syrof_dir) / "SyROFAddApp.cmake").string(), library};
+  std::stringstream list(includes);
+  for (std::string folder; std::getline(list, folder, ';');) {
+    if (!folder.empty()) paths.push_back(folder);
+  }
+  return paths;
+}
+
+// Whether a process of another uid (the build's) can read `path`: every
+// folder above it searchable by others, and it readable (a folder also
+// searchable). Symbolic links are followed as an open would.
+bool ReadableByOthers(const fs::path& path) {
+  std::error_code error;
+  const fs::path real = fs::canonical(path, error);
+  if (error) return false;
+  struct stat status {};
+  fs::path walked = "/";
+  for (const fs::path& part : real.relative_path()) {
+    if (stat(walked.c_str(), &status) != 0 || (status.st_mode & S_IXOTH) == 0) return false;
+    walked /= part;
+  }
+  if (stat(real.c_str(), &status) != 0 || (status.st_mode & S_IROTH) == 0) return false;
+  return !S_ISDIR(status.st_mode) || (status.st_mode & S_IXOTH) != 0;
+}
+
+// The build's ruleset: read and execute the toolchain, read the few /etc
+// files compilers and CMake open and SyROF's package, read and write /dev's
+// null device and its own `work_dir`. Nothing else (docs/grading.md).
+bool BuildFileRules(FileRuleset& rules, const std::vector<std::string>& package, const fs::path& work_dir,
+                    std::string& error) {
+  using Access = FileRuleset::Access;
+  bool ok = true;
+  for (const char* toolchain : {"/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32"}) {
+    ok = ok && rules.Allow(toolchain, Access::kReadExecute);
+  }
+  for (const char* etc : {"/etc/ld.so.cache", "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/alternatives",
+                          "/etc/localtime", "/etc/nsswitch.conf", "/etc/passwd", "/etc/group"}) {
+    ok = ok && rules.Allow(etc, Access::kRead);
+  }
+  for (const char* device : {"/dev/zero", "/dev/urandom", "/dev/random"}) ok = ok && rules.Allow(device, Access::kRead);
+  ok = ok && rules.Allow("/dev/null", Access::kReadWrite);
+  for (const std::string& path : package) ok = ok && rules.Allow(path, Access::kRead);
+  ok = ok && rules.Allow(work_dir.string(), Access::kReadWrite);
+  if (!ok) error = rules.error();
+  return ok;
+}
+
+// Hands `dir` and everything beneath it to the build's uid.
+bool HandOver(const fs::path& dir) {
+  if (lchown(dir.c_str(), kBuildUid, kBuildGid) != 0) return false;
+  std::error_code error;
+  for (fs::recursive_directory_iterator it(dir, error); !error && it != fs::recursive_directory_iterator();
+       it.increment(error)) {
+    if (lchown(it->path().c_str(), kBuildUid, kBuildGid) != 0) return false;
+  }
+  return !error;
+}
+
+// A private folder for one build, removed with its contents when the
+// object goes: STAGE (0711, the grader's) / work (the build's own: source/,
+// build/, tmp/). It lies in /tmp when the build drops to uid 65534 (which
+// must reach it), else in the system's temporary folder.
+class Stage {
+ public:
+  explicit Stage(bool for_other_uid) {
+    const fs::path base = for_other_uid ? fs::path("/tmp") : fs::temp_directory_path(error_);
+    std::string pattern = (base / "syrof-build-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) {
+      error_ = std::error_code(errno, std::generic_category());
+      return;
+    }
+    root_ = pattern;
+    if (for_other_uid) fs::permissions(root_, fs::perms::owner_all | fs::perms::group_exec | fs::perms::others_exec, error_);
+    for (const char* folder : {"work/source", "work/build", "work/tmp"}) fs::create_directories(root_ / folder, error_);
+  }
+  ~Stage() {
+    std::error_code ignored;
+    if (!root_.empty()) fs::remove_all(root_, ignored);
+  }
+  Stage(const Stage&) = delete;
+  Stage& operator=(const Stage&) = delete;
+
+  bool ok() const { return !error_ && !root_.empty(); }
+  std::string problem() const { return "cannot make a folder for the build: " + error_.message(); }
+  fs::path work() const { return root_ / "work"; }
+
+ private:
+  std::error_code error_;
+  fs::path root_;
+};
+
+// Copies the library `from` that the build made to `to`, as the grader's
+// own file; false when it is not a plain file.
+bool TakeLibrary(const fs::path& from, const fs::path& to) {
+  struct stat status {};
+  const int fd = OpenPlainFile(from, status);
+  return fd >= 0 && CopyOpenFile(fd, to);
 }
 
 }  // namespace
@@ -369,18 +653,57 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     return result;
   };
   const fs::path out = fs::absolute(out_dir);
-  const fs::path source = out / "source";
-  const fs::path build = out / "build";
+  const fs::path source_record = out / "source";
+  const fs::path library_dir = out / "build";
   std::error_code error;
   fs::create_directories(out, error);
-  fs::remove_all(build, error);
-  fs::create_directories(build, error);
-  if (error) return finish("build_failed", "cannot create " + build.string() + ": " + error.message());
+  fs::remove_all(library_dir, error);
+  fs::create_directories(library_dir, error);
+  if (error) return finish("build_failed", "cannot create " + library_dir.string() + ": " + error.message());
   OutputLog log;
   log.keep = options.log_keep_bytes;
   log.file.open(out / "build.log", std::ios::binary | std::ios::trunc);
 
-  if (std::string problem = CopySubmission(submission_dir, source, options.max_submission_bytes); !problem.empty()) {
+  // The sandbox first: without Landlock nothing is built unless the caller
+  // said so.
+  BuildSandbox sandbox;
+  sandbox.drop_uid = geteuid() == 0;
+  if (!sandbox.files.Create()) {
+    if (!options.allow_unconfined) {
+      log.file << "syrof grade: " << sandbox.files.error() << "; not building untrusted code\n";
+      return finish("refused", sandbox.files.error() +
+                                   ": the build's file isolation is missing (--unsafe-no-file-isolation builds anyway)");
+    }
+    notes.push_back("build: NO FILE ISOLATION (" + sandbox.files.error() +
+                    "): the build can read and write whatever its uid can (--unsafe-no-file-isolation)");
+  }
+  const std::string syrof_dir = options.syrof_dir.empty() ? FindSyrofPackage() : options.syrof_dir;
+  if (syrof_dir.empty()) {
+    return finish("build_failed", "SyROF's CMake package (SyROFConfig.cmake) was not found beside this syrof");
+  }
+  std::string problem;
+  const std::vector<std::string> package = PackagePaths(syrof_dir, problem);
+  if (package.empty()) return finish("build_failed", problem);
+  if (sandbox.drop_uid) {
+    for (const std::string& path : package) {
+      if (!ReadableByOthers(path)) {
+        return finish("build_failed", "SyROF's package is not readable by uid " + std::to_string(kBuildUid) +
+                                          ", which builds submissions: " + path +
+                                          " (install the Debian package, or keep the build tree where others can read)");
+      }
+    }
+  }
+  const std::string cmake = FindOnPath("cmake");
+  if (cmake.empty()) return finish("build_failed", "cmake is not installed on the grading machine");
+
+  const Stage stage(sandbox.drop_uid);
+  if (!stage.ok()) return finish("build_failed", stage.problem());
+  const fs::path source = stage.work() / "source";
+  const fs::path build = stage.work() / "build";
+  std::vector<std::string> skipped;
+  problem = CopySubmission(submission_dir, source, options.max_submission_bytes, skipped);
+  for (const std::string& file : skipped) log.file << "syrof grade: left out " << file << "\n";
+  if (!problem.empty()) {
     log.file << "syrof grade: " << problem << "\n";
     return finish("build_failed", problem);
   }
@@ -394,15 +717,20 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     log.file << "syrof grade: no CMakeLists.txt; one app library from " << sources.size() << " source file"
              << (sources.size() == 1 ? "" : "s") << "\n";
   }
-  const std::string syrof_dir = options.syrof_dir.empty() ? FindSyrofPackage() : options.syrof_dir;
-  if (syrof_dir.empty()) {
-    return finish("build_failed", "SyROF's CMake package (SyROFConfig.cmake) was not found beside this syrof");
+  // What was built, as the grader's own record (the build never sees it).
+  fs::remove_all(source_record, error);
+  fs::copy(source, source_record, fs::copy_options::recursive, error);
+  if (sandbox.drop_uid && !HandOver(stage.work())) {
+    return finish("build_failed", "cannot hand the build's folder to uid " + std::to_string(kBuildUid) + ": " +
+                                      std::strerror(errno));
   }
-  const std::string cmake = FindOnPath("cmake");
-  if (cmake.empty()) return finish("build_failed", "cmake is not installed on the grading machine");
+  if (sandbox.files.created() && !BuildFileRules(sandbox.files, package, stage.work(), problem)) {
+    return finish("build_failed", problem);
+  }
 
   const std::vector<std::string> environment = {"PATH=/usr/local/bin:/usr/bin:/bin", "LC_ALL=C", "LANG=C",
-                                                "HOME=" + build.string(), "TMPDIR=" + build.string()};
+                                                "HOME=" + stage.work().string(),
+                                                "TMPDIR=" + (stage.work() / "tmp").string()};
   const std::vector<std::vector<std::string>> steps = {
       {cmake, "-S", source.string(), "-B", build.string(), "-DSyROF_DIR=" + syrof_dir,
        "-DCMAKE_BUILD_TYPE=Release"},
@@ -411,22 +739,29 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   bool noted = false;
   for (const std::vector<std::string>& step : steps) {
     std::string shown = "$";
-    for (const std::string& arg : step) shown += " " + arg;
+    for (const std::string& arg : step) shown += " " + Shown(arg, stage.work());
     shown += "\n";
     log.file << shown;
     log.file.flush();
-    const ChildOutcome outcome = RunSandboxed(step, build.string(), environment, options, deadline, log);
+    const ChildOutcome outcome = RunSandboxed(step, build.string(), environment, options, sandbox, deadline, log);
+    if (!outcome.started) return finish("build_failed", "cannot start " + cmake);
+    if (outcome.setup_failure != kSetupOk) {
+      const std::string layer = outcome.setup_failure == kSetupUid
+                                    ? "cannot drop to uid " + std::to_string(kBuildUid)
+                                    : std::string("Landlock refused the build's file rules");
+      log.file << "syrof grade: " << layer << ": " << std::strerror(outcome.setup_errno) << "\n";
+      return finish("build_failed", "the build's sandbox failed: " + layer + ": " + std::strerror(outcome.setup_errno));
+    }
     if (!noted) {
       noted = true;
       if (outcome.isolation == 1) {
-        notes.push_back("build: no user namespace (" + std::string(std::strerror(outcome.isolation_errno)) +
-                        "); network cut with a network namespace alone");
+        notes.push_back("build: no PID namespace (" + std::string(std::strerror(outcome.isolation_errno)) +
+                        "): the network is cut, but a process the build leaves in a session of its own may outlive it");
       } else if (outcome.isolation == 2) {
-        notes.push_back("build: network not isolated (namespaces refused: " +
+        notes.push_back("build: network not isolated and no PID namespace (namespaces refused: " +
                         std::string(std::strerror(outcome.isolation_errno)) + ")");
       }
     }
-    if (!outcome.started) return finish("build_failed", "cannot start " + cmake);
     if (outcome.timed_out) {
       log.file << "\nsyrof grade: stopped at the build's time limit of " << options.timeout_s << " s\n";
       return finish("timeout", "the build took longer than its limit of " + std::to_string(static_cast<int>(options.timeout_s)) + " s");
@@ -438,7 +773,7 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     if (outcome.exit_code != 0) {
       if (log.total > log.kept) log.file << "\n[syrof grade: " << (log.total - log.kept) << " more bytes not kept]\n";
       log.file.flush();
-      std::string detail = FirstErrorLine((out / "build.log").string(), source.string());
+      std::string detail = FirstErrorLine((out / "build.log").string(), stage.work().string());
       if (outcome.signal != 0) detail = "the build was killed by signal " + std::to_string(outcome.signal) + ": " + detail;
       return finish("build_failed", detail);
     }
@@ -446,9 +781,10 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   if (log.total > log.kept) log.file << "\n[syrof grade: " << (log.total - log.kept) << " more bytes not kept]\n";
   log.file.close();
 
-  // The app library: lib*.so files the build made (not CMake's own), each
-  // checked by the app host as a run would.
-  std::vector<std::string> candidates;
+  // The app library: lib*.so files the build made (not CMake's own), taken
+  // out of the build's folder into the grader's own (the build's processes
+  // are gone), each checked by the app host as a run would.
+  std::vector<fs::path> made;
   for (fs::recursive_directory_iterator it(build, error); !error && it != fs::recursive_directory_iterator();
        it.increment(error)) {
     if (it->is_directory(error) && it->path().filename() == "CMakeFiles") {
@@ -457,10 +793,16 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     }
     const std::string name = it->path().filename().string();
     if (!it->is_symlink(error) && it->is_regular_file(error) && name.starts_with("lib") && name.ends_with(".so")) {
-      candidates.push_back(it->path().string());
+      made.push_back(it->path());
     }
   }
-  std::sort(candidates.begin(), candidates.end());
+  std::sort(made.begin(), made.end());
+  std::vector<std::string> candidates;
+  for (const fs::path& library : made) {
+    const fs::path taken = library_dir / library.lexically_relative(build);
+    fs::create_directories(taken.parent_path(), error);
+    if (TakeLibrary(library, taken)) candidates.push_back(taken.string());
+  }
   if (candidates.empty()) {
     return finish("no_library",
                   "the build made no lib*.so; syrof_add_app(NAME app.c) in CMakeLists.txt makes libNAME.so");
@@ -479,7 +821,7 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   }
   if (apps.empty()) {
     std::string detail = first_error;
-    const std::string prefix = build.string() + "/";
+    const std::string prefix = library_dir.string() + "/";
     if (detail.starts_with(prefix)) detail.erase(0, prefix.size());
     return finish("bad_library", detail);
   }

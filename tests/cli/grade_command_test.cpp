@@ -5,8 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -85,6 +90,36 @@ TEST(GradeCommandTest, MixRefusesAnAssignmentThatIsNotMixable) {
       Grade({"--mix", circle + "/reference", circle + "/reference", "--assignment", circle});
   EXPECT_EQ(outcome.status, 2);
   EXPECT_NE(outcome.err.find("assignment 'circle' is not mixable"), std::string::npos) << outcome.err;
+}
+
+// On a kernel without Landlock (pretended here) a submission's build could
+// read the hidden tests: grading is refused unless the instructor says
+// otherwise, and then every output says so.
+TEST(GradeCommandTest, WithoutLandlockGradingIsRefusedUnlessTheInstructorSaysSo) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("grade_no_landlock_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "submission");
+  std::ofstream(dir / "submission" / "app.c") << "this is not C\n";
+  const std::string gather = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
+  setenv("SYROF_PRETEND_NO_LANDLOCK", "1", 1);
+  const Outcome refused = Grade({(dir / "submission").string(), "--assignment", gather, "--out", (dir / "out").string()});
+  const bool built_anyway = fs::exists(dir / "out" / "source");
+  const Outcome unsafe = Grade({(dir / "submission").string(), "--assignment", gather, "--out", (dir / "out").string(),
+                                "--public-only", "--unsafe-no-file-isolation"});
+  unsetenv("SYROF_PRETEND_NO_LANDLOCK");
+
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("this kernel has no Landlock"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("--unsafe-no-file-isolation"), std::string::npos) << refused.err;
+  EXPECT_FALSE(built_anyway) << "nothing was built";
+
+  EXPECT_EQ(unsafe.status, 0) << unsafe.err;
+  EXPECT_NE(unsafe.out.find("WARNING: no Landlock on this kernel"), std::string::npos) << unsafe.out;
+  EXPECT_NE(unsafe.out.find("sandbox: build: NO FILE ISOLATION"), std::string::npos) << unsafe.out;
+  std::ifstream grade_json(dir / "out" / "grade.json");
+  const std::string json((std::istreambuf_iterator<char>(grade_json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("build: NO FILE ISOLATION"), std::string::npos) << json;
 }
 
 }  // namespace

@@ -163,5 +163,48 @@ TEST_F(AutograderTest, ASubmissionThatDoesNotBuildScoresZeroAndSaysWhy) {
   EXPECT_NE(results["output"].get<std::string>().find("did not build"), std::string::npos) << results["output"];
 }
 
+// The attacks of tests/grader/hostile_build_test.cpp through the bundle, as
+// a student would send them to Gradescope: the hidden scenarios sit under
+// /autograder/source, the results under /autograder/results.
+TEST_F(AutograderTest, ABuildThatPrintsAHiddenScenarioGetsNoneOfItsText) {
+  if (!HasGradeCommand()) GTEST_SKIP() << "this tree's syrof has no `grade` command yet";
+  const fs::path hidden = root_ / "source/assignment/hidden/gather_10_join.yaml";
+  ASSERT_TRUE(fs::exists(hidden));
+  std::ofstream(root_ / "submission/CMakeLists.txt")
+      << "cmake_minimum_required(VERSION 3.16)\nproject(steal LANGUAGES C)\n"
+      << "file(READ " << hidden.string() << " text)\nmessage(FATAL_ERROR \"${text}\")\n";
+
+  std::string output;
+  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+
+  const std::string results = ReadFile(root_ / "results/results.json");
+  EXPECT_EQ(results.find("robot 9 is switched on"), std::string::npos) << results;
+  EXPECT_NE(results.find("Permission denied"), std::string::npos) << results;
+  EXPECT_EQ(Results()["score"], 0.0);
+}
+
+TEST_F(AutograderTest, ABuildThatRewritesTheAssignmentAndTheResultsChangesNothing) {
+  if (!HasGradeCommand()) GTEST_SKIP() << "this tree's syrof has no `grade` command yet";
+  fs::copy(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather/reference", root_ / "submission",
+           fs::copy_options::recursive);
+  fs::remove(root_ / "submission/expected.yaml");
+  const fs::path yaml = root_ / "source/assignment/assignment.yaml";
+  const std::string before = ReadFile(yaml);
+  std::string cmake = ReadFile(root_ / "submission/CMakeLists.txt");
+  cmake.insert(cmake.find("find_package"), "execute_process(COMMAND sh -c \"echo 'points: 1000' > " + yaml.string() +
+                                               "; echo '{\\\"score\\\": 100}' > " +
+                                               (root_ / "results/results.json").string() + "\")\n");
+  std::ofstream(root_ / "submission/CMakeLists.txt") << cmake;
+
+  std::string output;
+  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+
+  EXPECT_EQ(ReadFile(yaml), before);
+  const json results = Results();
+  ASSERT_TRUE(results.is_object()) << output;
+  EXPECT_EQ(results["score"], 100.0) << "graded as usual: " << results.dump(2);
+  EXPECT_EQ(results["tests"].size(), 8u) << "the grader's own results.json, not the build's";
+}
+
 }  // namespace
 }  // namespace syrof::cli

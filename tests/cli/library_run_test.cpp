@@ -6,6 +6,7 @@
 // builds' runtimes do not mix with.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -136,6 +137,20 @@ TEST(LibraryRunTest, SandboxNotesArePrintedAndRecorded) {
   for (const auto& note : notes) {
     EXPECT_NE(outcome.out.find("  sandbox: " + note.get<std::string>()), std::string::npos) << outcome.out;
   }
+}
+
+// One's own library on a kernel without Landlock (pretended): the run goes
+// on, and says which layer is missing.
+TEST(LibraryRunTest, WithoutLandlockALibraryRunGoesOnWithASandboxNote) {
+  const fs::path dir = TempDir("no_landlock");
+  RunOptions options;
+  options.scenario_path = WriteScenario(dir, Lib("starter_c"));
+  options.out_dir = (dir / "out").string();
+  setenv("SYROF_PRETEND_NO_LANDLOCK", "1", 1);
+  const Outcome outcome = RunSyrof(options);
+  unsetenv("SYROF_PRETEND_NO_LANDLOCK");
+  ASSERT_EQ(outcome.status, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("  sandbox: Landlock unavailable"), std::string::npos) << outcome.out;
 }
 
 TEST(LibraryRunTest, ALibraryOnTheCommandLineReplacesTheScenariosApp) {

@@ -43,6 +43,10 @@ std::vector<std::string> NoteLines(uint32_t notes) {
   if ((notes & p::kNoteNoCloseRange) != 0) {
     lines.push_back("close_range unavailable: the app hosts close descriptors 4..1023 one by one");
   }
+  if ((notes & p::kNoteNoLandlock) != 0) {
+    lines.push_back("Landlock unavailable (kernel older than 5.13, or not enabled): a library's constructors "
+                    "may read any file uid 65534 may read, not only the library's and the system's libraries");
+  }
   return lines;
 }
 

@@ -32,10 +32,13 @@
 #include <cstring>
 #include <string_view>
 
+#include <string>
+
 #include "allocation_guard.h"
 #include "platform_binding.h"
 #include "protocol.h"
 #include "syrof/app/call_status.h"
+#include "syrof/app_host/landlock.h"
 
 namespace syrof::app_host {
 namespace {
@@ -276,6 +279,37 @@ bool ReadParameters(const unsigned char* data, size_t bytes, size_t count) {
 
 alignas(8) unsigned char request_buffer[p::kMaxRequestBytes];
 
+std::string FolderOf(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// What the dynamic loader and the library's constructors may read: the
+// library's file and folder, libsyrof_app's folder, and the system's
+// library folders with the loader's cache. Nothing may be written, nor any
+// other file read (docs/app_host.md, "What a library may touch"). Built
+// while the host is still the caller's uid (it may have to reach a folder
+// only the caller reads); applied after the uid drop. False (and `error`)
+// when a rule is refused; `rules.created()` false when Landlock is missing.
+bool LoaderFileRules(syrof::app_host::FileRuleset& rules, const char* library, std::string& error) {
+  using Access = syrof::app_host::FileRuleset::Access;
+  if (!rules.Create()) return true;
+  std::string own_library;
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&syrof_internal_host_bind), &info) != 0 && info.dli_fname != nullptr) {
+    own_library = info.dli_fname;
+  }
+  bool ok = rules.Allow(library, Access::kReadExecute) && rules.Allow(FolderOf(library), Access::kRead);
+  if (!own_library.empty()) ok = ok && rules.Allow(FolderOf(own_library), Access::kReadExecute);
+  for (const char* system : {"/lib", "/lib32", "/lib64", "/libx32", "/usr/lib", "/usr/lib32", "/usr/lib64",
+                             "/usr/libx32", "/usr/local/lib", "/etc/ld.so.cache"}) {
+    ok = ok && rules.Allow(system, Access::kReadExecute);
+  }
+  if (!ok) error = rules.error();
+  return ok;
+}
+
 [[noreturn]] void Serve() {
   for (;;) {
     ssize_t got;
@@ -384,6 +418,11 @@ int main(int argc, char** argv) {
   //    /proc/self/fd, after the uid is dropped.
   const int library_fd = open(library, O_RDONLY | O_CLOEXEC);
   if (library_fd < 0) Fail(syrof::app::Verdict::kLoadFailed, "cannot open the library: ", strerror(errno));
+  syrof::app_host::FileRuleset file_rules;
+  if (std::string error; !LoaderFileRules(file_rules, library, error)) {
+    Fail(syrof::app::Verdict::kLoadFailed, "cannot confine the loader: ", error.c_str());
+  }
+  if (!file_rules.created()) notes |= p::kNoteNoLandlock;
 
   // 5. An unprivileged uid when started as root; no process may then be
   //    started under it (RLIMIT_NPROC 0: the host never forks).
@@ -421,6 +460,14 @@ int main(int argc, char** argv) {
   sigaction(SIGSYS, &action, nullptr);
   if (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0) {
     Fail(syrof::app::Verdict::kLoadFailed, "no_new_privs refused: ", strerror(errno));
+  }
+  // 7a. Landlock: from here on only the library's and the system's library
+  //     folders can be opened, and only for reading (LoaderFileRules).
+  if (file_rules.created()) {
+    if (const int refused = file_rules.RestrictSelf(); refused != 0) {
+      Fail(syrof::app::Verdict::kLoadFailed, "Landlock refused the loader's file rules: ", strerror(refused));
+    }
+    file_rules.Close();  // descriptors 0-3 only, as before
   }
   const pid_t self = getpid();
   scmp_filter_ctx loader = LoaderFilter(self);

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -189,8 +190,13 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
   const std::string address_space = std::to_string(limits_.address_space_bytes);
   const char* arguments[] = {host.c_str(), mode == Mode::kCheck ? "check" : "run", options.library_path.c_str(),
                              parent.c_str(), address_space.c_str(), nullptr};
-  // A fixed, minimal environment: the app sees the same on every run.
-  const char* environment[] = {"PATH=/usr/bin:/bin", "LC_ALL=C", nullptr};
+  // A fixed, minimal environment: the app sees the same on every run. A
+  // test of a kernel without Landlock passes its pretence on (it can only
+  // take the host's Landlock layer away).
+  const char* pretend = std::getenv("SYROF_PRETEND_NO_LANDLOCK");
+  const bool no_landlock = pretend != nullptr && pretend[0] == '1';
+  const char* environment[] = {"PATH=/usr/bin:/bin", "LC_ALL=C", no_landlock ? "SYROF_PRETEND_NO_LANDLOCK=1" : nullptr,
+                               nullptr};
   pid_t pid = -1;
   // Address randomisation off for the host (docs/app_host.md): the
   // personality is the calling thread's, is inherited by the spawned child

@@ -104,6 +104,7 @@ enum NoteBits : uint32_t {
   kNoteNoAslrOff = 1u << 2,        ///< could not turn address randomisation off
   kNoteSanitized = 1u << 3,        ///< a sanitizer build: no RLIMIT_AS, no allocation guard
   kNoteNoCloseRange = 1u << 4,     ///< close_range missing: descriptors closed one by one
+  kNoteNoLandlock = 1u << 5,       ///< Landlock missing: the loader's opens are not confined to the library's folders
 };
 
 /// Exit statuses of the host that mean something (the parent prefers the

@@ -22,6 +22,7 @@
 
 #include "syrof/app/app.h"
 #include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/landlock.h"
 
 namespace syrof::app_host {
 namespace {
@@ -349,6 +350,31 @@ std::string ReadText(const std::string& path) {
   std::ostringstream text;
   text << file.rdbuf();
   return text.str();
+}
+
+// A library's constructors run while the loader may still open files
+// read-only; Landlock keeps them to the library's and the system's library
+// folders. The canary is readable by every uid, so only Landlock stops it.
+TEST_F(HostedAppTest, AConstructorReadsNothingOutsideTheLibrariesFolders) {
+  if (LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
+  const std::string canary_text = "CANARY-constructor-5e2a";
+  {
+    std::ofstream(SYROF_TEST_CANARY_FILE) << canary_text << "\n";
+  }
+  std::filesystem::permissions(SYROF_TEST_CANARY_FILE, std::filesystem::perms::all);
+  options_.library_path = Library("read_on_load");
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  uint8_t state = 0;
+  const app::CallStatus init = app->Init(info_, platform_, state);
+  ASSERT_TRUE(init.ok()) << app::ToString(init.verdict()) << ": " << init.detail();
+  app.reset();
+  const std::string log = Log(1);
+  EXPECT_EQ(log.find(canary_text), std::string::npos) << log;
+  EXPECT_NE(log.find(std::string("cannot read ") + SYROF_TEST_CANARY_FILE + ": Permission denied"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find("cannot read /etc/passwd: Permission denied"), std::string::npos) << log;
+  EXPECT_NE(log.find("cannot read /proc/self/environ: Permission denied"), std::string::npos) << log;
+  for (const std::string& note : SandboxNotes()) EXPECT_EQ(note.find("Landlock"), std::string::npos) << note;
 }
 
 TEST_F(HostedAppTest, TheHostRunsHardened) {

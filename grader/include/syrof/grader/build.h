@@ -1,14 +1,22 @@
-// Building a student's submission (docs/grading.md, "A submission's score").
+// Building a student's submission (docs/grading.md, "A submission's score"
+// and "Threat model").
 //
 // A submission is a folder with a CMakeLists.txt (as `syrof new` writes:
 // find_package(SyROF) + syrof_add_app) or just C/C++ sources (then a
 // CMakeLists.txt is generated that builds one MODULE library of every
-// *.c/*.cc/*.cpp/*.cxx linked to SyROF::app). It is copied to OUT/source/
-// and built in OUT/build/ by CMake in a sandboxed child: its own process
-// group (killed at the wall time limit), no network (a user and network
-// namespace where the kernel allows), rlimits on file size and CPU time,
-// and its output kept in OUT/build.log (the first `log_keep_bytes`, the
-// rest counted; past `output_limit_bytes` the build is stopped).
+// *.c/*.cc/*.cpp/*.cxx linked to SyROF::app). Its regular files (no
+// symbolic or hard links) are copied to a private temporary folder and
+// built there by CMake in a sandboxed child: uid 65534 when started as root
+// (the copy handed to it); Landlock limiting it to reading the toolchain
+// and SyROF's package and writing its own copy; network, PID, IPC and UTS
+// namespaces (every process it leaves behind dies with it); its own process
+// group killed at the wall time limit; rlimits on file size, CPU time and
+// processes. Its output is kept in OUT/build.log (the first
+// `log_keep_bytes`, the rest counted; past `output_limit_bytes` the build is
+// stopped). When it is done and its processes are gone, the grader copies
+// the sources it built into OUT/source/, the library into OUT/build/, and
+// removes the temporary folder: nothing the build could write is ever read
+// as the grader's own.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +36,11 @@ struct BuildOptions {
   uint64_t file_size_limit_bytes = 1ull << 30;     ///< RLIMIT_FSIZE of every build process
   uint64_t cpu_limit_s = 600;                      ///< RLIMIT_CPU of every build process
   uint64_t max_submission_bytes = 64ull << 20;     ///< a bigger submission is refused (build_failed)
+  uint64_t max_processes = 512;                    ///< RLIMIT_NPROC of the build (a fork bomb stops there)
+  /// Build even where the kernel has no Landlock (`--unsafe-no-file-isolation`):
+  /// the build can then read and write whatever its uid can. Off: such a
+  /// build is refused (verdict "refused").
+  bool allow_unconfined = false;
 };
 
 /// SyROF's CMake package for students' builds: beside the running
@@ -35,7 +48,7 @@ struct BuildOptions {
 /// or the installed lib/cmake/SyROF. Empty when neither exists.
 std::string FindSyrofPackage();
 
-/// Builds `submission_dir` in `out_dir` (source/, build/, build.log) and
+/// Builds `submission_dir` into `out_dir` (source/, build/, build.log) and
 /// returns the verdict (assignment::BuildResult). `notes` receives what the
 /// sandbox could not apply on this machine ("network not isolated: ..."),
 /// one line each. Never throws for anything the submission does.

@@ -28,7 +28,9 @@ struct BuildResult {
   /// "ok", "no_sources" (nothing to build), "build_failed" (the compiler or
   /// CMake said no), "timeout", "output_limit", "no_library" (it built but
   /// no app library came out), "bad_library" (the library is refused by the
-  /// app host's CheckLibrary: no entry point, wrong ABI, undefined symbol).
+  /// app host's CheckLibrary: no entry point, wrong ABI, undefined symbol),
+  /// "refused" (the grading machine cannot confine the build: no Landlock,
+  /// and grading was not told --unsafe-no-file-isolation).
   std::string verdict = "ok";
   std::string detail;        ///< one line a student understands, e.g. the first compiler error
   std::string log_path;      ///< the build's kept output, relative to the submission's out dir
