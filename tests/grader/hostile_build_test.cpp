@@ -6,7 +6,10 @@
 // writable by every uid, so the file permissions alone would not stop the
 // attacks: what stops them is Landlock (and, as root, uid 65534).
 #include <gtest/gtest.h>
+#include <arpa/inet.h>
 #include <dirent.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -191,11 +194,44 @@ TEST_F(HostileBuildTest, ReadsOutsideItsCopyFindNothingAndTheGradeIsAsUsual) {
   EXPECT_EQ(log.find("uid=0("), std::string::npos) << log;
 }
 
+// A listening socket on the loopback: the build's network namespace has
+// its own (down) loopback, so nothing reaches this one.
+class Listener {
+ public:
+  Listener() {
+    fd_ = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    if (bind(fd_, reinterpret_cast<sockaddr*>(&address), length) == 0 && listen(fd_, 4) == 0 &&
+        getsockname(fd_, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
+      port_ = ntohs(address.sin_port);
+    }
+  }
+  ~Listener() { close(fd_); }
+  int port() const { return port_; }
+  bool Connected() const {
+    const int client = accept(fd_, nullptr, nullptr);
+    if (client >= 0) close(client);
+    return client >= 0;
+  }
+
+ private:
+  int fd_ = -1;
+  int port_ = 0;
+};
+
 TEST_F(HostileBuildTest, TheSameReadsWithoutTheFatalOneAreGradedInFull) {
+  const Listener listener;
+  ASSERT_NE(listener.port(), 0);
   const fs::path submission = Fresh("quiet_nosy_in");
   AttackingSubmission(submission, "attempt(\"cat " + canary_.string() + " " +
                                       (kTiny / "hidden" / "tiny_hidden.yaml").string() + "\")\n"
-                                      "attempt(\"id\")\n");
+                                      "attempt(\"id\")\n"
+                                      "file(DOWNLOAD http://127.0.0.1:" + std::to_string(listener.port()) +
+                                      "/leak ${CMAKE_BINARY_DIR}/leak STATUS status TIMEOUT 3)\n"
+                                      "message(STATUS \"download: ${status}\")\n");
   const fs::path out = Fresh("quiet_nosy_out");
   const SubmissionResult result = Grade(submission, out);
   ExpectGradedAsUsual(result, out);
@@ -203,6 +239,8 @@ TEST_F(HostileBuildTest, TheSameReadsWithoutTheFatalOneAreGradedInFull) {
   EXPECT_NE(log.find("Permission denied"), std::string::npos) << log;
   EXPECT_EQ(FilesHolding(out, kCanaryText), std::vector<std::string>{});
   EXPECT_TRUE(fs::exists(out / "source" / "CMakeLists.txt")) << "the grader keeps what it built";
+  EXPECT_FALSE(listener.Connected()) << "the build reached the grader's loopback";
+  EXPECT_NE(log.find("-- download: 7;"), std::string::npos) << "curl's 'could not connect': " << log;
 }
 
 TEST_F(HostileBuildTest, WritesAndRemovesOutsideItsCopyChangeNothing) {
