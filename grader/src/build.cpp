@@ -4,9 +4,13 @@
 
 #include <fcntl.h>
 #include <grp.h>
+#include <linux/filter.h>
+#include <linux/seccomp.h>
 #include <poll.h>
 #include <sched.h>
 #include <signal.h>
+#include <seccomp.h>
+#include <sys/mman.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -53,7 +57,8 @@ bool SkippedFolder(const fs::path& name) {
 // symbolic link, not a hard link to a file elsewhere), checked on the open
 // file so that what is read is what was checked. -1 otherwise.
 int OpenPlainFile(const fs::path& path, struct stat& status) {
-  const int fd = open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  // O_NONBLOCK: a FIFO in its place cannot hold the open up.
+  const int fd = open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return -1;
   if (fstat(fd, &status) != 0 || !S_ISREG(status.st_mode) || status.st_nlink != 1) {
     close(fd);
@@ -166,11 +171,40 @@ struct OutputLog {
   }
 };
 
+// The build's system call filter, as a BPF program made with libseccomp in
+// the parent (the child only installs it): everything is allowed but
+// socket(2), refused with EACCES, and io_uring_setup(2), refused with
+// ENOSYS (its requests could open sockets past the filter). The network
+// namespace already leaves no interface; this closes UNIX sockets named in
+// the file system (an X server's, a container runtime's), which neither
+// the namespace nor Landlock's file rights cover. Compilers and CMake open
+// no socket. Empty when libseccomp fails.
+std::vector<sock_filter> BuildSyscallFilter() {
+  std::vector<sock_filter> program;
+  scmp_filter_ctx filter = seccomp_init(SCMP_ACT_ALLOW);
+  if (filter == nullptr) return program;
+  const int memory = memfd_create("syrof-build-filter", MFD_CLOEXEC);
+  if (memory >= 0 && seccomp_attr_set(filter, SCMP_FLTATR_CTL_NNP, 0) == 0 &&
+      seccomp_rule_add(filter, SCMP_ACT_ERRNO(EACCES), SCMP_SYS(socket), 0) == 0 &&
+      seccomp_rule_add(filter, SCMP_ACT_ERRNO(ENOSYS), SCMP_SYS(io_uring_setup), 0) == 0 &&
+      seccomp_export_bpf(filter, memory) == 0) {
+    const off_t bytes = lseek(memory, 0, SEEK_END);
+    if (bytes > 0 && bytes % static_cast<off_t>(sizeof(sock_filter)) == 0) {
+      program.resize(static_cast<size_t>(bytes) / sizeof(sock_filter));
+      if (pread(memory, program.data(), static_cast<size_t>(bytes), 0) != bytes) program.clear();
+    }
+  }
+  if (memory >= 0) close(memory);
+  seccomp_release(filter);
+  return program;
+}
+
 // What a build's processes may reach (docs/grading.md, "Threat model"),
 // made in the parent; the child applies it between fork and exec.
 struct BuildSandbox {
   FileRuleset files;      // not created(): no Landlock (only with allow_unconfined)
   bool drop_uid = false;  // started as root: the build runs as kBuildUid
+  std::vector<sock_filter> syscalls = BuildSyscallFilter();  // empty: not filtered
 };
 
 struct ChildOutcome {
@@ -186,7 +220,7 @@ struct ChildOutcome {
   int setup_errno = 0;
 };
 
-enum SetupFailure { kSetupOk = 0, kSetupUid = 1, kSetupLandlock = 2 };
+enum SetupFailure { kSetupOk = 0, kSetupUid = 1, kSetupLandlock = 2, kSetupFilter = 3 };
 
 // The child's report, written once before the build tool starts; with a
 // PID namespace its init writes the tool's wait status after it ends.
@@ -290,6 +324,11 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
       }
     } else {
       prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0);
+    }
+    if (!sandbox.syscalls.empty()) {
+      const sock_fprog program{static_cast<unsigned short>(sandbox.syscalls.size()),
+                               const_cast<sock_filter*>(sandbox.syscalls.data())};
+      if (prctl(PR_SET_SECCOMP, SECCOMP_MODE_FILTER, &program) != 0) fail(kSetupFilter);
     }
     (void)!write(status_pipe[1], &report, sizeof report);
     auto exec_tool = [&]() {
@@ -677,6 +716,10 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     notes.push_back("build: NO FILE ISOLATION (" + sandbox.files.error() +
                     "): the build can read and write whatever its uid can (--unsafe-no-file-isolation)");
   }
+  if (sandbox.syscalls.empty()) {
+    notes.push_back("build: no system call filter (libseccomp failed): UNIX sockets in the file system stay "
+                    "within the build's reach");
+  }
   const std::string syrof_dir = options.syrof_dir.empty() ? FindSyrofPackage() : options.syrof_dir;
   if (syrof_dir.empty()) {
     return finish("build_failed", "SyROF's CMake package (SyROFConfig.cmake) was not found beside this syrof");
@@ -720,6 +763,7 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   // What was built, as the grader's own record (the build never sees it).
   fs::remove_all(source_record, error);
   fs::copy(source, source_record, fs::copy_options::recursive, error);
+  fs::permissions(stage.work(), fs::perms::owner_all, error);
   if (sandbox.drop_uid && !HandOver(stage.work())) {
     return finish("build_failed", "cannot hand the build's folder to uid " + std::to_string(kBuildUid) + ": " +
                                       std::strerror(errno));
@@ -746,9 +790,9 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     const ChildOutcome outcome = RunSandboxed(step, build.string(), environment, options, sandbox, deadline, log);
     if (!outcome.started) return finish("build_failed", "cannot start " + cmake);
     if (outcome.setup_failure != kSetupOk) {
-      const std::string layer = outcome.setup_failure == kSetupUid
-                                    ? "cannot drop to uid " + std::to_string(kBuildUid)
-                                    : std::string("Landlock refused the build's file rules");
+      const std::string layer = outcome.setup_failure == kSetupUid       ? "cannot drop to uid " + std::to_string(kBuildUid)
+                                : outcome.setup_failure == kSetupLandlock ? "Landlock refused the build's file rules"
+                                                                           : "the system call filter was refused";
       log.file << "syrof grade: " << layer << ": " << std::strerror(outcome.setup_errno) << "\n";
       return finish("build_failed", "the build's sandbox failed: " + layer + ": " + std::strerror(outcome.setup_errno));
     }

@@ -11,9 +11,11 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -284,6 +286,43 @@ TEST_F(HostileBuildTest, ADaemonTheBuildStartsDiesBeforeAnyRun) {
   EXPECT_NE(Read(out / "build.log").find("started"), std::string::npos) << Read(out / "build.log");
   EXPECT_EQ(ProcessesWith("sleep " + marker), 0) << "a process of the build outlived it";
   for (const std::string& note : notes) EXPECT_EQ(note.find("PID namespace"), std::string::npos) << note;
+}
+
+// A UNIX socket named in the file system (an X server's, a container
+// runtime's) is reachable from any network namespace, and Landlock's file
+// rights do not cover connecting to it: the build's system call filter
+// refuses socket(2). The probe is compiled and run by the build itself.
+TEST_F(HostileBuildTest, AUnixSocketOnTheMachineIsOutOfReach) {
+  const fs::path socket_path = outside_ / "service.sock";
+  const int listener = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::snprintf(address.sun_path, sizeof address.sun_path, "%s", socket_path.c_str());
+  ASSERT_EQ(bind(listener, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  ASSERT_EQ(listen(listener, 4), 0);
+  fs::permissions(socket_path, fs::perms::all);
+  const fs::path submission = Fresh("unix_in");
+  Write(submission / "probe.c",
+        "#include <errno.h>\n#include <stdio.h>\n#include <string.h>\n#include <sys/socket.h>\n"
+        "#include <sys/un.h>\nint main(int argc, char** argv) {\n"
+        "  int fd = socket(AF_UNIX, SOCK_STREAM, 0);\n"
+        "  if (fd < 0) { printf(\"probe: socket: %s\\n\", strerror(errno)); return 0; }\n"
+        "  struct sockaddr_un a = {0}; a.sun_family = AF_UNIX; strncpy(a.sun_path, argv[1], sizeof a.sun_path - 1);\n"
+        "  int rc = connect(fd, (struct sockaddr*)&a, sizeof a);\n"
+        "  printf(\"probe: connect: %s\\n\", rc == 0 ? \"connected\" : strerror(errno));\n  return 0;\n}\n");
+  AttackingSubmission(submission, "execute_process(COMMAND ${CMAKE_C_COMPILER} ${CMAKE_SOURCE_DIR}/probe.c -o "
+                                  "${CMAKE_BINARY_DIR}/probe)\n"
+                                  "attempt(\"${CMAKE_BINARY_DIR}/probe " + socket_path.string() + "\")\n");
+  const fs::path out = Fresh("unix_out");
+  std::vector<std::string> notes;
+  const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), {}, notes);
+  const std::string log = Read(out / "build.log");
+  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << log;
+  EXPECT_NE(log.find("probe: socket: Permission denied"), std::string::npos) << log;
+  const int client = accept(listener, nullptr, nullptr);
+  EXPECT_LT(client, 0) << "the build connected to " << socket_path;
+  if (client >= 0) close(client);
+  close(listener);
 }
 
 TEST_F(HostileBuildTest, ABuildInAClassCannotReadItsSiblings) {
