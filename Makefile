@@ -1,5 +1,6 @@
 # Thin wrapper over CMake: the README, CI and the benchmarks use these targets.
-# Every target installs missing Debian packages first (scripts/install-deps.sh).
+# Every target installs missing Debian packages first (scripts/install-deps.sh):
+# `make demo` the demo group only, every other target all of them.
 
 BUILD_DIR   ?= build
 CROSS_DIR   ?= build-cross
@@ -19,23 +20,44 @@ DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))
 
-.PHONY: all deps build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm asan tsan fuzz clean
+.PHONY: all deps deps-demo build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm asan tsan fuzz clean
 
 all: build
 
 deps:
-	@bash scripts/install-deps.sh
+	@bash scripts/install-deps.sh all
 
-$(BUILD_DIR)/CMakeCache.txt: | deps
-	$(CMAKE_CONFIGURE) -S . -B $(BUILD_DIR)
+deps-demo:
+	@bash scripts/install-deps.sh demo
 
-build: deps $(BUILD_DIR)/CMakeCache.txt
+# Configures $(BUILD_DIR) when it has no cache yet, and again when Debian
+# packages were installed after its last configure (dpkg's status file is
+# newer than build.ninja): `make demo` installs fewer packages than `make
+# test`, and the tests' optional finds (Chromium and libpng for the viewer's
+# browser tests, Fast DDS for the interop test) must see what `make test`
+# installs after it. Nothing is rebuilt unless configure changes a command.
+define configure-build
+@if [ ! -f $(BUILD_DIR)/CMakeCache.txt ] || [ /var/lib/dpkg/status -nt $(BUILD_DIR)/build.ninja ]; then \
+  echo "$(CMAKE_CONFIGURE) -S . -B $(BUILD_DIR)"; $(CMAKE_CONFIGURE) -S . -B $(BUILD_DIR); fi
+endef
+
+build: deps
+	$(configure-build)
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 ## demo: the main job: ten robots form a circle in the simulated lab
 ## (lab/scenarios/demo_circle.yaml); outputs in out/demo_circle/, with
-## replay.html, the run's page (docs/viewer.md).
-demo: build
+## replay.html, the run's page (docs/viewer.md). A newcomer's first command:
+## it installs the demo's package group only and builds DEMO_TARGETS only
+## (about a third of the tree: no tests, benchmarks or test libraries);
+## `make test` adds the rest in the same build folder.
+## DEMO_TARGETS: the syrof command (it links the lab, the DDS swarm and the
+## grader, and brings syrof-robot, which `syrof swarm` starts), the app host
+## and libsyrof_app, which run and link a student's app (`syrof new`).
+DEMO_TARGETS = syrof syrof-app-host syrof_app_shared
+demo: deps-demo
+	$(configure-build)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target $(DEMO_TARGETS)
 	./$(BUILD_DIR)/bin/syrof run lab/scenarios/demo_circle.yaml --html
 
 ## test: the whole host test suite through ctest.
@@ -104,7 +126,8 @@ SWARM_SCENARIO ?= lab/scenarios/firmware_swarm.yaml
 SWARM_MAX_ESTIMATION_ERROR_M ?= 1.0
 SWARM_FAULTS_SCENARIO ?= lab/scenarios/firmware_faults.yaml
 SWARM_FAULTS_SECONDS ?= 14
-test-firmware-swarm: $(BUILD_DIR)/CMakeCache.txt
+test-firmware-swarm: deps
+	$(configure-build)
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm

@@ -1,30 +1,55 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages SyROF needs to build, test, cross-compile and
-# emulate. Idempotent: packages already present are skipped, and apt is not
-# touched at all when nothing is missing. Must run as root (or via sudo).
+# Installs the Debian 12 packages SyROF needs, by group:
+#
+#   install-deps.sh demo   what `make demo` needs: the host build's tools and
+#                          every library CMake's configure step looks for and
+#                          the `syrof` command links (docs/building.md)
+#   install-deps.sh [all]  everything: the demo group, then what the tests,
+#                          the benchmarks, the Debian package, the cross
+#                          build, the emulated Cortex-M4, fuzzing and the
+#                          sanitizers add, and ccache (every other make target)
+#
+# Idempotent: packages already present are skipped, and apt is not touched at
+# all when nothing is missing. Must run as root (or via sudo).
 set -euo pipefail
 
-packages=(
+demo_packages=(
   # host build
   build-essential cmake ninja-build pkg-config
-  # make package: dpkg-shlibdeps (dpkg-dev) for the .deb's Depends, and file, which CPack uses to find the ELF files
-  dpkg-dev file
-  # design dependencies
-  libeigen3-dev libcgal-dev cyclonedds-dev cyclonedds-tools libgtest-dev libgmock-dev
-  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev
-  # the independent Fast DDS 2.9 reader of the swarm's beacons (tests/sim_dds/interop; fastddsgen runs on Java)
-  libfastrtps-dev libfastcdr-dev fastddsgen
+  # design dependencies: configure locates each of them, and the syrof command
+  # links them all (the lab, the DDS swarm, the grader and its app host)
+  libeigen3-dev libcgal-dev cyclonedds-dev cyclonedds-tools
+  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   # the app host's system call filter (grader/app_host)
   libseccomp-dev
   # the Gradescope bundle's zip (grader/report; found through pkg-config)
   libzip-dev
+  # GoogleTest and Google Benchmark: configure finds them (a missing one fails
+  # there, not in a later make test); a few MB, against Chromium's hundreds
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+more_packages=(
+  # make package: dpkg-shlibdeps (dpkg-dev) for the .deb's Depends, and file, which CPack uses to find the ELF files
+  dpkg-dev file
+  # the independent Fast DDS 2.9 reader of the swarm's beacons (tests/sim_dds/interop; fastddsgen runs on Java)
+  libfastrtps-dev libfastcdr-dev fastddsgen
   # fuzzing and sanitizers with clang
   clang libclang-rt-14-dev
   # the viewer's browser tests (syrof view's page in headless Chromium; PNG screenshots)
   chromium libpng-dev
   # Teensy 3.2 cross toolchain and the emulated Cortex-M4
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
+  # a compiler cache for developers and CI: the build uses it where installed (docs/building.md, "ccache")
+  ccache
 )
+
+group=${1:-all}
+case "$group" in
+  demo) packages=("${demo_packages[@]}") ;;
+  all) packages=("${demo_packages[@]}" "${more_packages[@]}") ;;
+  *) echo "usage: install-deps.sh [demo|all]   (no argument: all)" >&2; exit 2 ;;
+esac
 
 missing=()
 for package in "${packages[@]}"; do
@@ -34,7 +59,7 @@ for package in "${packages[@]}"; do
 done
 
 if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages present"
+  echo "install-deps: all ${#packages[@]} packages of group $group present"
   exit 0
 fi
 
