@@ -542,7 +542,9 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
         start_monotonic += options.clock_offset_us * 1000;
         tap.set_start(start_monotonic);
         const int64_t origin = port.MonotonicToPort(start_monotonic);
-        if (port.StartAt(std::max<int64_t>(0, origin)) != os::PortError::kOk) {
+        // A robot started after the run began (a joiner) has an origin
+        // before its port's: the grid is still the world's.
+        if (port.StartAt(origin) != os::PortError::kOk) {
           err << who << "the port did not start\n";
           stop = true;
           exit_code = 1;

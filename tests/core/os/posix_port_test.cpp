@@ -218,7 +218,27 @@ TEST(PosixPortTest, StartAtPutsActivationsOnTheOriginsGridNeverBeforeTheirPoint)
   for (size_t k = 0; k < times.size(); ++k) {
     EXPECT_GE(times[k], first_point + static_cast<int64_t>(k) * kPeriod) << "activation " << k;
   }
-  EXPECT_EQ(port.StartAt(-1), PortError::kInvalidTrigger);
+}
+
+// A DDS robot started after the run began (a joiner) gets the world's
+// origin before its own port existed: a negative port time. It must keep
+// the world's grid; it used to be refused, and the robot then started at
+// its port's own zero, off the others' rounds by a fraction of one, which
+// left a swarm that had a joiner in mixed modes to the end of the run.
+TEST(PosixPortTest, AnOriginBeforeThePortExistedKeepsItsGrid) {
+  constexpr int64_t kPeriod = 5'000'000;
+  const int64_t origin_monotonic = PosixPort::MonotonicNowNs() - 3 * kPeriod - 1'234'567;
+  PosixPort port;
+  const int64_t origin = port.MonotonicToPort(origin_monotonic);
+  ASSERT_LT(origin, 0) << "the port began after the origin";
+  CountingTask task;
+  ASSERT_TRUE(port.AddTask(task, {"periodic", Trigger::periodic(kPeriod), 0}));
+  ASSERT_EQ(port.StartAt(origin), PortError::kOk);
+  ASSERT_TRUE(task.wait_for_steps(3));
+  ASSERT_EQ(port.Stop(), PortError::kOk);
+  for (const int64_t time : task.times_ns()) {
+    EXPECT_EQ((port.PortToMonotonic(time) - origin_monotonic) % kPeriod, 0) << "an activation off the world's grid";
+  }
 }
 
 // A step is given its release on the grid, not the moment its thread woke

@@ -42,7 +42,6 @@ base::Result<TaskId, PortError> PosixPort::AddTask(Task& task, const TaskConfig&
 PortError PosixPort::Start() { return StartFrom(std::chrono::steady_clock::now(), false); }
 
 PortError PosixPort::StartAt(int64_t origin_ns) {
-  if (origin_ns < 0) return PortError::kInvalidTrigger;
   return StartFrom(epoch_ + std::chrono::nanoseconds(origin_ns), true);
 }
 

@@ -48,7 +48,7 @@ struct BuildOptions {
 /// or the installed lib/cmake/SyROF. Empty when neither exists.
 std::string FindSyrofPackage();
 
-/// Builds `submission_dir` into `out_dir` (source/, build/, build.log) and
+/// Builds `submission_dir` into `out_dir` (source/: what was built; build/: the app library; build.log) and
 /// returns the verdict (assignment::BuildResult). `notes` receives what the
 /// sandbox could not apply on this machine ("network not isolated: ..."),
 /// one line each. Never throws for anything the submission does.

@@ -4,7 +4,7 @@
 // syrof/assignment/result.h says (docs/grading.md, "A submission's score").
 //
 // The submission's folder OUT holds:
-//   source/, build/, build.log       the copy, its build and the build's output
+//   source/, build/, build.log       what was built, the app library it made, the build's output
 //   runs/<scenario>/seed-<seed>/     metrics.json, robots/<id>.log, and for a
 //                                    failed run replay.bin (runs are
 //                                    deterministic: a failed run is run again

@@ -43,7 +43,8 @@ class PosixPort final : public Port {
   /// offset + k * period for the whole k that are not before now. Robots
   /// started at different moments share a grid this way when they are given
   /// the same origin (the DDS world publishes one; MonotonicToPort converts
-  /// it). kInvalidTrigger if origin_ns < 0.
+  /// it). The origin may be before the port existed (negative: a process
+  /// started after the run began, a joiner): the grid is the same.
   PortError StartAt(int64_t origin_ns);
   /// Wakes every thread, lets steps in progress finish, joins the threads.
   PortError Stop() override;
