@@ -459,15 +459,16 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
 
 // The first line of the kept log a student should read: a compiler's
 // "error:", else CMake's "CMake Error" with its message, else the last
-// non-empty line. The build's folder (`work_dir`, a temporary one) is cut
-// from paths: its source/ to the file's own name, the rest to build/....
-std::string FirstErrorLine(const std::string& log_path, const std::string& work_dir) {
+// non-empty line. The build's temporary stage is cut from paths: its
+// work/source/ to the file's own name, work/build/ to build/..., the
+// package to package/....
+std::string FirstErrorLine(const std::string& log_path, const std::string& stage_root) {
   std::ifstream in(log_path);
   std::vector<std::string> lines;
   std::string line;
   while (std::getline(in, line) && lines.size() < 100000) lines.push_back(line);
   auto clean = [&](std::string text) {
-    for (const std::string& cut : {work_dir + "/source/", work_dir + "/"}) {
+    for (const std::string& cut : {stage_root + "/work/source/", stage_root + "/work/", stage_root + "/"}) {
       for (size_t at = text.find(cut); at != std::string::npos; at = text.find(cut)) text.erase(at, cut.size());
     }
     while (!text.empty() && (text.back() == ' ' || text.back() == '\r')) text.pop_back();
@@ -498,11 +499,13 @@ std::string FirstErrorLine(const std::string& log_path, const std::string& work_
   return "the build failed without a message";
 }
 
-// A command's argument as build.log shows it: the temporary build folder
-// left out (source, build).
-std::string Shown(const std::string& argument, const fs::path& work_dir) {
-  const std::string prefix = work_dir.string() + "/";
-  return argument.starts_with(prefix) ? argument.substr(prefix.size()) : argument;
+// A command's argument as build.log shows it: the temporary stage left out
+// (source, build, package).
+std::string Shown(std::string argument, const fs::path& stage_root) {
+  for (const std::string& cut : {stage_root.string() + "/work/", stage_root.string() + "/"}) {
+    for (size_t at = argument.find(cut); at != std::string::npos; at = argument.find(cut)) argument.erase(at, cut.size());
+  }
+  return argument;
 }
 
 std::string ExecutableDir() {
@@ -520,68 +523,95 @@ std::string FindOnPath(const std::string& name) {
   return {};
 }
 
-// SyROF's CMake package as a student's build reads it: the package's own
-// files (SyROFConfig.cmake, its version file, SyROFAddApp.cmake), the
-// library SyROF::app links and the include folders it names, read from
-// SyROFConfig.cmake itself, so a build tree (headers in the source tree,
-// library in build/lib) and an installed package are granted exactly what
-// they hold and nothing beside it: the source tree's assignments/ stays out
-// of reach. Empty and `error` when the file does not say.
-std::vector<std::string> PackagePaths(const std::string& syrof_dir, std::string& error) {
+// SyROF's CMake package as a student's build reads it, copied into the
+// build's stage (`into`, readable by every uid, writable by none but the
+// grader): SyROFConfig.cmake with its library and include folders pointing
+// at the copies, its version file, SyROFAddApp.cmake, libsyrof_app.so.1 and
+// the include folders SyROFConfig.cmake names. So the build reads exactly
+// what the package holds and nothing beside it (a build tree's source tree,
+// with its assignments/, stays out of reach), and it can read it wherever
+// SyROF lies: a build tree in a 0700 folder (a CI clone, a home folder) is
+// no obstacle to uid 65534. About 140 KB. False and `error` when the
+// package cannot be read.
+bool StagePackage(const std::string& syrof_dir, const fs::path& into, std::string& error) {
   const fs::path config = fs::path(syrof_dir) / "SyROFConfig.cmake";
   std::ifstream in(config);
   std::ostringstream text;
   text << in.rdbuf();
   std::string content = text.str();
-  std::error_code ignored;
-  const std::string prefix = fs::weakly_canonical(fs::path(syrof_dir) / ".." / ".." / "..", ignored).string();
+  std::error_code failed;
+  const std::string prefix = fs::weakly_canonical(fs::path(syrof_dir) / ".." / ".." / "..", failed).string();
   for (size_t at = content.find("${_syrof_prefix}"); at != std::string::npos; at = content.find("${_syrof_prefix}")) {
     content.replace(at, std::strlen("${_syrof_prefix}"), prefix);
   }
-  auto property = [&](const std::string& name) {
+  // The quoted value of `name` in the config: its position and length.
+  auto property = [&](const std::string& name, size_t& begin, size_t& length) {
     const size_t at = content.find(name + " \"");
-    if (at == std::string::npos) return std::string();
-    const size_t begin = at + name.size() + 2;
+    if (at == std::string::npos) return false;
+    begin = at + name.size() + 2;
     const size_t end = content.find('"', begin);
-    return end == std::string::npos ? std::string() : content.substr(begin, end - begin);
+    length = end == std::string::npos ? 0 : end - begin;
+    return length > 0;
   };
-  const std::string library = property("IMPORTED_LOCATION");
-  const std::string includes = property("INTERFACE_INCLUDE_DIRECTORIES");
-  if (library.empty() || includes.empty()) {
-    error = config.string() + " names no IMPORTED_LOCATION or INTERFACE_INCLUDE_DIRECTORIES";
-    return {};
+  size_t library_at = 0, library_length = 0, includes_at = 0, includes_length = 0;
+  if (!in || !property("IMPORTED_LOCATION", library_at, library_length) ||
+      !property("INTERFACE_INCLUDE_DIRECTORIES", includes_at, includes_length)) {
+    error = config.string() + " is missing or names no IMPORTED_LOCATION or INTERFACE_INCLUDE_DIRECTORIES";
+    return false;
   }
-  std::vector<std::string> paths = {config.string(), (fs::path(syrof_dir) / "SyROFConfigVersion.cmake").string(),
-                                    (fs::path(syrof_dir) / "SyROFAddApp.cmake").string(), library};
-  std::stringstream list(includes);
+  const fs::path library = content.substr(library_at, library_length);
+  std::stringstream list(content.substr(includes_at, includes_length));
+  std::string staged_includes;
+  fs::create_directories(into / "lib", failed);
+  const auto copied = fs::copy_options::overwrite_existing;
+  fs::copy_file(library, into / "lib" / "libsyrof_app.so.1", copied, failed);  // the file a symlink names
+  if (failed) {
+    error = "cannot copy " + library.string() + ": " + failed.message();
+    return false;
+  }
+  int index = 0;
   for (std::string folder; std::getline(list, folder, ';');) {
-    if (!folder.empty()) paths.push_back(folder);
+    if (folder.empty()) continue;
+    const fs::path staged = into / "include" / std::to_string(index++);
+    fs::create_directories(staged, failed);
+    fs::copy(folder, staged, fs::copy_options::recursive | copied, failed);
+    if (failed) {
+      error = "cannot copy " + folder + ": " + failed.message();
+      return false;
+    }
+    staged_includes += (staged_includes.empty() ? "" : ";") + staged.string();
   }
-  return paths;
-}
-
-// Whether a process of another uid (the build's) can read `path`: every
-// folder above it searchable by others, and it readable (a folder also
-// searchable). Symbolic links are followed as an open would.
-bool ReadableByOthers(const fs::path& path) {
-  std::error_code error;
-  const fs::path real = fs::canonical(path, error);
-  if (error) return false;
-  struct stat status {};
-  fs::path walked = "/";
-  for (const fs::path& part : real.relative_path()) {
-    if (stat(walked.c_str(), &status) != 0 || (status.st_mode & S_IXOTH) == 0) return false;
-    walked /= part;
+  for (const char* file : {"SyROFConfigVersion.cmake", "SyROFAddApp.cmake"}) {
+    fs::copy_file(fs::path(syrof_dir) / file, into / file, copied, failed);
+    if (failed) {
+      error = "cannot copy " + (fs::path(syrof_dir) / file).string() + ": " + failed.message();
+      return false;
+    }
   }
-  if (stat(real.c_str(), &status) != 0 || (status.st_mode & S_IROTH) == 0) return false;
-  return !S_ISDIR(status.st_mode) || (status.st_mode & S_IXOTH) != 0;
+  content.replace(includes_at, includes_length, staged_includes);
+  content.replace(library_at, library_length, (into / "lib" / "libsyrof_app.so.1").string());
+  std::ofstream(into / "SyROFConfig.cmake", std::ios::binary | std::ios::trunc) << content;
+  // Readable by all whatever the grader's umask, writable by none but it.
+  fs::permissions(into, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                            fs::perms::others_read | fs::perms::others_exec, failed);
+  for (fs::recursive_directory_iterator it(into, failed); !failed && it != fs::recursive_directory_iterator();
+       it.increment(failed)) {
+    const bool folder = it->is_directory(failed);
+    fs::permissions(it->path(),
+                    folder ? fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                                 fs::perms::others_read | fs::perms::others_exec
+                           : fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read |
+                                 fs::perms::others_read,
+                    failed);
+  }
+  if (failed) error = "cannot stage SyROF's package: " + failed.message();
+  return !failed;
 }
 
 // The build's ruleset: read and execute the toolchain, read the few /etc
 // files compilers and CMake open and SyROF's package, read and write /dev's
 // null device and its own `work_dir`. Nothing else (docs/grading.md).
-bool BuildFileRules(FileRuleset& rules, const std::vector<std::string>& package, const fs::path& work_dir,
-                    std::string& error) {
+bool BuildFileRules(FileRuleset& rules, const fs::path& package, const fs::path& work_dir, std::string& error) {
   using Access = FileRuleset::Access;
   bool ok = true;
   for (const char* toolchain : {"/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32"}) {
@@ -593,7 +623,7 @@ bool BuildFileRules(FileRuleset& rules, const std::vector<std::string>& package,
   }
   for (const char* device : {"/dev/zero", "/dev/urandom", "/dev/random"}) ok = ok && rules.Allow(device, Access::kRead);
   ok = ok && rules.Allow("/dev/null", Access::kReadWrite);
-  for (const std::string& path : package) ok = ok && rules.Allow(path, Access::kRead);
+  ok = ok && rules.Allow(package.string(), Access::kRead);
   ok = ok && rules.Allow(work_dir.string(), Access::kReadWrite);
   if (!ok) error = rules.error();
   return ok;
@@ -611,9 +641,10 @@ bool HandOver(const fs::path& dir) {
 }
 
 // A private folder for one build, removed with its contents when the
-// object goes: STAGE (0711, the grader's) / work (the build's own: source/,
-// build/, tmp/). It lies in /tmp when the build drops to uid 65534 (which
-// must reach it), else in the system's temporary folder.
+// object goes: STAGE (0711, the grader's) / package (SyROF's package, the
+// grader's, readable by all: StagePackage) and / work (the build's own:
+// source/, build/, tmp/). It lies in /tmp when the build drops to uid 65534
+// (which must reach it), else in the system's temporary folder.
 class Stage {
  public:
   explicit Stage(bool for_other_uid) {
@@ -636,6 +667,8 @@ class Stage {
 
   bool ok() const { return !error_ && !root_.empty(); }
   std::string problem() const { return "cannot make a folder for the build: " + error_.message(); }
+  fs::path root() const { return root_; }
+  fs::path package() const { return root_ / "package"; }
   fs::path work() const { return root_ / "work"; }
 
  private:
@@ -725,22 +758,13 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     return finish("build_failed", "SyROF's CMake package (SyROFConfig.cmake) was not found beside this syrof");
   }
   std::string problem;
-  const std::vector<std::string> package = PackagePaths(syrof_dir, problem);
-  if (package.empty()) return finish("build_failed", problem);
-  if (sandbox.drop_uid) {
-    for (const std::string& path : package) {
-      if (!ReadableByOthers(path)) {
-        return finish("build_failed", "SyROF's package is not readable by uid " + std::to_string(kBuildUid) +
-                                          ", which builds submissions: " + path +
-                                          " (install the Debian package, or keep the build tree where others can read)");
-      }
-    }
-  }
   const std::string cmake = FindOnPath("cmake");
   if (cmake.empty()) return finish("build_failed", "cmake is not installed on the grading machine");
 
   const Stage stage(sandbox.drop_uid);
   if (!stage.ok()) return finish("build_failed", stage.problem());
+  if (!StagePackage(syrof_dir, stage.package(), problem)) return finish("build_failed", problem);
+  log.file << "syrof grade: SyROF's package from " << syrof_dir << "\n";
   const fs::path source = stage.work() / "source";
   const fs::path build = stage.work() / "build";
   std::vector<std::string> skipped;
@@ -768,7 +792,7 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     return finish("build_failed", "cannot hand the build's folder to uid " + std::to_string(kBuildUid) + ": " +
                                       std::strerror(errno));
   }
-  if (sandbox.files.created() && !BuildFileRules(sandbox.files, package, stage.work(), problem)) {
+  if (sandbox.files.created() && !BuildFileRules(sandbox.files, stage.package(), stage.work(), problem)) {
     return finish("build_failed", problem);
   }
 
@@ -776,14 +800,14 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
                                                 "HOME=" + stage.work().string(),
                                                 "TMPDIR=" + (stage.work() / "tmp").string()};
   const std::vector<std::vector<std::string>> steps = {
-      {cmake, "-S", source.string(), "-B", build.string(), "-DSyROF_DIR=" + syrof_dir,
+      {cmake, "-S", source.string(), "-B", build.string(), "-DSyROF_DIR=" + stage.package().string(),
        "-DCMAKE_BUILD_TYPE=Release"},
       {cmake, "--build", build.string()}};
   const auto deadline = started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.timeout_s));
   bool noted = false;
   for (const std::vector<std::string>& step : steps) {
     std::string shown = "$";
-    for (const std::string& arg : step) shown += " " + Shown(arg, stage.work());
+    for (const std::string& arg : step) shown += " " + Shown(arg, stage.root());
     shown += "\n";
     log.file << shown;
     log.file.flush();
@@ -817,7 +841,7 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     if (outcome.exit_code != 0) {
       if (log.total > log.kept) log.file << "\n[syrof grade: " << (log.total - log.kept) << " more bytes not kept]\n";
       log.file.flush();
-      std::string detail = FirstErrorLine((out / "build.log").string(), stage.work().string());
+      std::string detail = FirstErrorLine((out / "build.log").string(), stage.root().string());
       if (outcome.signal != 0) detail = "the build was killed by signal " + std::to_string(outcome.signal) + ": " + detail;
       return finish("build_failed", detail);
     }

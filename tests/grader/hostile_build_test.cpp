@@ -344,6 +344,27 @@ TEST_F(HostileBuildTest, ABuildInAClassCannotReadItsSiblings) {
   EXPECT_NE(Read(out / "alice" / "build.log").find("Permission denied"), std::string::npos);
 }
 
+// SyROF in a folder only root may enter (a CI clone made with mktemp -d, a
+// home folder): the build, as uid 65534, still reads the package, since it
+// reads the copy in its stage.
+TEST(BuildSubmissionPackageTest, SyrofInAFolderOnlyRootEntersStillBuilds) {
+  const fs::path hidden_away = fs::path(::testing::TempDir()) / ("private_syrof_" + std::to_string(getpid()));
+  fs::remove_all(hidden_away);
+  fs::create_directories(hidden_away / "package");
+  for (const char* file : {"SyROFConfig.cmake", "SyROFConfigVersion.cmake", "SyROFAddApp.cmake"}) {
+    fs::copy_file(fs::path(SYROF_PACKAGE_DIR) / file, hidden_away / "package" / file);
+  }
+  fs::permissions(hidden_away, fs::perms::owner_all);  // 0700
+  const fs::path out = Fresh("private_syrof_out");
+  BuildOptions options;
+  options.syrof_dir = (hidden_away / "package").string();
+  std::vector<std::string> notes;
+  const assignment::BuildResult build = BuildSubmission(kReference.string(), out.string(), options, notes);
+  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << Read(out / "build.log");
+  EXPECT_NE(Read(out / "build.log").find("-DSyROF_DIR=package "), std::string::npos) << Read(out / "build.log");
+  fs::remove_all(hidden_away);
+}
+
 TEST(BuildWithoutLandlockTest, IsRefusedUnlessTheInstructorSaysSo) {
   setenv("SYROF_PRETEND_NO_LANDLOCK", "1", 1);
   const fs::path out = Fresh("refused_out");

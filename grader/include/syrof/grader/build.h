@@ -8,8 +8,9 @@
 // symbolic or hard links) are copied to a private temporary folder and
 // built there by CMake in a sandboxed child: uid 65534 when started as root
 // (the copy handed to it); Landlock limiting it to reading the toolchain
-// and SyROF's package and writing its own copy; network, PID, IPC and UTS
-// namespaces (every process it leaves behind dies with it); its own process
+// and a copy of SyROF's package beside its own, and writing its own copy;
+// a seccomp filter refusing sockets; network, PID, IPC and UTS namespaces
+// (every process it leaves behind dies with it); its own process
 // group killed at the wall time limit; rlimits on file size, CPU time and
 // processes. Its output is kept in OUT/build.log (the first
 // `log_keep_bytes`, the rest counted; past `output_limit_bytes` the build is
