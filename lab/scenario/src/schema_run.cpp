@@ -221,6 +221,54 @@ bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagn
   return true;
 }
 
+bool ReadCuts(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"from", "to", "start_s", "end_s", "both_ways"};
+  const std::string path = "channel.cuts";
+  if (!ExpectList(node, path, diagnostics)) return false;
+  const double duration_s = scenario.timing.duration_s;
+  for (size_t i = 0; i < node.values.size(); ++i) {
+    const YamlNode& entry = node.values[i];
+    const std::string entry_path = IndexPath(path, i);
+    if (!ExpectMap(entry, entry_path, diagnostics) || !CheckKeys(entry, entry_path, kKeys, diagnostics)) return false;
+    for (std::string_view key : {"from", "to", "start_s", "end_s"}) {
+      if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
+    }
+    world::CutSpec cut;
+    const YamlNode& start = *entry.Find("start_s");
+    const YamlNode& end = *entry.Find("end_s");
+    if (!ReadRobotId(*entry.Find("from"), JoinPath(entry_path, "from"), scenario, cut.from, diagnostics) ||
+        !ReadRobotId(*entry.Find("to"), JoinPath(entry_path, "to"), scenario, cut.to, diagnostics) ||
+        !ReadNumber(start, JoinPath(entry_path, "start_s"), kTimeOfRun, cut.start_s, diagnostics) ||
+        !ReadNumber(end, JoinPath(entry_path, "end_s"), kTimeOfRun, cut.end_s, diagnostics)) {
+      return false;
+    }
+    if (cut.from == cut.to) {
+      return FailAt(entry, entry_path,
+                    "a cut joins two different robots (from = to = " + std::to_string(cut.from) + ")", diagnostics);
+    }
+    if (cut.start_s >= duration_s) {
+      return FailAt(start, JoinPath(entry_path, "start_s"),
+                    "starts at " + FormatNumber(cut.start_s) + " s, at or after the end of the run (duration_s = " +
+                        FormatNumber(duration_s) + ")",
+                    diagnostics);
+    }
+    if (cut.end_s <= cut.start_s) {
+      return FailAt(end, JoinPath(entry_path, "end_s"),
+                    "must be greater than start_s (" + FormatNumber(cut.start_s) + "), got " + end.scalar, diagnostics);
+    }
+    if (const YamlNode* both = entry.Find("both_ways")) {
+      if (both->scalar == "true") {
+        cut.both_ways = true;
+      } else if (both->scalar != "false") {
+        return FailAt(*both, JoinPath(entry_path, "both_ways"), "must be true or false, got '" + both->scalar + "'",
+                      diagnostics);
+      }
+    }
+    scenario.channel.cuts.push_back(cut);
+  }
+  return true;
+}
+
 constexpr std::string_view kFaultKinds[] = {"crash", "pause", "join", "deaf", "mute"};  // FaultKind's order
 
 struct PlacedFault {
@@ -371,7 +419,7 @@ bool ReadSensors(const YamlNode* node, Scenario& scenario, Diagnostics& diagnost
 
 bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics) {
   static constexpr std::string_view kKeys[] = {"model",     "loss",     "good_to_bad", "bad_to_good",
-                                               "loss_good", "loss_bad", "links",       "partitions"};
+                                               "loss_good", "loss_bad", "links",       "partitions", "cuts"};
   if (node == nullptr) return true;
   const std::string path = "channel";
   if (!ExpectMap(*node, path, diagnostics) || !CheckKeys(*node, path, kKeys, diagnostics)) return false;
@@ -391,8 +439,10 @@ bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnost
   }
   const YamlNode* links = node->Find("links");
   const YamlNode* partitions = node->Find("partitions");
+  const YamlNode* cuts = node->Find("cuts");
   return (links == nullptr || ReadLinks(*links, scenario, diagnostics)) &&
-         (partitions == nullptr || ReadPartitions(*partitions, scenario, diagnostics));
+         (partitions == nullptr || ReadPartitions(*partitions, scenario, diagnostics)) &&
+         (cuts == nullptr || ReadCuts(*cuts, scenario, diagnostics));
 }
 
 bool ReadFaults(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics) {

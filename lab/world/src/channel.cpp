@@ -61,6 +61,12 @@ std::optional<Error> CheckChannelSpec(const ChannelSpec& spec, uint16_t robots) 
     }
     if (auto problem = CheckProbability(link.loss, where, "loss")) return problem;
   }
+  for (const CutSpec& cut : spec.cuts) {
+    const std::string where = "cut " + std::to_string(cut.from) + " -> " + std::to_string(cut.to);
+    if (cut.from >= robots || cut.to >= robots) {
+      return Error{.where = where, .message = "names a robot beyond the " + std::to_string(robots) + " robots"};
+    }
+  }
   return std::nullopt;
 }
 
@@ -115,7 +121,7 @@ Channel::Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed)
       }
     }
   }
-  plain_iid_ = spec_.model == ChannelModel::kIid && partitions_.empty() && link_losses_.empty();
+  plain_iid_ = spec_.model == ChannelModel::kIid && partitions_.empty() && link_losses_.empty() && spec_.cuts.empty();
   // loss * 2^53 is exact; a draw's top 53 bits x (an integer) are below it
   // exactly when they are below its ceiling.
   loss_threshold_ = static_cast<uint64_t>(std::ceil(spec_.loss * 0x1.0p53));
@@ -145,6 +151,16 @@ double Channel::LossDraw(int64_t round, uint16_t from, uint16_t to) {
 bool Channel::Partitioned(uint16_t from, uint16_t to, double time_s) const {
   for (const Partition& partition : partitions_) {
     if (partition.start_s <= time_s && time_s < partition.end_s && partition.group[from] != partition.group[to]) {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool Channel::Cut(uint16_t from, uint16_t to, double time_s) const {
+  for (const CutSpec& cut : spec_.cuts) {
+    if (cut.start_s <= time_s && time_s < cut.end_s &&
+        ((cut.from == from && cut.to == to) || (cut.both_ways && cut.from == to && cut.to == from))) {
       return true;
     }
   }
@@ -181,7 +197,7 @@ bool Channel::DeliversSlow(uint16_t from, uint16_t to, int64_t round, double tim
     delivered_ += delivered ? 1 : 0;
     return delivered;
   }
-  if (Partitioned(from, to, time_s)) {
+  if (Partitioned(from, to, time_s) || Cut(from, to, time_s)) {
     ++partitioned_;
     return false;
   }

@@ -371,6 +371,30 @@ TEST(Schema, LinkGivenTwiceIsRefused) {
                       6, 7, {"channel.links[1]: the link 1 -> 2 is already given in links[0]"}));
 }
 
+TEST(Schema, CutsAreReadWithTheirWindowAndDirection) {
+  const LoadResult loaded = LoadWith(
+      "channel:\n  cuts:\n    - { from: 3, to: 1, start_s: 1, end_s: 2 }\n"
+      "    - { from: 0, to: 2, start_s: 0.5, end_s: 4, both_ways: true }\n");
+  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
+  ASSERT_EQ(loaded.scenario->channel.cuts.size(), 2u);
+  EXPECT_EQ(loaded.scenario->channel.cuts[0].from, 3);
+  EXPECT_EQ(loaded.scenario->channel.cuts[0].to, 1);
+  EXPECT_FALSE(loaded.scenario->channel.cuts[0].both_ways);
+  EXPECT_TRUE(loaded.scenario->channel.cuts[1].both_ways);
+  EXPECT_EQ(loaded.scenario->channel.cuts[1].end_s, 4);
+}
+
+TEST(Schema, BadCutsAreRefusedWhereTheyAreWrong) {
+  EXPECT_TRUE(FailsAt(LoadWith("channel:\n  cuts: [ {from: 1, to: 1, start_s: 1, end_s: 2} ]\n"), 4, 11,
+                      {"channel.cuts[0]: a cut joins two different robots"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel:\n  cuts: [ {from: 1, to: 2, start_s: 3, end_s: 2} ]\n"), 4, 47,
+                      {"channel.cuts[0].end_s: must be greater than start_s"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel:\n  cuts: [ {from: 1, to: 2, start_s: 1, end_s: 2, both_ways: yes} ]\n"), 4,
+                      61, {"channel.cuts[0].both_ways: must be true or false"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel:\n  cuts: [ {from: 1, to: 2, start_s: 1} ]\n"), 4, 11,
+                      {"channel.cuts[0]", "end_s"}));
+}
+
 TEST(Schema, PartitionRobotListedTwice) {
   EXPECT_TRUE(FailsAt(LoadWith("channel:\n  partitions:\n    - { start_s: 1, end_s: 2, groups: [[0, 1], [2, 1]] }\n"),
                       5, 52, {"channel.partitions[0].groups[1][1]: robot 1 is listed twice (already in groups[0])"}));

@@ -202,6 +202,23 @@ TEST(ChannelTest, TheInlineIidDecisionIsTheGeneralOne) {
   }
 }
 
+TEST(ChannelTest, ACutDropsItsLinkOnlyInItsWindowAndBothWaysOnlyWhenAsked) {
+  ChannelSpec spec = Iid(0.0);
+  spec.cuts.push_back(CutSpec{.from = 3, .to = 5, .start_s = 1.0, .end_s = 2.0});
+  spec.cuts.push_back(CutSpec{.from = 0, .to = 1, .start_s = 1.0, .end_s = 2.0, .both_ways = true});
+  Channel channel(spec, 6, 5);
+  EXPECT_TRUE(channel.Delivers(3, 5, 10, 0.99));
+  EXPECT_FALSE(channel.Delivers(3, 5, 20, 1.0));
+  EXPECT_TRUE(channel.Delivers(5, 3, 20, 1.0)) << "one way only";
+  EXPECT_TRUE(channel.Delivers(3, 4, 20, 1.0)) << "that link only";
+  EXPECT_TRUE(channel.Delivers(3, 5, 40, 2.0)) << "the window is half-open";
+  EXPECT_FALSE(channel.Delivers(0, 1, 30, 1.5));
+  EXPECT_FALSE(channel.Delivers(1, 0, 30, 1.5));
+  EXPECT_EQ(channel.partitioned(), 3u);
+  EXPECT_TRUE(CheckChannelSpec(spec, 6) == std::nullopt);
+  EXPECT_FALSE(CheckChannelSpec(spec, 5) == std::nullopt) << "robot 5 is beyond 5 robots";
+}
+
 TEST(ChannelTest, PartitionDropsCrossGroupBeaconsOnlyInItsWindow) {
   ChannelSpec spec = Iid(0.0);
   PartitionSpec partition;

@@ -62,6 +62,16 @@ struct PartitionSpec {
   std::vector<std::vector<uint16_t>> groups;
 };
 
+/// During [start_s, end_s) no beacon from `from` reaches `to` (and none from
+/// `to` reaches `from` when `both_ways`): a link cut for a time window.
+struct CutSpec {
+  uint16_t from = 0;
+  uint16_t to = 0;
+  double start_s = 0;
+  double end_s = 0;
+  bool both_ways = false;
+};
+
 struct ChannelSpec {
   ChannelModel model = ChannelModel::kIid;
   double loss = 0;                  ///< iid: per beacon per link
@@ -71,6 +81,7 @@ struct ChannelSpec {
   double loss_bad = 1;
   std::vector<LinkLossSpec> links;  ///< asymmetric per-link overrides
   std::vector<PartitionSpec> partitions;
+  std::vector<CutSpec> cuts;        ///< links cut for a time window
 };
 
 /// What Channel's constructor requires: every probability in [0, 1] and
@@ -108,7 +119,7 @@ class Channel {
   /// Beacons asked about, and delivered, since construction.
   uint64_t offered() const { return offered_; }
   uint64_t delivered() const { return delivered_; }
-  /// Beacons dropped by a partition (included in offered, not delivered).
+  /// Beacons dropped by a partition or a cut (included in offered, not delivered).
   uint64_t partitioned() const { return partitioned_; }
 
   /// Long-run loss of a Gilbert-Elliott link:
@@ -134,6 +145,7 @@ class Channel {
   uint64_t LossHash(int64_t round, uint16_t from, uint16_t to);
   bool DeliversSlow(uint16_t from, uint16_t to, int64_t round, double time_s);
   bool Partitioned(uint16_t from, uint16_t to, double time_s) const;
+  bool Cut(uint16_t from, uint16_t to, double time_s) const;
   // Whether the Gilbert-Elliott chain of the link is bad at `round`.
   bool ChainBad(uint16_t from, uint16_t to, int64_t round);
 
