@@ -1,7 +1,9 @@
 // The synchronizer measured in the simulated lab: COOPERATIVE fraction,
 // start skew and mode agreement per epoch against loss (i.i.d. 0-60 %, and
 // bursty) and K, for 10 and 50 robots; then the faults that stretch the
-// skew (a deaf robot, a pause). These are the tables of docs/protocol.md,
+// skew (a deaf robot, a pause); then partial connectivity (dead directed
+// links, deaf, mute, a flaky link), COOPERATIVE among the robots the
+// connectivity rule keeps. These are the tables of docs/protocol.md,
 // "Measured"; the figures are deterministic (fixed seeds), so the table
 // regenerates exactly.
 //
@@ -37,10 +39,12 @@ struct Cell {
   int64_t max_skew = 0;
   int64_t max_disagreement = 0;
   int64_t violations = 0;
+  int64_t kept_starts = 0;              // starts of the robots in `kept` (partial connectivity)
+  int64_t kept_cooperative_starts = 0;
 };
 
 std::string Scenario(int robots, int k, const std::string& channel, const std::string& faults, double duration_s,
-                     uint64_t seed) {
+                     uint64_t seed, const std::string& app = "builtin:idle") {
   const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(robots))));
   const double arena_m = side + 1.0;
   return fmt::format(R"(seed: {seed}
@@ -55,13 +59,14 @@ arena:
 robots: {{count: {robots}, placement: grid, spacing_m: 1.0}}
 timing: {{radio_round_s: 0.05, app_round_s: 1.0, vote_rounds: {k}, silence_rounds: {f}, duration_s: {duration}}}
 channel: {channel}
-app: builtin:idle
+app: {app}
 {faults})",
                      fmt::arg("seed", seed), fmt::arg("arena", arena_m), fmt::arg("robots", robots), fmt::arg("k", k), fmt::arg("f", 2 * k),
-                     fmt::arg("duration", duration_s), fmt::arg("channel", channel), fmt::arg("faults", faults));
+                     fmt::arg("duration", duration_s), fmt::arg("channel", channel), fmt::arg("faults", faults),
+                     fmt::arg("app", app));
 }
 
-void Add(Cell& cell, const std::string& text) {
+void Add(Cell& cell, const std::string& text, const std::vector<int>& kept = {}) {
   const scenario::LoadResult loaded = scenario::LoadScenarioText(text, "bench");
   if (!loaded.ok()) {
     fmt::print(stderr, "bench scenario refused: {}\n{}\n", loaded.error->ToString(), text);
@@ -82,6 +87,10 @@ void Add(Cell& cell, const std::string& text) {
   cell.max_skew = std::max(cell.max_skew, synchrony["max_start_skew_rounds"].get<int64_t>());
   cell.max_disagreement = std::max(cell.max_disagreement, knowledge["max_mode_disagreement_rounds"].get<int64_t>());
   cell.violations += knowledge["violations"].get<int64_t>();
+  for (const int robot : kept) {
+    cell.kept_starts += knowledge["starts_by_robot"][robot].get<int64_t>();
+    cell.kept_cooperative_starts += knowledge["cooperative_starts_by_robot"][robot].get<int64_t>();
+  }
 }
 
 void PrintRow(const std::string& label, int robots, int k, const Cell& cell) {
@@ -154,6 +163,48 @@ int main(int argc, char** argv) {
       Add(cell, Scenario(10, 3, "{model: iid, loss: 0.05}", fault.yaml, std::max(duration_s, 60.0), seed));
     }
     PrintRow(fault.label, 10, 3, cell);
+  }
+
+  fmt::print("\npartial connectivity, K = 3, i.i.d. 5 % loss, 60 s, {} seeds; COOPERATIVE starts of the robots the "
+             "connectivity rule keeps (those that hear each other both ways), and of all\n\n",
+             quick ? 2 : 10);
+  fmt::print("| case | robots | kept | COOPERATIVE starts, kept robots | COOPERATIVE starts, all | P3 violations |\n");
+  fmt::print("| --- | --- | --- | --- | --- | --- |\n");
+  struct Partial {
+    std::string label;
+    int robots;
+    std::string channel;
+    std::string faults;
+    std::vector<int> kept;
+    std::string app = "builtin:idle";
+  };
+  const std::string base = "{model: iid, loss: 0.05";
+  const std::vector<Partial> partials = {
+      {"every link alive", 8, base + "}", "", {0, 1, 2, 3, 4, 5, 6, 7}},
+      {"robot 5 never hears robot 3", 8, base + ", links: [{from: 3, to: 5, loss: 1.0}]}", "", {0, 1, 2, 3, 4, 6, 7}},
+      {"robot 3 never hears robot 5", 8, base + ", links: [{from: 5, to: 3, loss: 1.0}]}", "", {0, 1, 2, 3, 4, 6, 7}},
+      {"every link alive", 10, base + "}", "", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}},
+      {"1 never hears 6, 8 never hears 2", 10,
+       base + ", links: [{from: 6, to: 1, loss: 1.0}, {from: 2, to: 8, loss: 1.0}]}", "", {0, 1, 2, 3, 4, 5, 7, 9}},
+      {"6 deaf and 2 mute 10-40 s, 1 to 4 at 90 % loss", 8, base + ", links: [{from: 1, to: 4, loss: 0.9}]}",
+       "faults: [{deaf: 6, at_s: 10, until_s: 40}, {mute: 2, at_s: 10, until_s: 40}]\n", {0, 1, 3, 5, 7}},
+      {"leader_follow, every link alive", 6, base + "}", "", {0, 1, 2, 3, 4, 5}, "builtin:leader_follow"},
+      {"leader_follow, leader mute 15-35 s", 6, base + "}", "faults: [{mute: 0, at_s: 15, until_s: 35}]\n",
+       {1, 2, 3, 4, 5}, "builtin:leader_follow"},
+  };
+  const int partial_seeds = quick ? 2 : 10;
+  for (const Partial& partial : partials) {
+    Cell cell;
+    for (int seed = 1; seed <= partial_seeds; ++seed) {
+      Add(cell, Scenario(partial.robots, 3, partial.channel, partial.faults, 60, static_cast<uint64_t>(seed), partial.app),
+          partial.kept);
+    }
+    std::string kept;
+    for (const int robot : partial.kept) kept += (kept.empty() ? "" : " ") + std::to_string(robot);
+    fmt::print("| {} | {} | {} | {:.1f} % | {:.1f} % | {} |\n", partial.label, partial.robots,
+               partial.kept.size() == static_cast<size_t>(partial.robots) ? std::string("all") : kept,
+               cell.kept_starts > 0 ? 100.0 * cell.kept_cooperative_starts / cell.kept_starts : 0,
+               cell.starts > 0 ? 100.0 * cell.cooperative_starts / cell.starts : 0, cell.violations);
   }
   return 0;
 }

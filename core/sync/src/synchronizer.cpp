@@ -18,6 +18,142 @@ MemberSet Without(MemberSet set, uint16_t self) {
   return set;
 }
 
+// "Connectivity": this robot's heard set, the members it hears well, and
+// itself. A member the failure detector removed in this epoch still counts
+// until it has been silent for 2F rounds (a run of lost beacons is no broken
+// link, and a report without it would reach the others stale, in WAIT, after
+// it is back); a deaf robot's or a dead link's report lacks it F rounds after
+// the removal. A member is not heard well (flaky) from the second epoch in a
+// row in which the failure detector removed it, until an epoch passes without
+// a removal: a link at 90 % loss stays out, while at 25 % loss (a removal in
+// about 1 % of a link's epochs) a link is almost never out.
+MemberSet HeardSet(const SyncConfig& config, const SyncState& state) {
+  MemberSet flaky = state.flaky_current;
+  flaky &= state.flaky_previous;
+  flaky |= state.flaky;
+  MemberSet heard = state.members;
+  for (const uint16_t id : state.flaky_current) {
+    if (!heard.test(id) && state.silent_rounds[id] < 2 * config.silence_rounds) heard.set(id);
+  }
+  heard -= flaky;
+  heard.set(config.self_id);
+  return heard;
+}
+
+// The kept report of `id`, or nullptr.
+const Report* FindReport(const SyncState& state, uint16_t id) {
+  if (!state.reported.test(id)) return nullptr;
+  for (size_t i = 0; i < state.report_count; ++i) {
+    if (state.reports[i].reporter == id) return &state.reports[i];
+  }
+  return nullptr;
+}
+
+void DropReport(SyncState& state, uint16_t id) {
+  if (!state.reported.test(id)) return;
+  size_t at = 0;
+  while (state.reports[at].reporter != id) ++at;
+  for (size_t i = at + 1; i < state.report_count; ++i) state.reports[i - 1] = state.reports[i];
+  state.reports[--state.report_count] = Report{};
+  state.reported.reset(id);
+  state.pruned_stale = true;
+}
+
+// Keeps `heard`, the heard set `id` sent, if it lacks one of this robot's
+// members; a report that names them all says nothing the rule needs (the
+// rule reads reports only about members). The pool is sorted by id; when it
+// is full the highest id gives way.
+void TakeReport(SyncState& state, uint16_t id, const MemberSet& heard) {
+  if (heard.includes(state.members)) {
+    DropReport(state, id);
+    return;
+  }
+  size_t at = 0;
+  while (at < state.report_count && state.reports[at].reporter < id) ++at;
+  if (at < state.report_count && state.reports[at].reporter == id) {
+    if (!(state.reports[at].heard == heard)) {
+      state.reports[at].heard = heard;
+      state.pruned_stale = true;
+    }
+    return;
+  }
+  if (at == kMaxReports) return;  // full of lower ids
+  if (state.report_count == kMaxReports) {
+    state.reported.reset(state.reports[kMaxReports - 1].reporter);
+    --state.report_count;
+  }
+  for (size_t i = state.report_count; i > at; --i) state.reports[i] = state.reports[i - 1];
+  state.reports[at] = Report{id, heard};
+  ++state.report_count;
+  state.reported.set(id);
+  state.pruned_stale = true;
+}
+
+// "Connectivity", the rule: among the members, while some pair does not
+// hear each other both ways, leave out the member with the most such
+// partners, the higher id on a tie. What a member hears: this robot, its
+// heard set; a member with a kept report, that report; any other member,
+// every member (its report equalled this robot's members). A robot this
+// one does not hear is not a member, so it is not a candidate: whoever
+// hears it decides about it.
+MemberSet ComputePruned(const SyncConfig& config, const SyncState& state, const MemberSet& heard_self) {
+  const uint16_t self = config.self_id;
+  MemberSet candidates = state.members;
+  MemberSet reporters;
+  for (size_t i = 0; i < state.report_count; ++i) {
+    const uint16_t reporter = state.reports[i].reporter;
+    if (state.members.test(reporter) && reporter != self) reporters.set(reporter);
+  }
+  MemberSet pruned;
+  if (reporters.empty() && heard_self.includes(state.members)) return pruned;  // everyone hears everyone
+
+  const auto hears = [&](uint16_t c, uint16_t p) {
+    if (c == self) return heard_self.test(p);
+    if (reporters.test(c)) return FindReport(state, c)->heard.test(p);
+    return true;  // a plain member: its report named every member
+  };
+  while (true) {
+    uint16_t worst = MemberSet::kCapacity;
+    uint16_t worst_count = 0;
+    for (const uint16_t c : candidates) {
+      uint16_t count = 0;
+      if (c == self || reporters.test(c)) {
+        // Its row is known: every candidate it does not hear, or that does
+        // not hear it, once.
+        for (const uint16_t p : candidates) {
+          if (p != c && (!hears(c, p) || !hears(p, c))) ++count;
+        }
+      } else {
+        // A plain member hears every candidate: count who does not hear it.
+        if (candidates.test(self) && !hears(self, c)) ++count;
+        for (const uint16_t r : reporters) {
+          if (!hears(r, c)) ++count;
+        }
+      }
+      if (count > 0 && count >= worst_count) {
+        worst = c;
+        worst_count = count;
+      }
+    }
+    if (worst == MemberSet::kCapacity) return pruned;
+    pruned.set(worst);
+    candidates.reset(worst);
+    reporters.reset(worst);
+  }
+}
+
+// Brings `pruned` up to date with the members, the heard set and the reports.
+void UpdatePruned(const SyncConfig& config, SyncState& state) {
+  const MemberSet heard = HeardSet(config, state);
+  if (!state.pruned_stale && state.pruned_members == state.members && state.pruned_heard == heard) return;
+  const MemberSet pruned = ComputePruned(config, state, heard);
+  if (!(pruned == state.pruned)) ++state.stats.prunings;
+  state.pruned = pruned;
+  state.pruned_members = state.members;
+  state.pruned_heard = heard;
+  state.pruned_stale = false;
+}
+
 // "Beacon validation": why `beacon` cannot be used, or kNone.
 BeaconIssue Inspect(const SyncConfig& config, const wire::Beacon& beacon, const MemberSet& seen) {
   if (beacon.robot_id >= config.swarm_size) return BeaconIssue::kIdOutOfRange;
@@ -111,12 +247,28 @@ void StartEpoch(const SyncConfig& config, SyncState& state, Mode mode, StepOutpu
   state.view.clear();
   state.votes_matched.clear();
   state.held.clear();
-  state.added_previous = state.added_current;
-  state.added_current.clear();
+  MemberSet twice = state.flaky_current;
+  twice &= state.flaky_previous;
+  state.flaky &= state.flaky_current;  // stays flaky while removed again
+  state.flaky |= twice;
+  state.flaky_previous = state.flaky_current;
+  state.flaky_current.clear();
 
   out.epoch_started = true;
   ++state.stats.epochs_started;
   if (mode == Mode::kCooperative) ++state.stats.epochs_cooperative;
+}
+
+// "Connectivity": nothing known about anyone's links.
+void ForgetConnectivity(SyncState& state) {
+  state.flaky_current.clear();
+  state.flaky_previous.clear();
+  state.flaky.clear();
+  state.reported.clear();
+  state.reports = {};
+  state.report_count = 0;
+  state.pruned.clear();
+  state.pruned_stale = true;
 }
 
 // "Joining": the robot leaves its group and listens for another's boundary.
@@ -135,17 +287,17 @@ void BecomeJoiner(SyncState& state, StepOutput& out) {
   state.vote = 0;
   state.stay_rounds = 0;
   state.rounds_joining = 0;
-  state.excluded.clear();
-  state.struck.clear();
-  state.added_current.clear();
-  state.added_previous.clear();
+  ForgetConnectivity(state);
   out.became_joiner = true;
 }
 
-// Whether `beacon` speaks for a group: its set names a robot besides its
-// sender. A robot alone (a deaf one, or one cut off) never drags others
-// along ("Falling behind", "Alone ahead").
+// Whether `beacon` speaks for a group: a WAIT or VOTE beacon whose set (a
+// subset of its sender's members) names a robot besides its sender. A
+// PROGRESS beacon's set is a heard set, which says nothing of groups. A
+// robot alone (a deaf one, or one cut off) never drags others along
+// ("Falling behind", "Alone ahead").
 bool FromGroup(const wire::Beacon& beacon) {
+  if (beacon.phase == Phase::kProgress) return false;
   // Its smallest member other than the sender, without copying the set.
   const uint16_t first = beacon.waiting.next_member(0);
   const uint16_t other = first == beacon.robot_id ? beacon.waiting.next_member(first + 1) : first;
@@ -243,7 +395,7 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
   }
 
   // First pass: where the groups this robot hears are relative to its
-  // epoch, and whether any robot, excluded ones included, is one epoch ahead
+  // epoch, and whether any robot, ignored ones included, is one epoch ahead
   // ("Catching up", used below only by a robot left alone, which follows
   // whoever it hears).
   const bool alone = state.members.count() == 1;
@@ -266,48 +418,40 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     return;
   }
 
-  // "Exclusion": a member that votes with a view without this robot, in two
-  // of its epochs with no beacon naming this robot in between, does not hear
-  // it: it leaves the members and its beacons are ignored until one names
-  // this robot again (then it is handled as any other robot). A robot added
-  // in this epoch or the previous one is spared: it may not have heard this
-  // robot yet (a joiner's group, a robot just readmitted).
-  const auto retain = [&](const wire::Beacon& beacon) {
-    const uint16_t id = beacon.robot_id;
-    const bool names_self = beacon.waiting.test(self);
-    if (names_self) state.struck.reset(id);
-    if (state.excluded.test(id)) {
-      if (!names_self) return false;
-      state.excluded.reset(id);
-      return true;
-    }
-    if (beacon.phase != Phase::kVote || names_self || !state.members.test(id) || state.added_current.test(id) ||
-        state.added_previous.test(id)) {
-      return true;
-    }
-    if (!state.struck.test(id) || state.struck_epoch[id] == beacon.epoch) {
-      state.struck.set(id);
-      state.struck_epoch[id] = beacon.epoch;
-      return true;
-    }
-    state.struck.reset(id);
-    state.excluded.set(id);
-    state.members.reset(id);
-    out.removed.set(id);
-    ++state.stats.exclusions;
-    return false;
-  };
-  // The same pass finds a kept robot one epoch ahead ("Catching up").
+  // "Connectivity": the heard sets of PROGRESS beacons are the reports the
+  // rule reads; then the robots it leaves out are ignored by every step
+  // below except the failure detector (they are still evidence of life).
+  for (const wire::Beacon* beacon : received) {
+    if (beacon->phase != Phase::kProgress) continue;
+    const int16_t ahead = EpochDifference(beacon->epoch, state.epoch);
+    if (ahead >= -1 && ahead <= 1) TakeReport(state, beacon->robot_id, beacon->waiting);
+  }
+  UpdatePruned(config, state);
+  MemberSet ignored = state.pruned;
+  ignored.reset(self);
+  MemberSet evidence;  // ignored robots heard this round
   bool catch_up_kept = false;
   received.RetainIf([&](const wire::Beacon& beacon) {
-    if (!retain(beacon)) return false;
-    if (past_progress && EpochDifference(beacon.epoch, state.epoch) == 1) catch_up_kept = true;
+    const uint16_t id = beacon.robot_id;
+    const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
+    if (ignored.test(id)) {
+      // Membership stays physical: an ignored robot heard in this epoch is
+      // a member (the rule may keep it once it is one).
+      if (ahead >= -1 && ahead <= 1) evidence.set(id);
+      if (ahead == 0 && !state.members.test(id)) {
+        state.members.set(id);
+        state.silent_rounds[id] = 0;
+        out.joined.set(id);
+      }
+      return false;
+    }
+    if (past_progress && ahead == 1) catch_up_kept = true;
     return true;
   });
 
-  // "Catching up": a member one epoch ahead. A robot alone also follows an
-  // excluded robot, so that robot, if it only lost it for a while, hears it
-  // in its own epoch again and adds it back.
+  // "Catching up": a member one epoch ahead. A robot alone also follows a
+  // robot it ignores, so that robot, if it only lost it for a while, hears
+  // it in its own epoch again.
   const bool catch_up = catch_up_kept || (catch_up_any && state.members.count() == 1);
   // "Catching up": a robot one epoch ahead started it without this one.
   if (catch_up) {
@@ -316,7 +460,7 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
   }
 
   // "Receiving": failure detector input, joins, waiting sets, snapshots.
-  MemberSet alive;
+  MemberSet alive = evidence;
   uint8_t highest_vote = 0;
   for (const wire::Beacon* usable : received) {
     const wire::Beacon& beacon = *usable;
@@ -331,10 +475,7 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
       out.joined.set(id);
     }
     state.last_phase[id] = beacon.phase;
-    if (beacon.phase == Phase::kProgress) {
-      state.waiting |= beacon.waiting;
-      continue;
-    }
+    if (beacon.phase == Phase::kProgress) continue;  // its set is a heard set
     state.waiting.set(id);
     if (!state.held.test(id)) {
       state.held.set(id);
@@ -363,15 +504,28 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
       const auto id = static_cast<uint16_t>(first_id + std::countr_zero(unheard));
       if (++state.silent_rounds[id] >= config.silence_rounds) {
         state.members.reset(id);
+        state.flaky_current.set(id);
+        DropReport(state, id);
         out.removed.set(id);
       }
     }
   }
 
-  // "WAIT": every member waiting, or a member already voting.
-  if (state.phase == Phase::kWait && (state.waiting.includes(state.members) || highest_vote > 0)) {
+  // "Connectivity": how long each member removed in this epoch has been silent.
+  for (const uint16_t id : state.flaky_current) {
+    if (state.members.test(id)) continue;
+    state.silent_rounds[id] = alive.test(id) ? 0 : static_cast<uint16_t>(std::min<uint32_t>(0xFFFFu, state.silent_rounds[id] + 1u));
+  }
+
+  // "WAIT": every member waiting (those left out aside), or a member
+  // already voting. The view is the members the rule keeps, and this robot.
+  UpdatePruned(config, state);
+  MemberSet kept = state.members;
+  kept -= state.pruned;
+  kept.set(self);
+  if (state.phase == Phase::kWait && (state.waiting.includes(kept) || highest_vote > 0)) {
     state.phase = Phase::kVote;
-    state.view = state.members;
+    state.view = kept;
     state.vote = 0;
     state.veto = false;
     state.votes_matched.clear();
@@ -390,6 +544,9 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     }
   }
   if (!state.members.includes(state.view) || state.view.count() < config.quorum) state.veto = true;
+  // A robot the rule leaves out cannot cooperate: some member does not hear
+  // it, or it does not hear some member.
+  if (state.pruned.test(self)) state.veto = true;
 
   if (highest_vote > state.vote) state.vote = highest_vote;
   if (state.vote < config.vote_rounds) {
@@ -454,7 +611,7 @@ wire::Beacon MakeBeacon(const SyncConfig& config, const SyncState& state) {
   switch (state.phase) {
     case Phase::kProgress:
       beacon.mode = state.epoch_mode;
-      beacon.waiting = state.waiting;
+      beacon.waiting = HeardSet(config, state);
       beacon.snapshot = state.live;
       break;
     case Phase::kWait:
@@ -510,7 +667,6 @@ void StepWith(const SyncConfig& config, SyncState& state, UsableBeacons& usable,
   } else {
     StepMember(config, state, usable, input, out, ldmap);
   }
-  if (state.status == Status::kMember) state.added_current |= out.joined;
   out.send = state.status == Status::kMember;
   out.beacon = MakeBeacon(config, state);
 }

@@ -151,7 +151,9 @@ void Collector::MixedModeTotals::Add(const EpochRecord& record) {
 Collector::Collector(const CollectorConfig& config)
     : config_(config),
       tracks_(std::min<size_t>(config.robots, wire::kMaxSwarmSize)),
-      robot_interventions_(tracks_.size(), 0) {
+      robot_interventions_(tracks_.size(), 0),
+      robot_starts_(tracks_.size(), 0),
+      robot_cooperative_starts_(tracks_.size(), 0) {
   // Errors reach half a round at most.
   const int64_t half_round_ns = std::max<int64_t>(config.radio_round_ns / 2, kFineLimitNs);
   const size_t bins = kFineBins + static_cast<size_t>((half_round_ns - kFineLimitNs) / kCoarseBinNs) + 2;
@@ -230,8 +232,12 @@ void Collector::OnEpochStart(uint16_t robot, int64_t round, int64_t time_ns, con
     return;
   }
   ++epoch_starts_;
+  ++robot_starts_[robot];
   const bool cooperative = ldmap.mode == wire::Mode::kCooperative;
-  if (cooperative) ++cooperative_starts_;
+  if (cooperative) {
+    ++cooperative_starts_;
+    ++robot_cooperative_starts_[robot];
+  }
 
   const uint16_t epoch = ldmap.epoch;
   EpochRecord* record = FindRecord(epoch);
@@ -518,6 +524,8 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   knowledge.max_mode_disagreement_rounds = max_disagreement_rounds_;
   knowledge.mixed_mode_epochs = mixed.epochs;
   knowledge.mixed_mode_robot_epochs = mixed.robot_epochs;
+  knowledge.starts_by_robot = robot_starts_;
+  knowledge.cooperative_starts_by_robot = robot_cooperative_starts_;
   knowledge.mode_disagreement_rounds = disagreement_rounds_;
 
   metrics.collisions.count = collisions_;

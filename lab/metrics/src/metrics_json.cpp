@@ -149,6 +149,8 @@ Json CommonKnowledgeJson(const CommonKnowledgeMetrics& knowledge) {
   json["mode_disagreement_rounds"] = knowledge.mode_disagreement_rounds;
   json["mixed_mode_epochs"] = knowledge.mixed_mode_epochs;
   json["mixed_mode_robot_epochs"] = knowledge.mixed_mode_robot_epochs;
+  json["starts_by_robot"] = knowledge.starts_by_robot;
+  json["cooperative_starts_by_robot"] = knowledge.cooperative_starts_by_robot;
   return json;
 }
 

@@ -24,7 +24,8 @@ class SynchronizerTest : public ::testing::Test {
   }
 
   // A beacon from `id` in `epoch` and `phase`; VOTE beacons carry `vote` and
-  // robot 0's members as their view, other beacons only the sender waiting.
+  // robot 0's members as their view, WAIT beacons only the sender waiting,
+  // PROGRESS beacons a heard set of the whole swarm (the sender hears all).
   wire::Beacon From(uint16_t id, uint16_t epoch, Phase phase, uint8_t vote = 0) const {
     wire::Beacon beacon;
     beacon.robot_id = id;
@@ -37,6 +38,8 @@ class SynchronizerTest : public ::testing::Test {
       beacon.waiting = state_.members;
     } else if (phase == Phase::kWait) {
       beacon.waiting.set(id);
+    } else {
+      for (uint16_t other = 0; other < kSwarm; ++other) beacon.waiting.set(other);
     }
     return beacon;
   }
@@ -52,6 +55,12 @@ class SynchronizerTest : public ::testing::Test {
   void EnterVote() {
     StepWith({From(1, 0, Phase::kWait), From(2, 0, Phase::kWait), From(3, 0, Phase::kWait)});
     ASSERT_EQ(state_.phase, Phase::kVote);
+  }
+
+  bool HeardWell(uint16_t id) const {
+    SyncState progress = state_;
+    progress.phase = Phase::kProgress;
+    return MakeBeacon(config_, progress).waiting.test(id);
   }
 
   std::vector<wire::Beacon> Votes(uint8_t vote) const {
@@ -390,49 +399,133 @@ TEST_F(SynchronizerTest, ARobotSwitchedOnLateMayJoinAnyEpoch) {
   EXPECT_EQ(state_.epoch, 50001);
 }
 
-// "Exclusion": the deaf robot's votes name only itself.
-TEST_F(SynchronizerTest, AMemberVotingWithoutThisRobotIsExcludedUntilItNamesThisRobotAgain) {
+// "Connectivity": a PROGRESS beacon's set is whom its sender hears well.
+TEST_F(SynchronizerTest, AProgressBeaconCarriesTheMembersTheRobotHearsWell) {
   state_.phase = Phase::kProgress;
-  wire::Beacon deaf = From(3, 0, Phase::kVote, 1);
-  deaf.waiting.clear();
-  deaf.waiting.set(3);
-  StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), deaf});
-  StepWith({deaf});
-  EXPECT_TRUE(state_.members.test(3)) << "one epoch of its votes is a strike, not yet an exclusion";
-  EXPECT_TRUE(state_.struck.test(3));
-  deaf.epoch = 1;  // its next epoch (it runs alone): the second strike
-  StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), deaf});
-  EXPECT_FALSE(state_.members.test(3));
-  EXPECT_TRUE(state_.excluded.test(3));
-  EXPECT_TRUE(out_.removed.test(3));
-  EXPECT_EQ(state_.epoch, 0) << "an excluded robot one epoch ahead is not followed";
-  // Ignored while excluded: no evidence, no rejoin, no catch-up.
-  wire::Beacon ahead = From(3, 1, Phase::kWait);
-  StepWith({ahead}, true);
-  EXPECT_FALSE(state_.members.test(3));
-  EXPECT_EQ(state_.epoch, 0);
-  // It hears this robot again: back as any robot.
-  wire::Beacon hears = From(3, 0, Phase::kWait);
-  hears.waiting.set(0);
-  StepWith({hears});
-  EXPECT_FALSE(state_.excluded.test(3));
-  EXPECT_TRUE(state_.members.test(3));
+  EXPECT_EQ(MakeBeacon(config_, state_).waiting, state_.members);
+  const auto silence_three = [this] {
+    for (int round = 0; round < 6; ++round) StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress)});
+    ASSERT_TRUE(out_.removed.test(3));
+    StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), From(3, 0, Phase::kProgress)});
+    ASSERT_TRUE(state_.members.test(3));
+  };
+  // Removed once, heard again: a lost run of beacons, still heard well.
+  silence_three();
+  EXPECT_TRUE(MakeBeacon(config_, state_).waiting.test(3));
+  EXPECT_FALSE(state_.pruned.test(3));
+  // Removed in the previous epoch too: flaky, not heard well.
+  state_.flaky_previous.set(3);
+  silence_three();
+  EXPECT_FALSE(MakeBeacon(config_, state_).waiting.test(3))
+      << "a member removed in two epochs in a row is not heard well";
+  EXPECT_TRUE(state_.pruned.test(3)) << "this robot does not hear 3 well: the higher id of the pair is left out";
 }
 
-TEST_F(SynchronizerTest, AStrikeIsForgivenWhenTheMemberNamesThisRobotAgain) {
+TEST_F(SynchronizerTest, AFlakyMemberStaysOutWhileRemovedAgainAndReturnsAfterAQuietEpoch) {
+  // Every member waits and votes in `epoch`; this robot's maneuver is over.
+  const auto run_epoch = [this](uint16_t epoch) {
+    StepWith({From(1, epoch, Phase::kWait), From(2, epoch, Phase::kWait), From(3, epoch, Phase::kWait)}, true);
+    ASSERT_EQ(state_.phase, Phase::kVote);
+    for (uint8_t vote = 1; vote <= 3; ++vote) {
+      std::vector<wire::Beacon> votes = Votes(vote);
+      for (wire::Beacon& beacon : votes) beacon.epoch = epoch;
+      StepWith(votes);
+    }
+    ASSERT_TRUE(out_.epoch_started);
+  };
+  state_.flaky.set(3);
+  EXPECT_FALSE(HeardWell(3));
+  state_.flaky_current.set(3);  // removed again in this epoch
+  run_epoch(0);
+  EXPECT_FALSE(HeardWell(3)) << "removed again in the epoch that ended: still flaky";
+  run_epoch(1);
+  EXPECT_TRUE(HeardWell(3)) << "an epoch without a removal ends it";
+}
+
+TEST_F(SynchronizerTest, ARobotThatDoesNotHearThisOneIsLeftOutAndCannotVeto) {
   state_.phase = Phase::kProgress;
-  wire::Beacon lost_me = From(3, 0, Phase::kVote, 1);
-  lost_me.waiting.reset(0);
-  StepWith({lost_me});
-  EXPECT_TRUE(state_.struck.test(3));
-  StepWith({From(3, 1, Phase::kProgress)});  // PROGRESS names nobody yet: no news
-  wire::Beacon found_me = From(3, 1, Phase::kWait);
-  found_me.waiting.set(0);
-  StepWith({found_me});
-  EXPECT_FALSE(state_.struck.test(3));
-  lost_me.epoch = 1;
-  StepWith({lost_me});
-  EXPECT_TRUE(state_.members.test(3)) << "one strike again, not two";
+  wire::Beacon deaf_to_me = From(3, 0, Phase::kProgress);
+  deaf_to_me.waiting.reset(0);  // robot 3 does not hear robot 0
+  StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), deaf_to_me});
+  EXPECT_TRUE(state_.pruned.test(3));
+  EXPECT_FALSE(state_.pruned.test(0));
+  EXPECT_TRUE(state_.members.test(3)) << "still a member: it is heard, and watched by the failure detector";
+  // The epoch ends; 3 votes AUTONOMOUS with another view, and is ignored.
+  StepWith({From(1, 0, Phase::kWait), From(2, 0, Phase::kWait)}, true);
+  ASSERT_EQ(state_.phase, Phase::kVote) << "3 is not waited for";
+  MemberSet expected_view;
+  for (const uint16_t id : {0, 1, 2}) expected_view.set(id);
+  EXPECT_EQ(state_.view, expected_view);
+  for (uint8_t vote = 1; vote <= 3; ++vote) {
+    wire::Beacon one = From(1, 0, Phase::kVote, vote);
+    one.waiting = expected_view;
+    wire::Beacon two = From(2, 0, Phase::kVote, vote);
+    two.waiting = expected_view;
+    wire::Beacon three = From(3, 0, Phase::kVote, vote);
+    three.mode = Mode::kAutonomous;
+    StepWith({one, two, three});
+  }
+  ASSERT_TRUE(out_.epoch_started);
+  EXPECT_EQ(ldmap_.mode, Mode::kCooperative);
+  EXPECT_EQ(ldmap_.members, expected_view);
+}
+
+TEST_F(SynchronizerTest, ThisRobotLeftOutVotesAutonomousAndComesBackWhenTheReportsDo) {
+  state_.phase = Phase::kProgress;
+  std::vector<wire::Beacon> deaf_to_me;
+  for (const uint16_t id : {1, 2, 3}) {
+    deaf_to_me.push_back(From(id, 0, Phase::kProgress));
+    deaf_to_me.back().waiting.reset(0);  // nobody hears robot 0 (it is mute)
+  }
+  StepWith(deaf_to_me);
+  EXPECT_TRUE(state_.pruned.test(0));
+  EXPECT_EQ(state_.pruned.count(), 1) << "only the robot with the most broken links";
+  StepWith({From(1, 0, Phase::kWait), From(2, 0, Phase::kWait), From(3, 0, Phase::kWait)}, true);
+  ASSERT_EQ(state_.phase, Phase::kVote);
+  EXPECT_EQ(MakeBeacon(config_, state_).mode, Mode::kAutonomous) << "a robot left out vetoes its own start";
+  // Its links come back: every report names it again.
+  StepWith({From(1, 0, Phase::kProgress), From(2, 0, Phase::kProgress), From(3, 0, Phase::kProgress)});
+  EXPECT_FALSE(state_.pruned.test(0));
+  EXPECT_EQ(state_.report_count, 0) << "reports equal to the members are not kept";
+}
+
+TEST_F(SynchronizerTest, TheRuleLeavesOutTheRobotWithTheMostBrokenLinksThenTheHigherId) {
+  state_.phase = Phase::kProgress;
+  // 1 does not hear 2 or 3; 3 does not hear 1 (the same pair as 1-3).
+  wire::Beacon one = From(1, 0, Phase::kProgress);
+  one.waiting.reset(2);
+  one.waiting.reset(3);
+  wire::Beacon three = From(3, 0, Phase::kProgress);
+  three.waiting.reset(1);
+  StepWith({one, From(2, 0, Phase::kProgress), three});
+  MemberSet expected;
+  expected.set(1);  // two broken pairs; after it, none
+  EXPECT_EQ(state_.pruned, expected);
+  // Only the pair 2-3 broken: the higher id goes.
+  wire::Beacon two = From(2, 0, Phase::kProgress);
+  two.waiting.reset(3);
+  StepWith({From(1, 0, Phase::kProgress), two, From(3, 0, Phase::kProgress)});
+  expected.clear();
+  expected.set(3);
+  EXPECT_EQ(state_.pruned, expected);
+}
+
+// Robot 2 does not hear robot 0, which 1 and 3 hear: 2 cannot know how well
+// 0 hears the others, so it leaves the decision about 0 to those that hear
+// it (in the explored triangle, counting 0 with a guessed row made 2 leave
+// itself out while 1 kept it, and nobody cooperated).
+TEST_F(SynchronizerTest, ARobotNotHeardHereIsLeftToThoseThatHearIt) {
+  config_ = SyncConfig::ForSwarm(kSwarm, 2);
+  state_ = InitialState(config_, Own());
+  state_.phase = Phase::kProgress;
+  for (int round = 0; round < 7; ++round) StepWith({From(1, 0, Phase::kProgress), From(3, 0, Phase::kProgress)});
+  ASSERT_FALSE(state_.members.test(0));
+  EXPECT_TRUE(state_.pruned.empty());
+  StepWith({From(1, 0, Phase::kWait), From(3, 0, Phase::kWait)}, true);
+  ASSERT_EQ(state_.phase, Phase::kVote);
+  MemberSet expected_view;
+  for (const uint16_t id : {1, 2, 3}) expected_view.set(id);
+  EXPECT_EQ(state_.view, expected_view) << "the view robots 1 and 3 reach when 0 hears only some of them";
 }
 
 TEST_F(SynchronizerTest, ARobotAloneIsNotFollowedButWaitsForAGroupBehindIt) {

@@ -40,7 +40,7 @@ Beacon golden_beacon() {
 // Version 2 for 32 robots, written out by hand from docs/beacon.md: any
 // change to the layout shows up here.
 const Bytes kGoldenBytes = {
-    0x02,                                                  // version
+    0x03,                                                  // version
     0x11,                                                  // robot_id 17
     0x34, 0x12,                                            // epoch 0x1234
     0x36,                                                  // phase 2, mode 1, payload_length 3

@@ -50,7 +50,7 @@ TEST(RenderLayoutTableTest, ListsEveryFieldWithOffsetSizeAndRange) {
   const std::string table = rendered_table(32);
 
   EXPECT_EQ(table.rfind("| Offset | Size | Field | Meaning |\n| --- | --- | --- | --- |\n", 0), 0u);
-  EXPECT_NE(table.find("| 0 | 1 byte | version | layout version; always 2 |\n"), std::string::npos);
+  EXPECT_NE(table.find("| 0 | 1 byte | version | layout version; always 3 |\n"), std::string::npos);
   EXPECT_NE(table.find("| 1 | 1 byte | robot_id | sender's robot id; 0 to 31 |\n"),
             std::string::npos);
   EXPECT_NE(

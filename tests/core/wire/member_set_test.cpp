@@ -98,6 +98,26 @@ TEST(MemberSetTest, UnionIntersectionAndIncludesSeeHighMembers) {
   EXPECT_EQ(high.next_member(2), MemberSet::kCapacity);
 }
 
+TEST(MemberSetTest, DifferenceRemovesOnlyTheOthersMembersInEveryWord) {
+  MemberSet a;
+  a.set(1);
+  a.set(40);
+  a.set(MemberSet::kCapacity - 1);
+  MemberSet b;
+  b.set(40);
+  b.set(2);
+  a -= b;
+  EXPECT_TRUE(a.test(1));
+  EXPECT_FALSE(a.test(40));
+  EXPECT_TRUE(a.test(MemberSet::kCapacity - 1));
+  EXPECT_FALSE(a.test(2));
+  EXPECT_EQ(a.count(), 2);
+  MemberSet all = a;
+  all -= a;
+  EXPECT_TRUE(all.empty());
+  EXPECT_EQ(all, MemberSet{});
+}
+
 TEST(MemberSetTest, WordsHoldThirtyTwoMembersLowBitFirst) {
   MemberSet set;
   EXPECT_EQ(set.word_count(), 0u);

@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
     }
     if (garbage_writer != 0) {
       std::vector<uint8_t> bytes(syrof::wire::EncodedSize(static_cast<uint16_t>(robots)), 0);
-      bytes[0] = 0x7F;  // not version 2
+      bytes[0] = 0x7F;  // not version 3
       syrof_msg_dds__Beacon_ sample{};
       sample.round = static_cast<uint32_t>(round);
       sample.wire._maximum = sample.wire._length = static_cast<uint32_t>(bytes.size());

@@ -57,7 +57,7 @@ std::string DecodeBeacon(const std::vector<uint8_t>& bytes, unsigned swarm, Deco
   const size_t id_bytes = swarm <= 256 ? 1 : 2;
   const size_t waiting_bytes = (swarm + 7) / 8;
   const size_t size = 1 + id_bytes + 2 + 1 + 1 + waiting_bytes + 5 * 2 + 9;
-  if (bytes.empty() || bytes[0] != 2) return "wrong version";
+  if (bytes.empty() || bytes[0] != 3) return "wrong version";  // docs/beacon.md, "Version"
   if (bytes.size() < size) return "truncated";
   if (bytes.size() > size) return "trailing bytes";
   size_t at = 1;

@@ -61,10 +61,23 @@ struct SyncStats {
   uint32_t joins_started = 0;
   uint32_t restarts_after_gap = 0;   // rejoined: missed F or more rounds (a pause)
   uint32_t restarts_long_stay = 0;   // rejoined: kMaxStayRounds in one epoch
-  uint32_t exclusions = 0;           // members excluded for voting without this robot
+  uint32_t prunings = 0;             // times the connectivity rule changed whom it leaves out
 
   bool operator==(const SyncStats&) const = default;
 };
+
+/// A heard set another robot sent in a PROGRESS beacon ("Connectivity").
+struct Report {
+  uint16_t reporter = 0;
+  MemberSet heard;  // the reporter itself and the members it hears well
+
+  bool operator==(const Report&) const = default;
+};
+
+/// Reports a robot keeps: only those that differ from its own member set
+/// (in a swarm where everyone hears everyone there are none). Beyond this,
+/// the reports of the highest ids are not kept.
+inline constexpr size_t kMaxReports = wire::kMaxSwarmSize < 16 ? wire::kMaxSwarmSize : 16;
 
 /// One robot's synchronizer state: plain data, copyable, so tests can store
 /// and compare global states. Fields follow docs/protocol.md, "State".
@@ -94,16 +107,19 @@ struct SyncState {
   uint16_t rounds_joining = 0;    // joining: rounds since it was last a member (saturates)
   uint16_t join_credit = kMaxJoinCredit;  // epochs a join may still skip forward
 
-  // "Exclusion": members heard voting with a view without this robot in two
-  // of their epochs (a strike, then exclusion); an excluded robot's beacons
-  // are ignored until one names this robot again.
-  MemberSet struck;
-  std::array<uint16_t, wire::kMaxSwarmSize> struck_epoch{};  // the epoch of each strike
-  MemberSet excluded;
-  // Robots added to the members in the current and in the previous epoch:
-  // their views may not name this robot yet, so they are not excluded.
-  MemberSet added_current;
-  MemberSet added_previous;
+  // "Connectivity" (docs/protocol.md): whom this robot hears well, what the
+  // others report hearing, and the members left out so that every pair of
+  // the rest hears each other both ways.
+  MemberSet flaky_current;   // members the failure detector removed in this epoch
+  MemberSet flaky_previous;  // ... and in the previous one
+  MemberSet flaky;           // removed in two epochs in a row, and in every epoch since
+  MemberSet reported;        // whose report is in `reports` (sorted pool)
+  std::array<Report, kMaxReports> reports{};  // reports that differ from `members`
+  uint8_t report_count = 0;
+  MemberSet pruned;          // left out by the rule; may include this robot
+  bool pruned_stale = true;  // the inputs of `pruned` changed since it was computed
+  MemberSet pruned_members;  // `members` when `pruned` was computed
+  MemberSet pruned_heard;    // this robot's heard set then
 
   std::array<uint16_t, wire::kMaxSwarmSize> silent_rounds{};  // per member, consecutive
   std::array<wire::Snapshot, wire::kMaxSwarmSize> snapshots{};      // valid where `held`

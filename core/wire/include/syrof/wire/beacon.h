@@ -20,7 +20,9 @@ namespace syrof::wire {
 /// Version of the layout in beacon_layout.h; a decoder rejects any other.
 ///   1: the first layout.
 ///   2: the mode takes one bit; the freed bit is `presence_only`.
-inline constexpr uint8_t kBeaconVersion = 2;
+///   3: the same bytes; a PROGRESS beacon's set is its sender's heard set
+///      (docs/protocol.md, "Connectivity"), no longer its waiting set.
+inline constexpr uint8_t kBeaconVersion = 3;
 
 /// Most bytes an application may send per round (sendMessageData).
 inline constexpr size_t kMaxPayloadBytes = 9;
@@ -89,7 +91,7 @@ struct Beacon {
   Mode mode = Mode::kCooperative;
   bool presence_only = false;  // a joiner's position report; not for the synchronizer
   uint8_t vote_counter = 0;    // rounds counted in VOTE (docs/protocol.md)
-  MemberSet waiting;           // members the sender knows to be waiting, ids < swarm size
+  MemberSet waiting;           // WAIT: members known to be waiting; VOTE: the view; PROGRESS: the heard set; ids < swarm size
   Snapshot snapshot;           // pose, velocity and payload (the wire order is beacon_layout.h's)
 
   bool operator==(const Beacon& other) const = default;

@@ -68,7 +68,8 @@ constexpr void DescribeBeacon(Codec& codec, BeaconT& beacon, uint16_t swarm_size
   codec.number({"payload_length", "payload bytes in use"}, 4, beacon.snapshot.payload_length, uint8_t{0},
                uint8_t{kMaxPayloadBytes}, WireError::kPayloadTooLong);
   codec.number({"vote_counter", "rounds counted in VOTE"}, 8, beacon.vote_counter);
-  codec.members({"waiting", "members the sender knows to be waiting"}, beacon.waiting, swarm_size,
+  codec.members({"waiting", "WAIT: members known to be waiting; VOTE: the view; PROGRESS: whom the sender hears well"},
+                beacon.waiting, swarm_size,
                 WireError::kMemberOutOfRange);
   codec.number({"x_mm", "position x, millimetres"}, 16, beacon.snapshot.x_mm);
   codec.number({"y_mm", "position y, millimetres"}, 16, beacon.snapshot.y_mm);

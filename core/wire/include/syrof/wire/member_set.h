@@ -155,6 +155,13 @@ class MemberSet {
     return *this;
   }
 
+  /// Difference: removes every member of `other`.
+  constexpr MemberSet& operator-=(const MemberSet& other) {
+    const size_t used = used_ < other.used_ ? used_ : other.used_;
+    for (size_t i = 0; i < used; ++i) words_[i] &= ~other.words_[i];
+    return *this;
+  }
+
   /// Same members (however each set came to hold them).
   constexpr bool operator==(const MemberSet& other) const {
     const size_t used = used_ > other.used_ ? used_ : other.used_;

@@ -254,6 +254,8 @@ class Collector {
 
   int64_t interventions_ = 0;
   std::vector<int64_t> robot_interventions_;  // by robot id
+  std::vector<int64_t> robot_starts_;         // by robot id
+  std::vector<int64_t> robot_cooperative_starts_;  // by robot id
   std::vector<SafetyIntervention> first_interventions_;
   int64_t join_waits_ = 0;
 

@@ -206,6 +206,8 @@ struct CommonKnowledgeMetrics {
   int64_t mode_disagreement_rounds = 0;     ///< all rounds with a disagreement
   int64_t mixed_mode_epochs = 0;            ///< P4 per epoch: epochs started in both modes
   int64_t mixed_mode_robot_epochs = 0;      ///< the starts (robot-epochs) of those epochs
+  std::vector<int64_t> starts_by_robot;     ///< epoch starts of each robot, by id
+  std::vector<int64_t> cooperative_starts_by_robot;  ///< COOPERATIVE ones, by id
 };
 
 struct CollisionMetrics {
