@@ -524,6 +524,7 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
   kept -= state.pruned;
   kept.set(self);
   if (state.phase == Phase::kWait && (state.waiting.includes(kept) || highest_vote > 0)) {
+    if (highest_vote > 0) ++state.stats.late_votes;
     state.phase = Phase::kVote;
     state.view = kept;
     state.vote = 0;

@@ -62,6 +62,7 @@ struct SyncStats {
   uint32_t restarts_after_gap = 0;   // rejoined: missed F or more rounds (a pause)
   uint32_t restarts_long_stay = 0;   // rejoined: kMaxStayRounds in one epoch
   uint32_t prunings = 0;             // times the connectivity rule changed whom it leaves out
+  uint32_t late_votes = 0;           // VOTE entered when a member was already voting (fewer than K own votes)
 
   bool operator==(const SyncStats&) const = default;
 };
