@@ -174,6 +174,29 @@ bool ReadGroups(const YamlNode& node, const std::string& path, const Scenario& s
   return true;
 }
 
+// An entry's `start_s` and `end_s` (both present, checked by the caller): a
+// window [start_s, end_s) that starts before the run ends and is not empty.
+bool ReadWindow(const YamlNode& entry, const std::string& entry_path, double duration_s, double& start_s,
+                double& end_s, Diagnostics& diagnostics) {
+  const YamlNode& start = *entry.Find("start_s");
+  const YamlNode& end = *entry.Find("end_s");
+  if (!ReadNumber(start, JoinPath(entry_path, "start_s"), kTimeOfRun, start_s, diagnostics) ||
+      !ReadNumber(end, JoinPath(entry_path, "end_s"), kTimeOfRun, end_s, diagnostics)) {
+    return false;
+  }
+  if (start_s >= duration_s) {
+    return FailAt(start, JoinPath(entry_path, "start_s"),
+                  "starts at " + FormatNumber(start_s) + " s, at or after the end of the run (duration_s = " +
+                      FormatNumber(duration_s) + ")",
+                  diagnostics);
+  }
+  if (end_s <= start_s) {
+    return FailAt(end, JoinPath(entry_path, "end_s"),
+                  "must be greater than start_s (" + FormatNumber(start_s) + "), got " + end.scalar, diagnostics);
+  }
+  return true;
+}
+
 bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostics) {
   static constexpr std::string_view kKeys[] = {"start_s", "end_s", "groups"};
   const std::string path = "channel.partitions";
@@ -187,23 +210,7 @@ bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagn
       if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
     }
     world::PartitionSpec partition;
-    const YamlNode& start = *entry.Find("start_s");
-    const YamlNode& end = *entry.Find("end_s");
-    if (!ReadNumber(start, JoinPath(entry_path, "start_s"), kTimeOfRun, partition.start_s, diagnostics) ||
-        !ReadNumber(end, JoinPath(entry_path, "end_s"), kTimeOfRun, partition.end_s, diagnostics)) {
-      return false;
-    }
-    if (partition.start_s >= duration_s) {
-      return FailAt(start, JoinPath(entry_path, "start_s"),
-                    "starts at " + FormatNumber(partition.start_s) + " s, at or after the end of the run (duration_s = " +
-                        FormatNumber(duration_s) + ")",
-                    diagnostics);
-    }
-    if (partition.end_s <= partition.start_s) {
-      return FailAt(end, JoinPath(entry_path, "end_s"),
-                    "must be greater than start_s (" + FormatNumber(partition.start_s) + "), got " + end.scalar,
-                    diagnostics);
-    }
+    if (!ReadWindow(entry, entry_path, duration_s, partition.start_s, partition.end_s, diagnostics)) return false;
     for (size_t j = 0; j < scenario.channel.partitions.size(); ++j) {
       const world::PartitionSpec& other = scenario.channel.partitions[j];
       if (partition.start_s < other.end_s && other.start_s < partition.end_s) {
@@ -234,28 +241,15 @@ bool ReadCuts(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostics
       if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
     }
     world::CutSpec cut;
-    const YamlNode& start = *entry.Find("start_s");
-    const YamlNode& end = *entry.Find("end_s");
     if (!ReadRobotId(*entry.Find("from"), JoinPath(entry_path, "from"), scenario, cut.from, diagnostics) ||
-        !ReadRobotId(*entry.Find("to"), JoinPath(entry_path, "to"), scenario, cut.to, diagnostics) ||
-        !ReadNumber(start, JoinPath(entry_path, "start_s"), kTimeOfRun, cut.start_s, diagnostics) ||
-        !ReadNumber(end, JoinPath(entry_path, "end_s"), kTimeOfRun, cut.end_s, diagnostics)) {
+        !ReadRobotId(*entry.Find("to"), JoinPath(entry_path, "to"), scenario, cut.to, diagnostics)) {
       return false;
     }
     if (cut.from == cut.to) {
       return FailAt(entry, entry_path,
                     "a cut joins two different robots (from = to = " + std::to_string(cut.from) + ")", diagnostics);
     }
-    if (cut.start_s >= duration_s) {
-      return FailAt(start, JoinPath(entry_path, "start_s"),
-                    "starts at " + FormatNumber(cut.start_s) + " s, at or after the end of the run (duration_s = " +
-                        FormatNumber(duration_s) + ")",
-                    diagnostics);
-    }
-    if (cut.end_s <= cut.start_s) {
-      return FailAt(end, JoinPath(entry_path, "end_s"),
-                    "must be greater than start_s (" + FormatNumber(cut.start_s) + "), got " + end.scalar, diagnostics);
-    }
+    if (!ReadWindow(entry, entry_path, duration_s, cut.start_s, cut.end_s, diagnostics)) return false;
     if (const YamlNode* both = entry.Find("both_ways")) {
       if (both->scalar == "true") {
         cut.both_ways = true;
