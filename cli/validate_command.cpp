@@ -44,9 +44,9 @@ int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::o
   fmt::print(out, "  {} robots ({} placement), radio round {} s, maneuver {} s, K {}, F {}, {} s\n", s.robots.size(),
              scenario::ToString(s.placement), s.timing.radio_round_s, s.timing.app_round_s, s.timing.vote_rounds,
              s.timing.silence_rounds, s.timing.duration_s);
-  fmt::print(out, "  channel {} (loss {}), {} link overrides, {} partitions, {} faults\n",
+  fmt::print(out, "  channel {} (loss {}), {} link overrides, {} partitions, {} cuts, {} faults\n",
              lab::world::ToString(s.channel.model), s.channel.loss, s.channel.links.size(), s.channel.partitions.size(),
-             s.faults.size());
+             s.channel.cuts.size(), s.faults.size());
   for (const scenario::RobotSpec& robot : s.robots) {
     fmt::print(out, "    robot {:>4} {:<5} at ({:.3f}, {:.3f}) heading {:.3f}{}\n", robot.id,
                lab::world::ToString(robot.kind), robot.x_m, robot.y_m, robot.heading_rad,
