@@ -112,6 +112,17 @@ bool CheckChannelKeys(const YamlNode& node, world::ChannelModel model, Diagnosti
   return true;
 }
 
+// One entry of a channel list: a map with only `keys`, of which the first
+// `required` must be present.
+bool ExpectEntry(const YamlNode& entry, const std::string& entry_path, std::span<const std::string_view> keys,
+                 size_t required, Diagnostics& diagnostics) {
+  if (!ExpectMap(entry, entry_path, diagnostics) || !CheckKeys(entry, entry_path, keys, diagnostics)) return false;
+  for (std::string_view key : keys.first(required)) {
+    if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
+  }
+  return true;
+}
+
 bool ReadLinks(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostics) {
   static constexpr std::string_view kKeys[] = {"from", "to", "loss"};
   const std::string path = "channel.links";
@@ -120,10 +131,7 @@ bool ReadLinks(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostic
   for (size_t i = 0; i < node.values.size(); ++i) {
     const YamlNode& entry = node.values[i];
     const std::string entry_path = IndexPath(path, i);
-    if (!ExpectMap(entry, entry_path, diagnostics) || !CheckKeys(entry, entry_path, kKeys, diagnostics)) return false;
-    for (std::string_view key : kKeys) {
-      if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
-    }
+    if (!ExpectEntry(entry, entry_path, kKeys, std::size(kKeys), diagnostics)) return false;
     world::LinkLossSpec link;
     if (!ReadRobotId(*entry.Find("from"), JoinPath(entry_path, "from"), scenario, link.from, diagnostics) ||
         !ReadRobotId(*entry.Find("to"), JoinPath(entry_path, "to"), scenario, link.to, diagnostics) ||
@@ -205,10 +213,7 @@ bool ReadPartitions(const YamlNode& node, Scenario& scenario, Diagnostics& diagn
   for (size_t i = 0; i < node.values.size(); ++i) {
     const YamlNode& entry = node.values[i];
     const std::string entry_path = IndexPath(path, i);
-    if (!ExpectMap(entry, entry_path, diagnostics) || !CheckKeys(entry, entry_path, kKeys, diagnostics)) return false;
-    for (std::string_view key : kKeys) {
-      if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
-    }
+    if (!ExpectEntry(entry, entry_path, kKeys, std::size(kKeys), diagnostics)) return false;
     world::PartitionSpec partition;
     if (!ReadWindow(entry, entry_path, duration_s, partition.start_s, partition.end_s, diagnostics)) return false;
     for (size_t j = 0; j < scenario.channel.partitions.size(); ++j) {
@@ -236,10 +241,7 @@ bool ReadCuts(const YamlNode& node, Scenario& scenario, Diagnostics& diagnostics
   for (size_t i = 0; i < node.values.size(); ++i) {
     const YamlNode& entry = node.values[i];
     const std::string entry_path = IndexPath(path, i);
-    if (!ExpectMap(entry, entry_path, diagnostics) || !CheckKeys(entry, entry_path, kKeys, diagnostics)) return false;
-    for (std::string_view key : {"from", "to", "start_s", "end_s"}) {
-      if (!RequireKey(entry, entry_path, key, diagnostics)) return false;
-    }
+    if (!ExpectEntry(entry, entry_path, kKeys, 4, diagnostics)) return false;  // both_ways is optional
     world::CutSpec cut;
     if (!ReadRobotId(*entry.Find("from"), JoinPath(entry_path, "from"), scenario, cut.from, diagnostics) ||
         !ReadRobotId(*entry.Find("to"), JoinPath(entry_path, "to"), scenario, cut.to, diagnostics)) {
