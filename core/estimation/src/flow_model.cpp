@@ -74,21 +74,25 @@ Eigen::Matrix<Scalar, 2, kStateSize> BodyVelocityJacobian(const StateVector<Scal
 }
 
 template <typename Scalar>
-EstimationError FuseBodyVelocity(Ekf<Scalar>& filter, const BodyVelocity<Scalar>& velocity, Scalar gate_sigma) {
+EstimationError FuseBodyVelocity(Ekf<Scalar>& filter, const BodyVelocity<Scalar>& velocity, Scalar gate_sigma,
+                                 Scalar heading_min_speed_mps) {
   if (!std::isfinite(velocity.forward_mps) || !std::isfinite(velocity.left_mps) || !(velocity.sigma_mps > 0) ||
       !std::isfinite(velocity.sigma_mps)) {
     return EstimationError::kInvalidMeasurement;
   }
-  const Scalar variance = velocity.sigma_mps * velocity.sigma_mps;
   const StateVector<Scalar> prior = filter.state();
   const Scalar cos_heading = std::cos(prior[kStateHeading]);
   const Scalar sin_heading = std::sin(prior[kStateHeading]);
   const Scalar forward = cos_heading * prior[kStateVx] + sin_heading * prior[kStateVy];
   const Scalar left = -sin_heading * prior[kStateVx] + cos_heading * prior[kStateVy];
+  const Scalar squared_speed = forward * forward + left * left;
+  const bool sees_heading = squared_speed >= heading_min_speed_mps * heading_min_speed_mps;
+  Scalar variance = velocity.sigma_mps * velocity.sigma_mps;
+  if (!sees_heading) variance += squared_speed * filter.covariance()(kStateHeading, kStateHeading);
 
   ScalarMeasurement<Scalar> measurement;
   measurement.variance = variance;
-  measurement.count = 3;
+  measurement.count = sees_heading ? 3 : 2;
   measurement.index[0] = kStateVx;
   measurement.index[1] = kStateVy;
   measurement.index[2] = kStateHeading;
@@ -102,7 +106,7 @@ EstimationError FuseBodyVelocity(Ekf<Scalar>& filter, const BodyVelocity<Scalar>
   const StateVector<Scalar>& posterior = filter.state();
   measurement.jacobian[0] = -sin_heading;
   measurement.jacobian[1] = cos_heading;
-  measurement.jacobian[2] = -forward;
+  measurement.jacobian[2] = sees_heading ? -forward : Scalar{0};
   const Scalar heading_change = WrapAngle<Scalar>(posterior[kStateHeading] - prior[kStateHeading]);
   const Scalar predicted_left = left + measurement.jacobian[0] * (posterior[kStateVx] - prior[kStateVx]) +
                                 measurement.jacobian[1] * (posterior[kStateVy] - prior[kStateVy]) +
@@ -123,7 +127,7 @@ EstimationError FuseBodyVelocity(Ekf<Scalar>& filter, const BodyVelocity<Scalar>
       const FlowReading&, const FlowGeometry<Scalar>&, Scalar);                                               \
   template Vector2<Scalar> PredictBodyVelocity<Scalar>(const StateVector<Scalar>&);                          \
   template Eigen::Matrix<Scalar, 2, kStateSize> BodyVelocityJacobian<Scalar>(const StateVector<Scalar>&);    \
-  template EstimationError FuseBodyVelocity<Scalar>(Ekf<Scalar>&, const BodyVelocity<Scalar>&, Scalar);
+  template EstimationError FuseBodyVelocity<Scalar>(Ekf<Scalar>&, const BodyVelocity<Scalar>&, Scalar, Scalar);
 
 SYROF_INSTANTIATE_FLOW_MODEL(float)
 SYROF_INSTANTIATE_FLOW_MODEL(double)

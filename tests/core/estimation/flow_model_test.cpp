@@ -112,6 +112,30 @@ TEST(FuseBodyVelocityTest, EqualsTheJointTwoDimensionalUpdate) {
   }
 }
 
+// Below the minimum speed the heading's row and column are untouched (its
+// correlations with the velocity may still move it, so the prior here has
+// none); above it, the same reading turns the heading.
+TEST(FuseBodyVelocityTest, ANearlyStillRobotLearnsNothingOfItsHeading) {
+  StateVector<double> prior;
+  prior << 1, 1, 0.03, -0.02, 0.4, 0.001;  // 3.6 cm/s of velocity noise at rest
+  StateVector<double> sigma;
+  sigma << 0.05, 0.05, 0.05, 0.05, 0.3, 0.005;
+  const BodyVelocity<double> still{0.02, -0.01, 0.03};  // a noisy reading at rest
+
+  Ekf<double> slow;
+  slow.Reset(prior, sigma);
+  ASSERT_EQ(FuseBodyVelocity(slow, still, 0.0, 0.1), EstimationError::kOk);
+  EXPECT_EQ(slow.state()[kStateHeading], prior[kStateHeading]);
+  EXPECT_EQ(slow.covariance()(kStateHeading, kStateHeading), sigma[kStateHeading] * sigma[kStateHeading]);
+  EXPECT_LT(std::hypot(slow.state()[kStateVx], slow.state()[kStateVy]), 0.036);  // the velocity is still corrected
+
+  Ekf<double> full;
+  full.Reset(prior, sigma);
+  ASSERT_EQ(FuseBodyVelocity(full, still, 0.0), EstimationError::kOk);  // 0: the full Jacobian always
+  EXPECT_NE(full.state()[kStateHeading], prior[kStateHeading]);
+  EXPECT_LT(full.covariance()(kStateHeading, kStateHeading), sigma[kStateHeading] * sigma[kStateHeading]);
+}
+
 TEST(FuseBodyVelocityTest, RefusesInvalidVelocities) {
   Ekf<float> filter;
   EXPECT_EQ(FuseBodyVelocity(filter, BodyVelocity<float>{std::nanf(""), 0, 0.1f}, 0.0f),

@@ -152,6 +152,7 @@ void Estimator<Scalar>::RunKalmanStep(int64_t now_ns) {
   int first_sweep = 0;
   if (batch.has_pose) {
     StartFilter(filter_, batch.pose, config_);
+    zero_rate_detector_.Reset();
     initialized_ = true;
     last_step_ns_ = now_ns;
     last_range_fused_ns_ = now_ns;
@@ -181,11 +182,17 @@ void Estimator<Scalar>::RunKalmanStep(int64_t now_ns) {
     const Scalar dt_s = static_cast<Scalar>(step_ns) / static_cast<Scalar>(1e9);
     if (imu_missing) {
       filter_.PredictWithoutImu(dt_s);
+      zero_rate_detector_.Reset();
     } else {
       filter_.Predict(dt_s, imu);
+      const Scalar turning_radps = imu.yaw_rate_radps - filter_.state()[kStateGyroBias];
+      if (zero_rate_detector_.Step(config_.zero_rate, turning_radps, now_ns) &&
+          FuseZeroRate(filter_, imu.yaw_rate_radps, config_.zero_rate) == EstimationError::kOk) {
+        ++counters_.zero_rate_fused;
+      }
     }
     for (int i = 0; i < batch.flow_count; ++i) {
-      if (FuseBodyVelocity(filter_, batch.flow[i], config_.flow_gate_sigma) == EstimationError::kOk) {
+      if (FuseBodyVelocity(filter_, batch.flow[i], config_.flow_gate_sigma, config_.flow_heading_min_speed_mps) == EstimationError::kOk) {
         ++counters_.flow_fused;
       } else {
         ++counters_.flow_rejected;

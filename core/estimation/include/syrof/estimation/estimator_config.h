@@ -8,6 +8,7 @@
 #include "syrof/estimation/arena.h"
 #include "syrof/estimation/ekf.h"
 #include "syrof/estimation/flow_model.h"
+#include "syrof/estimation/zero_rate_model.h"
 
 namespace syrof::estimation {
 
@@ -23,6 +24,10 @@ struct EstimatorConfig {
   /// are outliers (3.5: a good range is lost once in 2000).
   Scalar range_gate_sigma = static_cast<Scalar>(3.5);
   Scalar flow_gate_sigma = 5;
+  /// Flow readings tell the heading only above this speed (FuseBodyVelocity).
+  Scalar flow_heading_min_speed_mps = static_cast<Scalar>(0.1);
+  /// Zero-rate updates while the robot does not turn (zero_rate_model.h).
+  ZeroRateConfig<Scalar> zero_rate{};
   /// A sweep is inconsistent when the gate rejects two or more of its
   /// ranges. After this many inconsistent sweeps in a row the estimate is
   /// lost (the robot was carried away, or the filter settled on a wrong

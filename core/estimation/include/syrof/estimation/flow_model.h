@@ -94,7 +94,16 @@ Eigen::Matrix<Scalar, 2, kStateSize> BodyVelocityJacobian(const StateVector<Scal
 /// makes the pair exactly the EKF's joint two-dimensional update (and needs
 /// one sine and cosine, not two). Returns kOk if both were fused, else the
 /// first error.
+///
+/// Below `heading_min_speed_mps` (the prior's speed) the readings say
+/// nothing about the heading, and the filter is not told they do: H's heading
+/// entries are dropped and what they would have carried (speed^2 times the
+/// heading's variance) is added to R. Linearized at a near-zero velocity
+/// estimate, the full H turns velocity noise into heading "corrections" with
+/// ever smaller variance: a robot at rest ended 0.6 rad off its heading,
+/// claiming 0.05 (docs/estimation.md, "At rest"). 0 keeps the full H always.
 template <typename Scalar>
-EstimationError FuseBodyVelocity(Ekf<Scalar>& filter, const BodyVelocity<Scalar>& velocity, Scalar gate_sigma);
+EstimationError FuseBodyVelocity(Ekf<Scalar>& filter, const BodyVelocity<Scalar>& velocity, Scalar gate_sigma,
+                                 Scalar heading_min_speed_mps = 0);
 
 }  // namespace syrof::estimation

@@ -54,6 +54,7 @@ struct EstimatorCounters {
   uint32_t ranges_rejected = 0;  ///< gated, screened out or invalid
   uint32_t relocalizations = 0;  ///< position variance inflated after inconsistent sweeps
   uint32_t fixes = 0;            ///< sweeps that placed the robot by least squares (the first one included)
+  uint32_t zero_rate_fused = 0;  ///< steps that measured the gyro bias at rest (zero_rate_model.h)
   uint32_t readings_dropped = 0;  ///< invalid readings, or queues full because the Kalman task fell behind
 };
 
@@ -150,6 +151,7 @@ class Estimator {
   int64_t last_step_ns_ = 0;
   int64_t last_range_fused_ns_ = 0;
   int inconsistent_sweeps_ = 0;
+  ZeroRateDetector<Scalar> zero_rate_detector_;
   EstimatorCounters counters_;
   StateEstimate last_estimate_{};
 };
