@@ -15,6 +15,9 @@ constexpr float kFeasibilityToleranceMps = 1e-4f;
 constexpr float kMinDistanceM = 1e-4f;
 // Directions with |h . n| below this do not constrain a rover's forward speed.
 constexpr float kParallelEpsilon = 1e-6f;
+constexpr float kPiF = 3.14159265f;
+// Below this speed (m/s) a command gives no direction to turn.
+constexpr float kMinSpeedMps = 1e-6f;
 
 float Dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 
@@ -84,7 +87,7 @@ void SafetyFilter::Keep(const Constraint& constraint, float slack) {
   }
 }
 
-void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64_t now_ns) {
+void SafetyFilter::Collect(float x, float y, float own_sigma_m, const SafetyReports& reports, int64_t now_ns) {
   count_ = 0;
   // Against another robot this one brakes with half its deceleration: the
   // other may be closing in too, and brakes with half of its own, so the two
@@ -93,7 +96,10 @@ void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64
   // A linear constraint whose bound reaches the speed limit cannot bind.
   const float reach_m = std::max(own_max_speed_mps_ / config_.gain_per_s,
                                  own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * shared_braking_mps2));
-  const float base_m = own_radius_m_ + config_.others_radius_m + config_.margin_m;
+  // The margin covers each robot's error up to half of it; this robot's own
+  // doubt beyond that grows every disc.
+  const float own_excess_m = std::max(0.0f, config_.own_sigmas * own_sigma_m - 0.5f * config_.margin_m);
+  const float base_m = own_radius_m_ + config_.others_radius_m + config_.margin_m + own_excess_m;
   // A first, integer-only test in millimetres against the largest disc any
   // report can have (a full horizon's growth): on a soft-float core most
   // robots are rejected without one float operation.
@@ -159,6 +165,44 @@ void SafetyFilter::Collect(float x, float y, const SafetyReports& reports, int64
       Keep(constraint, gaps[wall]);
     }
   }
+}
+
+// The largest s in [0, 1] such that s u keeps every constraint when the
+// body moves along u turned by any angle up to doubt_rad (< pi/2). With a
+// the angle between u and n, a linear constraint's worst turn brings u
+// closest to n: |u| cos(max(0, a - doubt)), which is |u| when a <= doubt and
+// |u| (cos a cos doubt + sin a sin doubt) otherwise. A cone (inside a disc,
+// u . -n >= bound |u|) admits u only if every turn of it stays inside: the
+// cosine of the angle between u and -n at least cos(acos(bound) - doubt) =
+// bound cos doubt + sqrt(1 - bound^2) sin doubt; otherwise only a stop does.
+// Square roots only: fine on a soft-float core.
+float SafetyFilter::HeadingRobustScale(float ux, float uy, float doubt_rad) const {
+  const float speed = std::sqrt(ux * ux + uy * uy);
+  if (speed < kMinSpeedMps || doubt_rad <= 0.0f) return 1.0f;
+  const float dx = ux / speed;
+  const float dy = uy / speed;
+  const float cos_doubt = std::cos(doubt_rad);
+  const float sin_doubt = std::sin(doubt_rad);
+  float scale = 1.0f;
+  for (size_t i = 0; i < count_; ++i) {
+    const Constraint& c = constraints_[i];
+    const float cos_a = Dot(dx, dy, c.nx, c.ny);
+    const float sin_a = std::fabs(dx * c.ny - dy * c.nx);
+    if (c.cone) {
+      if (c.bound >= 1.0f) return 0.0f;
+      const float sin_phi = std::sqrt(std::max(0.0f, 1.0f - c.bound * c.bound));
+      // acos(bound) - doubt < 0: no direction is inside every turn.
+      if (sin_phi < sin_doubt && c.bound >= 0.0f) return 0.0f;
+      if (-cos_a < c.bound * cos_doubt + sin_phi * sin_doubt) return 0.0f;
+      continue;
+    }
+    const float worst_cos = cos_a >= cos_doubt ? 1.0f : cos_a * cos_doubt + sin_a * sin_doubt;
+    const float worst_along = speed * worst_cos;
+    if (worst_along <= c.bound) continue;
+    if (c.bound <= 0.0f) return 0.0f;
+    scale = std::min(scale, c.bound / worst_along);
+  }
+  return scale;
 }
 
 void SafetyFilter::LimitOmni(float& vx, float& vy) const {
@@ -258,7 +302,17 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
   const float desired_forward = wheels ? 0.5f * (desired.left_mps + desired.right_mps) : 0.0f;
   const bool moving = wheels ? desired_forward != 0.0f : (desired_vx != 0.0f || desired_vy != 0.0f);
   count_ = 0;
-  if (moving) Collect(estimate.x_m, estimate.y_m, reports, now_ns);
+  // A sigma that is not a number says nothing good: the largest doubt.
+  const float position_sigma_m = std::max(estimate.sigma_x_m, estimate.sigma_y_m);
+  const float own_sigma_m = std::isfinite(position_sigma_m)
+                                ? std::clamp(position_sigma_m, 0.0f, config_.max_own_sigma_m)
+                                : config_.max_own_sigma_m;
+  const float heading_doubt_rad =
+      std::isfinite(estimate.sigma_heading_rad)
+          ? std::clamp(config_.heading_sigmas * estimate.sigma_heading_rad - config_.heading_free_rad, 0.0f,
+                       0.5f * kPiF)
+          : 0.5f * kPiF;
+  if (moving) Collect(estimate.x_m, estimate.y_m, own_sigma_m, reports, now_ns);
   if (count_ == 0) return desired;
 
   DriveCommand limited = desired;
@@ -269,7 +323,8 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
   const float hy = std::sin(estimate.heading_rad);
   if (wheels) {
     const float half_difference = 0.5f * (desired.right_mps - desired.left_mps);
-    const float forward = LimitForward(desired_forward, hx, hy);
+    float forward = LimitForward(desired_forward, hx, hy);
+    forward *= HeadingRobustScale(forward * hx, forward * hy, heading_doubt_rad);
     limited.left_mps = forward - half_difference;
     limited.right_mps = forward + half_difference;
     change = std::fabs(forward - desired_forward);
@@ -279,6 +334,9 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
     float vx = desired_vx;
     float vy = desired_vy;
     LimitOmni(vx, vy);
+    const float scale = HeadingRobustScale(vx, vy, heading_doubt_rad);
+    vx *= scale;
+    vy *= scale;
     limited.vx_mps = vx;
     limited.vy_mps = vy;
     change = std::sqrt((vx - desired_vx) * (vx - desired_vx) + (vy - desired_vy) * (vy - desired_vy));

@@ -412,9 +412,13 @@ void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t
 }
 
 // A joiner's start disc is clear when every other body in the arena is
-// farther than both radii, the safety margin and what a robot at the
-// swarm's speed limit covers in two radio rounds (the joiner's first
-// presence beacon reaches the others' filters after one or two rounds).
+// farther than both radii, the safety margin, what a robot at the swarm's
+// speed limit covers in two radio rounds (the joiner's first presence beacon
+// reaches the others' filters after one or two rounds) and the distance the
+// other body, at its speed now, needs to stop on the filter's braking curve
+// (v^2 / a: half the weakest deceleration, docs/safety.md). Without that
+// last term a robot driving at 0.45 m/s found a joiner switched on 7.5 cm
+// beyond its disc and could not stop (crowd_200_short, seed 2).
 bool Simulation::Impl::StartDiscClear(uint16_t robot) const {
   const scenario::RobotSpec& spec = scenario_.robots[robot];
   const motion::SafetyConfig safety = SafetyConfigFor(scenario_);
@@ -422,7 +426,9 @@ bool Simulation::Impl::StartDiscClear(uint16_t robot) const {
   for (uint16_t other = 0; other < world_.size(); ++other) {
     if (other == robot || world_.presence(other) == world::BodyPresence::kAbsent) continue;
     const world::BodyState& body = world_.state(other);
-    const double clearance_m = world_.body_radius_m(robot) + world_.body_radius_m(other) + reach_m;
+    const double squared_speed = body.vx_mps * body.vx_mps + body.vy_mps * body.vy_mps;
+    const double stopping_m = squared_speed / safety.others_braking_mps2;
+    const double clearance_m = world_.body_radius_m(robot) + world_.body_radius_m(other) + reach_m + stopping_m;
     if (std::hypot(body.x_m - spec.x_m, body.y_m - spec.y_m) < clearance_m) return false;
   }
   return true;

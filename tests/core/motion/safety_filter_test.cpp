@@ -246,6 +246,112 @@ TEST(SafetyFilterTest, AnInterventionStartsOnceUntilItHasBeenQuietForHalfASecond
 // Two robots driving head-on, each filtering against the other's report of
 // the previous 50 ms round (the lab's timing), never come closer than their
 // radii: the filter alone keeps them apart.
+estimation::StateEstimate Doubtful(float x, float y, float position_sigma, float heading_sigma, float heading = 0) {
+  estimation::StateEstimate estimate = At(x, y, heading);
+  estimate.sigma_x_m = position_sigma;
+  estimate.sigma_y_m = 0.5f * position_sigma;  // the larger of the two counts
+  estimate.sigma_heading_rad = heading_sigma;
+  return estimate;
+}
+
+TEST(SafetyFilterTest, OwnPositionDoubtGrowsEveryDisc) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.35f, 1.0f, false, 0, 0, 0.8f);  // gap 0.1 m when sure of itself
+  SafetyOutcome sure;
+  SafetyOutcome doubtful;
+
+  const DriveCommand approach = filter.Apply(DriveVelocity(0.4f, 0), At(1, 1), reports, 0, sure);
+  // sigma 0.0625 m, two of them less half the margin (0.025 m): the disc
+  // grows by 0.1 m and reaches this robot; only away or sideways.
+  const DriveCommand held = filter.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.0625f, 0), reports, 0, doubtful);
+  // Within half the margin nothing changes.
+  const DriveCommand usual = filter.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.0125f, 0), reports, 0, sure);
+  EXPECT_NEAR(usual.vx_mps, std::sqrt(0.08f), 1e-4f);
+
+  EXPECT_NEAR(approach.vx_mps, std::sqrt(0.08f), 1e-4f);
+  EXPECT_TRUE(doubtful.limited);
+  EXPECT_LE(held.vx_mps, 1e-4f);
+}
+
+TEST(SafetyFilterTest, ALostEstimateStopsNearOthersOnly) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.6f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+  // A relocalizing filter claims metres of doubt: capped at 0.5 m, two of
+  // them less 0.025 m, a disc of 1.225 m around a robot 0.6 m away.
+  const DriveCommand lost = filter.Apply(DriveVelocity(0.3f, 0.2f), Doubtful(1, 1, 3.0f, 0), reports, 0, outcome);
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_LE(lost.vx_mps, 1e-4f);  // nothing towards it
+
+  estimation::StateEstimate broken = At(1, 1);
+  broken.sigma_x_m = std::nanf("");  // a doubt that is not a number counts as the largest
+  const DriveCommand nan = filter.Apply(DriveVelocity(0.3f, 0), broken, reports, 0, outcome);
+  EXPECT_LE(nan.vx_mps, 1e-4f);
+
+  SafetyReports far;
+  far.ReportMetres(1, 0, 3.5f, 3.5f, false, 0, 0, 0.8f);
+  const DriveCommand alone = filter.Apply(DriveVelocity(0.3f, 0), Doubtful(1, 1, 3.0f, 0), far, 0, outcome);
+  EXPECT_FALSE(outcome.limited);
+  EXPECT_FLOAT_EQ(alone.vx_mps, 0.3f);
+}
+
+TEST(SafetyFilterTest, HeadingDoubtSlowsATangentThatATurnWouldBendInwards) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.27f, 1.0f, false, 0, 0, 0.8f);  // gap 0.02 m: u . n <= min(0.08, 0.126)
+  SafetyOutcome outcome;
+
+  const DriveCommand sure = filter.Apply(DriveVelocity(0, 0.3f), At(1, 1), reports, 0, outcome);
+  EXPECT_FLOAT_EQ(sure.vy_mps, 0.3f);  // a pure tangent is never limited
+  // A well-known heading (sigma 0.05 rad: two of them are the 0.1 rad the
+  // margin absorbs) changes nothing.
+  const DriveCommand known = filter.Apply(DriveVelocity(0, 0.3f), Doubtful(1, 1, 0, 0.05f), reports, 0, outcome);
+  EXPECT_FALSE(outcome.limited);
+  EXPECT_FLOAT_EQ(known.vy_mps, 0.3f);
+  // sigma 0.3 rad, two of them less 0.1: the body may move 0.5 rad off the
+  // tangent, 0.3 sin(0.5) towards the disc; scaled to keep 0.08.
+  const DriveCommand doubtful = filter.Apply(DriveVelocity(0, 0.3f), Doubtful(1, 1, 0, 0.3f), reports, 0, outcome);
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_NEAR(doubtful.vy_mps, 0.08f / std::sin(0.5f), 1e-4f);
+  EXPECT_NEAR(doubtful.vx_mps, 0, 1e-6f);
+  // Straight away from it stays away in every turn of half a radian.
+  const DriveCommand away = filter.Apply(DriveVelocity(-0.3f, 0), Doubtful(1, 1, 0, 0.3f), reports, 0, outcome);
+  EXPECT_FLOAT_EQ(away.vx_mps, -0.3f);
+}
+
+TEST(SafetyFilterTest, HeadingDoubtInsideADiscKeepsOnlyDirectionsSafeInEveryTurn) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.2f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+  const int64_t later = kSecond / 10;  // sin(phi) = 0.25: within acos(0.25) = 1.318 rad of straight away
+  // 1.2 rad off straight away (-x): inside the cone when sure.
+  const float vx = -0.3f * std::cos(1.2f);
+  const float vy = 0.3f * std::sin(1.2f);
+  const DriveCommand sure = filter.Apply(DriveVelocity(vx, vy), At(1, 1), reports, later, outcome);
+  EXPECT_FLOAT_EQ(sure.vx_mps, vx);
+  // A doubt of 2 x 0.15 - 0.1 = 0.2 rad could turn it to 1.4 rad, outside: stop.
+  const DriveCommand doubtful = filter.Apply(DriveVelocity(vx, vy), Doubtful(1, 1, 0, 0.15f), reports, later, outcome);
+  EXPECT_NEAR(doubtful.vx_mps, 0, 1e-6f);
+  EXPECT_NEAR(doubtful.vy_mps, 0, 1e-6f);
+  const DriveCommand away = filter.Apply(DriveVelocity(-0.3f, 0), Doubtful(1, 1, 0, 0.15f), reports, later, outcome);
+  EXPECT_FLOAT_EQ(away.vx_mps, -0.3f);
+}
+
+TEST(SafetyFilterTest, HeadingDoubtSlowsARoverPassingCloseBy) {
+  SafetyFilter filter(Config(), WheeledConfig(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.0f, 1.27f, false, 0, 0, 0.8f);  // gap 0.02 m to its left
+  SafetyOutcome outcome;
+  // Heading +x, driving past it: no forward component towards it when sure.
+  const DriveCommand sure = filter.Apply(Wheels(0.3f, 0.3f), At(1, 1, 0), reports, 0, outcome);
+  EXPECT_FLOAT_EQ(sure.left_mps, 0.3f);
+  const DriveCommand doubtful = filter.Apply(Wheels(0.3f, 0.3f), Doubtful(1, 1, 0, 0.3f, 0), reports, 0, outcome);
+  EXPECT_NEAR(0.5f * (doubtful.left_mps + doubtful.right_mps), 0.08f / std::sin(0.5f), 1e-4f);
+}
+
 TEST(SafetyFilterTest, TwoRobotsDrivingHeadOnNeverTouch) {
   SafetyFilter a(Config(), Omni(), 2);
   SafetyConfig b_config = Config();

@@ -98,6 +98,49 @@ INSTANTIATE_TEST_SUITE_P(
       return name;
     });
 
+// Mixed kinds and partial connectivity, twenty seeds each: mixed_gather had
+// 6 collisions in 20 seeds (parked robots whose heading estimate had
+// drifted up to 2.2 rad) and the link scenarios 3; none now. Every other
+// example and adversarial file over twenty seeds is measured in
+// docs/safety.md ("Twenty seeds"). Not under the sanitizers (ASAN_EXCLUDE):
+// 100 runs.
+class TwentySeeds : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(TwentySeeds, NoCollisionAndNoP3Violation) {
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    scenario::Overrides overrides;
+    overrides.seed = seed;
+    const json metrics = Metrics(LoadFile(GetParam(), overrides));
+    EXPECT_EQ(metrics["collisions"]["count"], 0) << "seed " << seed << ": " << metrics["collisions"].dump();
+    EXPECT_EQ(metrics["common_knowledge"]["violations"], 0) << "seed " << seed;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Safety, TwentySeeds,
+                         ::testing::Values("adversarial/mixed_gather.yaml", "adversarial/rover_leader_follow.yaml",
+                                           "rovers.yaml", "links/two_dead_links.yaml", "links/deaf_mute_flaky.yaml"),
+                         [](const ::testing::TestParamInfo<const char*>& param) {
+                           std::string name = param.param;
+                           name = name.substr(name.find('/') + 1);
+                           name = name.substr(0, name.find('.'));
+                           for (char& ch : name) {
+                             if (ch == '_') ch = 'x';
+                           }
+                           return name;
+                         });
+
+// A joiner's start disc counts the stopping distance of every robot driving
+// at it: in crowd_200_short seed 2 robot 41 was switched on 7.5 cm beyond
+// robot 116's disc while 116 drove at 0.45 m/s, and they collided. Not under
+// the sanitizers (ASAN_EXCLUDE): 200 robots.
+TEST(SafetyTest, AJoinerWaitsForARobotThatCouldNotStop) {
+  scenario::Overrides overrides;
+  overrides.seed = 2;
+  const json metrics = Metrics(LoadFile("adversarial/crowd_200_short.yaml", overrides));
+  EXPECT_EQ(metrics["collisions"]["count"], 0) << metrics["collisions"].dump();
+  EXPECT_GT(metrics["safety"]["join_waits"].get<int>(), 0);
+}
+
 // The filter is what prevents the ramming: switched off, the gatherers drive
 // into the crashed body no map shows.
 TEST(SafetyTest, TheRammingCaseCollidesWithSafetyOff) {

@@ -25,6 +25,12 @@
 // less radius and margin, and u . n <= 0 once there. A stopped robot
 // satisfies every constraint, so the filter always has an answer.
 //
+// Each disc also grows by this robot's own position uncertainty beyond half
+// the margin (own_sigmas of its EKF's standard deviation), and the command is scaled down until it
+// keeps every constraint in every direction within heading_sigmas of the
+// heading's standard deviation of the commanded one (the body moves along
+// its true heading, not the estimated one).
+//
 // Omni: u is the velocity setpoint, corrected by cyclic projection onto the
 // constraints (a fixed number of passes); if the result still breaks one,
 // the robot stops. Rover: only the forward speed is limited (along the
@@ -67,7 +73,21 @@ struct SafetyConfig {
   float others_max_speed_mps = 0.5f;  ///< the fastest kind in the swarm (a beacon does not say its sender's kind)
   float others_radius_m = 0.12f;      ///< the largest body radius in the swarm
   float others_braking_mps2 = 0.8f;   ///< the weakest deceleration in the swarm (braking allowance)
-  float margin_m = 0.06f;             ///< covers two estimates' errors (docs/safety.md)
+  float margin_m = 0.06f;             ///< covers two estimates' errors, half each (docs/safety.md)
+  /// Every disc grows by what this many of this robot's own position
+  /// standard deviations (the EKF's, the larger of x and y) exceed half the
+  /// margin: the robot may be further from where it believes than the margin
+  /// allows for. A lost estimate (sigma capped at max_own_sigma_m) grows the
+  /// discs until the robot stops near anyone.
+  float own_sigmas = 2.0f;
+  float max_own_sigma_m = 0.5f;
+  /// The direction the robot really moves may be off its commanded one by
+  /// this many heading standard deviations less heading_free_rad (what the
+  /// margin absorbs), capped at a right angle: the command must keep every
+  /// constraint in all of them. A heading whose filter doubts it slows the
+  /// robot near others; a well-known one changes nothing.
+  float heading_sigmas = 2.0f;
+  float heading_free_rad = 0.1f;
   float horizon_s = 1.0f;             ///< a disc grows for at most this long; older reports keep the capped disc
   float gain_per_s = 4.0f;            ///< approach speed = gain * gap near an edge
   float arena_width_m = 0;            ///< walls at x = 0, x = width, y = 0, y = height; 0: no walls
@@ -154,7 +174,8 @@ class SafetyFilter {
     float violation;  // of the desired velocity, for `other`
     uint16_t other;
   };
-  void Collect(float x, float y, const SafetyReports& reports, int64_t now_ns);
+  void Collect(float x, float y, float own_sigma_m, const SafetyReports& reports, int64_t now_ns);
+  float HeadingRobustScale(float ux, float uy, float doubt_rad) const;
   void Keep(const Constraint& constraint, float slack);
   void LimitOmni(float& vx, float& vy) const;
   float LimitForward(float speed, float hx, float hy) const;
