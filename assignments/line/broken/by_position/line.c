@@ -31,7 +31,7 @@
 #define SPACING_M 0.45f       /* between neighbours on the line (README.md), and between lanes */
 #define IN_PLACE_M 0.1f       /* how near a lane or a column counts as in it */
 #define SORT_CRUISE_MPS 0.25f /* phase 0, when robots may share a column */
-#define CRUISE_MPS 0.3f       /* phases 1 and 2, every robot in its own lane or column */
+#define CRUISE_MPS 0.25f      /* phases 1 and 2, every robot in its own lane or column */
 #define WALL_ROOM_M 0.35f     /* phase 0 keeps this far from the side walls */
 #define MAX_ROBOTS 64
 

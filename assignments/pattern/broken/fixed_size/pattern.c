@@ -101,7 +101,8 @@ static void plan_moves(size_t n, const point* from, const point* target, point* 
     }
     order[b] = i;
   }
-  const float reach = 0.8f * me.max_speed_mps * (float)me.maneuver_ms / 1000.0f;
+  /* 0.7 of the speed limit, as the reference (docs/safety.md, "Twenty seeds"). */
+  const float reach = 0.7f * me.max_speed_mps * (float)me.maneuver_ms / 1000.0f;
   static const float turns_deg[7] = {0, 30, -30, 60, -60, 90, -90};
   for (size_t k = 0; k < n; ++k) {
     const size_t i = order[k];
