@@ -54,6 +54,8 @@ void SafetyReports::ReportMetres(uint16_t id, int64_t time_ns, float x_m, float 
 void SafetyReports::CopyFrom(const SafetyReports& other, size_t count) {
   const size_t n = std::min(count, entries_.size());
   std::copy(other.entries_.begin(), other.entries_.begin() + static_cast<std::ptrdiff_t>(n), entries_.begin());
+  gap_start_ns_ = other.gap_start_ns_;
+  gap_end_ns_ = other.gap_end_ns_;
 }
 
 SafetyFilter::SafetyFilter(const SafetyConfig& config, const ControllerConfig& controller, uint16_t swarm_size)
@@ -108,14 +110,23 @@ void SafetyFilter::Collect(float x, float y, float own_sigma_m, const SafetyRepo
   // Clamped: an estimate far outside any arena must not overflow the cast.
   const auto own_x_mm = static_cast<int32_t>(std::clamp(x * 1000.0f, -1e6f, 1e6f));
   const auto own_y_mm = static_cast<int32_t>(std::clamp(y * 1000.0f, -1e6f, 1e6f));
+  // Reports fresh when this robot stopped listening may belong to robots
+  // that moved all through its gap: their discs grow for the gap too.
+  const auto horizon_ns = static_cast<int64_t>(config_.horizon_s * 1e9f);
+  const int64_t gap_ns = reports.gap_end_ns() - reports.gap_start_ns();
+  const float gap_s = static_cast<float>(gap_ns) * 1e-9f;
+  const auto gap_mm = static_cast<int32_t>(std::min(config_.others_max_speed_mps * gap_s * 1000.0f, 1e6f));
   for (uint16_t id = 0; id < swarm_size_; ++id) {
     const SafetyReport& report = reports[id];
     if (!report.valid || id == config_.self_id) continue;
-    const int32_t reach_mm = largest_mm + report.allowance_mm;
+    const bool across_gap = gap_ns > 0 && report.time_ns < reports.gap_end_ns() &&
+                            report.time_ns >= reports.gap_start_ns() - horizon_ns;
+    const int32_t reach_mm = largest_mm + report.allowance_mm + (across_gap ? gap_mm : 0);
     const int32_t dx_mm = int32_t{report.x_mm} - own_x_mm;
     const int32_t dy_mm = int32_t{report.y_mm} - own_y_mm;
     if (dx_mm > reach_mm || dx_mm < -reach_mm || dy_mm > reach_mm || dy_mm < -reach_mm) continue;
-    const float age_s = std::clamp(static_cast<float>(now_ns - report.time_ns) * 1e-9f, 0.0f, config_.horizon_s);
+    const float cap_s = config_.horizon_s + (across_gap ? gap_s : 0.0f);
+    const float age_s = std::clamp(static_cast<float>(now_ns - report.time_ns) * 1e-9f, 0.0f, cap_s);
     const float sigma_m = config_.others_max_speed_mps * age_s + 0.001f * static_cast<float>(report.allowance_mm);
     const float radius_m = base_m + sigma_m;
     const float dx = 0.001f * static_cast<float>(report.x_mm) - x;

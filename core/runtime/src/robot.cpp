@@ -281,6 +281,12 @@ void Robot::RunRound(int64_t now_ns) {
   // The samples are read before the safety reports compact the inbox; the
   // correction is applied after the step, when the robot's status is known.
   const bool aligned_gap = gap_rounds == 1;
+  if (gap_rounds > 1 && config_.safety.enabled) {
+    // Paused: nothing was heard since the last step (docs/safety.md).
+    os::CriticalSection lock(*port_);
+    shared_reports_.MarkListeningGap(round_start_ns, now_ns - config_.radio_round_ns);
+    reports_changed_ = true;
+  }
   TakeSafetyReports(now_ns);
   sync::StepInput input;
   input.own_snapshot = OwnSnapshot();

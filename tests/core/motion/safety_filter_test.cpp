@@ -352,6 +352,33 @@ TEST(SafetyFilterTest, HeadingDoubtSlowsARoverPassingCloseBy) {
   EXPECT_NEAR(0.5f * (doubtful.left_mps + doubtful.right_mps), 0.08f / std::sin(0.5f), 1e-4f);
 }
 
+TEST(SafetyFilterTest, AReportFreshWhenThisRobotPausedGrowsForThePauseToo) {
+  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 2.5f, 1.0f, false, 0, 0, 0.8f);  // 1.5 m away
+  SafetyOutcome outcome;
+  // 7 s later without a gap: the disc stopped growing at 1 s, 0.75 m.
+  const DriveCommand capped = filter.Apply(DriveVelocity(0.3f, 0), At(1, 1), reports, 7 * kSecond, outcome);
+  EXPECT_FALSE(outcome.limited);
+  EXPECT_FLOAT_EQ(capped.vx_mps, 0.3f);
+  // This robot was paused from 0.5 s to 6.5 s while robot 1 was talking: it
+  // may have driven all that time, 3.5 m of disc; this robot stands in it.
+  reports.MarkListeningGap(kSecond / 2, 13 * kSecond / 2);
+  const DriveCommand held = filter.Apply(DriveVelocity(0.3f, 0), At(1, 1), reports, 7 * kSecond, outcome);
+  EXPECT_NEAR(held.vx_mps, 0, 1e-6f);
+  EXPECT_NEAR(held.vy_mps, 0, 1e-6f);
+  // A report already older than the horizon when the pause began (a robot
+  // silent before it: crashed, paused) keeps its capped disc.
+  reports.MarkListeningGap(2 * kSecond, 8 * kSecond);
+  const DriveCommand stale = filter.Apply(DriveVelocity(0.3f, 0), At(1, 1), reports, 9 * kSecond, outcome);
+  EXPECT_FLOAT_EQ(stale.vx_mps, 0.3f);
+  // The motion task's copy carries the gap.
+  SafetyReports copy;
+  copy.CopyFrom(reports, 4);
+  EXPECT_EQ(copy.gap_start_ns(), 2 * kSecond);
+  EXPECT_EQ(copy.gap_end_ns(), 8 * kSecond);
+}
+
 TEST(SafetyFilterTest, TwoRobotsDrivingHeadOnNeverTouch) {
   SafetyFilter a(Config(), Omni(), 2);
   SafetyConfig b_config = Config();

@@ -141,6 +141,18 @@ TEST(SafetyTest, AJoinerWaitsForARobotThatCouldNotStop) {
   EXPECT_GT(metrics["safety"]["join_waits"].get<int>(), 0);
 }
 
+// Robot 1 is paused from 3 to 9 s; robot 6 drives on and pauses from 8 to
+// 16 s. Robot 1's report of robot 6 is from before its own pause: with a
+// disc capped at the horizon it drove into robot 6 at 15.5 s. The disc now
+// also grows for robot 1's pause (SafetyReports::MarkListeningGap).
+TEST(SafetyTest, ARobotBackFromAPauseKeepsOffWhereASilentRobotMayHaveGone) {
+  scenario::Overrides overrides;
+  overrides.seed = 16;
+  const json metrics = Metrics(LoadFile("adversarial/pause_boundaries.yaml", overrides));
+  EXPECT_EQ(metrics["collisions"]["count"], 0) << metrics["collisions"].dump();
+  EXPECT_TRUE(metrics["goal"]["reached"].get<bool>()) << metrics["goal"].dump();
+}
+
 // The filter is what prevents the ramming: switched off, the gatherers drive
 // into the crashed body no map shows.
 TEST(SafetyTest, TheRammingCaseCollidesWithSafetyOff) {

@@ -127,14 +127,29 @@ class SafetyReports {
   /// The same in metres (tests, benches): rounded to millimetres.
   void ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps, float vy_mps,
                     float braking_mps2);
-  /// Copies the first `count` entries of `other` (the motion task's handoff).
+  /// Copies the first `count` entries of `other`, and its listening gap
+  /// (the motion task's handoff).
   void CopyFrom(const SafetyReports& other, size_t count);
   const SafetyReport& operator[](size_t id) const { return entries_[id]; }
+
+  /// This robot heard nothing from `start_ns` to `end_ns` (it was paused: its
+  /// round task did not run). A robot whose report was fresh when the gap
+  /// began may have moved all through it before falling silent, so its disc
+  /// grows for the gap's length on top of the horizon (docs/safety.md, "A
+  /// robot that was not listening"). Only the latest gap is kept.
+  void MarkListeningGap(int64_t start_ns, int64_t end_ns) {
+    gap_start_ns_ = start_ns;
+    gap_end_ns_ = end_ns;
+  }
+  int64_t gap_start_ns() const { return gap_start_ns_; }
+  int64_t gap_end_ns() const { return gap_end_ns_; }
 
  private:
   static uint16_t BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2);
 
   std::array<SafetyReport, wire::kMaxSwarmSize> entries_{};
+  int64_t gap_start_ns_ = 0;
+  int64_t gap_end_ns_ = 0;
 };
 
 /// What one Apply did.
