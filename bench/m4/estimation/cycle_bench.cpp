@@ -31,6 +31,8 @@
 #include "syrof/estimation/imu_model.h"
 #include "syrof/estimation/multilateration.h"
 #include "syrof/estimation/range_model.h"
+#include "syrof/estimation/state.h"
+#include "syrof/estimation/zero_rate_model.h"
 
 namespace {
 
@@ -173,7 +175,13 @@ UncertainCosts MeasureScreenAndFix(const Arena<float>& arena) {
   return costs;
 }
 
-enum Part { kFullCycle, kPredictOnly, kFlowOnly, kRangesOnly };
+enum Part { kFullCycle, kPredictOnly, kFlowOnly, kRangesOnly, kZeroRateOnly };
+
+// A robot at rest fuses a zero-rate update every cycle (zero_rate_model.h);
+// the full cycle counts it too (a still robot still gets flow and ranges).
+void FuseZeroRateUpdate(Ekf<float>& filter) {
+  Count(FuseZeroRate(filter, filter.state()[kStateGyroBias], ZeroRateConfig<float>{}));
+}
 
 Counts Measure(Part part, const Arena<float>& arena, float metres_per_pixel) {
   Ekf<float> filter = MakeFilter();
@@ -184,6 +192,7 @@ Counts Measure(Part part, const Arena<float>& arena, float metres_per_pixel) {
     if (part == kFullCycle || part == kPredictOnly) Predict(filter, input);
     if (part == kFullCycle || part == kFlowOnly) FuseFlow(filter, input, metres_per_pixel);
     if (part == kFullCycle || part == kRangesOnly) FuseRanges(filter, input, arena);
+    if (part == kFullCycle || part == kZeroRateOnly) FuseZeroRateUpdate(filter);
     counts.Add(syrof::board::cycle_counter_read() - begin);
   }
   if (!filter.state().allFinite()) ++errors;
@@ -208,10 +217,12 @@ int main() {
   const Counts predict = Measure(kPredictOnly, arena, metres_per_pixel);
   const Counts flow = Measure(kFlowOnly, arena, metres_per_pixel);
   const Counts ranges = Measure(kRangesOnly, arena, metres_per_pixel);
+  const Counts zero_rate = Measure(kZeroRateOnly, arena, metres_per_pixel);
   std::printf("estimation cycle on Cortex-M4 soft-float (Ekf<float>, %d cycles), instructions\n", kCycles);
   Print("IMU conversion + predict:", predict);
   Print("flow conversion + 2 updates:", flow);
   Print("4 range updates:", ranges);
+  Print("zero-rate update (at rest):", zero_rate);
   Print("full 100 Hz cycle:", full);
   std::printf("  (budget 72000 per cycle: %s)\n", full.worst < 72000 ? "met" : "EXCEEDED");
   const UncertainCosts uncertain = MeasureScreenAndFix(arena);
