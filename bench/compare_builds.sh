@@ -26,7 +26,7 @@
 set -euo pipefail
 
 usage() {
-  sed -n '4,6p' "$0" | sed 's/^# \{0,3\}//' >&2
+  sed -n '5,6p' "$0" | sed 's/^# \{0,3\}//' >&2
   exit 2
 }
 
@@ -40,6 +40,8 @@ scenario=
 this="$root/build/bin/syrof"
 while [ $# -gt 0 ]; do
   case $1 in
+    --rounds | --case | --scenario | --this)
+      [ $# -ge 2 ] || { echo "compare_builds.sh: $1 needs a value" >&2; usage; } ;;&
     --rounds) rounds=$2; shift 2 ;;
     --case) cases+=("$2"); shift 2 ;;
     --scenario) scenario=$(realpath "$2"); shift 2 ;;
