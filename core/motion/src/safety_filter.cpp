@@ -186,7 +186,8 @@ void SafetyFilter::Collect(float x, float y, float own_sigma_m, const SafetyRepo
 // u . -n >= bound |u|) admits u only if every turn of it stays inside: the
 // cosine of the angle between u and -n at least cos(acos(bound) - doubt) =
 // bound cos doubt + sqrt(1 - bound^2) sin doubt; otherwise only a stop does.
-// Square roots only: fine on a soft-float core.
+// Square roots and one sine and cosine of the doubt (computed only when the
+// doubt is above zero): fine on a soft-float core.
 float SafetyFilter::HeadingRobustScale(float ux, float uy, float doubt_rad) const {
   const float speed = std::sqrt(ux * ux + uy * uy);
   if (speed < kMinSpeedMps || doubt_rad <= 0.0f) return 1.0f;

@@ -192,7 +192,9 @@ void Estimator<Scalar>::RunKalmanStep(int64_t now_ns) {
       }
     }
     for (int i = 0; i < batch.flow_count; ++i) {
-      if (FuseBodyVelocity(filter_, batch.flow[i], config_.flow_gate_sigma, config_.flow_heading_min_speed_mps) == EstimationError::kOk) {
+      const EstimationError fused =
+          FuseBodyVelocity(filter_, batch.flow[i], config_.flow_gate_sigma, config_.flow_heading_min_speed_mps);
+      if (fused == EstimationError::kOk) {
         ++counters_.flow_fused;
       } else {
         ++counters_.flow_rejected;
