@@ -3,7 +3,7 @@
 # A module may include the headers (and link the targets) of modules in LOWER
 # groups, and its own; never those of its own group's siblings or of a higher
 # group. cmake/CheckLayers.cmake checks every #include of core/, queries/,
-# lab/, cli/, firmware/, sim_dds/ and grader/ against this list (ctest label
+# lab/, cli/, firmware/, sim_dds/, app_host/ and grader/ against this list (ctest label
 # `architecture`), and syrof_add_library (cmake/SyrofHelpers.cmake) refuses a
 # link dependency on a module that is not below at configure time.
 #
@@ -34,9 +34,9 @@
 #   page) reads replays only, beside lab/sim; the grader embeds its page.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
-# - grader/app_host (a student's library in a sandboxed process per robot)
-#   needs only core/app and queries; it sits below sim_dds so the DDS robots
-#   run student libraries through it too, though its folder is the grader's.
+# - app_host (a student's library in a sandboxed process per robot) needs
+#   only core/app and queries; it sits below sim_dds and the grader, which
+#   both run student libraries through it (the lab's `syrof run` too).
 # - grader/assignment (assignment files and the rubric's scoring) reads
 #   scenarios and metrics; the grade command's runner (grader) sits on it.
 # - grader/report (results.json, JUnit, the HTML report with lab/view's
@@ -58,7 +58,7 @@ set(SYROF_LAYERS
   "lab/scenario"
   "lab/metrics lab/replay"
   "lab/sim lab/view"
-  "grader/app_host"
+  "app_host"
   "sim_dds firmware"
   "grader/assignment"
   "grader/report"
@@ -78,7 +78,7 @@ set(SYROF_EXCLUSIVE_HEADERS
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.
-set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/app_host" "grader/assignment" "grader/report")
+set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/assignment" "grader/report")
 
 # The top-level folders whose sources the check walks.
-set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds grader)
+set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds app_host grader)

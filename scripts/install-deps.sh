@@ -20,7 +20,7 @@ demo_packages=(
   # links them all (the lab, the DDS swarm, the grader and its app host)
   libeigen3-dev libcgal-dev cyclonedds-dev cyclonedds-tools
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
-  # the app host's system call filter (grader/app_host)
+  # the app host's system call filter (app_host/)
   libseccomp-dev
   # the Gradescope bundle's zip (grader/report; found through pkg-config)
   libzip-dev

@@ -1,4 +1,4 @@
-// FileRuleset (grader/app_host/src/landlock.cpp): a child restricted by a
+// FileRuleset (app_host/src/landlock.cpp): a child restricted by a
 // ruleset reads, writes and signals only what its rules allow.
 #include "syrof/app_host/landlock.h"
 
