@@ -26,7 +26,7 @@
 #include "syrof/base/split_mix64.h"
 #include "syrof/motion/safety_filter.h"
 #include "syrof/lab/apps/catalog.h"
-#include "syrof/lab/apps/goal.h"
+#include "syrof/lab/apps/builtin_goals.h"
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/metrics/collector.h"

@@ -79,7 +79,7 @@
 #include "syrof/firmware/swarm/round_skew.h"
 #include "syrof/firmware/swarm/sensor_feed.h"
 #include "syrof/lab/apps/catalog.h"
-#include "syrof/lab/apps/goal.h"
+#include "syrof/lab/apps/builtin_goals.h"
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/metrics/metrics.h"

@@ -1,7 +1,7 @@
 // circle: n points evenly spaced on a circle (CircleTargets for the map's
 // member count), robots assigned by MinWeightedMatching, recomputed in every
 // COOPERATIVE epoch so crashes and joins re-space the circle.
-#include "assignment.h"
+#include "target_matching.h"
 #include "builtin_apps.h"
 #include "formation_app.h"
 

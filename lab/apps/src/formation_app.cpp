@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "assignment.h"
+#include "target_matching.h"
 #include "syrof/app/commands.h"
 
 namespace syrof::lab::apps {

@@ -1,7 +1,7 @@
 // The common part of the moving built-in apps (gather, circle,
 // leader_follow): in a COOPERATIVE epoch every robot plans a target for
 // every member from the map, turns the targets into straight segments,
-// shortens them with the safety rule (safety.h) and drives its own segment;
+// shortens them with the collision-avoidance rule (collision_avoidance.h) and drives its own segment;
 // in an AUTONOMOUS epoch it holds still. Internal to lab/apps.
 #pragma once
 
@@ -11,7 +11,7 @@
 
 #include "syrof/app/app.h"
 #include "syrof/lab/apps/formation.h"
-#include "syrof/lab/apps/safety.h"
+#include "syrof/lab/apps/collision_avoidance.h"
 
 namespace syrof::lab::apps {
 

@@ -11,7 +11,7 @@
 #include <array>
 #include <cmath>
 
-#include "assignment.h"
+#include "target_matching.h"
 #include "builtin_apps.h"
 #include "formation_app.h"
 

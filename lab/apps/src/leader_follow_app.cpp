@@ -7,7 +7,7 @@
 // plan without any payload.
 #include <cmath>
 
-#include "assignment.h"
+#include "target_matching.h"
 #include "builtin_apps.h"
 #include "formation_app.h"
 

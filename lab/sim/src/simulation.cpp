@@ -11,7 +11,7 @@
 
 #include "syrof/base/check.h"
 #include "syrof/lab/apps/catalog.h"
-#include "syrof/lab/apps/goal.h"
+#include "syrof/lab/apps/builtin_goals.h"
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/replay/writer.h"

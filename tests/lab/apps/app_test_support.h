@@ -12,8 +12,8 @@
 
 #include "syrof/app/app.h"
 #include "syrof/lab/apps/formation.h"
-#include "syrof/lab/apps/goal.h"
-#include "syrof/lab/apps/safety.h"
+#include "syrof/lab/apps/builtin_goals.h"
+#include "syrof/lab/apps/collision_avoidance.h"
 
 namespace syrof::lab::apps::testing {
 

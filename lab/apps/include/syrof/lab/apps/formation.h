@@ -2,7 +2,7 @@
 // parameters, the arena, the body radius and the robot count: the gather
 // app's hexagonal packing, the circle app's evenly spaced points and the
 // leader_follow app's path and slots. The apps plan with them on every
-// robot and the goal checks (goal.h) judge final poses with them, so a plan
+// robot and the goal checks (builtin_goals.h) judge final poses with them, so a plan
 // and its check can never disagree about where robots belong.
 //
 // Units: metres, radians, seconds; arena frame: the arena spans

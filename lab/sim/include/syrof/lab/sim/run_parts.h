@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "syrof/lab/apps/goal.h"
+#include "syrof/lab/apps/builtin_goals.h"
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/replay.h"

@@ -1,4 +1,4 @@
-#include "syrof/lab/apps/goal.h"
+#include "syrof/lab/apps/builtin_goals.h"
 
 #include <gtest/gtest.h>
 

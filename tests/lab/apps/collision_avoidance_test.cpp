@@ -1,4 +1,4 @@
-#include "syrof/lab/apps/safety.h"
+#include "syrof/lab/apps/collision_avoidance.h"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
-#include "syrof/lab/apps/goal.h"
+#include "syrof/lab/apps/builtin_goals.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
-#include "assignment.h"
+#include "target_matching.h"
 
 namespace syrof::lab::apps {
 namespace {

@@ -1,4 +1,4 @@
-#include "assignment.h"
+#include "target_matching.h"
 
 #include <new>
 
