@@ -210,10 +210,9 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
       return 1;
     }
   }
-  const nlohmann::json metrics = nlohmann::json::parse(report.metrics_json);
-  const bool misbehaved = AppMisbehaved(metrics);
+  const bool misbehaved = AppMisbehaved(report.metrics);
   if (!options.quiet) {
-    PrintSummary(out, metrics, dir, !options.no_replay, scenario.app.is_library(), options.html && !options.no_replay,
+    PrintSummary(out, report.metrics, dir, !options.no_replay, scenario.app.is_library(), options.html && !options.no_replay,
                  scenario.clocks.enabled);
   } else if (misbehaved) {
     fmt::print(err, "syrof run: warning: the app misbehaved; see app in {}\n", (dir / "metrics.json").string());

@@ -1,13 +1,16 @@
 // The summary `syrof run` and `syrof swarm` print after a run, from its
-// metrics.json (docs/metrics.md): synchrony, common knowledge, collisions,
-// safety, agreement, estimation, membership, round phase, the goal and the
-// app's misbehaviour, one line each.
+// metrics (lab/metrics, docs/metrics.md): synchrony, common knowledge,
+// collisions, safety, agreement, estimation, membership, round phase, the
+// goal and the app's misbehaviour, one line each. It reads the typed
+// structure metrics.json is written from, so a renamed field is a compile
+// error here, never a silent "-".
 #pragma once
 
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <ostream>
 #include <string_view>
+
+#include "syrof/lab/metrics/metrics.h"
 
 namespace syrof::cli {
 
@@ -16,14 +19,11 @@ namespace syrof::cli {
 /// student's library (its robots' logs, and a note when no goal is
 /// declared), `clocks` real clocks (the round-phase line). `title` starts
 /// the first line ("SyROF run", "SyROF swarm").
-void PrintSummary(std::ostream& out, const nlohmann::json& m, const std::filesystem::path& dir, bool replay,
+void PrintSummary(std::ostream& out, const lab::metrics::Metrics& m, const std::filesystem::path& dir, bool replay,
                   bool library, bool html, bool clocks, std::string_view title = "SyROF run");
 
 /// Whether the app faulted, returned an invalid command or had a payload
 /// refused in the run of `m` (`syrof run --strict` exits 3 then).
-bool AppMisbehaved(const nlohmann::json& m);
-
-/// A JSON value for a summary line: a number with `decimals`, null as "-".
-std::string Number(const nlohmann::json& value, int decimals);
+bool AppMisbehaved(const lab::metrics::Metrics& m);
 
 }  // namespace syrof::cli

@@ -116,18 +116,16 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
     return result.exit_code == 2 ? kBadInput : kInternalError;
   }
   if (!options.quiet) {
-    const nlohmann::json metrics = nlohmann::json::parse(result.metrics_json, nullptr, false);
+    const lab::metrics::Metrics& metrics = result.metrics;
     if (result.stopped_early) fmt::print(out, "  stopped early (signal): the metrics cover what ran\n");
-    if (metrics.is_object()) {
-      PrintSummary(out, metrics, swarm.out_dir, swarm.replay, loaded.scenario->app.is_library(), false, false,
-                   "SyROF swarm");
-    }
+    PrintSummary(out, metrics, swarm.out_dir, swarm.replay, loaded.scenario->app.is_library(), false, false,
+                 "SyROF swarm");
     double cpu_max = 0, cpu_sum = 0;
     for (const double seconds : result.cpu_seconds) {
       cpu_max = std::max(cpu_max, seconds);
       cpu_sum += seconds;
     }
-    const double wall = metrics.is_object() ? metrics.value("wall_seconds", 0.0) : 0.0;
+    const double wall = metrics.wall_seconds;
     fmt::print(out, "  {:<17} in-round delivery {:.2f}%; round-start skew p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us\n",
                "dds", 100.0 * result.delivery_ratio, result.skew.p50_us, result.skew.p99_us, result.skew.max_us);
     if (!result.cpu_seconds.empty() && wall > 0) {

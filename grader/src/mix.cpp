@@ -48,7 +48,7 @@ void Attribute(const lab::metrics::Metrics& metrics, const std::vector<MixEntry>
     if (collision.b % k != collision.a % k) run.shares[collision.b % k].collisions += 1;
   }
   if (metrics.app.invalid_commands.first) run.shares[metrics.app.invalid_commands.first->robot % k].invalid_commands = 1;
-  if (const auto& first = metrics.agreement.first_disagreement) {
+  if (const auto& first = metrics.agreement ? metrics.agreement->first_disagreement : std::nullopt) {
     // Both sides are named: which of two differing states is "wrong" is not
     // known from the pair alone (robot 0 is usually the reference side).
     run.shares[first->robot % k].in_first_disagreement = true;

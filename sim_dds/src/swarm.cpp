@@ -19,7 +19,6 @@
 #include <map>
 #include <optional>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "syrof/app/call_status.h"
@@ -749,26 +748,24 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     facts.goal = lab::sim::DeclaredGoal(sc.app.name, goal_monitor.Finish(facts.sim_seconds, running_poses(nullptr)));
   }
   lab::metrics::Metrics metrics = collector.Finish(facts);
+  metrics.runtime = "dds";
   metrics.agreement = agreement.Finish();
-  nlohmann::json json = nlohmann::json::parse(lab::metrics::ToJson(metrics));
-  json["runtime"] = "dds";
-  nlohmann::json dds;
-  dds["domain_id"] = domain;
-  dds["delivery_ratio"] = result.delivery_ratio;
-  dds["round_start_skew_us"] = {{"rounds", result.skew.rounds},
-                                {"p50", result.skew.p50_us},
-                                {"p99", result.skew.p99_us},
-                                {"max", result.skew.max_us}};
-  dds["cpu_seconds_per_robot"] = result.cpu_seconds;
-  dds["reports_rejected"] = reports_rejected;
-  dds["reports_late"] = reports_late;
-  dds["reports_other_runs"] = reports_foreign;
-  dds["stopped_early"] = result.stopped_early;
-  nlohmann::json exits = nlohmann::json::array();
-  for (const RobotSlot& r : robots) exits.push_back(r.exit ? nlohmann::json(*r.exit) : nlohmann::json());
-  dds["robot_exits"] = exits;
-  json["dds"] = dds;
-  result.metrics_json = json.dump(2) + "\n";
+  lab::metrics::DdsMetrics dds;
+  dds.domain_id = domain;
+  dds.delivery_ratio = result.delivery_ratio;
+  dds.skew_rounds = result.skew.rounds;
+  dds.skew_p50_us = result.skew.p50_us;
+  dds.skew_p99_us = result.skew.p99_us;
+  dds.skew_max_us = result.skew.max_us;
+  dds.cpu_seconds_per_robot = result.cpu_seconds;
+  dds.reports_rejected = reports_rejected;
+  dds.reports_late = reports_late;
+  dds.reports_other_runs = reports_foreign;
+  dds.stopped_early = result.stopped_early;
+  for (const RobotSlot& r : robots) dds.robot_exits.push_back(r.exit);
+  metrics.dds = std::move(dds);
+  result.metrics_json = lab::metrics::ToJson(metrics);
+  result.metrics = std::move(metrics);
   std::ofstream(std::filesystem::path(options.out_dir) / "metrics.json") << result.metrics_json;
   return result;
 }

@@ -103,7 +103,10 @@ CriterionScore ScoreCommonKnowledge(const CommonKnowledgeCriterion& rule, const 
 }
 
 CriterionScore ScoreAgreement(const AgreementCriterion& rule, const Metrics& metrics) {
-  const lab::metrics::AgreementMetrics& agreement = metrics.agreement;
+  if (!metrics.agreement) {
+    return Make("agreement", rule.points, 0, "the " + metrics.runtime + " runtime does not measure agreement");
+  }
+  const lab::metrics::AgreementMetrics& agreement = *metrics.agreement;
   if (!agreement.agreed_fraction) {
     return Make("agreement", rule.points, 0, "no epoch started COOPERATIVE, so agreement could not be shown");
   }

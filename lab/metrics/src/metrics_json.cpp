@@ -154,7 +154,9 @@ Json CommonKnowledgeJson(const CommonKnowledgeMetrics& knowledge) {
   return json;
 }
 
-Json AgreementJson(const AgreementMetrics& agreement) {
+Json AgreementJson(const std::optional<AgreementMetrics>& measured) {
+  if (!measured) return Json(nullptr);
+  const AgreementMetrics& agreement = *measured;
   Json json;
   json["cooperative_epochs"] = agreement.cooperative_epochs;
   json["agreed_epochs"] = agreement.agreed_epochs;
@@ -264,11 +266,33 @@ Json MembershipJson(const MembershipMetrics& membership) {
   return json;
 }
 
+Json DdsJson(const DdsMetrics& dds) {
+  Json json;
+  json["domain_id"] = dds.domain_id;
+  json["delivery_ratio"] = FiniteOrNull(dds.delivery_ratio);
+  Json skew;
+  skew["rounds"] = dds.skew_rounds;
+  skew["p50"] = FiniteOrNull(dds.skew_p50_us);
+  skew["p99"] = FiniteOrNull(dds.skew_p99_us);
+  skew["max"] = FiniteOrNull(dds.skew_max_us);
+  json["round_start_skew_us"] = skew;
+  json["cpu_seconds_per_robot"] = Json::array();
+  for (const double seconds : dds.cpu_seconds_per_robot) json["cpu_seconds_per_robot"].push_back(FiniteOrNull(seconds));
+  json["reports_rejected"] = dds.reports_rejected;
+  json["reports_late"] = dds.reports_late;
+  json["reports_other_runs"] = dds.reports_other_runs;
+  json["stopped_early"] = dds.stopped_early;
+  json["robot_exits"] = Json::array();
+  for (const std::optional<int>& exit : dds.robot_exits) json["robot_exits"].push_back(IntegerOrNull(exit));
+  return json;
+}
+
 }  // namespace
 
 std::string ToJson(const Metrics& metrics) {
   Json json;
   json["schema_version"] = kSchemaVersion;
+  json["runtime"] = metrics.runtime;
   json["scenario"] = metrics.scenario;
   json["app"] = AppJson(metrics.app);
   json["seed"] = metrics.seed;
@@ -293,6 +317,7 @@ std::string ToJson(const Metrics& metrics) {
   diagnostics["rounds_observed"] = metrics.diagnostics.rounds_observed;
   diagnostics["ignored_observations"] = metrics.diagnostics.ignored_observations;
   json["diagnostics"] = diagnostics;
+  if (metrics.dds) json["dds"] = DdsJson(*metrics.dds);
   // Strings come from scenario files and student apps; replacing invalid
   // UTF-8 keeps a bad byte from losing the whole report (dump would throw).
   return json.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";

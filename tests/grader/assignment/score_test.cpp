@@ -31,9 +31,10 @@ Metrics CleanRun() {
   check.passed = true;
   metrics.goal.checks = {check, check};
   metrics.synchrony.max_start_skew_rounds = 1;
-  metrics.agreement.cooperative_epochs = 40;
-  metrics.agreement.agreed_epochs = 40;
-  metrics.agreement.agreed_fraction = 1.0;
+  metrics.agreement = lab::metrics::AgreementMetrics{};
+  metrics.agreement->cooperative_epochs = 40;
+  metrics.agreement->agreed_epochs = 40;
+  metrics.agreement->agreed_fraction = 1.0;
   return metrics;
 }
 
@@ -130,9 +131,9 @@ TEST(ScoreRunTest, AP3ViolationLosesCommonKnowledge) {
 
 TEST(ScoreRunTest, AgreementBelowTheMinimumScalesWithTheFraction) {
   Metrics metrics = CleanRun();
-  metrics.agreement.agreed_epochs = 30;
-  metrics.agreement.agreed_fraction = 0.75;
-  metrics.agreement.first_disagreement = lab::metrics::Disagreement{12, 250, "new_round", 3, 7, 0, 2};
+  metrics.agreement->agreed_epochs = 30;
+  metrics.agreement->agreed_fraction = 0.75;
+  metrics.agreement->first_disagreement = lab::metrics::Disagreement{12, 250, "new_round", 3, 7, 0, 2};
 
   const CriterionScore agreement = Find(ScoreRun(FullRubric(), metrics), "agreement");
 
@@ -144,8 +145,19 @@ TEST(ScoreRunTest, AgreementBelowTheMinimumScalesWithTheFraction) {
 
 TEST(ScoreRunTest, NoCooperativeEpochGivesNoAgreementPoints) {
   Metrics metrics = CleanRun();
-  metrics.agreement = {};
+  metrics.agreement = lab::metrics::AgreementMetrics{};
   EXPECT_EQ(Find(ScoreRun(FullRubric(), metrics), "agreement").points, 0);
+}
+
+TEST(ScoreRunTest, AgreementNotMeasuredGivesNoPointsAndSaysWhy) {
+  Metrics metrics = CleanRun();
+  metrics.runtime = "firmware";
+  metrics.agreement.reset();
+
+  const CriterionScore agreement = Find(ScoreRun(FullRubric(), metrics), "agreement");
+
+  EXPECT_EQ(agreement.points, 0);
+  EXPECT_EQ(agreement.reason, "the firmware runtime does not measure agreement");
 }
 
 TEST(ScoreRunTest, AFaultAndRefusedCommandsCostThePenalties) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -175,7 +176,7 @@ TEST(MetricsJson, SandboxNotesAreNullForABuiltinAppAndListedForALibrary) {
 TEST(MetricsJson, FieldsKeepTheDocumentedOrder) {
   const Json json = Parse(ToJson(ObservedRun().Finish(Facts())));
   const std::vector<std::string> expected = {
-      "schema_version", "scenario", "app", "seed", "robots", "sim_seconds", "wall_seconds",
+      "schema_version", "runtime", "scenario", "app", "seed", "robots", "sim_seconds", "wall_seconds",
       "radio_rounds", "radio_round_s", "epochs_started", "epoch_starts", "goal", "synchrony",
       "round_phase", "common_knowledge", "agreement", "collisions", "walls", "safety", "estimation", "membership", "diagnostics"};
 
@@ -223,18 +224,60 @@ TEST(MetricsJson, DeclaredGoalChecksPrintEveryField) {
 
 TEST(MetricsJson, AgreementPrintsTheFirstDisagreement) {
   Metrics metrics = ObservedRun().Finish(Facts());
+  metrics.agreement = AgreementMetrics{};
   EXPECT_TRUE(Parse(ToJson(metrics))["agreement"]["first_disagreement"].is_null());
   EXPECT_TRUE(Parse(ToJson(metrics))["agreement"]["agreed_fraction"].is_null());
-  metrics.agreement.cooperative_epochs = 4;
-  metrics.agreement.agreed_epochs = 3;
-  metrics.agreement.agreed_fraction = 0.75;
-  metrics.agreement.first_disagreement = Disagreement{12, 250, "new_round", 3, 7, 0, 2};
+  metrics.agreement->cooperative_epochs = 4;
+  metrics.agreement->agreed_epochs = 3;
+  metrics.agreement->agreed_fraction = 0.75;
+  metrics.agreement->first_disagreement = Disagreement{12, 250, "new_round", 3, 7, 0, 2};
 
   const Json agreement = Parse(ToJson(metrics))["agreement"];
 
   EXPECT_EQ(agreement["agreed_fraction"], 0.75);
   EXPECT_EQ(agreement["first_disagreement"], Json::parse(R"({"epoch": 12, "round": 250, "callback": "new_round",
       "robot": 3, "state": 7, "reference_robot": 0, "reference_state": 2})"));
+}
+
+// A runtime that cannot see the app's returns (the firmware) leaves
+// agreement unset: the file says null rather than zeros that read like a
+// measurement.
+TEST(MetricsJson, AgreementNotMeasuredIsNull) {
+  Metrics metrics = ObservedRun().Finish(Facts());
+  metrics.runtime = "firmware";
+
+  const Json json = Parse(ToJson(metrics));
+
+  EXPECT_EQ(json["runtime"], "firmware");
+  EXPECT_TRUE(json["agreement"].is_null());
+  EXPECT_FALSE(json.contains("dds"));
+}
+
+TEST(MetricsJson, DdsObjectLastWithEveryField) {
+  Metrics metrics = ObservedRun().Finish(Facts());
+  metrics.runtime = "dds";
+  DdsMetrics dds;
+  dds.domain_id = 17;
+  dds.delivery_ratio = 0.999;
+  dds.skew_rounds = 200;
+  dds.skew_p50_us = 40;
+  dds.skew_p99_us = 900;
+  dds.skew_max_us = 2500;
+  dds.cpu_seconds_per_robot = {0.5, 0.0};
+  dds.reports_rejected = 1;
+  dds.reports_late = 2;
+  dds.reports_other_runs = 3;
+  dds.stopped_early = true;
+  dds.robot_exits = {0, std::nullopt, -9};
+  metrics.dds = dds;
+
+  const Json json = Parse(ToJson(metrics));
+
+  EXPECT_EQ(std::prev(json.end()).key(), "dds");
+  EXPECT_EQ(json["dds"], Json::parse(R"({"domain_id": 17, "delivery_ratio": 0.999,
+      "round_start_skew_us": {"rounds": 200, "p50": 40.0, "p99": 900.0, "max": 2500.0},
+      "cpu_seconds_per_robot": [0.5, 0.0], "reports_rejected": 1, "reports_late": 2, "reports_other_runs": 3,
+      "stopped_early": true, "robot_exits": [0, null, -9]})"));
 }
 
 TEST(MetricsJson, IdenticalObservationsGiveIdenticalBytes) {

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/scenario/scenario.h"
 
 namespace syrof::sim_dds {
@@ -76,7 +77,8 @@ struct SkewStats {
 struct SwarmResult {
   int exit_code = 0;            ///< 0 done, 1 failed inside, 2 bad input (error says)
   std::string error;
-  std::string metrics_json;     ///< the lab's schema plus runtime: dds and the dds object
+  lab::metrics::Metrics metrics;  ///< runtime "dds", with the dds object
+  std::string metrics_json;       ///< ToJson(metrics): what metrics.json holds
   double delivery_ratio = 0;
   SkewStats skew;
   std::vector<double> cpu_seconds;  ///< per robot process (0 for one never started)

@@ -268,6 +268,25 @@ struct MembershipMetrics {
   std::optional<double> mean_join_latency_rounds;
 };
 
+/// The DDS runtime's own figures (`syrof swarm`, docs/sim_dds.md): only a
+/// run over DDS has them.
+struct DdsMetrics {
+  uint32_t domain_id = 0;
+  double delivery_ratio = 0;                ///< beacons delivered within their round / beacons the channel passed
+  int64_t skew_rounds = 0;                  ///< rounds whose round-start skew was measured
+  double skew_p50_us = 0;
+  double skew_p99_us = 0;
+  double skew_max_us = 0;
+  std::vector<double> cpu_seconds_per_robot;  ///< per robot process (0 for one never started)
+  int64_t reports_rejected = 0;             ///< robot reports that failed their checks
+  int64_t reports_late = 0;                 ///< reports for a round already closed
+  int64_t reports_other_runs = 0;           ///< reports of another run on the same domain
+  bool stopped_early = false;               ///< a signal ended the run
+  /// Per robot: its exit code, or minus the signal that ended it; unset for
+  /// a robot never started.
+  std::vector<std::optional<int>> robot_exits;
+};
+
 struct Diagnostics {
   int64_t rounds_observed = 0;      ///< OnRoundEnd calls
   int64_t ignored_observations = 0; ///< observations naming a robot id >= robots
@@ -275,6 +294,9 @@ struct Diagnostics {
 
 /// Everything metrics.json holds, in its order.
 struct Metrics {
+  /// Where the robots ran: "lab" (`syrof run`), "dds" (`syrof swarm`) or
+  /// "firmware" (`syrof-firmware-swarm`).
+  std::string runtime = "lab";
   std::string scenario;
   AppMetrics app;
   uint64_t seed = 0;
@@ -289,13 +311,16 @@ struct Metrics {
   SynchronyMetrics synchrony;
   RoundPhaseMetrics round_phase;
   CommonKnowledgeMetrics common_knowledge;
-  AgreementMetrics agreement;  ///< filled by the engine from its AgreementTracker
+  /// Filled by the runtime from its AgreementTracker; unset (null in the
+  /// file) where the runtime cannot see the app's returns (the firmware).
+  std::optional<AgreementMetrics> agreement;
   CollisionMetrics collisions;
   WallMetrics walls;
   SafetyMetrics safety;
   EstimationMetrics estimation;
   MembershipMetrics membership;
   Diagnostics diagnostics;
+  std::optional<DdsMetrics> dds;  ///< only over DDS; the file has no `dds` key otherwise
 };
 
 /// metrics.json: pretty-printed with a 2-space indent and a trailing newline,
