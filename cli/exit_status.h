@@ -4,11 +4,16 @@
 // definition for every command: 0 done, 1 something failed inside syrof
 // (a file it could not write, an unexpected exception), 2 bad input (a file
 // or argument the user can fix; the message names it).
+//
+// `syrof compare` answers a question, as diff(1) and cmp(1) do: 0 the runs
+// agree, 1 they differ (kRunsDiffer), 2 trouble: bad input, or an internal
+// error (the message says which), so that 1 from it always means "differ".
 
 namespace syrof::cli {
 
 inline constexpr int kOk = 0;
 inline constexpr int kInternalError = 1;
 inline constexpr int kBadInput = 2;
+inline constexpr int kRunsDiffer = 1;  ///< syrof compare only
 
 }  // namespace syrof::cli

@@ -1,5 +1,5 @@
 // The `syrof` command: one file per subcommand (run, validate, apps,
-// replay, view, new, grade, gradescope, swarm); main only wires them.
+// replay, view, compare, new, grade, gradescope, swarm); main only wires them.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "apps_command.h"
+#include "compare_command.h"
 #include "grade_command.h"
 #include "gradescope_command.h"
 #include "new_command.h"
@@ -31,6 +32,8 @@ int main(int argc, char** argv) {
   CLI::App* replay = SetupReplayCommand(app, replay_options);
   ViewOptions view_options;
   CLI::App* view = SetupViewCommand(app, view_options);
+  CompareOptions compare_options;
+  CLI::App* compare = SetupCompareCommand(app, compare_options);
   NewOptions new_options;
   CLI::App* new_command = SetupNewCommand(app, new_options);
   GradeOptions grade_options;
@@ -51,6 +54,7 @@ int main(int argc, char** argv) {
     if (replay->parsed()) return RunReplayCommand(replay_options, std::cout, std::cerr);
     if (new_command->parsed()) return RunNewCommand(new_options, std::cout, std::cerr);
     if (view->parsed()) return RunViewCommand(view_options, std::cout, std::cerr);
+    if (compare->parsed()) return RunCompareCommand(compare_options, std::cout, std::cerr);
     if (grade->parsed()) return RunGradeCommand(grade_options, std::cout, std::cerr);
     if (gradescope->parsed()) return RunGradescopeCommand(gradescope_options, std::cout, std::cerr);
     if (swarm->parsed()) return RunSwarmCommand(swarm_options, std::cout, std::cerr);

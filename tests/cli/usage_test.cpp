@@ -146,7 +146,7 @@ TEST(UsageTest, TheExecutableSaysTheSame) {
   int status = 0;
   std::string err = StderrOf("frobnicate", status);
   EXPECT_EQ(status, 2);
-  EXPECT_NE(err.find("'frobnicate' is not a syrof subcommand; the subcommands are: run, validate, apps, replay, view, new"),
+  EXPECT_NE(err.find("'frobnicate' is not a syrof subcommand; the subcommands are: run, validate, apps, replay, view, compare, new"),
             std::string::npos)
       << err;
   err = StderrOf(std::string("run ") + SYROF_SCENARIOS_DIR + "/idle.yaml --robots 0", status);
