@@ -53,9 +53,6 @@ class LabRobot {
   runtime::Robot& robot() { return robot_; }
   const runtime::Robot& robot() const { return robot_; }
 
-  int64_t scored_from_ns = 0;  ///< estimates before this are not scored (warm-up)
-  replay::Presence presence = replay::Presence::kAbsent;
-  bool app_faulted = false;               ///< stopped for good, as if crashed (OnAppFault)
   bool invalid_command_recorded = false;  ///< the replay records the first of each per robot
   bool payload_refusal_recorded = false;
 

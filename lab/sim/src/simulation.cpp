@@ -17,7 +17,7 @@
 #include "syrof/lab/replay/writer.h"
 #include "lab_robot.h"
 #include "worker_pool.h"
-#include "syrof/lab/sim/fault_schedule.h"
+#include "syrof/lab/sim/world_player.h"
 #include "syrof/lab/sim/observation.h"
 #include "syrof/lab/sim/radio_network.h"
 #include "syrof/lab/sim/recording_app.h"
@@ -63,6 +63,7 @@ class CallbackTask final : public os::Task {
 // ---- The simulation -------------------------------------------------------
 
 class Simulation::Impl final : public runtime::RobotObserver,
+                               private RobotRuntime,
                                private BeaconReceivers,
                                public AppStateSink,
                                private os::SimBatchRunner {
@@ -149,6 +150,9 @@ class Simulation::Impl final : public runtime::RobotObserver,
   RadioNetwork radio_;
   std::vector<std::unique_ptr<LabRobot>> robots_;
   metrics::Collector collector_;
+  // The robots' lifecycle, the faults, the join wait and the world's own
+  // events (world_player.h): the rules every runtime shares.
+  WorldPlayer player_;
   std::unique_ptr<replay::Writer> replay_;
 
   CallbackTask fault_task_;
@@ -156,13 +160,10 @@ class Simulation::Impl final : public runtime::RobotObserver,
   CallbackTask hardware_task_;
   CallbackTask radio_task_;
   CallbackTask recorder_task_;
-  FaultSchedule faults_;
-  std::vector<replay::Event> round_events_;
   std::vector<replay::RobotFrame> frames_;
   std::vector<replay::RobotMap> round_maps_;  // the maps robots started an epoch with this round
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
-  std::vector<uint16_t> waiting_joiners_;  // due to join, start disc occupied; in the order they became due
   // The scenario's declared goal checks, and app-level agreement.
   goals::GoalMonitor goal_monitor_;
   metrics::AgreementTracker agreement_;
@@ -211,11 +212,10 @@ class Simulation::Impl final : public runtime::RobotObserver,
   void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other = replay::kNoRobot);
   void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other, uint16_t epoch,
                 wire::Mode mode);
-  void StartRobot(LabRobot& robot, int64_t now_ns);
-  // Whether no other body stands within reach of `robot`'s start disc.
-  bool StartDiscClear(uint16_t robot) const;
-  void Join(LabRobot& robot, int64_t now_ns);
-  void StopRobot(LabRobot& robot, replay::Presence presence);
+  // RobotRuntime: the lab switches a robot's port on and off.
+  bool StartRobot(uint16_t id, int64_t now_ns, bool resume) override;
+  void StopRobot(uint16_t id, int64_t now_ns, StopReason reason) override;
+  EventStamp Stamp(uint16_t id) const override;
 };
 
 Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& options)
@@ -231,12 +231,12 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       collector_(metrics::CollectorConfig{static_cast<uint16_t>(scenario.robots.size()),
                                           Nanoseconds(scenario.timing.radio_round_s),
                                           static_cast<uint16_t>(scenario.timing.silence_rounds)}),
+      player_(scenario_, world_, collector_),
       fault_task_([this](int64_t now_ns) { StepFaults(now_ns); }),
       physics_task_([this](int64_t now_ns) { StepPhysics(now_ns); }),
       hardware_task_([this](int64_t now_ns) { StepHardware(now_ns); }),
       radio_task_([this](int64_t now_ns) { StepRadio(now_ns); }),
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
-      faults_(scenario.faults, radio_round_ns_),
       partition_active_(scenario.channel.partitions.size(), 0),
       goal_monitor_(scenario.goal) {
   for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
@@ -307,9 +307,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   robot_rounds_.resize(robots_.size());
 
   SYROF_CHECK(world_port_.Start() == os::PortError::kOk);
-  for (auto& robot : robots_) {
-    if (scenario_.robots[robot->id()].present_at_start) StartRobot(*robot, 0);
-  }
+  player_.StartPresentRobots(*this);
   if (workers > 1) {
     uint32_t ports = world_port_.index() + 1;
     for (const auto& robot : robots_) ports = std::max(ports, robot->port().index() + 1);
@@ -367,27 +365,22 @@ void Simulation::Impl::RunBatch(std::span<const os::SimStep> steps) {
   }
 }
 
-void Simulation::Impl::StartRobot(LabRobot& robot, int64_t now_ns) {
-  if (robot.app_faulted) {
-    // Its app failed in init: the body arrives and stays an obstacle.
-    robot.presence = replay::Presence::kCrashed;
-    world_.SetPresence(robot.id(), world::BodyPresence::kStopped);
-    return;
-  }
+bool Simulation::Impl::StartRobot(uint16_t id, int64_t /*now_ns*/, bool /*resume*/) {
   // With clocks, a robot boots its offset later than the lab switches it on.
-  const int64_t boot_delay_ns =
-      scenario_.clocks.enabled ? Nanoseconds(scenario_.clocks.offset_ms[robot.id()] * 1e-3) : 0;
-  SYROF_CHECK(robot.port().StartAfter(boot_delay_ns) == os::PortError::kOk);
-  robot.presence = replay::Presence::kRunning;
-  robot.scored_from_ns = now_ns + kEstimationWarmupNs;
-  world_.SetPresence(robot.id(), world::BodyPresence::kActive);
+  const int64_t boot_delay_ns = scenario_.clocks.enabled ? Nanoseconds(scenario_.clocks.offset_ms[id] * 1e-3) : 0;
+  SYROF_CHECK(robots_[id]->port().StartAfter(boot_delay_ns) == os::PortError::kOk);
+  return true;
 }
 
-void Simulation::Impl::StopRobot(LabRobot& robot, replay::Presence presence) {
+void Simulation::Impl::StopRobot(uint16_t id, int64_t /*now_ns*/, StopReason /*reason*/) {
+  LabRobot& robot = *robots_[id];
   if (robot.port().running()) SYROF_CHECK(robot.port().Stop() == os::PortError::kOk);
   robot.robot().DropReceived();  // what its radio held is lost with it
-  robot.presence = robot.app_faulted ? replay::Presence::kCrashed : presence;
-  world_.SetPresence(robot.id(), world::BodyPresence::kStopped);
+}
+
+EventStamp Simulation::Impl::Stamp(uint16_t id) const {
+  const sync::SyncState& state = robots_[id]->robot().sync_state();
+  return EventStamp{state.epoch, state.epoch_mode};
 }
 
 void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other) {
@@ -408,96 +401,15 @@ void Simulation::Impl::AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t
   event.epoch = epoch;
   event.mode = static_cast<uint8_t>(mode);
   event.time_ns = now_ns;
-  round_events_.push_back(event);
-}
-
-// A joiner's start disc is clear when every other body in the arena is
-// farther than both radii, the safety margin, what a robot at the swarm's
-// speed limit covers in two radio rounds (the joiner's first presence beacon
-// reaches the others' filters after one or two rounds) and the distance the
-// other body, at its speed now, needs to stop on the filter's braking curve
-// (v^2 / a: half the weakest deceleration, docs/safety.md). Without that
-// last term a robot driving at 0.45 m/s found a joiner switched on 7.5 cm
-// beyond its disc and could not stop (crowd_200_short, seed 2).
-bool Simulation::Impl::StartDiscClear(uint16_t robot) const {
-  const scenario::RobotSpec& spec = scenario_.robots[robot];
-  const motion::SafetyConfig safety = SafetyConfigFor(scenario_);
-  const double reach_m = safety.margin_m + safety.others_max_speed_mps * 2.0 * scenario_.timing.radio_round_s;
-  for (uint16_t other = 0; other < world_.size(); ++other) {
-    if (other == robot || world_.presence(other) == world::BodyPresence::kAbsent) continue;
-    const world::BodyState& body = world_.state(other);
-    const double squared_speed = body.vx_mps * body.vx_mps + body.vy_mps * body.vy_mps;
-    const double stopping_m = squared_speed / safety.others_braking_mps2;
-    const double clearance_m = world_.body_radius_m(robot) + world_.body_radius_m(other) + reach_m + stopping_m;
-    if (std::hypot(body.x_m - spec.x_m, body.y_m - spec.y_m) < clearance_m) return false;
-  }
-  return true;
-}
-
-// With safety on, a joiner whose start disc is occupied waits (JOIN_WAIT)
-// and is switched on at the first physics step that finds it clear.
-void Simulation::Impl::Join(LabRobot& robot, int64_t now_ns) {
-  if (scenario_.safety && !StartDiscClear(robot.id())) {
-    waiting_joiners_.push_back(robot.id());
-    collector_.OnJoinWait(robot.id());
-    AddEvent(replay::EventKind::kJoinWait, now_ns, robot.id());
-    return;
-  }
-  StartRobot(robot, now_ns);
-  AddEvent(replay::EventKind::kJoin, now_ns, robot.id());
+  player_.AddEvent(event);
 }
 
 // Faults take effect on the radio-round grid (fault_schedule.h).
-void Simulation::Impl::StepFaults(int64_t now_ns) {
-  // Waiting joiners first, in the order they became due; one that crashed
-  // while it waited (presence no longer absent) stops waiting.
-  for (auto it = waiting_joiners_.begin(); it != waiting_joiners_.end();) {
-    LabRobot& robot = *robots_[*it];
-    if (robot.presence != replay::Presence::kAbsent) {
-      it = waiting_joiners_.erase(it);
-    } else if (StartDiscClear(robot.id())) {
-      StartRobot(robot, now_ns);
-      AddEvent(replay::EventKind::kJoin, now_ns, robot.id());
-      it = waiting_joiners_.erase(it);
-    } else {
-      ++it;
-    }
-  }
-  for (const FaultAction& action : faults_.Due(now_ns)) {
-    LabRobot& robot = *robots_[action.robot];
-    switch (action.kind) {
-      case FaultAction::Kind::kCrash:
-        StopRobot(robot, replay::Presence::kCrashed);
-        AddEvent(replay::EventKind::kCrash, now_ns, action.robot);
-        break;
-      case FaultAction::Kind::kPause:
-        StopRobot(robot, replay::Presence::kPaused);
-        AddEvent(replay::EventKind::kPause, now_ns, action.robot);
-        break;
-      case FaultAction::Kind::kJoin:
-        Join(robot, now_ns);
-        break;
-      case FaultAction::Kind::kResume:
-        // A robot that crashed during its pause stays crashed.
-        if (robot.presence == replay::Presence::kPaused) {
-          StartRobot(robot, now_ns);
-          AddEvent(replay::EventKind::kResume, now_ns, action.robot);
-        }
-        break;
-    }
-  }
-}
+void Simulation::Impl::StepFaults(int64_t now_ns) { player_.PlayFaults(now_ns, *this); }
 
 void Simulation::Impl::StepPhysics(int64_t now_ns) {
   world_.Step(now_ns, static_cast<double>(physics_step_ns_) * 1e-9);
-  for (const world::Contact& contact : world_.new_contacts()) {
-    collector_.OnCollision(contact.time_ns, contact.a, contact.b);
-    AddEvent(replay::EventKind::kCollision, contact.time_ns, contact.a, contact.b);
-  }
-  for (const world::WallContact& contact : world_.new_wall_contacts()) {
-    collector_.OnWallContact(contact.time_ns, contact.robot);
-    AddEvent(replay::EventKind::kWallContact, contact.time_ns, contact.robot);
-  }
+  player_.TakeContacts(*this);
 }
 
 void Simulation::Impl::StepHardware(int64_t now_ns) {
@@ -566,7 +478,7 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     if (active != partition_active_[i]) {
       AddEvent(active != 0 ? replay::EventKind::kPartitionStart : replay::EventKind::kPartitionEnd, now_ns,
                replay::kNoRobot, replay::kNoRobot, 0, wire::Mode::kCooperative);
-      round_events_.back().partition = static_cast<uint16_t>(i);
+      player_.events().back().partition = static_cast<uint16_t>(i);
       partition_active_[i] = active;
     }
   }
@@ -575,8 +487,8 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     const LabRobot& lab_robot = *robots_[i];
     const runtime::Robot& robot = lab_robot.robot();
     const RobotObservation observation =
-        Observe(lab_robot.id(), lab_robot.presence, robot.sync_state(), world_.state(lab_robot.id()), robot.estimate(),
-                robot.estimate_valid() && now_ns >= lab_robot.scored_from_ns);
+        Observe(lab_robot.id(), player_.presence(lab_robot.id()), robot.sync_state(), world_.state(lab_robot.id()),
+                robot.estimate(), robot.estimate_valid() && now_ns >= player_.scored_from_ns(lab_robot.id()));
     robot_rounds_[i] = ToRobotRound(observation);
     frames_[i] = ToRobotFrame(observation);
   }
@@ -584,7 +496,7 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
   phase_boundaries_.clear();
   for (const auto& lab_robot : robots_) {
     const runtime::Robot& robot = lab_robot->robot();
-    if (lab_robot->presence != replay::Presence::kRunning || robot.counters().rounds == 0 ||
+    if (!player_.running(lab_robot->id()) || robot.counters().rounds == 0 ||
         robot.sync_state().status != sync::Status::kMember) {
       continue;
     }
@@ -603,9 +515,9 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     // stable sort keeps that a fact rather than an assumption.
     std::stable_sort(round_maps_.begin(), round_maps_.end(),
                      [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
-    replay_->WriteRound(static_cast<uint32_t>(round), now_ns, frames_, round_events_, round_maps_);
+    replay_->WriteRound(static_cast<uint32_t>(round), now_ns, frames_, player_.events(), round_maps_);
   }
-  round_events_.clear();
+  player_.events().clear();
   round_maps_.clear();
   if (options_.progress && options_.progress_period_s > 0) {
     const int64_t period_ns = Nanoseconds(options_.progress_period_s);
@@ -616,7 +528,7 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
 std::vector<goals::RobotPose> Simulation::Impl::RunningPoses() const {
   std::vector<goals::RobotPose> poses;
   for (const auto& robot : robots_) {
-    if (robot->presence != replay::Presence::kRunning) continue;
+    if (!player_.running(robot->id())) continue;
     const world::BodyState& body = world_.state(robot->id());
     poses.push_back(goals::RobotPose{robot->id(), body.x_m, body.y_m, world_.body_radius_m(robot->id())});
   }
@@ -756,8 +668,7 @@ void Simulation::Impl::Handle(const ObserverCall& call) {
       collector_.OnAppFault(metrics::AppFault{robot, app::ToString(call.callback), call.call_epoch, now_ns,
                                               app::ToString(call.status.verdict()), call.status.detail()});
       AddEvent(replay::EventKind::kAppFault, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
-      lab_robot.app_faulted = true;
-      if (lab_robot.presence != replay::Presence::kAbsent) StopRobot(lab_robot, replay::Presence::kCrashed);
+      player_.AppFaulted(robot, now_ns, *this);
       break;
     case ObserverCall::Kind::kInvalidCommand: {
       std::array<char, 64> what{};
@@ -797,7 +708,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   for (const auto& robot : robots_) {
     const world::BodyState& body = world_.state(robot->id());
     poses.push_back(apps::GoalPose{robot->id(), body.x_m, body.y_m, body.heading_rad,
-                                   robot->presence == replay::Presence::kRunning, world_.body_radius_m(robot->id())});
+                                   player_.running(robot->id()), world_.body_radius_m(robot->id())});
   }
 
   metrics::RunFacts facts = ScenarioFacts(scenario_, world_);
