@@ -14,8 +14,10 @@
 set -euo pipefail
 
 demo_packages=(
-  # host build
-  build-essential cmake ninja-build pkg-config
+  # host build; patch makes the assignments' broken variants from their
+  # references (scripts/broken-variant.sh; build-essential brings it too,
+  # through dpkg-dev, but the build needs it by name)
+  build-essential cmake ninja-build pkg-config patch
   # design dependencies: configure locates each of them, and the syrof command
   # links them all (the lab, the DDS swarm, the grader and its app host)
   libeigen3-dev libcgal-dev cyclonedds-dev cyclonedds-tools

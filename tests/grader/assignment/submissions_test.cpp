@@ -1,6 +1,7 @@
-// Every assignment's submission folders (starter/, reference/,
-// broken/<variant>/), built as a student's library, graded on every public
-// and hidden run: each gets exactly the points its expected.yaml says, and
+// Every assignment's submission folders (starter/, reference/, and each
+// broken/<variant>/: its reference with mistake.patch applied, made by the
+// build), built as a student's library, graded on every public and hidden
+// run: each gets exactly the points its expected.yaml says, and
 // loses points only in the criteria it names. The reference's file says
 // full marks, so "the reference scores 100% on every seed" is one of these.
 //
