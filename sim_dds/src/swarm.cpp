@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <memory>
@@ -31,8 +32,8 @@
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/replay/writer.h"
 #include "syrof/lab/sensors/sensor_bank.h"
-#include "syrof/lab/sim/fault_schedule.h"
 #include "syrof/lab/sim/run_parts.h"
+#include "syrof/lab/sim/world_player.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/sync/synchronizer.h"
 #include "syrof/os/posix_port.h"
@@ -47,7 +48,6 @@ namespace {
 
 namespace scenario = lab::scenario;
 namespace replay = lab::replay;
-using lab::sim::FaultAction;
 
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 int64_t MonotonicNow() { return os::PosixPort::MonotonicNowNs(); }
@@ -105,9 +105,7 @@ struct Received {
 
 struct RobotSlot {
   pid_t pid = -1;
-  replay::Presence presence = replay::Presence::kAbsent;
-  bool app_faulted = false;
-  int64_t scored_from_ns = 0;
+  bool app_faulted = false;  // its report said so; the process stopped its app itself
   RoundReport last;          // the newest round observation
   bool has_last = false;
   double cpu_seconds = 0;
@@ -127,7 +125,42 @@ struct BoundaryTruth {
   std::vector<replay::Event> events;  // the simulator's own (faults, contacts) in the round
 };
 
-using lab::sim::kEstimationWarmupNs;
+// What the DDS world does to a robot process for the world player: a join
+// spawns it (robots present at start are spawned before discovery), a crash
+// is SIGKILL, a pause SIGSTOP and its end SIGCONT.
+class ProcessRuntime final : public lab::sim::RobotRuntime {
+ public:
+  ProcessRuntime(std::vector<RobotSlot>& robots, std::function<bool(uint16_t)> spawn)
+      : robots_(robots), spawn_(std::move(spawn)) {}
+
+  bool StartRobot(uint16_t id, int64_t /*world_ns*/, bool resume) override {
+    RobotSlot& r = robots_[id];
+    if (resume) {
+      if (r.pid > 0) (void)kill(r.pid, SIGCONT);
+      return true;
+    }
+    return r.pid > 0 || spawn_(id);
+  }
+
+  void StopRobot(uint16_t id, int64_t /*world_ns*/, lab::sim::StopReason reason) override {
+    const pid_t pid = robots_[id].pid;
+    if (pid <= 0) return;
+    if (reason == lab::sim::StopReason::kCrash) (void)kill(pid, SIGKILL);
+    if (reason == lab::sim::StopReason::kPause) (void)kill(pid, SIGSTOP);
+  }
+
+  // The robot's newest report says its epoch and mode.
+  lab::sim::EventStamp Stamp(uint16_t id) const override {
+    const RobotSlot& r = robots_[id];
+    if (!r.has_last) return {};
+    return lab::sim::EventStamp{r.last.epoch, static_cast<wire::Mode>(r.last.epoch_mode)};
+  }
+
+ private:
+  std::vector<RobotSlot>& robots_;
+  std::function<bool(uint16_t)> spawn_;
+};
+
 // Reports of round r are recorded once the grid is this far past r.
 constexpr int64_t kRecordLagRounds = 10;
 
@@ -198,7 +231,6 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   if (!entities_ok) return fail(1, "the world's DDS readers and writers could not be created (domain " + std::to_string(domain) + ")");
 
   lab::world::World world(sc.arena, lab::sim::Bodies(sc));
-  lab::sim::FaultSchedule faults(sc.faults, alpha);
   lab::metrics::Collector collector(lab::metrics::CollectorConfig{n, alpha, static_cast<uint16_t>(sc.timing.silence_rounds)});
   std::ofstream replay_file;
   std::unique_ptr<replay::Writer> replay_writer;
@@ -328,16 +360,13 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   }
   control_sample.radio_round_ns = alpha;
   if (dds_write(control, &control_sample) < 0) return fail(1, "the control sample could not be written");
-  for (uint16_t id = 0; id < n; ++id) {
-    if (sc.robots[id].present_at_start) {
-      robots[id].presence = replay::Presence::kRunning;
-      robots[id].scored_from_ns = kEstimationWarmupNs;
-    }
-  }
+  // The robots' lifecycle, the faults and the join wait: the lab's rules.
+  ProcessRuntime runtime(robots, spawn);
+  lab::sim::WorldPlayer player(sc, world, collector);
+  player.StartPresentRobots(runtime);
 
   std::map<int64_t, std::vector<Received>> reports_by_round;
   std::map<int64_t, BoundaryTruth> truths;
-  std::vector<replay::Event> pending_events;  // simulator events of the round in progress
   std::vector<int64_t> skews_ns;
   std::vector<lab::metrics::RobotRound> robot_rounds(n);
   std::vector<replay::RobotFrame> frames(n);
@@ -350,19 +379,6 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   lab::goals::GoalMonitor goal_monitor(sc.goal);
   bool any_epoch = false;
   uint16_t newest_epoch = 0;
-
-  auto add_event = [&](replay::EventKind kind, int64_t time_ns, uint16_t robot, uint16_t other = replay::kNoRobot) {
-    replay::Event event{};
-    event.kind = kind;
-    event.robot = robot;
-    event.other = other;
-    if (robot < n && robots[robot].has_last) {
-      event.epoch = robots[robot].last.epoch;
-      event.mode = robots[robot].last.epoch_mode;
-    }
-    event.time_ns = time_ns;
-    pending_events.push_back(event);
-  };
 
   // The robots' rounds on the world's clock. On one grid (no alignment)
   // round r starts at start + r * alpha. Aligning robots move their
@@ -378,7 +394,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   auto follow_robots = [&] {
     std::vector<int64_t> origins;
     for (uint16_t id = 0; id < n; ++id) {
-      if (robots[id].presence == replay::Presence::kRunning && robot_origins[id]) origins.push_back(*robot_origins[id]);
+      if (player.running(id) && robot_origins[id]) origins.push_back(*robot_origins[id]);
     }
     if (origins.empty()) return;
     std::nth_element(origins.begin(), origins.begin() + static_cast<std::ptrdiff_t>(origins.size() / 2), origins.end());
@@ -421,7 +437,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   auto running_poses = [&](const BoundaryTruth* truth) {
     std::vector<lab::goals::RobotPose> poses;
     for (uint16_t id = 0; id < n; ++id) {
-      const replay::Presence presence = truth != nullptr ? truth->presence[id] : robots[id].presence;
+      const replay::Presence presence = truth != nullptr ? truth->presence[id] : player.presence(id);
       if (presence != replay::Presence::kRunning || robots[id].app_faulted) continue;
       const lab::world::BodyState& body = truth != nullptr ? truth->bodies[id] : world.state(id);
       poses.push_back(lab::goals::RobotPose{id, body.x_m, body.y_m, world.body_radius_m(id)});
@@ -540,7 +556,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     collector.OnRoundPhases(phase_boundaries);
     for (uint16_t id = 0; id < n; ++id) {
       RobotSlot& slot = robots[id];
-      const replay::Presence presence = truth_it != truths.end() ? truth_it->second.presence[id] : slot.presence;
+      const replay::Presence presence = truth_it != truths.end() ? truth_it->second.presence[id] : player.presence(id);
       const lab::world::BodyState body = truth_it != truths.end() ? truth_it->second.bodies[id] : world.state(id);
       lab::metrics::RobotRound& rr = robot_rounds[id];
       rr = lab::metrics::RobotRound{};
@@ -552,7 +568,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       rr.epoch = slot.last.epoch;
       rr.epoch_mode = static_cast<wire::Mode>(slot.last.epoch_mode);
       rr.phase = static_cast<wire::Phase>(slot.last.phase);
-      rr.estimate_valid = rr.running && slot.last.estimate_valid != 0 && round_time_ns >= slot.scored_from_ns;
+      rr.estimate_valid = rr.running && slot.last.estimate_valid != 0 && round_time_ns >= player.scored_from_ns(id);
       rr.true_x_m = body.x_m;
       rr.true_y_m = body.y_m;
       rr.est_x_m = slot.last.est_x_m;
@@ -599,48 +615,13 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     const int64_t due = start + step_ns;
     const int64_t wait = due - MonotonicNow();
     if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
-    // Faults on the radio-round grid, as real ones.
-    for (const FaultAction& action : faults.Due(step_ns)) {
-      RobotSlot& r = robots[action.robot];
-      switch (action.kind) {
-        case FaultAction::Kind::kCrash:
-          if (r.pid > 0) (void)kill(r.pid, SIGKILL);
-          r.presence = replay::Presence::kCrashed;
-          world.SetPresence(action.robot, lab::world::BodyPresence::kStopped);
-          add_event(replay::EventKind::kCrash, step_ns, action.robot);
-          break;
-        case FaultAction::Kind::kPause:
-          if (r.pid > 0 && r.presence == replay::Presence::kRunning) {
-            (void)kill(r.pid, SIGSTOP);
-            r.presence = replay::Presence::kPaused;
-            world.SetPresence(action.robot, lab::world::BodyPresence::kStopped);
-            add_event(replay::EventKind::kPause, step_ns, action.robot);
-          }
-          break;
-        case FaultAction::Kind::kResume:
-          if (r.presence == replay::Presence::kPaused) {
-            (void)kill(r.pid, SIGCONT);
-            r.presence = replay::Presence::kRunning;
-            r.scored_from_ns = step_ns + kEstimationWarmupNs;
-            world.SetPresence(action.robot, lab::world::BodyPresence::kActive);
-            add_event(replay::EventKind::kResume, step_ns, action.robot);
-          }
-          break;
-        case FaultAction::Kind::kJoin:
-          if (r.pid <= 0 && spawn(action.robot)) {
-            r.presence = replay::Presence::kRunning;
-            r.scored_from_ns = step_ns + kEstimationWarmupNs;
-            world.SetPresence(action.robot, lab::world::BodyPresence::kActive);
-            add_event(replay::EventKind::kJoin, step_ns, action.robot);
-          }
-          break;
-      }
-    }
+    // Faults on the radio-round grid, as real ones, with the lab's rules.
+    player.PlayFaults(step_ns, runtime);
     // Drive commands to the bodies of running robots.
     for (uint16_t id = 0; id < n; ++id) {
       RobotSlot& r = robots[id];
       TakeSamples<syrof_msg_dds__Drive_>(r.drive, [&](const syrof_msg_dds__Drive_& s, const dds_sample_info_t&) {
-        if (s.robot != id || r.presence != replay::Presence::kRunning || s.kind > 1) return;
+        if (s.robot != id || !player.running(id) || s.kind > 1) return;
         motion::DriveCommand command{};
         command.timestamp_ns = s.robot_time_ns;
         command.kind = static_cast<motion::DriveKind>(s.kind);
@@ -653,18 +634,11 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       });
     }
     world.Step(step_ns, static_cast<double>(physics_ns) * 1e-9);
-    for (const lab::world::Contact& contact : world.new_contacts()) {
-      collector.OnCollision(contact.time_ns, contact.a, contact.b);
-      add_event(replay::EventKind::kCollision, contact.time_ns, contact.a, contact.b);
-    }
-    for (const lab::world::WallContact& contact : world.new_wall_contacts()) {
-      collector.OnWallContact(contact.time_ns, contact.robot);
-      add_event(replay::EventKind::kWallContact, contact.time_ns, contact.robot);
-    }
+    player.TakeContacts(runtime);
     // Sensors of running robots.
     for (uint16_t id = 0; id < n; ++id) {
       RobotSlot& r = robots[id];
-      if (r.presence == replay::Presence::kRunning) r.bank->Sample(step_ns, world.true_state(id), *r.sink);
+      if (player.running(id)) r.bank->Sample(step_ns, world.true_state(id), *r.sink);
     }
     // A round boundary of the robots: keep the truth for the recorder.
     while (next_truth <= round_at(start + step_ns)) {
@@ -672,17 +646,16 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
       truth.time_ns = step_ns;
       for (uint16_t id = 0; id < n; ++id) {
         truth.bodies.push_back(world.state(id));
-        truth.presence.push_back(robots[id].presence);
+        truth.presence.push_back(player.presence(id));
       }
-      truth.events = std::move(pending_events);
-      pending_events.clear();
+      truth.events = player.TakeEvents();
       truths[next_truth++] = std::move(truth);
     }
     take_reports();
     if (options.align_rounds) follow_robots();
     take_status();
-    for (RobotSlot& r : robots) {
-      if (r.presence == replay::Presence::kCrashed) reap(r, false);
+    for (uint16_t id = 0; id < n; ++id) {
+      if (player.lifecycle(id) == lab::sim::Lifecycle::kCrashed) reap(robots[id], false);
     }
     while (next_recorded + kRecordLagRounds <= round_at(start + step_ns)) record(next_recorded++);
     if (options.progress && step_ns >= next_progress_ns) {
@@ -704,8 +677,8 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   // Stop: Control_ says so, robots exit; SIGKILL whoever has not.
   control_sample.state = 2;
   (void)dds_write(control, &control_sample);
-  for (RobotSlot& r : robots) {
-    if (r.presence == replay::Presence::kPaused && r.pid > 0) (void)kill(r.pid, SIGCONT);
+  for (uint16_t id = 0; id < n; ++id) {
+    if (player.lifecycle(id) == lab::sim::Lifecycle::kPaused && robots[id].pid > 0) (void)kill(robots[id].pid, SIGCONT);
   }
   const int64_t exit_deadline = MonotonicNow() + 2'000'000'000;
   for (;;) {
@@ -740,7 +713,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   for (uint16_t id = 0; id < n; ++id) {
     const lab::world::BodyState& body = world.state(id);
     poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad,
-                                        robots[id].presence == replay::Presence::kRunning && !robots[id].app_faulted,
+                                        player.running(id) && !robots[id].app_faulted,
                                         world.body_radius_m(id)});
   }
   facts.goal = lab::sim::BuiltinGoal(sc, poses);
