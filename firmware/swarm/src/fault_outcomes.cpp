@@ -82,7 +82,7 @@ void FaultOutcomes::OnEpochLine(const EpochLine& line, int64_t world_ns) {
   }
 }
 
-std::vector<FaultOutcome> FaultOutcomes::Finish(const std::vector<Presence>& final_presence) const {
+std::vector<FaultOutcome> FaultOutcomes::Finish(const std::vector<lab::sim::Lifecycle>& final_presence) const {
   std::vector<FaultOutcome> outcomes;
   for (const Event& event : order_) {
     FaultOutcome outcome;
@@ -94,7 +94,7 @@ std::vector<FaultOutcome> FaultOutcomes::Finish(const std::vector<Presence>& fin
       int judged = 0;
       std::string holding;
       for (uint16_t id = 0; id < robots_; ++id) {
-        const bool running = id < final_presence.size() && final_presence[id] == Presence::kRunning;
+        const bool running = id < final_presence.size() && final_presence[id] == lab::sim::Lifecycle::kRunning;
         if (id == crash.robot || !running || !crash.last_holds[id]) continue;
         ++judged;
         if (*crash.last_holds[id]) holding += (holding.empty() ? "" : ", ") + std::to_string(id);

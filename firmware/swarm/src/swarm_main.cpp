@@ -30,8 +30,9 @@
 // arena, the robots' start poses, the sensors' noise, the channel and the
 // goal; --robots, --seed and --loss override it. The robot image has its app,
 // arena, anchors and timing compiled in; the start pose reaches each robot
-// through -append. The scenario's faults are played on world time
-// (fault_player.h): a join launches the robot's qemu late, a crash kills it,
+// through -append. The scenario's faults are played on world time with the
+// lab's rules (lab::sim::WorldPlayer, fault_player.h): a join launches the
+// robot's qemu late (once its start disc is clear), a crash kills it,
 // a pause stops it (SIGSTOP/SIGCONT), deaf and mute drop beacons; partitions
 // are the channel's. fault_outcomes.h judges, from the robots' reports,
 // whether the swarm handled each (--expect-faults makes that a check).
@@ -275,7 +276,6 @@ struct Robot {
   pid_t pid = -1;
   bool connecting = false;  // launched late (a join): its sockets not all accepted yet
   int64_t launched_ns = 0;  // host time of a late launch
-  int64_t scored_from_ns = syrof::lab::sim::kEstimationWarmupNs;  // world time its estimates count from
   int radio = -1;
   int console = -1;
   int sensor = -1;
@@ -412,30 +412,27 @@ struct RobotSockets {
   int console_listener = -1, radio_listener = -1, sensor_listener = -1;
 };
 
-// Plays one of the scenario's faults on robot `id`'s qemu at world time
-// `world_ns` (docs/firmware.md, "Faults"): a join launches it, a crash kills
-// it and closes its sockets, a pause stops it with SIGSTOP (its guest clock
+// Does what the world player asks of robot `id`'s qemu at world time
+// `world_ns` (docs/firmware.md, "Faults"): a join launches it (a robot
+// present at start was launched before the world started), a crash kills it
+// and closes its sockets, a pause stops it with SIGSTOP (its guest clock
 // keeps running: the stall shows as a jump of its time once it continues,
-// measured in FaultOutcomes) and a resume continues it. The body follows as
-// in the lab (absent, active, stopped); the replay gets the event.
-void PlayFault(const swarm::HostAction& action, int64_t world_ns, const Options& options,
-               const lab::scenario::Scenario& scenario, const RobotSockets& sockets, Robot& robot,
-               lab::world::World& world, std::vector<replay::Event>& events, int& open_consoles) {
+// measured in FaultOutcomes) and a resume continues it. The player keeps
+// the body, the lifecycle and the replay's event.
+bool DoHostAction(const swarm::HostAction& action, int64_t world_ns, const Options& options,
+                  const lab::scenario::Scenario& scenario, const RobotSockets& sockets, Robot& robot,
+                  int& open_consoles) {
   const uint16_t id = action.robot;
-  replay::EventKind kind = replay::EventKind::kCrash;
   switch (action.kind) {
     case swarm::HostAction::Kind::kLaunch:
-      kind = replay::EventKind::kJoin;
-      robot.pid = LaunchQemu(options, scenario, id, swarm::FaultPlayer::RemainingSeconds(options.seconds, world_ns),
+      if (robot.pid > 0) return true;  // present at start: launched already
+      robot.pid = LaunchQemu(options, scenario, id, swarm::RemainingSeconds(options.seconds, world_ns),
                              sockets.console_path, sockets.radio_path, sockets.sensor_path);
       robot.connecting = robot.pid > 0;
       robot.launched_ns = HostNs();
-      robot.scored_from_ns = world_ns + lab::sim::kEstimationWarmupNs;
-      world.SetPresence(id, lab::world::BodyPresence::kActive);
       if (robot.pid <= 0) --open_consoles;
-      break;
+      return robot.pid > 0;
     case swarm::HostAction::Kind::kKill:
-      kind = replay::EventKind::kCrash;
       if (robot.pid > 0) kill(robot.pid, SIGKILL);
       if (robot.console >= 0 || robot.connecting) --open_consoles;
       for (int* fd : {&robot.console, &robot.radio, &robot.sensor}) {
@@ -444,22 +441,16 @@ void PlayFault(const swarm::HostAction& action, int64_t world_ns, const Options&
       }
       robot.connecting = false;
       robot.sensor_out.clear();
-      world.SetPresence(id, lab::world::BodyPresence::kStopped);
-      break;
+      return true;
     case swarm::HostAction::Kind::kStop:
-      kind = replay::EventKind::kPause;
       if (robot.pid > 0) kill(robot.pid, SIGSTOP);
       robot.sensor_out.clear();  // readings it would only get, stale, after the pause
-      world.SetPresence(id, lab::world::BodyPresence::kStopped);
-      break;
+      return true;
     case swarm::HostAction::Kind::kContinue:
-      kind = replay::EventKind::kResume;
       if (robot.pid > 0) kill(robot.pid, SIGCONT);
-      robot.scored_from_ns = world_ns + lab::sim::kEstimationWarmupNs;
-      world.SetPresence(id, lab::world::BodyPresence::kActive);
-      break;
+      return true;
   }
-  events.push_back(replay::Event{kind, id, replay::kNoRobot, 0, 0, world_ns});
+  return false;
 }
 
 // A robot launched late: accepts its sockets as qemu connects (console,
@@ -494,11 +485,11 @@ bool AcceptLate(Robot& robot, const RobotSockets& sockets, uint16_t id) {
 // measured clock rates (GuestClockRate), 1 before any was measured.
 // Paused, crashed and not yet joined robots do not count, nor a joiner
 // before its first ten beacons (its rate starts at 1 and settles over them).
-double HostPerWorld(const std::vector<Robot>& swarm, const swarm::FaultPlayer& faults) {
+double HostPerWorld(const std::vector<Robot>& swarm, const lab::sim::WorldPlayer& player) {
   double sum = 0;
   int counted = 0;
   for (uint16_t i = 0; i < swarm.size(); ++i) {
-    if (faults.presence(i) != swarm::Presence::kRunning || swarm[i].beacon_ns.size() < 10) continue;
+    if (!player.running(i) || swarm[i].beacon_ns.size() < 10) continue;
     sum += swarm[i].clock_rate.host_per_guest();
     ++counted;
   }
@@ -507,29 +498,26 @@ double HostPerWorld(const std::vector<Robot>& swarm, const swarm::FaultPlayer& f
 
 // A pause that lasts past the run: once only paused robots are left, they
 // continue (SIGCONT) so they can run out their time and exit.
-void ReleasePausedAtTheEnd(const std::vector<Robot>& swarm, const swarm::FaultPlayer& faults, bool& released) {
+void ReleasePausedAtTheEnd(const std::vector<Robot>& swarm, const lab::sim::WorldPlayer& player, bool& released) {
   if (released) return;
   bool any_paused = false;
   for (uint16_t i = 0; i < swarm.size(); ++i) {
     const bool open = swarm[i].console >= 0 || swarm[i].connecting;
-    if (open && faults.presence(i) != swarm::Presence::kPaused) return;
-    any_paused = any_paused || (open && faults.presence(i) == swarm::Presence::kPaused);
+    const bool paused = player.lifecycle(i) == lab::sim::Lifecycle::kPaused;
+    if (open && !paused) return;
+    any_paused = any_paused || (open && paused);
   }
   if (!any_paused) return;
   for (uint16_t i = 0; i < swarm.size(); ++i) {
-    if (faults.presence(i) == swarm::Presence::kPaused && swarm[i].pid > 0) kill(swarm[i].pid, SIGCONT);
+    if (player.lifecycle(i) == lab::sim::Lifecycle::kPaused && swarm[i].pid > 0) kill(swarm[i].pid, SIGCONT);
   }
   released = true;
 }
 
-replay::Presence ReplayPresence(swarm::Presence presence, bool reporting) {
-  switch (presence) {
-    case swarm::Presence::kAbsent: return replay::Presence::kAbsent;
-    case swarm::Presence::kRunning: return reporting ? replay::Presence::kRunning : replay::Presence::kAbsent;
-    case swarm::Presence::kPaused: return replay::Presence::kPaused;
-    case swarm::Presence::kCrashed: return replay::Presence::kCrashed;
-  }
-  return replay::Presence::kAbsent;
+// A running robot shows as absent until it reports (qemu starting up).
+replay::Presence ReplayPresence(lab::sim::Lifecycle lifecycle, bool reporting) {
+  const replay::Presence presence = lab::sim::ToPresence(lifecycle);
+  return presence == replay::Presence::kRunning && !reporting ? replay::Presence::kAbsent : presence;
 }
 
 // firmware-swarm.json's "faults": one object per crash, pause and join.
@@ -622,9 +610,9 @@ int main(int argc, char** argv) {
     sockets[i] = RobotSockets{paths[3 * i + 1], paths[3 * i], paths[3 * i + 2], console_listeners[i],
                               radio_listeners[i], sensor_listeners[i]};
   }
-  // The scenario's faults on world time, and whether the robots handled them.
-  swarm::FaultPlayer fault_player(scenario, period_ns);
+  // Whether the robots handled the scenario's faults, and the radio faults.
   swarm::FaultOutcomes fault_outcomes(robots);
+  const swarm::RadioFaults radio_faults(scenario);
 
   // The scenario's channel (its model, loss and partitions; --loss
   // overrides the loss), drawing from the same seed stream as the lab's.
@@ -645,7 +633,6 @@ int main(int argc, char** argv) {
   bool any_epoch = false;
   std::ofstream replay_file(options.out + "/replay", std::ios::binary);
   replay::Writer replay_writer(replay_file, lab::sim::ReplayHeader(scenario));
-  std::vector<replay::Event> round_events;
   std::vector<replay::RobotMap> round_maps;
   std::vector<replay::RobotFrame> frames(robots);
   auto running_poses = [&] {
@@ -668,6 +655,17 @@ int main(int argc, char** argv) {
   // robots on 2 busy cores, more for 8): three times the run, then give up.
   const int64_t deadline_ns = all_started_ns + (3 * options.seconds + 30) * int64_t{1'000'000'000};
   int open_consoles = robots;
+  // The robots' lifecycle, the faults on world time and the join wait: the
+  // lab's rules (lab::sim::WorldPlayer); the host does them to qemu.
+  lab::sim::WorldPlayer player(scenario, world, collector);
+  swarm::HostActions host([&](const swarm::HostAction& action, int64_t at_ns) {
+    const bool done = DoHostAction(action, at_ns, options, scenario, sockets[action.robot], swarm[action.robot],
+                                   open_consoles);
+    if (at_ns > 0) fault_outcomes.OnAction(action, at_ns);
+    return done;
+  });
+  player.StartPresentRobots(host);
+  std::vector<replay::Event>& round_events = player.events();
 
   const auto latency_ns = static_cast<int64_t>(options.latency_ms * 1e6);
   // By due instant: the latency is scaled by each sender's clock rate.
@@ -681,7 +679,7 @@ int main(int argc, char** argv) {
         --open_consoles;
       }
     }
-    ReleasePausedAtTheEnd(swarm, fault_player, released_paused);
+    ReleasePausedAtTheEnd(swarm, player, released_paused);
     fds.clear();
     for (const Robot& robot : swarm) {
       fds.push_back({robot.radio, POLLIN, 0});
@@ -698,31 +696,19 @@ int main(int argc, char** argv) {
     // rate (GuestClockRate, from the times they print), so a robot gets a second of
     // readings per second of its own time (docs/firmware.md, "How readings
     // are timed").
-    const double host_per_world = HostPerWorld(swarm, fault_player);
+    const double host_per_world = HostPerWorld(swarm, player);
     world_clock_ns += static_cast<double>(now - (last_loop_ns == 0 ? all_started_ns : last_loop_ns)) / host_per_world;
     last_loop_ns = now;
     // The world's steps due by now: bodies, contacts, then each robot's
     // readings due at the step's instant, framed to its sensor link.
     while (static_cast<double>(world_ns + kPhysicsNs) <= world_clock_ns) {
       world_ns += kPhysicsNs;
-      for (const swarm::HostAction& action : fault_player.Advance(world_ns)) {
-        PlayFault(action, world_ns, options, scenario, sockets[action.robot], swarm[action.robot], world,
-                  round_events, open_consoles);
-        fault_outcomes.OnAction(action, world_ns);
-      }
+      player.PlayFaults(world_ns, host);
       world.Step(world_ns, static_cast<double>(kPhysicsNs) * 1e-9);
-      for (const lab::world::Contact& contact : world.new_contacts()) {
-        collector.OnCollision(contact.time_ns, contact.a, contact.b);
-        round_events.push_back(replay::Event{replay::EventKind::kCollision, contact.a, contact.b, 0, 0, contact.time_ns});
-      }
-      for (const lab::world::WallContact& contact : world.new_wall_contacts()) {
-        collector.OnWallContact(contact.time_ns, contact.robot);
-        round_events.push_back(replay::Event{replay::EventKind::kWallContact, contact.robot, replay::kNoRobot, 0, 0,
-                                             contact.time_ns});
-      }
+      player.TakeContacts(host);
       for (uint16_t i = 0; i < robots; ++i) {
         Robot& robot = swarm[i];
-        if (robot.sensor < 0 || fault_player.presence(i) != swarm::Presence::kRunning) continue;
+        if (robot.sensor < 0 || !player.running(i)) continue;
         robot.bank->Sample(world_ns, world.true_state(i), robot.feed);
         robot.sensor_out.insert(robot.sensor_out.end(), robot.feed.bytes().begin(), robot.feed.bytes().end());
         robot.feed.clear();
@@ -731,7 +717,7 @@ int main(int argc, char** argv) {
     for (Robot& robot : swarm) Flush(robot.sensor, robot.sensor_out);
     while (!in_flight.empty() && in_flight.begin()->first <= now) {
       const Delivery& delivery = in_flight.begin()->second;
-      if (swarm[delivery.to].radio >= 0 && fault_player.presence(delivery.to) == swarm::Presence::kRunning) {
+      if (swarm[delivery.to].radio >= 0 && player.running(delivery.to)) {
         (void)WriteAll(swarm[delivery.to].radio, delivery.bytes.data(), delivery.bytes.size());
       }
       in_flight.erase(in_flight.begin());
@@ -768,11 +754,11 @@ int main(int argc, char** argv) {
           const int64_t beacon_round = robot.beacons_sent++;
           for (uint16_t to = 0; to < robots; ++to) {
             // Paused, crashed and absent robots hear nothing (the lab's Listening).
-            if (to == i || swarm[to].radio < 0 || fault_player.presence(to) != swarm::Presence::kRunning) continue;
+            if (to == i || swarm[to].radio < 0 || !player.running(to)) continue;
             ++offered;
             // Partitions are on world time, as the lab's; then deaf and mute.
             const double sent_s = static_cast<double>(world_ns) * 1e-9;
-            if (!channel.Delivers(i, to, beacon_round, sent_s) || fault_player.Blocked(i, to, sent_s)) continue;
+            if (!channel.Delivers(i, to, beacon_round, sent_s) || radio_faults.Blocked(i, to, sent_s)) continue;
             ++delivered;
             uint8_t wire_bytes[drivers::kMaxWireBytes];
             const auto encoded = drivers::EncodeFrame(
@@ -840,10 +826,10 @@ int main(int argc, char** argv) {
         const Robot& robot = swarm[i];
         metrics::RobotRound& entry = rounds[i];
         entry.id = i;
-        const swarm::Presence presence = fault_player.presence(i);
-        entry.running = presence == swarm::Presence::kRunning && robot.latest.has_value() &&
+        const lab::sim::Lifecycle presence = player.lifecycle(i);
+        entry.running = presence == lab::sim::Lifecycle::kRunning && robot.latest.has_value() &&
                         static_cast<double>(now - robot.latest_ns) < 3 * static_cast<double>(period_ns) * host_per_world;
-        entry.paused = presence == swarm::Presence::kPaused;
+        entry.paused = presence == lab::sim::Lifecycle::kPaused;
         if (robot.latest) {
           entry.sync_member = robot.latest->member;
           entry.member = entry.running && robot.latest->member;
@@ -852,7 +838,7 @@ int main(int argc, char** argv) {
           entry.phase = robot.latest->phase;
           // Scored once the filter had its warm-up after the world started.
           entry.estimate_valid =
-              entry.running && robot.latest->estimate_valid && (round + 1) * period_ns >= robot.scored_from_ns;
+              entry.running && robot.latest->estimate_valid && (round + 1) * period_ns >= player.scored_from_ns(i);
           entry.est_x_m = robot.latest->x_m;
           entry.est_y_m = robot.latest->y_m;
         }
@@ -918,11 +904,11 @@ int main(int argc, char** argv) {
     waitpid(robot.pid, &status, 0);
     robot.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     // A crashed robot was killed (exit 137) and may have crashed before it reported.
-    const bool crashed = fault_player.presence(i) == swarm::Presence::kCrashed;
+    const bool crashed = player.lifecycle(i) == lab::sim::Lifecycle::kCrashed;
     if ((!crashed && (robot.exit_status != 0 || !robot.latest)) || robot.bad_lines > 0) ok = false;
   }
-  std::vector<swarm::Presence> final_presence;
-  for (uint16_t i = 0; i < robots; ++i) final_presence.push_back(fault_player.presence(i));
+  std::vector<lab::sim::Lifecycle> final_presence;
+  for (uint16_t i = 0; i < robots; ++i) final_presence.push_back(player.lifecycle(i));
   const std::vector<swarm::FaultOutcome> outcomes = fault_outcomes.Finish(final_presence);
   for (const swarm::FaultOutcome& outcome : outcomes) {
     if (options.expect_faults && !outcome.ok) ok = false;

@@ -28,7 +28,7 @@ EpochLine Epoch(uint16_t robot, uint16_t epoch, std::initializer_list<uint16_t> 
   return line;
 }
 
-const std::vector<Presence> kAllRunning(4, Presence::kRunning);
+const std::vector<lab::sim::Lifecycle> kAllRunning(4, lab::sim::Lifecycle::kRunning);
 
 TEST(FaultOutcomesTest, ACrashedRobotIsRemovedWhenEverySurvivorsLatestMapLacksIt) {
   FaultOutcomes outcomes(4);
@@ -37,8 +37,8 @@ TEST(FaultOutcomesTest, ACrashedRobotIsRemovedWhenEverySurvivorsLatestMapLacksIt
   outcomes.OnEpochLine(Epoch(0, 2, {0, 1, 2, 3}), 2 * kWorldSecondNs + 100'000'000);  // within F rounds: still there
   outcomes.OnEpochLine(Epoch(0, 3, {0, 2, 3}), 3 * kWorldSecondNs);
   outcomes.OnEpochLine(Epoch(2, 3, {0, 2, 3}), 3 * kWorldSecondNs);
-  std::vector<Presence> presence = kAllRunning;
-  presence[1] = Presence::kCrashed;
+  std::vector<lab::sim::Lifecycle> presence = kAllRunning;
+  presence[1] = lab::sim::Lifecycle::kCrashed;
 
   const std::vector<FaultOutcome> removed = outcomes.Finish(presence);
 
@@ -56,8 +56,8 @@ TEST(FaultOutcomesTest, ACrashedRobotIsRemovedWhenEverySurvivorsLatestMapLacksIt
 TEST(FaultOutcomesTest, ACrashWithNoEpochStartedAfterItIsNotJudgedOk) {
   FaultOutcomes outcomes(4);
   outcomes.OnAction({HostAction::Kind::kKill, 1}, 2 * kWorldSecondNs);
-  std::vector<Presence> presence = kAllRunning;
-  presence[1] = Presence::kCrashed;
+  std::vector<lab::sim::Lifecycle> presence = kAllRunning;
+  presence[1] = lab::sim::Lifecycle::kCrashed;
 
   const std::vector<FaultOutcome> result = outcomes.Finish(presence);
 

@@ -1,5 +1,6 @@
-// FaultPlayer: a scenario's faults turned into what the swarm host does to
-// its qemu processes, on the radio-round grid of world time.
+// HostActions: a scenario's faults, played by the lab's WorldPlayer, turned
+// into what the swarm host does to its qemu processes, on the radio-round
+// grid of world time.
 #include "syrof/firmware/swarm/fault_player.h"
 
 #include <gtest/gtest.h>
@@ -7,7 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/run_parts.h"
+#include "syrof/lab/world/world.h"
 
 namespace syrof::firmware::swarm {
 namespace {
@@ -33,25 +37,44 @@ struct Timed {
   bool operator==(const Timed&) const = default;
 };
 
-std::vector<Timed> Play(FaultPlayer& player, int64_t until_ns) {
-  std::vector<Timed> all;
-  for (int64_t t = kPhysicsStepNs; t <= until_ns; t += kPhysicsStepNs) {
-    for (const HostAction& action : player.Advance(t)) all.push_back({t, action});
+// The host's side of a run: the world player over HostActions that only
+// record (the robots present at start count as launched before the world).
+struct Host {
+  explicit Host(const lab::scenario::Scenario& s)
+      : scenario(s),
+        world(scenario.arena, lab::sim::Bodies(scenario)),
+        collector(lab::metrics::CollectorConfig{static_cast<uint16_t>(scenario.robots.size()), kGridNs, 6}),
+        player(scenario, world, collector),
+        actions([this](const HostAction& action, int64_t world_ns) {
+          if (world_ns > 0) done.push_back({world_ns, action});
+          return true;
+        }) {
+    player.StartPresentRobots(actions);
   }
-  return all;
-}
+
+  std::vector<Timed> Play(int64_t until_ns) {
+    for (int64_t t = kPhysicsStepNs; t <= until_ns; t += kPhysicsStepNs) player.PlayFaults(t, actions);
+    return done;
+  }
+
+  lab::scenario::Scenario scenario;
+  lab::world::World world;
+  lab::metrics::Collector collector;
+  lab::sim::WorldPlayer player;
+  HostActions actions;
+  std::vector<Timed> done;
+};
 
 TEST(FaultPlayerTest, EachFaultBecomesItsHostActionOnTheRadioRoundGrid) {
   // The join at 2.01 s takes effect at the next boundary, 2.05 s; the pause
   // from 4 to 6 s resumes one round before 6 s (lab::sim::FaultSchedule).
-  FaultPlayer player(Load("  - { join: 3, at_s: 2.01 }\n"
-                          "  - { pause: 2, at_s: 4, until_s: 6 }\n"
-                          "  - { crash: 1, at_s: 10 }\n"),
-                     kGridNs);
-  EXPECT_EQ(player.presence(3), Presence::kAbsent);
-  EXPECT_EQ(player.presence(1), Presence::kRunning);
+  Host host(Load("  - { join: 3, at_s: 2.01 }\n"
+                 "  - { pause: 2, at_s: 4, until_s: 6 }\n"
+                 "  - { crash: 1, at_s: 10 }\n"));
+  EXPECT_EQ(host.player.lifecycle(3), lab::sim::Lifecycle::kAbsent);
+  EXPECT_EQ(host.player.lifecycle(1), lab::sim::Lifecycle::kRunning);
 
-  const std::vector<Timed> actions = Play(player, 12'000'000'000);
+  const std::vector<Timed> actions = host.Play(12'000'000'000);
 
   const std::vector<Timed> expected = {
       {2'050'000'000, {HostAction::Kind::kLaunch, 3}},
@@ -60,21 +83,20 @@ TEST(FaultPlayerTest, EachFaultBecomesItsHostActionOnTheRadioRoundGrid) {
       {10'000'000'000, {HostAction::Kind::kKill, 1}},
   };
   EXPECT_EQ(actions, expected);
-  EXPECT_EQ(player.presence(0), Presence::kRunning);
-  EXPECT_EQ(player.presence(1), Presence::kCrashed);
-  EXPECT_EQ(player.presence(2), Presence::kRunning);
-  EXPECT_EQ(player.presence(3), Presence::kRunning);
+  EXPECT_EQ(host.player.lifecycle(0), lab::sim::Lifecycle::kRunning);
+  EXPECT_EQ(host.player.lifecycle(1), lab::sim::Lifecycle::kCrashed);
+  EXPECT_EQ(host.player.lifecycle(2), lab::sim::Lifecycle::kRunning);
+  EXPECT_EQ(host.player.lifecycle(3), lab::sim::Lifecycle::kRunning);
 }
 
 TEST(FaultPlayerTest, APauseRunningPastTheEndIsNeverContinuedAndACrashAfterAPauseKills) {
   // The loader refuses a crash inside a pause; one right at its end comes
   // after the resume. A pause may end after the run (robot 2).
-  FaultPlayer player(Load("  - { pause: 1, at_s: 1, until_s: 3 }\n"
-                          "  - { crash: 1, at_s: 3 }\n"
-                          "  - { pause: 2, at_s: 3.5, until_s: 30 }\n"),
-                     kGridNs);
+  Host host(Load("  - { pause: 1, at_s: 1, until_s: 3 }\n"
+                 "  - { crash: 1, at_s: 3 }\n"
+                 "  - { pause: 2, at_s: 3.5, until_s: 30 }\n"));
 
-  const std::vector<Timed> actions = Play(player, 5'000'000'000);
+  const std::vector<Timed> actions = host.Play(5'000'000'000);
 
   const std::vector<Timed> expected = {
       {1'000'000'000, {HostAction::Kind::kStop, 1}},
@@ -83,30 +105,30 @@ TEST(FaultPlayerTest, APauseRunningPastTheEndIsNeverContinuedAndACrashAfterAPaus
       {3'500'000'000, {HostAction::Kind::kStop, 2}},
   };
   EXPECT_EQ(actions, expected);
-  EXPECT_EQ(player.presence(1), Presence::kCrashed);
-  EXPECT_EQ(player.presence(2), Presence::kPaused);
+  EXPECT_EQ(host.player.lifecycle(1), lab::sim::Lifecycle::kCrashed);
+  EXPECT_EQ(host.player.lifecycle(2), lab::sim::Lifecycle::kPaused);
 }
 
 TEST(FaultPlayerTest, DeafAndMuteBlockBeaconsOnlyInTheirWindow) {
-  FaultPlayer player(Load("  - { mute: 0, at_s: 1, until_s: 2 }\n"
-                          "  - { deaf: 3, at_s: 5, until_s: 6 }\n"),
-                     kGridNs);
+  const lab::scenario::Scenario scenario = Load("  - { mute: 0, at_s: 1, until_s: 2 }\n"
+                                                "  - { deaf: 3, at_s: 5, until_s: 6 }\n");
+  const RadioFaults radio(scenario);
 
-  EXPECT_FALSE(player.Blocked(0, 1, 0.95));
-  EXPECT_TRUE(player.Blocked(0, 1, 1.0));
-  EXPECT_TRUE(player.Blocked(0, 3, 1.95));
-  EXPECT_FALSE(player.Blocked(0, 1, 2.0));
-  EXPECT_FALSE(player.Blocked(1, 0, 1.5));  // mute: 0 still hears
-  EXPECT_TRUE(player.Blocked(1, 3, 5.5));
-  EXPECT_FALSE(player.Blocked(3, 1, 5.5));  // deaf: 3 is still heard
+  EXPECT_FALSE(radio.Blocked(0, 1, 0.95));
+  EXPECT_TRUE(radio.Blocked(0, 1, 1.0));
+  EXPECT_TRUE(radio.Blocked(0, 3, 1.95));
+  EXPECT_FALSE(radio.Blocked(0, 1, 2.0));
+  EXPECT_FALSE(radio.Blocked(1, 0, 1.5));  // mute: 0 still hears
+  EXPECT_TRUE(radio.Blocked(1, 3, 5.5));
+  EXPECT_FALSE(radio.Blocked(3, 1, 5.5));  // deaf: 3 is still heard
   // Radio faults change no process.
-  EXPECT_TRUE(Play(player, 7'000'000'000).empty());
+  EXPECT_TRUE(Host(scenario).Play(7'000'000'000).empty());
 }
 
 TEST(FaultPlayerTest, ALateRobotRunsUntilTheOthersStop) {
-  EXPECT_EQ(FaultPlayer::RemainingSeconds(14, 2'000'000'000), 12);
-  EXPECT_EQ(FaultPlayer::RemainingSeconds(14, 2'050'000'000), 12);  // rounded up: it may stop a little later
-  EXPECT_EQ(FaultPlayer::RemainingSeconds(5, 6'000'000'000), 1);    // at least a second
+  EXPECT_EQ(RemainingSeconds(14, 2'000'000'000), 12);
+  EXPECT_EQ(RemainingSeconds(14, 2'050'000'000), 12);  // rounded up: it may stop a little later
+  EXPECT_EQ(RemainingSeconds(5, 6'000'000'000), 1);    // at least a second
 }
 
 }  // namespace

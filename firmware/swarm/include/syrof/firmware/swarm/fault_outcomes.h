@@ -51,7 +51,7 @@ class FaultOutcomes {
 
   /// One outcome per crash, pause and join, in the order they happened;
   /// `final_presence` says who was still running at the end.
-  std::vector<FaultOutcome> Finish(const std::vector<Presence>& final_presence) const;
+  std::vector<FaultOutcome> Finish(const std::vector<lab::sim::Lifecycle>& final_presence) const;
 
  private:
   struct Pause {
