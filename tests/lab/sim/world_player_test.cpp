@@ -87,6 +87,22 @@ std::vector<replay::EventKind> Kinds(const std::vector<replay::Event>& events) {
   return kinds;
 }
 
+// Robot 0 at (1.5, 1); robot 1, 0.3 m away, joins at 0.5 s: its start disc
+// holds robot 0. `more` adds lines (a `safety:` key, faults after the join).
+std::string JoinerBesideRobot0(const std::string& more = "", const std::string& faults = "") {
+  return "name: joiner\n"
+         "arena: { width_m: 6, height_m: 6 }\n"
+         "robots:\n"
+         "  placement: explicit\n"
+         "  poses: [{ x_m: 1.5, y_m: 1 }, { x_m: 1.8, y_m: 1 }]\n"
+         "timing: { duration_s: 20 }\n"
+         "app: builtin:idle\n" +
+         more +
+         "faults:\n"
+         "  - { join: 1, at_s: 0.5 }\n" +
+         faults;
+}
+
 TEST(WorldPlayerTest, RobotsPresentAtStartStartAtZeroWithoutEvents) {
   Fixture f(kFourRobots);
 
@@ -135,17 +151,7 @@ TEST(WorldPlayerTest, FaultsPlayOnTheGridWithOneStampedEventEach) {
 // the metrics) and is switched on at the first step that finds the disc
 // clear, once robot 0 has driven away.
 TEST(WorldPlayerTest, AJoinerWaitsForItsStartDiscToClear) {
-  Fixture f(R"(
-name: wait
-arena: { width_m: 6, height_m: 6 }
-robots:
-  placement: explicit
-  poses: [{ x_m: 1.5, y_m: 1 }, { x_m: 1.8, y_m: 1 }]
-timing: { duration_s: 20 }
-faults:
-  - { join: 1, at_s: 0.5 }
-app: builtin:idle
-)");
+  Fixture f(JoinerBesideRobot0());
   f.player.StartPresentRobots(f.runtime);
   f.runtime.calls.clear();
 
@@ -171,18 +177,7 @@ app: builtin:idle
 
 // With safety off nobody waits.
 TEST(WorldPlayerTest, WithoutSafetyAJoinerStartsAtOnce) {
-  Fixture f(R"(
-name: nowait
-arena: { width_m: 6, height_m: 6 }
-robots:
-  placement: explicit
-  poses: [{ x_m: 1.5, y_m: 1 }, { x_m: 1.8, y_m: 1 }]
-timing: { duration_s: 20 }
-safety: off
-faults:
-  - { join: 1, at_s: 0.5 }
-app: builtin:idle
-)");
+  Fixture f(JoinerBesideRobot0("safety: off\n"));
   f.player.StartPresentRobots(f.runtime);
 
   f.PlayUntil(500'000'000);
@@ -192,18 +187,7 @@ app: builtin:idle
 }
 
 TEST(WorldPlayerTest, ACrashWhileWaitingToJoinMeansItNeverStarts) {
-  Fixture f(R"(
-name: crashwait
-arena: { width_m: 6, height_m: 6 }
-robots:
-  placement: explicit
-  poses: [{ x_m: 1.5, y_m: 1 }, { x_m: 1.8, y_m: 1 }]
-timing: { duration_s: 20 }
-faults:
-  - { join: 1, at_s: 0.5 }
-  - { crash: 1, at_s: 1 }
-app: builtin:idle
-)");
+  Fixture f(JoinerBesideRobot0("", "  - { crash: 1, at_s: 1 }\n"));
   f.player.StartPresentRobots(f.runtime);
   f.runtime.calls.clear();
 
