@@ -545,6 +545,722 @@ void WriteFaultOutcomes(std::ostream& out, const std::vector<swarm::FaultOutcome
   if (!first) out << "\n  ";
 }
 
+// The result of a run's last checks, for firmware-swarm.json and the summary.
+struct RunResult {
+  bool ok = true;
+  double wall_s = 0;
+  metrics::Metrics metrics;
+  std::vector<swarm::FaultOutcome> outcomes;
+  int64_t replay_rounds = 0;
+  std::string replay_problem;
+  swarm::SkewStats skew;
+  swarm::SensorFeedCounters sensor_totals;
+  uint64_t sensor_rejected = 0;
+};
+
+metrics::CollectorConfig SwarmCollectorConfig(uint16_t robots, int64_t period_ns) {
+  metrics::CollectorConfig config;
+  config.robots = robots;
+  config.radio_round_ns = period_ns;
+  return config;
+}
+
+// One run of the emulated swarm: the robots' qemu instances and their
+// links, the world they move in, the channel between them and what is
+// recorded of them (metrics, replay, fault outcomes). main() calls, in
+// order: OpenSockets, LaunchPresentRobots, StartWorld, Step until Running()
+// is false, Finish.
+class SwarmHost {
+ public:
+  SwarmHost(const Options& options, const lab::scenario::Scenario& scenario);
+  SwarmHost(const SwarmHost&) = delete;
+  SwarmHost& operator=(const SwarmHost&) = delete;
+
+  // The socket directory, each robot's three listeners and its console log.
+  bool OpenSockets();
+  // One qemu per robot present at start, its sockets accepted; false (every
+  // qemu killed) when one did not connect.
+  bool LaunchPresentRobots();
+  // The world's clock starts; the player starts the robots present at start.
+  void StartWorld();
+  // Whether a console is still open and the deadline has not passed.
+  bool Running() const;
+  // One pass of the host loop: late robots' sockets, the world's steps due,
+  // the deliveries due, every robot's links, the rounds ended.
+  void Step();
+  // The checks and the output files; the exit status.
+  int Finish();
+
+ private:
+  bool OnHostAction(const swarm::HostAction& action, int64_t at_ns);
+  void AcceptLateRobots();
+  int64_t WaitForLinks();
+  void AdvanceWorld(int64_t now);
+  void Deliver(int64_t now);
+  void ReadSensorLink(uint16_t i);
+  void ReadRadio(uint16_t i, int64_t now);
+  void OnBeacon(uint16_t i, const drivers::Frame& frame, int64_t now);
+  void ReadConsole(uint16_t i, int64_t now);
+  void OnConsoleLine(uint16_t i, const std::string& line, int64_t now);
+  void OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now);
+  void RecordRound(int64_t now);
+  metrics::RobotRound RecordRobot(uint16_t i, int64_t now, std::vector<int64_t>& boundaries);
+  void WriteReplayRound();
+  std::vector<lab::goals::RobotPose> RunningPoses() const;
+  bool ReapRobots();
+  metrics::Metrics CollectMetrics(double wall_s);
+  void ReadReplayBack(RunResult& result);
+  void CheckEstimation(RunResult& result) const;
+  void WriteMetrics(RunResult& result) const;
+  void WriteBeacons(RunResult& result) const;
+  void CountSensorLink(RunResult& result) const;
+  void WriteReport(const RunResult& result) const;
+  void PrintSummary(const RunResult& result) const;
+
+  static constexpr int64_t kPhysicsNs = syrof::registry::kImuPeriodNs;
+  const Options options_;
+  const lab::scenario::Scenario scenario_;
+  const uint16_t robots_;
+  const int64_t period_ns_ = syrof::registry::kDefaultRadioRoundNs;
+  std::vector<Robot> swarm_;
+  std::vector<RobotSockets> sockets_;
+  std::vector<std::string> paths_;
+  std::string socket_dir_;
+  std::string timing_;
+  int64_t start_ns_ = 0;
+  int64_t all_started_ns_ = 0;
+  int64_t deadline_ns_ = 0;
+  // Whether the robots handled the scenario's faults, and the radio faults.
+  swarm::FaultOutcomes fault_outcomes_;
+  const swarm::RadioFaults radio_faults_;
+  // The scenario's channel (its model, loss and partitions; --loss
+  // overrides the loss), drawing from the same seed stream as the lab's.
+  syrof::lab::world::Channel channel_;
+  metrics::Collector collector_;
+  // The world, on the host's clock from all_started_ns_.
+  lab::world::World world_;
+  int64_t world_ns_ = 0;       // the world's time, stepped in kPhysicsNs
+  double world_clock_ns_ = 0;  // where the world's time should be now
+  int64_t last_loop_ns_ = 0;
+  double host_per_world_ = 1;  // this pass's HostPerWorld
+  lab::goals::GoalMonitor goal_monitor_;
+  uint16_t newest_epoch_ = 0;
+  bool any_epoch_ = false;
+  std::ofstream replay_file_;
+  std::optional<replay::Writer> replay_writer_;
+  std::vector<replay::RobotMap> round_maps_;
+  std::vector<replay::RobotFrame> frames_;
+  // Every COOPERATIVE epoch start, to find the first epoch all robots started so.
+  std::map<uint16_t, std::vector<uint16_t>> cooperative_starters_;
+  std::optional<double> all_cooperative_s_;
+  int64_t round_ = 0;
+  int64_t next_round_ns_;  // on the world's time
+  int64_t link_errors_ = 0;
+  int64_t offered_ = 0, delivered_ = 0;
+  int open_consoles_;
+  // The robots' lifecycle, the faults on world time and the join wait: the
+  // lab's rules (lab::sim::WorldPlayer); the host does them to qemu.
+  lab::sim::WorldPlayer player_;
+  swarm::HostActions host_;
+  int64_t latency_ns_;
+  // By due instant: the latency is scaled by each sender's clock rate.
+  std::multimap<int64_t, Delivery> in_flight_;
+  std::vector<pollfd> fds_;
+  bool released_paused_ = false;
+};
+
+SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scenario)
+    : options_(options),
+      scenario_(scenario),
+      robots_(static_cast<uint16_t>(options.robots)),
+      swarm_(robots_),
+      sockets_(robots_),
+      fault_outcomes_(robots_),
+      radio_faults_(scenario_),
+      channel_(scenario_.channel, robots_, lab::sim::ChannelSeed(scenario_.seed)),
+      collector_(SwarmCollectorConfig(robots_, period_ns_)),
+      world_(scenario_.arena, lab::sim::Bodies(scenario_)),
+      goal_monitor_(scenario_.goal),
+      frames_(robots_),
+      next_round_ns_(period_ns_),
+      open_consoles_(robots_),
+      player_(scenario_, world_, collector_),
+      host_([this](const swarm::HostAction& action, int64_t at_ns) { return OnHostAction(action, at_ns); }),
+      latency_ns_(static_cast<int64_t>(options.latency_ms * 1e6)) {}
+
+bool SwarmHost::OnHostAction(const swarm::HostAction& action, int64_t at_ns) {
+  const bool done = DoHostAction(action, at_ns, options_, scenario_, sockets_[action.robot], swarm_[action.robot],
+                                 open_consoles_);
+  if (at_ns > 0) fault_outcomes_.OnAction(action, at_ns);
+  return done;
+}
+
+bool SwarmHost::OpenSockets() {
+  char socket_dir_template[] = "/tmp/syrof-swarm-XXXXXX";
+  const char* socket_dir = mkdtemp(socket_dir_template);
+  if (socket_dir == nullptr) {
+    std::perror("syrof-firmware-swarm: mkdtemp");
+    return false;
+  }
+  socket_dir_ = socket_dir;
+  for (uint16_t i = 0; i < robots_; ++i) {
+    RobotSockets& sockets = sockets_[i];
+    sockets.radio_path = socket_dir_ + "/radio" + std::to_string(i);
+    sockets.console_path = socket_dir_ + "/console" + std::to_string(i);
+    sockets.sensor_path = socket_dir_ + "/sensor" + std::to_string(i);
+    sockets.radio_listener = Listen(sockets.radio_path);
+    sockets.console_listener = Listen(sockets.console_path);
+    sockets.sensor_listener = Listen(sockets.sensor_path);
+    paths_.push_back(sockets.radio_path);
+    paths_.push_back(sockets.console_path);
+    paths_.push_back(sockets.sensor_path);
+    swarm_[i].log.open(options_.out + "/robot_" + std::to_string(i) + ".log");
+    swarm_[i].bank =
+        std::make_unique<lab::sensors::SensorBank>(scenario_.sensors, lab::sim::SensorSeed(scenario_.seed, i));
+  }
+  return true;
+}
+
+bool SwarmHost::LaunchPresentRobots() {
+  // One qemu per robot; each keeps its own virtual clock.
+  timing_ = options_.icount_shift < 0 ? "host clock (no -icount)"
+                                      : "-icount shift=" + std::to_string(options_.icount_shift);
+  start_ns_ = HostNs();
+  for (uint16_t i = 0; i < robots_; ++i) {
+    if (!scenario_.robots[i].present_at_start) continue;  // launched when it joins (PlayFault)
+    Robot& robot = swarm_[i];
+    const RobotSockets& sockets = sockets_[i];
+    robot.pid = LaunchQemu(options_, scenario_, i, options_.seconds, sockets.console_path, sockets.radio_path,
+                           sockets.sensor_path);
+    // qemu connects to its chardevs in order while starting up.
+    robot.console = AcceptOne(sockets.console_listener, 15'000, "robot " + std::to_string(i) + "'s console");
+    robot.radio = AcceptOne(sockets.radio_listener, 15'000, "robot " + std::to_string(i) + "'s radio");
+    robot.sensor = AcceptOne(sockets.sensor_listener, 15'000, "robot " + std::to_string(i) + "'s sensor link");
+    if (robot.console < 0 || robot.radio < 0 || robot.sensor < 0) {
+      for (Robot& launched : swarm_) {
+        if (launched.pid > 0) kill(launched.pid, SIGKILL);
+      }
+      return false;
+    }
+  }
+  all_started_ns_ = HostNs();
+  return true;
+}
+
+void SwarmHost::StartWorld() {
+  replay_file_.open(options_.out + "/replay", std::ios::binary);
+  replay_writer_.emplace(replay_file_, lab::sim::ReplayHeader(scenario_));
+  // With -icount a loaded host stretches the guests' time (1.3x for 4
+  // robots on 2 busy cores, more for 8): three times the run, then give up.
+  deadline_ns_ = all_started_ns_ + (3 * options_.seconds + 30) * int64_t{1'000'000'000};
+  player_.StartPresentRobots(host_);
+}
+
+bool SwarmHost::Running() const { return open_consoles_ > 0 && HostNs() < deadline_ns_; }
+
+void SwarmHost::Step() {
+  AcceptLateRobots();
+  ReleasePausedAtTheEnd(swarm_, player_, released_paused_);
+  const int64_t now = WaitForLinks();
+  AdvanceWorld(now);
+  for (Robot& robot : swarm_) Flush(robot.sensor, robot.sensor_out);
+  Deliver(now);
+  for (uint16_t i = 0; i < robots_; ++i) {
+    ReadSensorLink(i);
+    ReadRadio(i, now);
+    ReadConsole(i, now);
+  }
+  // Round ends on the host's clock: every robot's latest report.
+  while (world_ns_ >= next_round_ns_) RecordRound(now);
+}
+
+void SwarmHost::AcceptLateRobots() {
+  for (uint16_t i = 0; i < robots_; ++i) {
+    if (swarm_[i].connecting && !AcceptLate(swarm_[i], sockets_[i], i)) {
+      swarm_[i].connecting = false;
+      --open_consoles_;
+    }
+  }
+}
+
+// Polls every robot's links until one has input, the next delivery is due
+// or half a physics step passed (at most 10 ms); returns the host time after.
+int64_t SwarmHost::WaitForLinks() {
+  fds_.clear();
+  for (const Robot& robot : swarm_) {
+    fds_.push_back({robot.radio, POLLIN, 0});
+    fds_.push_back({robot.console, POLLIN, 0});
+    fds_.push_back({robot.sensor, POLLIN, 0});
+  }
+  const int64_t now_before = HostNs();
+  int64_t next_event_ns = now_before + kPhysicsNs / 2;
+  if (!in_flight_.empty()) next_event_ns = std::min(next_event_ns, in_flight_.begin()->first);
+  const int wait_ms = static_cast<int>(std::max<int64_t>(0, (next_event_ns - now_before) / 1'000'000));
+  poll(fds_.data(), fds_.size(), std::min(wait_ms, 10));
+  return HostNs();
+}
+
+void SwarmHost::AdvanceWorld(int64_t now) {
+  // The world follows the host's clock slowed to the robots' mean clock
+  // rate (GuestClockRate, from the times they print), so a robot gets a second of
+  // readings per second of its own time (docs/firmware.md, "How readings
+  // are timed").
+  host_per_world_ = HostPerWorld(swarm_, player_);
+  world_clock_ns_ += static_cast<double>(now - (last_loop_ns_ == 0 ? all_started_ns_ : last_loop_ns_)) / host_per_world_;
+  last_loop_ns_ = now;
+  // The world's steps due by now: bodies, contacts, then each robot's
+  // readings due at the step's instant, framed to its sensor link.
+  while (static_cast<double>(world_ns_ + kPhysicsNs) <= world_clock_ns_) {
+    world_ns_ += kPhysicsNs;
+    player_.PlayFaults(world_ns_, host_);
+    world_.Step(world_ns_, static_cast<double>(kPhysicsNs) * 1e-9);
+    player_.TakeContacts(host_);
+    for (uint16_t i = 0; i < robots_; ++i) {
+      Robot& robot = swarm_[i];
+      if (robot.sensor < 0 || !player_.running(i)) continue;
+      robot.bank->Sample(world_ns_, world_.true_state(i), robot.feed);
+      robot.sensor_out.insert(robot.sensor_out.end(), robot.feed.bytes().begin(), robot.feed.bytes().end());
+      robot.feed.clear();
+    }
+  }
+}
+
+void SwarmHost::Deliver(int64_t now) {
+  while (!in_flight_.empty() && in_flight_.begin()->first <= now) {
+    const Delivery& delivery = in_flight_.begin()->second;
+    if (swarm_[delivery.to].radio >= 0 && player_.running(delivery.to)) {
+      (void)WriteAll(swarm_[delivery.to].radio, delivery.bytes.data(), delivery.bytes.size());
+    }
+    in_flight_.erase(in_flight_.begin());
+  }
+}
+
+void SwarmHost::ReadSensorLink(uint16_t i) {
+  Robot& robot = swarm_[i];
+  if (robot.sensor < 0 || (fds_[3 * i + 2].revents & (POLLIN | POLLHUP)) == 0) return;
+  uint8_t buffer[4096];
+  const ssize_t count = read(robot.sensor, buffer, sizeof buffer);
+  if (count <= 0) {
+    close(robot.sensor);
+    robot.sensor = -1;
+  }
+  for (ssize_t k = 0; k < count; ++k) {
+    if (auto drive = robot.feed.PushFromRobot(buffer[k], world_ns_)) world_.SetDrive(i, *drive);
+  }
+}
+
+void SwarmHost::ReadRadio(uint16_t i, int64_t now) {
+  Robot& robot = swarm_[i];
+  if (robot.radio < 0 || (fds_[3 * i].revents & (POLLIN | POLLHUP)) == 0) return;
+  uint8_t buffer[4096];
+  const ssize_t count = read(robot.radio, buffer, sizeof buffer);
+  if (count <= 0) {
+    close(robot.radio);
+    robot.radio = -1;
+  }
+  for (ssize_t k = 0; k < count; ++k) {
+    const drivers::DecodeEvent event = robot.decoder.Push(buffer[k]);
+    if (event == drivers::DecodeEvent::kError) ++link_errors_;
+    if (event != drivers::DecodeEvent::kFrame) continue;
+    const drivers::Frame& frame = robot.decoder.frame();
+    if (frame.kind != drivers::FrameKind::kSendBeacon) continue;
+    OnBeacon(i, frame, now);
+  }
+}
+
+// Robot `i`'s SendBeacon frame, read at host time `now`: a ReceivedBeacon
+// frame in flight to each robot the channel delivers it to.
+void SwarmHost::OnBeacon(uint16_t i, const drivers::Frame& frame, int64_t now) {
+  Robot& robot = swarm_[i];
+  robot.beacon_ns.push_back(now);
+  robot.last_boundary_ns = now;
+  // --latency-ms is on the robots' clocks: half their round by default.
+  const int64_t due_ns = now + robot.clock_rate.ToHost(latency_ns_);
+  const int64_t beacon_round = robot.beacons_sent++;
+  for (uint16_t to = 0; to < robots_; ++to) {
+    // Paused, crashed and absent robots hear nothing (the lab's Listening).
+    if (to == i || swarm_[to].radio < 0 || !player_.running(to)) continue;
+    ++offered_;
+    // Partitions are on world time, as the lab's; then deaf and mute.
+    const double sent_s = static_cast<double>(world_ns_) * 1e-9;
+    if (!channel_.Delivers(i, to, beacon_round, sent_s) || radio_faults_.Blocked(i, to, sent_s)) continue;
+    ++delivered_;
+    uint8_t wire_bytes[drivers::kMaxWireBytes];
+    const auto encoded = drivers::EncodeFrame(
+        drivers::MakeReceivedBeacon(frame.sequence, -60,
+                                    std::span<const uint8_t>(frame.beacon.data(), frame.beacon_length)),
+        wire_bytes);
+    if (encoded.ok()) {
+      in_flight_.emplace(due_ns, Delivery{due_ns, to, std::vector<uint8_t>(wire_bytes, wire_bytes + encoded.value())});
+    }
+  }
+}
+
+void SwarmHost::ReadConsole(uint16_t i, int64_t now) {
+  Robot& robot = swarm_[i];
+  if (robot.console < 0 || (fds_[3 * i + 1].revents & (POLLIN | POLLHUP)) == 0) return;
+  uint8_t buffer[4096];
+  const ssize_t count = read(robot.console, buffer, sizeof buffer);
+  if (count <= 0) {
+    close(robot.console);
+    robot.console = -1;
+    --open_consoles_;
+    return;
+  }
+  robot.pending_line.append(reinterpret_cast<const char*>(buffer), static_cast<size_t>(count));
+  size_t newline;
+  while ((newline = robot.pending_line.find('\n')) != std::string::npos) {
+    const std::string line = robot.pending_line.substr(0, newline);
+    robot.pending_line.erase(0, newline + 1);
+    OnConsoleLine(i, line, now);
+  }
+}
+
+void SwarmHost::OnConsoleLine(uint16_t i, const std::string& line, int64_t now) {
+  Robot& robot = swarm_[i];
+  robot.log << line << '\n';
+  ++robot.lines;
+  if (line.rfind("status ", 0) == 0) robot.last_status = line;
+  const swarm::ConsoleLine parsed = swarm::ParseConsoleLine(line, robots_);
+  if (const auto* error = std::get_if<swarm::LineError>(&parsed)) {
+    ++robot.bad_lines;
+    std::fprintf(stderr, "robot %u console, column %zu: %s\n  %s\n", static_cast<unsigned>(i), error->column,
+                 error->what.c_str(), line.c_str());
+  } else if (const auto* round_line = std::get_if<swarm::RoundLine>(&parsed)) {
+    robot.latest = *round_line;
+    robot.latest_ns = now;
+    robot.clock_rate.OnGuestTime(now, round_line->t_ms * 1'000'000);
+    fault_outcomes_.OnRoundLine(*round_line, world_ns_);
+  } else if (const auto* epoch_line = std::get_if<swarm::EpochLine>(&parsed)) {
+    OnEpochLine(*epoch_line, now);
+  }
+}
+
+void SwarmHost::OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now) {
+  collector_.OnEpochStart(epoch_line.robot, round_, world_ns_, epoch_line.map);
+  fault_outcomes_.OnEpochLine(epoch_line, world_ns_);
+  player_.events().push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line.robot, replay::kNoRobot,
+                                           epoch_line.map.epoch, static_cast<uint8_t>(epoch_line.map.mode),
+                                           world_ns_});
+  if (std::none_of(round_maps_.begin(), round_maps_.end(),
+                   [&](const replay::RobotMap& entry) { return entry.robot == epoch_line.robot; })) {
+    round_maps_.push_back(replay::RobotMap{epoch_line.robot, lab::sim::ToEpochMap(epoch_line.map)});
+  }
+  if (epoch_line.map.mode == syrof::wire::Mode::kCooperative) {
+    std::vector<uint16_t>& starters = cooperative_starters_[epoch_line.map.epoch];
+    starters.push_back(epoch_line.robot);
+    if (starters.size() == robots_ && !all_cooperative_s_) {
+      all_cooperative_s_ = static_cast<double>(now - all_started_ns_) * 1e-9;
+    }
+  }
+}
+
+std::vector<lab::goals::RobotPose> SwarmHost::RunningPoses() const {
+  std::vector<lab::goals::RobotPose> poses;
+  for (uint16_t id = 0; id < robots_; ++id) {
+    const lab::world::BodyState& body = world_.state(id);
+    poses.push_back(lab::goals::RobotPose{id, body.x_m, body.y_m, world_.body_radius_m(id)});
+  }
+  return poses;
+}
+
+// The round ending at next_round_ns_ on the world's time, from every
+// robot's latest report at host time `now`: metrics, the goal, the replay.
+void SwarmHost::RecordRound(int64_t now) {
+  std::vector<metrics::RobotRound> rounds(robots_);
+  std::vector<int64_t> boundaries;
+  for (uint16_t i = 0; i < robots_; ++i) rounds[i] = RecordRobot(i, now, boundaries);
+  collector_.OnRoundPhases(boundaries);
+  collector_.OnRoundEnd(round_, rounds);
+  const double time_s = static_cast<double>((round_ + 1) * period_ns_) * 1e-9;
+  if (!goal_monitor_.empty()) {
+    const std::vector<lab::goals::RobotPose> poses = RunningPoses();
+    goal_monitor_.OnRound(time_s, poses);
+    for (const replay::Event& event : player_.events()) {
+      if (event.kind != replay::EventKind::kEpochStart || (any_epoch_ && event.epoch <= newest_epoch_)) continue;
+      any_epoch_ = true;
+      newest_epoch_ = event.epoch;
+      goal_monitor_.OnEpoch(event.epoch, time_s, poses);
+    }
+  }
+  WriteReplayRound();
+  ++round_;
+  next_round_ns_ += period_ns_;
+}
+
+// Robot `i`'s part of the round: its metrics entry (returned), its replay
+// frame (frames_[i]) and its round boundary, if it is a member.
+metrics::RobotRound SwarmHost::RecordRobot(uint16_t i, int64_t now, std::vector<int64_t>& boundaries) {
+  const Robot& robot = swarm_[i];
+  metrics::RobotRound entry;
+  entry.id = i;
+  const lab::sim::Lifecycle presence = player_.lifecycle(i);
+  entry.running = presence == lab::sim::Lifecycle::kRunning && robot.latest.has_value() &&
+                  static_cast<double>(now - robot.latest_ns) < 3 * static_cast<double>(period_ns_) * host_per_world_;
+  entry.paused = presence == lab::sim::Lifecycle::kPaused;
+  if (robot.latest) {
+    entry.sync_member = robot.latest->member;
+    entry.member = entry.running && robot.latest->member;
+    entry.epoch = robot.latest->epoch;
+    entry.epoch_mode = robot.latest->mode;
+    entry.phase = robot.latest->phase;
+    // Scored once the filter had its warm-up after the world started.
+    entry.estimate_valid =
+        entry.running && robot.latest->estimate_valid && (round_ + 1) * period_ns_ >= player_.scored_from_ns(i);
+    entry.est_x_m = robot.latest->x_m;
+    entry.est_y_m = robot.latest->y_m;
+  }
+  const lab::world::BodyState& body = world_.state(i);
+  entry.true_x_m = body.x_m;
+  entry.true_y_m = body.y_m;
+  replay::RobotFrame& frame = frames_[i];
+  frame.id = i;
+  frame.presence = ReplayPresence(presence, entry.running);
+  frame.status = entry.sync_member ? 0 : 1;
+  frame.phase = static_cast<uint8_t>(entry.phase);
+  frame.mode = static_cast<uint8_t>(entry.epoch_mode);
+  frame.epoch = entry.epoch;
+  frame.true_x_m = static_cast<float>(body.x_m);
+  frame.true_y_m = static_cast<float>(body.y_m);
+  frame.true_heading_rad = static_cast<float>(body.heading_rad);
+  // The report line has no heading: the replay shows the true one.
+  frame.est_x_m = static_cast<float>(entry.est_x_m);
+  frame.est_y_m = static_cast<float>(entry.est_y_m);
+  frame.est_heading_rad = frame.true_heading_rad;
+  if (entry.member && robot.last_boundary_ns > 0) boundaries.push_back(robot.last_boundary_ns - all_started_ns_);
+  return entry;
+}
+
+// The round's frames, its events in time order (none after the round's
+// end) and its epoch maps by robot; the events and maps start over.
+void SwarmHost::WriteReplayRound() {
+  std::vector<replay::Event>& round_events = player_.events();
+  std::stable_sort(round_events.begin(), round_events.end(),
+                   [](const replay::Event& a, const replay::Event& b) { return a.time_ns < b.time_ns; });
+  for (replay::Event& event : round_events) event.time_ns = std::min(event.time_ns, (round_ + 1) * period_ns_);
+  std::sort(round_maps_.begin(), round_maps_.end(),
+            [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
+  replay_writer_->WriteRound(static_cast<uint32_t>(round_), (round_ + 1) * period_ns_, frames_, round_events,
+                             round_maps_);
+  round_events.clear();
+  round_maps_.clear();
+}
+
+int SwarmHost::Finish() {
+  RunResult result;
+  result.ok = ReapRobots();
+  std::vector<lab::sim::Lifecycle> final_presence;
+  for (uint16_t i = 0; i < robots_; ++i) final_presence.push_back(player_.lifecycle(i));
+  result.outcomes = fault_outcomes_.Finish(final_presence);
+  for (const swarm::FaultOutcome& outcome : result.outcomes) {
+    if (options_.expect_faults && !outcome.ok) result.ok = false;
+  }
+  for (const std::string& path : paths_) unlink(path.c_str());
+  rmdir(socket_dir_.c_str());
+  result.wall_s = static_cast<double>(HostNs() - start_ns_) * 1e-9;
+  result.metrics = CollectMetrics(result.wall_s);
+  ReadReplayBack(result);
+  CheckEstimation(result);
+  WriteMetrics(result);
+  WriteBeacons(result);
+  if (options_.expect_cooperative && !all_cooperative_s_) result.ok = false;
+  if (result.metrics.common_knowledge.violations != 0) result.ok = false;
+  CountSensorLink(result);
+  WriteReport(result);
+  PrintSummary(result);
+  return result.ok ? 0 : 1;
+}
+
+// Waits for every qemu (killing one still running at the deadline) and
+// keeps its exit status; false when one never started, ran past the
+// deadline, exited badly or never reported, or printed a bad line.
+bool SwarmHost::ReapRobots() {
+  bool ok = true;
+  for (uint16_t i = 0; i < robots_; ++i) {
+    Robot& robot = swarm_[i];
+    int status = 0;
+    if (robot.pid <= 0) {  // a joiner whose time never came, or whose qemu did not start
+      ok = false;
+      std::fprintf(stderr, "robot %u: never started\n", static_cast<unsigned>(i));
+      continue;
+    }
+    if (robot.console >= 0 || robot.radio >= 0 || robot.connecting) {  // the deadline passed
+      kill(robot.pid, SIGKILL);
+      ok = false;
+      std::fprintf(stderr, "robot %u: still running at the deadline\n", static_cast<unsigned>(i));
+    }
+    waitpid(robot.pid, &status, 0);
+    robot.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    // A crashed robot was killed (exit 137) and may have crashed before it reported.
+    const bool crashed = player_.lifecycle(i) == lab::sim::Lifecycle::kCrashed;
+    if ((!crashed && (robot.exit_status != 0 || !robot.latest)) || robot.bad_lines > 0) ok = false;
+  }
+  return ok;
+}
+
+metrics::Metrics SwarmHost::CollectMetrics(double wall_s) {
+  // The image runs its compiled-in app (builtin:circle unless built with APP=).
+  metrics::RunFacts facts = lab::sim::ScenarioFacts(scenario_, world_);
+  facts.sim_seconds = static_cast<double>(round_) * static_cast<double>(period_ns_) * 1e-9;
+  facts.wall_seconds = wall_s;
+  facts.radio_rounds = round_;
+  std::vector<lab::apps::GoalPose> poses;
+  for (uint16_t id = 0; id < robots_; ++id) {
+    const lab::world::BodyState& body = world_.state(id);
+    poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad, true, world_.body_radius_m(id)});
+  }
+  facts.goal = lab::sim::BuiltinGoal(scenario_, poses);
+  if (!scenario_.goal.empty()) {
+    facts.goal = lab::sim::DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(facts.sim_seconds, RunningPoses()));
+  }
+  metrics::Metrics result = collector_.Finish(facts);
+  // The robots' consoles do not carry the app's returns, so agreement stays
+  // unset: metrics.json says null, not a measurement of nothing.
+  result.runtime = "firmware";
+  return result;
+}
+
+// The replay, then read back as the viewer reads it.
+void SwarmHost::ReadReplayBack(RunResult& result) {
+  replay_writer_->Finish();
+  replay_file_.close();
+  {
+    std::ifstream in(options_.out + "/replay", std::ios::binary);
+    replay::Reader reader(in);
+    replay::Header header;
+    replay::Round replay_round;
+    if (reader.ReadHeader(header)) {
+      while (reader.Next(replay_round)) ++result.replay_rounds;
+    }
+    if (!reader.complete()) result.replay_problem = reader.error().ToString();
+  }
+  if (!result.replay_problem.empty() || result.replay_rounds != round_) {
+    std::fprintf(stderr, "syrof-firmware-swarm: %s/replay does not read back (%lld of %lld rounds): %s\n",
+                 options_.out.c_str(), static_cast<long long>(result.replay_rounds), static_cast<long long>(round_),
+                 result.replay_problem.c_str());
+    result.ok = false;
+  }
+}
+
+void SwarmHost::CheckEstimation(RunResult& result) const {
+  const std::optional<double> max_error_m = result.metrics.estimation.max_error_m;
+  if (options_.max_estimation_error_m &&
+      (!max_error_m || result.metrics.estimation.samples == 0 || *max_error_m > *options_.max_estimation_error_m)) {
+    std::fprintf(stderr, "syrof-firmware-swarm: largest estimation error %s m over %lld samples, above --max-estimation-error %g\n",
+                 max_error_m ? std::to_string(*max_error_m).c_str() : "(none)",
+                 static_cast<long long>(result.metrics.estimation.samples), *options_.max_estimation_error_m);
+    result.ok = false;
+  }
+}
+
+void SwarmHost::WriteMetrics(RunResult& result) const {
+  std::ofstream metrics_file(options_.out + "/metrics.json");
+  metrics_file << metrics::ToJson(result.metrics);
+  if (!metrics_file.flush()) {
+    std::fprintf(stderr, "syrof-firmware-swarm: cannot write %s/metrics.json\n", options_.out.c_str());
+    result.ok = false;
+  }
+}
+
+// beacons.csv, and the round-start skew from the same instants.
+void SwarmHost::WriteBeacons(RunResult& result) const {
+  std::vector<std::vector<int64_t>> beacon_times;
+  std::ofstream beacons_csv(options_.out + "/beacons.csv");
+  beacons_csv << "robot,host_ms\n";
+  for (uint16_t i = 0; i < robots_; ++i) {
+    beacon_times.push_back(swarm_[i].beacon_ns);
+    for (const int64_t t : swarm_[i].beacon_ns) beacons_csv << i << ',' << static_cast<double>(t - all_started_ns_) * 1e-6 << '\n';
+  }
+  // Skew from 5 s on: the start-up (instances boot one after another) and
+  // the round alignment's first corrections are left out.
+  result.skew = swarm::RoundStartSkew(beacon_times, period_ns_, all_started_ns_ + 5'000'000'000);
+}
+
+void SwarmHost::CountSensorLink(RunResult& result) const {
+  for (const Robot& robot : swarm_) {
+    result.sensor_totals.imu += robot.feed.counters().imu;
+    result.sensor_totals.flow += robot.feed.counters().flow;
+    result.sensor_totals.uwb += robot.feed.counters().uwb;
+    result.sensor_totals.not_encoded += robot.feed.counters().not_encoded;
+    result.sensor_totals.drives += robot.feed.counters().drives;
+    result.sensor_rejected += robot.feed.link_counters().rejected;
+  }
+}
+
+void SwarmHost::WriteReport(const RunResult& result) const {
+  const metrics::Metrics& run = result.metrics;
+  const swarm::SkewStats& skew = result.skew;
+  const swarm::SensorFeedCounters& sensor_totals = result.sensor_totals;
+  const std::optional<double> max_error_m = run.estimation.max_error_m;
+  const bool cooperative = all_cooperative_s_.has_value();
+  std::ofstream report(options_.out + "/firmware-swarm.json");
+  report << "{\n  \"robots\": " << robots_ << ",\n  \"seconds\": " << options_.seconds << ",\n  \"loss\": " << options_.loss
+         << ",\n  \"seed\": " << options_.seed << ",\n  \"align\": " << (options_.align ? "true" : "false")
+         << ",\n  \"latency_ms\": " << options_.latency_ms << ",\n  \"timing\": \"" << timing_ << "\",\n  \"wall_seconds\": " << result.wall_s
+         << ",\n  \"all_cooperative_s\": "
+         << (cooperative ? std::to_string(*all_cooperative_s_) : std::string("null"))
+         << ",\n  \"p3_violations\": " << run.common_knowledge.violations
+         << ",\n  \"cooperative_starts\": " << run.common_knowledge.cooperative_starts
+         << ",\n  \"round_start_skew\": {\"samples\": " << skew.samples << ", \"median_ms\": " << skew.median_ns * 1e-6
+         << ", \"p95_ms\": " << skew.p95_ns * 1e-6 << ", \"max_ms\": " << skew.max_ns * 1e-6 << "}"
+         << ",\n  \"beacons\": {\"offered\": " << offered_ << ", \"delivered\": " << delivered_
+         << ", \"link_errors\": " << link_errors_ << "}";
+  report << ",\n  \"sensor_link\": {\"imu\": " << sensor_totals.imu << ", \"flow\": " << sensor_totals.flow
+         << ", \"uwb\": " << sensor_totals.uwb << ", \"not_encoded\": " << sensor_totals.not_encoded
+         << ", \"drives\": " << sensor_totals.drives << ", \"rejected_from_robots\": " << result.sensor_rejected << "}"
+         << ",\n  \"scenario\": \"" << scenario_.name << "\", \"replay_rounds\": " << result.replay_rounds
+         << ",\n  \"estimation\": {\"samples\": " << run.estimation.samples << ", \"rmse_m\": "
+         << (run.estimation.position_rmse_m ? std::to_string(*run.estimation.position_rmse_m) : std::string("null"))
+         << ", \"max_m\": " << (max_error_m ? std::to_string(*max_error_m) : std::string("null")) << "}"
+         << ",\n  \"exit_statuses\": [";
+  for (uint16_t i = 0; i < robots_; ++i) report << (i ? ", " : "") << swarm_[i].exit_status;
+  report << "],\n  \"partitioned_beacons\": " << channel_.partitioned() << ",\n  \"faults\": [";
+  WriteFaultOutcomes(report, result.outcomes);
+  report << "]\n}\n";
+}
+
+void SwarmHost::PrintSummary(const RunResult& result) const {
+  const metrics::Metrics& run = result.metrics;
+  const swarm::SkewStats& skew = result.skew;
+  const swarm::SensorFeedCounters& sensor_totals = result.sensor_totals;
+  const std::optional<double> max_error_m = run.estimation.max_error_m;
+  const bool cooperative = all_cooperative_s_.has_value();
+  std::printf("firmware swarm: %u robots, %d s, loss %.2f, seed %llu, timing %s, wall %.1f s\n",
+              static_cast<unsigned>(robots_), options_.seconds, options_.loss,
+              static_cast<unsigned long long>(options_.seed), timing_.c_str(), result.wall_s);
+  std::printf("  all robots COOPERATIVE in one epoch: %s; COOPERATIVE starts %lld; P3 violations %lld\n",
+              cooperative ? ("at " + std::to_string(*all_cooperative_s_) + " s").c_str() : "never",
+              static_cast<long long>(run.common_knowledge.cooperative_starts),
+              static_cast<long long>(run.common_knowledge.violations));
+  std::printf("  round-start skew (beacon arrivals vs robot 0, after 5 s): median %.3f ms, p95 %.3f ms, max %.3f ms "
+              "over %lld beacons\n",
+              skew.median_ns * 1e-6, skew.p95_ns * 1e-6, skew.max_ns * 1e-6, static_cast<long long>(skew.samples));
+  std::printf("  beacons offered %lld, delivered %lld; radio-link errors %lld\n", static_cast<long long>(offered_),
+              static_cast<long long>(delivered_), static_cast<long long>(link_errors_));
+  std::printf("  scenario %s; sensor link: %lld IMU, %lld flow, %lld UWB frames sent, %lld drive commands back\n",
+              scenario_.name.c_str(), static_cast<long long>(sensor_totals.imu),
+              static_cast<long long>(sensor_totals.flow), static_cast<long long>(sensor_totals.uwb),
+              static_cast<long long>(sensor_totals.drives));
+  std::printf("  estimation error over %lld samples: RMSE %s m, max %s m; collisions %lld; goal %s (%s)\n",
+              static_cast<long long>(run.estimation.samples),
+              run.estimation.position_rmse_m ? std::to_string(*run.estimation.position_rmse_m).c_str() : "-",
+              max_error_m ? std::to_string(*max_error_m).c_str() : "-",
+              static_cast<long long>(run.collisions.count), run.goal.reached ? "reached" : "not reached",
+              run.goal.detail.c_str());
+  std::printf("  %s/replay: %lld rounds%s\n", options_.out.c_str(), static_cast<long long>(result.replay_rounds),
+              result.replay_problem.empty() ? "" : (", " + result.replay_problem).c_str());
+  for (uint16_t i = 0; i < robots_; ++i) {
+    std::printf("  robot %u: exit %d, %s\n", static_cast<unsigned>(i), swarm_[i].exit_status,
+                swarm_[i].last_status.c_str());
+  }
+  for (const swarm::FaultOutcome& outcome : result.outcomes) {
+    std::printf("  fault: %s: %s\n", outcome.ok ? "ok" : (options_.expect_faults ? "FAILED" : "not seen"),
+                outcome.detail.c_str());
+  }
+  std::printf("  %s/metrics.json, %s/firmware-swarm.json: %s\n", options_.out.c_str(), options_.out.c_str(),
+              result.ok ? "ok" : "FAILED");
+}
+
 int main(int argc, char** argv) {
   const Options parsed_options = ParseOptions(argc, argv);
   const lab::scenario::Scenario scenario = LoadScenario(parsed_options);
@@ -560,502 +1276,9 @@ int main(int argc, char** argv) {
                  made.message().c_str());
     return 1;
   }
-  char socket_dir_template[] = "/tmp/syrof-swarm-XXXXXX";
-  const char* socket_dir = mkdtemp(socket_dir_template);
-  if (socket_dir == nullptr) {
-    std::perror("syrof-firmware-swarm: mkdtemp");
-    return 1;
-  }
-  const auto robots = static_cast<uint16_t>(options.robots);
-  const int64_t period_ns = syrof::registry::kDefaultRadioRoundNs;
-  std::vector<Robot> swarm(robots);
-  std::vector<int> radio_listeners(robots), console_listeners(robots), sensor_listeners(robots);
-  std::vector<std::string> paths;
-  for (uint16_t i = 0; i < robots; ++i) {
-    const std::string radio_path = std::string(socket_dir) + "/radio" + std::to_string(i);
-    const std::string console_path = std::string(socket_dir) + "/console" + std::to_string(i);
-    const std::string sensor_path = std::string(socket_dir) + "/sensor" + std::to_string(i);
-    radio_listeners[i] = Listen(radio_path);
-    console_listeners[i] = Listen(console_path);
-    sensor_listeners[i] = Listen(sensor_path);
-    paths.push_back(radio_path);
-    paths.push_back(console_path);
-    paths.push_back(sensor_path);
-    swarm[i].log.open(options.out + "/robot_" + std::to_string(i) + ".log");
-    swarm[i].bank =
-        std::make_unique<lab::sensors::SensorBank>(scenario.sensors, lab::sim::SensorSeed(scenario.seed, i));
-  }
-
-  // One qemu per robot; each keeps its own virtual clock.
-  std::string timing = options.icount_shift < 0 ? "host clock (no -icount)"
-                                                : "-icount shift=" + std::to_string(options.icount_shift);
-  const int64_t start_ns = HostNs();
-  for (uint16_t i = 0; i < robots; ++i) {
-    if (!scenario.robots[i].present_at_start) continue;  // launched when it joins (PlayFault)
-    swarm[i].pid = LaunchQemu(options, scenario, i, options.seconds, paths[3 * i + 1], paths[3 * i], paths[3 * i + 2]);
-    // qemu connects to its chardevs in order while starting up.
-    swarm[i].console = AcceptOne(console_listeners[i], 15'000, "robot " + std::to_string(i) + "'s console");
-    swarm[i].radio = AcceptOne(radio_listeners[i], 15'000, "robot " + std::to_string(i) + "'s radio");
-    swarm[i].sensor = AcceptOne(sensor_listeners[i], 15'000, "robot " + std::to_string(i) + "'s sensor link");
-    if (swarm[i].console < 0 || swarm[i].radio < 0 || swarm[i].sensor < 0) {
-      for (Robot& robot : swarm) {
-        if (robot.pid > 0) kill(robot.pid, SIGKILL);
-      }
-      return 1;
-    }
-  }
-  const int64_t all_started_ns = HostNs();
-  std::vector<RobotSockets> sockets(robots);
-  for (uint16_t i = 0; i < robots; ++i) {
-    sockets[i] = RobotSockets{paths[3 * i + 1], paths[3 * i], paths[3 * i + 2], console_listeners[i],
-                              radio_listeners[i], sensor_listeners[i]};
-  }
-  // Whether the robots handled the scenario's faults, and the radio faults.
-  swarm::FaultOutcomes fault_outcomes(robots);
-  const swarm::RadioFaults radio_faults(scenario);
-
-  // The scenario's channel (its model, loss and partitions; --loss
-  // overrides the loss), drawing from the same seed stream as the lab's.
-  syrof::lab::world::Channel channel(scenario.channel, robots, lab::sim::ChannelSeed(scenario.seed));
-  metrics::CollectorConfig collector_config;
-  collector_config.robots = robots;
-  collector_config.radio_round_ns = period_ns;
-  metrics::Collector collector(collector_config);
-
-  // The world, on the host's clock from all_started_ns.
-  lab::world::World world(scenario.arena, lab::sim::Bodies(scenario));
-  constexpr int64_t kPhysicsNs = syrof::registry::kImuPeriodNs;
-  int64_t world_ns = 0;       // the world's time, stepped in kPhysicsNs
-  double world_clock_ns = 0;  // where the world's time should be now
-  int64_t last_loop_ns = 0;
-  lab::goals::GoalMonitor goal_monitor(scenario.goal);
-  uint16_t newest_epoch = 0;
-  bool any_epoch = false;
-  std::ofstream replay_file(options.out + "/replay", std::ios::binary);
-  replay::Writer replay_writer(replay_file, lab::sim::ReplayHeader(scenario));
-  std::vector<replay::RobotMap> round_maps;
-  std::vector<replay::RobotFrame> frames(robots);
-  auto running_poses = [&] {
-    std::vector<lab::goals::RobotPose> poses;
-    for (uint16_t id = 0; id < robots; ++id) {
-      const lab::world::BodyState& body = world.state(id);
-      poses.push_back(lab::goals::RobotPose{id, body.x_m, body.y_m, world.body_radius_m(id)});
-    }
-    return poses;
-  };
-
-  // Every COOPERATIVE epoch start, to find the first epoch all robots started so.
-  std::map<uint16_t, std::vector<uint16_t>> cooperative_starters;
-  std::optional<double> all_cooperative_s;
-  int64_t round = 0;
-  int64_t next_round_ns = period_ns;  // on the world's time
-  int64_t link_errors = 0;
-  int64_t offered = 0, delivered = 0;
-  // With -icount a loaded host stretches the guests' time (1.3x for 4
-  // robots on 2 busy cores, more for 8): three times the run, then give up.
-  const int64_t deadline_ns = all_started_ns + (3 * options.seconds + 30) * int64_t{1'000'000'000};
-  int open_consoles = robots;
-  // The robots' lifecycle, the faults on world time and the join wait: the
-  // lab's rules (lab::sim::WorldPlayer); the host does them to qemu.
-  lab::sim::WorldPlayer player(scenario, world, collector);
-  swarm::HostActions host([&](const swarm::HostAction& action, int64_t at_ns) {
-    const bool done = DoHostAction(action, at_ns, options, scenario, sockets[action.robot], swarm[action.robot],
-                                   open_consoles);
-    if (at_ns > 0) fault_outcomes.OnAction(action, at_ns);
-    return done;
-  });
-  player.StartPresentRobots(host);
-  std::vector<replay::Event>& round_events = player.events();
-
-  const auto latency_ns = static_cast<int64_t>(options.latency_ms * 1e6);
-  // By due instant: the latency is scaled by each sender's clock rate.
-  std::multimap<int64_t, Delivery> in_flight;
-  std::vector<pollfd> fds;
-  bool released_paused = false;
-  while (open_consoles > 0 && HostNs() < deadline_ns) {
-    for (uint16_t i = 0; i < robots; ++i) {
-      if (swarm[i].connecting && !AcceptLate(swarm[i], sockets[i], i)) {
-        swarm[i].connecting = false;
-        --open_consoles;
-      }
-    }
-    ReleasePausedAtTheEnd(swarm, player, released_paused);
-    fds.clear();
-    for (const Robot& robot : swarm) {
-      fds.push_back({robot.radio, POLLIN, 0});
-      fds.push_back({robot.console, POLLIN, 0});
-      fds.push_back({robot.sensor, POLLIN, 0});
-    }
-    const int64_t now_before = HostNs();
-    int64_t next_event_ns = now_before + kPhysicsNs / 2;
-    if (!in_flight.empty()) next_event_ns = std::min(next_event_ns, in_flight.begin()->first);
-    const int wait_ms = static_cast<int>(std::max<int64_t>(0, (next_event_ns - now_before) / 1'000'000));
-    poll(fds.data(), fds.size(), std::min(wait_ms, 10));
-    const int64_t now = HostNs();
-    // The world follows the host's clock slowed to the robots' mean clock
-    // rate (GuestClockRate, from the times they print), so a robot gets a second of
-    // readings per second of its own time (docs/firmware.md, "How readings
-    // are timed").
-    const double host_per_world = HostPerWorld(swarm, player);
-    world_clock_ns += static_cast<double>(now - (last_loop_ns == 0 ? all_started_ns : last_loop_ns)) / host_per_world;
-    last_loop_ns = now;
-    // The world's steps due by now: bodies, contacts, then each robot's
-    // readings due at the step's instant, framed to its sensor link.
-    while (static_cast<double>(world_ns + kPhysicsNs) <= world_clock_ns) {
-      world_ns += kPhysicsNs;
-      player.PlayFaults(world_ns, host);
-      world.Step(world_ns, static_cast<double>(kPhysicsNs) * 1e-9);
-      player.TakeContacts(host);
-      for (uint16_t i = 0; i < robots; ++i) {
-        Robot& robot = swarm[i];
-        if (robot.sensor < 0 || !player.running(i)) continue;
-        robot.bank->Sample(world_ns, world.true_state(i), robot.feed);
-        robot.sensor_out.insert(robot.sensor_out.end(), robot.feed.bytes().begin(), robot.feed.bytes().end());
-        robot.feed.clear();
-      }
-    }
-    for (Robot& robot : swarm) Flush(robot.sensor, robot.sensor_out);
-    while (!in_flight.empty() && in_flight.begin()->first <= now) {
-      const Delivery& delivery = in_flight.begin()->second;
-      if (swarm[delivery.to].radio >= 0 && player.running(delivery.to)) {
-        (void)WriteAll(swarm[delivery.to].radio, delivery.bytes.data(), delivery.bytes.size());
-      }
-      in_flight.erase(in_flight.begin());
-    }
-    for (uint16_t i = 0; i < robots; ++i) {
-      Robot& robot = swarm[i];
-      uint8_t buffer[4096];
-      if (robot.sensor >= 0 && (fds[3 * i + 2].revents & (POLLIN | POLLHUP)) != 0) {
-        const ssize_t count = read(robot.sensor, buffer, sizeof buffer);
-        if (count <= 0) {
-          close(robot.sensor);
-          robot.sensor = -1;
-        }
-        for (ssize_t k = 0; k < count; ++k) {
-          if (auto drive = robot.feed.PushFromRobot(buffer[k], world_ns)) world.SetDrive(i, *drive);
-        }
-      }
-      if (robot.radio >= 0 && (fds[3 * i].revents & (POLLIN | POLLHUP)) != 0) {
-        const ssize_t count = read(robot.radio, buffer, sizeof buffer);
-        if (count <= 0) {
-          close(robot.radio);
-          robot.radio = -1;
-        }
-        for (ssize_t k = 0; k < count; ++k) {
-          const drivers::DecodeEvent event = robot.decoder.Push(buffer[k]);
-          if (event == drivers::DecodeEvent::kError) ++link_errors;
-          if (event != drivers::DecodeEvent::kFrame) continue;
-          const drivers::Frame& frame = robot.decoder.frame();
-          if (frame.kind != drivers::FrameKind::kSendBeacon) continue;
-          robot.beacon_ns.push_back(now);
-          robot.last_boundary_ns = now;
-          // --latency-ms is on the robots' clocks: half their round by default.
-          const int64_t due_ns = now + robot.clock_rate.ToHost(latency_ns);
-          const int64_t beacon_round = robot.beacons_sent++;
-          for (uint16_t to = 0; to < robots; ++to) {
-            // Paused, crashed and absent robots hear nothing (the lab's Listening).
-            if (to == i || swarm[to].radio < 0 || !player.running(to)) continue;
-            ++offered;
-            // Partitions are on world time, as the lab's; then deaf and mute.
-            const double sent_s = static_cast<double>(world_ns) * 1e-9;
-            if (!channel.Delivers(i, to, beacon_round, sent_s) || radio_faults.Blocked(i, to, sent_s)) continue;
-            ++delivered;
-            uint8_t wire_bytes[drivers::kMaxWireBytes];
-            const auto encoded = drivers::EncodeFrame(
-                drivers::MakeReceivedBeacon(frame.sequence, -60,
-                                            std::span<const uint8_t>(frame.beacon.data(), frame.beacon_length)),
-                wire_bytes);
-            if (encoded.ok()) {
-              in_flight.emplace(due_ns, Delivery{due_ns, to, std::vector<uint8_t>(wire_bytes, wire_bytes + encoded.value())});
-            }
-          }
-        }
-      }
-      if (robot.console >= 0 && (fds[3 * i + 1].revents & (POLLIN | POLLHUP)) != 0) {
-        const ssize_t count = read(robot.console, buffer, sizeof buffer);
-        if (count <= 0) {
-          close(robot.console);
-          robot.console = -1;
-          --open_consoles;
-          continue;
-        }
-        robot.pending_line.append(reinterpret_cast<const char*>(buffer), static_cast<size_t>(count));
-        size_t newline;
-        while ((newline = robot.pending_line.find('\n')) != std::string::npos) {
-          const std::string line = robot.pending_line.substr(0, newline);
-          robot.pending_line.erase(0, newline + 1);
-          robot.log << line << '\n';
-          ++robot.lines;
-          if (line.rfind("status ", 0) == 0) robot.last_status = line;
-          const swarm::ConsoleLine parsed = swarm::ParseConsoleLine(line, robots);
-          if (const auto* error = std::get_if<swarm::LineError>(&parsed)) {
-            ++robot.bad_lines;
-            std::fprintf(stderr, "robot %u console, column %zu: %s\n  %s\n", static_cast<unsigned>(i), error->column,
-                         error->what.c_str(), line.c_str());
-          } else if (const auto* round_line = std::get_if<swarm::RoundLine>(&parsed)) {
-            robot.latest = *round_line;
-            robot.latest_ns = now;
-            robot.clock_rate.OnGuestTime(now, round_line->t_ms * 1'000'000);
-            fault_outcomes.OnRoundLine(*round_line, world_ns);
-          } else if (const auto* epoch_line = std::get_if<swarm::EpochLine>(&parsed)) {
-            collector.OnEpochStart(epoch_line->robot, round, world_ns, epoch_line->map);
-            fault_outcomes.OnEpochLine(*epoch_line, world_ns);
-            round_events.push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line->robot, replay::kNoRobot,
-                                                 epoch_line->map.epoch,
-                                                 static_cast<uint8_t>(epoch_line->map.mode), world_ns});
-            if (std::none_of(round_maps.begin(), round_maps.end(),
-                             [&](const replay::RobotMap& entry) { return entry.robot == epoch_line->robot; })) {
-              round_maps.push_back(replay::RobotMap{epoch_line->robot, lab::sim::ToEpochMap(epoch_line->map)});
-            }
-            if (epoch_line->map.mode == syrof::wire::Mode::kCooperative) {
-              std::vector<uint16_t>& starters = cooperative_starters[epoch_line->map.epoch];
-              starters.push_back(epoch_line->robot);
-              if (starters.size() == robots && !all_cooperative_s) {
-                all_cooperative_s = static_cast<double>(now - all_started_ns) * 1e-9;
-              }
-            }
-          }
-        }
-      }
-    }
-    // Round ends on the host's clock: every robot's latest report.
-    while (world_ns >= next_round_ns) {
-      std::vector<metrics::RobotRound> rounds(robots);
-      std::vector<int64_t> boundaries;
-      for (uint16_t i = 0; i < robots; ++i) {
-        const Robot& robot = swarm[i];
-        metrics::RobotRound& entry = rounds[i];
-        entry.id = i;
-        const lab::sim::Lifecycle presence = player.lifecycle(i);
-        entry.running = presence == lab::sim::Lifecycle::kRunning && robot.latest.has_value() &&
-                        static_cast<double>(now - robot.latest_ns) < 3 * static_cast<double>(period_ns) * host_per_world;
-        entry.paused = presence == lab::sim::Lifecycle::kPaused;
-        if (robot.latest) {
-          entry.sync_member = robot.latest->member;
-          entry.member = entry.running && robot.latest->member;
-          entry.epoch = robot.latest->epoch;
-          entry.epoch_mode = robot.latest->mode;
-          entry.phase = robot.latest->phase;
-          // Scored once the filter had its warm-up after the world started.
-          entry.estimate_valid =
-              entry.running && robot.latest->estimate_valid && (round + 1) * period_ns >= player.scored_from_ns(i);
-          entry.est_x_m = robot.latest->x_m;
-          entry.est_y_m = robot.latest->y_m;
-        }
-        const lab::world::BodyState& body = world.state(i);
-        entry.true_x_m = body.x_m;
-        entry.true_y_m = body.y_m;
-        replay::RobotFrame& frame = frames[i];
-        frame.id = i;
-        frame.presence = ReplayPresence(presence, entry.running);
-        frame.status = entry.sync_member ? 0 : 1;
-        frame.phase = static_cast<uint8_t>(entry.phase);
-        frame.mode = static_cast<uint8_t>(entry.epoch_mode);
-        frame.epoch = entry.epoch;
-        frame.true_x_m = static_cast<float>(body.x_m);
-        frame.true_y_m = static_cast<float>(body.y_m);
-        frame.true_heading_rad = static_cast<float>(body.heading_rad);
-        // The report line has no heading: the replay shows the true one.
-        frame.est_x_m = static_cast<float>(entry.est_x_m);
-        frame.est_y_m = static_cast<float>(entry.est_y_m);
-        frame.est_heading_rad = frame.true_heading_rad;
-        if (entry.member && robot.last_boundary_ns > 0) boundaries.push_back(robot.last_boundary_ns - all_started_ns);
-      }
-      collector.OnRoundPhases(boundaries);
-      collector.OnRoundEnd(round, rounds);
-      const double time_s = static_cast<double>((round + 1) * period_ns) * 1e-9;
-      if (!goal_monitor.empty()) {
-        const std::vector<lab::goals::RobotPose> poses = running_poses();
-        goal_monitor.OnRound(time_s, poses);
-        for (const replay::Event& event : round_events) {
-          if (event.kind != replay::EventKind::kEpochStart || (any_epoch && event.epoch <= newest_epoch)) continue;
-          any_epoch = true;
-          newest_epoch = event.epoch;
-          goal_monitor.OnEpoch(event.epoch, time_s, poses);
-        }
-      }
-      std::stable_sort(round_events.begin(), round_events.end(),
-                       [](const replay::Event& a, const replay::Event& b) { return a.time_ns < b.time_ns; });
-      for (replay::Event& event : round_events) event.time_ns = std::min(event.time_ns, (round + 1) * period_ns);
-      std::sort(round_maps.begin(), round_maps.end(),
-                [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
-      replay_writer.WriteRound(static_cast<uint32_t>(round), (round + 1) * period_ns, frames, round_events, round_maps);
-      round_events.clear();
-      round_maps.clear();
-      ++round;
-      next_round_ns += period_ns;
-    }
-  }
-
-  bool ok = true;
-  for (uint16_t i = 0; i < robots; ++i) {
-    Robot& robot = swarm[i];
-    int status = 0;
-    if (robot.pid <= 0) {  // a joiner whose time never came, or whose qemu did not start
-      ok = false;
-      std::fprintf(stderr, "robot %u: never started\n", static_cast<unsigned>(i));
-      continue;
-    }
-    if (robot.console >= 0 || robot.radio >= 0 || robot.connecting) {  // the deadline passed
-      kill(robot.pid, SIGKILL);
-      ok = false;
-      std::fprintf(stderr, "robot %u: still running at the deadline\n", static_cast<unsigned>(i));
-    }
-    waitpid(robot.pid, &status, 0);
-    robot.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    // A crashed robot was killed (exit 137) and may have crashed before it reported.
-    const bool crashed = player.lifecycle(i) == lab::sim::Lifecycle::kCrashed;
-    if ((!crashed && (robot.exit_status != 0 || !robot.latest)) || robot.bad_lines > 0) ok = false;
-  }
-  std::vector<lab::sim::Lifecycle> final_presence;
-  for (uint16_t i = 0; i < robots; ++i) final_presence.push_back(player.lifecycle(i));
-  const std::vector<swarm::FaultOutcome> outcomes = fault_outcomes.Finish(final_presence);
-  for (const swarm::FaultOutcome& outcome : outcomes) {
-    if (options.expect_faults && !outcome.ok) ok = false;
-  }
-  for (const std::string& path : paths) unlink(path.c_str());
-  rmdir(socket_dir);
-  const double wall_s = static_cast<double>(HostNs() - start_ns) * 1e-9;
-
-  // The image runs its compiled-in app (builtin:circle unless built with APP=).
-  metrics::RunFacts facts = lab::sim::ScenarioFacts(scenario, world);
-  facts.sim_seconds = static_cast<double>(round) * static_cast<double>(period_ns) * 1e-9;
-  facts.wall_seconds = wall_s;
-  facts.radio_rounds = round;
-  {
-    std::vector<lab::apps::GoalPose> poses;
-    for (uint16_t id = 0; id < robots; ++id) {
-      const lab::world::BodyState& body = world.state(id);
-      poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad, true, world.body_radius_m(id)});
-    }
-    facts.goal = lab::sim::BuiltinGoal(scenario, poses);
-    if (!scenario.goal.empty()) {
-      facts.goal = lab::sim::DeclaredGoal(scenario.app.name, goal_monitor.Finish(facts.sim_seconds, running_poses()));
-    }
-  }
-  metrics::Metrics result = collector.Finish(facts);
-  // The robots' consoles do not carry the app's returns, so agreement stays
-  // unset: metrics.json says null, not a measurement of nothing.
-  result.runtime = "firmware";
-
-  // The replay, then read back as the viewer reads it.
-  replay_writer.Finish();
-  replay_file.close();
-  int64_t replay_rounds = 0;
-  std::string replay_problem;
-  {
-    std::ifstream in(options.out + "/replay", std::ios::binary);
-    replay::Reader reader(in);
-    replay::Header header;
-    replay::Round replay_round;
-    if (reader.ReadHeader(header)) {
-      while (reader.Next(replay_round)) ++replay_rounds;
-    }
-    if (!reader.complete()) replay_problem = reader.error().ToString();
-  }
-  if (!replay_problem.empty() || replay_rounds != round) {
-    std::fprintf(stderr, "syrof-firmware-swarm: %s/replay does not read back (%lld of %lld rounds): %s\n",
-                 options.out.c_str(), static_cast<long long>(replay_rounds), static_cast<long long>(round),
-                 replay_problem.c_str());
-    ok = false;
-  }
-  const std::optional<double> max_error_m = result.estimation.max_error_m;
-  if (options.max_estimation_error_m &&
-      (!max_error_m || result.estimation.samples == 0 || *max_error_m > *options.max_estimation_error_m)) {
-    std::fprintf(stderr, "syrof-firmware-swarm: largest estimation error %s m over %lld samples, above --max-estimation-error %g\n",
-                 max_error_m ? std::to_string(*max_error_m).c_str() : "(none)",
-                 static_cast<long long>(result.estimation.samples), *options.max_estimation_error_m);
-    ok = false;
-  }
-  std::ofstream metrics_file(options.out + "/metrics.json");
-  metrics_file << metrics::ToJson(result);
-  if (!metrics_file.flush()) {
-    std::fprintf(stderr, "syrof-firmware-swarm: cannot write %s/metrics.json\n", options.out.c_str());
-    ok = false;
-  }
-
-  std::vector<std::vector<int64_t>> beacon_times;
-  std::ofstream beacons_csv(options.out + "/beacons.csv");
-  beacons_csv << "robot,host_ms\n";
-  for (uint16_t i = 0; i < robots; ++i) {
-    beacon_times.push_back(swarm[i].beacon_ns);
-    for (const int64_t t : swarm[i].beacon_ns) beacons_csv << i << ',' << static_cast<double>(t - all_started_ns) * 1e-6 << '\n';
-  }
-  // Skew from 5 s on: the start-up (instances boot one after another) and
-  // the round alignment's first corrections are left out.
-  const swarm::SkewStats skew = swarm::RoundStartSkew(beacon_times, period_ns, all_started_ns + 5'000'000'000);
-  const bool cooperative = all_cooperative_s.has_value();
-  if (options.expect_cooperative && !cooperative) ok = false;
-  if (result.common_knowledge.violations != 0) ok = false;
-
-  std::ofstream report(options.out + "/firmware-swarm.json");
-  report << "{\n  \"robots\": " << robots << ",\n  \"seconds\": " << options.seconds << ",\n  \"loss\": " << options.loss
-         << ",\n  \"seed\": " << options.seed << ",\n  \"align\": " << (options.align ? "true" : "false")
-         << ",\n  \"latency_ms\": " << options.latency_ms << ",\n  \"timing\": \"" << timing << "\",\n  \"wall_seconds\": " << wall_s
-         << ",\n  \"all_cooperative_s\": "
-         << (cooperative ? std::to_string(*all_cooperative_s) : std::string("null"))
-         << ",\n  \"p3_violations\": " << result.common_knowledge.violations
-         << ",\n  \"cooperative_starts\": " << result.common_knowledge.cooperative_starts
-         << ",\n  \"round_start_skew\": {\"samples\": " << skew.samples << ", \"median_ms\": " << skew.median_ns * 1e-6
-         << ", \"p95_ms\": " << skew.p95_ns * 1e-6 << ", \"max_ms\": " << skew.max_ns * 1e-6 << "}"
-         << ",\n  \"beacons\": {\"offered\": " << offered << ", \"delivered\": " << delivered
-         << ", \"link_errors\": " << link_errors << "}";
-  swarm::SensorFeedCounters sensor_totals;
-  uint64_t sensor_rejected = 0;
-  for (const Robot& robot : swarm) {
-    sensor_totals.imu += robot.feed.counters().imu;
-    sensor_totals.flow += robot.feed.counters().flow;
-    sensor_totals.uwb += robot.feed.counters().uwb;
-    sensor_totals.not_encoded += robot.feed.counters().not_encoded;
-    sensor_totals.drives += robot.feed.counters().drives;
-    sensor_rejected += robot.feed.link_counters().rejected;
-  }
-  report << ",\n  \"sensor_link\": {\"imu\": " << sensor_totals.imu << ", \"flow\": " << sensor_totals.flow
-         << ", \"uwb\": " << sensor_totals.uwb << ", \"not_encoded\": " << sensor_totals.not_encoded
-         << ", \"drives\": " << sensor_totals.drives << ", \"rejected_from_robots\": " << sensor_rejected << "}"
-         << ",\n  \"scenario\": \"" << scenario.name << "\", \"replay_rounds\": " << replay_rounds
-         << ",\n  \"estimation\": {\"samples\": " << result.estimation.samples << ", \"rmse_m\": "
-         << (result.estimation.position_rmse_m ? std::to_string(*result.estimation.position_rmse_m) : std::string("null"))
-         << ", \"max_m\": " << (max_error_m ? std::to_string(*max_error_m) : std::string("null")) << "}"
-         << ",\n  \"exit_statuses\": [";
-  for (uint16_t i = 0; i < robots; ++i) report << (i ? ", " : "") << swarm[i].exit_status;
-  report << "],\n  \"partitioned_beacons\": " << channel.partitioned() << ",\n  \"faults\": [";
-  WriteFaultOutcomes(report, outcomes);
-  report << "]\n}\n";
-
-  std::printf("firmware swarm: %u robots, %d s, loss %.2f, seed %llu, timing %s, wall %.1f s\n",
-              static_cast<unsigned>(robots), options.seconds, options.loss,
-              static_cast<unsigned long long>(options.seed), timing.c_str(), wall_s);
-  std::printf("  all robots COOPERATIVE in one epoch: %s; COOPERATIVE starts %lld; P3 violations %lld\n",
-              cooperative ? ("at " + std::to_string(*all_cooperative_s) + " s").c_str() : "never",
-              static_cast<long long>(result.common_knowledge.cooperative_starts),
-              static_cast<long long>(result.common_knowledge.violations));
-  std::printf("  round-start skew (beacon arrivals vs robot 0, after 5 s): median %.3f ms, p95 %.3f ms, max %.3f ms "
-              "over %lld beacons\n",
-              skew.median_ns * 1e-6, skew.p95_ns * 1e-6, skew.max_ns * 1e-6, static_cast<long long>(skew.samples));
-  std::printf("  beacons offered %lld, delivered %lld; radio-link errors %lld\n", static_cast<long long>(offered),
-              static_cast<long long>(delivered), static_cast<long long>(link_errors));
-  std::printf("  scenario %s; sensor link: %lld IMU, %lld flow, %lld UWB frames sent, %lld drive commands back\n",
-              scenario.name.c_str(), static_cast<long long>(sensor_totals.imu),
-              static_cast<long long>(sensor_totals.flow), static_cast<long long>(sensor_totals.uwb),
-              static_cast<long long>(sensor_totals.drives));
-  std::printf("  estimation error over %lld samples: RMSE %s m, max %s m; collisions %lld; goal %s (%s)\n",
-              static_cast<long long>(result.estimation.samples),
-              result.estimation.position_rmse_m ? std::to_string(*result.estimation.position_rmse_m).c_str() : "-",
-              max_error_m ? std::to_string(*max_error_m).c_str() : "-",
-              static_cast<long long>(result.collisions.count), result.goal.reached ? "reached" : "not reached",
-              result.goal.detail.c_str());
-  std::printf("  %s/replay: %lld rounds%s\n", options.out.c_str(), static_cast<long long>(replay_rounds),
-              replay_problem.empty() ? "" : (", " + replay_problem).c_str());
-  for (uint16_t i = 0; i < robots; ++i) {
-    std::printf("  robot %u: exit %d, %s\n", static_cast<unsigned>(i), swarm[i].exit_status,
-                swarm[i].last_status.c_str());
-  }
-  for (const swarm::FaultOutcome& outcome : outcomes) {
-    std::printf("  fault: %s: %s\n", outcome.ok ? "ok" : (options.expect_faults ? "FAILED" : "not seen"),
-                outcome.detail.c_str());
-  }
-  std::printf("  %s/metrics.json, %s/firmware-swarm.json: %s\n", options.out.c_str(), options.out.c_str(),
-              ok ? "ok" : "FAILED");
-  return ok ? 0 : 1;
+  SwarmHost host(options, scenario);
+  if (!host.OpenSockets() || !host.LaunchPresentRobots()) return 1;
+  host.StartWorld();
+  while (host.Running()) host.Step();
+  return host.Finish();
 }
