@@ -270,6 +270,235 @@ struct Entities {
   dds_entity_t drive = 0, report = 0, status = 0;
 };
 
+// The app, as `syrof run` makes it; nullptr when there is none of that name.
+std::unique_ptr<app::App> MakeApp(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options) {
+  if (scenario.app.is_library()) {
+    app_host::HostOptions host;
+    host.library_path = scenario.app.library;
+    host.log_directory = options.log_directory;
+    host.params = scenario.app.params;
+    if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
+    if (scenario.app.wall_cap_ms) host.limits.wall_cap_ms = *scenario.app.wall_cap_ms;
+    return app_host::MakeHostedApp(host, options.robot);
+  }
+  return lab::apps::MakeBuiltinApp(lab::apps::BareAppName(scenario.app.name), scenario.app.params);
+}
+
+// The robot's readers and writers into `e`; false once one failed (said on
+// `err`).
+bool CreateEntities(const Participant& participant, uint16_t robot, Entities& e, std::ostream& err,
+                    const std::string& who) {
+  const std::pair<dds_entity_t*, EntityOrError> entities[] = {
+      {&e.imu, CreateReader(participant, TopicKind::kImu, robot)},
+      {&e.flow, CreateReader(participant, TopicKind::kFlow, robot)},
+      {&e.uwb, CreateReader(participant, TopicKind::kUwb, robot)},
+      {&e.control, CreateReader(participant, TopicKind::kControl)},
+      {&e.drive, CreateWriter(participant, TopicKind::kDrive, robot)},
+      {&e.report, CreateWriter(participant, TopicKind::kReport)},
+      {&e.status, CreateWriter(participant, TopicKind::kStatus)},
+  };
+  for (const auto& [slot, entity] : entities) {
+    if (!entity.ok()) {
+      err << who << entity.error->ToString() << "\n";
+      return false;
+    }
+    *slot = entity.entity;
+  }
+  return true;
+}
+
+BeaconRadioOptions RadioOptionsFor(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options,
+                                   const runtime::RobotConfig& config, const RoundTap& tap) {
+  BeaconRadioOptions radio_options;
+  radio_options.self = options.robot;
+  radio_options.swarm_size = static_cast<uint16_t>(scenario.robots.size());
+  radio_options.channel = scenario.channel;
+  // The lab's channel seed: the same loss in both runtimes.
+  radio_options.seed = lab::sim::ChannelSeed(scenario.seed);
+  radio_options.radio_round_ns = config.radio_round_ns;
+  radio_options.current_round = [&tap] { return tap.CurrentRound(); };
+  if (config.align_rounds) radio_options.expected_round = [&tap] { return tap.ExpectedRound(); };
+  return radio_options;
+}
+
+// The process's main thread once its robot is set up: Status_ at once and
+// once a second; it waits for the world's start on Control_, then drives
+// the robot's hardware (sensor samples in, drive commands out) until the
+// world says stop or is gone, the parent dies, or SIGINT/SIGTERM.
+class WorldLink {
+ public:
+  WorldLink(const RobotProcessOptions& options, const Entities& e, int64_t radio_round_ns, os::PosixPort& port,
+            lab::sensors::SensorPublishers& sensors, RoundTap& tap, const BeaconRadio& radio,
+            pubsub::Subscriber<estimation::StateEstimate>& estimates, pubsub::Subscriber<motion::DriveCommand>& drive,
+            std::ostream& err, const std::string& who)
+      : options_(options), e_(e), radio_round_ns_(radio_round_ns), port_(port), sensors_(sensors), tap_(tap),
+        radio_(radio), estimates_(estimates), drive_(drive), err_(err), who_(who) {}
+
+  // Returns the process's exit code.
+  int Run(const Participant& participant);
+
+ private:
+  void WriteStatus();
+  void TakeControl();
+  void TakeSensors(int64_t now);
+  void PassEstimateAndDrive();
+  bool WorldLost(int64_t now);
+
+  const RobotProcessOptions& options_;
+  const Entities& e_;
+  const int64_t radio_round_ns_;
+  os::PosixPort& port_;
+  lab::sensors::SensorPublishers& sensors_;
+  RoundTap& tap_;
+  const BeaconRadio& radio_;
+  pubsub::Subscriber<estimation::StateEstimate>& estimates_;
+  pubsub::Subscriber<motion::DriveCommand>& drive_;
+  std::ostream& err_;
+  const std::string& who_;
+
+  uint8_t state_ = 1;  // attached
+  int64_t start_monotonic_ = -1;
+  bool stop_ = false;
+  bool world_seen_ = false;
+  int64_t world_missing_since_ = -1;
+  int exit_code_ = 0;
+};
+
+int WorldLink::Run(const Participant& participant) {
+  WriteStatus();
+  // Wait for the world, then drive the robot's hardware until it says stop.
+  const dds_entity_t waitset = dds_create_waitset(participant.handle());
+  for (const dds_entity_t reader : {e_.imu, e_.flow, e_.uwb, e_.control}) {
+    (void)dds_set_status_mask(reader, DDS_DATA_AVAILABLE_STATUS);
+    (void)dds_waitset_attach(waitset, reader, reader);
+  }
+  int64_t next_status_ns = port_.now_ns() + 1'000'000'000;
+  while (!stop_) {
+    (void)dds_waitset_wait(waitset, nullptr, 0, DDS_MSECS(4));
+    if (g_stop_requested.load()) break;
+    if (options_.parent_pid != 0 && getppid() != static_cast<pid_t>(options_.parent_pid)) break;
+    TakeControl();
+    const int64_t now = port_.now_ns();
+    TakeSensors(now);
+    PassEstimateAndDrive();
+    if (WorldLost(now)) break;
+    if (now >= next_status_ns) {
+      next_status_ns += 1'000'000'000;
+      WriteStatus();
+    }
+  }
+  if (start_monotonic_ >= 0) (void)port_.Stop();
+  state_ = 3;
+  WriteStatus();
+  (void)dds_delete(waitset);
+  return exit_code_;
+}
+
+void WorldLink::WriteStatus() {
+  syrof_msg_dds__Status_ status{};
+  status.robot = options_.robot;
+  status.run_id = options_.run_id;
+  status.pid = static_cast<uint32_t>(getpid());
+  status.state = state_;
+  const BeaconRadioCounters c = radio_.counters();
+  status.rounds = static_cast<uint32_t>(tap_.CurrentRound() < 0 ? 0 : tap_.CurrentRound());
+  status.beacons_sent = static_cast<uint32_t>(c.sent);
+  status.beacons_received = static_cast<uint32_t>(c.delivered);
+  status.beacons_rejected = static_cast<uint32_t>(c.rejected);
+  status.beacons_lost = static_cast<uint32_t>(c.lost);
+  status.cpu_ns = static_cast<uint64_t>(CpuTimeNs());
+  (void)dds_write(e_.status, &status);
+}
+
+void WorldLink::TakeControl() {
+  TakeSamples<syrof_msg_dds__Control_>(e_.control, [&](const syrof_msg_dds__Control_& control, const dds_sample_info_t&) {
+    if (control.run_id != options_.run_id) return;  // another run's world
+    if (control.state == 2) stop_ = true;
+    if (control.state == 1 && start_monotonic_ < 0 && control.radio_round_ns == radio_round_ns_ &&
+        control.start_monotonic_ns > 0) {
+      // On several hosts only CLOCK_REALTIME is shared (kept in sync by
+      // the hosts): the start is read on it and converted to this host's
+      // CLOCK_MONOTONIC.
+      start_monotonic_ = options_.realtime_start ? RealtimeToMonotonic(control.start_realtime_ns)
+                                                 : control.start_monotonic_ns;
+      start_monotonic_ += options_.clock_offset_us * 1000;
+      tap_.set_start(start_monotonic_);
+      const int64_t origin = port_.MonotonicToPort(start_monotonic_);
+      // A robot started after the run began (a joiner) has an origin
+      // before its port's: the grid is still the world's.
+      if (port_.StartAt(origin) != os::PortError::kOk) {
+        err_ << who_ << "the port did not start\n";
+        stop_ = true;
+        exit_code_ = 1;
+      }
+      state_ = 2;
+      WriteStatus();
+    }
+  });
+}
+
+// The sensor samples for this robot, once started, published on its broker
+// stamped with the port's clock `now`.
+void WorldLink::TakeSensors(int64_t now) {
+  TakeSamples<syrof_msg_dds__Imu_>(e_.imu, [&](const syrof_msg_dds__Imu_& s, const dds_sample_info_t&) {
+    if (s.robot != options_.robot || start_monotonic_ < 0) return;
+    estimation::ImuReading reading{};
+    reading.timestamp_ns = now;
+    std::memcpy(reading.accel_g, s.accel_g, sizeof reading.accel_g);
+    std::memcpy(reading.gyro_dps, s.gyro_dps, sizeof reading.gyro_dps);
+    sensors_.OnImu(reading);
+  });
+  TakeSamples<syrof_msg_dds__Flow_>(e_.flow, [&](const syrof_msg_dds__Flow_& s, const dds_sample_info_t&) {
+    if (s.robot != options_.robot || start_monotonic_ < 0 || s.interval_ns == 0) return;
+    sensors_.OnFlow(estimation::FlowReading{now, s.interval_ns, s.delta_x_px, s.delta_y_px});
+  });
+  TakeSamples<syrof_msg_dds__Uwb_>(e_.uwb, [&](const syrof_msg_dds__Uwb_& s, const dds_sample_info_t&) {
+    if (s.robot != options_.robot || start_monotonic_ < 0) return;
+    estimation::UwbReading reading{};
+    reading.timestamp_ns = now;
+    std::memcpy(reading.range_m, s.range_m, sizeof reading.range_m);
+    reading.valid_mask = s.valid_mask & ((1u << estimation::kMaxAnchors) - 1);
+    reading.sweep = s.sweep;
+    sensors_.OnUwb(reading);
+  });
+}
+
+// The newest estimate to the round tap; the newest drive command to the
+// world as Drive_.
+void WorldLink::PassEstimateAndDrive() {
+  estimation::StateEstimate estimate{};
+  if (estimates_.TakeLatest(estimate)) tap_.set_estimate(estimate);
+  motion::DriveCommand command{};
+  if (drive_.TakeLatest(command)) {
+    syrof_msg_dds__Drive_ sample{};
+    sample.robot = options_.robot;
+    sample.robot_time_ns = port_.PortToMonotonic(command.timestamp_ns);
+    sample.kind = static_cast<uint8_t>(command.kind);
+    sample.vx_mps = command.vx_mps;
+    sample.vy_mps = command.vy_mps;
+    sample.yaw_rate_radps = command.yaw_rate_radps;
+    sample.left_mps = command.left_mps;
+    sample.right_mps = command.right_mps;
+    (void)dds_write(e_.drive, &sample);
+  }
+}
+
+// The world's liveliness: its control writer matched, then gone for
+// kWorldLostNs.
+bool WorldLink::WorldLost(int64_t now) {
+  dds_subscription_matched_status_t matched{};
+  if (dds_get_subscription_matched_status(e_.control, &matched) == DDS_RETCODE_OK) {
+    if (matched.current_count > 0) {
+      world_seen_ = true;
+      world_missing_since_ = -1;
+    } else if (world_seen_) {
+      if (world_missing_since_ < 0) world_missing_since_ = now;
+      if (now - world_missing_since_ > kWorldLostNs) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<std::string> RobotArguments(const RobotProcessOptions& o) {
@@ -385,19 +614,7 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   const auto swarm_size = static_cast<uint16_t>(scenario.robots.size());
   const lab::scenario::RobotSpec& spec = scenario.robots[options.robot];
 
-  // The app, as `syrof run` makes it.
-  std::unique_ptr<app::App> app;
-  if (scenario.app.is_library()) {
-    app_host::HostOptions host;
-    host.library_path = scenario.app.library;
-    host.log_directory = options.log_directory;
-    host.params = scenario.app.params;
-    if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
-    if (scenario.app.wall_cap_ms) host.limits.wall_cap_ms = *scenario.app.wall_cap_ms;
-    app = app_host::MakeHostedApp(host, options.robot);
-  } else {
-    app = lab::apps::MakeBuiltinApp(lab::apps::BareAppName(scenario.app.name), scenario.app.params);
-  }
+  std::unique_ptr<app::App> app = MakeApp(scenario, options);
   if (app == nullptr) {
     err << who << "no app named " << scenario.app.name << "\n";
     return 2;
@@ -412,24 +629,7 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   }
   const Participant& participant = *made.participant;
   Entities e;
-  {
-    const std::pair<dds_entity_t*, EntityOrError> entities[] = {
-        {&e.imu, CreateReader(participant, TopicKind::kImu, options.robot)},
-        {&e.flow, CreateReader(participant, TopicKind::kFlow, options.robot)},
-        {&e.uwb, CreateReader(participant, TopicKind::kUwb, options.robot)},
-        {&e.control, CreateReader(participant, TopicKind::kControl)},
-        {&e.drive, CreateWriter(participant, TopicKind::kDrive, options.robot)},
-        {&e.report, CreateWriter(participant, TopicKind::kReport)},
-        {&e.status, CreateWriter(participant, TopicKind::kStatus)},
-    };
-    for (const auto& [slot, entity] : entities) {
-      if (!entity.ok()) {
-        err << who << entity.error->ToString() << "\n";
-        return 1;
-      }
-      *slot = entity.entity;
-    }
-  }
+  if (!CreateEntities(participant, options.robot, e, err, who)) return 1;
 
   runtime::RobotConfig config = lab::sim::RobotConfigFor(scenario, spec);
   // Every process reads one CLOCK_MONOTONIC on a host: the world's start
@@ -475,16 +675,7 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
     err << who << "the drive or estimate topic could not be subscribed\n";
     return 1;
   }
-  BeaconRadioOptions radio_options;
-  radio_options.self = options.robot;
-  radio_options.swarm_size = swarm_size;
-  radio_options.channel = scenario.channel;
-  // The lab's channel seed: the same loss in both runtimes.
-  radio_options.seed = lab::sim::ChannelSeed(scenario.seed);
-  radio_options.radio_round_ns = config.radio_round_ns;
-  radio_options.current_round = [&tap] { return tap.CurrentRound(); };
-  if (config.align_rounds) radio_options.expected_round = [&tap] { return tap.ExpectedRound(); };
-  BeaconRadioOrError radio = BeaconRadio::Create(participant, radio_options);
+  BeaconRadioOrError radio = BeaconRadio::Create(participant, RadioOptionsFor(scenario, options, config, tap));
   if (!radio.ok()) {
     err << who << radio.error->ToString() << "\n";
     return 1;
@@ -495,122 +686,8 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   }
   tap.Connect(radio.radio.get(), &robot);
 
-  uint8_t state = 1;  // attached
-  int64_t start_monotonic = -1;
-  auto write_status = [&] {
-    syrof_msg_dds__Status_ status{};
-    status.robot = options.robot;
-    status.run_id = options.run_id;
-    status.pid = static_cast<uint32_t>(getpid());
-    status.state = state;
-    const BeaconRadioCounters c = radio.radio->counters();
-    status.rounds = static_cast<uint32_t>(tap.CurrentRound() < 0 ? 0 : tap.CurrentRound());
-    status.beacons_sent = static_cast<uint32_t>(c.sent);
-    status.beacons_received = static_cast<uint32_t>(c.delivered);
-    status.beacons_rejected = static_cast<uint32_t>(c.rejected);
-    status.beacons_lost = static_cast<uint32_t>(c.lost);
-    status.cpu_ns = static_cast<uint64_t>(CpuTimeNs());
-    (void)dds_write(e.status, &status);
-  };
-  write_status();
-
-  // Wait for the world, then drive the robot's hardware until it says stop.
-  const dds_entity_t waitset = dds_create_waitset(participant.handle());
-  for (const dds_entity_t reader : {e.imu, e.flow, e.uwb, e.control}) {
-    (void)dds_set_status_mask(reader, DDS_DATA_AVAILABLE_STATUS);
-    (void)dds_waitset_attach(waitset, reader, reader);
-  }
-  bool stop = false;
-  bool world_seen = false;
-  int64_t world_missing_since = -1;
-  int64_t next_status_ns = port.now_ns() + 1'000'000'000;
-  int exit_code = 0;
-  while (!stop) {
-    (void)dds_waitset_wait(waitset, nullptr, 0, DDS_MSECS(4));
-    if (g_stop_requested.load()) break;
-    if (options.parent_pid != 0 && getppid() != static_cast<pid_t>(options.parent_pid)) break;
-    TakeSamples<syrof_msg_dds__Control_>(e.control, [&](const syrof_msg_dds__Control_& control, const dds_sample_info_t&) {
-      if (control.run_id != options.run_id) return;  // another run's world
-      if (control.state == 2) stop = true;
-      if (control.state == 1 && start_monotonic < 0 && control.radio_round_ns == config.radio_round_ns &&
-          control.start_monotonic_ns > 0) {
-        // On several hosts only CLOCK_REALTIME is shared (kept in sync by
-        // the hosts): the start is read on it and converted to this host's
-        // CLOCK_MONOTONIC.
-        start_monotonic = options.realtime_start ? RealtimeToMonotonic(control.start_realtime_ns)
-                                                 : control.start_monotonic_ns;
-        start_monotonic += options.clock_offset_us * 1000;
-        tap.set_start(start_monotonic);
-        const int64_t origin = port.MonotonicToPort(start_monotonic);
-        // A robot started after the run began (a joiner) has an origin
-        // before its port's: the grid is still the world's.
-        if (port.StartAt(origin) != os::PortError::kOk) {
-          err << who << "the port did not start\n";
-          stop = true;
-          exit_code = 1;
-        }
-        state = 2;
-        write_status();
-      }
-    });
-    const int64_t now = port.now_ns();
-    TakeSamples<syrof_msg_dds__Imu_>(e.imu, [&](const syrof_msg_dds__Imu_& s, const dds_sample_info_t&) {
-      if (s.robot != options.robot || start_monotonic < 0) return;
-      estimation::ImuReading reading{};
-      reading.timestamp_ns = now;
-      std::memcpy(reading.accel_g, s.accel_g, sizeof reading.accel_g);
-      std::memcpy(reading.gyro_dps, s.gyro_dps, sizeof reading.gyro_dps);
-      sensors.OnImu(reading);
-    });
-    TakeSamples<syrof_msg_dds__Flow_>(e.flow, [&](const syrof_msg_dds__Flow_& s, const dds_sample_info_t&) {
-      if (s.robot != options.robot || start_monotonic < 0 || s.interval_ns == 0) return;
-      sensors.OnFlow(estimation::FlowReading{now, s.interval_ns, s.delta_x_px, s.delta_y_px});
-    });
-    TakeSamples<syrof_msg_dds__Uwb_>(e.uwb, [&](const syrof_msg_dds__Uwb_& s, const dds_sample_info_t&) {
-      if (s.robot != options.robot || start_monotonic < 0) return;
-      estimation::UwbReading reading{};
-      reading.timestamp_ns = now;
-      std::memcpy(reading.range_m, s.range_m, sizeof reading.range_m);
-      reading.valid_mask = s.valid_mask & ((1u << estimation::kMaxAnchors) - 1);
-      reading.sweep = s.sweep;
-      sensors.OnUwb(reading);
-    });
-    estimation::StateEstimate estimate{};
-    if (estimates.TakeLatest(estimate)) tap.set_estimate(estimate);
-    motion::DriveCommand command{};
-    if (drive.TakeLatest(command)) {
-      syrof_msg_dds__Drive_ sample{};
-      sample.robot = options.robot;
-      sample.robot_time_ns = port.PortToMonotonic(command.timestamp_ns);
-      sample.kind = static_cast<uint8_t>(command.kind);
-      sample.vx_mps = command.vx_mps;
-      sample.vy_mps = command.vy_mps;
-      sample.yaw_rate_radps = command.yaw_rate_radps;
-      sample.left_mps = command.left_mps;
-      sample.right_mps = command.right_mps;
-      (void)dds_write(e.drive, &sample);
-    }
-    // The world's liveliness: its control writer matched, then gone.
-    dds_subscription_matched_status_t matched{};
-    if (dds_get_subscription_matched_status(e.control, &matched) == DDS_RETCODE_OK) {
-      if (matched.current_count > 0) {
-        world_seen = true;
-        world_missing_since = -1;
-      } else if (world_seen) {
-        if (world_missing_since < 0) world_missing_since = now;
-        if (now - world_missing_since > kWorldLostNs) break;
-      }
-    }
-    if (now >= next_status_ns) {
-      next_status_ns += 1'000'000'000;
-      write_status();
-    }
-  }
-  if (start_monotonic >= 0) (void)port.Stop();
-  state = 3;
-  write_status();
-  (void)dds_delete(waitset);
-  return exit_code;
+  WorldLink link(options, e, config.radio_round_ns, port, sensors, tap, *radio.radio, estimates, drive, err, who);
+  return link.Run(participant);
 }
 
 }  // namespace syrof::sim_dds
