@@ -152,13 +152,13 @@ function(syrof_add_library)
   add_library(syrof::${ARG_NAME} ALIAS ${ARG_NAME})
 endfunction()
 
-# syrof_add_test(NAME <name> SOURCES ... [LIBS ...] [LABELS ...] [HOST_ONLY] [DISCOVER_AT_TEST_TIME])
+# syrof_add_test(NAME <name> SOURCES ... [LIBS ...] [LABELS ...] [HOST_ONLY] [DISCOVER_AT_TEST_TIME] [RUN_SERIAL])
 # One GoogleTest executable (name it test_<module>_<unit>), registered with CTest. On the host each TEST()
 # becomes its own CTest entry. In a Cortex-M4 build (SYROF_M4_TESTS) the same
 # sources are linked into a bare-metal image run under qemu, unless HOST_ONLY
 # (tests that need threads, files or other host services).
 function(syrof_add_test)
-  cmake_parse_arguments(ARG "HOST_ONLY;DISCOVER_AT_TEST_TIME" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "HOST_ONLY;DISCOVER_AT_TEST_TIME;RUN_SERIAL" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
   if(SYROF_TARGET_MCU)
     if(NOT ARG_HOST_ONLY)
       syrof_add_m4_test(NAME ${ARG_NAME} SOURCES ${ARG_SOURCES} LIBS ${ARG_LIBS} LABELS ${ARG_LABELS})
@@ -196,7 +196,13 @@ function(syrof_add_test)
   if(ARG_DISCOVER_AT_TEST_TIME)
     set(discovery_mode PRE_TEST)
   endif()
-  gtest_discover_tests(${ARG_NAME} PROPERTIES LABELS "${ARG_LABELS}" DISCOVERY_TIMEOUT 60
+  # RUN_SERIAL: wall-clock tests whose outcome a loaded machine can change
+  # (the lab against real robot processes): ctest runs them alone.
+  set(serial FALSE)
+  if(ARG_RUN_SERIAL)
+    set(serial TRUE)
+  endif()
+  gtest_discover_tests(${ARG_NAME} PROPERTIES LABELS "${ARG_LABELS}" RUN_SERIAL ${serial} DISCOVERY_TIMEOUT 60
     DISCOVERY_MODE ${discovery_mode})
 endfunction()
 

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
 
@@ -52,27 +53,42 @@ SwarmResult RunOverDds(const std::string& path, const std::filesystem::path& out
   return result;
 }
 
+// A swarm run against the lab's replay: "" when they agree, else what differs.
+std::string DdsAgainstLab(const std::string& scenario, const std::string& lab_replay, const std::filesystem::path& out,
+                          const LabRun& lab) {
+  const SwarmResult dds = RunOverDds(scenario, out);
+  if (dds.exit_code != 0) return "the swarm failed: " + dds.error;
+  std::istringstream lab_stream(lab_replay);
+  std::ifstream dds_stream(out / "replay", std::ios::binary);
+  const lab::replay::ReplayComparison compared = lab::replay::CompareReplays(lab_stream, dds_stream, {});
+  if (!compared.comparable()) return compared.b.error ? compared.b.error->ToString() : "the robots differ";
+  EXPECT_TRUE(compared.epochs.members_compared);
+  // The faults happened: robot 3 joined, nobody broke P3.
+  EXPECT_EQ(dds.metrics.membership.robots_joined, lab.metrics.membership.robots_joined);
+  EXPECT_EQ(dds.metrics.common_knowledge.violations, 0);
+  if (const auto& first = compared.epochs.first_difference) {
+    return "first difference at epoch " + std::to_string(first->number) + " (in-round delivery " +
+           std::to_string(dds.delivery_ratio) + ", round-start skew max " + std::to_string(dds.skew.max_us) + " us)";
+  }
+  // 20 s of 1 s epochs; the DDS run may stop a round or two early.
+  if (compared.epochs.epochs_compared < 15) return std::to_string(compared.epochs.epochs_compared) + " epochs compared";
+  return "";
+}
+
+// Real processes on a real clock: a machine loaded past its cores can hold a
+// robot past a round boundary, so a run that disagrees gets one more try
+// (ctest runs this test alone: RUN_SERIAL). Two disagreeing runs fail.
 TEST(CrossRuntimeTest, LabAndDdsStartTheSameEpochsModesAndMembersWithLossAJoinAPauseAndACrash) {
   const std::string scenario = std::string(SYROF_LAB_SCENARIOS_DIR) + "/four_runtimes.yaml";
   const std::filesystem::path out = OutDir("four");
   const LabRun lab = RunInTheLab(scenario);
-  const SwarmResult dds = RunOverDds(scenario, out);
-  ASSERT_EQ(dds.exit_code, 0);
+  ASSERT_GE(lab.metrics.membership.robots_joined, 1);
 
-  std::istringstream lab_replay(lab.replay);
-  std::ifstream dds_replay(out / "replay", std::ios::binary);
-  const lab::replay::ReplayComparison compared = lab::replay::CompareReplays(lab_replay, dds_replay, {});
-
-  ASSERT_TRUE(compared.comparable()) << (compared.b.error ? compared.b.error->ToString() : "robots differ");
-  EXPECT_TRUE(compared.epochs.members_compared);
-  // 20 s of 1 s epochs; the DDS run may stop a round or two early.
-  EXPECT_GE(compared.epochs.epochs_compared, 15u);
-  const auto& first = compared.epochs.first_difference;
-  EXPECT_FALSE(first.has_value()) << "first difference at epoch " << first->number;
-  // The faults happened: robot 3 joined, robot 2 was removed after its crash.
-  EXPECT_EQ(dds.metrics.membership.robots_joined, lab.metrics.membership.robots_joined);
-  EXPECT_GE(lab.metrics.membership.robots_joined, 1);
-  EXPECT_EQ(dds.metrics.common_knowledge.violations, 0);
+  const std::string first = DdsAgainstLab(scenario, lab.replay, out, lab);
+  if (!first.empty()) {
+    std::cerr << "the first swarm run disagreed with the lab: " << first << "; trying once more\n";
+    EXPECT_EQ(DdsAgainstLab(scenario, lab.replay, out, lab), "") << "(the first run: " << first << ")";
+  }
   std::filesystem::remove_all(out);
 }
 
