@@ -713,6 +713,7 @@ void DdsWorld::ReadReport(int64_t round, const Received& r, RoundReports& read) 
           app::ToString(static_cast<app::Verdict>(r.body.verdict)), r.body.text});
       read.AddEvent(replay::EventKind::kAppFault, r.time_ns, r.robot, r.body.epoch, mode);
       slot.app_faulted = true;
+      player_.NoteAppFault(r.robot);
       break;
     case ReportKind::kInvalidCommand:
       collector_.OnInvalidCommand(r.robot, r.body.epoch, r.body.text);
@@ -864,16 +865,9 @@ lab::metrics::RunFacts DdsWorld::Facts() {
   facts.radio_rounds = last_round_;
   // The built-in app's goal from the final true poses, as the lab does, or
   // the scenario's declared checks (goal:), sampled on the recorded rounds.
-  std::vector<lab::apps::GoalPose> poses;
-  for (uint16_t id = 0; id < swarm_size_; ++id) {
-    const lab::world::BodyState& body = world_.state(id);
-    poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad,
-                                        player_.running(id) && !robots_[id].app_faulted,
-                                        world_.body_radius_m(id)});
-  }
-  facts.goal = lab::sim::BuiltinGoal(scenario_, poses);
+  facts.goal = lab::sim::BuiltinGoal(scenario_, player_.FinalPoses());
   if (!scenario_.goal.empty()) {
-    facts.goal = lab::sim::DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(facts.sim_seconds, RunningPoses(nullptr)));
+    facts.goal = lab::sim::DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(facts.sim_seconds, player_.RunningPoses()));
   }
   return facts;
 }

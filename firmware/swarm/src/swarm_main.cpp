@@ -606,7 +606,6 @@ class SwarmHost {
   void RecordRound(int64_t now);
   metrics::RobotRound RecordRobot(uint16_t i, int64_t now, std::vector<int64_t>& boundaries);
   void WriteReplayRound();
-  std::vector<lab::goals::RobotPose> RunningPoses() const;
   bool ReapRobots();
   metrics::Metrics CollectMetrics(double wall_s);
   void ReadReplayBack(RunResult& result);
@@ -955,15 +954,6 @@ void SwarmHost::OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now) {
   }
 }
 
-std::vector<lab::goals::RobotPose> SwarmHost::RunningPoses() const {
-  std::vector<lab::goals::RobotPose> poses;
-  for (uint16_t id = 0; id < robots_; ++id) {
-    const lab::world::BodyState& body = world_.state(id);
-    poses.push_back(lab::goals::RobotPose{id, body.x_m, body.y_m, world_.body_radius_m(id)});
-  }
-  return poses;
-}
-
 // The round ending at next_round_ns_ on the world's time, from every
 // robot's latest report at host time `now`: metrics, the goal, the replay.
 void SwarmHost::RecordRound(int64_t now) {
@@ -974,7 +964,7 @@ void SwarmHost::RecordRound(int64_t now) {
   collector_.OnRoundEnd(round_, rounds);
   const double time_s = static_cast<double>((round_ + 1) * period_ns_) * 1e-9;
   if (!goal_monitor_.empty()) {
-    const std::vector<lab::goals::RobotPose> poses = RunningPoses();
+    const std::vector<lab::goals::RobotPose> poses = player_.RunningPoses();
     goal_monitor_.OnRound(time_s, poses);
     for (const replay::Event& event : player_.events()) {
       if (event.kind != replay::EventKind::kEpochStart || (any_epoch_ && event.epoch <= newest_epoch_)) continue;
@@ -1104,14 +1094,11 @@ metrics::Metrics SwarmHost::CollectMetrics(double wall_s) {
   facts.sim_seconds = static_cast<double>(round_) * static_cast<double>(period_ns_) * 1e-9;
   facts.wall_seconds = wall_s;
   facts.radio_rounds = round_;
-  std::vector<lab::apps::GoalPose> poses;
-  for (uint16_t id = 0; id < robots_; ++id) {
-    const lab::world::BodyState& body = world_.state(id);
-    poses.push_back(lab::apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad, true, world_.body_radius_m(id)});
-  }
-  facts.goal = lab::sim::BuiltinGoal(scenario_, poses);
+  // The goal over the robots running at the end, as in the lab (a crashed
+  // or never-started robot used to count, and kept the goal from being met).
+  facts.goal = lab::sim::BuiltinGoal(scenario_, player_.FinalPoses());
   if (!scenario_.goal.empty()) {
-    facts.goal = lab::sim::DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(facts.sim_seconds, RunningPoses()));
+    facts.goal = lab::sim::DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(facts.sim_seconds, player_.RunningPoses()));
   }
   metrics::Metrics result = collector_.Finish(facts);
   // The robots' consoles do not carry the app's returns, so agreement stays

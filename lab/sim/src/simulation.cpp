@@ -191,8 +191,6 @@ class Simulation::Impl final : public runtime::RobotObserver,
   void OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) override;
 
  private:
-  // The running robots' true positions, for the goal checks.
-  std::vector<goals::RobotPose> RunningPoses() const;
   int64_t RoundOf(int64_t now_ns) const { return now_ns / radio_round_ns_; }
   void StepFaults(int64_t now_ns);
   void StepPhysics(int64_t now_ns);
@@ -505,7 +503,7 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
   collector_.OnRoundPhases(phase_boundaries_);
   collector_.OnRoundEnd(round, robot_rounds_);
   if (!goal_monitor_.empty()) {
-    const std::vector<goals::RobotPose> running = RunningPoses();
+    const std::vector<goals::RobotPose> running = player_.RunningPoses();
     goal_monitor_.OnRound(now, running);
     if (epoch_sample_) goal_monitor_.OnEpoch(*epoch_sample_, now, running);
   }
@@ -523,16 +521,6 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     const int64_t period_ns = Nanoseconds(options_.progress_period_s);
     if (now_ns % period_ns < radio_round_ns_) options_.progress(now);
   }
-}
-
-std::vector<goals::RobotPose> Simulation::Impl::RunningPoses() const {
-  std::vector<goals::RobotPose> poses;
-  for (const auto& robot : robots_) {
-    if (!player_.running(robot->id())) continue;
-    const world::BodyState& body = world_.state(robot->id());
-    poses.push_back(goals::RobotPose{robot->id(), body.x_m, body.y_m, world_.body_radius_m(robot->id())});
-  }
-  return poses;
 }
 
 // ---- What the robots tell the lab ------------------------------------------
@@ -704,12 +692,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   RunUntil(scenario_.timing.duration_s);
   if (replay_ != nullptr) replay_->Finish();
 
-  std::vector<apps::GoalPose> poses;
-  for (const auto& robot : robots_) {
-    const world::BodyState& body = world_.state(robot->id());
-    poses.push_back(apps::GoalPose{robot->id(), body.x_m, body.y_m, body.heading_rad,
-                                   player_.running(robot->id()), world_.body_radius_m(robot->id())});
-  }
+  const std::vector<apps::GoalPose> poses = player_.FinalPoses();
 
   metrics::RunFacts facts = ScenarioFacts(scenario_, world_);
   facts.robots = static_cast<uint16_t>(robots_.size());
@@ -720,7 +703,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
   facts.app_sandbox = options_.app_sandbox;
   facts.goal = BuiltinGoal(scenario_, poses);
-  if (!scenario_.goal.empty()) facts.goal = DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(now_s(), RunningPoses()));
+  if (!scenario_.goal.empty()) facts.goal = DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(now_s(), player_.RunningPoses()));
   RunReport report;
   report.metrics = collector_.Finish(facts);
   report.metrics.agreement = agreement_.Finish();

@@ -181,6 +181,26 @@ void WorldPlayer::AppFaulted(uint16_t id, int64_t now_ns, RobotRuntime& runtime)
   }
 }
 
+std::vector<goals::RobotPose> WorldPlayer::RunningPoses() const {
+  std::vector<goals::RobotPose> poses;
+  for (uint16_t id = 0; id < robots_.size(); ++id) {
+    if (!running(id) || robots_[id].app_faulted) continue;
+    const world::BodyState& body = world_.state(id);
+    poses.push_back(goals::RobotPose{id, body.x_m, body.y_m, world_.body_radius_m(id)});
+  }
+  return poses;
+}
+
+std::vector<apps::GoalPose> WorldPlayer::FinalPoses() const {
+  std::vector<apps::GoalPose> poses;
+  for (uint16_t id = 0; id < robots_.size(); ++id) {
+    const world::BodyState& body = world_.state(id);
+    poses.push_back(apps::GoalPose{id, body.x_m, body.y_m, body.heading_rad,
+                                   running(id) && !robots_[id].app_faulted, world_.body_radius_m(id)});
+  }
+  return poses;
+}
+
 std::vector<replay::Event> WorldPlayer::TakeEvents() {
   std::vector<replay::Event> taken;
   taken.swap(events_);

@@ -230,6 +230,29 @@ TEST(WorldPlayerTest, AnAppFaultStopsTheRobotForGood) {
   for (const std::string& call : f.runtime.calls) EXPECT_EQ(call.find("start 3"), std::string::npos) << call;
 }
 
+// The goal is judged over the robots running with a working app: a paused,
+// crashed, absent or app-faulted robot is no part of it (the firmware host
+// used to count every robot).
+TEST(WorldPlayerTest, TheGoalSeesOnlyRobotsRunningWithAWorkingApp) {
+  Fixture f(kFourRobots);
+  f.player.StartPresentRobots(f.runtime);
+  f.PlayUntil(2'000'000'000);  // robot 3 joined, robot 1 paused
+  f.player.NoteAppFault(0);    // a robot that stopped its own app
+
+  std::vector<uint16_t> running;
+  for (const goals::RobotPose& pose : f.player.RunningPoses()) running.push_back(pose.id);
+  const std::vector<apps::GoalPose> final_poses = f.player.FinalPoses();
+
+  EXPECT_EQ(running, (std::vector<uint16_t>{2, 3}));
+  ASSERT_EQ(final_poses.size(), 4u);
+  EXPECT_FALSE(final_poses[0].present);
+  EXPECT_FALSE(final_poses[1].present);
+  EXPECT_TRUE(final_poses[2].present);
+  EXPECT_TRUE(final_poses[3].present);
+  EXPECT_DOUBLE_EQ(final_poses[3].x_m, 1.6);
+  EXPECT_EQ(f.player.lifecycle(0), Lifecycle::kRunning);  // noted only: the robot stopped its app itself
+}
+
 TEST(WorldPlayerTest, ContactsGoToTheMetricsAndTheReplay) {
   Fixture f(R"(
 name: bump

@@ -25,6 +25,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "syrof/lab/apps/builtin_goals.h"
+#include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/replay/replay.h"
 #include "syrof/lab/scenario/scenario.h"
@@ -99,6 +101,17 @@ class WorldPlayer {
   /// Robot `id`'s app faulted at `now_ns`: it stops for good (as the lab has
   /// always done; a waiting or absent robot arrives crashed).
   void AppFaulted(uint16_t id, int64_t now_ns, RobotRuntime& runtime);
+
+  /// Robot `id`'s app faulted, and the robot stopped it itself (a DDS robot
+  /// process): noted for the goal, nothing else changes.
+  void NoteAppFault(uint16_t id) { robots_[id].app_faulted = true; }
+
+  /// The true positions of the robots running now with a working app, for
+  /// the scenario's goal checks (lab/goals).
+  std::vector<goals::RobotPose> RunningPoses() const;
+  /// Every robot's true pose now, `present` for those running with a
+  /// working app, for the built-in app's goal (apps::EvaluateGoal).
+  std::vector<apps::GoalPose> FinalPoses() const;
 
   Lifecycle lifecycle(uint16_t id) const { return robots_[id].lifecycle; }
   replay::Presence presence(uint16_t id) const { return ToPresence(robots_[id].lifecycle); }
