@@ -105,7 +105,6 @@ struct Received {
 
 struct RobotSlot {
   pid_t pid = -1;
-  bool app_faulted = false;  // its report said so; the process stopped its app itself
   RoundReport last;          // the newest round observation
   bool has_last = false;
   double cpu_seconds = 0;
@@ -630,7 +629,7 @@ std::vector<lab::goals::RobotPose> DdsWorld::RunningPoses(const BoundaryTruth* t
   std::vector<lab::goals::RobotPose> poses;
   for (uint16_t id = 0; id < swarm_size_; ++id) {
     const replay::Presence presence = truth != nullptr ? truth->presence[id] : player_.presence(id);
-    if (presence != replay::Presence::kRunning || robots_[id].app_faulted) continue;
+    if (presence != replay::Presence::kRunning || player_.app_faulted(id)) continue;
     const lab::world::BodyState& body = truth != nullptr ? truth->bodies[id] : world_.state(id);
     poses.push_back(lab::goals::RobotPose{id, body.x_m, body.y_m, world_.body_radius_m(id)});
   }
@@ -712,7 +711,6 @@ void DdsWorld::ReadReport(int64_t round, const Received& r, RoundReports& read) 
           r.robot, app::ToString(static_cast<app::Callback>(r.body.callback)), r.body.epoch, r.time_ns,
           app::ToString(static_cast<app::Verdict>(r.body.verdict)), r.body.text});
       read.AddEvent(replay::EventKind::kAppFault, r.time_ns, r.robot, r.body.epoch, mode);
-      slot.app_faulted = true;
       player_.NoteAppFault(r.robot);
       break;
     case ReportKind::kInvalidCommand:
@@ -775,7 +773,7 @@ void DdsWorld::BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns) {
     lab::metrics::RobotRound& rr = robot_rounds_[id];
     rr = lab::metrics::RobotRound{};
     rr.id = id;
-    rr.running = presence == replay::Presence::kRunning && !slot.app_faulted;
+    rr.running = presence == replay::Presence::kRunning && !player_.app_faulted(id);
     rr.sync_member = slot.has_last && slot.last.status == 0;
     rr.member = rr.running && rr.sync_member;
     rr.paused = presence == replay::Presence::kPaused;
@@ -789,7 +787,7 @@ void DdsWorld::BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns) {
     rr.est_y_m = slot.last.est_y_m;
     replay::RobotFrame& f = frames_[id];
     f.id = id;
-    f.presence = slot.app_faulted && presence != replay::Presence::kAbsent ? replay::Presence::kCrashed : presence;
+    f.presence = player_.app_faulted(id) && presence != replay::Presence::kAbsent ? replay::Presence::kCrashed : presence;
     f.status = slot.has_last ? slot.last.status : 1;
     f.phase = slot.last.phase;
     f.mode = slot.last.epoch_mode;
