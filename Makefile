@@ -118,6 +118,10 @@ test-m4: deps
 ## best when every instance has a core; four instances saturate 2 cores and
 ## their late timer interrupts then push estimation errors past 1 m); the
 ## faults run is on the host's clock. About 1.5 x SWARM_SECONDS each.
+## Last, the lab against the firmware: SWARM_COMPARE_SCENARIO in `syrof run`
+## and on the emulated swarm (--realtime), which must start the same epochs
+## in the same modes with the same members (scripts/firmware-agrees-with-lab.sh,
+## one more try when they disagree), into out/firmware-swarm/compare/.
 SWARM_ICOUNT  ?= 4
 SWARM_ROBOTS  ?= $(if $(CI),4,$(shell [ $$(nproc) -ge 4 ] && echo 8 || echo 4))
 SWARM_SECONDS ?= $(if $(CI),30,60)
@@ -126,11 +130,12 @@ SWARM_SCENARIO ?= lab/scenarios/firmware_swarm.yaml
 SWARM_MAX_ESTIMATION_ERROR_M ?= 1.0
 SWARM_FAULTS_SCENARIO ?= lab/scenarios/firmware_faults.yaml
 SWARM_FAULTS_SECONDS ?= 14
+SWARM_COMPARE_SCENARIO ?= lab/scenarios/four_runtimes.yaml
 test-firmware-swarm: deps
 	$(configure-build)
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
 	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --icount $(SWARM_ICOUNT) \
 	  --out out/firmware-swarm/no-loss --expect-cooperative --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
@@ -140,6 +145,8 @@ test-firmware-swarm: deps
 	  --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_FAULTS_SCENARIO) \
 	  --seconds $(SWARM_FAULTS_SECONDS) --icount -1 --out out/firmware-swarm/faults --expect-faults
+	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
+	  $(SWARM_COMPARE_SCENARIO) out/firmware-swarm/compare
 
 ## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
 QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \

@@ -17,8 +17,11 @@
 // `sensors 0|1` (the sensor link on UART2, default 0), `x_mm N`, `y_mm N`,
 // `heading_mrad N` (the start pose, arena frame; heading 0..6283), `late N`
 // (robot N is switched on later, so it is no initial member; repeatable:
-// the swarm host's late joiners, and the joiner itself). A word
-// it does not know stops the image with exit status 2 and names the word.
+// the swarm host's late joiners, and the joiner itself), `hold 0|1` (with
+// `sensors 1`: set everything up, print `held id=N`, and start the clock
+// only when a Start frame arrives on the sensor link, then run its run_ms;
+// `seconds` is then ignored). A word it does not know stops the image with
+// exit status 2 and names the word.
 // The UARTs interrupt at priority 2, above the kernel, and their handlers
 // only move bytes between the UART and its rings; but the radio's receive
 // interrupt sits at 4, masked by the kernel, and also notifies the image's
@@ -146,6 +149,7 @@ struct Options {
   robot::ImageConfig image{};
   long seconds = 0;
   bool sensors = false;
+  bool hold = false;
 };
 
 // Reads `key value` pairs; on error prints which word and why, returns false.
@@ -185,10 +189,12 @@ bool ParseOptions(int argc, char** argv, Options& options) {
       options.image.start_heading_rad = heading > 3.14159265f ? heading - 6.28318531f : heading;
     } else if (std::strcmp(key, "late") == 0 && value < syrof::wire::kMaxSwarmSize) {
       options.image.late_joiners.set(static_cast<uint16_t>(value));
+    } else if (std::strcmp(key, "hold") == 0 && value <= 1) {
+      options.hold = value == 1;
     } else {
       std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
                   "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1, sensors 0|1, x_mm and y_mm 0..1000000, "
-                  "heading_mrad 0..6283, late 0..31)\n",
+                  "heading_mrad 0..6283, late 0..31, hold 0|1)\n",
                   i, key, value);
       return false;
     }
@@ -198,7 +204,41 @@ bool ParseOptions(int argc, char** argv, Options& options) {
                 static_cast<unsigned>(options.image.swarm_size));
     return false;
   }
+  if (options.hold && !options.sensors) {
+    std::printf("syrof-robot: hold 1 needs sensors 1 (the Start frame comes on the sensor link)\n");
+    return false;
+  }
   return true;
+}
+
+// `hold 1`: the robot is prepared, its clock not started. Takes the sensor
+// link's bytes one at a time (so that none after the Start frame is taken
+// from the sensor task) until a Start frame, sleeping between interrupts;
+// returns its run_ms. Other frames before it are ignored.
+uint32_t WaitForStart(kernel::Mps2An386Hardware& hardware, const kernel::NvicPort& port, uint16_t self_id) {
+  const int sensor_irq = board::CmsdkUartRxIrq(board::kCmsdkUart2);
+  hardware.RouteInterrupt(static_cast<uint8_t>(sensor_irq), kUartPriority, &SensorInterrupt);
+  char line[48];
+  const int length = std::snprintf(line, sizeof line, "held id=%u t_ms=%ld\n", static_cast<unsigned>(self_id),
+                                   static_cast<long>(port.now_ns() / 1'000'000));
+  ConsoleWrite(line, static_cast<size_t>(length), nullptr);
+  syrof::firmware::drivers::FrameDecoder decoder;
+  for (;;) {
+    uint8_t byte = 0;
+    size_t count = 0;
+    {
+      MaskUarts masked;
+      count = sensor_uart.Read(std::span<uint8_t>(&byte, 1));
+    }
+    if (count == 0) {
+      asm volatile("wfi");
+      continue;
+    }
+    if (decoder.Push(byte) == syrof::firmware::drivers::DecodeEvent::kFrame &&
+        decoder.frame().kind == syrof::firmware::drivers::FrameKind::kStart) {
+      return decoder.frame().run_ms;
+    }
+  }
 }
 
 }  // namespace
@@ -226,7 +266,20 @@ int main(int argc, char** argv) {
     hardware.RouteInterrupt(static_cast<uint8_t>(sensor_irq + 1), kUartPriority, &SensorInterrupt);
     options.image.extension = &sensor_link;
   }
-  if (const char* error = image.Start(options.image, syrof_app_entry(), queries_memory)) {
+  if (const char* error = image.Prepare(options.image, syrof_app_entry(), queries_memory)) {
+    std::printf("syrof-robot: %s\n", error);
+    return 1;
+  }
+  int64_t stop_ns = options.seconds * int64_t{1'000'000'000};
+  if (options.hold) {
+    const uint32_t run_ms = WaitForStart(hardware, port, options.image.self_id);
+    char line[64];
+    const int length = std::snprintf(line, sizeof line, "started t_ms=%ld run_ms=%lu\n",
+                                     static_cast<long>(port.now_ns() / 1'000'000), static_cast<unsigned long>(run_ms));
+    ConsoleWrite(line, static_cast<size_t>(length), nullptr);
+    stop_ns = run_ms == 0 ? 0 : port.now_ns() + int64_t{run_ms} * 1'000'000;
+  }
+  if (const char* error = image.StartClock()) {
     std::printf("syrof-robot: %s\n", error);
     return 1;
   }
@@ -237,8 +290,7 @@ int main(int argc, char** argv) {
   if (options.sensors) {
     hardware.RouteInterrupt(static_cast<uint8_t>(sensor_irq), kRadioReceivePriority, &SensorReceiveInterrupt);
   }
-  const int64_t stop_ns = options.seconds * int64_t{1'000'000'000};
-  while (options.seconds == 0 || port.now_ns() < stop_ns) asm volatile("wfi");
+  while (stop_ns == 0 || port.now_ns() < stop_ns) asm volatile("wfi");
 
   (void)port.Stop();
   image.PrintStatus(port.now_ns());

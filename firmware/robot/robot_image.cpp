@@ -42,6 +42,17 @@ RobotImage::RobotImage(kernel::NvicPort& port, drivers::UartTx& radio_uart, Read
 
 const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descriptor* descriptor,
                               std::span<unsigned char> queries_memory) {
+  if (const char* error = Prepare(config, descriptor, queries_memory)) return error;
+  return StartClock();
+}
+
+const char* RobotImage::StartClock() {
+  if (robot_ == nullptr) return "the clock started before the robot was prepared";
+  return port_.Start() == os::PortError::kOk ? nullptr : "port start";
+}
+
+const char* RobotImage::Prepare(const ImageConfig& config, const syrof_app_descriptor* descriptor,
+                                std::span<unsigned char> queries_memory) {
   if (robot_ != nullptr) return "started twice";
   if (config.swarm_size < 1 || config.swarm_size > wire::kMaxSwarmSize || config.self_id >= config.swarm_size) {
     return "robot id or swarm size out of range";
@@ -107,7 +118,6 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
   if (config.extension != nullptr) {
     if (const char* error = config.extension->Attach(*this, port_)) return error;
   }
-  if (port_.Start() != os::PortError::kOk) return "port start";
   return nullptr;
 }
 

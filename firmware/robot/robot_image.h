@@ -136,8 +136,16 @@ class RobotImage {
   /// scratch `queries_memory`, advertises the sensor topics, attaches the
   /// robot's tasks and this image's own, and starts the port. Returns nullptr,
   /// or what failed (for the console; the image then halts).
+  /// Prepare() then StartClock().
   const char* Start(const ImageConfig& config, const syrof_app_descriptor* descriptor,
                     std::span<unsigned char> queries_memory);
+  /// Everything Start() does but starting the port: the robot is built and
+  /// its tasks attached, and no task runs until StartClock().
+  const char* Prepare(const ImageConfig& config, const syrof_app_descriptor* descriptor,
+                      std::span<unsigned char> queries_memory);
+  /// Starts the port: the robot's round grid begins at this instant (the
+  /// emulated swarm's common start, `hold 1`). nullptr, or what failed.
+  const char* StartClock();
 
   /// Makes the radio-link task ready (ImageConfig::poll_radio false). Safe
   /// from an interrupt whose priority the kernel masks (4..15).

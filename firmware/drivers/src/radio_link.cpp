@@ -32,6 +32,7 @@ constexpr KindDescription kKinds[] = {
      "valid_mask (1 byte), sweep (1 byte), 8 ranges in mm (2 bytes each)"},
     {FrameKind::kDrive, "M4 to world", 21, false,
      "drive kind (1 byte: 0 omni, 1 wheels), vx_mps, vy_mps, yaw_rate_radps, left_mps, right_mps: five binary32, finite"},
+    {FrameKind::kStart, "world to M4", 4, false, "run_ms (4 bytes): how long the robot runs from this frame, 0 for ever"},
 };
 
 // Big-endian fields of the sensor link's payloads.
@@ -83,6 +84,7 @@ bool PutSensorPayload(const Frame& frame, uint8_t* at) {
       for (size_t i = 0; i < 5; ++i) PutFloat(at + 1 + 4 * i, values[i]);
       return true;
     }
+    case FrameKind::kStart: PutU32(at, frame.run_ms); return true;
     default: return false;
   }
 }
@@ -115,6 +117,7 @@ bool GetSensorPayload(const uint8_t* at, Frame& frame) {
       drive.right_mps = values[4];
       return drive.kind <= 1 && AllFinite(values);
     }
+    case FrameKind::kStart: frame.run_ms = GetU32(at); return true;
     default: return false;
   }
 }
@@ -180,6 +183,7 @@ const char* ToString(FrameKind kind) {
     case FrameKind::kFlow: return "Flow";
     case FrameKind::kUwb: return "Uwb";
     case FrameKind::kDrive: return "Drive";
+    case FrameKind::kStart: return "Start";
   }
   return "?";
 }
@@ -264,6 +268,12 @@ Frame MakeDrive(uint8_t sequence, const DrivePayload& drive) {
   return frame;
 }
 
+Frame MakeStart(uint8_t sequence, uint32_t run_ms) {
+  Frame frame = WithKind(FrameKind::kStart, sequence);
+  frame.run_ms = run_ms;
+  return frame;
+}
+
 base::Result<size_t, LinkError> EncodeFrame(const Frame& frame, std::span<uint8_t> out) {
   const KindDescription* description = Describe(static_cast<uint8_t>(frame.kind));
   if (description == nullptr) return LinkError::kUnknownKind;
@@ -287,6 +297,7 @@ base::Result<size_t, LinkError> EncodeFrame(const Frame& frame, std::span<uint8_
     case FrameKind::kFlow:
     case FrameKind::kUwb:
     case FrameKind::kDrive:
+    case FrameKind::kStart:
       if (!PutSensorPayload(frame, body.data() + length)) return LinkError::kBadField;
       length += description->fixed_payload_bytes;
       break;
@@ -433,6 +444,7 @@ LinkError FrameDecoder::Finish() {
     case FrameKind::kFlow:
     case FrameKind::kUwb:
     case FrameKind::kDrive:
+    case FrameKind::kStart:
       if (!GetSensorPayload(payload, frame)) return LinkError::kBadField;
       break;
   }

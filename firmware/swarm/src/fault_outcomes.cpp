@@ -44,7 +44,7 @@ void FaultOutcomes::OnAction(const HostAction& action, int64_t world_ns) {
         }
       }
       break;
-    case HostAction::Kind::kLaunch:
+    case HostAction::Kind::kSwitchOn:
       joins_.push_back(Join{action.robot, world_ns, std::nullopt, std::nullopt});
       order_.push_back({action.kind, joins_.size() - 1});
       break;

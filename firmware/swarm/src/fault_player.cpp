@@ -6,7 +6,7 @@ namespace syrof::firmware::swarm {
 
 const char* ToString(HostAction::Kind kind) {
   switch (kind) {
-    case HostAction::Kind::kLaunch: return "launch";
+    case HostAction::Kind::kSwitchOn: return "switch on";
     case HostAction::Kind::kKill: return "kill";
     case HostAction::Kind::kStop: return "stop";
     case HostAction::Kind::kContinue: return "continue";
@@ -15,7 +15,7 @@ const char* ToString(HostAction::Kind kind) {
 }
 
 bool HostActions::StartRobot(uint16_t id, int64_t world_ns, bool resume) {
-  return act_(HostAction{resume ? HostAction::Kind::kContinue : HostAction::Kind::kLaunch, id}, world_ns);
+  return act_(HostAction{resume ? HostAction::Kind::kContinue : HostAction::Kind::kSwitchOn, id}, world_ns);
 }
 
 void HostActions::StopRobot(uint16_t id, int64_t world_ns, lab::sim::StopReason reason) {
@@ -39,9 +39,9 @@ bool RadioFaults::Blocked(uint16_t from, uint16_t to, double time_s) const {
   });
 }
 
-int RemainingSeconds(int run_seconds, int64_t launch_ns) {
-  const int64_t left_ns = int64_t{run_seconds} * 1'000'000'000 - launch_ns;
-  return static_cast<int>(std::max<int64_t>(1, (left_ns + 999'999'999) / 1'000'000'000));
+uint32_t RemainingMs(int run_seconds, int64_t start_ns) {
+  const int64_t left_ms = int64_t{run_seconds} * 1000 - start_ns / 1'000'000;
+  return static_cast<uint32_t>(std::clamp<int64_t>(left_ms, 1, UINT32_MAX));
 }
 
 }  // namespace syrof::firmware::swarm

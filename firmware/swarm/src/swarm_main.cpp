@@ -11,7 +11,8 @@
 // between the robots with the lab's channel model
 // (lab/world/channel.h): every SendBeacon frame a robot sends is delivered
 // to each other robot as a ReceivedBeacon frame unless the channel loses it
-// (a hash of seed, the sender's beacon count, sender and receiver), half a
+// (a hash of seed, the world's round the beacon was sent in, sender and
+// receiver: the lab's and the DDS world's decision), half a
 // radio round of the sender's clock after it was sent (scaled to host time
 // by the sender's measured clock rate, guest_clock.h), as the lab's radio
 // delivers (the robots' round alignment expects that latency:
@@ -30,9 +31,14 @@
 // arena, the robots' start poses, the sensors' noise, the channel and the
 // goal; --robots, --seed and --loss override it. The robot image has its app,
 // arena, anchors and timing compiled in; the start pose reaches each robot
-// through -append. The scenario's faults are played on world time with the
-// lab's rules (lab::sim::WorldPlayer, fault_player.h): a join launches the
-// robot's qemu late (once its start disc is clear), a crash kills it,
+// through -append. Every robot's qemu is launched at once with `hold 1`: it
+// boots and waits; the world starts when all are held, and a robot's clock
+// starts when the host sends it a Start frame on its sensor link (the
+// robots present at start at one instant, a joiner when it joins), so every
+// robot's rounds lie on the world's grid. The scenario's faults are played
+// on world time with the lab's rules (lab::sim::WorldPlayer,
+// fault_player.h): a join switches the robot on (once its start disc is
+// clear), a crash kills it,
 // a pause stops it (SIGSTOP/SIGCONT), deaf and mute drop beacons; partitions
 // are the channel's. fault_outcomes.h judges, from the robots' reports,
 // whether the swarm handled each (--expect-faults makes that a check).
@@ -40,6 +46,7 @@
 //   syrof-firmware-swarm --image build-m4/bin/syrof-robot-mps2.elf [--scenario FILE] --robots 4
 //       --seconds 20 --loss 0 --seed 1 --out DIR [--qemu qemu-system-arm] [--icount SHIFT|-1]
 //       [--align 0|1] [--latency-ms 25] [--expect-cooperative] [--expect-faults] [--max-estimation-error M]
+//       [--realtime]
 //
 // Exit status 0 when every instance ran to the end and reported, no P3
 // breach happened, the replay reads back whole, (with --expect-cooperative)
@@ -50,6 +57,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -59,6 +67,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -79,6 +88,7 @@
 #include "syrof/firmware/swarm/guest_clock.h"
 #include "syrof/firmware/swarm/round_skew.h"
 #include "syrof/firmware/swarm/sensor_feed.h"
+#include "syrof/firmware/swarm/world_grid.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/builtin_goals.h"
 #include "syrof/lab/goals/goals.h"
@@ -127,7 +137,11 @@ struct Options {
   int icount_shift = -1;
   bool expect_cooperative = false;
   bool expect_faults = false;  // every crash, pause and join handled (FaultOutcomes)
-  bool align = true;  // the robots' round alignment (docs/clocks.md)
+  bool realtime = false;       // this process and every qemu at SCHED_FIFO (SetRealtime)
+  // The robots' round alignment (docs/clocks.md): by default on under
+  // -icount, where each guest's clock runs at its own rate, and off on the
+  // host's clock, which every guest shares from its Start frame on.
+  std::optional<bool> align;
   double latency_ms = 25;  // from a beacon's send to its delivery, on the sender's clock (GuestClockRate)
   std::string scenario;    // empty: kBuiltInScenario
   std::optional<int> robots_override;
@@ -142,12 +156,13 @@ constexpr int kMaxImageRobots = 32;
 constexpr const char* kUsage =
     "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..32] [--seconds S] [--loss 0..1]\n"
     "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT|-1] [--align 0|1] [--latency-ms MS]\n"
-    "       [--expect-cooperative] [--expect-faults] [--max-estimation-error M]\n"
+    "       [--expect-cooperative] [--expect-faults] [--max-estimation-error M] [--realtime]\n"
     "Starts one qemu mps2-an386 instance of the robot image per robot of the scenario (--robots, --seed\n"
     "and --loss override it) and plays the world, the robots' sensors and the radio channel between\n"
     "them; plays the scenario's faults (crash, pause, join, deaf, mute) and partitions on world time;\n"
     "writes metrics.json, replay, firmware-swarm.json and logs in --out (docs/firmware.md).\n"
-    "The guests run on the host's clock; --icount SHIFT runs them with qemu's -icount shift=SHIFT.\n";
+    "The guests run on the host's clock; --icount SHIFT runs them with qemu's -icount shift=SHIFT.\n"
+    "--realtime runs this process and the qemu instances at SCHED_FIFO (root or CAP_SYS_NICE).\n";
 
 [[noreturn]] void Usage(const std::string& what) {
   std::fprintf(stderr, "syrof-firmware-swarm: %s\n%s", what.c_str(), kUsage);
@@ -168,6 +183,10 @@ Options ParseOptions(int argc, char** argv) {
     }
     if (key == "--expect-faults") {
       options.expect_faults = true;
+      continue;
+    }
+    if (key == "--realtime") {
+      options.realtime = true;
       continue;
     }
     if (i + 1 >= argc) Usage("argument " + std::to_string(i) + " '" + key + "' has no value");
@@ -213,6 +232,7 @@ Options ParseOptions(int argc, char** argv) {
       Usage("unknown argument '" + key + "'");
     }
   }
+  if (!options.align) options.align = options.icount_shift >= 0;
   if (options.image.empty()) Usage("--image is required");
   if (access(options.image.c_str(), R_OK) != 0) {
     Usage("--image: cannot read " + options.image + " (build it: make test-m4, or cmake --build build-m4 --target syrof-robot-mps2)");
@@ -274,8 +294,9 @@ struct Delivery {
 
 struct Robot {
   pid_t pid = -1;
-  bool connecting = false;  // launched late (a join): its sockets not all accepted yet
-  int64_t launched_ns = 0;  // host time of a late launch
+  bool held = false;         // its image said `held`: prepared, waiting for its Start frame
+  bool switched_on = false;  // its Start frame was sent
+  swarm::SwitchOn switched_on_at;  // where its rounds lie on the world's grid
   int radio = -1;
   int console = -1;
   int sensor = -1;
@@ -285,7 +306,6 @@ struct Robot {
   drivers::FrameDecoder decoder;
   std::string pending_line;
   std::ofstream log;
-  int64_t beacons_sent = 0;
   std::vector<int64_t> beacon_ns;  // host instants of its SendBeacon frames
   std::optional<swarm::RoundLine> latest;
   int64_t latest_ns = 0;
@@ -339,6 +359,23 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
 
 int64_t Milli(double value) { return std::llround(value * 1000.0); }
 
+// --realtime: this process at SCHED_FIFO priority 10, which the qemu
+// instances it forks keep (their threads too). On two cores, four guests
+// and this process want most of the machine; at normal priority a build
+// beside them, or their own competition, holds a guest for tens of
+// milliseconds, and its beacons reach the others a round late (docs/firmware.md,
+// "One start for every robot"). The kernel's real-time throttling keeps 5%
+// of each second for everything else. Says so and goes on at normal
+// priority when it may not.
+void SetRealtime() {
+  sched_param parameters{};
+  parameters.sched_priority = 10;
+  if (sched_setscheduler(0, SCHED_FIFO, &parameters) != 0) {
+    std::fprintf(stderr, "syrof-firmware-swarm: --realtime: SCHED_FIFO refused (%s); running at normal priority\n",
+                 std::strerror(errno));
+  }
+}
+
 // The start pose as the image's -append words (whole mm and mrad >= 0).
 std::string StartPoseWords(const lab::scenario::RobotSpec& robot) {
   double heading = std::fmod(robot.heading_rad, 2 * M_PI);
@@ -358,10 +395,11 @@ std::string LateJoinerWords(const lab::scenario::Scenario& scenario) {
   return words;
 }
 
-// Starts robot `id`'s qemu, which runs `seconds` of its own time and then
-// exits; `paths` are its console, radio and sensor sockets (qemu connects to
-// them in that order). Returns its pid, or -1.
-pid_t LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id, int seconds,
+// Starts robot `id`'s qemu with `hold 1`: the image sets itself up, prints
+// `held id=N` and waits for its Start frame (DoHostAction), which says how
+// long it runs; `paths` are its console, radio and sensor sockets (qemu
+// connects to them in that order). Returns its pid, or -1.
+pid_t LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id,
                  const std::string& console_path, const std::string& radio_path, const std::string& sensor_path) {
   const auto robots = static_cast<uint16_t>(scenario.robots.size());
   std::vector<std::string> args = {
@@ -371,8 +409,8 @@ pid_t LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario
       "-chardev", "socket,id=radio,path=" + radio_path, "-serial", "chardev:radio",
       "-chardev", "socket,id=sensor,path=" + sensor_path, "-serial", "chardev:sensor",
       "-kernel", options.image, "-append",
-      "id " + std::to_string(id) + " swarm " + std::to_string(robots) + " seconds " + std::to_string(seconds) +
-          " report 1 sensors 1 align " + (options.align ? "1" : "0") + StartPoseWords(scenario.robots[id]) +
+      "id " + std::to_string(id) + " swarm " + std::to_string(robots) +
+          " hold 1 report 1 sensors 1 align " + (*options.align ? "1" : "0") + StartPoseWords(scenario.robots[id]) +
           LateJoinerWords(scenario)};
   if (options.icount_shift >= 0) {
     args.push_back("-icount");
@@ -412,34 +450,36 @@ struct RobotSockets {
   int console_listener = -1, radio_listener = -1, sensor_listener = -1;
 };
 
+// Closes a robot's three sockets.
+void CloseLinks(Robot& robot) {
+  for (int* fd : {&robot.console, &robot.radio, &robot.sensor}) {
+    if (*fd >= 0) close(*fd);
+    *fd = -1;
+  }
+}
+
 // Does what the world player asks of robot `id`'s qemu at world time
-// `world_ns` (docs/firmware.md, "Faults"): a join launches it (a robot
-// present at start was launched before the world started), a crash kills it
-// and closes its sockets, a pause stops it with SIGSTOP (its guest clock
-// keeps running: the stall shows as a jump of its time once it continues,
-// measured in FaultOutcomes) and a resume continues it. The player keeps
-// the body, the lifecycle and the replay's event.
-bool DoHostAction(const swarm::HostAction& action, int64_t world_ns, const Options& options,
-                  const lab::scenario::Scenario& scenario, const RobotSockets& sockets, Robot& robot,
+// `world_ns` (docs/firmware.md, "Faults"): switching it on sends its held
+// image the Start frame (its clock starts now, for what is left of the run),
+// a crash kills it and closes its sockets, a pause stops it with SIGSTOP
+// (its guest clock keeps running: the stall shows as a jump of its time once
+// it continues, measured in FaultOutcomes) and a resume continues it. The
+// player keeps the body, the lifecycle and the replay's event.
+bool DoHostAction(const swarm::HostAction& action, int64_t world_ns, const Options& options, Robot& robot,
                   int& open_consoles) {
-  const uint16_t id = action.robot;
   switch (action.kind) {
-    case swarm::HostAction::Kind::kLaunch:
-      if (robot.pid > 0) return true;  // present at start: launched already
-      robot.pid = LaunchQemu(options, scenario, id, swarm::RemainingSeconds(options.seconds, world_ns),
-                             sockets.console_path, sockets.radio_path, sockets.sensor_path);
-      robot.connecting = robot.pid > 0;
-      robot.launched_ns = HostNs();
-      if (robot.pid <= 0) --open_consoles;
-      return robot.pid > 0;
+    case swarm::HostAction::Kind::kSwitchOn: {
+      if (robot.sensor < 0 || !robot.held) return false;
+      uint8_t wire_bytes[drivers::kMaxWireBytes];
+      const auto encoded =
+          drivers::EncodeFrame(drivers::MakeStart(0, swarm::RemainingMs(options.seconds, world_ns)), wire_bytes);
+      robot.switched_on = encoded.ok() && WriteAll(robot.sensor, wire_bytes, encoded.value());
+      return robot.switched_on;
+    }
     case swarm::HostAction::Kind::kKill:
       if (robot.pid > 0) kill(robot.pid, SIGKILL);
-      if (robot.console >= 0 || robot.connecting) --open_consoles;
-      for (int* fd : {&robot.console, &robot.radio, &robot.sensor}) {
-        if (*fd >= 0) close(*fd);
-        *fd = -1;
-      }
-      robot.connecting = false;
+      if (robot.console >= 0) --open_consoles;
+      CloseLinks(robot);
       robot.sensor_out.clear();
       return true;
     case swarm::HostAction::Kind::kStop:
@@ -451,34 +491,6 @@ bool DoHostAction(const swarm::HostAction& action, int64_t world_ns, const Optio
       return true;
   }
   return false;
-}
-
-// A robot launched late: accepts its sockets as qemu connects (console,
-// radio, sensor link, in that order) without holding up the world. False
-// when it did not connect within 15 s (it is then killed).
-bool AcceptLate(Robot& robot, const RobotSockets& sockets, uint16_t id) {
-  const std::pair<int*, int> order[] = {{&robot.console, sockets.console_listener},
-                                        {&robot.radio, sockets.radio_listener},
-                                        {&robot.sensor, sockets.sensor_listener}};
-  for (const auto& [fd, listener] : order) {
-    if (*fd >= 0) continue;
-    pollfd entry{listener, POLLIN, 0};
-    if (poll(&entry, 1, 0) != 1) break;
-    *fd = accept(listener, nullptr, nullptr);
-    if (*fd < 0) break;
-  }
-  robot.connecting = robot.console < 0 || robot.radio < 0 || robot.sensor < 0;
-  if (robot.connecting && HostNs() - robot.launched_ns > 15'000'000'000) {
-    std::fprintf(stderr, "syrof-firmware-swarm: robot %u (a late joiner) did not connect within 15 s\n",
-                 static_cast<unsigned>(id));
-    kill(robot.pid, SIGKILL);
-    for (int* fd : {&robot.console, &robot.radio, &robot.sensor}) {
-      if (*fd >= 0) close(*fd);
-      *fd = -1;
-    }
-    return false;
-  }
-  return true;
 }
 
 // Host nanoseconds per world nanosecond: the mean of the running robots'
@@ -496,22 +508,21 @@ double HostPerWorld(const std::vector<Robot>& swarm, const lab::sim::WorldPlayer
   return counted == 0 ? 1.0 : sum / counted;
 }
 
-// A pause that lasts past the run: once only paused robots are left, they
-// continue (SIGCONT) so they can run out their time and exit.
-void ReleasePausedAtTheEnd(const std::vector<Robot>& swarm, const lab::sim::WorldPlayer& player, bool& released) {
-  if (released) return;
-  bool any_paused = false;
+// The end of the run on world time: paused robots continue (SIGCONT) so
+// that they see their time is up and exit, and robots still held (a join
+// that never came, or came too late) are killed.
+void EndPausedAndHeld(std::vector<Robot>& swarm, const lab::sim::WorldPlayer& player, int& open_consoles) {
   for (uint16_t i = 0; i < swarm.size(); ++i) {
-    const bool open = swarm[i].console >= 0 || swarm[i].connecting;
-    const bool paused = player.lifecycle(i) == lab::sim::Lifecycle::kPaused;
-    if (open && !paused) return;
-    any_paused = any_paused || (open && paused);
+    Robot& robot = swarm[i];
+    if (robot.pid <= 0 || robot.console < 0) continue;
+    if (!robot.switched_on) {
+      kill(robot.pid, SIGKILL);
+      CloseLinks(robot);
+      --open_consoles;
+    } else if (player.lifecycle(i) == lab::sim::Lifecycle::kPaused) {
+      kill(robot.pid, SIGCONT);
+    }
   }
-  if (!any_paused) return;
-  for (uint16_t i = 0; i < swarm.size(); ++i) {
-    if (player.lifecycle(i) == lab::sim::Lifecycle::kPaused && swarm[i].pid > 0) kill(swarm[i].pid, SIGCONT);
-  }
-  released = true;
 }
 
 // A running robot shows as absent until it reports (qemu starting up).
@@ -568,7 +579,7 @@ metrics::CollectorConfig SwarmCollectorConfig(uint16_t robots, int64_t period_ns
 // One run of the emulated swarm: the robots' qemu instances and their
 // links, the world they move in, the channel between them and what is
 // recorded of them (metrics, replay, fault outcomes). main() calls, in
-// order: OpenSockets, LaunchPresentRobots, StartWorld, Step until Running()
+// order: OpenSockets, LaunchRobots, StartWorld, Step until Running()
 // is false, Finish.
 class SwarmHost {
  public:
@@ -578,28 +589,34 @@ class SwarmHost {
 
   // The socket directory, each robot's three listeners and its console log.
   bool OpenSockets();
-  // One qemu per robot present at start, its sockets accepted; false (every
-  // qemu killed) when one did not connect.
-  bool LaunchPresentRobots();
-  // The world's clock starts; the player starts the robots present at start.
+  // One qemu per robot, joiners too, its sockets accepted, until every
+  // image says it is held; false (every qemu killed) when one did not
+  // connect or say so within kBootTimeoutMs.
+  bool LaunchRobots();
+  // The world's clock starts; the player switches on the robots present at
+  // start, at one instant.
   void StartWorld();
   // Whether a console is still open and the deadline has not passed.
   bool Running() const;
-  // One pass of the host loop: late robots' sockets, the world's steps due,
-  // the deliveries due, every robot's links, the rounds ended.
+  // One pass of the host loop: the world's steps due, the deliveries due,
+  // every robot's links, the rounds ended.
   void Step();
   // The checks and the output files; the exit status.
   int Finish();
 
  private:
   bool OnHostAction(const swarm::HostAction& action, int64_t at_ns);
-  void AcceptLateRobots();
+  bool WaitUntilHeld();
+  void KillAll();
   int64_t WaitForLinks();
   void AdvanceWorld(int64_t now);
   void Deliver(int64_t now);
   void ReadSensorLink(uint16_t i);
   void ReadRadio(uint16_t i, int64_t now);
   void OnBeacon(uint16_t i, const drivers::Frame& frame, int64_t now);
+  int64_t BeaconRound(const Robot& robot) const;
+  int64_t DeliveryDue(const Robot& robot, int64_t round, int64_t now) const;
+  void CountLateness(const Robot& robot, int64_t round);
   void ReadConsole(uint16_t i, int64_t now);
   void OnConsoleLine(uint16_t i, const std::string& line, int64_t now);
   void OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now);
@@ -617,6 +634,8 @@ class SwarmHost {
   void PrintSummary(const RunResult& result) const;
 
   static constexpr int64_t kPhysicsNs = syrof::registry::kImuPeriodNs;
+  // From launching the qemu instances until every image is held.
+  static constexpr int kBootTimeoutMs = 30'000;
   const Options options_;
   const lab::scenario::Scenario scenario_;
   const uint16_t robots_;
@@ -656,6 +675,10 @@ class SwarmHost {
   int64_t next_round_ns_;  // on the world's time
   int64_t link_errors_ = 0;
   int64_t offered_ = 0, delivered_ = 0;
+  // Without alignment: beacons that reached the host more than the latency
+  // after their boundary (delivered at once), and after the next boundary
+  // (too late for their round anywhere: a receiver steps them a round late).
+  int64_t late_beacons_ = 0, beacons_past_their_round_ = 0;
   int open_consoles_;
   // The robots' lifecycle, the faults on world time and the join wait: the
   // lab's rules (lab::sim::WorldPlayer); the host does them to qemu.
@@ -665,7 +688,7 @@ class SwarmHost {
   // By due instant: the latency is scaled by each sender's clock rate.
   std::multimap<int64_t, Delivery> in_flight_;
   std::vector<pollfd> fds_;
-  bool released_paused_ = false;
+  bool ended_ = false;  // EndPausedAndHeld was done
 };
 
 SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scenario)
@@ -688,9 +711,14 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
       latency_ns_(static_cast<int64_t>(options.latency_ms * 1e6)) {}
 
 bool SwarmHost::OnHostAction(const swarm::HostAction& action, int64_t at_ns) {
-  const bool done = DoHostAction(action, at_ns, options_, scenario_, sockets_[action.robot], swarm_[action.robot],
-                                 open_consoles_);
-  if (at_ns > 0) fault_outcomes_.OnAction(action, at_ns);
+  const bool done = DoHostAction(action, at_ns, options_, swarm_[action.robot], open_consoles_);
+  if (done && action.kind == swarm::HostAction::Kind::kSwitchOn) {
+    swarm_[action.robot].switched_on_at = swarm::SwitchOn{at_ns / period_ns_, world_clock_ns_};
+  }
+  // Switching on the robots present at start is no join.
+  const bool initial = action.kind == swarm::HostAction::Kind::kSwitchOn &&
+                       scenario_.robots[action.robot].present_at_start;
+  if (!initial) fault_outcomes_.OnAction(action, at_ns);
   return done;
 }
 
@@ -720,35 +748,61 @@ bool SwarmHost::OpenSockets() {
   return true;
 }
 
-bool SwarmHost::LaunchPresentRobots() {
-  // One qemu per robot; each keeps its own virtual clock.
+bool SwarmHost::LaunchRobots() {
   timing_ = options_.icount_shift < 0 ? "host clock (no -icount)"
                                       : "-icount shift=" + std::to_string(options_.icount_shift);
   start_ns_ = HostNs();
   for (uint16_t i = 0; i < robots_; ++i) {
-    if (!scenario_.robots[i].present_at_start) continue;  // launched when it joins (PlayFault)
     Robot& robot = swarm_[i];
     const RobotSockets& sockets = sockets_[i];
-    robot.pid = LaunchQemu(options_, scenario_, i, options_.seconds, sockets.console_path, sockets.radio_path,
-                           sockets.sensor_path);
+    robot.pid = LaunchQemu(options_, scenario_, i, sockets.console_path, sockets.radio_path, sockets.sensor_path);
     // qemu connects to its chardevs in order while starting up.
-    robot.console = AcceptOne(sockets.console_listener, 15'000, "robot " + std::to_string(i) + "'s console");
-    robot.radio = AcceptOne(sockets.radio_listener, 15'000, "robot " + std::to_string(i) + "'s radio");
-    robot.sensor = AcceptOne(sockets.sensor_listener, 15'000, "robot " + std::to_string(i) + "'s sensor link");
+    robot.console = AcceptOne(sockets.console_listener, kBootTimeoutMs, "robot " + std::to_string(i) + "'s console");
+    robot.radio = AcceptOne(sockets.radio_listener, kBootTimeoutMs, "robot " + std::to_string(i) + "'s radio");
+    robot.sensor =
+        AcceptOne(sockets.sensor_listener, kBootTimeoutMs, "robot " + std::to_string(i) + "'s sensor link");
     if (robot.console < 0 || robot.radio < 0 || robot.sensor < 0) {
-      for (Robot& launched : swarm_) {
-        if (launched.pid > 0) kill(launched.pid, SIGKILL);
-      }
+      KillAll();
       return false;
     }
   }
-  all_started_ns_ = HostNs();
+  if (!WaitUntilHeld()) {
+    KillAll();
+    return false;
+  }
   return true;
+}
+
+// Reads the consoles until every image has printed `held` (its robot built,
+// its clock not started).
+bool SwarmHost::WaitUntilHeld() {
+  const int64_t give_up_ns = HostNs() + int64_t{kBootTimeoutMs} * 1'000'000;
+  for (;;) {
+    const auto held = std::count_if(swarm_.begin(), swarm_.end(), [](const Robot& robot) { return robot.held; });
+    if (held == robots_) return true;
+    const int64_t now = WaitForLinks();
+    if (now > give_up_ns) break;
+    for (uint16_t i = 0; i < robots_; ++i) ReadConsole(i, now);
+  }
+  for (uint16_t i = 0; i < robots_; ++i) {
+    if (!swarm_[i].held) {
+      std::fprintf(stderr, "syrof-firmware-swarm: robot %u's image did not say `held` within %d s (robot_%u.log)\n",
+                   static_cast<unsigned>(i), kBootTimeoutMs / 1000, static_cast<unsigned>(i));
+    }
+  }
+  return false;
+}
+
+void SwarmHost::KillAll() {
+  for (Robot& robot : swarm_) {
+    if (robot.pid > 0) kill(robot.pid, SIGKILL);
+  }
 }
 
 void SwarmHost::StartWorld() {
   replay_file_.open(options_.out + "/replay", std::ios::binary);
   replay_writer_.emplace(replay_file_, lab::sim::ReplayHeader(scenario_));
+  all_started_ns_ = HostNs();
   // With -icount a loaded host stretches the guests' time (1.3x for 4
   // robots on 2 busy cores, more for 8): three times the run, then give up.
   deadline_ns_ = all_started_ns_ + (3 * options_.seconds + 30) * int64_t{1'000'000'000};
@@ -758,8 +812,10 @@ void SwarmHost::StartWorld() {
 bool SwarmHost::Running() const { return open_consoles_ > 0 && HostNs() < deadline_ns_; }
 
 void SwarmHost::Step() {
-  AcceptLateRobots();
-  ReleasePausedAtTheEnd(swarm_, player_, released_paused_);
+  if (!ended_ && world_ns_ >= int64_t{options_.seconds} * 1'000'000'000) {
+    EndPausedAndHeld(swarm_, player_, open_consoles_);
+    ended_ = true;
+  }
   const int64_t now = WaitForLinks();
   AdvanceWorld(now);
   for (Robot& robot : swarm_) Flush(robot.sensor, robot.sensor_out);
@@ -771,15 +827,6 @@ void SwarmHost::Step() {
   }
   // Round ends on the host's clock: every robot's latest report.
   while (world_ns_ >= next_round_ns_) RecordRound(now);
-}
-
-void SwarmHost::AcceptLateRobots() {
-  for (uint16_t i = 0; i < robots_; ++i) {
-    if (swarm_[i].connecting && !AcceptLate(swarm_[i], sockets_[i], i)) {
-      swarm_[i].connecting = false;
-      --open_consoles_;
-    }
-  }
 }
 
 // Polls every robot's links until one has input, the next delivery is due
@@ -869,19 +916,48 @@ void SwarmHost::ReadRadio(uint16_t i, int64_t now) {
 
 // Robot `i`'s SendBeacon frame, read at host time `now`: a ReceivedBeacon
 // frame in flight to each robot the channel delivers it to.
+// The world round a beacon of `robot` reaching the host now was sent in
+// (world_grid.h). A robot whose round alignment moved its boundaries
+// earlier (--align 1) may be counted a round short.
+int64_t SwarmHost::BeaconRound(const Robot& robot) const {
+  return swarm::BeaconRound(robot.switched_on_at, world_clock_ns_, period_ns_);
+}
+
+// Host time at which a beacon of `robot` (of world round `round`, read now)
+// reaches the others. With the robots on the world's grid (no alignment):
+// --latency-ms after the sender's boundary on the world's clock, as the
+// lab's radio delivers, and at once when that instant has passed. With
+// round alignment the boundaries move: --latency-ms of the sender's clock
+// after the beacon reached the host.
+int64_t SwarmHost::DeliveryDue(const Robot& robot, int64_t round, int64_t now) const {
+  if (*options_.align) return now + robot.clock_rate.ToHost(latency_ns_);
+  const double boundary_ns = swarm::BoundaryOf(robot.switched_on_at, round, period_ns_);
+  const double ahead_ns = (boundary_ns + static_cast<double>(latency_ns_) - world_clock_ns_) * host_per_world_;
+  return now + std::max<int64_t>(0, std::llround(ahead_ns));
+}
+
+void SwarmHost::CountLateness(const Robot& robot, int64_t round) {
+  if (*options_.align) return;
+  const double late_ns = world_clock_ns_ - swarm::BoundaryOf(robot.switched_on_at, round, period_ns_);
+  if (late_ns > static_cast<double>(latency_ns_)) ++late_beacons_;
+  if (late_ns > static_cast<double>(period_ns_)) ++beacons_past_their_round_;
+}
+
 void SwarmHost::OnBeacon(uint16_t i, const drivers::Frame& frame, int64_t now) {
   Robot& robot = swarm_[i];
   robot.beacon_ns.push_back(now);
   robot.last_boundary_ns = now;
-  // --latency-ms is on the robots' clocks: half their round by default.
-  const int64_t due_ns = now + robot.clock_rate.ToHost(latency_ns_);
-  const int64_t beacon_round = robot.beacons_sent++;
+  const int64_t beacon_round = BeaconRound(robot);
+  const int64_t due_ns = DeliveryDue(robot, beacon_round, now);
+  CountLateness(robot, beacon_round);
+  // The lab and the DDS world ask the channel about the same (round,
+  // sender, receiver), at the round's start.
+  const double sent_s = static_cast<double>(beacon_round * period_ns_) * 1e-9;
   for (uint16_t to = 0; to < robots_; ++to) {
     // Paused, crashed and absent robots hear nothing (the lab's Listening).
     if (to == i || swarm_[to].radio < 0 || !player_.running(to)) continue;
     ++offered_;
-    // Partitions are on world time, as the lab's; then deaf and mute.
-    const double sent_s = static_cast<double>(world_ns_) * 1e-9;
+    // Partitions, deaf and mute are on world time, as the lab's.
     if (!channel_.Delivers(i, to, beacon_round, sent_s) || radio_faults_.Blocked(i, to, sent_s)) continue;
     ++delivered_;
     uint8_t wire_bytes[drivers::kMaxWireBytes];
@@ -920,6 +996,7 @@ void SwarmHost::OnConsoleLine(uint16_t i, const std::string& line, int64_t now) 
   robot.log << line << '\n';
   ++robot.lines;
   if (line.rfind("status ", 0) == 0) robot.last_status = line;
+  if (line.rfind("held ", 0) == 0) robot.held = true;
   const swarm::ConsoleLine parsed = swarm::ParseConsoleLine(line, robots_);
   if (const auto* error = std::get_if<swarm::LineError>(&parsed)) {
     ++robot.bad_lines;
@@ -1069,21 +1146,23 @@ bool SwarmHost::ReapRobots() {
   for (uint16_t i = 0; i < robots_; ++i) {
     Robot& robot = swarm_[i];
     int status = 0;
-    if (robot.pid <= 0) {  // a joiner whose time never came, or whose qemu did not start
-      ok = false;
-      std::fprintf(stderr, "robot %u: never started\n", static_cast<unsigned>(i));
-      continue;
-    }
-    if (robot.console >= 0 || robot.radio >= 0 || robot.connecting) {  // the deadline passed
+    if (robot.pid <= 0) continue;  // never launched: LaunchRobots failed
+    // A crashed robot was killed (exit 137), perhaps before it reported or
+    // even before it was switched on (a crash while waiting to join).
+    const bool crashed = player_.lifecycle(i) == lab::sim::Lifecycle::kCrashed;
+    if (robot.console >= 0 || robot.radio >= 0) {  // the deadline passed
       kill(robot.pid, SIGKILL);
       ok = false;
       std::fprintf(stderr, "robot %u: still running at the deadline\n", static_cast<unsigned>(i));
     }
+    if (!robot.switched_on && !crashed) {  // a joiner whose time never came: killed at the end
+      ok = false;
+      std::fprintf(stderr, "robot %u: never switched on\n", static_cast<unsigned>(i));
+    }
     waitpid(robot.pid, &status, 0);
     robot.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    // A crashed robot was killed (exit 137) and may have crashed before it reported.
-    const bool crashed = player_.lifecycle(i) == lab::sim::Lifecycle::kCrashed;
-    if ((!crashed && (robot.exit_status != 0 || !robot.latest)) || robot.bad_lines > 0) ok = false;
+    if (robot.switched_on && !crashed && (robot.exit_status != 0 || !robot.latest)) ok = false;
+    if (robot.bad_lines > 0) ok = false;
   }
   return ok;
 }
@@ -1182,7 +1261,7 @@ void SwarmHost::WriteReport(const RunResult& result) const {
   const bool cooperative = all_cooperative_s_.has_value();
   std::ofstream report(options_.out + "/firmware-swarm.json");
   report << "{\n  \"robots\": " << robots_ << ",\n  \"seconds\": " << options_.seconds << ",\n  \"loss\": " << options_.loss
-         << ",\n  \"seed\": " << options_.seed << ",\n  \"align\": " << (options_.align ? "true" : "false")
+         << ",\n  \"seed\": " << options_.seed << ",\n  \"align\": " << (*options_.align ? "true" : "false")
          << ",\n  \"latency_ms\": " << options_.latency_ms << ",\n  \"timing\": \"" << timing_ << "\",\n  \"wall_seconds\": " << result.wall_s
          << ",\n  \"all_cooperative_s\": "
          << (cooperative ? std::to_string(*all_cooperative_s_) : std::string("null"))
@@ -1191,7 +1270,8 @@ void SwarmHost::WriteReport(const RunResult& result) const {
          << ",\n  \"round_start_skew\": {\"samples\": " << skew.samples << ", \"median_ms\": " << skew.median_ns * 1e-6
          << ", \"p95_ms\": " << skew.p95_ns * 1e-6 << ", \"max_ms\": " << skew.max_ns * 1e-6 << "}"
          << ",\n  \"beacons\": {\"offered\": " << offered_ << ", \"delivered\": " << delivered_
-         << ", \"link_errors\": " << link_errors_ << "}";
+         << ", \"link_errors\": " << link_errors_ << ", \"late\": " << late_beacons_
+         << ", \"past_their_round\": " << beacons_past_their_round_ << "}";
   report << ",\n  \"sensor_link\": {\"imu\": " << sensor_totals.imu << ", \"flow\": " << sensor_totals.flow
          << ", \"uwb\": " << sensor_totals.uwb << ", \"not_encoded\": " << sensor_totals.not_encoded
          << ", \"drives\": " << sensor_totals.drives << ", \"rejected_from_robots\": " << result.sensor_rejected << "}"
@@ -1222,8 +1302,11 @@ void SwarmHost::PrintSummary(const RunResult& result) const {
   std::printf("  round-start skew (beacon arrivals vs robot 0, after 5 s): median %.3f ms, p95 %.3f ms, max %.3f ms "
               "over %lld beacons\n",
               skew.median_ns * 1e-6, skew.p95_ns * 1e-6, skew.max_ns * 1e-6, static_cast<long long>(skew.samples));
-  std::printf("  beacons offered %lld, delivered %lld; radio-link errors %lld\n", static_cast<long long>(offered_),
-              static_cast<long long>(delivered_), static_cast<long long>(link_errors_));
+  std::printf("  beacons offered %lld, delivered %lld; radio-link errors %lld; %lld beacons reached the host past "
+              "their delivery instant, %lld past their round\n",
+              static_cast<long long>(offered_), static_cast<long long>(delivered_),
+              static_cast<long long>(link_errors_), static_cast<long long>(late_beacons_),
+              static_cast<long long>(beacons_past_their_round_));
   std::printf("  scenario %s; sensor link: %lld IMU, %lld flow, %lld UWB frames sent, %lld drive commands back\n",
               scenario_.name.c_str(), static_cast<long long>(sensor_totals.imu),
               static_cast<long long>(sensor_totals.flow), static_cast<long long>(sensor_totals.uwb),
@@ -1256,6 +1339,7 @@ int main(int argc, char** argv) {
   options.seed = scenario.seed;
   options.loss = scenario.channel.loss;
   signal(SIGPIPE, SIG_IGN);
+  if (options.realtime) SetRealtime();
   std::error_code made;
   std::filesystem::create_directories(options.out, made);
   if (made || !std::filesystem::is_directory(options.out)) {
@@ -1264,7 +1348,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   SwarmHost host(options, scenario);
-  if (!host.OpenSockets() || !host.LaunchPresentRobots()) return 1;
+  if (!host.OpenSockets() || !host.LaunchRobots()) return 1;
   host.StartWorld();
   while (host.Running()) host.Step();
   return host.Finish();

@@ -109,7 +109,9 @@ std::vector<Frame> EveryKind() {
           MakeImu(1, SampleImu()),
           MakeFlow(2, FlowPayload{20'000'000, -3, 32767}),
           MakeUwb(3, SampleUwb()),
-          MakeDrive(255, SampleDrive())};
+          MakeDrive(255, SampleDrive()),
+          MakeStart(4, 20'000),
+          MakeStart(5, 0xFFFF'FFFFu)};
 }
 
 TEST(RadioLinkTest, Crc16HasTheCatalogueCheckValue) {
@@ -173,7 +175,7 @@ TEST(RadioLinkTest, EncoderRefusesWhatTheDecoderWouldReject) {
   hello.version = 2;
   EXPECT_EQ(EncodeFrame(hello, out).error(), LinkError::kBadField);
   Frame unknown = MakeHello(1);
-  unknown.kind = static_cast<FrameKind>(9);
+  unknown.kind = static_cast<FrameKind>(10);
   EXPECT_EQ(EncodeFrame(unknown, out).error(), LinkError::kUnknownKind);
   const Frame frame = MakeSendBeacon(1, SampleBeacon(10));
   const size_t needed = Encoded(frame).size();
@@ -230,10 +232,11 @@ TEST(RadioLinkTest, DecoderNamesEachMalformedFrame) {
   bad_crc.back() ^= 0x01;
   const std::vector<Case> cases = {
       {Stuffed(bad_crc), LinkError::kCrcMismatch},
-      {Stuffed(WithCrc({9, 1, 0x42})), LinkError::kUnknownKind},
+      {Stuffed(WithCrc({10, 1, 0x42})), LinkError::kUnknownKind},
       {Stuffed(WithCrc({3, 1, 0, 0})), LinkError::kBadLength},    // send-done with two payload bytes
       {Stuffed(WithCrc({2, 1, 0xC0})), LinkError::kBadLength},    // received beacon with no beacon
       {Stuffed(WithCrc({3, 1})), LinkError::kBadLength},          // send-done with no status
+      {Stuffed(WithCrc({9, 1, 0, 0, 0x4E})), LinkError::kBadLength},  // start with three bytes of run_ms
       {Stuffed(WithCrc({3, 1, 3})), LinkError::kBadField},        // status 3
       {Stuffed(WithCrc({4, 1, 2})), LinkError::kBadField},        // version 2
       {{0x00, 0x05, 0x41, 0x00}, LinkError::kBadStuffing},        // block of 4 ends after 1

@@ -99,7 +99,7 @@ TEST(FaultOutcomesTest, APausedRobotThatNeverBecomesAMemberAgainFails) {
 
 TEST(FaultOutcomesTest, AJoinerJoinsWhenItIsAMemberAndInAnotherRobotsMap) {
   FaultOutcomes outcomes(4);
-  outcomes.OnAction({HostAction::Kind::kLaunch, 3}, 2 * kWorldSecondNs);
+  outcomes.OnAction({HostAction::Kind::kSwitchOn, 3}, 2 * kWorldSecondNs);
   outcomes.OnRoundLine(Round(3, 500, false), 2 * kWorldSecondNs + 500'000'000);
   outcomes.OnEpochLine(Epoch(3, 5, {0, 1, 2, 3}), 3 * kWorldSecondNs);  // its own map does not count
   outcomes.OnRoundLine(Round(3, 1000, true), 3 * kWorldSecondNs);

@@ -77,7 +77,7 @@ TEST(FaultPlayerTest, EachFaultBecomesItsHostActionOnTheRadioRoundGrid) {
   const std::vector<Timed> actions = host.Play(12'000'000'000);
 
   const std::vector<Timed> expected = {
-      {2'050'000'000, {HostAction::Kind::kLaunch, 3}},
+      {2'050'000'000, {HostAction::Kind::kSwitchOn, 3}},
       {4'000'000'000, {HostAction::Kind::kStop, 2}},
       {5'950'000'000, {HostAction::Kind::kContinue, 2}},
       {10'000'000'000, {HostAction::Kind::kKill, 1}},
@@ -125,10 +125,10 @@ TEST(FaultPlayerTest, DeafAndMuteBlockBeaconsOnlyInTheirWindow) {
   EXPECT_TRUE(Host(scenario).Play(7'000'000'000).empty());
 }
 
-TEST(FaultPlayerTest, ALateRobotRunsUntilTheOthersStop) {
-  EXPECT_EQ(RemainingSeconds(14, 2'000'000'000), 12);
-  EXPECT_EQ(RemainingSeconds(14, 2'050'000'000), 12);  // rounded up: it may stop a little later
-  EXPECT_EQ(RemainingSeconds(5, 6'000'000'000), 1);    // at least a second
+TEST(FaultPlayerTest, ARobotSwitchedOnLateRunsUntilTheOthersStop) {
+  EXPECT_EQ(RemainingMs(14, 0), 14'000u);              // present at the start
+  EXPECT_EQ(RemainingMs(14, 2'050'000'000), 11'950u);  // a join at 2.05 s
+  EXPECT_EQ(RemainingMs(5, 6'000'000'000), 1u);        // at least a millisecond: 0 would be for ever
 }
 
 }  // namespace

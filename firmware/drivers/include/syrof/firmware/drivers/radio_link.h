@@ -62,6 +62,7 @@ enum class FrameKind : uint8_t {
   kFlow = 6,   ///< world -> M4: one optical-flow reading (FlowPayload)
   kUwb = 7,    ///< world -> M4: one UWB sweep (UwbPayload)
   kDrive = 8,  ///< M4 -> world: the motion task's drive command (DrivePayload)
+  kStart = 9,  ///< world -> M4: start the robot's clock now, for run_ms (the swarm's common start)
 };
 
 /// Anchors a kUwb frame carries (estimation::kMaxAnchors).
@@ -126,6 +127,7 @@ struct Frame {
   FlowPayload flow{};    ///< kFlow
   UwbPayload uwb{};      ///< kUwb
   DrivePayload drive{};  ///< kDrive
+  uint32_t run_ms = 0;   ///< kStart: how long the robot runs from now, ms (0: for ever)
 
   friend bool operator==(const Frame&, const Frame&) = default;
 };
@@ -162,6 +164,7 @@ Frame MakeImu(uint8_t sequence, const ImuPayload& imu);
 Frame MakeFlow(uint8_t sequence, const FlowPayload& flow);
 Frame MakeUwb(uint8_t sequence, const UwbPayload& uwb);
 Frame MakeDrive(uint8_t sequence, const DrivePayload& drive);
+Frame MakeStart(uint8_t sequence, uint32_t run_ms);
 
 /// Writes `frame` as it goes on the wire (0x00, stuffed body, 0x00) into
 /// `out` and returns the number of bytes. Errors: kUnknownKind, kBadLength

@@ -26,7 +26,7 @@
 namespace syrof::firmware::swarm {
 
 struct FaultOutcome {
-  HostAction::Kind kind = HostAction::Kind::kLaunch;  ///< kKill: a crash, kStop: a pause, kLaunch: a join
+  HostAction::Kind kind = HostAction::Kind::kSwitchOn;  ///< kKill: a crash, kStop: a pause, kSwitchOn: a join
   uint16_t robot = 0;
   int64_t at_ns = 0;           ///< world time the host acted
   bool ok = false;

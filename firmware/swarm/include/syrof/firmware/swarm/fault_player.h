@@ -5,7 +5,8 @@
 // lab, the DDS world and this host; HostActions turns what the player asks
 // for into what the host does to a qemu process:
 //
-//   kLaunch    a `join`: start the robot's qemu now (absent until then);
+//   kSwitchOn  the start, or a `join`: send the robot's held image its Start
+//              frame (its qemu runs from the beginning, held until then);
 //   kKill      a `crash`: SIGKILL its qemu, close its sockets; for good;
 //   kStop      a `pause`: SIGSTOP its qemu (the guest's clock keeps running);
 //   kContinue  the pause's end: SIGCONT.
@@ -25,8 +26,8 @@
 namespace syrof::firmware::swarm {
 
 struct HostAction {
-  enum class Kind : uint8_t { kLaunch, kKill, kStop, kContinue };
-  Kind kind = Kind::kLaunch;
+  enum class Kind : uint8_t { kSwitchOn, kKill, kStop, kContinue };
+  Kind kind = Kind::kSwitchOn;
   uint16_t robot = 0;
 
   bool operator==(const HostAction&) const = default;
@@ -39,7 +40,7 @@ const char* ToString(HostAction::Kind kind);
 /// asks for nothing: the firmware stops its own app.
 class HostActions final : public lab::sim::RobotRuntime {
  public:
-  /// `act` does the action; false when it could not (qemu did not start).
+  /// `act` does the action; false when it could not (the image was not held).
   using Act = std::function<bool(const HostAction& action, int64_t world_ns)>;
   explicit HostActions(Act act) : act_(std::move(act)) {}
 
@@ -63,8 +64,9 @@ class RadioFaults {
   std::vector<lab::scenario::FaultSpec> faults_;
 };
 
-/// Whole seconds of its own time a robot launched at `launch_ns` runs so
-/// that it stops with the others after `run_seconds` (at least 1).
-int RemainingSeconds(int run_seconds, int64_t launch_ns);
+/// Milliseconds of its own time a robot switched on at world time
+/// `start_ns` runs so that it stops with the others after `run_seconds`
+/// (at least 1): its Start frame's run_ms.
+uint32_t RemainingMs(int run_seconds, int64_t start_ns);
 
 }  // namespace syrof::firmware::swarm

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# The promise that the lab and the robot's real firmware give the same
+# answers, checked: runs SCENARIO in the lab (`syrof run`) and on the
+# emulated firmware swarm (`syrof-firmware-swarm --realtime`, one qemu per
+# robot), then `syrof compare`s them: the same epochs, started in the same
+# rounds and modes, with the same members (docs/firmware.md, "One start for
+# every robot"). `make test-firmware-swarm` runs it on
+# lab/scenarios/four_runtimes.yaml (loss, a join, a pause, a crash).
+#
+#   firmware-agrees-with-lab.sh BUILD_DIR IMAGE SCENARIO OUT
+#
+# The emulated robots run in real time on a shared machine: a guest held
+# back tens of milliseconds sends or hears a beacon a round late, and one
+# such beacon can change an epoch's mode. So a run that disagrees gets one
+# more try, after printing what it showed; two disagreeing runs fail
+# (exit 1). Exit 2 for a usage error, or when a run could not be made.
+set -euo pipefail
+
+if [[ $# -ne 4 ]]; then
+  echo "usage: $0 BUILD_DIR IMAGE SCENARIO OUT" >&2
+  exit 2
+fi
+build=$1 image=$2 scenario=$3 out=$4
+for program in "$build/bin/syrof" "$build/bin/syrof-firmware-swarm"; do
+  [[ -x $program ]] || { echo "$0: $program is not built" >&2; exit 2; }
+done
+[[ -r $image ]] || { echo "$0: cannot read the robot image $image" >&2; exit 2; }
+mkdir -p "$out"
+
+if ! "$build/bin/syrof" run "$scenario" --out "$out/lab" >"$out/lab.txt" 2>&1; then
+  cat "$out/lab.txt" >&2
+  echo "$0: the lab run of $scenario failed" >&2
+  exit 2
+fi
+for try in 1 2; do
+  rm -rf "$out/firmware"
+  if ! "$build/bin/syrof-firmware-swarm" --image "$image" --scenario "$scenario" --out "$out/firmware" \
+      --realtime >"$out/firmware-$try.txt" 2>&1; then
+    cat "$out/firmware-$try.txt" >&2
+    echo "$0: the firmware run of $scenario failed" >&2
+    exit 2
+  fi
+  grep -E "^  beacons offered" "$out/firmware-$try.txt" || true
+  if "$build/bin/syrof" compare "$out/lab" "$out/firmware"; then
+    exit 0
+  fi
+  if [[ $try -eq 1 ]]; then
+    echo "$0: the firmware run disagreed with the lab (above); one more try" >&2
+  fi
+done
+echo "$0: two firmware runs of $scenario disagreed with the lab" >&2
+exit 1
