@@ -16,6 +16,7 @@
 
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/simulation.h"
 #include "run_summary.h"
 #include "usage.h"
@@ -126,6 +127,9 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
     host.library_path = scenario.app.library;
     host.limits = *limits;
     host.params = scenario.app.params;
+    for (const scenario::RobotSpec& robot : scenario.robots) {
+      host.inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
+    }
     const app_host::LibraryCheck check = app_host::CheckLibrary(host);
     if (!check.ok) {
       fmt::print(err, "syrof run: {}\n", check.error);

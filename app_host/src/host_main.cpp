@@ -247,34 +247,54 @@ int RecordPayload(void*, const uint8_t* payload, size_t length) {
   return SYROF_APP_OK;
 }
 
-// The scenario's parameters, from the init request: the app's
-// syrofAppParameter is answered here, in the host, without a round trip.
-p::ParameterEntry parameters[p::kMaxParameters];
-size_t parameter_count = 0;
+// The scenario's parameters and this robot's private inputs, from the init
+// request: the app's syrofAppParameter and syrofAppInput are answered here,
+// in the host, without a round trip.
+struct NamedValues {
+  p::ParameterEntry entries[p::kMaxParameters];
+  size_t count = 0;
+};
+NamedValues parameters;
+NamedValues inputs;
 
-int LookUpParameter(void*, const char* name, size_t length, double* value) {
+int LookUp(const NamedValues& table, const char* name, size_t length, double* value, int missing) {
   const std::string_view wanted(name, length);
-  for (size_t i = 0; i < parameter_count; ++i) {
-    if (wanted == parameters[i].name) {
-      *value = parameters[i].value;
+  for (size_t i = 0; i < table.count; ++i) {
+    if (wanted == table.entries[i].name) {
+      *value = table.entries[i].value;
       return SYROF_APP_OK;
     }
   }
-  return SYROF_APP_NO_SUCH_PARAMETER;
+  return missing;
+}
+int LookUpParameter(void*, const char* name, size_t length, double* value) {
+  return LookUp(parameters, name, length, value, SYROF_APP_NO_SUCH_PARAMETER);
+}
+int LookUpInput(void*, const char* name, size_t length, double* value) {
+  return LookUp(inputs, name, length, value, SYROF_APP_NO_SUCH_INPUT);
 }
 
-// Takes the parameters that follow an init request's header (`bytes` of
-// them, `count` announced); false for a malformed list: a wrong size, too
-// many, or a name that is empty or fills its field without a NUL.
-bool ReadParameters(const unsigned char* data, size_t bytes, size_t count) {
-  if (count > p::kMaxParameters || bytes != count * sizeof(p::ParameterEntry)) return false;
+// Takes `count` entries from `data` into `table` (at most `most`); false
+// for a malformed list: too many, or a name that is empty or fills its
+// field without a NUL.
+bool ReadNamedValues(const unsigned char* data, size_t count, size_t most, NamedValues& table) {
+  if (count > most) return false;
   for (size_t i = 0; i < count; ++i) {
-    memcpy(&parameters[i], data + i * sizeof(p::ParameterEntry), sizeof(p::ParameterEntry));
-    const size_t length = strnlen(parameters[i].name, sizeof(parameters[i].name));
-    if (length == 0 || length == sizeof(parameters[i].name)) return false;
+    memcpy(&table.entries[i], data + i * sizeof(p::ParameterEntry), sizeof(p::ParameterEntry));
+    const size_t length = strnlen(table.entries[i].name, sizeof(table.entries[i].name));
+    if (length == 0 || length == sizeof(table.entries[i].name)) return false;
   }
-  parameter_count = count;
+  table.count = count;
   return true;
+}
+
+// Takes the parameters, then the inputs, that follow an init request's
+// header (`bytes` of them, the counts announced); false for a wrong size
+// or a malformed list.
+bool ReadInitTables(const unsigned char* data, size_t bytes, size_t parameter_count, size_t input_count) {
+  if (bytes != (parameter_count + input_count) * sizeof(p::ParameterEntry)) return false;
+  return ReadNamedValues(data, parameter_count, p::kMaxParameters, parameters) &&
+         ReadNamedValues(data + parameter_count * sizeof(p::ParameterEntry), input_count, p::kMaxInputs, inputs);
 }
 
 alignas(8) unsigned char request_buffer[p::kMaxRequestBytes];
@@ -323,11 +343,11 @@ bool LoaderFileRules(syrof::app_host::FileRuleset& rules, const char* library, s
     const size_t tail_bytes = static_cast<size_t>(got) - sizeof(header);
     if (header.magic != p::kRequestMagic) _exit(p::kExitUsage);
     if (header.kind == static_cast<uint8_t>(p::RequestKind::kInit)) {
-      if (header.member_count != 0 ||
-          !ReadParameters(request_buffer + sizeof(header), tail_bytes, header.parameter_count)) {
+      if (header.member_count != 0 || !ReadInitTables(request_buffer + sizeof(header), tail_bytes,
+                                                      header.parameter_count, header.input_count)) {
         _exit(p::kExitUsage);
       }
-    } else if (header.parameter_count != 0 || header.member_count > p::kMaxMembers ||
+    } else if (header.parameter_count != 0 || header.input_count != 0 || header.member_count > p::kMaxMembers ||
                tail_bytes != header.member_count * sizeof(syrof_member_state)) {
       _exit(p::kExitUsage);
     }
@@ -498,7 +518,7 @@ int main(int argc, char** argv) {
     AppendNumber(detail, sizeof(detail), SYROF_APP_ABI_VERSION);
     ReportFault(syrof::app::Verdict::kBadAbi, detail);
   }
-  const int bound = syrof_internal_host_bind(descriptor, RecordPayload, LookUpParameter, nullptr);
+  const int bound = syrof_internal_host_bind(descriptor, RecordPayload, LookUpParameter, LookUpInput, nullptr);
   if (bound == 1) Fail(syrof::app::Verdict::kBadAbi, SYROF_APP_ENTRY_SYMBOL "() returned no descriptor", nullptr);
   if (bound != 0) Fail(syrof::app::Verdict::kBadAbi, "the descriptor lacks a callback", nullptr);
 

@@ -25,7 +25,15 @@ class HostedApp final : public app::App {
  public:
   HostedApp(const HostOptions& options, uint16_t robot_id) : request_(p::kMaxRequestBytes) {
     start_status_ = process_.Spawn(options, robot_id, HostProcess::Mode::kRun);
-    if (start_status_.ok()) start_status_ = EncodeParameters(options.params);
+    if (start_status_.ok()) {
+      start_status_ =
+          EncodeEntries(options.params, p::kMaxParameters, kParameterFaults, parameters_);
+    }
+    const auto own_inputs = options.inputs.find(robot_id);
+    if (start_status_.ok() && own_inputs != options.inputs.end()) {
+      start_status_ =
+          EncodeEntries(own_inputs->second, p::kMaxInputs, kInputFaults, inputs_);
+    }
   }
 
   // The name comes with the host's hello: asking for it waits for the load
@@ -42,6 +50,7 @@ class HostedApp final : public app::App {
     header.kind = static_cast<uint8_t>(p::RequestKind::kInit);
     header.info = info;
     header.parameter_count = static_cast<uint16_t>(parameters_.size());
+    header.input_count = static_cast<uint16_t>(inputs_.size());
     p::Reply reply;
     const CallStatus status = Send(header, nullptr, reply);
     if (status.ok()) global_state = reply.global_state;
@@ -82,19 +91,30 @@ class HostedApp final : public app::App {
     return header;
   }
 
-  // The init request's parameter entries, checked once (they never change).
-  CallStatus EncodeParameters(const std::map<std::string, double>& params) {
-    if (params.size() > p::kMaxParameters) {
-      return CallStatus::Fault(app::Verdict::kBadAbi, "more app parameters than the app API takes");
+  // The init request's entries of one table (the parameters, or this
+  // robot's inputs), checked once (they never change); `faults` says what
+  // was wrong with them.
+  struct TableFaults {
+    const char* too_many;
+    const char* bad_name;
+  };
+  static constexpr TableFaults kParameterFaults{"more app parameters than the app API takes",
+                                                "an app parameter name the app API cannot carry"};
+  static constexpr TableFaults kInputFaults{"more private inputs than the app API takes",
+                                            "a private input name the app API cannot carry"};
+  static CallStatus EncodeEntries(const std::map<std::string, double>& values, size_t most, TableFaults faults,
+                                  std::vector<p::ParameterEntry>& entries) {
+    if (values.size() > most) {
+      return CallStatus::Fault(app::Verdict::kBadAbi, faults.too_many);
     }
-    for (const auto& [name, value] : params) {
+    for (const auto& [name, value] : values) {
       if (name.empty() || name.size() > SYROF_APP_MAX_PARAMETER_NAME_LENGTH || name.find('\0') != std::string::npos) {
-        return CallStatus::Fault(app::Verdict::kBadAbi, "an app parameter name the app API cannot carry");
+        return CallStatus::Fault(app::Verdict::kBadAbi, faults.bad_name);
       }
       p::ParameterEntry entry;
       std::memcpy(entry.name, name.data(), name.size());
       entry.value = value;
-      parameters_.push_back(entry);
+      entries.push_back(entry);
     }
     return CallStatus::Ok();
   }
@@ -111,10 +131,12 @@ class HostedApp final : public app::App {
       const size_t members = size_t{ldmap->member_count} * sizeof(syrof_member_state);
       if (members > 0) std::memcpy(request_.data() + sizeof(header), ldmap->members, members);
       size += members;
-    } else if (header.parameter_count > 0) {
-      const size_t bytes = parameters_.size() * sizeof(p::ParameterEntry);
-      std::memcpy(request_.data() + sizeof(header), parameters_.data(), bytes);
-      size += bytes;
+    } else {
+      for (const std::vector<p::ParameterEntry>* table : {&parameters_, &inputs_}) {
+        const size_t bytes = table->size() * sizeof(p::ParameterEntry);
+        if (bytes > 0) std::memcpy(request_.data() + size, table->data(), bytes);
+        size += bytes;
+      }
     }
     std::memcpy(request_.data(), &header, sizeof(header));
     app::Platform& platform = *platform_;
@@ -133,6 +155,7 @@ class HostedApp final : public app::App {
   CallStatus start_status_;
   std::vector<unsigned char> request_;
   std::vector<p::ParameterEntry> parameters_;
+  std::vector<p::ParameterEntry> inputs_;
   app::Platform* platform_ = nullptr;
   uint32_t sequence_ = 0;
 };

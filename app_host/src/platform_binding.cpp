@@ -13,9 +13,9 @@ namespace {
 
 class HostPlatform final : public syrof::app::Platform {
  public:
-  HostPlatform(syrof_internal_payload_sink sink, syrof_internal_parameter_source parameters, void* context,
-               syrof_queries_workspace* workspace)
-      : sink_(sink), parameters_(parameters), context_(context), workspace_(workspace) {}
+  HostPlatform(syrof_internal_payload_sink sink, syrof_internal_parameter_source parameters,
+               syrof_internal_parameter_source inputs, void* context, syrof_queries_workspace* workspace)
+      : sink_(sink), parameters_(parameters), inputs_(inputs), context_(context), workspace_(workspace) {}
 
   syrof_app_status SendMessageData(std::span<const uint8_t> payload) override {
     return static_cast<syrof_app_status>(sink_(context_, payload.data(), payload.size()));
@@ -24,10 +24,14 @@ class HostPlatform final : public syrof::app::Platform {
   syrof_app_status AppParameter(std::string_view name, double& value) override {
     return static_cast<syrof_app_status>(parameters_(context_, name.data(), name.size(), &value));
   }
+  syrof_app_status AppInput(std::string_view name, double& value) override {
+    return static_cast<syrof_app_status>(inputs_(context_, name.data(), name.size(), &value));
+  }
 
  private:
   syrof_internal_payload_sink sink_;
   syrof_internal_parameter_source parameters_;
+  syrof_internal_parameter_source inputs_;
   void* context_;
   syrof_queries_workspace* workspace_;
 };
@@ -42,10 +46,11 @@ syrof::app::CAbiApp* bound_app = nullptr;
 }  // namespace
 
 extern "C" int syrof_internal_host_bind(const syrof_app_descriptor* descriptor, syrof_internal_payload_sink sink,
-                                        syrof_internal_parameter_source parameters, void* context) {
+                                        syrof_internal_parameter_source parameters,
+                                        syrof_internal_parameter_source inputs, void* context) {
   const syrof::app::DescriptorError error = syrof::app::Validate(descriptor);
   if (error != syrof::app::DescriptorError::kOk) return static_cast<int>(error);
-  if (sink == nullptr || parameters == nullptr || bound_app != nullptr) return static_cast<int>(syrof::app::DescriptorError::kNull);
+  if (sink == nullptr || parameters == nullptr || inputs == nullptr || bound_app != nullptr) return static_cast<int>(syrof::app::DescriptorError::kNull);
   void* memory = std::aligned_alloc(syrof_queries_workspace_alignment(),
                                     (syrof_queries_workspace_size() + syrof_queries_workspace_alignment() - 1) /
                                         syrof_queries_workspace_alignment() * syrof_queries_workspace_alignment());
@@ -54,7 +59,7 @@ extern "C" int syrof_internal_host_bind(const syrof_app_descriptor* descriptor, 
       syrof_queries_workspace_init(memory, syrof_queries_workspace_size(), &workspace) != SYROF_QUERIES_OK) {
     return static_cast<int>(syrof::app::DescriptorError::kNull);
   }
-  platform = new (platform_storage) HostPlatform(sink, parameters, context, workspace);
+  platform = new (platform_storage) HostPlatform(sink, parameters, inputs, context, workspace);
   bound_app = new (app_storage) syrof::app::CAbiApp(*descriptor);
   return 0;
 }

@@ -24,12 +24,13 @@ inline constexpr int kChannelFd = 3;
 inline constexpr uint32_t kRequestMagic = 0x53524551;  // "SREQ"
 inline constexpr uint32_t kReplyMagic = 0x53524550;    // "SREP"
 /// Bumped whenever a frame below changes (host and parent must agree).
-inline constexpr uint32_t kProtocolVersion = 2;
+inline constexpr uint32_t kProtocolVersion = 3;
 inline constexpr size_t kMaxMembers = SYROF_MAX_SWARM_SIZE;
 
 enum class RequestKind : uint8_t { kInit = 1, kNewRound = 2, kEndOfRound = 3 };
 
-/// One scenario parameter, sent with Init (syrofAppParameter). `name` is
+/// One scenario parameter or one of the robot's private inputs, sent with
+/// Init (syrofAppParameter, syrofAppInput). `name` is
 /// NUL-terminated within the field, 1 .. SYROF_APP_MAX_PARAMETER_NAME_LENGTH
 /// bytes; the host refuses a frame where it is not.
 struct ParameterEntry {
@@ -39,9 +40,10 @@ struct ParameterEntry {
 
 /// One callback. Followed in the same message by `member_count`
 /// syrof_member_state (NewRound, EndOfRound), or by `parameter_count`
-/// ParameterEntry (Init; at most SYROF_APP_MAX_PARAMETERS). The host keeps
-/// the parameters and answers the app's syrofAppParameter itself, without a
-/// round trip.
+/// ParameterEntry (Init; at most SYROF_APP_MAX_PARAMETERS), then
+/// `input_count` more (the robot's private inputs; at most
+/// SYROF_APP_MAX_INPUTS). The host keeps them and answers the app's
+/// syrofAppParameter and syrofAppInput itself, without a round trip.
 struct RequestHeader {
   uint32_t magic = kRequestMagic;
   uint32_t sequence = 0;  ///< the reply echoes it
@@ -54,14 +56,17 @@ struct RequestHeader {
   uint16_t self_id = 0;   ///< ldmap.self_id
   uint16_t member_count = 0;
   uint16_t parameter_count = 0;  ///< Init only
+  uint16_t input_count = 0;      ///< Init only
   syrof_app_info info{};  ///< Init only
 };
 
 inline constexpr size_t kMaxParameters = SYROF_APP_MAX_PARAMETERS;
+inline constexpr size_t kMaxInputs = SYROF_APP_MAX_INPUTS;
 inline constexpr size_t kMaxRequestBytes =
-    sizeof(RequestHeader) + (kMaxMembers * sizeof(syrof_member_state) > kMaxParameters * sizeof(ParameterEntry)
-                                 ? kMaxMembers * sizeof(syrof_member_state)
-                                 : kMaxParameters * sizeof(ParameterEntry));
+    sizeof(RequestHeader) +
+    (kMaxMembers * sizeof(syrof_member_state) > (kMaxParameters + kMaxInputs) * sizeof(ParameterEntry)
+         ? kMaxMembers * sizeof(syrof_member_state)
+         : (kMaxParameters + kMaxInputs) * sizeof(ParameterEntry));
 
 enum class ReplyKind : uint8_t {
   kHello = 1,  ///< the library is loaded and validated (text: the app's name, then notes)

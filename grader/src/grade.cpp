@@ -18,6 +18,7 @@
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/assignment/score.h"
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/simulation.h"
 #include "run_scenario.h"
 
@@ -100,6 +101,9 @@ RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<
     hosts[i].library_path = libraries[i];
     hosts[i].log_directory = (dir / "robots").string();
     hosts[i].params = scenario.app.params;
+    for (const lab::scenario::RobotSpec& robot : scenario.robots) {
+      hosts[i].inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
+    }
     hosts[i].limits = LimitsFor(scenario.app);
   }
   std::ofstream replay_file;

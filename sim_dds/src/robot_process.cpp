@@ -277,6 +277,7 @@ std::unique_ptr<app::App> MakeApp(const lab::scenario::Scenario& scenario, const
     host.library_path = scenario.app.library;
     host.log_directory = options.log_directory;
     host.params = scenario.app.params;
+    host.inputs[options.robot] = lab::sim::InputValuesOf(scenario, options.robot);
     if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
     if (scenario.app.wall_cap_ms) host.limits.wall_cap_ms = *scenario.app.wall_cap_ms;
     return app_host::MakeHostedApp(host, options.robot);
@@ -643,6 +644,8 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   std::vector<app::Parameter> params;
   for (const auto& [name, value] : scenario.app.params) params.push_back(app::Parameter{name, value});
   config.app_params = params;
+  const std::vector<app::Parameter> inputs = lab::sim::InputsOf(scenario, options.robot);
+  config.app_inputs = inputs;
 
   os::PosixPortOptions port_options;
   port_options.realtime_priorities = options.realtime;

@@ -279,6 +279,41 @@ TEST_F(HostedAppTest, ParametersTheAppApiCannotCarryAreRefusedAtInit) {
   }
 }
 
+// The host answers syrofAppInput from the init request, with this robot's
+// inputs only: robot 2 never sees robot 1's.
+TEST_F(HostedAppTest, TheAppReadsOnlyItsOwnRobotsInputsInTheHost) {
+  options_.library_path = Library("inputs");
+  options_.inputs[1] = {{"charge", 2.5}};
+  options_.inputs[2] = {{"charge", 0.5}};
+  for (uint16_t id : {1, 2}) {
+    platform_.accepted.clear();
+    std::unique_ptr<app::App> app = MakeHostedApp(options_, id);
+    uint8_t state = 0;
+    info_.self_id = id;
+    const app::CallStatus init = app->Init(info_, platform_, state);
+    ASSERT_TRUE(init.ok()) << app::ToString(init.verdict()) << ": " << init.detail();
+    EXPECT_EQ(state, 63);  // every check answered as documented
+    syrof_car_command command{};
+    ASSERT_TRUE(app->NewRound(command, Map(id), state, 10).ok());
+    ASSERT_EQ(platform_.accepted.size(), 1u);
+    const uint8_t hundredths = id == 1 ? 250 : 50;
+    EXPECT_EQ(platform_.accepted[0], (std::vector<uint8_t>{63, hundredths, 0}));
+  }
+}
+
+TEST_F(HostedAppTest, InputsTheAppApiCannotCarryAreRefusedAtInit) {
+  options_.library_path = Library("inputs");
+  HostOptions too_many = options_;
+  for (unsigned i = 0; i <= SYROF_APP_MAX_INPUTS; ++i) too_many.inputs[0]["in" + std::to_string(i)] = i;
+  HostOptions too_long = options_;
+  too_long.inputs[0][std::string(SYROF_APP_MAX_PARAMETER_NAME_LENGTH + 1, 'a')] = 1;
+  for (const HostOptions* options : {&too_many, &too_long}) {
+    std::unique_ptr<app::App> app = MakeHostedApp(*options, 0);
+    uint8_t state = 0;
+    EXPECT_VERDICT(app->Init(info_, platform_, state), kBadAbi, "private input");
+  }
+}
+
 TEST_F(HostedAppTest, ManyHostsPassALowSoftDescriptorLimit) {
   // Each host holds four descriptors in the parent; a soft limit of 64
   // would stop at about 14 robots unless the limit is raised.

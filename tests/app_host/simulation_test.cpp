@@ -21,12 +21,14 @@
 #include "syrof/app/c_abi_app.h"
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/simulation.h"
 
 extern "C" const syrof_app_descriptor* cooperative_app_entry(void);
 extern "C" const syrof_app_descriptor* parameters_app_entry(void);
 extern "C" double parameters_app_target_x_m(void);
 extern "C" uint8_t parameters_app_checks(void);
+extern "C" const syrof_app_descriptor* inputs_app_entry(void);
 
 namespace syrof::app_host {
 namespace {
@@ -216,6 +218,39 @@ TEST(HostedAppSimulationTest, EachHostileRobotFaultsAloneAndTheWellBehavedOneRun
   const std::string log = ReadFile(logs + "/0.log");
   EXPECT_EQ(log.rfind("robot 0 of 7 starts\n", 0), 0u) << log.substr(0, 200);
   EXPECT_NE(log.find("epoch 5 at"), std::string::npos) << log.substr(0, 2000);
+}
+
+// Each robot's private input reaches only that robot, through
+// syrofAppInput, the same way in-process (the robot's Platform answers from
+// its own row of the scenario's inputs) and hosted (each host gets its own
+// robot's with the init request): the same bytes, and the robots' values
+// differ (each drives to its own x and says so in its payload).
+TEST(HostedAppSimulationTest, EachRobotReadsItsOwnPrivateInputHostedAndInProcess) {
+  scenario::Scenario scenario = Load(4, 6);
+  scenario.inputs = {{"charge", {0.25, 1.5, 0.75, 1.0}}};
+  scenario.app.params = {{"speed_mps", 0.2}};
+  const ScopedFolder folder(::testing::TempDir() + "app_host_sim_inputs_" + std::to_string(getpid()));
+  HostOptions options = Options("inputs", folder.path());
+  options.params = scenario.app.params;
+  for (uint16_t id = 0; id < 4; ++id) options.inputs[id] = sim::InputValuesOf(scenario, id);
+
+  const Outcome hosted = RunWith(scenario, [&](uint16_t id) { return MakeHostedApp(options, id); });
+  const Outcome linked_in =
+      RunWith(scenario, [](uint16_t) { return std::make_unique<app::CAbiApp>(*inputs_app_entry()); });
+  scenario::Scenario swapped = scenario;
+  swapped.inputs = {{"charge", {1.5, 0.25, 0.75, 1.0}}};
+  const Outcome linked_in_swapped =
+      RunWith(swapped, [](uint16_t) { return std::make_unique<app::CAbiApp>(*inputs_app_entry()); });
+
+  EXPECT_TRUE(json::parse(hosted.metrics)["app"]["faults"].empty()) << hosted.metrics;
+  EXPECT_TRUE(hosted.metrics == linked_in.metrics);
+  EXPECT_TRUE(hosted.replay == linked_in.replay);
+  EXPECT_FALSE(linked_in.replay == linked_in_swapped.replay);
+  const char* const charges[] = {"0.250", "1.500", "0.750", "1.000"};
+  for (int id = 0; id < 4; ++id) {
+    EXPECT_EQ(ReadFile(folder.path() + "/" + std::to_string(id) + ".log"),
+              "robot " + std::to_string(id) + ": charge " + charges[id] + " (status 0), checks 63\n");
+  }
 }
 
 }  // namespace

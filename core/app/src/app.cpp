@@ -18,19 +18,22 @@ const syrof_member_state* FindMember(const syrof_ldmap& ldmap, uint16_t id) {
   return nullptr;
 }
 
-syrof_app_status FindParameter(std::span<const Parameter> params, std::string_view name, double& value) {
+syrof_app_status FindParameter(std::span<const Parameter> params, std::string_view name, double& value,
+                               syrof_app_status missing) {
   for (const Parameter& param : params) {
     if (param.name == name) {
       value = param.value;
       return SYROF_APP_OK;
     }
   }
-  return SYROF_APP_NO_SUCH_PARAMETER;
+  return missing;
 }
 
 syrof_app_status Platform::AppParameter(std::string_view /*name*/, double& /*value*/) {
   return SYROF_APP_NO_SUCH_PARAMETER;
 }
+
+syrof_app_status Platform::AppInput(std::string_view /*name*/, double& /*value*/) { return SYROF_APP_NO_SUCH_INPUT; }
 
 }  // namespace syrof::app
 

@@ -87,15 +87,32 @@ extern "C" syrof_queries_workspace* syrofQueriesWorkspace(void) {
   return current_platform != nullptr ? current_platform->queries_workspace() : nullptr;
 }
 
-extern "C" int syrofAppParameter(const char* name, double* value) {
-  using syrof::app::current_platform;
-  if (current_platform == nullptr) return SYROF_APP_NOT_RUNNING;
+namespace {
+
+// syrofAppParameter's and syrofAppInput's checks: SYROF_APP_OK with `length`
+// set, or the status to return. At most one byte past the longest name is
+// read: a name without a NUL within that bound cannot be one the scenario
+// gave. (A loop, not strnlen: that is POSIX, not in every MCU C library.)
+int CheckNamedRead(const char* name, const double* value, syrof_app_status missing, size_t& length) {
+  if (syrof::app::current_platform == nullptr) return SYROF_APP_NOT_RUNNING;
   if (name == nullptr || value == nullptr) return SYROF_APP_NULL_ARGUMENT;
-  // At most one byte past the longest name is read: a name without a NUL
-  // within that bound cannot be one the scenario gave.
-  // (A loop, not strnlen: that is POSIX, not in every MCU C library.)
-  size_t length = 0;
+  length = 0;
   while (length <= SYROF_APP_MAX_PARAMETER_NAME_LENGTH && name[length] != '\0') ++length;
-  if (length > SYROF_APP_MAX_PARAMETER_NAME_LENGTH) return SYROF_APP_NO_SUCH_PARAMETER;
-  return current_platform->AppParameter(std::string_view(name, length), *value);
+  return length > SYROF_APP_MAX_PARAMETER_NAME_LENGTH ? missing : SYROF_APP_OK;
+}
+
+}  // namespace
+
+extern "C" int syrofAppParameter(const char* name, double* value) {
+  size_t length = 0;
+  const int checked = CheckNamedRead(name, value, SYROF_APP_NO_SUCH_PARAMETER, length);
+  if (checked != SYROF_APP_OK) return checked;
+  return syrof::app::current_platform->AppParameter(std::string_view(name, length), *value);
+}
+
+extern "C" int syrofAppInput(const char* name, double* value) {
+  size_t length = 0;
+  const int checked = CheckNamedRead(name, value, SYROF_APP_NO_SUCH_INPUT, length);
+  if (checked != SYROF_APP_OK) return checked;
+  return syrof::app::current_platform->AppInput(std::string_view(name, length), *value);
 }

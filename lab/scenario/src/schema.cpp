@@ -63,8 +63,9 @@ bool ReadRobotId(const YamlNode& node, const std::string& path, const Scenario& 
 }
 
 bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& scenario, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"name",   "seed",    "arena",   "kinds",  "robots", "timing",
-                                               "sensors", "channel", "clocks", "faults", "app",  "safety", "goal"};
+  static constexpr std::string_view kKeys[] = {"name",    "seed",   "arena",  "kinds", "robots",
+                                               "timing",  "sensors", "channel", "clocks", "faults",
+                                               "inputs",  "app",    "safety", "goal"};
   if (root.is_null()) {
     return diagnostics.Fail(0, 0, "the scenario is empty; it needs at least 'robots' and 'app'");
   }
@@ -98,6 +99,7 @@ bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& sc
       !ReadChannel(root.Find("channel"), scenario, diagnostics) ||
       !ReadClocks(root.Find("clocks"), scenario, diagnostics) ||
       !ReadFaults(root.Find("faults"), scenario, diagnostics) ||
+      !ReadInputs(root.Find("inputs"), scenario, diagnostics) ||
       !ReadGoal(root.Find("goal"), scenario, diagnostics) ||
       !ReadApp(*root.Find("app"), apps::BuiltinApps(), LibraryBaseDir(scenario), scenario.app, diagnostics)) {
     return false;

@@ -49,6 +49,15 @@ bool ReadApp(const YamlNode& node, std::span<const apps::BuiltinAppInfo> catalog
 bool OverrideApp(const std::string& name, std::span<const apps::BuiltinAppInfo> catalog, AppSpec& app,
                  Diagnostics& diagnostics);
 
+// `inputs:`, each robot's private values (docs/scenarios.md, "Private
+// inputs"). Needs the robots and the seed: drawn values come from it.
+bool ReadInputs(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+
+// A name an app reads a value by (a library's parameter, a private input):
+// 1 to SYROF_APP_MAX_PARAMETER_NAME_LENGTH letters, digits and '_', not
+// starting with a digit. `what` names the kind in the message ("parameter").
+bool CheckAppValueName(const YamlNode& key, const std::string& path, const char* what, Diagnostics& diagnostics);
+
 // "robot id 9 is out of range: the scenario has 6 robots (ids 0..5)" when
 // `value` is not a robot id of `scenario`.
 bool ReadRobotId(const YamlNode& node, const std::string& path, const Scenario& scenario, uint16_t& id,

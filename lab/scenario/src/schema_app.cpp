@@ -71,6 +71,31 @@ bool ReadParams(const YamlNode& node, const std::string& path, const apps::Built
   return true;
 }
 
+}  // namespace
+
+bool CheckAppValueName(const YamlNode& key, const std::string& path, const char* what, Diagnostics& diagnostics) {
+  const std::string& name = key.scalar;
+  if (name.size() > SYROF_APP_MAX_PARAMETER_NAME_LENGTH) {
+    return FailAt(key, path,
+                  std::string(what) + " name '" + name.substr(0, 24) + "...' is " + std::to_string(name.size()) +
+                      " characters long; at most " + std::to_string(SYROF_APP_MAX_PARAMETER_NAME_LENGTH),
+                  diagnostics);
+  }
+  const auto is_letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
+  const bool well_formed =
+      !name.empty() && is_letter(name[0]) &&
+      std::all_of(name.begin(), name.end(), [&](char c) { return is_letter(c) || (c >= '0' && c <= '9'); });
+  if (!well_formed) {
+    return FailAt(key, path,
+                  std::string(what) + " name '" + name +
+                      "' must start with a letter or '_' and hold only letters, digits and '_' (as radius_m)",
+                  diagnostics);
+  }
+  return true;
+}
+
+namespace {
+
 // A library's params: any names the app asks for with syrofAppParameter
 // (the platform cannot know which), so only their form, count and length are
 // checked; any finite number.
@@ -85,22 +110,7 @@ bool ReadLibraryParams(const YamlNode& node, const std::string& path, std::map<s
   }
   for (size_t i = 0; i < node.keys.size(); ++i) {
     const std::string& name = node.keys[i].scalar;
-    if (name.size() > SYROF_APP_MAX_PARAMETER_NAME_LENGTH) {
-      return FailAt(node.keys[i], path,
-                    "parameter name '" + name.substr(0, 24) + "...' is " + std::to_string(name.size()) +
-                        " characters long; at most " + std::to_string(SYROF_APP_MAX_PARAMETER_NAME_LENGTH),
-                    diagnostics);
-    }
-    const auto is_letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
-    const bool well_formed =
-        !name.empty() && is_letter(name[0]) &&
-        std::all_of(name.begin(), name.end(), [&](char c) { return is_letter(c) || (c >= '0' && c <= '9'); });
-    if (!well_formed) {
-      return FailAt(node.keys[i], path,
-                    "parameter name '" + name +
-                        "' must start with a letter or '_' and hold only letters, digits and '_' (as radius_m)",
-                    diagnostics);
-    }
+    if (!CheckAppValueName(node.keys[i], path, "parameter", diagnostics)) return false;
     double value = 0;
     const NumberRange any{std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max()};
     if (!ReadNumber(node.values[i], JoinPath(path, name), any, value, diagnostics)) return false;

@@ -85,6 +85,20 @@ metrics::RunFacts ScenarioFacts(const scenario::Scenario& scenario, const world:
   return facts;
 }
 
+std::vector<app::Parameter> InputsOf(const scenario::Scenario& scenario, uint16_t robot) {
+  std::vector<app::Parameter> inputs;
+  for (const auto& [name, values] : scenario.inputs) {
+    if (robot < values.size()) inputs.push_back(app::Parameter{name, values[robot]});
+  }
+  return inputs;
+}
+
+std::map<std::string, double> InputValuesOf(const scenario::Scenario& scenario, uint16_t robot) {
+  std::map<std::string, double> inputs;
+  for (const app::Parameter& input : InputsOf(scenario, robot)) inputs[std::string(input.name)] = input.value;
+  return inputs;
+}
+
 metrics::GoalResult BuiltinGoal(const scenario::Scenario& scenario, const std::vector<apps::GoalPose>& poses) {
   const apps::GoalReport goal = apps::EvaluateGoal(apps::BareAppName(scenario.app.name), scenario.app.params,
                                                    apps::ArenaSize{scenario.arena.width_m, scenario.arena.height_m},

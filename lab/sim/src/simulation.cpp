@@ -146,6 +146,9 @@ class Simulation::Impl final : public runtime::RobotObserver,
   // The scenario's app params as syrofAppParameter answers them (names view
   // scenario_.app.params' keys, which never change during the run).
   std::vector<app::Parameter> app_params_;
+  // Each robot's private inputs (syrofAppInput), by id; names view
+  // scenario_.inputs' keys.
+  std::vector<std::vector<app::Parameter>> app_inputs_;
   world::World world_;
   RadioNetwork radio_;
   std::vector<std::unique_ptr<LabRobot>> robots_;
@@ -240,6 +243,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
   radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
+  app_inputs_.reserve(scenario_.robots.size());
   // Threads step robots of one batch side by side. With clocks the radio
   // hands a beacon to its receivers inside the sender's round step
   // (radio_network.h), so robots' steps are not independent, and drifting
@@ -257,6 +261,8 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
     const int worker = worker_of_robot(spec.id);
     config.queries_workspace = worker == 0 ? workspace_.handle() : worker_workspaces_[worker - 1]->handle();
     config.app_params = app_params_;
+    app_inputs_.push_back(InputsOf(scenario_, spec.id));
+    config.app_inputs = app_inputs_.back();
     if (options_.configure_robot) options_.configure_robot(config);
     std::unique_ptr<app::App> app =
         options_.app_factory ? options_.app_factory(spec.id)

@@ -113,6 +113,7 @@ TEST(AppTest, PlatformFunctionsOutsideACallbackRefuse) {
   EXPECT_EQ(syrofQueriesWorkspace(), nullptr);
   double value = 3;
   EXPECT_EQ(syrofAppParameter("radius_m", &value), SYROF_APP_NOT_RUNNING);
+  EXPECT_EQ(syrofAppInput("charge", &value), SYROF_APP_NOT_RUNNING);
   EXPECT_EQ(value, 3);
 }
 
@@ -199,7 +200,66 @@ TEST(CAbiAppTest, APlatformWithoutParametersHasNone) {
   RecordingPlatform platform;
   double value = 1;
   EXPECT_EQ(static_cast<Platform&>(platform).AppParameter("radius_m", value), SYROF_APP_NO_SUCH_PARAMETER);
+  EXPECT_EQ(static_cast<Platform&>(platform).AppInput("charge", value), SYROF_APP_NO_SUCH_INPUT);
   EXPECT_EQ(value, 1);
+}
+
+// A platform whose robot has one private input, and parameters of the same
+// name space: syrofAppInput asks AppInput only.
+class InputPlatform final : public Platform {
+ public:
+  syrof_app_status SendMessageData(std::span<const uint8_t>) override { return SYROF_APP_OK; }
+  syrof_queries_workspace* queries_workspace() override { return nullptr; }
+  syrof_app_status AppParameter(std::string_view name, double& value) override {
+    return FindParameter(params, name, value);
+  }
+  syrof_app_status AppInput(std::string_view name, double& value) override {
+    ++asked;
+    return FindParameter(inputs, name, value, SYROF_APP_NO_SUCH_INPUT);
+  }
+  std::array<Parameter, 1> params{{{"radius_m", 1.5}}};
+  std::array<Parameter, 1> inputs{{{"charge", 0.75}}};
+  int asked = 0;
+};
+
+struct InputResults {
+  int found = -1;
+  double charge = 0;
+  int parameter_as_input = -1;
+  double untouched = 0;
+  int null_name = -1;
+  int too_long = -1;
+} input_results;
+
+uint8_t InitReadsInputs(const syrof_app_info*) {
+  InputResults& r = input_results;
+  r.found = syrofAppInput("charge", &r.charge);
+  r.untouched = 0.5;
+  r.parameter_as_input = syrofAppInput("radius_m", &r.untouched);
+  double ignored = 0;
+  r.null_name = syrofAppInput(nullptr, &ignored);
+  static char too_long[200];
+  std::memset(too_long, 'c', sizeof too_long);
+  r.too_long = syrofAppInput(too_long, &ignored);
+  return 0;
+}
+
+TEST(CAbiAppTest, AnAppReadsItsRobotsInputsFromThePlatform) {
+  const syrof_app_descriptor descriptor = {SYROF_APP_ABI_VERSION, "c", InitReadsInputs, NewRound, EndOfRound};
+  CAbiApp app(descriptor);
+  InputPlatform platform;
+  uint8_t global_state = 0;
+
+  ASSERT_TRUE(app.Init(syrof_app_info{}, platform, global_state).ok());
+
+  const InputResults& r = input_results;
+  EXPECT_EQ(r.found, SYROF_APP_OK);
+  EXPECT_EQ(r.charge, 0.75);
+  EXPECT_EQ(r.parameter_as_input, SYROF_APP_NO_SUCH_INPUT);
+  EXPECT_EQ(r.untouched, 0.5);
+  EXPECT_EQ(r.null_name, SYROF_APP_NULL_ARGUMENT);
+  EXPECT_EQ(r.too_long, SYROF_APP_NO_SUCH_INPUT);
+  EXPECT_EQ(platform.asked, 2);  // the NULL and the overlong name never reach the platform
 }
 
 }  // namespace

@@ -50,6 +50,10 @@ struct HostOptions {
   /// bytes without a NUL (the scenario checks); otherwise Init reports a
   /// bad_abi fault.
   std::map<std::string, double> params;
+  /// What each robot's syrofAppInput answers (the scenario's `inputs`), by
+  /// robot id: each host gets only its own robot's, with the init request.
+  /// At most SYROF_APP_MAX_INPUTS a robot, names as for params.
+  std::map<uint16_t, std::map<std::string, double>> inputs;
 };
 
 /// Where syrof-app-host is: beside the running executable (a build tree's

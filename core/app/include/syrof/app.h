@@ -63,13 +63,17 @@ typedef enum syrof_app_status {
   SYROF_APP_PAYLOAD_TOO_LONG = 1, /* more than SYROF_APP_MAX_PAYLOAD_BYTES; nothing was changed */
   SYROF_APP_NULL_ARGUMENT = 2,    /* payload NULL with a non-zero length */
   SYROF_APP_NOT_RUNNING = 3,      /* called outside a callback of a running robot */
-  SYROF_APP_NO_SUCH_PARAMETER = 4 /* the scenario gives no parameter of that name; *value is unchanged */
+  SYROF_APP_NO_SUCH_PARAMETER = 4, /* the scenario gives no parameter of that name; *value is unchanged */
+  SYROF_APP_NO_SUCH_INPUT = 5      /* the scenario gives this robot no input of that name; *value is unchanged */
 } syrof_app_status;
 
 /* Most parameters a scenario gives an app, and the longest name of one
  * (bytes, without the terminating NUL). */
 #define SYROF_APP_MAX_PARAMETERS 32u
 #define SYROF_APP_MAX_PARAMETER_NAME_LENGTH 63u
+/* Most private inputs a scenario gives each robot (syrofAppInput); their
+ * names are at most SYROF_APP_MAX_PARAMETER_NAME_LENGTH bytes too. */
+#define SYROF_APP_MAX_INPUTS 16u
 
 /* The operation mode an epoch started in. */
 typedef enum syrof_mode {
@@ -194,6 +198,19 @@ int sendMessageData(const uint8_t* payload, size_t length);
  * outside a callback. Callable in any callback; the values never change
  * during a run. Added in ABI version 1 (see SYROF_APP_ABI_VERSION). */
 int syrofAppParameter(const char* name, double* value);
+
+/* Reads this robot's private input `name` (`inputs` in the scenario,
+ * docs/apps.md "Private inputs") into *value: SYROF_APP_OK. Unlike a
+ * parameter, each robot has its own value, and only this robot can read it:
+ * the others learn it only from what this robot puts in its payload
+ * (sendMessageData). When the scenario gives no input of that name:
+ * SYROF_APP_NO_SUCH_INPUT and *value is left as it was. The same rules as
+ * syrofAppParameter otherwise: `name` NUL-terminated, at most
+ * SYROF_APP_MAX_PARAMETER_NAME_LENGTH + 1 of its bytes read;
+ * SYROF_APP_NULL_ARGUMENT for a NULL `name` or `value`;
+ * SYROF_APP_NOT_RUNNING outside a callback. The values never change during
+ * a run. Added in ABI version 1 (see SYROF_APP_ABI_VERSION). */
+int syrofAppInput(const char* name, double* value);
 
 /* A workspace for the queries that need one (syrof/queries/queries.h),
  * owned by the platform; valid for the robot's lifetime. */

@@ -29,10 +29,12 @@ struct Parameter {
   double value = 0;
 };
 
-/// Looks `name` up in `params`: SYROF_APP_OK and `value` set, or
-/// SYROF_APP_NO_SUCH_PARAMETER with `value` unchanged. Linear: a table holds
-/// at most SYROF_APP_MAX_PARAMETERS.
-syrof_app_status FindParameter(std::span<const Parameter> params, std::string_view name, double& value);
+/// Looks `name` up in `params`: SYROF_APP_OK and `value` set, or `missing`
+/// (SYROF_APP_NO_SUCH_PARAMETER, or SYROF_APP_NO_SUCH_INPUT for a robot's
+/// private inputs, which are the same kind of table) with `value`
+/// unchanged. Linear: a table holds at most SYROF_APP_MAX_PARAMETERS.
+syrof_app_status FindParameter(std::span<const Parameter> params, std::string_view name, double& value,
+                               syrof_app_status missing = SYROF_APP_NO_SUCH_PARAMETER);
 
 /// What the platform offers an app besides its callbacks. One per robot.
 class Platform {
@@ -51,6 +53,11 @@ class Platform {
   /// `value`, or SYROF_APP_NO_SUCH_PARAMETER leaving `value` alone. The
   /// default is a platform that gives no parameters.
   virtual syrof_app_status AppParameter(std::string_view name, double& value);
+
+  /// This robot's private input `name` (syrofAppInput, arguments checked as
+  /// for AppParameter): SYROF_APP_OK and `value`, or SYROF_APP_NO_SUCH_INPUT
+  /// leaving `value` alone. The default is a platform that gives no inputs.
+  virtual syrof_app_status AppInput(std::string_view name, double& value);
 
  protected:
   ~Platform() = default;

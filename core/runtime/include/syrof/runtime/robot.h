@@ -105,6 +105,9 @@ struct RobotConfig {
   /// What syrofAppParameter answers (the scenario's app params); the table
   /// and its names must outlive the robot. Empty: no parameters.
   std::span<const app::Parameter> app_params;
+  /// What syrofAppInput answers: this robot's private inputs (the
+  /// scenario's `inputs`, its own value of each); kept alive as app_params.
+  std::span<const app::Parameter> app_inputs;
 };
 
 /// Why a robot could not be set up.
@@ -251,6 +254,9 @@ class Robot final : private app::Platform {
   syrof_queries_workspace* queries_workspace() override { return config_.queries_workspace; }
   syrof_app_status AppParameter(std::string_view name, double& value) override {
     return app::FindParameter(config_.app_params, name, value);
+  }
+  syrof_app_status AppInput(std::string_view name, double& value) override {
+    return app::FindParameter(config_.app_inputs, name, value, SYROF_APP_NO_SUCH_INPUT);
   }
 
   void RunRound(int64_t now_ns);

@@ -134,6 +134,12 @@ struct Scenario {
   ClockSpec clocks;
   std::vector<FaultSpec> faults;      ///< sorted by at_s, then robot
   AppSpec app;
+  /// `inputs:`: each robot's private values by name (docs/scenarios.md,
+  /// "Private inputs"), one per robot in id order, listed in the file or
+  /// drawn from the seed when it was loaded. Robot i's syrofAppInput(name)
+  /// answers inputs[name][i]; the other robots learn it only from i's
+  /// payloads. At most SYROF_APP_MAX_INPUTS names.
+  std::map<std::string, std::vector<double>> inputs;
   /// The platform's safety filter on every robot (docs/safety.md), with
   /// presence beacons for joiners and the joiners' start-disc wait.
   /// `safety: off` switches all three off, so a course can teach collisions.

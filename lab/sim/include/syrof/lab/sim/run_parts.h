@@ -6,10 +6,12 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "syrof/app/app.h"
 #include "syrof/lab/apps/builtin_goals.h"
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/metrics.h"
@@ -61,6 +63,14 @@ metrics::GoalResult DeclaredGoal(const std::string& app, const std::vector<goals
 /// and source ("builtin:NAME" or the library), the smallest separation. The
 /// runtime adds its times, rounds and goal.
 metrics::RunFacts ScenarioFacts(const scenario::Scenario& scenario, const world::World& world);
+
+/// Robot `robot`'s private inputs (the scenario's `inputs`, its own value of
+/// each) as syrofAppInput answers them: names view the scenario's keys, so
+/// the scenario must outlive the table (RobotConfig::app_inputs).
+std::vector<app::Parameter> InputsOf(const scenario::Scenario& scenario, uint16_t robot);
+
+/// The same by name, owned: for a host process (HostOptions::inputs).
+std::map<std::string, double> InputValuesOf(const scenario::Scenario& scenario, uint16_t robot);
 
 /// metrics.json's `goal` from the built-in app's own goal (apps::EvaluateGoal)
 /// for the robots' final true poses; for a library app, not judged.
