@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <new>
 #include <numbers>
 
@@ -50,6 +51,12 @@ double Distance(double ax, double ay, double bx, double by) { return std::hypot(
 double Degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
 
 Measure Fail(std::string reason, double value = kNaN) { return {false, value, std::move(reason)}; }
+
+// Robot `id`'s value of the check's input (the loader gives every robot
+// one; a missing one reads as NaN, which no comparison favours).
+double InputOf(const GoalCheck& check, uint16_t id) {
+  return id < check.input_values.size() ? check.input_values[id] : kNaN;
+}
 
 // Robots in increasing id order.
 std::vector<RobotPose> Sorted(std::span<const RobotPose> poses) {
@@ -224,7 +231,15 @@ Measure MeasureShape(const GoalCheck& check, std::span<const RobotPose> robots, 
 // Robot k (k-th by id) belongs at centre + (k - (n-1)/2) * spacing * u: the
 // least-squares placement along a given direction u; a free direction is
 // the least-squares one, u parallel to sum (k - kbar)(p_k - centre).
-Measure MeasureLine(const GoalCheck& check, std::span<const RobotPose> robots) {
+Measure MeasureLine(const GoalCheck& check, std::span<const RobotPose> by_id) {
+  // With order_by the places go in increasing order of the input (ties by id).
+  std::vector<RobotPose> robots(by_id.begin(), by_id.end());
+  if (check.input_use == GoalCheck::InputUse::kOrderBy) {
+    std::stable_sort(robots.begin(), robots.end(), [&](const RobotPose& a, const RobotPose& b) {
+      return InputOf(check, a.id) < InputOf(check, b.id);
+    });
+  }
+  const char* const order = check.input_use == GoalCheck::InputUse::kOrderBy ? check.input.c_str() : "id";
   const size_t n = robots.size();
   const Point centre = Centroid(robots);
   const double middle = (static_cast<double>(n) - 1.0) / 2.0;
@@ -260,47 +275,103 @@ Measure MeasureLine(const GoalCheck& check, std::span<const RobotPose> robots) {
   const bool holds = worst <= check.tolerance_m;
   const double direction_deg = Degrees(std::atan2(uy, ux));
   return {holds, worst,
-          holds ? Format("%zu robots on a line by id, %.3f m apart towards %.1f deg: worst %.3f m from its place "
+          holds ? Format("%zu robots on a line by %s, %.3f m apart towards %.1f deg: worst %.3f m from its place "
                          "(tolerance %.3f m)",
-                         n, check.spacing_m, direction_deg, worst, check.tolerance_m)
-                : Format("robot %u is %.3f m from its place on the line by id (spacing %.3f m, direction %.1f deg), "
+                         n, order, check.spacing_m, direction_deg, worst, check.tolerance_m)
+                : Format("robot %u is %.3f m from its place on the line by %s (spacing %.3f m, direction %.1f deg), "
                          "tolerance %.3f m",
-                         unsigned{robots[worst_index].id}, worst, check.spacing_m, direction_deg, check.tolerance_m)};
+                         unsigned{robots[worst_index].id}, worst, order, check.spacing_m, direction_deg,
+                         check.tolerance_m)};
 }
 
-Measure MeasureGathered(const GoalCheck& check, std::span<const RobotPose> robots, Workspace& workspace) {
-  if (check.centre) {
-    double worst = 0;
-    size_t worst_index = 0;
-    for (size_t i = 0; i < robots.size(); ++i) {
-      const double distance = Distance(robots[i].x_m, robots[i].y_m, check.centre->x_m, check.centre->y_m);
-      if (distance > worst) {
-        worst = distance;
-        worst_index = i;
-      }
+// Every robot within check.radius_m of `centre`; `where` names the centre.
+Measure MeasureAround(const GoalCheck& check, std::span<const RobotPose> robots, Point centre,
+                      const std::string& where) {
+  double worst = 0;
+  size_t worst_index = 0;
+  for (size_t i = 0; i < robots.size(); ++i) {
+    const double distance = Distance(robots[i].x_m, robots[i].y_m, centre.x_m, centre.y_m);
+    if (distance > worst) {
+      worst = distance;
+      worst_index = i;
     }
-    const bool holds = worst <= check.radius_m;
-    return {holds, worst,
-            holds ? Format("every robot is within %.3f m of (%.3f, %.3f); the limit is %.3f m", worst,
-                           check.centre->x_m, check.centre->y_m, check.radius_m)
-                  : Format("robot %u is %.3f m from (%.3f, %.3f); the limit is %.3f m",
-                           unsigned{robots[worst_index].id}, worst, check.centre->x_m, check.centre->y_m,
-                           check.radius_m)};
   }
+  const bool holds = worst <= check.radius_m;
+  return {holds, worst,
+          holds ? Format("every robot is within %.3f m of %s; the limit is %.3f m", worst, where.c_str(),
+                         check.radius_m)
+                : Format("robot %u is %.3f m from %s; the limit is %.3f m", unsigned{robots[worst_index].id}, worst,
+                         where.c_str(), check.radius_m)};
+}
+
+// The smallest circle holding `robots` (the queries'); false when a robot is
+// outside the queries' range or the query refused.
+bool EnclosingCircle(std::span<const RobotPose> robots, Workspace& workspace, syrof_queries_circle& circle) {
   std::vector<syrof_queries_member> members(robots.size());
   for (size_t i = 0; i < robots.size(); ++i) {
     syrof_queries_point point{};
     if (syrof_queries_point_from_metres(static_cast<float>(robots[i].x_m), static_cast<float>(robots[i].y_m), &point) !=
         SYROF_QUERIES_OK) {
-      return Fail("a robot is outside the queries' range");
+      return false;
     }
     members[i] = {robots[i].id, point.x_mm, point.y_mm};
   }
-  syrof_queries_circle circle{};
-  if (syrof_queries_shortest_enclosing_circle(workspace.impl().handle, members.data(), members.size(), &circle) !=
-      SYROF_QUERIES_OK) {
-    return Fail("the enclosing circle query refused the poses");
+  return syrof_queries_shortest_enclosing_circle(workspace.impl().handle, members.data(), members.size(), &circle) ==
+         SYROF_QUERIES_OK;
+}
+
+// group_by: each group of robots sharing a value gathered on its own, the
+// groups' centres at least groups_apart_m apart. The value is the largest
+// group's circle.
+Measure MeasureGroups(const GoalCheck& check, std::span<const RobotPose> robots, Workspace& workspace) {
+  std::map<double, std::vector<RobotPose>> groups;
+  for (const RobotPose& robot : robots) groups[InputOf(check, robot.id)].push_back(robot);
+  std::vector<std::pair<double, syrof_queries_circle>> circles;
+  double worst = 0;
+  for (const auto& [value, members] : groups) {
+    syrof_queries_circle circle{};
+    if (!EnclosingCircle(members, workspace, circle)) return Fail("a robot is outside the queries' range");
+    circles.emplace_back(value, circle);
+    worst = std::max(worst, static_cast<double>(circle.radius_m));
+    if (circle.radius_m > check.radius_m) {
+      return {false, worst,
+              Format("the %zu robots of %s %g fit only in a circle of %.3f m around (%.3f, %.3f); the limit is %.3f m",
+                     members.size(), check.input.c_str(), value, static_cast<double>(circle.radius_m),
+                     static_cast<double>(circle.centre_x_m), static_cast<double>(circle.centre_y_m), check.radius_m)};
+    }
   }
+  for (size_t a = 0; a < circles.size(); ++a) {
+    for (size_t b = a + 1; b < circles.size(); ++b) {
+      const double apart = Distance(circles[a].second.centre_x_m, circles[a].second.centre_y_m,
+                                    circles[b].second.centre_x_m, circles[b].second.centre_y_m);
+      if (apart < check.groups_apart_m) {
+        return {false, worst,
+                Format("the groups of %s %g and %g are only %.3f m apart; they must be %.3f m apart",
+                       check.input.c_str(), circles[a].first, circles[b].first, apart, check.groups_apart_m)};
+      }
+    }
+  }
+  return {true, worst,
+          Format("%zu groups by %s, each within a circle of at most %.3f m, at least %.3f m apart; the limit is %.3f m",
+                 circles.size(), check.input.c_str(), worst, check.groups_apart_m, check.radius_m)};
+}
+
+Measure MeasureGathered(const GoalCheck& check, std::span<const RobotPose> robots, Workspace& workspace) {
+  if (check.input_use == GoalCheck::InputUse::kGroupBy) return MeasureGroups(check, robots, workspace);
+  if (check.input_use == GoalCheck::InputUse::kCentreAtMax) {
+    const RobotPose* top = &robots[0];
+    for (const RobotPose& robot : robots) {
+      if (InputOf(check, robot.id) > InputOf(check, top->id)) top = &robot;  // increasing id: ties keep the lowest
+    }
+    return MeasureAround(check, robots, Point{top->x_m, top->y_m},
+                         Format("robot %u (the largest %s, %g)", unsigned{top->id}, check.input.c_str(),
+                                InputOf(check, top->id)));
+  }
+  if (check.centre) {
+    return MeasureAround(check, robots, *check.centre, Format("(%.3f, %.3f)", check.centre->x_m, check.centre->y_m));
+  }
+  syrof_queries_circle circle{};
+  if (!EnclosingCircle(robots, workspace, circle)) return Fail("the enclosing circle query refused the poses");
   const double radius = circle.radius_m;
   const bool holds = radius <= check.radius_m;
   return {holds, radius,

@@ -33,10 +33,10 @@ std::vector<std::string_view> KeysOf(CheckKind kind) {
       keys.insert(keys.end(), {"points", "tolerance_m"});
       break;
     case CheckKind::kLine:
-      keys.insert(keys.end(), {"spacing_m", "direction_rad", "tolerance_m"});
+      keys.insert(keys.end(), {"spacing_m", "direction_rad", "tolerance_m", "order_by"});
       break;
     case CheckKind::kGathered:
-      keys.insert(keys.end(), {"radius_m", "centre"});
+      keys.insert(keys.end(), {"radius_m", "centre", "centre_at_max", "group_by", "groups_apart_m"});
       break;
     case CheckKind::kCircle:
       keys.insert(keys.end(), {"radius_min_m", "radius_max_m", "centre", "angle_tolerance_rad"});
@@ -87,6 +87,34 @@ bool IsValidName(const std::string& name) {
                     c == '-' || c == '.';
     if (!ok) return false;
   }
+  return true;
+}
+
+// `key` of `node`, the name of one of the scenario's inputs: the check reads
+// its values (GoalCheck::input_values) the way `use` says.
+bool ReadInputUse(const YamlNode& node, const std::string& path, std::string_view key, GoalCheck::InputUse use,
+                  const Scenario& scenario, GoalCheck& check, Diagnostics& diagnostics) {
+  const YamlNode* value = node.Find(key);
+  if (value == nullptr) return true;
+  const std::string key_path = JoinPath(path, key);
+  if (check.input_use != GoalCheck::InputUse::kNone) {
+    return FailAt(*value, key_path, "a check reads one input: give centre_at_max or group_by, not both",
+                  diagnostics);
+  }
+  if (!ReadString(*value, key_path, check.input, diagnostics)) return false;
+  const auto found = scenario.inputs.find(check.input);
+  if (found == scenario.inputs.end()) {
+    std::vector<std::string_view> names;
+    for (const auto& [name, values] : scenario.inputs) names.push_back(name);
+    const std::string nearest = NearestName(check.input, names);
+    return FailAt(*value, key_path,
+                  "no input '" + check.input + "' in the scenario" +
+                      (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)") +
+                      (names.empty() ? "; it gives none (inputs: ...)" : "; its inputs: " + JoinNames(names)),
+                  diagnostics);
+  }
+  check.input_use = use;
+  check.input_values = found->second;
   return true;
 }
 
@@ -154,7 +182,7 @@ bool ReadKindKeys(const YamlNode& node, const std::string& path, const Scenario&
         if (!ReadNumberAt(node, path, "direction_rad", NumberRange{-limit, limit}, direction, diagnostics)) return false;
         check.direction_rad = direction;
       }
-      return true;
+      return ReadInputUse(node, path, "order_by", GoalCheck::InputUse::kOrderBy, scenario, check, diagnostics);
     }
     case CheckKind::kGathered:
       if (!RequireKey(node, path, "radius_m", diagnostics) ||
@@ -165,6 +193,24 @@ bool ReadKindKeys(const YamlNode& node, const std::string& path, const Scenario&
         Point point;
         if (!ReadPoint(*centre, JoinPath(path, "centre"), arena_x, arena_y, point, diagnostics)) return false;
         check.centre = point;
+      }
+      if (!ReadInputUse(node, path, "centre_at_max", GoalCheck::InputUse::kCentreAtMax, scenario, check,
+                        diagnostics) ||
+          !ReadInputUse(node, path, "group_by", GoalCheck::InputUse::kGroupBy, scenario, check, diagnostics)) {
+        return false;
+      }
+      if (check.centre && check.input_use != GoalCheck::InputUse::kNone) {
+        return FailAt(*node.Find("centre"), JoinPath(path, "centre"),
+                      "a given centre and centre_at_max or group_by exclude each other", diagnostics);
+      }
+      if (const YamlNode* apart = node.Find("groups_apart_m")) {
+        if (check.input_use != GoalCheck::InputUse::kGroupBy) {
+          return FailAt(*apart, JoinPath(path, "groups_apart_m"), "needs group_by", diagnostics);
+        }
+        if (!ReadNumber(*apart, JoinPath(path, "groups_apart_m"), NumberRange{0, kMaxExtentM}, check.groups_apart_m,
+                        diagnostics)) {
+          return false;
+        }
       }
       return true;
     case CheckKind::kCircle: {

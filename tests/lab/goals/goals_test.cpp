@@ -178,6 +178,67 @@ TEST(GoalsTest, GatheredAroundAGivenCentreNamesTheFarthestRobot) {
   EXPECT_EQ(measure.reason, "robot 1 is 0.900 m from (1.000, 1.000); the limit is 0.500 m");
 }
 
+GoalCheck WithInput(GoalCheck check, GoalCheck::InputUse use, std::vector<double> values) {
+  check.input_use = use;
+  check.input = "key";
+  check.input_values = std::move(values);
+  return check;
+}
+
+TEST(GoalsTest, LineOrderedByAnInputFollowsItsValuesNotTheIds) {
+  Workspace workspace;
+  // Robot 2 has the smallest key, robot 0 the largest: the line runs 2, 1, 0.
+  const GoalCheck by_key = WithInput(Line(0.5, 0.0), GoalCheck::InputUse::kOrderBy, {9, 4, 1});
+  const Measure sorted = MeasurePoses(by_key, Poses({{2, 1}, {1.5, 1}, {1, 1}}), workspace);
+  const Measure by_id = MeasurePoses(by_key, Poses({{1, 1}, {1.5, 1}, {2, 1}}), workspace);
+
+  EXPECT_TRUE(sorted.holds) << sorted.reason;
+  EXPECT_NE(sorted.reason.find("on a line by key"), std::string::npos) << sorted.reason;
+  EXPECT_FALSE(by_id.holds);
+  EXPECT_NE(by_id.reason.find("on the line by key"), std::string::npos) << by_id.reason;
+}
+
+TEST(GoalsTest, LineOrderedByAnInputBreaksTiesById) {
+  Workspace workspace;
+  const GoalCheck by_key = WithInput(Line(0.5, 0.0), GoalCheck::InputUse::kOrderBy, {3, 3, 1});
+  EXPECT_TRUE(MeasurePoses(by_key, Poses({{1.5, 1}, {2, 1}, {1, 1}}), workspace).holds);
+  EXPECT_FALSE(MeasurePoses(by_key, Poses({{2, 1}, {1.5, 1}, {1, 1}}), workspace).holds);
+}
+
+TEST(GoalsTest, GatheredAtTheRobotWithTheLargestInput) {
+  Workspace workspace;
+  const GoalCheck at_max = WithInput(Gathered(0.5), GoalCheck::InputUse::kCentreAtMax, {0.2, 0.9, 0.5});
+  // Around robot 1 (0.9): robot 2 is 0.6 m away.
+  const Measure far = MeasurePoses(at_max, Poses({{1.2, 1}, {1, 1}, {1.6, 1}}), workspace);
+  const Measure near = MeasurePoses(at_max, Poses({{1.2, 1}, {1, 1}, {0.7, 1}}), workspace);
+
+  EXPECT_FALSE(far.holds);
+  EXPECT_EQ(far.reason, "robot 2 is 0.600 m from robot 1 (the largest key, 0.9); the limit is 0.500 m");
+  EXPECT_TRUE(near.holds) << near.reason;
+  // Robot 1 crashed: the running robot with the largest value is robot 2.
+  const std::vector<RobotPose> without_1 = {{0, 1.2, 1, 0.1}, {2, 1.6, 1, 0.1}};
+  const Measure after_crash = MeasurePoses(at_max, without_1, workspace);
+  EXPECT_TRUE(after_crash.holds) << after_crash.reason;
+  EXPECT_NE(after_crash.reason.find("robot 2 (the largest key, 0.5)"), std::string::npos) << after_crash.reason;
+}
+
+TEST(GoalsTest, GatheredByGroupsJudgesEachGroupAndTheirDistance) {
+  Workspace workspace;
+  GoalCheck teams = WithInput(Gathered(0.3), GoalCheck::InputUse::kGroupBy, {0, 1, 0, 1});
+  teams.groups_apart_m = 1.0;
+  const Measure apart = MeasurePoses(teams, Poses({{1, 1}, {3, 1}, {1.2, 1}, {3.2, 1}}), workspace);
+  const Measure too_close = MeasurePoses(teams, Poses({{1, 1}, {1.8, 1}, {1.2, 1}, {2.0, 1}}), workspace);
+  const Measure mixed = MeasurePoses(teams, Poses({{1, 1}, {1.1, 1}, {3, 1}, {3.1, 1}}), workspace);
+
+  EXPECT_TRUE(apart.holds) << apart.reason;
+  EXPECT_NEAR(apart.value, 0.1, 2e-3);
+  EXPECT_FALSE(too_close.holds);
+  EXPECT_NE(too_close.reason.find("groups of key 0 and 1 are only 0.800 m apart"), std::string::npos)
+      << too_close.reason;
+  EXPECT_FALSE(mixed.holds);
+  EXPECT_NE(mixed.reason.find("robots of key 0 fit only in a circle of 1.000 m"), std::string::npos) << mixed.reason;
+}
+
 TEST(GoalsTest, NoRunningRobotNeverHolds) {
   Workspace workspace;
   const Measure measure = MeasurePoses(Gathered(1.0), {}, workspace);

@@ -43,6 +43,37 @@ TEST(SchemaGoalTest, EveryKindLoads) {
   EXPECT_EQ(goal[5].area_max, (goals::Point{4, 4}));
 }
 
+TEST(SchemaGoalTest, ChecksReadTheScenariosInputs) {
+  const LoadResult result = Load(std::string(kBase) +
+                                 "inputs: { charge: [0.2, 0.9, 0.5], colour: [0, 1, 0] }\n"
+                                 "goal:\n"
+                                 "  - { check: gathered, name: strongest, radius_m: 0.6, centre_at_max: charge }\n"
+                                 "  - { check: gathered, name: teams, radius_m: 0.4, group_by: colour, groups_apart_m: 1 }\n"
+                                 "  - { check: line, spacing_m: 0.4, order_by: charge }\n");
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  const std::vector<goals::GoalCheck>& goal = result.scenario->goal;
+  EXPECT_EQ(goal[0].input_use, goals::GoalCheck::InputUse::kCentreAtMax);
+  EXPECT_EQ(goal[0].input, "charge");
+  EXPECT_EQ(goal[0].input_values, (std::vector<double>{0.2, 0.9, 0.5}));
+  EXPECT_EQ(goal[1].input_use, goals::GoalCheck::InputUse::kGroupBy);
+  EXPECT_EQ(goal[1].groups_apart_m, 1.0);
+  EXPECT_EQ(goal[2].input_use, goals::GoalCheck::InputUse::kOrderBy);
+}
+
+TEST(SchemaGoalTest, AnInputTheScenarioLacksIsNamed) {
+  const std::string inputs = "inputs: { charge: [0.2, 0.9, 0.5] }\n";
+  EXPECT_TRUE(FailsAt(Load(std::string(kBase) + inputs + "goal:\n  - { check: line, spacing_m: 0.4, order_by: charj }\n"),
+                      5, 46, {"goal[0].order_by", "no input 'charj'", "did you mean 'charge'"}));
+  EXPECT_TRUE(FailsAt(Load(std::string(kBase) + "goal:\n  - { check: gathered, radius_m: 1, group_by: colour }\n"), 4,
+                      47, {"no input 'colour'", "gives none"}));
+  EXPECT_TRUE(FailsAt(Load(std::string(kBase) + inputs +
+                           "goal:\n  - { check: gathered, radius_m: 1, groups_apart_m: 1 }\n"),
+                      5, 53, {"needs group_by"}));
+  EXPECT_TRUE(FailsAt(Load(std::string(kBase) + inputs +
+                           "goal:\n  - { check: gathered, radius_m: 1, centre_at_max: charge, group_by: charge }\n"),
+                      5, 70, {"not both"}));
+}
+
 TEST(SchemaGoalTest, TwoChecksOfOneKindAreNumbered) {
   const LoadResult result = Load(std::string(kBase) +
                                  "goal: [{check: gathered, radius_m: 1}, {check: gathered, radius_m: 2}]\n");

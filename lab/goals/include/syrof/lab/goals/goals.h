@@ -80,6 +80,19 @@ struct GoalCheck {
   double radius_max_m = 0;
   double angle_tolerance_rad = 0.1;   ///< circle: largest deviation of a gap from 2*pi/n
 
+  /// A private input the check reads (the scenario's `inputs`), and how:
+  /// line `order_by` places the robots in increasing order of it (ties by
+  /// id) instead of by id; gathered `centre_at_max` centres the circle on
+  /// the running robot with the largest value (ties: the lowest id);
+  /// gathered `group_by` gathers each group of robots sharing a value on
+  /// its own, within radius_m of its own centre, the groups' centres at
+  /// least groups_apart_m apart.
+  enum class InputUse : uint8_t { kNone, kOrderBy, kCentreAtMax, kGroupBy };
+  InputUse input_use = InputUse::kNone;
+  std::string input;                  ///< its name, for reasons
+  std::vector<double> input_values;   ///< by robot id (the loader resolves them)
+  double groups_apart_m = 0;          ///< gathered with group_by
+
   Point area_min;                     ///< coverage: the rectangle [min, max]
   Point area_max;
   double cell_m = 0.25;               ///< coverage: side of a grid cell
@@ -124,7 +137,9 @@ class Workspace {
 ///   shape     the largest robot-to-point distance at the best alignment, m
 ///   line      the largest distance of a robot from its place on the line, m
 ///   gathered  the radius of the smallest circle holding every robot (or
-///             the largest distance from the given centre), m
+///             the largest distance from the given centre, or from the
+///             robot with the largest input; with group_by the largest
+///             group's circle), m
 ///   circle    the largest deviation of a gap between neighbours from
 ///             2*pi/n, rad (a radius out of range fails with its reason)
 /// No running robot never holds ("no robot is running").
