@@ -17,17 +17,16 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 
 namespace {
 
 using namespace syrof::lab;
-using nlohmann::json;
 
 struct Cell {
   int64_t starts = 0;
@@ -73,23 +72,23 @@ void Add(Cell& cell, const std::string& text, const std::vector<int>& kept = {})
     std::exit(1);
   }
   const sim::RunReport report = sim::Run(*loaded.scenario, sim::SimulationOptions{}, 0.0);
-  const json metrics = json::parse(report.metrics_json);
-  const json& knowledge = metrics["common_knowledge"];
-  const json& synchrony = metrics["synchrony"];
-  cell.starts += metrics["epoch_starts"].get<int64_t>();
-  cell.cooperative_starts += knowledge["cooperative_starts"].get<int64_t>();
-  const int64_t epochs = synchrony["epochs_measured"].get<int64_t>();
+  const metrics::Metrics& metrics = report.metrics;
+  const metrics::CommonKnowledgeMetrics& knowledge = metrics.common_knowledge;
+  const metrics::SynchronyMetrics& synchrony = metrics.synchrony;
+  cell.starts += metrics.epoch_starts;
+  cell.cooperative_starts += knowledge.cooperative_starts;
+  const int64_t epochs = synchrony.epochs_measured;
   cell.epochs += epochs;
-  cell.mixed_epochs += knowledge["mixed_mode_epochs"].get<int64_t>();
-  if (!synchrony["mean_start_skew_rounds"].is_null()) {
-    cell.skew_sum += synchrony["mean_start_skew_rounds"].get<double>() * static_cast<double>(epochs);
+  cell.mixed_epochs += knowledge.mixed_mode_epochs;
+  if (synchrony.mean_start_skew_rounds) {
+    cell.skew_sum += *synchrony.mean_start_skew_rounds * static_cast<double>(epochs);
   }
-  cell.max_skew = std::max(cell.max_skew, synchrony["max_start_skew_rounds"].get<int64_t>());
-  cell.max_disagreement = std::max(cell.max_disagreement, knowledge["max_mode_disagreement_rounds"].get<int64_t>());
-  cell.violations += knowledge["violations"].get<int64_t>();
+  cell.max_skew = std::max(cell.max_skew, synchrony.max_start_skew_rounds);
+  cell.max_disagreement = std::max(cell.max_disagreement, knowledge.max_mode_disagreement_rounds);
+  cell.violations += knowledge.violations;
   for (const int robot : kept) {
-    cell.kept_starts += knowledge["starts_by_robot"][robot].get<int64_t>();
-    cell.kept_cooperative_starts += knowledge["cooperative_starts_by_robot"][robot].get<int64_t>();
+    cell.kept_starts += knowledge.starts_by_robot.at(static_cast<size_t>(robot));
+    cell.kept_cooperative_starts += knowledge.cooperative_starts_by_robot.at(static_cast<size_t>(robot));
   }
 }
 

@@ -13,10 +13,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
+#include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 #include "syrof/sim_dds/participant.h"
@@ -33,15 +33,14 @@ struct Row {
   bool goal = false;
 };
 
-Row RowOf(const nlohmann::json& m) {
+Row RowOf(const syrof::lab::metrics::Metrics& m) {
   Row row;
-  row.epochs = m.value("epochs_started", int64_t{0});
-  const nlohmann::json& ck = m["common_knowledge"];
-  row.cooperative = ck["cooperative_fraction"].is_number() ? ck["cooperative_fraction"].get<double>() : 0.0;
-  row.p3 = ck.value("violations", int64_t{0});
-  row.removals = m["membership"].value("removals", int64_t{0});
-  row.joins = m["membership"].value("joins", int64_t{0});
-  row.goal = m.contains("goal") && m["goal"].value("reached", false);
+  row.epochs = m.epochs_started;
+  row.cooperative = m.common_knowledge.cooperative_fraction.value_or(0.0);
+  row.p3 = m.common_knowledge.violations;
+  row.removals = m.membership.removals;
+  row.joins = m.membership.joins;
+  row.goal = m.goal.reached;
   return row;
 }
 
@@ -81,8 +80,7 @@ int main(int argc, char** argv) {
     overrides.seed = base.scenario->seed + static_cast<uint64_t>(k);
     const syrof::lab::scenario::LoadResult loaded = syrof::lab::scenario::LoadScenarioFile(scenario_path, overrides);
     syrof::lab::sim::Simulation lab(*loaded.scenario);
-    const nlohmann::json lab_metrics = nlohmann::json::parse(lab.Finish(0).metrics_json);
-    const Row l = RowOf(lab_metrics);
+    const Row l = RowOf(lab.Finish(0).metrics);
     std::printf("%-8llu lab      %6lld  %10.1f%%  %2lld  %8lld  %5lld  %-4s  %8s  %11s\n",
                 static_cast<unsigned long long>(*overrides.seed), static_cast<long long>(l.epochs), 100 * l.cooperative,
                 static_cast<long long>(l.p3), static_cast<long long>(l.removals), static_cast<long long>(l.joins),
@@ -105,7 +103,7 @@ int main(int argc, char** argv) {
                    log.str().c_str());
       return 1;
     }
-    const Row d = RowOf(nlohmann::json::parse(result.metrics_json));
+    const Row d = RowOf(result.metrics);
     std::printf("%-8llu dds      %6lld  %10.1f%%  %2lld  %8lld  %5lld  %-4s  %7.2f%%  %11.0f\n",
                 static_cast<unsigned long long>(*overrides.seed), static_cast<long long>(d.epochs), 100 * d.cooperative,
                 static_cast<long long>(d.p3), static_cast<long long>(d.removals), static_cast<long long>(d.joins),

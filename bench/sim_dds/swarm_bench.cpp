@@ -13,7 +13,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <numeric>
 #include <sstream>
 #include <string>
@@ -60,14 +59,13 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%d robots: %s\n%s", robots, result.error.c_str(), log.str().c_str());
       return 1;
     }
-    const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
     const double cpu_sum = std::accumulate(result.cpu_seconds.begin(), result.cpu_seconds.end(), 0.0);
     const double cpu_max = *std::max_element(result.cpu_seconds.begin(), result.cpu_seconds.end());
     const double cpu_mean = cpu_sum / static_cast<double>(result.cpu_seconds.size());
     std::printf("%6d  %7.1f  %8.4f  %11.0f  %11.0f  %11.0f  %10.3f  %9.3f  %7.2f  %13d  %6d\n", robots, seconds,
                 result.delivery_ratio, result.skew.p50_us, result.skew.p99_us, result.skew.max_us, cpu_mean, cpu_max,
-                100.0 * cpu_mean / seconds, m["common_knowledge"]["violations"].get<int>(),
-                m["epochs_started"].get<int>());
+                100.0 * cpu_mean / seconds, static_cast<int>(result.metrics.common_knowledge.violations),
+                static_cast<int>(result.metrics.epochs_started));
     std::filesystem::remove_all(options.out_dir);
   }
   return 0;

@@ -29,13 +29,11 @@
 #include "syrof/lab/apps/builtin_goals.h"
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/agreement.h"
-#include "syrof/lab/metrics/collector.h"
-#include "syrof/lab/replay/writer.h"
 #include "syrof/lab/sensors/sensor_bank.h"
+#include "syrof/lab/sim/round_recorder.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/world_player.h"
 #include "syrof/lab/world/world.h"
-#include "syrof/sync/synchronizer.h"
 #include "syrof/os/posix_port.h"
 #include "syrof/sim_dds/participant.h"
 #include "syrof/sim_dds/report_codec.h"
@@ -172,7 +170,6 @@ struct RoundReports {
   std::vector<int64_t> phase_boundaries;
   wire::MemberSet senders;
   std::vector<std::pair<uint16_t, wire::MemberSet>> heard;  // each reporting robot's in-round deliveries
-  std::optional<uint16_t> epoch_sample;  // a newer epoch started this round: the goal checks sample poses
 
   void AddEvent(replay::EventKind kind, int64_t time_ns, uint16_t robot, uint16_t epoch, uint8_t mode,
                 uint16_t other = replay::kNoRobot) {
@@ -238,7 +235,6 @@ class DdsWorld {
   void BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns);
 
   // ---- Metrics
-  lab::metrics::RunFacts Facts();
   lab::metrics::DdsMetrics DdsFacts() const;
 
   const SwarmOptions& options_;
@@ -256,9 +252,9 @@ class DdsWorld {
   dds_entity_t control_ = 0, report_reader_ = 0, status_reader_ = 0;
   std::vector<RobotSlot> robots_;
   lab::world::World world_;
-  lab::metrics::Collector collector_;
+  // The metrics, the goal checks and the replay, as every runtime records them.
+  lab::sim::RoundRecorder recorder_;
   std::ofstream replay_file_;
-  std::unique_ptr<replay::Writer> replay_writer_;
 
   // ---- Processes
   pid_t group_ = 0;  // the robots' process group (the first robot's pid)
@@ -286,9 +282,6 @@ class DdsWorld {
   double expected_deliveries_ = 0;
   double in_round_deliveries_ = 0;
   lab::metrics::AgreementTracker agreement_;
-  lab::goals::GoalMonitor goal_monitor_;
-  bool any_epoch_ = false;
-  uint16_t newest_epoch_ = 0;
 
   // The robots' rounds on the world's clock. On one grid (no alignment)
   // round r starts at start + r * alpha. Aligning robots move their
@@ -320,15 +313,13 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
       participant_(std::move(participant)),
       robots_(swarm_size_),
       world_(scenario.arena, lab::sim::Bodies(scenario)),
-      collector_(lab::metrics::CollectorConfig{swarm_size_, radio_round_ns_,
-                                               static_cast<uint16_t>(scenario.timing.silence_rounds)}),
+      recorder_(scenario, lab::sim::CollectorConfigFor(scenario)),
       attached_(swarm_size_, 0),
       last_status_(swarm_size_),
       runtime_(robots_, [this](uint16_t id) { return Spawn(id); }),
-      player_(scenario, world_, collector_),
+      player_(scenario, world_, recorder_.collector()),
       robot_rounds_(swarm_size_),
       frames_(swarm_size_),
-      goal_monitor_(scenario.goal),
       robot_origins_(swarm_size_) {
   robot_options_.scenario_path = options.scenario_path;
   robot_options_.overrides = options.overrides;
@@ -378,7 +369,7 @@ bool DdsWorld::CreateEntities() {
 void DdsWorld::OpenReplay() {
   if (!options_.replay) return;
   replay_file_.open(std::filesystem::path(options_.out_dir) / "replay", std::ios::binary);
-  replay_writer_ = std::make_unique<replay::Writer>(replay_file_, lab::sim::ReplayHeader(scenario_));
+  recorder_.OpenReplay(replay_file_);
 }
 
 // ---- Processes --------------------------------------------------------------
@@ -650,22 +641,13 @@ void DdsWorld::Record(int64_t round) {
     const auto [low, high] = std::minmax_element(read.activations.begin(), read.activations.end());
     skews_ns_.push_back(*high - *low);
   }
-  collector_.OnRoundPhases(read.phase_boundaries);
   BuildFrames(truth, round_time_ns);
-  collector_.OnRoundEnd(round, robot_rounds_);
-  if (!goal_monitor_.empty()) {
-    const std::vector<lab::goals::RobotPose> running = RunningPoses(truth);
-    const double time_s = static_cast<double>(round_time_ns) * 1e-9;
-    goal_monitor_.OnRound(time_s, running);
-    if (read.epoch_sample) goal_monitor_.OnEpoch(*read.epoch_sample, time_s, running);
-  }
   std::vector<replay::Event>& events = read.events;
-  if (truth != nullptr) {
-    events.insert(events.begin(), truth->events.begin(), truth->events.end());
-    truths_.erase(truth_it);
-  }
-  std::stable_sort(events.begin(), events.end(), [](const replay::Event& a, const replay::Event& b) { return a.time_ns < b.time_ns; });
-  if (replay_writer_ != nullptr) replay_writer_->WriteRound(static_cast<uint32_t>(round), round_time_ns, frames_, events, read.maps);
+  if (truth != nullptr) events.insert(events.begin(), truth->events.begin(), truth->events.end());
+  lab::sim::OrderByTime(events);
+  recorder_.RecordRound(lab::sim::RecordedRound{round, round_time_ns, robot_rounds_, read.phase_boundaries, frames_,
+                                                events, read.maps, [&] { return RunningPoses(truth); }});
+  if (truth != nullptr) truths_.erase(truth_it);
 }
 
 // Round r's reports, in robot order, into the collector, the robots' slots
@@ -688,18 +670,13 @@ void DdsWorld::ReadReport(int64_t round, const Received& r, RoundReports& read) 
   const uint8_t mode = slot.has_last ? slot.last.epoch_mode : 1;
   switch (r.body.kind) {
     case ReportKind::kEpochStart:
-      collector_.OnEpochStart(r.robot, round, r.time_ns, r.body.ldmap);
-      if (!any_epoch_ || sync::EpochDifference(r.body.ldmap.epoch, newest_epoch_) > 0) {
-        any_epoch_ = true;
-        newest_epoch_ = r.body.ldmap.epoch;
-        read.epoch_sample = newest_epoch_;
-      }
+      recorder_.OnEpochStart(r.robot, round, r.time_ns, r.body.ldmap);
       read.AddEvent(replay::EventKind::kEpochStart, r.time_ns, r.robot, r.body.ldmap.epoch,
                     static_cast<uint8_t>(r.body.ldmap.mode));
       read.maps.push_back(replay::RobotMap{r.robot, lab::sim::ToEpochMap(r.body.ldmap)});
       break;
     case ReportKind::kMembership:
-      collector_.OnMembership(r.robot, round, r.body.removed, r.body.joined);
+      recorder_.collector().OnMembership(r.robot, round, r.body.removed, r.body.joined);
       for (const uint16_t m : r.body.removed) read.AddEvent(replay::EventKind::kMemberRemoved, r.time_ns, r.robot, epoch, mode, m);
       for (const uint16_t m : r.body.joined) read.AddEvent(replay::EventKind::kMemberJoined, r.time_ns, r.robot, epoch, mode, m);
       break;
@@ -707,22 +684,22 @@ void DdsWorld::ReadReport(int64_t round, const Received& r, RoundReports& read) 
       read.AddEvent(replay::EventKind::kBecameJoiner, r.time_ns, r.robot, epoch, mode);
       break;
     case ReportKind::kAppFault:
-      collector_.OnAppFault(lab::metrics::AppFault{
+      recorder_.collector().OnAppFault(lab::metrics::AppFault{
           r.robot, app::ToString(static_cast<app::Callback>(r.body.callback)), r.body.epoch, r.time_ns,
           app::ToString(static_cast<app::Verdict>(r.body.verdict)), r.body.text});
       read.AddEvent(replay::EventKind::kAppFault, r.time_ns, r.robot, r.body.epoch, mode);
       player_.NoteAppFault(r.robot);
       break;
     case ReportKind::kInvalidCommand:
-      collector_.OnInvalidCommand(r.robot, r.body.epoch, r.body.text);
+      recorder_.collector().OnInvalidCommand(r.robot, r.body.epoch, r.body.text);
       break;
     case ReportKind::kPayloadRefused:
-      collector_.OnPayloadRefused(r.robot, r.body.epoch, std::to_string(r.body.length) + " bytes");
+      recorder_.collector().OnPayloadRefused(r.robot, r.body.epoch, std::to_string(r.body.length) + " bytes");
       break;
     case ReportKind::kSafety:
-      collector_.OnSafetyIntervention(r.body.time_ns - start_monotonic_ns_, r.robot,
-                                      r.body.other == motion::kWallObstacle ? std::nullopt
-                                                                            : std::optional<uint16_t>(r.body.other));
+      recorder_.collector().OnSafetyIntervention(
+          r.body.time_ns - start_monotonic_ns_, r.robot,
+          r.body.other == motion::kWallObstacle ? std::nullopt : std::optional<uint16_t>(r.body.other));
       read.AddEvent(replay::EventKind::kSafetyIntervention, r.body.time_ns - start_monotonic_ns_, r.robot, epoch, mode,
                     r.body.other == motion::kWallObstacle ? replay::kNoRobot : r.body.other);
       break;
@@ -812,7 +789,7 @@ void DdsWorld::DrainReports() {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   while (next_recorded_ <= last_round_) Record(next_recorded_++);
-  if (replay_writer_ != nullptr) replay_writer_->Finish();
+  recorder_.FinishReplay();
 }
 
 // Stop: Control_ says so, robots exit; SIGKILL whoever has not.
@@ -847,27 +824,14 @@ void DdsWorld::WriteMetrics() {
     result_.cpu_seconds.push_back(r.cpu_seconds);
     result_.robot_exits.push_back(r.exit);
   }
-  lab::metrics::Metrics metrics = collector_.Finish(Facts());
+  const lab::sim::RunEnd end{static_cast<double>(step_ns_) * 1e-9, wall_seconds_, last_round_};
+  lab::metrics::Metrics metrics = recorder_.Finish(recorder_.Facts(end, player_, world_));
   metrics.runtime = "dds";
   metrics.agreement = agreement_.Finish();
   metrics.dds = DdsFacts();
   result_.metrics_json = lab::metrics::ToJson(metrics);
   result_.metrics = std::move(metrics);
   std::ofstream(std::filesystem::path(options_.out_dir) / "metrics.json") << result_.metrics_json;
-}
-
-lab::metrics::RunFacts DdsWorld::Facts() {
-  lab::metrics::RunFacts facts = lab::sim::ScenarioFacts(scenario_, world_);
-  facts.sim_seconds = static_cast<double>(step_ns_) * 1e-9;
-  facts.wall_seconds = wall_seconds_;
-  facts.radio_rounds = last_round_;
-  // The built-in app's goal from the final true poses, as the lab does, or
-  // the scenario's declared checks (goal:), sampled on the recorded rounds.
-  facts.goal = lab::sim::BuiltinGoal(scenario_, player_.FinalPoses());
-  if (!scenario_.goal.empty()) {
-    facts.goal = lab::sim::DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(facts.sim_seconds, player_.RunningPoses()));
-  }
-  return facts;
 }
 
 lab::metrics::DdsMetrics DdsWorld::DdsFacts() const {

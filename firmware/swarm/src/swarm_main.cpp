@@ -95,9 +95,9 @@
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/reader.h"
-#include "syrof/lab/replay/writer.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sensors/sensor_bank.h"
+#include "syrof/lab/sim/round_recorder.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/world/channel.h"
 #include "syrof/lab/world/world.h"
@@ -622,7 +622,6 @@ class SwarmHost {
   void OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now);
   void RecordRound(int64_t now);
   metrics::RobotRound RecordRobot(uint16_t i, int64_t now, std::vector<int64_t>& boundaries);
-  void WriteReplayRound();
   bool ReapRobots();
   metrics::Metrics CollectMetrics(double wall_s);
   void ReadReplayBack(RunResult& result);
@@ -654,18 +653,15 @@ class SwarmHost {
   // The scenario's channel (its model, loss and partitions; --loss
   // overrides the loss), drawing from the same seed stream as the lab's.
   syrof::lab::world::Channel channel_;
-  metrics::Collector collector_;
+  // The metrics, the goal checks and the replay, as every runtime records them.
+  lab::sim::RoundRecorder recorder_;
   // The world, on the host's clock from all_started_ns_.
   lab::world::World world_;
   int64_t world_ns_ = 0;       // the world's time, stepped in kPhysicsNs
   double world_clock_ns_ = 0;  // where the world's time should be now
   int64_t last_loop_ns_ = 0;
   double host_per_world_ = 1;  // this pass's HostPerWorld
-  lab::goals::GoalMonitor goal_monitor_;
-  uint16_t newest_epoch_ = 0;
-  bool any_epoch_ = false;
   std::ofstream replay_file_;
-  std::optional<replay::Writer> replay_writer_;
   std::vector<replay::RobotMap> round_maps_;
   std::vector<replay::RobotFrame> frames_;
   // Every COOPERATIVE epoch start, to find the first epoch all robots started so.
@@ -700,13 +696,12 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
       fault_outcomes_(robots_),
       radio_faults_(scenario_),
       channel_(scenario_.channel, robots_, lab::sim::ChannelSeed(scenario_.seed)),
-      collector_(SwarmCollectorConfig(robots_, period_ns_)),
+      recorder_(scenario_, SwarmCollectorConfig(robots_, period_ns_)),
       world_(scenario_.arena, lab::sim::Bodies(scenario_)),
-      goal_monitor_(scenario_.goal),
       frames_(robots_),
       next_round_ns_(period_ns_),
       open_consoles_(robots_),
-      player_(scenario_, world_, collector_),
+      player_(scenario_, world_, recorder_.collector()),
       host_([this](const swarm::HostAction& action, int64_t at_ns) { return OnHostAction(action, at_ns); }),
       latency_ns_(static_cast<int64_t>(options.latency_ms * 1e6)) {}
 
@@ -801,7 +796,7 @@ void SwarmHost::KillAll() {
 
 void SwarmHost::StartWorld() {
   replay_file_.open(options_.out + "/replay", std::ios::binary);
-  replay_writer_.emplace(replay_file_, lab::sim::ReplayHeader(scenario_));
+  recorder_.OpenReplay(replay_file_);
   all_started_ns_ = HostNs();
   // With -icount a loaded host stretches the guests' time (1.3x for 4
   // robots on 2 busy cores, more for 8): three times the run, then give up.
@@ -1013,7 +1008,7 @@ void SwarmHost::OnConsoleLine(uint16_t i, const std::string& line, int64_t now) 
 }
 
 void SwarmHost::OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now) {
-  collector_.OnEpochStart(epoch_line.robot, round_, world_ns_, epoch_line.map);
+  recorder_.OnEpochStart(epoch_line.robot, round_, world_ns_, epoch_line.map);
   fault_outcomes_.OnEpochLine(epoch_line, world_ns_);
   player_.events().push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line.robot, replay::kNoRobot,
                                            epoch_line.map.epoch, static_cast<uint8_t>(epoch_line.map.mode),
@@ -1032,25 +1027,21 @@ void SwarmHost::OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now) {
 }
 
 // The round ending at next_round_ns_ on the world's time, from every
-// robot's latest report at host time `now`: metrics, the goal, the replay.
+// robot's latest report at host time `now`, to the recorder: metrics, the
+// goal, the replay (its events in time order, none after the round's end);
+// the events and maps start over.
 void SwarmHost::RecordRound(int64_t now) {
   std::vector<metrics::RobotRound> rounds(robots_);
   std::vector<int64_t> boundaries;
   for (uint16_t i = 0; i < robots_; ++i) rounds[i] = RecordRobot(i, now, boundaries);
-  collector_.OnRoundPhases(boundaries);
-  collector_.OnRoundEnd(round_, rounds);
-  const double time_s = static_cast<double>((round_ + 1) * period_ns_) * 1e-9;
-  if (!goal_monitor_.empty()) {
-    const std::vector<lab::goals::RobotPose> poses = player_.RunningPoses();
-    goal_monitor_.OnRound(time_s, poses);
-    for (const replay::Event& event : player_.events()) {
-      if (event.kind != replay::EventKind::kEpochStart || (any_epoch_ && event.epoch <= newest_epoch_)) continue;
-      any_epoch_ = true;
-      newest_epoch_ = event.epoch;
-      goal_monitor_.OnEpoch(event.epoch, time_s, poses);
-    }
-  }
-  WriteReplayRound();
+  const int64_t end_ns = (round_ + 1) * period_ns_;
+  std::vector<replay::Event>& events = player_.events();
+  lab::sim::OrderByTime(events);
+  for (replay::Event& event : events) event.time_ns = std::min(event.time_ns, end_ns);
+  recorder_.RecordRound(lab::sim::RecordedRound{round_, end_ns, rounds, boundaries, frames_, events, round_maps_,
+                                                [this] { return player_.RunningPoses(); }});
+  events.clear();
+  round_maps_.clear();
   ++round_;
   next_round_ns_ += period_ns_;
 }
@@ -1096,21 +1087,6 @@ metrics::RobotRound SwarmHost::RecordRobot(uint16_t i, int64_t now, std::vector<
   frame.est_heading_rad = frame.true_heading_rad;
   if (entry.member && robot.last_boundary_ns > 0) boundaries.push_back(robot.last_boundary_ns - all_started_ns_);
   return entry;
-}
-
-// The round's frames, its events in time order (none after the round's
-// end) and its epoch maps by robot; the events and maps start over.
-void SwarmHost::WriteReplayRound() {
-  std::vector<replay::Event>& round_events = player_.events();
-  std::stable_sort(round_events.begin(), round_events.end(),
-                   [](const replay::Event& a, const replay::Event& b) { return a.time_ns < b.time_ns; });
-  for (replay::Event& event : round_events) event.time_ns = std::min(event.time_ns, (round_ + 1) * period_ns_);
-  std::sort(round_maps_.begin(), round_maps_.end(),
-            [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
-  replay_writer_->WriteRound(static_cast<uint32_t>(round_), (round_ + 1) * period_ns_, frames_, round_events,
-                             round_maps_);
-  round_events.clear();
-  round_maps_.clear();
 }
 
 int SwarmHost::Finish() {
@@ -1169,17 +1145,11 @@ bool SwarmHost::ReapRobots() {
 
 metrics::Metrics SwarmHost::CollectMetrics(double wall_s) {
   // The image runs its compiled-in app (builtin:circle unless built with APP=).
-  metrics::RunFacts facts = lab::sim::ScenarioFacts(scenario_, world_);
-  facts.sim_seconds = static_cast<double>(round_) * static_cast<double>(period_ns_) * 1e-9;
-  facts.wall_seconds = wall_s;
-  facts.radio_rounds = round_;
-  // The goal over the robots running at the end, as in the lab (a crashed
-  // or never-started robot used to count, and kept the goal from being met).
-  facts.goal = lab::sim::BuiltinGoal(scenario_, player_.FinalPoses());
-  if (!scenario_.goal.empty()) {
-    facts.goal = lab::sim::DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(facts.sim_seconds, player_.RunningPoses()));
-  }
-  metrics::Metrics result = collector_.Finish(facts);
+  // The goal over the robots running at the end, as in every runtime (a
+  // crashed or never-started robot used to count, and kept the goal from
+  // being met).
+  const lab::sim::RunEnd end{static_cast<double>(round_) * static_cast<double>(period_ns_) * 1e-9, wall_s, round_};
+  metrics::Metrics result = recorder_.Finish(recorder_.Facts(end, player_, world_));
   // The robots' consoles do not carry the app's returns, so agreement stays
   // unset: metrics.json says null, not a measurement of nothing.
   result.runtime = "firmware";
@@ -1188,7 +1158,7 @@ metrics::Metrics SwarmHost::CollectMetrics(double wall_s) {
 
 // The replay, then read back as the viewer reads it.
 void SwarmHost::ReadReplayBack(RunResult& result) {
-  replay_writer_->Finish();
+  recorder_.FinishReplay();
   replay_file_.close();
   {
     std::ifstream in(options_.out + "/replay", std::ios::binary);

@@ -12,9 +12,7 @@
 #include "syrof/base/check.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/builtin_goals.h"
-#include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/agreement.h"
-#include "syrof/lab/replay/writer.h"
 #include "lab_robot.h"
 #include "worker_pool.h"
 #include "syrof/lab/sim/world_player.h"
@@ -22,6 +20,7 @@
 #include "syrof/lab/sim/radio_network.h"
 #include "syrof/lab/sim/recording_app.h"
 #include "syrof/lab/sim/robot_config.h"
+#include "syrof/lab/sim/round_recorder.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/os/sim_port.h"
@@ -152,11 +151,12 @@ class Simulation::Impl final : public runtime::RobotObserver,
   world::World world_;
   RadioNetwork radio_;
   std::vector<std::unique_ptr<LabRobot>> robots_;
-  metrics::Collector collector_;
-  // The robots' lifecycle, the faults, the join wait and the world's own
-  // events (world_player.h): the rules every runtime shares.
+  // The metrics, the goal checks and the replay, round by round
+  // (round_recorder.h), and the robots' lifecycle, the faults, the join
+  // wait and the world's own events (world_player.h): what every runtime
+  // shares.
+  RoundRecorder recorder_;
   WorldPlayer player_;
-  std::unique_ptr<replay::Writer> replay_;
 
   CallbackTask fault_task_;
   CallbackTask physics_task_;
@@ -167,12 +167,7 @@ class Simulation::Impl final : public runtime::RobotObserver,
   std::vector<replay::RobotMap> round_maps_;  // the maps robots started an epoch with this round
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
-  // The scenario's declared goal checks, and app-level agreement.
-  goals::GoalMonitor goal_monitor_;
-  metrics::AgreementTracker agreement_;
-  bool any_epoch_ = false;
-  uint16_t newest_epoch_ = 0;
-  std::optional<uint16_t> epoch_sample_;  // a newer epoch started this round: sample the poses
+  metrics::AgreementTracker agreement_;  // app-level agreement
 
   // --threads: the pool (destroyed before the robots), each robot's worker
   // by port (contiguous blocks of robots; kNoWorker for the world's port),
@@ -229,17 +224,14 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       world_port_(scheduler_, "world"),
       world_(scenario.arena, Bodies(scenario)),
       radio_(scenario.channel, static_cast<uint16_t>(scenario.robots.size()), ChannelSeed(scenario.seed)),
-      collector_(metrics::CollectorConfig{static_cast<uint16_t>(scenario.robots.size()),
-                                          Nanoseconds(scenario.timing.radio_round_s),
-                                          static_cast<uint16_t>(scenario.timing.silence_rounds)}),
-      player_(scenario_, world_, collector_),
+      recorder_(scenario_, CollectorConfigFor(scenario_)),
+      player_(scenario_, world_, recorder_.collector()),
       fault_task_([this](int64_t now_ns) { StepFaults(now_ns); }),
       physics_task_([this](int64_t now_ns) { StepPhysics(now_ns); }),
       hardware_task_([this](int64_t now_ns) { StepHardware(now_ns); }),
       radio_task_([this](int64_t now_ns) { StepRadio(now_ns); }),
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
-      partition_active_(scenario.channel.partitions.size(), 0),
-      goal_monitor_(scenario.goal) {
+      partition_active_(scenario.channel.partitions.size(), 0) {
   for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
   radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
@@ -304,9 +296,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
     robot->Attach();
   }
 
-  if (options_.replay != nullptr) {
-    replay_ = std::make_unique<replay::Writer>(*options_.replay, ReplayHeader(scenario_));
-  }
+  if (options_.replay != nullptr) recorder_.OpenReplay(*options_.replay);
   frames_.resize(robots_.size());
   robot_rounds_.resize(robots_.size());
 
@@ -506,21 +496,8 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
     }
     phase_boundaries_.push_back(lab_robot->port().TrueFromLocal(robot.last_round_ns()));
   }
-  collector_.OnRoundPhases(phase_boundaries_);
-  collector_.OnRoundEnd(round, robot_rounds_);
-  if (!goal_monitor_.empty()) {
-    const std::vector<goals::RobotPose> running = player_.RunningPoses();
-    goal_monitor_.OnRound(now, running);
-    if (epoch_sample_) goal_monitor_.OnEpoch(*epoch_sample_, now, running);
-  }
-  epoch_sample_.reset();
-  if (replay_ != nullptr) {
-    // Round tasks run in robot id order, so the maps arrive sorted; a
-    // stable sort keeps that a fact rather than an assumption.
-    std::stable_sort(round_maps_.begin(), round_maps_.end(),
-                     [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
-    replay_->WriteRound(static_cast<uint32_t>(round), now_ns, frames_, player_.events(), round_maps_);
-  }
+  recorder_.RecordRound(RecordedRound{round, now_ns, robot_rounds_, phase_boundaries_, frames_, player_.events(),
+                                      round_maps_, [this] { return player_.RunningPoses(); }});
   player_.events().clear();
   round_maps_.clear();
   if (options_.progress && options_.progress_period_s > 0) {
@@ -552,7 +529,7 @@ void Simulation::Impl::Report(const ObserverCall& call) {
 void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t /*local_ns*/, const sync::LDMap& ldmap) {
   ObserverCall call = CallOf(ObserverCall::Kind::kEpochStart, robot);
   call.ldmap = &ldmap;
-  if (replay_ != nullptr) call.map = ReplayMapOf(robot, ldmap);
+  if (recorder_.replaying()) call.map = ReplayMapOf(robot, ldmap);
   Report(call);
 }
 
@@ -630,18 +607,13 @@ void Simulation::Impl::Handle(const ObserverCall& call) {
   switch (call.kind) {
     case ObserverCall::Kind::kEpochStart: {
       const sync::LDMap& ldmap = *call.ldmap;
-      collector_.OnEpochStart(robot, RoundOf(now_ns), now_ns, ldmap);
-      if (!any_epoch_ || sync::EpochDifference(ldmap.epoch, newest_epoch_) > 0) {
-        any_epoch_ = true;
-        newest_epoch_ = ldmap.epoch;
-        epoch_sample_ = ldmap.epoch;
-      }
+      recorder_.OnEpochStart(robot, RoundOf(now_ns), now_ns, ldmap);
       AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
       if (call.map != nullptr) round_maps_.push_back(replay::RobotMap{robot, call.map});
       break;
     }
     case ObserverCall::Kind::kMembership:
-      collector_.OnMembership(robot, RoundOf(now_ns), *call.removed, *call.joined);
+      recorder_.collector().OnMembership(robot, RoundOf(now_ns), *call.removed, *call.joined);
       for (const uint16_t member : *call.removed) {
         AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member, call.epoch, call.mode);
       }
@@ -659,21 +631,22 @@ void Simulation::Impl::Handle(const ObserverCall& call) {
       break;
     }
     case ObserverCall::Kind::kAppFault:
-      collector_.OnAppFault(metrics::AppFault{robot, app::ToString(call.callback), call.call_epoch, now_ns,
+      recorder_.collector().OnAppFault(metrics::AppFault{robot, app::ToString(call.callback), call.call_epoch, now_ns,
                                               app::ToString(call.status.verdict()), call.status.detail()});
       AddEvent(replay::EventKind::kAppFault, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
       player_.AppFaulted(robot, now_ns, *this);
       break;
     case ObserverCall::Kind::kInvalidCommand: {
       std::array<char, 64> what{};
-      collector_.OnInvalidCommand(robot, call.call_epoch, app::Describe(call.check, what.data(), what.size()));
+      recorder_.collector().OnInvalidCommand(robot, call.call_epoch,
+                                             app::Describe(call.check, what.data(), what.size()));
       if (lab_robot.invalid_command_recorded) break;
       lab_robot.invalid_command_recorded = true;
       AddEvent(replay::EventKind::kInvalidCommand, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
       break;
     }
     case ObserverCall::Kind::kPayloadRefused:
-      collector_.OnPayloadRefused(robot, call.call_epoch, std::to_string(call.length) + " bytes");
+      recorder_.collector().OnPayloadRefused(robot, call.call_epoch, std::to_string(call.length) + " bytes");
       if (lab_robot.payload_refusal_recorded) break;
       lab_robot.payload_refusal_recorded = true;
       AddEvent(replay::EventKind::kPayloadRefused, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
@@ -681,7 +654,8 @@ void Simulation::Impl::Handle(const ObserverCall& call) {
     case ObserverCall::Kind::kSafetyIntervention: {
       const int64_t time_ns = lab_robot.port().TrueFromLocal(call.local_ns);
       const bool wall = call.other == motion::kWallObstacle;
-      collector_.OnSafetyIntervention(time_ns, robot, wall ? std::nullopt : std::optional<uint16_t>(call.other));
+      recorder_.collector().OnSafetyIntervention(time_ns, robot,
+                                                 wall ? std::nullopt : std::optional<uint16_t>(call.other));
       AddEvent(replay::EventKind::kSafetyIntervention, time_ns, robot, wall ? replay::kNoRobot : call.other,
                call.epoch, call.mode);
       break;
@@ -696,25 +670,18 @@ void Simulation::Impl::RunUntil(double end_s) {
 
 RunReport Simulation::Impl::Finish(double wall_seconds) {
   RunUntil(scenario_.timing.duration_s);
-  if (replay_ != nullptr) replay_->Finish();
+  recorder_.FinishReplay();
 
-  const std::vector<apps::GoalPose> poses = player_.FinalPoses();
-
-  metrics::RunFacts facts = ScenarioFacts(scenario_, world_);
-  facts.robots = static_cast<uint16_t>(robots_.size());
-  facts.sim_seconds = static_cast<double>(scheduler_.now_ns()) * 1e-9;
-  facts.wall_seconds = wall_seconds;
-  facts.radio_rounds = static_cast<int64_t>(scheduler_.now_ns() / radio_round_ns_);
+  const RunEnd end{now_s(), wall_seconds, scheduler_.now_ns() / radio_round_ns_};
+  metrics::RunFacts facts = recorder_.Facts(end, player_, world_);
   facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
   facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
   facts.app_sandbox = options_.app_sandbox;
-  facts.goal = BuiltinGoal(scenario_, poses);
-  if (!scenario_.goal.empty()) facts.goal = DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(now_s(), player_.RunningPoses()));
   RunReport report;
-  report.metrics = collector_.Finish(facts);
+  report.metrics = recorder_.Finish(facts);
   report.metrics.agreement = agreement_.Finish();
   report.metrics_json = metrics::ToJson(report.metrics);
-  if (replay_ != nullptr && !replay_->ok()) report.replay_error = replay_->error();
+  report.replay_error = recorder_.replay_error();
   return report;
 }
 

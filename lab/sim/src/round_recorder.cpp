@@ -1,0 +1,78 @@
+#include "syrof/lab/sim/round_recorder.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "syrof/base/check.h"
+#include "syrof/lab/sim/run_parts.h"
+#include "syrof/sync/synchronizer.h"
+
+namespace syrof::lab::sim {
+
+metrics::CollectorConfig CollectorConfigFor(const scenario::Scenario& scenario) {
+  return metrics::CollectorConfig{static_cast<uint16_t>(scenario.robots.size()),
+                                  std::llround(scenario.timing.radio_round_s * 1e9),
+                                  static_cast<uint16_t>(scenario.timing.silence_rounds)};
+}
+
+void OrderByTime(std::span<replay::Event> events) {
+  std::stable_sort(events.begin(), events.end(),
+                   [](const replay::Event& a, const replay::Event& b) { return a.time_ns < b.time_ns; });
+}
+
+RoundRecorder::RoundRecorder(const scenario::Scenario& scenario, const metrics::CollectorConfig& config)
+    : scenario_(scenario), collector_(config), goal_monitor_(scenario.goal) {}
+
+void RoundRecorder::OpenReplay(std::ostream& out) {
+  SYROF_CHECK(!replay_.has_value());
+  replay_.emplace(out, ReplayHeader(scenario_));
+}
+
+void RoundRecorder::OnEpochStart(uint16_t robot, int64_t round, int64_t time_ns, const sync::LDMap& ldmap) {
+  collector_.OnEpochStart(robot, round, time_ns, ldmap);
+  if (!any_epoch_ || sync::EpochDifference(ldmap.epoch, newest_epoch_) > 0) {
+    any_epoch_ = true;
+    newest_epoch_ = ldmap.epoch;
+    epoch_sample_ = ldmap.epoch;
+  }
+}
+
+void RoundRecorder::RecordRound(const RecordedRound& round) {
+  collector_.OnRoundPhases(round.phase_boundaries_ns);
+  collector_.OnRoundEnd(round.round, round.robots);
+  if (!goal_monitor_.empty()) {
+    const std::vector<goals::RobotPose> running = round.running_poses();
+    const double time_s = static_cast<double>(round.time_ns) * 1e-9;
+    goal_monitor_.OnRound(time_s, running);
+    if (epoch_sample_) goal_monitor_.OnEpoch(*epoch_sample_, time_s, running);
+  }
+  epoch_sample_.reset();
+  if (!replay_) return;
+  std::stable_sort(round.maps.begin(), round.maps.end(),
+                   [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
+  replay_->WriteRound(static_cast<uint32_t>(round.round), round.time_ns, round.frames, round.events, round.maps);
+}
+
+void RoundRecorder::FinishReplay() {
+  if (replay_) replay_->Finish();
+}
+
+std::optional<Error> RoundRecorder::replay_error() const {
+  if (!replay_ || replay_->ok()) return std::nullopt;
+  return replay_->error();
+}
+
+metrics::RunFacts RoundRecorder::Facts(const RunEnd& end, const WorldPlayer& player, const world::World& world) {
+  metrics::RunFacts facts = ScenarioFacts(scenario_, world);
+  facts.sim_seconds = end.sim_seconds;
+  facts.wall_seconds = end.wall_seconds;
+  facts.radio_rounds = end.radio_rounds;
+  if (goal_monitor_.empty()) {
+    facts.goal = BuiltinGoal(scenario_, player.FinalPoses());
+  } else {
+    facts.goal = DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(end.sim_seconds, player.RunningPoses()));
+  }
+  return facts;
+}
+
+}  // namespace syrof::lab::sim
