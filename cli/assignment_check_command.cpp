@@ -97,8 +97,9 @@ int RunAssignmentCheck(const AssignmentCheckOptions& options, std::ostream& out,
       options.broken_variant_script.empty() ? SYROF_BROKEN_VARIANT_SCRIPT : options.broken_variant_script;
   const size_t runs = grader::PlanTests(checked, false).size();
   if (!options.quiet) {
-    fmt::print(out, "syrof assignment check: {} ({}), {} subjects x {} runs, {} jobs, into {}\n", checked.name,
-               checked.title, subjects.size(), runs, options.jobs, out_dir);
+    fmt::print(out, "syrof assignment check: {} ({}), {} subject{} x {} runs, {} job{}, into {}\n", checked.name,
+               checked.title, subjects.size(), subjects.size() == 1 ? "" : "s", runs, options.jobs,
+               options.jobs == 1 ? "" : "s", out_dir);
     check.on_subject = [&out](const grader::SubjectOutcome& outcome) {
       fmt::print(out, "  {:<32} {}  {:.1f} s\n", outcome.subject.name, outcome.ok() ? "PASS" : "FAIL",
                  outcome.wall_seconds);
