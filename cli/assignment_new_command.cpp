@@ -96,7 +96,7 @@ int RunAssignmentNew(const AssignmentNewOptions& options, std::ostream& out, std
     fmt::print(err, "syrof assignment new: bad assignment name: {}\n", problem);
     return kBadInput;
   }
-  const fs::path dir = fs::path(options.parent) / name;
+  const fs::path dir = options.parent == "." ? fs::path(name) : fs::path(options.parent) / name;
   std::error_code error;
   if (fs::exists(fs::symlink_status(dir, error))) {
     fmt::print(err, "syrof assignment new: {} exists; nothing was written (choose another name or --dir)\n",
