@@ -24,7 +24,8 @@ CLI::App* SetupAssignmentCommand(CLI::App& app, AssignmentOptions& options) {
   check->add_option("--jobs", c.jobs, "Threads: subjects graded side by side (default 1)")->check(CLI::Range(1, 256));
   check->add_option("--only", c.only,
                     "Check only this subject: reference, starter or a broken variant (VARIANT or broken/VARIANT); "
-                    "repeat for more");
+                    "repeat for more")
+      ->allow_extra_args(false);  // one value each time: `--only starter DIR` leaves DIR the assignment
   check->add_option("--out", c.out_dir, "Where each subject's reports go (default check-out/<assignment>)");
   check->add_option("--build-timeout-s", c.build_timeout_s, "Wall time for a build, seconds (default 120)")
       ->check(CLI::Range(1.0, 3600.0));

@@ -214,7 +214,8 @@ TEST_F(SkeletonTest, CheckRefusesAMissingReferenceOrVariantFile) {
 }
 
 TEST_F(SkeletonTest, CheckOnlyNamesTheSubjectsWhenItNamesNone) {
-  const Outcome outcome = Assignment({"check", dir_.string(), "--only", "off_by_two"});
+  // Before the folder too: --only takes one word each time.
+  const Outcome outcome = Assignment({"check", "--only", "starter", "--only", "off_by_two", dir_.string()});
   EXPECT_EQ(outcome.status, 2);
   EXPECT_EQ(outcome.err,
             "syrof assignment check: --only 'off_by_two' names no subject of this assignment; its subjects are: "
