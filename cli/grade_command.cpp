@@ -252,6 +252,25 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
   return grade;
 }
 
+bool MayGradeHere(const std::string& command, bool unsafe_no_file_isolation, std::ostream& out, std::ostream& err) {
+  // Graded code is hostile until proven otherwise: without Landlock its
+  // build could read the hidden tests (docs/grading.md, "Threat model").
+  if (app_host::LandlockAbi() != 0) return true;
+  if (!unsafe_no_file_isolation) {
+    fmt::print(err,
+               "{}: this kernel has no Landlock (Linux 5.13 or later, with landlock among its LSMs), so "
+               "a submission's build and library could read and write files outside their folders (the hidden "
+               "tests, other students' work, the results); refusing to grade.\n"
+               "Grade on a newer kernel, or give --unsafe-no-file-isolation for code you trust.\n",
+               command);
+    return false;
+  }
+  fmt::print(out, "{}: WARNING: no Landlock on this kernel; grading without file isolation "
+                  "(--unsafe-no-file-isolation)\n",
+             command);
+  return true;
+}
+
 int RunGradeCommand(const GradeOptions& options, std::ostream& out, std::ostream& err) {
   if (options.merge) return Merge(options, out, err);
   const int modes = (options.submission.empty() ? 0 : 1) + (options.class_dir.empty() ? 0 : 1) +
@@ -266,20 +285,7 @@ int RunGradeCommand(const GradeOptions& options, std::ostream& out, std::ostream
     fmt::print(err, "syrof grade: --assignment NAME|PATH is required\nRun with --help for more information.\n");
     return kBadInput;
   }
-  // Graded code is hostile until proven otherwise: without Landlock its
-  // build could read the hidden tests (docs/grading.md, "Threat model").
-  if (app_host::LandlockAbi() == 0) {
-    if (!options.unsafe_no_file_isolation) {
-      fmt::print(err,
-                 "syrof grade: this kernel has no Landlock (Linux 5.13 or later, with landlock among its LSMs), so "
-                 "a submission's build and library could read and write files outside their folders (the hidden "
-                 "tests, other students' work, the results); refusing to grade.\n"
-                 "Grade on a newer kernel, or give --unsafe-no-file-isolation for code you trust.\n");
-      return kBadInput;
-    }
-    fmt::print(out, "syrof grade: WARNING: no Landlock on this kernel; grading without file isolation "
-                    "(--unsafe-no-file-isolation)\n");
-  }
+  if (!MayGradeHere("syrof grade", options.unsafe_no_file_isolation, out, err)) return kBadInput;
   if (!options.class_dir.empty()) return GradeClass(options, out, err);
   if (!options.mix.empty()) return GradeMix(options, out, err);
   return GradeOne(options, out, err);

@@ -37,6 +37,12 @@ struct GradeOptions {
 /// Declares `grade` (and its `merge` subcommand) on `app`.
 CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options);
 
+/// Whether this machine may grade: true on a kernel with Landlock; without
+/// it, false with the reason on `err` unless `unsafe_no_file_isolation`, which
+/// prints a warning on `out` instead (docs/grading.md, "Threat model").
+/// `command` names the command in messages ("syrof grade").
+bool MayGradeHere(const std::string& command, bool unsafe_no_file_isolation, std::ostream& out, std::ostream& err);
+
 /// Runs it. 0 when graded (whatever the score), 2 for a usage error (the
 /// message on `err`), 1 when grading itself failed (outputs not written).
 int RunGradeCommand(const GradeOptions& options, std::ostream& out, std::ostream& err);

@@ -1,5 +1,6 @@
 // The `syrof` command: one file per subcommand (run, validate, apps,
-// replay, view, compare, new, grade, gradescope, swarm); main only wires them.
+// replay, view, compare, new, grade, gradescope, swarm, assignment); main only
+// wires them.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -7,6 +8,7 @@
 #include <iostream>
 
 #include "apps_command.h"
+#include "assignment_command.h"
 #include "compare_command.h"
 #include "grade_command.h"
 #include "gradescope_command.h"
@@ -42,6 +44,8 @@ int main(int argc, char** argv) {
   CLI::App* gradescope = SetupGradescopeCommand(app, gradescope_options);
   SwarmOptions swarm_options;
   CLI::App* swarm = SetupSwarmCommand(app, swarm_options);
+  AssignmentOptions assignment_options;
+  CLI::App* assignment = SetupAssignmentCommand(app, assignment_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -58,6 +62,7 @@ int main(int argc, char** argv) {
     if (grade->parsed()) return RunGradeCommand(grade_options, std::cout, std::cerr);
     if (gradescope->parsed()) return RunGradescopeCommand(gradescope_options, std::cout, std::cerr);
     if (swarm->parsed()) return RunSwarmCommand(swarm_options, std::cout, std::cerr);
+    if (assignment->parsed()) return RunAssignmentCommand(assignment_options, std::cout, std::cerr);
     return 1;
   } catch (const std::exception& error) {
     std::cerr << "syrof: internal error: " << error.what() << "\n";

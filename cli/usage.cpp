@@ -101,6 +101,26 @@ int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ost
     fmt::print(err, "Run with --help for more information.\n");
     return kUsageError;
   }
+  // A subcommand that requires its own (`syrof assignment chek`): name the
+  // word it did not know, or the choices.
+  const CLI::App* given = &app;
+  std::string command = "syrof";
+  while (!given->get_subcommands().empty()) {
+    given = given->get_subcommands().front();
+    command += " " + given->get_name();
+  }
+  if (given != &app && given->get_require_subcommand_min() > 0 &&
+      dynamic_cast<const CLI::RequiredError*>(&error) != nullptr) {
+    const std::vector<std::string> words = given->remaining();
+    if (!words.empty() && !words.front().starts_with("-")) {
+      fmt::print(err, "{}: '{}' is not a subcommand of {}; its subcommands are: {}\n", command, words.front(),
+                 command, SubcommandList(*given));
+    } else {
+      fmt::print(err, "{}: a subcommand is required: {}\n", command, SubcommandList(*given));
+    }
+    fmt::print(err, "Run with --help for more information.\n");
+    return kUsageError;
+  }
   app.exit(error, out, err);
   return kUsageError;
 }

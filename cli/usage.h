@@ -24,7 +24,8 @@ CLI::Validator ThreadsValidator();
 /// set up) and returns the exit status: 0 for --help, 2 for a usage error.
 /// A word where a subcommand belongs that is not one gets "'grade' is not a
 /// syrof subcommand" and the list of subcommands; a missing subcommand the
-/// list too; anything else CLI11's own message.
+/// list too; the same for a subcommand that requires its own ("'chek' is
+/// not a subcommand of syrof assignment"); anything else CLI11's own message.
 int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ostream& out, std::ostream& err);
 
 }  // namespace syrof::cli

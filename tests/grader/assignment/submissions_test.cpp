@@ -5,16 +5,15 @@
 // loses points only in the criteria it names. The reference's file says
 // full marks, so "the reference scores 100% on every seed" is one of these.
 //
-// expected.yaml (one per submission folder):
+// expected.yaml (one per submission folder; syrof/assignment/expected.h):
 //   points: 62.5          # the submission's total, to the hundredth
-//   loses: [agreement]    # criteria below full marks on some run, in the rubric's order ([] for none)
+//   loses: [agreement]    # criteria below full marks on some run ([] for none)
+// compared with CompareWithExpected, as `syrof assignment check` compares.
 //
 // One test per folder, found by scanning SYROF_ASSIGNMENTS_DIR; the
 // libraries come from tests/grader/assignment/CMakeLists.txt under
 // SYROF_SUBMISSION_LIBRARIES/<assignment>/<folder>/lib<assignment>.so.
 #include <unistd.h>
-#include <yaml-cpp/yaml.h>
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,6 +23,7 @@
 #include <vector>
 
 #include "grade_support.h"
+#include "syrof/assignment/expected.h"
 
 namespace syrof::grader::assignment {
 namespace {
@@ -73,33 +73,18 @@ class SubmissionTest : public ::testing::TestWithParam<Submission> {};
 TEST_P(SubmissionTest, GetsThePointsItsExpectedFileSays) {
   const Submission& submission = GetParam();
   const fs::path folder = fs::path(SYROF_ASSIGNMENTS_DIR) / submission.assignment / submission.folder;
-  const YAML::Node expected = YAML::LoadFile((folder / "expected.yaml").string());
-  ASSERT_TRUE(expected["points"]) << folder << "/expected.yaml: no points";
-  const double expected_points = expected["points"].as<double>();
-  std::vector<std::string> expected_loses;
-  for (const YAML::Node& criterion : expected["loses"]) expected_loses.push_back(criterion.as<std::string>());
+  const Assignment assignment = testing::LoadNamedAssignment(SYROF_ASSIGNMENTS_DIR, submission.assignment);
+  const ExpectedLoad expected = LoadExpectedFile((folder / "expected.yaml").string(), assignment);
+  ASSERT_TRUE(expected.ok()) << expected.error->ToString();
 
   const std::string library = std::string(SYROF_SUBMISSION_LIBRARIES) + "/" + submission.assignment + "/" +
                               submission.folder + "/lib" + submission.assignment + ".so";
   ASSERT_TRUE(fs::exists(library)) << library << " was not built";
-  const Assignment assignment = testing::LoadNamedAssignment(SYROF_ASSIGNMENTS_DIR, submission.assignment);
   const SubmissionResult result = testing::GradeLibrary(
       assignment, library, ::testing::TempDir() + "submission_" + TestName({GetParam(), 0}) + "_" + std::to_string(getpid()));
 
-  std::vector<std::string> loses;
-  for (const char* criterion : {"goal", "collisions", "safety", "synchrony", "common_knowledge", "agreement", "faults"}) {
-    for (const TestResult& test : result.tests) {
-      const auto lost = std::find_if(test.score.criteria.begin(), test.score.criteria.end(), [&](const CriterionScore& c) {
-        return c.criterion == criterion && c.points < c.max_points;
-      });
-      if (lost != test.score.criteria.end()) {
-        loses.push_back(criterion);
-        break;
-      }
-    }
-  }
-  EXPECT_EQ(result.points, expected_points) << testing::Describe(result);
-  EXPECT_EQ(loses, expected_loses) << testing::Describe(result);
+  // `syrof assignment check`'s comparison (syrof/assignment/expected.h).
+  EXPECT_EQ(CompareWithExpected(result, *expected.expected), std::vector<std::string>{}) << testing::Describe(result);
   if (submission.folder == "reference") {
     EXPECT_EQ(result.points, assignment.points) << "a reference scores full marks";
     EXPECT_EQ(result.tests_passed, static_cast<int>(result.tests.size())) << testing::Describe(result);

@@ -1,0 +1,130 @@
+// `syrof assignment check DIR`: the assignment loaded, its subjects found,
+// each graded by the grader's own runner (grader::CheckAssignment, which
+// grades as `syrof grade` does), and the table.
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+
+#include "assignment_command.h"
+#include "exit_status.h"
+#include "grade_command.h"
+#include "syrof/assignment/assignment.h"
+#include "syrof/grader/assignment_check.h"
+#include "syrof/grader/grade.h"
+
+#ifndef SYROF_SOURCE_ASSIGNMENTS_DIR
+#define SYROF_SOURCE_ASSIGNMENTS_DIR ""
+#endif
+#ifndef SYROF_BROKEN_VARIANT_SCRIPT
+#define SYROF_BROKEN_VARIANT_SCRIPT ""
+#endif
+
+namespace syrof::cli {
+// A named namespace: the subcommands compile as one unity translation unit.
+namespace assignment_check {
+
+namespace fs = std::filesystem;
+
+// The subjects `only` names, in the check's order; empty with `problem` set
+// when one of them names none.
+std::vector<grader::CheckSubject> Choose(const std::vector<grader::CheckSubject>& subjects,
+                                         const std::vector<std::string>& only, std::string& problem) {
+  if (only.empty()) return subjects;
+  std::vector<bool> chosen(subjects.size(), false);
+  for (const std::string& name : only) {
+    bool found = false;
+    for (size_t i = 0; i < subjects.size(); ++i) {
+      if (subjects[i].name == name || (!subjects[i].variant.empty() && subjects[i].variant == name)) {
+        chosen[i] = true;
+        found = true;
+      }
+    }
+    if (!found) {
+      std::string names;
+      for (const grader::CheckSubject& subject : subjects) names += (names.empty() ? "" : ", ") + subject.name;
+      problem = fmt::format("--only '{}' names no subject of this assignment; its subjects are: {}", name, names);
+      return {};
+    }
+  }
+  std::vector<grader::CheckSubject> result;
+  for (size_t i = 0; i < subjects.size(); ++i) {
+    if (chosen[i]) result.push_back(subjects[i]);
+  }
+  return result;
+}
+
+}  // namespace assignment_check
+
+int RunAssignmentCheck(const AssignmentCheckOptions& options, std::ostream& out, std::ostream& err) {
+  namespace fs = std::filesystem;
+  namespace assignment = grader::assignment;
+  std::vector<std::string> looked;
+  const std::string found = grader::FindAssignment(options.assignment, SYROF_SOURCE_ASSIGNMENTS_DIR, looked);
+  if (found.empty()) {
+    fmt::print(err, "syrof assignment check: no assignment.yaml in '{}'; looked in:\n", options.assignment);
+    for (const std::string& place : looked) fmt::print(err, "  {}\n", place);
+    fmt::print(err, "Give an assignment's folder (syrof assignment new NAME writes one).\n");
+    return kBadInput;
+  }
+  const assignment::LoadResult loaded = assignment::LoadAssignmentFile(found);
+  if (!loaded.ok()) {
+    fmt::print(err, "syrof assignment check: {}\n", loaded.error->ToString());
+    return kBadInput;
+  }
+  std::vector<grader::CheckSubject> subjects;
+  if (const std::optional<lab::Error> problem = grader::FindCheckSubjects(*loaded.assignment, subjects)) {
+    fmt::print(err, "syrof assignment check: {}\n", problem->ToString());
+    return kBadInput;
+  }
+  std::string problem;
+  subjects = assignment_check::Choose(subjects, options.only, problem);
+  if (!problem.empty()) {
+    fmt::print(err, "syrof assignment check: {}\n", problem);
+    return kBadInput;
+  }
+  if (!MayGradeHere("syrof assignment check", options.unsafe_no_file_isolation, out, err)) return kBadInput;
+
+  const assignment::Assignment& checked = *loaded.assignment;
+  const std::string out_dir = options.out_dir.empty() ? "check-out/" + checked.name : options.out_dir;
+  grader::CheckOptions check;
+  check.jobs = options.jobs;
+  check.grade.build.timeout_s = options.build_timeout_s;
+  check.grade.build.allow_unconfined = options.unsafe_no_file_isolation;
+  check.broken_variant_script =
+      options.broken_variant_script.empty() ? SYROF_BROKEN_VARIANT_SCRIPT : options.broken_variant_script;
+  const size_t runs = grader::PlanTests(checked, false).size();
+  if (!options.quiet) {
+    fmt::print(out, "syrof assignment check: {} ({}), {} subject{} x {} runs, {} job{}, into {}\n", checked.name,
+               checked.title, subjects.size(), subjects.size() == 1 ? "" : "s", runs, options.jobs,
+               options.jobs == 1 ? "" : "s", out_dir);
+    check.on_subject = [&out](const grader::SubjectOutcome& outcome) {
+      fmt::print(out, "  {:<32} {}  {:.1f} s\n", outcome.subject.name, outcome.ok() ? "PASS" : "FAIL",
+                 outcome.wall_seconds);
+    };
+  }
+  const auto started = std::chrono::steady_clock::now();
+  const std::vector<grader::SubjectOutcome> outcomes = grader::CheckAssignment(checked, subjects, out_dir, check);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  out << "\n" << checked.title << " (" << checked.name << "): " << runs << " runs per subject, public and hidden\n";
+  grader::PrintCheckTable(outcomes, checked.points, out);
+  std::string failed;
+  for (const grader::SubjectOutcome& outcome : outcomes) {
+    if (!outcome.ok()) failed += (failed.empty() ? "" : ", ") + outcome.subject.name;
+  }
+  const size_t passed = static_cast<size_t>(
+      std::count_if(outcomes.begin(), outcomes.end(), [](const grader::SubjectOutcome& o) { return o.ok(); }));
+  if (failed.empty()) {
+    fmt::print(out, "\nAll {} as expected, in {:.1f} s; reports in {}/<subject>/\n", outcomes.size(), seconds,
+               out_dir);
+    return kOk;
+  }
+  fmt::print(out, "\n{} of {} as expected; not as expected: {}. In {:.1f} s; reports in {}/<subject>/\n", passed,
+             outcomes.size(), failed, seconds, out_dir);
+  return kNotAsExpected;
+}
+
+}  // namespace syrof::cli

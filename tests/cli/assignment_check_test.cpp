@@ -1,0 +1,94 @@
+// `syrof assignment check` grading for real, through the built `syrof`
+// (which finds the app host and SyROF's package beside it): a real
+// assignment's reference passes; a variant whose expected.yaml is wrong
+// fails the check with exit 1, named in the table with what differs; and
+// the skeleton `syrof assignment new` writes checks clean as written.
+// coverage is the quickest assignment to check (docs/grading.md, "Writing an
+// assignment"); --only keeps each test to one or two subjects.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int status;
+  std::string output;
+};
+
+// `syrof ARGUMENTS` (already quoted for the shell), its output and errors together.
+Outcome Syrof(const std::string& arguments) {
+  FILE* pipe = popen((std::string(SYROF_EXECUTABLE) + " " + arguments + " 2>&1").c_str(), "r");
+  Outcome run{-1, ""};
+  char buffer[4096];
+  size_t got = 0;
+  while (pipe != nullptr && (got = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, got);
+  const int status = pipe == nullptr ? -1 : pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+class AssignmentCheckTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("syrof_assignment_check_" + std::to_string(getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(AssignmentCheckTest, ARealAssignmentsReferenceGetsFullMarks) {
+  const Outcome run = Syrof("assignment check " SYROF_ASSIGNMENTS_DIR "/coverage --only reference --jobs 2 --out " +
+                        (dir_ / "out").string());
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("  reference  100.00, loses none  100.00, loses none  PASS"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("All 1 as expected"), std::string::npos) << run.output;
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "out" / "reference" / "grade.json")) << "the reports, as syrof grade's";
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "out" / "reference" / "report.html"));
+}
+
+TEST_F(AssignmentCheckTest, AVariantThatDoesNotGetItsExpectedPointsFailsTheCheckByName) {
+  fs::copy(SYROF_ASSIGNMENTS_DIR "/coverage", dir_ / "coverage", fs::copy_options::recursive);
+  // own_id gets 87.50 losing goal; say it must lose more.
+  std::ofstream(dir_ / "coverage" / "broken" / "own_id" / "expected.yaml") << "points: 80\nloses: [goal, collisions]\n";
+
+  const Outcome run = Syrof("assignment check " + (dir_ / "coverage").string() + " --only reference --only own_id --jobs 2 --out " +
+                        (dir_ / "out").string());
+
+  EXPECT_EQ(run.status, 1) << run.output;
+  EXPECT_NE(run.output.find("  broken/own_id  80.00, loses goal, collisions  87.50, loses goal"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("FAIL"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("points 87.50, expected 80.00"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("loses goal, expected goal, collisions"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("1 of 2 as expected; not as expected: broken/own_id."), std::string::npos) << run.output;
+}
+
+TEST_F(AssignmentCheckTest, TheSkeletonOfAssignmentNewChecksCleanAsWritten) {
+  const Outcome made = Syrof("assignment new spread --dir " + dir_.string());
+  ASSERT_EQ(made.status, 0) << made.output;
+
+  const Outcome run = Syrof("assignment check " + (dir_ / "spread").string() + " --jobs 2 --out " + (dir_ / "out").string());
+
+  EXPECT_EQ(run.status, 0) << run.output;
+  for (const char* row : {"  reference          100.00, loses none  100.00, loses none  PASS",
+                          "  starter            50.00, loses goal   50.00, loses goal   PASS",
+                          "  broken/off_by_one  50.00, loses goal   50.00, loses goal   PASS"}) {
+    EXPECT_NE(run.output.find(row), std::string::npos) << row << " missing from\n" << run.output;
+  }
+  EXPECT_NE(run.output.find("All 3 as expected"), std::string::npos) << run.output;
+}
+
+}  // namespace
