@@ -15,7 +15,7 @@
 #include "usage.h"
 #include "run_summary.h"
 #include "syrof/lab/scenario/scenario.h"
-#include "syrof/sim_dds/swarm.h"
+#include "syrof/sim_dds/dds_world.h"
 
 namespace syrof::cli {
 namespace {

@@ -20,7 +20,7 @@
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 #include "syrof/sim_dds/participant.h"
-#include "syrof/sim_dds/swarm.h"
+#include "syrof/sim_dds/dds_world.h"
 
 namespace {
 

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "syrof/sim_dds/participant.h"
-#include "syrof/sim_dds/swarm.h"
+#include "syrof/sim_dds/dds_world.h"
 
 int main(int argc, char** argv) {
   double seconds = 10;

@@ -15,7 +15,7 @@
 #include "syrof/lab/replay/comparison.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
-#include "syrof/sim_dds/swarm.h"
+#include "syrof/sim_dds/dds_world.h"
 #include "test_domain.h"
 
 namespace syrof::sim_dds {

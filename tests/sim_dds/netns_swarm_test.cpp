@@ -15,7 +15,7 @@
 #include <string>
 
 #include "syrof/sim_dds/participant.h"
-#include "syrof/sim_dds/swarm.h"
+#include "syrof/sim_dds/dds_world.h"
 
 namespace syrof::sim_dds {
 namespace {

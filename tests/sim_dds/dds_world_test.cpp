@@ -1,7 +1,7 @@
 // The DDS swarm end to end: robot processes, the world, real faults and a
-// clean stop (sim_dds/swarm.h). Wall-clock runs of a few seconds each; the
+// clean stop (sim_dds/dds_world.h). Wall-clock runs of a few seconds each; the
 // bounds are generous for a loaded 2-core CI machine.
-#include "syrof/sim_dds/swarm.h"
+#include "syrof/sim_dds/dds_world.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>

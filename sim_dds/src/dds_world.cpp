@@ -1,4 +1,4 @@
-#include "syrof/sim_dds/swarm.h"
+#include "syrof/sim_dds/dds_world.h"
 
 #include <fcntl.h>
 #include <sched.h>
