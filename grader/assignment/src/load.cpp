@@ -251,7 +251,7 @@ bool ReadRubric(const YamlNode& node, const std::string& path, double total, Rub
 
 bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment& assignment,
                     std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"title", "points", "scenarios", "goal", "rubric", "mixable"};
+  static constexpr std::string_view kKeys[] = {"title", "points", "scenarios", "goal", "rubric", "mixable", "message"};
   if (root.is_null()) return diagnostics.Fail(0, 0, "the assignment is empty; it needs 'title', 'scenarios' and 'rubric'");
   if (!root.is_map()) return diagnostics.Fail(root.line, root.column, "the top level must be a map of keys (title, scenarios, rubric, ...)");
   if (!CheckKeys(root, "", kKeys, diagnostics) || !RequireKey(root, "", "title", diagnostics) ||
@@ -266,6 +266,16 @@ bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment&
       return FailAt(*mixable, "mixable", "expected true or false", diagnostics);
     }
     assignment.mixable = mixable->scalar == "true";
+  }
+  if (const YamlNode* message = root.Find("message")) {
+    lab::scenario::MessageFormat format;
+    if (!lab::scenario::ReadMessageFormat(*message, "message", format, diagnostics)) return false;
+    assignment.message = std::move(format);
+  } else if (assignment.mixable) {
+    return FailAt(*root.Find("mixable"), "mixable",
+                  "a mixable assignment must declare its robots' message format: add 'message: none' or "
+                  "'message: { length: ..., fields: [...] }'",
+                  diagnostics);
   }
   Context context;
   context.folder = assignment.folder;

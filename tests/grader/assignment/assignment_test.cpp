@@ -108,10 +108,51 @@ TEST_F(AssignmentFileTest, MixableIsABooleanThatDefaultsToFalse) {
   const LoadResult plain = Load(rest);
   ASSERT_TRUE(plain.ok()) << plain.error->ToString();
   EXPECT_FALSE(plain.assignment->mixable);
-  const LoadResult mixable = Load("mixable: true\n" + rest);
+  const LoadResult mixable = Load("mixable: true\nmessage: none\n" + rest);
   ASSERT_TRUE(mixable.ok()) << mixable.error->ToString();
   EXPECT_TRUE(mixable.assignment->mixable);
   EXPECT_TRUE(FailsAt(Load("mixable: yes\n" + rest), "assignment.yaml", 1, 10, "mixable: expected true or false"));
+}
+
+TEST_F(AssignmentFileTest, AMixableAssignmentMustDeclareItsMessageFormat) {
+  const std::string rest = "title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n" + std::string(kValidRubric);
+  EXPECT_TRUE(FailsAt(Load("mixable: true\n" + rest), "assignment.yaml", 1, 10,
+                      "mixable: a mixable assignment must declare its robots' message format"));
+}
+
+TEST_F(AssignmentFileTest, TheMessageFormatIsReadWithItsFieldsInOrder) {
+  const std::string rest = "title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n" + std::string(kValidRubric);
+  const LoadResult plain = Load(rest);
+  ASSERT_TRUE(plain.ok()) << plain.error->ToString();
+  EXPECT_FALSE(plain.assignment->message.has_value());
+  const LoadResult none = Load("message: none\n" + rest);
+  ASSERT_TRUE(none.ok()) << none.error->ToString();
+  EXPECT_TRUE(none.assignment->message->none);
+  const LoadResult two = Load("message: {length: 3, fields: [{name: charge, type: u16be}, {name: hops, type: i8}]}\n" + rest);
+  ASSERT_TRUE(two.ok()) << two.error->ToString();
+  const lab::scenario::MessageFormat& format = *two.assignment->message;
+  EXPECT_FALSE(format.none);
+  ASSERT_EQ(format.fields.size(), 2u);
+  EXPECT_EQ(format.fields[1].name, "hops");
+  EXPECT_EQ(format.fields[1].offset, 2u);
+  EXPECT_EQ(format.ToString(), "3 bytes: charge u16be, hops i8");
+}
+
+TEST_F(AssignmentFileTest, AWrongMessageFormatIsPlaced) {
+  const std::string rest = "title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n" + std::string(kValidRubric);
+  EXPECT_TRUE(FailsAt(Load("message: nothing\n" + rest), "assignment.yaml", 1, 10, "message: expected 'none'"));
+  EXPECT_TRUE(FailsAt(Load("message: {length: 2, fields: [{name: charge, type: u16}]}\n" + rest), "assignment.yaml",
+                      1, 52, "message.fields[0].type: unknown value 'u16'"));
+  EXPECT_TRUE(FailsAt(Load("message: {length: 3, fields: [{name: charge, type: u16be}]}\n" + rest),
+                      "assignment.yaml", 1, 19, "message.length: is 3, but the fields take 2 bytes"));
+  EXPECT_TRUE(FailsAt(Load("message: {length: 10, fields: [{name: charge, type: u16be}]}\n" + rest),
+                      "assignment.yaml", 1, 19, "message.length: must be in [1, 9], got 10"));
+  EXPECT_TRUE(FailsAt(Load("message: {length: 2, fields: [{name: a, type: u8}, {name: a, type: u8}]}\n" + rest),
+                      "assignment.yaml", 1, 59, "message.fields[1].name: another field is already named 'a'"));
+  EXPECT_TRUE(FailsAt(Load("message: {length: 1, fields: [{name: Charge, type: u8}]}\n" + rest), "assignment.yaml",
+                      1, 38, "message.fields[0].name: a field's name must be"));
+  EXPECT_TRUE(FailsAt(Load("message: {lenght: 1, fields: []}\n" + rest), "assignment.yaml", 1, 11,
+                      "did you mean 'length'?"));
 }
 
 TEST_F(AssignmentFileTest, MissingHiddenFilesAreDroppedOnlyWhenAllowed) {

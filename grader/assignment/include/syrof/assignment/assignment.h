@@ -16,6 +16,7 @@
 
 #include "syrof/lab/base/error.h"
 #include "syrof/lab/goals/goals.h"
+#include "syrof/lab/scenario/message_format.h"
 
 namespace syrof::grader::assignment {
 
@@ -90,6 +91,11 @@ struct Assignment {
   /// `mixable: true`: the README specifies the robots' message format, so
   /// robots of different submissions can share a swarm (`syrof grade --mix`).
   bool mixable = false;
+  /// `message:`: the payload's wire format, which the README states in
+  /// prose; absent when the file declares none. A mixable assignment must
+  /// declare it (`none` when the robots send nothing): `syrof grade --mix`
+  /// checks every payload against it and names the side that broke it.
+  std::optional<lab::scenario::MessageFormat> message;
   /// Loaded with LoadOptions::allow_missing_hidden and a hidden scenario file
   /// was missing: hidden_runs is empty and only the public sets can be graded.
   bool hidden_missing = false;

@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "syrof/lab/scenario/message_format.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/scenario/yaml/diagnostics.h"
 #include "syrof/lab/scenario/yaml/value_reader.h"
@@ -25,5 +26,11 @@ bool ReadYamlFile(const std::string& path, YamlNode& root, Diagnostics& diagnost
 /// (docs/scenarios.md, "goal").
 bool ReadGoalChecks(const YamlNode& node, const std::string& path, const Scenario& scenario,
                     std::vector<goals::GoalCheck>& checks, Diagnostics& diagnostics);
+
+/// Reads a `message:` declaration at `node` (key path `path`): `none`, or
+/// { length, fields: [ { name, type } ... ] } whose fields' sizes add up to
+/// `length` (1 to 9 bytes; docs/grading.md, "The assignment file").
+bool ReadMessageFormat(const YamlNode& node, const std::string& path, MessageFormat& format,
+                       Diagnostics& diagnostics);
 
 }  // namespace syrof::lab::scenario
