@@ -77,7 +77,7 @@ app_host::HostLimits LimitsFor(const lab::scenario::AppSpec& app) {
 namespace internal {
 
 RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
-                       const std::string& dir_name, bool replay) {
+                       const std::string& dir_name, bool replay, const lab::scenario::MessageFormat* message) {
   const auto started = Clock::now();
   RunOutcome outcome;
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - started).count(); };
@@ -112,7 +112,16 @@ RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<
     replay_file.open(dir / "replay.bin", std::ios::binary | std::ios::trunc);
     options.replay = &replay_file;
   }
-  options.app_factory = [&hosts](uint16_t id) { return app_host::MakeHostedApp(hosts[id % hosts.size()], id); };
+  size_t robot_slots = 0;
+  for (const lab::scenario::RobotSpec& robot : scenario.robots) robot_slots = std::max<size_t>(robot_slots, robot.id + 1u);
+  if (message != nullptr) outcome.payload_violations.assign(robot_slots, PayloadViolations{});
+  // Each robot's app writes only its own slot, so apps on several threads
+  // never share one.
+  options.app_factory = [&hosts, &outcome, message](uint16_t id) {
+    std::unique_ptr<app::App> app = app_host::MakeHostedApp(hosts[id % hosts.size()], id);
+    if (message == nullptr || id >= outcome.payload_violations.size()) return app;
+    return CheckPayloads(std::move(app), *message, outcome.payload_violations[id]);
+  };
   std::string source;
   for (const std::string& library : libraries) source += (source.empty() ? "" : " + ") + library;
   options.app_source = source;

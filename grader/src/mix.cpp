@@ -29,11 +29,21 @@ const ScenarioRun* FindRun(const assignment::Assignment& assignment, const std::
   return nullptr;
 }
 
+// Attributes each robot's payloads that broke the message format to the
+// submission it runs.
+void AttributePayloads(const std::vector<internal::PayloadViolations>& violations, size_t k, MixRun& run) {
+  for (size_t robot = 0; robot < violations.size(); ++robot) {
+    if (violations[robot].count == 0) continue;
+    MixShare& share = run.shares[robot % k];
+    if (share.format_violations == 0) share.first_format_violation = "robot " + std::to_string(robot) + " " + violations[robot].first;
+    share.format_violations += violations[robot].count;
+  }
+}
+
 // Attributes the run's faults, collisions and first disagreement to the
 // submissions whose robots they name.
 void Attribute(const lab::metrics::Metrics& metrics, const std::vector<MixEntry>& entries, MixRun& run) {
   const size_t k = entries.size();
-  run.shares.assign(k, MixShare{});
   for (uint16_t robot = 0; robot < metrics.robots; ++robot) run.shares[robot % k].robots.push_back(robot);
   for (const lab::metrics::AppFault& fault : metrics.app.faults) {
     MixShare& share = run.shares[fault.robot % k];
@@ -50,8 +60,11 @@ void Attribute(const lab::metrics::Metrics& metrics, const std::vector<MixEntry>
   if (metrics.app.invalid_commands.first) run.shares[metrics.app.invalid_commands.first->robot % k].invalid_commands = 1;
   if (const auto& first = metrics.agreement ? metrics.agreement->first_disagreement : std::nullopt) {
     // Both sides are named: which of two differing states is "wrong" is not
-    // known from the pair alone (robot 0 is usually the reference side).
+    // known from the pair alone. The side whose robot departed from the
+    // epoch's first state disagreed first (the reference robot is only the
+    // one that happened to answer first).
     run.shares[first->robot % k].in_first_disagreement = true;
+    run.shares[first->robot % k].disagreed_first = true;
     run.shares[first->reference_robot % k].in_first_disagreement = true;
     run.disagreement = Format("epoch %u: robot %u (%s) returned %u in %s, robot %u (%s) %u", unsigned{first->epoch},
                               unsigned{first->robot}, entries[first->robot % k].name.c_str(), unsigned{first->state},
@@ -77,9 +90,11 @@ std::vector<MixRun> RunMix(const assignment::Assignment& assignment, const std::
       run.output_dir = test.output_dir;
       const internal::RunOutcome outcome = internal::RunScenario(
           *FindRun(assignment, test.scenario), test.seed, libraries,
-          (std::filesystem::path(out_dir) / test.output_dir).string(), true);
+          (std::filesystem::path(out_dir) / test.output_dir).string(), true,
+          assignment.message ? &*assignment.message : nullptr);
       run.run_error = outcome.run_error;
       run.shares.assign(entries.size(), MixShare{});
+      AttributePayloads(outcome.payload_violations, entries.size(), run);
       if (outcome.metrics) {
         run.score = assignment::ScoreRun(assignment.rubric, *outcome.metrics);
         Attribute(*outcome.metrics, entries, run);
@@ -112,10 +127,18 @@ void PrintMixReport(const std::vector<MixRun>& runs, const std::vector<MixEntry>
       for (uint16_t robot : share.robots) robots += (robots.empty() ? "" : ",") + std::to_string(robot);
       out << "  " << entries[i].name << " (robots " << robots << "): ";
       std::vector<std::string> problems;
+      if (share.format_violations > 0) {
+        problems.push_back("broke the message format " + std::to_string(share.format_violations) + " times, first " +
+                           share.first_format_violation);
+      }
       if (share.faults > 0) problems.push_back(std::to_string(share.faults) + " faulted, first " + share.first_fault);
       if (share.collisions > 0) problems.push_back("in " + std::to_string(share.collisions) + " collisions");
       if (share.invalid_commands > 0) problems.push_back("gave the run's first invalid command");
-      if (share.in_first_disagreement) problems.push_back("in the first disagreement");
+      if (share.disagreed_first) {
+        problems.push_back("disagreed first");
+      } else if (share.in_first_disagreement) {
+        problems.push_back("in the first disagreement");
+      }
       if (problems.empty()) {
         out << "ok\n";
       } else {
@@ -123,6 +146,11 @@ void PrintMixReport(const std::vector<MixRun>& runs, const std::vector<MixEntry>
         out << "\n";
       }
     }
+    std::string breakers;
+    for (size_t i = 0; i < entries.size(); ++i) {
+      if (run.shares[i].format_violations > 0) breakers += (breakers.empty() ? "" : ", ") + entries[i].name;
+    }
+    if (!breakers.empty()) out << "  message format broken by: " << breakers << "\n";
     if (!run.disagreement.empty()) out << "  first disagreement: " << run.disagreement << "\n";
   }
 }

@@ -9,6 +9,8 @@
 
 #include "syrof/assignment/assignment.h"
 #include "syrof/lab/metrics/metrics.h"
+#include "syrof/lab/scenario/message_format.h"
+#include "payload_check.h"
 
 namespace syrof::grader::internal {
 
@@ -16,13 +18,17 @@ struct RunOutcome {
   std::optional<lab::metrics::Metrics> metrics;  ///< when the run finished
   std::string run_error;                         ///< why it has no metrics
   double wall_seconds = 0;
+  /// With a message format: per robot id, the payloads it set that broke it.
+  std::vector<PayloadViolations> payload_violations;
 };
 
 /// Runs `run` with `seed` into `dir` (metrics.json, robots/<id>.log, with
 /// `replay` also replay.bin); robot i runs libraries[i % size]. Hosts are
 /// started by the calling thread, which must outlive the call (it does).
-/// Stopped at run.time_limit_s of wall time (run_error says so).
+/// Stopped at run.time_limit_s of wall time (run_error says so). With
+/// `message`, every payload each robot sets is checked against it
+/// (RunOutcome::payload_violations); the run itself is unchanged.
 RunOutcome RunScenario(const assignment::ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
-                       const std::string& dir, bool replay);
+                       const std::string& dir, bool replay, const lab::scenario::MessageFormat* message = nullptr);
 
 }  // namespace syrof::grader::internal

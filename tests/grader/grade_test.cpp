@@ -319,5 +319,72 @@ TEST(MixTest, NamesTheSubmissionWhoseRobotsFaulted) {
   EXPECT_NE(report.str().find("  bad (robots 1,3): 2 faulted, first robot "), std::string::npos) << report.str();
 }
 
+// The strongest assignment's message format (2 bytes, charge u16be), on
+// one public run: the reference with itself, then with broken/too_long
+// (10-byte payloads, refused by sendMessageData).
+class MixMessageTest : public ::testing::Test {
+ protected:
+  static Assignment LoadStrongest() {
+    const assignment::LoadResult loaded =
+        assignment::LoadAssignmentFile((fs::path(SYROF_ASSIGNMENTS_DIR) / "strongest").string());
+    EXPECT_TRUE(loaded.ok()) << loaded.error->ToString();
+    Assignment strongest = *loaded.assignment;
+    strongest.public_runs.resize(1);
+    strongest.public_runs[0].seeds = {1};
+    return strongest;
+  }
+
+  static std::vector<MixRun> Mix(const Assignment& strongest, const fs::path& out,
+                                 const std::vector<std::pair<std::string, fs::path>>& folders,
+                                 std::vector<MixEntry>& entries) {
+    for (const auto& [name, folder] : folders) {
+      std::vector<std::string> notes;
+      const assignment::BuildResult build =
+          BuildSubmission(folder.string(), (out / "builds" / name).string(), {}, notes);
+      EXPECT_TRUE(build.ok()) << build.detail;
+      entries.push_back({name, build.library_path});
+    }
+    GradeOptions options;
+    options.public_only = true;
+    options.jobs = 1;
+    return RunMix(strongest, entries, out.string(), options);
+  }
+};
+
+TEST_F(MixMessageTest, TheReferenceMixedWithItselfGetsFullMarks) {
+  const Assignment strongest = LoadStrongest();
+  ASSERT_TRUE(strongest.message.has_value());
+  const fs::path reference = fs::path(SYROF_ASSIGNMENTS_DIR) / "strongest" / "reference";
+  std::vector<MixEntry> entries;
+  const std::vector<MixRun> runs = Mix(strongest, Fresh("mix_strongest_self"), {{"a", reference}, {"b", reference}}, entries);
+  ASSERT_EQ(runs.size(), 1u);
+  ASSERT_EQ(runs[0].run_error, "");
+  EXPECT_EQ(runs[0].score.points, runs[0].score.max_points);
+  for (const MixShare& share : runs[0].shares) EXPECT_EQ(share.format_violations, 0);
+  std::ostringstream report;
+  PrintMixReport(runs, entries, report);
+  EXPECT_EQ(report.str().find("message format broken"), std::string::npos) << report.str();
+}
+
+TEST_F(MixMessageTest, NamesTooLongAsTheSideThatBrokeTheFormat) {
+  const Assignment strongest = LoadStrongest();
+  const fs::path reference = fs::path(SYROF_ASSIGNMENTS_DIR) / "strongest" / "reference";
+  const fs::path too_long = fs::path(SYROF_BROKEN_VARIANTS_DIR) / "strongest" / "broken" / "too_long";
+  std::vector<MixEntry> entries;
+  const std::vector<MixRun> runs =
+      Mix(strongest, Fresh("mix_strongest_too_long"), {{"reference", reference}, {"too_long", too_long}}, entries);
+  ASSERT_EQ(runs.size(), 1u);
+  ASSERT_EQ(runs[0].run_error, "");
+  EXPECT_EQ(runs[0].shares[0].format_violations, 0);
+  EXPECT_EQ(runs[0].shares[1].format_violations, 3);  // robots 1, 3, 5: one refused payload each, in init
+  std::ostringstream report;
+  PrintMixReport(runs, entries, report);
+  EXPECT_NE(report.str().find("  message format broken by: too_long\n"), std::string::npos) << report.str();
+  EXPECT_NE(report.str().find("too_long (robots 1,3,5): broke the message format 3 times, first robot 1 in init of "
+                              "epoch 0: 10 bytes, but the format has 2"),
+            std::string::npos)
+      << report.str();
+}
+
 }  // namespace
 }  // namespace syrof::grader

@@ -1,10 +1,13 @@
 // Mixed swarms (docs/grading.md, "Mixed swarms"): one swarm whose robots
 // come from several submissions, robot i running submission i mod k, on
 // every test of an assignment whose README fixes the robots' message format
-// (`mixable: true`). The report says, per submission, which of its robots
-// faulted, collided, or took part in the first disagreement of a
-// COOPERATIVE epoch (both robots of it are named: two of one submission
-// disagreeing pins it down; one of each names both).
+// (`mixable: true`, with its `message:` format). Every payload each robot
+// sets is checked against that format. The report says, per submission,
+// which of its robots broke the message format, faulted, collided, or took
+// part in the first disagreement of a COOPERATIVE epoch (the side whose
+// robot departed from the epoch's first state is said to have disagreed
+// first; two of one submission disagreeing pins it down), and names the
+// sides that broke the format.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +35,9 @@ struct MixShare {
   int collisions = 0;               ///< collisions one of its robots was in (of the listed ones)
   int invalid_commands = 0;         ///< only the first is attributed: 1 when it was one of its robots
   bool in_first_disagreement = false;  ///< the run's first disagreement names one of its robots (either side)
+  bool disagreed_first = false;     ///< its robot is the one whose state departed from the epoch's first
+  int format_violations = 0;        ///< payloads its robots set that broke the assignment's message format
+  std::string first_format_violation;  ///< "robot 1 in init of epoch 0: 10 bytes, but the format has 2"
 };
 
 struct MixRun {
