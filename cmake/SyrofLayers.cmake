@@ -24,6 +24,9 @@
 # - core/motion includes syrof/app.h (syrof_car_command), so it sits above
 #   core/app and below core/runtime, which wires everything of core.
 # - lab/base (the error value) is what every lab module shares.
+# - lab/message (a message format: what a payload's bytes mean) is pure and
+#   needs only lab/base: the scenario reads it from YAML, the replay stores
+#   it, the view and the grader decode and check payloads with it.
 # - In lab, the sensors and the apps use only core (and queries); the world
 #   uses the sensors' TrueState; the scenario holds the world's specs
 #   (arena, kinds, channel), the sensors' noise models and checks app names
@@ -53,7 +56,7 @@ set(SYROF_LAYERS
   "core/motion"
   "core/runtime"
   "lab/base"
-  "lab/sensors lab/apps lab/goals"
+  "lab/sensors lab/apps lab/goals lab/message"
   "lab/world"
   "lab/scenario"
   "lab/metrics lab/replay"

@@ -77,7 +77,7 @@ app_host::HostLimits LimitsFor(const lab::scenario::AppSpec& app) {
 namespace internal {
 
 RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
-                       const std::string& dir_name, bool replay, const lab::scenario::MessageFormat* message) {
+                       const std::string& dir_name, bool replay, const lab::message::MessageFormat* message) {
   const auto started = Clock::now();
   RunOutcome outcome;
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - started).count(); };

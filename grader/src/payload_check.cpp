@@ -9,7 +9,7 @@ namespace {
 // everything unchanged, so the run is the same with or without the check.
 class CheckingPlatform final : public app::Platform {
  public:
-  CheckingPlatform(const lab::scenario::MessageFormat& format, PayloadViolations& violations)
+  CheckingPlatform(const lab::message::MessageFormat& format, PayloadViolations& violations)
       : format_(format), violations_(violations) {}
 
   void Bind(app::Platform& platform) { platform_ = &platform; }
@@ -19,7 +19,7 @@ class CheckingPlatform final : public app::Platform {
   }
 
   syrof_app_status SendMessageData(std::span<const uint8_t> payload) override {
-    const std::string problem = lab::scenario::CheckPayload(format_, payload.size());
+    const std::string problem = lab::message::CheckPayload(format_, payload.size());
     if (!problem.empty() && violations_.count++ == 0) {
       violations_.first = std::string("in ") + app::ToString(callback_) + " of epoch " + std::to_string(epoch_) +
                           ": " + problem;
@@ -33,7 +33,7 @@ class CheckingPlatform final : public app::Platform {
   syrof_app_status AppInput(std::string_view name, double& value) override { return platform_->AppInput(name, value); }
 
  private:
-  const lab::scenario::MessageFormat& format_;
+  const lab::message::MessageFormat& format_;
   PayloadViolations& violations_;
   app::Platform* platform_ = nullptr;
   app::Callback callback_ = app::Callback::kInit;
@@ -42,7 +42,7 @@ class CheckingPlatform final : public app::Platform {
 
 class CheckingApp final : public app::App {
  public:
-  CheckingApp(std::unique_ptr<app::App> app, const lab::scenario::MessageFormat& format,
+  CheckingApp(std::unique_ptr<app::App> app, const lab::message::MessageFormat& format,
               PayloadViolations& violations)
       : app_(std::move(app)), platform_(format, violations) {}
 
@@ -69,7 +69,7 @@ class CheckingApp final : public app::App {
 
 }  // namespace
 
-std::unique_ptr<app::App> CheckPayloads(std::unique_ptr<app::App> app, const lab::scenario::MessageFormat& format,
+std::unique_ptr<app::App> CheckPayloads(std::unique_ptr<app::App> app, const lab::message::MessageFormat& format,
                                         PayloadViolations& violations) {
   return std::make_unique<CheckingApp>(std::move(app), format, violations);
 }

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "syrof/app/app.h"
-#include "syrof/lab/scenario/message_format.h"
+#include "syrof/lab/message/message_format.h"
 
 namespace syrof::grader::internal {
 
@@ -22,7 +22,7 @@ struct PayloadViolations {
 /// Wraps `app` so that every payload it sets is checked against `format`;
 /// violations go to `violations`, which (like `format`) must outlive the
 /// returned app and is written only from that app's calls.
-std::unique_ptr<app::App> CheckPayloads(std::unique_ptr<app::App> app, const lab::scenario::MessageFormat& format,
+std::unique_ptr<app::App> CheckPayloads(std::unique_ptr<app::App> app, const lab::message::MessageFormat& format,
                                         PayloadViolations& violations);
 
 }  // namespace syrof::grader::internal

@@ -9,7 +9,7 @@
 
 #include "syrof/assignment/assignment.h"
 #include "syrof/lab/metrics/metrics.h"
-#include "syrof/lab/scenario/message_format.h"
+#include "syrof/lab/message/message_format.h"
 #include "payload_check.h"
 
 namespace syrof::grader::internal {
@@ -29,6 +29,6 @@ struct RunOutcome {
 /// `message`, every payload each robot sets is checked against it
 /// (RunOutcome::payload_violations); the run itself is unchanged.
 RunOutcome RunScenario(const assignment::ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
-                       const std::string& dir, bool replay, const lab::scenario::MessageFormat* message = nullptr);
+                       const std::string& dir, bool replay, const lab::message::MessageFormat* message = nullptr);
 
 }  // namespace syrof::grader::internal

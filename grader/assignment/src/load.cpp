@@ -268,7 +268,7 @@ bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment&
     assignment.mixable = mixable->scalar == "true";
   }
   if (const YamlNode* message = root.Find("message")) {
-    lab::scenario::MessageFormat format;
+    lab::message::MessageFormat format;
     if (!lab::scenario::ReadMessageFormat(*message, "message", format, diagnostics)) return false;
     assignment.message = std::move(format);
   } else if (assignment.mixable) {

@@ -130,7 +130,7 @@ TEST_F(AssignmentFileTest, TheMessageFormatIsReadWithItsFieldsInOrder) {
   EXPECT_TRUE(none.assignment->message->none);
   const LoadResult two = Load("message: {length: 3, fields: [{name: charge, type: u16be}, {name: hops, type: i8}]}\n" + rest);
   ASSERT_TRUE(two.ok()) << two.error->ToString();
-  const lab::scenario::MessageFormat& format = *two.assignment->message;
+  const lab::message::MessageFormat& format = *two.assignment->message;
   EXPECT_FALSE(format.none);
   ASSERT_EQ(format.fields.size(), 2u);
   EXPECT_EQ(format.fields[1].name, "hops");

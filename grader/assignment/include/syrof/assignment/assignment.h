@@ -16,7 +16,7 @@
 
 #include "syrof/lab/base/error.h"
 #include "syrof/lab/goals/goals.h"
-#include "syrof/lab/scenario/message_format.h"
+#include "syrof/lab/message/message_format.h"
 
 namespace syrof::grader::assignment {
 
@@ -95,7 +95,7 @@ struct Assignment {
   /// prose; absent when the file declares none. A mixable assignment must
   /// declare it (`none` when the robots send nothing): `syrof grade --mix`
   /// checks every payload against it and names the side that broke it.
-  std::optional<lab::scenario::MessageFormat> message;
+  std::optional<lab::message::MessageFormat> message;
   /// Loaded with LoadOptions::allow_missing_hidden and a hidden scenario file
   /// was missing: hidden_runs is empty and only the public sets can be graded.
   bool hidden_missing = false;

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "syrof/lab/scenario/message_format.h"
+#include "syrof/lab/message/message_format.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/scenario/yaml/diagnostics.h"
 #include "syrof/lab/scenario/yaml/value_reader.h"
@@ -30,7 +30,7 @@ bool ReadGoalChecks(const YamlNode& node, const std::string& path, const Scenari
 /// Reads a `message:` declaration at `node` (key path `path`): `none`, or
 /// { length, fields: [ { name, type } ... ] } whose fields' sizes add up to
 /// `length` (1 to 9 bytes; docs/grading.md, "The assignment file").
-bool ReadMessageFormat(const YamlNode& node, const std::string& path, MessageFormat& format,
+bool ReadMessageFormat(const YamlNode& node, const std::string& path, message::MessageFormat& format,
                        Diagnostics& diagnostics);
 
 }  // namespace syrof::lab::scenario

@@ -1,14 +1,14 @@
-// lab/scenario/message_format: the payload check and the decoder (the YAML
+// lab/message: the payload check and the decoder (the YAML
 // reader's errors are tested with the assignment file,
 // tests/grader/assignment/assignment_test.cpp).
-#include "syrof/lab/scenario/message_format.h"
+#include "syrof/lab/message/message_format.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <vector>
 
-namespace syrof::lab::scenario {
+namespace syrof::lab::message {
 namespace {
 
 MessageFormat Fields(std::vector<std::pair<std::string, FieldType>> fields) {
@@ -67,4 +67,4 @@ TEST(MessageFormatTest, EveryTypeDecodesItsByteOrderAndSign) {
 }
 
 }  // namespace
-}  // namespace syrof::lab::scenario
+}  // namespace syrof::lab::message

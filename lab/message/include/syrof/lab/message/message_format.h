@@ -1,7 +1,7 @@
 // A message format: what the bytes of a robot's payload (sendMessageData,
 // at most SYROF_APP_MAX_PAYLOAD_BYTES) mean, as an assignment declares it
 // (`message:` in assignment.yaml or a scenario file; docs/grading.md, "The
-// assignment file"). One definition drives the grader's check of every
+// message format"). One definition drives the grader's check of every
 // payload a robot sets (`syrof grade --mix`) and the viewer's decoding of
 // each member's payload, so the two cannot drift.
 //
@@ -13,12 +13,13 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
-namespace syrof::lab::scenario {
+namespace syrof::lab::message {
 
 /// A field's type: its width, signedness and byte order.
 enum class FieldType : uint8_t { kU8, kI8, kU16Be, kU16Le, kI16Be, kI16Le, kU32Be, kU32Le, kI32Be, kI32Le };
@@ -27,8 +28,15 @@ enum class FieldType : uint8_t { kU8, kI8, kU16Be, kU16Le, kI16Be, kI16Le, kU32B
 inline constexpr std::string_view kFieldTypeNames[] = {"u8",    "i8",    "u16be", "u16le", "i16be",
                                                        "i16le", "u32be", "u32le", "i32be", "i32le"};
 
+/// Types there are: a FieldType value stored as a byte (in a replay) is
+/// below this.
+inline constexpr size_t kFieldTypeCount = std::size(kFieldTypeNames);
+
 /// Bytes a value of `type` takes.
 size_t FieldBytes(FieldType type);
+
+/// 1 to 32 of a-z, 0-9 and '_', starting with a letter.
+bool IsFieldName(std::string_view name);
 
 struct MessageField {
   std::string name;  ///< 1 to 32 of a-z 0-9 _, starting with a letter; unique in the format
@@ -62,4 +70,4 @@ struct FieldValue {
 /// fit it (CheckPayload is not "") or is empty.
 std::vector<FieldValue> DecodePayload(const MessageFormat& format, std::span<const uint8_t> payload);
 
-}  // namespace syrof::lab::scenario
+}  // namespace syrof::lab::message
