@@ -90,6 +90,8 @@ RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<
   }
   lab::scenario::Scenario scenario = *loaded.scenario;
   if (!run.goal.empty()) scenario.goal = run.goal;
+  // The assignment's format goes into the replay, for the viewer.
+  if (message != nullptr) scenario.message = *message;
 
   const fs::path dir(dir_name);
   std::error_code error;

@@ -46,6 +46,7 @@ bool IsValidName(const std::string& name) {
 struct Context {
   std::string folder;
   const YamlNode* goal = nullptr;  // the assignment's goal:, if any
+  const lab::message::MessageFormat* message = nullptr;  // the assignment's message:, if any
   std::set<std::string> names;
   bool skip_missing = false;       // reading the hidden sets with LoadOptions::allow_missing_hidden
   bool missing = false;            // a file was missing and skipped
@@ -118,6 +119,12 @@ bool ReadRun(const YamlNode& node, const std::string& path, Context& context, Sc
     return false;
   }
   run.scenario_has_goal = !loaded.scenario->goal.empty();
+  if (context.message != nullptr && loaded.scenario->message && *loaded.scenario->message != *context.message) {
+    return FailAt(file, JoinPath(path, "file"),
+                  "scenario '" + run.file + "' declares the message format " + loaded.scenario->message->ToString() +
+                      ", but the assignment's is " + context.message->ToString(),
+                  diagnostics);
+  }
   if (context.goal != nullptr) {
     return lab::scenario::ReadGoalChecks(*context.goal, "goal", *loaded.scenario, run.goal, diagnostics);
   }
@@ -280,6 +287,7 @@ bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment&
   Context context;
   context.folder = assignment.folder;
   context.goal = root.Find("goal");
+  if (assignment.message) context.message = &*assignment.message;
   const YamlNode& sets = *root.Find("scenarios");
   static constexpr std::string_view kSets[] = {"public", "hidden"};
   if (!ExpectMap(sets, "scenarios", diagnostics) || !CheckKeys(sets, "scenarios", kSets, diagnostics) ||

@@ -28,6 +28,8 @@ inline void PutI64(std::vector<uint8_t>& out, int64_t value) { PutU64(out, stati
 
 inline void PutF32(std::vector<uint8_t>& out, float value) { PutU32(out, std::bit_cast<uint32_t>(value)); }
 
+inline void PutF64(std::vector<uint8_t>& out, double value) { PutU64(out, std::bit_cast<uint64_t>(value)); }
+
 inline uint16_t GetU16(const uint8_t* bytes) {
   return static_cast<uint16_t>(bytes[0] | (bytes[1] << 8));
 }
@@ -47,5 +49,7 @@ inline uint64_t GetU64(const uint8_t* bytes) {
 inline int64_t GetI64(const uint8_t* bytes) { return static_cast<int64_t>(GetU64(bytes)); }
 
 inline float GetF32(const uint8_t* bytes) { return std::bit_cast<float>(GetU32(bytes)); }
+
+inline double GetF64(const uint8_t* bytes) { return std::bit_cast<double>(GetU64(bytes)); }
 
 }  // namespace syrof::lab::replay::detail

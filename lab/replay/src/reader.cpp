@@ -13,6 +13,7 @@ namespace syrof::lab::replay {
 namespace {
 
 using detail::GetF32;
+using detail::GetF64;
 using detail::GetI64;
 using detail::GetU16;
 using detail::GetU32;
@@ -67,6 +68,61 @@ bool Reader::CheckCrc(uint64_t record_start, const char* record) {
                                 "the file is damaged",
                                 record, record_start, computed, stored));
   }
+  return true;
+}
+
+bool Reader::ReadInputs(Header& header) {
+  for (RobotInfo& robot : header.robots) {
+    uint64_t at = offset_;
+    const uint8_t* bytes = Take(1, "input count");
+    if (bytes == nullptr) return false;
+    if (std::string problem = detail::CheckInputCount(bytes[0], robot.id); !problem.empty()) return Fail(at, problem);
+    const uint8_t count = bytes[0];
+    for (uint8_t index = 0; index < count; ++index) {
+      at = offset_;
+      InputValue input;
+      if (!ReadName(input.name, "input name")) return false;
+      if ((bytes = Take(8, "input value")) == nullptr) return false;
+      input.value = GetF64(bytes);
+      if (std::string problem = detail::CheckInput(input, robot.inputs, robot.id); !problem.empty()) {
+        return Fail(at, problem);
+      }
+      robot.inputs.push_back(std::move(input));
+    }
+  }
+  return true;
+}
+
+bool Reader::ReadMessage(Header& header) {
+  uint64_t at = offset_;
+  const uint8_t* bytes = Take(1, "message kind");
+  if (bytes == nullptr) return false;
+  const uint8_t kind = bytes[0];
+  if (kind == format::kMessageUndeclared) return true;
+  if (kind == format::kMessageNone) {
+    header.message = message::MessageFormat{};
+    return true;
+  }
+  if (kind != format::kMessageFields) return Fail(at, fmt::format("unknown message kind {}", kind));
+  at = offset_;
+  if ((bytes = Take(1, "message field count")) == nullptr) return false;
+  const uint8_t count = bytes[0];
+  if (std::string problem = detail::CheckFieldCount(count); !problem.empty()) return Fail(at, problem);
+  message::MessageFormat format;
+  format.none = false;
+  for (uint8_t index = 0; index < count; ++index) {
+    at = offset_;
+    message::MessageField field;
+    if (!ReadName(field.name, "message field name")) return false;
+    if ((bytes = Take(1, "message field type")) == nullptr) return false;
+    if (std::string problem = detail::CheckFieldType(bytes[0]); !problem.empty()) return Fail(at, problem);
+    field.type = static_cast<message::FieldType>(bytes[0]);
+    field.offset = format.length;
+    if (std::string problem = detail::CheckField(field, format.fields); !problem.empty()) return Fail(at, problem);
+    format.length += message::FieldBytes(field.type);
+    format.fields.push_back(std::move(field));
+  }
+  header.message = std::move(format);
   return true;
 }
 
@@ -189,6 +245,8 @@ bool Reader::ReadHeader(Header& header) {
       header.anchors.push_back(anchor);
     }
   }
+  header.message.reset();
+  if (version_ >= 4 && (!ReadInputs(header) || !ReadMessage(header))) return false;
   if (!CheckCrc(0, "header")) return false;
 
   previous_.assign(ids_.size(), RobotFrame{});

@@ -63,6 +63,63 @@ std::string CheckAnchor(const AnchorInfo& anchor, size_t index) {
   return fmt::format("anchor {} at ({}, {}) is not finite", index, anchor.x_m, anchor.y_m);
 }
 
+std::string CheckInputCount(uint64_t count, uint16_t id) {
+  if (count <= kMaxInputsPerRobot) return {};
+  return fmt::format("robot {} has {} private inputs; at most {}", id, count, kMaxInputsPerRobot);
+}
+
+std::string CheckInput(const InputValue& input, std::span<const InputValue> earlier, uint16_t id) {
+  if (input.name.empty()) return fmt::format("robot {}'s input {} has an empty name", id, earlier.size());
+  if (std::string problem = CheckNameLength(input.name.size(), "input name"); !problem.empty()) return problem;
+  if (std::string problem = CheckNameBytes(input.name, "input name"); !problem.empty()) return problem;
+  for (const InputValue& other : earlier) {
+    if (other.name == input.name) return fmt::format("robot {} has the input '{}' twice", id, input.name);
+  }
+  if (!std::isfinite(input.value)) return fmt::format("robot {}'s input '{}' is not finite", id, input.name);
+  return {};
+}
+
+std::string CheckFieldCount(uint64_t count) {
+  if (count >= 1 && count <= kMaxPayloadBytes) return {};
+  return fmt::format("message field count {} is not in [1, {}]", count, kMaxPayloadBytes);
+}
+
+std::string CheckFieldType(uint8_t type) {
+  if (type < message::kFieldTypeCount) return {};
+  return fmt::format("unknown message field type {}", type);
+}
+
+std::string CheckField(const message::MessageField& field, std::span<const message::MessageField> earlier) {
+  if (!message::IsFieldName(field.name)) return fmt::format("message field name '{}' is not a field name", field.name);
+  size_t length = 0;
+  for (const message::MessageField& other : earlier) {
+    if (other.name == field.name) return fmt::format("message field '{}' is named twice", field.name);
+    length += message::FieldBytes(other.type);
+  }
+  if (field.offset != length) return fmt::format("message field '{}' is not at offset {}", field.name, length);
+  if (length + message::FieldBytes(field.type) > kMaxPayloadBytes) {
+    return fmt::format("message fields up to '{}' take more than {} bytes", field.name, kMaxPayloadBytes);
+  }
+  return {};
+}
+
+std::string CheckMessage(const message::MessageFormat& format) {
+  if (format.none) {
+    return format.fields.empty() && format.length == 0 ? "" : "a message format 'none' with fields";
+  }
+  if (std::string problem = CheckFieldCount(format.fields.size()); !problem.empty()) return problem;
+  for (size_t index = 0; index < format.fields.size(); ++index) {
+    if (std::string problem = CheckFieldType(static_cast<uint8_t>(format.fields[index].type)); !problem.empty()) {
+      return problem;
+    }
+    const std::span<const message::MessageField> earlier(format.fields.data(), index);
+    if (std::string problem = CheckField(format.fields[index], earlier); !problem.empty()) return problem;
+  }
+  const message::MessageField& last = format.fields.back();
+  if (format.length != last.offset + message::FieldBytes(last.type)) return "a message format's length is not its fields'";
+  return {};
+}
+
 std::string CheckRoundOrder(bool any_round, uint32_t last_index, int64_t last_time_ns,
                             uint32_t index, int64_t time_ns) {
   if (!any_round) return {};

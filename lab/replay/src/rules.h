@@ -23,6 +23,16 @@ std::string CheckRobotId(uint16_t id, const uint16_t* previous);
 std::string CheckBodyRadius(float radius_m, uint16_t id);
 std::string CheckAnchorCount(uint64_t count);
 std::string CheckAnchor(const AnchorInfo& anchor, size_t index);
+std::string CheckInputCount(uint64_t count, uint16_t id);
+// An input's name (a name's rules, not empty, not an earlier input's) and value.
+std::string CheckInput(const InputValue& input, std::span<const InputValue> earlier, uint16_t id);
+std::string CheckFieldCount(uint64_t count);
+std::string CheckFieldType(uint8_t type);
+// A message field's name, unique among `earlier`, and the format's length
+// with it at most kMaxPayloadBytes.
+std::string CheckField(const message::MessageField& field, std::span<const message::MessageField> earlier);
+// A whole format as the writer receives it (offsets and length included).
+std::string CheckMessage(const message::MessageFormat& format);
 
 std::string CheckRoundOrder(bool any_round, uint32_t last_index, int64_t last_time_ns,
                             uint32_t index, int64_t time_ns);

@@ -17,6 +17,7 @@ using detail::PutI64;
 using detail::PutU16;
 using detail::PutU32;
 using detail::PutU64;
+using detail::PutF64;
 using detail::PutU8;
 
 bool SameBits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
@@ -39,6 +40,13 @@ std::string CheckHeader(const Header& header) {
   for (size_t index = 0; problem.empty() && index < header.anchors.size(); ++index) {
     problem = detail::CheckAnchor(header.anchors[index], index);
   }
+  for (const RobotInfo& robot : header.robots) {
+    if (problem.empty()) problem = detail::CheckInputCount(robot.inputs.size(), robot.id);
+    for (size_t index = 0; problem.empty() && index < robot.inputs.size(); ++index) {
+      problem = detail::CheckInput(robot.inputs[index], {robot.inputs.data(), index}, robot.id);
+    }
+  }
+  if (problem.empty() && header.message) problem = detail::CheckMessage(*header.message);
   return problem;
 }
 
@@ -81,6 +89,25 @@ Writer::Writer(std::ostream& out, const Header& header) : out_(out) {
   for (const AnchorInfo& anchor : header.anchors) {
     PutF32(buffer_, anchor.x_m);
     PutF32(buffer_, anchor.y_m);
+  }
+  for (const RobotInfo& robot : header.robots) {
+    PutU8(buffer_, static_cast<uint8_t>(robot.inputs.size()));
+    for (const InputValue& input : robot.inputs) {
+      PutName(buffer_, input.name);
+      PutF64(buffer_, input.value);
+    }
+  }
+  if (!header.message) {
+    PutU8(buffer_, format::kMessageUndeclared);
+  } else if (header.message->none) {
+    PutU8(buffer_, format::kMessageNone);
+  } else {
+    PutU8(buffer_, format::kMessageFields);
+    PutU8(buffer_, static_cast<uint8_t>(header.message->fields.size()));
+    for (const message::MessageField& field : header.message->fields) {
+      PutName(buffer_, field.name);
+      PutU8(buffer_, static_cast<uint8_t>(field.type));
+    }
   }
   Emit();
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <string_view>
 
+#include "syrof/lab/scenario/yaml/document.h"
 #include "value_reader.h"
 
 namespace syrof::lab::scenario {
@@ -65,7 +66,8 @@ bool ReadRobotId(const YamlNode& node, const std::string& path, const Scenario& 
 bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& scenario, Diagnostics& diagnostics) {
   static constexpr std::string_view kKeys[] = {"name",    "seed",   "arena",  "kinds", "robots",
                                                "timing",  "sensors", "channel", "clocks", "faults",
-                                               "inputs",  "app",    "safety", "goal"};
+                                               "inputs",  "app",    "safety", "goal",
+                                               "message"};
   if (root.is_null()) {
     return diagnostics.Fail(0, 0, "the scenario is empty; it needs at least 'robots' and 'app'");
   }
@@ -103,6 +105,11 @@ bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& sc
       !ReadGoal(root.Find("goal"), scenario, diagnostics) ||
       !ReadApp(*root.Find("app"), apps::BuiltinApps(), LibraryBaseDir(scenario), scenario.app, diagnostics)) {
     return false;
+  }
+  if (const YamlNode* message = root.Find("message")) {
+    message::MessageFormat format;
+    if (!ReadMessageFormat(*message, "message", format, diagnostics)) return false;
+    scenario.message = std::move(format);
   }
   if (const YamlNode* safety = root.Find("safety")) {
     static constexpr std::string_view kSwitch[] = {"on", "off"};

@@ -6,6 +6,7 @@
 #include <new>
 #include <span>
 
+#include "syrof/app.h"
 #include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
 #include "syrof/lab/apps/catalog.h"
@@ -13,6 +14,7 @@
 namespace syrof::lab::sim {
 
 static_assert(replay::kMaxPayloadBytes == wire::kMaxPayloadBytes);
+static_assert(replay::kMaxInputsPerRobot == SYROF_APP_MAX_INPUTS);
 
 uint64_t SensorSeed(uint64_t seed, uint16_t robot) {
   return base::SplitMix64Hash(seed ^ base::SplitMix64Hash(0x53454e534f52ULL + robot));
@@ -31,9 +33,12 @@ replay::Header ReplayHeader(const scenario::Scenario& scenario) {
   header.scenario_name = scenario.name;
   header.app_name = scenario.app.name;
   for (const scenario::RobotSpec& spec : scenario.robots) {
-    header.robots.push_back(replay::RobotInfo{spec.id, static_cast<uint8_t>(spec.kind),
-                                              static_cast<float>(scenario.kind_spec(spec.kind).body_radius_m)});
+    replay::RobotInfo robot{spec.id, static_cast<uint8_t>(spec.kind),
+                            static_cast<float>(scenario.kind_spec(spec.kind).body_radius_m), {}};
+    for (const auto& [name, value] : InputValuesOf(scenario, spec.id)) robot.inputs.push_back({name, value});
+    header.robots.push_back(std::move(robot));
   }
+  header.message = scenario.message;
   for (const world::AnchorSpec& anchor : scenario.arena.anchors) {
     header.anchors.push_back(replay::AnchorInfo{static_cast<float>(anchor.x_m), static_cast<float>(anchor.y_m)});
   }

@@ -138,6 +138,15 @@ TEST_F(AssignmentFileTest, TheMessageFormatIsReadWithItsFieldsInOrder) {
   EXPECT_EQ(format.ToString(), "3 bytes: charge u16be, hops i8");
 }
 
+TEST_F(AssignmentFileTest, AScenarioMustNotDeclareAnotherMessageFormat) {
+  Write("s/other.yaml", "robots: {count: 3}\napp: builtin:idle\ngoal: [{check: gathered, radius_m: 2}]\n"
+                        "message: {length: 1, fields: [{name: hops, type: u8}]}\n");
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nmessage: none\nscenarios:\n  public: [{file: s/other.yaml, seeds: [1]}]\n") +
+                           kValidRubric),
+                      "assignment.yaml", 4, 19,
+                      "scenario 's/other.yaml' declares the message format 1 byte: hops u8, but the assignment's is none"));
+}
+
 TEST_F(AssignmentFileTest, AWrongMessageFormatIsPlaced) {
   const std::string rest = "title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n" + std::string(kValidRubric);
   EXPECT_TRUE(FailsAt(Load("message: nothing\n" + rest), "assignment.yaml", 1, 10, "message: expected 'none'"));

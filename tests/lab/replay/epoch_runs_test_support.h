@@ -37,7 +37,7 @@ inline SyntheticRun SteppedRun(uint16_t robot_count, uint16_t epochs, uint16_t f
   SyntheticRun run;
   run.header = SampleHeader();
   run.header.robots.clear();
-  for (uint16_t id = 0; id < robot_count; ++id) run.header.robots.push_back({id, 0, 0.1f});
+  for (uint16_t id = 0; id < robot_count; ++id) run.header.robots.push_back({id, 0, 0.1f, {}});
   std::vector<uint16_t> everyone;
   for (uint16_t id = 0; id < robot_count; ++id) everyone.push_back(id);
   const uint32_t last_round = StartRoundOf(epochs) + 1;

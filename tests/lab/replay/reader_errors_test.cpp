@@ -62,12 +62,12 @@ TEST(ReplayReader, RefusesWrongMagic) {
 
 TEST(ReplayReader, RefusesNewerAndUnknownVersions) {
   std::string newer = WriteSample().bytes;
-  PutU16At(newer, kVersionAt, 4);
+  PutU16At(newer, kVersionAt, 5);
   std::string zero = newer;
   PutU16At(zero, kVersionAt, 0);
 
-  ExpectError(Read(newer), kVersionAt, "format version 4 is newer than this reader's (3)");
-  ExpectError(Read(zero), kVersionAt, "format version 0 does not exist (this reader knows versions 1 to 3)");
+  ExpectError(Read(newer), kVersionAt, "format version 5 is newer than this reader's (4)");
+  ExpectError(Read(zero), kVersionAt, "format version 0 does not exist (this reader knows versions 1 to 4)");
 }
 
 TEST(ReplayReader, TruncatedAtEveryOffsetGivesCleanIncompleteState) {
@@ -203,7 +203,7 @@ TEST(ReplayReader, RefusesUnknownEventKindAndRobot) {
   std::string partition = written.bytes;
   PutU16At(partition, event_at + 16, 3);  // on the EPOCH_START
 
-  ExpectError(Read(kind), event_at, "unknown event kind 17 (format version 3)");
+  ExpectError(Read(kind), event_at, "unknown event kind 17 (format version 4)");
   ExpectError(Read(robot), event_at + 1, "event robot 9 is not a robot of the header");
   ExpectError(Read(partition), event_at, "EPOCH_START event names partition 3; only partition events do");
 }

@@ -25,7 +25,7 @@ inline Header SampleHeader() {
   header.arena_height_m = 3.0f;
   header.scenario_name = "three_robots";
   header.app_name = "builtin:idle";
-  header.robots = {{0, 0, 0.1f}, {1, 0, 0.1f}, {2, 1, 0.12f}};
+  header.robots = {{0, 0, 0.1f, {}}, {1, 0, 0.1f, {}}, {2, 1, 0.12f, {}}};
   header.anchors = {{0.0f, 0.0f}, {4.0f, 3.0f}};
   return header;
 }

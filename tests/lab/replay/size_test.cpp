@@ -28,7 +28,7 @@ TEST(ReplaySize, ThousandRobotsHundredRoundsStayUnderTarget) {
   header.arena_height_m = 40;
   header.scenario_name = "size";
   header.app_name = "builtin:idle";
-  for (uint16_t id = 0; id < kRobots; ++id) header.robots.push_back({id, 0, 0.1f});
+  for (uint16_t id = 0; id < kRobots; ++id) header.robots.push_back({id, 0, 0.1f, {}});
   base::SplitMix64 random(99);
   std::vector<RobotFrame> frames(kRobots);
   for (uint16_t id = 0; id < kRobots; ++id) {

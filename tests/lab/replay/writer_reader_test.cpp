@@ -88,10 +88,72 @@ TEST(ReplayWriterReader, UnchangedRobotCostsFourBytes) {
   EXPECT_EQ(Read(written.bytes).rounds, rounds);
 }
 
-// Version 3, written out by hand from docs/replay.md; the CRCs come from
+// Version 4, written out by hand from docs/replay.md; the CRCs come from
 // zlib.crc32. Any change to the layout shows up here: bump kFormatVersion,
 // update docs/replay.md, then this.
 const std::vector<uint8_t> kGoldenFile = {
+    // header
+    'S', 'Y', 'R', 'O', 'F', 'R', 'P', 'L',          // magic
+    0x04, 0x00,                                      // version 4
+    0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01,  // seed 0x0102030405060708
+    0x80, 0xF0, 0xFA, 0x02, 0x00, 0x00, 0x00, 0x00,  // radio_round_ns 50000000
+    0x00, 0x00, 0x80, 0x40,                          // arena_width_m 4.0
+    0x00, 0x00, 0x20, 0x40,                          // arena_height_m 2.5
+    0x02, 0x00, 'a', 'b',                            // scenario_name "ab"
+    0x01, 0x00, 'c',                                 // app_name "c"
+    0x01, 0x00, 0x00, 0x00,                          // robot count 1
+    0x07, 0x00, 0x01, 0x00, 0x00, 0x00, 0x3E,        // robot 7, rover, radius 0.125
+    0x01, 0x00,                                      // anchor count 1
+    0x00, 0x00, 0x00, 0x3F, 0x00, 0x00, 0x00, 0x40,  // anchor (0.5, 2.0)
+    0x01,                                            // robot 7: 1 input
+    0x06, 0x00, 'c', 'h', 'a', 'r', 'g', 'e',        // name "charge"
+    0x00, 0x00, 0x00, 0x00, 0x00, 0x30, 0x8B, 0x40,  // value 870.0
+    0x02, 0x01,                                      // message: fields, 1 field
+    0x06, 0x00, 'c', 'h', 'a', 'r', 'g', 'e',        // name "charge"
+    0x02,                                            // type u16be
+    0xFF, 0x2F, 0x1A, 0xD5,                          // crc
+    // round
+    'R',                                             // tag
+    0x03, 0x00, 0x00, 0x00,                          // index 3
+    0x80, 0xD1, 0xF0, 0x08, 0x00, 0x00, 0x00, 0x00,  // time_ns 150000000
+    0x01, 0x00, 0x00, 0x00,                          // frame count 1
+    0x02, 0x00, 0x00, 0x00,                          // event count 2
+    0x01, 0x00, 0x00, 0x00,                          // map count 1
+    0x07, 0x00,                                      // frame: robot 7
+    0x35,                                            // running, joining, VOTE, AUTONOMOUS
+    0x1B,                                            // changed: epoch, true_x, true_heading, est_x
+    0x02, 0x01,                                      // epoch 0x0102
+    0x00, 0x00, 0x80, 0x3F,                          // true_x_m 1.0
+    0x00, 0x00, 0x00, 0xBF,                          // true_heading_rad -0.5
+    0x00, 0x00, 0x80, 0x3F,                          // est_x_m 1.0
+    0x00,                                            // event: EPOCH_START
+    0x07, 0x00, 0xFF, 0xFF,                          // robot 7, other none
+    0x02, 0x01, 0x01,                                // epoch 0x0102, AUTONOMOUS
+    0x80, 0xD1, 0xF0, 0x08, 0x00, 0x00, 0x00, 0x00,  // time_ns 150000000
+    0xFF, 0xFF,                                      // partition none
+    0x0A,                                            // event: PARTITION_START
+    0xFF, 0xFF, 0xFF, 0xFF,                          // robot none, other none
+    0x00, 0x00, 0x00,                                // epoch 0, mode 0
+    0x00, 0x3B, 0x58, 0x08, 0x00, 0x00, 0x00, 0x00,  // time_ns 140000000
+    0x05, 0x00,                                      // partition 5
+    0x07, 0x00, 0xFF, 0xFF,                          // map: robot 7, same_as none (the map follows)
+    0x02, 0x01, 0x01,                                // epoch 0x0102, AUTONOMOUS
+    0x01, 0x00,                                      // member count 1
+    0x07, 0x00, 0x02,                                // member 7, VOTE
+    0xE8, 0x03, 0xFF, 0xFF, 0xF4, 0x01,              // x_mm 1000, y_mm -1, heading_mrad 500
+    0x00, 0x00, 0x00, 0x00,                          // vx_mm_s 0, vy_mm_s 0
+    0x02, 0xAB, 0xCD,                                // payload of 2 bytes
+    0x8F, 0xA4, 0x40, 0xD3,                          // crc
+    // end marker
+    'E',                                             // tag
+    0x01, 0x00, 0x00, 0x00,                          // 1 round
+    0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // 2 events
+    0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // 1 frame
+    0xE4, 0x11, 0xAB, 0x16,                          // crc
+};
+
+// Version 3's golden file (no inputs, no message): still read.
+const std::vector<uint8_t> kGoldenFileVersion3 = {
     // header
     'S', 'Y', 'R', 'O', 'F', 'R', 'P', 'L',          // magic
     0x03, 0x00,                                      // version 3
@@ -154,8 +216,13 @@ TEST(ReplayWriterReader, LayoutMatchesTheGoldenFile) {
   header.arena_height_m = 2.5f;
   header.scenario_name = "ab";
   header.app_name = "c";
-  header.robots = {{7, 1, 0.125f}};
+  header.robots = {{7, 1, 0.125f, {{"charge", 870.0}}}};
   header.anchors = {{0.5f, 2.0f}};
+  message::MessageFormat format;
+  format.none = false;
+  format.fields = {{"charge", message::FieldType::kU16Be, 0}};
+  format.length = 2;
+  header.message = format;
   RobotFrame frame{.id = 7, .presence = Presence::kRunning, .status = 1, .phase = 2, .mode = 1, .epoch = 0x0102};
   frame.true_x_m = 1.0f;
   frame.true_heading_rad = -0.5f;
@@ -184,6 +251,34 @@ TEST(ReplayWriterReader, LayoutMatchesTheGoldenFile) {
   EXPECT_EQ(back.rounds[0].events, std::vector<Event>(events.begin(), events.end()));
   ASSERT_EQ(back.rounds[0].maps.size(), 1u);
   EXPECT_EQ(back.rounds[0].maps[0], robot_map);
+}
+
+TEST(ReplayReader, RefusesABadMessageFormatInTheHeader) {
+  // The golden file's message kind is at byte 79, its field at 81 (type at 89).
+  std::string kind(kGoldenFile.begin(), kGoldenFile.end());
+  kind[79] = 7;
+  const testing::ReadBack bad_kind = Read(kind);
+  EXPECT_FALSE(bad_kind.complete);
+  EXPECT_NE(bad_kind.error.find("offset 79: unknown message kind 7"), std::string::npos) << bad_kind.error;
+  std::string type(kGoldenFile.begin(), kGoldenFile.end());
+  type[89] = 99;
+  const testing::ReadBack bad_type = Read(type);
+  EXPECT_NE(bad_type.error.find("offset 81: unknown message field type 99"), std::string::npos) << bad_type.error;
+  std::string name(kGoldenFile.begin(), kGoldenFile.end());
+  name[83] = 'C';  // "Charge": not a field name
+  const testing::ReadBack bad_name = Read(name);
+  EXPECT_NE(bad_name.error.find("offset 81: message field name 'Charge'"), std::string::npos) << bad_name.error;
+}
+
+TEST(ReplayReader, ReadsAVersion3FileWithoutInputsOrMessage) {
+  const testing::ReadBack back = Read(std::string(kGoldenFileVersion3.begin(), kGoldenFileVersion3.end()));
+  EXPECT_TRUE(back.complete) << back.error;
+  ASSERT_EQ(back.header.robots.size(), 1u);
+  EXPECT_TRUE(back.header.robots[0].inputs.empty());
+  EXPECT_FALSE(back.header.message.has_value());
+  ASSERT_EQ(back.rounds.size(), 1u);
+  ASSERT_EQ(back.rounds[0].maps.size(), 1u);
+  EXPECT_EQ(back.rounds[0].maps[0].map->members[0].payload, (std::vector<uint8_t>{0xAB, 0xCD}));
 }
 
 // The same file as version 1 wrote it: version 2's golden file with only the

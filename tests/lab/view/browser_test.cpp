@@ -297,7 +297,7 @@ std::string CollisionReplay() {
   header.arena_height_m = 2;
   header.scenario_name = "collision";
   header.app_name = "by hand";
-  header.robots = {{0, 0, 0.1f}, {1, 0, 0.1f}};
+  header.robots = {{0, 0, 0.1f, {}}, {1, 0, 0.1f, {}}};
   std::ostringstream bytes;
   replay::Writer writer(bytes, header);
   auto map = std::make_shared<replay::EpochMap>();

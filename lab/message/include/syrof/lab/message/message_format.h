@@ -42,6 +42,8 @@ struct MessageField {
   std::string name;  ///< 1 to 32 of a-z 0-9 _, starting with a letter; unique in the format
   FieldType type = FieldType::kU8;
   size_t offset = 0;  ///< bytes before it: the sum of the earlier fields' sizes
+
+  bool operator==(const MessageField& other) const = default;
 };
 
 struct MessageFormat {
@@ -52,6 +54,8 @@ struct MessageFormat {
 
   /// "none", or "2 bytes: charge u16be".
   std::string ToString() const;
+
+  bool operator==(const MessageFormat& other) const = default;
 };
 
 /// Why `payload` breaks `format` ("10 bytes, but the format has 2"), or ""

@@ -13,7 +13,14 @@
 //            scenario_name:name app_name:name
 //            robot_count:u32 (id:u16 kind:u8 body_radius_m:f32)*robot_count
 //            anchor_count:u16 (x_m:f32 y_m:f32)*anchor_count
+//            inputs*robot_count message
 //            crc:u32
+//   inputs = input_count:u8 (name:name value:f64)*input_count
+//            (one per robot, in the robots' order)
+//   message= kind:u8, then only when kind is 2:
+//            field_count:u8 (name:name type:u8)*field_count
+//            (kind 0: no format declared, 1: `none`, 2: fields; a field's
+//            type is a message::FieldType value)
 //   name   = length:u16 bytes[length]
 //   round  = 'R' index:u32 time_ns:i64 frame_count:u32 event_count:u32
 //            map_count:u32 frame*frame_count event*event_count map*map_count
@@ -29,7 +36,7 @@
 //            vy_mm_s:i16 payload_length:u8 payload[payload_length]
 //   end    = 'E' round_count:u32 event_count:u64 frame_count:u64 crc:u32
 //
-// Versions 1 and 2 had no anchors, no map_count, no maps and no event partition field
+// Versions 1 to 3 had no inputs and no message. Versions 1 and 2 had no anchors, no map_count, no maps and no event partition field
 // (a partition event kept its index in `robot`). A map whose same_as names a
 // robot equals that robot's latest map, as of this point of the file.
 //
@@ -86,6 +93,10 @@ inline constexpr size_t kEventBytesV2 = 1 + 2 + 2 + 2 + 1 + 8;      ///< version
 inline constexpr size_t kMapEntryBytes = 2 + 2;                     ///< robot, same_as
 inline constexpr size_t kMapBodyFixedBytes = 2 + 1 + 2;             ///< epoch, mode, member_count
 inline constexpr size_t kMapMemberFixedBytes = 2 + 1 + 5 * 2 + 1;   ///< id .. payload_length
+/// The header's message `kind` byte.
+inline constexpr uint8_t kMessageUndeclared = 0;
+inline constexpr uint8_t kMessageNone = 1;
+inline constexpr uint8_t kMessageFields = 2;
 /// A map's same_as when the map itself follows.
 inline constexpr uint16_t kSameAsNone = 0xFFFF;
 inline constexpr size_t kEndBytes = 1 + 4 + 8 + 8;                  ///< tag .. frame_count

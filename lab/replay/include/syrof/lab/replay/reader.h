@@ -64,6 +64,8 @@ class Reader {
   bool Fail(uint64_t at, const std::string& message);
   bool CheckCrc(uint64_t record_start, const char* record);
   bool ReadName(std::string& name, const char* what);
+  bool ReadInputs(Header& header);   // version 4 on: each robot's private inputs
+  bool ReadMessage(Header& header);  // version 4 on: the message format
   // `next_robot`: the header slot after the previous frame's robot, 0 for a round's first.
   bool ReadFrame(RobotFrame& frame, size_t& next_robot);
   bool ReadEvent(Event& event);

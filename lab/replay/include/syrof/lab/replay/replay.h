@@ -10,8 +10,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "syrof/lab/message/message_format.h"
 
 namespace syrof::lab::replay {
 
@@ -23,7 +26,9 @@ namespace syrof::lab::replay {
 ///   3: per-epoch map records in each round, an event's own `partition`
 ///      field, event kinds SAFETY_INTERVENTION and JOIN_WAIT, the arena's
 ///      UWB anchors in the header.
-inline constexpr uint16_t kFormatVersion = 3;
+///   4: each robot's private inputs and the run's message format (when one
+///      was declared) in the header.
+inline constexpr uint16_t kFormatVersion = 4;
 inline constexpr uint16_t kOldestFormatVersion = 1;
 
 /// Robot id meaning "no robot" in Event::robot and Event::other; no robot of
@@ -38,15 +43,27 @@ inline constexpr size_t kMaxNameBytes = 256;              ///< scenario_name, ap
 inline constexpr uint32_t kMaxRobots = 65535;             ///< ids 0 .. 65534 (kNoRobot excluded)
 inline constexpr uint32_t kMaxEventsPerRound = 1u << 20;  ///< far above any real round
 inline constexpr size_t kMaxAnchors = 256;                ///< UWB anchors of the arena
+inline constexpr size_t kMaxInputsPerRobot = 16;          ///< SYROF_APP_MAX_INPUTS (lab/sim checks the two agree)
 /// A map member's payload: the beacon's (wire::kMaxPayloadBytes; lab/sim
 /// checks the two agree).
 inline constexpr size_t kMaxPayloadBytes = 9;
+
+/// One private input of a robot (syrofAppInput; since version 4).
+struct InputValue {
+  std::string name;  ///< a name's rules (Header), not empty
+  double value = 0;  ///< finite
+
+  bool operator==(const InputValue& other) const = default;
+};
 
 /// One robot of the run.
 struct RobotInfo {
   uint16_t id = 0;            ///< any value but kNoRobot; ids increase along Header::robots
   uint8_t kind = 0;           ///< world::RobotKind value (0 omni, 1 rover), stored as is
   float body_radius_m = 0;    ///< disc radius, finite and >= 0
+  /// Its private inputs (the scenario's `inputs:` resolved for it), at most
+  /// kMaxInputsPerRobot, names unique; empty in files before version 4.
+  std::vector<InputValue> inputs;
 
   bool operator==(const RobotInfo& other) const = default;
 };
@@ -70,6 +87,9 @@ struct Header {
   std::string app_name;         ///< e.g. "builtin:idle"
   std::vector<RobotInfo> robots;  ///< at most kMaxRobots, ids strictly increasing
   std::vector<AnchorInfo> anchors;  ///< at most kMaxAnchors; empty in version 1 and 2 files
+  /// The robots' message format, when the run had one (the scenario's or
+  /// the assignment's `message:`); absent in files before version 4.
+  std::optional<message::MessageFormat> message;
 
   bool operator==(const Header& other) const = default;
 };

@@ -17,6 +17,7 @@
 
 #include "syrof/lab/base/error.h"
 #include "syrof/lab/goals/goals.h"
+#include "syrof/lab/message/message_format.h"
 #include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/lab/world/arena.h"
 #include "syrof/lab/world/channel.h"
@@ -148,6 +149,10 @@ struct Scenario {
   /// (lab/goals); empty when the file declares none (the built-in app's own
   /// goal is then reported).
   std::vector<goals::GoalCheck> goal;
+  /// `message:`: what the robots' payloads mean (docs/grading.md, "The
+  /// message format"), so the replay's viewer decodes them; absent when the
+  /// file declares none. The grader puts its assignment's here.
+  std::optional<message::MessageFormat> message;
 
   const world::KindSpec& kind_spec(world::RobotKind kind) const { return kind == world::RobotKind::kRover ? rover : omni; }
 };
