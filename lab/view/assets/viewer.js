@@ -340,6 +340,21 @@
   }
 
   // ---- Inspector ----------------------------------------------------------------
+  // What only this robot knew (syrofAppInput): "charge 870".
+  function privateInputs(robot) {
+    if (data.replay_version < 4) return `not recorded (replay format version ${data.replay_version})`;
+    if (!robot.inputs || robot.inputs.length === 0) return 'none';
+    return robot.inputs.map(([name, value]) => `${name} ${value}`).join(', ');
+  }
+
+  // A member's payload: its fields decoded with the run's message format
+  // (decoded by syrof view, m[8]), else its bytes in hex.
+  function payloadText(m) {
+    if (m[8]) return m[8].map(([name, value]) => `${name} ${value}`).join(', ');
+    if (!m[7]) return '–';
+    return data.message && data.message !== 'none' ? `${m[7]} (not the format)` : m[7];
+  }
+
   function inspector() {
     const body = $('inspector-body');
     if (selected < 0 || rounds === 0) {
@@ -364,13 +379,14 @@
       row('true pose', `(${fmt(f.x[sample] / 1000, 3)}, ${fmt(f.y[sample] / 1000, 3)}) m, ${fmt(f.h[sample] / 1000, 2)} rad`),
       row('estimate', `(${fmt(f.ex[sample] / 1000, 3)}, ${fmt(f.ey[sample] / 1000, 3)}) m, ${fmt(f.eh[sample] / 1000, 2)} rad`),
       row('error', `${fmt(err, 3)} m`),
+      row('private inputs', privateInputs(robot)),
     ]);
     const children = [facts];
     // The LDMap of the robot's latest epoch start at or before now.
     const starts = startsOf[selected];
     let latest = null;
     for (const start of starts) { if (start.pos <= pos) latest = start; else break; }
-    const report = { robot: robot.id, epoch: null, members: [] };
+    const report = { robot: robot.id, epoch: null, members: [], inputs: privateInputs(robot), payloads: [] };
     if (!latest) {
       children.push(el('h3', { textContent: 'LDMap' }),
                     el('div', { className: 'hint', textContent: data.replay_version >= 3 ? 'No epoch started yet.' : 'This replay (format version ' + data.replay_version + ') holds no maps.' }));
@@ -378,19 +394,21 @@
       const [epoch, mode, members] = data.maps[latest.map];
       report.epoch = epoch;
       report.members = members.map((m) => m[0]);
+      report.payloads = members.map(payloadText);
       const sharing = data.starts.filter((st) => st[2] === latest.map).length;
       children.push(el('h3', {}, [`LDMap it started epoch ${epoch} with `, pill(MODES[mode], mode ? COLOURS.autonomous : COLOURS.cooperative),
                                   ` (round ${roundIndex[latest.pos]}, ${members.length} members${sharing > 1 ? `, same map as ${sharing - 1} other robot start${sharing > 2 ? 's' : ''}` : ''})`]));
-      const head = el('tr', {}, ['id', 'phase', 'x', 'y', 'θ', 'vx', 'vy', 'payload'].map((t) => el('th', { textContent: t })));
+      const payloadHead = data.message ? `payload (${data.message})` : 'payload';
+      const head = el('tr', {}, ['id', 'phase', 'x', 'y', 'θ', 'vx', 'vy', payloadHead].map((t) => el('th', { textContent: t })));
       const rows = members.map((m) => {
         const tr = el('tr', {}, [m[0], PHASES[m[1]] || m[1], fmt(m[2] / 1000, 3), fmt(m[3] / 1000, 3), fmt(m[4] / 1000, 2),
-                                 fmt(m[5] / 1000, 2), fmt(m[6] / 1000, 2), m[7] || '–'].map((t) => el('td', { textContent: String(t) })));
+                                 fmt(m[5] / 1000, 2), fmt(m[6] / 1000, 2), payloadText(m)].map((t) => el('td', { textContent: String(t) })));
         tr.dataset.member = m[0];
         if (m[0] === robot.id) tr.className = 'self';
         return tr;
       });
       children.push(el('div', { className: 'maptable' }, [el('table', { className: 'ldmap' }, [head, ...rows])]),
-                    el('div', { className: 'hint', textContent: 'Each member\'s frozen snapshot as this robot\'s app received it: position (m), heading θ (rad), velocity (m/s), phase when last heard, payload bytes in hex.' }));
+                    el('div', { className: 'hint', textContent: 'Each member\'s frozen snapshot as this robot\'s app received it: position (m), heading θ (rad), velocity (m/s), phase when last heard, and its payload: decoded with the run\'s message format when it declares one, else bytes in hex.' }));
     }
     body.replaceChildren(...children);
     return report;

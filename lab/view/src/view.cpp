@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "syrof/lab/replay/reader.h"
+#include "syrof/lab/message/message_format.h"
 #include "syrof/lab/replay/replay.h"
 #include "view_assets.h"
 
@@ -112,8 +113,23 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
   for (const replay::AnchorInfo& anchor : header.anchors) data["anchors"].push_back({anchor.x_m, anchor.y_m});
   data["robots"] = json::array();
   for (const replay::RobotInfo& robot : header.robots) {
-    data["robots"].push_back({{"id", robot.id}, {"kind", robot.kind}, {"radius", robot.body_radius_m}});
+    json inputs = json::array();
+    for (const replay::InputValue& input : robot.inputs) inputs.push_back({input.name, input.value});
+    data["robots"].push_back(
+        {{"id", robot.id}, {"kind", robot.kind}, {"radius", robot.body_radius_m}, {"inputs", std::move(inputs)}});
   }
+  // The message format, when the run had one: each member's payload is
+  // decoded here, with lab/message's decoder (the grader checks payloads
+  // with the same definition), so the page never parses bytes itself.
+  data["message"] = header.message ? json(header.message->ToString()) : json(nullptr);
+  auto decoded = [&header](const std::vector<uint8_t>& payload) -> json {
+    if (!header.message || header.message->none || payload.empty()) return nullptr;
+    const std::vector<message::FieldValue> values = message::DecodePayload(*header.message, payload);
+    if (values.empty()) return nullptr;  // not the format's length: shown as hex, marked
+    json fields = json::array();
+    for (const message::FieldValue& value : values) fields.push_back({value.name, value.value});
+    return fields;
+  };
 
   // Read everything the reader accepts; frames are carried forward for a
   // robot a round leaves out, as the format defines.
@@ -163,7 +179,7 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
         json members = json::array();
         for (const replay::MapMember& member : entry.map->members) {
           members.push_back({member.id, member.phase, member.x_mm, member.y_mm, member.heading_mrad, member.vx_mm_s,
-                             member.vy_mm_s, Hex(member.payload)});
+                             member.vy_mm_s, Hex(member.payload), decoded(member.payload)});
         }
         maps.push_back({entry.map->epoch, entry.map->mode, std::move(members)});
       }

@@ -342,12 +342,83 @@ TEST(CollisionPage, SteppingToTheCollisionRoundShowsItMarked) {
   EXPECT_NE(at.dom.find("<li class=\"ev k4 now\""), std::string::npos);  // listed (kind 4), as happening now
 }
 
+// ---- A replay made by hand with private inputs and a message format --------
+
+std::string MessageReplay() {
+  replay::Header header;
+  header.seed = 1;
+  header.radio_round_ns = 50'000'000;
+  header.arena_width_m = 4;
+  header.arena_height_m = 2;
+  header.scenario_name = "message";
+  header.app_name = "by hand";
+  header.robots = {{0, 0, 0.1f, {{"charge", 870}}}, {1, 0, 0.1f, {{"charge", 12}}}};
+  message::MessageFormat format;
+  format.none = false;
+  format.fields = {{"charge", message::FieldType::kU16Be, 0}};
+  format.length = 2;
+  header.message = format;
+  std::ostringstream bytes;
+  replay::Writer writer(bytes, header);
+  auto map = std::make_shared<replay::EpochMap>();
+  map->epoch = 1;
+  // Robot 0 told its charge as the format says; robot 1 sent one byte.
+  map->members = {replay::MapMember{0, 0, 1000, 1000, 0, 0, 0, {0x03, 0x66}},
+                  replay::MapMember{1, 0, 3000, 1000, 0, 0, 0, {0xAB}}};
+  for (uint32_t index = 1; index <= 5; ++index) {
+    std::vector<replay::RobotFrame> frames(2);
+    for (uint16_t id = 0; id < 2; ++id) {
+      frames[id] = replay::RobotFrame{.id = id, .presence = replay::Presence::kRunning, .epoch = 1};
+      frames[id].true_x_m = frames[id].est_x_m = id == 0 ? 1.0f : 3.0f;
+      frames[id].true_y_m = frames[id].est_y_m = 1.0f;
+    }
+    std::vector<replay::Event> events;
+    std::vector<replay::RobotMap> maps;
+    const int64_t time_ns = int64_t{index} * 50'000'000;
+    if (index == 1) {
+      events = {{replay::EventKind::kEpochStart, 0, replay::kNoRobot, 1, 0, time_ns},
+                {replay::EventKind::kEpochStart, 1, replay::kNoRobot, 1, 0, time_ns}};
+      maps = {{0, map}, {1, map}};
+    }
+    writer.WriteRound(index, time_ns, frames, events, maps);
+  }
+  writer.Finish();
+  EXPECT_TRUE(writer.ok()) << writer.error();
+  return bytes.str();
+}
+
+TEST(MessagePage, InspectorShowsPrivateInputsAndDecodedPayloads) {
+  const fs::path page = WritePage(MessageReplay(), "message");
+
+  const Loaded robot1 = Load(page, "#round=3&robot=1");
+
+  const json& inspector = robot1.report["inspector"];
+  ASSERT_TRUE(inspector.is_object()) << robot1.report.dump();
+  EXPECT_EQ(inspector["inputs"], "charge 12");
+  EXPECT_EQ(inspector["payloads"], json::array({"charge 870", "ab (not the format)"})) << inspector.dump();
+  EXPECT_NE(robot1.dom.find("payload (2 bytes: charge u16be)"), std::string::npos);
+  EXPECT_NE(robot1.dom.find("<td>charge 870</td>"), std::string::npos);
+  EXPECT_NE(robot1.dom.find("<td>charge 12</td>"), std::string::npos);  // the facts row
+}
+
+TEST(MessagePage, WithoutAFormatPayloadsAreHexAndInputsSayNone) {
+  // The collision replay: no inputs, no format, empty payloads.
+  const fs::path page = WritePage(CollisionReplay(), "collision_inputs");
+
+  const Loaded loaded = Load(page, "#round=3&robot=0");
+
+  const json& inspector = loaded.report["inspector"];
+  ASSERT_TRUE(inspector.is_object()) << loaded.report.dump();
+  EXPECT_EQ(inspector["inputs"], "none");
+  EXPECT_EQ(inspector["payloads"], json::array({"–", "–"})) << inspector.dump();
+}
+
 // ---- Replays the page cannot show whole ------------------------------------
 
 TEST(ProblemPages, SayClearlyWhatIsWrong) {
   const std::string good = replay::testing::WriteSample().bytes;
   std::string newer = good;
-  replay::testing::PutU16At(newer, 8, 4);
+  replay::testing::PutU16At(newer, 8, replay::kFormatVersion + 1);
   struct Case {
     std::string name, bytes, status, title, detail;
   };
@@ -355,7 +426,7 @@ TEST(ProblemPages, SayClearlyWhatIsWrong) {
       {"empty", "", "empty", "Nothing to show", "The replay file is empty (0 bytes)"},
       {"truncated", good.substr(0, good.size() - 25), "truncated", "This replay is cut short",
        "cut short after 3 rounds"},
-      {"newer", newer, "newer", "This replay is from a newer SyROF", "format version 4 is newer than this reader"},
+      {"newer", newer, "newer", "This replay is from a newer SyROF", "is newer than this reader"},
   };
   for (const Case& c : cases) {
     const Loaded loaded = Load(WritePage(c.bytes, "problem_" + c.name));

@@ -22,6 +22,33 @@ json DataOf(const std::string& bytes, Page& page, const PageOptions& options = {
   return json::parse(ReplayJson(in, "sample.replay", options, page));
 }
 
+TEST(ViewData, DecodesPayloadsWithTheMessageFormatAndCarriesInputs) {
+  // The sample's robot i sends i bytes of 0xA0 + i: with a 2-byte format,
+  // robot 2's payload decodes; robot 1's (1 byte) and robot 0's (none) do not.
+  replay::Header header = replay::testing::SampleHeader();
+  header.robots[1].inputs = {{"charge", 870}};
+  message::MessageFormat format;
+  format.none = false;
+  format.fields = {{"charge", message::FieldType::kU16Be, 0}};
+  format.length = 2;
+  header.message = format;
+  Page page;
+
+  const json data = DataOf(replay::testing::Write(header, replay::testing::SampleRounds()).bytes, page);
+
+  EXPECT_EQ(data["message"], "2 bytes: charge u16be");
+  EXPECT_EQ(data["robots"][1]["inputs"], json::parse(R"([["charge", 870.0]])"));
+  EXPECT_EQ(data["robots"][0]["inputs"], json::array());
+  const json& shared = data["maps"][0][2];  // robots 0 and 1's map: members 0, 1
+  const json& own = data["maps"][1][2];     // robot 2's: members 0, 2
+  ASSERT_EQ(shared.size(), 2u) << data["maps"].dump();
+  ASSERT_EQ(own.size(), 2u) << data["maps"].dump();
+  EXPECT_EQ(shared[0][8], nullptr);
+  EXPECT_EQ(shared[1][7], "a1");
+  EXPECT_EQ(shared[1][8], nullptr);
+  EXPECT_EQ(own[1][8], json::parse(R"([["charge", 41634]])"));  // 0xA2A2
+}
+
 TEST(ViewData, HoldsEveryEventMapAndRoundOfTheSample) {
   Page page;
   const json data = DataOf(replay::testing::WriteSample().bytes, page);
@@ -58,7 +85,7 @@ TEST(ViewData, DecimatesFramesButNeverEvents) {
 TEST(ViewData, SaysWhatIsWrongWithABadReplay) {
   const std::string good = replay::testing::WriteSample().bytes;
   std::string newer = good;
-  replay::testing::PutU16At(newer, 8, 4);
+  replay::testing::PutU16At(newer, 8, replay::kFormatVersion + 1);
   Page page;
 
   EXPECT_EQ(DataOf("", page)["status"], "empty");
@@ -69,7 +96,7 @@ TEST(ViewData, SaysWhatIsWrongWithABadReplay) {
   EXPECT_NE(truncated["message"].get<std::string>().find("cut short after 3 rounds"), std::string::npos);
   const json newer_data = DataOf(newer, page);
   EXPECT_EQ(newer_data["status"], "newer");
-  EXPECT_NE(newer_data["message"].get<std::string>().find("format version 4 is newer"), std::string::npos);
+  EXPECT_NE(newer_data["message"].get<std::string>().find("format version " + std::to_string(replay::kFormatVersion + 1) + " is newer"), std::string::npos);
   EXPECT_EQ(DataOf("not a replay", page)["status"], "invalid");
 }
 
