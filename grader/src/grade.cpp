@@ -162,8 +162,11 @@ namespace {
 // run_error). With `replay`, the run also writes replay.bin there.
 void RunTest(const Assignment& assignment, const ScenarioRun& run, const std::string& library,
              const fs::path& out_dir, bool replay, TestResult& test) {
+  // The assignment's message format goes into the replay (the viewer
+  // decodes payloads with it); its payload check is reported only by --mix.
   const internal::RunOutcome outcome =
-      internal::RunScenario(run, test.seed, {library}, (out_dir / test.output_dir).string(), replay);
+      internal::RunScenario(run, test.seed, {library}, (out_dir / test.output_dir).string(), replay,
+                            assignment.message ? &*assignment.message : nullptr);
   test.wall_seconds = outcome.wall_seconds;
   test.run_error = outcome.run_error;
   if (outcome.metrics) test.score = assignment::ScoreRun(assignment.rubric, *outcome.metrics);

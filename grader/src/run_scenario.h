@@ -26,7 +26,8 @@ struct RunOutcome {
 /// `replay` also replay.bin); robot i runs libraries[i % size]. Hosts are
 /// started by the calling thread, which must outlive the call (it does).
 /// Stopped at run.time_limit_s of wall time (run_error says so). With
-/// `message`, every payload each robot sets is checked against it
+/// `message` (the assignment's format), the replay carries it in place of
+/// the scenario's, and every payload each robot sets is checked against it
 /// (RunOutcome::payload_violations); the run itself is unchanged.
 RunOutcome RunScenario(const assignment::ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
                        const std::string& dir, bool replay, const lab::message::MessageFormat* message = nullptr);
