@@ -1,5 +1,8 @@
-// The engine's pure helpers (run_parts.h): the replay's copy of an LDMap.
+// The engine's pure helpers (run_parts.h): the replay's header and its copy
+// of an LDMap.
 #include "syrof/lab/sim/run_parts.h"
+
+#include "syrof/lab/scenario/scenario.h"
 
 #include <gtest/gtest.h>
 
@@ -29,6 +32,21 @@ std::unique_ptr<sync::LDMap> SampleLDMap() {
     EXPECT_EQ(snapshot.SetPayload(std::span<const uint8_t>(payload.data(), id % 4)), wire::WireError::kOk);
   }
   return ldmap;
+}
+
+TEST(RunPartsTest, TheReplayHeaderCarriesEachRobotsInputsAndTheMessageFormat) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioText(
+      "robots: {count: 3}\napp: builtin:idle\ninputs:\n  charge: [10, 870, 5]\n"
+      "message: {length: 2, fields: [{name: charge, type: u16be}]}\n",
+      "header.yaml");
+  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
+
+  const replay::Header header = ReplayHeader(*loaded.scenario);
+
+  ASSERT_EQ(header.robots.size(), 3u);
+  EXPECT_EQ(header.robots[1].inputs, (std::vector<replay::InputValue>{{"charge", 870}}));
+  ASSERT_TRUE(header.message.has_value());
+  EXPECT_EQ(header.message->ToString(), "2 bytes: charge u16be");
 }
 
 TEST(RunPartsTest, AnLDMapMatchesItsOwnEpochMap) {
