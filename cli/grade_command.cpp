@@ -174,7 +174,7 @@ int GradeMix(const GradeOptions& options, std::ostream& out, std::ostream& err) 
   if (!loaded->mixable) {
     fmt::print(err,
                "syrof grade: assignment '{}' is not mixable: its README must fix the robots' message format and its "
-               "assignment.yaml say 'mixable: true'\n",
+               "assignment.yaml say 'mixable: true' with its 'message:' format\n",
                loaded->name);
     return kBadInput;
   }
