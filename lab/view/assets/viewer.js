@@ -352,7 +352,7 @@
   function payloadText(m) {
     if (m[8]) return m[8].map(([name, value]) => `${name} ${value}`).join(', ');
     if (!m[7]) return '–';
-    return data.message && data.message !== 'none' ? `${m[7]} (not the format)` : m[7];
+    return data.message && data.message !== 'none' ? `${m[7]} (bad length)` : m[7];
   }
 
   function inspector() {
@@ -398,8 +398,7 @@
       const sharing = data.starts.filter((st) => st[2] === latest.map).length;
       children.push(el('h3', {}, [`LDMap it started epoch ${epoch} with `, pill(MODES[mode], mode ? COLOURS.autonomous : COLOURS.cooperative),
                                   ` (round ${roundIndex[latest.pos]}, ${members.length} members${sharing > 1 ? `, same map as ${sharing - 1} other robot start${sharing > 2 ? 's' : ''}` : ''})`]));
-      const payloadHead = data.message ? `payload (${data.message})` : 'payload';
-      const head = el('tr', {}, ['id', 'phase', 'x', 'y', 'θ', 'vx', 'vy', payloadHead].map((t) => el('th', { textContent: t })));
+      const head = el('tr', {}, ['id', 'phase', 'x', 'y', 'θ', 'vx', 'vy', 'payload'].map((t) => el('th', { textContent: t })));
       const rows = members.map((m) => {
         const tr = el('tr', {}, [m[0], PHASES[m[1]] || m[1], fmt(m[2] / 1000, 3), fmt(m[3] / 1000, 3), fmt(m[4] / 1000, 2),
                                  fmt(m[5] / 1000, 2), fmt(m[6] / 1000, 2), payloadText(m)].map((t) => el('td', { textContent: String(t) })));
@@ -408,6 +407,7 @@
         return tr;
       });
       children.push(el('div', { className: 'maptable' }, [el('table', { className: 'ldmap' }, [head, ...rows])]),
+                    el('div', { className: 'hint', textContent: data.message ? `Message format: ${data.message}.` : 'No message format declared: payloads in hex.' }),
                     el('div', { className: 'hint', textContent: 'Each member\'s frozen snapshot as this robot\'s app received it: position (m), heading θ (rad), velocity (m/s), phase when last heard, and its payload: decoded with the run\'s message format when it declares one, else bytes in hex.' }));
     }
     body.replaceChildren(...children);

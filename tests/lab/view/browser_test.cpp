@@ -395,8 +395,8 @@ TEST(MessagePage, InspectorShowsPrivateInputsAndDecodedPayloads) {
   const json& inspector = robot1.report["inspector"];
   ASSERT_TRUE(inspector.is_object()) << robot1.report.dump();
   EXPECT_EQ(inspector["inputs"], "charge 12");
-  EXPECT_EQ(inspector["payloads"], json::array({"charge 870", "ab (not the format)"})) << inspector.dump();
-  EXPECT_NE(robot1.dom.find("payload (2 bytes: charge u16be)"), std::string::npos);
+  EXPECT_EQ(inspector["payloads"], json::array({"charge 870", "ab (bad length)"})) << inspector.dump();
+  EXPECT_NE(robot1.dom.find("Message format: 2 bytes: charge u16be."), std::string::npos);
   EXPECT_NE(robot1.dom.find("<td>charge 870</td>"), std::string::npos);
   EXPECT_NE(robot1.dom.find("<td>charge 12</td>"), std::string::npos);  // the facts row
 }
