@@ -48,7 +48,8 @@ TEST(GradeCommandTest, HelpListsTheModesAndOptions) {
   const Outcome outcome = Grade({"--help"});
   EXPECT_EQ(outcome.status, 0);
   for (const char* option : {"--assignment", "--class", "--mix", "--public-only", "--jobs", "--out", "--shard",
-                             "--build-timeout-s", "merge"}) {
+                             "--build-timeout-s", "merge", "--student-seed", "--gradescope-metadata",
+                             "--per-student-seeds", "--course-secret-file"}) {
     EXPECT_NE(outcome.out.find(option), std::string::npos) << option << " missing from\n" << outcome.out;
   }
 }
