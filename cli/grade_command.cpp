@@ -4,6 +4,7 @@
 #include <fmt/ostream.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 
 #include "syrof/app_host/landlock.h"
@@ -13,6 +14,7 @@
 #include "syrof/grader/grade_json.h"
 #include "syrof/grader/mix.h"
 #include "syrof/grader/outputs.h"
+#include "syrof/grader/student_seeds.h"
 #include "syrof/grader/table.h"
 #include "exit_status.h"
 
@@ -56,6 +58,61 @@ std::optional<assignment::Assignment> LoadAssignment(const GradeOptions& options
   return loaded.assignment;
 }
 
+// The course secret for per-student seeds: --course-secret-file, else
+// $SYROF_COURSE_SECRET. Prints why and returns empty when there is none or
+// it is unusable.
+std::optional<std::string> CourseSecret(const GradeOptions& options, std::ostream& err) {
+  std::string problem;
+  if (!options.course_secret_file.empty()) {
+    std::optional<std::string> secret = grader::ReadCourseSecretFile(options.course_secret_file, problem);
+    if (!secret) fmt::print(err, "syrof grade: {}\n", problem);
+    return secret;
+  }
+  const char* variable = std::getenv(grader::kCourseSecretVariable);
+  if (variable == nullptr || *variable == '\0') {
+    fmt::print(err,
+               "syrof grade: per-student hidden seeds need the course secret: set {} or give "
+               "--course-secret-file FILE (never the secret itself on the command line, where `ps` shows it)\n",
+               grader::kCourseSecretVariable);
+    return std::nullopt;
+  }
+  if (problem = grader::CheckCourseSecret(variable); !problem.empty()) {
+    fmt::print(err, "syrof grade: {}: {}\n", grader::kCourseSecretVariable, problem);
+    return std::nullopt;
+  }
+  return std::string(variable);
+}
+
+// Fills grade.student_seeds when per-student seeds were asked for. False
+// (the reason on `err`) when they were and cannot be derived.
+bool ResolveStudentSeeds(const GradeOptions& options, grader::GradeOptions& grade, std::ostream& err) {
+  const bool asked =
+      !options.student_seed.empty() || !options.gradescope_metadata.empty() || options.per_student_seeds;
+  if (!asked) {
+    if (!options.course_secret_file.empty()) {
+      fmt::print(err, "syrof grade: --course-secret-file is for per-student hidden seeds: give --student-seed ID, "
+                      "--gradescope-metadata FILE or, with --class, --per-student-seeds\n");
+      return false;
+    }
+    return true;
+  }
+  std::optional<std::string> secret = CourseSecret(options, err);
+  if (!secret) return false;
+  grader::StudentSeeds seeds{*std::move(secret), options.student_seed};
+  if (!options.gradescope_metadata.empty()) {
+    std::string problem;
+    const std::optional<std::string> student =
+        grader::StudentFromGradescopeMetadataFile(options.gradescope_metadata, problem);
+    if (!student) {
+      fmt::print(err, "syrof grade: {}\n", problem);
+      return false;
+    }
+    seeds.student = *student;
+  }
+  grade.student_seeds = std::move(seeds);
+  return true;
+}
+
 grader::GradeOptions GradeOptionsOf(const GradeOptions& options) {
   grader::GradeOptions grade;
   grade.public_only = options.public_only;
@@ -82,9 +139,13 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
   const std::string out_dir = options.out_dir.empty() ? "grade-out/" + (name.empty() ? "submission" : name)
                                                       : options.out_dir;
   grader::GradeOptions grade = GradeOptionsOf(options);
+  if (!ResolveStudentSeeds(options, grade, err)) return kBadInput;
   if (!options.quiet) {
     fmt::print(out, "syrof grade: {} for {} ({} jobs), into {}\n", options.submission, loaded->name, options.jobs,
                out_dir);
+    if (grade.student_seeds) {
+      fmt::print(out, "syrof grade: hidden seeds derived for student '{}'\n", grade.student_seeds->student);
+    }
     grade.on_test = [&out](const assignment::TestResult& test) {
       fmt::print(out, "  {:<40} {}  {:.1f} s\n", test.name, test.passed ? "PASS" : "FAIL", test.wall_seconds);
     };
@@ -93,7 +154,11 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
   std::vector<std::string> notes;
   assignment::SubmissionResult result =
       grader::GradeSubmission(*loaded, options.submission, out_dir, grade, notes);
-  const std::string hash = grader::InputsHash(options.submission, folder, result.public_only);
+  const std::string hash = grader::InputsHash(
+      options.submission, folder, result.public_only,
+      grade.student_seeds && !result.public_only
+          ? grader::HiddenSeedsText(grader::GradedAssignment(*loaded, grade))
+          : std::string());
   if (std::string problem = grader::WriteSubmissionOutputs(result, hash, notes, out_dir); !problem.empty()) {
     fmt::print(err, "syrof grade: {}\n", problem);
     return kInternalError;
@@ -127,6 +192,7 @@ int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err
   const std::string out_dir = options.out_dir.empty() ? "grade-out/class" : options.out_dir;
   grader::ClassOptions class_options;
   class_options.grade = GradeOptionsOf(options);
+  if (!ResolveStudentSeeds(options, class_options.grade, err)) return kBadInput;
   class_options.jobs = options.jobs;
   class_options.shard = shard;
   class_options.resume = !options.regrade;
@@ -243,6 +309,25 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
   grade->add_flag("--unsafe-no-file-isolation", options.unsafe_no_file_isolation,
                   "Grade even where the kernel has no Landlock (older than 5.13): submissions' builds and "
                   "libraries can then read and write whatever uid 65534 (or yours) can; only for code you trust");
+  CLI::Option* student_option = grade->add_option(
+      "--student-seed", options.student_seed,
+      "Derive the hidden tests' seeds from this student id (an email, a roster id) and the course secret "
+      "($SYROF_COURSE_SECRET or --course-secret-file) instead of the listed ones");
+  CLI::Option* metadata_option = grade->add_option(
+      "--gradescope-metadata", options.gradescope_metadata,
+      "As --student-seed, the id taken from Gradescope's submission_metadata.json (its users' ids, sorted, "
+      "joined with '+')");
+  CLI::Option* per_student_option = grade->add_flag(
+      "--per-student-seeds", options.per_student_seeds,
+      "With --class: derive each student's hidden seeds from its folder's name and the course secret");
+  grade->add_option("--course-secret-file", options.course_secret_file,
+                    "The course secret for per-student seeds, in a file (default: $SYROF_COURSE_SECRET)");
+  per_student_option->needs(class_option);
+  student_option->excludes(metadata_option);
+  student_option->excludes(class_option);
+  student_option->excludes(mix_option);
+  metadata_option->excludes(class_option);
+  metadata_option->excludes(mix_option);
   class_option->excludes(mix_option);
 
   CLI::App* merge = grade->add_subcommand("merge", "Combine the outputs of class shards into one CSV and summary");

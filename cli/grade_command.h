@@ -1,7 +1,9 @@
 // `syrof grade`: grade a student's submission, a class, or a mixed swarm,
 // and `syrof grade merge` (docs/grading.md):
 //   syrof grade SUBMISSION_DIR --assignment NAME|PATH [--public-only] [--jobs N] [--out DIR]
+//               [--student-seed ID | --gradescope-metadata FILE] [--course-secret-file FILE]
 //   syrof grade --class SUBMISSIONS_DIR --assignment NAME --jobs N --out DIR [--shard I/N]
+//               [--per-student-seeds] [--course-secret-file FILE]
 //   syrof grade --mix SUB1 SUB2 ... --assignment NAME [--out DIR]
 //   syrof grade merge OUT1 OUT2 ... --out DIR
 #pragma once
@@ -28,6 +30,12 @@ struct GradeOptions {
   bool regrade = false;                 ///< --class: ignore earlier results
   bool quiet = false;
   bool unsafe_no_file_isolation = false;  ///< build and run untrusted code even without Landlock
+  // Hidden seeds per student (docs/grading.md): the secret from
+  // --course-secret-file, else $SYROF_COURSE_SECRET; never an argument.
+  std::string student_seed;             ///< the student's id
+  std::string gradescope_metadata;      ///< Gradescope's submission_metadata.json: the id from its users
+  bool per_student_seeds = false;       ///< --class: each folder's name is its student's id
+  std::string course_secret_file;
   // `syrof grade merge`
   bool merge = false;
   std::vector<std::string> merge_dirs;

@@ -6,7 +6,10 @@
 #include <algorithm>
 #include <vector>
 
+#include <cstdlib>
+
 #include "syrof/assignment/assignment.h"
+#include "syrof/grader/student_seeds.h"
 #include "exit_status.h"
 #include "syrof/report/gradescope_bundle.h"
 
@@ -92,6 +95,12 @@ CLI::App* SetupGradescopeCommand(CLI::App& app, GradescopeOptions& options) {
   command->add_option("--deb", options.deb,
                       "SyROF's Debian package to install on Gradescope (default: syrof_<version>_<arch>.deb "
                       "beside the running build tree, as `make package` writes it)");
+  command->add_flag("--per-student-seeds", options.per_student_seeds,
+                    "Put the course secret ($SYROF_COURSE_SECRET or --course-secret-file) in the bundle: each "
+                    "submission's hidden seeds are then derived from its Gradescope users (keep the zip private)");
+  command->add_option("--course-secret-file", options.course_secret_file,
+                      "With --per-student-seeds: the course secret, in a file")
+      ->needs("--per-student-seeds");
   return command;
 }
 
@@ -115,7 +124,25 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
       return kBadInput;
     }
   }
-  const grader::report::BundleResult bundle = grader::report::GradescopeBundle(folder, deb);
+  std::optional<std::string> course_secret;
+  if (options.per_student_seeds) {
+    if (!options.course_secret_file.empty()) {
+      course_secret = grader::ReadCourseSecretFile(options.course_secret_file, error);
+    } else if (const char* variable = std::getenv(grader::kCourseSecretVariable);
+               variable != nullptr && *variable != '\0') {
+      error = grader::CheckCourseSecret(variable);
+      if (error.empty()) course_secret = std::string(variable);
+      else error = std::string(grader::kCourseSecretVariable) + ": " + error;
+    } else {
+      error = fmt::format("--per-student-seeds needs the course secret: set {} or give --course-secret-file FILE",
+                          grader::kCourseSecretVariable);
+    }
+    if (!course_secret) {
+      fmt::print(err, "syrof gradescope: {}\n", error);
+      return kBadInput;
+    }
+  }
+  const grader::report::BundleResult bundle = grader::report::GradescopeBundle(folder, deb, course_secret);
   if (!bundle.ok()) {
     fmt::print(err, "syrof gradescope: {}\n", bundle.error);
     return kBadInput;
@@ -135,6 +162,11 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
              "run_autograder");
   fmt::print(out, "  {:<15} '{}': {} public and {} hidden tests (its reference/ and broken/ left out)\n",
              "assignment/", assignment.title, Tests(assignment.public_runs), Tests(assignment.hidden_runs));
+  if (course_secret) {
+    fmt::print(out, "  {:<15} the course secret: hidden seeds per student, from Gradescope's submission metadata; "
+                    "keep this zip private\n",
+               grader::report::kCourseSecretFile);
+  }
   fmt::print(out,
              "Upload it as the assignment's autograder on Gradescope (Configure Autograder, Zip file upload); "
              "docs/grading.md, \"Publishing to Gradescope\", says how\n");

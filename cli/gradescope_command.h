@@ -1,7 +1,8 @@
-// `syrof gradescope NAME|PATH [-o autograder.zip] [--deb FILE]`: the zip an
-// instructor uploads to Gradescope as an assignment's autograder (setup.sh,
-// run_autograder, SyROF's Debian package, the assignment with its hidden
-// sets; grader/report's gradescope_bundle.h, docs/grading.md "Publishing to
+// `syrof gradescope NAME|PATH [-o autograder.zip] [--deb FILE] [--per-student-seeds [--course-secret-file F]]`:
+// the zip an instructor uploads to Gradescope as an assignment's autograder
+// (setup.sh, run_autograder, SyROF's Debian package, the assignment with its
+// hidden sets, and with --per-student-seeds the course secret;
+// grader/report's gradescope_bundle.h, docs/grading.md "Publishing to
 // Gradescope").
 #pragma once
 
@@ -17,6 +18,11 @@ struct GradescopeOptions {
   std::string assignment{};               ///< a name under ./assignments/, or a folder (or its assignment.yaml)
   std::string output{"autograder.zip"};  ///< the zip to write
   std::string deb{};                      ///< the package; empty: PackageBesideBuild of the running syrof
+  /// Per-student hidden seeds: the course secret (from `course_secret_file`,
+  /// else $SYROF_COURSE_SECRET) goes into the bundle, and run_autograder
+  /// derives each submission's hidden seeds from its users.
+  bool per_student_seeds = false;
+  std::string course_secret_file{};
 };
 
 /// Declares the subcommand on `app`.

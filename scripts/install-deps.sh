@@ -26,6 +26,8 @@ demo_packages=(
   libseccomp-dev
   # the Gradescope bundle's zip (grader/report; found through pkg-config)
   libzip-dev
+  # HMAC-SHA256 of the per-student hidden seeds (grader/; Cyclone DDS links it too)
+  libssl-dev
   # GoogleTest and Google Benchmark: configure finds them (a missing one fails
   # there, not in a later make test); a few MB, against Chromium's hundreds
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -109,7 +109,14 @@ ClassResult GradeClass(const assignment::Assignment& assignment, const std::stri
     for (size_t index = next++; index < students.size(); index = next++) {
       const fs::path submission = fs::path(submissions_dir) / students[index];
       const fs::path out = fs::path(out_dir) / students[index];
-      const std::string hash = InputsHash(submission.string(), options.assignment_dir, public_only);
+      // With per-student seeds, the folder's name is the student's id.
+      GradeOptions student_grade = grade;
+      if (student_grade.student_seeds) student_grade.student_seeds->student = students[index];
+      const std::string hidden_seeds =
+          student_grade.student_seeds && !public_only
+              ? HiddenSeedsText(WithStudentSeeds(assignment, *student_grade.student_seeds))
+              : std::string();
+      const std::string hash = InputsHash(submission.string(), options.assignment_dir, public_only, hidden_seeds);
       std::string ignored;
       std::optional<GradeFile> previous;
       if (options.resume) previous = ReadGradeJson((out / "grade.json").string(), ignored);
@@ -118,7 +125,8 @@ ClassResult GradeClass(const assignment::Assignment& assignment, const std::stri
         resumed[index] = true;
       } else {
         std::vector<std::string> student_notes;
-        result.students[index] = GradeSubmission(assignment, submission.string(), out.string(), grade, student_notes);
+        result.students[index] =
+            GradeSubmission(assignment, submission.string(), out.string(), student_grade, student_notes);
         result.students[index].submission = students[index];
         WriteSubmissionOutputs(result.students[index], hash, student_notes, out.string());
         const std::lock_guard<std::mutex> lock(mutex);

@@ -172,8 +172,12 @@ void RunTest(const Assignment& assignment, const ScenarioRun& run, const std::st
   if (outcome.metrics) test.score = assignment::ScoreRun(assignment.rubric, *outcome.metrics);
 }
 
-std::string ReplayCommand(const ScenarioRun& run, const TestResult& test, const std::string& library) {
-  if (test.visibility == Visibility::kHidden) return {};
+// A hidden test's command is kept only when its seed was derived for the
+// student: the instructor cannot read that seed in assignment.yaml. The
+// student-facing reports never show a hidden test's command.
+std::string ReplayCommand(const ScenarioRun& run, const TestResult& test, const std::string& library,
+                          bool seeds_derived) {
+  if (test.visibility == Visibility::kHidden && !seeds_derived) return {};
   return "syrof run " + fs::absolute(run.path).lexically_normal().string() + " --app " + library + " --seed " +
          std::to_string(test.seed) + " --out rerun/" + test.scenario + "-seed-" + std::to_string(test.seed);
 }
@@ -221,9 +225,16 @@ void AddUp(SubmissionResult& result, double total_points) {
   result.points = RoundPoints(exact);
 }
 
-SubmissionResult GradeLibrary(const Assignment& assignment, const std::string& library, const std::string& out_dir,
+Assignment GradedAssignment(const Assignment& assignment, const GradeOptions& options) {
+  return options.student_seeds ? WithStudentSeeds(assignment, *options.student_seeds) : assignment;
+}
+
+SubmissionResult GradeLibrary(const Assignment& listed, const std::string& library, const std::string& out_dir,
                               const GradeOptions& options) {
+  const Assignment assignment = GradedAssignment(listed, options);
+  const bool seeds_derived = options.student_seeds.has_value();
   SubmissionResult result;
+  result.seed_student = seeds_derived ? options.student_seeds->student : std::string();
   result.assignment = assignment.name;
   result.title = assignment.title;
   result.public_only = options.public_only || assignment.hidden_missing;
@@ -238,7 +249,7 @@ SubmissionResult GradeLibrary(const Assignment& assignment, const std::string& l
     for (size_t index = next++; index < result.tests.size(); index = next++) {
       TestResult& test = result.tests[index];
       const ScenarioRun& run = *FindRun(assignment, test);
-      test.replay_command = ReplayCommand(run, test, library);
+      test.replay_command = ReplayCommand(run, test, library, seeds_derived);
       RunTest(assignment, run, library, out, false, test);
       const bool failed = test.run_error.empty() && test.score.points != test.score.max_points;
       if (failed) {
@@ -276,7 +287,8 @@ SubmissionResult GradeSubmission(const Assignment& assignment, const std::string
     result.assignment = assignment.name;
     result.title = assignment.title;
     result.public_only = options.public_only || assignment.hidden_missing;
-    result.tests = PlanTests(assignment, result.public_only);
+    result.tests = PlanTests(GradedAssignment(assignment, options), result.public_only);
+    if (options.student_seeds) result.seed_student = options.student_seeds->student;
     for (TestResult& test : result.tests) {
       test.run_error = "not run: the submission did not build (" + build.verdict + ")";
     }

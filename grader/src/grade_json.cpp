@@ -118,6 +118,7 @@ std::string GradeJson(const GradeFile& file) {
             {"assignment", result.assignment},
             {"title", result.title},
             {"public_only", result.public_only},
+            {"seed_student", result.seed_student},
             {"points", result.points},
             {"max_points", result.max_points},
             {"tests_passed", result.tests_passed},
@@ -158,6 +159,7 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
   result.assignment = Get<std::string>(root, "assignment", "");
   result.title = Get<std::string>(root, "title", "");
   result.public_only = Get<bool>(root, "public_only", false);
+  result.seed_student = Get<std::string>(root, "seed_student", "");
   result.points = Get<double>(root, "points", 0.0);
   result.max_points = Get<double>(root, "max_points", 0.0);
   result.tests_passed = Get<int>(root, "tests_passed", 0);
@@ -201,7 +203,8 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
   return file;
 }
 
-std::string InputsHash(const std::string& submission_dir, const std::string& assignment_dir, bool public_only) {
+std::string InputsHash(const std::string& submission_dir, const std::string& assignment_dir, bool public_only,
+                       const std::string& hidden_seeds) {
   Hash hash;
   hash.Add("submission");
   AddFolder(hash, submission_dir);
@@ -209,6 +212,7 @@ std::string InputsHash(const std::string& submission_dir, const std::string& ass
   AddFolder(hash, assignment_dir);
   hash.Add("syrof " + SyrofVersion());
   hash.Add(public_only ? "public only" : "all tests");
+  if (!hidden_seeds.empty()) hash.Add("hidden seeds " + hidden_seeds);  // absent: the hashes of before
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash.value));
   return text;

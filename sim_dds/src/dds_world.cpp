@@ -281,7 +281,6 @@ class DdsWorld {
   int64_t next_recorded_ = 1;
   double expected_deliveries_ = 0;
   double in_round_deliveries_ = 0;
-  lab::metrics::AgreementTracker agreement_;
 
   // The robots' rounds on the world's clock. On one grid (no alignment)
   // round r starts at start + r * alpha. Aligning robots move their
@@ -321,6 +320,7 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
       robot_rounds_(swarm_size_),
       frames_(swarm_size_),
       robot_origins_(swarm_size_) {
+  recorder_.MeasureAgreement();  // the robots report every app return (kAppState)
   robot_options_.scenario_path = options.scenario_path;
   robot_options_.overrides = options.overrides;
   robot_options_.run_id = run_id;
@@ -714,8 +714,8 @@ void DdsWorld::ReadReport(int64_t round, const Received& r, RoundReports& read) 
     case ReportKind::kAppState: {
       const AppStateReport& a = r.body.app_state;
       using Call = lab::metrics::AgreementTracker::Call;
-      agreement_.OnAppState(r.robot, round, a.new_round ? Call::kNewRound : Call::kEndOfRound, a.epoch,
-                            a.cooperative, a.map_fingerprint, a.state);
+      recorder_.OnAppState(r.robot, round, a.new_round ? Call::kNewRound : Call::kEndOfRound, a.epoch,
+                           a.cooperative, a.map_fingerprint, a.state);
       break;
     }
   }
@@ -827,7 +827,6 @@ void DdsWorld::WriteMetrics() {
   const lab::sim::RunEnd end{static_cast<double>(step_ns_) * 1e-9, wall_seconds_, last_round_};
   lab::metrics::Metrics metrics = recorder_.Finish(recorder_.Facts(end, player_, world_));
   metrics.runtime = "dds";
-  metrics.agreement = agreement_.Finish();
   metrics.dds = DdsFacts();
   result_.metrics_json = lab::metrics::ToJson(metrics);
   result_.metrics = std::move(metrics);

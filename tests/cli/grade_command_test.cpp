@@ -48,7 +48,8 @@ TEST(GradeCommandTest, HelpListsTheModesAndOptions) {
   const Outcome outcome = Grade({"--help"});
   EXPECT_EQ(outcome.status, 0);
   for (const char* option : {"--assignment", "--class", "--mix", "--public-only", "--jobs", "--out", "--shard",
-                             "--build-timeout-s", "merge"}) {
+                             "--build-timeout-s", "merge", "--student-seed", "--gradescope-metadata",
+                             "--per-student-seeds", "--course-secret-file"}) {
     EXPECT_NE(outcome.out.find(option), std::string::npos) << option << " missing from\n" << outcome.out;
   }
 }
@@ -120,6 +121,58 @@ TEST(GradeCommandTest, WithoutLandlockGradingIsRefusedUnlessTheInstructorSaysSo)
   std::ifstream grade_json(dir / "out" / "grade.json");
   const std::string json((std::istreambuf_iterator<char>(grade_json)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("build: NO FILE ISOLATION"), std::string::npos) << json;
+}
+
+// Per-student hidden seeds need the course secret, from a file or the
+// environment, never from the command line; each refusal comes before
+// anything is built.
+TEST(GradeCommandTest, PerStudentSeedsWithoutAUsableSecretAreRefused) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("grade_student_seed_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "submission");
+  std::ofstream(dir / "submission" / "app.c") << "this is not C\n";
+  std::ofstream(dir / "short") << "abc\n";
+  const std::string submission = (dir / "submission").string();
+  const std::string gather = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
+  const std::string out = (dir / "out").string();
+  unsetenv("SYROF_COURSE_SECRET");
+
+  const Outcome none = Grade({submission, "--assignment", gather, "--out", out, "--student-seed", "alice"});
+  EXPECT_EQ(none.status, 2);
+  EXPECT_NE(none.err.find("per-student hidden seeds need the course secret: set SYROF_COURSE_SECRET or give "
+                          "--course-secret-file FILE"),
+            std::string::npos)
+      << none.err;
+
+  const Outcome short_file = Grade({submission, "--assignment", gather, "--out", out, "--student-seed", "alice",
+                                    "--course-secret-file", (dir / "short").string()});
+  EXPECT_EQ(short_file.status, 2);
+  EXPECT_NE(short_file.err.find("the course secret has 3 bytes; it needs at least 16"), std::string::npos)
+      << short_file.err;
+
+  setenv("SYROF_COURSE_SECRET", "short", 1);
+  const Outcome short_variable = Grade({submission, "--assignment", gather, "--out", out, "--student-seed", "alice"});
+  setenv("SYROF_COURSE_SECRET", "0123456789abcdef-course-secret", 1);
+  const Outcome no_metadata = Grade({submission, "--assignment", gather, "--out", out, "--gradescope-metadata",
+                                     (dir / "submission_metadata.json").string()});
+  unsetenv("SYROF_COURSE_SECRET");
+  EXPECT_EQ(short_variable.status, 2);
+  EXPECT_NE(short_variable.err.find("SYROF_COURSE_SECRET: the course secret has 5 bytes"), std::string::npos)
+      << short_variable.err;
+  EXPECT_EQ(no_metadata.status, 2);
+  EXPECT_NE(no_metadata.err.find("cannot read Gradescope's submission metadata"), std::string::npos)
+      << no_metadata.err;
+
+  const Outcome secret_alone =
+      Grade({submission, "--assignment", gather, "--out", out, "--course-secret-file", (dir / "short").string()});
+  EXPECT_EQ(secret_alone.status, 2);
+  EXPECT_NE(secret_alone.err.find("--course-secret-file is for per-student hidden seeds"), std::string::npos)
+      << secret_alone.err;
+  EXPECT_EQ(Grade({"--class", submission, "--assignment", gather, "--student-seed", "alice"}).status, 2)
+      << "a class takes its ids from the folders' names";
+  EXPECT_EQ(Grade({submission, "--assignment", gather, "--per-student-seeds"}).status, 2) << "needs --class";
+  EXPECT_FALSE(fs::exists(dir / "out" / "source")) << "nothing was built";
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -69,6 +70,39 @@ TEST_F(GradescopeCommandTest, WritesTheBundleOfAnAssignmentFolder) {
   for (const std::string& name : names) {
     EXPECT_FALSE(name.starts_with("assignment/reference")) << name;
     EXPECT_FALSE(name.starts_with("assignment/broken")) << name;
+  }
+}
+
+TEST_F(GradescopeCommandTest, PerStudentSeedsPutTheCourseSecretInTheBundleOrRefuseWithoutOne) {
+  GradescopeOptions options;
+  options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
+  options.output = (dir_ / "autograder.zip").string();
+  options.deb = deb_.string();
+  options.per_student_seeds = true;
+  unsetenv("SYROF_COURSE_SECRET");
+  const Outcome refused = Gradescope(options);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("--per-student-seeds needs the course secret"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(options.output));
+
+  std::ofstream(dir_ / "secret") << "0123456789abcdef-course-secret\n";
+  options.course_secret_file = (dir_ / "secret").string();
+  const Outcome outcome = Gradescope(options);
+  ASSERT_EQ(outcome.status, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("keep this zip private"), std::string::npos) << outcome.out;
+  std::string error;
+  std::string secret;
+  for (const auto& entry : grader::report::testing::ReadZip(options.output, error)) {
+    if (entry.name == "course_secret") secret = entry.bytes;
+  }
+  EXPECT_EQ(secret, "0123456789abcdef-course-secret\n");
+
+  // Without the flag the bundle holds no secret.
+  options.per_student_seeds = false;
+  options.course_secret_file.clear();
+  ASSERT_EQ(Gradescope(options).status, 0);
+  for (const auto& entry : grader::report::testing::ReadZip(options.output, error)) {
+    EXPECT_NE(entry.name, "course_secret");
   }
 }
 

@@ -20,6 +20,8 @@
 #include "syrof/grader/grade.h"
 #include "syrof/grader/grade_json.h"
 #include "syrof/grader/mix.h"
+#include "syrof/grader/outputs.h"
+#include "syrof/grader/student_seeds.h"
 #include "syrof/grader/table.h"
 
 namespace syrof::grader {
@@ -292,6 +294,95 @@ TEST_F(ClassTest, EachSubmissionGetsItsVerdictRerunsAreIdenticalAndShardsMerge) 
   EXPECT_EQ(Read(merged / "summary.txt"), before.at("summary.txt"));
   EXPECT_FALSE(MergeClassOutputs({shard1.string(), shard1.string()}, merged.string(), error));
   EXPECT_NE(error.find("is in two of the folders"), std::string::npos) << error;
+}
+
+// Hidden seeds per student (student_seeds.h): the derived seeds reach the
+// result, grade.json and a replay command, and that command's seed runs
+// the same run again.
+constexpr const char* kCourseSecret = "0123456789abcdef-course-secret";
+
+TEST(StudentSeedsGradeTest, HiddenRunsUseTheStudentsSeedsAndTheReplayCommandReproducesThem) {
+  const Assignment tiny = LoadTiny();
+  const fs::path out = Fresh("student_seeds");
+  GradeOptions options;
+  options.student_seeds = StudentSeeds{kCourseSecret, "alice@example.edu"};
+  std::vector<std::string> notes;
+  const SubmissionResult result = GradeSubmission(tiny, kReference.string(), out.string(), options, notes);
+  ASSERT_TRUE(result.build.ok()) << result.build.detail;
+  ASSERT_EQ(result.tests.size(), 3u);
+  const uint64_t derived = DeriveSeed(kCourseSecret, "Tiny gather", "secret", "alice@example.edu", 0);
+  EXPECT_EQ(result.seed_student, "alice@example.edu");
+  EXPECT_EQ(result.tests[0].seed, 1u) << "public seeds stay as listed";
+  EXPECT_EQ(result.tests[1].seed, 2u);
+  EXPECT_FALSE(result.tests[0].replay_command.empty());
+  const assignment::TestResult& hidden = result.tests[2];
+  EXPECT_EQ(hidden.seed, derived);
+  EXPECT_EQ(hidden.name, "secret/seed-" + std::to_string(derived));
+  EXPECT_EQ(hidden.output_dir, "runs/secret/seed-" + std::to_string(derived));
+  EXPECT_NE(hidden.replay_command.find("hidden/tiny_hidden.yaml"), std::string::npos) << hidden.replay_command;
+  EXPECT_NE(hidden.replay_command.find(" --seed " + std::to_string(derived) + " "), std::string::npos)
+      << hidden.replay_command;
+
+  // grade.json keeps the student and the seeds.
+  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string()), "");
+  std::string error;
+  const std::optional<GradeFile> read = ReadGradeJson((out / "grade.json").string(), error);
+  ASSERT_TRUE(read) << error;
+  EXPECT_EQ(read->result.seed_student, "alice@example.edu");
+  EXPECT_EQ(read->result.tests[2].seed, derived);
+  EXPECT_EQ(read->result.tests[2].replay_command, hidden.replay_command);
+  EXPECT_EQ(Read(out / "results.json").find("tiny_hidden.yaml"), std::string::npos)
+      << "the student's results.json names no hidden scenario";
+
+  // The command's seed, listed in the assignment, gives the same run.
+  const size_t at = hidden.replay_command.find(" --seed ") + 8;
+  const uint64_t command_seed = std::stoull(hidden.replay_command.substr(at));
+  Assignment listed = tiny;
+  listed.hidden_runs[0].seeds = {command_seed};
+  const fs::path rerun = Fresh("student_seeds_rerun");
+  const SubmissionResult again = GradeLibrary(listed, result.build.library_path, rerun.string(), {});
+  ASSERT_EQ(again.tests.size(), 3u);
+  EXPECT_EQ(again.tests[2].name, hidden.name);
+  const std::string metrics = Read(out / hidden.output_dir / "metrics.json");
+  EXPECT_FALSE(metrics.empty());
+  EXPECT_EQ(Read(rerun / again.tests[2].output_dir / "metrics.json"), metrics);
+
+  // Another student, other hidden seeds.
+  options.student_seeds->student = "bob@example.edu";
+  const std::vector<assignment::TestResult> bob = PlanTests(GradedAssignment(tiny, options), false);
+  EXPECT_NE(bob[2].seed, derived);
+  EXPECT_EQ(bob[0].seed, 1u);
+}
+
+TEST(StudentSeedsGradeTest, AClassDerivesEachStudentsSeedsFromItsFolderName) {
+  const fs::path submissions = Fresh("seed_class_in");
+  fs::copy(kReference, submissions / "alice", fs::copy_options::recursive);
+  fs::copy(kReference, submissions / "bob", fs::copy_options::recursive);
+  const fs::path out = Fresh("seed_class_out");
+  ClassOptions options;
+  options.jobs = 2;
+  options.assignment_dir = kTiny.string();
+  options.grade.student_seeds = StudentSeeds{kCourseSecret, "ignored"};
+  const ClassResult first = GradeClass(LoadTiny(), submissions.string(), out.string(), options);
+  ASSERT_EQ(first.students.size(), 2u);
+  for (const SubmissionResult& student : first.students) {
+    EXPECT_EQ(student.seed_student, student.submission);
+    ASSERT_EQ(student.tests.size(), 3u);
+    EXPECT_EQ(student.tests[2].seed, DeriveSeed(kCourseSecret, "Tiny gather", "secret", student.submission, 0));
+    EXPECT_EQ(student.points, 60) << student.submission;
+    std::string error;
+    const std::optional<GradeFile> read = ReadGradeJson((out / student.submission / "grade.json").string(), error);
+    ASSERT_TRUE(read) << error;
+    EXPECT_EQ(read->result.tests[2].seed, student.tests[2].seed);
+  }
+  EXPECT_NE(first.students[0].tests[2].seed, first.students[1].tests[2].seed);
+
+  // The same secret resumes; another secret derives other seeds: regraded.
+  EXPECT_EQ(GradeClass(LoadTiny(), submissions.string(), out.string(), options).resumed, 2);
+  options.grade.student_seeds->course_secret = "another-course-secret-0123";
+  const ClassResult again = GradeClass(LoadTiny(), submissions.string(), out.string(), options);
+  EXPECT_EQ(again.graded, 2);
+  EXPECT_NE(again.students[0].tests[2].seed, first.students[0].tests[2].seed);
 }
 
 TEST(MixTest, NamesTheSubmissionWhoseRobotsFaulted) {

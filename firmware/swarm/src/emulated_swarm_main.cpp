@@ -74,11 +74,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "syrof/firmware/drivers/radio_link.h"
@@ -188,6 +190,12 @@ Options ParseOptions(int argc, char** argv) {
     if (key == "--realtime") {
       options.realtime = true;
       continue;
+    }
+    static const std::string_view kWithValue[] = {"--image",    "--qemu",    "--out",      "--robots",
+                                                  "--seconds",  "--loss",    "--seed",     "--scenario",
+                                                  "--max-estimation-error", "--latency-ms", "--align", "--icount"};
+    if (std::find(std::begin(kWithValue), std::end(kWithValue), key) == std::end(kWithValue)) {
+      Usage("unknown argument '" + key + "'");
     }
     if (i + 1 >= argc) Usage("argument " + std::to_string(i) + " '" + key + "' has no value");
     const std::string value = argv[++i];

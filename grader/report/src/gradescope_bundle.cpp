@@ -83,7 +83,8 @@ std::string SetAttributes(zip_t* zip, zip_int64_t index, zip_uint32_t mode) {
 std::string GradescopeSetupScript() { return Asset(kAsset_setup_sh, kAsset_setup_sh_size); }
 std::string GradescopeRunScript() { return Asset(kAsset_run_autograder, kAsset_run_autograder_size); }
 
-BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& deb_path) {
+BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& deb_path,
+                              const std::optional<std::string>& course_secret) {
   BundleResult result;
   const fs::path folder(assignment_folder);
   std::error_code error;
@@ -106,6 +107,7 @@ BundleResult GradescopeBundle(const std::string& assignment_folder, const std::s
   bundle.files.push_back({"setup.sh", {}, GradescopeSetupScript(), true});
   bundle.files.push_back({"run_autograder", {}, GradescopeRunScript(), true});
   bundle.files.push_back({deb_name, deb.string(), {}, false});
+  if (course_secret) bundle.files.push_back({std::string(kCourseSecretFile), {}, *course_secret + "\n", false});
   if (std::string problem = ListFolder(folder, "assignment/", true, bundle.files); !problem.empty()) {
     result.error = problem;
     return result;

@@ -1,6 +1,9 @@
 // Timing, sensor noise, the radio channel and the faults.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <numeric>
 #include <span>
 #include <string_view>
@@ -8,6 +11,7 @@
 #include "schema.h"
 #include "syrof/base/split_mix64.h"
 #include "value_reader.h"
+#include "yaml_tree.h"
 
 namespace syrof::lab::scenario {
 namespace {
@@ -93,22 +97,96 @@ bool ReadModel(const YamlNode* node, const std::string& path, std::span<const st
   return true;
 }
 
-constexpr std::string_view kChannelModels[] = {"iid", "gilbert_elliott"};  // world::ChannelModel's order
+constexpr std::string_view kChannelModels[] = {"iid", "gilbert_elliott", "scripted"};  // world::ChannelModel's order
 
+// A key of another model than `model` (the loss of iid, the chain of
+// gilbert_elliott, the list of scripted) is an error naming its model.
 bool CheckChannelKeys(const YamlNode& node, world::ChannelModel model, Diagnostics& diagnostics) {
-  static constexpr std::string_view kIidOnly[] = {"loss"};
-  static constexpr std::string_view kBurstyOnly[] = {"good_to_bad", "bad_to_good", "loss_good", "loss_bad"};
-  const std::span<const std::string_view> foreign =
-      model == world::ChannelModel::kIid ? std::span<const std::string_view>(kBurstyOnly) : kIidOnly;
-  const std::string_view owner = model == world::ChannelModel::kIid ? "gilbert_elliott" : "iid";
+  struct Owned {
+    std::string_view key;
+    world::ChannelModel model;
+  };
+  static constexpr Owned kOwned[] = {{"loss", world::ChannelModel::kIid},
+                                     {"good_to_bad", world::ChannelModel::kGilbertElliott},
+                                     {"bad_to_good", world::ChannelModel::kGilbertElliott},
+                                     {"loss_good", world::ChannelModel::kGilbertElliott},
+                                     {"loss_bad", world::ChannelModel::kGilbertElliott},
+                                     {"lost", world::ChannelModel::kScripted},
+                                     {"lost_file", world::ChannelModel::kScripted}};
   for (const YamlNode& key : node.keys) {
-    for (std::string_view name : foreign) {
-      if (key.scalar != name) continue;
+    for (const Owned& owned : kOwned) {
+      if (key.scalar != owned.key || owned.model == model) continue;
       return FailAt(key, "channel",
-                    "'" + key.scalar + "' applies to model " + std::string(owner) + " only (model is " +
+                    "'" + key.scalar + "' applies to model " +
+                        std::string(kChannelModels[static_cast<size_t>(owned.model)]) + " only (model is " +
                         std::string(kChannelModels[static_cast<size_t>(model)]) + ")",
                     diagnostics);
     }
+  }
+  return true;
+}
+
+// A scripted channel's list: [round, sender, receiver] triples, each a
+// beacon the channel loses (world::LostBeacon).
+bool ReadLostList(const YamlNode& node, const std::string& path, const Scenario& scenario,
+                  std::vector<world::LostBeacon>& lost, Diagnostics& diagnostics) {
+  if (!ExpectList(node, path, diagnostics)) return false;
+  if (node.values.size() > world::kMaxLostBeacons) {
+    return FailAt(node, path,
+                  "lists " + std::to_string(node.values.size()) + " beacons; at most " +
+                      std::to_string(world::kMaxLostBeacons),
+                  diagnostics);
+  }
+  const int64_t most_rounds = static_cast<int64_t>(scenario.timing.duration_s / scenario.timing.radio_round_s) + 1;
+  for (size_t i = 0; i < node.values.size(); ++i) {
+    const YamlNode& entry = node.values[i];
+    const std::string entry_path = IndexPath(path, i);
+    if (!ExpectList(entry, entry_path, diagnostics)) return false;
+    if (entry.values.size() != 3) {
+      return FailAt(entry, entry_path, "must be [round, sender, receiver], got " + std::to_string(entry.values.size()) +
+                                           " numbers",
+                    diagnostics);
+    }
+    world::LostBeacon beacon;
+    if (!ReadInteger(entry.values[0], IndexPath(entry_path, 0), 0, most_rounds, beacon.round, diagnostics) ||
+        !ReadRobotId(entry.values[1], IndexPath(entry_path, 1), scenario, beacon.from, diagnostics) ||
+        !ReadRobotId(entry.values[2], IndexPath(entry_path, 2), scenario, beacon.to, diagnostics)) {
+      return false;
+    }
+    if (beacon.from == beacon.to) {
+      return FailAt(entry.values[2], IndexPath(entry_path, 2), "a robot never hears its own beacon", diagnostics);
+    }
+    lost.push_back(beacon);
+  }
+  return true;
+}
+
+// `lost_file`: the list in a YAML file of its own, relative to the
+// scenario's folder; its errors name that file, at the key.
+bool ReadLostFile(const YamlNode& key, const YamlNode& value, const Scenario& scenario,
+                  std::vector<world::LostBeacon>& lost, Diagnostics& diagnostics) {
+  std::string name;
+  if (!ReadString(value, "channel.lost_file", name, diagnostics)) return false;
+  std::filesystem::path path(name);
+  if (path.is_relative() && !scenario.source.empty()) path = std::filesystem::path(scenario.source).parent_path() / path;
+  std::error_code error;
+  const auto size = std::filesystem::file_size(path, error);
+  if (error || !std::filesystem::is_regular_file(path, error)) {
+    return FailAt(value, "channel.lost_file", "no such file '" + name + "' (looked for " + path.string() + ")",
+                  diagnostics);
+  }
+  constexpr uintmax_t kMaxLostFileBytes = 64u << 20;
+  if (size > kMaxLostFileBytes) {
+    return FailAt(value, "channel.lost_file", "'" + name + "' is " + std::to_string(size) + " bytes; at most " +
+                                                  std::to_string(kMaxLostFileBytes),
+                  diagnostics);
+  }
+  std::ifstream file(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  Diagnostics inner(path.string());
+  YamlNode root;
+  if (!ReadYamlDocument(text, root, inner) || !ReadLostList(root, "lost", scenario, lost, inner)) {
+    return FailAt(key, "channel.lost_file", inner.error() ? inner.error()->ToString() : "cannot be read", diagnostics);
   }
   return true;
 }
@@ -415,8 +493,9 @@ bool ReadSensors(const YamlNode* node, Scenario& scenario, Diagnostics& diagnost
 }
 
 bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"model",     "loss",     "good_to_bad", "bad_to_good",
-                                               "loss_good", "loss_bad", "links",       "partitions", "cuts"};
+  static constexpr std::string_view kKeys[] = {"model",    "loss",  "good_to_bad", "bad_to_good", "loss_good",
+                                               "loss_bad", "links", "partitions",  "cuts",        "lost",
+                                               "lost_file"};
   if (node == nullptr) return true;
   const std::string path = "channel";
   if (!ExpectMap(*node, path, diagnostics) || !CheckKeys(*node, path, kKeys, diagnostics)) return false;
@@ -433,6 +512,13 @@ bool ReadChannel(const YamlNode* node, Scenario& scenario, Diagnostics& diagnost
       !ReadNumberAt(*node, path, "loss_good", kProbability, channel.loss_good, diagnostics) ||
       !ReadNumberAt(*node, path, "loss_bad", kProbability, channel.loss_bad, diagnostics)) {
     return false;
+  }
+  if (const YamlNode* lost = node->Find("lost")) {
+    if (!ReadLostList(*lost, "channel.lost", scenario, channel.lost, diagnostics)) return false;
+  }
+  for (size_t i = 0; i < node->keys.size(); ++i) {
+    if (node->keys[i].scalar != "lost_file") continue;
+    if (!ReadLostFile(node->keys[i], node->values[i], scenario, channel.lost, diagnostics)) return false;
   }
   const YamlNode* links = node->Find("links");
   const YamlNode* partitions = node->Find("partitions");

@@ -75,4 +75,16 @@ metrics::RunFacts RoundRecorder::Facts(const RunEnd& end, const WorldPlayer& pla
   return facts;
 }
 
+void RoundRecorder::OnAppState(uint16_t robot, int64_t round, metrics::AgreementTracker::Call call, uint16_t epoch,
+                               bool cooperative, uint64_t map_fingerprint, uint8_t state) {
+  if (!agreement_) agreement_.emplace();
+  agreement_->OnAppState(robot, round, call, epoch, cooperative, map_fingerprint, state);
+}
+
+metrics::Metrics RoundRecorder::Finish(const metrics::RunFacts& facts) const {
+  metrics::Metrics result = collector_.Finish(facts);
+  if (agreement_) result.agreement = agreement_->Finish();
+  return result;
+}
+
 }  // namespace syrof::lab::sim

@@ -167,7 +167,6 @@ class Simulation::Impl final : public runtime::RobotObserver,
   std::vector<replay::RobotMap> round_maps_;  // the maps robots started an epoch with this round
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
-  metrics::AgreementTracker agreement_;  // app-level agreement
 
   // --threads: the pool (destroyed before the robots), each robot's worker
   // by port (contiguous blocks of robots; kNoWorker for the world's port),
@@ -232,6 +231,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       radio_task_([this](int64_t now_ns) { StepRadio(now_ns); }),
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
       partition_active_(scenario.channel.partitions.size(), 0) {
+  recorder_.MeasureAgreement();  // the robots' observers report every app return
   for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
   radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
@@ -626,8 +626,8 @@ void Simulation::Impl::Handle(const ObserverCall& call) {
       break;
     case ObserverCall::Kind::kAppState: {
       using Call = metrics::AgreementTracker::Call;
-      agreement_.OnAppState(robot, RoundOf(now_ns), call.new_round ? Call::kNewRound : Call::kEndOfRound,
-                            call.map_epoch, call.cooperative, call.fingerprint, call.state);
+      recorder_.OnAppState(robot, RoundOf(now_ns), call.new_round ? Call::kNewRound : Call::kEndOfRound,
+                           call.map_epoch, call.cooperative, call.fingerprint, call.state);
       break;
     }
     case ObserverCall::Kind::kAppFault:
@@ -679,7 +679,6 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   facts.app_sandbox = options_.app_sandbox;
   RunReport report;
   report.metrics = recorder_.Finish(facts);
-  report.metrics.agreement = agreement_.Finish();
   report.metrics_json = metrics::ToJson(report.metrics);
   report.replay_error = recorder_.replay_error();
   return report;

@@ -44,6 +44,8 @@ const char* ToString(ChannelModel model) {
       return "iid";
     case ChannelModel::kGilbertElliott:
       return "gilbert_elliott";
+    case ChannelModel::kScripted:
+      return "scripted";
   }
   return "?";
 }
@@ -66,6 +68,19 @@ std::optional<Error> CheckChannelSpec(const ChannelSpec& spec, uint16_t robots) 
     if (cut.from >= robots || cut.to >= robots) {
       return Error{.where = where, .message = "names a robot beyond the " + std::to_string(robots) + " robots"};
     }
+  }
+  if (spec.lost.size() > kMaxLostBeacons) {
+    return Error{.where = "lost", .message = "lists " + std::to_string(spec.lost.size()) + " beacons; at most " +
+                                              std::to_string(kMaxLostBeacons)};
+  }
+  for (const LostBeacon& beacon : spec.lost) {
+    const std::string where = "lost beacon (round " + std::to_string(beacon.round) + ", " +
+                              std::to_string(beacon.from) + " -> " + std::to_string(beacon.to) + ")";
+    if (beacon.round < 0) return Error{.where = where, .message = "the round must be 0 or more"};
+    if (beacon.from >= robots || beacon.to >= robots) {
+      return Error{.where = where, .message = "names a robot beyond the " + std::to_string(robots) + " robots"};
+    }
+    if (beacon.from == beacon.to) return Error{.where = where, .message = "a robot never hears its own beacon"};
   }
   return std::nullopt;
 }
@@ -121,6 +136,9 @@ Channel::Channel(const ChannelSpec& spec, uint16_t robots, uint64_t seed)
       }
     }
   }
+  lost_ = spec_.lost;
+  std::sort(lost_.begin(), lost_.end());
+  lost_.erase(std::unique(lost_.begin(), lost_.end()), lost_.end());
   plain_iid_ = spec_.model == ChannelModel::kIid && partitions_.empty() && link_losses_.empty() && spec_.cuts.empty();
   // loss * 2^53 is exact; a draw's top 53 bits x (an integer) are below it
   // exactly when they are below its ceiling.
@@ -200,6 +218,11 @@ bool Channel::DeliversSlow(uint16_t from, uint16_t to, int64_t round, double tim
   if (Partitioned(from, to, time_s) || Cut(from, to, time_s)) {
     ++partitioned_;
     return false;
+  }
+  if (spec_.model == ChannelModel::kScripted) {
+    const bool delivered = !std::binary_search(lost_.begin(), lost_.end(), LostBeacon{round, from, to});
+    delivered_ += delivered ? 1 : 0;
+    return delivered;
   }
   double loss = spec_.loss;
   const uint32_t key = LinkKey(from, to);

@@ -1,7 +1,10 @@
 // One test per validation rule: each checks the place of the error and the
 // key path its message names.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -354,6 +357,47 @@ TEST(Schema, FaultsAreSortedByTimeThenRobotAndJoinersStartAbsent) {
 TEST(Schema, ModelKeysDependOnTheModel) {
   EXPECT_TRUE(FailsAt(LoadWith("channel: { model: gilbert_elliott, loss: 0.1 }\n"), 3, 36,
                       {"channel: 'loss' applies to model iid only (model is gilbert_elliott)"}));
+}
+
+TEST(Schema, AScriptedChannelListsItsLostBeacons) {
+  const LoadResult result =
+      LoadWith("channel: { model: scripted, lost: [[12, 0, 3], [40, 3, 0]] }\n");
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_EQ(result.scenario->channel.model, world::ChannelModel::kScripted);
+  EXPECT_EQ(result.scenario->channel.lost, (std::vector<world::LostBeacon>{{12, 0, 3}, {40, 3, 0}}));
+}
+
+TEST(Schema, AScriptedChannelsMistakesAreNamed) {
+  EXPECT_TRUE(FailsAt(LoadWith("channel: { model: scripted, lost: [[12, 0]] }\n"), 3, 36,
+                      {"channel.lost[0]: must be [round, sender, receiver], got 2 numbers"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel: { model: scripted, lost: [[12, 0, 9]] }\n"), 3, 44,
+                      {"channel.lost[0][2]", "robot id 9 is out of range"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel: { model: scripted, lost: [[12, 1, 1]] }\n"), 3, 44,
+                      {"never hears its own beacon"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel: { model: scripted, lost: [[-3, 0, 1]] }\n"), 3, 37, {"channel.lost[0][0]"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel: { lost: [[12, 0, 1]] }\n"), 3, 12,
+                      {"'lost' applies to model scripted only (model is iid)"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel: { model: scripted, loss: 0.1 }\n"), 3, 29,
+                      {"'loss' applies to model iid only (model is scripted)"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel: { model: scripted, lost_file: no_such.yaml }\n"), 3, 40,
+                      {"no such file 'no_such.yaml'"}));
+}
+
+TEST(Schema, AScriptedChannelReadsItsListFromAFile) {
+  const std::string folder = ::testing::TempDir() + "scripted_channel_" + std::to_string(getpid());
+  std::filesystem::create_directories(folder);
+  std::ofstream(folder + "/lost.yaml") << "# losses\n- [3, 1, 0]\n- [4, 2, 0]\n";
+  std::ofstream(folder + "/bad.yaml") << "- [3, 1, 0]\n- [4, 2]\n";
+  std::ofstream(folder + "/run.yaml") << kMinimal << "channel: { model: scripted, lost_file: lost.yaml }\n";
+  std::ofstream(folder + "/bad_run.yaml") << kMinimal << "channel: { model: scripted, lost_file: bad.yaml }\n";
+  const LoadResult result = LoadScenarioFile(folder + "/run.yaml");
+  const LoadResult bad = LoadScenarioFile(folder + "/bad_run.yaml");
+  std::filesystem::remove_all(folder);
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_EQ(result.scenario->channel.lost, (std::vector<world::LostBeacon>{{3, 1, 0}, {4, 2, 0}}));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error->message.find("bad.yaml:2:3: lost[1]: must be [round, sender, receiver]"), std::string::npos)
+      << bad.error->ToString();
 }
 
 TEST(Schema, LinkRobotIdOutOfRange) {

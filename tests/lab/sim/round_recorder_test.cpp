@@ -244,6 +244,29 @@ TEST(RoundRecorder, FactsCarryTheRunsEndAndTheBuiltinGoalWithoutChecks) {
   EXPECT_EQ(facts.goal.app, "builtin:idle");
 }
 
+// Agreement is measured by the runtimes that see the app's returns (the
+// lab, the DDS robots' reports) and null for the one that does not (the
+// firmware's consoles), never zeros that read like a measurement.
+TEST(RoundRecorder, AgreementIsMeasuredOnlyWhereTheAppsReturnsAreSeen) {
+  RecorderFixture unseen(kTwoRobots);
+  RecorderFixture measured(kTwoRobots);
+  measured.recorder.MeasureAgreement();
+  RecorderFixture split(kTwoRobots);
+  using Call = metrics::AgreementTracker::Call;
+  split.recorder.OnAppState(0, 10, Call::kNewRound, 3, /*cooperative=*/true, /*map_fingerprint=*/77, /*state=*/1);
+  split.recorder.OnAppState(1, 10, Call::kNewRound, 3, true, 77, 2);
+  const RunEnd end{1.0, 1.0, 20};
+
+  EXPECT_FALSE(unseen.recorder.Finish(unseen.recorder.Facts(end, unseen.player, unseen.world)).agreement.has_value());
+  const auto none = measured.recorder.Finish(measured.recorder.Facts(end, measured.player, measured.world)).agreement;
+  ASSERT_TRUE(none.has_value());
+  EXPECT_EQ(none->cooperative_epochs, 0);
+  const auto two = split.recorder.Finish(split.recorder.Facts(end, split.player, split.world)).agreement;
+  ASSERT_TRUE(two.has_value());
+  EXPECT_EQ(two->cooperative_epochs, 1);
+  EXPECT_EQ(two->agreed_epochs, 0);
+}
+
 // The replay's round: frames and events as given (the lab's events are in
 // the order they happened, which its times need not show), maps sorted.
 TEST(RoundRecorder, WritesTheRoundWithItsMapsInRobotOrder) {

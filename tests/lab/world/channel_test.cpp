@@ -336,5 +336,48 @@ TEST(ChannelDeathTest, BadSpecsAndUnknownRobotsStop) {
   EXPECT_DEATH_IF_SUPPORTED(channel.Delivers(0, 1, -1, 0), "SYROF_CHECK");
 }
 
+TEST(ChannelTest, AScriptedChannelLosesExactlyTheListedBeacons) {
+  ChannelSpec spec;
+  spec.model = ChannelModel::kScripted;
+  spec.lost = {{12, 0, 3}, {12, 1, 3}, {40, 3, 0}, {12, 0, 3}};  // a repeat counts once
+  Channel channel(spec, 4, /*seed=*/7);
+  int lost = 0;
+  for (int64_t round = 0; round < 60; ++round) {
+    for (uint16_t from = 0; from < 4; ++from) {
+      for (uint16_t to = 0; to < 4; ++to) {
+        if (from != to && !channel.Delivers(from, to, round, 0.05 * static_cast<double>(round))) ++lost;
+      }
+    }
+  }
+  EXPECT_EQ(lost, 3);
+  EXPECT_FALSE(channel.Delivers(0, 3, 12, 0.6));
+  EXPECT_TRUE(channel.Delivers(3, 0, 12, 0.6));  // one way only
+  EXPECT_TRUE(channel.Delivers(0, 3, 13, 0.65));
+}
+
+TEST(ChannelTest, AScriptedChannelStillHasItsPartitions) {
+  ChannelSpec spec;
+  spec.model = ChannelModel::kScripted;
+  spec.partitions = {PartitionSpec{1.0, 2.0, {{0, 1}, {2, 3}}}};
+  Channel channel(spec, 4, 1);
+  EXPECT_FALSE(channel.Delivers(0, 2, 30, 1.5));
+  EXPECT_TRUE(channel.Delivers(0, 1, 30, 1.5));
+  EXPECT_TRUE(channel.Delivers(0, 2, 50, 2.5));
+}
+
+TEST(ChannelTest, ScriptedLossesAreChecked) {
+  ChannelSpec spec;
+  spec.model = ChannelModel::kScripted;
+  spec.lost = {{5, 0, 4}};
+  ASSERT_TRUE(CheckChannelSpec(spec, 4).has_value());
+  EXPECT_NE(CheckChannelSpec(spec, 4)->ToString().find("names a robot beyond the 4 robots"), std::string::npos);
+  spec.lost = {{5, 2, 2}};
+  EXPECT_NE(CheckChannelSpec(spec, 4)->ToString().find("never hears its own beacon"), std::string::npos);
+  spec.lost = {{-1, 0, 1}};
+  EXPECT_NE(CheckChannelSpec(spec, 4)->ToString().find("0 or more"), std::string::npos);
+  spec.lost = {{5, 0, 1}};
+  EXPECT_FALSE(CheckChannelSpec(spec, 4).has_value());
+}
+
 }  // namespace
 }  // namespace syrof::lab::world

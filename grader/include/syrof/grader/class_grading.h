@@ -42,7 +42,10 @@ std::vector<std::string> ListStudents(const std::string& submissions_dir);
 std::vector<std::string> ShardOf(const std::vector<std::string>& students, const Shard& shard);
 
 struct ClassOptions {
-  GradeOptions grade;           ///< grade.jobs is ignored: each student is graded on one thread
+  /// grade.jobs is ignored: each student is graded on one thread. With
+  /// grade.student_seeds set, each student's hidden seeds are derived from
+  /// its folder's name (student_seeds.student is ignored).
+  GradeOptions grade;
   int jobs = 1;                 ///< students graded side by side
   Shard shard;
   bool resume = true;           ///< false: grade every student again

@@ -14,12 +14,14 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "syrof/assignment/assignment.h"
 #include "syrof/assignment/result.h"
 #include "syrof/grader/build.h"
+#include "syrof/grader/student_seeds.h"
 
 namespace syrof::grader {
 
@@ -27,6 +29,10 @@ struct GradeOptions {
   bool public_only = false;  ///< leave the hidden sets out (the total is then out of the public tests)
   int jobs = 1;              ///< runs side by side, each on its own thread
   BuildOptions build;
+  /// Set: the hidden runs use seeds derived for this student (student_seeds.h)
+  /// instead of the listed ones, and their replay commands are kept (the
+  /// instructor needs the derived seed to rerun one).
+  std::optional<StudentSeeds> student_seeds;
   /// Called after each test is graded (from the thread that ran it; calls
   /// are serialised). Optional: progress lines.
   std::function<void(const assignment::TestResult&)> on_test;
@@ -42,8 +48,12 @@ std::vector<assignment::TestResult> PlanTests(const assignment::Assignment& assi
 /// hundredth.
 void AddUp(assignment::SubmissionResult& result, double total_points);
 
+/// The assignment as `options` grades it: with the hidden seeds derived
+/// for options.student_seeds when set (student_seeds.h), else as given.
+assignment::Assignment GradedAssignment(const assignment::Assignment& assignment, const GradeOptions& options);
+
 /// Grades an app library already built (and checked): every test run into
-/// `out_dir`/runs/. The build part of the result says "ok" with `library`.
+/// `out_dir`/runs/ (the seeds of GradedAssignment). The build part of the result says "ok" with `library`.
 assignment::SubmissionResult GradeLibrary(const assignment::Assignment& assignment, const std::string& library,
                                           const std::string& out_dir, const GradeOptions& options);
 

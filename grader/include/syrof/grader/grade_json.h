@@ -2,7 +2,7 @@
 //
 // Format "syrof-grade", version 1: an object with format, version,
 // syrof_version, inputs_hash, notes, then the SubmissionResult's fields
-// (submission, assignment, title, public_only, points, max_points,
+// (submission, assignment, title, public_only, seed_student, points, max_points,
 // tests_passed, tests_total, build, tests: each with its criteria), and last
 // "timings" (build_s, tests: name -> seconds). Wall times appear only in
 // "timings", so two gradings of the same inputs give the same bytes but
@@ -36,8 +36,11 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
 
 /// A hash (16 hex digits, FNV-1a 64) of everything a grade depends on: the
 /// submission's files (names and bytes), the assignment folder's files,
-/// SyROF's version and whether only public tests were graded.
-std::string InputsHash(const std::string& submission_dir, const std::string& assignment_dir, bool public_only);
+/// SyROF's version and whether only public tests were graded; and, when
+/// not empty, `hidden_seeds` (HiddenSeedsText of seeds derived per
+/// student: a new course secret or student id then regrades).
+std::string InputsHash(const std::string& submission_dir, const std::string& assignment_dir, bool public_only,
+                       const std::string& hidden_seeds = "");
 
 /// SyROF's version, e.g. "0.1.0".
 std::string SyrofVersion();

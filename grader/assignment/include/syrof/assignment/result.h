@@ -62,6 +62,9 @@ struct SubmissionResult {
   std::string assignment;  ///< Assignment::name
   std::string title;       ///< Assignment::title
   bool public_only = false;
+  /// The student id the hidden seeds were derived from (docs/grading.md,
+  /// "Hidden seeds per student"); empty when they are assignment.yaml's.
+  std::string seed_student;
   BuildResult build;
   std::vector<TestResult> tests;  ///< public sets first, each in file order, seeds in order
   double points = 0;              ///< the exact sum of the tests' shares, rounded once to the hundredth

@@ -8,7 +8,8 @@
 //
 // The zip is deterministic: entries sorted by name, every timestamp
 // 1980-01-01 00:00, Unix modes (0755 for the scripts and folders, 0644
-// otherwise), so the same inputs give the same bytes.
+// otherwise), so the same inputs give the same bytes. With a course secret
+// (per-student hidden seeds), it holds the secret too.
 #pragma once
 
 #include <optional>
@@ -40,10 +41,18 @@ struct BundleResult {
 std::string GradescopeSetupScript();
 std::string GradescopeRunScript();
 
+/// Where a bundle with per-student hidden seeds holds the course secret
+/// (docs/grading.md, "Hidden seeds per student"); run_autograder derives the
+/// hidden seeds from it and the submitting users when it is there.
+inline constexpr const char* kCourseSecretFile = "course_secret";
+
 /// The bundle of the assignment in `assignment_folder` (which holds
 /// assignment.yaml) with the package `deb_path`, which must be a Debian
 /// package named syrof_*.deb. Reads the folder's listing, not its files.
-BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& deb_path);
+/// With `course_secret`, the bundle holds it as kCourseSecretFile: the zip
+/// is then as secret as the secret.
+BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& deb_path,
+                              const std::optional<std::string>& course_secret = std::nullopt);
 
 /// Writes `bundle` as a zip at `zip_path` (replacing it). Returns "" or
 /// what went wrong.

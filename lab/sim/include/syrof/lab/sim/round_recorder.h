@@ -41,6 +41,7 @@
 
 #include "syrof/lab/base/error.h"
 #include "syrof/lab/goals/goals.h"
+#include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/replay.h"
@@ -111,6 +112,15 @@ class RoundRecorder {
   /// replay's round (see the rules above).
   void RecordRound(const RecordedRound& round);
 
+  /// A runtime that sees the app's returns (the lab, the DDS robots'
+  /// reports; not the firmware's consoles) hands each one here: metrics'
+  /// `agreement` is then measured, and null for a runtime that never does.
+  void OnAppState(uint16_t robot, int64_t round, metrics::AgreementTracker::Call call, uint16_t epoch,
+                  bool cooperative, uint64_t map_fingerprint, uint8_t state);
+  /// Says that this runtime measures agreement, before any OnAppState (a
+  /// run whose apps never returned still reports 0 COOPERATIVE epochs).
+  void MeasureAgreement() { agreement_.emplace(); }
+
   /// Ends the replay (its end marker); nothing without a replay.
   void FinishReplay();
   /// Why the replay writer stopped (a value the format cannot hold, a
@@ -125,15 +135,16 @@ class RoundRecorder {
   /// (the lab: its own name, its source, its sandbox) sets that before Finish.
   metrics::RunFacts Facts(const RunEnd& end, const WorldPlayer& player, const world::World& world);
 
-  /// The run's metrics with `facts`; the runtime adds its own parts
-  /// (`runtime`, the app's agreement, the DDS figures).
-  metrics::Metrics Finish(const metrics::RunFacts& facts) const { return collector_.Finish(facts); }
+  /// The run's metrics with `facts` and, when measured, the app's
+  /// agreement; the runtime adds its own parts (`runtime`, the DDS figures).
+  metrics::Metrics Finish(const metrics::RunFacts& facts) const;
 
  private:
   const scenario::Scenario& scenario_;
   metrics::Collector collector_;
   goals::GoalMonitor goal_monitor_;
   std::optional<replay::Writer> replay_;
+  std::optional<metrics::AgreementTracker> agreement_;
   bool any_epoch_ = false;
   uint16_t newest_epoch_ = 0;
   std::optional<uint16_t> epoch_sample_;  // a newer epoch started this round: the goal samples the poses

@@ -43,6 +43,7 @@ namespace syrof::lab::world {
 enum class ChannelModel : uint8_t {
   kIid = 0,             ///< each beacon on each link lost with probability `loss`
   kGilbertElliott = 1,  ///< per link, a two-state (good/bad) Markov chain stepped once per round
+  kScripted = 2,        ///< exactly the beacons listed in `lost` are lost: a run replayed loss by loss
 };
 
 const char* ToString(ChannelModel model);
@@ -72,6 +73,18 @@ struct CutSpec {
   bool both_ways = false;
 };
 
+/// One beacon a scripted channel loses: the one `from` sends in radio round
+/// `round` (the round it is sent in, as Delivers counts them), to `to`.
+struct LostBeacon {
+  int64_t round = 0;
+  uint16_t from = 0;
+  uint16_t to = 0;
+  friend auto operator<=>(const LostBeacon&, const LostBeacon&) = default;
+};
+
+/// Most beacons a scripted channel may list.
+inline constexpr size_t kMaxLostBeacons = 1'000'000;
+
 struct ChannelSpec {
   ChannelModel model = ChannelModel::kIid;
   double loss = 0;                  ///< iid: per beacon per link
@@ -82,6 +95,7 @@ struct ChannelSpec {
   std::vector<LinkLossSpec> links;  ///< asymmetric per-link overrides
   std::vector<PartitionSpec> partitions;
   std::vector<CutSpec> cuts;        ///< links cut for a time window
+  std::vector<LostBeacon> lost;     ///< scripted: the beacons lost (partitions and cuts drop theirs too)
 };
 
 /// What Channel's constructor requires: every probability in [0, 1] and
@@ -154,6 +168,7 @@ class Channel {
   uint64_t seed_;
   std::vector<Partition> partitions_;
   std::vector<LinkLoss> link_losses_;  // sorted by key, one per link
+  std::vector<LostBeacon> lost_;       // scripted: sorted, no repeats
   // Gilbert-Elliott, one per directed link (from * robots + to): bit 31 is
   // "bad", bits 0..30 the round the state is for (states of rounds past
   // 2^31 - 1 are not stored but recomputed each time: correct, only slower).
