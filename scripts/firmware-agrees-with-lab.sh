@@ -11,11 +11,11 @@
 #
 # The emulated robots run in real time on a shared machine: a guest held
 # back tens of milliseconds sends or hears a beacon a round late, and one
-# such beacon can change an epoch's mode. So a run that disagrees gets
-# another try, after printing what it showed, and so does a run whose own
-# checks failed (a garbled console line when a guest was held back); three
-# such runs fail (exit 1). Exit 2 for a usage error, or when the lab run
-# could not be made.
+# such beacon can change an epoch's mode (docs/firmware.md, "What made
+# them disagree, and the fixes"). So a run that disagrees gets another
+# try, after printing what it showed, and so does a run whose own checks
+# failed; three such runs fail (exit 1). Exit 2 for a usage error, or when
+# the lab run could not be made.
 set -euo pipefail
 
 if [[ $# -ne 4 ]]; then
@@ -46,9 +46,9 @@ for try in 1 2 3; do
   fi
   grep -E "^  beacons offered" "$out/firmware-$try.txt" || true
   if [[ $status -ne 0 ]]; then
-    # One of the run's own checks failed (a console line garbled when a
-    # guest was held back, an instance that did not run to its end): a
-    # run the comparison cannot trust, so it is a failed try.
+    # One of the run's own checks failed (a console line cut, an instance
+    # that did not run to its end): a run the comparison cannot trust, so
+    # it is a failed try.
     grep -E "console, column|FAILED|never|deadline" "$out/firmware-$try.txt" >&2 || true
     echo "$0: the firmware run's own checks failed (above)" >&2
   elif "$build/bin/syrof" compare "$out/lab" "$out/firmware"; then

@@ -101,15 +101,48 @@ size_t ReadUart(std::span<uint8_t> out, void* context) {
 
 robot::SensorLink sensor_link(sensor_tx, &ReadUart, &sensor_uart);
 
-// Writes the whole line, a ring's worth at a time: between chunks the
-// console's interrupt (above every task) sends what is queued. Bounded: a
-// console that stops taking bytes loses the rest of the line.
+// The kernel's hardware, once main() has made it: ConsoleWrite's clock.
+kernel::Mps2An386Hardware* console_clock = nullptr;
+
+// Writes the whole line, a ring's worth at a time. While the ring is full
+// the core sleeps (WFI) until an interrupt, so qemu halts this guest's vCPU
+// and its I/O thread can move the bytes: spinning instead kept a vCPU busy,
+// which under SCHED_FIFO (`syrof-firmware-swarm --realtime`) starved the
+// I/O threads of every guest on that host core, so console lines came out
+// cut and beacons late. PRIMASK is set across the check and the WFI, so a
+// transmit interrupt between them still wakes it. Bounded: a console that
+// takes no byte for 200 ms loses the rest of the line.
 void ConsoleWrite(const char* line, size_t length, void* /*context*/) {
   const auto* bytes = reinterpret_cast<const uint8_t*>(line);
   size_t sent = 0;
-  for (uint32_t spin = 0; sent < length && spin < 1'000'000; ++spin) {
-    MaskUarts masked;
-    sent += console.Write(std::span<const uint8_t>(bytes + sent, length - sent));
+  constexpr int64_t kPatienceNs = 200'000'000;
+  int64_t last_progress_ns = console_clock != nullptr ? console_clock->now_ns() : 0;
+  for (uint32_t waits = 0; sent < length; ++waits) {
+    size_t wrote = 0;
+    {
+      MaskUarts masked;
+      wrote = console.Write(std::span<const uint8_t>(bytes + sent, length - sent));
+    }
+    sent += wrote;
+    if (sent == length) break;
+    if (console_clock != nullptr) {
+      const int64_t now_ns = console_clock->now_ns();
+      if (wrote > 0) {
+        last_progress_ns = now_ns;
+      } else if (now_ns - last_progress_ns > kPatienceNs) {
+        return;
+      }
+    } else if (waits > 1'000'000) {
+      return;
+    }
+    asm volatile("cpsid i" ::: "memory");
+    bool full = false;
+    {
+      MaskUarts masked;
+      full = console.Free() == 0;
+    }
+    if (full) asm volatile("wfi" ::: "memory");
+    asm volatile("cpsie i" ::: "memory");
   }
 }
 
@@ -211,11 +244,20 @@ bool ParseOptions(int argc, char** argv, Options& options) {
   return true;
 }
 
+// A Start frame as WaitForStart took it.
+struct StartFrame {
+  uint32_t run_ms = 0;
+  int64_t first_byte_ns = 0;  // the clock when its first byte came in
+};
+
 // `hold 1`: the robot is prepared, its clock not started. Takes the sensor
 // link's bytes one at a time (so that none after the Start frame is taken
-// from the sensor task) until a Start frame, sleeping between interrupts;
-// returns its run_ms. Other frames before it are ignored.
-uint32_t WaitForStart(kernel::Mps2An386Hardware& hardware, const kernel::NvicPort& port, uint16_t self_id) {
+// from the sensor task) until a Start frame, sleeping between interrupts.
+// Other frames before it are ignored. Each byte after the first waits for
+// qemu's I/O thread and this guest's vCPU in turn; with the other guests
+// already running it took up to 27 ms to get the rest of the frame, so
+// the round grid begins when the first byte came in (StartClockAt).
+StartFrame WaitForStart(kernel::Mps2An386Hardware& hardware, const kernel::NvicPort& port, uint16_t self_id) {
   const int sensor_irq = board::CmsdkUartRxIrq(board::kCmsdkUart2);
   hardware.RouteInterrupt(static_cast<uint8_t>(sensor_irq), kUartPriority, &SensorInterrupt);
   char line[48];
@@ -223,6 +265,8 @@ uint32_t WaitForStart(kernel::Mps2An386Hardware& hardware, const kernel::NvicPor
                                    static_cast<long>(port.now_ns() / 1'000'000));
   ConsoleWrite(line, static_cast<size_t>(length), nullptr);
   syrof::firmware::drivers::FrameDecoder decoder;
+  bool at_frame_start = true;  // the next byte begins a frame (frames end with 0x00)
+  int64_t first_byte_ns = 0;
   for (;;) {
     uint8_t byte = 0;
     size_t count = 0;
@@ -234,9 +278,11 @@ uint32_t WaitForStart(kernel::Mps2An386Hardware& hardware, const kernel::NvicPor
       asm volatile("wfi");
       continue;
     }
+    if (at_frame_start) first_byte_ns = port.now_ns();
+    at_frame_start = byte == 0;
     if (decoder.Push(byte) == syrof::firmware::drivers::DecodeEvent::kFrame &&
         decoder.frame().kind == syrof::firmware::drivers::FrameKind::kStart) {
-      return decoder.frame().run_ms;
+      return {decoder.frame().run_ms, first_byte_ns};
     }
   }
 }
@@ -251,6 +297,7 @@ int main(int argc, char** argv) {
   static kernel::Mps2An386Hardware hardware;
   static kernel::NvicPort port(hardware);
   hardware.Attach(port);
+  console_clock = &hardware;
   console.Start(/*interrupts=*/true);
   radio.Start(/*interrupts=*/true);
   const int console_irq = board::CmsdkUartRxIrq(board::kCmsdkUart0);
@@ -272,14 +319,19 @@ int main(int argc, char** argv) {
   }
   int64_t stop_ns = options.seconds * int64_t{1'000'000'000};
   if (options.hold) {
-    const uint32_t run_ms = WaitForStart(hardware, port, options.image.self_id);
-    char line[64];
-    const int length = std::snprintf(line, sizeof line, "started t_ms=%ld run_ms=%lu\n",
-                                     static_cast<long>(port.now_ns() / 1'000'000), static_cast<unsigned long>(run_ms));
+    const StartFrame start = WaitForStart(hardware, port, options.image.self_id);
+    char line[80];
+    const int length =
+        std::snprintf(line, sizeof line, "started t_ms=%ld run_ms=%lu frame_us=%ld\n",
+                      static_cast<long>(start.first_byte_ns / 1'000'000), static_cast<unsigned long>(start.run_ms),
+                      static_cast<long>((port.now_ns() - start.first_byte_ns) / 1000));
     ConsoleWrite(line, static_cast<size_t>(length), nullptr);
-    stop_ns = run_ms == 0 ? 0 : port.now_ns() + int64_t{run_ms} * 1'000'000;
-  }
-  if (const char* error = image.StartClock()) {
+    stop_ns = start.run_ms == 0 ? 0 : start.first_byte_ns + int64_t{start.run_ms} * 1'000'000;
+    if (const char* error = image.StartClockAt(start.first_byte_ns)) {
+      std::printf("syrof-robot: %s\n", error);
+      return 1;
+    }
+  } else if (const char* error = image.StartClock()) {
     std::printf("syrof-robot: %s\n", error);
     return 1;
   }
@@ -294,13 +346,19 @@ int main(int argc, char** argv) {
 
   (void)port.Stop();
   image.PrintStatus(port.now_ns());
-  // Let the console's interrupt send the last line before qemu exits.
-  for (int spin = 0; spin < 1'000'000; ++spin) {
+  // Let the console's interrupt send the last line before qemu exits,
+  // sleeping between its interrupts (ConsoleWrite says why), for at most
+  // 200 ms.
+  const int64_t give_up_ns = hardware.now_ns() + 200'000'000;
+  while (hardware.now_ns() < give_up_ns) {
+    asm volatile("cpsid i" ::: "memory");
     bool idle;
     {
       MaskUarts masked;
       idle = console.transmit_idle();
     }
+    if (!idle) asm volatile("wfi" ::: "memory");
+    asm volatile("cpsie i" ::: "memory");
     if (idle) break;
   }
   return 0;

@@ -46,9 +46,11 @@ const char* RobotImage::Start(const ImageConfig& config, const syrof_app_descrip
   return StartClock();
 }
 
-const char* RobotImage::StartClock() {
+const char* RobotImage::StartClock() { return StartClockAt(port_.now_ns()); }
+
+const char* RobotImage::StartClockAt(int64_t start_ns) {
   if (robot_ == nullptr) return "the clock started before the robot was prepared";
-  return port_.Start() == os::PortError::kOk ? nullptr : "port start";
+  return port_.StartAt(start_ns) == os::PortError::kOk ? nullptr : "port start";
 }
 
 const char* RobotImage::Prepare(const ImageConfig& config, const syrof_app_descriptor* descriptor,

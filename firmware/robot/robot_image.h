@@ -146,6 +146,9 @@ class RobotImage {
   /// Starts the port: the robot's round grid begins at this instant (the
   /// emulated swarm's common start, `hold 1`). nullptr, or what failed.
   const char* StartClock();
+  /// As StartClock(), but the grid begins at `start_ns` on the port's clock,
+  /// an instant already past (when the Start frame's first byte came in).
+  const char* StartClockAt(int64_t start_ns);
 
   /// Makes the radio-link task ready (ImageConfig::poll_radio false). Safe
   /// from an interrupt whose priority the kernel masks (4..15).

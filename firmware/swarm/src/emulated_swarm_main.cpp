@@ -367,21 +367,34 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
 
 int64_t Milli(double value) { return std::llround(value * 1000.0); }
 
-// --realtime: this process at SCHED_FIFO priority 10, which the qemu
-// instances it forks keep (their threads too). On two cores, four guests
-// and this process want most of the machine; at normal priority a build
-// beside them, or their own competition, holds a guest for tens of
-// milliseconds, and its beacons reach the others a round late (docs/firmware.md,
-// "One start for every robot"). The kernel's real-time throttling keeps 5%
-// of each second for everything else. Says so and goes on at normal
-// priority when it may not.
+// --realtime: this process at SCHED_FIFO priority kHostPriority and the
+// qemu instances it forks (their threads too) one below (LaunchQemu), so
+// the world player takes a beacon and delivers it on time even when the
+// guests want both cores. On two cores, four guests and this process want
+// most of the machine; at normal priority a build beside them, or their own
+// competition, holds a guest for tens of milliseconds, and its beacons reach
+// the others a round late (docs/firmware.md, "One start for every robot").
+// The kernel's real-time throttling keeps 5% of each second for everything
+// else. Says so and goes on at normal priority when it may not.
+constexpr int kHostPriority = 11;
+constexpr int kGuestPriority = 10;
+
 void SetRealtime() {
   sched_param parameters{};
-  parameters.sched_priority = 10;
+  parameters.sched_priority = kHostPriority;
   if (sched_setscheduler(0, SCHED_FIFO, &parameters) != 0) {
     std::fprintf(stderr, "syrof-firmware-swarm: --realtime: SCHED_FIFO refused (%s); running at normal priority\n",
                  std::strerror(errno));
   }
+}
+
+// In a forked qemu, before exec: a real-time host's guests one priority
+// below it (SetRealtime).
+void LowerGuestPriority() {
+  if (sched_getscheduler(0) != SCHED_FIFO) return;
+  sched_param parameters{};
+  parameters.sched_priority = kGuestPriority;
+  (void)sched_setscheduler(0, SCHED_FIFO, &parameters);
 }
 
 // The start pose as the image's -append words (whole mm and mrad >= 0).
@@ -426,6 +439,7 @@ pid_t LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario
   }
   const pid_t pid = fork();
   if (pid == 0) {
+    LowerGuestPriority();
     const std::string log = options.out + "/qemu_" + std::to_string(id) + ".log";
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) {
@@ -711,7 +725,11 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
       open_consoles_(robots_),
       player_(scenario_, world_, recorder_.collector()),
       host_([this](const swarm::HostAction& action, int64_t at_ns) { return OnHostAction(action, at_ns); }),
-      latency_ns_(static_cast<int64_t>(options.latency_ms * 1e6)) {}
+      latency_ns_(static_cast<int64_t>(options.latency_ms * 1e6)) {
+  if (options.icount_shift < 0) {
+    for (Robot& robot : swarm_) robot.clock_rate = swarm::GuestClockRate::OnHostClock();
+  }
+}
 
 bool SwarmHost::OnHostAction(const swarm::HostAction& action, int64_t at_ns) {
   const bool done = DoHostAction(action, at_ns, options_, swarm_[action.robot], open_consoles_);
@@ -851,9 +869,9 @@ int64_t SwarmHost::WaitForLinks() {
 
 void SwarmHost::AdvanceWorld(int64_t now) {
   // The world follows the host's clock slowed to the robots' mean clock
-  // rate (GuestClockRate, from the times they print), so a robot gets a second of
-  // readings per second of its own time (docs/firmware.md, "How readings
-  // are timed").
+  // rate (GuestClockRate, from the times they print; exactly 1 on the
+  // host's clock), so a robot gets a second of readings per second of its
+  // own time (docs/firmware.md, "How readings are timed").
   host_per_world_ = HostPerWorld(swarm_, player_);
   world_clock_ns_ += static_cast<double>(now - (last_loop_ns_ == 0 ? all_started_ns_ : last_loop_ns_)) / host_per_world_;
   last_loop_ns_ = now;

@@ -3,6 +3,7 @@
 namespace syrof::firmware::swarm {
 
 void GuestClockRate::OnGuestTime(int64_t host_ns, int64_t guest_ns) {
+  if (on_host_clock_) return;
   if (!samples_.empty() && (guest_ns < samples_.back().guest_ns || host_ns < samples_.back().host_ns)) {
     samples_.clear();
   }

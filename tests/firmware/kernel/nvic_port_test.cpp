@@ -81,6 +81,25 @@ TEST_F(NvicPortTest, PeriodicTaskRunsAtStartPlusOffsetPlusWholePeriods) {
   EXPECT_FALSE(hardware.unmasked_clock_reads);
 }
 
+// The emulated robot's Start frame: its grid begins when the frame's first
+// byte came in, though the rest of the frame took up to 27 ms to arrive.
+TEST_F(NvicPortTest, StartAtPutsTheGridOnAnInstantAlreadyPast) {
+  ScriptedTask task(hardware, log, "t");
+  const TaskId id = Add(task, Trigger::periodic(10 * kMillisecond, 3 * kMillisecond), 0);
+  hardware.AdvanceTo(126 * kMillisecond);
+  EXPECT_EQ(port.StartAt(127 * kMillisecond), PortError::kUnsupported);  // not yet
+  ASSERT_EQ(port.StartAt(100 * kMillisecond), PortError::kOk);
+
+  hardware.AdvanceTo(144 * kMillisecond);
+
+  // 103, 113 and 123 were due at the start: one step for them, then the grid.
+  ASSERT_FALSE(log.empty());
+  EXPECT_EQ(log.back(), "143:t");
+  EXPECT_EQ(std::vector<std::string>(log.end() - 2, log.end()), (std::vector<std::string>{"133:t", "143:t"}));
+  EXPECT_EQ(port.next_release_ns(id), 153 * kMillisecond);
+  EXPECT_EQ(port.StartAt(100 * kMillisecond), PortError::kAlreadyStarted);
+}
+
 TEST_F(NvicPortTest, LateTimerCatchesUpOnTheGridAndCountsTheMissedReleases) {
   ScriptedTask task(hardware, log, "t");
   const TaskId id = Add(task, Trigger::periodic(10 * kMillisecond, 3 * kMillisecond), 0);

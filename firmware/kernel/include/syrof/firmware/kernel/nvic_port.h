@@ -55,6 +55,11 @@ class NvicPort final : public os::Port {
   base::Result<os::TaskId, os::PortError> AddTask(os::Task& task, const os::TaskConfig& config) override;
   /// Releases each periodic task first at now + offset.
   os::PortError Start() override;
+  /// As Start(), but the grid begins at `start_ns` (<= now, the clock's
+  /// time of an event already past): each periodic task is released first
+  /// at start_ns + offset, at once when that has passed. kUnsupported for
+  /// a start_ns after now.
+  os::PortError StartAt(int64_t start_ns);
   /// Drops ready tasks and the release calendar; a step in progress
   /// completes. Start() again begins a new grid from that instant.
   os::PortError Stop() override;

@@ -24,6 +24,17 @@ class GuestClockRate {
   /// The slope is taken over about `window_ns` of guest time.
   explicit GuestClockRate(int64_t window_ns = 2'000'000'000) : window_ns_(window_ns) {}
 
+  /// A guest on the host's clock (qemu without -icount): its clock is the
+  /// host's, so its rate is exactly 1 and OnGuestTime measures nothing. A
+  /// measured rate would only be noise: in the first seconds qemu
+  /// translates code and a guest's lines come unevenly, and an estimate
+  /// 0.6% off moved the world 25 ms off the robots' grid in ten seconds.
+  static GuestClockRate OnHostClock() {
+    GuestClockRate rate;
+    rate.on_host_clock_ = true;
+    return rate;
+  }
+
   /// A line the guest printed at `guest_ns` of its clock reached the host at
   /// `host_ns`. A guest time that goes backwards (a restarted instance)
   /// starts the measurement again.
@@ -42,6 +53,7 @@ class GuestClockRate {
     int64_t guest_ns;
   };
   int64_t window_ns_;
+  bool on_host_clock_ = false;
   std::deque<Sample> samples_;
   double host_per_guest_ = 1.0;
 };
