@@ -101,8 +101,11 @@ size_t ReadUart(std::span<uint8_t> out, void* context) {
 
 robot::SensorLink sensor_link(sensor_tx, &ReadUart, &sensor_uart);
 
-// The kernel's hardware, once main() has made it: ConsoleWrite's clock.
-kernel::Mps2An386Hardware* console_clock = nullptr;
+// The kernel's port, once main() has made it: ConsoleWrite's clock (read
+// through the port, under the kernel's mask: an unmasked read racing the
+// kernel's own could count a wrap of the timer that never happened, and
+// under -icount one did, jumping a robot's clock 172 s ahead).
+const kernel::NvicPort* console_clock = nullptr;
 
 // Writes the whole line, a ring's worth at a time. While the ring is full
 // the core sleeps (WFI) until an interrupt, so qemu halts this guest's vCPU
@@ -297,7 +300,7 @@ int main(int argc, char** argv) {
   static kernel::Mps2An386Hardware hardware;
   static kernel::NvicPort port(hardware);
   hardware.Attach(port);
-  console_clock = &hardware;
+  console_clock = &port;
   console.Start(/*interrupts=*/true);
   radio.Start(/*interrupts=*/true);
   const int console_irq = board::CmsdkUartRxIrq(board::kCmsdkUart0);
@@ -349,8 +352,8 @@ int main(int argc, char** argv) {
   // Let the console's interrupt send the last line before qemu exits,
   // sleeping between its interrupts (ConsoleWrite says why), for at most
   // 200 ms.
-  const int64_t give_up_ns = hardware.now_ns() + 200'000'000;
-  while (hardware.now_ns() < give_up_ns) {
+  const int64_t give_up_ns = port.now_ns() + 200'000'000;
+  while (port.now_ns() < give_up_ns) {
     asm volatile("cpsid i" ::: "memory");
     bool idle;
     {
