@@ -35,12 +35,18 @@ base::Result<TaskId, PortError> NvicPort::AddTask(os::Task& task, const os::Task
   return id;
 }
 
-PortError NvicPort::Start() { return StartAt(hardware_.now_ns()); }
+PortError NvicPort::Start() { return StartAt(-1); }
 
+// start_ns -1: now.
 PortError NvicPort::StartAt(int64_t start_ns) {
   if (started_) return PortError::kAlreadyStarted;
-  if (start_ns > hardware_.now_ns()) return PortError::kUnsupported;
   const uint32_t saved = hardware_.MaskKernel();
+  const int64_t now = hardware_.now_ns();
+  if (start_ns < 0) start_ns = now;
+  if (start_ns > now) {
+    hardware_.RestoreMask(saved);
+    return PortError::kUnsupported;
+  }
   for (uint32_t periodic = periodic_mask_; periodic != 0; periodic &= periodic - 1) {
     TaskRecord& record = tasks_[__builtin_ctz(periodic)];
     record.next_release_ns = start_ns + record.config.trigger.offset_ns;

@@ -98,6 +98,7 @@ TEST_F(NvicPortTest, StartAtPutsTheGridOnAnInstantAlreadyPast) {
   EXPECT_EQ(std::vector<std::string>(log.end() - 2, log.end()), (std::vector<std::string>{"133:t", "143:t"}));
   EXPECT_EQ(port.next_release_ns(id), 153 * kMillisecond);
   EXPECT_EQ(port.StartAt(100 * kMillisecond), PortError::kAlreadyStarted);
+  EXPECT_FALSE(hardware.unmasked_clock_reads);
 }
 
 TEST_F(NvicPortTest, LateTimerCatchesUpOnTheGridAndCountsTheMissedReleases) {

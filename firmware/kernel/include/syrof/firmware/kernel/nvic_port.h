@@ -58,7 +58,7 @@ class NvicPort final : public os::Port {
   /// As Start(), but the grid begins at `start_ns` (<= now, the clock's
   /// time of an event already past): each periodic task is released first
   /// at start_ns + offset, at once when that has passed. kUnsupported for
-  /// a start_ns after now.
+  /// a start_ns after now; a negative start_ns is now (Start()).
   os::PortError StartAt(int64_t start_ns);
   /// Drops ready tasks and the release calendar; a step in progress
   /// completes. Start() again begins a new grid from that instant.
