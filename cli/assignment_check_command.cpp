@@ -85,6 +85,24 @@ int RunAssignmentCheck(const AssignmentCheckOptions& options, std::ostream& out,
     fmt::print(err, "syrof assignment check: {}\n", problem);
     return kBadInput;
   }
+  if (options.probe_students > 0) {
+    const auto reference = std::find_if(subjects.begin(), subjects.end(), [](const grader::CheckSubject& subject) {
+      return subject.role == grader::SubjectRole::kReference;
+    });
+    if (reference == subjects.end()) {
+      fmt::print(err, "syrof assignment check: --probe-students grades the reference: add it to --only\n");
+      return kBadInput;
+    }
+    if (loaded.assignment->hidden_runs.empty()) {
+      fmt::print(err, "syrof assignment check: --probe-students: '{}' has no hidden runs, whose seeds a student's "
+                      "are derived for\n", loaded.assignment->name);
+      return kBadInput;
+    }
+    for (grader::CheckSubject& probe :
+         grader::ProbeSubjects(*reference, options.probe_students, grader::kProbeSecret)) {
+      subjects.push_back(std::move(probe));
+    }
+  }
   if (!MayGradeHere("syrof assignment check", options.unsafe_no_file_isolation, out, err)) return kBadInput;
 
   const assignment::Assignment& checked = *loaded.assignment;
@@ -96,10 +114,15 @@ int RunAssignmentCheck(const AssignmentCheckOptions& options, std::ostream& out,
   check.broken_variant_script =
       options.broken_variant_script.empty() ? SYROF_BROKEN_VARIANT_SCRIPT : options.broken_variant_script;
   const size_t runs = grader::PlanTests(checked, false).size();
+  const size_t probes = static_cast<size_t>(options.probe_students);
   if (!options.quiet) {
-    fmt::print(out, "syrof assignment check: {} ({}), {} subject{} x {} runs, {} job{}, into {}\n", checked.name,
-               checked.title, subjects.size(), subjects.size() == 1 ? "" : "s", runs, options.jobs,
-               options.jobs == 1 ? "" : "s", out_dir);
+    fmt::print(out, "syrof assignment check: {} ({}), {} subject{} x {} runs{}, {} job{}, into {}\n", checked.name,
+               checked.title, subjects.size() - probes, subjects.size() - probes == 1 ? "" : "s", runs,
+               probes == 0 ? ""
+                           : fmt::format(", and the reference on {} probe {} hidden seeds ({} runs each)",
+                                         probes, probes == 1 ? "student's" : "students'", grader::PlanTests(checked, false).size() -
+                                                                             grader::PlanTests(checked, true).size()),
+               options.jobs, options.jobs == 1 ? "" : "s", out_dir);
     check.on_subject = [&out](const grader::SubjectOutcome& outcome) {
       fmt::print(out, "  {:<32} {}  {:.1f} s\n", outcome.subject.name, outcome.ok() ? "PASS" : "FAIL",
                  outcome.wall_seconds);

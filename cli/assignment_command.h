@@ -25,6 +25,9 @@ struct AssignmentCheckOptions {
   double build_timeout_s = 120;
   bool quiet = false;
   bool unsafe_no_file_isolation = false;
+  /// --probe-students N: also grade the reference on the hidden seeds
+  /// derived for N probe students (grader::ProbeSubjects).
+  int probe_students = 0;
   /// Not a command-line option: scripts/broken-variant.sh. Empty: the
   /// source tree's, where this syrof was built.
   std::string broken_variant_script;

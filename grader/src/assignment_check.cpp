@@ -162,7 +162,17 @@ SubjectOutcome CheckOne(const assignment::Assignment& assignment, const CheckSub
   }
   const std::string subject_out = (out / subject.name).string();
   std::vector<std::string> notes;
-  outcome.result = GradeSubmission(assignment, project, subject_out, grade, notes);
+  if (subject.probe) {
+    // The hidden runs only, on this student's seeds (the public runs are
+    // the reference's own, already checked).
+    assignment::Assignment hidden_only = assignment;
+    hidden_only.public_runs.clear();
+    GradeOptions probed = grade;
+    probed.student_seeds = subject.probe;
+    outcome.result = GradeSubmission(hidden_only, project, subject_out, probed, notes);
+  } else {
+    outcome.result = GradeSubmission(assignment, project, subject_out, grade, notes);
+  }
   outcome.result.submission = subject.name;
   outcome.problems = JudgeSubject(subject, outcome.result);
   const std::string hash = InputsHash(project, assignment.folder, false);
@@ -236,6 +246,18 @@ std::optional<lab::Error> FindCheckSubjects(const assignment::Assignment& assign
   return std::nullopt;
 }
 
+std::vector<CheckSubject> ProbeSubjects(const CheckSubject& reference, int count, const std::string& course_secret) {
+  std::vector<CheckSubject> probes;
+  for (int i = 1; i <= count; ++i) {
+    CheckSubject probe = reference;
+    probe.name = "probe/" + std::to_string(i);
+    probe.expected.reset();
+    probe.probe = StudentSeeds{course_secret, "probe-" + std::to_string(i)};
+    probes.push_back(std::move(probe));
+  }
+  return probes;
+}
+
 std::vector<std::string> JudgeSubject(const CheckSubject& subject, const SubmissionResult& result) {
   std::vector<std::string> problems;
   if (!result.build.ok()) {
@@ -251,6 +273,14 @@ std::vector<std::string> JudgeSubject(const CheckSubject& subject, const Submiss
   }
   if (subject.role == SubjectRole::kStarter && !subject.expected && full_marks) {
     problems.push_back("the starter gets full marks: it must leave the task to the student");
+  }
+  // A probe: every seed the reference failed, with how to rerun it (the
+  // seeds are in no file).
+  if (subject.probe && !problems.empty()) {
+    for (const TestResult& test : result.tests) {
+      if (!test.passed) problems.push_back(test.name + ": " + FirstLoss(test) + "\n  rerun: " + test.replay_command);
+    }
+    return problems;
   }
   // What the first test that lost points says, to start looking.
   if (!problems.empty()) {

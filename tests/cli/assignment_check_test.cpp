@@ -2,7 +2,9 @@
 // (which finds the app host and SyROF's package beside it): a real
 // assignment's reference passes; a variant whose expected.yaml is wrong
 // fails the check with exit 1, named in the table with what differs; and
-// the skeleton `syrof assignment new` writes checks clean as written.
+// the skeleton `syrof assignment new` writes checks clean as written;
+// --probe-students grades the reference on seeds derived for probe
+// students, hidden runs only, and names each seed it failed with its rerun.
 // coverage is the quickest assignment to check (docs/grading.md, "Writing an
 // assignment"); --only keeps each test to one or two subjects.
 #include <sys/wait.h>
@@ -74,6 +76,57 @@ TEST_F(AssignmentCheckTest, AVariantThatDoesNotGetItsExpectedPointsFailsTheCheck
   EXPECT_NE(run.output.find("points 87.50, expected 80.00"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("loses goal, expected goal, collisions"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("1 of 2 as expected; not as expected: broken/own_id."), std::string::npos) << run.output;
+}
+
+TEST_F(AssignmentCheckTest, ProbeStudentsGradeTheReferenceOnDerivedHiddenSeedsOnly) {
+  const Outcome run = Syrof("assignment check " SYROF_ASSIGNMENTS_DIR
+                            "/coverage --only reference --probe-students 1 --jobs 2 --out " +
+                            (dir_ / "out").string());
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("and the reference on 1 probe student's hidden seeds (4 runs each)"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("  probe/1    100.00, loses none  100.00, loses none  PASS"), std::string::npos)
+      << run.output;
+  std::ifstream file(dir_ / "out" / "probe" / "1" / "grade.json");
+  const std::string grade((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(grade.find("\"seed_student\": \"probe-1\""), std::string::npos) << grade;
+  EXPECT_EQ(grade.find("coverage_6/"), std::string::npos) << "no public run: " << grade;
+  EXPECT_NE(grade.find("coverage_7_dead/seed-"), std::string::npos) << grade;
+  for (const char* listed : {"seed-101\"", "seed-102\"", "seed-103\"", "seed-104\""}) {
+    EXPECT_EQ(grade.find(listed), std::string::npos) << listed << " is a listed seed, not a derived one";
+  }
+}
+
+TEST_F(AssignmentCheckTest, AProbeThatLosesPointsNamesEachSeedWithItsRerun) {
+  fs::copy(SYROF_ASSIGNMENTS_DIR "/coverage", dir_ / "coverage", fs::copy_options::recursive);
+  // A goal no run reaches: every hidden seed, listed or derived, loses it.
+  const fs::path hidden = dir_ / "coverage" / "hidden" / "coverage_6_bursty.yaml";
+  std::ifstream in(hidden);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const size_t at = text.find("deadline_s: 65");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 14, "deadline_s: 1");
+  std::ofstream(hidden) << text;
+
+  const Outcome run = Syrof("assignment check " + (dir_ / "coverage").string() +
+                            " --only reference --probe-students 1 --jobs 2 --out " + (dir_ / "out").string());
+
+  EXPECT_EQ(run.status, 1) << run.output;
+  EXPECT_NE(run.output.find("not as expected: reference, probe/1."), std::string::npos) << run.output;
+  const size_t probe = run.output.find("  probe/1 ");
+  ASSERT_NE(probe, std::string::npos) << run.output;
+  const std::string below = run.output.substr(probe);
+  EXPECT_NE(below.find("coverage_6_bursty/seed-"), std::string::npos) << below;
+  EXPECT_NE(below.find("rerun: syrof run "), std::string::npos) << below;
+  EXPECT_NE(below.find("coverage_6_bursty.yaml --app "), std::string::npos) << below;
+}
+
+TEST_F(AssignmentCheckTest, ProbeStudentsNeedTheReference) {
+  const Outcome run = Syrof("assignment check " SYROF_ASSIGNMENTS_DIR "/coverage --only starter --probe-students 2");
+  EXPECT_EQ(run.status, 2) << run.output;
+  EXPECT_NE(run.output.find("--probe-students grades the reference: add it to --only"), std::string::npos)
+      << run.output;
 }
 
 TEST_F(AssignmentCheckTest, TheSkeletonOfAssignmentNewChecksCleanAsWritten) {

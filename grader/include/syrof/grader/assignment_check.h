@@ -24,6 +24,7 @@
 #include "syrof/assignment/expected.h"
 #include "syrof/assignment/result.h"
 #include "syrof/grader/grade.h"
+#include "syrof/grader/student_seeds.h"
 #include "syrof/lab/base/error.h"
 
 namespace syrof::grader {
@@ -39,6 +40,9 @@ struct CheckSubject {
   /// The folder's expected.yaml; required for a variant. Without one the
   /// reference must get full marks and the starter must lose points.
   std::optional<assignment::Expected> expected;
+  /// Set on a probe (ProbeSubjects): the reference, graded on the hidden
+  /// runs only, with the seeds derived for this student.
+  std::optional<StudentSeeds> probe;
 };
 
 /// The reference, the starter and each broken variant (by name) of
@@ -50,6 +54,20 @@ struct CheckSubject {
 /// full marks (it would check nothing).
 std::optional<lab::Error> FindCheckSubjects(const assignment::Assignment& assignment,
                                             std::vector<CheckSubject>& subjects);
+
+/// The secret probes derive their seeds with when the instructor gives no
+/// course secret: any fixed text gives seeds as unrelated to the listed
+/// ones as a student's are.
+inline constexpr const char* kProbeSecret = "syrof assignment check: probe students";
+
+/// `count` probes of `reference` (a subject of role kReference), named
+/// "probe/1" .. "probe/<count>": each the reference graded on the hidden
+/// runs only, with the seeds `course_secret` derives for student
+/// "probe-<i>". A student's hidden seeds are derived, not listed
+/// (docs/grading.md, "Hidden seeds per student"), so the reference must
+/// get full marks on seeds no one has tried; this tries count x (seeds
+/// per hidden entry) of them.
+std::vector<CheckSubject> ProbeSubjects(const CheckSubject& reference, int count, const std::string& course_secret);
 
 /// Why `result` is not what `subject` must get, one line each; empty when it
 /// is. A subject that did not build never is. Pure.
