@@ -158,17 +158,35 @@ RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<
 
 namespace {
 
+// What TestResult::message_format says of a run's payload violations:
+// empty when there were none.
+std::string MessageFormatNote(const std::vector<internal::PayloadViolations>& violations) {
+  int count = 0;
+  std::string robots, first;
+  for (size_t robot = 0; robot < violations.size(); ++robot) {
+    if (violations[robot].count == 0) continue;
+    count += violations[robot].count;
+    robots += (robots.empty() ? "" : ",") + std::to_string(robot);
+    if (first.empty()) first = "robot " + std::to_string(robot) + " " + violations[robot].first;
+  }
+  if (count == 0) return {};
+  return std::to_string(count) + " payload" + (count == 1 ? "" : "s") + " broke the message format (robots " + robots +
+         "), first " + first + "; not scored here, but a mixed swarm's robots would misread them";
+}
+
 // Runs one test into out_dir/test.output_dir and scores it (or sets
 // run_error). With `replay`, the run also writes replay.bin there.
 void RunTest(const Assignment& assignment, const ScenarioRun& run, const std::string& library,
              const fs::path& out_dir, bool replay, TestResult& test) {
   // The assignment's message format goes into the replay (the viewer
-  // decodes payloads with it); its payload check is reported only by --mix.
+  // decodes payloads with it); its payload check is reported, not scored
+  // (--mix names the side that broke it).
   const internal::RunOutcome outcome =
       internal::RunScenario(run, test.seed, {library}, (out_dir / test.output_dir).string(), replay,
                             assignment.message ? &*assignment.message : nullptr);
   test.wall_seconds = outcome.wall_seconds;
   test.run_error = outcome.run_error;
+  test.message_format = MessageFormatNote(outcome.payload_violations);
   if (outcome.metrics) test.score = assignment::ScoreRun(assignment.rubric, *outcome.metrics);
 }
 

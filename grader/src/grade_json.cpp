@@ -36,6 +36,7 @@ Json TestJson(const TestResult& test) {
               {"max_points", test.max_points},
               {"passed", test.passed},
               {"run_error", test.run_error},
+              {"message_format", test.message_format},
               {"run_points", test.score.points},
               {"run_max_points", test.score.max_points},
               {"criteria", criteria},
@@ -186,6 +187,7 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
     test.max_points = Get<double>(entry, "max_points", 0.0);
     test.passed = Get<bool>(entry, "passed", false);
     test.run_error = Get<std::string>(entry, "run_error", "");
+    test.message_format = Get<std::string>(entry, "message_format", "");
     test.score.points = Get<double>(entry, "run_points", 0.0);
     test.score.max_points = Get<double>(entry, "run_max_points", 0.0);
     for (const nlohmann::json& criterion : entry.value("criteria", nlohmann::json::array())) {

@@ -62,6 +62,9 @@ void PrintSubmissionTable(const SubmissionResult& result, const std::string& out
     const std::string why = FirstLoss(test);
     if (!why.empty()) out << "    " << why;
     out << "\n";
+    if (!test.message_format.empty()) {
+      out << "  " << std::string(name_width, ' ') << "  message format: " << test.message_format << "\n";
+    }
     if (!test.passed && result.build.ok() && test.run_error.empty()) {
       // A hidden test names no scenario file: no command.
       if (!test.replay_command.empty()) {

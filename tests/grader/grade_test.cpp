@@ -477,5 +477,42 @@ TEST_F(MixMessageTest, NamesTooLongAsTheSideThatBrokeTheFormat) {
       << report.str();
 }
 
+// Graded alone, a submission whose payloads break the format hears so in
+// its test (not scored): before a mixed swarm misreads them.
+TEST_F(MixMessageTest, GradedAloneTooLongIsToldItsPayloadsBreakTheFormat) {
+  const Assignment strongest = LoadStrongest();
+  GradeOptions options;
+  options.public_only = true;
+  options.jobs = 1;
+  std::vector<std::string> notes;
+  const fs::path too_long = fs::path(SYROF_BROKEN_VARIANTS_DIR) / "strongest" / "broken" / "too_long";
+  const SubmissionResult broken =
+      GradeSubmission(strongest, too_long.string(), Fresh("alone_too_long").string(), options, notes);
+  ASSERT_EQ(broken.tests.size(), 1u);
+  EXPECT_NE(broken.tests[0].message_format.find("payloads broke the message format (robots 0,1,2,3,4,5), first robot "
+                                                "0 in init of epoch 0: 10 bytes, but the format has 2"),
+            std::string::npos)
+      << broken.tests[0].message_format;
+  std::ostringstream table;
+  PrintSubmissionTable(broken, "out", table);
+  EXPECT_NE(table.str().find("  message format: "), std::string::npos) << table.str();
+  const fs::path json = Fresh("alone_too_long_json") / "grade.json";
+  GradeFile file;
+  file.result = broken;
+  std::ofstream(json) << GradeJson(file);
+  std::string error;
+  const std::optional<GradeFile> read_back = ReadGradeJson(json.string(), error);
+  ASSERT_TRUE(read_back.has_value()) << error;
+  ASSERT_EQ(read_back->result.tests.size(), 1u);
+  EXPECT_EQ(read_back->result.tests[0].message_format, broken.tests[0].message_format);
+
+  const fs::path reference = fs::path(SYROF_ASSIGNMENTS_DIR) / "strongest" / "reference";
+  const SubmissionResult good =
+      GradeSubmission(strongest, reference.string(), Fresh("alone_reference").string(), options, notes);
+  ASSERT_EQ(good.tests.size(), 1u);
+  EXPECT_EQ(good.tests[0].message_format, "");
+}
+
 }  // namespace
+
 }  // namespace syrof::grader

@@ -91,6 +91,9 @@ std::string TestRow(const SubmissionResult& result, const TestResult& test, size
       criteria += fmt::format("<li{}>{}</li>", text::Lost(criterion) ? " class=\"lost\"" : "",
                               Html(text::CriterionLine(criterion)));
     }
+    if (!test.message_format.empty()) {
+      criteria += "<li class=\"lost\">" + Html("message format: " + test.message_format) + "</li>";
+    }
     criteria += "</ul>";
   }
   if (test.visibility == assignment::Visibility::kPublic && !test.replay_command.empty()) {

@@ -131,6 +131,7 @@ std::vector<std::string> TestLines(const SubmissionResult& result, const TestRes
   if (!test.score.criteria.empty()) {
     lines.push_back(fmt::format("run total {}/{}", Points(test.score.points), Points(test.score.max_points)));
   }
+  if (!test.message_format.empty()) lines.push_back(ValidUtf8("message format: " + test.message_format));
   return lines;
 }
 

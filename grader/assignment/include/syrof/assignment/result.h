@@ -50,6 +50,10 @@ struct TestResult {
   double points = 0;           ///< earned: max_points x score.points / score.max_points, to the hundredth
   bool passed = false;         ///< every criterion at full points
   std::string run_error;       ///< empty, or why the run has no score ("time limit of 60 s reached", ...)
+  /// Empty, or how the robots' payloads broke the assignment's message
+  /// format (`message:`): reported so a student sees it before a mixed
+  /// swarm does, not scored.
+  std::string message_format;
   std::string replay_command;  ///< the command that reruns it, as a student types it
   std::string output_dir;      ///< the run's folder (metrics.json, robots/*.log), relative to the submission's out dir
   std::string replay_path;     ///< a failed run's replay, relative to the submission's out dir; empty when passed
