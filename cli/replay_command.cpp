@@ -55,9 +55,13 @@ void PrintHeader(const Header& header, uint16_t version, std::ostream& out) {
       << fmt::format("arena: {} x {} m\n", header.arena_width_m, header.arena_height_m)
       << fmt::format("robots: {}\n", header.robots.size());
   for (const replay::RobotInfo& robot : header.robots) {
-    out << fmt::format("  robot {}: {}, body radius {} m\n", robot.id, KindName(robot.kind),
-                       robot.body_radius_m);
+    out << fmt::format("  robot {}: {}, body radius {} m", robot.id, KindName(robot.kind), robot.body_radius_m);
+    for (size_t i = 0; i < robot.inputs.size(); ++i) {
+      out << (i == 0 ? ", inputs: " : ", ") << robot.inputs[i].name << "=" << fmt::format("{}", robot.inputs[i].value);
+    }
+    out << "\n";
   }
+  if (header.message) out << fmt::format("message format: {}\n", header.message->ToString());
 }
 
 // Says once what the columns of the frame lines are.
@@ -214,14 +218,20 @@ class Exporter {
     }
     Json robots = Json::array();
     for (const replay::RobotInfo& robot : header.robots) {
-      robots.push_back({{"id", robot.id}, {"kind", KindName(robot.kind)}, {"body_radius_m", JsonFloat(robot.body_radius_m)}});
+      Json inputs = Json::object();
+      for (const replay::InputValue& input : robot.inputs) inputs[input.name] = input.value;
+      robots.push_back({{"id", robot.id},
+                        {"kind", KindName(robot.kind)},
+                        {"body_radius_m", JsonFloat(robot.body_radius_m)},
+                        {"inputs", std::move(inputs)}});
     }
     Json anchors = Json::array();
     for (const replay::AnchorInfo& anchor : header.anchors) anchors.push_back({JsonFloat(anchor.x_m), JsonFloat(anchor.y_m)});
     Line({{"type", "header"}, {"format_version", version}, {"scenario", header.scenario_name},
           {"app", header.app_name}, {"seed", header.seed}, {"radio_round_ns", header.radio_round_ns},
           {"arena_width_m", JsonFloat(header.arena_width_m)}, {"arena_height_m", JsonFloat(header.arena_height_m)},
-          {"robots", std::move(robots)}, {"anchors", std::move(anchors)}});
+          {"robots", std::move(robots)}, {"anchors", std::move(anchors)},
+          {"message", header.message ? Json(header.message->ToString()) : Json(nullptr)}});
   }
 
   void Round(const replay::Round& round) {

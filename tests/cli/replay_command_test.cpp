@@ -95,6 +95,38 @@ TEST(ReplayCommand, PrintsHeaderFramesAndEvents) {
                 "  0.200000000s map robot 2 epoch 2 AUTONOMOUS members 0 2\n");
 }
 
+// A message assignment's run: each robot's private inputs on its line, the
+// message format under them (text), and both in the jsonl header.
+TEST(ReplayCommand, ShowsEachRobotsInputsAndTheMessageFormat) {
+  replay::Header header = replay::testing::SampleHeader();
+  header.robots[0].inputs = {{"charge", 866}, {"colour", 2}};
+  header.robots[1].inputs = {{"charge", 38.5}};
+  lab::message::MessageFormat format;
+  format.none = false;
+  format.fields = {{"charge", lab::message::FieldType::kU16Be, 0}};
+  format.length = 2;
+  header.message = format;
+  const std::string path =
+      WriteFile("inputs", replay::testing::Write(header, replay::testing::SampleRounds()).bytes);
+
+  const Output text = RunCommand({.file = path, .summary = true});
+  EXPECT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("  robot 0: omni, body radius 0.1 m, inputs: charge=866, colour=2\n"
+                          "  robot 1: omni, body radius 0.1 m, inputs: charge=38.5\n"
+                          "  robot 2: rover, body radius 0.12 m\n"
+                          "message format: 2 bytes: charge u16be\n"),
+            std::string::npos)
+      << text.out;
+
+  const Output json = RunCommand({.file = path, .format = "jsonl"});
+  EXPECT_EQ(json.status, 0) << json.err;
+  const nlohmann::json first = nlohmann::json::parse(json.out.substr(0, json.out.find('\n')));
+  EXPECT_EQ(first["message"], "2 bytes: charge u16be");
+  EXPECT_EQ(first["robots"][0]["inputs"]["colour"], 2.0);
+  EXPECT_EQ(first["robots"][1]["inputs"]["charge"], 38.5);
+  EXPECT_TRUE(first["robots"][2]["inputs"].empty());
+}
+
 TEST(ReplayCommand, FiltersByRoundAndRobot) {
   const ReplayOptions options{.file = SampleFile("filters"), .round = 1, .robot = 1};
 
