@@ -182,8 +182,9 @@ void PrintPositionTable(const replay::PositionDisagreement& disagreement, std::o
 }
 
 // What the two runs are, when it is not the same: a different scenario,
-// seed, app or radio round, a run longer than the other, a format without
-// maps. None of these alone is a disagreement.
+// seed, app, radio round, message format or private inputs, a run longer
+// than the other, a format without maps. None of these alone is a
+// disagreement.
 std::vector<std::string> Notes(const replay::ReplayComparison& result) {
   const replay::Header& a = result.a.header;
   const replay::Header& b = result.b.header;
@@ -196,6 +197,24 @@ std::vector<std::string> Notes(const replay::ReplayComparison& result) {
   if (a.radio_round_ns != b.radio_round_ns) {
     notes.push_back(fmt::format("different radio rounds: A {} ns, B {} ns (rounds of one index are not the same time)",
                                 a.radio_round_ns, b.radio_round_ns));
+  }
+  // Private inputs and message formats (version 4 on): runs with other
+  // inputs are other runs, whatever their epochs say.
+  if (a.message != b.message) {
+    const auto text = [](const replay::Header& header) {
+      return header.message ? header.message->ToString() : std::string("not recorded");
+    };
+    notes.push_back(fmt::format("different message formats: A {}, B {}", text(a), text(b)));
+  }
+  std::string inputs_differ;
+  for (size_t i = 0; i < std::min(a.robots.size(), b.robots.size()); ++i) {
+    if (a.robots[i].id == b.robots[i].id && a.robots[i].inputs != b.robots[i].inputs) {
+      inputs_differ += (inputs_differ.empty() ? "" : " ") + std::to_string(a.robots[i].id);
+    }
+  }
+  if (!inputs_differ.empty()) {
+    notes.push_back(fmt::format("different private inputs for robot{} {} (syrof replay FILE --summary shows them)",
+                                inputs_differ.find(' ') == std::string::npos ? "" : "s", inputs_differ));
   }
   if (!result.robots.same()) return notes;
   const replay::EpochTable& table_a = result.a.table;

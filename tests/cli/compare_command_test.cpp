@@ -227,6 +227,34 @@ TEST(CompareCommandTest, PositionsBeyondTheToleranceAreReportedAtTheirRound) {
   EXPECT_EQ(unasked.status, 0) << unasked.out;
 }
 
+// Runs whose robots had other private inputs, or another message format,
+// may start the same epochs: they agree, and the notes say the runs differ.
+TEST(CompareCommandTest, OtherInputsOrAnotherMessageFormatAreNoted) {
+  const fs::path dir = TestDir();
+  SyntheticRun a = SteppedRun(3, 2);
+  a.header.robots[1].inputs = {{"charge", 866}};
+  SyntheticRun b = a;
+  b.header.robots[1].inputs = {{"charge", 38}};
+  b.header.robots[2].inputs = {{"charge", 1}};
+  lab::message::MessageFormat format;
+  format.none = false;
+  format.fields = {{"charge", lab::message::FieldType::kU16Be, 0}};
+  format.length = 2;
+  b.header.message = format;
+  const std::string path_a = WriteReplay(dir / "a.replay", a.Bytes());
+  const std::string path_b = WriteReplay(dir / "b.replay", b.Bytes());
+
+  const Outcome outcome = Compare(path_a, path_b);
+
+  EXPECT_EQ(outcome.status, 0) << outcome.out << outcome.err;
+  EXPECT_TRUE(Contains(outcome.out, "note: different message formats: A not recorded, B 2 bytes: charge u16be\n"))
+      << outcome.out;
+  EXPECT_TRUE(Contains(outcome.out, "note: different private inputs for robots 1 2 (syrof replay FILE --summary shows "
+                                    "them)\n"))
+      << outcome.out;
+  EXPECT_FALSE(Contains(Compare(path_a, path_a).out, "note:"));
+}
+
 TEST(CompareCommandTest, DifferentRobotsAreADifferenceNotComparedFurther) {
   const fs::path dir = TestDir();
   const std::string path_a = WriteReplay(dir / "a.replay", SteppedRun(3, 2).Bytes());
