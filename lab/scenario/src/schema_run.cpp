@@ -167,10 +167,10 @@ bool ReadLostList(const YamlNode& node, const std::string& path, const Scenario&
 // to a scenario's text rules, with room for the longest list. Parsing costs
 // far more memory than the text: yaml-cpp holds a whole flow collection's
 // tokens until it closes (some 140 bytes per byte of text), and the tree a
-// kilobyte per entry. So the bytes are capped at what a list of
-// kMaxLostBeacons entries takes written one per line (`- [12, 0, 3]`),
-// and the tree's nodes at that many entries of four nodes each: at most
-// two to three GB, where 64 MiB on one line took over 9.
+// kilobyte per entry. So the bytes are capped near what a list of
+// kMaxLostBeacons short entries takes one per line (`- [12, 0, 3]`, 13
+// bytes), and the tree's nodes at that many entries of four nodes each: at
+// most some 2.3 GB, where 64 MiB on one line would take some 9.
 bool ReadLostFile(const YamlNode& key, const YamlNode& value, const Scenario& scenario,
                   std::vector<world::LostBeacon>& lost, Diagnostics& diagnostics) {
   std::string name;
