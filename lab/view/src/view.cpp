@@ -95,26 +95,28 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
   // a first pass that counts the rounds, so that only the frames kept are
   // held: all robots x rounds of them were gigabytes for a long run, or for
   // a hostile file of 65,535 robots and empty rounds. A stream that cannot
-  // seek back is read once, holding every frame.
+  // seek back (a pipe) is read once, holding every frame, and decimated
+  // after.
   const std::istream::pos_type start = in.tellg();
+  const bool counted = start != std::istream::pos_type(-1);
   size_t rounds_in_file = 0;
   size_t robots_in_file = 0;
-  if (start != std::istream::pos_type(-1)) {
+  if (counted) {
     replay::Reader counter(in);
-    replay::Header counted;
-    if (counter.ReadHeader(counted)) {
-      robots_in_file = counted.robots.size();
+    replay::Header counted_header;
+    if (counter.ReadHeader(counted_header)) {
+      robots_in_file = counted_header.robots.size();
       replay::Round skipped;
       while (counter.Next(skipped)) ++rounds_in_file;
     }
     in.clear();
     in.seekg(start);
   }
-  const size_t robot_frames = robots_in_file * rounds_in_file;
-  size_t stride = 1;
-  if (options.max_robot_frames > 0 && robot_frames > options.max_robot_frames) {
-    stride = (robot_frames + options.max_robot_frames - 1) / options.max_robot_frames;
-  }
+  const auto stride_for = [&options](size_t robot_frames) -> size_t {
+    if (options.max_robot_frames == 0 || robot_frames <= options.max_robot_frames) return 1;
+    return (robot_frames + options.max_robot_frames - 1) / options.max_robot_frames;
+  };
+  const size_t read_stride = stride_for(robots_in_file * rounds_in_file);  // 1 when not counted
 
   replay::Reader reader(in);
   replay::Header header;
@@ -180,7 +182,7 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
       while (current[slot].id != frame.id) ++slot;  // both increase (the reader checked)
       current[slot] = frame;
     }
-    for (size_t i = 0; position % static_cast<int64_t>(stride) == 0 && i < robot_count; ++i) {
+    for (size_t i = 0; position % static_cast<int64_t>(read_stride) == 0 && i < robot_count; ++i) {
       const replay::RobotFrame& frame = current[i];
       Columns& column = columns[i];
       column.state.push_back(static_cast<int64_t>(frame.presence) | frame.status << 2 | frame.phase << 3 |
@@ -226,21 +228,28 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
                                   page.rounds, reader.error().ToString());
   }
 
+  const size_t stride = counted ? read_stride : stride_for(robot_count * page.rounds);
+  const size_t stride_after = counted ? 1 : stride;  // what is left to drop of the frames held
   page.frame_stride = stride;
   data["stride"] = stride;
   data["rounds"] = {{"index", Deltas(round_index)}, {"time_us", Deltas(round_time_us)}};
   json robots_frames = json::array();
   for (const Columns& column : columns) {
+    auto sampled = [stride_after](const std::vector<int64_t>& values) {
+      std::vector<int64_t> kept;
+      for (size_t i = 0; i < values.size(); i += stride_after) kept.push_back(values[i]);
+      return kept;
+    };
     json state = json::array();
-    for (const int64_t value : column.state) state.push_back(value);
+    for (const int64_t value : sampled(column.state)) state.push_back(value);
     robots_frames.push_back({{"s", std::move(state)},
-                             {"e", Deltas(column.epoch)},
-                             {"x", Deltas(column.x)},
-                             {"y", Deltas(column.y)},
-                             {"h", Deltas(column.h)},
-                             {"ex", Deltas(column.ex)},
-                             {"ey", Deltas(column.ey)},
-                             {"eh", Deltas(column.eh)}});
+                             {"e", Deltas(sampled(column.epoch))},
+                             {"x", Deltas(sampled(column.x))},
+                             {"y", Deltas(sampled(column.y))},
+                             {"h", Deltas(sampled(column.h))},
+                             {"ex", Deltas(sampled(column.ex))},
+                             {"ey", Deltas(sampled(column.ey))},
+                             {"eh", Deltas(sampled(column.eh))}});
   }
   data["frames"] = std::move(robots_frames);
   data["events"] = std::move(events);
