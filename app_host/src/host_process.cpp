@@ -238,7 +238,13 @@ CallStatus HostProcess::AwaitHello(p::Reply& hello) {
     return fault_;
   }
   hello.text[sizeof(hello.text) - 1] = '\0';
+  // The name is the student's text and is printed (run summaries, reports):
+  // a byte outside printable ASCII (an escape sequence, a byte that is not
+  // UTF-8, a bidirectional override) becomes '?'.
   app_name_ = hello.text;
+  for (char& c : app_name_) {
+    if (c < 0x20 || c > 0x7E) c = '?';
+  }
   notes_ = hello.notes;
   return CallStatus::Ok();
 }
