@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -341,9 +344,14 @@ int Export(const ReplayOptions& options, Reader& reader, const replay::Header& h
 }
 
 int Dump(const ReplayOptions& options, std::ostream& out, std::ostream& err) {
+  std::error_code error;
+  if (std::filesystem::is_directory(options.file, error)) {
+    err << fmt::format("syrof replay: '{}' is a folder, not a replay file\n", options.file);
+    return kBadInput;
+  }
   std::ifstream in(options.file, std::ios::binary);
   if (!in) {
-    err << fmt::format("syrof replay: cannot open '{}'\n", options.file);
+    err << fmt::format("syrof replay: cannot open '{}': {}\n", options.file, std::strerror(errno));
     return kBadInput;
   }
   Reader reader(in);

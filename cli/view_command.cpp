@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "exit_status.h"
@@ -34,9 +37,14 @@ CLI::App* SetupViewCommand(CLI::App& app, ViewOptions& options) {
 }
 
 int RunViewCommand(const ViewOptions& options, std::ostream& out, std::ostream& err) {
+  std::error_code error;
+  if (std::filesystem::is_directory(options.file, error)) {
+    fmt::print(err, "syrof view: '{}' is a folder, not a replay file\n", options.file);
+    return kBadInput;
+  }
   std::ifstream in(options.file, std::ios::binary);
   if (!in) {
-    fmt::print(err, "syrof view: cannot open '{}'\n", options.file);
+    fmt::print(err, "syrof view: cannot open '{}': {}\n", options.file, std::strerror(errno));
     return kBadInput;
   }
   const lab::view::Page page = lab::view::BuildPage(in, options.file);

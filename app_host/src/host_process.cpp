@@ -238,7 +238,7 @@ CallStatus HostProcess::AwaitHello(p::Reply& hello) {
     return fault_;
   }
   hello.text[sizeof(hello.text) - 1] = '\0';
-  app_name_ = hello.text;
+  app_name_ = hello.text;  // printable: TryReceive made it so
   notes_ = hello.notes;
   return CallStatus::Ok();
 }
@@ -260,6 +260,15 @@ bool HostProcess::TryReceive(p::Reply& reply, bool& malformed) {
     return true;
   }
   buffer.text[sizeof(buffer.text) - 1] = '\0';
+  // The text is the app's name or a fault's detail, printed in run summaries
+  // and reports, and the student's code can write it (the descriptor's name,
+  // or a reply forged on the channel): a byte outside printable ASCII (an
+  // escape sequence, a byte that is not UTF-8, a bidirectional override)
+  // becomes '?'.
+  for (char& c : buffer.text) {
+    if (c == '\0') break;
+    if (c < 0x20 || c > 0x7E) c = '?';
+  }
   reply = buffer;
   return true;
 }

@@ -503,6 +503,19 @@ TEST_F(HostedAppTest, AHostDiesWithItsParent) {
   if (!gone) kill(host, SIGKILL);
 }
 
+// The descriptor's name is the student's text, printed in run summaries: a
+// terminal escape sequence in it must not reach the instructor's terminal.
+TEST_F(HostedAppTest, ANameIsPassedOnAsPrintableText) {
+  options_.library_path = Library("control_name");
+
+  const LibraryCheck check = CheckLibrary(options_);
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+
+  EXPECT_TRUE(check.ok) << check.error;
+  EXPECT_EQ(check.app_name, "red?[31m?");
+  EXPECT_STREQ(app->name(), "red?[31m?");
+}
+
 TEST_F(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {
   const auto check = [&](const std::string& path) {
     options_.library_path = path;

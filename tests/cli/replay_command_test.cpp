@@ -213,6 +213,8 @@ TEST(ReplayCommand, BadInputReturnsTwoWithAMessage) {
   const std::string sample = SampleFile("bad_input");
   const std::vector<std::pair<ReplayOptions, std::string>> cases = {
       {{.file = ::testing::TempDir() + "syrof_replay_command_missing.replay"}, "cannot open"},
+      {{.file = ::testing::TempDir() + "syrof_replay_command_missing.replay"}, "No such file or directory"},
+      {{.file = ::testing::TempDir()}, "is a folder, not a replay file"},
       {{.file = WriteFile("not_replay", "hello, world")}, "not a SyROF replay file"},
       {{.file = sample, .robot = 7}, "no robot 7 in this replay"},
       {{.file = sample, .round = 2}, "no round 2 in this replay"},

@@ -6,6 +6,8 @@
 #include <iterator>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "syrof/base/check.h"
 #include "syrof/lab/replay/reader.h"
 
@@ -164,10 +166,10 @@ RobotSets CompareRobotSets(const Header& a, const Header& b) {
 
 // One file being read: its reader, its table being built, its next round.
 struct Side {
-  explicit Side(std::istream& in, ReplaySide& out) : reader(in), result(out) {
+  Side(std::istream& in, ReplaySide& out, size_t max_cells) : reader(in), result(out), max_table_cells(max_cells) {
     if (reader.ReadHeader(result.header)) {
       result.version = reader.version();
-      builder.emplace(result.header, result.version);
+      builder.emplace(result.header, result.version, max_cells);
     } else {
       Finish();
     }
@@ -175,13 +177,23 @@ struct Side {
 
   bool header_read() const { return builder.has_value(); }
   void Advance() { have_round = builder && reader.Next(round); }
+  // A run whose epochs overflow the table is read no further.
   void AddAndAdvance() {
-    builder->Add(round);
-    Advance();
+    if (builder->Add(round)) {
+      Advance();
+      return;
+    }
+    have_round = false;
+    full_at = Error{.where = fmt::format("round {}", round.index),
+                    .message = fmt::format("the run's epochs need more than {} entries (epochs x {} robots) to "
+                                           "compare; a real run needs far fewer",
+                                           max_table_cells, result.header.robots.size())};
   }
   void Finish() {
     if (builder) result.table = std::move(*builder).Finish();
-    if (!reader.complete()) {
+    if (full_at) {
+      result.error = std::move(full_at);
+    } else if (!reader.complete()) {
       result.error = reader.error();
       result.truncated = reader.truncated();
     }
@@ -192,14 +204,16 @@ struct Side {
   std::optional<EpochTableBuilder> builder;
   Round round;
   bool have_round = false;
+  const size_t max_table_cells;
+  std::optional<Error> full_at;  // where the table found itself full
 };
 
 }  // namespace
 
 ReplayComparison CompareReplays(std::istream& a, std::istream& b, const ComparisonOptions& options) {
   ReplayComparison result;
-  Side side_a(a, result.a);
-  Side side_b(b, result.b);
+  Side side_a(a, result.a, options.max_epoch_table_cells);
+  Side side_b(b, result.b, options.max_epoch_table_cells);
   if (side_a.header_read() && side_b.header_read()) result.robots = CompareRobotSets(result.a.header, result.b.header);
   const bool compare_positions = options.pose_tolerance_m.has_value() && side_a.header_read() &&
                                  side_b.header_read() && result.robots.same();

@@ -4,7 +4,8 @@
 
 namespace syrof::lab::replay {
 
-EpochTableBuilder::EpochTableBuilder(const Header& header, uint16_t version) {
+EpochTableBuilder::EpochTableBuilder(const Header& header, uint16_t version, size_t max_cells)
+    : max_rows_(header.robots.empty() ? max_cells : max_cells / header.robots.size()) {
   table_.robot_ids.reserve(header.robots.size());
   for (const RobotInfo& robot : header.robots) table_.robot_ids.push_back(robot.id);
   table_.has_maps = version >= 3;
@@ -32,6 +33,10 @@ EpochStart* EpochTableBuilder::Entry(int64_t number, uint16_t robot) {
   auto row = std::lower_bound(table_.epochs.begin(), table_.epochs.end(), number,
                               [](const EpochRow& candidate, int64_t value) { return candidate.number < value; });
   if (row == table_.epochs.end() || row->number != number) {
+    if (table_.epochs.size() >= max_rows_) {
+      full_ = true;
+      return nullptr;
+    }
     row = table_.epochs.insert(row, EpochRow{.number = number, .robots = std::vector<EpochStart>(table_.robot_ids.size())});
   }
   return &row->robots[slot];
@@ -47,7 +52,8 @@ std::shared_ptr<const MemberIds> EpochTableBuilder::MembersOf(const std::shared_
   return members;
 }
 
-void EpochTableBuilder::Add(const Round& round) {
+bool EpochTableBuilder::Add(const Round& round) {
+  if (full_) return false;
   if (table_.round_count == 0) table_.first_round = round.index;
   table_.last_round = round.index;
   ++table_.round_count;
@@ -73,6 +79,7 @@ void EpochTableBuilder::Add(const Round& round) {
     // (start_count > 1) already has the first's members.
     if (start->members == nullptr && start->round == round.index) start->members = MembersOf(entry.map);
   }
+  return !full_;
 }
 
 EpochTable EpochTableBuilder::Finish() && {
@@ -82,7 +89,9 @@ EpochTable EpochTableBuilder::Finish() && {
 
 EpochTable BuildEpochTable(const Header& header, uint16_t version, std::span<const Round> rounds) {
   EpochTableBuilder builder(header, version);
-  for (const Round& round : rounds) builder.Add(round);
+  for (const Round& round : rounds) {
+    if (!builder.Add(round)) break;
+  }
   return std::move(builder).Finish();
 }
 

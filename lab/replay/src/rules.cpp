@@ -14,13 +14,40 @@ std::string CheckNameLength(size_t length, const char* what) {
   return fmt::format("{} is {} bytes, more than the {} allowed", what, length, kMaxNameBytes);
 }
 
+namespace {
+
+// Length of the UTF-8 character starting at `index`, or 0 when the bytes
+// there are not one (overlong forms, surrogates and values above U+10FFFF
+// included).
+size_t Utf8Length(std::string_view text, size_t index) {
+  const auto lead = static_cast<uint8_t>(text[index]);
+  if (lead < 0x80) return 1;
+  const size_t length = (lead & 0xE0) == 0xC0 ? 2 : (lead & 0xF0) == 0xE0 ? 3 : (lead & 0xF8) == 0xF0 ? 4 : 0;
+  if (length == 0 || index + length > text.size()) return 0;
+  uint32_t value = lead & (0x7F >> length);
+  for (size_t next = 1; next < length; ++next) {
+    const auto byte = static_cast<uint8_t>(text[index + next]);
+    if ((byte & 0xC0) != 0x80) return 0;
+    value = (value << 6) | (byte & 0x3F);
+  }
+  static constexpr uint32_t kSmallest[] = {0, 0, 0x80, 0x800, 0x10000};
+  if (value < kSmallest[length] || value > 0x10FFFF || (value >= 0xD800 && value <= 0xDFFF)) return 0;
+  return length;
+}
+
+}  // namespace
+
 std::string CheckNameBytes(std::string_view name, const char* what) {
-  for (size_t index = 0; index < name.size(); ++index) {
+  for (size_t index = 0; index < name.size();) {
     const auto byte = static_cast<uint8_t>(name[index]);
     // Control characters could rewrite a terminal showing the dump.
     if (byte < 0x20 || byte == 0x7F) {
       return fmt::format("{} has control character 0x{:02X} at byte {}", what, byte, index);
     }
+    // The names are shown as text: in JSON (syrof view, --format jsonl), which must be UTF-8.
+    const size_t length = Utf8Length(name, index);
+    if (length == 0) return fmt::format("{} is not UTF-8 at byte {}", what, index);
+    index += length;
   }
   return {};
 }

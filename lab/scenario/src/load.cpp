@@ -1,10 +1,11 @@
 // Reading a scenario from a file or a string: the size cap, the text
 // checks, the YAML tree, then the schema.
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "diagnostics.h"
 #include "syrof/lab/scenario/yaml/document.h"
@@ -58,14 +59,33 @@ bool ReadCappedFile(const std::string& path, const std::string& what, std::strin
   if (std::filesystem::is_directory(path, error)) {
     return diagnostics.Fail(0, 0, "is a directory, not a " + what + " file");
   }
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream) return diagnostics.Fail(0, 0, std::string("cannot open: ") + std::strerror(errno));
+  // Opened without blocking, then read blocking: a named pipe nobody writes
+  // to would otherwise block the open forever (it now reads as empty), while
+  // a pipe with a writer (`syrof run <(generate)`) still reads whole.
+  const int descriptor = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (descriptor < 0) return diagnostics.Fail(0, 0, std::string("cannot open: ") + std::strerror(errno));
+  const int flags = fcntl(descriptor, F_GETFL);
+  if (flags < 0 || fcntl(descriptor, F_SETFL, flags & ~O_NONBLOCK) < 0) {
+    const int failure = errno;
+    close(descriptor);
+    return diagnostics.Fail(0, 0, std::string("cannot open: ") + std::strerror(failure));
+  }
   // Read at most one byte past the cap: a larger file is refused without
   // being read whole (it may be a device or a pipe that never ends).
   text.assign(kMaxScenarioBytes + 1, '\0');
-  stream.read(text.data(), static_cast<std::streamsize>(text.size()));
-  if (stream.bad()) return diagnostics.Fail(0, 0, "read error");
-  text.resize(static_cast<size_t>(stream.gcount()));
+  size_t length = 0;
+  while (length < text.size()) {
+    const ssize_t got = read(descriptor, text.data() + length, text.size() - length);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) {
+      close(descriptor);
+      return diagnostics.Fail(0, 0, "read error");
+    }
+    if (got == 0) break;
+    length += static_cast<size_t>(got);
+  }
+  close(descriptor);
+  text.resize(length);
   if (text.size() > kMaxScenarioBytes) {
     const auto size = std::filesystem::file_size(path, error);
     const std::string size_text = error ? "more than " + std::to_string(kMaxScenarioBytes) : std::to_string(size);

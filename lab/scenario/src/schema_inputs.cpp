@@ -53,6 +53,13 @@ bool ReadBounds(const YamlNode& node, const std::string& path, bool whole, doubl
                 std::fabs(bounds[0]) > kMaxWhole || std::fabs(bounds[1]) > kMaxWhole)) {
     return FailAt(node, path, "must be two whole numbers (within 2^53)", diagnostics);
   }
+  // A draw is low + (high - low) * u: a span past a double's range would
+  // draw infinities and NaN.
+  if (!std::isfinite(bounds[1] - bounds[0])) {
+    return FailAt(node, path, "high - low must be a finite number, got [" + FormatNumber(bounds[0]) + ", " +
+                                  FormatNumber(bounds[1]) + "]",
+                  diagnostics);
+  }
   low = bounds[0];
   high = bounds[1];
   return true;

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "schema.h"
+#include "text_checks.h"
 #include "syrof/base/split_mix64.h"
 #include "value_reader.h"
 #include "yaml_tree.h"
@@ -162,30 +163,52 @@ bool ReadLostList(const YamlNode& node, const std::string& path, const Scenario&
 }
 
 // `lost_file`: the list in a YAML file of its own, relative to the
-// scenario's folder; its errors name that file, at the key.
+// scenario's folder; its errors name that file, at the key. The file is held
+// to a scenario's text rules, with room for the longest list. Parsing costs
+// far more memory than the text: yaml-cpp holds a whole flow collection's
+// tokens until it closes (some 140 bytes per byte of text), and the tree a
+// kilobyte per entry. So the bytes are capped near what a list of
+// kMaxLostBeacons short entries takes one per line (`- [12, 0, 3]`, 13
+// bytes), and the tree's nodes at that many entries of four nodes each: at
+// most some 2.3 GB, where 64 MiB on one line would take some 9.
 bool ReadLostFile(const YamlNode& key, const YamlNode& value, const Scenario& scenario,
                   std::vector<world::LostBeacon>& lost, Diagnostics& diagnostics) {
   std::string name;
   if (!ReadString(value, "channel.lost_file", name, diagnostics)) return false;
+  if (name.empty()) return FailAt(value, "channel.lost_file", "must name a file, got an empty string", diagnostics);
   std::filesystem::path path(name);
   if (path.is_relative() && !scenario.source.empty()) path = std::filesystem::path(scenario.source).parent_path() / path;
+  const auto fail = [&](const std::string& problem) {
+    return FailAt(value, "channel.lost_file", "'" + name + "' " + problem + " (looked for " + path.string() + ")",
+                  diagnostics);
+  };
+  // Only a regular file is opened: a pipe would block the open, a device
+  // could be endless.
   std::error_code error;
-  const auto size = std::filesystem::file_size(path, error);
-  if (error || !std::filesystem::is_regular_file(path, error)) {
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (status.type() == std::filesystem::file_type::not_found) {
     return FailAt(value, "channel.lost_file", "no such file '" + name + "' (looked for " + path.string() + ")",
                   diagnostics);
   }
-  constexpr uintmax_t kMaxLostFileBytes = 64u << 20;
-  if (size > kMaxLostFileBytes) {
-    return FailAt(value, "channel.lost_file", "'" + name + "' is " + std::to_string(size) + " bytes; at most " +
-                                                  std::to_string(kMaxLostFileBytes),
-                  diagnostics);
-  }
+  if (error) return fail("cannot be read: " + error.message());
+  if (std::filesystem::is_directory(status)) return fail("is a directory, not a file");
+  if (!std::filesystem::is_regular_file(status)) return fail("is not a regular file");
+  constexpr size_t kMaxLostFileBytes = 16u << 20;
   std::ifstream file(path, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (!file) return fail("cannot be opened");
+  // One byte past the cap is read, so a file that grew since is refused too.
+  std::string text(kMaxLostFileBytes + 1, '\0');
+  file.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (file.bad()) return fail("cannot be read");
+  text.resize(static_cast<size_t>(file.gcount()));
+  if (text.size() > kMaxLostFileBytes) {
+    return fail("is more than " + std::to_string(kMaxLostFileBytes) + " bytes, the limit");
+  }
+  constexpr size_t kMaxLostFileNodes = 1 + 4 * world::kMaxLostBeacons;
   Diagnostics inner(path.string());
   YamlNode root;
-  if (!ReadYamlDocument(text, root, inner) || !ReadLostList(root, "lost", scenario, lost, inner)) {
+  if (!CheckScenarioText(text, inner, kMaxLostFileBytes) || !ReadYamlDocument(text, root, inner, kMaxLostFileNodes) ||
+      !ReadLostList(root, "lost", scenario, lost, inner)) {
     return FailAt(key, "channel.lost_file", inner.error() ? inner.error()->ToString() : "cannot be read", diagnostics);
   }
   return true;

@@ -254,10 +254,10 @@ int FlowDepth(const std::string& text, int limit, size_t& offset) {
   return deepest;
 }
 
-bool CheckScenarioText(const std::string& text, Diagnostics& diagnostics) {
-  if (text.size() > kMaxScenarioBytes) {
+bool CheckScenarioText(const std::string& text, Diagnostics& diagnostics, size_t max_bytes) {
+  if (text.size() > max_bytes) {
     return diagnostics.Fail(0, 0, "the scenario is " + std::to_string(text.size()) + " bytes; the limit is " +
-                                      std::to_string(kMaxScenarioBytes) + " bytes");
+                                      std::to_string(max_bytes) + " bytes");
   }
   if (!CheckCharacters(text, diagnostics)) return false;
   if (!CheckIndentation(text, diagnostics)) return false;

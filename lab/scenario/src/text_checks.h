@@ -2,9 +2,11 @@
 // things the parser could choke on or that the tree builder cannot see.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "diagnostics.h"
+#include "syrof/lab/scenario/scenario.h"
 
 namespace syrof::lab::scenario {
 
@@ -15,7 +17,9 @@ namespace syrof::lab::scenario {
 // after a '...' line); or nests flow collections ('[', '{') deeper than
 // kMaxScenarioDepth. The last check runs before parsing because the parser
 // recurses once per nested flow collection.
-bool CheckScenarioText(const std::string& text, Diagnostics& diagnostics);
+// `max_bytes` is the cap for a file of the family allowed more than a
+// scenario (a scripted channel's lost_file).
+bool CheckScenarioText(const std::string& text, Diagnostics& diagnostics, size_t max_bytes = kMaxScenarioBytes);
 
 // The deepest flow-collection nesting in `text`, by a lexical scan that
 // skips comments, quoted scalars, plain scalars and block scalars as the

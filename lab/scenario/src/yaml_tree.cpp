@@ -29,7 +29,8 @@ struct StopParsing {};
 // valid.
 class TreeBuilder final : public YAML::EventHandler {
  public:
-  TreeBuilder(YamlNode& root, Diagnostics& diagnostics) : root_(root), diagnostics_(diagnostics) {}
+  TreeBuilder(YamlNode& root, Diagnostics& diagnostics, size_t max_nodes)
+      : root_(root), diagnostics_(diagnostics), max_nodes_(max_nodes) {}
 
   void OnDocumentStart(const YAML::Mark&) override {}
   void OnDocumentEnd() override {}
@@ -142,6 +143,11 @@ class TreeBuilder final : public YAML::EventHandler {
   // Puts a finished node (or a container about to be filled) in place and
   // returns where it now lives.
   YamlNode* Add(YamlNode node) {
+    if (++nodes_ > max_nodes_) {
+      diagnostics_.Fail(node.line, node.column,
+                        "holds more than " + std::to_string(max_nodes_) + " maps, lists and values" + Where());
+      throw StopParsing{};
+    }
     if (frames_.empty()) {
       if (has_root_) Stop(YAML::Mark(), "more than one top-level node");
       has_root_ = true;
@@ -176,18 +182,20 @@ class TreeBuilder final : public YAML::EventHandler {
   Diagnostics& diagnostics_;
   std::vector<Frame> frames_;
   bool has_root_ = false;
+  const size_t max_nodes_;
+  size_t nodes_ = 0;
 };
 
 }  // namespace
 
-bool ReadYamlDocument(const std::string& text, YamlNode& root, Diagnostics& diagnostics) {
+bool ReadYamlDocument(const std::string& text, YamlNode& root, Diagnostics& diagnostics, size_t max_nodes) {
   root = YamlNode{};
   root.line = 1;
   root.column = 1;
   std::istringstream stream(text);
   try {
     YAML::Parser parser(stream);
-    TreeBuilder builder(root, diagnostics);
+    TreeBuilder builder(root, diagnostics, max_nodes);
     // One call: the text holds at most one document (CheckScenarioText), and
     // calling again until it returns false is what can loop forever.
     parser.HandleNextDocument(builder);

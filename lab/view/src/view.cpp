@@ -55,7 +55,8 @@ json Deltas(const std::vector<int64_t>& values) {
   return out;
 }
 
-// Every robot's frame fields over the rounds kept, one column per field.
+// Every robot's frame fields over the rounds kept (every stride-th), one
+// column per field.
 struct Columns {
   std::vector<int64_t> state, epoch, x, y, h, ex, ey, eh;
 };
@@ -89,6 +90,33 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
     page.error = Error{.where = name, .message = "the file is empty (0 bytes)"};
     return data.dump();
   }
+
+  // Decimation for drawing: the smallest stride that fits the budget, from
+  // a first pass that counts the rounds, so that only the frames kept are
+  // held: all robots x rounds of them were gigabytes for a long run, or for
+  // a hostile file of 65,535 robots and empty rounds. A stream that cannot
+  // seek back (a pipe) is read once, holding every frame, and decimated
+  // after.
+  const std::istream::pos_type start = in.tellg();
+  const bool counted = start != std::istream::pos_type(-1);
+  size_t rounds_in_file = 0;
+  size_t robots_in_file = 0;
+  if (counted) {
+    replay::Reader counter(in);
+    replay::Header counted_header;
+    if (counter.ReadHeader(counted_header)) {
+      robots_in_file = counted_header.robots.size();
+      replay::Round skipped;
+      while (counter.Next(skipped)) ++rounds_in_file;
+    }
+    in.clear();
+    in.seekg(start);
+  }
+  const auto stride_for = [&options](size_t robot_frames) -> size_t {
+    if (options.max_robot_frames == 0 || robot_frames <= options.max_robot_frames) return 1;
+    return (robot_frames + options.max_robot_frames - 1) / options.max_robot_frames;
+  };
+  const size_t read_stride = stride_for(robots_in_file * rounds_in_file);  // 1 when not counted
 
   replay::Reader reader(in);
   replay::Header header;
@@ -154,7 +182,7 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
       while (current[slot].id != frame.id) ++slot;  // both increase (the reader checked)
       current[slot] = frame;
     }
-    for (size_t i = 0; i < robot_count; ++i) {
+    for (size_t i = 0; position % static_cast<int64_t>(read_stride) == 0 && i < robot_count; ++i) {
       const replay::RobotFrame& frame = current[i];
       Columns& column = columns[i];
       column.state.push_back(static_cast<int64_t>(frame.presence) | frame.status << 2 | frame.phase << 3 |
@@ -200,20 +228,16 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
                                   page.rounds, reader.error().ToString());
   }
 
-  // Decimation for drawing: the smallest stride that fits the budget.
-  const size_t robot_frames = robot_count * page.rounds;
-  size_t stride = 1;
-  if (options.max_robot_frames > 0 && robot_frames > options.max_robot_frames) {
-    stride = (robot_frames + options.max_robot_frames - 1) / options.max_robot_frames;
-  }
+  const size_t stride = counted ? read_stride : stride_for(robot_count * page.rounds);
+  const size_t stride_after = counted ? 1 : stride;  // what is left to drop of the frames held
   page.frame_stride = stride;
   data["stride"] = stride;
   data["rounds"] = {{"index", Deltas(round_index)}, {"time_us", Deltas(round_time_us)}};
   json robots_frames = json::array();
   for (const Columns& column : columns) {
-    auto sampled = [&](const std::vector<int64_t>& values) {
+    auto sampled = [stride_after](const std::vector<int64_t>& values) {
       std::vector<int64_t> kept;
-      for (size_t i = 0; i < values.size(); i += stride) kept.push_back(values[i]);
+      for (size_t i = 0; i < values.size(); i += stride_after) kept.push_back(values[i]);
       return kept;
     };
     json state = json::array();

@@ -162,6 +162,11 @@ TEST_F(AssignmentFileTest, AWrongMessageFormatIsPlaced) {
                       1, 38, "message.fields[0].name: a field's name must be"));
   EXPECT_TRUE(FailsAt(Load("message: {lenght: 1, fields: []}\n" + rest), "assignment.yaml", 1, 11,
                       "did you mean 'length'?"));
+  // A length past int64 and a type that is not a name: refused at their place, not wrapped or crashed on.
+  EXPECT_TRUE(FailsAt(Load("message: {length: 99999999999999999999, fields: [{name: a, type: u8}]}\n" + rest),
+                      "assignment.yaml", 1, 19, "message.length: must be in [1, 9], got 99999999999999999999"));
+  EXPECT_TRUE(FailsAt(Load("message: {length: 1, fields: [{name: a, type: [u8]}]}\n" + rest), "assignment.yaml", 1,
+                      47, "message.fields[0].type: expected one of u8,"));
 }
 
 TEST_F(AssignmentFileTest, MissingHiddenFilesAreDroppedOnlyWhenAllowed) {

@@ -276,5 +276,20 @@ TEST(CompareReplaysTest, AFileThatCannotBeReadWholeIsAnErrorOfItsSide) {
   EXPECT_EQ(not_replay.b.table.round_count, run.rounds.size());  // the other file is still read
 }
 
+TEST(CompareReplaysTest, ARunWithMoreEpochsThanTheTableHoldsIsAnErrorOfItsSide) {
+  const std::string four_epochs = SteppedRun(3, 4).Bytes();
+  const std::string two_epochs = SteppedRun(3, 2).Bytes();
+  ComparisonOptions options;
+  options.max_epoch_table_cells = 9;
+
+  const ReplayComparison result = CompareBytes(four_epochs, two_epochs, options);
+
+  ASSERT_TRUE(result.a.error.has_value());
+  EXPECT_EQ(result.a.error->where, "round " + std::to_string(StartRoundOf(4)));
+  EXPECT_NE(result.a.error->message.find("more than 9"), std::string::npos) << result.a.error->ToString();
+  EXPECT_FALSE(result.b.error.has_value());
+  EXPECT_FALSE(result.comparable());
+}
+
 }  // namespace
 }  // namespace syrof::lab::replay

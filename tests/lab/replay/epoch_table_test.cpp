@@ -135,6 +135,22 @@ TEST(EpochTableTest, AnEpochStartedTwiceKeepsTheFirstStart) {
   EXPECT_EQ(MembersOf(start), (std::vector<uint16_t>{0, 1}));
 }
 
+// Every row holds an entry per robot, so a hostile file (65,535 robots, an
+// EPOCH_START of a new epoch per 20 bytes) could ask for gigabytes.
+TEST(EpochTableTest, StopsAtTheRowThatWouldPassItsEntryCap) {
+  const testing::SyntheticRun run = testing::SteppedRun(3, 4);
+  EpochTableBuilder builder(run.header, kFormatVersion, 9);  // three rows of three robots
+
+  for (const Round& round : run.rounds) {
+    if (!builder.Add(round)) break;
+  }
+
+  EXPECT_TRUE(builder.full());
+  const EpochTable table = std::move(builder).Finish();
+  ASSERT_EQ(table.epochs.size(), 3u);
+  EXPECT_EQ(table.last_round, testing::StartRoundOf(4));
+}
+
 TEST(EpochTableTest, AVersion2FileHasStartsButNoMembers) {
   const std::vector<uint8_t>& golden = testing::GoldenFileVersion2();
 

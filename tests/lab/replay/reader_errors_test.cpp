@@ -139,6 +139,24 @@ TEST(ReplayReader, RefusesNameTooLongOrWithControlCharacters) {
   ExpectError(Read(control), kAppNameAt + 2, "app_name has control character 0x1B at byte 3");
 }
 
+// A name is shown as text (syrof view's page, --format jsonl): bytes that
+// are not UTF-8 are refused here, at their offset, not by the JSON library.
+TEST(ReplayReader, RefusesNamesThatAreNotUtf8) {
+  std::string stray = WriteSample().bytes;
+  stray[kAppNameAt + 2 + 3] = '\xFF';
+  std::string cut = WriteSample().bytes;
+  cut[kScenarioNameAt + 2 + 11] = '\xC3';  // the first byte of a two-byte character, last in the name
+  const Written written = WriteSample();
+  std::string accented = written.bytes;
+  accented[kScenarioNameAt + 2 + 4] = '\xC3';  // "thre\xC3\xA9_robots": an e with an acute accent
+  accented[kScenarioNameAt + 2 + 5] = '\xA9';
+  FixCrc(accented, 0, written.header_end - 4);
+
+  ExpectError(Read(stray), kAppNameAt + 2, "app_name is not UTF-8 at byte 3");
+  ExpectError(Read(cut), kScenarioNameAt + 2, "scenario_name is not UTF-8 at byte 11");
+  EXPECT_TRUE(Read(accented).complete) << Read(accented).error;
+}
+
 TEST(ReplayReader, RefusesRoundIndexGoingBackwards) {
   const Written written = WriteSample();
   std::string backwards = written.bytes;

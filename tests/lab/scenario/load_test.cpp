@@ -1,4 +1,6 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -265,6 +267,24 @@ TEST(LoadScenarioFile, DirectoryIsAnError) {
   const LoadResult result = LoadScenarioFile(::testing::TempDir());
 
   EXPECT_TRUE(FailsAt(result, 0, 0, {"directory"}));
+}
+
+// A named pipe nobody writes to (a FIFO in an unpacked assignment folder)
+// used to block the open forever; it now reads as empty. A pipe with a
+// writer (`syrof run <(generate)`) still reads. The child fails on SIGALRM
+// if the load hangs.
+TEST(LoadScenarioFileDeathTest, ANamedPipeWithoutAWriterDoesNotHang) {
+  const std::string path = ::testing::TempDir() + "scenario_load_test_fifo_" + std::to_string(getpid());
+  ASSERT_EQ(mkfifo(path.c_str(), 0600), 0);
+
+  EXPECT_EXIT(
+      {
+        alarm(5);
+        const LoadResult result = LoadScenarioFile(path);
+        _exit(FailsAt(result, 0, 0, {"empty"}) ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+  std::filesystem::remove(path);
 }
 
 TEST(LoadScenarioFile, RefusesAFileOverTheCapWithItsSize) {

@@ -86,6 +86,16 @@ TEST(ReadInputs, BadFormsAreNamed) {
   EXPECT_TRUE(FailsAt(Load(base + "inputs:\n  charge: [1, 2, .nan, 4]\n"), 4, 18, {"inputs.charge[2]"}));
 }
 
+// Bounds each finite whose span is not (high - low overflows a double)
+// would draw infinities and NaN, which no replay can hold.
+TEST(ReadInputs, AUniformSpanMustBeFinite) {
+  EXPECT_TRUE(FailsAt(Load(std::string(kMinimal) + "inputs:\n  charge: { uniform: [-1e308, 1e308] }\n"), 4, 22,
+                      {"inputs.charge.uniform", "high - low"}));
+  const LoadResult widest = Load(std::string(kMinimal) + "inputs:\n  charge: { uniform: [-8e307, 8e307] }\n");
+  ASSERT_TRUE(widest.ok()) << widest.error->ToString();
+  for (const double value : widest.scenario->inputs.at("charge")) EXPECT_TRUE(std::isfinite(value)) << value;
+}
+
 TEST(ReadInputs, AtMostTheAppApisInputs) {
   std::string text = std::string(kMinimal) + "inputs:\n";
   for (unsigned i = 0; i <= SYROF_APP_MAX_INPUTS; ++i) text += "  in" + std::to_string(i) + ": [1, 2, 3, 4]\n";

@@ -1,6 +1,7 @@
 // One test per validation rule: each checks the place of the error and the
 // key path its message names.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -398,6 +399,32 @@ TEST(Schema, AScriptedChannelReadsItsListFromAFile) {
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.error->message.find("bad.yaml:2:3: lost[1]: must be [round, sender, receiver]"), std::string::npos)
       << bad.error->ToString();
+}
+
+// A lost_file is held to the scenario's own text rules, and a path that is
+// not a file says what it is instead of "no such file".
+TEST(Schema, AScriptedChannelsFileIsOneYamlDocumentInAFile) {
+  const std::string folder = ::testing::TempDir() + "scripted_channel_file_" + std::to_string(getpid());
+  std::filesystem::create_directories(folder);
+  std::ofstream(folder + "/two.yaml") << "- [3, 1, 0]\n---\n- [4, 2, 0]\n";
+  ASSERT_EQ(mkfifo((folder + "/fifo").c_str(), 0600), 0);
+  std::filesystem::create_symlink("loop", folder + "/loop");
+  const auto load = [&folder](const std::string& lost_file) {
+    std::ofstream(folder + "/run.yaml") << kMinimal << "channel: { model: scripted, lost_file: " << lost_file << " }\n";
+    return LoadScenarioFile(folder + "/run.yaml");
+  };
+  const LoadResult two = load("two.yaml");
+  const LoadResult directory = load(".");
+  const LoadResult device = load("/dev/zero");
+  const LoadResult fifo = load("fifo");
+  const LoadResult loop = load("loop");
+  std::filesystem::remove_all(folder);
+  EXPECT_TRUE(FailsAt(two, 3, 29, {"channel.lost_file: ", "two.yaml:2:1: ", "second YAML document"}));
+  EXPECT_TRUE(FailsAt(directory, 3, 40, {"channel.lost_file: '.' is a directory"}));
+  EXPECT_TRUE(FailsAt(device, 3, 40, {"'/dev/zero' is not a regular file"}));
+  EXPECT_TRUE(FailsAt(fifo, 3, 40, {"'fifo' is not a regular file"}));
+  EXPECT_TRUE(FailsAt(loop, 3, 40, {"'loop' cannot be read"}));
+  EXPECT_TRUE(FailsAt(LoadWith("channel: { model: scripted, lost_file: '' }\n"), 3, 40, {"must name a file"}));
 }
 
 TEST(Schema, LinkRobotIdOutOfRange) {

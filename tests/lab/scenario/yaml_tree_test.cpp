@@ -122,6 +122,23 @@ TEST(ReadYamlDocument, StopsDeepBlockNestingAtTheDepthCap) {
   EXPECT_NE(diagnostics.error()->message.find("nest more than 16"), std::string::npos);
 }
 
+TEST(ReadYamlDocument, StopsAtTheNodeCap) {
+  // A list file far larger than a scenario (a scripted channel's lost_file)
+  // bounds its tree by nodes: each costs a hundred bytes or more in memory.
+  YamlNode root;
+  Diagnostics diagnostics("t.yaml");
+
+  EXPECT_FALSE(ReadYamlDocument("[[0, 0, 1], [0, 1, 0], [1, 0, 1]]\n", root, diagnostics, 9));
+
+  ASSERT_TRUE(diagnostics.failed());
+  EXPECT_EQ(diagnostics.error()->line, 1);
+  EXPECT_EQ(diagnostics.error()->column, 24);  // the third entry, the 10th node (the root list is the 1st)
+  EXPECT_NE(diagnostics.error()->message.find("more than 9 maps, lists and values"), std::string::npos)
+      << diagnostics.error()->ToString();
+  Diagnostics fits("t.yaml");
+  EXPECT_TRUE(ReadYamlDocument("[[0, 0, 1], [0, 1, 0]]\n", root, fits, 9));
+}
+
 TEST(ReadYamlDocument, ReportsSyntaxErrorsWithTheirPlace) {
   YamlNode root;
   Diagnostics diagnostics("t.yaml");

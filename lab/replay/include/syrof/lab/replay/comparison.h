@@ -125,6 +125,9 @@ struct ComparisonOptions {
   /// Compare true positions round by round, allowing this many metres (>= 0);
   /// none: positions are not compared.
   std::optional<double> pose_tolerance_m;
+  /// Most entries of each run's epoch table; a run that needs more is an
+  /// error of its side (EpochTableBuilder).
+  size_t max_epoch_table_cells = kMaxEpochTableCells;
 };
 
 struct ReplayComparison {

@@ -71,6 +71,12 @@ struct EpochTable {
   std::vector<EpochRow> epochs;
 };
 
+/// Most entries (epochs times robots) a table holds by default: half a GiB
+/// of EpochStart. A real run stays far below (1,024 robots through 16,384
+/// epochs); a hostile file could ask for gigabytes, each 20-byte
+/// EPOCH_START of a new epoch opening a row of up to 65,535 robots.
+inline constexpr size_t kMaxEpochTableCells = size_t{1} << 24;
+
 /// Builds an EpochTable from a replay's rounds, in file order. A robot's
 /// start is its EPOCH_START event (epoch and mode); its members come from
 /// the map record of the same round (the map's epoch is placed like the
@@ -79,22 +85,29 @@ struct EpochTable {
 class EpochTableBuilder {
  public:
   /// `header` and `version` as Reader::ReadHeader() and Reader::version()
-  /// gave them.
-  EpochTableBuilder(const Header& header, uint16_t version);
+  /// gave them; the table holds at most `max_cells` entries.
+  EpochTableBuilder(const Header& header, uint16_t version, size_t max_cells = kMaxEpochTableCells);
 
   /// Adds the next round of the file. Ids in it are the header's (the
-  /// reader checks that); an id that is not is ignored.
-  void Add(const Round& round);
+  /// reader checks that); an id that is not is ignored. False, with the
+  /// round added only in part and full() true, when a new epoch's row would
+  /// take the table past its `max_cells`: add nothing more.
+  bool Add(const Round& round);
+
+  /// An Add() found the table full.
+  bool full() const { return full_; }
 
   /// The table of the rounds added so far.
   EpochTable Finish() &&;
 
  private:
   int64_t Unwrap(uint16_t wire_epoch);
-  EpochStart* Entry(int64_t number, uint16_t robot);  // null for an id not in the header
+  EpochStart* Entry(int64_t number, uint16_t robot);  // null for an id not in the header, or when full
   std::shared_ptr<const MemberIds> MembersOf(const std::shared_ptr<const EpochMap>& map);
 
   EpochTable table_;
+  size_t max_rows_ = 0;  // max_cells / robots
+  bool full_ = false;
   bool any_epoch_ = false;
   int64_t last_epoch_ = 0;  // unwrapped number of the last start placed
   // Member lists of the maps seen lately, by the reader's map object, so
@@ -104,7 +117,8 @@ class EpochTableBuilder {
       members_cache_;
 };
 
-/// The table of `rounds` (a whole read file, or its beginning).
+/// The table of `rounds` (a whole read file, or its beginning), up to the
+/// round where it found itself full (kMaxEpochTableCells).
 EpochTable BuildEpochTable(const Header& header, uint16_t version, std::span<const Round> rounds);
 
 }  // namespace syrof::lab::replay

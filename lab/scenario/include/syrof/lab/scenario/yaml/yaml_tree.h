@@ -9,7 +9,9 @@
 // first problem.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,7 +44,11 @@ struct YamlNode {
 
 // Parses the first document of `text` (which CheckScenarioText() accepted).
 // On success `root` is the document (kNull for an empty one); otherwise
-// the error is recorded in `diagnostics` and false returned.
-bool ReadYamlDocument(const std::string& text, YamlNode& root, Diagnostics& diagnostics);
+// the error is recorded in `diagnostics` and false returned. Stops at the
+// node after `max_nodes` (maps, lists and scalars, keys and the root
+// included): a node costs a hundred bytes or more, so a file allowed more
+// bytes than a scenario (a scripted channel's lost_file) bounds its tree.
+bool ReadYamlDocument(const std::string& text, YamlNode& root, Diagnostics& diagnostics,
+                      size_t max_nodes = std::numeric_limits<size_t>::max());
 
 }  // namespace syrof::lab::scenario
