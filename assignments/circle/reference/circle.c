@@ -83,7 +83,13 @@ static void move(syrof_car_command* command, const syrof_ldmap* map, const syrof
     const point end = {from[self].x + t * (to[self].x - from[self].x), from[self].y + t * (to[self].y - from[self].y)};
     int clear = 1;
     for (size_t j = 0; j < n && clear; ++j) {
-      if (j != self && segment_distance(from[self], end, from[j], to[j]) < CLEARANCE_M) clear = 0;
+      if (j == self) continue;
+      /* Two robots already closer than the clearance (after a join, or each
+       * stopped short by the other) may still move, only not closer:
+       * otherwise neither ever moves again. */
+      const float apart = point_segment_distance(from[self], from[j], to[j]);
+      const float limit = apart < CLEARANCE_M ? apart - 0.005f : CLEARANCE_M;
+      if (segment_distance(from[self], end, from[j], to[j]) < limit) clear = 0;
     }
     if (clear) low = t; else high = t;
   }
