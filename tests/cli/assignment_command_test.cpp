@@ -31,23 +31,9 @@ using testing::ReadFile;
 
 // `syrof assignment ARGS...` parsed as main() parses it, then run.
 Outcome Assignment(std::vector<std::string> arguments) {
-  CLI::App app{"syrof"};
-  app.require_subcommand(1);
-  AssignmentOptions options;
-  SetupAssignmentCommand(app, options);
-  arguments.insert(arguments.begin(), "assignment");
-  std::vector<const char*> argv = {"syrof"};
-  for (const std::string& argument : arguments) argv.push_back(argument.c_str());
-  std::ostringstream out;
-  std::ostringstream err;
-  int status = 0;
-  try {
-    app.parse(static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
-    status = RunAssignmentCommand(options, out, err);
-  } catch (const CLI::ParseError& error) {
-    status = ReportParseError(app, error, out, err);
-  }
-  return {status, out.str(), err.str()};
+  return testing::ParseAndRun<AssignmentOptions>("assignment", std::move(arguments), SetupAssignmentCommand,
+                                                 [](const AssignmentOptions& options, std::ostream& out,
+                                                    std::ostream& err) { return RunAssignmentCommand(options, out, err); });
 }
 
 fs::path Fresh(const std::string& name) {

@@ -25,23 +25,9 @@ using testing::Outcome;
 
 // `syrof grade ARGS...` parsed as main() parses it, then run.
 Outcome Grade(std::vector<std::string> arguments) {
-  CLI::App app{"syrof"};
-  app.require_subcommand(1);
-  GradeOptions options;
-  SetupGradeCommand(app, options);
-  arguments.insert(arguments.begin(), "grade");
-  std::vector<const char*> argv = {"syrof"};
-  for (const std::string& argument : arguments) argv.push_back(argument.c_str());
-  std::ostringstream out;
-  std::ostringstream err;
-  int status = 0;
-  try {
-    app.parse(static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
-    status = RunGradeCommand(options, out, err);
-  } catch (const CLI::ParseError& error) {
-    status = ReportParseError(app, error, out, err);
-  }
-  return {status, out.str(), err.str()};
+  return testing::ParseAndRun<GradeOptions>(
+      "grade", std::move(arguments), SetupGradeCommand,
+      [](const GradeOptions& options, std::ostream& out, std::ostream& err) { return RunGradeCommand(options, out, err); });
 }
 
 TEST(GradeCommandTest, HelpListsTheModesAndOptions) {
