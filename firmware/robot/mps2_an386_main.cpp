@@ -101,51 +101,52 @@ size_t ReadUart(std::span<uint8_t> out, void* context) {
 
 robot::SensorLink sensor_link(sensor_tx, &ReadUart, &sensor_uart);
 
-// The kernel's port, once main() has made it: ConsoleWrite's clock (read
-// through the port, under the kernel's mask: an unmasked read racing the
-// kernel's own could count a wrap of the timer that never happened, and
-// under -icount one did, jumping a robot's clock 172 s ahead).
-const kernel::NvicPort* console_clock = nullptr;
+// While `busy()` (read with the UART interrupts masked) holds, sleeps (WFI)
+// until an interrupt, so that qemu halts this guest's vCPU and its I/O
+// thread can move the bytes: spinning instead kept a vCPU busy, which under
+// SCHED_FIFO (`syrof-firmware-swarm --realtime`) starved the I/O threads of
+// every guest on that host core, so console lines came out cut and beacons
+// late. PRIMASK is set across the check and the WFI, so an interrupt
+// between them still wakes it.
+template <typename Busy>
+void SleepIfBusy(Busy busy) {
+  asm volatile("cpsid i" ::: "memory");
+  bool waiting = false;
+  {
+    MaskUarts masked;
+    waiting = busy();
+  }
+  if (waiting) asm volatile("wfi" ::: "memory");
+  asm volatile("cpsie i" ::: "memory");
+}
 
-// Writes the whole line, a ring's worth at a time. While the ring is full
-// the core sleeps (WFI) until an interrupt, so qemu halts this guest's vCPU
-// and its I/O thread can move the bytes: spinning instead kept a vCPU busy,
-// which under SCHED_FIFO (`syrof-firmware-swarm --realtime`) starved the
-// I/O threads of every guest on that host core, so console lines came out
-// cut and beacons late. PRIMASK is set across the check and the WFI, so a
-// transmit interrupt between them still wakes it. Bounded: a console that
-// takes no byte for 200 ms loses the rest of the line.
-void ConsoleWrite(const char* line, size_t length, void* /*context*/) {
+// Writes the whole line, a ring's worth at a time, sleeping while the ring
+// is full (SleepIfBusy). `context` is the kernel's port, the clock that
+// bounds it: a console that takes no byte for 200 ms loses the rest of the
+// line. (The clock is read through the port, under the kernel's mask: an
+// unmasked read racing the kernel's own could count a wrap of the timer
+// that never happened, and under -icount one did, jumping a robot's clock
+// 172 s ahead.)
+void ConsoleWrite(const char* line, size_t length, void* context) {
+  const auto& port = *static_cast<const kernel::NvicPort*>(context);
   const auto* bytes = reinterpret_cast<const uint8_t*>(line);
-  size_t sent = 0;
   constexpr int64_t kPatienceNs = 200'000'000;
-  int64_t last_progress_ns = console_clock != nullptr ? console_clock->now_ns() : 0;
-  for (uint32_t waits = 0; sent < length; ++waits) {
+  int64_t last_progress_ns = port.now_ns();
+  for (size_t sent = 0; sent < length;) {
     size_t wrote = 0;
     {
       MaskUarts masked;
       wrote = console.Write(std::span<const uint8_t>(bytes + sent, length - sent));
     }
     sent += wrote;
-    if (sent == length) break;
-    if (console_clock != nullptr) {
-      const int64_t now_ns = console_clock->now_ns();
-      if (wrote > 0) {
-        last_progress_ns = now_ns;
-      } else if (now_ns - last_progress_ns > kPatienceNs) {
-        return;
-      }
-    } else if (waits > 1'000'000) {
+    if (sent == length) return;
+    const int64_t now_ns = port.now_ns();
+    if (wrote > 0) {
+      last_progress_ns = now_ns;
+    } else if (now_ns - last_progress_ns > kPatienceNs) {
       return;
     }
-    asm volatile("cpsid i" ::: "memory");
-    bool full = false;
-    {
-      MaskUarts masked;
-      full = console.Free() == 0;
-    }
-    if (full) asm volatile("wfi" ::: "memory");
-    asm volatile("cpsie i" ::: "memory");
+    SleepIfBusy([] { return console.Free() == 0; });
   }
 }
 
@@ -260,13 +261,13 @@ struct StartFrame {
 // qemu's I/O thread and this guest's vCPU in turn; with the other guests
 // already running it took up to 27 ms to get the rest of the frame, so
 // the round grid begins when the first byte came in (StartClockAt).
-StartFrame WaitForStart(kernel::Mps2An386Hardware& hardware, const kernel::NvicPort& port, uint16_t self_id) {
+StartFrame WaitForStart(kernel::Mps2An386Hardware& hardware, kernel::NvicPort& port, uint16_t self_id) {
   const int sensor_irq = board::CmsdkUartRxIrq(board::kCmsdkUart2);
   hardware.RouteInterrupt(static_cast<uint8_t>(sensor_irq), kUartPriority, &SensorInterrupt);
   char line[48];
   const int length = std::snprintf(line, sizeof line, "held id=%u t_ms=%ld\n", static_cast<unsigned>(self_id),
                                    static_cast<long>(port.now_ns() / 1'000'000));
-  ConsoleWrite(line, static_cast<size_t>(length), nullptr);
+  ConsoleWrite(line, static_cast<size_t>(length), &port);
   syrof::firmware::drivers::FrameDecoder decoder;
   bool at_frame_start = true;  // the next byte begins a frame (frames end with 0x00)
   int64_t first_byte_ns = 0;
@@ -300,14 +301,13 @@ int main(int argc, char** argv) {
   static kernel::Mps2An386Hardware hardware;
   static kernel::NvicPort port(hardware);
   hardware.Attach(port);
-  console_clock = &port;
   console.Start(/*interrupts=*/true);
   radio.Start(/*interrupts=*/true);
   const int console_irq = board::CmsdkUartRxIrq(board::kCmsdkUart0);
   const int radio_irq = board::CmsdkUartRxIrq(board::kCmsdkUart1);
   hardware.RouteInterrupt(static_cast<uint8_t>(console_irq), kUartPriority, &ConsoleInterrupt);
   hardware.RouteInterrupt(static_cast<uint8_t>(console_irq + 1), kUartPriority, &ConsoleInterrupt);
-  static robot::RobotImage image(port, radio_tx, &ReadUart, &radio, &ConsoleWrite, nullptr);
+  static robot::RobotImage image(port, radio_tx, &ReadUart, &radio, &ConsoleWrite, &port);
   options.image.poll_radio = false;
   hardware.RouteInterrupt(static_cast<uint8_t>(radio_irq + 1), kUartPriority, &RadioInterrupt);
   const int sensor_irq = board::CmsdkUartRxIrq(board::kCmsdkUart2);
@@ -328,7 +328,7 @@ int main(int argc, char** argv) {
         std::snprintf(line, sizeof line, "started t_ms=%ld run_ms=%lu frame_us=%ld\n",
                       static_cast<long>(start.first_byte_ns / 1'000'000), static_cast<unsigned long>(start.run_ms),
                       static_cast<long>((port.now_ns() - start.first_byte_ns) / 1000));
-    ConsoleWrite(line, static_cast<size_t>(length), nullptr);
+    ConsoleWrite(line, static_cast<size_t>(length), &port);
     stop_ns = start.run_ms == 0 ? 0 : start.first_byte_ns + int64_t{start.run_ms} * 1'000'000;
     if (const char* error = image.StartClockAt(start.first_byte_ns)) {
       std::printf("syrof-robot: %s\n", error);
@@ -350,19 +350,15 @@ int main(int argc, char** argv) {
   (void)port.Stop();
   image.PrintStatus(port.now_ns());
   // Let the console's interrupt send the last line before qemu exits,
-  // sleeping between its interrupts (ConsoleWrite says why), for at most
-  // 200 ms.
+  // sleeping between its interrupts (SleepIfBusy), for at most 200 ms.
   const int64_t give_up_ns = port.now_ns() + 200'000'000;
-  while (port.now_ns() < give_up_ns) {
-    asm volatile("cpsid i" ::: "memory");
-    bool idle;
+  bool idle = false;
+  while (!idle && port.now_ns() < give_up_ns) {
     {
       MaskUarts masked;
       idle = console.transmit_idle();
     }
-    if (!idle) asm volatile("wfi" ::: "memory");
-    asm volatile("cpsie i" ::: "memory");
-    if (idle) break;
+    SleepIfBusy([] { return !console.transmit_idle(); });
   }
   return 0;
 }
