@@ -121,7 +121,7 @@ test-m4: deps
 ## Last, the lab against the firmware: SWARM_COMPARE_SCENARIO in `syrof run`
 ## and on the emulated swarm (--realtime), which must start the same epochs
 ## in the same modes with the same members (scripts/firmware-agrees-with-lab.sh,
-## up to three tries when they disagree), into out/firmware-swarm/compare/.
+## up to five tries when they disagree), into out/firmware-swarm/compare/.
 SWARM_ICOUNT  ?= 4
 SWARM_ROBOTS  ?= $(if $(CI),4,$(shell [ $$(nproc) -ge 4 ] && echo 8 || echo 4))
 SWARM_SECONDS ?= $(if $(CI),30,60)

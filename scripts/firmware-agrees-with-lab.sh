@@ -14,7 +14,7 @@
 # such beacon can change an epoch's mode (docs/firmware.md, "What made
 # them disagree, and the fixes"). So a run that disagrees gets another
 # try, after printing what it showed, and so does a run whose own checks
-# failed; three such runs fail (exit 1). Exit 2 for a usage error, or when
+# failed; five such runs fail (exit 1). Exit 2 for a usage error, or when
 # the lab run could not be made.
 set -euo pipefail
 
@@ -34,7 +34,8 @@ if ! "$build/bin/syrof" run "$scenario" --out "$out/lab" >"$out/lab.txt" 2>&1; t
   echo "$0: the lab run of $scenario failed" >&2
   exit 2
 fi
-for try in 1 2 3; do
+tries=5
+for try in $(seq 1 $tries); do
   rm -rf "$out/firmware"
   status=0
   "$build/bin/syrof-firmware-swarm" --image "$image" --scenario "$scenario" --out "$out/firmware" \
@@ -52,11 +53,12 @@ for try in 1 2 3; do
     grep -E "console, column|FAILED|never|deadline" "$out/firmware-$try.txt" >&2 || true
     echo "$0: the firmware run's own checks failed (above)" >&2
   elif "$build/bin/syrof" compare "$out/lab" "$out/firmware"; then
+    echo "$0: agreed on try $try of $tries"
     exit 0
   fi
-  if [[ $try -lt 3 ]]; then
+  if [[ $try -lt $tries ]]; then
     echo "$0: the firmware run disagreed with the lab (above); another try" >&2
   fi
 done
-echo "$0: three firmware runs of $scenario disagreed with the lab or failed their own checks" >&2
+echo "$0: $tries firmware runs of $scenario disagreed with the lab or failed their own checks" >&2
 exit 1
