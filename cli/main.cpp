@@ -1,6 +1,6 @@
 // The `syrof` command: one file per subcommand (run, validate, apps,
-// replay, view, compare, new, grade, gradescope, swarm, assignment); main only
-// wires them.
+// replay, view, compare, new, grade, gradescope, swarm, assignment, search);
+// main only wires them.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +15,7 @@
 #include "new_command.h"
 #include "replay_command.h"
 #include "run_command.h"
+#include "search_command.h"
 #include "swarm_command.h"
 #include "usage.h"
 #include "validate_command.h"
@@ -44,6 +45,8 @@ int main(int argc, char** argv) {
   CLI::App* gradescope = SetupGradescopeCommand(app, gradescope_options);
   SwarmOptions swarm_options;
   CLI::App* swarm = SetupSwarmCommand(app, swarm_options);
+  SearchOptions search_options;
+  CLI::App* search = SetupSearchCommand(app, search_options);
   AssignmentOptions assignment_options;
   CLI::App* assignment = SetupAssignmentCommand(app, assignment_options);
   try {
@@ -62,6 +65,9 @@ int main(int argc, char** argv) {
     if (grade->parsed()) return RunGradeCommand(grade_options, std::cout, std::cerr);
     if (gradescope->parsed()) return RunGradescopeCommand(gradescope_options, std::cout, std::cerr);
     if (swarm->parsed()) return RunSwarmCommand(swarm_options, std::cout, std::cerr);
+    if (search->parsed()) {
+      return RunSearchCommand(search_options, std::cout, std::cerr, isatty(STDERR_FILENO) != 0);
+    }
     if (assignment->parsed()) return RunAssignmentCommand(assignment_options, std::cout, std::cerr);
     return 1;
   } catch (const std::exception& error) {

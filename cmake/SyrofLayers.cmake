@@ -35,6 +35,8 @@
 #   scenario can hold its checks; metrics and replay are fed by the engine
 #   and know no scenario; lab/sim runs all of them. lab/view (the viewer's
 #   page) reads replays only, beside lab/sim; the grader embeds its page.
+# - lab/search (search tests) runs lab/sim again and again, so it sits
+#   above it.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
 # - app_host (a student's library in a sandboxed process per robot) needs
@@ -61,6 +63,7 @@ set(SYROF_LAYERS
   "lab/scenario"
   "lab/metrics lab/replay"
   "lab/sim lab/view"
+  "lab/search"
   "app_host"
   "sim_dds firmware"
   "grader/assignment"

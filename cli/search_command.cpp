@@ -1,0 +1,234 @@
+#include "search_command.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "syrof/app_host/hosted_app.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/search/search.h"
+#include "syrof/lab/sim/run_parts.h"
+#include "syrof/lab/sim/simulation.h"
+#include "usage.h"
+#include "view_command.h"
+
+namespace syrof::cli {
+namespace {
+
+namespace scenario = lab::scenario;
+namespace search = lab::search;
+
+// The scenario file again, its channel scripted to lose `lost` (its cuts,
+// partitions and links kept), with the command line's overrides written in
+// and a library's path made absolute, so the file runs from any folder.
+// Comments are not kept.
+std::string CounterexampleText(const std::string& scenario_path, const scenario::Scenario& resolved,
+                               const SearchOptions& options, const std::vector<lab::world::LostBeacon>& lost) {
+  YAML::Node root = YAML::LoadFile(scenario_path);
+  YAML::Node channel(YAML::NodeType::Map);
+  channel["model"] = "scripted";
+  if (YAML::Node old = root["channel"]; old && old.IsMap()) {
+    for (const char* key : {"links", "partitions", "cuts"}) {
+      if (old[key]) channel[key] = old[key];
+    }
+  }
+  YAML::Node list(YAML::NodeType::Sequence);
+  for (const lab::world::LostBeacon& beacon : lost) {
+    YAML::Node entry(YAML::NodeType::Sequence);
+    entry.SetStyle(YAML::EmitterStyle::Flow);
+    entry.push_back(beacon.round);
+    entry.push_back(beacon.from);
+    entry.push_back(beacon.to);
+    list.push_back(entry);
+  }
+  channel["lost"] = list;
+  root["channel"] = channel;
+  root["seed"] = resolved.seed;
+  if (options.duration_s) root["timing"]["duration_s"] = *options.duration_s;
+  if (resolved.app.is_library()) {
+    const std::string absolute = std::filesystem::absolute(resolved.app.library).lexically_normal().string();
+    if (root["app"] && root["app"].IsMap() && !options.app) {
+      root["app"]["library"] = absolute;
+    } else {
+      root["app"] = absolute;
+    }
+  } else if (options.app) {
+    root["app"] = *options.app;
+  }
+  YAML::Emitter emitter;
+  emitter << root;
+  return fmt::format("# syrof search: {} with {} lost beacon{} (channel.lost: [round, sender, receiver])\n{}\n",
+                     scenario_path, lost.size(), lost.size() == 1 ? "" : "s", emitter.c_str());
+}
+
+void PrintViolations(std::ostream& out, const std::vector<search::Violation>& violations) {
+  for (const search::Violation& violation : violations) {
+    fmt::print(out, "  broken: {}: {}\n", violation.property, violation.detail);
+  }
+}
+
+}  // namespace
+
+CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options) {
+  CLI::App* command = app.add_subcommand(
+      "search", "Search test: run a scenario under every pattern of up to F lost beacons; show one that breaks it");
+  command->add_option("scenario", options.scenario_path, "Scenario file (YAML, docs/scenarios.md)")->required();
+  command->add_option("--max-losses", options.max_losses, "Most beacons a pattern loses (F)")
+      ->required()
+      ->check(CLI::Range(0, search::kMaxSearchLosses));
+  command->add_option("--epochs", options.epochs, "The losses fall in the run's first E epochs (default 3)")
+      ->check(CLI::Range(1, search::kMaxSearchEpochs));
+  command->add_option("--jobs", options.jobs, "Runs side by side (default 1); the result does not depend on it")
+      ->check(CLI::Range(1, search::kMaxSearchJobs));
+  command->add_option("--time-limit", options.time_limit_s, "Stop after this many seconds of wall time (default: none)")
+      ->check(CLI::Range(0.0, 7.0 * 86400));
+  command->add_option("--app", options.app, "App to run instead of the scenario's: builtin:NAME or your library's path");
+  command->add_option("--seed", options.seed, "Seed instead of the scenario's");
+  command->add_option("--duration", options.duration_s, "Simulated seconds of each run instead of the scenario's")
+      ->check(DurationValidator());
+  command->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>-search)");
+  command->add_flag("--quiet", options.quiet, "No progress line");
+  return command;
+}
+
+int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal) {
+  scenario::Overrides overrides;
+  overrides.app = options.app;
+  overrides.seed = options.seed;
+  overrides.duration_s = options.duration_s;
+  const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path, overrides);
+  if (!loaded.ok()) {
+    fmt::print(err, "syrof search: {}\n", loaded.error->ToString());
+    return 2;
+  }
+  const scenario::Scenario& scenario = *loaded.scenario;
+  search::SearchOptions search_options;
+  search_options.max_losses = options.max_losses;
+  search_options.epochs = options.epochs;
+  search_options.jobs = options.jobs;
+  search_options.time_limit_s = options.time_limit_s;
+  if (scenario.app.is_library()) {
+    app_host::HostOptions host;
+    host.library_path = scenario.app.library;
+    host.params = scenario.app.params;
+    if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
+    if (scenario.app.wall_cap_ms) host.limits.wall_cap_ms = *scenario.app.wall_cap_ms;
+    for (const scenario::RobotSpec& robot : scenario.robots) {
+      host.inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
+    }
+    const app_host::LibraryCheck check = app_host::CheckLibrary(host);
+    if (!check.ok) {
+      fmt::print(err, "syrof search: {}\n", check.error);
+      return 2;
+    }
+    search_options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
+    search_options.app_source = scenario.app.library;
+    search_options.app_sandbox = app_host::SandboxNotes();
+  }
+  const std::filesystem::path dir = options.out_dir.empty()
+                                        ? std::filesystem::path("out") / (scenario.name + "-search")
+                                        : std::filesystem::path(options.out_dir);
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) {
+    fmt::print(err, "syrof search: cannot create output folder {}: {}\n", dir.string(), error.message());
+    return 2;
+  }
+  // An earlier search's counterexample would pass for this one's.
+  for (const char* name : {"counterexample.yaml", "replay", "metrics.json", "replay.html"}) {
+    std::filesystem::remove(dir / name, error);
+  }
+
+  fmt::print(out, "syrof search: {} ({}), {} robots, seed {}, {:.1f} s a run\n", scenario.name, scenario.app.name,
+             scenario.robots.size(), scenario.seed, scenario.timing.duration_s);
+  if (search_options.app_sandbox) {
+    for (const std::string& note : *search_options.app_sandbox) fmt::print(out, "  sandbox: {}\n", note);
+  }
+  fmt::print(out, "  patterns of up to {} lost beacon{} in the first {} epoch{}, fewest and earliest first\n",
+             options.max_losses, options.max_losses == 1 ? "" : "s", options.epochs, options.epochs == 1 ? "" : "s");
+  if (!options.quiet && err_is_terminal) {
+    search_options.progress = [&err](int64_t runs, int losses) {
+      fmt::print(err, "\r  {} runs, now {} lost beacon{}   ", runs, losses, losses == 1 ? "" : "s");
+      err.flush();
+    };
+  }
+  const search::SearchResult result = search::Search(scenario, search_options);
+  if (search_options.progress) fmt::print(err, "\n");
+  if (result.complete_losses >= 0) {
+    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the loss-free run), {} beacon slots; {} patterns in all\n",
+               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
+               search::PatternCount(result.slots, options.max_losses));
+  }
+  const double rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
+  if (!result.counterexample) {
+    if (result.stopped_by_time) {
+      fmt::print(out, "no pattern broke it before the time limit: {} runs in {:.1f} s ({:.0f} a second); every "
+                      "pattern of up to {} lost beacon{} was tried\n",
+                 result.runs, result.seconds, rate, result.complete_losses, result.complete_losses == 1 ? "" : "s");
+    } else {
+      fmt::print(out, "no pattern broke it: all {} runs in {:.1f} s ({:.0f} a second)\n", result.runs, result.seconds,
+                 rate);
+    }
+    return 0;
+  }
+
+  const search::Counterexample& found = *result.counterexample;
+  const std::filesystem::path yaml_path = dir / "counterexample.yaml";
+  {
+    std::ofstream file(yaml_path, std::ios::binary | std::ios::trunc);
+    file << CounterexampleText(options.scenario_path, scenario, options, found.lost);
+    if (!file) {
+      fmt::print(err, "syrof search: cannot write {}\n", yaml_path.string());
+      return 1;
+    }
+  }
+  // The outputs come from the file just written, so what they show is what
+  // `syrof run` of it shows; a rerun that differs is a bug of this command.
+  const scenario::LoadResult again = scenario::LoadScenarioFile(yaml_path.string());
+  if (!again.ok()) {
+    fmt::print(err, "syrof search: internal error: {} does not load: {}\n", yaml_path.string(),
+               again.error->ToString());
+    return 1;
+  }
+  std::ofstream replay_file(dir / "replay", std::ios::binary | std::ios::trunc);
+  lab::sim::SimulationOptions sim_options;
+  sim_options.replay = &replay_file;
+  sim_options.app_factory = search_options.app_factory;
+  sim_options.app_source = search_options.app_source;
+  sim_options.app_sandbox = search_options.app_sandbox;
+  const lab::sim::RunReport rerun = lab::sim::Run(*again.scenario, sim_options, 0);
+  replay_file.close();
+  std::ofstream(dir / "metrics.json", std::ios::binary | std::ios::trunc) << rerun.metrics_json;
+  if (lab::metrics::ToJson(rerun.metrics) != lab::metrics::ToJson(found.metrics)) {
+    fmt::print(err, "syrof search: internal error: {} ran differently from the pattern it was written for\n",
+               yaml_path.string());
+    return 1;
+  }
+  const std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string());
+
+  if (found.lost.empty()) {
+    fmt::print(out, "BROKEN without any lost beacon (the loss-free run)\n");
+  } else {
+    fmt::print(out, "BROKEN by {} lost beacon{} ([round, sender, receiver]):", found.lost.size(),
+               found.lost.size() == 1 ? "" : "s");
+    for (const lab::world::LostBeacon& beacon : found.lost) {
+      fmt::print(out, " [{}, {}, {}]", beacon.round, beacon.from, beacon.to);
+    }
+    fmt::print(out, "\n");
+  }
+  PrintViolations(out, found.violations);
+  fmt::print(out, "  after {} runs in {:.1f} s; every pattern of fewer losses passed\n", result.runs, result.seconds);
+  fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),
+             page_problem.empty() ? ", replay.html" : "");
+  fmt::print(out, "  rerun:   syrof run {} --out {}\n", yaml_path.string(), (dir / "rerun").string());
+  fmt::print(out, "  view:    syrof view {}\n", (dir / "replay").string());
+  return 1;
+}
+
+}  // namespace syrof::cli

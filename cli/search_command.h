@@ -1,0 +1,43 @@
+// `syrof search SCENARIO.yaml --max-losses F [--epochs E] [--jobs N]
+// [--time-limit S] [--app lib.so] --out DIR`: a search test
+// (lab/search, docs/apps.md "Search tests"). Runs the scenario with every
+// pattern of up to F lost beacons in its first E epochs, fewest losses and
+// earliest first, and stops at the first pattern that breaks P3, the app's
+// agreement, the no-collision rule, the app (a fault) or the scenario's
+// declared goal. It then writes DIR/counterexample.yaml (the scenario with
+// a scripted channel losing exactly those beacons), DIR/replay,
+// DIR/metrics.json and DIR/replay.html, all from a rerun of that file, and
+// prints the commands that reproduce it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace syrof::cli {
+
+struct SearchOptions {
+  std::string scenario_path;
+  std::optional<std::string> app;  ///< "builtin:NAME" or a library's path
+  std::optional<uint64_t> seed;
+  std::optional<double> duration_s;
+  int max_losses = -1;             ///< required
+  int epochs = 3;
+  int jobs = 1;
+  double time_limit_s = 0;         ///< 0: none
+  std::string out_dir;             ///< default: out/<scenario name>-search
+  bool quiet = false;              ///< no progress line
+};
+
+CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options);
+
+/// Returns 0 when no pattern within the budget broke the run, 1 when one did
+/// (the counterexample is written) or on an internal error, 2 on bad input
+/// (a bad scenario, a library that does not load, an output folder that
+/// cannot be made). Progress goes to `err` when `err_is_terminal`.
+int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal);
+
+}  // namespace syrof::cli

@@ -1,0 +1,103 @@
+// A search test (docs/apps.md, "Search tests"): the lab run again and again
+// on one scenario, each time with another pattern of lost beacons, looking
+// for a pattern that breaks the swarm. In synchronous rounds the only
+// nondeterminism is which beacons are lost, and the lab is deterministic, so
+// a pattern found is a counterexample anyone can replay (a scripted channel,
+// docs/scenarios.md).
+//
+// The patterns are tried in order of how many beacons they lose (0, 1, ...
+// up to max_losses), and those of one size by their earliest loss first, so
+// the first pattern that breaks the run is already the smallest and then
+// the earliest: no shrinking is needed. Each run is the whole scenario; the
+// losses fall in its first `epochs` epochs (as the loss-free run counts
+// them). A beacon the scenario already loses (a cut, a partition, a robot
+// that is not running, deaf or mute) is not a slot: losing it again would
+// repeat a shorter pattern.
+//
+// Usage:
+//   SearchOptions options{.max_losses = 2, .epochs = 4, .jobs = 2};
+//   SearchResult result = Search(scenario, options);
+//   if (result.counterexample) ... WithLosses(scenario, result.counterexample->lost)
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "syrof/app/app.h"
+#include "syrof/lab/metrics/metrics.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/world/channel.h"
+
+namespace syrof::lab::search {
+
+/// Most beacons a searched pattern may lose.
+inline constexpr int kMaxSearchLosses = 8;
+/// Most epochs the losses may span.
+inline constexpr int kMaxSearchEpochs = 1000;
+/// Most threads running patterns side by side.
+inline constexpr int kMaxSearchJobs = 64;
+
+struct SearchOptions {
+  int max_losses = 1;         ///< 0 .. kMaxSearchLosses
+  int epochs = 3;             ///< 1 .. kMaxSearchEpochs: the losses fall in the first this many epochs
+  int jobs = 1;               ///< 1 .. kMaxSearchJobs: runs side by side (the result does not depend on it)
+  double time_limit_s = 0;    ///< stop after this much wall time; 0: no limit
+  /// Makes robot `id`'s app (a library through the app host); empty: the
+  /// scenario's built-in app. Called from `jobs` threads at once.
+  std::function<std::unique_ptr<app::App>(uint16_t id)> app_factory;
+  std::string app_source;     ///< metrics.json's app.source when app_factory is set
+  /// metrics.json's app.sandbox for a library (SimulationOptions::app_sandbox).
+  std::optional<std::vector<std::string>> app_sandbox;
+  /// Called after each batch of runs with the runs done and the pattern
+  /// size being searched (for a progress line).
+  std::function<void(int64_t runs, int losses)> progress;
+};
+
+/// A property a run broke, in the words of the run's summary.
+struct Violation {
+  std::string property;  ///< "common knowledge", "agreement", "collision", "app fault", "goal"
+  std::string detail;
+};
+
+/// What a run broke: P3, the app's agreement, a collision, an app fault
+/// (or invalid command or refused payload), and the goal when the scenario
+/// declares one (`goal:`; a built-in app's own goal is not held against it).
+std::vector<Violation> ViolationsOf(const metrics::Metrics& metrics, bool goal_declared);
+
+struct Counterexample {
+  std::vector<world::LostBeacon> lost;  ///< sorted by round, sender, receiver
+  std::vector<Violation> violations;
+  metrics::Metrics metrics;
+};
+
+struct SearchResult {
+  int64_t slots = 0;              ///< beacons a pattern may lose (round, sender, receiver)
+  int64_t window_rounds = 0;      ///< radio rounds the losses fall in
+  int64_t epochs_in_window = 0;   ///< epochs the loss-free run started in that window (< epochs: the run is shorter)
+  int64_t runs = 0;               ///< patterns run, the loss-free one included
+  int complete_losses = -1;       ///< every pattern of up to this many losses was run (-1: not even the loss-free one)
+  bool stopped_by_time = false;   ///< the time limit ended the search
+  double seconds = 0;             ///< wall time
+  /// The first pattern in search order that broke the run; none if no
+  /// pattern within the budget did. A loss-free run that breaks is one, with
+  /// no lost beacons.
+  std::optional<Counterexample> counterexample;
+};
+
+/// The scenario with its channel replaced by a scripted one losing exactly
+/// `lost` (its cuts and partitions kept): the run a pattern stands for.
+scenario::Scenario WithLosses(const scenario::Scenario& base, std::span<const world::LostBeacon> lost);
+
+/// Runs the search. The options must be in range (the command checks them).
+SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& options);
+
+/// How many patterns of 0 .. `losses` losses `slots` slots give, capped at
+/// INT64_MAX.
+int64_t PatternCount(int64_t slots, int losses);
+
+}  // namespace syrof::lab::search

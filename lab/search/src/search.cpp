@@ -1,0 +1,302 @@
+#include "syrof/lab/search/search.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+#include "syrof/lab/replay/epoch_table.h"
+#include "syrof/lab/replay/reader.h"
+#include "syrof/lab/sim/simulation.h"
+
+namespace syrof::lab::search {
+namespace {
+
+using world::LostBeacon;
+
+// The loss-free run's replay, read into its epoch table; the rounds the
+// losses fall in: up to the first start of the `epochs`-th epoch after the
+// first (0-based row `epochs`), or the whole run when it has no such row.
+struct Window {
+  int64_t rounds = 0;
+  int64_t epochs = 0;
+};
+
+Window WindowOf(const std::string& replay_bytes, int64_t run_rounds, int epochs) {
+  std::istringstream in(replay_bytes);
+  replay::Reader reader(in);
+  replay::Header header;
+  Window window{run_rounds, 0};
+  if (!reader.ReadHeader(header)) return window;
+  replay::EpochTableBuilder builder(header, reader.version());
+  replay::Round round;
+  while (reader.Next(round)) builder.Add(round);
+  const replay::EpochTable table = std::move(builder).Finish();
+  window.epochs = static_cast<int64_t>(table.epochs.size());
+  if (table.epochs.size() <= static_cast<size_t>(epochs)) return window;
+  window.epochs = epochs;
+  int64_t first_start = run_rounds;
+  for (const replay::EpochStart& start : table.epochs[static_cast<size_t>(epochs)].robots) {
+    if (start.started()) first_start = std::min<int64_t>(first_start, start.round);
+  }
+  window.rounds = first_start;
+  return window;
+}
+
+// Whether robot `id` runs (and sends, or hears, as `sending` says) at
+// `time_s` by the scenario's faults. A loss of a beacon never sent or never
+// heard repeats a shorter pattern.
+bool Active(const scenario::Scenario& scenario, uint16_t id, double time_s, bool sending) {
+  bool running = scenario.robots[id].present_at_start;
+  for (const scenario::FaultSpec& fault : scenario.faults) {
+    if (fault.robot != id) continue;
+    switch (fault.kind) {
+      case scenario::FaultKind::kJoin:
+        if (time_s >= fault.at_s) running = true;
+        break;
+      case scenario::FaultKind::kCrash:
+        if (time_s >= fault.at_s) return false;
+        break;
+      case scenario::FaultKind::kPause:
+        if (time_s >= fault.at_s && time_s < fault.until_s) return false;
+        break;
+      case scenario::FaultKind::kDeaf:
+        if (!sending && time_s >= fault.at_s && time_s < fault.until_s) return false;
+        break;
+      case scenario::FaultKind::kMute:
+        if (sending && time_s >= fault.at_s && time_s < fault.until_s) return false;
+        break;
+    }
+  }
+  return running;
+}
+
+std::vector<LostBeacon> SlotsOf(const scenario::Scenario& scenario, int64_t window_rounds) {
+  const auto robots = static_cast<uint16_t>(scenario.robots.size());
+  world::Channel channel(WithLosses(scenario, {}).channel, robots, scenario.seed);
+  std::vector<LostBeacon> slots;
+  for (int64_t round = 0; round < window_rounds; ++round) {
+    const double time_s = static_cast<double>(round) * scenario.timing.radio_round_s;
+    for (uint16_t from = 0; from < robots; ++from) {
+      if (!Active(scenario, from, time_s, /*sending=*/true)) continue;
+      for (uint16_t to = 0; to < robots; ++to) {
+        if (to == from || !Active(scenario, to, time_s, /*sending=*/false)) continue;
+        if (!channel.Delivers(from, to, round, time_s)) continue;
+        slots.push_back({round, from, to});
+      }
+    }
+  }
+  return slots;
+}
+
+// Combinations of `k` of `n` slots in lexicographic order of their indices.
+class Patterns {
+ public:
+  Patterns(int64_t n, int k) : n_(n), indices_(static_cast<size_t>(k)) {
+    for (int i = 0; i < k; ++i) indices_[static_cast<size_t>(i)] = i;
+    done_ = k > n;
+  }
+  bool done() const { return done_; }
+  const std::vector<int64_t>& current() const { return indices_; }
+  void Advance() {
+    const int k = static_cast<int>(indices_.size());
+    int i = k - 1;
+    while (i >= 0 && indices_[static_cast<size_t>(i)] == n_ - k + i) --i;
+    if (i < 0) {
+      done_ = true;
+      return;
+    }
+    ++indices_[static_cast<size_t>(i)];
+    for (int j = i + 1; j < k; ++j) indices_[static_cast<size_t>(j)] = indices_[static_cast<size_t>(j - 1)] + 1;
+  }
+
+ private:
+  int64_t n_;
+  std::vector<int64_t> indices_;
+  bool done_ = false;
+};
+
+struct Outcome {
+  std::vector<Violation> violations;
+  metrics::Metrics metrics;
+};
+
+Outcome RunPattern(const scenario::Scenario& scenario, const SearchOptions& options,
+                   std::span<const LostBeacon> lost, bool goal_declared) {
+  sim::SimulationOptions sim_options;
+  sim_options.app_factory = options.app_factory;
+  sim_options.app_source = options.app_source;
+  sim_options.app_sandbox = options.app_sandbox;
+  sim::RunReport report = sim::Run(WithLosses(scenario, lost), sim_options, 0);
+  Outcome outcome;
+  outcome.violations = ViolationsOf(report.metrics, goal_declared);
+  outcome.metrics = std::move(report.metrics);
+  return outcome;
+}
+
+// Runs `batch` on `jobs` threads; outcomes in the batch's order.
+std::vector<Outcome> RunBatch(const scenario::Scenario& scenario, const SearchOptions& options,
+                              const std::vector<std::vector<LostBeacon>>& batch, bool goal_declared) {
+  std::vector<Outcome> outcomes(batch.size());
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t i = next++; i < batch.size(); i = next++) {
+      outcomes[i] = RunPattern(scenario, options, batch[i], goal_declared);
+    }
+  };
+  const int threads = std::min<int>(options.jobs, static_cast<int>(batch.size()));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& thread : pool) thread.join();
+  return outcomes;
+}
+
+}  // namespace
+
+std::vector<Violation> ViolationsOf(const metrics::Metrics& m, bool goal_declared) {
+  std::vector<Violation> found;
+  const metrics::CommonKnowledgeMetrics& ck = m.common_knowledge;
+  if (ck.violations > 0) {
+    std::string detail = fmt::format("{} P3 violation{}", ck.violations, ck.violations == 1 ? "" : "s");
+    if (!ck.first_violations.empty()) {
+      const metrics::Violation& first = ck.first_violations.front();
+      detail += fmt::format(": first robot {} in epoch {}", first.robot, first.epoch);
+    }
+    found.push_back({"common knowledge", detail});
+  }
+  if (m.agreement && m.agreement->disagreeing_calls > 0) {
+    std::string detail = fmt::format("the app's global state differed in {} call{}", m.agreement->disagreeing_calls,
+                                     m.agreement->disagreeing_calls == 1 ? "" : "s");
+    if (const auto& first = m.agreement->first_disagreement) {
+      detail += fmt::format(": first robot {} in epoch {} ({}), state {} where robot {} had {}", first->robot,
+                            first->epoch, first->callback, first->state, first->reference_robot,
+                            first->reference_state);
+    }
+    found.push_back({"agreement", detail});
+  }
+  if (m.collisions.count > 0) {
+    std::string detail = fmt::format("{} collision{}", m.collisions.count, m.collisions.count == 1 ? "" : "s");
+    if (!m.collisions.pairs.empty()) {
+      const metrics::CollisionEvent& first = m.collisions.pairs.front();
+      detail += fmt::format(": first robots {} and {} at {:.2f} s", first.a, first.b,
+                            static_cast<double>(first.time_ns) / 1e9);
+    }
+    found.push_back({"collision", detail});
+  }
+  if (!m.app.faults.empty()) {
+    const metrics::AppFault& first = m.app.faults.front();
+    found.push_back({"app fault", fmt::format("robot {}, {} of epoch {}: {}", first.robot, first.callback,
+                                              first.epoch, first.verdict)});
+  } else if (m.app.invalid_commands.count > 0) {
+    found.push_back({"app fault", fmt::format("{} invalid commands", m.app.invalid_commands.count)});
+  } else if (m.app.payload_refused.count > 0) {
+    found.push_back({"app fault", fmt::format("{} payloads refused", m.app.payload_refused.count)});
+  }
+  if (goal_declared && !m.goal.reached) found.push_back({"goal", m.goal.detail});
+  return found;
+}
+
+scenario::Scenario WithLosses(const scenario::Scenario& base, std::span<const LostBeacon> lost) {
+  scenario::Scenario result = base;
+  world::ChannelSpec& channel = result.channel;
+  const world::ChannelSpec defaults;
+  channel.model = world::ChannelModel::kScripted;
+  channel.loss = defaults.loss;
+  channel.good_to_bad = defaults.good_to_bad;
+  channel.bad_to_good = defaults.bad_to_good;
+  channel.loss_good = defaults.loss_good;
+  channel.loss_bad = defaults.loss_bad;
+  channel.lost.assign(lost.begin(), lost.end());
+  std::sort(channel.lost.begin(), channel.lost.end());
+  channel.lost.erase(std::unique(channel.lost.begin(), channel.lost.end()), channel.lost.end());
+  return result;
+}
+
+int64_t PatternCount(int64_t slots, int losses) {
+  constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
+  int64_t total = 0;
+  int64_t choose = 1;  // C(slots, k)
+  for (int k = 0; k <= losses; ++k) {
+    if (k > 0) {
+      if (slots - k + 1 <= 0) break;
+      // C(n, k) = C(n, k-1) * (n - k + 1) / k, exact; in long double
+      // only to see that it fits (at most kMaxSearchLosses steps).
+      const int64_t factor = slots - k + 1;
+      if (static_cast<long double>(choose) * static_cast<long double>(factor) > static_cast<long double>(kMax)) {
+        return kMax;
+      }
+      choose = choose * factor / k;
+    }
+    if (total > kMax - choose) return kMax;
+    total += choose;
+  }
+  return total;
+}
+
+SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  auto elapsed_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
+  const bool goal_declared = !scenario.goal.empty();
+  SearchResult result;
+
+  // The loss-free run: the first pattern, and the epochs that set the window.
+  std::ostringstream replay_bytes;
+  sim::SimulationOptions sim_options;
+  sim_options.app_factory = options.app_factory;
+  sim_options.app_source = options.app_source;
+  sim_options.app_sandbox = options.app_sandbox;
+  sim_options.replay = &replay_bytes;
+  const scenario::Scenario loss_free = WithLosses(scenario, {});
+  sim::RunReport baseline = sim::Run(loss_free, sim_options, 0);
+  result.runs = 1;
+  std::vector<Violation> violations = ViolationsOf(baseline.metrics, goal_declared);
+  if (!violations.empty()) {
+    result.counterexample = Counterexample{{}, std::move(violations), std::move(baseline.metrics)};
+    result.seconds = elapsed_s();
+    return result;
+  }
+  result.complete_losses = 0;
+  const Window window = WindowOf(replay_bytes.str(), baseline.metrics.radio_rounds, options.epochs);
+  result.window_rounds = window.rounds;
+  result.epochs_in_window = window.epochs;
+  const std::vector<LostBeacon> slots = SlotsOf(scenario, window.rounds);
+  result.slots = static_cast<int64_t>(slots.size());
+
+  const size_t batch_size = static_cast<size_t>(options.jobs) * 8;
+  for (int losses = 1; losses <= options.max_losses; ++losses) {
+    Patterns patterns(result.slots, losses);
+    while (!patterns.done()) {
+      if (options.time_limit_s > 0 && elapsed_s() >= options.time_limit_s) {
+        result.stopped_by_time = true;
+        result.seconds = elapsed_s();
+        return result;
+      }
+      std::vector<std::vector<LostBeacon>> batch;
+      for (; !patterns.done() && batch.size() < batch_size; patterns.Advance()) {
+        std::vector<LostBeacon>& lost = batch.emplace_back();
+        for (int64_t index : patterns.current()) lost.push_back(slots[static_cast<size_t>(index)]);
+      }
+      std::vector<Outcome> outcomes = RunBatch(scenario, options, batch, goal_declared);
+      result.runs += static_cast<int64_t>(batch.size());
+      if (options.progress) options.progress(result.runs, losses);
+      for (size_t i = 0; i < outcomes.size(); ++i) {
+        if (outcomes[i].violations.empty()) continue;
+        result.counterexample =
+            Counterexample{std::move(batch[i]), std::move(outcomes[i].violations), std::move(outcomes[i].metrics)};
+        result.seconds = elapsed_s();
+        return result;
+      }
+    }
+    result.complete_losses = losses;
+  }
+  result.seconds = elapsed_s();
+  return result;
+}
+
+}  // namespace syrof::lab::search

@@ -1,0 +1,110 @@
+// `syrof search` with a student's library: a library that crashes in an
+// AUTONOMOUS epoch is broken by the smallest loss pattern that leaves a
+// robot out, and the counterexample it writes reruns bit for bit with
+// `syrof run`; the starter app survives; bad input exits 2. Label app_host:
+// every run starts sandboxed host processes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "cli_test_support.h"
+#include "run_command.h"
+#include "search_command.h"
+
+namespace syrof::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::FreshDir;
+using testing::Outcome;
+using testing::ReadFile;
+
+std::string TestLib(const std::string& name) { return std::string(SYROF_TEST_LIBS_DIR) + "/lib" + name + ".so"; }
+
+// Three robots voting for one round (K = 1), so that one lost beacon can
+// leave a robot out; the channel's own loss is what the search replaces.
+std::string WriteSearchScenario(const fs::path& dir, const std::string& app) {
+  fs::create_directories(dir);
+  const fs::path path = dir / "scenario.yaml";
+  std::ofstream(path) << "name: search_me\nseed: 3\nrobots: { count: 3, spacing_m: 1.0 }\n"
+                      << "timing: { duration_s: 4, vote_rounds: 1, silence_rounds: 2 }\n"
+                      << "channel: { model: iid, loss: 0.2 }\napp: " << app << "\n";
+  return path.string();
+}
+
+Outcome RunSearch(const std::vector<std::string>& arguments) {
+  return testing::ParseAndRun<SearchOptions>(
+      "search", arguments, [](CLI::App& app, SearchOptions& options) { SetupSearchCommand(app, options); },
+      [](const SearchOptions& options, std::ostream& out, std::ostream& err) {
+        return RunSearchCommand(options, out, err, false);
+      });
+}
+
+TEST(SearchCommandTest, FindsThePatternThatBreaksALibraryAndItRerunsBitForBit) {
+  const fs::path dir = FreshDir("syrof_search_test_", "broken");
+  const std::string scenario = WriteSearchScenario(dir, TestLib("assumes_cooperative"));
+  const fs::path out = dir / "out";
+  const Outcome outcome = RunSearch({scenario, "--max-losses", "2", "--epochs", "2", "--jobs", "2", "--out", out});
+  ASSERT_EQ(outcome.status, 1) << outcome.out << outcome.err;
+  EXPECT_NE(outcome.out.find("BROKEN by 1 lost beacon"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("broken: app fault: robot"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("syrof run " + (out / "counterexample.yaml").string()), std::string::npos);
+  for (const char* name : {"counterexample.yaml", "replay", "metrics.json", "replay.html"}) {
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
+  const std::string yaml = ReadFile(out / "counterexample.yaml");
+  EXPECT_NE(yaml.find("model: scripted"), std::string::npos) << yaml;
+  EXPECT_EQ(yaml.find("loss:"), std::string::npos) << yaml;
+
+  // From another folder, as a student would after moving it.
+  RunOptions rerun;
+  rerun.scenario_path = (out / "counterexample.yaml").string();
+  rerun.out_dir = (dir / "rerun").string();
+  rerun.quiet = true;
+  rerun.reproducible = true;
+  std::ostringstream run_out, run_err;
+  ASSERT_EQ(RunRunCommand(rerun, run_out, run_err, false), 0) << run_err.str();
+  EXPECT_EQ(ReadFile(dir / "rerun" / "replay"), ReadFile(out / "replay"));
+  EXPECT_EQ(ReadFile(dir / "rerun" / "metrics.json"), ReadFile(out / "metrics.json"));
+}
+
+TEST(SearchCommandTest, TheStarterAppSurvivesAndTheSearchSaysHowFarItGot) {
+  const fs::path dir = FreshDir("syrof_search_test_", "starter");
+  const std::string scenario = WriteSearchScenario(dir, TestLib("starter_c"));
+  const Outcome outcome = RunSearch({scenario, "--max-losses", "1", "--epochs", "1", "--out", dir / "out"});
+  ASSERT_EQ(outcome.status, 0) << outcome.out << outcome.err;
+  EXPECT_NE(outcome.out.find("no pattern broke it: all"), std::string::npos) << outcome.out;
+  EXPECT_FALSE(fs::exists(dir / "out" / "counterexample.yaml"));
+}
+
+TEST(SearchCommandTest, ATimeLimitStopsTheSearchAndSaysSo) {
+  const fs::path dir = FreshDir("syrof_search_test_", "limit");
+  const std::string scenario = WriteSearchScenario(dir, "builtin:idle");
+  const Outcome outcome =
+      RunSearch({scenario, "--max-losses", "3", "--epochs", "3", "--time-limit", "0.5", "--out", dir / "out"});
+  ASSERT_EQ(outcome.status, 0) << outcome.out << outcome.err;
+  EXPECT_NE(outcome.out.find("before the time limit"), std::string::npos) << outcome.out;
+}
+
+TEST(SearchCommandTest, BadInputExitsTwoAndSaysWhatIsWrong) {
+  const fs::path dir = FreshDir("syrof_search_test_", "bad");
+  const Outcome missing = RunSearch({(dir / "nothing.yaml").string(), "--max-losses", "1"});
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("nothing.yaml"), std::string::npos) << missing.err;
+
+  const Outcome no_entry = RunSearch({WriteSearchScenario(dir, TestLib("no_entry")), "--max-losses", "1", "--out", dir / "o"});
+  EXPECT_EQ(no_entry.status, 2);
+  EXPECT_NE(no_entry.err.find("syrof_app_entry"), std::string::npos) << no_entry.err;
+
+  const Outcome negative = RunSearch({WriteSearchScenario(dir, "builtin:idle"), "--max-losses", "-1"});
+  EXPECT_EQ(negative.status, 2);
+  const Outcome absent = RunSearch({WriteSearchScenario(dir, "builtin:idle")});
+  EXPECT_EQ(absent.status, 2);
+  EXPECT_NE(absent.err.find("--max-losses"), std::string::npos) << absent.err;
+}
+
+}  // namespace
+}  // namespace syrof::cli

@@ -1,0 +1,137 @@
+// Search tests (lab/search): an app that fails in an AUTONOMOUS epoch is
+// broken by the smallest loss pattern that leaves a robot out, and the
+// search finds it, the same with one job or two; a correct app survives the
+// same search; the counterexample replays exactly as a scripted channel.
+// With the default K = 3 vote rounds no pattern of 2 losses in 2 epochs
+// leaves a robot out of 3 (50,722 runs), so these scenarios vote for one
+// round (K = 1, F = 2), where one loss can.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+#include "syrof/lab/metrics/metrics.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/search/search.h"
+#include "syrof/lab/sim/simulation.h"
+
+namespace syrof::lab::search {
+namespace {
+
+scenario::Scenario LoadText(const std::string& text) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioText(text, "test.yaml");
+  EXPECT_TRUE(loaded.ok()) << (loaded.error ? loaded.error->ToString() : "");
+  return *loaded.scenario;
+}
+
+// Holds still; its global state is the epoch number. With `breaks` it has
+// the student's bug of assuming every epoch is COOPERATIVE: it fails in an
+// AUTONOMOUS one, which only a loss pattern that leaves a robot out makes.
+class CountingApp final : public app::App {
+ public:
+  explicit CountingApp(bool breaks) : drifts_(breaks) {}
+  const char* name() const override { return "counting_test"; }
+  app::CallStatus Init(const syrof_app_info&, app::Platform&, uint8_t& global_state) override {
+    global_state = 0;
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus NewRound(syrof_car_command&, const syrof_ldmap& ldmap, uint8_t& global_state, uint32_t) override {
+    if (drifts_ && ldmap.mode == SYROF_MODE_AUTONOMOUS) {
+      return app::CallStatus::Fault(app::Verdict::kAppError, "assumed a COOPERATIVE epoch");
+    }
+    global_state = static_cast<uint8_t>(ldmap.epoch);
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
+
+ private:
+  bool drifts_;
+};
+
+const char* const kThree =
+    "seed: 3\nrobots: {count: 3, spacing_m: 1.0}\ntiming: {duration_s: 4, vote_rounds: 1, silence_rounds: 2}\nchannel: {model: iid, loss: 0.2}\n"
+    "app: builtin:idle\n";
+
+SearchOptions OptionsFor(bool drifts, int max_losses, int jobs) {
+  SearchOptions options;
+  options.max_losses = max_losses;
+  options.epochs = 2;
+  options.jobs = jobs;
+  options.app_factory = [drifts](uint16_t) { return std::make_unique<CountingApp>(drifts); };
+  options.app_source = "test:counting";
+  return options;
+}
+
+TEST(SearchTest, FindsTheSmallestEarliestPatternThatBreaksAnAppAssumingCooperation) {
+  const scenario::Scenario scenario = LoadText(kThree);
+  const SearchResult result = Search(scenario, OptionsFor(/*drifts=*/true, 2, 1));
+  ASSERT_TRUE(result.counterexample.has_value()) << result.runs << " runs";
+  const Counterexample& found = *result.counterexample;
+  ASSERT_FALSE(found.lost.empty());
+  ASSERT_FALSE(found.violations.empty());
+  EXPECT_EQ(found.violations.front().property, "app fault");
+  // Every pattern of fewer losses passed: the search finished those sizes.
+  EXPECT_EQ(result.complete_losses, static_cast<int>(found.lost.size()) - 1);
+  // The loss-free run, then patterns in order: the found one is the last run.
+  EXPECT_GT(result.runs, 1);
+}
+
+TEST(SearchTest, TheResultDoesNotDependOnTheJobs) {
+  const scenario::Scenario scenario = LoadText(kThree);
+  const SearchResult one = Search(scenario, OptionsFor(true, 2, 1));
+  const SearchResult two = Search(scenario, OptionsFor(true, 2, 2));
+  ASSERT_TRUE(one.counterexample && two.counterexample);
+  EXPECT_EQ(one.counterexample->lost, two.counterexample->lost);
+  EXPECT_EQ(metrics::ToJson(one.counterexample->metrics), metrics::ToJson(two.counterexample->metrics));
+}
+
+TEST(SearchTest, TheCounterexampleReplaysExactlyAsAScriptedChannel) {
+  const scenario::Scenario scenario = LoadText(kThree);
+  SearchOptions options = OptionsFor(true, 2, 1);
+  const SearchResult result = Search(scenario, options);
+  ASSERT_TRUE(result.counterexample.has_value());
+  sim::SimulationOptions sim_options;
+  sim_options.app_factory = options.app_factory;
+  sim_options.app_source = options.app_source;
+  const sim::RunReport again = sim::Run(WithLosses(scenario, result.counterexample->lost), sim_options, 0);
+  EXPECT_EQ(again.metrics_json, metrics::ToJson(result.counterexample->metrics));
+  // One loss fewer (the last dropped) no longer breaks it.
+  std::vector<world::LostBeacon> fewer = result.counterexample->lost;
+  fewer.pop_back();
+  const sim::RunReport smaller = sim::Run(WithLosses(scenario, fewer), sim_options, 0);
+  EXPECT_TRUE(ViolationsOf(smaller.metrics, false).empty());
+}
+
+TEST(SearchTest, AnAppFollowingTheEpochSurvivesTheSameSearch) {
+  const scenario::Scenario scenario = LoadText(kThree);
+  const SearchResult result = Search(scenario, OptionsFor(/*drifts=*/false, 1, 2));
+  EXPECT_FALSE(result.counterexample.has_value()) << result.counterexample->violations.front().detail;
+  EXPECT_EQ(result.complete_losses, 1);
+  EXPECT_EQ(result.runs, 1 + result.slots);
+  EXPECT_GT(result.slots, 0);
+}
+
+TEST(SearchTest, SlotsLeaveOutBeaconsTheScenarioAlreadyLoses) {
+  // Robot 2 crashes at 0.5 s: after round 10 it sends and hears nothing, so
+  // only the 6 links of rounds 0..9 and then 0 <-> 1 are slots.
+  const scenario::Scenario scenario = LoadText(
+      "seed: 3\nrobots: {count: 3, spacing_m: 1.0}\ntiming: {duration_s: 3}\napp: builtin:idle\n"
+      "faults: [{crash: 2, at_s: 0.5}]\n");
+  SearchOptions options = OptionsFor(false, 0, 1);
+  options.epochs = 1;
+  const SearchResult result = Search(scenario, options);
+  ASSERT_GT(result.window_rounds, 10);
+  EXPECT_EQ(result.slots, 10 * 6 + (result.window_rounds - 10) * 2);
+  EXPECT_EQ(result.runs, 1);  // F = 0: the loss-free run only
+}
+
+TEST(SearchTest, PatternCountsAddUpBinomials) {
+  EXPECT_EQ(PatternCount(10, 0), 1);
+  EXPECT_EQ(PatternCount(10, 1), 11);
+  EXPECT_EQ(PatternCount(10, 2), 1 + 10 + 45);
+  EXPECT_EQ(PatternCount(3, 5), 8);  // every subset
+  EXPECT_EQ(PatternCount(int64_t{1} << 40, 8), INT64_MAX);
+}
+
+}  // namespace
+}  // namespace syrof::lab::search
