@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
-#include <yaml-cpp/yaml.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,7 +13,6 @@
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/search/search.h"
 #include "syrof/lab/sim/run_parts.h"
-#include "syrof/lab/sim/simulation.h"
 #include "usage.h"
 #include "view_command.h"
 
@@ -23,49 +21,6 @@ namespace {
 
 namespace scenario = lab::scenario;
 namespace search = lab::search;
-
-// The scenario file again, its channel scripted to lose `lost` (its cuts,
-// partitions and links kept), with the command line's overrides written in
-// and a library's path made absolute, so the file runs from any folder.
-// Comments are not kept.
-std::string CounterexampleText(const std::string& scenario_path, const scenario::Scenario& resolved,
-                               const SearchOptions& options, const std::vector<lab::world::LostBeacon>& lost) {
-  YAML::Node root = YAML::LoadFile(scenario_path);
-  YAML::Node channel(YAML::NodeType::Map);
-  channel["model"] = "scripted";
-  if (YAML::Node old = root["channel"]; old && old.IsMap()) {
-    for (const char* key : {"links", "partitions", "cuts"}) {
-      if (old[key]) channel[key] = old[key];
-    }
-  }
-  YAML::Node list(YAML::NodeType::Sequence);
-  for (const lab::world::LostBeacon& beacon : lost) {
-    YAML::Node entry(YAML::NodeType::Sequence);
-    entry.SetStyle(YAML::EmitterStyle::Flow);
-    entry.push_back(beacon.round);
-    entry.push_back(beacon.from);
-    entry.push_back(beacon.to);
-    list.push_back(entry);
-  }
-  channel["lost"] = list;
-  root["channel"] = channel;
-  root["seed"] = resolved.seed;
-  if (options.duration_s) root["timing"]["duration_s"] = *options.duration_s;
-  if (resolved.app.is_library()) {
-    const std::string absolute = std::filesystem::absolute(resolved.app.library).lexically_normal().string();
-    if (root["app"] && root["app"].IsMap() && !options.app) {
-      root["app"]["library"] = absolute;
-    } else {
-      root["app"] = absolute;
-    }
-  } else if (options.app) {
-    root["app"] = *options.app;
-  }
-  YAML::Emitter emitter;
-  emitter << root;
-  return fmt::format("# syrof search: {} with {} lost beacon{} (channel.lost: [round, sender, receiver])\n{}\n",
-                     scenario_path, lost.size(), lost.size() == 1 ? "" : "s", emitter.c_str());
-}
 
 void PrintViolations(std::ostream& out, const std::vector<search::Violation>& violations) {
   for (const search::Violation& violation : violations) {
@@ -180,34 +135,10 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
 
   const search::Counterexample& found = *result.counterexample;
   const std::filesystem::path yaml_path = dir / "counterexample.yaml";
-  {
-    std::ofstream file(yaml_path, std::ios::binary | std::ios::trunc);
-    file << CounterexampleText(options.scenario_path, scenario, options, found.lost);
-    if (!file) {
-      fmt::print(err, "syrof search: cannot write {}\n", yaml_path.string());
-      return 1;
-    }
-  }
-  // The outputs come from the file just written, so what they show is what
-  // `syrof run` of it shows; a rerun that differs is a bug of this command.
-  const scenario::LoadResult again = scenario::LoadScenarioFile(yaml_path.string());
-  if (!again.ok()) {
-    fmt::print(err, "syrof search: internal error: {} does not load: {}\n", yaml_path.string(),
-               again.error->ToString());
-    return 1;
-  }
-  std::ofstream replay_file(dir / "replay", std::ios::binary | std::ios::trunc);
-  lab::sim::SimulationOptions sim_options;
-  sim_options.replay = &replay_file;
-  sim_options.app_factory = search_options.app_factory;
-  sim_options.app_source = search_options.app_source;
-  sim_options.app_sandbox = search_options.app_sandbox;
-  const lab::sim::RunReport rerun = lab::sim::Run(*again.scenario, sim_options, 0);
-  replay_file.close();
-  std::ofstream(dir / "metrics.json", std::ios::binary | std::ios::trunc) << rerun.metrics_json;
-  if (lab::metrics::ToJson(rerun.metrics) != lab::metrics::ToJson(found.metrics)) {
-    fmt::print(err, "syrof search: internal error: {} ran differently from the pattern it was written for\n",
-               yaml_path.string());
+  const search::CounterexampleSource source{options.scenario_path, options.app, options.duration_s};
+  if (std::string problem = search::WriteCounterexample(dir.string(), scenario, source, found, search_options);
+      !problem.empty()) {
+    fmt::print(err, "syrof search: {}\n", problem);
     return 1;
   }
   const std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string());

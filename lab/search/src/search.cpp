@@ -1,11 +1,15 @@
 #include "syrof/lab/search/search.h"
 
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <exception>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <sstream>
 #include <thread>
@@ -157,7 +161,85 @@ std::vector<Outcome> RunBatch(const scenario::Scenario& scenario, const SearchOp
   return outcomes;
 }
 
+// The scenario file again, its channel scripted to lose `lost` (its cuts,
+// partitions and links kept), with the command line's overrides written in
+// and a library's path made absolute, so the file runs from any folder.
+// Comments are not kept.
+std::string CounterexampleText(const scenario::Scenario& resolved, const CounterexampleSource& source,
+                               const std::vector<LostBeacon>& lost) {
+  YAML::Node root = YAML::LoadFile(source.scenario_path);
+  YAML::Node channel(YAML::NodeType::Map);
+  channel["model"] = "scripted";
+  if (YAML::Node old = root["channel"]; old && old.IsMap()) {
+    for (const char* key : {"links", "partitions", "cuts"}) {
+      if (old[key]) channel[key] = old[key];
+    }
+  }
+  YAML::Node list(YAML::NodeType::Sequence);
+  for (const LostBeacon& beacon : lost) {
+    YAML::Node entry(YAML::NodeType::Sequence);
+    entry.SetStyle(YAML::EmitterStyle::Flow);
+    entry.push_back(beacon.round);
+    entry.push_back(beacon.from);
+    entry.push_back(beacon.to);
+    list.push_back(entry);
+  }
+  channel["lost"] = list;
+  root["channel"] = channel;
+  root["seed"] = resolved.seed;
+  if (source.duration_s) root["timing"]["duration_s"] = *source.duration_s;
+  if (resolved.app.is_library()) {
+    const std::string absolute = std::filesystem::absolute(resolved.app.library).lexically_normal().string();
+    if (root["app"] && root["app"].IsMap() && !source.app) {
+      root["app"]["library"] = absolute;
+    } else {
+      root["app"] = absolute;
+    }
+  } else if (source.app) {
+    root["app"] = *source.app;
+  }
+  YAML::Emitter emitter;
+  emitter << root;
+  return fmt::format("# syrof search: {} with {} lost beacon{} (channel.lost: [round, sender, receiver])\n{}\n",
+                     source.scenario_path, lost.size(), lost.size() == 1 ? "" : "s", emitter.c_str());
+}
+
 }  // namespace
+
+std::string WriteCounterexample(const std::string& dir, const scenario::Scenario& resolved,
+                                const CounterexampleSource& source, const Counterexample& found,
+                                const SearchOptions& options) {
+  const std::filesystem::path folder(dir);
+  const std::string yaml_path = (folder / "counterexample.yaml").string();
+  std::string text;
+  try {
+    text = CounterexampleText(resolved, source, found.lost);
+  } catch (const std::exception& error) {
+    return fmt::format("cannot write {}: reading {} again failed: {}", yaml_path, source.scenario_path, error.what());
+  }
+  {
+    std::ofstream file(yaml_path, std::ios::binary | std::ios::trunc);
+    file << text;
+    if (!file) return fmt::format("cannot write {}", yaml_path);
+  }
+  const scenario::LoadResult again = scenario::LoadScenarioFile(yaml_path);
+  if (!again.ok()) return fmt::format("internal error: {} does not load: {}", yaml_path, again.error->ToString());
+  std::ofstream replay_file(folder / "replay", std::ios::binary | std::ios::trunc);
+  sim::SimulationOptions sim_options;
+  sim_options.replay = &replay_file;
+  sim_options.app_factory = options.app_factory;
+  sim_options.app_source = options.app_source;
+  sim_options.app_sandbox = options.app_sandbox;
+  const sim::RunReport rerun = sim::Run(*again.scenario, sim_options, 0);
+  replay_file.close();
+  std::ofstream metrics_file(folder / "metrics.json", std::ios::binary | std::ios::trunc);
+  metrics_file << rerun.metrics_json;
+  if (!replay_file || !metrics_file) return fmt::format("cannot write the replay and metrics.json in {}", dir);
+  if (rerun.metrics_json != metrics::ToJson(found.metrics)) {
+    return fmt::format("internal error: {} ran differently from the pattern it was written for", yaml_path);
+  }
+  return {};
+}
 
 std::vector<Violation> ViolationsOf(const metrics::Metrics& m, bool goal_declared) {
   std::vector<Violation> found;

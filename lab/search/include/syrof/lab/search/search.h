@@ -96,6 +96,26 @@ scenario::Scenario WithLosses(const scenario::Scenario& base, std::span<const wo
 /// Runs the search. The options must be in range (the command checks them).
 SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& options);
 
+/// How a counterexample's scenario file is written: the file that was
+/// searched, and what the command line put in its place.
+struct CounterexampleSource {
+  std::string scenario_path;                 ///< the scenario file searched
+  std::optional<std::string> app;            ///< an app given instead of the file's (as typed)
+  std::optional<double> duration_s;          ///< a duration given instead of the file's
+};
+
+/// Writes `dir`/counterexample.yaml: the scenario file again (comments
+/// dropped) with its channel scripted to lose exactly `found.lost` (cuts,
+/// partitions and links kept), the resolved seed and the overrides written
+/// in, and a library's path made absolute, so it runs from any folder. Then
+/// runs that file (with `options`' app) into `dir`/replay and
+/// `dir`/metrics.json, so the outputs are what `syrof run` of it gives.
+/// Returns what went wrong, or "" (a rerun whose metrics differ from
+/// `found`'s is an error: the file would not reproduce the pattern).
+std::string WriteCounterexample(const std::string& dir, const scenario::Scenario& resolved,
+                                const CounterexampleSource& source, const Counterexample& found,
+                                const SearchOptions& options);
+
 /// How many patterns of 0 .. `losses` losses `slots` slots give, capped at
 /// INT64_MAX.
 int64_t PatternCount(int64_t slots, int losses);
