@@ -163,10 +163,12 @@ SubjectOutcome CheckOne(const assignment::Assignment& assignment, const CheckSub
   const std::string subject_out = (out / subject.name).string();
   std::vector<std::string> notes;
   if (subject.probe) {
-    // The hidden runs only, on this student's seeds (the public runs are
-    // the reference's own, already checked).
+    // The hidden runs only, on this student's seeds (the public runs and
+    // the search tests, which have no seeds, are the reference's own,
+    // already checked).
     assignment::Assignment hidden_only = assignment;
     hidden_only.public_runs.clear();
+    hidden_only.search_tests.clear();
     GradeOptions probed = grade;
     probed.student_seeds = subject.probe;
     outcome.result = GradeSubmission(hidden_only, project, subject_out, probed, notes);

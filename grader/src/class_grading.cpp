@@ -45,7 +45,8 @@ std::vector<std::string> ScenarioColumns(const std::vector<SubmissionResult>& st
   std::set<std::string> seen;
   for (const SubmissionResult& student : students) {
     for (const TestResult& test : student.tests) {
-      if (seen.insert(test.scenario).second) columns.push_back(test.scenario);
+      const std::string column = test.search ? test.name : test.scenario;
+      if (seen.insert(column).second) columns.push_back(column);
     }
   }
   return columns;
@@ -156,7 +157,7 @@ std::string ClassCsv(const std::vector<SubmissionResult>& students) {
   csv += "\n";
   for (const SubmissionResult& student : students) {
     std::map<std::string, double> per_scenario;
-    for (const TestResult& test : student.tests) per_scenario[test.scenario] += test.points;
+    for (const TestResult& test : student.tests) per_scenario[test.search ? test.name : test.scenario] += test.points;
     csv += CsvField(student.submission) + "," + Points(student.points) + "," + Points(student.max_points) + "," +
            std::to_string(student.tests_passed) + "," + std::to_string(student.tests.size()) + "," +
            CsvField(student.build.verdict);

@@ -210,6 +210,53 @@ std::string ExecutableDir() {
 }  // namespace
 
 std::vector<TestResult> PlanTests(const Assignment& assignment, bool public_only) {
+  std::vector<TestResult> tests = PlanRuns(assignment, public_only);
+  for (const assignment::SearchTestSpec& spec : assignment.search_tests) {
+    if (public_only && spec.visibility == Visibility::kHidden) continue;
+    TestResult test;
+    test.name = "search/" + spec.name;
+    test.scenario = spec.name;
+    test.search = true;
+    test.visibility = spec.visibility;
+    test.output_dir = "search/" + spec.name;
+    tests.push_back(std::move(test));
+  }
+  return tests;
+}
+
+namespace {
+
+const assignment::SearchTestSpec* FindSearch(const Assignment& assignment, const TestResult& test) {
+  for (const assignment::SearchTestSpec& spec : assignment.search_tests) {
+    if (spec.name == test.scenario) return &spec;
+  }
+  return nullptr;
+}
+
+// A test's share of the points: a search test's own, a run's an equal
+// share of the rest.
+double ShareOf(const Assignment& assignment, const std::vector<TestResult>& tests, const TestResult& test,
+               bool public_only) {
+  if (test.search) {
+    const assignment::SearchTestSpec* spec = FindSearch(assignment, test);
+    return spec != nullptr ? spec->points : 0.0;
+  }
+  const auto runs = std::count_if(tests.begin(), tests.end(), [](const TestResult& t) { return !t.search; });
+  return runs == 0 ? 0.0 : assignment::RunPoints(assignment, !public_only) / static_cast<double>(runs);
+}
+
+// The command that reruns a search test, as a student types it; none for a
+// hidden one.
+std::string SearchCommand(const assignment::SearchTestSpec& spec, const std::string& library) {
+  if (spec.visibility == Visibility::kHidden) return {};
+  return "syrof search " + fs::absolute(spec.path).lexically_normal().string() + " --app " + library +
+         " --max-losses " + std::to_string(spec.max_losses) + " --epochs " + std::to_string(spec.epochs) +
+         " --out rerun/search-" + spec.name;
+}
+
+}  // namespace
+
+std::vector<TestResult> PlanRuns(const Assignment& assignment, bool public_only) {
   std::vector<std::pair<const ScenarioRun*, Visibility>> sets;
   for (const ScenarioRun& run : assignment.public_runs) sets.emplace_back(&run, Visibility::kPublic);
   if (!public_only) {
@@ -230,13 +277,13 @@ std::vector<TestResult> PlanTests(const Assignment& assignment, bool public_only
   return tests;
 }
 
-void AddUp(SubmissionResult& result, double total_points) {
-  result.max_points = total_points;
+void AddUp(SubmissionResult& result, const Assignment& assignment) {
+  result.max_points = assignment.points;
   result.points = 0;
   result.tests_passed = 0;
-  const double share = result.tests.empty() ? 0.0 : total_points / static_cast<double>(result.tests.size());
-  double exact = 0;  // rounded once, so full marks on every test is exactly total_points
+  double exact = 0;  // rounded once, so full marks on every test is exactly the assignment's points
   for (TestResult& test : result.tests) {
+    const double share = ShareOf(assignment, result.tests, test, result.public_only);
     exact += ScoreTest(test, share, result.build.ok());
     result.tests_passed += test.passed ? 1 : 0;
   }
@@ -266,6 +313,18 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
   auto work = [&] {
     for (size_t index = next++; index < result.tests.size(); index = next++) {
       TestResult& test = result.tests[index];
+      if (test.search) {
+        const assignment::SearchTestSpec& spec = *FindSearch(assignment, test);
+        test.replay_command = SearchCommand(spec, library);
+        internal::RunSearchTest(spec, library, out.string(), test);
+        if (options.on_test) {
+          const std::lock_guard<std::mutex> lock(report_mutex);
+          TestResult shown = test;
+          ScoreTest(shown, spec.points, true);
+          options.on_test(shown);
+        }
+        continue;
+      }
       const ScenarioRun& run = *FindRun(assignment, test);
       test.replay_command = ReplayCommand(run, test, library, seeds_derived);
       RunTest(assignment, run, library, out, false, test);
@@ -280,7 +339,7 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
       if (options.on_test) {
         const std::lock_guard<std::mutex> lock(report_mutex);
         TestResult shown = test;
-        ScoreTest(shown, assignment.points / static_cast<double>(result.tests.size()), true);
+        ScoreTest(shown, ShareOf(assignment, result.tests, test, result.public_only), true);
         options.on_test(shown);
       }
     }
@@ -290,7 +349,7 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
   for (int i = 1; i < jobs && static_cast<size_t>(i) < result.tests.size(); ++i) workers.emplace_back(work);
   work();
   for (std::thread& worker : workers) worker.join();
-  AddUp(result, assignment.points);
+  AddUp(result, assignment);
   return result;
 }
 
@@ -314,7 +373,7 @@ SubmissionResult GradeSubmission(const Assignment& assignment, const std::string
   result.build = build;
   result.submission = fs::absolute(submission_dir).lexically_normal().filename().string();
   if (result.submission.empty()) result.submission = fs::absolute(submission_dir).lexically_normal().parent_path().filename().string();
-  AddUp(result, assignment.points);
+  AddUp(result, assignment);
   return result;
 }
 

@@ -31,6 +31,7 @@ Json TestJson(const TestResult& test) {
   return Json{{"name", test.name},
               {"scenario", test.scenario},
               {"seed", test.seed},
+              {"search", test.search},
               {"visibility", test.visibility == Visibility::kHidden ? "hidden" : "public"},
               {"points", test.points},
               {"max_points", test.max_points},
@@ -181,6 +182,7 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
     test.name = Get<std::string>(entry, "name", "");
     test.scenario = Get<std::string>(entry, "scenario", "");
     test.seed = Get<uint64_t>(entry, "seed", 0);
+    test.search = Get<bool>(entry, "search", false);
     test.visibility = Get<std::string>(entry, "visibility", "public") == "hidden" ? Visibility::kHidden
                                                                                    : Visibility::kPublic;
     test.points = Get<double>(entry, "points", 0.0);

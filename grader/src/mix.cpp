@@ -77,7 +77,7 @@ void Attribute(const lab::metrics::Metrics& metrics, const std::vector<MixEntry>
 
 std::vector<MixRun> RunMix(const assignment::Assignment& assignment, const std::vector<MixEntry>& entries,
                            const std::string& out_dir, const GradeOptions& options) {
-  const std::vector<TestResult> tests = PlanTests(assignment, options.public_only || assignment.hidden_missing);
+  const std::vector<TestResult> tests = PlanRuns(assignment, options.public_only || assignment.hidden_missing);
   std::vector<MixRun> runs(tests.size());
   std::vector<std::string> libraries;
   for (const MixEntry& entry : entries) libraries.push_back(entry.library);

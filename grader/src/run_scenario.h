@@ -1,5 +1,5 @@
 // One run of a scenario with a seed through the app host (grade.cpp's and
-// mix.cpp's shared step). Internal to grader/.
+// mix.cpp's shared step), and a search test's runs. Internal to grader/.
 #pragma once
 
 #include <cstdint>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "syrof/assignment/assignment.h"
+#include "syrof/assignment/result.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/message/message_format.h"
 #include "payload_check.h"
@@ -31,5 +32,13 @@ struct RunOutcome {
 /// (RunOutcome::payload_violations); the run itself is unchanged.
 RunOutcome RunScenario(const assignment::ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
                        const std::string& dir, bool replay, const lab::message::MessageFormat* message = nullptr);
+
+/// Runs a search test (search_test.cpp) with `library` and scores `test`:
+/// its one criterion, "search", full when no pattern broke the run. A
+/// counterexample is written into `out_dir`/test.output_dir
+/// (counterexample.yaml, replay, metrics.json) and test.replay_path names
+/// its replay. A search stopped by its time limit sets test.run_error.
+void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& library, const std::string& out_dir,
+                   assignment::TestResult& test);
 
 }  // namespace syrof::grader::internal

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "syrof/assignment/assignment.h"
+#include "syrof/assignment/expected.h"
 #include "syrof/grader/build.h"
 #include "syrof/grader/class_grading.h"
 #include "syrof/grader/grade.h"
@@ -204,6 +205,65 @@ TEST(GradeSubmissionTest, WithoutTheHiddenFilesOnlyPublicTestsAreGraded) {
   EXPECT_TRUE(loaded.assignment->hidden_runs.empty());
   EXPECT_EQ(PlanTests(*loaded.assignment, false).size(), 2u);
   EXPECT_FALSE(assignment::LoadAssignmentFile(copy.string()).ok()) << "without the option a missing file is an error";
+}
+
+// An app that assumes every epoch is COOPERATIVE and dereferences NULL in
+// an AUTONOMOUS one: only a loss pattern that leaves a robot out shows it.
+constexpr const char* kAssumesCooperative = R"(#include <stddef.h>
+#include "syrof/app.h"
+static uint8_t Init(const syrof_app_info* info) { (void)info; return 0; }
+static uint8_t NewRound(syrof_car_command* command, const syrof_ldmap* map, uint8_t state, uint32_t clock_ms) {
+  (void)command, (void)clock_ms, (void)state;
+  if (map->mode == SYROF_MODE_AUTONOMOUS) { volatile int* volatile nowhere = NULL; *nowhere = 1; }
+  return (uint8_t)map->epoch;
+}
+static uint8_t EndOfRound(const syrof_ldmap* map, uint8_t state, uint32_t clock_ms) {
+  (void)map, (void)clock_ms;
+  return state;
+}
+SYROF_APP_DEFINE("assumes_cooperative", Init, NewRound, EndOfRound)
+)";
+
+TEST(SearchGradeTest, TheReferenceSurvivesTheSearchTestAndEarnsItsPoints) {
+  const Assignment searched = LoadTiny("search.yaml");
+  ASSERT_EQ(searched.search_tests.size(), 1u);
+  const fs::path out = Fresh("search_reference");
+  std::vector<std::string> notes;
+  const SubmissionResult result = GradeSubmission(searched, kReference.string(), out.string(), {}, notes);
+  ASSERT_EQ(result.build.verdict, "ok") << result.build.detail;
+  ASSERT_EQ(result.tests.size(), 2u);
+  const assignment::TestResult& search = result.tests[1];
+  EXPECT_EQ(search.name, "search/tiny_vote1");
+  EXPECT_TRUE(search.search);
+  EXPECT_EQ(result.tests[0].max_points, 40);
+  EXPECT_EQ(search.max_points, 20);
+  EXPECT_TRUE(search.passed) << FirstLoss(search);
+  EXPECT_NE(search.score.criteria.at(0).reason.find("no pattern of up to 1 lost beacon in the first 1 epoch broke it"),
+            std::string::npos)
+      << search.score.criteria.at(0).reason;
+  EXPECT_NE(search.replay_command.find("syrof search "), std::string::npos) << search.replay_command;
+  EXPECT_EQ(result.points, 60);
+}
+
+TEST(SearchGradeTest, AnAppThatFailsInAnAutonomousEpochLosesTheSearchTestWithACounterexample) {
+  const Assignment searched = LoadTiny("search.yaml");
+  const fs::path submission = Fresh("search_broken_in");
+  Write(submission / "app.c", kAssumesCooperative);
+  const fs::path out = Fresh("search_broken");
+  std::vector<std::string> notes;
+  const SubmissionResult result = GradeSubmission(searched, submission.string(), out.string(), {}, notes);
+  ASSERT_EQ(result.build.verdict, "ok") << result.build.detail;
+  ASSERT_EQ(result.tests.size(), 2u);
+  const assignment::TestResult& search = result.tests[1];
+  EXPECT_FALSE(search.passed);
+  EXPECT_EQ(search.points, 0);
+  const std::string& reason = search.score.criteria.at(0).reason;
+  EXPECT_NE(reason.find("broken by 1 lost beacon"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("app fault"), std::string::npos) << reason;
+  EXPECT_EQ(search.replay_path, "search/tiny_vote1/replay");
+  EXPECT_TRUE(fs::exists(out / "search" / "tiny_vote1" / "counterexample.yaml"));
+  EXPECT_TRUE(fs::exists(out / search.replay_path));
+  EXPECT_EQ(assignment::LostCriteria(result).back(), "search");
 }
 
 // The hostile libraries as a class, with a good submission (the gather

@@ -32,6 +32,13 @@ TestResult MakeTest(const std::string& scenario, uint64_t seed, double run_point
   return test;
 }
 
+// An assignment worth `points`, with no search test.
+assignment::Assignment WorthPoints(double points) {
+  assignment::Assignment worth;
+  worth.points = points;
+  return worth;
+}
+
 SubmissionResult Sample() {
   SubmissionResult result;
   result.submission = "alice";
@@ -44,7 +51,7 @@ SubmissionResult Sample() {
   result.tests[2].visibility = assignment::Visibility::kHidden;
   result.tests[2].run_error = "the run took longer than its time limit of 60 s (wall clock) and was stopped";
   result.tests[2].wall_seconds = 61.5;
-  AddUp(result, 90);
+  AddUp(result, WorthPoints(90));
   return result;
 }
 
@@ -64,7 +71,7 @@ TEST(AddUpTest, EachTestIsAnEqualShareEarnedByItsRunsFraction) {
 TEST(AddUpTest, ASubmissionThatDidNotBuildGetsNothing) {
   SubmissionResult result = Sample();
   result.build.verdict = "build_failed";
-  AddUp(result, 90);
+  AddUp(result, WorthPoints(90));
   EXPECT_EQ(result.points, 0);
   EXPECT_EQ(result.tests_passed, 0);
 }
@@ -72,7 +79,7 @@ TEST(AddUpTest, ASubmissionThatDidNotBuildGetsNothing) {
 TEST(AddUpTest, SharesAreRoundedToTheHundredth) {
   SubmissionResult result;
   result.tests = {MakeTest("a", 1, 1, 3), MakeTest("a", 2, 1, 3), MakeTest("a", 3, 1, 3)};
-  AddUp(result, 100);
+  AddUp(result, WorthPoints(100));
   EXPECT_EQ(result.tests[0].points, 11.11);
   EXPECT_EQ(result.points, 33.33);
 }
@@ -81,10 +88,40 @@ TEST(AddUpTest, FullMarksOnEveryTestIsExactlyTheAssignmentsPoints) {
   // 100 / 7 = 14.2857...: seven shares rounded first would add up to 100.03.
   SubmissionResult result;
   for (uint64_t seed = 1; seed <= 7; ++seed) result.tests.push_back(MakeTest("a", seed, 100, 100));
-  AddUp(result, 100);
+  AddUp(result, WorthPoints(100));
   EXPECT_EQ(result.tests[0].points, 14.29);
   EXPECT_EQ(result.points, 100);
   EXPECT_EQ(result.tests_passed, 7);
+}
+
+TEST(AddUpTest, ASearchTestIsWorthItsOwnPointsAndTheRunsShareTheRest) {
+  assignment::Assignment worth = WorthPoints(100);
+  assignment::SearchTestSpec lossy;
+  lossy.name = "lossy";
+  lossy.points = 20;
+  worth.search_tests.push_back(lossy);
+  SubmissionResult result;
+  result.tests = {MakeTest("a", 1, 100, 100), MakeTest("a", 2, 50, 100)};
+  TestResult search;
+  search.name = "search/lossy";
+  search.scenario = "lossy";
+  search.search = true;
+  search.score.criteria = {CriterionScore{"search", 0, 20, "broken by 1 lost beacon"}};
+  search.score.max_points = 20;
+  result.tests.push_back(search);
+  AddUp(result, worth);
+  EXPECT_EQ(result.tests[0].max_points, 40);  // (100 - 20) / 2 runs
+  EXPECT_EQ(result.tests[1].points, 20);
+  EXPECT_EQ(result.tests[2].max_points, 20);
+  EXPECT_EQ(result.tests[2].points, 0);
+  EXPECT_FALSE(result.tests[2].passed);
+  EXPECT_EQ(result.points, 60);
+  EXPECT_EQ(result.max_points, 100);
+  result.tests[2].score.criteria[0].points = 20;
+  result.tests[2].score.points = 20;
+  AddUp(result, worth);
+  EXPECT_EQ(result.points, 80);
+  EXPECT_EQ(result.tests_passed, 2);
 }
 
 TEST(GradeJsonTest, ReadsBackWhatItWroteAndKeepsTimingsApart) {
@@ -134,7 +171,7 @@ TEST(ClassFilesTest, CsvHasAColumnPerScenarioAndTheSummaryDeciles) {
   bob.submission = "bob, jr";
   bob.build.verdict = "timeout";
   bob.build.detail = "the build took longer than its limit of 120 s";
-  AddUp(bob, 90);
+  AddUp(bob, WorthPoints(90));
   EXPECT_EQ(ClassCsv({alice, bob}),
             "student,points,max_points,tests_passed,tests,build,a,b\n"
             "alice,45.00,90.00,1,3,ok,45.00,0.00\n"

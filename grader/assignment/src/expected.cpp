@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <string_view>
 
 #include "syrof/lab/scenario/yaml/document.h"
@@ -25,12 +26,15 @@ std::string Hundredths(double points) {
   return text;
 }
 
-// The criteria `rubric` scores, in the rubric's order.
-std::vector<std::string_view> RubricCriteria(const Rubric& rubric) {
+// The criteria `assignment` scores, in the rubric's order, then its search
+// tests'.
+std::vector<std::string_view> RubricCriteria(const Assignment& assignment) {
+  const Rubric& rubric = assignment.rubric;
   const bool present[] = {rubric.goal.has_value(),      rubric.collisions.has_value(),
                           rubric.safety.has_value(),    rubric.synchrony.has_value(),
                           rubric.common_knowledge.has_value(), rubric.agreement.has_value(),
-                          rubric.faults.has_value()};
+                          rubric.faults.has_value(),    !assignment.search_tests.empty()};
+  static_assert(std::size(present) == 8);
   std::vector<std::string_view> criteria;
   for (size_t i = 0; i < CriterionOrder().size(); ++i) {
     if (present[i]) criteria.push_back(CriterionOrder()[i]);
@@ -60,7 +64,7 @@ bool ReadExpected(const YamlNode& root, const Assignment& assignment, Expected& 
   expected.points_column = root.Find("points")->column;
   const YamlNode& loses = *root.Find("loses");
   if (!lab::scenario::ExpectList(loses, "loses", diagnostics)) return false;
-  const std::vector<std::string_view> criteria = RubricCriteria(assignment.rubric);
+  const std::vector<std::string_view> criteria = RubricCriteria(assignment);
   std::vector<bool> listed(criteria.size(), false);
   for (size_t i = 0; i < loses.values.size(); ++i) {
     size_t index = 0;
@@ -81,7 +85,7 @@ bool ReadExpected(const YamlNode& root, const Assignment& assignment, Expected& 
 
 const std::vector<std::string>& CriterionOrder() {
   static const std::vector<std::string> kOrder = {"goal",      "collisions", "safety", "synchrony",
-                                                  "common_knowledge", "agreement", "faults"};
+                                                  "common_knowledge", "agreement", "faults", "search"};
   return kOrder;
 }
 

@@ -9,6 +9,7 @@
 #include "syrof/assignment/assignment.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/scenario/yaml/document.h"
+#include "syrof/lab/search/search.h"
 
 namespace syrof::grader::assignment {
 namespace {
@@ -127,6 +128,108 @@ bool ReadRun(const YamlNode& node, const std::string& path, Context& context, Sc
   }
   if (context.goal != nullptr) {
     return lab::scenario::ReadGoalChecks(*context.goal, "goal", *loaded.scenario, run.goal, diagnostics);
+  }
+  return true;
+}
+
+// One entry of `search:`. A hidden entry whose file is missing (a
+// student's copy) is skipped when context.skip_missing.
+bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& context, SearchTestSpec& test,
+                    bool& skipped, std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
+  static constexpr std::string_view kKeys[] = {"scenario", "name",   "max_losses",  "epochs",
+                                               "points",   "hidden", "time_limit_s"};
+  if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics) ||
+      !RequireKey(node, path, "scenario", diagnostics) || !RequireKey(node, path, "max_losses", diagnostics) ||
+      !RequireKey(node, path, "points", diagnostics) ||
+      !ReadString(*node.Find("scenario"), JoinPath(path, "scenario"), test.file, diagnostics)) {
+    return false;
+  }
+  if (const YamlNode* hidden = node.Find("hidden")) {
+    if (!hidden->is_scalar() || hidden->quoted || (hidden->scalar != "true" && hidden->scalar != "false")) {
+      return FailAt(*hidden, JoinPath(path, "hidden"), "expected true or false", diagnostics);
+    }
+    test.visibility = hidden->scalar == "true" ? Visibility::kHidden : Visibility::kPublic;
+  }
+  const YamlNode& file = *node.Find("scenario");
+  if (test.file.empty() || std::filesystem::path(test.file).is_absolute()) {
+    return FailAt(file, JoinPath(path, "scenario"),
+                  "expected a scenario file's path relative to the assignment folder, got '" + test.file + "'",
+                  diagnostics);
+  }
+  test.path = (std::filesystem::path(context.folder) / test.file).string();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(test.path, error)) {
+    if (test.visibility == Visibility::kHidden && context.skip_missing) {
+      skipped = true;
+      return true;
+    }
+    return FailAt(file, JoinPath(path, "scenario"),
+                  "no such scenario file '" + test.file + "' (looked for " + test.path + ")", diagnostics);
+  }
+  test.name = std::filesystem::path(test.file).stem().string();
+  if (const YamlNode* name = node.Find("name")) {
+    if (!ReadString(*name, JoinPath(path, "name"), test.name, diagnostics)) return false;
+  }
+  const YamlNode& name_at = node.Find("name") ? *node.Find("name") : file;
+  if (!IsValidName(test.name)) {
+    return FailAt(name_at, JoinPath(path, "name"),
+                  "a search test's name must be 1 to 64 letters, digits, '_', '-' or '.', got '" + test.name +
+                      "' (give 'name' to choose one)",
+                  diagnostics);
+  }
+  if (!context.names.insert("search/" + test.name).second) {
+    return FailAt(name_at, JoinPath(path, "name"), "another search test is already named '" + test.name + "'",
+                  diagnostics);
+  }
+  int64_t max_losses = 0;
+  int64_t epochs = test.epochs;
+  if (!lab::scenario::ReadIntegerAt(node, path, "max_losses", 0, lab::search::kMaxSearchLosses, max_losses,
+                                    diagnostics) ||
+      !lab::scenario::ReadIntegerAt(node, path, "epochs", 1, lab::search::kMaxSearchEpochs, epochs, diagnostics) ||
+      !ReadNumberAt(node, path, "points", NumberRange{0, kMaxPoints, true}, test.points, diagnostics) ||
+      !ReadNumberAt(node, path, "time_limit_s", NumberRange{0, kMaxTimeLimitS, true}, test.time_limit_s,
+                    diagnostics)) {
+    return false;
+  }
+  test.max_losses = static_cast<int>(max_losses);
+  test.epochs = static_cast<int>(epochs);
+  const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(test.path);
+  if (!loaded.ok()) {
+    scenario_error = loaded.error;
+    return false;
+  }
+  return true;
+}
+
+bool ReadSearchTests(const YamlNode& node, double total, bool allow_missing_hidden, Context& context,
+                     std::vector<SearchTestSpec>& tests, std::optional<lab::Error>& scenario_error,
+                     Diagnostics& diagnostics) {
+  if (!ExpectList(node, "search", diagnostics)) return false;
+  if (node.values.empty() || node.values.size() > kMaxSearchTests) {
+    return FailAt(node, "search",
+                  "needs 1 to " + std::to_string(kMaxSearchTests) + " search tests, got " +
+                      std::to_string(node.values.size()),
+                  diagnostics);
+  }
+  context.skip_missing = allow_missing_hidden;
+  double points = 0;
+  for (size_t i = 0; i < node.values.size(); ++i) {
+    SearchTestSpec test;
+    bool skipped = false;
+    if (!ReadSearchTest(node.values[i], IndexPath("search", i), context, test, skipped, scenario_error,
+                        diagnostics)) {
+      return false;
+    }
+    points += test.points;
+    if (!skipped) tests.push_back(std::move(test));
+  }
+  context.skip_missing = false;
+  if (points >= total) {
+    return FailAt(node, "search",
+                  "the search tests' points add up to " + FormatNumber(points) +
+                      ", which leaves nothing for the runs: they must be less than the assignment's 'points' (" +
+                      FormatNumber(total) + ")",
+                  diagnostics);
   }
   return true;
 }
@@ -258,7 +361,8 @@ bool ReadRubric(const YamlNode& node, const std::string& path, double total, Rub
 
 bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment& assignment,
                     std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"title", "points", "scenarios", "goal", "rubric", "mixable", "message"};
+  static constexpr std::string_view kKeys[] = {"title",  "points",  "scenarios", "goal",
+                                               "rubric", "mixable", "message",   "search"};
   if (root.is_null()) return diagnostics.Fail(0, 0, "the assignment is empty; it needs 'title', 'scenarios' and 'rubric'");
   if (!root.is_map()) return diagnostics.Fail(root.line, root.column, "the top level must be a map of keys (title, scenarios, rubric, ...)");
   if (!CheckKeys(root, "", kKeys, diagnostics) || !RequireKey(root, "", "title", diagnostics) ||
@@ -307,6 +411,12 @@ bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment&
     }
   }
   context.skip_missing = false;
+  if (const YamlNode* search = root.Find("search")) {
+    if (!ReadSearchTests(*search, assignment.points, allow_missing_hidden, context, assignment.search_tests,
+                         scenario_error, diagnostics)) {
+      return false;
+    }
+  }
   if (!ReadRubric(*root.Find("rubric"), "rubric", assignment.points, assignment.rubric, diagnostics)) return false;
   if (assignment.rubric.goal && context.goal == nullptr) {
     // A student's library has no built-in goal checker: every scenario must
@@ -325,6 +435,14 @@ bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment&
 }
 
 }  // namespace
+
+double RunPoints(const Assignment& assignment, bool with_hidden) {
+  double points = assignment.points;
+  for (const SearchTestSpec& test : assignment.search_tests) {
+    if (with_hidden || test.visibility == Visibility::kPublic) points -= test.points;
+  }
+  return points;
+}
 
 LoadResult LoadAssignmentFile(const std::string& path, const LoadOptions& options) {
   std::string file = path;

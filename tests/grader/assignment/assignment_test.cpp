@@ -185,6 +185,61 @@ TEST_F(AssignmentFileTest, MissingHiddenFilesAreDroppedOnlyWhenAllowed) {
       << "a public file is never optional";
 }
 
+const char* const kOneRun = "title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1]}]\n";
+
+TEST_F(AssignmentFileTest, SearchTestsAreReadWithTheirDefaults) {
+  const LoadResult result =
+      Load(std::string(kOneRun) + "search:\n  - {scenario: s/nogoal.yaml, max_losses: 1, points: 10}\n" +
+           "  - {scenario: s/three.yaml, name: deep, max_losses: 2, epochs: 4, points: 5, hidden: true, "
+           "time_limit_s: 30}\n" + kValidRubric);
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  const std::vector<SearchTestSpec>& tests = result.assignment->search_tests;
+  ASSERT_EQ(tests.size(), 2u);
+  EXPECT_EQ(tests[0].name, "nogoal");
+  EXPECT_EQ(tests[0].path, (folder_ / "s/nogoal.yaml").string());
+  EXPECT_EQ(tests[0].epochs, 2);
+  EXPECT_EQ(tests[0].time_limit_s, 300);
+  EXPECT_EQ(tests[0].visibility, Visibility::kPublic);
+  EXPECT_EQ(tests[1].name, "deep");
+  EXPECT_EQ(tests[1].max_losses, 2);
+  EXPECT_EQ(tests[1].epochs, 4);
+  EXPECT_EQ(tests[1].visibility, Visibility::kHidden);
+  EXPECT_EQ(RunPoints(*result.assignment, true), 85);
+  EXPECT_EQ(RunPoints(*result.assignment, false), 90);
+}
+
+TEST_F(AssignmentFileTest, AWrongSearchTestIsPlaced) {
+  EXPECT_TRUE(FailsAt(Load(std::string(kOneRun) + "search: [{scenario: s/three.yaml, max_losses: 9, points: 1}]\n" +
+                           kValidRubric),
+                      "assignment.yaml", 4, 47, "search[0].max_losses: must be in [0, 8], got 9"));
+  EXPECT_TRUE(FailsAt(Load(std::string(kOneRun) + "search: [{scenario: s/four.yaml, max_losses: 1, points: 1}]\n" +
+                           kValidRubric),
+                      "assignment.yaml", 4, 21, "search[0].scenario: no such scenario file 's/four.yaml'"));
+  EXPECT_TRUE(FailsAt(Load(std::string(kOneRun) + "search: [{scenario: s/three.yaml, max_loses: 1, points: 1}]\n" +
+                           kValidRubric),
+                      "assignment.yaml", 4, 35, "search[0]: unknown key 'max_loses' (did you mean 'max_losses'?)"));
+  EXPECT_TRUE(FailsAt(Load(std::string(kOneRun) + "search: [{scenario: s/three.yaml, max_losses: 1, points: 100}]\n" +
+                           kValidRubric),
+                      "assignment.yaml", 4, 9, "leaves nothing for the runs"));
+  EXPECT_TRUE(FailsAt(Load(std::string(kOneRun) +
+                           "search: [{scenario: s/three.yaml, max_losses: 1, points: 1},\n"
+                           "         {scenario: s/three.yaml, max_losses: 2, points: 1}]\n" +
+                           kValidRubric),
+                      "assignment.yaml", 5, 21, "another search test is already named 'three'"));
+}
+
+TEST_F(AssignmentFileTest, AMissingHiddenSearchScenarioIsDroppedOnlyWhenAllowed) {
+  const std::string text = std::string(kOneRun) +
+                           "search: [{scenario: h/secret.yaml, max_losses: 1, points: 10, hidden: true}]\n" +
+                           kValidRubric;
+  EXPECT_TRUE(FailsAt(Load(text), "assignment.yaml", 4, 21, "no such scenario file 'h/secret.yaml'"));
+  LoadOptions options;
+  options.allow_missing_hidden = true;
+  const LoadResult student_copy = LoadAssignmentFile(folder_.string(), options);
+  ASSERT_TRUE(student_copy.ok()) << student_copy.error->ToString();
+  EXPECT_TRUE(student_copy.assignment->search_tests.empty());
+}
+
 TEST_F(AssignmentFileTest, AScenarioErrorKeepsItsOwnFileAndPlace) {
   Write("s/broken.yaml", "robots: {count: 3}\napp: builtin:idle\ntiming: {duraton_s: 3}\n");
   EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/broken.yaml, seeds: [1]}]\n") +

@@ -38,15 +38,21 @@ struct GradeOptions {
   std::function<void(const assignment::TestResult&)> on_test;
 };
 
-/// The tests of `assignment`, in result.h's order, with name, scenario,
-/// seed, visibility, output folder and max_points set, nothing run.
+/// The tests of `assignment`, in result.h's order (the runs, then the search
+/// tests), with name, scenario, seed, visibility and output folder set,
+/// nothing run.
 std::vector<assignment::TestResult> PlanTests(const assignment::Assignment& assignment, bool public_only);
 
-/// result.h's rule: each test is worth `total_points / tests`, earns that
-/// times its run's fraction (0 with a run_error), passes with every point;
-/// the submission's points and tests_passed are the sums. Rounds to the
+/// PlanTests without the search tests: the runs alone (what a mixed swarm
+/// runs).
+std::vector<assignment::TestResult> PlanRuns(const assignment::Assignment& assignment, bool public_only);
+
+/// result.h's rule: a search test is worth its points, each run an equal
+/// share of the rest (assignment::RunPoints); a test earns its share times
+/// its fraction (0 with a run_error), passes with every point; the
+/// submission's points and tests_passed are the sums. Rounds to the
 /// hundredth.
-void AddUp(assignment::SubmissionResult& result, double total_points);
+void AddUp(assignment::SubmissionResult& result, const assignment::Assignment& assignment);
 
 /// The assignment as `options` grades it: with the hidden seeds derived
 /// for options.student_seeds when set (student_seeds.h), else as given.

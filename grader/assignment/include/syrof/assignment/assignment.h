@@ -37,6 +37,21 @@ struct ScenarioRun {
   bool scenario_has_goal = false; ///< the scenario file declares `goal:` itself
 };
 
+/// A search test (docs/grading.md, "Search tests"): the submission run
+/// under every pattern of up to `max_losses` lost beacons in the first
+/// `epochs` epochs of a scenario (lab/search, `syrof search`). It earns all
+/// its points when no pattern breaks the run, none when one does.
+struct SearchTestSpec {
+  std::string name;               ///< `name`, default the file's stem; unique among the assignment's tests
+  std::string file;               ///< `scenario:` as written, relative to the assignment folder
+  std::string path;               ///< resolved: assignment folder / file
+  int max_losses = 1;             ///< F
+  int epochs = 2;                 ///< E
+  double points = 0;              ///< taken from the assignment's points; the runs share the rest
+  double time_limit_s = 300;      ///< wall time for the whole search (the grader's limit)
+  Visibility visibility = Visibility::kPublic;  ///< `hidden: true`: only the grader has the file
+};
+
 /// Points for a criterion; every criterion is optional (absent: not scored).
 /// The scoring rules are docs/grading.md's ("Scoring one run").
 struct GoalCriterion {
@@ -96,6 +111,9 @@ struct Assignment {
   /// declare it (`none` when the robots send nothing): `syrof grade --mix`
   /// checks every payload against it and names the side that broke it.
   std::optional<lab::message::MessageFormat> message;
+  /// `search:`: search tests, after the runs. Their points add up to less
+  /// than `points`; every run shares what is left.
+  std::vector<SearchTestSpec> search_tests;
   /// Loaded with LoadOptions::allow_missing_hidden and a hidden scenario file
   /// was missing: hidden_runs is empty and only the public sets can be graded.
   bool hidden_missing = false;
@@ -123,5 +141,11 @@ LoadResult LoadAssignmentFile(const std::string& path, const LoadOptions& option
 /// Most seeds in one set entry, and most scenarios in one set.
 inline constexpr size_t kMaxSeeds = 1000;
 inline constexpr size_t kMaxScenariosPerSet = 100;
+/// Most search tests an assignment declares.
+inline constexpr size_t kMaxSearchTests = 20;
+
+/// The points the runs share: the assignment's, less those of the search
+/// tests graded (`with_hidden`: the hidden ones too).
+double RunPoints(const Assignment& assignment, bool with_hidden);
 
 }  // namespace syrof::grader::assignment

@@ -36,12 +36,14 @@ struct ExpectedLoad {
 
 /// Reads `path` (an expected.yaml) for `assignment`: `points` required, at
 /// most the assignment's points, with at most two decimals; `loses`
-/// required, each a criterion of the assignment's rubric, at most once
+/// required, each a criterion of the assignment's rubric (or `search` when it
+/// has search tests), at most once
 /// (returned in the rubric's order, whatever the file's).
 ExpectedLoad LoadExpectedFile(const std::string& path, const Assignment& assignment);
 
 /// The rubric's criteria in their order: goal, collisions, safety,
-/// synchrony, common_knowledge, agreement, faults.
+/// synchrony, common_knowledge, agreement, faults; then search (the search
+/// tests, when the assignment has any).
 const std::vector<std::string>& CriterionOrder();
 
 /// The criteria that scored below their full points on at least one of

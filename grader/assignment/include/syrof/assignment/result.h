@@ -3,9 +3,10 @@
 // (`syrof grade`, grader/) fills it; the reports (grader/report: Gradescope
 // results.json, JUnit XML, the HTML report, the class CSV) only read it.
 //
-// How runs add up (docs/grading.md, "A submission's score"): every test is
-// worth the same share of the assignment's points, `points / tests`; a test
-// earns that share times its run's fraction (run points / run max points).
+// How runs add up (docs/grading.md, "A submission's score"): a search test
+// is worth its own points, and every other test the same share of the rest,
+// `(points - search points) / runs`; a test earns its share times its
+// run's fraction (run points / run max points).
 // The total is the exact sum rounded once to the hundredth (each test's
 // points are rounded for display only), so full marks on every run is
 // exactly the assignment's points whatever the number of tests.
@@ -39,11 +40,12 @@ struct BuildResult {
   bool ok() const { return verdict == "ok"; }
 };
 
-/// One graded run: one scenario of a set with one seed.
+/// One graded run: one scenario of a set with one seed; or a search test.
 struct TestResult {
-  std::string name;      ///< "<scenario name>/seed-<seed>", unique in the submission
-  std::string scenario;  ///< the ScenarioRun's name
-  uint64_t seed = 0;
+  std::string name;      ///< "<scenario name>/seed-<seed>", or "search/<name>"; unique in the submission
+  std::string scenario;  ///< the ScenarioRun's name (the SearchTestSpec's for a search test)
+  uint64_t seed = 0;     ///< a search test's: the scenario file's seed
+  bool search = false;   ///< a search test: its score is one criterion, "search", all or nothing
   Visibility visibility = Visibility::kPublic;
   RunScore score;              ///< per criterion (empty when the run did not finish)
   double max_points = 0;       ///< this test's share of the assignment's points

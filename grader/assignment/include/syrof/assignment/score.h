@@ -13,7 +13,7 @@
 namespace syrof::grader::assignment {
 
 struct CriterionScore {
-  std::string criterion;  ///< "goal", "collisions", "safety", "synchrony", "common_knowledge", "agreement", "faults"
+  std::string criterion;  ///< "goal", "collisions", "safety", "synchrony", "common_knowledge", "agreement", "faults"; "search" for a search test
   double points = 0;      ///< earned, in [0, max_points]
   double max_points = 0;
   std::string reason;     ///< why points were lost, or what earned them

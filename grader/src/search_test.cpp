@@ -1,0 +1,106 @@
+// A search test of an assignment (docs/grading.md, "Search tests"): the
+// student's library under every loss pattern within the test's budget
+// (lab/search), scored all or nothing.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+
+#include "syrof/app_host/hosted_app.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/search/search.h"
+#include "syrof/lab/sim/run_parts.h"
+#include "run_scenario.h"
+
+namespace syrof::grader::internal {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Plural(int64_t count, const char* word) {
+  return fmt::format("{} {}{}", count, word, count == 1 ? "" : "s");
+}
+
+std::string PatternText(const std::vector<lab::world::LostBeacon>& lost) {
+  if (lost.empty()) return "without any lost beacon (the loss-free run)";
+  std::string text = "by " + Plural(static_cast<int64_t>(lost.size()), "lost beacon") + " [round, sender, receiver]:";
+  for (const lab::world::LostBeacon& beacon : lost) {
+    text += fmt::format(" [{}, {}, {}]", beacon.round, beacon.from, beacon.to);
+  }
+  return text;
+}
+
+}  // namespace
+
+void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& library, const std::string& out_dir,
+                   assignment::TestResult& test) {
+  // The library in the scenario's place, as `syrof search --app` puts it, so
+  // the counterexample's file names it and reruns the same.
+  lab::scenario::Overrides overrides;
+  overrides.app = library;
+  const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(spec.path, overrides);
+  if (!loaded.ok()) {
+    test.run_error = "the scenario does not load: " + loaded.error->ToString();
+    return;
+  }
+  const lab::scenario::Scenario& scenario = *loaded.scenario;
+  app_host::HostOptions host;
+  host.library_path = library;
+  host.params = scenario.app.params;
+  if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
+  host.limits.wall_cap_ms = scenario.app.wall_cap_ms ? *scenario.app.wall_cap_ms
+                                                     : std::max(host.limits.wall_cap_ms, 4 * host.limits.cpu_budget_ms);
+  for (const lab::scenario::RobotSpec& robot : scenario.robots) {
+    host.inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
+  }
+  lab::search::SearchOptions options;
+  options.max_losses = spec.max_losses;
+  options.epochs = spec.epochs;
+  options.jobs = 1;  // the grader's workers already run tests side by side
+  options.time_limit_s = spec.time_limit_s;
+  options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
+  options.app_source = library;
+  options.app_sandbox = app_host::SandboxNotes();
+  const lab::search::SearchResult result = lab::search::Search(scenario, options);
+  test.wall_seconds = result.seconds;
+
+  assignment::CriterionScore score;
+  score.criterion = "search";
+  score.max_points = spec.points;
+  const std::string budget = fmt::format("up to {} in the first {}", Plural(spec.max_losses, "lost beacon"),
+                                         Plural(spec.epochs, "epoch"));
+  if (result.stopped_by_time) {
+    test.run_error = fmt::format("the search took longer than its time limit of {} s (wall clock) and was stopped "
+                                 "after {}",
+                                 spec.time_limit_s, Plural(result.runs, "run"));
+    return;
+  }
+  if (!result.counterexample) {
+    score.points = spec.points;
+    score.reason = fmt::format("no pattern of {} broke it ({})", budget, Plural(result.runs, "run"));
+  } else {
+    const lab::search::Counterexample& found = *result.counterexample;
+    score.points = 0;
+    score.reason = "broken " + PatternText(found.lost) + ":";
+    for (size_t i = 0; i < found.violations.size(); ++i) {
+      score.reason += fmt::format("{} {}: {}", i == 0 ? "" : ";", found.violations[i].property,
+                                  found.violations[i].detail);
+    }
+    const fs::path dir = fs::path(out_dir) / test.output_dir;
+    std::error_code error;
+    fs::create_directories(dir, error);
+    const lab::search::CounterexampleSource source{spec.path, library, std::nullopt};
+    if (std::string problem = lab::search::WriteCounterexample(dir.string(), scenario, source, found, options);
+        problem.empty()) {
+      test.replay_path = test.output_dir + "/replay";
+    } else {
+      score.reason += " (the counterexample could not be written: " + problem + ")";
+    }
+  }
+  test.score.criteria.push_back(score);
+  test.score.points = score.points;
+  test.score.max_points = score.max_points;
+}
+
+}  // namespace syrof::grader::internal
