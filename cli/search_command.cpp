@@ -115,6 +115,10 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   }
   const search::SearchResult result = search::Search(scenario, search_options);
   if (search_options.progress) fmt::print(err, "\n");
+  if (!result.error.empty()) {
+    fmt::print(err, "syrof search: {}\n", result.error);
+    return 2;
+  }
   if (result.complete_losses >= 0) {
     fmt::print(out, "  window: {} radio rounds ({} epoch{} of the loss-free run), {} beacon slots; {} patterns in all\n",
                result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,

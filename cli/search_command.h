@@ -37,7 +37,8 @@ CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options);
 /// Returns 0 when no pattern within the budget broke the run, 1 when one did
 /// (the counterexample is written) or on an internal error, 2 on bad input
 /// (a bad scenario, a library that does not load, an output folder that
-/// cannot be made). Progress goes to `err` when `err_is_terminal`.
+/// cannot be made, a window with more beacon slots than a search can try).
+/// Progress goes to `err` when `err_is_terminal`.
 int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal);
 
 }  // namespace syrof::cli

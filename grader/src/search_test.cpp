@@ -70,6 +70,10 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   score.max_points = spec.points;
   const std::string budget = fmt::format("up to {} in the first {}", Plural(spec.max_losses, "lost beacon"),
                                          Plural(spec.epochs, "epoch"));
+  if (!result.error.empty()) {
+    test.run_error = "the search could not start: " + result.error;
+    return;
+  }
   if (result.stopped_by_time) {
     test.run_error = fmt::format("the search took longer than its time limit of {} s (wall clock) and was stopped "
                                  "after {}",

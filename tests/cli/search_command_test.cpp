@@ -99,6 +99,14 @@ TEST(SearchCommandTest, BadInputExitsTwoAndSaysWhatIsWrong) {
   EXPECT_EQ(no_entry.status, 2);
   EXPECT_NE(no_entry.err.find("syrof_app_entry"), std::string::npos) << no_entry.err;
 
+  // 200 robots over 3 epochs: about 2.4 M slots.
+  const fs::path crowd = dir / "crowd.yaml";
+  std::ofstream(crowd) << "robots: { count: 200, spacing_m: 0.5 }\narena: { width_m: 20, height_m: 20 }\n"
+                       << "timing: { duration_s: 4 }\napp: builtin:idle\n";
+  const Outcome crowded = RunSearch({crowd.string(), "--max-losses", "1", "--out", dir / "crowd"});
+  EXPECT_EQ(crowded.status, 2);
+  EXPECT_NE(crowded.err.find("more than a search can try"), std::string::npos) << crowded.err;
+
   const Outcome negative = RunSearch({WriteSearchScenario(dir, "builtin:idle"), "--max-losses", "-1"});
   EXPECT_EQ(negative.status, 2);
   const Outcome absent = RunSearch({WriteSearchScenario(dir, "builtin:idle")});

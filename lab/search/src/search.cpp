@@ -347,6 +347,15 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   const Window window = WindowOf(replay_bytes.str(), baseline.metrics.radio_rounds, options.epochs);
   result.window_rounds = window.rounds;
   result.epochs_in_window = window.epochs;
+  const auto robots = static_cast<int64_t>(scenario.robots.size());
+  if (const int64_t most = robots * (robots - 1) * window.rounds; most > kMaxSearchSlots) {
+    result.error = fmt::format(
+        "the first {} epoch{} hold up to {} beacon slots ({} robots, {} radio rounds), more than a search can try "
+        "(at most {}): search a smaller swarm or fewer epochs",
+        window.epochs, window.epochs == 1 ? "" : "s", most, robots, window.rounds, kMaxSearchSlots);
+    result.seconds = elapsed_s();
+    return result;
+  }
   const std::vector<LostBeacon> slots = SlotsOf(scenario, window.rounds);
   result.slots = static_cast<int64_t>(slots.size());
 

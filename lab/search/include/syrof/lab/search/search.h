@@ -41,6 +41,9 @@ inline constexpr int kMaxSearchLosses = 8;
 inline constexpr int kMaxSearchEpochs = 1000;
 /// Most threads running patterns side by side.
 inline constexpr int kMaxSearchJobs = 64;
+/// Most beacon slots a window may hold (robots x robots x rounds): a search
+/// is for a small swarm over a few epochs.
+inline constexpr int64_t kMaxSearchSlots = 1'000'000;
 
 struct SearchOptions {
   int max_losses = 1;         ///< 0 .. kMaxSearchLosses
@@ -83,6 +86,9 @@ struct SearchResult {
   int complete_losses = -1;       ///< every pattern of up to this many losses was run (-1: not even the loss-free one)
   bool stopped_by_time = false;   ///< the time limit ended the search
   double seconds = 0;             ///< wall time
+  /// Set when the search could not start: the window holds more than
+  /// kMaxSearchSlots slots (the message says how many and what to shrink).
+  std::string error;
   /// The first pattern in search order that broke the run; none if no
   /// pattern within the budget did. A loss-free run that breaks is one, with
   /// no lost beacons.
