@@ -71,6 +71,20 @@ TEST(SearchCommandTest, FindsThePatternThatBreaksALibraryAndItRerunsBitForBit) {
   EXPECT_EQ(ReadFile(dir / "rerun" / "metrics.json"), ReadFile(out / "metrics.json"));
 }
 
+TEST(SearchCommandTest, AScenarioWithoutANameKeepsItsNameInTheCounterexample) {
+  // The counterexample's file is named counterexample.yaml: without the
+  // name written in, its rerun was named "counterexample" and differed.
+  const fs::path dir = FreshDir("syrof_search_test_", "unnamed");
+  fs::create_directories(dir);
+  const fs::path scenario = dir / "three.yaml";
+  std::ofstream(scenario) << "robots: { count: 3, spacing_m: 1.0 }\ntiming: { duration_s: 3 }\napp: builtin:idle\n";
+  const Outcome outcome = RunSearch({scenario.string(), "--max-losses", "1", "--app", TestLib("robot0_loops"),
+                                     "--out", (dir / "out").string()});
+  ASSERT_EQ(outcome.status, 1) << outcome.out << outcome.err;
+  EXPECT_NE(outcome.out.find("BROKEN without any lost beacon"), std::string::npos) << outcome.out;
+  EXPECT_NE(ReadFile(dir / "out" / "metrics.json").find("\"scenario\": \"three\""), std::string::npos);
+}
+
 TEST(SearchCommandTest, TheStarterAppSurvivesAndTheSearchSaysHowFarItGot) {
   const fs::path dir = FreshDir("syrof_search_test_", "starter");
   const std::string scenario = WriteSearchScenario(dir, TestLib("starter_c"));

@@ -186,6 +186,7 @@ std::string CounterexampleText(const scenario::Scenario& resolved, const Counter
   }
   channel["lost"] = list;
   root["channel"] = channel;
+  root["name"] = resolved.name;  // else the name would be the new file's stem
   root["seed"] = resolved.seed;
   if (source.duration_s) root["timing"]["duration_s"] = *source.duration_s;
   if (resolved.app.is_library()) {
