@@ -52,15 +52,9 @@ std::optional<app_host::HostLimits> LimitsFor(const scenario::AppSpec& app, cons
     }
     return app_host::HostLimits{};
   }
-  app_host::HostLimits limits;
   const std::optional<uint32_t> cpu = options.cpu_budget_ms ? options.cpu_budget_ms : app.cpu_budget_ms;
   const std::optional<uint32_t> wall = options.wall_cap_ms ? options.wall_cap_ms : app.wall_cap_ms;
-  if (cpu) limits.cpu_budget_ms = *cpu;
-  if (wall) {
-    limits.wall_cap_ms = *wall;
-  } else {
-    limits.wall_cap_ms = std::max(limits.wall_cap_ms, 4 * limits.cpu_budget_ms);
-  }
+  const app_host::HostLimits limits = app_host::HostLimits::ForBudgets(cpu, wall);
   if (limits.wall_cap_ms < limits.cpu_budget_ms) {
     problem = fmt::format("the wall cap ({} ms) must be at least the CPU budget ({} ms)", limits.wall_cap_ms,
                           limits.cpu_budget_ms);

@@ -72,8 +72,9 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     app_host::HostOptions host;
     host.library_path = scenario.app.library;
     host.params = scenario.app.params;
-    if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
-    if (scenario.app.wall_cap_ms) host.limits.wall_cap_ms = *scenario.app.wall_cap_ms;
+    // As `syrof run` and the grader set them (an unset wall cap is at least
+    // 4x the CPU budget).
+    host.limits = app_host::HostLimits::ForBudgets(scenario.app.cpu_budget_ms, scenario.app.wall_cap_ms);
     for (const scenario::RobotSpec& robot : scenario.robots) {
       host.inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
     }

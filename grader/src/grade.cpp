@@ -66,10 +66,7 @@ const ScenarioRun* FindRun(const Assignment& assignment, const TestResult& test)
 // defaults, as `syrof run` sets them (an unset wall cap is at least 4x the
 // CPU budget).
 app_host::HostLimits LimitsFor(const lab::scenario::AppSpec& app) {
-  app_host::HostLimits limits;
-  if (app.cpu_budget_ms) limits.cpu_budget_ms = *app.cpu_budget_ms;
-  limits.wall_cap_ms = app.wall_cap_ms ? *app.wall_cap_ms : std::max(limits.wall_cap_ms, 4 * limits.cpu_budget_ms);
-  return limits;
+  return app_host::HostLimits::ForBudgets(app.cpu_budget_ms, app.wall_cap_ms);
 }
 
 }  // namespace

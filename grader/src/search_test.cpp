@@ -3,7 +3,6 @@
 // (lab/search), scored all or nothing.
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <filesystem>
 #include <memory>
 
@@ -48,9 +47,7 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   app_host::HostOptions host;
   host.library_path = library;
   host.params = scenario.app.params;
-  if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
-  host.limits.wall_cap_ms = scenario.app.wall_cap_ms ? *scenario.app.wall_cap_ms
-                                                     : std::max(host.limits.wall_cap_ms, 4 * host.limits.cpu_budget_ms);
+  host.limits = app_host::HostLimits::ForBudgets(scenario.app.cpu_budget_ms, scenario.app.wall_cap_ms);
   for (const lab::scenario::RobotSpec& robot : scenario.robots) {
     host.inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
   }

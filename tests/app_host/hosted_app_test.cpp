@@ -133,6 +133,14 @@ class HostedAppTest : public ::testing::Test {
         << "detail: " << checked.detail();                                         \
   } while (false)
 
+TEST(HostLimitsTest, AnUnsetWallCapIsAtLeastFourTimesTheCpuBudget) {
+  EXPECT_EQ(HostLimits::ForBudgets(std::nullopt, std::nullopt).wall_cap_ms, 2000u);
+  EXPECT_EQ(HostLimits::ForBudgets(1000, std::nullopt).cpu_budget_ms, 1000u);
+  EXPECT_EQ(HostLimits::ForBudgets(1000, std::nullopt).wall_cap_ms, 4000u);
+  EXPECT_EQ(HostLimits::ForBudgets(1000, 1500).wall_cap_ms, 1500u);
+  EXPECT_EQ(HostLimits::ForBudgets(std::nullopt, 300).cpu_budget_ms, 100u);
+}
+
 TEST_F(HostedAppTest, SegfaultIsACrashNamingTheSignal) { EXPECT_VERDICT(RunOnce("segfault"), kCrashed, "SIGSEGV"); }
 
 TEST_F(HostedAppTest, AbortIsACrashNamingTheSignal) { EXPECT_VERDICT(RunOnce("abort"), kCrashed, "SIGABRT"); }

@@ -18,9 +18,11 @@
 // robot is stopped with the verdict output_limit.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,16 @@ struct HostLimits {
   uint64_t address_space_bytes = 256ull << 20;  ///< RLIMIT_AS of the host
   uint64_t log_keep_bytes = 64ull << 10;        ///< output kept in the robot's log
   uint64_t output_limit_bytes = 16ull << 20;    ///< output past this stops the robot (output_limit)
+
+  /// The limits for a scenario's (or command line's) budgets over these
+  /// defaults: an unset wall cap is raised to 4x the CPU budget when that is
+  /// more, so a larger budget is not cut short by the default wall cap.
+  static HostLimits ForBudgets(std::optional<uint32_t> cpu_budget_ms, std::optional<uint32_t> wall_cap_ms) {
+    HostLimits limits;
+    if (cpu_budget_ms) limits.cpu_budget_ms = *cpu_budget_ms;
+    limits.wall_cap_ms = wall_cap_ms ? *wall_cap_ms : std::max(limits.wall_cap_ms, 4 * limits.cpu_budget_ms);
+    return limits;
+  }
 };
 
 /// How to start the hosts of one run.
