@@ -15,6 +15,7 @@
 #include "syrof/lab/replay/reader.h"
 #include "syrof/lab/message/message_format.h"
 #include "syrof/lab/replay/replay.h"
+#include "syrof/lab/view/page_data.h"
 #include "view_assets.h"
 
 namespace syrof::lab::view {
@@ -23,18 +24,6 @@ namespace {
 namespace replay = lab::replay;
 using nlohmann::json;
 
-// Version of the page's data layout (docs/viewer.md); the page checks it.
-constexpr int kDataVersion = 1;
-
-// Millimetres (or milliradians) as an integer for the page. The reader
-// accepts any float bits, so a value JSON cannot hold (NaN, infinity) or an
-// absurd one is drawn at 0 or at the clamp instead of breaking the page.
-int32_t Milli(float value) {
-  if (!std::isfinite(value)) return 0;
-  const double milli = std::clamp(static_cast<double>(value) * 1000.0, -1e9, 1e9);
-  return static_cast<int32_t>(std::lround(milli));
-}
-
 // Robot ids and partitions as the page sees them: -1 for none.
 int64_t IdOrNone(uint16_t id) { return id == replay::kNoRobot ? -1 : id; }
 
@@ -42,6 +31,15 @@ std::string Hex(const std::vector<uint8_t>& bytes) {
   std::string text;
   for (const uint8_t byte : bytes) text += fmt::format("{:02x}", byte);
   return text;
+}
+
+// The event kinds' names, by number.
+json KindNames() {
+  json names = json::array();
+  for (unsigned kind = 0; kind <= static_cast<unsigned>(replay::kLastEventKind); ++kind) {
+    names.push_back(replay::ToString(static_cast<replay::EventKind>(kind)));
+  }
+  return names;
 }
 
 // Successive differences: small numbers, so a smaller page.
@@ -74,14 +72,70 @@ size_t Find(std::string_view text, std::string_view marker) {
 
 }  // namespace
 
+int32_t Milli(float value) {
+  if (!std::isfinite(value)) return 0;
+  const double milli = std::clamp(static_cast<double>(value) * 1000.0, -1e9, 1e9);
+  return static_cast<int32_t>(std::lround(milli));
+}
+
+int64_t FrameState(const replay::RobotFrame& frame) {
+  return static_cast<int64_t>(frame.presence) | frame.status << 2 | frame.phase << 3 | frame.mode << 5;
+}
+
+json EventData(const replay::Event& event, int64_t position) {
+  return {position, static_cast<int>(event.kind), IdOrNone(event.robot), IdOrNone(event.other),
+          event.epoch, event.mode, event.time_ns / 1000,
+          event.partition == replay::kNoPartition ? -1 : int64_t{event.partition}};
+}
+
+json MapData(const replay::EpochMap& map, const replay::Header& header) {
+  // Each member's payload is decoded here, with lab/message's decoder (the
+  // grader checks payloads with the same definition), so the page never
+  // parses bytes itself.
+  auto decoded = [&header](const std::vector<uint8_t>& payload) -> json {
+    if (!header.message || header.message->none || payload.empty()) return nullptr;
+    const std::vector<message::FieldValue> values = message::DecodePayload(*header.message, payload);
+    if (values.empty()) return nullptr;  // not the format's length: shown as hex, marked
+    json fields = json::array();
+    for (const message::FieldValue& value : values) fields.push_back({value.name, value.value});
+    return fields;
+  };
+  json members = json::array();
+  for (const replay::MapMember& member : map.members) {
+    members.push_back({member.id, member.phase, member.x_mm, member.y_mm, member.heading_mrad, member.vx_mm_s,
+                       member.vy_mm_s, Hex(member.payload), decoded(member.payload)});
+  }
+  return {map.epoch, map.mode, std::move(members)};
+}
+
+json HeaderData(const replay::Header& header, int replay_version) {
+  json data;
+  data["data_version"] = kDataVersion;
+  data["kinds"] = KindNames();
+  data["replay_version"] = replay_version;
+  data["scenario"] = header.scenario_name;
+  data["app"] = header.app_name;
+  data["seed"] = std::to_string(header.seed);  // a u64 does not fit a JS number
+  data["round_ns"] = header.radio_round_ns;
+  data["arena"] = {header.arena_width_m, header.arena_height_m};
+  data["anchors"] = json::array();
+  for (const replay::AnchorInfo& anchor : header.anchors) data["anchors"].push_back({anchor.x_m, anchor.y_m});
+  data["robots"] = json::array();
+  for (const replay::RobotInfo& robot : header.robots) {
+    json inputs = json::array();
+    for (const replay::InputValue& input : robot.inputs) inputs.push_back({input.name, input.value});
+    data["robots"].push_back(
+        {{"id", robot.id}, {"kind", robot.kind}, {"radius", robot.body_radius_m}, {"inputs", std::move(inputs)}});
+  }
+  data["message"] = header.message ? json(header.message->ToString()) : json(nullptr);
+  return data;
+}
+
 std::string ReplayJson(std::istream& in, const std::string& name, const PageOptions& options, Page& page) {
   json data;
   data["data_version"] = kDataVersion;
   data["file"] = name;
-  data["kinds"] = json::array();
-  for (unsigned kind = 0; kind <= static_cast<unsigned>(replay::kLastEventKind); ++kind) {
-    data["kinds"].push_back(replay::ToString(static_cast<replay::EventKind>(kind)));
-  }
+  data["kinds"] = KindNames();
   page = Page{};
 
   if (in.peek() == std::istream::traits_type::eof()) {
@@ -131,33 +185,7 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
     return data.dump();
   }
 
-  data["replay_version"] = reader.version();
-  data["scenario"] = header.scenario_name;
-  data["app"] = header.app_name;
-  data["seed"] = std::to_string(header.seed);  // a u64 does not fit a JS number
-  data["round_ns"] = header.radio_round_ns;
-  data["arena"] = {header.arena_width_m, header.arena_height_m};
-  data["anchors"] = json::array();
-  for (const replay::AnchorInfo& anchor : header.anchors) data["anchors"].push_back({anchor.x_m, anchor.y_m});
-  data["robots"] = json::array();
-  for (const replay::RobotInfo& robot : header.robots) {
-    json inputs = json::array();
-    for (const replay::InputValue& input : robot.inputs) inputs.push_back({input.name, input.value});
-    data["robots"].push_back(
-        {{"id", robot.id}, {"kind", robot.kind}, {"radius", robot.body_radius_m}, {"inputs", std::move(inputs)}});
-  }
-  // The message format, when the run had one: each member's payload is
-  // decoded here, with lab/message's decoder (the grader checks payloads
-  // with the same definition), so the page never parses bytes itself.
-  data["message"] = header.message ? json(header.message->ToString()) : json(nullptr);
-  auto decoded = [&header](const std::vector<uint8_t>& payload) -> json {
-    if (!header.message || header.message->none || payload.empty()) return nullptr;
-    const std::vector<message::FieldValue> values = message::DecodePayload(*header.message, payload);
-    if (values.empty()) return nullptr;  // not the format's length: shown as hex, marked
-    json fields = json::array();
-    for (const message::FieldValue& value : values) fields.push_back({value.name, value.value});
-    return fields;
-  };
+  data.update(HeaderData(header, reader.version()));
 
   // Read everything the reader accepts; frames are carried forward for a
   // robot a round leaves out, as the format defines.
@@ -185,8 +213,7 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
     for (size_t i = 0; position % static_cast<int64_t>(read_stride) == 0 && i < robot_count; ++i) {
       const replay::RobotFrame& frame = current[i];
       Columns& column = columns[i];
-      column.state.push_back(static_cast<int64_t>(frame.presence) | frame.status << 2 | frame.phase << 3 |
-                             frame.mode << 5);
+      column.state.push_back(FrameState(frame));
       column.epoch.push_back(frame.epoch);
       column.x.push_back(Milli(frame.true_x_m));
       column.y.push_back(Milli(frame.true_y_m));
@@ -196,20 +223,13 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
       column.eh.push_back(Milli(frame.est_heading_rad));
     }
     for (const replay::Event& event : round.events) {
-      events.push_back({position, static_cast<int>(event.kind), IdOrNone(event.robot), IdOrNone(event.other),
-                        event.epoch, event.mode, event.time_ns / 1000,
-                        event.partition == replay::kNoPartition ? -1 : int64_t{event.partition}});
+      events.push_back(EventData(event, position));
     }
     for (const replay::RobotMap& entry : round.maps) {
       auto [found, inserted] = map_numbers.emplace(entry.map.get(), map_numbers.size());
       if (inserted) {
         keep_alive.push_back(entry.map);
-        json members = json::array();
-        for (const replay::MapMember& member : entry.map->members) {
-          members.push_back({member.id, member.phase, member.x_mm, member.y_mm, member.heading_mrad, member.vx_mm_s,
-                             member.vy_mm_s, Hex(member.payload), decoded(member.payload)});
-        }
-        maps.push_back({entry.map->epoch, entry.map->mode, std::move(members)});
+        maps.push_back(MapData(*entry.map, header));
       }
       starts.push_back({position, entry.robot, found->second});
     }
