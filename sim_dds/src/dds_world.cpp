@@ -367,6 +367,7 @@ bool DdsWorld::CreateEntities() {
 }
 
 void DdsWorld::OpenReplay() {
+  for (lab::replay::RoundSink* sink : options_.sinks) recorder_.AddSink(sink);
   if (!options_.replay) return;
   replay_file_.open(std::filesystem::path(options_.out_dir) / "replay", std::ios::binary);
   recorder_.OpenReplay(replay_file_);

@@ -28,6 +28,12 @@ void RoundRecorder::OpenReplay(std::ostream& out) {
   replay_.emplace(out, ReplayHeader(scenario_));
 }
 
+void RoundRecorder::AddSink(replay::RoundSink* sink) {
+  SYROF_CHECK(sink != nullptr && !finished_);
+  sinks_.push_back(sink);
+  sink->OnHeader(ReplayHeader(scenario_));
+}
+
 void RoundRecorder::OnEpochStart(uint16_t robot, int64_t round, int64_t time_ns, const sync::LDMap& ldmap) {
   collector_.OnEpochStart(robot, round, time_ns, ldmap);
   if (!any_epoch_ || sync::EpochDifference(ldmap.epoch, newest_epoch_) > 0) {
@@ -47,14 +53,19 @@ void RoundRecorder::RecordRound(const RecordedRound& round) {
     if (epoch_sample_) goal_monitor_.OnEpoch(*epoch_sample_, time_s, running);
   }
   epoch_sample_.reset();
-  if (!replay_) return;
+  if (!replaying()) return;
   std::stable_sort(round.maps.begin(), round.maps.end(),
                    [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
-  replay_->WriteRound(static_cast<uint32_t>(round.round), round.time_ns, round.frames, round.events, round.maps);
+  const auto index = static_cast<uint32_t>(round.round);
+  if (replay_) replay_->WriteRound(index, round.time_ns, round.frames, round.events, round.maps);
+  for (replay::RoundSink* sink : sinks_) sink->OnRound(index, round.time_ns, round.frames, round.events, round.maps);
 }
 
-void RoundRecorder::FinishReplay() {
+void RoundRecorder::FinishReplay(bool complete) {
+  if (finished_) return;
+  finished_ = true;
   if (replay_) replay_->Finish();
+  for (replay::RoundSink* sink : sinks_) sink->OnFinish(complete);
 }
 
 std::optional<Error> RoundRecorder::replay_error() const {

@@ -296,6 +296,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
     robot->Attach();
   }
 
+  for (replay::RoundSink* sink : options_.sinks) recorder_.AddSink(sink);
   if (options_.replay != nullptr) recorder_.OpenReplay(*options_.replay);
   frames_.resize(robots_.size());
   robot_rounds_.resize(robots_.size());

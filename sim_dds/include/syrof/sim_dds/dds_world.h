@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "syrof/lab/metrics/metrics.h"
+#include "syrof/lab/replay/round_sink.h"
 #include "syrof/lab/scenario/scenario.h"
 
 namespace syrof::sim_dds {
@@ -37,6 +38,10 @@ struct SwarmOptions {
   lab::scenario::Overrides overrides;
   std::string out_dir;                   ///< metrics.json and replay go here (created)
   bool replay = true;
+  /// Readers of the rounds as the world records them (the live page,
+  /// lab/live): each gets what the replay gets, with or without a replay
+  /// (lab::sim::RoundRecorder::AddSink). Each outlives RunSwarm.
+  std::vector<lab::replay::RoundSink*> sinks;
   /// The robot binary; empty: $SYROF_ROBOT_BINARY, else syrof-robot next to
   /// this executable.
   std::string robot_binary;

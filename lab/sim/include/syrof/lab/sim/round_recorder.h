@@ -24,6 +24,7 @@
 // Usage, per run:
 //   RoundRecorder recorder(scenario, CollectorConfigFor(scenario));
 //   WorldPlayer player(scenario, world, recorder.collector());
+//   recorder.AddSink(&live);                          // any readers of the rounds
 //   recorder.OpenReplay(file);                        // when there is a replay
 //   ... recorder.OnEpochStart(...) as robots start epochs,
 //   ... recorder.collector().OnMembership(...) and the other events,
@@ -45,6 +46,7 @@
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/replay.h"
+#include "syrof/lab/replay/round_sink.h"
 #include "syrof/lab/replay/writer.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/world_player.h"
@@ -100,8 +102,15 @@ class RoundRecorder {
   /// Starts the replay: its header (ReplayHeader(scenario)) to `out` now,
   /// a round at every RecordRound. `out` outlives the recorder. At most once.
   void OpenReplay(std::ostream& out);
-  /// Whether a replay is being written (a runtime builds maps only then).
-  bool replaying() const { return replay_.has_value(); }
+  /// Adds a reader of the rounds (the live page, a bridge): it gets the
+  /// header (ReplayHeader(scenario)) now, every RecordRound's round as the
+  /// replay gets it (maps sorted by robot) and FinishReplay's end, whether
+  /// or not a replay is written. `sink` outlives the recorder or its
+  /// FinishReplay; the calls come on the recording thread.
+  void AddSink(replay::RoundSink* sink);
+  /// Whether rounds are recorded, to a replay or a sink (a runtime builds
+  /// maps only then).
+  bool replaying() const { return replay_.has_value() || !sinks_.empty(); }
 
   /// `robot` started epoch `ldmap.epoch` with `ldmap` at world time
   /// `time_ns`, in `round`: to the collector, and a goal sample at the
@@ -121,8 +130,9 @@ class RoundRecorder {
   /// run whose apps never returned still reports 0 COOPERATIVE epochs).
   void MeasureAgreement() { agreement_.emplace(); }
 
-  /// Ends the replay (its end marker); nothing without a replay.
-  void FinishReplay();
+  /// Ends the replay (its end marker) and tells the sinks the run ended
+  /// (`complete`: it ran to its end). At most once.
+  void FinishReplay(bool complete = true);
   /// Why the replay writer stopped (a value the format cannot hold, a
   /// failing stream); unset when the replay was written whole or not at all.
   std::optional<Error> replay_error() const;
@@ -144,6 +154,8 @@ class RoundRecorder {
   metrics::Collector collector_;
   goals::GoalMonitor goal_monitor_;
   std::optional<replay::Writer> replay_;
+  std::vector<replay::RoundSink*> sinks_;
+  bool finished_ = false;
   std::optional<metrics::AgreementTracker> agreement_;
   bool any_epoch_ = false;
   uint16_t newest_epoch_ = 0;

@@ -28,6 +28,7 @@
 #include "syrof/app/app.h"
 #include "syrof/lab/base/error.h"
 #include "syrof/lab/metrics/collector.h"
+#include "syrof/lab/replay/round_sink.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/runtime/robot.h"
@@ -39,6 +40,10 @@ inline constexpr int kMaxThreads = 64;
 
 struct SimulationOptions {
   std::ostream* replay = nullptr;    ///< where to write the replay (docs/replay.md); none if null
+  /// Readers of the rounds as they are recorded (the live page, lab/live):
+  /// each gets what the replay gets (RoundRecorder::AddSink), with or
+  /// without a replay. Each outlives the run's Finish.
+  std::vector<replay::RoundSink*> sinks;
   /// Called about every `progress_period_s` of simulated time (and at the end).
   std::function<void(double sim_seconds)> progress;
   double progress_period_s = 1.0;
