@@ -36,7 +36,8 @@
 #   and know no scenario; lab/sim runs all of them. lab/view (the viewer's
 #   page) reads replays only, beside lab/sim; the grader embeds its page.
 # - lab/search (search tests) runs lab/sim again and again, so it sits
-#   above it.
+#   above it. lab/live (the live page's HTTP server) feeds lab/view's page
+#   from a run's rounds, so it sits beside it, above lab/view.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
 # - app_host (a student's library in a sandboxed process per robot) needs
@@ -63,7 +64,7 @@ set(SYROF_LAYERS
   "lab/scenario"
   "lab/metrics lab/replay"
   "lab/sim lab/view"
-  "lab/search"
+  "lab/search lab/live"
   "app_host"
   "sim_dds firmware"
   "grader/assignment"
@@ -74,13 +75,15 @@ set(SYROF_LAYERS
 # Third-party (and board) headers only one module may include, as
 # "<include path prefix>=<module>": CGAL only in queries (its exact kernels
 # are the queries' business), Cyclone DDS only in sim_dds, the boards'
-# headers only in firmware.
+# headers only in firmware, cpp-httplib only in lab/live (the one HTTP
+# server).
 set(SYROF_EXCLUSIVE_HEADERS
   "CGAL/=queries"
   "dds/=sim_dds"
   "ddscxx/=sim_dds"
   "org/eclipse/cyclonedds/=sim_dds"
-  "syrof/board/=firmware")
+  "syrof/board/=firmware"
+  "httplib.h=lab/live")
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.

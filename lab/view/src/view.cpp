@@ -282,8 +282,21 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
   return data.dump();
 }
 
-std::string RenderPage(const std::string& data_json, const std::string& title) {
-  const std::string_view html = Asset(kAsset_viewer_html, kAsset_viewer_html_size);
+namespace {
+
+// The template's policy, and what the live page's says instead.
+constexpr std::string_view kFilePolicyEnd = "img-src data:\"";
+constexpr std::string_view kLivePolicyEnd = "img-src data:; connect-src 'self'\"";
+
+std::string Render(const std::string& data_json, const std::string& title, bool live) {
+  const std::string_view html_template = Asset(kAsset_viewer_html, kAsset_viewer_html_size);
+  std::string live_template;
+  if (live) {
+    live_template = html_template;
+    const size_t at = live_template.find(kFilePolicyEnd);
+    if (at != std::string::npos) live_template.replace(at, kFilePolicyEnd.size(), kLivePolicyEnd);
+  }
+  const std::string_view html = live ? std::string_view(live_template) : html_template;
   const std::string_view css = Asset(kAsset_viewer_css, kAsset_viewer_css_size);
   const std::string_view js = Asset(kAsset_viewer_js, kAsset_viewer_js_size);
 
@@ -319,6 +332,16 @@ std::string RenderPage(const std::string& data_json, const std::string& title) {
   }
   page.append(rest);
   return page;
+}
+
+}  // namespace
+
+std::string RenderPage(const std::string& data_json, const std::string& title) {
+  return Render(data_json, title, false);
+}
+
+std::string RenderLivePage(const std::string& data_json, const std::string& title) {
+  return Render(data_json, title, true);
 }
 
 Page BuildPage(std::istream& in, const std::string& name, const PageOptions& options) {

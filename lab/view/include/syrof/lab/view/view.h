@@ -46,4 +46,9 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
 /// The page around `data_json` (trusted JSON text, as ReplayJson makes it).
 std::string RenderPage(const std::string& data_json, const std::string& title);
 
+/// The same page for the live server (lab/live): its Content-Security-Policy
+/// also allows connecting to its own origin (connect-src 'self', for
+/// /events); `data_json` says "live" (docs/viewer.md, "Live").
+std::string RenderLivePage(const std::string& data_json, const std::string& title);
+
 }  // namespace syrof::lab::view
