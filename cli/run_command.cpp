@@ -12,9 +12,11 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "syrof/app_host/hosted_app.h"
+#include "syrof/lab/live/live_server.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/simulation.h"
@@ -92,6 +94,9 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_flag("--reproducible", options.reproducible,
                 "Write wall_seconds as 0 so identical runs give byte-identical outputs");
   run->add_flag("--quiet", options.quiet, "No progress line and no summary");
+  run->add_flag("--realtime", options.realtime,
+                "Pace the run to the wall clock (a simulated second takes a second); the outputs are the same bytes");
+  SetupLiveOptions(*run, options.live);
   run->add_flag("--strict", options.strict,
                 "Exit with status 3 if the app faulted, returned an invalid command or had a payload refused");
   return run;
@@ -182,7 +187,31 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
       err.flush();
     };
   }
+  // The live page is a sink of the rounds; with it the run is paced, so
+  // that a browser watches it as it happens.
+  std::unique_ptr<lab::live::LiveServer> live;
+  if (options.live.on()) {
+    lab::live::LiveOptions live_options;
+    live_options.replay_page_follows = true;
+    live_options.title = "SyROF live: " + scenario.name;
+    live = std::make_unique<lab::live::LiveServer>(live_options);
+    if (!StartLive(*live, options.live, "syrof run", out, err)) return 2;
+    sim_options.sinks.push_back(live.get());
+  }
   sim::Simulation simulation(scenario, sim_options);
+  if (options.realtime || live) {
+    // One radio round at a time, each ending no earlier than its world time
+    // after the start: the engine runs the same events in the same order,
+    // only later (tests/cli: a paced run's files equal an unpaced run's).
+    const double step_s = scenario.timing.radio_round_s;
+    for (int64_t round = 1;; ++round) {
+      const double until_s = std::min(scenario.timing.duration_s, static_cast<double>(round) * step_s);
+      simulation.RunUntil(until_s);
+      std::this_thread::sleep_until(started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                  std::chrono::duration<double>(until_s)));
+      if (until_s >= scenario.timing.duration_s) break;
+    }
+  }
   simulation.RunUntil(scenario.timing.duration_s);
   const double wall_seconds = options.reproducible ? 0.0 : elapsed_s();
   const sim::RunReport report = simulation.Finish(wall_seconds);
@@ -215,6 +244,7 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   } else if (misbehaved) {
     fmt::print(err, "syrof run: warning: the app misbehaved; see app in {}\n", (dir / "metrics.json").string());
   }
+  if (live) EndLive(*live, options.live, options.no_replay ? "" : (dir / "replay").string(), out);
   return options.strict && misbehaved ? 3 : 0;
 }
 

@@ -1,7 +1,8 @@
 // `syrof run SCENARIO.yaml [--app builtin:NAME | --app path/to/libmyapp.so]`:
 // runs a scenario in the simulated lab and writes DIR/metrics.json and
 // DIR/replay (and, with --html, DIR/replay.html); with a student's library also DIR/robots/<id>.log, each
-// robot's app host's output.
+// robot's app host's output. `--realtime` paces the run to the wall clock;
+// `--live` (which implies it) serves the live page while it runs.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "live_option.h"
 #include "syrof/app/app.h"
 
 namespace syrof::cli {
@@ -32,6 +34,11 @@ struct RunOptions {
   bool reproducible = false;  ///< wall_seconds written as 0, so identical runs give identical files
   bool quiet = false;         ///< no progress line, no summary
   bool strict = false;        ///< exit 3 when the app faulted, returned an invalid command or had a payload refused
+  /// Paces the lab's virtual time to the wall clock (a radio round of world
+  /// time takes one of the host's); every output is the same bytes as
+  /// without it.
+  bool realtime = false;
+  LiveCommandOptions live;    ///< the live page (implies `realtime`)
   /// Not a command-line option: makes robot `id`'s app instead of the
   /// scenario's (tests; the app host later), with `app_source` naming it in
   /// metrics.json. `syrof` itself never sets it.

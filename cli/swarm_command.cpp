@@ -7,6 +7,7 @@
 #include <atomic>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,7 @@
 #include "exit_status.h"
 #include "usage.h"
 #include "run_summary.h"
+#include "syrof/lab/live/live_server.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/sim_dds/dds_world.h"
 
@@ -48,6 +50,7 @@ CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
   swarm->add_flag("--realtime-start", options.realtime_start,
                   "Robots read the start on CLOCK_REALTIME (robots on several hosts whose clocks are kept in sync)");
   swarm->add_flag("--quiet", options.quiet, "No progress line, no summary");
+  SetupLiveOptions(*swarm, options.live);
   swarm->footer(
       "Each robot is a process (syrof-robot) running the robot software on the POSIX port; this process is the\n"
       "world (bodies, sensors, faults, metrics). Faults are real: crash = SIGKILL, pause = SIGSTOP/SIGCONT,\n"
@@ -107,12 +110,25 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
       }
     };
   }
+  std::unique_ptr<lab::live::LiveServer> live;
+  if (options.live.on()) {
+    lab::live::LiveOptions live_options;
+    live_options.replay_page_follows = true;
+    live_options.title = "SyROF live: " + loaded.scenario->name + " (DDS swarm)";
+    live = std::make_unique<lab::live::LiveServer>(live_options);
+    if (!StartLive(*live, options.live, "syrof swarm", out, err)) return kBadInput;
+    swarm.sinks.push_back(live.get());
+  }
   const sim_dds::SwarmResult result = sim_dds::RunSwarm(swarm, err);
+  // A swarm that failed before its end never told the sinks: the page says
+  // the run stopped.
+  if (live) live->OnFinish(false);
   if (!options.quiet && &out == &std::cout && isatty(STDOUT_FILENO) != 0) fmt::print(out, "\n");
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
   if (result.exit_code != 0) {
     fmt::print(err, "syrof swarm: {}\n", result.error);
+    if (live) live->SetReplayPage(std::nullopt);
     return result.exit_code == 2 ? kBadInput : kInternalError;
   }
   if (!options.quiet) {
@@ -133,6 +149,7 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
                  100.0 * cpu_sum / static_cast<double>(result.cpu_seconds.size()) / wall, 100.0 * cpu_max / wall);
     }
   }
+  if (live) EndLive(*live, options.live, swarm.replay ? (std::filesystem::path(swarm.out_dir) / "replay").string() : "", out);
   return kOk;
 }
 

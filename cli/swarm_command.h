@@ -10,6 +10,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "live_option.h"
+
 namespace syrof::cli {
 
 struct SwarmOptions {
@@ -26,6 +28,7 @@ struct SwarmOptions {
   bool realtime = false;
   bool align_rounds = false;
   bool realtime_start = false;
+  LiveCommandOptions live;  ///< the live page while the swarm runs
 };
 
 CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options);

@@ -6,9 +6,20 @@
 // URL fragment (for links and for the browser test):
 //   #round=N      open at radio round N (the replay's round number)
 //   &robot=R      inspect robot R
+//   &live-until=rounds:N | crash:R   (live page) stop following the stream
+//                 once N rounds are drawn, or robot R is drawn crashed: the
+//                 browser test's headless Chromium dumps the page then
 // When the page is ready, <body data-ready="1"> and #report holds a JSON
 // summary of what is drawn (robots, marks, inspector), which the browser
 // test compares with the replay.
+//
+// Live mode (docs/viewer.md, "Live"): when the data says `live`, the page
+// holds no run yet; it connects to the server's /events stream, gets the
+// run's header, then its rounds as they are recorded, appends them, follows
+// the newest round unless the user went back, and at the end says the run
+// ended and links the replay's page. #report is then refreshed at every
+// update, with a `live` part (rounds held, newest round, whether it ended,
+// when each robot was first drawn crashed).
 'use strict';
 
 (function () {
@@ -75,6 +86,40 @@
     document.body.dataset.ready = '1';
   }
 
+  // ---- Live: wait for the header, then start as for a file -------------------
+  const LIVE_MAX_ROUNDS = 12000;  // what the page holds: 10 min of 50 ms rounds
+  let live = null;
+  if (data.live) {
+    live = { source: null, ended: null, skipped: 0, updated: 0, pending: [], crashShown: {}, lastWallUs: null, started: false };
+    showBanner('live', 'Live', 'Connecting to the run…');
+    $('banner').className = 'live';
+    $('app').hidden = true;
+    $('plots').hidden = true;
+    const source = new EventSource(data.live.events);
+    live.source = source;
+    source.addEventListener('header', (ev) => {
+      if (live.started) return;  // a reconnect sends it again
+      const header = JSON.parse(ev.data);
+      data = Object.assign(header, { status: 'live', live: data.live, stride: 1,
+                                     rounds: { index: [], time_us: [] }, frames: header.robots.map(() => ({ s: [], e: [], x: [], y: [], h: [], ex: [], ey: [], eh: [] })),
+                                     events: [], maps: [], starts: [] });
+      live.started = true;
+      $('app').hidden = false;
+      $('plots').hidden = false;
+      start();
+    });
+    source.addEventListener('round', (ev) => { live.pending.push(JSON.parse(ev.data)); if (live.update) live.update(); });
+    source.addEventListener('skipped', (ev) => { live.skipped += JSON.parse(ev.data).rounds; });
+    source.addEventListener('end', (ev) => { live.ended = JSON.parse(ev.data); source.close(); if (live.update) live.update(); });
+    source.onerror = () => {
+      if (!live.ended && !live.started) showBanner('live', 'Live', 'Waiting for the run\'s server (it may have ended)…');
+    };
+    finish({ robots_drawn: 0, live: { rounds: 0 } });
+    return;
+  }
+  start();
+
+  function start() {
   const TITLES = {
     empty: 'Nothing to show', truncated: 'This replay is cut short', invalid: 'This replay is damaged',
     newer: 'This replay is from a newer SyROF',
@@ -87,36 +132,48 @@
     finish({ robots_drawn: 0 });
     return;
   }
-  if (data.status !== 'complete') {
+  if (data.status !== 'complete' && !live) {
     showBanner(data.status, TITLES[data.status] || 'Problem', data.message || '', data.status === 'empty');
   }
 
   const timings = { parse_ms: Math.round(performance.now() - scriptStart) };
   const robots = data.robots;
   const stride = data.stride;
-  const roundIndex = undelta(data.rounds.index);
-  const roundTime = undelta(data.rounds.time_us);  // microseconds
-  const rounds = roundIndex.length;
-  const samples = rounds === 0 ? 0 : Math.floor((rounds - 1) / stride) + 1;
-  const frames = data.frames.map((f) => ({
-    s: f.s, e: undelta(f.e), x: undelta(f.x), y: undelta(f.y), h: undelta(f.h),
-    ex: undelta(f.ex), ey: undelta(f.ey), eh: undelta(f.eh),
-  }));
   const kinds = data.kinds;
-  const events = data.events.map((e, n) => ({
-    n, pos: e[0], kind: kinds[e[1]] || ('kind ' + e[1]), robot: e[2], other: e[3], epoch: e[4], mode: e[5],
-    t: e[6] / 1e6, partition: e[7],
-  }));
   const slotOf = new Map(robots.map((r, i) => [r.id, i]));
-  // Per robot: its epoch starts in order, with the map each began with.
-  const startsOf = robots.map(() => []);
-  for (const [pos, robot, map] of data.starts) {
-    const slot = slotOf.get(robot);
-    if (slot !== undefined) startsOf[slot].push({ pos, map });
+  // The run's rounds as the page draws them: from the file's columns once,
+  // or (live) from the rounds received so far, again at each update.
+  let roundIndex, roundTime, rounds, samples, frames, events, startsOf, faultedFrom;
+  function deriveRounds() {
+    if (live) {
+      roundIndex = data.rounds.index;
+      roundTime = data.rounds.time_us;
+      frames = data.frames;
+    } else {
+      roundIndex = undelta(data.rounds.index);
+      roundTime = undelta(data.rounds.time_us);  // microseconds
+      frames = data.frames.map((f) => ({
+        s: f.s, e: undelta(f.e), x: undelta(f.x), y: undelta(f.y), h: undelta(f.h),
+        ex: undelta(f.ex), ey: undelta(f.ey), eh: undelta(f.eh),
+      }));
+    }
+    rounds = roundIndex.length;
+    samples = rounds === 0 ? 0 : Math.floor((rounds - 1) / stride) + 1;
+    events = data.events.map((e, n) => ({
+      n, pos: e[0], kind: kinds[e[1]] || ('kind ' + e[1]), robot: e[2], other: e[3], epoch: e[4], mode: e[5],
+      t: e[6] / 1e6, partition: e[7],
+    }));
+    // Per robot: its epoch starts in order, with the map each began with.
+    startsOf = robots.map(() => []);
+    for (const [pos, robot, map] of data.starts) {
+      const slot = slotOf.get(robot);
+      if (slot !== undefined) startsOf[slot].push({ pos, map });
+    }
+    // Robots whose app faulted, from which round position.
+    faultedFrom = new Map();
+    for (const e of events) if (e.kind === 'APP_FAULT' && !faultedFrom.has(e.robot)) faultedFrom.set(e.robot, e.pos);
   }
-  // Robots whose app faulted, from which round position.
-  const faultedFrom = new Map();
-  for (const e of events) if (e.kind === 'APP_FAULT' && !faultedFrom.has(e.robot)) faultedFrom.set(e.robot, e.pos);
+  deriveRounds();
 
   const state = (slot, sample) => frames[slot].s[sample];
   const presenceOf = (s) => s & 3;
@@ -136,11 +193,15 @@
 
   // ---- Header -----------------------------------------------------------------
   $('run-name').textContent = `${data.scenario} · ${data.app} · seed ${data.seed}`;
-  const duration = rounds ? timeOf(rounds - 1) : 0;
-  $('run-facts').textContent = `${robots.length} robots · ${rounds} radio rounds of ${data.round_ns / 1e6} ms · ` +
-      `${fmt(duration, 1)} s · ${events.length} events · arena ${data.arena[0]} × ${data.arena[1]} m · replay v${data.replay_version}` +
-      (stride > 1 ? ` · frames drawn every ${stride} rounds` : '');
-  document.title = `SyROF viewer: ${data.scenario} (seed ${data.seed})`;
+  let duration = 0;
+  function runFacts() {
+    duration = rounds ? timeOf(rounds - 1) : 0;
+    $('run-facts').textContent = `${robots.length} robots · ${rounds} radio rounds of ${data.round_ns / 1e6} ms · ` +
+        `${fmt(duration, 1)} s · ${events.length} events · arena ${data.arena[0]} × ${data.arena[1]} m · replay v${data.replay_version}` +
+        (stride > 1 ? ` · frames drawn every ${stride} rounds` : '') + (live ? ' · live' : '');
+  }
+  runFacts();
+  document.title = `SyROF ${live ? 'live' : 'viewer'}: ${data.scenario} (seed ${data.seed})`;
 
   // ---- Current position -------------------------------------------------------
   let pos = 0;          // round position (0 .. rounds-1)
@@ -423,11 +484,12 @@
     if (e.robot >= 0) text += ` · epoch ${e.epoch} ${e.mode === 1 ? 'AUT' : 'COOP'}`;
     return text;
   }
-  const eventItems = [];
-  function buildEvents() {
+  let eventItems = [];
+  function buildEvents(from) {
     const list = $('event-list');
     const fragment = document.createDocumentFragment();
-    for (const e of events) {
+    if (!from) eventItems = [];
+    for (const e of events.slice(from || 0)) {
       const li = el('li', { className: 'ev k' + kinds.indexOf(e.kind) }, [
         el('span', { textContent: fmt(e.t, 2) + ' s' }),
         el('span', { className: 'kind', textContent: e.kind, style: `color:${KIND_COLOURS[e.kind] || '#333'}` }),
@@ -442,10 +504,10 @@
       eventItems.push(li);
       fragment.append(li);
     }
-    list.replaceChildren(fragment);
+    if (from) list.append(fragment); else list.replaceChildren(fragment);
     $('event-count').textContent = `(${events.length})`;
-    $('hide-starts').addEventListener('change', (ev) => list.classList.toggle('hide-starts', ev.target.checked));
   }
+  $('hide-starts').addEventListener('change', (ev) => $('event-list').classList.toggle('hide-starts', ev.target.checked));
   let nowItems = [];
   function markCurrentEvents() {
     for (const li of nowItems) li.classList.remove('now');
@@ -524,8 +586,11 @@
     ctx.textAlign = 'left';
   }
 
-  // Per-sample series and per-epoch figures, computed once.
-  const errorMean = new Float64Array(samples), errorMax = new Float64Array(samples);
+  // Per-sample series and per-epoch figures, computed once (live: at each
+  // update).
+  let errorMean, errorMax, epochs;
+  function deriveSeries() {
+  errorMean = new Float64Array(samples); errorMax = new Float64Array(samples);
   for (let i = 0; i < samples; ++i) {
     let sum = 0, n = 0, max = 0;
     for (let slot = 0; slot < robots.length; ++slot) {
@@ -538,7 +603,7 @@
     errorMax[i] = n ? max : NaN;
   }
   // Epochs in the order they first started; skew and COOPERATIVE share.
-  const epochs = [];
+  epochs = [];
   {
     const byEpoch = new Map();
     for (const e of events) {
@@ -551,6 +616,8 @@
       entry.last = e.pos; entry.starts += 1; if (e.mode === 0) entry.coop += 1;
     }
   }
+  }
+  deriveSeries();
 
   function drawModes() {
     const canvas = $('plot-modes');
@@ -706,6 +773,7 @@
 
   function seek(p) {
     pos = Math.max(0, Math.min(rounds - 1, Math.round(p)));
+    if (live) live.follow = pos >= rounds - 1;  // back to the newest: follow again
     render();
   }
 
@@ -809,5 +877,96 @@
   const report = render();
   timings.render_ms = Math.round(performance.now() - scriptStart);
   report.timings = timings;
+  if (live) {
+    live.follow = true;
+    live.update = scheduleLive;
+    scheduleLive();
+  }
   finish(report);
+
+  // ---- Live updates ------------------------------------------------------------------------
+  // Rounds are appended as they arrive and drawn at most every 100 ms.
+  function scheduleLive() {
+    if (live.timer) return;
+    live.timer = setTimeout(() => { live.timer = null; applyLive(); }, Math.max(0, 100 - (performance.now() - live.updated)));
+  }
+  function appendRound(r) {
+    const at = data.rounds.index.length;
+    data.rounds.index.push(r.i);
+    data.rounds.time_us.push(r.t);
+    r.f.forEach((f, slot) => {
+      const c = data.frames[slot];
+      c.s.push(f[0]); c.e.push(f[1]); c.x.push(f[2]); c.y.push(f[3]); c.h.push(f[4]); c.ex.push(f[5]); c.ey.push(f[6]); c.eh.push(f[7]);
+    });
+    for (const e of r.ev) { e[0] = at; data.events.push(e); }
+    const base = data.maps.length;
+    for (const m of r.m) data.maps.push(m);
+    for (const [robot, k] of r.st) data.starts.push([at, robot, base + k]);
+    live.lastWallUs = r.w;
+  }
+  // Keeps the page's memory bounded: the oldest rounds go first.
+  function trimLive() {
+    const drop = data.rounds.index.length - LIVE_MAX_ROUNDS;
+    if (drop <= 0) return false;
+    data.rounds.index.splice(0, drop);
+    data.rounds.time_us.splice(0, drop);
+    for (const c of data.frames) for (const key of Object.keys(c)) c[key].splice(0, drop);
+    data.events = data.events.filter((e) => e[0] >= drop).map((e) => { e[0] -= drop; return e; });
+    data.starts = data.starts.filter((st) => st[0] >= drop).map((st) => [st[0] - drop, st[1], st[2]]);
+    pos = Math.max(0, pos - drop);
+    return true;
+  }
+  function applyLive() {
+    live.updated = performance.now();
+    const before = events.length;
+    const arrived = live.pending;
+    live.pending = [];
+    for (const r of arrived) appendRound(r);
+    const trimmed = trimLive();
+    deriveRounds();
+    deriveSeries();
+    runFacts();
+    if (trimmed) buildEvents(); else if (events.length > before) buildEvents(before);
+    $('scrubber').max = String(Math.max(0, rounds - 1));
+    if (live.follow && !playing) pos = Math.max(0, rounds - 1);
+    const newest = rounds ? roundIndex[rounds - 1] : '-';
+    if (live.ended) {
+      const banner = $('banner');
+      banner.hidden = false;
+      banner.className = 'ended';
+      const text = el('div', { textContent: live.ended.complete ? 'The run ended. ' : 'The run stopped before its end. ' });
+      if (live.ended.replay) text.append(el('a', { href: live.ended.replay, textContent: 'Open the replay', id: 'replay-link' }), ' (the whole run, from its replay file).');
+      else text.append('It wrote no replay page.');
+      banner.replaceChildren(el('h2', { textContent: 'Run ended' }), text);
+    } else {
+      showBanner('live', '● Live', (live.follow ? 'Following the run' : 'Paused on an earlier round (press End to follow the run again)') +
+                 ` · newest round ${newest}` + (live.skipped ? ` · ${live.skipped} rounds skipped (this browser fell behind)` : ''));
+      $('banner').className = 'live';
+    }
+    // When each robot was first drawn crashed (what the browser test checks:
+    // a crash shows within 1 s).
+    if (rounds) {
+      for (let slot = 0; slot < robots.length; ++slot) {
+        const id = robots[slot].id;
+        if (presenceOf(frames[slot].s[rounds - 1]) === 3 && !(id in live.crashShown)) {
+          // The recording's wall time of the newest round drawn: the crash
+          // was recorded at or before it.
+          live.crashShown[id] = live.lastWallUs;
+        }
+      }
+    }
+    const report = render();
+    const until = new URLSearchParams(location.hash.replace(/^#/, '')).get('live-until');
+    let stop = false;
+    if (until && until.startsWith('rounds:')) stop = rounds >= Number(until.slice(7));
+    if (until && until.startsWith('crash:')) stop = String(Number(until.slice(6))) in live.crashShown;
+    if (stop && !live.ended) { live.source.close(); live.stoppedByFragment = true; }
+    report.live = { rounds, newest_round: rounds ? roundIndex[rounds - 1] : null, newest_time_us: rounds ? roundTime[rounds - 1] : null,
+                    following: live.follow, skipped: live.skipped, ended: live.ended, crash_shown_w_us: live.crashShown,
+                    stopped: !!live.stoppedByFragment, drawn_wall_us: Date.now() * 1000,
+                    positions: robots.map((r, slot) => (rounds ? [frames[slot].x[rounds - 1], frames[slot].y[rounds - 1], presenceOf(frames[slot].s[rounds - 1])] : null)) };
+    finish(report);
+    if (live.pending.length && !live.stoppedByFragment) scheduleLive();
+  }
+  }  // start()
 })();

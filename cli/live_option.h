@@ -1,0 +1,46 @@
+// `--live[=ADDR:PORT]` and `--live-linger SECONDS`, shared by `syrof run`
+// and `syrof swarm` (docs/viewer.md, "Live"): the live page's server
+// (lab/live) started before the run, given the replay's page after it, and
+// kept serving after the end for a while or until Ctrl-C.
+#pragma once
+
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace syrof::lab::live {
+class LiveServer;  // lab/live's; only the commands' sources include it
+}
+
+namespace syrof::cli {
+
+/// Where `--live` listens when given without a value: this host only.
+inline constexpr const char* kDefaultLiveAddress = "127.0.0.1:8765";
+
+struct LiveCommandOptions {
+  std::string address;   ///< not empty: serve the live page there ("ADDR:PORT", "PORT", "[V6]:PORT")
+  double linger_s = -1;  ///< after the end: serve this long; < 0: until Ctrl-C
+  bool on() const { return !address.empty(); }
+};
+
+/// Declares --live and --live-linger on `command`.
+void SetupLiveOptions(CLI::App& command, LiveCommandOptions& options);
+
+/// "ADDR:PORT" (or "PORT": on 127.0.0.1) as an address and a port; false
+/// with `problem` said for anything else.
+bool ParseLiveAddress(const std::string& text, std::string& address, int& port, std::string& problem);
+
+/// Starts `server` where `options` says and prints its URL on `out`; false
+/// with the reason on `err` (prefixed by `command`).
+bool StartLive(lab::live::LiveServer& server, const LiveCommandOptions& options, const std::string& command,
+               std::ostream& out, std::ostream& err);
+
+/// After the run: gives `server` the page of the replay at `replay_path`
+/// (none when empty), then serves on for `options.linger_s` or until
+/// SIGINT/SIGTERM, saying so on `out`.
+void EndLive(lab::live::LiveServer& server, const LiveCommandOptions& options, const std::string& replay_path,
+             std::ostream& out);
+
+}  // namespace syrof::cli
