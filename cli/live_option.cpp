@@ -60,7 +60,7 @@ bool StartLive(lab::live::LiveServer& server, const LiveCommandOptions& options,
     return false;
   }
   if (const std::optional<lab::Error> error = server.Start(address, port)) {
-    fmt::print(err, "{}: the live page cannot listen on {}\n", command, error->ToString());
+    fmt::print(err, "{}: --live: the live page cannot listen on {}\n", command, error->ToString());
     return false;
   }
   fmt::print(out, "  live page: {}\n", server.listening().url);

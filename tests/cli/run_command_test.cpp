@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <fstream>
@@ -145,6 +146,51 @@ TEST(RunCommandTest, ReproducibleRunsWriteIdenticalBytes) {
 
   EXPECT_EQ(ReadFile(fs::path(first.out_dir) / "metrics.json"), ReadFile(fs::path(second.out_dir) / "metrics.json"));
   EXPECT_EQ(ReadFile(fs::path(first.out_dir) / "replay"), ReadFile(fs::path(second.out_dir) / "replay"));
+}
+
+// --realtime paces the run to the wall clock, and --live (which implies it)
+// feeds the live page too: neither changes a byte of the outputs.
+TEST(RunCommandTest, RealtimeAndLiveRunsWriteTheSameBytesAsAnUnpacedRun) {
+  RunOptions fast;
+  fast.scenario_path = kScenarios + "/demo_circle.yaml";
+  fast.duration_s = 2;
+  fast.reproducible = true;
+  fast.quiet = true;
+  fast.out_dir = RunTempDir("realtime_fast").string();
+  RunOptions paced = fast;
+  paced.realtime = true;
+  paced.out_dir = RunTempDir("realtime_paced").string();
+  RunOptions live = fast;
+  live.live.address = "127.0.0.1:0";
+  live.live.linger_s = 0;
+  live.out_dir = RunTempDir("realtime_live").string();
+
+  ASSERT_EQ(RunWith(fast).status, 0);
+  const auto started = std::chrono::steady_clock::now();
+  ASSERT_EQ(RunWith(paced).status, 0);
+  const double paced_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const Outcome live_outcome = RunWith(live);
+  ASSERT_EQ(live_outcome.status, 0) << live_outcome.err;
+
+  EXPECT_GE(paced_s, 1.95);  // 2 s of world time took 2 s
+  EXPECT_NE(live_outcome.out.find("live page: http://127.0.0.1:"), std::string::npos) << live_outcome.out;
+  for (const RunOptions* run : {&paced, &live}) {
+    EXPECT_TRUE(ReadFile(fs::path(fast.out_dir) / "metrics.json") == ReadFile(fs::path(run->out_dir) / "metrics.json"));
+    EXPECT_TRUE(ReadFile(fs::path(fast.out_dir) / "replay") == ReadFile(fs::path(run->out_dir) / "replay"));
+  }
+}
+
+TEST(RunCommandTest, ALiveAddressThatIsNotOneIsBadInput) {
+  RunOptions options;
+  options.scenario_path = kScenarios + "/idle.yaml";
+  options.quiet = true;
+  options.out_dir = RunTempDir("live_bad").string();
+  for (const std::string address : {"localhost:http", "127.0.0.1:70000", "203.0.113.9:0"}) {
+    options.live.address = address;
+    const Outcome outcome = RunWith(options);
+    EXPECT_EQ(outcome.status, 2) << address;
+    EXPECT_NE(outcome.err.find("--live"), std::string::npos) << outcome.err;
+  }
 }
 
 // --threads: the same standard output and files as one thread (30 robots,
