@@ -108,7 +108,16 @@
       $('plots').hidden = false;
       start();
     });
-    source.addEventListener('round', (ev) => { live.pending.push(JSON.parse(ev.data)); if (live.update) live.update(); });
+    // Drawn at most every 100 ms of the recording's own clock (`w`, when the
+    // server recorded the round), not the browser's: a page whose timers are
+    // held back (a background tab, headless Chromium's virtual time) still
+    // draws as the rounds come; a timer draws what came after.
+    source.addEventListener('round', (ev) => {
+      const r = JSON.parse(ev.data);
+      live.pending.push(r);
+      if (!live.update) return;
+      if (r.w - (live.drawnW || 0) >= 100000) live.updateNow(); else live.update();
+    });
     source.addEventListener('skipped', (ev) => { live.skipped += JSON.parse(ev.data).rounds; });
     source.addEventListener('end', (ev) => { live.ended = JSON.parse(ev.data); source.close(); if (live.update) live.update(); });
     source.onerror = () => {
@@ -880,6 +889,7 @@
   if (live) {
     live.follow = true;
     live.update = scheduleLive;
+    live.updateNow = () => { clearTimeout(live.timer); live.timer = null; applyLive(); };
     scheduleLive();
   }
   finish(report);
@@ -919,9 +929,13 @@
   function applyLive() {
     live.updated = performance.now();
     const before = events.length;
-    const arrived = live.pending;
+    let arrived = live.pending;
     live.pending = [];
+    // The browser test's stop after exactly N rounds (live-until=rounds:N).
+    const untilRounds = /(?:^|&)live-until=rounds:(\d+)/.exec(location.hash.replace(/^#/, ''));
+    if (untilRounds) arrived = arrived.slice(0, Math.max(0, Number(untilRounds[1]) - data.rounds.index.length));
     for (const r of arrived) appendRound(r);
+    live.drawnW = live.lastWallUs;
     const trimmed = trimLive();
     deriveRounds();
     deriveSeries();
