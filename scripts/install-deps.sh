@@ -26,6 +26,9 @@ demo_packages=(
   libseccomp-dev
   # the Gradescope bundle's zip (grader/report; found through pkg-config)
   libzip-dev
+  # the live page's HTTP server (lab/live, `syrof run --live`; found through
+  # pkg-config, libcpp-httplib.so linked by syrof)
+  libcpp-httplib-dev
   # HMAC-SHA256 of the per-student hidden seeds (grader/; Cyclone DDS links it too)
   libssl-dev
   # GoogleTest and Google Benchmark: configure finds them (a missing one fails
