@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -298,6 +299,67 @@ TEST(RoundRecorder, WritesTheRoundWithItsMapsInRobotOrder) {
   EXPECT_EQ(round.maps[1].robot, 1);
   EXPECT_FALSE(reader.Next(round));
   EXPECT_TRUE(reader.complete()) << reader.error();
+}
+
+// A RoundSink that keeps what it was told.
+struct KeepingSink : replay::RoundSink {
+  void OnHeader(const replay::Header& header) override { headers.push_back(header); }
+  void OnRound(uint32_t index, int64_t time_ns, std::span<const replay::RobotFrame> robots,
+               std::span<const replay::Event> events, std::span<const replay::RobotMap> maps) override {
+    replay::Round round;
+    round.index = index;
+    round.time_ns = time_ns;
+    round.robots.assign(robots.begin(), robots.end());
+    round.events.assign(events.begin(), events.end());
+    round.maps.assign(maps.begin(), maps.end());
+    rounds.push_back(round);
+  }
+  void OnFinish(bool complete) override { finishes.push_back(complete); }
+  std::vector<replay::Header> headers;
+  std::vector<replay::Round> rounds;
+  std::vector<bool> finishes;
+};
+
+TEST(RoundRecorder, SinksGetWhatTheReplayGetsWithOrWithoutOne) {
+  for (const bool with_replay : {false, true}) {
+    RecorderFixture fixture(kTwoRobots);
+    KeepingSink sink;
+    fixture.recorder.AddSink(&sink);
+    std::stringstream out;
+    if (with_replay) fixture.recorder.OpenReplay(out);
+    EXPECT_TRUE(fixture.recorder.replaying());  // a runtime builds maps for a sink too
+    RoundParts parts(fixture.scenario, 0, 0);
+    parts.events = {RecorderEvent(30'000'000, 1), RecorderEvent(20'000'000, 0)};
+    parts.maps = {replay::RobotMap{1, ToEpochMap(RecorderMap(7, {0, 1}))},
+                  replay::RobotMap{0, ToEpochMap(RecorderMap(7, {0, 1}))}};
+
+    fixture.recorder.RecordRound(parts.Round(0, [] { return PosesGathered(); }));
+    fixture.recorder.FinishReplay();
+    fixture.recorder.FinishReplay();  // once is what the sinks hear
+
+    ASSERT_EQ(sink.headers.size(), 1U);
+    EXPECT_EQ(sink.headers[0], ReplayHeader(fixture.scenario));
+    ASSERT_EQ(sink.rounds.size(), 1U);
+    ASSERT_EQ(sink.rounds[0].maps.size(), 2U);
+    EXPECT_EQ(sink.rounds[0].maps[0].robot, 0);  // sorted by robot, as the replay's
+    EXPECT_EQ(sink.rounds[0].events[0].robot, 1);  // in the order given
+    EXPECT_EQ(sink.finishes, std::vector<bool>{true});
+    if (with_replay) {
+      replay::Reader reader(out);
+      replay::Header header;
+      ASSERT_TRUE(reader.ReadHeader(header));
+      EXPECT_EQ(header, sink.headers[0]);
+      replay::Round round;
+      ASSERT_TRUE(reader.Next(round));
+      EXPECT_EQ(round.index, sink.rounds[0].index);
+      EXPECT_EQ(round.time_ns, sink.rounds[0].time_ns);
+      EXPECT_EQ(round.robots, sink.rounds[0].robots);
+      EXPECT_EQ(round.events, sink.rounds[0].events);
+      ASSERT_EQ(round.maps.size(), 2U);
+      EXPECT_EQ(round.maps[1].robot, sink.rounds[0].maps[1].robot);
+      EXPECT_EQ(*round.maps[1].map, *sink.rounds[0].maps[1].map);
+    }
+  }
 }
 
 TEST(RoundRecorder, WithoutAReplayNothingIsWrittenAndNothingFails) {
