@@ -95,7 +95,7 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
                 "Write wall_seconds as 0 so identical runs give byte-identical outputs");
   run->add_flag("--quiet", options.quiet, "No progress line and no summary");
   run->add_flag("--realtime", options.realtime,
-                "Pace the run to the wall clock (a simulated second takes a second); the outputs are the same bytes");
+                "Pace the run to the wall clock (a simulated second takes a second; --live implies it); the outputs are the same bytes");
   SetupLiveOptions(*run, options.live);
   run->add_flag("--strict", options.strict,
                 "Exit with status 3 if the app faulted, returned an invalid command or had a payload refused");
