@@ -11,7 +11,9 @@
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <sstream>
+#include <vector>
 #include <thread>
 
 #include "test_domain.h"
@@ -105,6 +107,42 @@ TEST(SwarmTest, EightRobotProcessesAligningTheirRoundsFromBeaconsKeepP3AndCooper
   // world follows them, so in-round delivery is judged on the robots' rounds
   // (it fell to 50-74 % on the world's grid).
   EXPECT_GT(result.delivery_ratio, 0.8);
+  ExpectNoRobotLeft(result);
+  std::filesystem::remove_all(options.out_dir);
+}
+
+// A RoundSink counting what the world told it (the live page is one).
+struct CountingSink : lab::replay::RoundSink {
+  void OnHeader(const lab::replay::Header& header) override { robots = header.robots.size(); ++headers; }
+  void OnRound(uint32_t index, int64_t, std::span<const lab::replay::RobotFrame> frames,
+               std::span<const lab::replay::Event>, std::span<const lab::replay::RobotMap>) override {
+    indices.push_back(index);
+    frames_per_round.push_back(frames.size());
+  }
+  void OnFinish(bool complete) override { finishes.push_back(complete); }
+  size_t robots = 0;
+  int headers = 0;
+  std::vector<uint32_t> indices;
+  std::vector<size_t> frames_per_round;
+  std::vector<bool> finishes;
+};
+
+// `syrof swarm --live` passes its server as a sink: it hears every round
+// the replay gets, and the end.
+TEST(SwarmTest, ASinkHearsEveryRoundAndTheEnd) {
+  SwarmOptions options = OptionsFor("swarm8_loss.yaml");
+  options.overrides.duration_s = 3;
+  CountingSink sink;
+  options.sinks = {&sink};
+  std::ostringstream log;
+  const SwarmResult result = RunSwarm(options, log);
+  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  EXPECT_EQ(sink.headers, 1);
+  EXPECT_EQ(sink.robots, 8u);
+  EXPECT_GE(sink.indices.size(), 50u);  // 3 s of 50 ms rounds, less the start
+  for (size_t i = 1; i < sink.indices.size(); ++i) EXPECT_GT(sink.indices[i], sink.indices[i - 1]);
+  for (const size_t frames : sink.frames_per_round) EXPECT_EQ(frames, 8u);
+  EXPECT_EQ(sink.finishes, std::vector<bool>{true});
   ExpectNoRobotLeft(result);
   std::filesystem::remove_all(options.out_dir);
 }
