@@ -41,6 +41,20 @@ std::string SseEvent(std::string_view name, const std::string& data, std::option
   return text;
 }
 
+// A server on a loopback address answers only requests that name a loopback
+// host: a web page elsewhere that points a name of its own at 127.0.0.1 (DNS
+// rebinding) gets 421, not the run.
+bool IsLoopback(std::string_view address) {
+  const bool dotted = !address.empty() && address.find_first_not_of("0123456789.") == std::string_view::npos;
+  return (dotted && address.rfind("127.", 0) == 0) || address == "::1" || address == "localhost";
+}
+bool NamesLoopback(std::string_view host) {
+  if (host.empty()) return true;  // HTTP/1.0: no Host
+  if (host.front() == '[') return host.rfind("[::1]", 0) == 0;
+  const std::string_view name = host.substr(0, host.find(':'));
+  return IsLoopback(name);
+}
+
 std::chrono::milliseconds Milliseconds(double seconds) {
   return std::chrono::milliseconds(std::max<int64_t>(1, std::llround(seconds * 1000)));
 }
@@ -207,9 +221,23 @@ std::optional<Error> LiveServer::Start(const std::string& address, int port) {
   } else if (!impl_->server.bind_to_port(address, port)) {
     return Error{.where = where, .message = "cannot listen there (the port is taken, or not an address of this host)"};
   }
+  if (IsLoopback(address)) {
+    impl_->server.set_pre_routing_handler([](const httplib::Request& request, httplib::Response& response) {
+      if (NamesLoopback(request.get_header_value("Host"))) return httplib::Server::HandlerResponse::Unhandled;
+      response.status = 421;
+      response.set_content("This page answers only to 127.0.0.1 or localhost.\n", "text/plain");
+      return httplib::Server::HandlerResponse::Handled;
+    });
+  }
   const bool v6 = address.find(':') != std::string::npos;
   listening_ = Listening{address, bound, fmt::format("http://{}{}{}:{}/", v6 ? "[" : "", address, v6 ? "]" : "", bound)};
   thread_ = std::thread([this] { impl_->server.listen_after_bind(); });
+  // Until it listens, httplib's stop() does nothing: a Stop() right after
+  // Start() would then wait for a server that never stops.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!impl_->server.is_running() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   return std::nullopt;
 }
 

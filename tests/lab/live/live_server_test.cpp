@@ -91,6 +91,22 @@ TEST(LiveServer, ServesThePageInLiveModeWithItsPolicyAndNothingElse) {
   EXPECT_EQ(replay_page.status(), 404);
 }
 
+TEST(LiveServer, OnLoopbackItAnswersOnlyRequestsThatNameALoopbackHost) {
+  auto server = Started();
+  for (const std::string host : {"127.0.0.1", "localhost:8765", "127.0.0.1:1"}) {
+    SseClient client;
+    ASSERT_TRUE(client.Get(server->listening().port, "/", 0, host));
+    client.ReadUntil([&](const auto&) { return client.status() != 0; }, milliseconds(5000));
+    EXPECT_EQ(client.status(), 200) << host;
+  }
+  for (const std::string host : {"attacker.example", "attacker.example:8765", "127.0.0.1.attacker.example"}) {
+    SseClient client;
+    ASSERT_TRUE(client.Get(server->listening().port, "/events", 0, host));
+    client.ReadUntil([&](const auto&) { return client.status() != 0; }, milliseconds(5000));
+    EXPECT_EQ(client.status(), 421) << host;
+  }
+}
+
 TEST(LiveServer, StreamsTheHeaderThenTheRoundsAsTheyComeThenTheEndWithTheLink) {
   LiveOptions options;
   options.replay_page_follows = true;
@@ -186,18 +202,20 @@ TEST(LiveServer, ABrowserThatFallsBehindTheRingSkipsAheadAndIsTold) {
   options.max_rounds = 50;
   options.batch_rounds = 10;
   auto server = Started(options);
-  server->OnHeader(MakeHeader(1));
+  server->OnHeader(MakeHeader(100));
   SseClient client;
-  ASSERT_TRUE(client.Get(server->listening().port, "/events"));
+  ASSERT_TRUE(client.Get(server->listening().port, "/events", 4096));
   ASSERT_TRUE(client.ReadUntil(HasEvent("header"), milliseconds(5000)));
-  // Pushed faster than the browser reads: the first rounds it reads are
-  // gone from the ring by the next batch.
-  for (uint32_t n = 0; n < 5000; ++n) PushRound(*server, 1, n);
+  // Rounds of 100 robots (kilobytes each) pushed while the browser reads
+  // nothing: its socket fills, its stream waits, and the rounds it has not
+  // read leave the ring (50 rounds) long before it reads again.
+  for (uint32_t n = 0; n < 3000; ++n) PushRound(*server, 100, n);
   server->OnFinish(true);
   ASSERT_TRUE(client.ReadUntil(HasEvent("end"), milliseconds(10000)));
   EXPECT_GT(Count(client.events(), "skipped"), 0u);
+  EXPECT_LT(Count(client.events(), "round"), 3000u);
   const json last = json::parse(client.events()[client.events().size() - 2].data);
-  EXPECT_EQ(last["i"], 4999);  // it still got to the newest round
+  EXPECT_EQ(last["i"], 2999);  // it still got to the newest round
   EXPECT_EQ(json::parse(client.events().back().data)["replay"], nullptr);  // no page was promised
 }
 
@@ -252,7 +270,7 @@ TEST(LiveServer, ABrowserThatReconnectsResumesAfterItsLastRound) {
   address.sin_port = htons(static_cast<uint16_t>(server->listening().port));
   address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   ASSERT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
-  const std::string request = "GET /events HTTP/1.1\r\nHost: x\r\nLast-Event-ID: 14\r\n\r\n";
+  const std::string request = "GET /events HTTP/1.1\r\nHost: 127.0.0.1\r\nLast-Event-ID: 14\r\n\r\n";
   ASSERT_EQ(send(fd, request.data(), request.size(), MSG_NOSIGNAL), static_cast<ssize_t>(request.size()));
   std::string got;
   const auto until = std::chrono::steady_clock::now() + milliseconds(5000);

@@ -34,7 +34,7 @@ class SseClient {
 
   /// Connects to 127.0.0.1:`port` and sends GET `path`. `receive_buffer`
   /// (bytes, 0: the system's) makes a small window for a stalled client.
-  bool Get(int port, const std::string& path, int receive_buffer = 0) {
+  bool Get(int port, const std::string& path, int receive_buffer = 0, const std::string& host = "127.0.0.1") {
     fd_ = socket(AF_INET, SOCK_STREAM, 0);
     if (fd_ < 0) return false;
     if (receive_buffer > 0) setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
@@ -43,7 +43,7 @@ class SseClient {
     address.sin_port = htons(static_cast<uint16_t>(port));
     address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     if (connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) return false;
-    const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n\r\n";
+    const std::string request = "GET " + path + " HTTP/1.1\r\nHost: " + host + "\r\nAccept: text/event-stream\r\n\r\n";
     return send(fd_, request.data(), request.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(request.size());
   }
 
