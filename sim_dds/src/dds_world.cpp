@@ -790,7 +790,7 @@ void DdsWorld::DrainReports() {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   while (next_recorded_ <= last_round_) Record(next_recorded_++);
-  recorder_.FinishReplay();
+  recorder_.FinishReplay(!result_.stopped_early);  // the live page says a stopped run stopped
 }
 
 // Stop: Control_ says so, robots exit; SIGKILL whoever has not.
