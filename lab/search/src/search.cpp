@@ -327,6 +327,17 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   auto elapsed_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
   const bool goal_declared = !scenario.goal.empty();
   SearchResult result;
+  // The search chooses every loss itself; a link that loses some beacons at
+  // random would make a pattern's outcome the seed's as much as the search's.
+  for (const world::LinkLossSpec& link : scenario.channel.links) {
+    if (link.loss > 0 && link.loss < 1) {
+      result.error = fmt::format(
+          "channel link {} -> {} loses {} of its beacons at random; a search decides every loss itself: give the "
+          "link loss 0 or 1 (a dead link), or leave it out",
+          link.from, link.to, link.loss);
+      return result;
+    }
+  }
 
   // The loss-free run: the first pattern, and the epochs that set the window.
   std::ostringstream replay_bytes;
