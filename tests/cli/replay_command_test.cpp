@@ -45,7 +45,7 @@ Output RunCommand(const ReplayOptions& options) {
 }
 
 const char* const kHeaderText =
-    "SyROF replay, format version 4\n"
+    "SyROF replay, format version 5\n"
     "scenario: three_robots\n"
     "app: builtin:idle\n"
     "seed: 42\n"
