@@ -179,6 +179,7 @@ TEST(ReplayCommand, SummaryCountsEventsByKind) {
       "  PAYLOAD_REFUSED: 0\n"
       "  SAFETY_INTERVENTION: 0\n"
       "  JOIN_WAIT: 0\n"
+                            "  BEACON_LOST: 0\n"
                             "file: complete\n");
 }
 

@@ -83,6 +83,8 @@ TEST(SearchTest, TheResultDoesNotDependOnTheJobs) {
   ASSERT_TRUE(one.counterexample && two.counterexample);
   EXPECT_EQ(one.counterexample->lost, two.counterexample->lost);
   EXPECT_EQ(metrics::ToJson(one.counterexample->metrics), metrics::ToJson(two.counterexample->metrics));
+  EXPECT_EQ(one.runs, two.runs);
+  EXPECT_EQ(one.distinct_outcomes, two.distinct_outcomes);
 }
 
 TEST(SearchTest, TheCounterexampleReplaysExactlyAsAScriptedChannel) {
@@ -109,6 +111,10 @@ TEST(SearchTest, AnAppFollowingTheEpochSurvivesTheSameSearch) {
   EXPECT_EQ(result.complete_losses, 1);
   EXPECT_EQ(result.runs, 1 + result.slots);
   EXPECT_GT(result.slots, 0);
+  // Some single losses change the run (an epoch starts AUTONOMOUS), many
+  // change nothing the metrics see.
+  EXPECT_GE(result.distinct_outcomes, 2);
+  EXPECT_LT(result.distinct_outcomes, result.runs);
 }
 
 TEST(SearchTest, SlotsLeaveOutBeaconsTheScenarioAlreadyLoses) {

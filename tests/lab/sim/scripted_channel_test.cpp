@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -35,32 +36,31 @@ std::string ReplayOf(const scenario::Scenario& scenario) {
   return replay.str();
 }
 
-// The replay's rounds without the BEACON_LOST events a scripted channel
-// adds (the run itself, as an i.i.d. channel's replay records it).
-std::vector<replay::Round> RunOf(const std::string& bytes) {
+std::vector<replay::Round> RoundsOf(const std::string& bytes) {
   std::istringstream in(bytes);
   replay::Reader reader(in);
   replay::Header header;
   EXPECT_TRUE(reader.ReadHeader(header)) << reader.error();
   std::vector<replay::Round> rounds;
-  for (replay::Round round; reader.Next(round);) {
-    std::erase_if(round.events, [](const replay::Event& e) { return e.kind == replay::EventKind::kBeaconLost; });
-    rounds.push_back(round);
-  }
+  for (replay::Round round; reader.Next(round);) rounds.push_back(round);
   EXPECT_TRUE(reader.complete()) << reader.error();
   return rounds;
 }
 
+bool IsLostBeacon(const replay::Event& event) { return event.kind == replay::EventKind::kBeaconLost; }
+
+// The replay's rounds without the BEACON_LOST events a scripted channel
+// adds (the run itself, as an i.i.d. channel's replay records it).
+std::vector<replay::Round> RunOf(const std::string& bytes) {
+  std::vector<replay::Round> rounds = RoundsOf(bytes);
+  for (replay::Round& round : rounds) std::erase_if(round.events, IsLostBeacon);
+  return rounds;
+}
+
 std::vector<replay::Event> LostBeaconEvents(const std::string& bytes) {
-  std::istringstream in(bytes);
-  replay::Reader reader(in);
-  replay::Header header;
-  EXPECT_TRUE(reader.ReadHeader(header)) << reader.error();
   std::vector<replay::Event> lost;
-  for (replay::Round round; reader.Next(round);) {
-    for (const replay::Event& event : round.events) {
-      if (event.kind == replay::EventKind::kBeaconLost) lost.push_back(event);
-    }
+  for (const replay::Round& round : RoundsOf(bytes)) {
+    std::copy_if(round.events.begin(), round.events.end(), std::back_inserter(lost), IsLostBeacon);
   }
   return lost;
 }

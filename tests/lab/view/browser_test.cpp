@@ -329,6 +329,15 @@ std::string CollisionReplay(replay::EventKind kind = replay::EventKind::kCollisi
   return bytes.str();
 }
 
+// The page at round 30 marks one `kind` event of robot 0 with robot 1.
+void ExpectOneMarkInRound30(const Loaded& at, const std::string& kind) {
+  ASSERT_EQ(at.report["marks"].size(), 1u) << at.report.dump();
+  EXPECT_EQ(at.report["marks"][0]["kind"], kind);
+  EXPECT_EQ(at.report["marks"][0]["robot"], 0);
+  EXPECT_EQ(at.report["marks"][0]["other"], 1);
+  EXPECT_EQ(at.report["marks"][0]["round"], 30);
+}
+
 TEST(CollisionPage, SteppingToTheCollisionRoundShowsItMarked) {
   const fs::path page = WritePage(CollisionReplay(), "collision");
 
@@ -336,11 +345,7 @@ TEST(CollisionPage, SteppingToTheCollisionRoundShowsItMarked) {
   const Loaded at = Load(page, "#round=30");
 
   EXPECT_EQ(before.report["marks"], json::array()) << before.report.dump();
-  ASSERT_EQ(at.report["marks"].size(), 1u) << at.report.dump();
-  EXPECT_EQ(at.report["marks"][0]["kind"], "COLLISION");
-  EXPECT_EQ(at.report["marks"][0]["robot"], 0);
-  EXPECT_EQ(at.report["marks"][0]["other"], 1);
-  EXPECT_EQ(at.report["marks"][0]["round"], 30);
+  ExpectOneMarkInRound30(at, "COLLISION");
   EXPECT_NE(at.dom.find("<li class=\"ev k4 now\""), std::string::npos);  // listed (kind 4), as happening now
 }
 
@@ -352,11 +357,7 @@ TEST(LostBeaconPage, ALostBeaconIsMarkedFromSenderToReceiver) {
   const Loaded later = Load(page, "#round=50");  // 20 rounds on: gone
 
   EXPECT_EQ(before.report["marks"], json::array()) << before.report.dump();
-  ASSERT_EQ(at.report["marks"].size(), 1u) << at.report.dump();
-  EXPECT_EQ(at.report["marks"][0]["kind"], "BEACON_LOST");
-  EXPECT_EQ(at.report["marks"][0]["robot"], 0);
-  EXPECT_EQ(at.report["marks"][0]["other"], 1);
-  EXPECT_EQ(at.report["marks"][0]["round"], 30);
+  ExpectOneMarkInRound30(at, "BEACON_LOST");
   EXPECT_EQ(later.report["marks"], json::array()) << later.report.dump();
   EXPECT_NE(at.dom.find("<li class=\"ev k17 now\""), std::string::npos);  // listed (kind 17), as happening now
   EXPECT_NE(at.dom.find("BEACON_LOST"), std::string::npos);
