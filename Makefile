@@ -118,6 +118,10 @@ test-m4: deps
 ## best when every instance has a core; four instances saturate 2 cores and
 ## their late timer interrupts then push estimation errors past 1 m); the
 ## faults run is on the host's clock. About 1.5 x SWARM_SECONDS each.
+## Then the base station (docs/bridge.md): 4 robots for SWARM_BRIDGE_SECONDS with
+## --base-station, syrof-bridge connected; its replay must hold every robot with
+## its epochs advancing and a COOPERATIVE start each, nothing rejected
+## (scripts/bridge-hears-firmware-swarm.sh), into out/firmware-swarm/bridge/.
 ## Last, the lab against the firmware: SWARM_COMPARE_SCENARIO in `syrof run`
 ## and on the emulated swarm (--realtime), which must start the same epochs
 ## in the same modes with the same members (scripts/firmware-agrees-with-lab.sh,
@@ -131,11 +135,12 @@ SWARM_MAX_ESTIMATION_ERROR_M ?= 1.0
 SWARM_FAULTS_SCENARIO ?= lab/scenarios/firmware_faults.yaml
 SWARM_FAULTS_SECONDS ?= 14
 SWARM_COMPARE_SCENARIO ?= lab/scenarios/four_runtimes.yaml
+SWARM_BRIDGE_SECONDS ?= 8
 test-firmware-swarm: deps
 	$(configure-build)
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof syrof-bridge
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
 	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --icount $(SWARM_ICOUNT) \
 	  --out out/firmware-swarm/no-loss --expect-cooperative --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
@@ -145,6 +150,8 @@ test-firmware-swarm: deps
 	  --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_FAULTS_SCENARIO) \
 	  --seconds $(SWARM_FAULTS_SECONDS) --icount -1 --out out/firmware-swarm/faults --expect-faults
+	bash scripts/bridge-hears-firmware-swarm.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
+	  out/firmware-swarm/bridge 4 $(SWARM_BRIDGE_SECONDS)
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  $(SWARM_COMPARE_SCENARIO) out/firmware-swarm/compare
 
