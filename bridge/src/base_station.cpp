@@ -88,6 +88,10 @@ void BaseStation::Accept(const wire::Beacon& beacon, std::span<const uint8_t> wi
       ++robot.epoch_starts;
       if (beacon.mode == wire::Mode::kCooperative) ++robot.cooperative_starts;
     }
+    if (beacon.phase == wire::Phase::kProgress) {
+      robot.hears = beacon.waiting;
+      robot.has_hears = true;
+    }
     if (beacon.phase == wire::Phase::kVote) {
       if (robot.has_view && robot.view != beacon.waiting) AddViewEvents(id, robot.view, beacon.waiting, round_end_ns);
       robot.view = beacon.waiting;

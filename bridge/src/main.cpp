@@ -54,6 +54,7 @@ struct Options {
   int silent_rounds = 6;
   double seconds = 0;  // 0: until the input ends or a signal
   std::string out = "out/bridge";
+  std::string capture;  // empty: none; else every link byte read, as read (replay it with --input)
   bool no_replay = false;
   bool no_dds = false;
   std::optional<uint32_t> domain;
@@ -103,7 +104,8 @@ std::optional<replay::Header> MakeHeader(const Options& options, std::string& er
 
 // Reads the link until it ends, a signal, or --seconds; ends rounds on the
 // wall clock (or lets the stream end them). Returns why it stopped.
-std::string RunLink(int fd, bool wall_rounds, const Options& options, bridge::BaseStation& station, double& wall_s) {
+std::string RunLink(int fd, bool wall_rounds, const Options& options, bridge::BaseStation& station, double& wall_s,
+                    std::ofstream* capture) {
   const int64_t round_ns = station.header().radio_round_ns;
   const int64_t start_ns = NowNs();
   const int64_t stop_ns = options.seconds > 0 ? start_ns + std::llround(options.seconds * 1e9) : INT64_MAX;
@@ -145,6 +147,7 @@ std::string RunLink(int fd, bool wall_rounds, const Options& options, bridge::Ba
       end = "end of input";
       break;
     }
+    if (capture != nullptr) capture->write(reinterpret_cast<const char*>(buffer.data()), count);
     station.Push(std::span<const uint8_t>(buffer.data(), static_cast<size_t>(count)));
   }
   wall_s = static_cast<double>(NowNs() - start_ns) * 1e-9;
@@ -231,7 +234,16 @@ int Run(const Options& options) {
 
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  run.end = RunLink(link.fd, wall_rounds, options, station, run.wall_s);
+  std::ofstream capture;
+  if (!options.capture.empty()) {
+    capture.open(options.capture, std::ios::binary | std::ios::trunc);
+    if (!capture) {
+      std::fprintf(stderr, "syrof-bridge: cannot write --capture %s\n", options.capture.c_str());
+      bridge::CloseLink(link.fd);
+      return kFailed;
+    }
+  }
+  run.end = RunLink(link.fd, wall_rounds, options, station, run.wall_s, capture.is_open() ? &capture : nullptr);
   bridge::CloseLink(link.fd);
   station.Finish(run.end == "end of input" || run.end == "--seconds" || run.end == "signal");
   if (dds) {
@@ -317,6 +329,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1e7));
   app.add_option("--out", options.out, "the output folder: replay and bridge.json (default out/bridge)");
   app.add_flag("--no-replay", options.no_replay, "do not write a replay");
+  app.add_option("--capture", options.capture,
+                 "also write every link byte read, as read, to this file (feed it back with --input FILE)");
   bool dds = false;
   auto* no_dds = app.add_flag("--no-dds", options.no_dds, "do not publish on DDS");
   app.add_flag("--dds", dds, "publish every accepted beacon on rt/syrof/beacon (the default)")->excludes(no_dds);

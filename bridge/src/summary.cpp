@@ -73,6 +73,16 @@ std::string SummaryJson(const BaseStation& station, const BridgeRunInfo& run, co
       entry["epoch"] = robot.latest.epoch;
       entry["phase"] = wire::ToString(robot.latest.phase);
       entry["mode"] = wire::ToString(robot.latest.mode);
+      if (robot.has_hears) {
+        nlohmann::json hears = nlohmann::json::array();
+        for (uint16_t id : robot.hears) hears.push_back(id);
+        entry["hears"] = hears;
+      }
+      if (robot.has_view) {
+        nlohmann::json view = nlohmann::json::array();
+        for (uint16_t id : robot.view) view.push_back(id);
+        entry["view"] = view;
+      }
       entry["x_mm"] = robot.latest.snapshot.x_mm;
       entry["y_mm"] = robot.latest.snapshot.y_mm;
     }
@@ -138,11 +148,15 @@ std::string SummaryText(const BaseStation& station, const BridgeRunInfo& run) {
     if (!robot.heard) {
       std::snprintf(line, sizeof line, "  robot %-4zu  never heard\n", i);
     } else {
+      std::string hears;
+      for (uint16_t id : robot.hears) hears += (hears.empty() ? "" : ",") + std::to_string(id);
       std::snprintf(line, sizeof line,
-                    "  robot %-4zu  %llu beacons, last in round %u (%d dBm): epoch %u %s %s%s, %u epoch starts (%u COOPERATIVE)\n",
+                    "  robot %-4zu  %llu beacons, last in round %u (%d dBm): epoch %u %s %s%s, %u epoch starts (%u "
+                    "COOPERATIVE), hears {%s}\n",
                     i, static_cast<unsigned long long>(robot.beacons), robot.last_heard_round, robot.rssi_dbm,
                     robot.latest.epoch, wire::ToString(robot.latest.phase), wire::ToString(robot.latest.mode),
-                    robot.joining ? " (joining)" : "", robot.epoch_starts, robot.cooperative_starts);
+                    robot.joining ? " (joining)" : "", robot.epoch_starts, robot.cooperative_starts,
+                    robot.has_hears ? hears.c_str() : "?");
     }
     text += line;
   }

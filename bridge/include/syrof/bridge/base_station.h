@@ -106,6 +106,8 @@ struct HeardRobot {
   uint64_t beacons = 0;           ///< beacons accepted from it
   uint32_t epoch_starts = 0;      ///< EPOCH_START events recorded for it
   uint32_t cooperative_starts = 0;  ///< of which in COOPERATIVE mode
+  bool has_hears = false;         ///< it sent a PROGRESS beacon
+  wire::MemberSet hears;          ///< the set of its latest PROGRESS beacon: whom it hears well (docs/protocol.md, "Connectivity")
   bool has_view = false;          ///< it sent a VOTE beacon
   wire::MemberSet view;           ///< the set of its latest VOTE beacon
 };
