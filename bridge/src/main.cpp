@@ -295,7 +295,9 @@ int main(int argc, char** argv) {
   inputs->add_option("--serial", options.serial, "the base-station radio's serial device, e.g. /dev/ttyACM0 (raw mode)");
   inputs->add_option("--socket", options.socket,
                      "a Unix stream socket to connect to: syrof-firmware-swarm --base-station PATH");
-  inputs->add_option("--input", options.input, "a capture file of link bytes; - reads stdin");
+  inputs->add_option("--input", options.input, "a capture file of link bytes (--capture); - reads stdin");
+  bool from_stdin = false;
+  inputs->add_flag("--stdin", from_stdin, "read link bytes from stdin (the same as --input -)");
   app.add_option("--baud", options.baud, "--serial's line rate (default 1000000, the radio link's; a USB CDC device ignores it)")
       ->check([](const std::string& text) {
         try {
@@ -349,12 +351,13 @@ int main(int argc, char** argv) {
     std::cerr << "syrof-bridge: " << parse_error.what() << "\n(syrof-bridge --help lists the options)\n";
     return kBadInput;
   }
-  const int sources = !options.serial.empty() + !options.socket.empty() + !options.input.empty();
+  const int sources = !options.serial.empty() + !options.socket.empty() + !options.input.empty() + from_stdin;
   if (sources != 1) {
-    std::cerr << "syrof-bridge: give exactly one input: --serial DEVICE, --socket PATH or --input FILE\n"
+    std::cerr << "syrof-bridge: give exactly one input: --serial DEVICE, --socket PATH, --input FILE or --stdin\n"
               << "(syrof-bridge --help lists the options)\n";
     return kBadInput;
   }
+  if (from_stdin) options.input = "-";
   if (options.robots == 0 && options.scenario.empty()) {
     std::cerr << "syrof-bridge: say how many robots there are: --robots N or --scenario FILE\n";
     return kBadInput;

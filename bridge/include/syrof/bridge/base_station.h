@@ -59,7 +59,7 @@ struct StationConfig {
   uint16_t silent_rounds = 6;
   /// The rounds follow the stream, not a clock: a round ends just before a
   /// beacon from a robot already heard in it (every robot sends one beacon
-  /// a round), and EndRound's time is then round * the header's radio
+  /// a round), and round r then ends at (r + 1) * the header's radio
   /// round. For recorded captures (`--input FILE`); live links end rounds
   /// on the wall clock.
   bool rounds_from_stream = false;
