@@ -120,8 +120,9 @@ test-m4: deps
 ## faults run is on the host's clock. About 1.5 x SWARM_SECONDS each.
 ## Then the base station (docs/bridge.md): 4 robots for SWARM_BRIDGE_SECONDS with
 ## --base-station, syrof-bridge connected; its replay must hold every robot with
-## its epochs advancing and a COOPERATIVE start each, nothing rejected
-## (scripts/bridge-hears-firmware-swarm.sh), into out/firmware-swarm/bridge/.
+## its epochs advancing, COOPERATIVE epochs, each robot's epoch starts as the
+## robot reported them, nothing rejected (scripts/bridge-hears-firmware-swarm.sh),
+## into out/firmware-swarm/bridge/.
 ## Last, the lab against the firmware: SWARM_COMPARE_SCENARIO in `syrof run`
 ## and on the emulated swarm (--realtime), which must start the same epochs
 ## in the same modes with the same members (scripts/firmware-agrees-with-lab.sh,

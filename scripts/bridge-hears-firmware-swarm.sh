@@ -3,10 +3,16 @@
 # syrof-firmware-swarm (ROBOTS qemu robots, SECONDS seconds) with
 # --base-station, connects syrof-bridge to it with --socket, and checks what
 # the bridge recorded, read back from its replay (DIR/bridge.json, "replay"):
-# every robot heard, its epoch advancing, at least one COOPERATIVE epoch
-# start each; nothing rejected; and the bridge accepted exactly the beacons
-# the swarm sent it (docs/bridge.md, "Tested with the emulated swarm").
-# `make test-firmware-swarm` runs it.
+# every robot heard, its epoch advancing, COOPERATIVE epochs in the run;
+# each robot's epoch starts, and its COOPERATIVE ones, as the robot itself
+# reported them on its console (the swarm's metrics.json,
+# starts_by_robot and cooperative_starts_by_robot; one fewer allowed, for
+# an epoch started just before the robot stopped and never beaconed);
+# nothing rejected; and exactly the beacons the swarm sent it accepted
+# (docs/bridge.md, "Tested with the emulated swarm"). A loaded machine can
+# leave a robot without a COOPERATIVE start in a short run (its beacons
+# late): the swarm says so too, and the bridge must agree, so that is not a
+# failure. `make test-firmware-swarm` runs it.
 #
 #   bridge-hears-firmware-swarm.sh BUILD_DIR IMAGE OUT [ROBOTS] [SECONDS]
 #
@@ -56,11 +62,19 @@ check "the replay reads back whole" '.replay.read_back'
 check "the replay holds $robots robots" ".replay.robots | length == $robots"
 check "every robot is heard in the replay" '[.replay.robots[] | .seen] | all'
 check "every robot's epoch advances" '[.replay.robots[] | .last_epoch > .first_epoch] | all'
-check "every robot starts at least one epoch COOPERATIVE" '[.replay.robots[] | .cooperative_starts >= 1] | all'
+check "the replay has COOPERATIVE epochs" '[.replay.robots[] | .cooperative_starts] | add >= 1'
+metrics="$out/swarm/metrics.json"
+for robot in $(seq 0 $((robots - 1))); do
+  own=$(jq -r ".common_knowledge.starts_by_robot[$robot]" "$metrics")
+  own_cooperative=$(jq -r ".common_knowledge.cooperative_starts_by_robot[$robot]" "$metrics")
+  check "robot $robot's epoch starts agree with its own report ($own, $own_cooperative COOPERATIVE)" \
+      ".replay.robots[$robot] | ($own - .epoch_starts) as \$d | ($own_cooperative - .cooperative_starts) as \$c
+       | \$d >= 0 and \$d <= 1 and \$c >= 0 and \$c <= 1"
+done
 check "nothing is rejected" '.rejected.total == 0 and .rejected.bytes_discarded == 0'
 check "the bridge accepted every beacon the swarm sent it ($sent)" ".beacons_accepted == ${sent:-0} and ${sent:-0} > 0"
 if [[ $failed -ne 0 ]]; then
   echo "$0: see $summary and $out/swarm.txt" >&2
   exit 1
 fi
-echo "$0: the bridge heard $sent beacons of $robots robots; every robot's epochs advance, each started COOPERATIVE"
+echo "$0: the bridge heard $sent beacons of $robots robots; every robot's epochs advance, and its epoch starts agree with the robots' own"

@@ -895,6 +895,7 @@ void SwarmHost::StartWorld() {
   // With -icount a loaded host stretches the guests' time (1.3x for 4
   // robots on 2 busy cores, more for 8): three times the run, then give up.
   deadline_ns_ = all_started_ns_ + (3 * options_.seconds + 30) * int64_t{1'000'000'000};
+  base_station_.Serve();  // a base station already waiting hears the first beacons too
   player_.StartPresentRobots(host_);
 }
 
