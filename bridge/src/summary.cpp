@@ -147,18 +147,19 @@ std::string SummaryText(const BaseStation& station, const BridgeRunInfo& run) {
     const HeardRobot& robot = station.robots()[i];
     if (!robot.heard) {
       std::snprintf(line, sizeof line, "  robot %-4zu  never heard\n", i);
-    } else {
-      std::string hears;
-      for (uint16_t id : robot.hears) hears += (hears.empty() ? "" : ",") + std::to_string(id);
-      std::snprintf(line, sizeof line,
-                    "  robot %-4zu  %llu beacons, last in round %u (%d dBm): epoch %u %s %s%s, %u epoch starts (%u "
-                    "COOPERATIVE), hears {%s}\n",
-                    i, static_cast<unsigned long long>(robot.beacons), robot.last_heard_round, robot.rssi_dbm,
-                    robot.latest.epoch, wire::ToString(robot.latest.phase), wire::ToString(robot.latest.mode),
-                    robot.joining ? " (joining)" : "", robot.epoch_starts, robot.cooperative_starts,
-                    robot.has_hears ? hears.c_str() : "?");
+      text += line;
+      continue;
     }
+    std::string hears;
+    for (uint16_t id : robot.hears) hears += (hears.empty() ? "" : ",") + std::to_string(id);
+    std::snprintf(line, sizeof line,
+                  "  robot %-4zu  %llu beacons, last in round %u (%d dBm): epoch %u %s %s%s, %u epoch starts (%u "
+                  "COOPERATIVE), hears ",
+                  i, static_cast<unsigned long long>(robot.beacons), robot.last_heard_round, robot.rssi_dbm,
+                  robot.latest.epoch, wire::ToString(robot.latest.phase), wire::ToString(robot.latest.mode),
+                  robot.joining ? " (joining)" : "", robot.epoch_starts, robot.cooperative_starts);
     text += line;
+    text += robot.has_hears ? "{" + hears + "}\n" : "?\n";
   }
   for (size_t i = 1; i < kLinkErrors; ++i) {
     if (rejections.frames[i] == 0) continue;
