@@ -97,6 +97,8 @@ void BaseStation::Accept(const wire::Beacon& beacon, std::span<const uint8_t> wi
       robot.view = beacon.waiting;
       robot.has_view = true;
     }
+    const bool new_epoch = !robot.has_sync_state || beacon.epoch != robot.latest.epoch;
+    if (new_epoch || beacon.phase != wire::Phase::kVote) robot.epoch_mode = beacon.mode;
     robot.joining = false;
     robot.latest = beacon;
     robot.has_sync_state = true;
@@ -114,7 +116,7 @@ void BaseStation::Accept(const wire::Beacon& beacon, std::span<const uint8_t> wi
 void BaseStation::AddViewEvents(uint16_t robot, const wire::MemberSet& before, const wire::MemberSet& after,
                                 int64_t time_ns) {
   const uint16_t epoch = robots_[robot].latest.epoch;
-  const auto mode = static_cast<uint8_t>(robots_[robot].latest.mode);
+  const auto mode = static_cast<uint8_t>(robots_[robot].epoch_mode);
   for (uint16_t member = 0; member < swarm_size_; ++member) {
     const bool was = before.test(member);
     const bool is = after.test(member);
@@ -143,7 +145,7 @@ void BaseStation::EndRound(int64_t time_ns) {
     frame.status = robot.joining ? 1 : 0;
     if (robot.has_sync_state) {
       frame.phase = static_cast<uint8_t>(robot.latest.phase);
-      frame.mode = static_cast<uint8_t>(robot.latest.mode);
+      frame.mode = static_cast<uint8_t>(robot.epoch_mode);
       frame.epoch = robot.latest.epoch;
     }
     const wire::Snapshot& snapshot = robot.latest.snapshot;

@@ -72,7 +72,7 @@ std::string SummaryJson(const BaseStation& station, const BridgeRunInfo& run, co
       entry["joining"] = robot.joining;
       entry["epoch"] = robot.latest.epoch;
       entry["phase"] = wire::ToString(robot.latest.phase);
-      entry["mode"] = wire::ToString(robot.latest.mode);
+      entry["mode"] = wire::ToString(robot.epoch_mode);
       if (robot.has_hears) {
         nlohmann::json hears = nlohmann::json::array();
         for (uint16_t id : robot.hears) hears.push_back(id);
@@ -156,7 +156,7 @@ std::string SummaryText(const BaseStation& station, const BridgeRunInfo& run) {
                   "  robot %-4zu  %llu beacons, last in round %u (%d dBm): epoch %u %s %s%s, %u epoch starts (%u "
                   "COOPERATIVE), hears ",
                   i, static_cast<unsigned long long>(robot.beacons), robot.last_heard_round, robot.rssi_dbm,
-                  robot.latest.epoch, wire::ToString(robot.latest.phase), wire::ToString(robot.latest.mode),
+                  robot.latest.epoch, wire::ToString(robot.latest.phase), wire::ToString(robot.epoch_mode),
                   robot.joining ? " (joining)" : "", robot.epoch_starts, robot.cooperative_starts);
     text += line;
     text += robot.has_hears ? "{" + hears + "}\n" : "?\n";

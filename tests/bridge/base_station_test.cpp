@@ -267,6 +267,9 @@ TEST(BaseStationTest, AVoteViewThatLosesARobotIsAMemberRemovedEvent) {
   EXPECT_EQ(event.robot, 0);
   EXPECT_EQ(event.other, 2);
   EXPECT_EQ(event.time_ns, 100'000'000);
+  // The AUTONOMOUS vote is for the next epoch; the robot's epoch stays COOPERATIVE.
+  EXPECT_EQ(sink.rounds[1].robots[0].mode, static_cast<uint8_t>(wire::Mode::kCooperative));
+  EXPECT_EQ(event.mode, static_cast<uint8_t>(wire::Mode::kCooperative));
 }
 
 TEST(BaseStationTest, APresenceOnlyBeaconMovesTheRobotAndMarksItJoiningWithoutAnEpoch) {
@@ -309,6 +312,33 @@ TEST(BaseStationTest, TheReplayItWritesReadsBackWithEveryRobotsEpochs) {
     EXPECT_EQ(robot.epoch_starts, 1u);
     EXPECT_EQ(robot.cooperative_starts, 1u);
   }
+}
+
+TEST(BaseStationTest, TheSummaryNamesEveryReasonAndEachRobotsHeardSet) {
+  BaseStation station(StationConfig{}, HeaderFor(kSwarm), {}, {});
+  wire::Beacon one_way = MakeBeacon(1, 4);
+  one_way.waiting = wire::MemberSet{};
+  one_way.waiting.set(0);
+  one_way.waiting.set(1);
+  station.Push(ReceivedFrame(EncodeBeacon(one_way)));
+  std::vector<uint8_t> version = EncodeBeacon(MakeBeacon(2, 4));
+  version[0] = 1;
+  station.Push(ReceivedFrame(version));
+  station.EndRound(50'000'000);
+  station.Finish(true);
+  BridgeRunInfo run;
+  run.input = "file test";
+  run.end = "end of input";
+
+  const std::string json = SummaryJson(station, run, std::nullopt);
+  EXPECT_NE(json.find("\"WrongVersion\": 1"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"CrcMismatch\": 0"), std::string::npos);
+  EXPECT_NE(json.find("\"hears\": [\n        0,\n        1\n      ]"), std::string::npos) << json;
+  const std::string text = SummaryText(station, run);
+  EXPECT_NE(text.find("robot 1     1 beacons"), std::string::npos) << text;
+  EXPECT_NE(text.find("hears {0,1}"), std::string::npos) << text;
+  EXPECT_NE(text.find("rejected    beacon WrongVersion: 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("robot 3     never heard"), std::string::npos) << text;
 }
 
 }  // namespace

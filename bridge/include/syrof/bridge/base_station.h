@@ -19,7 +19,7 @@
 //
 // Each EndRound hands every RoundSink (lab/replay/round_sink.h; the replay
 // writer, the live page) one RobotFrame per robot of the header, from what
-// its latest beacon says (the robot's own estimate: the bridge has no
+// its latest beacon says (the mode: its epoch's, which VOTE beacons do not carry) (the robot's own estimate: the bridge has no
 // ground truth, so the true pose fields repeat the estimate), and the
 // round's events: EPOCH_START when a robot's epoch changes, MEMBER_JOINED /
 // MEMBER_REMOVED when the view a robot votes for (its VOTE beacons' set)
@@ -100,6 +100,10 @@ struct HeardRobot {
   bool heard = false;             ///< at least one beacon accepted
   bool joining = false;           ///< its latest beacon was presence-only (a joiner's position report)
   bool has_sync_state = false;    ///< a beacon that is not presence-only was accepted
+  /// The mode of the epoch it is in: its PROGRESS and WAIT beacons carry it;
+  /// a VOTE beacon's mode is its vote for the next epoch (docs/protocol.md,
+  /// "Beacon"), so it changes this only when it is the first heard of an epoch.
+  wire::Mode epoch_mode = wire::Mode::kCooperative;
   wire::Beacon latest{};          ///< its latest beacon; a presence-only one changes only the pose
   int8_t rssi_dbm = 0;            ///< the latest beacon's RSSI
   uint32_t last_heard_round = 0;  ///< the round it was last heard in
