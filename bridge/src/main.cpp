@@ -149,7 +149,8 @@ std::string RunLink(int fd, bool wall_rounds, const Options& options, bridge::Ba
       break;
     }
     if (count == 0) {
-      end = "end of input";
+      // A serial device ends only when it goes away (unplugged, reset).
+      end = options.serial.empty() ? "end of input" : "link error: the device hung up (unplugged or reset?)";
       break;
     }
     if (capture != nullptr) capture->write(reinterpret_cast<const char*>(buffer.data()), count);
