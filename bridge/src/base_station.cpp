@@ -93,7 +93,9 @@ void BaseStation::Accept(const wire::Beacon& beacon, std::span<const uint8_t> wi
       robot.has_hears = true;
     }
     if (beacon.phase == wire::Phase::kVote) {
-      if (robot.has_view && robot.view != beacon.waiting) AddViewEvents(id, robot.view, beacon.waiting, round_end_ns);
+      if (robot.has_view && robot.view != beacon.waiting) {
+        AddViewEvents(id, beacon.epoch, robot.view, beacon.waiting, round_end_ns);
+      }
       robot.view = beacon.waiting;
       robot.has_view = true;
     }
@@ -113,9 +115,8 @@ void BaseStation::Accept(const wire::Beacon& beacon, std::span<const uint8_t> wi
   for (BeaconOutput* output : outputs_) output->OnBeacon(beacon, wire_bytes, rssi_dbm, round_);
 }
 
-void BaseStation::AddViewEvents(uint16_t robot, const wire::MemberSet& before, const wire::MemberSet& after,
-                                int64_t time_ns) {
-  const uint16_t epoch = robots_[robot].latest.epoch;
+void BaseStation::AddViewEvents(uint16_t robot, uint16_t epoch, const wire::MemberSet& before,
+                                const wire::MemberSet& after, int64_t time_ns) {
   const auto mode = static_cast<uint8_t>(robots_[robot].epoch_mode);
   for (uint16_t member = 0; member < swarm_size_; ++member) {
     const bool was = before.test(member);

@@ -266,6 +266,7 @@ TEST(BaseStationTest, AVoteViewThatLosesARobotIsAMemberRemovedEvent) {
   EXPECT_EQ(event.kind, replay::EventKind::kMemberRemoved);
   EXPECT_EQ(event.robot, 0);
   EXPECT_EQ(event.other, 2);
+  EXPECT_EQ(event.epoch, 3);
   EXPECT_EQ(event.time_ns, 100'000'000);
   // The AUTONOMOUS vote is for the next epoch; the robot's epoch stays COOPERATIVE.
   EXPECT_EQ(sink.rounds[1].robots[0].mode, static_cast<uint8_t>(wire::Mode::kCooperative));

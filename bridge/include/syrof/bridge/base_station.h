@@ -146,7 +146,8 @@ class BaseStation {
  private:
   void OnFrame(const firmware::drivers::Frame& frame);
   void Accept(const wire::Beacon& beacon, std::span<const uint8_t> wire_bytes, int8_t rssi_dbm);
-  void AddViewEvents(uint16_t robot, const wire::MemberSet& before, const wire::MemberSet& after, int64_t time_ns);
+  void AddViewEvents(uint16_t robot, uint16_t epoch, const wire::MemberSet& before, const wire::MemberSet& after,
+                     int64_t time_ns);
 
   const StationConfig config_;
   const lab::replay::Header header_;
