@@ -39,6 +39,9 @@
 #   above it.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
+# - bridge (the base station, syrof-bridge) reads the firmware's radio link
+#   framing and publishes on sim_dds's beacon topic, so it sits above both
+#   (its own group: it runs no robot, nothing above needs it).
 # - app_host (a student's library in a sandboxed process per robot) needs
 #   only core/app and queries; it sits below sim_dds and the grader, which
 #   both run student libraries through it (the lab's `syrof run` too).
@@ -66,6 +69,7 @@ set(SYROF_LAYERS
   "lab/search"
   "app_host"
   "sim_dds firmware"
+  "bridge"
   "grader/assignment"
   "grader/report"
   "grader"
@@ -87,4 +91,4 @@ set(SYROF_EXCLUSIVE_HEADERS
 set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/assignment" "grader/report")
 
 # The top-level folders whose sources the check walks.
-set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds app_host grader)
+set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds app_host grader bridge)
