@@ -118,6 +118,11 @@ test-m4: deps
 ## best when every instance has a core; four instances saturate 2 cores and
 ## their late timer interrupts then push estimation errors past 1 m); the
 ## faults run is on the host's clock. About 1.5 x SWARM_SECONDS each.
+## Then the base station (docs/bridge.md): 4 robots for SWARM_BRIDGE_SECONDS with
+## --base-station, syrof-bridge connected; its replay must hold every robot with
+## its epochs advancing, COOPERATIVE epochs, each robot's epoch starts as the
+## robot reported them, nothing rejected (scripts/bridge-hears-firmware-swarm.sh),
+## into out/firmware-swarm/bridge/.
 ## Last, the lab against the firmware: SWARM_COMPARE_SCENARIO in `syrof run`
 ## and on the emulated swarm (--realtime), which must start the same epochs
 ## in the same modes with the same members (scripts/firmware-agrees-with-lab.sh,
@@ -131,11 +136,12 @@ SWARM_MAX_ESTIMATION_ERROR_M ?= 1.0
 SWARM_FAULTS_SCENARIO ?= lab/scenarios/firmware_faults.yaml
 SWARM_FAULTS_SECONDS ?= 14
 SWARM_COMPARE_SCENARIO ?= lab/scenarios/four_runtimes.yaml
+SWARM_BRIDGE_SECONDS ?= 8
 test-firmware-swarm: deps
 	$(configure-build)
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof syrof-bridge
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
 	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --icount $(SWARM_ICOUNT) \
 	  --out out/firmware-swarm/no-loss --expect-cooperative --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
@@ -145,6 +151,8 @@ test-firmware-swarm: deps
 	  --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_FAULTS_SCENARIO) \
 	  --seconds $(SWARM_FAULTS_SECONDS) --icount -1 --out out/firmware-swarm/faults --expect-faults
+	bash scripts/bridge-hears-firmware-swarm.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
+	  out/firmware-swarm/bridge 4 $(SWARM_BRIDGE_SECONDS)
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  $(SWARM_COMPARE_SCENARIO) out/firmware-swarm/compare
 
@@ -192,15 +200,17 @@ tsan: deps
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target $(TSAN_TESTS)
 	TSAN_OPTIONS=halt_on_error=1 ctest --test-dir $(TSAN_DIR) --output-on-failure --no-tests=error -j $(JOBS) -R '$(TSAN_SUITES)'
 
-## fuzz: libFuzzer on the beacon decoder, the DDS sample checks and the
-## radio link's frame decoder (docs/radio-link.md), FUZZ_SECONDS each.
+## fuzz: libFuzzer on the beacon decoder, the DDS sample checks, the
+## radio link's frame decoder (docs/radio-link.md) and the base station
+## (docs/bridge.md), FUZZ_SECONDS each.
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE_CONFIGURE) -S . -B $(FUZZ_DIR) -DSYROF_FUZZ=ON -DSYROF_BUILD_TESTS=OFF -DSYROF_BUILD_BENCH=OFF
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode fuzz_beacon_sample fuzz_radio_link
-	mkdir -p $(FUZZ_DIR)/corpus/beacon $(FUZZ_DIR)/corpus/beacon_sample $(FUZZ_DIR)/corpus/radio_link
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode fuzz_beacon_sample fuzz_radio_link fuzz_bridge
+	mkdir -p $(FUZZ_DIR)/corpus/beacon $(FUZZ_DIR)/corpus/beacon_sample $(FUZZ_DIR)/corpus/radio_link $(FUZZ_DIR)/corpus/bridge
 	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
 	./$(FUZZ_DIR)/bin/fuzz_beacon_sample -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon_sample
 	./$(FUZZ_DIR)/bin/fuzz_radio_link -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/radio_link
+	./$(FUZZ_DIR)/bin/fuzz_bridge -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/bridge
 
 clean:
 	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(TEENSY_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR)

@@ -135,6 +135,9 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
       fmt::print(out, "no pattern broke it: all {} runs in {:.1f} s ({:.0f} a second)\n", result.runs, result.seconds,
                  rate);
     }
+    fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the losses fell in the first {} epoch{}\n",
+               result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s", result.epochs_in_window,
+               result.epochs_in_window == 1 ? "" : "s");
     return 0;
   }
 
@@ -159,7 +162,8 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     fmt::print(out, "\n");
   }
   PrintViolations(out, found.violations);
-  fmt::print(out, "  after {} runs in {:.1f} s; every pattern of fewer losses passed\n", result.runs, result.seconds);
+  fmt::print(out, "  after {} runs ({} distinct outcomes) in {:.1f} s; every pattern of fewer losses passed\n",
+             result.runs, result.distinct_outcomes, result.seconds);
   fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),
              page_problem.empty() ? ", replay.html" : "");
   fmt::print(out, "  rerun:   syrof run {} --out {}\n", yaml_path.string(), (dir / "rerun").string());

@@ -40,6 +40,9 @@
 #   from a run's rounds, so it sits beside it, above lab/view.
 # - sim_dds and firmware run core/runtime in other processes or on a board;
 #   the grader sits above everything that runs a robot; cli is the top.
+# - bridge (the base station, syrof-bridge) reads the firmware's radio link
+#   framing and publishes on sim_dds's beacon topic, so it sits above both
+#   (its own group: it runs no robot, nothing above needs it).
 # - app_host (a student's library in a sandboxed process per robot) needs
 #   only core/app and queries; it sits below sim_dds and the grader, which
 #   both run student libraries through it (the lab's `syrof run` too).
@@ -67,6 +70,7 @@ set(SYROF_LAYERS
   "lab/search lab/live"
   "app_host"
   "sim_dds firmware"
+  "bridge"
   "grader/assignment"
   "grader/report"
   "grader"
@@ -90,4 +94,4 @@ set(SYROF_EXCLUSIVE_HEADERS
 set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/assignment" "grader/report")
 
 # The top-level folders whose sources the check walks.
-set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds app_host grader)
+set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds app_host grader bridge)

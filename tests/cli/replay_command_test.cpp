@@ -45,7 +45,7 @@ Output RunCommand(const ReplayOptions& options) {
 }
 
 const char* const kHeaderText =
-    "SyROF replay, format version 4\n"
+    "SyROF replay, format version 5\n"
     "scenario: three_robots\n"
     "app: builtin:idle\n"
     "seed: 42\n"
@@ -179,6 +179,7 @@ TEST(ReplayCommand, SummaryCountsEventsByKind) {
       "  PAYLOAD_REFUSED: 0\n"
       "  SAFETY_INTERVENTION: 0\n"
       "  JOIN_WAIT: 0\n"
+                            "  BEACON_LOST: 0\n"
                             "file: complete\n");
 }
 

@@ -91,6 +91,7 @@ TEST(SearchCommandTest, TheStarterAppSurvivesAndTheSearchSaysHowFarItGot) {
   const Outcome outcome = RunSearch({scenario, "--max-losses", "1", "--epochs", "1", "--out", dir / "out"});
   ASSERT_EQ(outcome.status, 0) << outcome.out << outcome.err;
   EXPECT_NE(outcome.out.find("no pattern broke it: all"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("distinct outcome"), std::string::npos) << outcome.out;
   EXPECT_FALSE(fs::exists(dir / "out" / "counterexample.yaml"));
 }
 

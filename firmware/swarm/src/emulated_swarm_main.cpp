@@ -26,6 +26,16 @@
 // DIR/robot_<i>.log holds each robot's console and DIR/qemu_<i>.log qemu's
 // own output.
 //
+// --base-station PATH plays a base station's radio: this process listens on
+// the Unix socket PATH, and a client there (syrof-bridge --socket PATH,
+// docs/bridge.md) gets every beacon a robot sends as a ReceivedBeacon frame
+// (docs/radio-link.md), the moment the host reads it, with a fixed RSSI of
+// -50 dBm and no channel loss: a base station in the middle of the arena
+// that hears every advertisement on the air. Deaf, mute and partitions are
+// between robots and do not apply to it. A client may connect (and
+// reconnect) at any time; it never slows the swarm (what it does not read
+// is dropped past 64 KiB). Nothing else of the run changes.
+//
 // The scenario (--scenario FILE, else the built-in one below: 4 omni robots
 // on a grid in the default 4 m arena, builtin:circle, no loss) gives the
 // arena, the robots' start poses, the sensors' noise, the channel and the
@@ -46,7 +56,7 @@
 //   syrof-firmware-swarm --image build-m4/bin/syrof-robot-mps2.elf [--scenario FILE] --robots 4
 //       --seconds 20 --loss 0 --seed 1 --out DIR [--qemu qemu-system-arm] [--icount SHIFT|-1]
 //       [--align 0|1] [--latency-ms 25] [--expect-cooperative] [--expect-faults] [--max-estimation-error M]
-//       [--realtime]
+//       [--realtime] [--base-station PATH]
 //
 // Exit status 0 when every instance ran to the end and reported, no P3
 // breach happened, the replay reads back whole, (with --expect-cooperative)
@@ -150,6 +160,7 @@ struct Options {
   std::optional<uint64_t> seed_override;
   std::optional<double> loss_override;
   std::optional<double> max_estimation_error_m;
+  std::string base_station;  // empty: none; else the Unix socket a base station's client connects to
 };
 
 // The robot image is built with SYROF_MAX_SWARM_SIZE=32 (the Teensy's).
@@ -159,12 +170,15 @@ constexpr const char* kUsage =
     "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..32] [--seconds S] [--loss 0..1]\n"
     "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT|-1] [--align 0|1] [--latency-ms MS]\n"
     "       [--expect-cooperative] [--expect-faults] [--max-estimation-error M] [--realtime]\n"
+    "       [--base-station PATH]\n"
     "Starts one qemu mps2-an386 instance of the robot image per robot of the scenario (--robots, --seed\n"
     "and --loss override it) and plays the world, the robots' sensors and the radio channel between\n"
     "them; plays the scenario's faults (crash, pause, join, deaf, mute) and partitions on world time;\n"
     "writes metrics.json, replay, firmware-swarm.json and logs in --out (docs/firmware.md).\n"
     "The guests run on the host's clock; --icount SHIFT runs them with qemu's -icount shift=SHIFT.\n"
-    "--realtime runs this process and the qemu instances at SCHED_FIFO (root or CAP_SYS_NICE).\n";
+    "--realtime runs this process and the qemu instances at SCHED_FIFO (root or CAP_SYS_NICE).\n"
+    "--base-station PATH listens on the Unix socket PATH and sends a client there every beacon sent, as\n"
+    "ReceivedBeacon frames (syrof-bridge --socket PATH; docs/bridge.md).\n";
 
 [[noreturn]] void Usage(const std::string& what) {
   std::fprintf(stderr, "syrof-firmware-swarm: %s\n%s", what.c_str(), kUsage);
@@ -193,7 +207,8 @@ Options ParseOptions(int argc, char** argv) {
     }
     static const std::string_view kWithValue[] = {"--image",    "--qemu",    "--out",      "--robots",
                                                   "--seconds",  "--loss",    "--seed",     "--scenario",
-                                                  "--max-estimation-error", "--latency-ms", "--align", "--icount"};
+                                                  "--max-estimation-error", "--latency-ms", "--align", "--icount",
+                                                  "--base-station"};
     if (std::find(std::begin(kWithValue), std::end(kWithValue), key) == std::end(kWithValue)) {
       Usage("unknown argument '" + key + "'");
     }
@@ -236,6 +251,8 @@ Options ParseOptions(int argc, char** argv) {
       options.align = number(0, 1) == 1;
     } else if (key == "--icount") {
       options.icount_shift = static_cast<int>(number(-1, 10));
+    } else if (key == "--base-station") {
+      options.base_station = value;
     } else {
       Usage("unknown argument '" + key + "'");
     }
@@ -465,6 +482,51 @@ void Flush(int fd, std::vector<uint8_t>& pending) {
     pending.erase(pending.begin(), pending.begin() + written);
   }
 }
+
+// --base-station: the listener, the client connected to it (one at a time)
+// and the frames it has not taken yet.
+struct BaseStationLink {
+  static constexpr size_t kMaxPending = 64 * 1024;
+  int listener = -1;
+  int client = -1;
+  std::vector<uint8_t> pending;
+  uint8_t sequence = 0;
+  int64_t frames = 0;   // ReceivedBeacon frames queued for a client
+  int64_t dropped = 0;  // beacons not queued: no client, or it stopped reading
+
+  // Takes a waiting client (non-blocking), then writes what it takes now;
+  // a client that went away is closed, and the next one accepted.
+  void Serve() {
+    if (listener < 0) return;
+    if (client < 0) {
+      client = accept4(listener, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+      pending.clear();
+    }
+    while (client >= 0 && !pending.empty()) {
+      const ssize_t written = send(client, pending.data(), pending.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
+      if (written < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
+      if (written <= 0) {
+        close(client);
+        client = -1;
+        return;
+      }
+      pending.erase(pending.begin(), pending.begin() + written);
+    }
+  }
+
+  // One beacon heard on the air, as the base station's radio frames it.
+  void Hear(std::span<const uint8_t> beacon) {
+    uint8_t wire_bytes[drivers::kMaxWireBytes];
+    const auto encoded = drivers::EncodeFrame(drivers::MakeReceivedBeacon(sequence, -50, beacon), wire_bytes);
+    if (client < 0 || !encoded.ok() || pending.size() + encoded.value() > kMaxPending) {
+      ++dropped;
+      return;
+    }
+    ++sequence;
+    ++frames;
+    pending.insert(pending.end(), wire_bytes, wire_bytes + encoded.value());
+  }
+};
 
 // One robot's sockets and their listeners: console, radio, sensor link.
 struct RobotSockets {
@@ -705,6 +767,7 @@ class SwarmHost {
   int64_t latency_ns_;
   // By due instant: the latency is scaled by each sender's clock rate.
   std::multimap<int64_t, Delivery> in_flight_;
+  BaseStationLink base_station_;  // --base-station
   std::vector<pollfd> fds_;
   bool ended_ = false;  // EndPausedAndHeld was done
 };
@@ -765,6 +828,11 @@ bool SwarmHost::OpenSockets() {
     swarm_[i].log.open(options_.out + "/robot_" + std::to_string(i) + ".log");
     swarm_[i].bank =
         std::make_unique<lab::sensors::SensorBank>(scenario_.sensors, lab::sim::SensorSeed(scenario_.seed, i));
+  }
+  if (!options_.base_station.empty()) {
+    base_station_.listener = Listen(options_.base_station);
+    fcntl(base_station_.listener, F_SETFL, fcntl(base_station_.listener, F_GETFL) | O_NONBLOCK);
+    paths_.push_back(options_.base_station);
   }
   return true;
 }
@@ -827,6 +895,7 @@ void SwarmHost::StartWorld() {
   // With -icount a loaded host stretches the guests' time (1.3x for 4
   // robots on 2 busy cores, more for 8): three times the run, then give up.
   deadline_ns_ = all_started_ns_ + (3 * options_.seconds + 30) * int64_t{1'000'000'000};
+  base_station_.Serve();  // a base station already waiting hears the first beacons too
   player_.StartPresentRobots(host_);
 }
 
@@ -846,6 +915,7 @@ void SwarmHost::Step() {
     ReadRadio(i, now);
     ReadConsole(i, now);
   }
+  base_station_.Serve();
   // Round ends on the host's clock: every robot's latest report.
   while (world_ns_ >= next_round_ns_) RecordRound(now);
 }
@@ -968,6 +1038,9 @@ void SwarmHost::OnBeacon(uint16_t i, const drivers::Frame& frame, int64_t now) {
   Robot& robot = swarm_[i];
   robot.beacon_ns.push_back(now);
   robot.last_boundary_ns = now;
+  if (base_station_.listener >= 0) {
+    base_station_.Hear(std::span<const uint8_t>(frame.beacon.data(), frame.beacon_length));
+  }
   const int64_t beacon_round = BeaconRound(robot);
   const int64_t due_ns = DeliveryDue(robot, beacon_round, now);
   CountLateness(robot, beacon_round);
@@ -1126,6 +1199,14 @@ int SwarmHost::Finish() {
   }
   for (const std::string& path : paths_) unlink(path.c_str());
   rmdir(socket_dir_.c_str());
+  if (base_station_.listener >= 0) {
+    base_station_.Serve();
+    if (base_station_.client >= 0) close(base_station_.client);
+    close(base_station_.listener);
+    std::fprintf(stderr, "syrof-firmware-swarm: base station: %lld beacons sent to %s, %lld not (no client, or it lagged)\n",
+                 static_cast<long long>(base_station_.frames), options_.base_station.c_str(),
+                 static_cast<long long>(base_station_.dropped));
+  }
   result.wall_s = static_cast<double>(HostNs() - start_ns_) * 1e-9;
   result.metrics = CollectMetrics(result.wall_s);
   ReadReplayBack(result);

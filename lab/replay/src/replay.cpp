@@ -21,6 +21,7 @@ const char* ToString(EventKind kind) {
     case EventKind::kPayloadRefused: return "PAYLOAD_REFUSED";
     case EventKind::kSafetyIntervention: return "SAFETY_INTERVENTION";
     case EventKind::kJoinWait: return "JOIN_WAIT";
+    case EventKind::kBeaconLost: return "BEACON_LOST";
   }
   return "?";
 }

@@ -13,6 +13,7 @@
 #include <limits>
 #include <sstream>
 #include <thread>
+#include <unordered_set>
 
 #include "syrof/lab/replay/epoch_table.h"
 #include "syrof/lab/replay/reader.h"
@@ -128,6 +129,7 @@ class Patterns {
 struct Outcome {
   std::vector<Violation> violations;
   metrics::Metrics metrics;
+  size_t metrics_hash = 0;  // of metrics.json: equal for runs the metrics cannot tell apart
 };
 
 Outcome RunPattern(const scenario::Scenario& scenario, const SearchOptions& options,
@@ -140,6 +142,7 @@ Outcome RunPattern(const scenario::Scenario& scenario, const SearchOptions& opti
   Outcome outcome;
   outcome.violations = ViolationsOf(report.metrics, goal_declared);
   outcome.metrics = std::move(report.metrics);
+  outcome.metrics_hash = std::hash<std::string>{}(report.metrics_json);
   return outcome;
 }
 
@@ -327,6 +330,17 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   auto elapsed_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
   const bool goal_declared = !scenario.goal.empty();
   SearchResult result;
+  // The search chooses every loss itself; a link that loses some beacons at
+  // random would make a pattern's outcome the seed's as much as the search's.
+  for (const world::LinkLossSpec& link : scenario.channel.links) {
+    if (link.loss > 0 && link.loss < 1) {
+      result.error = fmt::format(
+          "channel link {} -> {} loses {} of its beacons at random; a search decides every loss itself: give the "
+          "link loss 0 or 1 (a dead link), or leave it out",
+          link.from, link.to, link.loss);
+      return result;
+    }
+  }
 
   // The loss-free run: the first pattern, and the epochs that set the window.
   std::ostringstream replay_bytes;
@@ -361,6 +375,8 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   result.slots = static_cast<int64_t>(slots.size());
 
   const size_t batch_size = static_cast<size_t>(options.jobs) * 8;
+  std::unordered_set<size_t> outcome_hashes{std::hash<std::string>{}(baseline.metrics_json)};
+  result.distinct_outcomes = 1;
   for (int losses = 1; losses <= options.max_losses; ++losses) {
     Patterns patterns(result.slots, losses);
     while (!patterns.done()) {
@@ -375,15 +391,19 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
         for (int64_t index : patterns.current()) lost.push_back(slots[static_cast<size_t>(index)]);
       }
       std::vector<Outcome> outcomes = RunBatch(scenario, options, batch, goal_declared);
-      result.runs += static_cast<int64_t>(batch.size());
-      if (options.progress) options.progress(result.runs, losses);
       for (size_t i = 0; i < outcomes.size(); ++i) {
+        // Counted in search order, up to the first pattern that broke the
+        // run, whatever else the batch ran: the same figures for any --jobs.
+        ++result.runs;
+        outcome_hashes.insert(outcomes[i].metrics_hash);
+        result.distinct_outcomes = static_cast<int64_t>(outcome_hashes.size());
         if (outcomes[i].violations.empty()) continue;
         result.counterexample =
             Counterexample{std::move(batch[i]), std::move(outcomes[i].violations), std::move(outcomes[i].metrics)};
         result.seconds = elapsed_s();
         return result;
       }
+      if (options.progress) options.progress(result.runs, losses);
     }
     result.complete_losses = losses;
   }

@@ -21,7 +21,42 @@ void OrderByTime(std::span<replay::Event> events) {
 }
 
 RoundRecorder::RoundRecorder(const scenario::Scenario& scenario, const metrics::CollectorConfig& config)
-    : scenario_(scenario), collector_(config), goal_monitor_(scenario.goal) {}
+    : scenario_(scenario), collector_(config), goal_monitor_(scenario.goal) {
+  if (scenario.channel.model == world::ChannelModel::kScripted) {
+    scripted_lost_ = scenario.channel.lost;
+    std::sort(scripted_lost_.begin(), scripted_lost_.end());
+    scripted_lost_.erase(std::unique(scripted_lost_.begin(), scripted_lost_.end()), scripted_lost_.end());
+  }
+}
+
+std::span<const replay::Event> RoundRecorder::WithLostBeacons(const RecordedRound& round) {
+  while (next_lost_ < scripted_lost_.size() && scripted_lost_[next_lost_].round < round.round) ++next_lost_;
+  if (next_lost_ == scripted_lost_.size() || scripted_lost_[next_lost_].round != round.round) return round.events;
+  round_events_.clear();
+  const int64_t sent_ns = round.round * CollectorConfigFor(scenario_).radio_round_ns;
+  auto running = [&](uint16_t id) -> const replay::RobotFrame* {
+    const auto frame = std::lower_bound(round.frames.begin(), round.frames.end(), id,
+                                        [](const replay::RobotFrame& f, uint16_t wanted) { return f.id < wanted; });
+    return frame != round.frames.end() && frame->id == id && frame->presence == replay::Presence::kRunning ? &*frame
+                                                                                                        : nullptr;
+  };
+  for (; next_lost_ < scripted_lost_.size() && scripted_lost_[next_lost_].round == round.round; ++next_lost_) {
+    if (round_events_.size() >= kMostLostBeaconEvents) continue;
+    const world::LostBeacon& lost = scripted_lost_[next_lost_];
+    const replay::RobotFrame* sender = running(lost.from);
+    if (sender == nullptr || running(lost.to) == nullptr) continue;  // nothing was sent, or nobody listened
+    replay::Event event;
+    event.kind = replay::EventKind::kBeaconLost;
+    event.robot = lost.from;
+    event.other = lost.to;
+    event.epoch = sender->epoch;
+    event.mode = sender->mode;
+    event.time_ns = std::min(sent_ns, round.time_ns);
+    round_events_.push_back(event);
+  }
+  round_events_.insert(round_events_.end(), round.events.begin(), round.events.end());
+  return round_events_;
+}
 
 void RoundRecorder::OpenReplay(std::ostream& out) {
   SYROF_CHECK(!replay_.has_value());
@@ -57,8 +92,9 @@ void RoundRecorder::RecordRound(const RecordedRound& round) {
   std::stable_sort(round.maps.begin(), round.maps.end(),
                    [](const replay::RobotMap& a, const replay::RobotMap& b) { return a.robot < b.robot; });
   const auto index = static_cast<uint32_t>(round.round);
-  if (replay_) replay_->WriteRound(index, round.time_ns, round.frames, round.events, round.maps);
-  for (replay::RoundSink* sink : sinks_) sink->OnRound(index, round.time_ns, round.frames, round.events, round.maps);
+  const std::span<const replay::Event> events = WithLostBeacons(round);
+  if (replay_) replay_->WriteRound(index, round.time_ns, round.frames, events, round.maps);
+  for (replay::RoundSink* sink : sinks_) sink->OnRound(index, round.time_ns, round.frames, events, round.maps);
 }
 
 void RoundRecorder::FinishReplay(bool complete) {

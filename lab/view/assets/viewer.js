@@ -33,6 +33,7 @@
     fault: [208, 40, 40],
     collision: [208, 40, 40],
     safety: [230, 180, 0],
+    lost: [194, 24, 91],
     wall: [120, 124, 135],
   };
   const KIND_COLOURS = {
@@ -40,6 +41,7 @@
     COLLISION: '#d02828', WALL_CONTACT: '#a0522d', CRASH: '#4b5160', PAUSE: '#7d8699', RESUME: '#2e9d5b',
     JOIN: '#8e6cc7', PARTITION_START: '#c2185b', PARTITION_END: '#c2185b', APP_FAULT: '#d02828',
     INVALID_COMMAND: '#e8862a', PAYLOAD_REFUSED: '#e8862a', SAFETY_INTERVENTION: '#e6b400', JOIN_WAIT: '#8e6cc7',
+    BEACON_LOST: '#c2185b',
   };
   const PRESENCE = ['ABSENT', 'RUNNING', 'PAUSED', 'CRASHED'];
   const PHASES = ['PROGRESS', 'WAIT', 'VOTE'];
@@ -353,17 +355,43 @@
         }
       }
     }
-    // Marks: collisions, wall contacts and safety interventions of the last
-    // MARK_ROUNDS rounds, where they happened.
+    // Marks: collisions, wall contacts, safety interventions and lost
+    // beacons of the last MARK_ROUNDS rounds, where they happened.
     const marks = [];
     const first = lowerBound(pos - MARK_ROUNDS + 1);
     for (let n = first; n < events.length && events[n].pos <= pos; ++n) {
       const e = events[n];
-      if (e.kind !== 'COLLISION' && e.kind !== 'SAFETY_INTERVENTION' && e.kind !== 'WALL_CONTACT') continue;
+      if (e.kind !== 'COLLISION' && e.kind !== 'SAFETY_INTERVENTION' && e.kind !== 'WALL_CONTACT' &&
+          e.kind !== 'BEACON_LOST') continue;
       const a = slotOf.get(e.robot);
       if (a === undefined) continue;
       const b = e.other >= 0 ? slotOf.get(e.other) : undefined;
       const es = sampleOf(e.pos);
+      if (e.kind === 'BEACON_LOST') {
+        // A dashed arrow from the sender to the receiver that did not hear
+        // it, crossed out halfway.
+        if (b === undefined) continue;
+        const fade = 1 - (pos - e.pos) / MARK_ROUNDS;
+        const x0 = sx(frames[a].x[es] / 1000), y0 = sy(frames[a].y[es] / 1000);
+        const x1 = sx(frames[b].x[es] / 1000), y1 = sy(frames[b].y[es] / 1000);
+        const len = Math.hypot(x1 - x0, y1 - y0) || 1, ux = (x1 - x0) / len, uy = (y1 - y0) / len;
+        const rb = Math.max(6, robots[b].radius * view.scale);
+        const tx = x1 - ux * rb, ty = y1 - uy * rb;
+        ctx.strokeStyle = rgb(COLOURS.lost, fade);
+        ctx.lineWidth = 2;
+        ctx.setLineDash([6, 4]);
+        ctx.beginPath(); ctx.moveTo(x0, y0); ctx.lineTo(tx, ty); ctx.stroke();
+        ctx.setLineDash([]);
+        ctx.beginPath();
+        ctx.moveTo(tx, ty); ctx.lineTo(tx - ux * 9 - uy * 5, ty - uy * 9 + ux * 5);
+        ctx.moveTo(tx, ty); ctx.lineTo(tx - ux * 9 + uy * 5, ty - uy * 9 - ux * 5);
+        const mx = (x0 + tx) / 2, my = (y0 + ty) / 2;
+        ctx.moveTo(mx - 6, my - 6); ctx.lineTo(mx + 6, my + 6);
+        ctx.moveTo(mx - 6, my + 6); ctx.lineTo(mx + 6, my - 6);
+        ctx.stroke();
+        marks.push({ kind: e.kind, robot: e.robot, other: e.other, round: roundIndex[e.pos] });
+        continue;
+      }
       let mx = frames[a].x[es] / 1000, my = frames[a].y[es] / 1000;
       if (b !== undefined && e.kind === 'COLLISION') {
         mx = (mx + frames[b].x[es] / 1000) / 2; my = (my + frames[b].y[es] / 1000) / 2;
@@ -405,6 +433,9 @@
     nodes.push(el('span', { textContent: '◌ dashed: the robot\'s own estimate' }));
     nodes.push(el('span', { innerHTML: '<b style="color:#d02828">◎</b> collision' }));
     nodes.push(el('span', { innerHTML: '<b style="color:#e6b400">▲</b> safety intervention' }));
+    if (events.some((e) => e.kind === 'BEACON_LOST')) {
+      nodes.push(el('span', { innerHTML: '<b style="color:#c2185b">⇢✕</b> lost beacon (scripted)' }));
+    }
     nodes.push(el('span', { textContent: '▲ UWB anchor · label: id, phase and epoch' }));
     $('legend').replaceChildren(...nodes);
   }
@@ -535,7 +566,7 @@
 
   const timeline = $('timeline');
   const ROWS = [['EPOCH_START', 'MEMBER_REMOVED', 'MEMBER_JOINED', 'BECAME_JOINER'],
-                ['CRASH', 'PAUSE', 'RESUME', 'JOIN', 'JOIN_WAIT', 'PARTITION_START', 'PARTITION_END'],
+                ['CRASH', 'PAUSE', 'RESUME', 'JOIN', 'JOIN_WAIT', 'PARTITION_START', 'PARTITION_END', 'BEACON_LOST'],
                 ['COLLISION', 'WALL_CONTACT', 'SAFETY_INTERVENTION', 'APP_FAULT', 'INVALID_COMMAND', 'PAYLOAD_REFUSED']];
   function drawTimeline() {
     const ctx = fitCanvas(timeline, 46);

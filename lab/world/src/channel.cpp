@@ -219,16 +219,20 @@ bool Channel::DeliversSlow(uint16_t from, uint16_t to, int64_t round, double tim
     ++partitioned_;
     return false;
   }
+  const uint32_t key = LinkKey(from, to);
+  const auto link = link_losses_.empty() ? link_losses_.end() : std::lower_bound(link_losses_.begin(), link_losses_.end(), key,
+                                     [](const LinkLoss& entry, uint32_t wanted) { return entry.key < wanted; });
+  const bool listed = link != link_losses_.end() && link->key == key;
   if (spec_.model == ChannelModel::kScripted) {
-    const bool delivered = !std::binary_search(lost_.begin(), lost_.end(), LostBeacon{round, from, to});
+    // A listed link keeps its own loss (a dead link stays dead); the script
+    // loses its beacons on top.
+    const bool delivered = !(listed && LossDraw(round, from, to) < link->loss) &&
+                           !std::binary_search(lost_.begin(), lost_.end(), LostBeacon{round, from, to});
     delivered_ += delivered ? 1 : 0;
     return delivered;
   }
   double loss = spec_.loss;
-  const uint32_t key = LinkKey(from, to);
-  const auto link = link_losses_.empty() ? link_losses_.end() : std::lower_bound(link_losses_.begin(), link_losses_.end(), key,
-                                     [](const LinkLoss& entry, uint32_t wanted) { return entry.key < wanted; });
-  if (link != link_losses_.end() && link->key == key) {
+  if (listed) {
     loss = link->loss;
   } else if (spec_.model == ChannelModel::kGilbertElliott) {
     loss = ChainBad(from, to, round) ? spec_.loss_bad : spec_.loss_good;

@@ -62,12 +62,12 @@ TEST(ReplayReader, RefusesWrongMagic) {
 
 TEST(ReplayReader, RefusesNewerAndUnknownVersions) {
   std::string newer = WriteSample().bytes;
-  PutU16At(newer, kVersionAt, 5);
+  PutU16At(newer, kVersionAt, kFormatVersion + 1);
   std::string zero = newer;
   PutU16At(zero, kVersionAt, 0);
 
-  ExpectError(Read(newer), kVersionAt, "format version 5 is newer than this reader's (4)");
-  ExpectError(Read(zero), kVersionAt, "format version 0 does not exist (this reader knows versions 1 to 4)");
+  ExpectError(Read(newer), kVersionAt, "format version 6 is newer than this reader's (5)");
+  ExpectError(Read(zero), kVersionAt, "format version 0 does not exist (this reader knows versions 1 to 5)");
 }
 
 TEST(ReplayReader, TruncatedAtEveryOffsetGivesCleanIncompleteState) {
@@ -215,13 +215,13 @@ TEST(ReplayReader, RefusesUnknownEventKindAndRobot) {
   const Written written = WriteSample();
   const size_t event_at = written.header_end + kFirstEventAt;
   std::string kind = written.bytes;
-  kind[event_at] = 17;
+  kind[event_at] = 18;
   std::string robot = written.bytes;
   PutU16At(robot, event_at + 1, 9);
   std::string partition = written.bytes;
   PutU16At(partition, event_at + 16, 3);  // on the EPOCH_START
 
-  ExpectError(Read(kind), event_at, "unknown event kind 17 (format version 4)");
+  ExpectError(Read(kind), event_at, "unknown event kind 18 (format version 5)");
   ExpectError(Read(robot), event_at + 1, "event robot 9 is not a robot of the header");
   ExpectError(Read(partition), event_at, "EPOCH_START event names partition 3; only partition events do");
 }

@@ -88,13 +88,13 @@ TEST(ReplayWriterReader, UnchangedRobotCostsFourBytes) {
   EXPECT_EQ(Read(written.bytes).rounds, rounds);
 }
 
-// Version 4, written out by hand from docs/replay.md; the CRCs come from
+// Version 5, written out by hand from docs/replay.md; the CRCs come from
 // zlib.crc32. Any change to the layout shows up here: bump kFormatVersion,
 // update docs/replay.md, then this.
 const std::vector<uint8_t> kGoldenFile = {
     // header
     'S', 'Y', 'R', 'O', 'F', 'R', 'P', 'L',          // magic
-    0x04, 0x00,                                      // version 4
+    0x05, 0x00,                                      // version 5
     0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01,  // seed 0x0102030405060708
     0x80, 0xF0, 0xFA, 0x02, 0x00, 0x00, 0x00, 0x00,  // radio_round_ns 50000000
     0x00, 0x00, 0x80, 0x40,                          // arena_width_m 4.0
@@ -111,7 +111,7 @@ const std::vector<uint8_t> kGoldenFile = {
     0x02, 0x01,                                      // message: fields, 1 field
     0x06, 0x00, 'c', 'h', 'a', 'r', 'g', 'e',        // name "charge"
     0x02,                                            // type u16be
-    0xFF, 0x2F, 0x1A, 0xD5,                          // crc
+    0xBA, 0xCE, 0x7B, 0x1C,                          // crc
     // round
     'R',                                             // tag
     0x03, 0x00, 0x00, 0x00,                          // index 3
@@ -493,7 +493,7 @@ TEST(ReplayWriter, RefusesRoundItCannotRecordAndWritesNoMore) {
       {{RobotFrame{.id = 0, .status = 2}}, {}, 1, "status 2"},
       {{RobotFrame{.id = 0, .mode = 2}}, {}, 1, "mode 2"},
       {{RobotFrame{.id = 0, .presence = static_cast<Presence>(4)}}, {}, 1, "presence 4"},
-      {{}, {Event{.kind = static_cast<EventKind>(17)}}, 1, "unknown event kind 17"},
+      {{}, {Event{.kind = static_cast<EventKind>(18)}}, 1, "unknown event kind 18"},
       {{}, {Event{.kind = EventKind::kCollision, .robot = 0, .other = 9}}, 1, "other 9"},
       {{}, {}, 0, "round index 0 does not follow round 0"},
   };
@@ -535,7 +535,8 @@ TEST(ReplayNames, EveryEnumeratorHasAName) {
   EXPECT_STREQ(ToString(EventKind::kPayloadRefused), "PAYLOAD_REFUSED");
   EXPECT_STREQ(ToString(EventKind::kSafetyIntervention), "SAFETY_INTERVENTION");
   EXPECT_STREQ(ToString(EventKind::kJoinWait), "JOIN_WAIT");
-  EXPECT_STREQ(ToString(static_cast<EventKind>(17)), "?");
+  EXPECT_STREQ(ToString(EventKind::kBeaconLost), "BEACON_LOST");
+  EXPECT_STREQ(ToString(static_cast<EventKind>(18)), "?");
   EXPECT_STREQ(ToString(Presence::kAbsent), "ABSENT");
   EXPECT_STREQ(ToString(Presence::kRunning), "RUNNING");
   EXPECT_STREQ(ToString(Presence::kPaused), "PAUSED");

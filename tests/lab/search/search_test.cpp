@@ -83,6 +83,8 @@ TEST(SearchTest, TheResultDoesNotDependOnTheJobs) {
   ASSERT_TRUE(one.counterexample && two.counterexample);
   EXPECT_EQ(one.counterexample->lost, two.counterexample->lost);
   EXPECT_EQ(metrics::ToJson(one.counterexample->metrics), metrics::ToJson(two.counterexample->metrics));
+  EXPECT_EQ(one.runs, two.runs);
+  EXPECT_EQ(one.distinct_outcomes, two.distinct_outcomes);
 }
 
 TEST(SearchTest, TheCounterexampleReplaysExactlyAsAScriptedChannel) {
@@ -109,6 +111,10 @@ TEST(SearchTest, AnAppFollowingTheEpochSurvivesTheSameSearch) {
   EXPECT_EQ(result.complete_losses, 1);
   EXPECT_EQ(result.runs, 1 + result.slots);
   EXPECT_GT(result.slots, 0);
+  // Some single losses change the run (an epoch starts AUTONOMOUS), many
+  // change nothing the metrics see.
+  EXPECT_GE(result.distinct_outcomes, 2);
+  EXPECT_LT(result.distinct_outcomes, result.runs);
 }
 
 TEST(SearchTest, SlotsLeaveOutBeaconsTheScenarioAlreadyLoses) {
@@ -123,6 +129,30 @@ TEST(SearchTest, SlotsLeaveOutBeaconsTheScenarioAlreadyLoses) {
   ASSERT_GT(result.window_rounds, 10);
   EXPECT_EQ(result.slots, 10 * 6 + (result.window_rounds - 10) * 2);
   EXPECT_EQ(result.runs, 1);  // F = 0: the loss-free run only
+}
+
+// A scripted channel once ignored the scenario's links, so a search ran a
+// dead link alive: a swarm that never hears robot 2 at robot 0 looked whole.
+TEST(SearchTest, ADeadLinkStaysDeadAndIsNoSlot) {
+  const char* text =
+      "seed: 3\nrobots: {count: 3, spacing_m: 1.0}\ntiming: {duration_s: 3}\napp: builtin:idle\n"
+      "channel: {model: iid, loss: 0.0, links: [{from: 2, to: 0, loss: 1.0}]}\n";
+  const scenario::Scenario scenario = LoadText(text);
+  SearchOptions options = OptionsFor(false, 0, 1);
+  options.epochs = 1;
+  const SearchResult result = Search(scenario, options);
+  ASSERT_TRUE(result.error.empty()) << result.error;
+  EXPECT_EQ(result.slots, result.window_rounds * 5);  // 6 directed links, one dead
+}
+
+TEST(SearchTest, ALinkWithRandomLossIsRefused) {
+  const scenario::Scenario scenario = LoadText(
+      "seed: 3\nrobots: {count: 3, spacing_m: 1.0}\ntiming: {duration_s: 3}\napp: builtin:idle\n"
+      "channel: {model: iid, loss: 0.0, links: [{from: 2, to: 0, loss: 0.3}]}\n");
+  const SearchResult result = Search(scenario, OptionsFor(false, 1, 1));
+  EXPECT_NE(result.error.find("channel link 2 -> 0 loses 0.3 of its beacons at random"), std::string::npos)
+      << result.error;
+  EXPECT_EQ(result.runs, 0);
 }
 
 TEST(SearchTest, PatternCountsAddUpBinomials) {

@@ -289,7 +289,9 @@ TEST_F(ScenarioPage, ScreenshotHasEachRobotsColourWhereTheRobotIs) {
 
 // ---- A replay made by hand: two robots that collide in round 30 ------------
 
-std::string CollisionReplay() {
+// `kind` in round 30: COLLISION, or BEACON_LOST (robot 0's beacon that
+// robot 1 did not hear).
+std::string CollisionReplay(replay::EventKind kind = replay::EventKind::kCollision) {
   replay::Header header;
   header.seed = 1;
   header.radio_round_ns = 50'000'000;
@@ -319,12 +321,21 @@ std::string CollisionReplay() {
                 {replay::EventKind::kEpochStart, 1, replay::kNoRobot, 1, 0, time_ns}};
       maps = {{0, map}, {1, map}};
     }
-    if (index == 30) events = {{replay::EventKind::kCollision, 0, 1, 1, 0, time_ns}};
+    if (index == 30) events = {{kind, 0, 1, 1, 0, time_ns}};
     writer.WriteRound(index, time_ns, frames, events, maps);
   }
   writer.Finish();
   EXPECT_TRUE(writer.ok()) << writer.error();
   return bytes.str();
+}
+
+// The page at round 30 marks one `kind` event of robot 0 with robot 1.
+void ExpectOneMarkInRound30(const Loaded& at, const std::string& kind) {
+  ASSERT_EQ(at.report["marks"].size(), 1u) << at.report.dump();
+  EXPECT_EQ(at.report["marks"][0]["kind"], kind);
+  EXPECT_EQ(at.report["marks"][0]["robot"], 0);
+  EXPECT_EQ(at.report["marks"][0]["other"], 1);
+  EXPECT_EQ(at.report["marks"][0]["round"], 30);
 }
 
 TEST(CollisionPage, SteppingToTheCollisionRoundShowsItMarked) {
@@ -334,12 +345,22 @@ TEST(CollisionPage, SteppingToTheCollisionRoundShowsItMarked) {
   const Loaded at = Load(page, "#round=30");
 
   EXPECT_EQ(before.report["marks"], json::array()) << before.report.dump();
-  ASSERT_EQ(at.report["marks"].size(), 1u) << at.report.dump();
-  EXPECT_EQ(at.report["marks"][0]["kind"], "COLLISION");
-  EXPECT_EQ(at.report["marks"][0]["robot"], 0);
-  EXPECT_EQ(at.report["marks"][0]["other"], 1);
-  EXPECT_EQ(at.report["marks"][0]["round"], 30);
+  ExpectOneMarkInRound30(at, "COLLISION");
   EXPECT_NE(at.dom.find("<li class=\"ev k4 now\""), std::string::npos);  // listed (kind 4), as happening now
+}
+
+TEST(LostBeaconPage, ALostBeaconIsMarkedFromSenderToReceiver) {
+  const fs::path page = WritePage(CollisionReplay(replay::EventKind::kBeaconLost), "lost_beacon");
+
+  const Loaded before = Load(page, "#round=29");
+  const Loaded at = Load(page, "#round=30");
+  const Loaded later = Load(page, "#round=50");  // 20 rounds on: gone
+
+  EXPECT_EQ(before.report["marks"], json::array()) << before.report.dump();
+  ExpectOneMarkInRound30(at, "BEACON_LOST");
+  EXPECT_EQ(later.report["marks"], json::array()) << later.report.dump();
+  EXPECT_NE(at.dom.find("<li class=\"ev k17 now\""), std::string::npos);  // listed (kind 17), as happening now
+  EXPECT_NE(at.dom.find("BEACON_LOST"), std::string::npos);
 }
 
 // ---- A replay made by hand with private inputs and a message format --------

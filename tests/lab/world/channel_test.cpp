@@ -365,6 +365,22 @@ TEST(ChannelTest, AScriptedChannelStillHasItsPartitions) {
   EXPECT_TRUE(channel.Delivers(0, 2, 50, 2.5));
 }
 
+// A scripted channel once ignored `links`, so a search (which scripts the
+// channel) brought a scenario's dead link back to life.
+TEST(ChannelTest, AScriptedChannelKeepsItsLinks) {
+  ChannelSpec spec;
+  spec.model = ChannelModel::kScripted;
+  spec.links = {LinkLossSpec{1, 0, 1.0}, LinkLossSpec{2, 0, 0.0}};
+  spec.lost = {{4, 2, 0}};
+  Channel channel(spec, 3, 5);
+  for (int64_t round = 0; round < 50; ++round) {
+    const double time_s = 0.05 * static_cast<double>(round);
+    EXPECT_FALSE(channel.Delivers(1, 0, round, time_s)) << "round " << round;  // dead
+    EXPECT_TRUE(channel.Delivers(0, 1, round, time_s)) << "round " << round;   // the other way lives
+    EXPECT_EQ(channel.Delivers(2, 0, round, time_s), round != 4) << "round " << round;  // the script on top
+  }
+}
+
 TEST(ChannelTest, ScriptedLossesAreChecked) {
   ChannelSpec spec;
   spec.model = ChannelModel::kScripted;

@@ -28,7 +28,8 @@ namespace syrof::lab::replay {
 ///      UWB anchors in the header.
 ///   4: each robot's private inputs and the run's message format (when one
 ///      was declared) in the header.
-inline constexpr uint16_t kFormatVersion = 4;
+///   5: event kind BEACON_LOST (a scripted channel's lost beacons).
+inline constexpr uint16_t kFormatVersion = 5;
 inline constexpr uint16_t kOldestFormatVersion = 1;
 
 /// Robot id meaning "no robot" in Event::robot and Event::other; no robot of
@@ -144,11 +145,14 @@ enum class EventKind : uint8_t {
   // Since version 3:
   kSafetyIntervention = 15, ///< the safety filter limited `robot`'s command to keep it from `other` (kNoRobot: a wall)
   kJoinWait = 16,       ///< joiner `robot` waits for its start disc to clear before it is switched on
+  // Since version 5:
+  kBeaconLost = 17,     ///< `robot`'s beacon of this round did not reach `other`: a scripted channel lost it
 };
 
 /// The last EventKind of format `version`; a larger value in a file of that
 /// version is an error.
 constexpr EventKind LastEventKind(uint16_t version) {
+  if (version >= 5) return EventKind::kBeaconLost;
   if (version >= 3) return EventKind::kJoinWait;
   return version >= 2 ? EventKind::kPayloadRefused : EventKind::kPartitionEnd;
 }

@@ -82,7 +82,11 @@ struct SearchResult {
   int64_t slots = 0;              ///< beacons a pattern may lose (round, sender, receiver)
   int64_t window_rounds = 0;      ///< radio rounds the losses fall in
   int64_t epochs_in_window = 0;   ///< epochs the loss-free run started in that window (< epochs: the run is shorter)
-  int64_t runs = 0;               ///< patterns run, the loss-free one included
+  int64_t runs = 0;               ///< patterns run, the loss-free one included, in search order up to the counterexample
+  /// Runs whose metrics.json differ (the loss-free one included): how many
+  /// of the patterns changed anything the metrics see (up to the
+  /// counterexample, when one was found; the same for any --jobs).
+  int64_t distinct_outcomes = 0;
   int complete_losses = -1;       ///< every pattern of up to this many losses was run (-1: not even the loss-free one)
   bool stopped_by_time = false;   ///< the time limit ended the search
   double seconds = 0;             ///< wall time

@@ -16,7 +16,8 @@
 //     in that round, an epoch newer than every epoch before (wrapping epoch
 //     order, sync::EpochDifference): the newest such epoch;
 //   - the replay gets the round's frames, its events in the order given
-//     (the order they happened), and its maps in robot order;
+//     (the order they happened), after a BEACON_LOST for each beacon a
+//     scripted channel lost in the round, and its maps in robot order;
 //   - the goal is the scenario's declared checks when it has any (judged at
 //     the end over the robots running then), else the built-in app's own
 //     goal over the final poses (run_parts.h: DeclaredGoal, BuiltinGoal).
@@ -150,6 +151,13 @@ class RoundRecorder {
   metrics::Metrics Finish(const metrics::RunFacts& facts) const;
 
  private:
+  /// The round's events with, first, a BEACON_LOST for each beacon a
+  /// scripted channel lists for this round between two running robots (at
+  /// most kMostLostBeaconEvents a round), so a counterexample's page shows
+  /// them; `round.events` itself without a scripted loss this round.
+  std::span<const replay::Event> WithLostBeacons(const RecordedRound& round);
+  static constexpr size_t kMostLostBeaconEvents = 4096;
+
   const scenario::Scenario& scenario_;
   metrics::Collector collector_;
   goals::GoalMonitor goal_monitor_;
@@ -159,7 +167,10 @@ class RoundRecorder {
   std::optional<metrics::AgreementTracker> agreement_;
   bool any_epoch_ = false;
   uint16_t newest_epoch_ = 0;
-  std::optional<uint16_t> epoch_sample_;  // a newer epoch started this round: the goal samples the poses
+  std::optional<uint16_t> epoch_sample_;
+  std::vector<world::LostBeacon> scripted_lost_;  // a scripted channel's lost beacons, sorted
+  size_t next_lost_ = 0;                          // the first of them in a round not recorded yet
+  std::vector<replay::Event> round_events_;  // a newer epoch started this round: the goal samples the poses
 };
 
 }  // namespace syrof::lab::sim

@@ -18,7 +18,8 @@
 //     replaces the chain and both state losses for that link;
 //  3. otherwise the model: i.i.d. loss `loss`, or Gilbert-Elliott: the
 //     link's two-state chain in its state at round r, lost with loss_good or
-//     loss_bad.
+//     loss_bad; a scripted channel loses the beacons it lists, on top of
+//     step 2 (so a link of loss 1 stays dead under a script).
 // Every directed link has its own chain: it starts at round 0 in a state
 // drawn from the stationary distribution (bad with probability
 // good_to_bad / (good_to_bad + bad_to_good); good when both are 0) and at every round k >= 1 takes
