@@ -96,7 +96,7 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
   run->add_flag("--quiet", options.quiet, "No progress line and no summary");
   run->add_flag("--realtime", options.realtime,
                 "Pace the run to the wall clock (a simulated second takes a second; --live implies it); the outputs are the same bytes");
-  SetupLiveOptions(*run, options.live);
+  lab::live::SetupLiveOptions(*run, options.live);
   run->add_flag("--strict", options.strict,
                 "Exit with status 3 if the app faulted, returned an invalid command or had a payload refused");
   return run;
@@ -195,7 +195,7 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
     live_options.replay_page_follows = true;
     live_options.title = "SyROF live: " + scenario.name;
     live = std::make_unique<lab::live::LiveServer>(live_options);
-    if (!StartLive(*live, options.live, "syrof run", out, err)) return 2;
+    if (!lab::live::StartLive(*live, options.live, "syrof run", out, err)) return 2;
     sim_options.sinks.push_back(live.get());
   }
   sim::Simulation simulation(scenario, sim_options);
@@ -244,7 +244,7 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   } else if (misbehaved) {
     fmt::print(err, "syrof run: warning: the app misbehaved; see app in {}\n", (dir / "metrics.json").string());
   }
-  if (live) EndLive(*live, options.live, options.no_replay ? "" : (dir / "replay").string(), out);
+  if (live) lab::live::EndLive(*live, options.live, options.no_replay ? "" : (dir / "replay").string(), out);
   return options.strict && misbehaved ? 3 : 0;
 }
 

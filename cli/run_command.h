@@ -14,7 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "live_option.h"
+#include "syrof/lab/live/live_command.h"
 #include "syrof/app/app.h"
 
 namespace syrof::cli {
@@ -38,7 +38,7 @@ struct RunOptions {
   /// time takes one of the host's); every output is the same bytes as
   /// without it.
   bool realtime = false;
-  LiveCommandOptions live;    ///< the live page (implies `realtime`)
+  lab::live::LiveCommandOptions live;    ///< the live page (implies `realtime`)
   /// Not a command-line option: makes robot `id`'s app instead of the
   /// scenario's (tests; the app host later), with `app_source` naming it in
   /// metrics.json. `syrof` itself never sets it.

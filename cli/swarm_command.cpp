@@ -50,7 +50,7 @@ CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
   swarm->add_flag("--realtime-start", options.realtime_start,
                   "Robots read the start on CLOCK_REALTIME (robots on several hosts whose clocks are kept in sync)");
   swarm->add_flag("--quiet", options.quiet, "No progress line, no summary");
-  SetupLiveOptions(*swarm, options.live);
+  lab::live::SetupLiveOptions(*swarm, options.live);
   swarm->footer(
       "Each robot is a process (syrof-robot) running the robot software on the POSIX port; this process is the\n"
       "world (bodies, sensors, faults, metrics). Faults are real: crash = SIGKILL, pause = SIGSTOP/SIGCONT,\n"
@@ -116,7 +116,7 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
     live_options.replay_page_follows = true;
     live_options.title = "SyROF live: " + loaded.scenario->name + " (DDS swarm)";
     live = std::make_unique<lab::live::LiveServer>(live_options);
-    if (!StartLive(*live, options.live, "syrof swarm", out, err)) return kBadInput;
+    if (!lab::live::StartLive(*live, options.live, "syrof swarm", out, err)) return kBadInput;
     swarm.sinks.push_back(live.get());
   }
   const sim_dds::SwarmResult result = sim_dds::RunSwarm(swarm, err);
@@ -149,7 +149,7 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
                  100.0 * cpu_sum / static_cast<double>(result.cpu_seconds.size()) / wall, 100.0 * cpu_max / wall);
     }
   }
-  if (live) EndLive(*live, options.live, swarm.replay ? (std::filesystem::path(swarm.out_dir) / "replay").string() : "", out);
+  if (live) lab::live::EndLive(*live, options.live, swarm.replay ? (std::filesystem::path(swarm.out_dir) / "replay").string() : "", out);
   return kOk;
 }
 

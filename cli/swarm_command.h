@@ -10,7 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "live_option.h"
+#include "syrof/lab/live/live_command.h"
 
 namespace syrof::cli {
 
@@ -28,7 +28,7 @@ struct SwarmOptions {
   bool realtime = false;
   bool align_rounds = false;
   bool realtime_start = false;
-  LiveCommandOptions live;  ///< the live page while the swarm runs
+  lab::live::LiveCommandOptions live;  ///< the live page while the swarm runs
 };
 
 CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options);

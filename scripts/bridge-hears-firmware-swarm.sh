@@ -9,7 +9,12 @@
 # starts_by_robot and cooperative_starts_by_robot; one fewer allowed, for
 # an epoch started just before the robot stopped and never beaconed);
 # nothing rejected; and exactly the beacons the swarm sent it accepted
-# (docs/bridge.md, "Tested with the emulated swarm"). A loaded machine can
+# (docs/bridge.md, "Tested with the emulated swarm"). Then a second swarm
+# for the live page: the bridge serves it (--live on a free port), headless
+# Chromium opens it while the swarm runs and takes LIVE_ROUNDS rounds
+# (default 100: 5 s), and its report must show every robot RUNNING in the
+# newest round. (A separate run: Chromium on 2 cores delays the qemu robots'
+# beacons enough to cost them COOPERATIVE epochs.) A loaded machine can
 # leave a robot without a COOPERATIVE start in a short run (its beacons
 # late): the swarm says so too, and the bridge must agree, so that is not a
 # failure. `make test-firmware-swarm` runs it.
@@ -30,6 +35,9 @@ for program in "$build/bin/syrof-bridge" "$build/bin/syrof-firmware-swarm"; do
 done
 [[ -r $image ]] || { echo "$0: cannot read the robot image $image" >&2; exit 2; }
 command -v jq >/dev/null || { echo "$0: needs jq" >&2; exit 2; }
+chromium=$(command -v chromium || command -v chromium-browser || true)
+[[ -n $chromium ]] || { echo "$0: needs chromium (the live page's check)" >&2; exit 2; }
+live_rounds=${LIVE_ROUNDS:-100}
 rm -rf "$out"
 mkdir -p "$out"
 socket="$out/base-station.sock"
@@ -78,3 +86,51 @@ if [[ $failed -ne 0 ]]; then
   exit 1
 fi
 echo "$0: the bridge heard $sent beacons of $robots robots; every robot's epochs advance, and its epoch starts agree with the robots' own"
+
+# The live page, in a browser, while a second swarm runs.
+live="$out/live"
+mkdir -p "$live"
+"$build/bin/syrof-firmware-swarm" --image "$image" --robots "$robots" --seconds "$seconds" --out "$live/swarm" \
+    --base-station "$live/base-station.sock" >"$live/swarm.txt" 2>&1 &
+swarm=$!
+"$build/bin/syrof-bridge" --socket "$live/base-station.sock" --robots "$robots" --no-dds --out "$live/bridge" \
+    --live=127.0.0.1:0 --live-linger 0 >"$live/bridge.txt" 2>&1 &
+bridge=$!
+url=
+for _ in $(seq 1 100); do
+  url=$(sed -nE 's/^  live page: (http[^ ]+)$/\1/p' "$live/bridge.txt")
+  [[ -n $url ]] && break
+  sleep 0.1
+done
+chromium_status=0
+if [[ -n $url ]]; then
+  timeout 60 "$chromium" --headless --no-sandbox --disable-gpu --no-first-run --disable-extensions \
+      --disable-dev-shm-usage --user-data-dir="$live/chromium-profile" --window-size=1280,1000 \
+      --virtual-time-budget=30000 --dump-dom "${url}#live-until=rounds:$live_rounds" \
+      >"$live/page.html" 2>/dev/null || chromium_status=$?
+fi
+bridge_status=0
+wait "$bridge" || bridge_status=$?
+swarm_status=0
+wait "$swarm" || swarm_status=$?
+if [[ -z $url || $swarm_status -ne 0 || $bridge_status -ne 0 || $chromium_status -ne 0 ]]; then
+  tail -n 20 "$live/bridge.txt" "$live/swarm.txt" >&2
+  echo "$0: live page run: live page ${url:-never announced}; syrof-firmware-swarm exited $swarm_status," \
+       "syrof-bridge $bridge_status, chromium $chromium_status" >&2
+  exit 1
+fi
+# The page's own report (viewer.js's <pre id="report">, HTML-escaped in the
+# DOM dump): the rounds it took and, in the newest, each robot's position
+# and presence (1: RUNNING).
+sed -nE 's/.*<pre id="report"[^>]*>([^<]*)<\/pre>.*/\1/p' "$live/page.html" |
+  sed -e 's/&quot;/"/g' -e 's/&lt;/</g' -e 's/&gt;/>/g' -e 's/&amp;/\&/g' >"$live/report.json"
+summary="$live/report.json"
+jq -e . "$summary" >/dev/null 2>&1 || { echo "$0: FAILED: the live page gave no report (see $live/page.html)" >&2; exit 1; }
+check "the live page took $live_rounds rounds" ".live.rounds >= $live_rounds"
+check "the live page shows all $robots robots RUNNING in its newest round" \
+    ".live.positions | length == $robots and all(.[]; . != null and .[2] == 1)"
+if [[ $failed -ne 0 ]]; then
+  echo "$0: see $summary" >&2
+  exit 1
+fi
+echo "$0: the live page, served by the bridge, showed all $robots robots running after $live_rounds rounds"

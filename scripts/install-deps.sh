@@ -45,8 +45,9 @@ more_packages=(
   clang libclang-rt-14-dev
   # the viewer's browser tests (syrof view's page in headless Chromium; PNG screenshots)
   chromium libpng-dev
-  # Teensy 3.2 cross toolchain and the emulated Cortex-M4
-  gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
+  # Teensy 3.2 cross toolchain and the emulated Cortex-M4; jq reads the
+  # emulated swarm's JSON in scripts/bridge-hears-firmware-swarm.sh
+  gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm jq
   # a compiler cache for developers and CI: the build uses it where installed (docs/building.md, "ccache")
   ccache
 )

@@ -2,7 +2,7 @@
 // traffic as a base-station radio hands it over (the radio link's framing,
 // docs/radio-link.md) from a serial device, a Unix socket (the emulated
 // swarm's --base-station) or a file, and feeds a BaseStation: the replay,
-// DDS, and (once the lead plugs it in) the live page. This file only wires:
+// DDS, and the live page (--live). This file only wires:
 // options, the input, the clock that ends rounds, the outputs.
 #include <poll.h>
 #include <unistd.h>
@@ -32,6 +32,7 @@
 #include "syrof/bridge/link_input.h"
 #include "syrof/bridge/replay_sink.h"
 #include "syrof/bridge/summary.h"
+#include "syrof/lab/live/live_command.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/registry/tasks.h"
@@ -65,6 +66,7 @@ struct Options {
   std::optional<uint32_t> domain;
   std::string interface = "lo";
   bool quiet = false;
+  syrof::lab::live::LiveCommandOptions live;  // the live page (docs/viewer.md, "Live")
 };
 
 std::atomic<bool> g_stop{false};
@@ -209,9 +211,18 @@ int Run(const Options& options) {
     replay_sink = std::make_unique<bridge::ReplaySink>(replay_file);
     sinks.push_back(replay_sink.get());
   }
-  // The live page goes here: the lead plugs lab::live::LiveServer (a
-  // replay::RoundSink, branch `live`) in as one more sink, behind a
-  // `--live [ADDR:PORT]` option, once both branches are on main.
+  std::unique_ptr<syrof::lab::live::LiveServer> live;
+  if (options.live.on()) {
+    syrof::lab::live::LiveOptions live_options;
+    live_options.replay_page_follows = true;
+    live_options.title = "SyROF live: the base station (" + run.input + ")";
+    live = std::make_unique<syrof::lab::live::LiveServer>(live_options);
+    if (!syrof::lab::live::StartLive(*live, options.live, "syrof-bridge", std::cerr, std::cerr)) {
+      bridge::CloseLink(link.fd);
+      return kBadInput;
+    }
+    sinks.push_back(live.get());
+  }
 
   std::vector<bridge::BeaconOutput*> outputs;
   std::unique_ptr<bridge::DdsBeaconOutput> dds;
@@ -284,6 +295,7 @@ int Run(const Options& options) {
     std::fprintf(stderr, "syrof-bridge: %s\n", run.end.c_str());
     status = kFailed;
   }
+  if (live) syrof::lab::live::EndLive(*live, options.live, replay_sink ? run.replay_path : "", std::cerr);
   return status;
 }
 
@@ -347,6 +359,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 232));
   app.add_option("--interface", options.interface, "the network interface DDS uses (default lo: this host only)");
   app.add_flag("--quiet", options.quiet, "print nothing but errors");
+  syrof::lab::live::SetupLiveOptions(app, options.live);
 
   try {
     app.parse(argc, argv);

@@ -32,9 +32,9 @@ void WriteFile(const std::filesystem::path& path, const std::vector<uint8_t>& by
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 }
 
-int RunBridge(const std::filesystem::path& input, const std::filesystem::path& out) {
+int RunBridge(const std::filesystem::path& input, const std::filesystem::path& out, const std::string& more = "") {
   const std::string command = std::string(SYROF_BRIDGE_BINARY) + " --input " + input.string() +
-                              " --robots 4 --no-dds --quiet --out " + out.string();
+                              " --robots 4 --no-dds --quiet --out " + out.string() + more;
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -83,6 +83,16 @@ TEST(BridgeProgramTest, AGarbledCaptureGivesTheCleanCapturesReplayByteForByte) {
   }
   // Everything else (frames, kinds, beacons, rounds, events, each robot) is the clean capture's.
   EXPECT_EQ(garbled_json, clean_json);
+
+  // With the live page on (a free port, no linger), the same replay; it
+  // says where the page was. An address that is not one is bad input.
+  ASSERT_EQ(RunBridge(dir / "clean.bin", dir / "live", " --live=127.0.0.1:0 --live-linger 0 2>" +
+                                                            (dir / "live.txt").string()),
+            0);
+  EXPECT_EQ(ReadFile(dir / "live" / "replay"), clean_replay);
+  EXPECT_NE(ReadFile(dir / "live.txt").find("live page: http://127.0.0.1:"), std::string::npos)
+      << ReadFile(dir / "live.txt");
+  EXPECT_EQ(RunBridge(dir / "clean.bin", dir / "bad", " --live=nowhere 2>/dev/null"), 2);
   std::filesystem::remove_all(dir);
 }
 

@@ -1,6 +1,7 @@
-#include "live_option.h"
+#include "syrof/lab/live/live_command.h"
 
 #include <fmt/format.h>
+#include <fmt/ostream.h>
 
 #include <atomic>
 #include <chrono>
@@ -8,10 +9,9 @@
 #include <fstream>
 #include <thread>
 
-#include "syrof/lab/live/live_server.h"
 #include "syrof/lab/view/view.h"
 
-namespace syrof::cli {
+namespace syrof::lab::live {
 namespace {
 
 std::atomic<bool> g_live_stop{false};
@@ -51,7 +51,7 @@ bool ParseLiveAddress(const std::string& text, std::string& address, int& port, 
   return true;
 }
 
-bool StartLive(lab::live::LiveServer& server, const LiveCommandOptions& options, const std::string& command,
+bool StartLive(LiveServer& server, const LiveCommandOptions& options, const std::string& command,
                std::ostream& out, std::ostream& err) {
   std::string address, problem;
   int port = 0;
@@ -59,7 +59,7 @@ bool StartLive(lab::live::LiveServer& server, const LiveCommandOptions& options,
     fmt::print(err, "{}: {}\n", command, problem);
     return false;
   }
-  if (const std::optional<lab::Error> error = server.Start(address, port)) {
+  if (const std::optional<Error> error = server.Start(address, port)) {
     fmt::print(err, "{}: --live: the live page cannot listen on {}\n", command, error->ToString());
     return false;
   }
@@ -68,7 +68,7 @@ bool StartLive(lab::live::LiveServer& server, const LiveCommandOptions& options,
   return true;
 }
 
-void EndLive(lab::live::LiveServer& server, const LiveCommandOptions& options, const std::string& replay_path,
+void EndLive(LiveServer& server, const LiveCommandOptions& options, const std::string& replay_path,
              std::ostream& out) {
   std::optional<std::string> page;
   if (!replay_path.empty()) {
@@ -98,4 +98,4 @@ void EndLive(lab::live::LiveServer& server, const LiveCommandOptions& options, c
   sigaction(SIGTERM, &old_term, nullptr);
 }
 
-}  // namespace syrof::cli
+}  // namespace syrof::lab::live

@@ -1,7 +1,7 @@
-// `--live[=ADDR:PORT]` and `--live-linger SECONDS`, shared by `syrof run`
-// and `syrof swarm` (docs/viewer.md, "Live"): the live page's server
-// (lab/live) started before the run, given the replay's page after it, and
-// kept serving after the end for a while or until Ctrl-C.
+// `--live[=ADDR:PORT]` and `--live-linger SECONDS`, shared by `syrof run`,
+// `syrof swarm` and `syrof-bridge` (docs/viewer.md, "Live"): the live
+// page's server started before the run, given the replay's page after it,
+// and kept serving after the end for a while or until Ctrl-C.
 #pragma once
 
 #include <optional>
@@ -10,11 +10,9 @@
 
 #include <CLI/CLI.hpp>
 
-namespace syrof::lab::live {
-class LiveServer;  // lab/live's; only the commands' sources include it
-}
+#include "syrof/lab/live/live_server.h"
 
-namespace syrof::cli {
+namespace syrof::lab::live {
 
 /// Where `--live` listens when given without a value: this host only.
 inline constexpr const char* kDefaultLiveAddress = "127.0.0.1:8765";
@@ -34,13 +32,13 @@ bool ParseLiveAddress(const std::string& text, std::string& address, int& port, 
 
 /// Starts `server` where `options` says and prints its URL on `out`; false
 /// with the reason on `err` (prefixed by `command`).
-bool StartLive(lab::live::LiveServer& server, const LiveCommandOptions& options, const std::string& command,
+bool StartLive(LiveServer& server, const LiveCommandOptions& options, const std::string& command,
                std::ostream& out, std::ostream& err);
 
 /// After the run: gives `server` the page of the replay at `replay_path`
 /// (none when empty), then serves on for `options.linger_s` or until
 /// SIGINT/SIGTERM, saying so on `out`.
-void EndLive(lab::live::LiveServer& server, const LiveCommandOptions& options, const std::string& replay_path,
+void EndLive(LiveServer& server, const LiveCommandOptions& options, const std::string& replay_path,
              std::ostream& out);
 
-}  // namespace syrof::cli
+}  // namespace syrof::lab::live
