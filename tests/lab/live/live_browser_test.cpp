@@ -7,7 +7,6 @@
 //
 // Skipped when Chromium is absent (as tests/lab/view/browser_test.cpp).
 #include <gtest/gtest.h>
-#include <png.h>
 #include <unistd.h>
 
 #include <array>
@@ -28,6 +27,7 @@
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 #include "syrof/lab/view/view.h"
+#include "png_image.h"
 
 namespace syrof::lab::live {
 namespace {
@@ -176,28 +176,8 @@ bool PlayWhenWatched(Run& run, size_t browsers) {
   return true;
 }
 
-struct Image {
-  unsigned width = 0;
-  unsigned height = 0;
-  std::vector<uint8_t> rgba;
-  std::array<int, 3> At(double x, double y) const {
-    const size_t i = (static_cast<size_t>(std::lround(y)) * width + static_cast<size_t>(std::lround(x))) * 4;
-    return {rgba[i], rgba[i + 1], rgba[i + 2]};
-  }
-};
-
-Image ReadPng(const fs::path& path) {
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  Image image;
-  if (png_image_begin_read_from_file(&png, path.c_str()) == 0) return image;
-  png.format = PNG_FORMAT_RGBA;
-  image.rgba.resize(PNG_IMAGE_SIZE(png));
-  if (png_image_finish_read(&png, nullptr, image.rgba.data(), 0, nullptr) == 0) return {};
-  image.width = png.width;
-  image.height = png.height;
-  return image;
-}
+using testing::Image;
+using testing::ReadPng;
 
 TEST(LiveBrowser, RobotsMoveBetweenTwoScreenshotsOfARunningRun) {
   if (!HaveChromium()) GTEST_SKIP() << "no Chromium at " << SYROF_CHROMIUM;
