@@ -114,3 +114,19 @@ uint32_t Broker::published(PublisherIndex index) const {
 }
 
 }  // namespace syrof::pubsub
+
+namespace syrof::pubsub {
+
+void Broker::AddToDigest(base::StateDigest& digest) const {
+  auto add_queue = [&digest](const QueueBase* queue) {
+    digest.AddValue(queue->count_);
+    for (uint16_t i = 0; i < queue->count_; ++i) {
+      const size_t slot = (static_cast<size_t>(queue->head_) + i) % queue->depth_;
+      digest.AddBytes(std::span<const std::byte>(queue->storage_ + slot * queue->element_size_, queue->element_size_));
+    }
+  };
+  for (size_t i = 0; i < publisher_count_; ++i) add_queue(publishers_[i].queue);
+  for (size_t i = 0; i < subscription_count_; ++i) add_queue(subscriptions_[i].queue);
+}
+
+}  // namespace syrof::pubsub

@@ -501,6 +501,24 @@ struct GoalMonitor::Track {
   std::optional<double> reached_s;
 };
 
+void GoalMonitor::AddToDigest(base::StateDigest& digest) const {
+  for (const Track& track : tracks_) {
+    digest.AddValue(track.samples);
+    digest.AddValue(track.worst);
+    digest.AddValue(track.first_failure.has_value());
+    if (track.first_failure) {
+      digest.AddBytes(std::as_bytes(std::span(track.first_failure->data(), track.first_failure->size())));
+    }
+    digest.AddValue(track.streak);
+    digest.AddValue(track.streak_epoch);
+    digest.AddValue(track.streak_s);
+    digest.AddRange(std::span<const uint8_t>(track.visited));
+    digest.AddValue(track.covered);
+    digest.AddValue(track.reached_s.has_value());
+    digest.AddValue(track.reached_s.value_or(0));
+  }
+}
+
 GoalMonitor::GoalMonitor(std::vector<GoalCheck> checks) : checks_(std::move(checks)), tracks_(checks_.size()) {
   for (size_t i = 0; i < checks_.size(); ++i) {
     const GoalCheck& check = checks_[i];

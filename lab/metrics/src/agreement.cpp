@@ -107,4 +107,22 @@ AgreementMetrics AgreementTracker::Finish() const {
   return metrics;
 }
 
+void AgreementTracker::AddToDigest(base::StateDigest& digest) const {
+  digest.AddValue(any_);
+  digest.AddValue(newest_);
+  for (const EpochRecord& record : open_) {
+    digest.AddValue(record.epoch);
+    digest.AddValue(record.disagreed);
+    for (const Group& group : record.groups) {  // field by field: Group has padding
+      digest.AddValue(group.fingerprint);
+      digest.AddValue(group.has_new_round);
+      digest.AddValue(group.new_round_robot);
+      digest.AddValue(group.new_round_state);
+      digest.AddValue(group.has_end);
+      digest.AddValue(group.end_robot);
+      digest.AddValue(group.end_state);
+    }
+  }
+}
+
 }  // namespace syrof::lab::metrics

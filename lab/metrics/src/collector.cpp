@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "syrof/sync/synchronizer.h"
+#include "syrof/sync/state_digest.h"
 
 namespace syrof::lab::metrics {
 
@@ -572,6 +573,24 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   metrics.diagnostics.rounds_observed = rounds_observed_;
   metrics.diagnostics.ignored_observations = ignored_observations_;
   return metrics;
+}
+
+void Collector::AddToDigest(base::StateDigest& digest) const {
+  for (const EpochRecord& record : open_epochs_) {
+    digest.AddValue(record.epoch);
+    digest.AddValue(record.first_round);
+    digest.AddValue(record.last_able_round);
+    wire::AddToDigest(digest, record.starters);
+    digest.AddValue(record.any_cooperative);
+    digest.AddValue(record.any_autonomous);
+    digest.AddValue(record.first_cooperative_robot);
+    digest.AddValue(record.first_cooperative != nullptr);
+    if (record.first_cooperative) sync::AddToDigest(digest, *record.first_cooperative, tracks_.size());
+  }
+  for (const RobotTrack& track : tracks_) {
+    digest.AddValue(track.running);
+    digest.AddValue(track.collided);
+  }
 }
 
 }  // namespace syrof::lab::metrics

@@ -2,6 +2,7 @@
 
 #include "syrof/base/check.h"
 #include "syrof/lab/sim/run_parts.h"
+#include "syrof/lab/sim/recording_app.h"
 
 namespace syrof::lab::sim {
 namespace {
@@ -47,6 +48,17 @@ void LabRobot::SampleHardware() {
 void LabRobot::ApplyDrive() {
   if (drive_was_taken_) world_.SetDrive(spec_.id, drive_taken_);
   drive_was_taken_ = false;
+}
+
+void LabRobot::AddToDigest(base::StateDigest& digest) const {
+  broker_.AddToDigest(digest);
+  bank_.AddToDigest(digest);
+  digest.AddValue(drive_taken_);
+  digest.AddValue(drive_was_taken_);
+  const auto* app = dynamic_cast<const RecordingApp*>(app_.get());
+  SYROF_CHECK(app != nullptr);  // the simulation wraps every app
+  app->AddToDigest(digest);
+  robot_.AddToDigest(digest);
 }
 
 }  // namespace syrof::lab::sim

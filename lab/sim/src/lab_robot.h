@@ -53,6 +53,11 @@ class LabRobot {
   runtime::Robot& robot() { return robot_; }
   const runtime::Robot& robot() const { return robot_; }
 
+  /// The robot's hardware, software and app (its RecordingApp's call
+  /// history) into `digest` (base/state_digest.h); its port's tasks are the
+  /// scheduler's.
+  void AddToDigest(base::StateDigest& digest) const;
+
   bool invalid_command_recorded = false;  ///< the replay records the first of each per robot
   bool payload_refusal_recorded = false;
 

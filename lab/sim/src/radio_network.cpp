@@ -173,4 +173,11 @@ void RadioNetwork::DeliverToBlock(size_t block, BeaconReceivers& receivers) {
   }
 }
 
+void RadioNetwork::AddToDigest(base::StateDigest& digest) const {
+  for (size_t sender = 0; sender < sent_.size(); ++sender) {
+    digest.AddValue(sent_[sender]);
+    if (sent_[sender] != 0) digest.AddValue(outbox_[sender]);
+  }
+}
+
 }  // namespace syrof::lab::sim

@@ -1,6 +1,7 @@
 #include "syrof/lab/sim/recording_app.h"
 
 #include "syrof/base/split_mix64.h"
+#include "syrof/app/state_digest.h"
 
 namespace syrof::lab::sim {
 namespace {
@@ -26,6 +27,18 @@ uint64_t MapFingerprint(const syrof_ldmap& ldmap) {
     hash = Mix(hash, member.payload[8]);
   }
   return hash;
+}
+
+void RecordingApp::AddCall(uint8_t callback, const syrof_ldmap* ldmap, uint8_t global_state, uint32_t clock_ms) {
+  history_.AddValue(callback);
+  history_.AddValue(global_state);
+  history_.AddValue(clock_ms);
+  if (ldmap == nullptr) return;
+  history_.AddValue(ldmap->epoch);
+  history_.AddValue(ldmap->mode);
+  history_.AddValue(ldmap->self_id);
+  history_.AddValue(ldmap->member_count);
+  for (uint16_t i = 0; i < ldmap->member_count; ++i) app::AddToDigest(history_, ldmap->members[i]);
 }
 
 }  // namespace syrof::lab::sim

@@ -134,4 +134,17 @@ metrics::Metrics RoundRecorder::Finish(const metrics::RunFacts& facts) const {
   return result;
 }
 
+void RoundRecorder::AddToDigest(base::StateDigest& digest) const {
+  collector_.AddToDigest(digest);
+  digest.AddValue(agreement_.has_value());
+  if (agreement_) agreement_->AddToDigest(digest);
+  goal_monitor_.AddToDigest(digest);
+  digest.AddValue(epoch_sample_.has_value());
+  digest.AddValue(epoch_sample_.value_or(0));
+}
+
+int64_t RoundRecorder::PropertyBreaks() const {
+  return collector_.PropertyBreaks() + (agreement_ ? agreement_->disagreeing_calls() : 0);
+}
+
 }  // namespace syrof::lab::sim

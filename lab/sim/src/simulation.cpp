@@ -691,8 +691,29 @@ Simulation::Simulation(const Scenario& scenario, const SimulationOptions& option
     : impl_(std::make_unique<Impl>(scenario, options)) {}
 Simulation::~Simulation() = default;
 void Simulation::RunUntil(double end_s) { impl_->RunUntil(end_s); }
+void Simulation::RunThroughRoundStart(int64_t round) {
+  Impl& impl = *impl_;
+  const int64_t end_ns = std::min(impl.end_ns_, round * impl.radio_round_ns_);
+  if (end_ns >= impl.scheduler_.now_ns()) impl.scheduler_.RunUntil(end_ns);
+}
 RunReport Simulation::Finish(double wall_seconds) { return impl_->Finish(wall_seconds); }
 double Simulation::now_s() const { return impl_->now_s(); }
+
+std::optional<base::StateDigest::Value> Simulation::StateDigest() const {
+  const Impl& impl = *impl_;
+  if (impl.scenario_.clocks.enabled) return std::nullopt;
+  base::StateDigest digest;
+  impl.scheduler_.AddToDigest(digest);
+  impl.world_.AddToDigest(digest);
+  impl.radio_.AddToDigest(digest);
+  for (const std::unique_ptr<LabRobot>& robot : impl.robots_) robot->AddToDigest(digest);
+  impl.player_.AddToDigest(digest);
+  impl.recorder_.AddToDigest(digest);
+  digest.AddRange(std::span<const uint8_t>(impl.partition_active_));
+  return digest.value();
+}
+
+int64_t Simulation::PropertyBreaks() const { return impl_->recorder_.PropertyBreaks(); }
 size_t Simulation::robot_count() const { return impl_->robots_.size(); }
 const runtime::Robot& Simulation::robot(uint16_t id) const { return impl_->robots_.at(id)->robot(); }
 const scenario::Scenario& Simulation::scenario() const { return impl_->scenario_; }

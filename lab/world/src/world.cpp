@@ -647,4 +647,17 @@ double World::SmallestGap(double best_m) {
   return best_m;
 }
 
+void World::AddToDigest(base::StateDigest& digest) const {
+  for (const Body& body : bodies_) {
+    digest.AddValue(body.state);
+    digest.AddValue(body.previous);
+    digest.AddValue(body.presence);
+    digest.AddValue(body.drive);
+    digest.AddValue(body.left_mps);
+    digest.AddValue(body.right_mps);
+    digest.AddValue(body.touching_wall);
+  }
+  digest.AddRange(std::span<const uint32_t>(touching_));
+}
+
 }  // namespace syrof::lab::world

@@ -235,6 +235,40 @@ void Estimator<Scalar>::PublishEstimate(int64_t now_ns, const ImuInput<Scalar>& 
   (void)estimate_publisher_.Publish(estimate);
 }
 
+template <typename Scalar>
+void Estimator<Scalar>::AddToDigest(base::StateDigest& digest) const {
+  // Field by field: the structs have padding, which equal states need not share.
+  digest.AddBytes(std::as_bytes(std::span(filter_.state().data(), static_cast<size_t>(filter_.state().size()))));
+  digest.AddBytes(
+      std::as_bytes(std::span(filter_.covariance().data(), static_cast<size_t>(filter_.covariance().size()))));
+  digest.AddValue(pending_.imu_sum.accel_forward_mps2);
+  digest.AddValue(pending_.imu_sum.accel_left_mps2);
+  digest.AddValue(pending_.imu_sum.yaw_rate_radps);
+  digest.AddValue(pending_.imu_count);
+  digest.AddValue(pending_.flow_count);
+  for (int i = 0; i < pending_.flow_count && i < kMaxQueuedFlow; ++i) {
+    digest.AddValue(pending_.flow[i].forward_mps);
+    digest.AddValue(pending_.flow[i].left_mps);
+    digest.AddValue(pending_.flow[i].sigma_mps);
+  }
+  digest.AddValue(pending_.sweep_count);
+  for (int i = 0; i < pending_.sweep_count && i < kMaxQueuedSweeps; ++i) digest.AddValue(pending_.sweeps[i]);
+  digest.AddValue(pending_.has_pose);
+  if (pending_.has_pose) {
+    digest.AddValue(pending_.pose.x_m);
+    digest.AddValue(pending_.pose.y_m);
+    digest.AddValue(pending_.pose.heading_rad);
+    digest.AddValue(pending_.pose.position_sigma_m);
+    digest.AddValue(pending_.pose.heading_sigma_rad);
+  }
+  digest.AddValue(initialized_);
+  digest.AddValue(last_step_ns_);
+  digest.AddValue(last_range_fused_ns_);
+  digest.AddValue(inconsistent_sweeps_);
+  zero_rate_detector_.AddToDigest(digest);
+  digest.AddValue(last_estimate_);
+}
+
 template class Estimator<float>;
 template class Estimator<double>;
 

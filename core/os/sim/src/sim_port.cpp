@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <vector>
 
 #include "syrof/base/check.h"
 
@@ -48,6 +49,19 @@ void SimScheduler::Schedule(uint32_t task_index, int64_t time_ns) {
 void SimScheduler::PushActivation(uint32_t task_index, int64_t time_ns) {
   heap_.push_back(MakeActivation(task_index, time_ns));
   SiftUp(heap_.size() - 1);
+}
+
+void SimScheduler::AddToDigest(base::StateDigest& digest) const {
+  SYROF_CHECK(!in_batch_);
+  // By task, not by heap position: equal queues may be laid out apart.
+  std::vector<int64_t> due(tasks_.size(), INT64_MIN);
+  for (const Activation& activation : heap_) due[activation.task_index()] = activation.time_ns;
+  for (size_t i = 0; i < tasks_.size(); ++i) {
+    digest.AddValue(due[i]);
+    digest.AddValue(tasks_[i].local_due_ns);
+    digest.AddValue(tasks_[i].port->running());
+    digest.AddValue(tasks_[i].port->drift_ppb());
+  }
 }
 
 void SimScheduler::CancelPort(const SimPort& port) {

@@ -24,6 +24,7 @@
 
 #include "syrof/estimation/ekf.h"
 #include "syrof/estimation/estimation_error.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::estimation {
 
@@ -48,6 +49,12 @@ class ZeroRateDetector {
   bool Step(const ZeroRateConfig<Scalar>& config, Scalar rate_minus_bias_radps, int64_t now_ns);
   /// Forget the quiet period (no IMU data, a new pose).
   void Reset() { quiet_ = false; }
+
+  /// The quiet period into `digest` (base/state_digest.h).
+  void AddToDigest(base::StateDigest& digest) const {
+    digest.AddValue(quiet_);
+    digest.AddValue(quiet_since_ns_);
+  }
 
  private:
   bool quiet_ = false;

@@ -48,6 +48,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "syrof/base/state_digest.h"
 #include "syrof/estimation/messages.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/drive.h"
@@ -144,6 +145,20 @@ class SafetyReports {
   int64_t gap_start_ns() const { return gap_start_ns_; }
   int64_t gap_end_ns() const { return gap_end_ns_; }
 
+  /// The first `count` entries and the gap into `digest` (base/state_digest.h).
+  void AddToDigest(base::StateDigest& digest, size_t count) const {
+    for (size_t i = 0; i < count; ++i) {  // field by field: SafetyReport has padding
+      const SafetyReport& entry = entries_[i];
+      digest.AddValue(entry.time_ns);
+      digest.AddValue(entry.x_mm);
+      digest.AddValue(entry.y_mm);
+      digest.AddValue(entry.allowance_mm);
+      digest.AddValue(entry.valid);
+    }
+    digest.AddValue(gap_start_ns_);
+    digest.AddValue(gap_end_ns_);
+  }
+
  private:
   static uint16_t BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2);
 
@@ -180,6 +195,13 @@ class SafetyFilter {
   /// Applies that changed the command, and how many of them started an intervention.
   uint32_t limited_steps() const { return limited_steps_; }
   uint32_t interventions() const { return interventions_; }
+
+  /// What one Apply leaves for the next into `digest` (base/state_digest.h):
+  /// the constraints are rebuilt by every Apply.
+  void AddToDigest(base::StateDigest& digest) const {
+    digest.AddValue(ever_limited_);
+    digest.AddValue(last_limited_ns_);
+  }
 
  private:
   struct Constraint {

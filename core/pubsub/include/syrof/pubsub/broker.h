@@ -17,6 +17,7 @@
 #include <span>
 
 #include "syrof/base/result.h"
+#include "syrof/base/state_digest.h"
 #include "syrof/os/port.h"
 #include "syrof/pubsub/queue.h"
 
@@ -99,6 +100,10 @@ class Broker {
   size_t subscription_capacity() const { return subscriptions_.size(); }
   /// Tuples delivered through publisher `index` so far (0 for unknown).
   uint32_t published(PublisherIndex index) const;
+
+  /// Every queue's unread tuples, oldest first, into `digest`
+  /// (base/state_digest.h): what the tasks have still to read.
+  void AddToDigest(base::StateDigest& digest) const;
 
  protected:
   Broker(os::Port& port, std::span<PublisherSlot> publishers, std::span<SubscriptionSlot> subscriptions)

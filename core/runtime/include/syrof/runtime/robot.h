@@ -48,6 +48,7 @@
 #include <span>
 #include <string_view>
 
+#include "syrof/base/state_digest.h"
 #include "syrof/app/app.h"
 #include "syrof/app/call_status.h"
 #include "syrof/app/command_check.h"
@@ -230,6 +231,14 @@ class Robot final : private app::Platform {
   const sync::AlignmentStep& last_alignment() const { return last_alignment_; }
   /// When the round task last stepped (a round boundary), port time.
   int64_t last_round_ns() const { return last_round_ns_; }
+
+  /// Everything the robot's future steps read into `digest`
+  /// (base/state_digest.h): the synchronizer, the map, the estimator, the
+  /// beacons waiting in the inbox and the receive bank, the app's commands
+  /// and payload, the safety reports. The counters and statistics stay out,
+  /// and so do the ports, queues and app it reaches through pointers (their
+  /// owners add them). From the port's thread between steps (SimPort).
+  void AddToDigest(base::StateDigest& digest) const;
 
  private:
   class RoundTask final : public os::Task {

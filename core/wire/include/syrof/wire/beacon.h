@@ -14,6 +14,7 @@
 
 #include "syrof/wire/member_set.h"
 #include "syrof/wire/wire_error.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::wire {
 
@@ -96,5 +97,19 @@ struct Beacon {
 
   bool operator==(const Beacon& other) const = default;
 };
+
+/// A beacon's fields into `digest` (base/state_digest.h), one by one: the
+/// struct has padding, which equal beacons need not share.
+inline void AddToDigest(base::StateDigest& digest, const Beacon& beacon) {
+  digest.AddValue(beacon.robot_id);
+  digest.AddValue(beacon.epoch);
+  digest.AddValue(beacon.phase);
+  digest.AddValue(beacon.mode);
+  digest.AddValue(beacon.presence_only);
+  digest.AddValue(beacon.vote_counter);
+  AddToDigest(digest, beacon.waiting);
+  static_assert(sizeof(Snapshot) == 5 * 2 + 1 + kMaxPayloadBytes, "Snapshot has no padding");
+  digest.AddValue(beacon.snapshot);
+}
 
 }  // namespace syrof::wire

@@ -8,12 +8,14 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <iterator>
 
 #include "syrof/base/check.h"
+#include "syrof/base/state_digest.h"
 
 // The build sets this (core/wire/CMakeLists.txt); the default only serves
 // compiling a file on its own.
@@ -210,5 +212,13 @@ class MemberSet {
   // words, not 32. It may overstate (after reset), never understate.
   uint16_t used_ = 0;
 };
+
+/// A set's members into `digest` (base/state_digest.h): its words alone,
+/// since the count of words in use may overstate.
+inline void AddToDigest(base::StateDigest& digest, const MemberSet& set) {
+  for (size_t index = 0; index < (MemberSet::kCapacity + MemberSet::kWordBits - 1) / MemberSet::kWordBits; ++index) {
+    digest.AddValue(set.word(index));
+  }
+}
 
 }  // namespace syrof::wire

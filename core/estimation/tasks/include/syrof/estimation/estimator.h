@@ -31,6 +31,7 @@
 
 #include <cstdint>
 
+#include "syrof/base/state_digest.h"
 #include "syrof/estimation/ekf.h"
 #include "syrof/estimation/estimator_config.h"
 #include "syrof/estimation/flow_model.h"
@@ -97,6 +98,10 @@ class Estimator {
   const StateEstimate& last_estimate() const { return last_estimate_; }
   const EstimatorCounters& counters() const { return counters_; }
   const EstimatorConfig<Scalar>& config() const { return config_; }
+
+  /// The filter, what waits to be fused and the last estimate into `digest`
+  /// (base/state_digest.h); the counters stay out.
+  void AddToDigest(base::StateDigest& digest) const;
 
  private:
   // What the state task hands to the Kalman task; guarded by the port's

@@ -32,6 +32,7 @@
 #include <span>
 #include <vector>
 
+#include "syrof/base/state_digest.h"
 #include "syrof/os/port.h"
 
 namespace syrof::os {
@@ -126,6 +127,10 @@ class SimScheduler {
   /// (distinct) must stay valid until EndSideBySide.
   void BeginSideBySide(std::span<SimPort* const> ports);
   void EndSideBySide();
+
+  /// The queue into `digest` (base/state_digest.h): each task's next
+  /// activation, if any, and whether its port runs. Between steps only.
+  void AddToDigest(base::StateDigest& digest) const;
 
  private:
   friend class SimPort;

@@ -21,6 +21,7 @@
 #include <string>
 #include <string_view>
 #include <vector>
+#include "syrof/base/state_digest.h"
 
 namespace syrof::lab::goals {
 
@@ -185,6 +186,9 @@ class GoalMonitor {
   void OnEpoch(uint16_t epoch, double time_s, std::span<const RobotPose> running);
   /// The verdicts, one per check in the order given.
   std::vector<CheckResult> Finish(double time_s, std::span<const RobotPose> running);
+
+  /// What the checks have seen so far into `digest` (base/state_digest.h).
+  void AddToDigest(base::StateDigest& digest) const;
 
  private:
   struct Track;

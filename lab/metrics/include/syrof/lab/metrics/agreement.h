@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "syrof/lab/metrics/metrics.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::lab::metrics {
 
@@ -49,6 +50,12 @@ class AgreementTracker {
 
   /// The metrics of everything so far; does not change the tracker.
   AgreementMetrics Finish() const;
+
+  /// The epochs still open, whose later calls are compared with what they
+  /// hold, into `digest` (base/state_digest.h).
+  void AddToDigest(base::StateDigest& digest) const;
+  /// Calls that disagreed so far.
+  int64_t disagreeing_calls() const { return disagreeing_calls_; }
 
  private:
   struct Group {

@@ -27,6 +27,7 @@
 #include "syrof/sync/ldmap.h"
 #include "syrof/wire/beacon.h"
 #include "syrof/wire/member_set.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::lab::metrics {
 
@@ -120,6 +121,18 @@ class Collector {
   /// still in the window are measured as they stand. Does not change the
   /// collector, so it may also be called mid-run.
   Metrics Finish(const RunFacts& facts) const;
+
+  /// What the checks of a run's properties still hold (the epochs open,
+  /// whose later starts are compared with their first map) into `digest`
+  /// (base/state_digest.h).
+  void AddToDigest(base::StateDigest& digest) const;
+  /// How many times the run broke a property so far: P3, a collision, an
+  /// app fault, an invalid command, a refused payload (lab/search prunes
+  /// only runs with none).
+  int64_t PropertyBreaks() const {
+    return violations_ + collisions_ + static_cast<int64_t>(app_faults_.size()) + invalid_commands_.count +
+           payloads_refused_.count;
+  }
 
  private:
   // Starts of one epoch number, kept while some robot can still start it.

@@ -24,6 +24,7 @@
 #include "syrof/registry/tasks.h"
 #include "syrof/lab/sensors/gaussian.h"
 #include "syrof/lab/sensors/trajectory.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::lab::sensors {
 
@@ -128,6 +129,21 @@ class SensorBank {
   /// Ranges that carried an outlier excess, and ranges dropped, so far.
   uint64_t uwb_outliers() const { return uwb_outliers_; }
   uint64_t uwb_dropouts() const { return uwb_dropouts_; }
+
+  /// The noise generators, the schedules and the biases into `digest`
+  /// (base/state_digest.h).
+  void AddToDigest(base::StateDigest& digest) const {
+    digest.AddValue(imu_noise_);
+    digest.AddValue(flow_noise_);
+    digest.AddValue(uwb_noise_);
+    for (const Schedule* schedule : {&imu_, &flow_, &uwb_}) {  // field by field: Schedule has padding
+      digest.AddValue(schedule->period_ns);
+      digest.AddValue(schedule->next_due_ns);
+      digest.AddValue(schedule->enabled);
+    }
+    digest.AddValue(imu_bias_);
+    digest.AddValue(last_flow_ns_);
+  }
   const SensorBankConfig& config() const { return config_; }
 
  private:

@@ -41,6 +41,7 @@
 #include "syrof/runtime/radio.h"
 #include "syrof/wire/beacon.h"
 #include "syrof/wire/beacon_layout.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::lab::sim {
 
@@ -120,6 +121,10 @@ class RadioNetwork {
   /// Beacons that did not decode after encoding (never, unless the codec is broken).
   uint64_t beacons_malformed() const { return beacons_malformed_; }
   uint16_t size() const { return static_cast<uint16_t>(radios_.size()); }
+
+  /// The beacons broadcast and not yet delivered into `digest`
+  /// (base/state_digest.h). Not with clocks.
+  void AddToDigest(base::StateDigest& digest) const;
 
  private:
   class LabRadio final : public runtime::Radio {

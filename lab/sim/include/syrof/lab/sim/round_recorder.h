@@ -53,6 +53,7 @@
 #include "syrof/lab/sim/world_player.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/sync/ldmap.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::lab::sim {
 
@@ -137,6 +138,13 @@ class RoundRecorder {
   /// Why the replay writer stopped (a value the format cannot hold, a
   /// failing stream); unset when the replay was written whole or not at all.
   std::optional<Error> replay_error() const;
+
+  /// What the property checks still hold (the collector's open epochs, the
+  /// agreement's, the goal checks') into `digest` (base/state_digest.h).
+  void AddToDigest(base::StateDigest& digest) const;
+  /// Properties broken so far (Collector::PropertyBreaks, and the app's
+  /// agreement when measured).
+  int64_t PropertyBreaks() const;
 
   /// metrics.json's run facts: the scenario's (ScenarioFacts, with `world`'s
   /// smallest separation), `end`'s times and rounds, and the goal: the

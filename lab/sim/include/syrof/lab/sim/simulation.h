@@ -92,6 +92,9 @@ class Simulation {
 
   /// Runs until `end_s` of simulated time (at most the scenario's duration).
   void RunUntil(double end_s);
+  /// Runs through the instant radio round `round` starts (its beacons of
+  /// round - 1 delivered, its own broadcast), at most to the scenario's end.
+  void RunThroughRoundStart(int64_t round);
 
   /// Runs the whole scenario and reports. `wall_seconds` is recorded as given
   /// (the caller measures it; pass 0 for byte-identical metrics).
@@ -99,6 +102,19 @@ class Simulation {
 
   /// Simulated seconds so far.
   double now_s() const;
+
+  /// A fingerprint of everything the rest of the run depends on, between
+  /// RunUntil calls (lab/search: two runs of one scenario whose fingerprints
+  /// are equal at one instant go on alike, and break the same properties
+  /// from then on). Its parts: the event queue, the world, the beacons in
+  /// the air, every robot's hardware, software and app call history, the
+  /// faults' lifecycle, and what the property checks still hold; not the
+  /// metrics' counts. Runs with clocks (`clocks:`) have none: nullopt.
+  std::optional<base::StateDigest::Value> StateDigest() const;
+  /// How many times the run broke a property so far (P3, the app's
+  /// agreement, a collision, an app fault, an invalid command, a refused
+  /// payload); the goal is judged at the end.
+  int64_t PropertyBreaks() const;
 
   // For tests and tools.
   size_t robot_count() const;

@@ -33,6 +33,7 @@
 #include "syrof/lab/sim/fault_schedule.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/wire/beacon.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::lab::sim {
 
@@ -130,6 +131,17 @@ class WorldPlayer {
   std::vector<replay::Event> TakeEvents();
   /// The events of the round in progress (the lab writes them with the round).
   std::vector<replay::Event>& events() { return events_; }
+
+  /// Each robot's lifecycle and the joiners waiting into `digest`
+  /// (base/state_digest.h); the faults to come are the scenario's.
+  void AddToDigest(base::StateDigest& digest) const {
+    for (const Robot& robot : robots_) {  // field by field: Robot has padding
+      digest.AddValue(robot.lifecycle);
+      digest.AddValue(robot.app_faulted);
+      digest.AddValue(robot.scored_from_ns);
+    }
+    digest.AddRange(std::span<const uint16_t>(waiting_));
+  }
 
  private:
   struct Robot {

@@ -26,6 +26,7 @@
 #include "syrof/lab/world/arena.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/drive.h"
+#include "syrof/base/state_digest.h"
 
 namespace syrof::lab::world {
 
@@ -168,6 +169,9 @@ class World {
   uint64_t wall_contacts() const { return wall_contacts_; }
   /// Drive commands replaced by zero speeds (wrong kind or non-finite).
   uint64_t rejected_drives() const { return rejected_drives_; }
+
+  /// The bodies and the pairs in contact into `digest` (base/state_digest.h).
+  void AddToDigest(base::StateDigest& digest) const;
 
  private:
   struct Body {
