@@ -182,7 +182,10 @@ ASAN_LABELS = core queries lab
 # mode's byte-identity runs (SimulationThreadsTest, about 60 s under ASan;
 # every one of them compares a run on 1, 2 and 3 threads) keep their short
 # run here; `make tsan` runs it for data races and stage 1 runs them all.
-ASAN_EXCLUDE = crowdx200xshort|TwentySeeds|AJoinerWaitsForARobotThatCouldNotStop|SimulationThreadsTest\.(ACrowdOf200|AppFaults|Bursts|LossAndEvery|Clocks)
+# The search's pruning self-tests (SearchTest.EveryPruned*: every pruned
+# pattern run twice more, 20 s in stage 1) run in stage 1 only; the
+# search's other tests, pruning included, run here.
+ASAN_EXCLUDE = crowdx200xshort|TwentySeeds|AJoinerWaitsForARobotThatCouldNotStop|SimulationThreadsTest\.(ACrowdOf200|AppFaults|Bursts|LossAndEvery|Clocks)|SearchTest\.EveryPruned
 empty :=
 space := $(empty) $(empty)
 asan: deps

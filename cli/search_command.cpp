@@ -22,6 +22,24 @@ namespace {
 namespace scenario = lab::scenario;
 namespace search = lab::search;
 
+// What the pruning of states seen (docs/apps.md, "Search tests") spared.
+void PrintPruning(std::ostream& out, const search::SearchResult& result) {
+  if (result.round_starts == 0) return;
+  const int64_t ran = result.runs - result.skipped - result.stopped_early;
+  fmt::print(out,
+             "  states: {} distinct at {} round starts; of the runs, {} skipped and {} stopped early at a state seen "
+             "before, {} run to the end\n",
+             result.distinct_states, result.round_starts, result.skipped, result.stopped_early, ran);
+  if (result.pruning_checked == 0) return;
+  if (result.pruning_mismatches == 0) {
+    fmt::print(out, "  pruning checked: all {} pruned patterns end as the patterns they stood for\n",
+               result.pruning_checked);
+  } else {
+    fmt::print(out, "  PRUNING WRONG for {} of {} pruned patterns; the first: {}\n", result.pruning_mismatches,
+               result.pruning_checked, result.first_mismatch);
+  }
+}
+
 void PrintViolations(std::ostream& out, const std::vector<search::Violation>& violations) {
   for (const search::Violation& violation : violations) {
     fmt::print(out, "  broken: {}: {}\n", violation.property, violation.detail);
@@ -49,6 +67,9 @@ CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options) {
       ->check(DurationValidator());
   command->add_option("--out", options.out_dir, "Output folder (default: out/<scenario name>-search)");
   command->add_flag("--quiet", options.quiet, "No progress line");
+  command->add_flag("--no-prune", options.no_prune, "Run every pattern to its end (no pruning of states seen)");
+  command->add_flag("--check-pruning", options.check_pruning,
+                    "Self-test: rerun each pruned pattern to its end against the pattern it stood for");
   return command;
 }
 
@@ -62,12 +83,20 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     fmt::print(err, "syrof search: {}\n", loaded.error->ToString());
     return 2;
   }
-  const scenario::Scenario& scenario = *loaded.scenario;
+  scenario::Scenario scenario = *loaded.scenario;
+  if (scenario.app.is_library()) {
+    // As the counterexample's file names it (absolute, to run from any
+    // folder), so that its rerun's metrics.json is the search's run's.
+    scenario.app.library = std::filesystem::absolute(scenario.app.library).lexically_normal().string();
+    scenario.app.name = scenario.app.library;
+  }
   search::SearchOptions search_options;
   search_options.max_losses = options.max_losses;
   search_options.epochs = options.epochs;
   search_options.jobs = options.jobs;
   search_options.time_limit_s = options.time_limit_s;
+  search_options.prune = !options.no_prune;
+  search_options.check_pruning = options.check_pruning;
   if (scenario.app.is_library()) {
     app_host::HostOptions host;
     host.library_path = scenario.app.library;
@@ -138,7 +167,8 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the losses fell in the first {} epoch{}\n",
                result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s", result.epochs_in_window,
                result.epochs_in_window == 1 ? "" : "s");
-    return 0;
+    PrintPruning(out, result);
+    return result.pruning_mismatches > 0 ? 1 : 0;
   }
 
   const search::Counterexample& found = *result.counterexample;
@@ -164,6 +194,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   PrintViolations(out, found.violations);
   fmt::print(out, "  after {} runs ({} distinct outcomes) in {:.1f} s; every pattern of fewer losses passed\n",
              result.runs, result.distinct_outcomes, result.seconds);
+  PrintPruning(out, result);
   fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),
              page_problem.empty() ? ", replay.html" : "");
   fmt::print(out, "  rerun:   syrof run {} --out {}\n", yaml_path.string(), (dir / "rerun").string());

@@ -30,6 +30,8 @@ struct SearchOptions {
   double time_limit_s = 0;         ///< 0: none
   std::string out_dir;             ///< default: out/<scenario name>-search
   bool quiet = false;              ///< no progress line
+  bool no_prune = false;           ///< run every pattern to its end
+  bool check_pruning = false;      ///< rerun each pruned pattern against the one it stood for
 };
 
 CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options);

@@ -6,9 +6,12 @@
 //     never on two threads);
 //   - bench_app.c as a library through the app host (a process per robot
 //     per run), 1 and 2 jobs;
-// and what an exhaustive search of every pair of lost beacons in 6 epochs
-// at 3 robots would take at the measured in-process rate (--full runs it).
-// Wall-clock figures: they move with the machine's load.
+// each with the pruning of states seen (search.h) and without; then every
+// pair of lost beacons in the first epoch, the same ways; and every pair in
+// 6 epochs at 3 robots with pruning, and what it takes without (--full
+// runs that too: about 9 minutes). Wall-clock figures: they move with the
+// machine's load. "ended" counts the runs that ran to their end; the others
+// stopped at a state seen before or were skipped without running.
 //
 // Usage: bench_search [--full]
 #include <fmt/format.h>
@@ -56,8 +59,9 @@ const char* Name(Way way) {
 }
 
 lab::search::SearchResult Measure(const lab::scenario::Scenario& scenario, Way way, int jobs, int max_losses,
-                                  int epochs) {
+                                  int epochs, bool prune = true) {
   lab::search::SearchOptions options;
+  options.prune = prune;
   options.max_losses = max_losses;
   options.epochs = epochs;
   options.jobs = jobs;
@@ -75,37 +79,56 @@ lab::search::SearchResult Measure(const lab::scenario::Scenario& scenario, Way w
 
 }  // namespace
 
+void PrintHeader() {
+  fmt::print("  {:<36} {:>6} {:>4} {:>5} {:>9} {:>8} {:>8} {:>12} {:>10}\n", "app", "robots", "jobs", "prune",
+             "patterns", "ended", "seconds", "patterns/s", "ms/pattern");
+}
+
+void PrintRow(Way way, int robots, int jobs, bool prune, const lab::search::SearchResult& result) {
+  const double rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
+  fmt::print("  {:<36} {:>6} {:>4} {:>5} {:>9} {:>8} {:>8.2f} {:>12.0f} {:>10.2f}{}\n", Name(way), robots, jobs,
+             prune ? "on" : "off", result.runs, result.runs - result.skipped - result.stopped_early, result.seconds,
+             rate, rate > 0 ? 1000.0 / rate : 0.0, result.counterexample ? "  (stopped at a counterexample)" : "");
+}
+
 int main(int argc, char** argv) {
   const bool full = argc > 1 && std::strcmp(argv[1], "--full") == 0;
-  fmt::print("Every single lost beacon in the first epoch of a 4 s run (patterns per second, wall clock):\n");
-  fmt::print("  {:<36} {:>6} {:>4} {:>9} {:>8} {:>12} {:>10}\n", "app", "robots", "jobs", "patterns", "seconds",
-             "patterns/s", "ms/pattern");
+  const std::pair<Way, int> ways[] = {{Way::kBuiltin, 1}, {Way::kBuiltin, 2}, {Way::kLinked, 1}, {Way::kHosted, 1},
+                                      {Way::kHosted, 2}};
+  fmt::print("Every single lost beacon in the first epoch of a 4 s run (wall clock):\n");
+  PrintHeader();
   for (const int robots : {3, 4}) {
     const lab::scenario::Scenario scenario = Scenario(robots, 4.0);
-    for (const auto& [way, jobs] : {std::pair{Way::kBuiltin, 1}, std::pair{Way::kBuiltin, 2},
-                                    std::pair{Way::kLinked, 1}, std::pair{Way::kHosted, 1},
-                                    std::pair{Way::kHosted, 2}}) {
-      const lab::search::SearchResult result = Measure(scenario, way, jobs, 1, 1);
-      const double rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
-      fmt::print("  {:<36} {:>6} {:>4} {:>9} {:>8.2f} {:>12.0f} {:>10.2f}{}\n", Name(way), robots, jobs, result.runs,
-                 result.seconds, rate, rate > 0 ? 1000.0 / rate : 0.0,
-                 result.counterexample ? "  (stopped at a counterexample)" : "");
+    for (const auto& [way, jobs] : ways) {
+      for (const bool prune : {true, false}) PrintRow(way, robots, jobs, prune, Measure(scenario, way, jobs, 1, 1, prune));
     }
+  }
+  fmt::print("\nEvery pair of lost beacons in the first epoch of a 4 s run, 3 robots (wall clock):\n");
+  PrintHeader();
+  const lab::scenario::Scenario three = Scenario(3, 4.0);
+  for (const auto& [way, jobs] : ways) {
+    PrintRow(way, 3, jobs, true, Measure(three, way, jobs, 2, 1, true));
+    if (way != Way::kHosted) PrintRow(way, 3, jobs, false, Measure(three, way, jobs, 2, 1, false));
   }
 
   // Every pair of lost beacons in 6 epochs at 3 robots, builtin:idle, 2 jobs.
   const lab::scenario::Scenario six = Scenario(3, 9.0);
-  lab::search::SearchResult sample = Measure(six, Way::kBuiltin, 2, 0, 6);  // the window and its slots
-  const int64_t patterns = lab::search::PatternCount(sample.slots, 2);
-  const lab::search::SearchResult rate_run = Measure(six, Way::kBuiltin, 2, 1, 6);
-  const double rate = static_cast<double>(rate_run.runs) / rate_run.seconds;
+  const lab::search::SearchResult pruned = Measure(six, Way::kBuiltin, 2, 2, 6, true);
+  const int64_t patterns = lab::search::PatternCount(pruned.slots, 2);
   fmt::print("\nEvery pair of lost beacons in 6 epochs at 3 robots (a 9 s run, builtin:idle, 2 jobs):\n");
-  fmt::print("  window {} radio rounds ({} epochs), {} slots, {} patterns; at {:.0f} patterns/s: {:.1f} min\n",
-             sample.window_rounds, sample.epochs_in_window, sample.slots, patterns, rate,
-             static_cast<double>(patterns) / rate / 60.0);
+  fmt::print("  window {} radio rounds ({} epochs), {} slots, {} patterns\n", pruned.window_rounds,
+             pruned.epochs_in_window, pruned.slots, patterns);
+  fmt::print("  pruned: {:.1f} s ({}), {} skipped, {} stopped early, {} ran to their end; {} distinct states at {} "
+             "round starts\n",
+             pruned.seconds, pruned.counterexample ? "a counterexample" : "no counterexample", pruned.skipped,
+             pruned.stopped_early, pruned.runs - pruned.skipped - pruned.stopped_early, pruned.distinct_states,
+             pruned.round_starts);
+  const lab::search::SearchResult rate_run = Measure(six, Way::kBuiltin, 2, 1, 6, false);
+  const double rate = static_cast<double>(rate_run.runs) / rate_run.seconds;
+  fmt::print("  without pruning, at {:.0f} patterns/s: {:.1f} min\n", rate, static_cast<double>(patterns) / rate / 60.0);
   if (full) {
-    const lab::search::SearchResult all = Measure(six, Way::kBuiltin, 2, 2, 6);
-    fmt::print("  ran it: {} patterns in {:.1f} min ({}), {}\n", all.runs, all.seconds / 60.0,
+    const lab::search::SearchResult all = Measure(six, Way::kBuiltin, 2, 2, 6, false);
+    fmt::print("  ran it without pruning: {} patterns in {:.1f} min ({}), {}\n", all.runs, all.seconds / 60.0,
                all.stopped_by_time ? "stopped by time" : "complete",
                all.counterexample ? "a counterexample" : "no counterexample");
   }

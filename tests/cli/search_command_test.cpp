@@ -71,6 +71,25 @@ TEST(SearchCommandTest, FindsThePatternThatBreaksALibraryAndItRerunsBitForBit) {
   EXPECT_EQ(ReadFile(dir / "rerun" / "metrics.json"), ReadFile(out / "metrics.json"));
 }
 
+// A library named by a relative path: the counterexample's file names it
+// absolute (to run from any folder), and its rerun once reported another
+// app.source than the search's run, so the search called its own
+// counterexample an internal error.
+TEST(SearchCommandTest, ALibraryNamedByARelativePathGivesACounterexampleThatReruns) {
+  const fs::path dir = FreshDir("syrof_search_test_", "relative");
+  const std::string relative = fs::relative(TestLib("assumes_cooperative")).string();
+  ASSERT_FALSE(fs::path(relative).is_absolute());
+  const std::string scenario = WriteSearchScenario(dir, "builtin:idle");
+  const fs::path out = dir / "out";
+  const Outcome outcome =
+      RunSearch({scenario, "--app", relative, "--max-losses", "2", "--epochs", "2", "--out", out.string()});
+  ASSERT_EQ(outcome.status, 1) << outcome.out << outcome.err;
+  EXPECT_EQ(outcome.err.find("internal error"), std::string::npos) << outcome.err;
+  EXPECT_NE(outcome.out.find("BROKEN by 1 lost beacon"), std::string::npos) << outcome.out;
+  const std::string absolute = fs::absolute(relative).lexically_normal().string();
+  EXPECT_NE(ReadFile(out / "metrics.json").find(absolute), std::string::npos);
+}
+
 TEST(SearchCommandTest, AScenarioWithoutANameKeepsItsNameInTheCounterexample) {
   // The counterexample's file is named counterexample.yaml: without the
   // name written in, its rerun was named "counterexample" and differed.

@@ -11,10 +11,14 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <unordered_set>
 
+#include "syrof/base/check.h"
+#include "syrof/base/state_digest.h"
 #include "syrof/lab/replay/epoch_table.h"
 #include "syrof/lab/replay/reader.h"
 #include "syrof/lab/sim/simulation.h"
@@ -130,30 +134,97 @@ struct Outcome {
   std::vector<Violation> violations;
   metrics::Metrics metrics;
   size_t metrics_hash = 0;  // of metrics.json: equal for runs the metrics cannot tell apart
+  std::optional<base::StateDigest::Value> end_state;  // check_pruning only
 };
 
-Outcome RunPattern(const scenario::Scenario& scenario, const SearchOptions& options,
-                   std::span<const LostBeacon> lost, bool goal_declared) {
+using Digest = base::StateDigest::Value;
+struct DigestHash {
+  size_t operator()(const Digest& digest) const { return static_cast<size_t>(digest.low ^ (digest.high * 31)); }
+};
+
+// The pattern that first reached a state at a round's start: its losses
+// before that round (how many, and which, as a fingerprint).
+struct Representative {
+  int losses = 0;
+  Digest prefix;
+  int32_t prefix_index = -1;  // into Pruning::prefixes (check_pruning only)
+};
+using StateTable = std::unordered_map<Digest, Representative, DigestHash>;
+
+// Most states the tables keep; past it none is added (the search stays
+// sound, it only prunes less). About 60 bytes each.
+constexpr int64_t kMaxStoredStates = 4'000'000;
+
+// One pattern of a batch, and what its run saw.
+struct PatternRun {
+  std::vector<int64_t> indices;   // slot indices, increasing (so by round)
+  std::vector<LostBeacon> lost;
+  std::vector<Digest> prefixes;   // [c]: the fingerprint of its first c losses
+  // Its state at the start of rounds 1, 2, ... while it had broken nothing;
+  // it ends early when the run stopped at a state seen before.
+  std::vector<Digest> states;
+  bool stopped = false;  // by the tables as they were when the batch began
+  Outcome outcome;       // when it ran to its end
+};
+
+Digest PrefixDigest(std::span<const int64_t> indices) {
+  base::StateDigest digest;
+  digest.AddRange(indices);
+  return digest.value();
+}
+
+// Losses of `run` in rounds before `round`.
+int LossesBefore(const PatternRun& run, int64_t round) {
+  int count = 0;
+  while (count < static_cast<int>(run.lost.size()) && run.lost[static_cast<size_t>(count)].round < round) ++count;
+  return count;
+}
+
+// Whether a run with `losses` losses so far (fingerprinted `prefix`) in
+// `state` goes on as a pattern of no more losses already does.
+const Representative* Dominated(const StateTable& table, const Digest& state, int losses, const Digest& prefix) {
+  const auto found = table.find(state);
+  if (found == table.end()) return nullptr;
+  const Representative& first = found->second;
+  return first.prefix != prefix && first.losses <= losses ? &first : nullptr;
+}
+
+void RunPattern(const scenario::Scenario& scenario, const SearchOptions& options, PatternRun& run,
+                bool goal_declared, const std::vector<StateTable>* tables, bool end_state) {
   sim::SimulationOptions sim_options;
   sim_options.app_factory = options.app_factory;
   sim_options.app_source = options.app_source;
   sim_options.app_sandbox = options.app_sandbox;
-  sim::RunReport report = sim::Run(WithLosses(scenario, lost), sim_options, 0);
-  Outcome outcome;
-  outcome.violations = ViolationsOf(report.metrics, goal_declared);
-  outcome.metrics = std::move(report.metrics);
-  outcome.metrics_hash = std::hash<std::string>{}(report.metrics_json);
-  return outcome;
+  sim::Simulation simulation(WithLosses(scenario, run.lost), sim_options);
+  if (tables != nullptr) {
+    for (int64_t round = 1; round < static_cast<int64_t>(tables->size()); ++round) {
+      simulation.RunThroughRoundStart(round);
+      if (simulation.PropertyBreaks() > 0) break;
+      const std::optional<Digest> state = simulation.StateDigest();
+      if (!state) break;
+      run.states.push_back(*state);
+      const int losses = LossesBefore(run, round);
+      if (Dominated((*tables)[static_cast<size_t>(round)], *state, losses, run.prefixes[static_cast<size_t>(losses)])) {
+        run.stopped = true;
+        return;
+      }
+    }
+  }
+  simulation.RunUntil(scenario.timing.duration_s);
+  if (end_state) run.outcome.end_state = simulation.StateDigest();
+  sim::RunReport report = simulation.Finish(0);
+  run.outcome.violations = ViolationsOf(report.metrics, goal_declared);
+  run.outcome.metrics = std::move(report.metrics);
+  run.outcome.metrics_hash = std::hash<std::string>{}(report.metrics_json);
 }
 
-// Runs `batch` on `jobs` threads; outcomes in the batch's order.
-std::vector<Outcome> RunBatch(const scenario::Scenario& scenario, const SearchOptions& options,
-                              const std::vector<std::vector<LostBeacon>>& batch, bool goal_declared) {
-  std::vector<Outcome> outcomes(batch.size());
+// Runs `batch` on `jobs` threads, reading `tables` (null: no pruning).
+void RunBatch(const scenario::Scenario& scenario, const SearchOptions& options, std::vector<PatternRun*>& batch,
+              bool goal_declared, const std::vector<StateTable>* tables) {
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i = next++; i < batch.size(); i = next++) {
-      outcomes[i] = RunPattern(scenario, options, batch[i], goal_declared);
+      RunPattern(scenario, options, *batch[i], goal_declared, tables, false);
     }
   };
   const int threads = std::min<int>(options.jobs, static_cast<int>(batch.size()));
@@ -161,7 +232,6 @@ std::vector<Outcome> RunBatch(const scenario::Scenario& scenario, const SearchOp
   for (int t = 1; t < threads; ++t) pool.emplace_back(work);
   work();
   for (std::thread& thread : pool) thread.join();
-  return outcomes;
 }
 
 // The scenario file again, its channel scripted to lose `lost` (its cuts,
@@ -374,38 +444,175 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   const std::vector<LostBeacon> slots = SlotsOf(scenario, window.rounds);
   result.slots = static_cast<int64_t>(slots.size());
 
+  // Pruning (search.h): a table per round start of the states seen there,
+  // and, for patterns shorter than the longest, the round at which each was
+  // pruned (0: it ran to its end), so that the patterns that extend it with
+  // later losses are skipped.
+  const bool prune = options.prune && !scenario.clocks.enabled && window.rounds > 0;
+  std::vector<StateTable> tables(prune ? static_cast<size_t>(window.rounds) + 1 : 0);
+  struct Pruned {
+    int64_t round = 0;
+    int32_t prefix_index = -1;
+  };
+  std::map<std::vector<int64_t>, Pruned> memo;
+  std::vector<std::vector<int64_t>> representative_prefixes;  // check_pruning
+  struct Check {
+    std::vector<int64_t> indices;
+    Pruned pruned;
+  };
+  std::vector<Check> checks;
+  int64_t stored_states = 0;
+
+  auto make_run = [&](std::vector<int64_t> indices) {
+    PatternRun run;
+    run.indices = std::move(indices);
+    for (int64_t index : run.indices) run.lost.push_back(slots[static_cast<size_t>(index)]);
+    for (size_t c = 0; c <= run.indices.size(); ++c) {
+      run.prefixes.push_back(PrefixDigest(std::span<const int64_t>(run.indices.data(), c)));
+    }
+    return run;
+  };
+  // The states of `run`, in order, against the tables as they are now;
+  // where it was pruned, or {0} if it was not (its new states added).
+  auto merge = [&](const PatternRun& run) {
+    for (size_t k = 0; k < run.states.size(); ++k) {
+      const auto round = static_cast<int64_t>(k) + 1;
+      const int losses = LossesBefore(run, round);
+      const Digest& prefix = run.prefixes[static_cast<size_t>(losses)];
+      StateTable& table = tables[static_cast<size_t>(round)];
+      if (const Representative* first = Dominated(table, run.states[k], losses, prefix)) {
+        return Pruned{round, first->prefix_index};
+      }
+      if (stored_states < kMaxStoredStates && !table.contains(run.states[k])) {
+        Representative representative{losses, prefix, -1};
+        if (options.check_pruning) {
+          representative.prefix_index = static_cast<int32_t>(representative_prefixes.size());
+          representative_prefixes.emplace_back(run.indices.begin(), run.indices.begin() + losses);
+        }
+        table.emplace(run.states[k], representative);
+        ++stored_states;
+      }
+    }
+    return Pruned{};
+  };
+  // Whether a shorter pattern that `indices` extends with later losses only
+  // was pruned before those losses.
+  auto skipped_by_prefix = [&](const std::vector<int64_t>& indices, Pruned& why) {
+    for (size_t m = 1; m < indices.size(); ++m) {
+      const auto found = memo.find(std::vector<int64_t>(indices.begin(), indices.begin() + static_cast<ptrdiff_t>(m)));
+      if (found == memo.end() || found->second.round == 0) continue;
+      if (slots[static_cast<size_t>(indices[m])].round >= found->second.round) {
+        why = found->second;
+        return true;
+      }
+    }
+    return false;
+  };
+
+  if (prune) {
+    // The loss-free run's states come first: every masked loss meets them.
+    PatternRun loss_free_run = make_run({});
+    RunPattern(scenario, options, loss_free_run, goal_declared, &tables, false);
+    merge(loss_free_run);
+    result.round_starts += static_cast<int64_t>(loss_free_run.states.size());
+  }
+
   const size_t batch_size = static_cast<size_t>(options.jobs) * 8;
   std::unordered_set<size_t> outcome_hashes{std::hash<std::string>{}(baseline.metrics_json)};
   result.distinct_outcomes = 1;
   for (int losses = 1; losses <= options.max_losses; ++losses) {
+    const bool remember = prune && losses < options.max_losses;
     Patterns patterns(result.slots, losses);
     while (!patterns.done()) {
       if (options.time_limit_s > 0 && elapsed_s() >= options.time_limit_s) {
         result.stopped_by_time = true;
-        result.seconds = elapsed_s();
-        return result;
+        break;
       }
-      std::vector<std::vector<LostBeacon>> batch;
-      for (; !patterns.done() && batch.size() < batch_size; patterns.Advance()) {
-        std::vector<LostBeacon>& lost = batch.emplace_back();
-        for (int64_t index : patterns.current()) lost.push_back(slots[static_cast<size_t>(index)]);
+      // The batch, in search order: patterns skipped at once, and those to run.
+      std::vector<PatternRun> batch;
+      std::vector<Pruned> skipped;  // per batch entry; round 0: to run
+      size_t to_run = 0;
+      for (; !patterns.done() && to_run < batch_size; patterns.Advance()) {
+        Pruned why;
+        const bool skip = prune && skipped_by_prefix(patterns.current(), why);
+        batch.push_back(make_run(patterns.current()));
+        skipped.push_back(skip ? why : Pruned{});
+        if (!skip) ++to_run;
       }
-      std::vector<Outcome> outcomes = RunBatch(scenario, options, batch, goal_declared);
-      for (size_t i = 0; i < outcomes.size(); ++i) {
+      std::vector<PatternRun*> running;
+      for (size_t i = 0; i < batch.size(); ++i) {
+        if (skipped[i].round == 0) running.push_back(&batch[i]);
+      }
+      RunBatch(scenario, options, running, goal_declared, prune ? &tables : nullptr);
+      for (size_t i = 0; i < batch.size(); ++i) {
         // Counted in search order, up to the first pattern that broke the
         // run, whatever else the batch ran: the same figures for any --jobs.
+        PatternRun& run = batch[i];
         ++result.runs;
-        outcome_hashes.insert(outcomes[i].metrics_hash);
+        Pruned pruned = skipped[i];
+        if (pruned.round > 0) {
+          ++result.skipped;
+        } else if (prune) {
+          result.round_starts += static_cast<int64_t>(run.states.size());
+          pruned = merge(run);
+          if (pruned.round > 0) ++result.stopped_early;
+        }
+        if (remember) memo.emplace(run.indices, pruned);
+        if (pruned.round > 0) {
+          if (options.check_pruning) checks.push_back({run.indices, pruned});
+          continue;
+        }
+        SYROF_CHECK(!run.stopped);  // the tables only grew since the batch began
+        outcome_hashes.insert(run.outcome.metrics_hash);
         result.distinct_outcomes = static_cast<int64_t>(outcome_hashes.size());
-        if (outcomes[i].violations.empty()) continue;
-        result.counterexample =
-            Counterexample{std::move(batch[i]), std::move(outcomes[i].violations), std::move(outcomes[i].metrics)};
-        result.seconds = elapsed_s();
-        return result;
+        if (run.outcome.violations.empty()) continue;
+        result.counterexample = Counterexample{std::move(run.lost), std::move(run.outcome.violations),
+                                               std::move(run.outcome.metrics)};
+        break;
       }
+      if (result.counterexample) break;
       if (options.progress) options.progress(result.runs, losses);
     }
+    if (result.counterexample || result.stopped_by_time) break;
     result.complete_losses = losses;
+  }
+  result.distinct_states = stored_states;
+
+  // The self-test: each pruned pattern, run to its end, against the pattern
+  // it stood for (the representative's losses before the round it was
+  // pruned at, then its own from that round on).
+  for (const Check& check : checks) {
+    std::vector<int64_t> standing_for = representative_prefixes.at(static_cast<size_t>(check.pruned.prefix_index));
+    for (int64_t index : check.indices) {
+      if (slots[static_cast<size_t>(index)].round >= check.pruned.round) standing_for.push_back(index);
+    }
+    PatternRun pruned_run = make_run(check.indices);
+    PatternRun other_run = make_run(standing_for);
+    RunPattern(scenario, options, pruned_run, goal_declared, nullptr, true);
+    RunPattern(scenario, options, other_run, goal_declared, nullptr, true);
+    ++result.pruning_checked;
+    auto properties = [](const Outcome& outcome) {
+      std::string text;
+      for (const Violation& violation : outcome.violations) text += violation.property + ": " + violation.detail + "; ";
+      return text;
+    };
+    if (pruned_run.outcome.end_state == other_run.outcome.end_state &&
+        properties(pruned_run.outcome) == properties(other_run.outcome)) {
+      continue;
+    }
+    if (result.pruning_mismatches++ == 0) {
+      auto describe = [&](const std::vector<LostBeacon>& lost) {
+        std::string text;
+        for (const LostBeacon& beacon : lost) text += fmt::format("[{}, {}, {}] ", beacon.round, beacon.from, beacon.to);
+        return text;
+      };
+      result.first_mismatch = fmt::format("{}pruned at round {} as {}: they end {} ({} / {})", describe(pruned_run.lost),
+                                          check.pruned.round, describe(other_run.lost),
+                                          pruned_run.outcome.end_state == other_run.outcome.end_state
+                                              ? "in the same state but break other properties"
+                                              : "in different states",
+                                          properties(pruned_run.outcome), properties(other_run.outcome));
+    }
   }
   result.seconds = elapsed_s();
   return result;

@@ -155,6 +155,91 @@ TEST(SearchTest, ALinkWithRandomLossIsRefused) {
   EXPECT_EQ(result.runs, 0);
 }
 
+// Pruning states seen (search.h) changes how much is run, never what is
+// found: the same counterexample, and without one the same patterns passed.
+TEST(SearchTest, PruningFindsWhatRunningEveryPatternFinds) {
+  const scenario::Scenario scenario = LoadText(kThree);
+  SearchOptions pruned = OptionsFor(true, 2, 1);
+  SearchOptions every = pruned;
+  every.prune = false;
+  const SearchResult a = Search(scenario, pruned);
+  const SearchResult b = Search(scenario, every);
+  ASSERT_TRUE(a.counterexample && b.counterexample);
+  EXPECT_EQ(a.counterexample->lost, b.counterexample->lost);
+  EXPECT_EQ(metrics::ToJson(a.counterexample->metrics), metrics::ToJson(b.counterexample->metrics));
+  EXPECT_EQ(a.runs, b.runs);
+  EXPECT_EQ(b.skipped + b.stopped_early + b.round_starts + b.distinct_states, 0);
+}
+
+TEST(SearchTest, PruningStopsRunsAtStatesSeenAndSkipsWhatExtendsThem) {
+  const scenario::Scenario scenario = LoadText(kThree);
+  SearchOptions options = OptionsFor(false, 2, 1);
+  options.epochs = 1;
+  const SearchResult result = Search(scenario, options);
+  ASSERT_FALSE(result.counterexample.has_value());
+  EXPECT_EQ(result.complete_losses, 2);
+  EXPECT_EQ(result.runs, PatternCount(result.slots, 2));
+  // Most single losses are forgotten within a few rounds: their runs stop
+  // there, and every pair that adds a later loss to one is never run.
+  EXPECT_GT(result.stopped_early, result.slots / 2);
+  EXPECT_GT(result.skipped, result.runs / 2);
+  EXPECT_LT(result.distinct_states, result.round_starts);
+}
+
+TEST(SearchTest, PrunedFiguresDoNotDependOnTheJobs) {
+  const scenario::Scenario scenario = LoadText(kThree);
+  SearchOptions one = OptionsFor(false, 2, 1);
+  one.epochs = 1;
+  SearchOptions two = one;
+  two.jobs = 2;
+  const SearchResult a = Search(scenario, one);
+  const SearchResult b = Search(scenario, two);
+  EXPECT_EQ(a.runs, b.runs);
+  EXPECT_EQ(a.skipped, b.skipped);
+  EXPECT_EQ(a.stopped_early, b.stopped_early);
+  EXPECT_EQ(a.distinct_states, b.distinct_states);
+  EXPECT_EQ(a.round_starts, b.round_starts);
+  EXPECT_EQ(a.distinct_outcomes, b.distinct_outcomes);
+}
+
+// The self-test of the pruning: every pattern pruned, run to its end, ends
+// in the state of the pattern it stood for and breaks what that one breaks.
+// On swarms that move (the safety filter and the estimator then see each
+// loss), with a joiner and a crash, and with an app that counts epochs.
+void ExpectPruningHolds(const std::string& text, const SearchOptions& base, int max_losses, int epochs) {
+  SearchOptions options = base;
+  options.max_losses = max_losses;
+  options.epochs = epochs;
+  options.check_pruning = true;
+  const SearchResult result = Search(LoadText(text), options);
+  ASSERT_TRUE(result.error.empty()) << result.error;
+  EXPECT_GT(result.pruning_checked, 0) << text;
+  EXPECT_EQ(result.pruning_mismatches, 0) << result.first_mismatch;
+}
+
+TEST(SearchTest, EveryPrunedPairEndsAsThePatternItStoodFor) {
+  // Pairs of losses, in a shorter run of kThree's swarm.
+  ExpectPruningHolds(
+      "seed: 3\nrobots: {count: 3, spacing_m: 1.0}\ntiming: {duration_s: 2, app_round_s: 0.3, vote_rounds: 1, silence_rounds: 2}\n"
+      "app: builtin:idle\n",
+      OptionsFor(false, 0, 1), 2, 1);
+}
+
+TEST(SearchTest, EveryPrunedPatternOfAMovingSwarmWithAJoinerEndsAsThePatternItStoodFor) {
+  ExpectPruningHolds(
+      "seed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\n"
+      "timing: {duration_s: 5, vote_rounds: 1, silence_rounds: 2}\napp: builtin:gather\n"
+      "faults: [{join: 2, at_s: 0.8}]\n",
+      SearchOptions{}, 1, 3);
+}
+
+TEST(SearchTest, EveryPrunedPatternOfACircleWithACrashEndsAsThePatternItStoodFor) {
+  ExpectPruningHolds(
+      "seed: 6\narena: {width_m: 5, height_m: 5}\nrobots: {count: 4, placement: circle, radius_m: 1.2}\n"
+      "timing: {duration_s: 4, vote_rounds: 1}\napp: builtin:circle\nfaults: [{crash: 3, at_s: 1.5}]\n",
+      SearchOptions{}, 1, 2);
+}
+
 TEST(SearchTest, PatternCountsAddUpBinomials) {
   EXPECT_EQ(PatternCount(10, 0), 1);
   EXPECT_EQ(PatternCount(10, 1), 11);

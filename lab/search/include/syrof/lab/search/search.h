@@ -8,7 +8,21 @@
 // The patterns are tried in order of how many beacons they lose (0, 1, ...
 // up to max_losses), and those of one size by their earliest loss first, so
 // the first pattern that breaks the run is already the smallest and then
-// the earliest: no shrinking is needed. Each run is the whole scenario; the
+// the earliest: no shrinking is needed.
+//
+// States seen are pruned. At every radio round's start a run's state has a
+// fingerprint (Simulation::StateDigest: the world, the beacons in the air,
+// every robot's synchronizer, estimator and safety filter, the app's call
+// history, what the property checks hold). A run that reaches, with losses
+// so far L, a state that another pattern reached at that round with at most
+// L losses (other losses, or as many) goes on as that pattern would with
+// this run's later losses: a pattern of no more losses that the search
+// tries anyway. So the run stops there, if it broke nothing so far, and
+// every longer pattern that adds only later losses to it is skipped without
+// running. A loss that the protocol masks (the next round's beacons carry
+// the same news) leaves the state as if nothing was lost, and with it every
+// pattern that builds on it. The app's state is taken as what its calls
+// gave it (the lab's determinism asks as much of an app). Each run is the whole scenario; the
 // losses fall in its first `epochs` epochs (as the loss-free run counts
 // them). A beacon the scenario already loses (a cut, a partition, a robot
 // that is not running, deaf or mute) is not a slot: losing it again would
@@ -56,6 +70,12 @@ struct SearchOptions {
   std::string app_source;     ///< metrics.json's app.source when app_factory is set
   /// metrics.json's app.sandbox for a library (SimulationOptions::app_sandbox).
   std::optional<std::vector<std::string>> app_sandbox;
+  /// Prune states seen (above); false runs every pattern to its end.
+  bool prune = true;
+  /// A self-test of the pruning, for tests: each pattern pruned is also run
+  /// to its end, with the pattern it stood for, and the two must end in the
+  /// same state and break the same properties (SearchResult::pruning_mismatches).
+  bool check_pruning = false;
   /// Called after each batch of runs with the runs done and the pattern
   /// size being searched (for a progress line).
   std::function<void(int64_t runs, int losses)> progress;
@@ -87,6 +107,21 @@ struct SearchResult {
   /// of the patterns changed anything the metrics see (up to the
   /// counterexample, when one was found; the same for any --jobs).
   int64_t distinct_outcomes = 0;
+  /// Of `runs`: patterns skipped without running (a shorter pattern, their
+  /// losses up to some round, reached a state seen before), and runs stopped
+  /// at a state seen before. The rest ran to their end.
+  int64_t skipped = 0;
+  int64_t stopped_early = 0;
+  /// Distinct states seen (a state at one round's start counts once), and
+  /// round starts run in all.
+  int64_t distinct_states = 0;
+  int64_t round_starts = 0;
+  /// With check_pruning: the pruned patterns checked, and those whose end
+  /// differed from the pattern they stood for (0 unless the fingerprint
+  /// misses something).
+  int64_t pruning_checked = 0;
+  int64_t pruning_mismatches = 0;
+  std::string first_mismatch;     ///< the first such pattern, described
   int complete_losses = -1;       ///< every pattern of up to this many losses was run (-1: not even the loss-free one)
   bool stopped_by_time = false;   ///< the time limit ended the search
   double seconds = 0;             ///< wall time
