@@ -309,6 +309,11 @@ class Robot final : private app::Platform {
   std::array<int64_t, 2 * wire::kMaxSwarmSize> deferred_arrival_ns_{};
   size_t deferred_count_ = 0;
   size_t carried_count_ = 0;  // the inbox's first entries: deferred by the last step
+  // Whether some inbox entry may have a known arrival time. While false
+  // (the lab's shared clock: every beacon comes through Receive() without
+  // one) no beacon can be deferred and alignment has no sample, so the
+  // round skips both and the arrival times are not moved around.
+  bool inbox_timed_ = false;
   std::array<int64_t, kReceiveBanks * wire::kMaxSwarmSize> received_arrival_ns_{};  // parallel to receive_storage_
   int64_t RoundSplitNs(int64_t boundary_ns) const;
   void DeferLateArrivals(int64_t now_ns);
