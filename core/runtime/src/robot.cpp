@@ -118,6 +118,15 @@ void Robot::Receive(const wire::Beacon& beacon, int64_t arrival_ns) {
   ++counters_.beacons_received;
 }
 
+void Robot::Receive(std::span<const wire::Beacon* const> beacons) {
+  const size_t taken = std::min(beacons.size(), inbox_.size() - inbox_count_);
+  std::copy_n(beacons.begin(), taken, inbox_.begin() + static_cast<std::ptrdiff_t>(inbox_count_));
+  std::fill_n(inbox_arrival_ns_.begin() + static_cast<std::ptrdiff_t>(inbox_count_), taken, kArrivalUnknown);
+  inbox_count_ += taken;
+  counters_.beacons_received += static_cast<uint32_t>(taken);
+  counters_.beacons_overflow += static_cast<uint32_t>(beacons.size() - taken);
+}
+
 void Robot::DropReceived() {
   counters_.beacons_dropped += static_cast<uint32_t>(inbox_count_ + deferred_count_);
   inbox_count_ = 0;

@@ -183,6 +183,10 @@ class Robot final : private app::Platform {
   /// boundary is. The beacon must stay valid until the step that takes it.
   void Receive(const wire::Beacon& beacon, int64_t arrival_ns);
 
+  /// Receive(*beacons[i]) for each, in order, in one call (the lab hands a
+  /// robot its round's beacons at once).
+  void Receive(std::span<const wire::Beacon* const> beacons);
+
   /// Forgets the beacons received and not yet stepped: a robot switched off
   /// loses its radio's buffer. Counted in beacons_dropped. Only between
   /// steps, from the round task's thread.
