@@ -183,6 +183,7 @@ class UsableBeacons {
   template <typename Received>
   UsableBeacons(const SyncConfig& config, std::span<Received> received, SyncStats& stats) {
     MemberSet seen;
+    size_t count = 0;  // a local, so that the loop keeps it in a register
     for (const auto& entry : received) {
       const wire::Beacon& beacon = Deref(entry);
       const BeaconIssue issue = Inspect(config, beacon, seen);
@@ -192,9 +193,10 @@ class UsableBeacons {
         continue;
       }
       seen.set(beacon.robot_id);
-      ++stats.beacons_used;
-      beacons_[count_++] = &beacon;
+      beacons_[count++] = &beacon;
     }
+    count_ = count;
+    stats.beacons_used += static_cast<uint32_t>(count);
   }
   const wire::Beacon* const* begin() const { return beacons_.data(); }
   const wire::Beacon* const* end() const { return beacons_.data() + count_; }
