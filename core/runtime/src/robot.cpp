@@ -114,7 +114,17 @@ void Robot::Receive(const wire::Beacon& beacon, int64_t arrival_ns) {
   }
   inbox_arrival_ns_[inbox_count_] = arrival_ns;
   inbox_[inbox_count_++] = &beacon;
+  if (arrival_ns != kArrivalUnknown) inbox_timed_ = true;
   ++counters_.beacons_received;
+}
+
+void Robot::Receive(std::span<const wire::Beacon* const> beacons) {
+  const size_t taken = std::min(beacons.size(), inbox_.size() - inbox_count_);
+  std::copy_n(beacons.begin(), taken, inbox_.begin() + static_cast<std::ptrdiff_t>(inbox_count_));
+  std::fill_n(inbox_arrival_ns_.begin() + static_cast<std::ptrdiff_t>(inbox_count_), taken, kArrivalUnknown);
+  inbox_count_ += taken;
+  counters_.beacons_received += static_cast<uint32_t>(taken);
+  counters_.beacons_overflow += static_cast<uint32_t>(beacons.size() - taken);
 }
 
 void Robot::DropReceived() {
@@ -122,6 +132,7 @@ void Robot::DropReceived() {
   inbox_count_ = 0;
   deferred_count_ = 0;
   carried_count_ = 0;
+  inbox_timed_ = false;
 }
 
 void Robot::ReceiveBytes(std::span<const uint8_t> frame) {
@@ -167,6 +178,7 @@ void Robot::TakeReceivedBank() {
   }
   // The taken bank is the round task's until the next swap: no lock needed.
   const wire::Beacon* const first = receive_storage_.data() + bank * bank_size_;
+  if (count > 0) inbox_timed_ = true;  // ReceiveBytes stamps every frame
   for (size_t i = 0; i < count; ++i) {
     inbox_arrival_ns_[inbox_count_] = received_arrival_ns_[bank * bank_size_ + i];
     inbox_[inbox_count_++] = first + i;
@@ -254,6 +266,7 @@ void Robot::RunRound(int64_t now_ns) {
     // Stopped as a crashed robot is: what arrived is dropped unread.
     TakeReceivedBank();
     inbox_count_ = 0;
+    inbox_timed_ = false;
     return;
   }
   if (!started_) {
@@ -303,6 +316,7 @@ void Robot::RunRound(int64_t now_ns) {
   }
   inbox_count_ = deferred_count_;
   carried_count_ = deferred_count_;
+  inbox_timed_ = deferred_count_ > 0;  // only beacons with an arrival time are deferred
   deferred_count_ = 0;
 
   // The maneuver ends when PROGRESS ends, whatever ended it (its time is up,
@@ -359,22 +373,28 @@ void Robot::RunRound(int64_t now_ns) {
 void Robot::TakeSafetyReports(int64_t now_ns) {
   const int64_t sent_ns = now_ns - config_.radio_round_ns;
   const float braking_mps2 = config_.safety.others_braking_mps2;
+  size_t presence = 0;
   if (config_.safety.enabled) {
     os::CriticalSection lock(*port_);
     for (size_t i = 0; i < inbox_count_; ++i) {
       const wire::Beacon& beacon = *inbox_[i];
       const wire::Snapshot& snapshot = beacon.snapshot;
       const bool parked = !beacon.presence_only && beacon.phase != wire::Phase::kProgress;
+      presence += beacon.presence_only ? 1 : 0;
       shared_reports_.Report(beacon.robot_id, sent_ns, snapshot.x_mm, snapshot.y_mm, parked, snapshot.vx_mm_s,
                              snapshot.vy_mm_s, braking_mps2);
     }
     if (inbox_count_ > 0) reports_changed_ = true;
+  } else {
+    for (size_t i = 0; i < inbox_count_; ++i) presence += inbox_[i]->presence_only ? 1 : 0;
   }
+  // Nearly always there is no presence-only beacon, and nothing to move.
+  if (presence == 0) return;
   size_t kept = 0;
   for (size_t i = 0; i < inbox_count_; ++i) {
     const wire::Beacon* beacon = inbox_[i];
     inbox_[kept] = beacon;
-    inbox_arrival_ns_[kept] = inbox_arrival_ns_[i];
+    if (inbox_timed_) inbox_arrival_ns_[kept] = inbox_arrival_ns_[i];
     kept += beacon->presence_only ? 0 : 1;
   }
   counters_.presence_received += static_cast<uint32_t>(inbox_count_ - kept);
@@ -399,6 +419,7 @@ int64_t Robot::RoundSplitNs(int64_t boundary_ns) const {
 // beacon carried from the last step is stepped now, never deferred twice:
 // its bank receives again after the next swap.
 void Robot::DeferLateArrivals(int64_t now_ns) {
+  if (!inbox_timed_) return;  // no arrival time: nothing is late
   const int64_t split_ns = RoundSplitNs(now_ns);
   size_t kept = 0;
   for (size_t i = 0; i < inbox_count_; ++i) {
@@ -421,6 +442,11 @@ void Robot::DeferLateArrivals(int64_t now_ns) {
 // Presence-only beacons were removed by TakeSafetyReports: a joiner is not
 // followed. The inbox is still this round's (the step does not change it).
 void Robot::AlignRound(int64_t now_ns, int64_t round_start_ns, int64_t unseen_shift_ns) {
+  if (!inbox_timed_) {
+    // No sample: Align would decide nothing and count nothing.
+    last_alignment_ = sync::AlignmentStep{};
+    return;
+  }
   std::array<sync::AlignmentSample, sync::kMaxAlignmentSamples> samples{};
   size_t count = 0;
   const int64_t from_ns = RoundSplitNs(round_start_ns);

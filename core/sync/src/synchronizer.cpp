@@ -65,7 +65,9 @@ void DropReport(SyncState& state, uint16_t id) {
 // is full the highest id gives way.
 void TakeReport(SyncState& state, uint16_t id, const MemberSet& heard) {
   if (heard.includes(state.members)) {
-    DropReport(state, id);
+    // Nearly every PROGRESS beacon, and nearly always nothing kept to drop:
+    // the test here spares a call per beacon.
+    if (state.reported.test(id)) DropReport(state, id);
     return;
   }
   size_t at = 0;
@@ -181,6 +183,7 @@ class UsableBeacons {
   template <typename Received>
   UsableBeacons(const SyncConfig& config, std::span<Received> received, SyncStats& stats) {
     MemberSet seen;
+    size_t count = 0;  // a local, so that the loop keeps it in a register
     for (const auto& entry : received) {
       const wire::Beacon& beacon = Deref(entry);
       const BeaconIssue issue = Inspect(config, beacon, seen);
@@ -190,9 +193,10 @@ class UsableBeacons {
         continue;
       }
       seen.set(beacon.robot_id);
-      ++stats.beacons_used;
-      beacons_[count_++] = &beacon;
+      beacons_[count++] = &beacon;
     }
+    count_ = count;
+    stats.beacons_used += static_cast<uint32_t>(count);
   }
   const wire::Beacon* const* begin() const { return beacons_.data(); }
   const wire::Beacon* const* end() const { return beacons_.data() + count_; }
@@ -397,7 +401,10 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
   // First pass: where the groups this robot hears are relative to its
   // epoch, and whether any robot, ignored ones included, is one epoch ahead
   // ("Catching up", used below only by a robot left alone, which follows
-  // whoever it hears).
+  // whoever it hears). In the same pass, "Connectivity": the heard sets of
+  // PROGRESS beacons are the reports the rule reads. If the robot turns out
+  // to have lost its group, it rejoins below and forgets every report, so
+  // taking them before that is known changes nothing.
   const bool alone = state.members.count() == 1;
   const bool past_progress = state.phase != Phase::kProgress;
   bool lost_group = false;
@@ -406,6 +413,9 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     const int16_t ahead = EpochDifference(beacon->epoch, state.epoch);
     if (ahead == 1 && past_progress) catch_up_any = true;
     if ((ahead >= 2 || (alone && ahead <= -2)) && FromGroup(*beacon)) lost_group = true;
+    if (beacon->phase == Phase::kProgress && ahead >= -1 && ahead <= 1) {
+      TakeReport(state, beacon->robot_id, beacon->waiting);
+    }
   }
 
   // "Falling behind": a group two or more epochs ahead means this robot's
@@ -418,36 +428,35 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     return;
   }
 
-  // "Connectivity": the heard sets of PROGRESS beacons are the reports the
-  // rule reads; then the robots it leaves out are ignored by every step
-  // below except the failure detector (they are still evidence of life).
-  for (const wire::Beacon* beacon : received) {
-    if (beacon->phase != Phase::kProgress) continue;
-    const int16_t ahead = EpochDifference(beacon->epoch, state.epoch);
-    if (ahead >= -1 && ahead <= 1) TakeReport(state, beacon->robot_id, beacon->waiting);
-  }
+  // "Connectivity": the robots the rule leaves out are ignored by every
+  // step below except the failure detector (they are still evidence of
+  // life). With none left out (nearly always) every beacon is kept, and
+  // one is kept one epoch ahead exactly when the first pass saw one.
   UpdatePruned(config, state);
   MemberSet ignored = state.pruned;
   ignored.reset(self);
   MemberSet evidence;  // ignored robots heard this round
-  bool catch_up_kept = false;
-  received.RetainIf([&](const wire::Beacon& beacon) {
-    const uint16_t id = beacon.robot_id;
-    const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
-    if (ignored.test(id)) {
-      // Membership stays physical: an ignored robot heard in this epoch is
-      // a member (the rule may keep it once it is one).
-      if (ahead >= -1 && ahead <= 1) evidence.set(id);
-      if (ahead == 0 && !state.members.test(id)) {
-        state.members.set(id);
-        state.silent_rounds[id] = 0;
-        out.joined.set(id);
+  bool catch_up_kept = catch_up_any;
+  if (!ignored.empty()) {
+    catch_up_kept = false;
+    received.RetainIf([&](const wire::Beacon& beacon) {
+      const uint16_t id = beacon.robot_id;
+      const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
+      if (ignored.test(id)) {
+        // Membership stays physical: an ignored robot heard in this epoch is
+        // a member (the rule may keep it once it is one).
+        if (ahead >= -1 && ahead <= 1) evidence.set(id);
+        if (ahead == 0 && !state.members.test(id)) {
+          state.members.set(id);
+          state.silent_rounds[id] = 0;
+          out.joined.set(id);
+        }
+        return false;
       }
-      return false;
-    }
-    if (past_progress && ahead == 1) catch_up_kept = true;
-    return true;
-  });
+      if (past_progress && ahead == 1) catch_up_kept = true;
+      return true;
+    });
+  }
 
   // "Catching up": a member one epoch ahead. A robot alone also follows a
   // robot it ignores, so that robot, if it only lost it for a while, hears

@@ -16,7 +16,8 @@ RadioNetwork::RadioNetwork(const world::ChannelSpec& channel, uint16_t robots, u
       sent_(robots, 0),
       inflight_(robots),
       listening_(robots, 0),
-      decoded_(robots, 0) {
+      decoded_(robots, 0),
+      block_heard_(1, std::vector<const wire::Beacon*>(robots)) {
   radios_.reserve(robots);
   senders_.reserve(robots);
   for (uint16_t id = 0; id < robots; ++id) radios_.emplace_back(*this, id);
@@ -96,6 +97,7 @@ void RadioNetwork::SplitReceivers(std::span<const uint16_t> starts) {
   block_starts_.assign(starts.begin(), starts.end());
   block_channels_.assign(starts.size() - 1, channel_);
   block_codecs_.assign(starts.size(), BlockCodec{});
+  block_heard_.assign(starts.size(), std::vector<const wire::Beacon*>(size()));
 }
 
 void RadioNetwork::Deliver(int64_t round, double sent_at_s, BeaconReceivers& receivers) {
@@ -161,15 +163,18 @@ void RadioNetwork::DeliverToBlock(size_t block, BeaconReceivers& receivers) {
   world::Channel& channel = block == 0 ? channel_ : block_channels_[block - 1];
   const int64_t round = delivery_round_;
   const double sent_at_s = delivery_sent_at_s_;
+  const wire::Beacon** const heard = block_heard_[block].data();
   for (uint16_t receiver = first; receiver < end; ++receiver) {
     if (listening_[receiver] == 0) continue;
     const bool deaf = !radio_faults_.empty() && Silenced(scenario::FaultKind::kDeaf, receiver, sent_at_s);
+    size_t count = 0;
     for (const Sent& sent : senders_) {
       if (sent.sender == receiver) continue;
       if (!channel.Delivers(sent.sender, receiver, round, sent_at_s)) continue;
       if (deaf || sent.mute) continue;
-      receivers.Receive(receiver, inflight_[sent.sender]);
+      heard[count++] = &inflight_[sent.sender];
     }
+    if (count > 0) receivers.Receive(receiver, std::span<const wire::Beacon* const>(heard, count));
   }
 }
 

@@ -196,7 +196,7 @@ class Simulation::Impl final : public runtime::RobotObserver,
   void StepRecorder(int64_t now_ns);
   // BeaconReceivers
   bool Listening(uint16_t robot) const override;
-  void Receive(uint16_t robot, const wire::Beacon& beacon) override;
+  void Receive(uint16_t robot, std::span<const wire::Beacon* const> beacons) override;
   void ReceiveAt(uint16_t robot, const wire::Beacon& beacon, int64_t arrival_ns) override;
   // Observations carry the robots' local times; the lab's records use the
   // scheduler's (true) time, which is the same without clocks.
@@ -457,7 +457,9 @@ void Simulation::Impl::StepRadio(int64_t now_ns) {
 
 bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
 
-void Simulation::Impl::Receive(uint16_t robot, const wire::Beacon& beacon) { robots_[robot]->robot().Receive(beacon); }
+void Simulation::Impl::Receive(uint16_t robot, std::span<const wire::Beacon* const> beacons) {
+  robots_[robot]->robot().Receive(beacons);
+}
 
 void Simulation::Impl::ReceiveAt(uint16_t robot, const wire::Beacon& beacon, int64_t arrival_ns) {
   LabRobot& receiver = *robots_[robot];

@@ -20,7 +20,10 @@ struct Delivery {
 class RecordingReceivers final : public BeaconReceivers {
  public:
   bool Listening(uint16_t robot) const override { return listening[robot]; }
-  void Receive(uint16_t robot, const wire::Beacon& beacon) override { deliveries.push_back({robot, &beacon}); }
+  void Receive(uint16_t robot, std::span<const wire::Beacon* const> beacons) override {
+    EXPECT_FALSE(beacons.empty());
+    for (const wire::Beacon* beacon : beacons) deliveries.push_back({robot, beacon});
+  }
   void ReceiveAt(uint16_t robot, const wire::Beacon& beacon, int64_t arrival_ns) override {
     deliveries.push_back({robot, &beacon});
     arrivals.push_back(arrival_ns);

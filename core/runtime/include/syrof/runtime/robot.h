@@ -184,6 +184,10 @@ class Robot final : private app::Platform {
   /// boundary is. The beacon must stay valid until the step that takes it.
   void Receive(const wire::Beacon& beacon, int64_t arrival_ns);
 
+  /// Receive(*beacons[i]) for each, in order, in one call (the lab hands a
+  /// robot its round's beacons at once).
+  void Receive(std::span<const wire::Beacon* const> beacons);
+
   /// Forgets the beacons received and not yet stepped: a robot switched off
   /// loses its radio's buffer. Counted in beacons_dropped. Only between
   /// steps, from the round task's thread.
@@ -310,15 +314,24 @@ class Robot final : private app::Platform {
   // step's start, by TakeReceivedBank(). Only the round task's thread.
   // Each entry's arrival time (port clock; kArrivalUnknown when not given).
   // Room for two rounds: beacons deferred to the next round stay here.
+  // These five arrays are written before they are read (an entry is read
+  // only below its count), so they are left uninitialized: zeroing them
+  // (88 KB a robot on the host, sized for the largest swarm) was most of
+  // building a robot, and touched memory a small swarm never uses.
   static constexpr int64_t kArrivalUnknown = INT64_MIN;
-  std::array<const wire::Beacon*, 2 * wire::kMaxSwarmSize> inbox_{};
-  std::array<int64_t, 2 * wire::kMaxSwarmSize> inbox_arrival_ns_{};
+  std::array<const wire::Beacon*, 2 * wire::kMaxSwarmSize> inbox_;
+  std::array<int64_t, 2 * wire::kMaxSwarmSize> inbox_arrival_ns_;
   size_t inbox_count_ = 0;
-  std::array<const wire::Beacon*, 2 * wire::kMaxSwarmSize> deferred_{};
-  std::array<int64_t, 2 * wire::kMaxSwarmSize> deferred_arrival_ns_{};
+  std::array<const wire::Beacon*, 2 * wire::kMaxSwarmSize> deferred_;
+  std::array<int64_t, 2 * wire::kMaxSwarmSize> deferred_arrival_ns_;
   size_t deferred_count_ = 0;
   size_t carried_count_ = 0;  // the inbox's first entries: deferred by the last step
-  std::array<int64_t, kReceiveBanks * wire::kMaxSwarmSize> received_arrival_ns_{};  // parallel to receive_storage_
+  // Whether some inbox entry may have a known arrival time. While false
+  // (the lab's shared clock: every beacon comes through Receive() without
+  // one) no beacon can be deferred and alignment has no sample, so the
+  // round skips both and the arrival times are not moved around.
+  bool inbox_timed_ = false;
+  std::array<int64_t, kReceiveBanks * wire::kMaxSwarmSize> received_arrival_ns_;  // parallel to receive_storage_
   int64_t RoundSplitNs(int64_t boundary_ns) const;
   void DeferLateArrivals(int64_t now_ns);
   void AlignRound(int64_t now_ns, int64_t round_start_ns, int64_t unseen_shift_ns);

@@ -51,8 +51,11 @@ class BeaconReceivers {
   /// Whether `robot` is on and hears the radio now (not crashed, paused or
   /// absent). Deliver() asks once per robot, before it hands any beacon over.
   virtual bool Listening(uint16_t robot) const = 0;
-  /// Hands `beacon` to `robot`; valid until the sender's next delivery.
-  virtual void Receive(uint16_t robot, const wire::Beacon& beacon) = 0;
+  /// Hands `robot` the beacons it hears of one round, in sender order
+  /// (never none); each is valid until its sender's next delivery. One call
+  /// per receiver and round, not one per beacon: a swarm hears N^2 beacons
+  /// a round.
+  virtual void Receive(uint16_t robot, std::span<const wire::Beacon* const> beacons) = 0;
   /// With real clocks: `beacon` reaches `robot` at `arrival_ns` (true
   /// time); valid for the sender's next kClockedSlots - 1 broadcasts.
   virtual void ReceiveAt(uint16_t robot, const wire::Beacon& beacon, int64_t arrival_ns) = 0;
@@ -93,8 +96,9 @@ class RadioNetwork {
   /// Deliver does. The EncodeBlock calls of one round may run at the same
   /// time, each touching only its senders' slots and its own frame buffer,
   /// and so may its DeliverToBlock calls, each touching only its receivers
-  /// and its channel copy (`receivers.Receive` is called for its receivers
-  /// only); EndEncoding runs between them, on one thread.
+  /// its channel copy and its own list of beacons heard
+  /// (`receivers.Receive` is called for its receivers only); EndEncoding
+  /// runs between them, on one thread.
   void BeginDelivery(int64_t round, double sent_at_s, BeaconReceivers& receivers);
   void EncodeBlock(size_t block);
   void EndEncoding();
@@ -175,6 +179,9 @@ class RadioNetwork {
     uint64_t malformed = 0;  // since EndEncoding last added it up
   };
   std::vector<BlockCodec> block_codecs_{1};
+  // Per block, DeliverToBlock's scratch: one receiver's beacons of the
+  // round (room for every sender).
+  std::vector<std::vector<const wire::Beacon*>> block_heard_;
   std::array<uint8_t, wire::kMaxBeaconBytes> frame_bytes_{};  // the clocked radio's (SendNow)
   uint64_t beacons_malformed_ = 0;
 };
