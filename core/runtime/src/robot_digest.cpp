@@ -45,6 +45,7 @@ void Robot::AddToDigest(base::StateDigest& digest) const {
   add_beacons(std::span(inbox_.data(), inbox_count_), std::span(inbox_arrival_ns_.data(), inbox_count_));
   add_beacons(std::span(deferred_.data(), deferred_count_), std::span(deferred_arrival_ns_.data(), deferred_count_));
   digest.AddValue(carried_count_);
+  digest.AddValue(inbox_timed_);
   digest.AddValue(receiving_bank_);
   digest.AddValue(stored_count_);
   if (bank_size_ > 0 && stored_count_ <= bank_size_) {
