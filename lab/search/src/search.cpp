@@ -152,8 +152,10 @@ struct Representative {
 using StateTable = std::unordered_map<Digest, Representative, DigestHash>;
 
 // Most states the tables keep; past it none is added (the search stays
-// sound, it only prunes less). About 60 bytes each.
-constexpr int64_t kMaxStoredStates = 4'000'000;
+// sound, it only prunes less). About 70 bytes each with the hash table's
+// own, so at most about 70 MB: a grader runs several searches side by side.
+// (Every pair of losses in 6 epochs of 3 robots keeps 4,349.)
+constexpr int64_t kMaxStoredStates = 1'000'000;
 
 // One pattern of a batch, and what its run saw.
 struct PatternRun {
