@@ -141,6 +141,17 @@ function(syrof_add_library)
     target_include_directories(${ARG_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/${ARG_INCLUDE_DIR})
     target_link_libraries(${ARG_NAME} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
     syrof_set_warnings(${ARG_NAME})
+    # On the host a library's sources compile as one translation unit (a
+    # unity build): the heavy headers (Eigen, yaml-cpp, nlohmann-json, fmt,
+    # CGAL, Cyclone DDS) are parsed once per library, not once per file,
+    # which halves the compile time of a fresh build (docs/building.md,
+    # "Unity builds"). Names at file scope, anonymous namespaces included,
+    # must therefore be unique across a library's files. The bare-metal
+    # builds keep a unit per file. -DSYROF_UNITY_LIBRARIES=OFF for a unit per
+    # file (quicker rebuilds after a one-file change).
+    if(SYROF_UNITY_LIBRARIES AND NOT CMAKE_CROSSCOMPILING)
+      set_target_properties(${ARG_NAME} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 0)
+    endif()
   else()
     if(ARG_PRIVATE)
       message(FATAL_ERROR "syrof_add_library(${ARG_NAME}): a header-only module has no PRIVATE dependencies")

@@ -28,6 +28,7 @@
 
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/app_host/landlock.h"
+#include "shared_text.h"
 
 namespace syrof::grader {
 namespace {
@@ -506,13 +507,6 @@ std::string Shown(std::string argument, const fs::path& stage_root) {
     for (size_t at = argument.find(cut); at != std::string::npos; at = argument.find(cut)) argument.erase(at, cut.size());
   }
   return argument;
-}
-
-std::string ExecutableDir() {
-  char buffer[4096];
-  const ssize_t length = readlink("/proc/self/exe", buffer, sizeof(buffer) - 1);
-  if (length <= 0) return {};
-  return fs::path(std::string(buffer, static_cast<size_t>(length))).parent_path().string();
 }
 
 std::string FindOnPath(const std::string& name) {

@@ -15,6 +15,7 @@
 
 #include "syrof/grader/grade_json.h"
 #include "syrof/grader/outputs.h"
+#include "shared_text.h"
 
 namespace syrof::grader {
 namespace {
@@ -22,12 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using assignment::SubmissionResult;
 using assignment::TestResult;
-
-std::string Points(double points) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.2f", points);
-  return text;
-}
 
 std::string CsvField(const std::string& text) {
   if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
@@ -158,12 +153,12 @@ std::string ClassCsv(const std::vector<SubmissionResult>& students) {
   for (const SubmissionResult& student : students) {
     std::map<std::string, double> per_scenario;
     for (const TestResult& test : student.tests) per_scenario[test.search ? test.name : test.scenario] += test.points;
-    csv += CsvField(student.submission) + "," + Points(student.points) + "," + Points(student.max_points) + "," +
+    csv += CsvField(student.submission) + "," + PointsText(student.points) + "," + PointsText(student.max_points) + "," +
            std::to_string(student.tests_passed) + "," + std::to_string(student.tests.size()) + "," +
            CsvField(student.build.verdict);
     for (const std::string& column : columns) {
       const auto found = per_scenario.find(column);
-      csv += "," + (found == per_scenario.end() ? std::string() : Points(found->second));
+      csv += "," + (found == per_scenario.end() ? std::string() : PointsText(found->second));
     }
     csv += "\n";
   }
@@ -186,8 +181,8 @@ std::string ClassSummary(const std::vector<SubmissionResult>& students) {
   const size_t n = points.size();
   const double median = n % 2 == 1 ? points[n / 2] : (points[n / 2 - 1] + points[n / 2]) / 2.0;
   const double max_points = first.max_points;
-  text << "Points: mean " << Points(sum / static_cast<double>(n)) << ", median " << Points(median) << ", min "
-       << Points(points.front()) << ", max " << Points(points.back()) << " (out of " << Points(max_points) << ")\n";
+  text << "Points: mean " << PointsText(sum / static_cast<double>(n)) << ", median " << PointsText(median) << ", min "
+       << PointsText(points.front()) << ", max " << PointsText(points.back()) << " (out of " << PointsText(max_points) << ")\n";
   text << "Histogram (tenths of the points):\n";
   int bins[10] = {0};
   for (double value : points) {

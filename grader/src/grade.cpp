@@ -21,6 +21,7 @@
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/simulation.h"
 #include "run_scenario.h"
+#include "shared_text.h"
 
 namespace syrof::grader {
 namespace {
@@ -195,13 +196,6 @@ std::string ReplayCommand(const ScenarioRun& run, const TestResult& test, const 
   if (test.visibility == Visibility::kHidden && !seeds_derived) return {};
   return "syrof run " + fs::absolute(run.path).lexically_normal().string() + " --app " + library + " --seed " +
          std::to_string(test.seed) + " --out rerun/" + test.scenario + "-seed-" + std::to_string(test.seed);
-}
-
-std::string ExecutableDir() {
-  char buffer[4096];
-  const ssize_t length = readlink("/proc/self/exe", buffer, sizeof(buffer) - 1);
-  if (length <= 0) return {};
-  return fs::path(std::string(buffer, static_cast<size_t>(length))).parent_path().string();
 }
 
 }  // namespace

@@ -3,18 +3,14 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "shared_text.h"
+
 namespace syrof::grader {
 namespace {
 
 using assignment::SubmissionResult;
 using assignment::TestResult;
 using assignment::Visibility;
-
-std::string Points(double points) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.2f", points);
-  return text;
-}
 
 std::string PadRight(std::string text, size_t width) {
   if (text.size() < width) text.append(width - text.size(), ' ');
@@ -45,19 +41,19 @@ void PrintSubmissionTable(const SubmissionResult& result, const std::string& out
         << "  the build's output: " << out_dir << "/" << result.build.log_path << "\n";
   }
   out << "Tests passed " << result.tests_passed << "/" << result.tests.size() << ", Points "
-      << Points(result.points) << "/" << Points(result.max_points) << (result.public_only ? " (public tests only)" : "")
+      << PointsText(result.points) << "/" << PointsText(result.max_points) << (result.public_only ? " (public tests only)" : "")
       << "\n\n";
   size_t name_width = 4;
   for (const TestResult& test : result.tests) {
     name_width = std::max(name_width, test.name.size() + (test.visibility == Visibility::kHidden ? 9 : 0));
   }
-  std::string score_width_sample = Points(result.max_points) + "/" + Points(result.max_points);
+  std::string score_width_sample = PointsText(result.max_points) + "/" + PointsText(result.max_points);
   const size_t score_width = score_width_sample.size();
   out << "  " << PadRight("test", name_width) << "  " << PadLeft("points", score_width) << "  result  why\n";
   for (const TestResult& test : result.tests) {
     const std::string name = test.name + (test.visibility == Visibility::kHidden ? " (hidden)" : "");
     out << "  " << PadRight(name, name_width) << "  "
-        << PadLeft(Points(test.points) + "/" + Points(test.max_points), score_width) << "  "
+        << PadLeft(PointsText(test.points) + "/" + PointsText(test.max_points), score_width) << "  "
         << (test.passed ? "PASS" : "FAIL");
     const std::string why = FirstLoss(test);
     if (!why.empty()) out << "    " << why;

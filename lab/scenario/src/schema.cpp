@@ -10,11 +10,7 @@
 #include "value_reader.h"
 
 namespace syrof::lab::scenario {
-namespace {
 
-constexpr size_t kMaxNameLength = 64;
-
-// Names end up in file names and reports: letters, digits, '_', '-', '.'.
 bool IsValidName(const std::string& name) {
   if (name.empty() || name.size() > kMaxNameLength) return false;
   for (char c : name) {
@@ -24,6 +20,15 @@ bool IsValidName(const std::string& name) {
   }
   return true;
 }
+
+const YamlNode& KeyNode(const YamlNode& map, std::string_view key) {
+  for (const YamlNode& node : map.keys) {
+    if (node.scalar == key) return node;
+  }
+  return map;
+}
+
+namespace {
 
 bool CheckOverrides(const Overrides& overrides, Diagnostics& diagnostics) {
   if (overrides.robots && (*overrides.robots < 1 || *overrides.robots > MaxRobots())) {

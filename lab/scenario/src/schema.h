@@ -7,6 +7,7 @@
 
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "diagnostics.h"
 #include "syrof/lab/apps/catalog.h"
@@ -14,6 +15,16 @@
 #include "yaml_tree.h"
 
 namespace syrof::lab::scenario {
+
+// The longest name a scenario, a goal check or an input may have.
+inline constexpr size_t kMaxNameLength = 64;
+
+// Names end up in file names and reports: 1 to kMaxNameLength letters,
+// digits, '_', '-' and '.'.
+bool IsValidName(const std::string& name);
+
+// The key node of `key` in `map` (which holds it), else `map` itself.
+const YamlNode& KeyNode(const YamlNode& map, std::string_view key);
 
 // Reads the whole document into `scenario` (which holds the defaults and
 // the name), applying `overrides`.

@@ -119,14 +119,6 @@ bool ReadLibraryParams(const YamlNode& node, const std::string& path, std::map<s
   return true;
 }
 
-// The key node of `key` in `map` (which holds it).
-const YamlNode& KeyNode(const YamlNode& map, std::string_view key) {
-  for (const YamlNode& node : map.keys) {
-    if (node.scalar == key) return node;
-  }
-  return map;
-}
-
 // Where a library named `text` in a file under `base_dir` is: `text` itself
 // when absolute or when `base_dir` is empty, else base_dir/text.
 std::string ResolveLibrary(const std::string& text, const std::string& base_dir) {

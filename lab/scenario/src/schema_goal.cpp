@@ -19,7 +19,6 @@ using goals::GoalCheck;
 using goals::Point;
 
 constexpr double kMaxExtentM = 1000;
-constexpr size_t kMaxNameLength = 64;
 
 // The keys every check takes, and each kind's own.
 constexpr std::string_view kCommonKeys[] = {"check", "name", "when", "from_s", "deadline_s"};
@@ -48,13 +47,6 @@ std::vector<std::string_view> KeysOf(CheckKind kind) {
   return keys;
 }
 
-const YamlNode& KeyNode(const YamlNode& map, std::string_view key) {
-  for (const YamlNode& node : map.keys) {
-    if (node.scalar == key) return node;
-  }
-  return map;
-}
-
 // {x_m, y_m}, both required, each within `x_range` / `y_range`.
 bool ReadPoint(const YamlNode& node, const std::string& path, const NumberRange& x_range, const NumberRange& y_range,
                Point& point, Diagnostics& diagnostics) {
@@ -76,16 +68,6 @@ bool ReadPoints(const YamlNode& node, const std::string& path, const NumberRange
   points.resize(node.values.size());
   for (size_t i = 0; i < points.size(); ++i) {
     if (!ReadPoint(node.values[i], IndexPath(path, i), x_range, y_range, points[i], diagnostics)) return false;
-  }
-  return true;
-}
-
-bool IsValidName(const std::string& name) {
-  if (name.empty() || name.size() > kMaxNameLength) return false;
-  for (char c : name) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
-                    c == '-' || c == '.';
-    if (!ok) return false;
   }
   return true;
 }

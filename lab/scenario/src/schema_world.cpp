@@ -22,7 +22,7 @@ constexpr double kMinAnchorSpacingM = 0.1;
 // reach this for multilateration in the plane to be well posed.
 constexpr double kMinAnchorSpreadM2 = 0.01;
 
-std::string Point(double x_m, double y_m) { return "(" + FormatShort(x_m) + ", " + FormatShort(y_m) + ")"; }
+std::string PointText(double x_m, double y_m) { return "(" + FormatShort(x_m) + ", " + FormatShort(y_m) + ")"; }
 
 bool ReadAnchor(const YamlNode& node, const std::string& path, const Scenario& scenario, world::AnchorSpec& anchor,
                 Diagnostics& diagnostics) {
@@ -242,7 +242,7 @@ bool ReadPlacementRequest(const YamlNode& node, const Overrides& overrides, cons
 }
 
 std::string RobotAt(const RobotSpec& robot) {
-  return "robot " + std::to_string(robot.id) + " at " + Point(robot.x_m, robot.y_m);
+  return "robot " + std::to_string(robot.id) + " at " + PointText(robot.x_m, robot.y_m);
 }
 
 // Where a start problem of `robot` is reported: its pose when the file

@@ -8,11 +8,10 @@
 #include "syrof/os/sim_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/pubsub/topic.h"
+#include "units.h"
 
 namespace syrof::lab::sensors {
 namespace {
-
-constexpr double kNanosecondsPerSecond = 1e9;
 
 int64_t ToNanoseconds(double seconds) { return static_cast<int64_t>(std::llround(seconds * kNanosecondsPerSecond)); }
 

@@ -7,11 +7,11 @@
 
 #include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
+#include "units.h"
 
 namespace syrof::lab::sensors {
 namespace {
 
-constexpr double kNanosecondsPerSecond = 1e9;
 constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
 
 // Independent seeds for each stream from the one scenario seed.

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "units.h"
+
 namespace syrof::lab::sensors {
 namespace {
-
-constexpr double kNanosecondsPerSecond = 1e9;
 
 double WrapAngle(double radians) { return std::remainder(radians, 2 * std::numbers::pi); }
 

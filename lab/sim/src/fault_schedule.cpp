@@ -3,11 +3,10 @@
 #include <cmath>
 
 #include "syrof/base/check.h"
+#include "units.h"
 
 namespace syrof::lab::sim {
 namespace {
-
-int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 
 FaultAction::Kind ActionFor(scenario::FaultKind kind) {
   switch (kind) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "syrof/lab/world/world.h"
+#include "units.h"
 
 namespace syrof::lab::sim {
 namespace {
@@ -19,8 +20,6 @@ estimation::Arena<float> EstimatorArena(const scenario::Scenario& scenario) {
   for (int i = 0; i < source.anchor_count; ++i) arena.anchors[i] = source.anchors[i].cast<float>();
   return arena;
 }
-
-int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 
 }  // namespace
 

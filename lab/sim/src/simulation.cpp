@@ -27,6 +27,7 @@
 #include "syrof/pubsub/broker.h"
 #include "syrof/queries/queries.h"
 #include "syrof/registry/tasks.h"
+#include "units.h"
 
 namespace syrof::lab::sim {
 namespace {
@@ -45,9 +46,12 @@ constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
 constexpr size_t kMinParallelSteps = 16;
 constexpr int kNoWorker = -1;
 
-int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
+}  // namespace
 
-// A periodic task that calls a member function of the simulation.
+// A periodic task that calls a member function of the simulation. Outside
+// the anonymous namespace: Simulation::Impl holds some, and a member's type
+// from an anonymous namespace is refused (-Wsubobject-linkage) when this
+// file is part of lab/sim's unity unit.
 class CallbackTask final : public os::Task {
  public:
   explicit CallbackTask(std::function<void(int64_t)> step) : step_(std::move(step)) {}
@@ -56,8 +60,6 @@ class CallbackTask final : public os::Task {
  private:
   std::function<void(int64_t)> step_;
 };
-
-}  // namespace
 
 // ---- The simulation -------------------------------------------------------
 
