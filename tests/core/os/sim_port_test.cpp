@@ -562,6 +562,52 @@ TEST(SimPortRunTest, NotificationInsideARunRunsInRegistrationOrder) {
                                            "10:p2", "10:l2"}));
 }
 
+// A world task that notifies a task on each of several ports, in the order given.
+class NotifyingPortsTask final : public Task {
+ public:
+  NotifyingPortsTask(std::vector<std::string>& log, std::vector<std::pair<SimPort*, TaskId>> targets)
+      : log_(log), targets_(std::move(targets)) {}
+  void Step(int64_t now_ns) override {
+    log_.push_back(std::to_string(now_ns / kMillisecond) + ":world");
+    for (const auto& [port, task] : targets_) port->Notify(task);
+  }
+
+ private:
+  std::vector<std::string>& log_;
+  std::vector<std::pair<SimPort*, TaskId>> targets_;
+};
+
+// The world notifies robot 2's, 0's and 1's listeners (l0 and l1 form one
+// run, l2 is alone); each listener notifies its echo, of the same priority,
+// registered right after it. An echo notified after the last task of the
+// run notified before it has run must not join that finished run.
+TEST(SimPortRunTest, NotificationsFromOneStepRunByRegistration) {
+  SimScheduler scheduler(7);
+  std::vector<std::string> log;
+  SimPort world_port(scheduler, "world");
+  std::vector<std::unique_ptr<SimPort>> ports;
+  std::vector<std::unique_ptr<NotifyingTask>> listeners;
+  std::vector<std::unique_ptr<RecordingTask>> echoes;
+  for (int robot = 0; robot < 3; ++robot) {
+    ports.push_back(std::make_unique<SimPort>(scheduler, "robot"));
+    listeners.push_back(std::make_unique<NotifyingTask>(*ports.back(), log, "l" + std::to_string(robot)));
+    echoes.push_back(std::make_unique<RecordingTask>(log, "e" + std::to_string(robot)));
+    ASSERT_TRUE(ports.back()->AddTask(*listeners.back(), {"l", Trigger::notified(), 1}));
+    const auto echo = ports.back()->AddTask(*echoes.back(), {"e", Trigger::notified(), 1});
+    ASSERT_TRUE(echo);
+    listeners.back()->add_target(echo.value());
+    ASSERT_EQ(ports.back()->Start(), PortError::kOk);
+  }
+  NotifyingPortsTask world(log, {{ports[2].get(), 0}, {ports[0].get(), 0}, {ports[1].get(), 0}});
+  ASSERT_TRUE(world_port.AddTask(world, {"world", Trigger::periodic(10 * kMillisecond), 2}));
+  ASSERT_EQ(world_port.Start(), PortError::kOk);
+
+  scheduler.RunUntil(10 * kMillisecond);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"0:world", "0:l0", "0:e0", "0:l1", "0:e1", "0:l2", "0:e2", "10:world",
+                                           "10:l0", "10:e0", "10:l1", "10:e1", "10:l2", "10:e2"}));
+}
+
 TEST(SimPortTest, SameProgramAndSeedGiveTheSameTrace) {
   const std::string first = run_random_world(7);
   const std::string second = run_random_world(7);

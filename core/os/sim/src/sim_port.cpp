@@ -44,7 +44,7 @@ void SimScheduler::Schedule(uint32_t task_index, int64_t time_ns) {
   TaskRecord& record = tasks_[task_index];
   SYROF_CHECK(!record.pending);
   record.pending = true;
-  PushActivation(MakeActivation(task_index, time_ns));
+  Queue(MakeActivation(task_index, time_ns), scheduled_run_);
 }
 
 void SimScheduler::PushActivation(const Activation& activation) {
@@ -55,15 +55,24 @@ void SimScheduler::PushActivation(const Activation& activation) {
   SiftUp(heap_.size() - 1);
 }
 
-bool SimScheduler::AppendToOpenRun(const Activation& activation) {
-  if (!run_open_ || activation.time_ns != open_run_last_.time_ns ||
-      (activation.order & kRankMask) != (open_run_last_.order & kRankMask) ||
-      activation.order < open_run_last_.order) {
-    return false;
+bool SimScheduler::OpenRun::Takes(const Activation& activation) const {
+  return open && activation.time_ns == last.time_ns && (activation.order & kRankMask) == (last.order & kRankMask) &&
+         activation.order > last.order;
+}
+
+void SimScheduler::Queue(const Activation& activation, OpenRun& run) {
+  if (run.Takes(activation)) {
+    tasks_[run.last.task_index()].next_in_run = activation.task_index();
+  } else {
+    PushActivation(activation);
+    run.open = true;
   }
-  tasks_[open_run_last_.task_index()].next_in_run = activation.task_index();
-  open_run_last_ = activation;
-  return true;
+  run.last = activation;
+}
+
+void SimScheduler::CloseRunsEndingWith(uint32_t task_index) {
+  if (requeued_run_.last.task_index() == task_index) requeued_run_.open = false;
+  if (scheduled_run_.last.task_index() == task_index) scheduled_run_.open = false;
 }
 
 void SimScheduler::AddToDigest(base::StateDigest& digest) const {
@@ -84,7 +93,8 @@ void SimScheduler::AddToDigest(base::StateDigest& digest) const {
 }
 
 void SimScheduler::CancelPort(const SimPort& port) {
-  run_open_ = false;
+  requeued_run_.open = false;
+  scheduled_run_.open = false;
   // Unlinks the port's tasks from every run, keeping the others in order;
   // a run left empty leaves the heap.
   size_t kept = 0;
@@ -135,7 +145,7 @@ bool SimScheduler::RunNext() {
   TaskRecord& record = tasks_[index];
   SYROF_CHECK(activation.time_ns >= now_ns_);
   now_ns_ = activation.time_ns;
-  if (run_open_ && open_run_last_.task_index() == index) run_open_ = false;
+  CloseRunsEndingWith(index);
 
   // The front run's next task takes its place; it mostly still runs before
   // both children (the same run's next robot), and then needs no sift.
@@ -152,9 +162,10 @@ bool SimScheduler::RunNext() {
 
   // The next periodic activation is due one period after this one was due
   // (vTaskDelayUntil semantics), and is queued before the step runs so that a
-  // step which stops its own port also cancels it. It joins the open run
-  // when it may (no sift), else takes the place of an emptied front run
-  // (one sift instead of a removal and an insertion), else is pushed.
+  // step which stops its own port also cancels it. It joins the run that the
+  // previous periodic step's next activation went to when it may (no sift),
+  // else takes the place of an emptied front run (one sift instead of a
+  // removal and an insertion), else is pushed.
   // A periodic step is told the local time it was due (the first scheduler
   // instant at or after it may read a nanosecond later on a drifting clock).
   step_now_ns = record.port->now_ns();
@@ -162,16 +173,13 @@ bool SimScheduler::RunNext() {
     step_now_ns = record.local_due_ns;
     record.local_due_ns += record.config.trigger.period_ns;
     const Activation again = MakeActivation(index, record.port->TrueFromLocal(record.local_due_ns));
-    if (!AppendToOpenRun(again)) {
-      if (front_empty) {
-        heap_.front() = again;
-        SiftDown(0);
-        front_empty = false;
-      } else {
-        PushActivation(again);
-      }
-      run_open_ = true;
-      open_run_last_ = again;
+    if (front_empty && !requeued_run_.Takes(again)) {
+      heap_.front() = again;
+      SiftDown(0);
+      front_empty = false;
+      requeued_run_ = OpenRun{true, again};
+    } else {
+      Queue(again, requeued_run_);
     }
   } else {
     record.pending = false;
@@ -258,7 +266,7 @@ void SimScheduler::ApplyDeferred(const uint64_t* last_order) {
       } else if (deferred.reschedule) {
         Reschedule(deferred.task_index, deferred.time_ns);
       } else {
-        PushActivation(MakeActivation(deferred.task_index, deferred.time_ns));
+        Queue(MakeActivation(deferred.task_index, deferred.time_ns), scheduled_run_);
       }
     }
     port.deferred_.clear();
@@ -335,7 +343,7 @@ void SimScheduler::Reschedule(uint32_t task_index, int64_t time_ns) {
     if (index == kNoTask) continue;
     const uint32_t next = record.next_in_run;
     record.next_in_run = kNoTask;
-    if (run_open_ && open_run_last_.task_index() == task_index) run_open_ = false;
+    CloseRunsEndingWith(task_index);
     if (previous != kNoTask) {
       tasks_[previous].next_in_run = next;
     } else if (next != kNoTask) {

@@ -156,7 +156,8 @@ class SimScheduler {
   // order whatever the runs. Why runs: every robot's periodic tasks fall due
   // together, and a periodic task queued right after the one before it (at
   // the same time and priority, a higher index) joins that task's run with
-  // no sift, while the front run's next task mostly stays in front with none.
+  // no sift, while the front run's next task mostly stays in front with none;
+  // so do a sensor's notifications of every robot's task.
   struct Activation {
     int64_t time_ns;
     uint64_t order;  // (255 - priority) << 32 | task_index (into tasks_): the run's first task
@@ -178,12 +179,22 @@ class SimScheduler {
   void CancelPort(const SimPort& port);
   // Moves task_index's pending activation to time_ns (it must be pending).
   void Reschedule(uint32_t task_index, int64_t time_ns);
+  // A run that activations may still join: the run of the activation
+  // queued last by one path, while that activation is its last task.
+  struct OpenRun {
+    bool open = false;
+    Activation last{};  // the run's last task's activation
+    // Whether `activation` may follow `last` in the run: same time, same
+    // priority, higher task index.
+    bool Takes(const Activation& activation) const;
+  };
+  // Queues `activation` at the end of `run` if it takes it, else as a run of
+  // its own, which becomes `run`.
+  void Queue(const Activation& activation, OpenRun& run);
   // Queues `activation` as a run of its own.
   void PushActivation(const Activation& activation);
-  // Appends `activation` to the open run (the run of the periodic activation
-  // queued last, while that activation is its last task) if it may follow:
-  // same time, same priority, higher task index.
-  bool AppendToOpenRun(const Activation& activation);
+  // Closes the open runs that end with the task (it leaves its run).
+  void CloseRunsEndingWith(uint32_t task_index);
   // Takes the earliest activation off the queue (queueing a periodic task's
   // next one) and returns its task index; `step_now_ns` is what Step is told.
   uint32_t TakeFront(int64_t& step_now_ns);
@@ -198,8 +209,8 @@ class SimScheduler {
   size_t max_tasks_;
   std::vector<TaskRecord> tasks_;
   std::vector<Activation> heap_;  // runs; at most one per pending task
-  bool run_open_ = false;
-  Activation open_run_last_{};  // the open run's last task's activation
+  OpenRun requeued_run_;  // periodic tasks' next activations (TakeFront)
+  OpenRun scheduled_run_;  // notifications and starts (Schedule)
   int64_t now_ns_ = 0;
   uint64_t steps_run_ = 0;
   SimTraceSink* trace_ = nullptr;
