@@ -101,10 +101,11 @@ class SimScheduler {
   void set_trace(SimTraceSink* sink) { trace_ = sink; }
 
   /// Installs (or, with nullptr, removes) a runner for batches. From then
-  /// on, when two or more activations on different ports are due at the
-  /// earliest instant with the same priority, RunNext() takes all of them
-  /// (in the order above, up to the first that repeats a port) and hands
-  /// them to `runner` at once; never while a trace sink is installed.
+  /// on, when the earliest two activations are due at the same instant with
+  /// the same priority on different ports, RunNext() takes all activations
+  /// due then with that priority (in the order above, up to the first that
+  /// repeats a port) and hands them to `runner` at once; never while a
+  /// trace sink is installed.
   /// During a batch, a step's Notify, ShiftPeriodic and Stop take effect
   /// when the batch ends, port by port in the batch's order, which gives the
   /// same queue as running the steps one at a time, unless a step raised an
