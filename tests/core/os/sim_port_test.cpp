@@ -8,6 +8,7 @@
 #include <random>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "port_contract.h"
@@ -353,6 +354,260 @@ TEST(SimPortTest, ManyPeriodicTasksRunInTheDocumentedOrder) {
   EXPECT_EQ(trace.text, expected_text);
 }
 
+// ---- Runs (the queue keeps tasks due together as one heap entry) ----------
+
+// One periodic task per port; what each port's task is, when it starts.
+struct PeriodicPort {
+  int64_t period_ms;
+  int64_t offset_ms;
+  uint8_t priority;
+  int32_t drift_ppb = 0;
+};
+
+// Every activation up to `end_ms` in the documented order, as TextTrace
+// lines, computed from the ports' grids alone (not by a scheduler).
+std::string ExpectedPeriodicTrace(std::span<const PeriodicPort> specs, std::span<const std::unique_ptr<SimPort>> ports,
+                                  int64_t end_ms) {
+  struct Step {
+    int64_t time_ns;
+    int priority;
+    size_t registration;
+  };
+  std::vector<Step> steps;
+  for (size_t p = 0; p < specs.size(); ++p) {
+    for (int64_t local_ms = specs[p].offset_ms;; local_ms += specs[p].period_ms) {
+      const int64_t time_ns = ports[p]->TrueFromLocal(local_ms * kMillisecond);
+      if (time_ns > end_ms * kMillisecond) break;
+      steps.push_back(Step{time_ns, specs[p].priority, p});
+    }
+  }
+  std::sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) {
+    if (a.time_ns != b.time_ns) return a.time_ns < b.time_ns;
+    if (a.priority != b.priority) return a.priority > b.priority;
+    return a.registration < b.registration;
+  });
+  std::string text;
+  for (const Step& step : steps) {
+    text += std::to_string(step.time_ns) + " p" + std::to_string(step.registration) + "/0/t\n";
+  }
+  return text;
+}
+
+// Runs one port per spec (named p0, p1, ...) to `end_ms` and returns the trace.
+struct PeriodicWorld {
+  explicit PeriodicWorld(std::span<const PeriodicPort> specs) : scheduler(specs.size()), tasks(specs.size()) {
+    for (size_t p = 0; p < specs.size(); ++p) names.push_back("p" + std::to_string(p));
+    scheduler.set_trace(&trace);
+    for (size_t p = 0; p < specs.size(); ++p) {
+      ports.push_back(std::make_unique<SimPort>(scheduler, names[p].c_str()));
+      ports.back()->SetDriftPpb(specs[p].drift_ppb);
+      const Trigger trigger = Trigger::periodic(specs[p].period_ms * kMillisecond, specs[p].offset_ms * kMillisecond);
+      EXPECT_TRUE(ports.back()->AddTask(tasks[p], {"t", trigger, specs[p].priority}));
+      EXPECT_EQ(ports.back()->Start(), PortError::kOk);
+    }
+  }
+  SimScheduler scheduler;
+  TextTrace trace;
+  std::vector<std::string> names;
+  std::vector<Idle> tasks;
+  std::vector<std::unique_ptr<SimPort>> ports;
+};
+
+// Ports 0, 2, 4 run every 10 ms, ports 1, 3, 5 every 5 ms: at 10 ms, 20 ms,
+// ... the even ports' run and the odd ports' run are due together and must
+// come out merged (p0 p1 p2 ...), not one run after the other.
+TEST(SimPortRunTest, RunsDueTogetherInterleaveByRegistration) {
+  const std::vector<PeriodicPort> specs = {{10, 0, 1}, {5, 0, 1}, {10, 0, 1}, {5, 0, 1}, {10, 0, 1}, {5, 0, 1}};
+  PeriodicWorld world(specs);
+
+  world.scheduler.RunUntil(40 * kMillisecond);
+
+  EXPECT_NE(world.trace.text.find("10000000 p0/0/t\n10000000 p1/0/t\n10000000 p2/0/t\n"), std::string::npos);
+  EXPECT_EQ(world.trace.text, ExpectedPeriodicTrace(specs, world.ports, 40));
+}
+
+// Drifting ports fall due apart from the others (runs of one), two ports of
+// the same clock still together; the order stays the documented one.
+TEST(SimPortRunTest, DriftingPortsKeepTheDocumentedOrder) {
+  const std::vector<PeriodicPort> specs = {{10, 0, 1}, {10, 0, 1, 30'000}, {10, 0, 1},
+                                           {10, 0, 1, -20'000}, {10, 0, 1, 30'000}, {7, 3, 2}};
+  PeriodicWorld world(specs);
+
+  world.scheduler.RunUntil(500 * kMillisecond);
+
+  EXPECT_EQ(world.trace.text, ExpectedPeriodicTrace(specs, world.ports, 500));
+}
+
+// A robot's periodic task (its port's task 0) that, when it runs at a given
+// instant, stops a port or shifts its own next activation.
+class ActingTask final : public Task {
+ public:
+  ActingTask(std::vector<std::string>& log, std::string label, SimPort& own_port)
+      : log_(log), label_(std::move(label)), own_port_(own_port) {}
+  void stop_at(int64_t at_ms, SimPort& port) { stops_.push_back({at_ms, &port}); }
+  void shift_at(int64_t at_ms, int64_t delta_ms) { shifts_.push_back({at_ms, delta_ms}); }
+  void Step(int64_t now_ns) override {
+    log_.push_back(std::to_string(now_ns / kMillisecond) + ":" + label_);
+    for (const auto& [at_ms, port] : stops_) {
+      if (now_ns == at_ms * kMillisecond) {
+        EXPECT_EQ(port->Stop(), PortError::kOk);
+      }
+    }
+    for (const auto& [at_ms, delta_ms] : shifts_) {
+      if (now_ns == at_ms * kMillisecond) {
+        EXPECT_EQ(own_port_.ShiftPeriodic(0, delta_ms * kMillisecond), PortError::kOk);
+      }
+    }
+  }
+
+ private:
+  std::vector<std::string>& log_;
+  std::string label_;
+  SimPort& own_port_;
+  std::vector<std::pair<int64_t, SimPort*>> stops_;
+  std::vector<std::pair<int64_t, int64_t>> shifts_;
+};
+
+// `robots` ports, each with one ActingTask "r<robot>" every 10 ms, priority 1.
+struct ActingWorld {
+  explicit ActingWorld(int robots) : scheduler(static_cast<size_t>(robots)) {
+    for (int robot = 0; robot < robots; ++robot) {
+      ports.push_back(std::make_unique<SimPort>(scheduler, "robot"));
+      tasks.push_back(std::make_unique<ActingTask>(log, "r" + std::to_string(robot), *ports.back()));
+      EXPECT_TRUE(ports.back()->AddTask(*tasks.back(), {"t", Trigger::periodic(10 * kMillisecond), 1}));
+    }
+  }
+  void Start() {
+    for (auto& port : ports) EXPECT_EQ(port->Start(), PortError::kOk);
+  }
+  SimScheduler scheduler;
+  std::vector<std::string> log;
+  std::vector<std::unique_ptr<SimPort>> ports;
+  std::vector<std::unique_ptr<ActingTask>> tasks;
+};
+
+// Five robots every 10 ms form one run. At 20 ms robot 1's step stops robot
+// 3 (in the middle of the run being taken) and its own port (the last task
+// of the run queued for 30 ms so far, which robot 2's next activation must
+// then not join); at 30 ms robot 2 stops robot 0 (the first task of the run
+// queued for 40 ms). The others keep their order.
+TEST(SimPortRunTest, StoppingPortsInsideARunKeepsTheOthersInOrder) {
+  ActingWorld world(5);
+  world.tasks[1]->stop_at(20, *world.ports[3]);
+  world.tasks[1]->stop_at(20, *world.ports[1]);
+  world.tasks[2]->stop_at(30, *world.ports[0]);
+  world.Start();
+
+  world.scheduler.RunUntil(50 * kMillisecond);
+
+  EXPECT_EQ(world.log, (std::vector<std::string>{"0:r0",  "0:r1",  "0:r2",  "0:r3",  "0:r4",  "10:r0", "10:r1",
+                                                 "10:r2", "10:r3", "10:r4", "20:r0", "20:r1", "20:r2", "20:r4",
+                                                 "30:r0", "30:r2", "30:r4", "40:r2", "40:r4", "50:r2", "50:r4"}));
+}
+
+// At 10 ms robot 0 shifts its next activation 1 ms later, out of the run
+// queued for 20 ms (its last task so far, which robots 1 and 2 must then
+// join, not follow to 21 ms); at 20 ms robot 1 moves out of the middle of
+// the run queued for 30 ms; at 21 ms robot 0 shifts back to 30 ms, ahead of
+// robot 2 by registration.
+TEST(SimPortRunTest, ShiftingATaskOutOfARunKeepsTheRunAndTheTask) {
+  ActingWorld world(3);
+  world.tasks[0]->shift_at(10, 1);
+  world.tasks[1]->shift_at(20, 2);
+  world.tasks[0]->shift_at(21, -1);
+  world.Start();
+
+  world.scheduler.RunUntil(40 * kMillisecond);
+
+  EXPECT_EQ(world.log, (std::vector<std::string>{"0:r0", "0:r1", "0:r2", "10:r0", "10:r1", "10:r2", "20:r1", "20:r2",
+                                                 "21:r0", "30:r0", "30:r2", "32:r1", "40:r0", "40:r2"}));
+}
+
+// Robot 1's task runs every 20 ms, robot 0's every 10 ms: at 10 ms robot 0's
+// next activation (20 ms) is queued right after robot 1's, and must still
+// run first.
+TEST(SimPortRunTest, AnEarlierTaskQueuedAfterALaterOneRunsFirst) {
+  const std::vector<PeriodicPort> specs = {{10, 0, 1}, {20, 0, 1}};
+  PeriodicWorld world(specs);
+
+  world.scheduler.RunUntil(60 * kMillisecond);
+
+  EXPECT_NE(world.trace.text.find("20000000 p0/0/t\n20000000 p1/0/t\n"), std::string::npos);
+  EXPECT_EQ(world.trace.text, ExpectedPeriodicTrace(specs, world.ports, 60));
+}
+
+// Each robot's periodic task notifies a listener of the same priority
+// registered right after it: the notification lands inside the robots' run
+// (between robot r's task and robot r + 1's) and runs there.
+TEST(SimPortRunTest, NotificationInsideARunRunsInRegistrationOrder) {
+  SimScheduler scheduler(6);
+  std::vector<std::string> log;
+  std::vector<std::unique_ptr<SimPort>> ports;
+  std::vector<std::unique_ptr<NotifyingTask>> publishers;
+  std::vector<std::unique_ptr<RecordingTask>> listeners;
+  for (int robot = 0; robot < 3; ++robot) {
+    ports.push_back(std::make_unique<SimPort>(scheduler, "robot"));
+    publishers.push_back(std::make_unique<NotifyingTask>(*ports.back(), log, "p" + std::to_string(robot)));
+    listeners.push_back(std::make_unique<RecordingTask>(log, "l" + std::to_string(robot)));
+    ASSERT_TRUE(ports.back()->AddTask(*publishers.back(), {"p", Trigger::periodic(10 * kMillisecond), 1}));
+    const auto listener = ports.back()->AddTask(*listeners.back(), {"l", Trigger::notified(), 1});
+    ASSERT_TRUE(listener);
+    if (robot != 1) publishers.back()->add_target(listener.value());
+    ASSERT_EQ(ports.back()->Start(), PortError::kOk);
+  }
+
+  scheduler.RunUntil(10 * kMillisecond);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"0:p0", "0:l0", "0:p1", "0:p2", "0:l2", "10:p0", "10:l0", "10:p1",
+                                           "10:p2", "10:l2"}));
+}
+
+// A world task that notifies a task on each of several ports, in the order given.
+class NotifyingPortsTask final : public Task {
+ public:
+  NotifyingPortsTask(std::vector<std::string>& log, std::vector<std::pair<SimPort*, TaskId>> targets)
+      : log_(log), targets_(std::move(targets)) {}
+  void Step(int64_t now_ns) override {
+    log_.push_back(std::to_string(now_ns / kMillisecond) + ":world");
+    for (const auto& [port, task] : targets_) port->Notify(task);
+  }
+
+ private:
+  std::vector<std::string>& log_;
+  std::vector<std::pair<SimPort*, TaskId>> targets_;
+};
+
+// The world notifies robot 2's, 0's and 1's listeners (l0 and l1 form one
+// run, l2 is alone); each listener notifies its echo, of the same priority,
+// registered right after it. An echo notified after the last task of the
+// run notified before it has run must not join that finished run.
+TEST(SimPortRunTest, NotificationsFromOneStepRunByRegistration) {
+  SimScheduler scheduler(7);
+  std::vector<std::string> log;
+  SimPort world_port(scheduler, "world");
+  std::vector<std::unique_ptr<SimPort>> ports;
+  std::vector<std::unique_ptr<NotifyingTask>> listeners;
+  std::vector<std::unique_ptr<RecordingTask>> echoes;
+  for (int robot = 0; robot < 3; ++robot) {
+    ports.push_back(std::make_unique<SimPort>(scheduler, "robot"));
+    listeners.push_back(std::make_unique<NotifyingTask>(*ports.back(), log, "l" + std::to_string(robot)));
+    echoes.push_back(std::make_unique<RecordingTask>(log, "e" + std::to_string(robot)));
+    ASSERT_TRUE(ports.back()->AddTask(*listeners.back(), {"l", Trigger::notified(), 1}));
+    const auto echo = ports.back()->AddTask(*echoes.back(), {"e", Trigger::notified(), 1});
+    ASSERT_TRUE(echo);
+    listeners.back()->add_target(echo.value());
+    ASSERT_EQ(ports.back()->Start(), PortError::kOk);
+  }
+  NotifyingPortsTask world(log, {{ports[2].get(), 0}, {ports[0].get(), 0}, {ports[1].get(), 0}});
+  ASSERT_TRUE(world_port.AddTask(world, {"world", Trigger::periodic(10 * kMillisecond), 2}));
+  ASSERT_EQ(world_port.Start(), PortError::kOk);
+
+  scheduler.RunUntil(10 * kMillisecond);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"0:world", "0:l0", "0:e0", "0:l1", "0:e1", "0:l2", "0:e2", "10:world",
+                                           "10:l0", "10:e0", "10:l1", "10:e1", "10:l2", "10:e2"}));
+}
+
 TEST(SimPortTest, SameProgramAndSeedGiveTheSameTrace) {
   const std::string first = run_random_world(7);
   const std::string second = run_random_world(7);
@@ -611,6 +866,56 @@ TEST(SimPortBatchTest, BatchesRunInAnyOrderGiveTheSameSteps) {
   EXPECT_EQ(batched.steps, serial.steps);
   EXPECT_EQ(batched.logs, serial.logs);
   EXPECT_LT(serial.logs[2].size(), serial.logs[1].size());  // robot 2 stopped
+}
+
+// The same world against its grid worked out by hand: rounds every 10 ms,
+// each third one shifted 1 ms later (the shifts move tasks out of the runs
+// queued for the next instant), robot 2 stopped by its round at 41 ms (its
+// listener, notified by that step, never runs).
+TEST(SimPortBatchTest, BatchesWithDeferredShiftsAndStopsFollowTheGrid) {
+  const int64_t round_ms[] = {0, 10, 20, 31, 41, 51, 62, 72, 82, 93};
+  const auto expected = [&](int robot) {
+    std::vector<std::string> log;
+    for (const int64_t ms : round_ms) {
+      if (robot == 2 && ms > 41) break;
+      log.push_back(std::to_string(ms * kMillisecond) + ":round");
+      if (robot != 2 || ms < 41) log.push_back(std::to_string(ms) + ":listener");
+    }
+    return log;
+  };
+
+  const BatchWorld serial = RunBatchWorld(false);
+  const BatchWorld batched = RunBatchWorld(true);
+
+  for (int robot = 0; robot < 5; ++robot) {
+    EXPECT_EQ(serial.logs[robot], expected(robot)) << "robot " << robot;
+    EXPECT_EQ(batched.logs[robot], expected(robot)) << "robot " << robot;
+  }
+  EXPECT_EQ(batched.batches, 20u);  // at each round instant, the rounds, then the listeners
+}
+
+// Runs a batch's steps in order, so that a shared log reads as one at a time.
+class InOrderRunner final : public SimBatchRunner {
+ public:
+  void RunBatch(std::span<const SimStep> steps) override {
+    for (const SimStep& step : steps) step.task->Step(step.now_ns);
+  }
+};
+
+// A shift made in a batch applies after the batch's next activations are
+// queued as one run: robot 1 moves out of the middle of it.
+TEST(SimPortBatchTest, ShiftInABatchMovesATaskOutOfTheMiddleOfARun) {
+  ActingWorld world(3);
+  InOrderRunner runner;
+  world.scheduler.set_batch_runner(&runner);
+  world.tasks[1]->shift_at(10, 1);
+  world.Start();
+
+  world.scheduler.RunUntil(31 * kMillisecond);
+
+  EXPECT_EQ(world.log, (std::vector<std::string>{"0:r0", "0:r1", "0:r2", "10:r0", "10:r1", "10:r2", "20:r0", "20:r2",
+                                                 "21:r1", "30:r0", "30:r2", "31:r1"}));
+  EXPECT_EQ(world.scheduler.batches_run(), 4u);  // 21 ms and 31 ms are robot 1 alone
 }
 
 TEST(SimPortBatchDeathTest, AnActivationThatWouldHaveRunInsideTheBatchStops) {

@@ -1,6 +1,7 @@
 #include "syrof/os/sim_port.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -11,6 +12,9 @@ namespace {
 
 // Children per node of the activation heap (sim_port.h says why 2).
 constexpr size_t kHeapArity = 2;
+
+// The order's high half: the priority (inverted).
+constexpr uint64_t kRankMask = ~uint64_t{UINT32_MAX};
 
 // Whether `a` runs before `b`: earlier, then higher priority, then
 // registered first (the order documented in sim_port.h).
@@ -32,30 +36,54 @@ SimScheduler::SimScheduler(size_t max_tasks) : max_tasks_(max_tasks) {
 base::Result<uint32_t, PortError> SimScheduler::RegisterTask(SimPort& port, Task& task,
                                                              const TaskConfig& config, TaskId local_id) {
   if (tasks_.size() == max_tasks_) return PortError::kTooManyTasks;
-  tasks_.push_back(TaskRecord{&task, &port, config, local_id, false, 0});
+  tasks_.push_back(TaskRecord{&task, &port, config, local_id, false, 0, kNoTask});
   return static_cast<uint32_t>(tasks_.size() - 1);
 }
 
 void SimScheduler::Schedule(uint32_t task_index, int64_t time_ns) {
   TaskRecord& record = tasks_[task_index];
   SYROF_CHECK(!record.pending);
-  // Each task has at most one pending activation and heap_ has room for one
-  // per task, so this never reallocates.
-  SYROF_CHECK(heap_.size() < max_tasks_);
   record.pending = true;
-  PushActivation(task_index, time_ns);
+  Queue(MakeActivation(task_index, time_ns), scheduled_run_);
 }
 
-void SimScheduler::PushActivation(uint32_t task_index, int64_t time_ns) {
-  heap_.push_back(MakeActivation(task_index, time_ns));
+void SimScheduler::PushActivation(const Activation& activation) {
+  // Each run holds at least one pending activation, each task at most one,
+  // and heap_ has room for one per task, so this never reallocates.
+  SYROF_CHECK(heap_.size() < max_tasks_);
+  heap_.push_back(activation);
   SiftUp(heap_.size() - 1);
+}
+
+bool SimScheduler::OpenRun::Takes(const Activation& activation) const {
+  return open && activation.time_ns == last.time_ns && (activation.order & kRankMask) == (last.order & kRankMask) &&
+         activation.order > last.order;
+}
+
+void SimScheduler::Queue(const Activation& activation, OpenRun& run) {
+  if (run.Takes(activation)) {
+    tasks_[run.last.task_index()].next_in_run = activation.task_index();
+  } else {
+    PushActivation(activation);
+    run.open = true;
+  }
+  run.last = activation;
+}
+
+void SimScheduler::CloseRunsEndingWith(uint32_t task_index) {
+  if (requeued_run_.last.task_index() == task_index) requeued_run_.open = false;
+  if (scheduled_run_.last.task_index() == task_index) scheduled_run_.open = false;
 }
 
 void SimScheduler::AddToDigest(base::StateDigest& digest) const {
   SYROF_CHECK(!in_batch_);
   // By task, not by heap position: equal queues may be laid out apart.
   std::vector<int64_t> due(tasks_.size(), INT64_MIN);
-  for (const Activation& activation : heap_) due[activation.task_index()] = activation.time_ns;
+  for (const Activation& run : heap_) {
+    for (uint32_t index = run.task_index(); index != kNoTask; index = tasks_[index].next_in_run) {
+      due[index] = run.time_ns;
+    }
+  }
   for (size_t i = 0; i < tasks_.size(); ++i) {
     digest.AddValue(due[i]);
     digest.AddValue(tasks_[i].local_due_ns);
@@ -65,13 +93,30 @@ void SimScheduler::AddToDigest(base::StateDigest& digest) const {
 }
 
 void SimScheduler::CancelPort(const SimPort& port) {
-  const auto belongs_to_port = [&](const Activation& activation) {
-    return tasks_[activation.task_index()].port == &port;
-  };
-  for (const Activation& activation : heap_) {
-    if (belongs_to_port(activation)) tasks_[activation.task_index()].pending = false;
+  requeued_run_.open = false;
+  scheduled_run_.open = false;
+  // Unlinks the port's tasks from every run, keeping the others in order;
+  // a run left empty leaves the heap.
+  size_t kept = 0;
+  for (const Activation& run : heap_) {
+    uint32_t first = kNoTask;
+    uint32_t* link = &first;
+    for (uint32_t index = run.task_index(); index != kNoTask;) {
+      TaskRecord& record = tasks_[index];
+      const uint32_t next = record.next_in_run;
+      if (record.port == &port) {
+        record.pending = false;
+        record.next_in_run = kNoTask;
+      } else {
+        *link = index;
+        link = &record.next_in_run;
+      }
+      index = next;
+    }
+    *link = kNoTask;
+    if (first != kNoTask) heap_[kept++] = Activation{run.time_ns, (run.order & kRankMask) | first};
   }
-  heap_.erase(std::remove_if(heap_.begin(), heap_.end(), belongs_to_port), heap_.end());
+  heap_.erase(heap_.begin() + static_cast<std::ptrdiff_t>(kept), heap_.end());
   for (size_t position = heap_.size() / kHeapArity + 1; position-- > 0;) {
     if (position < heap_.size()) SiftDown(position);
   }
@@ -96,42 +141,70 @@ bool SimScheduler::RunNext() {
 // Inlined: RunNext runs it for every step, and a call costs 0.5% at 100 robots.
 [[gnu::always_inline]] inline uint32_t SimScheduler::TakeFront(int64_t& step_now_ns) {
   const Activation activation = heap_.front();
-  TaskRecord& record = tasks_[activation.task_index()];
+  const uint32_t index = activation.task_index();
+  TaskRecord& record = tasks_[index];
   SYROF_CHECK(activation.time_ns >= now_ns_);
   now_ns_ = activation.time_ns;
+  CloseRunsEndingWith(index);
+
+  // The front run's next task takes its place; it mostly still runs before
+  // both children (the same run's next robot), and then needs no sift.
+  const uint32_t next = record.next_in_run;
+  record.next_in_run = kNoTask;
+  bool front_empty = next == kNoTask;
+  if (!front_empty) {
+    Activation& front = heap_.front();
+    front.order = (front.order & kRankMask) | next;
+    const bool still_first = (heap_.size() < 2 || RunsFirst(front, heap_[1])) &&
+                             (heap_.size() < 3 || RunsFirst(front, heap_[2]));
+    if (!still_first) SiftDown(0);
+  }
 
   // The next periodic activation is due one period after this one was due
   // (vTaskDelayUntil semantics), and is queued before the step runs so that a
-  // step which stops its own port also cancels it. It takes the place of the
-  // activation just taken: one sift instead of a removal and an insertion.
+  // step which stops its own port also cancels it. It joins the run that the
+  // previous periodic step's next activation went to when it may (no sift),
+  // else takes the place of an emptied front run (one sift instead of a
+  // removal and an insertion), else is pushed.
   // A periodic step is told the local time it was due (the first scheduler
   // instant at or after it may read a nanosecond later on a drifting clock).
   step_now_ns = record.port->now_ns();
   if (record.config.trigger.kind == TriggerKind::kPeriodic) {
     step_now_ns = record.local_due_ns;
     record.local_due_ns += record.config.trigger.period_ns;
-    heap_.front() = MakeActivation(activation.task_index(), record.port->TrueFromLocal(record.local_due_ns));
-    SiftDown(0);
+    const Activation again = MakeActivation(index, record.port->TrueFromLocal(record.local_due_ns));
+    if (front_empty && !requeued_run_.Takes(again)) {
+      heap_.front() = again;
+      SiftDown(0);
+      front_empty = false;
+      requeued_run_ = OpenRun{true, again};
+    } else {
+      Queue(again, requeued_run_);
+    }
   } else {
     record.pending = false;
+  }
+  if (front_empty) {
     heap_.front() = heap_.back();
     heap_.pop_back();
     if (!heap_.empty()) SiftDown(0);
   }
-  return activation.task_index();
+  return index;
 }
 
-// Due together: the same time and the same priority (the order's high half).
+// Due together: the second activation in order (the front run's next task,
+// else the earlier child's first) has the front's time and priority (the
+// order's high half) and another port.
 bool SimScheduler::BatchAhead() const {
   const Activation& front = heap_.front();
-  for (size_t child = 1; child <= 2 && child < heap_.size(); ++child) {
-    const Activation& other = heap_[child];
-    if (other.time_ns == front.time_ns && (other.order >> 32) == (front.order >> 32) &&
-        tasks_[other.task_index()].port != tasks_[front.task_index()].port) {
-      return true;
-    }
-  }
-  return false;
+  const TaskRecord& first = tasks_[front.task_index()];
+  if (first.next_in_run != kNoTask) return tasks_[first.next_in_run].port != first.port;
+  if (heap_.size() < 2) return false;
+  size_t child = 1;
+  if (heap_.size() > 2 && RunsFirst(heap_[2], heap_[1])) child = 2;
+  const Activation& other = heap_[child];
+  return other.time_ns == front.time_ns && (other.order & kRankMask) == (front.order & kRankMask) &&
+         tasks_[other.task_index()].port != first.port;
 }
 
 void SimScheduler::RunBatch() {
@@ -193,7 +266,7 @@ void SimScheduler::ApplyDeferred(const uint64_t* last_order) {
       } else if (deferred.reschedule) {
         Reschedule(deferred.task_index, deferred.time_ns);
       } else {
-        PushActivation(deferred.task_index, deferred.time_ns);
+        Queue(MakeActivation(deferred.task_index, deferred.time_ns), scheduled_run_);
       }
     }
     port.deferred_.clear();
@@ -249,18 +322,39 @@ void SimScheduler::SiftDown(size_t position) {
   heap_[hole] = moving;
 }
 
-void SimScheduler::Reschedule(uint32_t task_index, int64_t time_ns) {
-  for (size_t position = 0; position < heap_.size(); ++position) {
-    if (heap_[position].task_index() != task_index) continue;
-    heap_[position] = MakeActivation(task_index, time_ns);
+void SimScheduler::Restore(size_t position) {
+  if (position > 0 && RunsFirst(heap_[position], heap_[(position - 1) / kHeapArity])) {
     SiftUp(position);
-    // SiftUp may have moved it; find it again before sifting down.
-    for (size_t again = 0; again < heap_.size(); ++again) {
-      if (heap_[again].task_index() == task_index) {
-        SiftDown(again);
-        break;
-      }
+  } else {
+    SiftDown(position);
+  }
+}
+
+// Unlinks the task from its run, then queues it again as a run of its own.
+void SimScheduler::Reschedule(uint32_t task_index, int64_t time_ns) {
+  TaskRecord& record = tasks_[task_index];
+  for (size_t position = 0; position < heap_.size(); ++position) {
+    uint32_t previous = kNoTask;
+    uint32_t index = heap_[position].task_index();
+    while (index != kNoTask && index != task_index) {
+      previous = index;
+      index = tasks_[index].next_in_run;
     }
+    if (index == kNoTask) continue;
+    const uint32_t next = record.next_in_run;
+    record.next_in_run = kNoTask;
+    CloseRunsEndingWith(task_index);
+    if (previous != kNoTask) {
+      tasks_[previous].next_in_run = next;
+    } else if (next != kNoTask) {
+      heap_[position].order = (heap_[position].order & kRankMask) | next;
+      SiftDown(position);
+    } else {
+      heap_[position] = heap_.back();
+      heap_.pop_back();
+      if (position < heap_.size()) Restore(position);
+    }
+    PushActivation(MakeActivation(task_index, time_ns));
     return;
   }
   SYROF_CHECK(false);  // the task had no pending activation

@@ -101,10 +101,11 @@ class SimScheduler {
   void set_trace(SimTraceSink* sink) { trace_ = sink; }
 
   /// Installs (or, with nullptr, removes) a runner for batches. From then
-  /// on, when two or more activations on different ports are due at the
-  /// earliest instant with the same priority, RunNext() takes all of them
-  /// (in the order above, up to the first that repeats a port) and hands
-  /// them to `runner` at once; never while a trace sink is installed.
+  /// on, when the earliest two activations are due at the same instant with
+  /// the same priority on different ports, RunNext() takes all activations
+  /// due then with that priority (in the order above, up to the first that
+  /// repeats a port) and hands them to `runner` at once; never while a
+  /// trace sink is installed.
   /// During a batch, a step's Notify, ShiftPeriodic and Stop take effect
   /// when the batch ends, port by port in the batch's order, which gives the
   /// same queue as running the steps one at a time, unless a step raised an
@@ -140,15 +141,27 @@ class SimScheduler {
     SimPort* port;
     TaskConfig config;
     TaskId local_id;
-    bool pending;  // has an entry in the activation heap
+    bool pending;  // has a pending activation (in a run of the heap)
     int64_t local_due_ns;  // periodic: the pending activation, in the port's local time
+    uint32_t next_in_run;  // the next task of its run, or kNoTask
   };
+  static constexpr uint32_t kNoTask = UINT32_MAX;
   // Ordered by (time_ns, order): order packs "higher priority first, then
   // earlier registration" into one integer, so a comparison is two; 16
   // bytes, the task index read from the order's low half.
+  //
+  // A heap entry is a run: tasks due at one time with one priority, linked
+  // through TaskRecord::next_in_run in increasing task index; its key is its
+  // first task's activation. Taking the front takes the front run's first
+  // task, so the heap merges the sorted runs and steps keep the documented
+  // order whatever the runs. Why runs: every robot's periodic tasks fall due
+  // together, and a periodic task queued right after the one before it (at
+  // the same time and priority, a higher index) joins that task's run with
+  // no sift, while the front run's next task mostly stays in front with none;
+  // so do a sensor's notifications of every robot's task.
   struct Activation {
     int64_t time_ns;
-    uint64_t order;  // (255 - priority) << 32 | task_index (into tasks_)
+    uint64_t order;  // (255 - priority) << 32 | task_index (into tasks_): the run's first task
     uint32_t task_index() const { return static_cast<uint32_t>(order); }
   };
 
@@ -156,17 +169,33 @@ class SimScheduler {
                                                   TaskId local_id);
   void Schedule(uint32_t task_index, int64_t time_ns);
   Activation MakeActivation(uint32_t task_index, int64_t time_ns) const;
-  // A min-heap on (time_ns, order), written out so that a periodic task's
-  // next activation replaces the one just taken in a single pass. Each task
-  // has at most one activation and order is unique per task, so any heap
-  // pops the same sequence (the arity, kHeapArity in sim_port.cpp, is 2: a
-  // 4-ary heap ran 20% more instructions at 100 robots).
+  // A min-heap of runs on their keys (time_ns, order). Each task has at most
+  // one activation and order is unique per task, so any heap pops the same
+  // sequence (the arity, kHeapArity in sim_port.cpp, is 2: a 4-ary heap ran
+  // 20% more instructions at 100 robots).
   void SiftUp(size_t position);
   void SiftDown(size_t position);
+  // Sifts the run at `position` up or down after its key changed.
+  void Restore(size_t position);
   void CancelPort(const SimPort& port);
   // Moves task_index's pending activation to time_ns (it must be pending).
   void Reschedule(uint32_t task_index, int64_t time_ns);
-  void PushActivation(uint32_t task_index, int64_t time_ns);
+  // A run that activations may still join: the run of the activation
+  // queued last by one path, while that activation is its last task.
+  struct OpenRun {
+    bool open = false;
+    Activation last{};  // the run's last task's activation
+    // Whether `activation` may follow `last` in the run: same time, same
+    // priority, higher task index.
+    bool Takes(const Activation& activation) const;
+  };
+  // Queues `activation` at the end of `run` if it takes it, else as a run of
+  // its own, which becomes `run`.
+  void Queue(const Activation& activation, OpenRun& run);
+  // Queues `activation` as a run of its own.
+  void PushActivation(const Activation& activation);
+  // Closes the open runs that end with the task (it leaves its run).
+  void CloseRunsEndingWith(uint32_t task_index);
   // Takes the earliest activation off the queue (queueing a periodic task's
   // next one) and returns its task index; `step_now_ns` is what Step is told.
   uint32_t TakeFront(int64_t& step_now_ns);
@@ -180,7 +209,9 @@ class SimScheduler {
 
   size_t max_tasks_;
   std::vector<TaskRecord> tasks_;
-  std::vector<Activation> heap_;
+  std::vector<Activation> heap_;  // runs; at most one per pending task
+  OpenRun requeued_run_;  // periodic tasks' next activations (TakeFront)
+  OpenRun scheduled_run_;  // notifications and starts (Schedule)
   int64_t now_ns_ = 0;
   uint64_t steps_run_ = 0;
   SimTraceSink* trace_ = nullptr;
