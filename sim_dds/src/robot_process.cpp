@@ -659,7 +659,7 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   ReportObserver observer(reports, port);
   RoundTap tap(reports, port, config.radio_round_ns, config.align_rounds, config.beacon_delay_ns);
   AppStateReporter app_states(reports);
-  lab::sim::RecordingApp recorded_app(std::move(app), options.robot, app_states);
+  lab::sim::RecordingApp recorded_app(std::move(app), options.robot, app_states, /*keep_history=*/false);
   std::vector<wire::Beacon> receive_storage(runtime::Robot::kReceiveBanks * static_cast<size_t>(swarm_size));
   runtime::Robot robot(config, recorded_app, tap, receive_storage);
   pubsub::Subscriber<motion::DriveCommand> drive;

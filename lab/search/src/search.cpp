@@ -197,6 +197,7 @@ void RunPattern(const scenario::Scenario& scenario, const SearchOptions& options
   sim_options.app_factory = options.app_factory;
   sim_options.app_source = options.app_source;
   sim_options.app_sandbox = options.app_sandbox;
+  sim_options.state_digests = tables != nullptr || end_state;
   sim::Simulation simulation(WithLosses(scenario, run.lost), sim_options);
   if (tables != nullptr) {
     for (int64_t round = 1; round < static_cast<int64_t>(tables->size()); ++round) {

@@ -262,7 +262,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
         options_.app_factory ? options_.app_factory(spec.id)
                              : apps::MakeBuiltinApp(apps::BareAppName(scenario_.app.name), scenario_.app.params);
     SYROF_CHECK(app != nullptr);
-    app = std::make_unique<RecordingApp>(std::move(app), spec.id, *this);
+    app = std::make_unique<RecordingApp>(std::move(app), spec.id, *this, options_.state_digests);
     robots_.push_back(std::make_unique<LabRobot>(scenario_, spec, scheduler_, world_, config, std::move(app),
                                                  radio_.radio(spec.id)));
     if (scenario_.clocks.enabled) {
@@ -705,6 +705,7 @@ double Simulation::now_s() const { return impl_->now_s(); }
 
 std::optional<base::StateDigest::Value> Simulation::StateDigest() const {
   const Impl& impl = *impl_;
+  SYROF_CHECK(impl.options_.state_digests);  // the apps' call histories are kept only then
   if (impl.scenario_.clocks.enabled) return std::nullopt;
   base::StateDigest digest;
   impl.scheduler_.AddToDigest(digest);

@@ -30,7 +30,9 @@ scenario::Scenario Load(const std::string& app, const std::string& lost) {
 
 // The fingerprint at the start of each of the first `rounds` radio rounds.
 std::vector<Digest> Digests(const scenario::Scenario& scenario, int64_t rounds) {
-  Simulation simulation(scenario);
+  SimulationOptions options;
+  options.state_digests = true;
+  Simulation simulation(scenario, options);
   std::vector<Digest> digests;
   for (int64_t round = 1; round <= rounds; ++round) {
     simulation.RunThroughRoundStart(round);
@@ -75,9 +77,24 @@ TEST(StateDigestTest, RunsWithClocksHaveNone) {
       "clocks: { drift_ppm: [0, 20, -20] }\napp: builtin:idle\n",
       "clocks.yaml", {});
   ASSERT_TRUE(loaded.ok()) << (loaded.error ? loaded.error->ToString() : "");
-  Simulation simulation(*loaded.scenario);
+  SimulationOptions options;
+  options.state_digests = true;
+  Simulation simulation(*loaded.scenario, options);
   simulation.RunThroughRoundStart(3);
   EXPECT_FALSE(simulation.StateDigest().has_value());
+}
+
+TEST(StateDigestTest, ARunNotAskedForDigestsRefusesToGiveOne) {
+  // Without state_digests the apps' call histories are not kept, so a
+  // digest would miss them: a caller's mistake, which stops the program.
+  const scenario::Scenario scenario = Load("builtin:idle", "");
+  EXPECT_DEATH(
+      {
+        Simulation simulation(scenario);
+        simulation.RunThroughRoundStart(3);
+        (void)simulation.StateDigest();
+      },
+      "state_digests");
 }
 
 }  // namespace
