@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -44,7 +45,14 @@ constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
 // reasoned guess, not tuned: on the shared machine of docs/lab.md
 // ("Threads") no batch size gave a reliable gain to tune against.
 constexpr size_t kMinParallelSteps = 16;
-constexpr int kNoWorker = -1;
+// --threads: the robots are cut into this many chunks per worker, which
+// the workers take as they go (a worker first its own chunks, then what is
+// left of the others'), so a core that runs slower, or is shared, takes
+// fewer: a fixed half per worker left the faster one waiting for the other
+// (docs/lab.md, "Threads"). A chunk has at least kMinChunkRobots robots.
+constexpr size_t kChunksPerWorker = 4;
+constexpr size_t kMinChunkRobots = 8;
+constexpr int kNoChunk = -1;
 
 }  // namespace
 
@@ -143,7 +151,7 @@ class Simulation::Impl final : public runtime::RobotObserver,
   os::SimScheduler scheduler_;
   os::SimPort world_port_;
   QueriesWorkspace workspace_;
-  std::vector<std::unique_ptr<QueriesWorkspace>> worker_workspaces_;  // --threads: workers 1.. (below)
+  std::vector<std::unique_ptr<QueriesWorkspace>> chunk_workspaces_;  // --threads: chunks 1.. (below)
   // The scenario's app params as syrofAppParameter answers them (names view
   // scenario_.app.params' keys, which never change during the run).
   std::vector<app::Parameter> app_params_;
@@ -170,17 +178,36 @@ class Simulation::Impl final : public runtime::RobotObserver,
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
 
-  // --threads: the pool (destroyed before the robots), each robot's worker
-  // by port (contiguous blocks of robots; kNoWorker for the world's port),
-  // and the observer calls kept during a parallel batch, per robot. Worker
-  // w > 0 lends its robots' apps worker_workspaces_[w - 1], worker 0 workspace_.
+  // --threads: the pool (destroyed before the robots), each robot's chunk
+  // by port (contiguous blocks of robots, each the radio's receiver block of
+  // the same robots; kNoChunk for the world's port), and the observer calls
+  // kept during a parallel batch, per robot. Chunk c > 0 lends its robots'
+  // apps chunk_workspaces_[c - 1], chunk 0 workspace_: a chunk runs on one
+  // thread at a time, whichever takes it.
   std::unique_ptr<WorkerPool> pool_;
-  std::vector<int> worker_of_port_;
+  std::vector<int> chunk_of_port_;
   std::vector<uint16_t> robot_of_port_;
   std::vector<std::vector<ObserverCall>> kept_calls_;
-  std::vector<std::shared_ptr<const replay::EpochMap>> last_replay_maps_;  // ReplayMapOf's, per worker
-  std::vector<size_t> worker_starts_;     // worker w's robots: worker_starts_[w] .. worker_starts_[w + 1]
+  std::vector<std::shared_ptr<const replay::EpochMap>> last_replay_maps_;  // ReplayMapOf's, per chunk
+  std::vector<size_t> chunk_starts_;      // chunk c's robots: chunk_starts_[c] .. chunk_starts_[c + 1]
   std::vector<os::SimPort*> robot_ports_;  // in robot order
+  // Which chunks are left in the job running now: worker w's own chunks
+  // are queues_[w].next .. queues_[w].end, taken from the front by it and
+  // then by the others once theirs are done.
+  struct alignas(64) ChunkQueue {
+    std::atomic<uint32_t> next{0};
+    uint32_t begin = 0;
+    uint32_t end = 0;
+  };
+  std::unique_ptr<ChunkQueue[]> queues_;
+  int workers_ = 1;
+  // Runs run(chunk) for every chunk once, on the pool's workers.
+  template <typename Run>
+  void ForEachChunk(Run run);
+  // RunBatch: the batch's steps of chunk c are batch_[chunk_steps_[i]] for
+  // i in chunk_step_begin_[c] .. chunk_step_begin_[c + 1], in batch order.
+  std::vector<uint32_t> chunk_steps_;
+  std::vector<uint32_t> chunk_step_begin_;
   std::span<const os::SimStep> batch_;
   bool parallel_ = false;  // a parallel batch is running
   // os::SimBatchRunner
@@ -247,13 +274,17 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   const int workers = scenario_.clocks.enabled || robot_count < 2
                           ? 1
                           : static_cast<int>(std::min<size_t>(static_cast<size_t>(options_.threads), robot_count));
-  const auto worker_of_robot = [&](size_t robot) { return static_cast<int>(robot * workers / robot_count); };
-  for (int worker = 1; worker < workers; ++worker) worker_workspaces_.push_back(std::make_unique<QueriesWorkspace>());
-  last_replay_maps_.resize(static_cast<size_t>(workers));
+  const size_t chunks =
+      workers == 1 ? 1
+                   : std::max<size_t>(static_cast<size_t>(workers),
+                                      std::min(static_cast<size_t>(workers) * kChunksPerWorker, robot_count / kMinChunkRobots));
+  const auto chunk_of_robot = [&](size_t robot) { return static_cast<int>(robot * chunks / robot_count); };
+  for (size_t chunk = 1; chunk < chunks; ++chunk) chunk_workspaces_.push_back(std::make_unique<QueriesWorkspace>());
+  last_replay_maps_.resize(chunks);
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
-    const int worker = worker_of_robot(spec.id);
-    config.queries_workspace = worker == 0 ? workspace_.handle() : worker_workspaces_[worker - 1]->handle();
+    const int chunk = chunk_of_robot(spec.id);
+    config.queries_workspace = chunk == 0 ? workspace_.handle() : chunk_workspaces_[chunk - 1]->handle();
     config.app_params = app_params_;
     app_inputs_.push_back(InputsOf(scenario_, spec.id));
     config.app_inputs = app_inputs_.back();
@@ -308,26 +339,49 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   if (workers > 1) {
     uint32_t ports = world_port_.index() + 1;
     for (const auto& robot : robots_) ports = std::max(ports, robot->port().index() + 1);
-    worker_of_port_.assign(ports, kNoWorker);
+    chunk_of_port_.assign(ports, kNoChunk);
     robot_of_port_.assign(ports, 0);
     for (const auto& robot : robots_) {
-      worker_of_port_[robot->port().index()] = worker_of_robot(robot->id());
+      chunk_of_port_[robot->port().index()] = chunk_of_robot(robot->id());
       robot_of_port_[robot->port().index()] = robot->id();
     }
     kept_calls_.resize(robot_count);
     std::vector<uint16_t> block_starts;
     for (size_t robot = 0; robot < robot_count; ++robot) {
-      if (robot == 0 || worker_of_robot(robot) != worker_of_robot(robot - 1)) {
+      if (robot == 0 || chunk_of_robot(robot) != chunk_of_robot(robot - 1)) {
         block_starts.push_back(static_cast<uint16_t>(robot));
       }
     }
-    radio_.SplitReceivers(block_starts);  // worker w delivers to its own robots
-    worker_starts_.assign(block_starts.begin(), block_starts.end());
-    worker_starts_.push_back(robot_count);
+    SYROF_CHECK(block_starts.size() == chunks);
+    radio_.SplitReceivers(block_starts);  // the radio's block c: chunk c's robots
+    chunk_starts_.assign(block_starts.begin(), block_starts.end());
+    chunk_starts_.push_back(robot_count);
     for (const auto& robot : robots_) robot_ports_.push_back(&robot->port());
+    chunk_steps_.resize(robot_count);
+    chunk_step_begin_.resize(chunks + 1);
+    workers_ = workers;
+    queues_ = std::make_unique<ChunkQueue[]>(static_cast<size_t>(workers));
+    for (int worker = 0; worker < workers; ++worker) {
+      queues_[worker].begin = static_cast<uint32_t>(chunks * static_cast<size_t>(worker) / static_cast<size_t>(workers));
+      queues_[worker].end = static_cast<uint32_t>(chunks * static_cast<size_t>(worker + 1) / static_cast<size_t>(workers));
+    }
     pool_ = std::make_unique<WorkerPool>(workers);
     scheduler_.set_batch_runner(this);
   }
+}
+
+template <typename Run>
+void Simulation::Impl::ForEachChunk(Run run) {
+  for (int worker = 0; worker < workers_; ++worker) {
+    queues_[worker].next.store(queues_[worker].begin, std::memory_order_relaxed);
+  }
+  auto job = [this, &run](int worker) {
+    for (int k = 0; k < workers_; ++k) {
+      ChunkQueue& queue = queues_[(worker + k) % workers_];
+      for (uint32_t chunk; (chunk = queue.next.fetch_add(1, std::memory_order_relaxed)) < queue.end;) run(chunk);
+    }
+  };
+  pool_->Run(job);
 }
 
 // A batch holds one task per robot, due at one instant with one priority
@@ -340,20 +394,31 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
 void Simulation::Impl::RunBatch(std::span<const os::SimStep> steps) {
   bool robots_only = steps.size() >= kMinParallelSteps;
   for (size_t i = 0; robots_only && i < steps.size(); ++i) {
-    robots_only = worker_of_port_[steps[i].port->index()] != kNoWorker;
+    robots_only = chunk_of_port_[steps[i].port->index()] != kNoChunk;
   }
   if (!robots_only) {
     for (const os::SimStep& step : steps) step.task->Step(step.now_ns);
     return;
   }
+  // The steps by chunk (a counting sort that keeps the batch's order).
+  const size_t chunks = chunk_starts_.size() - 1;
+  std::fill(chunk_step_begin_.begin(), chunk_step_begin_.end(), 0u);
+  for (const os::SimStep& step : steps) ++chunk_step_begin_[static_cast<size_t>(chunk_of_port_[step.port->index()]) + 1];
+  for (size_t chunk = 0; chunk < chunks; ++chunk) chunk_step_begin_[chunk + 1] += chunk_step_begin_[chunk];
+  for (uint32_t i = 0; i < steps.size(); ++i) {
+    uint32_t& end = chunk_step_begin_[static_cast<size_t>(chunk_of_port_[steps[i].port->index()])];
+    chunk_steps_[end++] = i;
+  }
+  for (size_t chunk = chunks; chunk > 0; --chunk) chunk_step_begin_[chunk] = chunk_step_begin_[chunk - 1];
+  chunk_step_begin_[0] = 0;
   parallel_ = true;
   batch_ = steps;
-  auto job = [this](int worker) {
-    for (const os::SimStep& step : batch_) {
-      if (worker_of_port_[step.port->index()] == worker) step.task->Step(step.now_ns);
+  ForEachChunk([this](size_t chunk) {
+    for (uint32_t i = chunk_step_begin_[chunk]; i < chunk_step_begin_[chunk + 1]; ++i) {
+      const os::SimStep& step = batch_[chunk_steps_[i]];
+      step.task->Step(step.now_ns);
     }
-  };
-  pool_->Run(job);
+  });
   parallel_ = false;
   for (const os::SimStep& step : steps) {
     std::vector<ObserverCall>& calls = kept_calls_[robot_of_port_[step.port->index()]];
@@ -420,12 +485,11 @@ void Simulation::Impl::StepHardware(int64_t now_ns) {
   // brokers (the notifications wait, os::SimScheduler::BeginSideBySide);
   // the drive commands they took reach the bodies here, after.
   scheduler_.BeginSideBySide(robot_ports_);
-  auto job = [this](int worker) {
-    for (size_t robot = worker_starts_[worker]; robot < worker_starts_[worker + 1]; ++robot) {
+  ForEachChunk([this](size_t chunk) {
+    for (size_t robot = chunk_starts_[chunk]; robot < chunk_starts_[chunk + 1]; ++robot) {
       if (robots_[robot]->port().running()) robots_[robot]->SampleHardware();
     }
-  };
-  pool_->Run(job);
+  });
   scheduler_.EndSideBySide();
   for (auto& robot : robots_) robot->ApplyDrive();
 }
@@ -450,11 +514,9 @@ void Simulation::Impl::StepRadio(int64_t now_ns) {
     for (size_t block = 0; block < radio_.blocks(); ++block) radio_.DeliverToBlock(block, *this);
     return;
   }
-  auto encode = [this](int worker) { radio_.EncodeBlock(static_cast<size_t>(worker)); };
-  pool_->Run(encode);
+  ForEachChunk([this](size_t chunk) { radio_.EncodeBlock(chunk); });
   radio_.EndEncoding();
-  auto deliver = [this](int worker) { radio_.DeliverToBlock(static_cast<size_t>(worker), *this); };
-  pool_->Run(deliver);
+  ForEachChunk([this](size_t chunk) { radio_.DeliverToBlock(chunk, *this); });
 }
 
 bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
@@ -539,8 +601,8 @@ void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t /*local_ns*/, const 
 }
 
 std::shared_ptr<const replay::EpochMap> Simulation::Impl::ReplayMapOf(uint16_t robot, const sync::LDMap& ldmap) {
-  const int worker = pool_ == nullptr ? 0 : worker_of_port_[robots_[robot]->port().index()];
-  std::shared_ptr<const replay::EpochMap>& last = last_replay_maps_[static_cast<size_t>(worker)];
+  const int chunk = pool_ == nullptr ? 0 : chunk_of_port_[robots_[robot]->port().index()];
+  std::shared_ptr<const replay::EpochMap>& last = last_replay_maps_[static_cast<size_t>(chunk)];
   if (last == nullptr || !MatchesEpochMap(*last, ldmap)) last = ToEpochMap(ldmap);
   return last;
 }

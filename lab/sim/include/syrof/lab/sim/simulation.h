@@ -62,7 +62,8 @@ struct SimulationOptions {
   /// Threads that step robots (`syrof run --threads`, docs/lab.md
   /// "Threads"): the robots' tasks due at one instant with one priority run
   /// side by side on this many threads (a pool made once, robots in
-  /// contiguous blocks), and every output is byte-identical to a run with 1.
+  /// contiguous chunks that the threads take as they go), and every output
+  /// is byte-identical to a run with 1.
   /// 1 .. kMaxThreads (SYROF_CHECK); capped at the robot count; with clocks (scenario `clocks:`) the
   /// run is serial whatever this says. With more than 1, the apps that
   /// `app_factory` makes are called from several threads at once, each app
