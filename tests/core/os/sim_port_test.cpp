@@ -918,6 +918,48 @@ TEST(SimPortBatchTest, ShiftInABatchMovesATaskOutOfTheMiddleOfARun) {
   EXPECT_EQ(world.scheduler.batches_run(), 4u);  // 21 ms and 31 ms are robot 1 alone
 }
 
+// A step that stops its own port and asks for nothing else: the stop still
+// takes effect after the batch (the scheduler looks only at the ports that
+// asked for something, so a stop alone must count as asking).
+class StoppingTask final : public Task {
+ public:
+  StoppingTask(SimPort& port, std::vector<std::string>& log, std::string name, int64_t stop_ms)
+      : port_(port), log_(log), name_(std::move(name)), stop_ms_(stop_ms) {}
+  void Step(int64_t now_ns) override {
+    log_.push_back(std::to_string(now_ns / kMillisecond) + ":" + name_);
+    if (now_ns >= stop_ms_ * kMillisecond) {
+      EXPECT_EQ(port_.Stop(), PortError::kOk);
+    }
+  }
+
+ private:
+  SimPort& port_;
+  std::vector<std::string>& log_;
+  std::string name_;
+  int64_t stop_ms_;
+};
+
+TEST(SimPortBatchTest, AStopAloneInABatchStopsThePort) {
+  SimScheduler scheduler(3);
+  InOrderRunner runner;
+  scheduler.set_batch_runner(&runner);
+  std::vector<std::string> log;
+  std::vector<std::unique_ptr<SimPort>> ports;
+  std::vector<std::unique_ptr<StoppingTask>> tasks;
+  for (int robot = 0; robot < 3; ++robot) {
+    ports.push_back(std::make_unique<SimPort>(scheduler, "robot"));
+    tasks.push_back(std::make_unique<StoppingTask>(*ports.back(), log, "r" + std::to_string(robot), robot == 1 ? 10 : 1000));
+    EXPECT_TRUE(ports.back()->AddTask(*tasks.back(), {"round", Trigger::periodic(10 * kMillisecond), 2}));
+    EXPECT_EQ(ports.back()->Start(), PortError::kOk);
+  }
+
+  scheduler.RunUntil(25 * kMillisecond);
+
+  EXPECT_EQ(log, (std::vector<std::string>{"0:r0", "0:r1", "0:r2", "10:r0", "10:r1", "10:r2", "20:r0", "20:r2"}));
+  EXPECT_FALSE(ports[1]->running());
+  EXPECT_EQ(scheduler.batches_run(), 3u);
+}
+
 TEST(SimPortBatchDeathTest, AnActivationThatWouldHaveRunInsideTheBatchStops) {
   // A listener above the round task's priority would run before the next
   // robot's round step one at a time: a batch cannot keep that order.

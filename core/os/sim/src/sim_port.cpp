@@ -31,6 +31,7 @@ SimScheduler::SimScheduler(size_t max_tasks) : max_tasks_(max_tasks) {
   batch_.reserve(max_tasks);
   batch_steps_.reserve(max_tasks);
   batch_ports_.reserve(max_tasks);
+  batch_deferred_.reserve(max_tasks);
 }
 
 base::Result<uint32_t, PortError> SimScheduler::RegisterTask(SimPort& port, Task& task,
@@ -214,15 +215,15 @@ void SimScheduler::RunBatch() {
   batch_.clear();
   batch_steps_.clear();
   batch_ports_.clear();
+  batch_deferred_.clear();
   while (!heap_.empty() && heap_.front().time_ns == time_ns && (heap_.front().order >> 32) == rank) {
     SimPort& port = *tasks_[heap_.front().task_index()].port;
     if (port.batch_mark_ == mark) break;  // a port's steps never run side by side
-    port.batch_mark_ = mark;
+    JoinBatch(port);
     int64_t step_now_ns = 0;
     const uint32_t index = TakeFront(step_now_ns);
     batch_.push_back(index);
-    batch_steps_.push_back(SimStep{tasks_[index].task, &port, step_now_ns});
-    batch_ports_.push_back(&port);
+    batch_steps_.push_back(SimStep{tasks_[index].task, &port, step_now_ns, port.index_});
   }
   ++batches_run_;
   steps_run_ += batch_.size();
@@ -237,12 +238,19 @@ void SimScheduler::BeginSideBySide(std::span<SimPort* const> ports) {
   SYROF_CHECK(!in_batch_);
   const uint64_t mark = ++batch_mark_;
   batch_ports_.clear();
+  batch_deferred_.clear();
   for (SimPort* port : ports) {
     SYROF_CHECK(&port->scheduler_ == this && port->batch_mark_ != mark);
-    port->batch_mark_ = mark;
-    batch_ports_.push_back(port);
+    JoinBatch(*port);
   }
   in_batch_ = true;
+}
+
+void SimScheduler::JoinBatch(SimPort& port) {
+  port.batch_mark_ = batch_mark_;
+  port.batch_position_ = static_cast<uint32_t>(batch_ports_.size());
+  batch_ports_.push_back(&port);
+  batch_deferred_.push_back(0);
 }
 
 void SimScheduler::EndSideBySide() {
@@ -253,8 +261,8 @@ void SimScheduler::EndSideBySide() {
 
 void SimScheduler::ApplyDeferred(const uint64_t* last_order) {
   for (size_t position = 0; position < batch_ports_.size(); ++position) {
+    if (batch_deferred_[position] == 0) continue;
     SimPort& port = *batch_ports_[position];
-    if (port.deferred_.empty() && !port.stop_deferred_) continue;
     const bool last = position + 1 == batch_ports_.size();
     for (const SimPort::Deferred& deferred : port.deferred_) {
       // One at a time, an activation due now that orders before the batch's
@@ -372,6 +380,7 @@ SimPort::SimPort(SimScheduler& scheduler, const char* name)
 // batch never allocates.
 void SimPort::Defer(uint32_t task_index, int64_t time_ns, bool reschedule) {
   SYROF_CHECK(batch_mark_ == scheduler_.batch_mark_);  // only a port of the batch (or side by side)
+  scheduler_.batch_deferred_[batch_position_] = 1;
   for (Deferred& deferred : deferred_) {
     if (deferred.task_index == task_index && deferred.reschedule == reschedule) {
       deferred.time_ns = time_ns;
@@ -461,6 +470,7 @@ PortError SimPort::Stop() {
   if (scheduler_.in_batch_) {
     SYROF_CHECK(batch_mark_ == scheduler_.batch_mark_);  // only a port of the batch (or side by side)
     stop_deferred_ = true;
+    scheduler_.batch_deferred_[batch_position_] = 1;
   } else {
     scheduler_.CancelPort(*this);
   }

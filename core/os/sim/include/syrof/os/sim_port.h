@@ -52,7 +52,8 @@ class SimTraceSink {
 struct SimStep {
   Task* task;
   const SimPort* port;
-  int64_t now_ns;  ///< what Task::Step is told (the port's local time)
+  int64_t now_ns;       ///< what Task::Step is told (the port's local time)
+  uint32_t port_index;  ///< port->index(), at hand without touching the port
 };
 
 /// Runs the steps of one batch (SimScheduler::set_batch_runner).
@@ -224,6 +225,12 @@ class SimScheduler {
   std::vector<uint32_t> batch_;     // task indices, in queue order
   std::vector<SimStep> batch_steps_;
   std::vector<SimPort*> batch_ports_;  // the ports of batch_ (or side by side), in order
+  // Per position of batch_ports_: 1 when that port deferred something (each
+  // byte written by its own port's step only), so that ApplyDeferred need
+  // not touch the others.
+  std::vector<uint8_t> batch_deferred_;
+  // Adds a port to batch_ports_ under the current batch mark.
+  void JoinBatch(SimPort& port);
 };
 
 /// One robot's port on a SimScheduler. Single-threaded: Lock() only checks
@@ -289,6 +296,7 @@ class SimPort final : public Port {
   std::vector<Deferred> deferred_;  // room for two per task, reserved by AddTask
   bool stop_deferred_ = false;
   uint64_t batch_mark_ = 0;  // the batch (or side by side) this port was last in (SimScheduler::batch_mark_)
+  uint32_t batch_position_ = 0;  // its place in SimScheduler::batch_ports_ then
 };
 
 }  // namespace syrof::os
