@@ -50,6 +50,7 @@ class LabRobot {
   uint16_t id() const { return spec_.id; }
   const char* app_name() const { return app_->name(); }
   os::SimPort& port() { return port_; }
+  const os::SimPort& port() const { return port_; }
   runtime::Robot& robot() { return robot_; }
   const runtime::Robot& robot() const { return robot_; }
 

@@ -45,6 +45,7 @@ constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
 // reasoned guess, not tuned: on the shared machine of docs/lab.md
 // ("Threads") no batch size gave a reliable gain to tune against.
 constexpr size_t kMinParallelSteps = 16;
+constexpr int64_t kNoBoundary = std::numeric_limits<int64_t>::min();
 // --threads: the robots are cut into this many chunks per worker, which
 // the workers take as they go (a worker first its own chunks, then what is
 // left of the others'), so a core that runs slower, or is shared, takes
@@ -231,6 +232,7 @@ class Simulation::Impl final : public runtime::RobotObserver,
   // scheduler's (true) time, which is the same without clocks.
   int64_t TrueNow() const { return scheduler_.now_ns(); }
   std::vector<int64_t> phase_boundaries_;
+  std::vector<int64_t> round_boundaries_;  // per robot, kNoBoundary when it has none this round
   // An event of `robot` (or replay::kNoRobot) stamped with the robot's
   // epoch and that epoch's mode at this moment (docs/replay.md).
   void AddEvent(replay::EventKind kind, int64_t now_ns, uint16_t robot, uint16_t other = replay::kNoRobot);
@@ -333,6 +335,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
   if (options_.replay != nullptr) recorder_.OpenReplay(*options_.replay);
   frames_.resize(robots_.size());
   robot_rounds_.resize(robots_.size());
+  round_boundaries_.resize(robots_.size());
 
   SYROF_CHECK(world_port_.Start() == os::PortError::kOk);
   player_.StartPresentRobots(*this);
@@ -394,7 +397,7 @@ void Simulation::Impl::ForEachChunk(Run run) {
 void Simulation::Impl::RunBatch(std::span<const os::SimStep> steps) {
   bool robots_only = steps.size() >= kMinParallelSteps;
   for (size_t i = 0; robots_only && i < steps.size(); ++i) {
-    robots_only = chunk_of_port_[steps[i].port->index()] != kNoChunk;
+    robots_only = chunk_of_port_[steps[i].port_index] != kNoChunk;
   }
   if (!robots_only) {
     for (const os::SimStep& step : steps) step.task->Step(step.now_ns);
@@ -403,10 +406,10 @@ void Simulation::Impl::RunBatch(std::span<const os::SimStep> steps) {
   // The steps by chunk (a counting sort that keeps the batch's order).
   const size_t chunks = chunk_starts_.size() - 1;
   std::fill(chunk_step_begin_.begin(), chunk_step_begin_.end(), 0u);
-  for (const os::SimStep& step : steps) ++chunk_step_begin_[static_cast<size_t>(chunk_of_port_[step.port->index()]) + 1];
+  for (const os::SimStep& step : steps) ++chunk_step_begin_[static_cast<size_t>(chunk_of_port_[step.port_index]) + 1];
   for (size_t chunk = 0; chunk < chunks; ++chunk) chunk_step_begin_[chunk + 1] += chunk_step_begin_[chunk];
   for (uint32_t i = 0; i < steps.size(); ++i) {
-    uint32_t& end = chunk_step_begin_[static_cast<size_t>(chunk_of_port_[steps[i].port->index()])];
+    uint32_t& end = chunk_step_begin_[static_cast<size_t>(chunk_of_port_[steps[i].port_index])];
     chunk_steps_[end++] = i;
   }
   for (size_t chunk = chunks; chunk > 0; --chunk) chunk_step_begin_[chunk] = chunk_step_begin_[chunk - 1];
@@ -421,7 +424,7 @@ void Simulation::Impl::RunBatch(std::span<const os::SimStep> steps) {
   });
   parallel_ = false;
   for (const os::SimStep& step : steps) {
-    std::vector<ObserverCall>& calls = kept_calls_[robot_of_port_[step.port->index()]];
+    std::vector<ObserverCall>& calls = kept_calls_[robot_of_port_[step.port_index]];
     for (const ObserverCall& call : calls) Handle(call);
     calls.clear();
   }
@@ -543,8 +546,10 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
       partition_active_[i] = active;
     }
   }
-  // One observation per robot feeds both the metrics and the replay.
-  for (size_t i = 0; i < robots_.size(); ++i) {
+  // One observation per robot feeds both the metrics and the replay, and
+  // each running member's latest round boundary, in true time, the round
+  // phases. Each robot's are its own slots: the threads take the chunks.
+  const auto observe = [this, now_ns](size_t i) {
     const LabRobot& lab_robot = *robots_[i];
     const runtime::Robot& robot = lab_robot.robot();
     const RobotObservation observation =
@@ -552,16 +557,20 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
                 robot.estimate(), robot.estimate_valid() && now_ns >= player_.scored_from_ns(lab_robot.id()));
     robot_rounds_[i] = ToRobotRound(observation);
     frames_[i] = ToRobotFrame(observation);
+    const bool boundary = player_.running(lab_robot.id()) && robot.counters().rounds > 0 &&
+                          robot.sync_state().status == sync::Status::kMember;
+    round_boundaries_[i] = boundary ? lab_robot.port().TrueFromLocal(robot.last_round_ns()) : kNoBoundary;
+  };
+  if (pool_ == nullptr || robots_.size() < kMinParallelSteps) {
+    for (size_t i = 0; i < robots_.size(); ++i) observe(i);
+  } else {
+    ForEachChunk([this, &observe](size_t chunk) {
+      for (size_t i = chunk_starts_[chunk]; i < chunk_starts_[chunk + 1]; ++i) observe(i);
+    });
   }
-  // Round phase: each running member's latest boundary, in true time.
   phase_boundaries_.clear();
-  for (const auto& lab_robot : robots_) {
-    const runtime::Robot& robot = lab_robot->robot();
-    if (!player_.running(lab_robot->id()) || robot.counters().rounds == 0 ||
-        robot.sync_state().status != sync::Status::kMember) {
-      continue;
-    }
-    phase_boundaries_.push_back(lab_robot->port().TrueFromLocal(robot.last_round_ns()));
+  for (const int64_t boundary_ns : round_boundaries_) {
+    if (boundary_ns != kNoBoundary) phase_boundaries_.push_back(boundary_ns);
   }
   recorder_.RecordRound(RecordedRound{round, now_ns, robot_rounds_, phase_boundaries_, frames_, player_.events(),
                                       round_maps_, [this] { return player_.RunningPoses(); }});
