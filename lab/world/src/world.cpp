@@ -31,6 +31,12 @@ constexpr int kSeparationPasses = 6;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// What a step that moved anything takes off the gap floor beyond the bodies'
+// displacements, per metre of the world's extent: Gap() and the displacement
+// are each off by a few ulps of the coordinates (2.2e-16 per metre each), far
+// below this.
+constexpr double kFloorSlackPerM = 1e-9;
+
 constexpr uint32_t PairKey(uint16_t a, uint16_t b) { return (static_cast<uint32_t>(a) << 16) | b; }
 constexpr uint16_t FirstOf(uint32_t key) { return static_cast<uint16_t>(key >> 16); }
 constexpr uint16_t SecondOf(uint32_t key) { return static_cast<uint16_t>(key & 0xFFFFu); }
@@ -97,11 +103,12 @@ std::optional<Error> CheckWorldSpec(const ArenaSpec& arena, std::span<const Body
 }
 
 World::World(const ArenaSpec& arena, std::span<const BodySpec> bodies)
-    : width_m_(arena.width_m), height_m_(arena.height_m), min_separation_m_(kInfinity) {
+    : width_m_(arena.width_m), height_m_(arena.height_m), min_separation_m_(kInfinity), gap_floor_m_(-kInfinity) {
   if (const std::optional<Error> problem = CheckWorldSpec(arena, bodies)) {
     base::check_failed(("World: " + problem->ToString()).c_str(), __FILE__, __LINE__);
   }
   bodies_.reserve(bodies.size());
+  double extent_m = std::max({1.0, width_m_, height_m_});
   for (const BodySpec& spec : bodies) {
     Body body;
     body.state.x_m = spec.x_m;
@@ -114,7 +121,11 @@ World::World(const ArenaSpec& arena, std::span<const BodySpec> bodies)
     body.drive.kind = DriveKindFor(spec.kind);
     bodies_.push_back(body);
     max_radius_m_ = std::max(max_radius_m_, spec.spec.body_radius_m);
+    extent_m = std::max({extent_m, std::fabs(spec.x_m), std::fabs(spec.y_m)});
   }
+  // No coordinate ever exceeds extent_m: active bodies end every step inside
+  // the walls, the others do not move.
+  floor_slack_m_ = kFloorSlackPerM * extent_m;
 
   // About one cell per body, never narrower than a contact distance, so a
   // pair within kCandidateGapM always sits in neighbouring cells.
@@ -207,6 +218,8 @@ void World::SetPresence(uint16_t robot, BodyPresence presence) {
     target.touching_wall = false;
   }
   target.presence = presence;
+  // A body that appears may sit closer to another than any gap seen so far.
+  gap_floor_m_ = -kInfinity;
 }
 
 void World::Integrate(Body& target, double dt_s) const {
@@ -582,6 +595,7 @@ void World::Step(int64_t now_ns, double dt_s) {
     }
   }
   DropApproachingVelocities();
+  double largest_step_squared_m2 = 0;
   for (Body& each : bodies_) {
     if (each.presence == BodyPresence::kAbsent) {
       each.state.ax_mps2 = each.state.ay_mps2 = 0;
@@ -589,6 +603,14 @@ void World::Step(int64_t now_ns, double dt_s) {
     }
     each.state.ax_mps2 = (each.state.vx_mps - each.previous.vx_mps) / dt_s;
     each.state.ay_mps2 = (each.state.vy_mps - each.previous.vy_mps) / dt_s;
+    const double dx = each.state.x_m - each.previous.x_m;
+    const double dy = each.state.y_m - each.previous.y_m;
+    largest_step_squared_m2 = std::max(largest_step_squared_m2, dx * dx + dy * dy);
+  }
+  // A pair's gap shrank by at most the sum of its two displacements. When
+  // nothing moved every Gap() is the same bits as before: no slack needed.
+  if (largest_step_squared_m2 > 0) {
+    gap_floor_m_ -= 2 * std::sqrt(largest_step_squared_m2) + floor_slack_m_;
   }
   UpdateMinSeparation(total_move_m);
 }
@@ -611,8 +633,18 @@ void World::UpdateMinSeparation(double max_displacement_m) {
   }
   // Every pair that was not a candidate is farther apart than this now.
   const double others_above_m = kCandidateGapM - 2 * max_displacement_m;
-  if (best_m > others_above_m && min_separation_m_ > others_above_m) {
-    best_m = SmallestGap(std::min(best_m, min_separation_m_));
+  // The search would return min(bound, smallest gap). With the floor at or
+  // above the record, that is the record itself (every gap, the candidates'
+  // best_m included, is >= floor >= record): the record stands, skip it.
+  if (best_m > others_above_m && min_separation_m_ > others_above_m && gap_floor_m_ < min_separation_m_) {
+    const double bound_m = std::min(best_m, min_separation_m_);
+    // Searching up to any bound >= bound_m gives the same record, min(record,
+    // best_m, smallest gap). Up to the largest bound the same cells cover, it
+    // costs no more and may leave the floor above the record for later steps.
+    const double cells = std::ceil((bound_m + 2 * max_radius_m_) / cell_m_);
+    const double search_m = std::max(bound_m, (cells - 1e-6) * cell_m_ - 2 * max_radius_m_);
+    gap_floor_m_ = SmallestGap(search_m);
+    best_m = std::min(best_m, gap_floor_m_);
   }
   min_separation_m_ = std::min(min_separation_m_, best_m);
 }

@@ -564,6 +564,117 @@ TEST(WorldTest, SparseSwarmMinSeparationMatchesBruteForce) {
   }
 }
 
+// The smallest gap between present bodies now, clamped at 0, computed as the
+// World computes a gap (sqrt, not hypot: the same bits), by brute force.
+double SmallestPresentGap(const World& world) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (uint16_t a = 0; a < world.size(); ++a) {
+    for (uint16_t b = a + 1; b < world.size(); ++b) {
+      if (world.presence(a) == BodyPresence::kAbsent || world.presence(b) == BodyPresence::kAbsent) {
+        continue;
+      }
+      const double dx = world.state(b).x_m - world.state(a).x_m;
+      const double dy = world.state(b).y_m - world.state(a).y_m;
+      const double gap = std::sqrt(dx * dx + dy * dy) - world.body_radius_m(a) - world.body_radius_m(b);
+      smallest = std::min(smallest, std::max(0.0, gap));
+    }
+  }
+  return smallest;
+}
+
+// 20 bodies 1 m apart (gaps 0.8 m) in a 10 x 10 arena, and one more, absent,
+// 0.3 m from body 0: far enough apart that the exact search, not the
+// candidates, finds the record.
+std::vector<BodySpec> StillGrid() {
+  std::vector<BodySpec> bodies;
+  for (uint16_t id = 0; id < 20; ++id) {
+    bodies.push_back(Omni(id, 1.0 + (id % 5), 1.0 + (id / 5)));
+  }
+  bodies.push_back(Omni(20, 1.0, 1.5, BodyPresence::kAbsent));
+  return bodies;
+}
+
+TEST(WorldTest, RecordPairThatDrawsApartAndCloseAgainLowersTheRecordExactly) {
+  // The record (0.3 m, bodies 0 and 20) stands while body 20 backs away and
+  // every gap grows; then it drives past body 0, closer than ever.
+  std::vector<BodySpec> bodies = StillGrid();
+  bodies[20].presence = BodyPresence::kActive;
+  World world(Arena(10, 10), bodies);
+  Events run;
+  StepMany(world, 1, 50, run);
+  ASSERT_DOUBLE_EQ(world.min_separation_m(), 0.3);
+
+  world.SetDrive(20, OmniDrive(-0.2, 0));  // away from body 0
+  double expected = world.min_separation_m();
+  for (int step = 51; step <= 350; ++step) {
+    if (step == 151) {
+      world.SetDrive(20, OmniDrive(0, -0.2));  // down, past body 0
+    }
+    StepMany(world, step, 1, run);
+    expected = std::min(expected, SmallestPresentGap(world));
+    ASSERT_EQ(world.min_separation_m(), expected) << "step " << step;
+  }
+
+  EXPECT_LT(world.min_separation_m(), 0.2);
+}
+
+TEST(WorldTest, BodyAppearingNearAnotherInAStillSwarmLowersTheRecordAtTheNextStep) {
+  World world(Arena(10, 10), StillGrid());
+  Events run;
+  StepMany(world, 1, 50, run);
+  ASSERT_DOUBLE_EQ(world.min_separation_m(), 0.8);
+
+  world.SetPresence(20, BodyPresence::kActive);
+  StepMany(world, 51, 1, run);
+
+  EXPECT_EQ(world.min_separation_m(), SmallestPresentGap(world));
+  EXPECT_DOUBLE_EQ(world.min_separation_m(), 0.3);
+}
+
+// Seeded random swarms, spells of standing still and of driving, bodies
+// switching presence (appearing anywhere, stopping, leaving): after every
+// step the record equals the brute-force smallest gap seen so far, bit for bit.
+TEST(WorldTest, RandomSwarmRecordEqualsBruteForceAfterEveryStep) {
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    base::SplitMix64 random(seed);
+    std::vector<BodySpec> bodies;
+    for (uint16_t id = 0; id < 36; ++id) {
+      // A jittered 2 m grid; every fourth body starts absent, anywhere.
+      const bool absent = id % 4 == 3;
+      const double grid_x = 1.0 + 2.0 * (id % 6);
+      const double grid_y = 1.0 + 2.0 * (id / 6);
+      const double x = absent ? random.Between(20, 1180) / 100.0 : grid_x + random.Between(-50, 50) / 100.0;
+      const double y = absent ? random.Between(20, 1180) / 100.0 : grid_y + random.Between(-50, 50) / 100.0;
+      if (id % 5 == 4) {
+        bodies.push_back(RoverAt(id, x, y, random.Between(0, 628) / 100.0));
+        bodies.back().presence = absent ? BodyPresence::kAbsent : BodyPresence::kActive;
+      } else {
+        bodies.push_back(Omni(id, x, y, absent ? BodyPresence::kAbsent : BodyPresence::kActive));
+      }
+    }
+    World world(Arena(12, 12), bodies);
+    double expected = std::numeric_limits<double>::infinity();
+
+    for (int step = 1; step <= 600; ++step) {
+      if (step % 40 == 1) {
+        const bool still = (step / 40) % 2 == 0;
+        for (uint16_t id = 0; id < world.size(); ++id) {
+          const double first = still ? 0.0 : random.Between(-30, 30) / 100.0;
+          const double second = still ? 0.0 : random.Between(-30, 30) / 100.0;
+          world.SetDrive(id, id % 5 == 4 ? Wheels(first, second) : OmniDrive(first, second));
+        }
+      }
+      if (random.Below(20) == 0) {
+        const auto id = static_cast<uint16_t>(random.Below(world.size()));
+        world.SetPresence(id, static_cast<BodyPresence>(random.Below(3)));
+      }
+      world.Step(step * kStepNs, kDt);
+      expected = std::min(expected, SmallestPresentGap(world));
+      ASSERT_EQ(world.min_separation_m(), expected) << "seed " << seed << ", step " << step;
+    }
+  }
+}
+
 TEST(WorldTest, SameCallsGiveTheSameBits) {
   const Crowd crowd = MakeCrowd(72, 11);
   World first(Arena(3.6, 3.2), crowd.bodies);

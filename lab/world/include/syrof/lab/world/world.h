@@ -157,7 +157,10 @@ class World {
   std::span<const WallContact> new_wall_contacts() const { return new_wall_contacts_; }
   /// Smallest surface-to-surface gap at the end of any step between two
   /// present (active or stopped) bodies, 0 when touching; +infinity before
-  /// the first step or with fewer than two present bodies.
+  /// the first step or with fewer than two present bodies. Kept cheaply: the
+  /// exact search over every body's neighbourhood runs only in steps where
+  /// the movement since the last search (or a body appearing) could have
+  /// brought some pair below the record.
   double min_separation_m() const { return min_separation_m_; }
   /// Largest overlap (penetration depth: sum of radii minus centre distance)
   /// between two present bodies at the end of any step, after separation:
@@ -213,8 +216,9 @@ class World {
   double WallGap(const Body& body) const;
   double Gap(uint16_t a, uint16_t b) const;
   void UpdateMinSeparation(double max_displacement_m);
-  // Exact smallest gap between present bodies, searching outward from each
-  // body no further than `best_m` (the smallest known so far). Rebuilds the grid.
+  // min(best_m, exact smallest gap between present bodies), searching
+  // outward from each body no further than `best_m` (the smallest known so
+  // far). Rebuilds the grid.
   double SmallestGap(double best_m);
 
   double width_m_;
@@ -242,6 +246,11 @@ class World {
   std::vector<WallContact> new_wall_contacts_;
 
   double min_separation_m_;
+  // No two present bodies are closer than this (-infinity: unknown). Set by
+  // each SmallestGap search, lowered by every step's movement: while it is
+  // >= min_separation_m_ no pair can lower the record and the search is skipped.
+  double gap_floor_m_;
+  double floor_slack_m_ = 0;  // taken off the floor by a step that moved anything
   double max_overlap_m_ = 0;
   uint64_t contacts_ = 0;
   uint64_t wall_contacts_ = 0;
