@@ -29,6 +29,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -212,7 +213,9 @@ void PrintThreads(bool quick, int rounds) {
 
 int main(int argc, char** argv) {
   if ((argc == 2 || argc == 3) && std::strcmp(argv[1], "--threads") == 0) {
-    const int rounds = argc == 3 ? std::atoi(argv[2]) : 5;
+    int rounds = 5;
+    const char* end = argc == 3 ? argv[2] + std::strlen(argv[2]) : nullptr;
+    if (argc == 3 && std::from_chars(argv[2], end, rounds).ptr != end) rounds = 0;
     if (rounds < 1 || rounds > 100) {
       fmt::print(stderr, "--threads takes ROUNDS from 1 to 100 (default 5)\n");
       return 2;
