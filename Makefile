@@ -20,7 +20,7 @@ DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))
 
-.PHONY: all deps deps-demo build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm asan tsan fuzz clean
+.PHONY: all deps deps-demo build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm test-slurm asan tsan fuzz clean
 
 all: build
 
@@ -63,6 +63,18 @@ demo: deps-demo
 ## test: the whole host test suite through ctest.
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+## test-slurm: a class graded as a Slurm job array on this machine (as root):
+## munge, slurmctld and slurmd from Debian's packages with a private
+## configuration, the job script and submit commands of docs/grading.md
+## ("Spreading a class over machines"), a shard cancelled and resubmitted,
+## and the merged class.csv and summary.txt checked against one machine's
+## bytes (scripts/test-slurm.sh).
+test-slurm: deps
+	@bash scripts/install-deps.sh slurm
+	$(configure-build)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof syrof-app-host syrof_app_shared
+	bash scripts/test-slurm.sh $(BUILD_DIR)
 
 ## package: the Debian package $(BUILD_DIR)/syrof_<version>_<arch>.deb (CPack):
 ## the syrof command, the app host, libsyrof_app, the app API's headers, the

@@ -4,6 +4,8 @@
 #   install-deps.sh demo   what `make demo` needs: the host build's tools and
 #                          every library CMake's configure step looks for and
 #                          the `syrof` command links (docs/building.md)
+#   install-deps.sh slurm  what `make test-slurm` adds: munge and Slurm's
+#                          controller, node daemon and client commands
 #   install-deps.sh [all]  everything: the demo group, then what the tests,
 #                          the benchmarks, the Debian package, the cross
 #                          build, the emulated Cortex-M4, fuzzing and the
@@ -52,11 +54,15 @@ more_packages=(
   ccache
 )
 
+# make test-slurm only (scripts/test-slurm.sh): a one-machine Slurm cluster
+slurm_packages=(munge slurmctld slurmd slurm-client)
+
 group=${1:-all}
 case "$group" in
   demo) packages=("${demo_packages[@]}") ;;
   all) packages=("${demo_packages[@]}" "${more_packages[@]}") ;;
-  *) echo "usage: install-deps.sh [demo|all]   (no argument: all)" >&2; exit 2 ;;
+  slurm) packages=("${slurm_packages[@]}") ;;
+  *) echo "usage: install-deps.sh [demo|slurm|all]   (no argument: all)" >&2; exit 2 ;;
 esac
 
 missing=()
