@@ -272,16 +272,7 @@ struct Entities {
 
 // The app, as `syrof run` makes it; nullptr when there is none of that name.
 std::unique_ptr<app::App> MakeApp(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options) {
-  if (scenario.app.is_library()) {
-    app_host::HostOptions host;
-    host.library_path = scenario.app.library;
-    host.log_directory = options.log_directory;
-    host.params = scenario.app.params;
-    host.inputs[options.robot] = lab::sim::InputValuesOf(scenario, options.robot);
-    if (scenario.app.cpu_budget_ms) host.limits.cpu_budget_ms = *scenario.app.cpu_budget_ms;
-    if (scenario.app.wall_cap_ms) host.limits.wall_cap_ms = *scenario.app.wall_cap_ms;
-    return app_host::MakeHostedApp(host, options.robot);
-  }
+  if (scenario.app.is_library()) return app_host::MakeHostedApp(RobotHostOptions(scenario, options), options.robot);
   return lab::apps::MakeBuiltinApp(lab::apps::BareAppName(scenario.app.name), scenario.app.params);
 }
 
@@ -589,6 +580,16 @@ ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& argumen
   }
   parsed.options = o;
   return parsed;
+}
+
+app_host::HostOptions RobotHostOptions(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options) {
+  app_host::HostOptions host;
+  host.library_path = scenario.app.library;
+  host.log_directory = options.log_directory;
+  host.params = scenario.app.params;
+  host.inputs[options.robot] = lab::sim::InputValuesOf(scenario, options.robot);
+  host.limits = app_host::HostLimits::ForBudgets(scenario.app.cpu_budget_ms, scenario.app.wall_cap_ms);
+  return host;
 }
 
 int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {

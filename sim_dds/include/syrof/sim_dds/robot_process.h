@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/app_host/hosted_app.h"
 #include "syrof/lab/scenario/scenario.h"
 
 namespace syrof::sim_dds {
@@ -78,6 +79,12 @@ inline constexpr int64_t kBeaconLatencyNs = 150'000;
 /// The world's participant gone for this long (its liveliness lost): the
 /// robot stops.
 inline constexpr int64_t kWorldLostNs = 3'000'000'000;
+
+/// How robot `options.robot`'s library app is hosted: the scenario's
+/// library, params and this robot's inputs, the log folder, and the limits
+/// `syrof run` gives the same scenario (HostLimits::ForBudgets: an unset
+/// wall cap is 4x the CPU budget when that is more than the default).
+app_host::HostOptions RobotHostOptions(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options);
 
 /// Runs the robot until the world stops it. 0 on a clean stop, 2 on bad
 /// input (scenario, robot id, app), 1 on a DDS or system failure; the reason
