@@ -58,15 +58,26 @@ std::span<const replay::Event> RoundRecorder::WithLostBeacons(const RecordedRoun
   return round_events_;
 }
 
+void RoundRecorder::NameApp(std::string name) {
+  SYROF_CHECK(!replay_.has_value() && sinks_.empty());
+  app_name_ = std::move(name);
+}
+
+replay::Header RoundRecorder::Header() const {
+  replay::Header header = ReplayHeader(scenario_);
+  header.app_name = app_name();
+  return header;
+}
+
 void RoundRecorder::OpenReplay(std::ostream& out) {
   SYROF_CHECK(!replay_.has_value());
-  replay_.emplace(out, ReplayHeader(scenario_));
+  replay_.emplace(out, Header());
 }
 
 void RoundRecorder::AddSink(replay::RoundSink* sink) {
   SYROF_CHECK(sink != nullptr && !finished_);
   sinks_.push_back(sink);
-  sink->OnHeader(ReplayHeader(scenario_));
+  sink->OnHeader(Header());
 }
 
 void RoundRecorder::OnEpochStart(uint16_t robot, int64_t round, int64_t time_ns, const sync::LDMap& ldmap) {
@@ -116,8 +127,9 @@ metrics::RunFacts RoundRecorder::Facts(const RunEnd& end, const WorldPlayer& pla
   facts.radio_rounds = end.radio_rounds;
   if (goal_monitor_.empty()) {
     facts.goal = BuiltinGoal(scenario_, player.FinalPoses());
+    facts.goal.app = app_name();  // the app that was judged, whose checker it was or not
   } else {
-    facts.goal = DeclaredGoal(scenario_.app.name, goal_monitor_.Finish(end.sim_seconds, player.RunningPoses()));
+    facts.goal = DeclaredGoal(app_name(), goal_monitor_.Finish(end.sim_seconds, player.RunningPoses()));
   }
   return facts;
 }

@@ -331,6 +331,9 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
     robot->Attach();
   }
 
+  // A runtime-supplied app (the grader's or --app's library) is the run's
+  // app in the replay and the goal, not the scenario's `app:`.
+  recorder_.NameApp(options_.app_source);
   for (replay::RoundSink* sink : options_.sinks) recorder_.AddSink(sink);
   if (options_.replay != nullptr) recorder_.OpenReplay(*options_.replay);
   frames_.resize(robots_.size());
@@ -751,7 +754,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   const RunEnd end{now_s(), wall_seconds, scheduler_.now_ns() / radio_round_ns_};
   metrics::RunFacts facts = recorder_.Facts(end, player_, world_);
   facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
-  facts.app_source = options_.app_source.empty() ? scenario_.app.name : options_.app_source;
+  facts.app_source = recorder_.app_name();
   facts.app_sandbox = options_.app_sandbox;
   RunReport report;
   report.metrics = recorder_.Finish(facts);

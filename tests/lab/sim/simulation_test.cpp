@@ -576,6 +576,40 @@ FaultyRun RunFaulty(const Plan& plan) {
   return run;
 }
 
+// ---- The app that ran is the one named -----------------------------------------
+
+// A library given in the scenario's place (the grader, `--app`) is the app
+// the replay and the metrics name, with or without declared goal checks:
+// never the scenario's own `app:` (a student read "builtin:idle" as "the
+// grader did not run my code").
+TEST(SimulationAppNameTest, TheSuppliedAppIsNamedInTheReplayAndTheMetrics) {
+  for (const std::string& goal : {std::string("goal:\n  - {check: gathered, radius_m: 5}\n"), std::string()}) {
+    // Arrange: the scenario says builtin:idle; the runtime supplies the apps.
+    const scenario::Scenario scenario = Load(Swarm(goal, 0.0, 4, 4));
+    ASSERT_EQ(scenario.app.name, "builtin:idle");
+    std::ostringstream replay_bytes;
+    SimulationOptions options;
+    options.replay = &replay_bytes;
+    options.app_factory = [](uint16_t id) { return std::make_unique<FaultyApp>(id, Plan{}); };
+    options.app_source = "build/libstudent.so";
+
+    // Act
+    const RunReport report = sim::Run(scenario, options, 0.0);
+
+    // Assert
+    const json metrics = json::parse(report.metrics_json);
+    EXPECT_EQ(metrics["app"]["source"], "build/libstudent.so") << goal;
+    EXPECT_EQ(metrics["app"]["name"], "faulty") << goal;
+    EXPECT_EQ(metrics["goal"]["app"], "build/libstudent.so") << goal;
+    EXPECT_EQ(metrics["goal"]["source"], goal.empty() ? "builtin" : "scenario") << goal;
+    std::istringstream in(replay_bytes.str());
+    replay::Reader reader(in);
+    replay::Header header;
+    ASSERT_TRUE(reader.ReadHeader(header)) << reader.error();
+    EXPECT_EQ(header.app_name, "build/libstudent.so") << goal;
+  }
+}
+
 TEST(SimulationAppFaultTest, ARobotWhoseAppFaultsStopsAndTheRunGoesOn) {
   // Act: robot 2's app crashes in newRound of epoch 3.
   const FaultyRun run = RunFaulty(Plan{.robot = 2, .fault_epoch = 3});

@@ -101,11 +101,20 @@ class RoundRecorder {
   /// (membership, contacts, app faults, safety) and for the WorldPlayer.
   metrics::Collector& collector() { return collector_; }
 
-  /// Starts the replay: its header (ReplayHeader(scenario)) to `out` now,
+  /// Names the app the runtime runs in place of the scenario's (a student's
+  /// library given to the grader or `--app`; SimulationOptions::app_source):
+  /// the replay header's app_name and metrics' goal.app then say `name`, not
+  /// the scenario's `app:`. Empty: the scenario's app. Before OpenReplay and
+  /// AddSink.
+  void NameApp(std::string name);
+  /// The app the run names: NameApp's, else the scenario's app.name.
+  const std::string& app_name() const { return app_name_.empty() ? scenario_.app.name : app_name_; }
+
+  /// Starts the replay: its header (ReplayHeader(scenario), app_name()) to `out` now,
   /// a round at every RecordRound. `out` outlives the recorder. At most once.
   void OpenReplay(std::ostream& out);
   /// Adds a reader of the rounds (the live page, a bridge): it gets the
-  /// header (ReplayHeader(scenario)) now, every RecordRound's round as the
+  /// header (as OpenReplay's) now, every RecordRound's round as the
   /// replay gets it (maps sorted by robot) and FinishReplay's end, whether
   /// or not a replay is written. `sink` outlives the recorder or its
   /// FinishReplay; the calls come on the recording thread.
@@ -166,7 +175,11 @@ class RoundRecorder {
   std::span<const replay::Event> WithLostBeacons(const RecordedRound& round);
   static constexpr size_t kMostLostBeaconEvents = 4096;
 
+  /// The replay's header: ReplayHeader(scenario_) naming app_name().
+  replay::Header Header() const;
+
   const scenario::Scenario& scenario_;
+  std::string app_name_;  // NameApp's; empty: the scenario's
   metrics::Collector collector_;
   goals::GoalMonitor goal_monitor_;
   std::optional<replay::Writer> replay_;

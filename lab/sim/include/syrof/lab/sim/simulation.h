@@ -50,8 +50,10 @@ struct SimulationOptions {
   /// Makes robot `id`'s app. Default (empty): the scenario's built-in app
   /// from lab/apps. The grader's app host and tests supply their own.
   std::function<std::unique_ptr<app::App>(uint16_t id)> app_factory;
-  /// What metrics.json's app.source says when app_factory supplies the apps
-  /// (a library's path); empty: the scenario's app ("builtin:NAME").
+  /// The app's name when app_factory supplies the apps (a library's path as
+  /// the user should read it): metrics.json's app.source and goal.app and
+  /// the replay header's app_name say it (RoundRecorder::NameApp). Empty:
+  /// the scenario's app ("builtin:NAME").
   std::string app_source;
   /// metrics.json's app.sandbox: the app host's notes on what its sandbox
   /// could not apply (a library run); unset (null) for in-process apps.
