@@ -110,10 +110,16 @@ void PrintSummary(std::ostream& out, const metrics::Metrics& m, const std::files
     fmt::print(out, "  {:<17} {} interventions on {} robots, {} join waits\n", "safety", m.safety.interventions,
                m.safety.robots_involved, m.safety.join_waits);
   }
+  // A joiner that never joined is otherwise only a count above and a goal
+  // reason about where it is not.
+  for (const std::string& line : metrics::UnjoinedJoiners(m)) fmt::print(out, "    {}\n", line);
   PrintAgreementLine(out, m);
   fmt::print(out, "  {:<17} position RMSE {} m, max {} m\n", "estimation", Number(m.estimation.position_rmse_m, 3),
              Number(m.estimation.max_error_m, 3));
-  fmt::print(out, "  {:<17} {} removals, {} joins\n", "membership", m.membership.removals, m.membership.joins);
+  // Joins are robots that became members; each observer's notice of one is
+  // a join notice (one joiner seen by 12 robots: 1 join, 12 notices).
+  fmt::print(out, "  {:<17} {} removals, {} join{} ({} join notices)\n", "membership", m.membership.removals,
+             m.membership.completed_joins, m.membership.completed_joins == 1 ? "" : "s", m.membership.joins);
   if (clocks) PrintRoundPhaseLine(out, m.round_phase);
   if (library && m.goal.source != "scenario") {
     fmt::print(out, "  {:<17} none: declare checks under goal: in the scenario (docs/scenarios.md)\n", "goal");

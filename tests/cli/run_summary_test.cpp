@@ -61,13 +61,33 @@ TEST(RunSummary, EveryLineReadsItsOwnField) {
             std::string::npos)
       << text;
   EXPECT_NE(text.find("position RMSE 0.041 m, max - m"), std::string::npos) << text;
-  EXPECT_NE(text.find("4 removals, 1 joins"), std::string::npos) << text;
+  EXPECT_NE(text.find("4 removals, 0 joins (1 join notices)"), std::string::npos) << text;
   EXPECT_NE(text.find("reached (on the circle)"), std::string::npos) << text;
   EXPECT_NE(text.find("/tmp/out/metrics.json, /tmp/out/replay"), std::string::npos) << text;
 }
 
 // The firmware swarm does not measure agreement: the summary says so rather
 // than printing zeros.
+// One joiner noticed by 12 robots is one join; a joiner whose start disc
+// stayed covered is named, not only counted as a join wait.
+TEST(RunSummary, JoinsCountRobotsAndAJoinerThatNeverJoinedIsNamed) {
+  lab::metrics::Metrics m = SomeRun();
+  m.membership.joins = 12;
+  m.membership.completed_joins = 1;
+  m.safety.join_waits = 2;
+  m.safety.joiner_waits = {lab::metrics::JoinWait{4, 3'000'000'000, 4'000'000'000},
+                           lab::metrics::JoinWait{2, 8'000'000'000, std::nullopt}};
+
+  const std::string text = Summary(m);
+
+  EXPECT_NE(text.find("4 removals, 1 join (12 join notices)"), std::string::npos) << text;
+  EXPECT_NE(text.find("7 interventions on 2 robots, 2 join waits\n"
+                      "    robot 2 never joined: it waited 12.0 s for a clear start disc (from 8.0 s to the end)\n"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("robot 4 never joined"), std::string::npos) << text;
+}
+
 TEST(RunSummary, AgreementNotMeasuredIsSaid) {
   lab::metrics::Metrics m = SomeRun();
   m.runtime = "firmware";

@@ -26,16 +26,24 @@ std::string Plural(int64_t count, const char* one, const char* many) {
   return std::to_string(count) + " " + (count == 1 ? one : many);
 }
 
+// A goal missed because a joiner never joined says so: the checks alone
+// only say where the robot is not ("robot 2 is 2.471 m from ...").
+std::string WithUnjoined(std::string reason, const Metrics& metrics) {
+  for (const std::string& line : lab::metrics::UnjoinedJoiners(metrics)) reason += "; " + line;
+  return reason;
+}
+
 CriterionScore ScoreGoal(const GoalCriterion& rule, const Metrics& metrics) {
   const lab::metrics::GoalResult& goal = metrics.goal;
   if (goal.source == "scenario" && !goal.checks.empty() && rule.per_check) {
     const auto passed = std::count_if(goal.checks.begin(), goal.checks.end(),
                                       [](const lab::metrics::GoalCheckResult& check) { return check.passed; });
     const double share = static_cast<double>(passed) / static_cast<double>(goal.checks.size());
-    return Make("goal", rule.points, rule.points * share, goal.detail);
+    const bool lost = passed < static_cast<std::ptrdiff_t>(goal.checks.size());
+    return Make("goal", rule.points, rule.points * share, lost ? WithUnjoined(goal.detail, metrics) : goal.detail);
   }
-  return Make("goal", rule.points, goal.reached ? rule.points : 0.0,
-              (goal.reached ? "goal reached: " : "goal missed: ") + goal.detail);
+  if (goal.reached) return Make("goal", rule.points, rule.points, "goal reached: " + goal.detail);
+  return Make("goal", rule.points, 0.0, WithUnjoined("goal missed: " + goal.detail, metrics));
 }
 
 CriterionScore ScoreCollisions(const CollisionCriterion& rule, const Metrics& metrics) {

@@ -174,12 +174,23 @@ void Collector::OnSafetyIntervention(int64_t time_ns, uint16_t robot, std::optio
   }
 }
 
-void Collector::OnJoinWait(uint16_t robot) {
+void Collector::OnJoinWait(uint16_t robot, int64_t time_ns) {
   if (!Known(robot)) {
     ++ignored_observations_;
     return;
   }
   ++join_waits_;
+  joiner_waits_.push_back(JoinWait{robot, time_ns, std::nullopt});
+}
+
+void Collector::OnJoinWaitEnd(uint16_t robot, int64_t time_ns) {
+  for (auto wait = joiner_waits_.rbegin(); wait != joiner_waits_.rend(); ++wait) {
+    if (wait->robot == robot && !wait->joined_ns) {
+      wait->joined_ns = time_ns;
+      return;
+    }
+  }
+  ++ignored_observations_;
 }
 
 bool Collector::Known(uint16_t robot) const { return robot < tracks_.size(); }
@@ -547,6 +558,7 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   }
   metrics.safety.first = first_interventions_;
   metrics.safety.join_waits = join_waits_;
+  metrics.safety.joiner_waits = joiner_waits_;
 
   EstimationMetrics& estimation = metrics.estimation;
   estimation.samples = estimate_samples_;

@@ -1,6 +1,8 @@
 // metrics.json. The field order here is the order docs/metrics.md documents;
 // ordered_json keeps it, so the file reads the same from run to run.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "syrof/lab/metrics/metrics.h"
@@ -237,6 +239,14 @@ Json SafetyJson(const SafetyMetrics& safety, int64_t radio_round_ns) {
     json["first_interventions"].push_back(entry);
   }
   json["join_waits"] = safety.join_waits;
+  json["joiner_waits"] = Json::array();
+  for (const JoinWait& wait : safety.joiner_waits) {
+    Json entry;
+    entry["robot"] = wait.robot;
+    entry["from_s"] = Seconds(wait.from_ns);
+    entry["joined_s"] = wait.joined_ns ? Json(Seconds(*wait.joined_ns)) : Json(nullptr);
+    json["joiner_waits"].push_back(entry);
+  }
   return json;
 }
 
@@ -288,6 +298,20 @@ Json DdsJson(const DdsMetrics& dds) {
 }
 
 }  // namespace
+
+std::vector<std::string> UnjoinedJoiners(const Metrics& metrics) {
+  std::vector<std::string> lines;
+  for (const JoinWait& wait : metrics.safety.joiner_waits) {
+    if (wait.joined_ns) continue;
+    const double from_s = Seconds(wait.from_ns);
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "robot %u never joined: it waited %.1f s for a clear start disc (from %.1f s to the end)",
+                  unsigned{wait.robot}, std::max(0.0, metrics.sim_seconds - from_s), from_s);
+    lines.emplace_back(line);
+  }
+  return lines;
+}
 
 std::string ToJson(const Metrics& metrics) {
   Json json;

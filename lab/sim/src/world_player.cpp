@@ -111,7 +111,7 @@ void WorldPlayer::Join(uint16_t id, int64_t now_ns, RobotRuntime& runtime) {
   if (scenario_.safety && !StartDiscClear(id)) {
     robots_[id].lifecycle = Lifecycle::kWaitingToJoin;
     waiting_.push_back(id);
-    collector_.OnJoinWait(id);
+    collector_.OnJoinWait(id, now_ns);
     Event(replay::EventKind::kJoinWait, now_ns, id, runtime);
     return;
   }
@@ -127,6 +127,7 @@ void WorldPlayer::PlayFaults(int64_t now_ns, RobotRuntime& runtime) {
     if (robots_[id].lifecycle != Lifecycle::kWaitingToJoin) {
       it = waiting_.erase(it);
     } else if (StartDiscClear(id)) {
+      collector_.OnJoinWaitEnd(id, now_ns);
       Start(id, now_ns, false, runtime);
       Event(replay::EventKind::kJoin, now_ns, id, runtime);
       it = waiting_.erase(it);

@@ -85,6 +85,34 @@ TEST(ScoreRunTest, ABuiltinGoalIsAllOrNothing) {
   EXPECT_EQ(goal.reason, "goal missed: 2 of 6 robots on the circle");
 }
 
+// A joiner whose start disc stayed covered never joins; the checks then only
+// say where it is not, so the goal's reason names the wait.
+TEST(ScoreRunTest, AJoinerThatNeverJoinedIsNamedInTheGoalsReason) {
+  Metrics metrics = CleanRun();
+  metrics.sim_seconds = 60;
+  metrics.goal.checks[1].passed = false;
+  metrics.goal.reached = false;
+  metrics.goal.detail = "1 of 2 checks passed; gathered: robot 2 is 2.471 m from (1.500, 3.500)";
+  metrics.safety.join_waits = 2;
+  metrics.safety.joiner_waits = {lab::metrics::JoinWait{2, 12'000'000'000, std::nullopt},
+                                 lab::metrics::JoinWait{3, 5'000'000'000, 6'000'000'000}};
+
+  const CriterionScore goal = Find(ScoreRun(FullRubric(), metrics), "goal");
+
+  EXPECT_EQ(goal.points, 25);
+  EXPECT_EQ(goal.reason, metrics.goal.detail +
+                             "; robot 2 never joined: it waited 48.0 s for a clear start disc (from 12.0 s to the end)");
+  // All or nothing, and a built-in goal: the same words.
+  Rubric rubric = FullRubric();
+  rubric.goal->per_check = false;
+  EXPECT_NE(Find(ScoreRun(rubric, metrics), "goal").reason.find("robot 2 never joined"), std::string::npos);
+  // A goal reached despite the wait says nothing of it.
+  metrics.goal.checks[1].passed = true;
+  metrics.goal.reached = true;
+  metrics.goal.detail = "2 of 2 checks passed";
+  EXPECT_EQ(Find(ScoreRun(FullRubric(), metrics), "goal").reason, "2 of 2 checks passed");
+}
+
 TEST(ScoreRunTest, CollisionsAndWallContactsCostTheirPenaltyDownToZero) {
   Metrics metrics = CleanRun();
   metrics.collisions.count = 2;

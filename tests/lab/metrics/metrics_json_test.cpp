@@ -59,6 +59,9 @@ Collector ObservedRun() {
   collector.OnInvalidCommand(1, 1, "MOVE_TO x_m is not finite");
   collector.OnInvalidCommand(0, 2, "kind 7 is unknown");
   collector.OnPayloadRefused(0, 1, "10 bytes");
+  collector.OnJoinWait(1, 500'000'000);
+  collector.OnJoinWait(2, 700'000'000);
+  collector.OnJoinWaitEnd(1, 900'000'000);
   return collector;
 }
 
@@ -136,6 +139,25 @@ TEST(MetricsJson, ValuesReadBackAsComputed) {
   EXPECT_EQ(json["membership"]["removals"], 1);
   EXPECT_EQ(json["membership"]["max_removal_latency_rounds"], 4);
   EXPECT_EQ(json["radio_round_s"].get<double>(), 0.05);
+}
+
+// Each wait with its start and its end; a joiner that never joined has a
+// null end, and UnjoinedJoiners names it as the grade and summary do.
+TEST(MetricsJson, JoinerWaitsListEachWaitAndWhetherItEnded) {
+  const Metrics metrics = ObservedRun().Finish(Facts());
+  const Json json = Parse(ToJson(metrics));
+
+  const Json& safety = json["safety"];
+  EXPECT_EQ(safety["join_waits"], 2);
+  ASSERT_EQ(safety["joiner_waits"].size(), 2u);
+  EXPECT_EQ(safety["joiner_waits"][0]["robot"], 1);
+  EXPECT_DOUBLE_EQ(safety["joiner_waits"][0]["from_s"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(safety["joiner_waits"][0]["joined_s"].get<double>(), 0.9);
+  EXPECT_EQ(safety["joiner_waits"][1]["robot"], 2);
+  EXPECT_TRUE(safety["joiner_waits"][1]["joined_s"].is_null());
+  EXPECT_EQ(UnjoinedJoiners(metrics),
+            std::vector<std::string>{
+                "robot 2 never joined: it waited 0.8 s for a clear start disc (from 0.7 s to the end)"});
 }
 
 TEST(MetricsJson, TheAppObjectNamesTheAppItsFaultsAndTheFirstIncidents) {

@@ -172,7 +172,13 @@ TEST(WorldPlayerTest, AJoinerWaitsForItsStartDiscToClear) {
   ASSERT_EQ(Kinds(events), (std::vector<replay::EventKind>{replay::EventKind::kJoinWait, replay::EventKind::kJoin}));
   EXPECT_EQ(events[0].time_ns, 500'000'000);
   EXPECT_GT(events[1].time_ns, 1'000'000'000);
-  EXPECT_EQ(f.collector.Finish(metrics::RunFacts{}).safety.join_waits, 1);
+  const metrics::SafetyMetrics safety = f.collector.Finish(metrics::RunFacts{}).safety;
+  EXPECT_EQ(safety.join_waits, 1);
+  // The wait's start and end reach the metrics (safety.joiner_waits).
+  ASSERT_EQ(safety.joiner_waits.size(), 1u);
+  EXPECT_EQ(safety.joiner_waits[0].robot, 1);
+  EXPECT_EQ(safety.joiner_waits[0].from_ns, 500'000'000);
+  EXPECT_EQ(safety.joiner_waits[0].joined_ns, std::optional<int64_t>(events[1].time_ns));
 }
 
 // With safety off nobody waits.
@@ -198,6 +204,10 @@ TEST(WorldPlayerTest, ACrashWhileWaitingToJoinMeansItNeverStarts) {
   EXPECT_EQ(f.world.presence(1), world::BodyPresence::kAbsent);  // it never arrived
   EXPECT_EQ(Kinds(f.player.TakeEvents()),
             (std::vector<replay::EventKind>{replay::EventKind::kJoinWait, replay::EventKind::kCrash}));
+  // It never joined: its wait has no end.
+  const metrics::SafetyMetrics safety = f.collector.Finish(metrics::RunFacts{}).safety;
+  ASSERT_EQ(safety.joiner_waits.size(), 1u);
+  EXPECT_FALSE(safety.joiner_waits[0].joined_ns.has_value());
 }
 
 TEST(WorldPlayerTest, ARobotThatCannotStartCountsAsCrashed) {

@@ -104,8 +104,12 @@ class Collector {
   /// against robot `other` (none: a wall).
   void OnSafetyIntervention(int64_t time_ns, uint16_t robot, std::optional<uint16_t> other);
 
-  /// Joiner `robot` waits to be switched on: its start disc is occupied.
-  void OnJoinWait(uint16_t robot);
+  /// Joiner `robot` waits to be switched on from `time_ns`: its start disc
+  /// is occupied.
+  void OnJoinWait(uint16_t robot, int64_t time_ns);
+  /// Joiner `robot`, which waited (OnJoinWait), was switched on at
+  /// `time_ns`. A wait never ended stays open to the end of the run.
+  void OnJoinWaitEnd(uint16_t robot, int64_t time_ns);
 
   /// `robot`'s app failed in `fault.callback`; the fault is listed as given
   /// (a robot's app faults at most once: later faults of it are ignored).
@@ -271,6 +275,7 @@ class Collector {
   std::vector<int64_t> robot_cooperative_starts_;  // by robot id
   std::vector<SafetyIntervention> first_interventions_;
   int64_t join_waits_ = 0;
+  std::vector<JoinWait> joiner_waits_;  // in the order they began
 
   std::vector<AppFault> app_faults_;
   AppIncidents invalid_commands_;
