@@ -6,6 +6,8 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "apps_command.h"
 #include "assignment_command.h"
@@ -17,6 +19,7 @@
 #include "run_command.h"
 #include "search_command.h"
 #include "swarm_command.h"
+#include "syrof/lab/live/live_command.h"
 #include "usage.h"
 #include "validate_command.h"
 #include "view_command.h"
@@ -50,7 +53,11 @@ int main(int argc, char** argv) {
   AssignmentOptions assignment_options;
   CLI::App* assignment = SetupAssignmentCommand(app, assignment_options);
   try {
-    app.parse(argc, argv);
+    // `--live ADDR:PORT` as well as `--live=ADDR:PORT` (CLI11 takes only the latter).
+    std::vector<std::string> arguments = syrof::lab::live::JoinLiveAddress(argc, argv);
+    std::vector<char*> pointers;
+    for (std::string& argument : arguments) pointers.push_back(argument.data());
+    app.parse(static_cast<int>(pointers.size()), pointers.data());
   } catch (const CLI::ParseError& error) {
     return ReportParseError(app, error, std::cout, std::cerr);
   }

@@ -362,7 +362,11 @@ int main(int argc, char** argv) {
   syrof::lab::live::SetupLiveOptions(app, options.live);
 
   try {
-    app.parse(argc, argv);
+    // `--live ADDR:PORT` as well as `--live=ADDR:PORT` (CLI11 takes only the latter).
+    std::vector<std::string> arguments = syrof::lab::live::JoinLiveAddress(argc, argv);
+    std::vector<char*> pointers;
+    for (std::string& argument : arguments) pointers.push_back(argument.data());
+    app.parse(static_cast<int>(pointers.size()), pointers.data());
   } catch (const CLI::CallForHelp& help) {
     std::cout << app.help();
     return kOk;

@@ -405,5 +405,34 @@ TEST(SyrofExecutableTest, UsageErrorsExitWithTwo) {
   EXPECT_EQ(WEXITSTATUS(std::system((syrof + " --help > /dev/null 2>&1").c_str())), 0);
 }
 
+// `--live ADDR:PORT` with a space works as `--live=ADDR:PORT` does, before
+// or after the scenario, for `syrof run` and `syrof swarm` (the swarm's
+// scenario is missing, so it stops at loading it: what matters is that the
+// address was not read as a positional).
+TEST(SyrofExecutableTest, LiveTakesItsAddressAfterASpaceToo) {
+  const std::string syrof = SYROF_EXECUTABLE;
+  const fs::path out = RunTempDir("live_space");
+  const auto run = [&](const std::string& arguments) {
+    std::string text;
+    FILE* pipe = popen((syrof + " " + arguments + " 2>&1").c_str(), "r");
+    char buffer[4096];
+    for (size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) text.append(buffer, n);
+    const int status = pclose(pipe);
+    return std::make_pair(WEXITSTATUS(status), text);
+  };
+  const std::string idle = kScenarios + "/idle.yaml";
+  for (const std::string& arguments :
+       {"run " + idle + " --live 127.0.0.1:0", "run --live 127.0.0.1:0 " + idle}) {
+    const auto [status, text] = run(arguments + " --live-linger 0 --duration 0.5 --quiet --out " + out.string());
+    EXPECT_EQ(status, 0) << arguments << "\n" << text;
+    EXPECT_NE(text.find("live page: http://127.0.0.1:"), std::string::npos) << arguments << "\n" << text;
+    EXPECT_EQ(text.find("not expected"), std::string::npos) << arguments << "\n" << text;
+  }
+  const auto [status, text] = run("swarm " + (out / "missing.yaml").string() + " --live 127.0.0.1:0");
+  EXPECT_EQ(status, 2) << text;
+  EXPECT_NE(text.find("missing.yaml"), std::string::npos) << text;
+  EXPECT_EQ(text.find("not expected"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace syrof::cli

@@ -22,13 +22,29 @@ void StopLinger(int) { g_live_stop.store(true); }
 void SetupLiveOptions(CLI::App& command, LiveCommandOptions& options) {
   // A flag with an optional `=value`: `--live SCENARIO.yaml` must not take
   // the scenario for an address.
+  // `--live ADDR:PORT` (a space) reaches here as `--live=ADDR:PORT`: the
+  // main joins it first (JoinLiveAddress).
   command.add_flag(std::string("--live{") + kDefaultLiveAddress + "}", options.address,
                    fmt::format("Serve the live page while the run runs (docs/viewer.md \"Live\"): --live on {}, "
-                               "--live=ADDR:PORT elsewhere (port 0: a free one). Only this host can open it unless "
-                               "you give another address.",
+                               "--live ADDR:PORT or --live=ADDR:PORT elsewhere (port 0: a free one). Only this "
+                               "host can open it unless you give another address.",
                                kDefaultLiveAddress));
   command.add_option("--live-linger", options.linger_s,
                      "After the run, keep the live page up this many seconds (default: until Ctrl-C)");
+}
+
+std::vector<std::string> JoinLiveAddress(int argc, const char* const* argv) {
+  std::vector<std::string> arguments(argv, argv + argc);
+  for (size_t i = 1; i + 1 < arguments.size(); ++i) {
+    if (arguments[i] == "--") break;
+    if (arguments[i] != "--live") continue;
+    std::string address, problem;
+    int port = 0;
+    if (!ParseLiveAddress(arguments[i + 1], address, port, problem)) continue;
+    arguments[i] += "=" + arguments[i + 1];
+    arguments.erase(arguments.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+  }
+  return arguments;
 }
 
 bool ParseLiveAddress(const std::string& text, std::string& address, int& port, std::string& problem) {

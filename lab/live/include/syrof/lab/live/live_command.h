@@ -7,6 +7,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -25,6 +26,14 @@ struct LiveCommandOptions {
 
 /// Declares --live and --live-linger on `command`.
 void SetupLiveOptions(CLI::App& command, LiveCommandOptions& options);
+
+/// The command line `argv[0..argc)` with each `--live ADDR` (a space)
+/// joined into `--live=ADDR`, for a main to parse instead of argv: CLI11
+/// gives a flag's optional value only after '=', and reads a spaced one as
+/// an unexpected positional. Only an argument that ParseLiveAddress
+/// accepts is joined (`--live run.yaml` keeps the scenario); nothing after
+/// a `--` is touched.
+std::vector<std::string> JoinLiveAddress(int argc, const char* const* argv);
 
 /// "ADDR:PORT" (or "PORT": on 127.0.0.1) as an address and a port; false
 /// with `problem` said for anything else.
