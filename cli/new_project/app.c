@@ -5,10 +5,14 @@
  * the whole swarm from the map (every COOPERATIVE robot holds the same map):
  *   1. the points: n evenly spaced on a circle around the members' centroid;
  *   2. who goes where: MinWeightedMatching (a SyROF query);
- *   3. collision safety: each robot's straight path is cut short where it
- *      would come closer than two body radii plus a margin to any other
- *      robot's path. Every robot cuts its own path against the others' whole
- *      paths, so no two robots can meet, whatever their speeds.
+ *   3. collision safety, taking turns by id: each robot's straight path is
+ *      cut short where it would come closer than two body radii plus a
+ *      margin to the whole path of a robot with a lower id, or to where a
+ *      robot with a higher id stands now (that robot keeps clear of this
+ *      one's path, or stays put). Of two robots whose paths cross, the lower
+ *      id goes first and the other waits, so a packed group that must move
+ *      never blocks itself; two robots already closer than that may still
+ *      move, only not closer.
  * It then drives its own part. In AUTONOMOUS epochs the map is only this
  * robot's view, so it holds still (the command arrives as STOP).
  *
@@ -122,15 +126,25 @@ static uint8_t app_new_round(syrof_car_command* command, const syrof_ldmap* map,
     if (members[i].id == map->self_id) self = i;
   }
 
-  /* 3. Cut this robot's path where it would get too close to another path
-   * (bisection on the fraction of the path driven). */
+  /* 3. Cut this robot's path where it would get too close to a lower id's
+   * path or a higher id's place (bisection on the fraction of the path
+   * driven): robot j's segment from[j]-keep_to[j], at least limit[j] away. */
+  point keep_to[MAX_ROBOTS];
+  float limit[MAX_ROBOTS];
+  for (size_t j = 0; j < n; ++j) {
+    keep_to[j] = members[j].id < map->self_id ? to[j] : from[j];
+    /* Already closer than the clearance (after a join, or packed at the
+     * start): move, only not closer; otherwise neither would ever move. */
+    const float apart = point_segment_distance(from[self], from[j], keep_to[j]);
+    limit[j] = apart < clearance ? apart - 0.005f : clearance;
+  }
   float low = 0, high = 1;
   for (int step = 0; step < 20; ++step) {
     const float t = (low + high) / 2;
     const point end = {from[self].x + t * (to[self].x - from[self].x), from[self].y + t * (to[self].y - from[self].y)};
     int clear = 1;
     for (size_t j = 0; j < n && clear; ++j) {
-      if (j != self && segment_distance(from[self], end, from[j], to[j]) < clearance) clear = 0;
+      if (j != self && segment_distance(from[self], end, from[j], keep_to[j]) < limit[j]) clear = 0;
     }
     if (clear) low = t; else high = t;
   }

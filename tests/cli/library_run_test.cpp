@@ -123,6 +123,35 @@ TEST(LibraryRunTest, TheScenariosParamsReachTheLibrary) {
   }
 }
 
+// A packed group that must move: nine robots 0.3 m apart centre to centre
+// (closer than the starters' clearance), the middle one's way out crossing
+// the others' paths. The starters take turns by id, so the group spreads
+// onto its circle in time, without a collision. (When every robot cut its
+// path against every other robot's whole path, no robot ever moved.)
+TEST(LibraryRunTest, TheStartersSpreadAPackedGroupWithoutDeadlock) {
+  for (const std::string starter : {"starter_c", "starter_cpp"}) {
+    const fs::path dir = TempDir("packed_" + starter);
+    const fs::path scenario = dir / "packed.yaml";
+    std::ofstream(scenario) << "name: packed\nseed: 1\narena: { width_m: 4, height_m: 4 }\n"
+                            << "robots: { count: 9, placement: grid, spacing_m: 0.3 }\n"
+                            << "timing: { duration_s: 30 }\n"
+                            << "app: { library: " << Lib(starter) << " }\n"
+                            << "goal:\n  - { check: circle, radius_min_m: 0.9, radius_max_m: 1.1, "
+                               "angle_tolerance_rad: 0.15, deadline_s: 25 }\n";
+    RunOptions options;
+    options.scenario_path = scenario.string();
+    options.out_dir = (dir / "out").string();
+
+    const Outcome outcome = RunSyrof(options);
+
+    ASSERT_EQ(outcome.status, 0) << outcome.err;
+    const nlohmann::json metrics = Metrics(options);
+    EXPECT_EQ(metrics["goal"]["reached"], true) << starter << ": " << metrics["goal"].dump();
+    EXPECT_EQ(metrics["collisions"]["count"], 0) << starter << ": " << metrics["collisions"].dump();
+    EXPECT_EQ(metrics["app"]["faults"], nlohmann::json::array()) << starter;
+  }
+}
+
 TEST(LibraryRunTest, SandboxNotesArePrintedAndRecorded) {
   const fs::path dir = TempDir("notes");
   RunOptions options;
