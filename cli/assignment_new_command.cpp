@@ -35,10 +35,15 @@ std::string FindTemplate(std::span<const TemplateFile> files, std::string_view n
   return {};
 }
 
-// Fills the placeholders of the templates (cli/new_project_files.h).
+// Fills the placeholders of the templates (cli/new_project_files.h). The
+// projects carry no hint, as the shipped assignments' do not: students get
+// them, and SyROF is found beneath the `syrof` on their PATH.
 std::string Fill(std::string text, const std::string& name) {
-  const std::pair<std::string_view, std::string> values[] = {
-      {"{{NAME}}", name}, {"{{SOURCE}}", name + ".c"}, {"{{LANGUAGE}}", "C"}, {"{{HINTS}}", ""}};
+  const std::pair<std::string_view, std::string> values[] = {{"{{NAME}}", name},
+                                                             {"{{SOURCE}}", name + ".c"},
+                                                             {"{{LANGUAGE}}", "C"},
+                                                             {"{{HINTS}}", ""},
+                                                             {"{{HINT_NOTE}}", ""}};
   for (const auto& [from, to] : values) {
     for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
       text.replace(at, from.size(), to);

@@ -149,6 +149,8 @@ int RunNewCommand(const NewOptions& options, std::ostream& out, std::ostream& er
     ReplaceAll(text, "{{SOURCE}}", source);
     ReplaceAll(text, "{{LANGUAGE}}", cpp ? "CXX" : "C");
     ReplaceAll(text, "{{HINTS}}", package_dir.empty() ? "" : " HINTS " + CMakeQuoted(package_dir));
+    ReplaceAll(text, "{{HINT_NOTE}}",
+               package_dir.empty() ? "" : "\n# The hint is where `syrof new` found SyROF, for a shell without it on PATH.");
     return text;
   };
   const std::vector<std::pair<std::string, std::string>> files = {

@@ -30,7 +30,8 @@ install(FILES ${PROJECT_SOURCE_DIR}/core/app/include/syrof/app.h DESTINATION inc
 install(FILES ${PROJECT_SOURCE_DIR}/queries/include/syrof/queries/queries.h DESTINATION include/syrof/queries)
 
 # The assignments as students get them (share/syrof/assignments/<name>/):
-# assignment.yaml, the README, the public scenarios and the starter. Not the
+# assignment.yaml, the README, the public scenarios, the public search
+# tests' scenarios (search/) and the starter. Not the
 # hidden scenarios, the reference or the broken variants: the package is
 # what students install. `syrof grade --assignment NAME` finds these and,
 # the hidden files being absent, grades the public sets only
@@ -41,8 +42,11 @@ foreach(folder IN LISTS syrof_assignment_folders)
   if(EXISTS ${folder}/assignment.yaml)
     get_filename_component(name ${folder} NAME)
     install(FILES ${folder}/assignment.yaml ${folder}/README.md DESTINATION share/syrof/assignments/${name})
-    install(DIRECTORY ${folder}/scenarios ${folder}/starter DESTINATION share/syrof/assignments/${name}
-            PATTERN expected.yaml EXCLUDE)
+    set(student_folders ${folder}/scenarios ${folder}/starter)
+    if(EXISTS ${folder}/search)
+      list(APPEND student_folders ${folder}/search)  # the public search tests' scenarios (hidden ones live in hidden/)
+    endif()
+    install(DIRECTORY ${student_folders} DESTINATION share/syrof/assignments/${name} PATTERN expected.yaml EXCLUDE)
   endif()
 endforeach()
 
@@ -63,16 +67,24 @@ install(FILES ${syrof_package_out}/SyROFConfig.cmake ${PROJECT_BINARY_DIR}/SyROF
 configure_file(${syrof_package_in}/syrof-app.pc.in ${syrof_package_out}/syrof-app.pc @ONLY)
 install(FILES ${syrof_package_out}/syrof-app.pc DESTINATION lib/pkgconfig)
 
-# The build tree's config (build/SyROFConfig.cmake): the headers from the
-# source tree, the library and the command from the build tree. `syrof new`
-# run from build/bin names this folder in the project it writes.
+# The build tree's config: the headers from the source tree, the library
+# and the command from the build tree. Written twice from one input:
+# build/lib/cmake/SyROF/, where find_package looks beneath the parent of
+# every PATH entry ending in /bin, so a student with build/bin on PATH (as
+# `syrof` itself needs) finds SyROF with no hint, as with the installed
+# package; and build/, which `syrof new` run from build/bin names in the
+# project it writes (and older projects name).
 set(SYROF_PACKAGE_PREFIX_CODE "")
 set(SYROF_PACKAGE_LIBRARY "$<TARGET_SONAME_FILE:syrof_app_shared>")
 set(SYROF_PACKAGE_INCLUDE_DIRS "${PROJECT_SOURCE_DIR}/core/app/include;${PROJECT_SOURCE_DIR}/queries/include")
 set(SYROF_PACKAGE_EXECUTABLE "$<TARGET_FILE:syrof>")
 configure_file(${syrof_package_in}/SyROFConfig.cmake.in ${syrof_package_out}/SyROFConfig.build.cmake.in @ONLY)
-file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/SyROFConfig.cmake INPUT ${syrof_package_out}/SyROFConfig.build.cmake.in)
-configure_file(${syrof_package_in}/SyROFAddApp.cmake ${PROJECT_BINARY_DIR}/SyROFAddApp.cmake COPYONLY)
+foreach(folder ${PROJECT_BINARY_DIR} ${PROJECT_BINARY_DIR}/lib/cmake/SyROF)
+  file(GENERATE OUTPUT ${folder}/SyROFConfig.cmake INPUT ${syrof_package_out}/SyROFConfig.build.cmake.in)
+  configure_file(${syrof_package_in}/SyROFAddApp.cmake ${folder}/SyROFAddApp.cmake COPYONLY)
+endforeach()
+configure_file(${PROJECT_BINARY_DIR}/SyROFConfigVersion.cmake ${PROJECT_BINARY_DIR}/lib/cmake/SyROF/SyROFConfigVersion.cmake
+               COPYONLY)
 
 # `make package`: a Debian package. dpkg-shlibdeps (dpkg-dev) works out the
 # shared libraries' packages for Depends; cmake and a compiler are what a

@@ -136,6 +136,20 @@ TEST_F(SkeletonTest, NewWritesAnAssignmentThatLoadsWithItsThreeSubjects) {
   EXPECT_NE(ReadFile(dir_ / "broken" / "off_by_one" / "mistake.patch").find("--- a/spread.c\n"), std::string::npos);
 }
 
+// The skeleton's projects go to students, as the shipped starters do: no
+// hint (an instructor's path), no comment claiming one, SyROF found beneath
+// the `syrof` on PATH as the comment says, and no placeholder left.
+TEST_F(SkeletonTest, NewWritesProjectsThatFindSyROFThroughPathWithoutAHint) {
+  for (const char* project : {"reference", "starter"}) {
+    const std::string cmake = ReadFile(dir_ / project / "CMakeLists.txt");
+    EXPECT_NE(cmake.find("find_package(SyROF 0.1 REQUIRED)\n"), std::string::npos) << project << ":\n" << cmake;
+    EXPECT_EQ(cmake.find("The hint is"), std::string::npos) << project << ":\n" << cmake;
+    EXPECT_EQ(cmake.find("HINTS"), std::string::npos) << project << ":\n" << cmake;
+    EXPECT_NE(cmake.find("beneath the `syrof`\n# on your PATH"), std::string::npos) << project << ":\n" << cmake;
+    EXPECT_EQ(cmake.find("{{"), std::string::npos) << project << ":\n" << cmake;
+  }
+}
+
 TEST_F(SkeletonTest, NewRefusesToOverwriteAFolder) {
   Write(dir_ / "README.md", "mine\n");
   const Outcome again = Assignment({"new", "spread", "--dir", parent_.string()});

@@ -65,6 +65,7 @@ TEST(NewCommandTest, WritesACProjectWithTheNameAndTheHintFilledIn) {
   EXPECT_NE(cmake.find("find_package(SyROF 0.1 REQUIRED HINTS \"/opt/syrof build/lib/cmake/SyROF\")"),
             std::string::npos)
       << cmake;
+  EXPECT_NE(cmake.find("The hint is where `syrof new` found SyROF"), std::string::npos) << cmake;
   EXPECT_NE(cmake.find("syrof_add_app(flock app.c)"), std::string::npos) << cmake;
   EXPECT_NE(ReadFile(dir / "scenario.yaml").find("library: build/libflock.so"), std::string::npos);
   // The scenario shows the app's parameter, which the app reads.
@@ -90,6 +91,7 @@ TEST(NewCommandTest, WritesACppProject) {
   const std::string cmake = ReadFile(fs::path(options.dir) / "CMakeLists.txt");
   EXPECT_NE(cmake.find("project(flock LANGUAGES CXX)"), std::string::npos) << cmake;
   EXPECT_NE(cmake.find("find_package(SyROF 0.1 REQUIRED)"), std::string::npos) << cmake;  // no hint known
+  EXPECT_EQ(cmake.find("hint is"), std::string::npos) << "no comment about a hint it lacks:\n" << cmake;
   EXPECT_NE(cmake.find("syrof_add_app(flock app.cpp)"), std::string::npos) << cmake;
   EXPECT_TRUE(fs::is_regular_file(fs::path(options.dir) / "app.cpp"));
   EXPECT_NE(outcome.out.find("-DSyROF_DIR="), std::string::npos) << outcome.out;
