@@ -141,8 +141,8 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
   grader::GradeOptions grade = GradeOptionsOf(options);
   if (!ResolveStudentSeeds(options, grade, err)) return kBadInput;
   if (!options.quiet) {
-    fmt::print(out, "syrof grade: {} for {} ({} jobs), into {}\n", options.submission, loaded->name, options.jobs,
-               out_dir);
+    fmt::print(out, "syrof grade: {} for {} ({} jobs), into {}{}\n", options.submission, loaded->name, options.jobs,
+               out_dir, options.report == "full" ? " (report.html: the instructor's full form)" : "");
     if (grade.student_seeds) {
       fmt::print(out, "syrof grade: hidden seeds derived for student '{}'\n", grade.student_seeds->student);
     }
@@ -159,7 +159,8 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
       grade.student_seeds && !result.public_only
           ? grader::HiddenSeedsText(grader::GradedAssignment(*loaded, grade))
           : std::string());
-  if (std::string problem = grader::WriteSubmissionOutputs(result, hash, notes, out_dir); !problem.empty()) {
+  if (std::string problem = grader::WriteSubmissionOutputs(result, hash, notes, out_dir, options.report == "full");
+      !problem.empty()) {
     fmt::print(err, "syrof grade: {}\n", problem);
     return kInternalError;
   }
@@ -197,6 +198,7 @@ int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err
   class_options.shard = shard;
   class_options.resume = !options.regrade;
   class_options.assignment_dir = folder;
+  class_options.full_report = options.report == "full";
   const size_t total = grader::ShardOf(grader::ListStudents(options.class_dir), shard).size();
   size_t done = 0;
   if (!options.quiet) {
@@ -306,6 +308,11 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
   grade->add_flag("--regrade", options.regrade, "With --class: grade every student again (no resume)")
       ->needs(class_option);
   grade->add_flag("--quiet", options.quiet, "No progress lines");
+  CLI::Option* report_option =
+      grade->add_option("--report", options.report,
+                        "report.html's form: student (default; a hidden test shows only its name, points and "
+                        "pass/fail) or full (the instructor's: hidden tests with their reasons and viewers)")
+          ->check(CLI::IsMember({"student", "full"}));
   grade->add_flag("--unsafe-no-file-isolation", options.unsafe_no_file_isolation,
                   "Grade even where the kernel has no Landlock (older than 5.13): submissions' builds and "
                   "libraries can then read and write whatever uid 65534 (or yours) can; only for code you trust");
@@ -329,6 +336,7 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
   metadata_option->excludes(class_option);
   metadata_option->excludes(mix_option);
   class_option->excludes(mix_option);
+  report_option->excludes(mix_option);
 
   CLI::App* merge = grade->add_subcommand("merge", "Combine the outputs of class shards into one CSV and summary");
   merge->add_option("outputs", options.merge_dirs, "The shards' --out folders")->required();

@@ -2,8 +2,9 @@
 // and `syrof grade merge` (docs/grading.md):
 //   syrof grade SUBMISSION_DIR --assignment NAME|PATH [--public-only] [--jobs N] [--out DIR]
 //               [--student-seed ID | --gradescope-metadata FILE] [--course-secret-file FILE]
+//               [--report student|full]
 //   syrof grade --class SUBMISSIONS_DIR --assignment NAME --jobs N --out DIR [--shard I/N]
-//               [--per-student-seeds] [--course-secret-file FILE]
+//               [--per-student-seeds] [--course-secret-file FILE] [--report student|full]
 //   syrof grade --mix SUB1 SUB2 ... --assignment NAME [--out DIR]
 //   syrof grade merge OUT1 OUT2 ... --out DIR
 #pragma once
@@ -30,6 +31,9 @@ struct GradeOptions {
   bool regrade = false;                 ///< --class: ignore earlier results
   bool quiet = false;
   bool unsafe_no_file_isolation = false;  ///< build and run untrusted code even without Landlock
+  /// report.html's form: "student" (hidden tests as name, points and
+  /// verdict only) or "full" (the instructor's: hidden tests whole).
+  std::string report = "student";
   // Hidden seeds per student (docs/grading.md): the secret from
   // --course-secret-file, else $SYROF_COURSE_SECRET; never an argument.
   std::string student_seed;             ///< the student's id

@@ -15,6 +15,7 @@
 
 #include "syrof/grader/grade_json.h"
 #include "syrof/grader/outputs.h"
+#include "syrof/report/reports.h"
 #include "shared_text.h"
 
 namespace syrof::grader {
@@ -119,12 +120,17 @@ ClassResult GradeClass(const assignment::Assignment& assignment, const std::stri
       if (previous && previous->inputs_hash == hash) {
         result.students[index] = previous->result;
         resumed[index] = true;
+        // The reports again, in the form asked this time: switching forms
+        // needs no regrade.
+        report::ReportOptions report_options;
+        report_options.form = options.full_report ? report::ReportForm::kFull : report::ReportForm::kStudent;
+        report::WriteSubmissionReports(result.students[index], out.string(), report_options);
       } else {
         std::vector<std::string> student_notes;
         result.students[index] =
             GradeSubmission(assignment, submission.string(), out.string(), student_grade, student_notes);
         result.students[index].submission = students[index];
-        WriteSubmissionOutputs(result.students[index], hash, student_notes, out.string());
+        WriteSubmissionOutputs(result.students[index], hash, student_notes, out.string(), options.full_report);
         const std::lock_guard<std::mutex> lock(mutex);
         notes.insert(student_notes.begin(), student_notes.end());
       }

@@ -74,8 +74,16 @@ app_host::HostLimits LimitsFor(const lab::scenario::AppSpec& app) {
 
 namespace internal {
 
+std::string LibraryPathShown(const std::string& library, const std::string& out_dir) {
+  const fs::path path = fs::absolute(library).lexically_normal();
+  const fs::path inside = path.lexically_relative(fs::absolute(out_dir).lexically_normal());
+  if (!inside.empty() && *inside.begin() != ".." && !inside.is_absolute()) return inside.generic_string();
+  return path.filename().string();
+}
+
 RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<std::string>& libraries,
-                       const std::string& dir_name, bool replay, const lab::message::MessageFormat* message) {
+                       const std::vector<std::string>& shown_libraries, const std::string& dir_name, bool replay,
+                       const lab::message::MessageFormat* message) {
   const auto started = Clock::now();
   RunOutcome outcome;
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - started).count(); };
@@ -123,7 +131,7 @@ RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<
     return CheckPayloads(std::move(app), *message, outcome.payload_violations[id]);
   };
   std::string source;
-  for (const std::string& library : libraries) source += (source.empty() ? "" : " + ") + library;
+  for (const std::string& library : shown_libraries) source += (source.empty() ? "" : " + ") + library;
   options.app_source = source;
   options.app_sandbox = app_host::SandboxNotes();
 
@@ -175,26 +183,35 @@ std::string MessageFormatNote(const std::vector<internal::PayloadViolations>& vi
 // Runs one test into out_dir/test.output_dir and scores it (or sets
 // run_error). With `replay`, the run also writes replay.bin there.
 void RunTest(const Assignment& assignment, const ScenarioRun& run, const std::string& library,
-             const fs::path& out_dir, bool replay, TestResult& test) {
+             const std::string& shown_library, const fs::path& out_dir, bool replay, TestResult& test) {
   // The assignment's message format goes into the replay (the viewer
   // decodes payloads with it); its payload check is reported, not scored
   // (--mix names the side that broke it).
   const internal::RunOutcome outcome =
-      internal::RunScenario(run, test.seed, {library}, (out_dir / test.output_dir).string(), replay,
-                            assignment.message ? &*assignment.message : nullptr);
+      internal::RunScenario(run, test.seed, {library}, {shown_library}, (out_dir / test.output_dir).string(),
+                            replay, assignment.message ? &*assignment.message : nullptr);
   test.wall_seconds = outcome.wall_seconds;
   test.run_error = outcome.run_error;
   test.message_format = MessageFormatNote(outcome.payload_violations);
   if (outcome.metrics) test.score = assignment::ScoreRun(assignment.rubric, *outcome.metrics);
 }
 
+// A scenario file as a command shown to students names it: from the folder
+// that holds the assignment's folder (`gather/scenarios/gather_6.yaml`),
+// never by an absolute path (the grader's machine is not the student's).
+std::string ScenarioPathShown(const Assignment& assignment, const std::string& file) {
+  const fs::path written(file);
+  if (written.is_absolute()) return written.filename().string();
+  return (fs::path(assignment.name) / written).lexically_normal().generic_string();
+}
+
 // A hidden test's command is kept only when its seed was derived for the
 // student: the instructor cannot read that seed in assignment.yaml. The
 // student-facing reports never show a hidden test's command.
-std::string ReplayCommand(const ScenarioRun& run, const TestResult& test, const std::string& library,
-                          bool seeds_derived) {
+std::string ReplayCommand(const Assignment& assignment, const ScenarioRun& run, const TestResult& test,
+                          const std::string& library, bool seeds_derived) {
   if (test.visibility == Visibility::kHidden && !seeds_derived) return {};
-  return "syrof run " + fs::absolute(run.path).lexically_normal().string() + " --app " + library + " --seed " +
+  return "syrof run " + ScenarioPathShown(assignment, run.file) + " --app " + library + " --seed " +
          std::to_string(test.seed) + " --out rerun/" + test.scenario + "-seed-" + std::to_string(test.seed);
 }
 
@@ -238,9 +255,10 @@ double ShareOf(const Assignment& assignment, const std::vector<TestResult>& test
 
 // The command that reruns a search test, as a student types it; none for a
 // hidden one.
-std::string SearchCommand(const assignment::SearchTestSpec& spec, const std::string& library) {
+std::string SearchCommand(const Assignment& assignment, const assignment::SearchTestSpec& spec,
+                          const std::string& library) {
   if (spec.visibility == Visibility::kHidden) return {};
-  return "syrof search " + fs::absolute(spec.path).lexically_normal().string() + " --app " + library +
+  return "syrof search " + ScenarioPathShown(assignment, spec.file) + " --app " + library +
          " --max-losses " + std::to_string(spec.max_losses) + " --epochs " + std::to_string(spec.epochs) +
          " --out rerun/search-" + spec.name;
 }
@@ -299,6 +317,9 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
   result.tests = PlanTests(assignment, result.public_only);
 
   const fs::path out = fs::absolute(out_dir);
+  // The library as students read it, in the commands, the replays and
+  // metrics.json: never the grader's own absolute path.
+  const std::string shown_library = internal::LibraryPathShown(library, out.string());
   std::atomic<size_t> next{0};
   std::mutex report_mutex;
   auto work = [&] {
@@ -306,8 +327,8 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
       TestResult& test = result.tests[index];
       if (test.search) {
         const assignment::SearchTestSpec& spec = *FindSearch(assignment, test);
-        test.replay_command = SearchCommand(spec, library);
-        internal::RunSearchTest(spec, library, out.string(), test);
+        test.replay_command = SearchCommand(assignment, spec, shown_library);
+        internal::RunSearchTest(spec, library, shown_library, out.string(), test);
         if (options.on_test) {
           const std::lock_guard<std::mutex> lock(report_mutex);
           TestResult shown = test;
@@ -317,13 +338,13 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
         continue;
       }
       const ScenarioRun& run = *FindRun(assignment, test);
-      test.replay_command = ReplayCommand(run, test, library, seeds_derived);
-      RunTest(assignment, run, library, out, false, test);
+      test.replay_command = ReplayCommand(assignment, run, test, shown_library, seeds_derived);
+      RunTest(assignment, run, library, shown_library, out, false, test);
       const bool failed = test.run_error.empty() && test.score.points != test.score.max_points;
       if (failed) {
         // Deterministic: the same run again, now with its replay.
         TestResult again = test;
-        RunTest(assignment, run, library, out, true, again);
+        RunTest(assignment, run, library, shown_library, out, true, again);
         test.replay_path = test.output_dir + "/replay.bin";
         test.wall_seconds += again.wall_seconds;
       }

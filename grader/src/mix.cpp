@@ -89,7 +89,7 @@ std::vector<MixRun> RunMix(const assignment::Assignment& assignment, const std::
       run.name = test.name;
       run.output_dir = test.output_dir;
       const internal::RunOutcome outcome = internal::RunScenario(
-          *FindRun(assignment, test.scenario), test.seed, libraries,
+          *FindRun(assignment, test.scenario), test.seed, libraries, libraries,
           (std::filesystem::path(out_dir) / test.output_dir).string(), true,
           assignment.message ? &*assignment.message : nullptr);
       run.run_error = outcome.run_error;

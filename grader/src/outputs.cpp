@@ -9,7 +9,8 @@
 namespace syrof::grader {
 
 std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, const std::string& inputs_hash,
-                                   const std::vector<std::string>& notes, const std::string& out_dir) {
+                                   const std::vector<std::string>& notes, const std::string& out_dir,
+                                   bool full_report) {
   GradeFile file;
   file.result = result;
   file.inputs_hash = inputs_hash;
@@ -22,7 +23,9 @@ std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, c
   out << GradeJson(file);
   if (!out) return "cannot write " + path.string();
   // Every graded submission, single or in a class, passes here once.
-  return report::WriteSubmissionReports(result, out_dir);
+  report::ReportOptions options;
+  options.form = full_report ? report::ReportForm::kFull : report::ReportForm::kStudent;
+  return report::WriteSubmissionReports(result, out_dir, options);
 }
 
 }  // namespace syrof::grader

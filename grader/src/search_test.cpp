@@ -32,8 +32,8 @@ std::string PatternText(const std::vector<lab::world::LostBeacon>& lost) {
 
 }  // namespace
 
-void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& library, const std::string& out_dir,
-                   assignment::TestResult& test) {
+void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& library,
+                   const std::string& shown_library, const std::string& out_dir, assignment::TestResult& test) {
   // The library in the scenario's place, as `syrof search --app` puts it, so
   // the counterexample's file names it and reruns the same.
   lab::scenario::Overrides overrides;
@@ -57,7 +57,7 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   options.jobs = 1;  // the grader's workers already run tests side by side
   options.time_limit_s = spec.time_limit_s;
   options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
-  options.app_source = library;
+  options.app_source = shown_library;
   options.app_sandbox = app_host::SandboxNotes();
   const lab::search::SearchResult result = lab::search::Search(scenario, options);
   test.wall_seconds = result.seconds;

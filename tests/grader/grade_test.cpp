@@ -224,6 +224,101 @@ static uint8_t EndOfRound(const syrof_ldmap* map, uint8_t state, uint32_t clock_
 SYROF_APP_DEFINE("assumes_cooperative", Init, NewRound, EndOfRound)
 )";
 
+// ---- What students are shown --------------------------------------------------
+
+// Every robot returns its own id as the global state: the agreement is lost
+// in every run, so every run (public and hidden) keeps a replay.
+constexpr const char* kDisagrees = R"(#include "syrof/app.h"
+static uint8_t self;
+static uint8_t Init(const syrof_app_info* info) { self = (uint8_t)info->self_id; return self; }
+static uint8_t NewRound(syrof_car_command* command, const syrof_ldmap* map, uint8_t state, uint32_t clock_ms) {
+  (void)command, (void)map, (void)state, (void)clock_ms;
+  return self;
+}
+static uint8_t EndOfRound(const syrof_ldmap* map, uint8_t state, uint32_t clock_ms) {
+  (void)map, (void)clock_ms;
+  return state;
+}
+SYROF_APP_DEFINE("disagrees", Init, NewRound, EndOfRound)
+)";
+
+// report.html's table row of test `number` (from 1).
+std::string Row(const std::string& report, int number) {
+  const size_t begin = report.find("<tr id=\"test-" + std::to_string(number) + "\"");
+  if (begin == std::string::npos) return {};
+  return report.substr(begin, report.find("</tr>", begin) - begin);
+}
+
+// Graded in a temporary folder: what students see (results.json,
+// report.html in the student's form, the viewer pages it frames) names no
+// absolute path, neither the grader's folders nor the source tree's; the
+// student's library, not the scenario's `app:`, is the run's app; and the
+// hidden run shows nothing but its name, points and verdict until the
+// instructor asks for the full form.
+TEST(GradeOutputsTest, StudentOutputsNameNoAbsolutePathTheStudentsLibraryAndNoHiddenRun) {
+  const Assignment tiny = LoadTiny();
+  const fs::path root = Fresh("student_outputs");
+  const fs::path submission = root / "bob";
+  Write(submission / "app.c", kDisagrees);
+  const fs::path out = root / "graded" / "bob";
+  GradeOptions options;
+  options.jobs = 2;
+  std::vector<std::string> notes;
+
+  const SubmissionResult result = GradeSubmission(tiny, submission.string(), out.string(), options, notes);
+  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string()), "");
+
+  ASSERT_TRUE(result.build.ok()) << result.build.detail;
+  ASSERT_EQ(result.tests.size(), 3u);
+  for (const assignment::TestResult& test : result.tests) {
+    ASSERT_FALSE(test.passed) << test.name;
+    ASSERT_FALSE(test.replay_path.empty()) << test.name;
+  }
+  const std::string library = "build/" + fs::path(result.build.library_path).filename().string();
+  EXPECT_EQ(result.tests[0].replay_command,
+            "syrof run tiny/scenarios/tiny.yaml --app " + library + " --seed 1 --out rerun/tiny-seed-1");
+  // The run's app is the student's library, in metrics.json and the replay
+  // (the viewer's page shows the replay header's app).
+  const std::string metrics = Read(out / "runs/tiny/seed-1/metrics.json");
+  EXPECT_NE(metrics.find("\"source\": \"" + library + "\""), std::string::npos) << metrics.substr(0, 400);
+  EXPECT_EQ(metrics.find("builtin:gather"), std::string::npos) << metrics;
+  const std::string page = Read(out / "runs/tiny/seed-1/replay.html");
+  EXPECT_NE(page.find(library), std::string::npos);
+  EXPECT_EQ(page.find("builtin:gather"), std::string::npos);
+
+  // No absolute path: not the temporary folder's, not the source tree's.
+  const std::string clone = fs::path(SYROF_ASSIGNMENTS_DIR).parent_path().string();
+  std::vector<fs::path> shown = {out / "results.json", out / "report.html"};
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(out / "runs")) {
+    if (entry.path().filename() == "replay.html") shown.push_back(entry.path());
+  }
+  EXPECT_EQ(shown.size(), 4u) << "the two public failing runs' viewer pages";
+  for (const fs::path& file : shown) {
+    const std::string bytes = Read(file);
+    ASSERT_FALSE(bytes.empty()) << file;
+    EXPECT_EQ(bytes.find(root.string()), std::string::npos) << file;
+    EXPECT_EQ(bytes.find(clone), std::string::npos) << file;
+  }
+
+  // The hidden run: its row, and nothing of its scenario, reasons or viewer.
+  const std::string report = Read(out / "report.html");
+  EXPECT_NE(report.find("<code>secret/seed-3</code></td><td>hidden</td>"), std::string::npos);
+  EXPECT_EQ(report.find("tiny_hidden"), std::string::npos);
+  EXPECT_EQ(report.find("runs/secret/seed-3/replay.html"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out / "runs/secret/seed-3/replay.html"));
+  EXPECT_EQ(Row(report, 3).find("agreement"), std::string::npos) << "no reason of the hidden run: " << Row(report, 3);
+  EXPECT_NE(Row(report, 1).find("agreement"), std::string::npos) << Row(report, 1);
+
+  // The instructor's full form shows it whole, still with no absolute path.
+  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string(), true), "");
+  const std::string full = Read(out / "report.html");
+  EXPECT_NE(full.find("runs/secret/seed-3/replay.html"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "runs/secret/seed-3/replay.html"));
+  EXPECT_NE(Row(full, 3).find("agreement"), std::string::npos) << Row(full, 3);
+  EXPECT_EQ(full.find(root.string()), std::string::npos);
+  fs::remove_all(root);
+}
+
 TEST(SearchGradeTest, TheReferenceSurvivesTheSearchTestAndEarnsItsPoints) {
   const Assignment searched = LoadTiny("search.yaml");
   ASSERT_EQ(searched.search_tests.size(), 1u);
@@ -400,7 +495,12 @@ TEST(StudentSeedsGradeTest, HiddenRunsUseTheStudentsSeedsAndTheReplayCommandRepr
   Assignment listed = tiny;
   listed.hidden_runs[0].seeds = {command_seed};
   const fs::path rerun = Fresh("student_seeds_rerun");
-  const SubmissionResult again = GradeLibrary(listed, result.build.library_path, rerun.string(), {});
+  // The library where the grader puts it, so metrics.json names it the same
+  // (relative to the output folder).
+  const fs::path library = rerun / "build" / fs::path(result.build.library_path).filename();
+  fs::create_directories(library.parent_path());
+  fs::copy_file(result.build.library_path, library);
+  const SubmissionResult again = GradeLibrary(listed, library.string(), rerun.string(), {});
   ASSERT_EQ(again.tests.size(), 3u);
   EXPECT_EQ(again.tests[2].name, hidden.name);
   const std::string metrics = Read(out / hidden.output_dir / "metrics.json");

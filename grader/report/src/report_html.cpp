@@ -1,5 +1,6 @@
-// report.html (docs/grading.md, "report.html"): one page for the student,
-// with no script of its own. Each failing run's viewer page is a file
+// report.html (docs/grading.md, "report.html"): one page, with no script of
+// its own, in the student's form (a hidden test only as a row of its name,
+// set, points and verdict) or the instructor's full form. Each failing run's viewer page is a file
 // beside the run's replay, shown here in an <iframe> by relative path; the
 // page's Content-Security-Policy lets it load nothing but those frames.
 #include <fmt/format.h>
@@ -62,6 +63,7 @@ details.run { margin: 10px 0; background: #fff; border: 1px solid var(--line); b
 details.run summary { padding: 8px 12px; cursor: pointer; }
 details.run .links { margin: 0 12px 6px; }
 details.run .note { margin: 0 12px 8px; color: var(--part); }
+.hidden-note { margin: 0; color: var(--muted); }
 iframe.viewer { display: block; width: 100%; height: 980px; border: 0; border-top: 1px solid var(--line); }
 footer { margin-top: 30px; color: var(--muted); font-size: 12px; }
 )css";
@@ -74,13 +76,17 @@ std::string ScoreClass(const SubmissionResult& result) {
 // The anchor of a failing run's viewer.
 std::string RunAnchor(size_t index) { return fmt::format("run-{}", index + 1); }
 
-// A failing run with a replay gets a place for its viewer (or for why
-// there is none).
-bool HasViewer(const TestResult& test) { return !test.passed && !test.replay_path.empty(); }
+// A failing run with a replay that the form shows whole gets a place for
+// its viewer (or for why there is none).
+bool HasViewer(const TestResult& test, ReportForm form) {
+  return !test.passed && !test.replay_path.empty() && ShowsWhole(test, form);
+}
 
-std::string TestRow(const SubmissionResult& result, const TestResult& test, size_t index) {
+std::string TestRow(const SubmissionResult& result, const TestResult& test, size_t index, ReportForm form) {
   std::string criteria;
-  if (!result.build.ok()) {
+  if (!ShowsWhole(test, form)) {
+    criteria = "<p class=\"hidden-note\">A hidden test: its details are kept from this page.</p>";
+  } else if (!result.build.ok()) {
     criteria = "<p class=\"bad\">not run: the submission did not build</p>";
   } else {
     criteria += "<ul class=\"criteria\">";
@@ -96,12 +102,12 @@ std::string TestRow(const SubmissionResult& result, const TestResult& test, size
     }
     criteria += "</ul>";
   }
-  if (test.visibility == assignment::Visibility::kPublic && !test.replay_command.empty()) {
+  if (test.visibility == assignment::Visibility::kPublic && !test.replay_command.empty() && ShowsWhole(test, form)) {
     criteria += "<p class=\"replay\">Replay: <code>" + Html(test.replay_command) + "</code></p>";
   }
   const bool passed = test.passed && result.build.ok();
   std::string verdict = passed ? "passed" : "failed";
-  if (HasViewer(test)) verdict = fmt::format("<a href=\"#{}\">failed: see its run</a>", RunAnchor(index));
+  if (HasViewer(test, form)) verdict = fmt::format("<a href=\"#{}\">failed: see its run</a>", RunAnchor(index));
   return fmt::format(
       "<tr id=\"test-{}\" class=\"{}\"><td><code>{}</code></td><td>{}</td><td class=\"points\">{}/{}</td>"
       "<td class=\"result\">{}</td><td>{}</td></tr>\n",
@@ -133,6 +139,18 @@ std::string RunViewer(const SubmissionResult& result, const TestResult& test, si
 
 }  // namespace
 
+std::string_view ToString(ReportForm form) { return form == ReportForm::kFull ? "full" : "student"; }
+
+std::optional<ReportForm> ParseReportForm(std::string_view text) {
+  if (text == "student") return ReportForm::kStudent;
+  if (text == "full") return ReportForm::kFull;
+  return std::nullopt;
+}
+
+bool ShowsWhole(const TestResult& test, ReportForm form) {
+  return form == ReportForm::kFull || test.visibility != assignment::Visibility::kHidden;
+}
+
 std::string ReplayPagePath(const TestResult& test) {
   if (test.replay_path.empty()) return {};
   const std::filesystem::path replay(test.replay_path);
@@ -145,7 +163,8 @@ std::string ReplayPagePath(const TestResult& test) {
   return page.generic_string();
 }
 
-std::string ReportHtml(const SubmissionResult& result, const std::map<std::string, ReplayPageNote>& notes) {
+std::string ReportHtml(const SubmissionResult& result, const std::map<std::string, ReplayPageNote>& notes,
+                       ReportForm form) {
   std::string html = R"(<!DOCTYPE html>
 <html lang="en">
 <head>
@@ -156,9 +175,11 @@ std::string ReportHtml(const SubmissionResult& result, const std::map<std::strin
   html += fmt::format("<title>{}: {}</title>\n<style>{}</style>\n</head>\n<body>\n", Html(result.title),
                       Html(result.submission), kStyle);
   html += fmt::format("<header>\n<h1>{}</h1>\n", Html(result.title));
-  html += fmt::format("<p class=\"what\">Assignment <code>{}</code>, submission <code>{}</code>{}</p>\n",
+  html += fmt::format("<p class=\"what\">Assignment <code>{}</code>, submission <code>{}</code>{}{}</p>\n",
                       Html(result.assignment), Html(result.submission),
-                      result.public_only ? ", graded on the public tests only" : "");
+                      result.public_only ? ", graded on the public tests only" : "",
+                      form == ReportForm::kFull ? " &middot; <b>instructor's full report: it shows the hidden tests</b>"
+                                                : "");
   html += fmt::format("<p id=\"score\" class=\"{}\">Points <b>{}/{}</b> &middot; Tests passed <b>{}/{}</b></p>\n",
                       ScoreClass(result), text::Points(result.points), text::Points(result.max_points),
                       result.tests_passed, result.tests.size());
@@ -178,13 +199,13 @@ std::string ReportHtml(const SubmissionResult& result, const std::map<std::strin
 
   html += "<h2>Tests</h2>\n<table id=\"tests\">\n<thead><tr><th>Test</th><th>Set</th><th>Points</th>"
           "<th>Result</th><th>Criteria</th></tr></thead>\n<tbody>\n";
-  for (size_t i = 0; i < result.tests.size(); ++i) html += TestRow(result, result.tests[i], i);
+  for (size_t i = 0; i < result.tests.size(); ++i) html += TestRow(result, result.tests[i], i, form);
   html += "</tbody>\n</table>\n";
 
   bool first = true;
   std::string runs;
   for (size_t i = 0; i < result.tests.size(); ++i) {
-    if (!HasViewer(result.tests[i])) continue;
+    if (!HasViewer(result.tests[i], form)) continue;
     runs += RunViewer(result, result.tests[i], i, first, notes);
     first = false;
   }

@@ -38,6 +38,13 @@ std::string WriteSubmissionReports(const SubmissionResult& result, const std::st
   for (const TestResult& test : result.tests) {
     if (test.passed || test.replay_path.empty()) continue;
     const std::string page_path = ReplayPagePath(test);
+    if (!ShowsWhole(test, options.form)) {
+      // The student's form has no viewer of a hidden run: a page left by an
+      // earlier full report would show its start poses and inputs.
+      std::error_code error;
+      if (!page_path.empty()) fs::remove(dir / page_path, error);
+      continue;
+    }
     if (page_path.empty()) {
       notes[test.name] = {false, fmt::format("No viewer: the replay path '{}' is not inside the report's folder.",
                                              test.replay_path)};
@@ -65,7 +72,7 @@ std::string WriteSubmissionReports(const SubmissionResult& result, const std::st
   }
   Add(problems, WriteFile(dir / "results.json", GradescopeResultsJson(result, options)));
   Add(problems, WriteFile(dir / "junit.xml", JunitXml(result, options)));
-  Add(problems, WriteFile(dir / "report.html", ReportHtml(result, notes)));
+  Add(problems, WriteFile(dir / "report.html", ReportHtml(result, notes, options.form)));
   return problems;
 }
 

@@ -29,7 +29,7 @@ constexpr const char* kGolden = R"({
       "score": 25.0,
       "max_score": 25.0,
       "status": "passed",
-      "output": "goal 50/50: 2 of 2 checks passed\ncollisions 20/20: no collision and no wall contact\nagreement 30/30: the robots' global states agreed in 40 of 40 COOPERATIVE epochs\nrun total 100/100\nreplay: syrof run assignments/gather/scenarios/gather_6.yaml --app libgather.so --seed 1\n",
+      "output": "goal 50/50: 2 of 2 checks passed\ncollisions 20/20: no collision and no wall contact\nagreement 30/30: the robots' global states agreed in 40 of 40 COOPERATIVE epochs\nrun total 100/100\nreplay: syrof run gather/scenarios/gather_6.yaml --app build/libgather.so --seed 1 --out rerun/gather_6-seed-1\n",
       "visibility": "visible"
     },
     {
@@ -37,7 +37,7 @@ constexpr const char* kGolden = R"({
       "score": 18.75,
       "max_score": 25.0,
       "status": "failed",
-      "output": "goal 25/50: 1 of 2 checks passed; gathered: robot 3 is 0.900 m from (1.000, 1.000); the limit is 0.500 m\ncollisions 20/20: no collision and no wall contact\nagreement 30/30: the robots' global states agreed in 40 of 40 COOPERATIVE epochs\nrun total 75/100\nreplay: syrof run assignments/gather/scenarios/gather_6.yaml --app libgather.so --seed 2\n",
+      "output": "goal 25/50: 1 of 2 checks passed; gathered: robot 3 is 0.900 m from (1.000, 1.000); the limit is 0.500 m\ncollisions 20/20: no collision and no wall contact\nagreement 30/30: the robots' global states agreed in 40 of 40 COOPERATIVE epochs\nrun total 75/100\nreplay: syrof run gather/scenarios/gather_6.yaml --app build/libgather.so --seed 2 --out rerun/gather_6-seed-2\n",
       "visibility": "visible"
     },
     {

@@ -79,7 +79,7 @@ TEST(JunitXmlTest, AFailureIsItsFirstLostCriterionAndSystemOutHoldsThemAll) {
   const XmlElement* out = cases[1]->Child("system-out");
   ASSERT_NE(out, nullptr);
   for (const std::string line : {"goal 25/50: ", "collisions 20/20: ", "agreement 30/30: ", "run total 75/100",
-                                 "replay: syrof run assignments/gather/scenarios/gather_6.yaml"}) {
+                                 "replay: syrof run gather/scenarios/gather_6.yaml"}) {
     EXPECT_NE(out->text.find(line), std::string::npos) << line << " in " << out->text;
   }
 

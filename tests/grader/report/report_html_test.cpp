@@ -47,7 +47,7 @@ void WriteReplay(const fs::path& path, const std::string& bytes) {
 }
 
 TEST(ReportHtmlTest, ShowsTheScoreAndEveryTestWithItsCriteria) {
-  const std::string html = ReportHtml(ExampleResult());
+  const std::string html = ReportHtml(ExampleResult(), {}, ReportForm::kFull);
 
   EXPECT_NE(html.find("<p id=\"score\" class=\"partial\">Points <b>68.75/100</b> &middot; Tests passed <b>2/4</b>"),
             std::string::npos);
@@ -77,7 +77,7 @@ TEST(ReportHtmlTest, EmbedsTheViewerOfEachFailingRunWithAReplayByRelativePath) {
 TEST(ReportHtmlTest, OnlyPublicTestsShowTheirReplayCommand) {
   const std::string html = ReportHtml(ExampleResult());
 
-  EXPECT_NE(html.find("gather_6.yaml --app libgather.so --seed 1"), std::string::npos);
+  EXPECT_NE(html.find("gather/scenarios/gather_6.yaml --app build/libgather.so --seed 1"), std::string::npos);
   EXPECT_EQ(html.find("hidden/gather_10_crash.yaml"), std::string::npos);
 }
 
@@ -85,13 +85,58 @@ TEST(ReportHtmlTest, LaterViewersLoadLazilyAndStartClosed) {
   assignment::SubmissionResult result = ExampleResult();
   result.tests[2].replay_path = "runs/crash10/seed-101/replay";
 
-  const std::string html = ReportHtml(result);
+  const std::string html = ReportHtml(result, {}, ReportForm::kFull);
 
   EXPECT_EQ(Count(html, "<iframe"), 2u);
   EXPECT_NE(html.find("<details id=\"run-3\" class=\"run\">"), std::string::npos);
   EXPECT_NE(html.find("src=\"runs/crash10/seed-101/replay.html\" title=\"The viewer of crash10/seed-101\" "
                       "loading=\"lazy\""),
             std::string::npos);
+}
+
+// The student's form (the default): a hidden test is its name, set, points
+// and verdict; its reasons, its command and its viewer stay out, and the
+// full form shows them.
+TEST(ReportHtmlTest, TheStudentFormShowsAHiddenTestOnlyAsItsNamePointsAndVerdict) {
+  assignment::SubmissionResult result = ExampleResult();
+  result.tests[2].run_error.clear();
+  result.tests[2].score.criteria = {{"goal", 0, 50, "gathered: robot 4 is 2.480 m from (1.500, 3.500)"}};
+  result.tests[2].message_format = "3 payloads broke the message format (robots 4)";
+  result.tests[2].replay_path = "runs/crash10/seed-101/replay";
+
+  const std::string student = ReportHtml(result);
+  const std::string full = ReportHtml(result, {}, ReportForm::kFull);
+
+  for (const std::string& hidden_detail :
+       {std::string("robot 4 is 2.480 m"), std::string("payloads broke"), std::string("hidden/gather_10_crash.yaml"),
+        std::string("runs/crash10/seed-101/replay.html"), std::string("run-3")}) {
+    EXPECT_EQ(student.find(hidden_detail), std::string::npos) << hidden_detail;
+    if (hidden_detail != "hidden/gather_10_crash.yaml") {
+      EXPECT_NE(full.find(hidden_detail), std::string::npos) << hidden_detail;
+    }
+  }
+  EXPECT_EQ(Count(student, "<iframe"), 1u);  // the public failing run's alone
+  EXPECT_EQ(Count(full, "<iframe"), 2u);
+  // Its row is still there: name, set, points, verdict.
+  EXPECT_NE(student.find("<tr id=\"test-3\" class=\"failed\"><td><code>crash10/seed-101</code></td><td>hidden</td>"
+                         "<td class=\"points\">0/25</td><td class=\"result\">failed</td>"),
+            std::string::npos)
+      << student;
+  EXPECT_NE(student.find("<tr id=\"test-4\" class=\"passed\"><td><code>crash10/seed-102</code></td><td>hidden</td>"
+                         "<td class=\"points\">25/25</td><td class=\"result\">passed</td>"),
+            std::string::npos);
+  // The public tests are whole in both.
+  EXPECT_NE(student.find("goal 25/50: 1 of 2 checks passed; gathered: robot 3 is 0.900 m"), std::string::npos);
+  EXPECT_EQ(student.find("instructor's full report"), std::string::npos);
+  EXPECT_NE(full.find("instructor's full report"), std::string::npos);
+}
+
+TEST(ReportHtmlTest, ReportFormsByName) {
+  EXPECT_EQ(ParseReportForm("student"), ReportForm::kStudent);
+  EXPECT_EQ(ParseReportForm("full"), ReportForm::kFull);
+  EXPECT_EQ(ParseReportForm("Full"), std::nullopt);
+  EXPECT_EQ(ToString(ReportForm::kFull), "full");
+  EXPECT_EQ(ToString(ReportForm::kStudent), "student");
 }
 
 TEST(ReportHtmlTest, EscapesWhatItShowsAndEncodesPaths) {
@@ -169,6 +214,30 @@ TEST(WriteSubmissionReportsTest, WritesTheThreeReportsAndEachFailingRunsViewer) 
   EXPECT_NE(page.find("gather_6/seed-2"), std::string::npos);  // named by the test, not a path
   EXPECT_EQ(page.find(dir.string()), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "runs/gather_6/seed-1/replay.html"));  // passed: no viewer
+  fs::remove_all(dir);
+}
+
+// A hidden failing run's viewer page is written for the full form only; the
+// student's form removes one an earlier full report left.
+TEST(WriteSubmissionReportsTest, AHiddenRunsViewerPageIsWrittenOnlyForTheFullForm) {
+  const fs::path dir = FreshDir("forms");
+  assignment::SubmissionResult result = ExampleResult();
+  result.tests[2].replay_path = "runs/crash10/seed-101/replay";
+  for (const char* replay : {"runs/gather_6/seed-2/replay", "runs/crash10/seed-101/replay"}) {
+    WriteReplay(dir / replay, lab::replay::testing::WriteSample().bytes);
+  }
+  const fs::path hidden_page = dir / "runs/crash10/seed-101/replay.html";
+  ReportOptions full;
+  full.form = ReportForm::kFull;
+
+  ASSERT_EQ(WriteSubmissionReports(result, dir.string(), full), "");
+  EXPECT_TRUE(fs::exists(hidden_page));
+  EXPECT_EQ(ReadHtml(dir / "report.html"), ReportHtml(result, {}, ReportForm::kFull));
+
+  ASSERT_EQ(WriteSubmissionReports(result, dir.string()), "");
+  EXPECT_FALSE(fs::exists(hidden_page));
+  EXPECT_TRUE(fs::exists(dir / "runs/gather_6/seed-2/replay.html"));
+  EXPECT_EQ(ReadHtml(dir / "report.html"), ReportHtml(result));
   fs::remove_all(dir);
 }
 

@@ -45,7 +45,9 @@ inline SubmissionResult ExampleResult() {
   passed.max_points = 25;
   passed.points = 25;
   passed.passed = true;
-  passed.replay_command = "syrof run assignments/gather/scenarios/gather_6.yaml --app libgather.so --seed 1";
+  passed.replay_command =
+      "syrof run gather/scenarios/gather_6.yaml --app build/libgather.so "
+      "--seed 1 --out rerun/gather_6-seed-1";
   passed.output_dir = "runs/gather_6/seed-1";
   passed.wall_seconds = 1.25;
   result.tests.push_back(passed);
@@ -60,7 +62,9 @@ inline SubmissionResult ExampleResult() {
   half.max_points = 25;
   half.points = 18.75;
   half.passed = false;
-  half.replay_command = "syrof run assignments/gather/scenarios/gather_6.yaml --app libgather.so --seed 2";
+  half.replay_command =
+      "syrof run gather/scenarios/gather_6.yaml --app build/libgather.so "
+      "--seed 2 --out rerun/gather_6-seed-2";
   half.output_dir = "runs/gather_6/seed-2";
   half.replay_path = "runs/gather_6/seed-2/replay";
   half.wall_seconds = 1.5;
@@ -73,7 +77,9 @@ inline SubmissionResult ExampleResult() {
   timeout.visibility = Visibility::kHidden;
   timeout.max_points = 25;
   timeout.run_error = "time limit of 120 s reached";
-  timeout.replay_command = "syrof run hidden/gather_10_crash.yaml --app libgather.so --seed 101";
+  timeout.replay_command =
+      "syrof run gather/hidden/gather_10_crash.yaml --app build/libgather.so "
+      "--seed 101 --out rerun/crash10-seed-101";
   timeout.output_dir = "runs/crash10/seed-101";
   timeout.wall_seconds = 120.2;
   result.tests.push_back(timeout);
@@ -83,7 +89,9 @@ inline SubmissionResult ExampleResult() {
   hidden_passed.scenario = "crash10";
   hidden_passed.seed = 102;
   hidden_passed.visibility = Visibility::kHidden;
-  hidden_passed.replay_command = "syrof run hidden/gather_10_crash.yaml --app libgather.so --seed 102";
+  hidden_passed.replay_command =
+      "syrof run gather/hidden/gather_10_crash.yaml --app build/libgather.so "
+      "--seed 102 --out rerun/crash10-seed-102";
   hidden_passed.output_dir = "runs/crash10/seed-102";
   hidden_passed.wall_seconds = 2.0;
   result.tests.push_back(hidden_passed);

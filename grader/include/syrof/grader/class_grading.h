@@ -50,6 +50,10 @@ struct ClassOptions {
   Shard shard;
   bool resume = true;           ///< false: grade every student again
   std::string assignment_dir;   ///< the assignment's folder (for the inputs' hash)
+  /// Each student's report.html in the instructor's full form (hidden tests
+  /// whole); false: the student's form. A resumed student's reports are
+  /// written again in the form asked (the same bytes for the same form).
+  bool full_report = false;
   /// Called once per student when done (serialised): the result and whether it was resumed.
   std::function<void(const assignment::SubmissionResult&, bool resumed)> on_student;
 };

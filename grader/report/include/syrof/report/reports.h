@@ -1,6 +1,14 @@
 // A graded submission's reports (docs/grading.md, "Reports"): Gradescope's
-// results.json, JUnit XML for CI systems, and report.html for the student,
-// which embeds the viewer (lab/view) of every failing run.
+// results.json, JUnit XML for CI systems, and report.html, which embeds the
+// viewer (lab/view) of failing runs. report.html has two forms: the
+// student's (the default), where a hidden test is only its name, set,
+// points and verdict, and the instructor's full form.
+//
+// What students see (results.json, report.html's student form, the viewer
+// pages it frames) names no absolute path: commands name the scenario from
+// the folder holding the assignment's folder and the library relative to
+// the submission's output folder (grade.cpp), and every path a report
+// writes is relative to that folder.
 //
 // Each report is a pure function of the SubmissionResult the runner filled
 // (syrof/assignment/result.h): the same result gives the same bytes. Timings
@@ -20,7 +28,9 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "syrof/assignment/result.h"
 
@@ -29,10 +39,26 @@ namespace syrof::grader::report {
 using assignment::SubmissionResult;
 using assignment::TestResult;
 
+/// Which report.html to write.
+enum class ReportForm {
+  /// For students (the default): a hidden test shows only its name, set,
+  /// points and passed/failed; no reasons, no replay command, no viewer
+  /// (its viewer page is not written, and an old one is removed).
+  kStudent,
+  /// For the instructor: every test whole, hidden ones with their reasons
+  /// and viewers (`syrof grade --report full`).
+  kFull,
+};
+
+/// "student" or "full"; the parse of the same (nullopt for anything else).
+std::string_view ToString(ReportForm form);
+std::optional<ReportForm> ParseReportForm(std::string_view text);
+
 struct ReportOptions {
   /// Writes 0 for every timing (execution_time, JUnit time="0.000"), so two
   /// gradings of the same submission give identical files.
   bool zero_timings = false;
+  ReportForm form = ReportForm::kStudent;  ///< report.html's form
 };
 
 /// Gradescope's results.json (Gradescope's autograder format): the score,
@@ -64,12 +90,19 @@ struct ReplayPageNote {
 /// criterion and its reason, and for each failing run with a replay its
 /// viewer page (ReplayPagePath) in an <iframe> by relative path, so the
 /// folder works from file:// with no network and no server. `notes` (by
-/// test name) says which pages could not be written, or are partial.
-std::string ReportHtml(const SubmissionResult& result, const std::map<std::string, ReplayPageNote>& notes = {});
+/// test name) says which pages could not be written, or are partial. In
+/// the student form (`form`), a hidden test is a row of its name, set,
+/// points and verdict, and has no viewer.
+std::string ReportHtml(const SubmissionResult& result, const std::map<std::string, ReplayPageNote>& notes = {},
+                       ReportForm form = ReportForm::kStudent);
+
+/// Whether `form` shows `test` whole (its reasons, command and viewer).
+bool ShowsWhole(const TestResult& test, ReportForm form);
 
 /// Writes, into `out_dir` (which exists, and where the result's relative
-/// paths point): every failing run's viewer page (BuildPage of its replay),
-/// then results.json, junit.xml and report.html. Returns "" or what went
+/// paths point): the viewer page (BuildPage of its replay) of every failing
+/// run that options.form shows whole (ShowsWhole), then results.json,
+/// junit.xml and report.html in options.form. Returns "" or what went
 /// wrong (each problem on its own line); every file that can be written is,
 /// whatever else failed. A replay that is missing or cannot be read is not
 /// a failure: report.html says so where its viewer would be.
