@@ -11,9 +11,11 @@
 #include <signal.h>
 #include <seccomp.h>
 #include <sys/mman.h>
+#include <sys/mount.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -41,6 +43,28 @@ using app_host::FileRuleset;
 // The uid and gid a build started by root runs as (nobody, nogroup).
 constexpr uid_t kBuildUid = 65534;
 constexpr gid_t kBuildGid = 65534;
+
+// Closes every descriptor from `first` up; async-signal-safe (between fork
+// and exec). Without close_range (Linux 5.9), one by one up to the hard
+// descriptor limit.
+void CloseDescriptorsFrom(int first) {
+  if (syscall(SYS_close_range, static_cast<unsigned>(first), ~0u, 0u) == 0) return;
+  rlimit limit{};
+  const int most = getrlimit(RLIMIT_NOFILE, &limit) == 0 && limit.rlim_max < (1u << 20)
+                       ? static_cast<int>(limit.rlim_max)
+                       : 1 << 20;
+  for (int fd = first; fd < most; ++fd) close(fd);
+}
+
+// Closes every descriptor from 3 up but `keep_a` and `keep_b`;
+// async-signal-safe.
+void CloseAllBut(int keep_a, int keep_b) {
+  const int low = std::min(keep_a, keep_b);
+  const int high = std::max(keep_a, keep_b);
+  for (int fd = 3; fd < low; ++fd) close(fd);
+  for (int fd = low + 1; fd < high; ++fd) close(fd);
+  CloseDescriptorsFrom(high + 1);
+}
 
 bool IsSource(const fs::path& path) {
   const std::string extension = path.extension().string();
@@ -205,6 +229,10 @@ std::vector<sock_filter> BuildSyscallFilter() {
 struct BuildSandbox {
   FileRuleset files;      // not created(): no Landlock (only with allow_unconfined)
   bool drop_uid = false;  // started as root: the build runs as kBuildUid
+  // The namespaces of the build's size-limited folder (WorkMount), entered
+  // first; -1: none (the user namespace only without root).
+  int user_ns = -1;
+  int mount_ns = -1;
   std::vector<sock_filter> syscalls = BuildSyscallFilter();  // empty: not filtered
 };
 
@@ -221,7 +249,7 @@ struct ChildOutcome {
   int setup_errno = 0;
 };
 
-enum SetupFailure { kSetupOk = 0, kSetupUid = 1, kSetupLandlock = 2, kSetupFilter = 3 };
+enum SetupFailure { kSetupOk = 0, kSetupUid = 1, kSetupLandlock = 2, kSetupFilter = 3, kSetupWorkMount = 4 };
 
 // The child's report, written once before the build tool starts; with a
 // PID namespace its init writes the tool's wait status after it ends.
@@ -292,6 +320,10 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
       (void)!write(status_pipe[1], &report, sizeof report);
       _exit(125);
     };
+    // Into the namespace where the work folder is the size-limited tmpfs
+    // (the same paths, other files beneath them).
+    if (sandbox.user_ns >= 0 && setns(sandbox.user_ns, CLONE_NEWUSER) != 0) fail(kSetupWorkMount);
+    if (sandbox.mount_ns >= 0 && setns(sandbox.mount_ns, CLONE_NEWNS) != 0) fail(kSetupWorkMount);
     if (sandbox.drop_uid) {
       // Namespaces while root may make them, then the uid.
       if (unshare(kNamespaces) == 0) {
@@ -336,6 +368,10 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
       if (null_fd >= 0) dup2(null_fd, 0);
       dup2(output[1], 1);
       dup2(output[1], 2);
+      // Nothing but 0-2 reaches the build: not a file the grader had open
+      // without close-on-exec, nor one another job opened in the moment of
+      // the fork.
+      CloseDescriptorsFrom(3);
       if (chdir(working_dir.c_str()) != 0) _exit(126);
       execve(args[0], args.data(), env.data());
       static const char kFailed[] = "syrof grade: cannot start the build tool\n";
@@ -670,6 +706,143 @@ class Stage {
   fs::path root_;
 };
 
+// The bound on what a build writes in all: its work folder (the copy,
+// build/, tmp/; Landlock lets it write nowhere else) is a tmpfs of
+// `limit_bytes`, mounted over the stage's work/ in a mount namespace of its
+// own. A small process holds that namespace while the build runs (as root
+// it makes only the mount namespace; without root a user namespace mapping
+// the caller's own ids as well, which may mount a tmpfs); the build's
+// processes enter it (setns) before anything else, and the grader reaches
+// the folder through /proc/HOLDER/root. When the holder ends, the mount and
+// everything in it are gone. A tmpfs lives in memory (or swap): the bound is
+// also what a build may take of it. Nothing of it reaches the machine's
+// other mounts (the namespace's mounts are private).
+class WorkMount {
+ public:
+  WorkMount(const fs::path& work, uint64_t limit_bytes) : limit_bytes_(limit_bytes) {
+    int hold[2];
+    int report[2];
+    if (pipe2(hold, O_CLOEXEC) != 0) {
+      problem_ = std::string("cannot make a pipe: ") + std::strerror(errno);
+      return;
+    }
+    if (pipe2(report, O_CLOEXEC) != 0) {
+      problem_ = std::string("cannot make a pipe: ") + std::strerror(errno);
+      close(hold[0]);
+      close(hold[1]);
+      return;
+    }
+    const bool root = geteuid() == 0;
+    const std::string uid_map = std::to_string(geteuid()) + " " + std::to_string(geteuid()) + " 1\n";
+    const std::string gid_map = std::to_string(getegid()) + " " + std::to_string(getegid()) + " 1\n";
+    const std::string options = "size=" + std::to_string(limit_bytes) + ",nr_inodes=" +
+                                std::to_string(kWorkInodes) + ",mode=0700";
+    static const char kDeny[] = "deny";
+    const pid_t pid = fork();
+    if (pid == 0) {
+      // Async-signal-safe from here (the grader may have threads).
+      prctl(PR_SET_PDEATHSIG, SIGKILL);
+      CloseAllBut(hold[0], report[1]);
+      int failed_step = 0;
+      if (root) {
+        if (unshare(CLONE_NEWNS) != 0) failed_step = 1;
+      } else if (unshare(CLONE_NEWUSER | CLONE_NEWNS) != 0) {
+        failed_step = 1;
+      } else {
+        WriteText("/proc/self/setgroups", kDeny, sizeof kDeny - 1);
+        if (!WriteText("/proc/self/uid_map", uid_map.data(), uid_map.size()) ||
+            !WriteText("/proc/self/gid_map", gid_map.data(), gid_map.size())) {
+          failed_step = 2;
+        }
+      }
+      if (failed_step == 0 && mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0) failed_step = 3;
+      if (failed_step == 0 &&
+          mount("syrof-build", work.c_str(), "tmpfs", MS_NOSUID | MS_NODEV, options.c_str()) != 0) {
+        failed_step = 4;
+      }
+      const int outcome[2] = {failed_step, failed_step == 0 ? 0 : errno};
+      (void)!write(report[1], outcome, sizeof outcome);
+      if (failed_step != 0) _exit(1);
+      char byte;
+      while (read(hold[0], &byte, 1) != 0 && errno == EINTR) {
+      }
+      _exit(0);
+    }
+    close(hold[0]);
+    close(report[1]);
+    hold_ = hold[1];
+    if (pid < 0) {
+      problem_ = std::string("cannot start its holder: ") + std::strerror(errno);
+      close(report[0]);
+      return;
+    }
+    holder_ = pid;
+    int outcome[2] = {-1, 0};
+    ssize_t got;
+    do {
+      got = read(report[0], outcome, sizeof outcome);
+    } while (got < 0 && errno == EINTR);
+    close(report[0]);
+    if (got != static_cast<ssize_t>(sizeof outcome) || outcome[0] != 0) {
+      static const char* const kSteps[] = {"its holder ended", "namespaces refused", "uid map refused",
+                                           "mounts not made private", "tmpfs mount refused"};
+      const int step = got == static_cast<ssize_t>(sizeof outcome) && outcome[0] > 0 && outcome[0] < 5 ? outcome[0] : 0;
+      problem_ = std::string(kSteps[step]) + (step != 0 ? std::string(": ") + std::strerror(outcome[1]) : "");
+      return;
+    }
+    const std::string proc = "/proc/" + std::to_string(pid);
+    mount_ns_ = open((proc + "/ns/mnt").c_str(), O_RDONLY | O_CLOEXEC);
+    if (!root) user_ns_ = open((proc + "/ns/user").c_str(), O_RDONLY | O_CLOEXEC);
+    view_ = fs::path(proc + "/root") / work.relative_path();
+    if (mount_ns_ < 0 || (!root && user_ns_ < 0)) {
+      problem_ = std::string("cannot open its namespaces: ") + std::strerror(errno);
+      return;
+    }
+    ok_ = true;
+  }
+  ~WorkMount() {
+    if (mount_ns_ >= 0) close(mount_ns_);
+    if (user_ns_ >= 0) close(user_ns_);
+    if (hold_ >= 0) close(hold_);  // the holder ends, and the tmpfs with it
+    if (holder_ > 0) {
+      int status = 0;
+      while (waitpid(holder_, &status, 0) < 0 && errno == EINTR) {
+      }
+    }
+  }
+  WorkMount(const WorkMount&) = delete;
+  WorkMount& operator=(const WorkMount&) = delete;
+
+  bool ok() const { return ok_; }
+  const std::string& problem() const { return problem_; }
+  /// The work folder as the grader reaches it.
+  const fs::path& view() const { return view_; }
+  int user_ns() const { return user_ns_; }
+  int mount_ns() const { return mount_ns_; }
+  uint64_t limit_bytes() const { return limit_bytes_; }
+  /// What the folder holds reached the bound (its bytes or its files).
+  bool Full() const {
+    struct statvfs status {};
+    if (statvfs(view_.c_str(), &status) != 0) return false;
+    return uint64_t{status.f_bavail} * status.f_frsize < kFullMarginBytes || status.f_favail == 0;
+  }
+
+ private:
+  // Files and folders the work folder may hold (a tmpfs inode takes memory
+  // that its size does not count); a build makes a few hundred.
+  static constexpr uint64_t kWorkInodes = 32768;
+  // Less room than this left: the build reached the bound.
+  static constexpr uint64_t kFullMarginBytes = 64 << 10;
+  uint64_t limit_bytes_ = 0;
+  bool ok_ = false;
+  std::string problem_;
+  pid_t holder_ = -1;
+  int hold_ = -1;
+  int mount_ns_ = -1;
+  int user_ns_ = -1;
+  fs::path view_;
+};
+
 // Copies the library `from` that the build made to `to`, as the grader's
 // own file; false when it is not a plain file.
 bool TakeLibrary(const fs::path& from, const fs::path& to) {
@@ -759,8 +932,24 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   if (!stage.ok()) return finish("build_failed", stage.problem());
   if (!StagePackage(syrof_dir, stage.package(), problem)) return finish("build_failed", problem);
   log.file << "syrof grade: SyROF's package from " << syrof_dir << "\n";
-  const fs::path source = stage.work() / "source";
-  const fs::path build = stage.work() / "build";
+  // The build's folder, bounded in size; `work` is where the grader reaches
+  // it, stage.work() where the build sees it (the same folder).
+  const WorkMount mount(stage.work(), options.work_limit_bytes);
+  fs::path work = stage.work();
+  if (mount.ok()) {
+    sandbox.user_ns = mount.user_ns();
+    sandbox.mount_ns = mount.mount_ns();
+    work = mount.view();
+    for (const char* folder : {"source", "build", "tmp"}) fs::create_directories(work / folder, error);
+    if (error) return finish("build_failed", "cannot make a folder for the build: " + error.message());
+  } else {
+    notes.push_back("build: no bound on what the build writes in all (a size-limited folder: " + mount.problem() +
+                    "): only RLIMIT_FSIZE per file");
+  }
+  const fs::path source = work / "source";
+  const fs::path build = work / "build";
+  const fs::path built_source = stage.work() / "source";  // as the build sees them
+  const fs::path built_build = stage.work() / "build";
   std::vector<std::string> skipped;
   problem = CopySubmission(submission_dir, source, options.max_submission_bytes, skipped);
   for (const std::string& file : skipped) log.file << "syrof grade: left out " << file << "\n";
@@ -781,12 +970,14 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   // What was built, as the grader's own record (the build never sees it).
   fs::remove_all(source_record, error);
   fs::copy(source, source_record, fs::copy_options::recursive, error);
-  fs::permissions(stage.work(), fs::perms::owner_all, error);
-  if (sandbox.drop_uid && !HandOver(stage.work())) {
+  fs::permissions(work, fs::perms::owner_all, error);
+  if (sandbox.drop_uid && !HandOver(work)) {
     return finish("build_failed", "cannot hand the build's folder to uid " + std::to_string(kBuildUid) + ": " +
                                       std::strerror(errno));
   }
-  if (sandbox.files.created() && !BuildFileRules(sandbox.files, stage.package(), stage.work(), problem)) {
+  // (The rule names the folder the grader reaches: with the bound, the
+  // tmpfs itself, not the folder it covers.)
+  if (sandbox.files.created() && !BuildFileRules(sandbox.files, stage.package(), work, problem)) {
     return finish("build_failed", problem);
   }
 
@@ -794,9 +985,9 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
                                                 "HOME=" + stage.work().string(),
                                                 "TMPDIR=" + (stage.work() / "tmp").string()};
   const std::vector<std::vector<std::string>> steps = {
-      {cmake, "-S", source.string(), "-B", build.string(), "-DSyROF_DIR=" + stage.package().string(),
+      {cmake, "-S", built_source.string(), "-B", built_build.string(), "-DSyROF_DIR=" + stage.package().string(),
        "-DCMAKE_BUILD_TYPE=Release"},
-      {cmake, "--build", build.string()}};
+      {cmake, "--build", built_build.string()}};
   const auto deadline = started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.timeout_s));
   bool noted = false;
   for (const std::vector<std::string>& step : steps) {
@@ -805,12 +996,13 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     shown += "\n";
     log.file << shown;
     log.file.flush();
-    const ChildOutcome outcome = RunSandboxed(step, build.string(), environment, options, sandbox, deadline, log);
+    const ChildOutcome outcome = RunSandboxed(step, built_build.string(), environment, options, sandbox, deadline, log);
     if (!outcome.started) return finish("build_failed", "cannot start " + cmake);
     if (outcome.setup_failure != kSetupOk) {
-      const std::string layer = outcome.setup_failure == kSetupUid       ? "cannot drop to uid " + std::to_string(kBuildUid)
-                                : outcome.setup_failure == kSetupLandlock ? "Landlock refused the build's file rules"
-                                                                           : "the system call filter was refused";
+      const std::string layer = outcome.setup_failure == kSetupUid        ? "cannot drop to uid " + std::to_string(kBuildUid)
+                                : outcome.setup_failure == kSetupLandlock  ? "Landlock refused the build's file rules"
+                                : outcome.setup_failure == kSetupWorkMount ? "cannot enter its size-limited folder"
+                                                                            : "the system call filter was refused";
       log.file << "syrof grade: " << layer << ": " << std::strerror(outcome.setup_errno) << "\n";
       return finish("build_failed", "the build's sandbox failed: " + layer + ": " + std::strerror(outcome.setup_errno));
     }
@@ -823,6 +1015,13 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
         notes.push_back("build: network not isolated and no PID namespace (namespaces refused: " +
                         std::string(std::strerror(outcome.isolation_errno)) + ")");
       }
+    }
+    if (mount.ok() && mount.Full()) {
+      const std::string bound = std::to_string(mount.limit_bytes() >> 20) + " MB";
+      log.file << "\nsyrof grade: stopped: the build filled its folder (" << bound
+               << ", the most a build may write in all)\n";
+      return finish("build_failed", "the build wrote more than its folder holds (" + bound +
+                                        " in all: its copy, build files and temporary files)");
     }
     if (outcome.timed_out) {
       log.file << "\nsyrof grade: stopped at the build's time limit of " << options.timeout_s << " s\n";

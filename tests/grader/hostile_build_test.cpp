@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <arpa/inet.h>
 #include <dirent.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -97,6 +98,28 @@ int ProcessesWith(const std::string& marker) {
       std::string command = Read(fs::path("/proc") / entry->d_name / "cmdline");
       for (char& c : command) c = c == '\0' ? ' ' : c;
       if (command.find(marker) != std::string::npos) ++count;
+    }
+    closedir(proc);
+  }
+  return count;
+}
+
+// This process's children that still hold a build's tmpfs (in their mount
+// namespace: no mount of this process shows it).
+int ChildrenHoldingABuildFolder() {
+  int count = 0;
+  if (DIR* proc = opendir("/proc")) {
+    while (const dirent* entry = readdir(proc)) {
+      if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
+      const std::string stat = Read(fs::path("/proc") / entry->d_name / "stat");
+      const size_t close_paren = stat.rfind(')');
+      if (close_paren == std::string::npos) continue;
+      std::istringstream rest(stat.substr(close_paren + 2));
+      char state = 0;
+      pid_t parent = 0;
+      rest >> state >> parent;
+      if (parent != getpid()) continue;
+      if (Read(fs::path("/proc") / entry->d_name / "mountinfo").find("syrof-build") != std::string::npos) ++count;
     }
     closedir(proc);
   }
@@ -342,6 +365,67 @@ TEST_F(HostileBuildTest, ABuildInAClassCannotReadItsSiblings) {
   for (const SubmissionResult& student : result.students) EXPECT_EQ(student.points, 60) << student.submission;
   EXPECT_EQ(FilesHolding(out / "alice", kCanaryText), std::vector<std::string>{});
   EXPECT_NE(Read(out / "alice" / "build.log").find("Permission denied"), std::string::npos);
+}
+
+// A file the grader has open without close-on-exec (a hidden scenario read
+// through a stream, another job's file at the moment of a fork) is no
+// descriptor of the build's: it starts with 0-2 only.
+TEST_F(HostileBuildTest, ADescriptorTheGraderHasOpenIsNotTheBuilds) {
+  int inherited = open(canary_.c_str(), O_RDONLY);  // no O_CLOEXEC, on purpose
+  ASSERT_GE(inherited, 0);
+  // On a number the shell can name (the finding's 7 when it is free).
+  int number = 7;
+  while (number < 10 && fcntl(number, F_GETFD) != -1) ++number;
+  ASSERT_LT(number, 10) << "no free descriptor below 10";
+  ASSERT_EQ(dup2(inherited, number), number);
+  close(inherited);
+  const fs::path submission = Fresh("descriptor_in");
+  AttackingSubmission(submission, "attempt(\"cat <&" + std::to_string(number) +
+                                      "; for n in 3 4 5 6 7 8 9; do eval \\\"cat <&$n\\\"; done\")\n");
+  const fs::path out = Fresh("descriptor_out");
+  const SubmissionResult result = Grade(submission, out);
+  close(number);
+  ExpectGradedAsUsual(result, out);
+  const std::string log = Read(out / "build.log");
+  EXPECT_NE(log.find("attempt [cat <&" + std::to_string(number)), std::string::npos) << "the attempt ran: " << log;
+  EXPECT_NE(log.find("Bad file descriptor"), std::string::npos) << log;
+  EXPECT_EQ(FilesHolding(out, kCanaryText), std::vector<std::string>{}) << log;
+}
+
+// A build that tries to write 10 GB (twenty 512 MB files, each under the
+// per-file limit) stops at its folder's bound, 32 MB here: it fails with a
+// reason that says so, and the student graded beside it at the same time
+// gets full marks. Nothing of the bound is left mounted afterwards.
+TEST_F(HostileBuildTest, ABuildThatWritesTenGigabytesStopsAtItsBoundAndTheClassGradesOn) {
+  const fs::path class_dir = Fresh("filler_class_in");
+  AttackingSubmission(class_dir / "alice",
+                      "attempt(\"for i in $(seq 1 20); do head -c 536870912 /dev/zero > big$i; done; "
+                      "du -sk . ${CMAKE_BINARY_DIR}\")\n");
+  fs::create_directories(class_dir / "bob");
+  fs::copy_file(kReference / "gather.c", class_dir / "bob" / "gather.c");
+  const fs::path out = Fresh("filler_class_out");
+  ClassOptions options;
+  options.jobs = 2;
+  options.assignment_dir = kTiny.string();
+  options.grade.build.work_limit_bytes = 32ull << 20;
+  const ClassResult result = GradeClass(LoadTiny(), class_dir.string(), out.string(), options);
+
+  ASSERT_EQ(result.students.size(), 2u);
+  for (const SubmissionResult& student : result.students) {
+    const std::string log = Read(out / fs::path(student.submission).filename() / "build.log");
+    if (fs::path(student.submission).filename() == "alice") {
+      EXPECT_EQ(student.build.verdict, "build_failed") << student.build.detail << "\n" << log;
+      EXPECT_NE(student.build.detail.find("more than its folder holds (32 MB"), std::string::npos)
+          << student.build.detail;
+      EXPECT_NE(log.find("the build filled its folder (32 MB"), std::string::npos) << log;
+      EXPECT_NE(log.find("No space left on device"), std::string::npos) << log;
+      EXPECT_EQ(student.points, 0);
+    } else {
+      EXPECT_EQ(student.build.verdict, "ok") << student.build.detail << "\n" << log;
+      EXPECT_EQ(student.points, 60) << student.submission;
+    }
+  }
+  EXPECT_EQ(ChildrenHoldingABuildFolder(), 0) << "a build's tmpfs outlived it";
 }
 
 // SyROF in a folder only root may enter (a CI clone made with mktemp -d, a

@@ -12,7 +12,8 @@
 // a seccomp filter refusing sockets; network, PID, IPC and UTS namespaces
 // (every process it leaves behind dies with it); its own process
 // group killed at the wall time limit; rlimits on file size, CPU time and
-// processes. Its output is kept in OUT/build.log (the first
+// processes; its folder a tmpfs of `work_limit_bytes` in a mount namespace
+// of its own, so its writes are bounded in total; no descriptor but 0-2. Its output is kept in OUT/build.log (the first
 // `log_keep_bytes`, the rest counted; past `output_limit_bytes` the build is
 // stopped). When it is done and its processes are gone, the grader copies
 // the sources it built into OUT/source/, the library into OUT/build/, and
@@ -37,6 +38,10 @@ struct BuildOptions {
   uint64_t file_size_limit_bytes = 1ull << 30;     ///< RLIMIT_FSIZE of every build process
   uint64_t cpu_limit_s = 600;                      ///< RLIMIT_CPU of every build process
   uint64_t max_submission_bytes = 64ull << 20;     ///< a bigger submission is refused (build_failed)
+  /// What the build's folder (its copy, build/ and tmp/: the only places it
+  /// may write) holds in all: a tmpfs of this size, in memory. A build that
+  /// fills it fails (build_failed, "wrote more than its folder holds").
+  uint64_t work_limit_bytes = 256ull << 20;
   uint64_t max_processes = 512;                    ///< RLIMIT_NPROC of the build (a fork bomb stops there)
   /// Build even where the kernel has no Landlock (`--unsafe-no-file-isolation`):
   /// the build can then read and write whatever its uid can. Off: such a
