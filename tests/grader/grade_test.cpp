@@ -545,6 +545,36 @@ TEST(StudentSeedsGradeTest, AClassDerivesEachStudentsSeedsFromItsFolderName) {
   EXPECT_NE(again.students[0].tests[2].seed, first.students[0].tests[2].seed);
 }
 
+// A class's reports are the student's form unless the full one is asked;
+// a resumed class switches forms without grading again.
+TEST(ClassReportFormTest, EachStudentsReportIsTheStudentFormAndAResumedClassSwitchesForms) {
+  const fs::path submissions = Fresh("form_class_in");
+  Write(submissions / "bob" / "app.c", kDisagrees);
+  const fs::path out = Fresh("form_class_out");
+  const fs::path report = out / "bob" / "report.html";
+  const fs::path hidden_page = out / "bob" / "runs/secret/seed-3/replay.html";
+  ClassOptions options;
+  options.assignment_dir = kTiny.string();
+
+  ASSERT_EQ(GradeClass(LoadTiny(), submissions.string(), out.string(), options).graded, 1);
+  EXPECT_EQ(Read(report).find("instructor's full report"), std::string::npos);
+  EXPECT_EQ(Row(Read(report), 3).find("agreement"), std::string::npos) << Row(Read(report), 3);
+  EXPECT_FALSE(fs::exists(hidden_page));
+
+  options.full_report = true;
+  ASSERT_EQ(GradeClass(LoadTiny(), submissions.string(), out.string(), options).resumed, 1);
+  EXPECT_NE(Read(report).find("instructor's full report"), std::string::npos);
+  EXPECT_NE(Row(Read(report), 3).find("agreement"), std::string::npos) << Row(Read(report), 3);
+  EXPECT_TRUE(fs::exists(hidden_page));
+
+  options.full_report = false;
+  ASSERT_EQ(GradeClass(LoadTiny(), submissions.string(), out.string(), options).resumed, 1);
+  EXPECT_EQ(Read(report).find("instructor's full report"), std::string::npos);
+  EXPECT_FALSE(fs::exists(hidden_page));
+  fs::remove_all(submissions);
+  fs::remove_all(out);
+}
+
 TEST(MixTest, NamesTheSubmissionWhoseRobotsFaulted) {
   const Assignment tiny = LoadTiny();
   const fs::path segfault = Fresh("mix_segfault_in");
