@@ -20,7 +20,7 @@ DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))
 
-.PHONY: all deps deps-demo build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm test-slurm asan tsan fuzz clean
+.PHONY: all deps deps-demo build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm test-slurm gradescope-prefix asan tsan fuzz clean
 
 all: build
 
@@ -75,6 +75,15 @@ test-slurm: deps
 	$(configure-build)
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof syrof-app-host syrof_app_shared
 	bash scripts/test-slurm.sh $(BUILD_DIR)
+
+## gradescope-prefix: SyROF as a self-contained folder for the Gradescope
+## bundle, $(BUILD_DIR)/gradescope-prefix/ (scripts/gradescope-prefix.sh):
+## the programs grading runs, libsyrof_app, the headers and CMake package,
+## and every library they need but glibc's and the C++ runtime's, with
+## $$ORIGIN run paths; it fails if any ELF file asks for more than Ubuntu
+## 22.04 has (glibc 2.35). `syrof gradescope` takes it from there.
+gradescope-prefix: build
+	bash scripts/gradescope-prefix.sh $(BUILD_DIR)
 
 ## package: the Debian package $(BUILD_DIR)/syrof_<version>_<arch>.deb (CPack):
 ## the syrof command, the app host, libsyrof_app, the app API's headers, the

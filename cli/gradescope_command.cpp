@@ -58,43 +58,43 @@ std::string FindAssignmentFolder(const std::string& name_or_path, std::string& e
   return {};
 }
 
-std::string PackageBesideBuild(const fs::path& build_dir, std::string& error) {
-  const std::string prefix = fmt::format("syrof_{}_", SYROF_VERSION);
-  std::vector<std::string> found;
-  std::error_code ignored;
-  for (fs::directory_iterator it(build_dir, ignored); !ignored && it != fs::directory_iterator();
-       it.increment(ignored)) {
-    const std::string name = it->path().filename().string();
-    if (name.starts_with(prefix) && name.ends_with(".deb") && it->is_regular_file(ignored)) {
-      found.push_back(it->path().string());
+std::string PrefixBesideBuild(const fs::path& build_dir, std::string& error) {
+  const fs::path prefix = build_dir / "gradescope-prefix";
+  const fs::path mark = prefix / grader::report::kSyrofFolderMark;
+  std::error_code failed;
+  if (!fs::is_regular_file(mark, failed)) {
+    error = fmt::format(
+        "no self-contained SyROF for Gradescope beside this build ({}): make it with `make gradescope-prefix` "
+        "(scripts/gradescope-prefix.sh), or give one with --prefix DIR",
+        prefix.string());
+    return {};
+  }
+  // A folder older than the programs it copied would ship an old syrof.
+  for (const char* program : {"bin/syrof", "bin/syrof-app-host", "lib/libsyrof_app.so.1"}) {
+    const fs::path built = build_dir / program;
+    if (!fs::exists(built, failed)) continue;
+    if (fs::last_write_time(built, failed) > fs::last_write_time(mark, failed)) {
+      error = fmt::format("{} is older than {}: make it again with `make gradescope-prefix`", prefix.string(),
+                          built.string());
+      return {};
     }
   }
-  std::sort(found.begin(), found.end());
-  if (found.size() == 1) return found.front();
-  if (found.empty()) {
-    error = fmt::format(
-        "no Debian package of SyROF {0} beside this build ({1}/{2}<arch>.deb): make one with `make package` "
-        "(or `cmake --build {1} --target package`), or give one with --deb FILE",
-        SYROF_VERSION, build_dir.string(), prefix);
-  } else {
-    error = fmt::format("{} Debian packages of SyROF {} in {}; choose one with --deb FILE", found.size(),
-                        SYROF_VERSION, build_dir.string());
-  }
-  return {};
+  return prefix.string();
 }
 
 CLI::App* SetupGradescopeCommand(CLI::App& app, GradescopeOptions& options) {
   CLI::App* command = app.add_subcommand(
       "gradescope",
-      "Write an assignment's Gradescope autograder: a zip with setup.sh, run_autograder, SyROF's Debian package "
-      "and the assignment (hidden sets included)");
+      "Write an assignment's Gradescope autograder: a zip with setup.sh, run_autograder, SyROF as a "
+      "self-contained folder (it needs no package from apt but a compiler, CMake and make) and the assignment "
+      "(hidden sets included)");
   command->add_option("ASSIGNMENT", options.assignment,
                       "NAME (the folder assignments/NAME here) or PATH (an assignment's folder)")
       ->required();
   command->add_option("-o,--output", options.output, "The zip to write")->capture_default_str();
-  command->add_option("--deb", options.deb,
-                      "SyROF's Debian package to install on Gradescope (default: syrof_<version>_<arch>.deb "
-                      "beside the running build tree, as `make package` writes it)");
+  command->add_option("--prefix", options.prefix,
+                      "SyROF as a self-contained folder, as `make gradescope-prefix` writes it (default: "
+                      "gradescope-prefix/ in the running build tree)");
   command->add_flag("--per-student-seeds", options.per_student_seeds,
                     "Put the course secret ($SYROF_COURSE_SECRET or --course-secret-file) in the bundle: each "
                     "submission's hidden seeds are then derived from its Gradescope users (keep the zip private)");
@@ -116,10 +116,10 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
     fmt::print(err, "syrof gradescope: the assignment does not load: {}\n", loaded.error->ToString());
     return kBadInput;
   }
-  std::string deb = options.deb;
-  if (deb.empty()) {
-    deb = PackageBesideBuild(RunningBuildTree(), error);
-    if (deb.empty()) {
+  std::string prefix = options.prefix;
+  if (prefix.empty()) {
+    prefix = PrefixBesideBuild(RunningBuildTree(), error);
+    if (prefix.empty()) {
       fmt::print(err, "syrof gradescope: {}\n", error);
       return kBadInput;
     }
@@ -142,7 +142,7 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
       return kBadInput;
     }
   }
-  const grader::report::BundleResult bundle = grader::report::GradescopeBundle(folder, deb, course_secret);
+  const grader::report::BundleResult bundle = grader::report::GradescopeBundle(folder, prefix, course_secret);
   if (!bundle.ok()) {
     fmt::print(err, "syrof gradescope: {}\n", bundle.error);
     return kBadInput;
@@ -156,10 +156,13 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
   const grader::assignment::Assignment& assignment = *loaded.assignment;
   fmt::print(out, "syrof gradescope: wrote {} ({} files, {:.1f} MiB)\n", options.output,
              bundle.bundle->files.size(), static_cast<double>(bytes) / (1024.0 * 1024.0));
-  fmt::print(out, "  {:<15} installs {} with apt-get, then checks that syrof runs\n", "setup.sh",
-             fs::path(deb).filename().string());
+  fmt::print(out, "  {:<15} installs a compiler, CMake and make where the image lacks them, then checks that "
+                  "syrof runs\n", "setup.sh");
   fmt::print(out, "  {:<15} grades /autograder/submission into /autograder/results/results.json\n",
              "run_autograder");
+  fmt::print(out, "  {:<15} SyROF {} from {}: its programs and the libraries they need but glibc and the C++ "
+                  "runtime (for Ubuntu 22.04, glibc 2.35 and up)\n",
+             std::string(grader::report::kSyrofFolder) + "/", SYROF_VERSION, prefix);
   fmt::print(out, "  {:<15} '{}': {} public and {} hidden tests (its reference/ and broken/ left out)\n",
              "assignment/", assignment.title, Tests(assignment.public_runs), Tests(assignment.hidden_runs));
   if (course_secret) {

@@ -1,6 +1,6 @@
-// `syrof gradescope NAME|PATH [-o autograder.zip] [--deb FILE] [--per-student-seeds [--course-secret-file F]]`:
+// `syrof gradescope NAME|PATH [-o autograder.zip] [--prefix DIR] [--per-student-seeds [--course-secret-file F]]`:
 // the zip an instructor uploads to Gradescope as an assignment's autograder
-// (setup.sh, run_autograder, SyROF's Debian package, the assignment with its
+// (setup.sh, run_autograder, SyROF as a self-contained folder, the assignment with its
 // hidden sets, and with --per-student-seeds the course secret;
 // grader/report's gradescope_bundle.h, docs/grading.md "Publishing to
 // Gradescope").
@@ -17,7 +17,7 @@ namespace syrof::cli {
 struct GradescopeOptions {
   std::string assignment{};               ///< a name under ./assignments/, or a folder (or its assignment.yaml)
   std::string output{"autograder.zip"};  ///< the zip to write
-  std::string deb{};                      ///< the package; empty: PackageBesideBuild of the running syrof
+  std::string prefix{};                   ///< the self-contained SyROF; empty: PrefixBesideBuild of the running syrof
   /// Per-student hidden seeds: the course secret (from `course_secret_file`,
   /// else $SYROF_COURSE_SECRET) goes into the bundle, and run_autograder
   /// derives each submission's hidden seeds from its users.
@@ -29,7 +29,8 @@ struct GradescopeOptions {
 CLI::App* SetupGradescopeCommand(CLI::App& app, GradescopeOptions& options);
 
 /// Writes the bundle. Returns 0 when it is written; 2 for bad input (no
-/// such assignment, an assignment that does not load, no package); 1 when
+/// such assignment, an assignment that does not load, no self-contained
+/// SyROF folder); 1 when
 /// the zip cannot be written.
 int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, std::ostream& err);
 
@@ -38,9 +39,10 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
 /// ./assignments/NAME. Empty, with `error` set, when there is none.
 std::string FindAssignmentFolder(const std::string& name_or_path, std::string& error);
 
-/// The package `make package` wrote into the build tree `build_dir`:
-/// syrof_<this version>_<arch>.deb. Empty, with `error` set, when there is
-/// none or more than one.
-std::string PackageBesideBuild(const std::filesystem::path& build_dir, std::string& error);
+/// The self-contained SyROF that `make gradescope-prefix` wrote into the
+/// build tree `build_dir` (its gradescope-prefix/ folder). Empty, with
+/// `error` set, when there is none, or when it is older than the build's
+/// syrof, app host or libsyrof_app (it would ship old programs).
+std::string PrefixBesideBuild(const std::filesystem::path& build_dir, std::string& error);
 
 }  // namespace syrof::cli

@@ -2,12 +2,11 @@
 // temporary folder laid out as Gradescope lays out /autograder
 // (AUTOGRADER_ROOT): source/ holds the zip's contents (extracted with their
 // modes), submission/ the student's files, results/ what Gradescope reads.
-// setup.sh runs without its apt-get step (SYROF_SKIP_INSTALL=1); `syrof` is
-// the build tree's, on PATH.
-//
-// Grading a real submission needs `syrof grade`; until this tree has it,
-// those tests say so and skip. A grader that fails is tested with a
-// stand-in `syrof` that exits 3.
+// The bundle's SyROF is this build's, made self-contained once for the
+// suite by scripts/gradescope-prefix.sh, so the programs that grade are the
+// bundle's own (source/syrof/bin/syrof), with no build tree on PATH.
+// setup.sh runs without its apt-get step (SYROF_SKIP_INSTALL=1). A grader
+// that fails is tested with a stand-in source/syrof/bin/syrof.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -42,52 +41,74 @@ int Shell(const std::string& command, std::string& output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::string BinDir() { return fs::path(SYROF_EXECUTABLE).parent_path().string(); }
+// PATH for the scripts: the system's programs only, no build tree.
+constexpr const char* kSystemPath = "/usr/bin:/bin";
 
-// (Not `syrof grade --help`: --help answers 0 whatever the words before it.)
-bool HasGradeCommand() {
-  std::string output;
-  Shell(std::string(SYROF_EXECUTABLE) + " grade", output);
-  return output.find("is not a syrof subcommand") == std::string::npos;
+// Replaces the bundle's syrof with a shell script.
+void StandInSyrof(const fs::path& root, const std::string& script) {
+  const fs::path syrof = root / "source/syrof/bin/syrof";
+  fs::remove(syrof);
+  std::ofstream(syrof) << "#!/bin/sh\n" << script;
+  fs::permissions(syrof, fs::perms::owner_all);
 }
 
 // /autograder as Gradescope lays it out, under a temporary root.
 class AutograderTest : public ::testing::Test {
  protected:
+  // This build as the bundle's self-contained SyROF, made once.
+  static void SetUpTestSuite() {
+    prefix_ = fs::temp_directory_path() / ("syrof_autograder_prefix_" + std::to_string(getpid()));
+    const fs::path build = fs::path(SYROF_EXECUTABLE).parent_path().parent_path();
+    const fs::path script = fs::path(SYROF_ASSIGNMENTS_DIR).parent_path() / "scripts/gradescope-prefix.sh";
+    std::string output;
+    prefix_status_ = Shell("bash " + script.string() + " " + build.string() + " " + prefix_.string(), output);
+    prefix_output_ = output;
+    if (prefix_status_ != 0) return;
+    // gather's bundle, written once: each test unzips it afresh.
+    GradescopeOptions options;
+    options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
+    options.output = (prefix_.string() + ".zip");
+    options.prefix = prefix_.string();
+    std::ostringstream out;
+    std::ostringstream err;
+    if (RunGradescopeCommand(options, out, err) != 0) {
+      prefix_status_ = -1;
+      prefix_output_ = "syrof gradescope: " + err.str();
+    }
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(prefix_);
+    fs::remove(prefix_.string() + ".zip");
+  }
+
   void SetUp() override {
+    ASSERT_EQ(prefix_status_, 0) << "scripts/gradescope-prefix.sh failed: " << prefix_output_;
     root_ = FreshDir("syrof_autograder_", ::testing::UnitTest::GetInstance()->current_test_info()->name() +
                                               std::string("_") + std::to_string(getpid()));
     fs::create_directories(root_ / "source");
     fs::create_directories(root_ / "submission");
     fs::create_directories(root_ / "results");
-    const fs::path deb = root_ / ("syrof_" + std::string(SYROF_VERSION) + "_amd64.deb");
-    std::ofstream(deb, std::ios::binary) << "!<arch>\ndebian-binary   0           0     0     100644  4         `\n2.0\n";
-    GradescopeOptions options;
-    options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
-    options.output = (root_ / "autograder.zip").string();
-    options.deb = deb.string();
-    std::ostringstream out;
-    std::ostringstream err;
-    ASSERT_EQ(RunGradescopeCommand(options, out, err), 0) << err.str();
-    ASSERT_EQ(grader::report::testing::ExtractZip(options.output, root_ / "source"), "");
+    ASSERT_EQ(grader::report::testing::ExtractZip(prefix_.string() + ".zip", root_ / "source"), "");
   }
   void TearDown() override { fs::remove_all(root_); }
 
-  // Runs one of the bundle's scripts from source/ with `path` first on PATH.
-  int Script(const std::string& script, const std::string& path, std::string& output,
-             const std::string& environment = "") {
-    return Shell("cd " + root_.string() + " && AUTOGRADER_ROOT=" + root_.string() + " PATH=" + path +
-                     ":/usr/bin:/bin " + environment + " ./source/" + script,
+  // Runs one of the bundle's scripts from source/ with only the system's programs on PATH.
+  int Script(const std::string& script, std::string& output, const std::string& environment = "") {
+    return Shell("cd " + root_.string() + " && AUTOGRADER_ROOT=" + root_.string() + " PATH=" + kSystemPath + " " +
+                     environment + " ./source/" + script,
                  output);
   }
 
   json Results() { return json::parse(ReadFile(root_ / "results/results.json"), nullptr, false); }
 
   fs::path root_;
+  static inline fs::path prefix_;
+  static inline int prefix_status_ = -1;
+  static inline std::string prefix_output_;
 };
 
 TEST_F(AutograderTest, TheScriptsAreExecutableAfterUnzipping) {
-  for (const std::string script : {"setup.sh", "run_autograder"}) {
+  for (const std::string script : {"setup.sh", "run_autograder", "syrof/bin/syrof", "syrof/libexec/syrof/syrof-app-host"}) {
     const fs::perms perms = fs::status(root_ / "source" / script).permissions();
     EXPECT_NE(perms & fs::perms::owner_exec, fs::perms::none) << script;
   }
@@ -95,29 +116,49 @@ TEST_F(AutograderTest, TheScriptsAreExecutableAfterUnzipping) {
             fs::perms::none);
 }
 
-TEST_F(AutograderTest, SetupChecksThatSyrofRunsOnceInstalled) {
+TEST_F(AutograderTest, SetupChecksThatTheBundledSyrofRunsHere) {
   std::string output;
-  EXPECT_EQ(Script("setup.sh", BinDir(), output, "SYROF_SKIP_INSTALL=1"), 0) << output;
+  EXPECT_EQ(Script("setup.sh", output, "SYROF_SKIP_INSTALL=1"), 0) << output;
   EXPECT_NE(output.find("is ready to grade " + (root_ / "source/assignment").string()), std::string::npos) << output;
 
-  // Without syrof on PATH (its install step skipped) it stops and says so.
-  const fs::path empty = root_ / "empty_bin";
-  fs::create_directories(empty);
-  EXPECT_NE(Shell("cd " + root_.string() + " && AUTOGRADER_ROOT=" + root_.string() + " PATH=" + empty.string() +
-                      " SYROF_SKIP_INSTALL=1 /bin/bash ./source/setup.sh",
-                  output),
-            0);
-  EXPECT_NE(output.find("the syrof command is not on PATH"), std::string::npos) << output;
+  // A syrof that cannot run here (as on an image whose glibc is too old) stops it, saying why.
+  StandInSyrof(root_, "echo 'version `GLIBC_2.35` not found' >&2\nexit 127\n");
+  EXPECT_NE(Script("setup.sh", output, "SYROF_SKIP_INSTALL=1"), 0);
+  EXPECT_NE(output.find("the bundled syrof does not run on this image: version `GLIBC_2.35` not found"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("it needs glibc 2.35 or newer"), std::string::npos) << output;
+
+  fs::remove(root_ / "source/syrof/bin/syrof");
+  EXPECT_NE(Script("setup.sh", output, "SYROF_SKIP_INSTALL=1"), 0);
+  EXPECT_NE(output.find("no syrof/bin/syrof in"), std::string::npos) << output;
+}
+
+// What the bundle's programs load comes from the bundle, glibc and the C++
+// runtime: nothing of SyROF's Debian dependencies from the system.
+TEST_F(AutograderTest, TheBundledProgramsLoadTheirLibrariesFromTheBundle) {
+  const fs::path syrof = root_ / "source/syrof";
+  for (const char* program : {"bin/syrof", "libexec/syrof/syrof-app-host"}) {
+    std::string output;
+    ASSERT_EQ(Shell("env -i ldd " + (syrof / program).string(), output), 0) << output;
+    std::istringstream lines(output);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.find("=>") == std::string::npos || line.find("linux-vdso") != std::string::npos) continue;
+      const bool system = line.find("libc.so.6") != std::string::npos || line.find("libm.so.6") != std::string::npos ||
+                          line.find("libstdc++.so.6") != std::string::npos ||
+                          line.find("libgcc_s.so.1") != std::string::npos;
+      if (!system) {
+        EXPECT_NE(line.find(syrof.string()), std::string::npos) << program << ": " << line;
+      }
+    }
+  }
 }
 
 TEST_F(AutograderTest, AGraderThatFailsStillGivesAResultsJsonWithTheReason) {
-  const fs::path fake = root_ / "fake_bin";
-  fs::create_directories(fake);
-  std::ofstream(fake / "syrof") << "#!/bin/sh\necho 'syrof: internal error' >&2\nexit 3\n";
-  fs::permissions(fake / "syrof", fs::perms::owner_all);
+  StandInSyrof(root_, "echo 'syrof: internal error' >&2\nexit 3\n");
 
   std::string output;
-  EXPECT_EQ(Script("run_autograder", fake.string(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
 
   const json results = Results();
   ASSERT_TRUE(results.is_object()) << ReadFile(root_ / "results/results.json");
@@ -129,13 +170,12 @@ TEST_F(AutograderTest, AGraderThatFailsStillGivesAResultsJsonWithTheReason) {
 }
 
 TEST_F(AutograderTest, GradesTheReferenceToFullMarks) {
-  if (!HasGradeCommand()) GTEST_SKIP() << "this tree's syrof has no `grade` command yet";
   fs::copy(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather/reference", root_ / "submission",
            fs::copy_options::recursive);
   fs::remove(root_ / "submission/expected.yaml");
 
   std::string output;
-  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
 
   const json results = Results();
   ASSERT_TRUE(results.is_object()) << output;
@@ -152,11 +192,10 @@ TEST_F(AutograderTest, GradesTheReferenceToFullMarks) {
 }
 
 TEST_F(AutograderTest, ASubmissionThatDoesNotBuildScoresZeroAndSaysWhy) {
-  if (!HasGradeCommand()) GTEST_SKIP() << "this tree's syrof has no `grade` command yet";
   std::ofstream(root_ / "submission/gather.c") << "this is not C\n";
 
   std::string output;
-  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
 
   const json results = Results();
   ASSERT_TRUE(results.is_object()) << output;
@@ -168,7 +207,6 @@ TEST_F(AutograderTest, ASubmissionThatDoesNotBuildScoresZeroAndSaysWhy) {
 // a student would send them to Gradescope: the hidden scenarios sit under
 // /autograder/source, the results under /autograder/results.
 TEST_F(AutograderTest, ABuildThatPrintsAHiddenScenarioGetsNoneOfItsText) {
-  if (!HasGradeCommand()) GTEST_SKIP() << "this tree's syrof has no `grade` command yet";
   const fs::path hidden = root_ / "source/assignment/hidden/gather_10_join.yaml";
   ASSERT_TRUE(fs::exists(hidden));
   std::ofstream(root_ / "submission/CMakeLists.txt")
@@ -176,7 +214,7 @@ TEST_F(AutograderTest, ABuildThatPrintsAHiddenScenarioGetsNoneOfItsText) {
       << "file(READ " << hidden.string() << " text)\nmessage(FATAL_ERROR \"${text}\")\n";
 
   std::string output;
-  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
 
   const std::string results = ReadFile(root_ / "results/results.json");
   EXPECT_EQ(results.find("robot 9 is switched on"), std::string::npos) << results;
@@ -185,7 +223,6 @@ TEST_F(AutograderTest, ABuildThatPrintsAHiddenScenarioGetsNoneOfItsText) {
 }
 
 TEST_F(AutograderTest, ABuildThatRewritesTheAssignmentAndTheResultsChangesNothing) {
-  if (!HasGradeCommand()) GTEST_SKIP() << "this tree's syrof has no `grade` command yet";
   fs::copy(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather/reference", root_ / "submission",
            fs::copy_options::recursive);
   fs::remove(root_ / "submission/expected.yaml");
@@ -198,7 +235,7 @@ TEST_F(AutograderTest, ABuildThatRewritesTheAssignmentAndTheResultsChangesNothin
   std::ofstream(root_ / "submission/CMakeLists.txt") << cmake;
 
   std::string output;
-  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
 
   EXPECT_EQ(ReadFile(yaml), before);
   const json results = Results();
@@ -220,7 +257,7 @@ class PerStudentAutograderTest : public AutograderTest {
     GradescopeOptions options;
     options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
     options.output = (root_ / "autograder_seeds.zip").string();
-    options.deb = (root_ / ("syrof_" + std::string(SYROF_VERSION) + "_amd64.deb")).string();
+    options.prefix = prefix_.string();
     options.per_student_seeds = true;
     options.course_secret_file = (root_ / "secret").string();
     std::ostringstream out;
@@ -234,13 +271,10 @@ class PerStudentAutograderTest : public AutograderTest {
 };
 
 TEST_F(PerStudentAutograderTest, RunAutograderPassesTheMetadataAndTheSecretToSyrofGrade) {
-  const fs::path fake = root_ / "fake_bin";
-  fs::create_directories(fake);
-  std::ofstream(fake / "syrof") << "#!/bin/sh\necho \"$@\" > " << (root_ / "arguments").string() << "\nexit 3\n";
-  fs::permissions(fake / "syrof", fs::perms::owner_all);
+  StandInSyrof(root_, "echo \"$@\" > " + (root_ / "arguments").string() + "\nexit 3\n");
 
   std::string output;
-  EXPECT_EQ(Script("run_autograder", fake.string(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
   const std::string arguments = ReadFile(root_ / "arguments");
   EXPECT_NE(arguments.find("--gradescope-metadata " + (root_ / "submission_metadata.json").string()),
             std::string::npos)
@@ -253,7 +287,7 @@ TEST_F(PerStudentAutograderTest, WithoutMetadataGradingStopsAndSaysSo) {
   fs::copy(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather/reference", root_ / "submission",
            fs::copy_options::recursive);
   std::string output;
-  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
   EXPECT_NE(output.find("cannot read Gradescope's submission metadata"), std::string::npos) << output;
   const json results = Results();
   ASSERT_TRUE(results.is_object()) << output;
@@ -262,7 +296,7 @@ TEST_F(PerStudentAutograderTest, WithoutMetadataGradingStopsAndSaysSo) {
       << results["output"];
 
   std::ofstream(root_ / "submission_metadata.json") << "{\"users\": [{\"email\": \"a@example.edu\"}]}";
-  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
   EXPECT_NE(output.find("users[0] has no 'id'"), std::string::npos) << output;
   EXPECT_EQ(Results()["score"], 0);
 }
@@ -276,7 +310,7 @@ TEST_F(PerStudentAutograderTest, AGroupsHiddenTestsUseSeedsDerivedFromItsUsers) 
       << R"( {"email": "a@example.edu", "id": 4242, "name": "A"}]})";
 
   std::string output;
-  EXPECT_EQ(Script("run_autograder", BinDir(), output), 0) << output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
 
   const json results = Results();
   ASSERT_TRUE(results.is_object()) << output;

@@ -1,12 +1,15 @@
-// `syrof gradescope`: the assignment found by name or path, the package
-// found beside the build or refused with what to do, and the zip written
-// with the assignment (hidden sets, not the reference or broken folders).
+// `syrof gradescope`: the assignment found by name or path, the
+// self-contained SyROF folder found beside the build (or refused with what
+// to do: missing, incomplete, older than the build), and the zip written
+// with that folder under syrof/ (modes kept) and the assignment (hidden
+// sets, not the reference or broken folders).
 // gradescope_autograder_test.cpp runs the bundle's scripts.
 #include "gradescope_command.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -23,7 +26,19 @@ namespace fs = std::filesystem;
 using testing::FreshDir;
 using testing::Outcome;
 
-constexpr const char* kDebHead = "!<arch>\ndebian-binary   0           0     0     100644  4         `\n2.0\n";
+// A folder shaped as scripts/gradescope-prefix.sh makes one (its contents
+// stand-ins): what GradescopeBundle requires of it, and a bundled library.
+void MakeSyrofFolder(const fs::path& folder) {
+  for (const char* file : {"bin/syrof", "libexec/syrof/syrof-app-host", "lib/libsyrof_app.so.1",
+                           "lib/cmake/SyROF/SyROFConfig.cmake", "include/syrof/app.h", "gradescope-prefix.txt",
+                           "lib/syrof-deps/libyaml-cpp.so.0.7"}) {
+    fs::create_directories((folder / file).parent_path());
+    std::ofstream(folder / file) << file << "\n";
+  }
+  for (const char* program : {"bin/syrof", "libexec/syrof/syrof-app-host"}) {
+    fs::permissions(folder / program, fs::perms::owner_exec, fs::perm_options::add);
+  }
+}
 
 Outcome Gradescope(const GradescopeOptions& options) {
   std::ostringstream out;
@@ -38,20 +53,20 @@ class GradescopeCommandTest : public ::testing::Test {
     dir_ = FreshDir("syrof_gradescope_", ::testing::UnitTest::GetInstance()->current_test_info()->name() +
                                              std::string("_") + std::to_string(getpid()));
     fs::create_directories(dir_);
-    deb_ = dir_ / ("syrof_" + std::string(SYROF_VERSION) + "_amd64.deb");
-    std::ofstream(deb_, std::ios::binary) << kDebHead;
+    prefix_ = dir_ / "prefix";
+    MakeSyrofFolder(prefix_);
   }
   void TearDown() override { fs::remove_all(dir_); }
 
   fs::path dir_;
-  fs::path deb_;
+  fs::path prefix_;
 };
 
 TEST_F(GradescopeCommandTest, WritesTheBundleOfAnAssignmentFolder) {
   GradescopeOptions options;
   options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
   options.output = (dir_ / "autograder.zip").string();
-  options.deb = deb_.string();
+  options.prefix = prefix_.string();
 
   const Outcome outcome = Gradescope(options);
 
@@ -63,8 +78,11 @@ TEST_F(GradescopeCommandTest, WritesTheBundleOfAnAssignmentFolder) {
   for (const auto& entry : grader::report::testing::ReadZip(options.output, error)) names.insert(entry.name);
   ASSERT_EQ(error, "");
   for (const std::string& name : std::vector<std::string>{
-           "setup.sh", "run_autograder", deb_.filename().string(), "assignment/assignment.yaml", "assignment/README.md",
-           "assignment/scenarios/gather_6.yaml", "assignment/hidden/gather_10_join.yaml"}) {
+           "setup.sh", "run_autograder", "syrof/bin/syrof", "syrof/libexec/syrof/syrof-app-host",
+           "syrof/lib/libsyrof_app.so.1", "syrof/lib/syrof-deps/libyaml-cpp.so.0.7",
+           "syrof/lib/cmake/SyROF/SyROFConfig.cmake", "syrof/include/syrof/app.h", "syrof/gradescope-prefix.txt",
+           "assignment/assignment.yaml", "assignment/README.md", "assignment/scenarios/gather_6.yaml",
+           "assignment/hidden/gather_10_join.yaml"}) {
     EXPECT_TRUE(names.contains(name)) << name;
   }
   for (const std::string& name : names) {
@@ -77,7 +95,7 @@ TEST_F(GradescopeCommandTest, PerStudentSeedsPutTheCourseSecretInTheBundleOrRefu
   GradescopeOptions options;
   options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
   options.output = (dir_ / "autograder.zip").string();
-  options.deb = deb_.string();
+  options.prefix = prefix_.string();
   options.per_student_seeds = true;
   unsetenv("SYROF_COURSE_SECRET");
   const Outcome refused = Gradescope(options);
@@ -120,7 +138,7 @@ TEST_F(GradescopeCommandTest, FindsAnAssignmentByItsFileOrByNameUnderAssignments
 
 TEST_F(GradescopeCommandTest, RefusesAnAssignmentThatIsNotThereOrDoesNotLoad) {
   GradescopeOptions options;
-  options.deb = deb_.string();
+  options.prefix = prefix_.string();
   options.output = (dir_ / "autograder.zip").string();
   options.assignment = "no_such_assignment";
   const Outcome missing = Gradescope(options);
@@ -138,38 +156,61 @@ TEST_F(GradescopeCommandTest, RefusesAnAssignmentThatIsNotThereOrDoesNotLoad) {
   EXPECT_FALSE(fs::exists(options.output));
 }
 
-TEST_F(GradescopeCommandTest, FindsThePackageBesideTheBuildOrSaysHowToMakeOne) {
+TEST_F(GradescopeCommandTest, FindsTheSyrofFolderBesideTheBuildOrSaysHowToMakeOne) {
   const fs::path build = dir_ / "build";
-  fs::create_directories(build);
+  fs::create_directories(build / "bin");
   std::string error;
 
-  EXPECT_EQ(PackageBesideBuild(build, error), "");
-  EXPECT_NE(error.find("no Debian package of SyROF"), std::string::npos) << error;
-  EXPECT_NE(error.find("make package"), std::string::npos) << error;
-  EXPECT_NE(error.find("--deb FILE"), std::string::npos) << error;
+  EXPECT_EQ(PrefixBesideBuild(build, error), "");
+  EXPECT_NE(error.find("no self-contained SyROF for Gradescope beside this build"), std::string::npos) << error;
+  EXPECT_NE(error.find("make gradescope-prefix"), std::string::npos) << error;
+  EXPECT_NE(error.find("--prefix DIR"), std::string::npos) << error;
 
-  const fs::path deb = build / ("syrof_" + std::string(SYROF_VERSION) + "_amd64.deb");
-  fs::copy_file(deb_, deb);
-  std::ofstream(build / "syrof_0.0.1_amd64.deb") << kDebHead;  // another version: not this build's
+  std::ofstream(build / "bin/syrof") << "the build's syrof\n";
+  MakeSyrofFolder(build / "gradescope-prefix");
   error.clear();
-  EXPECT_EQ(PackageBesideBuild(build, error), deb.string()) << error;
+  EXPECT_EQ(PrefixBesideBuild(build, error), (build / "gradescope-prefix").string()) << error;
 
-  std::ofstream(build / ("syrof_" + std::string(SYROF_VERSION) + "_arm64.deb")) << kDebHead;
-  EXPECT_EQ(PackageBesideBuild(build, error), "");
-  EXPECT_NE(error.find("choose one with --deb FILE"), std::string::npos) << error;
+  // The build's syrof rebuilt after the folder was made: the folder would ship the old one.
+  fs::last_write_time(build / "bin/syrof",
+                      fs::last_write_time(build / "gradescope-prefix/gradescope-prefix.txt") + std::chrono::seconds(5));
+  EXPECT_EQ(PrefixBesideBuild(build, error), "");
+  EXPECT_NE(error.find("is older than " + (build / "bin/syrof").string()), std::string::npos) << error;
 }
 
-TEST_F(GradescopeCommandTest, RefusesAPackageThatIsNotOne) {
+TEST_F(GradescopeCommandTest, KeepsTheProgramsExecutableInTheZip) {
   GradescopeOptions options;
   options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
   options.output = (dir_ / "autograder.zip").string();
-  options.deb = (dir_ / "syrof_notes.txt").string();
-  std::ofstream(options.deb) << "hello\n";
+  options.prefix = prefix_.string();
+  ASSERT_EQ(Gradescope(options).status, 0);
+  const fs::path unpacked = dir_ / "unpacked";
+  ASSERT_EQ(grader::report::testing::ExtractZip(options.output, unpacked), "");
+  for (const char* program : {"syrof/bin/syrof", "syrof/libexec/syrof/syrof-app-host", "setup.sh", "run_autograder"}) {
+    EXPECT_NE(fs::status(unpacked / program).permissions() & fs::perms::owner_exec, fs::perms::none) << program;
+  }
+  EXPECT_EQ(fs::status(unpacked / "syrof/lib/libsyrof_app.so.1").permissions() & fs::perms::owner_exec,
+            fs::perms::none);
+}
 
-  const Outcome outcome = Gradescope(options);
+TEST_F(GradescopeCommandTest, RefusesAFolderThatIsNotASelfContainedSyrof) {
+  GradescopeOptions options;
+  options.assignment = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
+  options.output = (dir_ / "autograder.zip").string();
+  options.prefix = prefix_.string();
+  fs::remove(prefix_ / "gradescope-prefix.txt");  // not made (and checked) by scripts/gradescope-prefix.sh
 
-  EXPECT_EQ(outcome.status, 2);
-  EXPECT_NE(outcome.err.find("must be named syrof_<version>_<arch>.deb"), std::string::npos) << outcome.err;
+  const Outcome unchecked = Gradescope(options);
+  options.prefix = (dir_ / "nowhere").string();
+  const Outcome missing = Gradescope(options);
+
+  EXPECT_EQ(unchecked.status, 2);
+  EXPECT_NE(unchecked.err.find("is not a self-contained SyROF for Gradescope: it has no gradescope-prefix.txt"),
+            std::string::npos)
+      << unchecked.err;
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("it has no bin/syrof"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(options.output));
 }
 
 }  // namespace

@@ -33,7 +33,9 @@ std::string Asset(const unsigned char* bytes, size_t size) {
   return std::string(reinterpret_cast<const char*>(bytes), size);
 }
 
-// Lists `folder` into `files` under `prefix`; "" or what went wrong.
+// Lists `folder` into `files` under `prefix`, a file executable when its
+// owner may execute it; "" or what went wrong. `top`: the assignment's
+// folder, whose reference/ and broken/ stay with the instructor.
 std::string ListFolder(const fs::path& folder, const std::string& prefix, bool top, std::vector<BundleFile>& files) {
   std::error_code error;
   fs::directory_iterator it(folder, error);
@@ -51,7 +53,8 @@ std::string ListFolder(const fs::path& folder, const std::string& prefix, bool t
         return problem;
       }
     } else if (fs::is_regular_file(status)) {
-      files.push_back({prefix + name, it->path().string(), {}, false});
+      const bool executable = (status.permissions() & fs::perms::owner_exec) != fs::perms::none;
+      files.push_back({prefix + name, it->path().string(), {}, executable});
     } else {
       return fmt::format("{} is neither a file nor a folder", it->path().string());
     }
@@ -60,14 +63,10 @@ std::string ListFolder(const fs::path& folder, const std::string& prefix, bool t
   return {};
 }
 
-// Whether `path` starts as a Debian package does (an ar archive whose first
-// member is debian-binary).
-bool LooksLikeDeb(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(16, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  return in && head.starts_with("!<arch>\ndebian-b");
-}
+// What a self-contained SyROF folder must hold for grading, relative to it.
+const char* const kSyrofFolderNeeds[] = {"bin/syrof", "libexec/syrof/syrof-app-host", "lib/libsyrof_app.so.1",
+                                         "lib/cmake/SyROF/SyROFConfig.cmake", "include/syrof/app.h",
+                                         kSyrofFolderMark};
 
 // Sets an entry's mode and timestamp; "" or what went wrong.
 std::string SetAttributes(zip_t* zip, zip_int64_t index, zip_uint32_t mode) {
@@ -83,7 +82,7 @@ std::string SetAttributes(zip_t* zip, zip_int64_t index, zip_uint32_t mode) {
 std::string GradescopeSetupScript() { return Asset(kAsset_setup_sh, kAsset_setup_sh_size); }
 std::string GradescopeRunScript() { return Asset(kAsset_run_autograder, kAsset_run_autograder_size); }
 
-BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& deb_path,
+BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& syrof_folder,
                               const std::optional<std::string>& course_secret) {
   BundleResult result;
   const fs::path folder(assignment_folder);
@@ -92,21 +91,22 @@ BundleResult GradescopeBundle(const std::string& assignment_folder, const std::s
     result.error = fmt::format("{} holds no assignment.yaml", assignment_folder);
     return result;
   }
-  const fs::path deb(deb_path);
-  const std::string deb_name = deb.filename().string();
-  if (!deb_name.starts_with("syrof_") || !deb_name.ends_with(".deb")) {
-    result.error = fmt::format("the package {} must be named syrof_<version>_<arch>.deb, as `make package` names it",
-                               deb_path);
-    return result;
-  }
-  if (!fs::is_regular_file(deb, error) || !LooksLikeDeb(deb)) {
-    result.error = fmt::format("{} is not a Debian package (make one with `make package`)", deb_path);
-    return result;
+  for (const char* needed : kSyrofFolderNeeds) {
+    if (!fs::is_regular_file(fs::path(syrof_folder) / needed, error)) {
+      result.error = fmt::format(
+          "{} is not a self-contained SyROF for Gradescope: it has no {} (make one with `make gradescope-prefix`)",
+          syrof_folder, needed);
+      return result;
+    }
   }
   Bundle bundle;
   bundle.files.push_back({"setup.sh", {}, GradescopeSetupScript(), true});
   bundle.files.push_back({"run_autograder", {}, GradescopeRunScript(), true});
-  bundle.files.push_back({deb_name, deb.string(), {}, false});
+  if (std::string problem = ListFolder(syrof_folder, std::string(kSyrofFolder) + "/", false, bundle.files);
+      !problem.empty()) {
+    result.error = problem;
+    return result;
+  }
   if (course_secret) bundle.files.push_back({std::string(kCourseSecretFile), {}, *course_secret + "\n", false});
   if (std::string problem = ListFolder(folder, "assignment/", true, bundle.files); !problem.empty()) {
     result.error = problem;
@@ -163,10 +163,7 @@ std::string WriteBundleZip(const Bundle& bundle, const std::string& zip_path) {
       zip_source_free(source);
       return fail(fmt::format("{}: {}", name, zip_strerror(zip)));
     }
-    // (-1: to the end of the file.) A Debian package is compressed already: stored, it costs no time.
-    const bool store = name.ends_with(".deb");
-    if (zip_set_file_compression(zip, static_cast<zip_uint64_t>(index), store ? ZIP_CM_STORE : ZIP_CM_DEFLATE,
-                                 store ? 0 : 9) != 0) {
+    if (zip_set_file_compression(zip, static_cast<zip_uint64_t>(index), ZIP_CM_DEFLATE, 9) != 0) {
       return fail(zip_strerror(zip));
     }
     if (std::string problem = SetAttributes(zip, index, file->executable ? kExecutableMode : kFileMode);

@@ -1,5 +1,6 @@
-// The Gradescope bundle: what goes in (the scripts, the package, the
-// assignment without its reference and broken folders), the zip's listing,
+// The Gradescope bundle: what goes in (the scripts, SyROF's self-contained
+// folder with its programs' modes, the assignment without its reference and
+// broken folders), the zip's listing,
 // modes and timestamps, the same bytes from the same inputs whenever and
 // wherever it is written, and the inputs it refuses.
 #include "syrof/report/gradescope_bundle.h"
@@ -41,7 +42,8 @@ void Write(const fs::path& path, const std::string& bytes) {
 }
 
 // An assignment folder with every kind of thing a real one holds, and a
-// stand-in package (an ar archive's first bytes are all the bundle checks).
+// stand-in of SyROF's self-contained folder (the files the bundle requires
+// of one, and a bundled library).
 class BundleTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -60,18 +62,22 @@ class BundleTest : public ::testing::Test {
     Write(folder_ / "broken/uses_rand/gather.c", "rand\n");
     Write(folder_ / ".git/config", "[core]\n");
     Write(folder_ / ".hidden_notes", "notes\n");
-    deb_ = root_ / "syrof_0.1.0_amd64.deb";
-    Write(deb_, "!<arch>\ndebian-binary   0           0     0     100644  4         `\n2.0\n");
+    syrof_ = root_ / "prefix";
+    for (const char* file : {"bin/syrof", "libexec/syrof/syrof-app-host", "lib/libsyrof_app.so.1",
+                             "lib/cmake/SyROF/SyROFConfig.cmake", "include/syrof/app.h", "gradescope-prefix.txt"}) {
+      Write(syrof_ / file, std::string(file) + "\n");
+    }
+    fs::permissions(syrof_ / "bin/syrof", fs::perms::owner_all | fs::perms::group_read | fs::perms::others_read);
   }
   void TearDown() override { fs::remove_all(root_); }
 
   fs::path root_;
   fs::path folder_;
-  fs::path deb_;
+  fs::path syrof_;
 };
 
-TEST_F(BundleTest, HoldsTheScriptsThePackageAndTheAssignmentButNotItsSolutions) {
-  const BundleResult result = GradescopeBundle(folder_.string(), deb_.string());
+TEST_F(BundleTest, HoldsTheScriptsSyrofAndTheAssignmentButNotItsSolutions) {
+  const BundleResult result = GradescopeBundle(folder_.string(), syrof_.string());
 
   ASSERT_TRUE(result.ok()) << result.error;
   std::vector<std::string> names;
@@ -79,11 +85,14 @@ TEST_F(BundleTest, HoldsTheScriptsThePackageAndTheAssignmentButNotItsSolutions) 
   EXPECT_EQ(names, (std::vector<std::string>{"assignment/README.md", "assignment/assignment.yaml",
                                              "assignment/hidden/gather_10_crash.yaml",
                                              "assignment/scenarios/gather_6.yaml", "assignment/starter/app.c",
-                                             "run_autograder", "setup.sh", "syrof_0.1.0_amd64.deb"}));
+                                             "run_autograder", "setup.sh", "syrof/bin/syrof",
+                                             "syrof/gradescope-prefix.txt", "syrof/include/syrof/app.h",
+                                             "syrof/lib/cmake/SyROF/SyROFConfig.cmake", "syrof/lib/libsyrof_app.so.1",
+                                             "syrof/libexec/syrof/syrof-app-host"}));
 }
 
 TEST_F(BundleTest, TheZipListsFoldersBeforeTheirFilesWithModesAndOneFixedTime) {
-  const BundleResult result = GradescopeBundle(folder_.string(), deb_.string());
+  const BundleResult result = GradescopeBundle(folder_.string(), syrof_.string());
   ASSERT_TRUE(result.ok()) << result.error;
   const fs::path zip = root_ / "autograder.zip";
 
@@ -104,11 +113,16 @@ TEST_F(BundleTest, TheZipListsFoldersBeforeTheirFilesWithModesAndOneFixedTime) {
                          "assignment/hidden/ 40755", "assignment/hidden/gather_10_crash.yaml 100644",
                          "assignment/scenarios/ 40755", "assignment/scenarios/gather_6.yaml 100644",
                          "assignment/starter/ 40755", "assignment/starter/app.c 100644", "run_autograder 100755",
-                         "setup.sh 100755", "syrof_0.1.0_amd64.deb 100644"}));
+                         "setup.sh 100755", "syrof/ 40755", "syrof/bin/ 40755", "syrof/bin/syrof 100755",
+                         "syrof/gradescope-prefix.txt 100644", "syrof/include/ 40755", "syrof/include/syrof/ 40755",
+                         "syrof/include/syrof/app.h 100644", "syrof/lib/ 40755", "syrof/lib/cmake/ 40755",
+                         "syrof/lib/cmake/SyROF/ 40755", "syrof/lib/cmake/SyROF/SyROFConfig.cmake 100644",
+                         "syrof/lib/libsyrof_app.so.1 100644", "syrof/libexec/ 40755", "syrof/libexec/syrof/ 40755",
+                         "syrof/libexec/syrof/syrof-app-host 100644"}));
   EXPECT_EQ(entries[9].bytes, GradescopeRunScript());
   EXPECT_EQ(entries[10].bytes, GradescopeSetupScript());
-  EXPECT_EQ(entries[11].bytes, ReadFile(deb_));
-  EXPECT_EQ(entries[11].method, ZIP_CM_STORE);  // compressed already
+  EXPECT_EQ(entries[13].bytes, ReadFile(syrof_ / "bin/syrof"));
+  EXPECT_EQ(entries[13].method, ZIP_CM_DEFLATE);
   EXPECT_EQ(entries[2].bytes, "title: Gather\n");
 }
 
@@ -120,14 +134,14 @@ TEST_F(BundleTest, TheSameInputsGiveTheSameBytesWhateverTheClockAndTimeZone) {
 
   setenv("TZ", "UTC", 1);
   tzset();
-  ASSERT_EQ(WriteBundleZip(*GradescopeBundle(folder_.string(), deb_.string()).bundle, first.string()), "");
+  ASSERT_EQ(WriteBundleZip(*GradescopeBundle(folder_.string(), syrof_.string()).bundle, first.string()), "");
   // Newer files, another time zone, a folder listed in another order.
   fs::last_write_time(folder_ / "README.md", fs::file_time_type::clock::now() + std::chrono::hours(30));
   fs::remove(folder_ / "scenarios/gather_6.yaml");
   Write(folder_ / "scenarios/gather_6.yaml", "name: gather_6\n");
   setenv("TZ", "Pacific/Kiritimati", 1);
   tzset();
-  ASSERT_EQ(WriteBundleZip(*GradescopeBundle(folder_.string(), deb_.string()).bundle, second.string()), "");
+  ASSERT_EQ(WriteBundleZip(*GradescopeBundle(folder_.string(), syrof_.string()).bundle, second.string()), "");
 
   if (saved.empty()) {
     unsetenv("TZ");
@@ -140,38 +154,44 @@ TEST_F(BundleTest, TheSameInputsGiveTheSameBytesWhateverTheClockAndTimeZone) {
 }
 
 TEST_F(BundleTest, RefusesAFolderWithoutAnAssignment) {
-  const BundleResult result = GradescopeBundle((folder_ / "scenarios").string(), deb_.string());
+  const BundleResult result = GradescopeBundle((folder_ / "scenarios").string(), syrof_.string());
 
   EXPECT_FALSE(result.ok());
   EXPECT_NE(result.error.find("holds no assignment.yaml"), std::string::npos) << result.error;
 }
 
-TEST_F(BundleTest, RefusesAPackageThatIsNotOneOrIsNamedOtherwise) {
-  const fs::path renamed = root_ / "syrof.deb";
-  fs::copy_file(deb_, renamed);
-  const fs::path text = root_ / "syrof_0.1.0_amd64_text.deb";
-  Write(text, "not a package\n");
+TEST_F(BundleTest, RefusesASyrofFolderThatLacksWhatGradingNeeds) {
+  fs::remove(syrof_ / "libexec/syrof/syrof-app-host");
+  const BundleResult no_host = GradescopeBundle(folder_.string(), syrof_.string());
+  const BundleResult nowhere = GradescopeBundle(folder_.string(), (root_ / "nowhere").string());
 
-  const BundleResult named = GradescopeBundle(folder_.string(), renamed.string());
-  const BundleResult fake = GradescopeBundle(folder_.string(), text.string());
-  const BundleResult missing = GradescopeBundle(folder_.string(), (root_ / "syrof_9_amd64.deb").string());
+  EXPECT_FALSE(no_host.ok());
+  EXPECT_NE(no_host.error.find("it has no libexec/syrof/syrof-app-host (make one with `make gradescope-prefix`)"),
+            std::string::npos)
+      << no_host.error;
+  EXPECT_NE(nowhere.error.find("it has no bin/syrof"), std::string::npos) << nowhere.error;
+}
 
-  EXPECT_NE(named.error.find("must be named syrof_<version>_<arch>.deb"), std::string::npos) << named.error;
-  EXPECT_NE(fake.error.find("is not a Debian package"), std::string::npos) << fake.error;
-  EXPECT_NE(missing.error.find("is not a Debian package"), std::string::npos) << missing.error;
+TEST_F(BundleTest, RefusesASymbolicLinkInTheSyrofFolder) {
+  fs::create_symlink("/etc/passwd", syrof_ / "lib/passwd");
+
+  const BundleResult result = GradescopeBundle(folder_.string(), syrof_.string());
+
+  EXPECT_FALSE(result.ok());
+  EXPECT_NE(result.error.find("is a symbolic link"), std::string::npos) << result.error;
 }
 
 TEST_F(BundleTest, RefusesASymbolicLinkInTheAssignment) {
   fs::create_symlink("/etc/passwd", folder_ / "scenarios/passwd");
 
-  const BundleResult result = GradescopeBundle(folder_.string(), deb_.string());
+  const BundleResult result = GradescopeBundle(folder_.string(), syrof_.string());
 
   EXPECT_FALSE(result.ok());
   EXPECT_NE(result.error.find("is a symbolic link"), std::string::npos) << result.error;
 }
 
 TEST_F(BundleTest, AZipThatCannotBeWrittenSaysWhere) {
-  const BundleResult result = GradescopeBundle(folder_.string(), deb_.string());
+  const BundleResult result = GradescopeBundle(folder_.string(), syrof_.string());
   ASSERT_TRUE(result.ok());
 
   const std::string problem = WriteBundleZip(*result.bundle, "/nonexistent/folder/autograder.zip");
@@ -184,10 +204,13 @@ TEST(GradescopeScriptsTest, TheScriptsTakeTheirRootFromAutograderRoot) {
     EXPECT_TRUE(script.starts_with("#!/usr/bin/env bash\n"));
     EXPECT_NE(script.find("root=\"${AUTOGRADER_ROOT:-/autograder}\""), std::string::npos);
   }
+  EXPECT_NE(GradescopeRunScript().find("syrof=\"$root/source/syrof/bin/syrof\""), std::string::npos);
   EXPECT_NE(GradescopeRunScript().find(
-                "syrof grade \"$root/submission\" --assignment \"$root/source/assignment\" --out \"$out\""),
+                "\"$syrof\" grade \"$root/submission\" --assignment \"$root/source/assignment\" --out \"$out\""),
             std::string::npos);
-  EXPECT_NE(GradescopeSetupScript().find("apt-get install -y"), std::string::npos);
+  // Nothing of SyROF from apt: only the tools a submission's build needs.
+  EXPECT_EQ(GradescopeSetupScript().find(".deb"), std::string::npos);
+  EXPECT_NE(GradescopeSetupScript().find("apt-get install -y -q --no-install-recommends"), std::string::npos);
 }
 
 }  // namespace

@@ -1,9 +1,13 @@
 // The Gradescope autograder bundle (docs/grading.md, "Publishing to
 // Gradescope"): the zip `syrof gradescope` writes. At its root, as
-// Gradescope requires, `setup.sh` (installs SyROF from the Debian package
-// beside it) and `run_autograder` (grades /autograder/submission with
-// `syrof grade` into /autograder/results/results.json); the package; and the
-// assignment's folder under assignment/, hidden sets included, its
+// Gradescope requires, `setup.sh` (installs a compiler, CMake and make from
+// the image's own archive where missing, and checks that the bundled syrof
+// runs) and `run_autograder` (grades /autograder/submission with the
+// bundled `syrof grade` into /autograder/results/results.json); under
+// syrof/, SyROF as a self-contained folder (its programs, libsyrof_app, the
+// app API's headers, its CMake package, and every shared library they need
+// that is not glibc's or the C++ runtime's: scripts/gradescope-prefix.sh);
+// and the assignment's folder under assignment/, hidden sets included, its
 // reference/ and broken/ folders (and dot files) left out.
 //
 // The zip is deterministic: entries sorted by name, every timestamp
@@ -23,7 +27,7 @@ struct BundleFile {
   std::string name;         ///< its path in the zip, '/'-separated, relative
   std::string source_path;  ///< a file to copy; empty when `bytes` is the content
   std::string bytes;
-  bool executable = false;  ///< mode 0755 instead of 0644
+  bool executable = false;  ///< mode 0755 instead of 0644 (the scripts, and files their owner may execute)
 };
 
 struct Bundle {
@@ -46,12 +50,20 @@ std::string GradescopeRunScript();
 /// hidden seeds from it and the submitting users when it is there.
 inline constexpr const char* kCourseSecretFile = "course_secret";
 
+/// Where the bundle holds SyROF, and the file scripts/gradescope-prefix.sh
+/// writes into a folder it made and checked (every ELF file fits Ubuntu
+/// 22.04's glibc 2.35 and libstdc++; what it bundled).
+inline constexpr const char* kSyrofFolder = "syrof";
+inline constexpr const char* kSyrofFolderMark = "gradescope-prefix.txt";
+
 /// The bundle of the assignment in `assignment_folder` (which holds
-/// assignment.yaml) with the package `deb_path`, which must be a Debian
-/// package named syrof_*.deb. Reads the folder's listing, not its files.
+/// assignment.yaml) with the self-contained SyROF in `syrof_folder` (as
+/// scripts/gradescope-prefix.sh makes it: it must hold bin/syrof, the app
+/// host, libsyrof_app, the CMake package, the app API's header and
+/// kSyrofFolderMark). Reads the folders' listings, not their files.
 /// With `course_secret`, the bundle holds it as kCourseSecretFile: the zip
 /// is then as secret as the secret.
-BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& deb_path,
+BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& syrof_folder,
                               const std::optional<std::string>& course_secret = std::nullopt);
 
 /// Writes `bundle` as a zip at `zip_path` (replacing it). Returns "" or
