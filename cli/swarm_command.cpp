@@ -7,6 +7,7 @@
 #include <atomic>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include <fmt/ostream.h>
@@ -49,6 +50,14 @@ CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
                   "Robots align their rounds from the beacons they hear and number their own (hosts without synchronised clocks; docs/dds.md)");
   swarm->add_flag("--realtime-start", options.realtime_start,
                   "Robots read the start on CLOCK_REALTIME (robots on several hosts whose clocks are kept in sync)");
+  swarm->add_option("--stress", options.stress_seed,
+                    "Seeded stress: SIGSTOP bursts of 10-200 ms to robots and the world; a failing run reruns from its seed (docs/dds.md)")
+      ->check(CLI::Range(uint64_t{1}, std::numeric_limits<uint64_t>::max()));
+  swarm->add_option("--stress-rate", options.stress_rate, "With --stress: bursts a second over the swarm (default 4)")
+      ->check(CLI::Range(0.0, 100.0));
+  swarm->add_option("--stress-cpu-quota", options.stress_cpu_quota,
+                    "With --stress: the robot processes together get this many per mille of one core (a cgroup; root)")
+      ->check(CLI::Range(1, 1000));
   swarm->add_flag("--quiet", options.quiet, "No progress line, no summary");
   lab::live::SetupLiveOptions(*swarm, options.live);
   swarm->footer(
@@ -87,6 +96,9 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
   swarm.align_rounds = options.align_rounds;
   swarm.realtime_start = options.realtime_start;
   swarm.domain_id = options.domain;
+  swarm.stress.seed = options.stress_seed;
+  swarm.stress.stalls_per_second = options.stress_rate;
+  swarm.stress.cpu_quota_permille = options.stress_cpu_quota;
   g_swarm_stop.store(false);
   swarm.stop = &g_swarm_stop;
   struct sigaction action {};
@@ -131,6 +143,10 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
     if (live) live->SetReplayPage(std::nullopt);
     return result.exit_code == 2 ? kBadInput : kInternalError;
   }
+  if (result.stress_seed != 0 && result.metrics.common_knowledge.violations > 0) {
+    fmt::print(err, "syrof swarm: P3 violated under stress seed {} ({} stalls): rerun with --stress {}\n",
+               result.stress_seed, result.stalls, result.stress_seed);
+  }
   if (!options.quiet) {
     const lab::metrics::Metrics& metrics = result.metrics;
     if (result.stopped_early) fmt::print(out, "  stopped early (signal): the metrics cover what ran\n");
@@ -148,6 +164,12 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
       fmt::print(out, "  {:<17} CPU per robot process {:.1f}% mean, {:.1f}% max (of one core)\n", "",
                  100.0 * cpu_sum / static_cast<double>(result.cpu_seconds.size()) / wall, 100.0 * cpu_max / wall);
     }
+  }
+  if (!options.quiet && result.stress_seed != 0) {
+    fmt::print(out, "  {:<17} seed {}: {} SIGSTOP bursts{} (rerun: --stress {})\n", "stress", result.stress_seed,
+               result.stalls,
+               options.stress_cpu_quota > 0 ? fmt::format(", robots at {} per mille of a core", options.stress_cpu_quota) : "",
+               result.stress_seed);
   }
   if (live) lab::live::EndLive(*live, options.live, swarm.replay ? (std::filesystem::path(swarm.out_dir) / "replay").string() : "", out);
   return kOk;

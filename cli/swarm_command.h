@@ -28,6 +28,9 @@ struct SwarmOptions {
   bool realtime = false;
   bool align_rounds = false;
   bool realtime_start = false;
+  uint64_t stress_seed = 0;           ///< --stress SEED: seeded SIGSTOP bursts (docs/dds.md, "Stress")
+  uint32_t stress_cpu_quota = 0;      ///< --stress-cpu-quota PERMILLE of one core for the robots
+  double stress_rate = 4;             ///< --stress-rate: bursts a second
   lab::live::LiveCommandOptions live;  ///< the live page while the swarm runs
 };
 

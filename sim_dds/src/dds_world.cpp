@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <sched.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -10,6 +11,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -218,6 +221,11 @@ class DdsWorld {
   void EndAll();
   void TakeStatus();
 
+  // ---- Stress (stress.h)
+  bool StartStress();
+  void ApplyStalls();
+  void EndStress();
+
   // ---- The run
   void Step();
   void TakeDrives();
@@ -290,6 +298,16 @@ class DdsWorld {
   int64_t round_origin_ = 0;
   std::vector<std::optional<int64_t>> robot_origins_;
 
+  // ---- Stress: the plan, the robots stopped now (until when, run time;
+  // -1: not stopped by the stress), the process that stops the world, and
+  // the robots' CPU quota.
+  std::vector<Stall> stalls_;
+  size_t next_stall_ = 0;
+  std::vector<int64_t> stalled_until_;
+  pid_t world_staller_ = -1;
+  std::atomic<int>* staller_stop_ = nullptr;  // shared with the staller (an anonymous shared page)
+  std::unique_ptr<CpuQuotaGroup> quota_;
+
   int64_t step_ns_ = 0;
   int64_t next_truth_ = 1;  // the next round whose boundary truth is taken
   double wall_seconds_ = 0;
@@ -319,7 +337,8 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
       player_(scenario, world_, recorder_.collector()),
       robot_rounds_(swarm_size_),
       frames_(swarm_size_),
-      robot_origins_(swarm_size_) {
+      robot_origins_(swarm_size_),
+      stalled_until_(swarm_size_, -1) {
   recorder_.MeasureAgreement();  // the robots report every app return (kAppState)
   robot_options_.scenario_path = options.scenario_path;
   robot_options_.overrides = options.overrides;
@@ -411,6 +430,7 @@ bool DdsWorld::Spawn(uint16_t id) {
   if (group_ == 0) group_ = pid;
   robots_[id].pid = pid;
   result_.robot_pids.push_back(pid);
+  if (quota_ && !quota_->Add(pid)) log_ << "syrof swarm: robot " << id << " could not join " << quota_->path() << "\n";
   return true;
 }
 
@@ -429,6 +449,7 @@ void DdsWorld::Reap(RobotSlot& r, bool block) {
 
 // Every exit path ends every robot: SIGKILL to the group, then reap.
 void DdsWorld::EndAll() {
+  EndStress();
   if (group_ > 0) (void)kill(-group_, SIGKILL);
   for (RobotSlot& r : robots_) {
     if (r.pid > 0 && !r.reaped) (void)kill(r.pid, SIGKILL);
@@ -437,6 +458,10 @@ void DdsWorld::EndAll() {
 }
 
 bool DdsWorld::SpawnPresentRobots() {
+  if (options_.stress.on() && options_.stress.cpu_quota_permille > 0) {
+    quota_ = std::make_unique<CpuQuotaGroup>(options_.stress.cpu_quota_permille);
+    if (!quota_->ok()) return Fail(1, "stress: " + quota_->error());
+  }
   for (uint16_t id = 0; id < swarm_size_; ++id) {
     if (scenario_.robots[id].present_at_start && !Spawn(id)) return Fail(1, "fork failed for robot " + std::to_string(id));
   }
@@ -490,7 +515,108 @@ bool DdsWorld::Start() {
   control_sample_.radio_round_ns = radio_round_ns_;
   if (dds_write(control_, &control_sample_) < 0) return Fail(1, "the control sample could not be written");
   player_.StartPresentRobots(runtime_);
+  return StartStress();
+}
+
+// ---- Stress (stress.h) ----------------------------------------------------------
+
+// The plan from the seed; the world's own stalls are played by a child
+// process, since a stopped process cannot wake itself.
+bool DdsWorld::StartStress() {
+  if (!options_.stress.on()) return true;
+  if (const std::string why = CheckStressOptions(options_.stress); !why.empty()) return Fail(2, "stress: " + why);
+  stalls_ = PlanStalls(options_.stress, duration_ns_, swarm_size_);
+  result_.stress_seed = options_.stress.seed;
+  std::vector<std::pair<int64_t, int64_t>> world_stalls;  // monotonic start, length
+  for (const Stall& stall : stalls_) {
+    if (stall.target == kStallWorld) world_stalls.emplace_back(start_monotonic_ns_ + stall.at_ns, stall.duration_ns);
+  }
+  log_ << "syrof swarm: stress seed " << options_.stress.seed << ": " << stalls_.size() << " SIGSTOP bursts of "
+       << options_.stress.min_stall_ms << "-" << options_.stress.max_stall_ms << " ms (" << world_stalls.size()
+       << " of the world)";
+  if (quota_) log_ << ", robots' CPU quota " << options_.stress.cpu_quota_permille << " per mille of a core";
+  log_ << "\n";
+  result_.stalls += static_cast<int64_t>(world_stalls.size());
+  if (world_stalls.empty()) return true;
+  void* page = mmap(nullptr, sizeof(std::atomic<int>), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+  if (page == MAP_FAILED) return Fail(1, "stress: mmap failed");
+  staller_stop_ = new (page) std::atomic<int>(0);
+  const pid_t world = getpid();
+  const pid_t pid = fork();
+  if (pid < 0) return Fail(1, "stress: fork failed");
+  if (pid == 0) {
+    // Only async-signal-safe calls: sleep, stop the world, sleep, resume it.
+    // It checks the stop flag at least every 10 ms, and never leaves the
+    // world stopped: each SIGSTOP is followed by its SIGCONT.
+    (void)prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != world) _exit(0);
+    const auto sleep_until = [this](int64_t until_ns) {
+      for (;;) {
+        if (staller_stop_->load() != 0) return false;
+        const int64_t now = MonotonicNow();
+        if (now >= until_ns) return true;
+        const int64_t step = std::min<int64_t>(until_ns - now, 10'000'000);
+        timespec t{static_cast<time_t>(step / 1'000'000'000), static_cast<long>(step % 1'000'000'000)};
+        (void)nanosleep(&t, nullptr);
+      }
+    };
+    for (const auto& [at, length] : world_stalls) {
+      if (!sleep_until(at)) break;
+      (void)kill(world, SIGSTOP);
+      timespec t{static_cast<time_t>(length / 1'000'000'000), static_cast<long>(length % 1'000'000'000)};
+      while (nanosleep(&t, &t) != 0 && errno == EINTR) {
+      }
+      (void)kill(world, SIGCONT);
+    }
+    _exit(0);
+  }
+  world_staller_ = pid;
   return true;
+}
+
+// Robot stalls due by now on the run's grid: SIGSTOP, and SIGCONT at their
+// end unless the scenario has paused, crashed or ended the robot meanwhile.
+void DdsWorld::ApplyStalls() {
+  for (uint16_t id = 0; id < swarm_size_; ++id) {
+    if (stalled_until_[id] < 0 || stalled_until_[id] > step_ns_) continue;
+    stalled_until_[id] = -1;
+    if (player_.running(id) && robots_[id].pid > 0) (void)kill(robots_[id].pid, SIGCONT);
+  }
+  while (next_stall_ < stalls_.size() && stalls_[next_stall_].at_ns <= step_ns_) {
+    const Stall& stall = stalls_[next_stall_++];
+    if (stall.target == kStallWorld || stall.target >= swarm_size_) continue;
+    RobotSlot& r = robots_[stall.target];
+    if (!player_.running(stall.target) || r.pid <= 0) continue;
+    if (stalled_until_[stall.target] < 0) {
+      (void)kill(r.pid, SIGSTOP);
+      ++result_.stalls;
+    }
+    stalled_until_[stall.target] = std::max(stalled_until_[stall.target], stall.at_ns + stall.duration_ns);
+  }
+}
+
+// No stall outlives the run: robots resumed, the world's staller told to
+// stop and reaped (it finishes the stall it is in, if any).
+void DdsWorld::EndStress() {
+  next_stall_ = stalls_.size();
+  for (uint16_t id = 0; id < swarm_size_; ++id) {
+    if (stalled_until_[id] < 0) continue;
+    stalled_until_[id] = -1;
+    if (player_.lifecycle(id) != lab::sim::Lifecycle::kPaused && robots_[id].pid > 0 && !robots_[id].reaped) {
+      (void)kill(robots_[id].pid, SIGCONT);
+    }
+  }
+  if (world_staller_ > 0) {
+    staller_stop_->store(1);
+    int status = 0;
+    while (waitpid(world_staller_, &status, 0) < 0 && errno == EINTR) {
+    }
+    world_staller_ = -1;
+  }
+  if (staller_stop_ != nullptr) {
+    (void)munmap(staller_stop_, sizeof(std::atomic<int>));
+    staller_stop_ = nullptr;
+  }
 }
 
 void DdsWorld::Run() {
@@ -506,6 +632,7 @@ void DdsWorld::Run() {
     const int64_t wait = due - MonotonicNow();
     if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
     Step();
+    ApplyStalls();
     TakeReports();
     if (options_.align_rounds) FollowRobots();
     TakeStatus();
@@ -783,6 +910,7 @@ void DdsWorld::BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns) {
 
 // Let the last rounds' reports arrive, then record them.
 void DdsWorld::DrainReports() {
+  EndStress();
   last_round_ = RoundAt(start_monotonic_ns_ + step_ns_);
   const int64_t drain_until = MonotonicNow() + 300'000'000;
   while (MonotonicNow() < drain_until) {

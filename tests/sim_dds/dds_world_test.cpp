@@ -15,6 +15,7 @@
 #include <sstream>
 #include <vector>
 #include <thread>
+#include <tuple>
 
 #include "test_domain.h"
 
@@ -204,6 +205,37 @@ TEST_P(FaultSwarmTest, CrashPauseAndJoinAreRealSignalsAndTheSwarmKeepsP3) {
 INSTANTIATE_TEST_SUITE_P(Rounds, FaultSwarmTest, ::testing::Values(false, true),
                          [](const ::testing::TestParamInfo<bool>& param) {
                            return param.param ? std::string("AligningFromBeacons") : std::string("OnTheWorldsGrid");
+                         });
+
+// Seeded stress (stress.h): crash, pause, a late join and 10 % loss, with
+// robots and the world stopped by SIGSTOP bursts of 10-200 ms. P3 holds;
+// a failure names the seed that reruns it (`syrof swarm
+// tests/sim_dds/scenarios/swarm_stress.yaml --stress SEED`). The long runs
+// are bench_sim_dds_stress's (docs/dds.md, "Stress").
+class StressedSwarmTest : public ::testing::TestWithParam<std::tuple<bool, uint64_t>> {};
+
+TEST_P(StressedSwarmTest, P3HoldsUnderSigstopBursts) {
+  SwarmOptions options = OptionsFor("swarm_stress.yaml");
+  options.align_rounds = std::get<0>(GetParam());
+  options.stress.seed = std::get<1>(GetParam());
+  std::ostringstream log;
+  const SwarmResult result = RunSwarm(options, log);
+  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
+  EXPECT_EQ(result.stress_seed, options.stress.seed);
+  EXPECT_GT(result.stalls, 0);
+  EXPECT_EQ(m["common_knowledge"]["violations"], 0)
+      << "stress seed " << options.stress.seed << (options.align_rounds ? " --align-rounds" : "") << ": "
+      << m["common_knowledge"]["first_violations"].dump() << "\n" << log.str();
+  ExpectNoRobotLeft(result);
+  std::filesystem::remove_all(options.out_dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, StressedSwarmTest,
+                         ::testing::Combine(::testing::Values(false, true), ::testing::Values(uint64_t{1}, uint64_t{2})),
+                         [](const ::testing::TestParamInfo<std::tuple<bool, uint64_t>>& param) {
+                           return std::string(std::get<0>(param.param) ? "Aligning" : "OnTheGrid") + "Seed" +
+                                  std::to_string(std::get<1>(param.param));
                          });
 
 TEST(SwarmTest, AStopRequestEndsTheRunEarlyWithEveryRobotStopped) {

@@ -30,6 +30,7 @@
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/round_sink.h"
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/sim_dds/stress.h"
 
 namespace syrof::sim_dds {
 
@@ -68,6 +69,9 @@ struct SwarmOptions {
   const std::atomic<bool>* stop = nullptr;
   /// Called about once a second of run time.
   std::function<void(double run_seconds)> progress;
+  /// Seeded stress (stress.h, docs/dds.md "Stress"): SIGSTOP bursts of
+  /// robots and the world, a CPU quota. Off unless stress.seed is set.
+  StressOptions stress;
 };
 
 /// Round-start skew over the run: per round, the spread (latest minus
@@ -93,6 +97,8 @@ struct SwarmResult {
   /// a robot never started.
   std::vector<std::optional<int>> robot_exits;
   bool stopped_early = false;
+  uint64_t stress_seed = 0;  ///< the stress's seed (0: none): rerun with it
+  int64_t stalls = 0;        ///< SIGSTOP bursts applied (robots and world)
 };
 
 /// Runs the scenario as a DDS swarm. Blocks for about its duration.
