@@ -41,7 +41,7 @@ std::vector<std::string> NoteLines(uint32_t notes) {
     lines.push_back("sanitizer build: no address-space limit and no allocation guard in the app hosts");
   }
   if ((notes & p::kNoteNoCloseRange) != 0) {
-    lines.push_back("close_range unavailable: the app hosts close descriptors 4..1023 one by one");
+    lines.push_back("close_range unavailable: the app hosts close their descriptors one by one");
   }
   if ((notes & p::kNoteNoLandlock) != 0) {
     lines.push_back("Landlock unavailable (kernel older than 5.13, or not enabled): a library's constructors "

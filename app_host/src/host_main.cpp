@@ -10,6 +10,7 @@
 // names first in a fault frame (a forbidden system call, a refused
 // allocation, a library that does not load); the parent reads signals and
 // exits from the process itself.
+#include <dirent.h>
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <grp.h>
@@ -22,6 +23,7 @@
 #include <sys/personality.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <termios.h>
 #include <unistd.h>
@@ -305,13 +307,41 @@ std::string FolderOf(const std::string& path) {
   return slash == 0 ? "/" : path.substr(0, slash);
 }
 
+// A shared object's file name: NAME.so, NAME.so.1, NAME.so.1.2.
+bool IsSharedObjectName(const char* name) {
+  for (const char* so = strstr(name, ".so"); so != nullptr; so = strstr(so + 1, ".so")) {
+    if (so != name && (so[3] == '\0' || so[3] == '.')) return true;
+  }
+  return false;
+}
+
+// Allows reading and executing each shared object directly beside
+// `library` (a library of the student's own that it links), each file by
+// its own rule: no folder, so nothing else beside it and nothing beneath
+// it. Symbolic links are left out (their targets beside it have rules of
+// their own).
+bool AllowSharedObjectsBeside(syrof::app_host::FileRuleset& rules, const char* library) {
+  const std::string folder = FolderOf(library);
+  DIR* listing = opendir(folder.c_str());
+  if (listing == nullptr) return true;  // nothing beside it can be allowed
+  bool ok = true;
+  while (const dirent* entry = readdir(listing)) {
+    if (!IsSharedObjectName(entry->d_name)) continue;
+    ok = ok && rules.AllowPlainFile(folder + "/" + entry->d_name, syrof::app_host::FileRuleset::Access::kReadExecute);
+  }
+  closedir(listing);
+  return ok;
+}
+
 // What the dynamic loader and the library's constructors may read: the
-// library's file and folder, libsyrof_app's folder, and the system's
-// library folders with the loader's cache. Nothing may be written, nor any
-// other file read (docs/app_host.md, "What a library may touch"). Built
-// while the host is still the caller's uid (it may have to reach a folder
-// only the caller reads); applied after the uid drop. False (and `error`)
-// when a rule is refused; `rules.created()` false when Landlock is missing.
+// library's file and the shared objects directly beside it (file rules,
+// not the folder: a library run from the top of a course folder reads
+// nothing of the course), libsyrof_app's folder, and the system's library
+// folders with the loader's cache. Nothing may be written, nor any other
+// file read (docs/app_host.md, "What a library may touch"). Built while the
+// host is still the caller's uid (it may have to reach a folder only the
+// caller reads); applied after the uid drop. False (and `error`) when a
+// rule is refused; `rules.created()` false when Landlock is missing.
 bool LoaderFileRules(syrof::app_host::FileRuleset& rules, const char* library, std::string& error) {
   using Access = syrof::app_host::FileRuleset::Access;
   if (!rules.Create()) return true;
@@ -320,7 +350,7 @@ bool LoaderFileRules(syrof::app_host::FileRuleset& rules, const char* library, s
   if (dladdr(reinterpret_cast<void*>(&syrof_internal_host_bind), &info) != 0 && info.dli_fname != nullptr) {
     own_library = info.dli_fname;
   }
-  bool ok = rules.Allow(library, Access::kReadExecute) && rules.Allow(FolderOf(library), Access::kRead);
+  bool ok = rules.Allow(library, Access::kReadExecute) && AllowSharedObjectsBeside(rules, library);
   if (!own_library.empty()) ok = ok && rules.Allow(FolderOf(own_library), Access::kReadExecute);
   for (const char* system : {"/lib", "/lib32", "/lib64", "/libx32", "/usr/lib", "/usr/lib32", "/usr/lib64",
                              "/usr/libx32", "/usr/local/lib", "/etc/ld.so.cache"}) {
@@ -410,10 +440,15 @@ int main(int argc, char** argv) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (getppid() != parent) _exit(p::kExitParentGone);
 
-  // 2. Every descriptor but 0-3 closed.
+  // 2. Every descriptor but 0-3 closed: nothing the parent had open
+  //    without close-on-exec reaches the library (docs/app_host.md).
   if (syscall(SYS_close_range, 4u, ~0u, 0u) != 0) {
     notes |= p::kNoteNoCloseRange;
-    for (int fd = 4; fd < 1024; ++fd) close(fd);
+    rlimit limit{};
+    const int most = getrlimit(RLIMIT_NOFILE, &limit) == 0 && limit.rlim_max < (1u << 20)
+                         ? static_cast<int>(limit.rlim_max)
+                         : 1 << 20;
+    for (int fd = 4; fd < most; ++fd) close(fd);
   }
 
   // 3. Limits: no core files, no files written, few descriptors, bounded memory.

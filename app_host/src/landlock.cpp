@@ -114,16 +114,25 @@ bool FileRuleset::Create() {
   return true;
 }
 
-bool FileRuleset::Allow(const std::string& path, Access access) {
+bool FileRuleset::Allow(const std::string& path, Access access) { return AddRule(path, access, false); }
+
+bool FileRuleset::AllowPlainFile(const std::string& path, Access access) { return AddRule(path, access, true); }
+
+bool FileRuleset::AddRule(const std::string& path, Access access, bool plain_file_only) {
   if (fd_ < 0) return false;
-  const int target = open(path.c_str(), O_PATH | O_CLOEXEC);
+  const int target = open(path.c_str(), O_PATH | O_CLOEXEC | (plain_file_only ? O_NOFOLLOW : 0));
   if (target < 0) {
     if (errno == ENOENT || errno == ENOTDIR) return true;
     error_ = "cannot open " + path + " for a Landlock rule: " + std::strerror(errno);
     return false;
   }
   struct stat status {};
-  const bool is_file = fstat(target, &status) == 0 && !S_ISDIR(status.st_mode);
+  const bool stated = fstat(target, &status) == 0;
+  if (plain_file_only && (!stated || !S_ISREG(status.st_mode) || status.st_nlink != 1)) {
+    close(target);  // a symbolic link (O_PATH|O_NOFOLLOW opens the link itself), a folder, a device, a hard link
+    return true;
+  }
+  const bool is_file = stated && !S_ISDIR(status.st_mode);
   uint64_t rights = kFsReadFile | kFsReadDir;
   if (access == Access::kReadExecute) rights |= kFsExecute;
   if (access == Access::kReadWrite) rights = handled_fs_;

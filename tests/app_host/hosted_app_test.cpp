@@ -2,6 +2,7 @@
 // the parent survives, no child is left behind, and a well-behaved library
 // works as it would in-process.
 #include <dirent.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -16,6 +17,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -418,6 +420,64 @@ TEST_F(HostedAppTest, AConstructorReadsNothingOutsideTheLibrariesFolders) {
   EXPECT_NE(log.find("cannot read /etc/passwd: Permission denied"), std::string::npos) << log;
   EXPECT_NE(log.find("cannot read /proc/self/environ: Permission denied"), std::string::npos) << log;
   for (const std::string& note : SandboxNotes()) EXPECT_EQ(note.find("Landlock"), std::string::npos) << note;
+}
+
+// What the load stage was not handed stays out of its reach: a descriptor
+// this process holds without close-on-exec (the host closes all but 0-3
+// before anything of the library runs); a file below the library's folder
+// (DIR/elsewhere/hidden/tests.yaml: a library run from the top of a course
+// folder) and one beside it that is no shared object (Landlock names the
+// library and the shared objects beside it, file by file, not the folder).
+// A shared object beside it stays readable. Every canary is readable by
+// every uid, so only the host's layers stop them.
+TEST_F(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSharedObjects) {
+  if (LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
+  const std::string descriptor_text = "CANARY-descriptor-0b7d";
+  const std::string below_text = "CANARY-below-the-library-41c9";
+  const std::string beside_text = "CANARY-beside-the-library-93fe";
+  std::filesystem::create_directories(std::filesystem::path(SYROF_TEST_BELOW_FILE).parent_path());
+  for (const auto& [path, text] : {std::pair{std::string(SYROF_TEST_CANARY_FILE), descriptor_text},
+                                   std::pair{std::string(SYROF_TEST_BELOW_FILE), below_text},
+                                   std::pair{std::string(SYROF_TEST_BESIDE_FILE), beside_text}}) {
+    std::ofstream(path) << text << "\n";
+    std::filesystem::permissions(path, std::filesystem::perms::all);
+  }
+  const int inherited = open(SYROF_TEST_CANARY_FILE, O_RDONLY);  // no O_CLOEXEC, on purpose
+  ASSERT_GE(inherited, 0);
+  const int seven = fcntl(7, F_GETFD) == -1 ? dup2(inherited, 7) : -1;  // the finding's number when free
+  options_.library_path = Library("snoop_on_load");
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  uint8_t state = 0;
+  const app::CallStatus init = app->Init(info_, platform_, state);
+  close(inherited);
+  if (seven >= 0) close(seven);
+  ASSERT_TRUE(init.ok()) << app::ToString(init.verdict()) << ": " << init.detail();
+  app.reset();
+
+  const std::string log = Log(1);
+  for (const std::string& text : {descriptor_text, below_text, beside_text}) {
+    EXPECT_EQ(log.find(text), std::string::npos) << text << " leaked:\n" << log;
+  }
+  // (The one it may read is the library itself, which the host opened.)
+  EXPECT_NE(log.find("descriptors read: "), std::string::npos) << "the constructor ran: " << log;
+  EXPECT_NE(log.find(std::string("cannot read ") + SYROF_TEST_BELOW_FILE + ": Permission denied"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find(std::string("cannot read ") + SYROF_TEST_BESIDE_FILE + ": Permission denied"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find(std::string("read ") + SYROF_TEST_SIBLING_FILE + ": ?ELF"), std::string::npos) << log;
+}
+
+// A library that links a shared library of its own beside it loads: the
+// rules that keep the rest of its folder out let the loader map that one.
+TEST_F(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
+  options_.library_path = Library("needs_sibling");
+  const LibraryCheck check = CheckLibrary(options_);
+  ASSERT_TRUE(check.ok) << check.error;
+  std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+  uint8_t state = 0;
+  const app::CallStatus init = app->Init(info_, platform_, state);
+  ASSERT_TRUE(init.ok()) << app::ToString(init.verdict()) << ": " << init.detail();
+  EXPECT_EQ(state, 42) << "the answer of libsibling.so";
 }
 
 TEST_F(HostedAppTest, TheHostRunsHardened) {

@@ -53,6 +53,12 @@ class FileRuleset {
   /// the kernel refuses the rule.
   bool Allow(const std::string& path, Access access);
 
+  /// Allows `access` on the file `path` alone when it is a regular file with
+  /// one link, opened without following a symbolic link (so no link can
+  /// name a file elsewhere); anything else is left out and returns true.
+  /// False and error() when the kernel refuses the rule.
+  bool AllowPlainFile(const std::string& path, Access access);
+
   /// Applies the ruleset to the calling thread and everything it starts
   /// (no_new_privs first, as Landlock requires). Returns 0 or an errno.
   /// Only system calls: safe between fork and exec.
@@ -66,6 +72,8 @@ class FileRuleset {
   const std::string& error() const { return error_; }
 
  private:
+  bool AddRule(const std::string& path, Access access, bool plain_file_only);
+
   int fd_ = -1;
   int abi_ = 0;
   unsigned long long handled_fs_ = 0;

@@ -1,0 +1,57 @@
+/* A constructor that looks for what it was not handed: every descriptor the
+ * host might have inherited (read with pread, which needs no open), a file
+ * below its own folder (SYROF_TEST_BELOW_FILE: DIR/elsewhere/hidden/
+ * tests.yaml, as a course folder holds), a file beside it that is not a
+ * shared object (SYROF_TEST_BESIDE_FILE), and a shared object beside it
+ * (SYROF_TEST_SIBLING_FILE, which the loader may need). It prints what it
+ * read; the app then behaves. */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+/* The first line of what was read, printable bytes only. */
+static void PrintLine(const char* what, const char* bytes, ssize_t size) {
+  char line[128];
+  size_t length = 0;
+  for (ssize_t i = 0; i < size && bytes[i] != '\n' && length + 1 < sizeof line; ++i) {
+    line[length++] = bytes[i] >= 0x20 && bytes[i] < 0x7f ? bytes[i] : '?';
+  }
+  line[length] = '\0';
+  printf("read %s: %s\n", what, line);
+}
+
+static void TryToRead(const char* path) {
+  const int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    printf("cannot read %s: %s\n", path, strerror(errno));
+    return;
+  }
+  char bytes[256];
+  const ssize_t got = read(fd, bytes, sizeof bytes);
+  close(fd);
+  if (got >= 0) PrintLine(path, bytes, got);
+}
+
+__attribute__((constructor)) static void SnoopOnLoad(void) {
+  char bytes[256];
+  int descriptors_read = 0;
+  for (int fd = 0; fd < 1024; ++fd) {
+    const ssize_t got = pread(fd, bytes, sizeof bytes, 0);
+    if (got > 0) {
+      char what[32];
+      snprintf(what, sizeof what, "descriptor %d", fd);
+      PrintLine(what, bytes, got);
+      ++descriptors_read;
+    }
+  }
+  printf("descriptors read: %d\n", descriptors_read);
+  TryToRead(SYROF_TEST_BELOW_FILE);
+  TryToRead(SYROF_TEST_BESIDE_FILE);
+  TryToRead(SYROF_TEST_SIBLING_FILE);
+  fflush(stdout);
+}
+
+#define MISBEHAVE(ldmap) (void)0
+#include "hostile.h"
