@@ -62,6 +62,7 @@ std::vector<std::pair<std::string, std::string>> SkeletonFiles(const std::string
       {"README.md", assignment("README.md.in")},
       {"scenarios/spread_6.yaml", assignment("spread_6.yaml.in")},
       {"hidden/spread_8_loss.yaml", assignment("spread_8_loss.yaml.in")},
+      {"search/spread_3_vote1.yaml", assignment("spread_3_vote1.yaml.in")},
       {"reference/CMakeLists.txt", project("CMakeLists.txt.in")},
       {"reference/" + source, project("app.c")},
       {"reference/expected.yaml", assignment("reference_expected.yaml")},
@@ -128,7 +129,8 @@ int RunAssignmentNew(const AssignmentNewOptions& options, std::ostream& out, std
   }
   fmt::print(out,
              "syrof assignment new: wrote {0}/: assignment.yaml, README.md, scenarios/spread_6.yaml, "
-             "hidden/spread_8_loss.yaml, reference/, starter/, broken/off_by_one/\n"
+             "hidden/spread_8_loss.yaml, search/spread_3_vote1.yaml (a search test's, off), reference/, starter/, "
+             "broken/off_by_one/\n"
              "The skeleton's task: spread on a circle; its reference is the app `syrof new` writes, its starter "
              "holds still, and broken/off_by_one spaces the points for one robot too few.\n"
              "Next: check it as written (every subject PASS), then make it yours and check again:\n"

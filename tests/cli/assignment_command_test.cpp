@@ -113,6 +113,7 @@ class SkeletonTest : public ::testing::Test {
 
 TEST_F(SkeletonTest, NewWritesAnAssignmentThatLoadsWithItsThreeSubjects) {
   for (const char* file : {"assignment.yaml", "README.md", "scenarios/spread_6.yaml", "hidden/spread_8_loss.yaml",
+                           "search/spread_3_vote1.yaml",
                            "reference/CMakeLists.txt", "reference/spread.c", "reference/expected.yaml",
                            "starter/CMakeLists.txt", "starter/spread.c", "starter/expected.yaml",
                            "broken/off_by_one/NOTE.md", "broken/off_by_one/expected.yaml",
