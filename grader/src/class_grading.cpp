@@ -251,9 +251,20 @@ std::optional<std::vector<SubmissionResult>> MergeClassOutputs(const std::vector
       error = dir + ": not a folder";
       return std::nullopt;
     }
+    // A shard writes class.csv last, once every student of it is graded: a
+    // shard stopped on the way (scancel, a lost node, a time limit) has
+    // none, and merging it would drop its students without a word.
+    if (!fs::is_regular_file(fs::path(dir) / "class.csv", io_error)) {
+      error = dir + ": this shard did not finish (it has no class.csv): grade it again, it resumes where it stopped";
+      return std::nullopt;
+    }
     for (const std::string& student : ListStudents(dir)) {
       const fs::path path = fs::path(dir) / student / "grade.json";
-      if (!fs::exists(path, io_error)) continue;
+      if (!fs::exists(path, io_error)) {
+        error = (fs::path(dir) / student).string() +
+                ": no grade.json: this shard did not finish grading the student: grade it again, it resumes";
+        return std::nullopt;
+      }
       std::optional<GradeFile> file = ReadGradeJson(path.string(), error);
       if (!file) return std::nullopt;
       file->result.submission = student;

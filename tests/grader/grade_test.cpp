@@ -449,6 +449,21 @@ TEST_F(ClassTest, EachSubmissionGetsItsVerdictRerunsAreIdenticalAndShardsMerge) 
   EXPECT_EQ(Read(merged / "summary.txt"), before.at("summary.txt"));
   EXPECT_FALSE(MergeClassOutputs({shard1.string(), shard1.string()}, merged.string(), error));
   EXPECT_NE(error.find("is in two of the folders"), std::string::npos) << error;
+
+  // A shard stopped on the way is refused by name, not merged short.
+  const fs::path stopped = Fresh("class_shard2_stopped");
+  fs::copy(shard2, stopped, fs::copy_options::recursive);
+  fs::remove(stopped / "class.csv");
+  const fs::path short_merge = Fresh("class_merged_short");
+  EXPECT_FALSE(MergeClassOutputs({shard1.string(), stopped.string()}, short_merge.string(), error));
+  EXPECT_NE(error.find(stopped.string() + ": this shard did not finish (it has no class.csv)"), std::string::npos)
+      << error;
+  fs::copy_file(shard2 / "class.csv", stopped / "class.csv");
+  const std::string student = ListStudents(stopped.string()).back();
+  fs::remove(stopped / student / "grade.json");
+  EXPECT_FALSE(MergeClassOutputs({shard1.string(), stopped.string()}, short_merge.string(), error));
+  EXPECT_NE(error.find((stopped / student).string() + ": no grade.json"), std::string::npos) << error;
+  EXPECT_FALSE(fs::exists(short_merge / "class.csv"));
 }
 
 // Hidden seeds per student (student_seeds.h): the derived seeds reach the
