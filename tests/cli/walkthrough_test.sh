@@ -7,7 +7,8 @@
 #     build tree until the README's own line adds it): copy the starter out
 #     of the tree, build it, run a public scenario, view it, grade it, run
 #     the search test. Then the page is opened in headless Chromium and a
-#     screenshot taken.
+#     screenshot taken. Every other assignment's README likewise, but for
+#     its grade line (checked to be strongest's with its name).
 #  2. The instructor (docs/grading.md, every ```sh instructor block, in an
 #     empty folder with syrof on PATH): `syrof assignment new`, a search
 #     test switched on, `syrof assignment check`, a class of three graded
@@ -81,6 +82,26 @@ mapfile -t student_reports < <(find "$project/grade-out" -name report.html 2>/de
 [ "${#student_reports[@]}" -gt 0 ] || fail "syrof grade wrote no report.html under $project/grade-out"
 for report in "${student_reports[@]}"; do no_absolute_paths "$report"; done
 no_absolute_paths "$project/out/replay.html"
+
+# Every other assignment's README: the same blocks, run as written, but for
+# grading (strongest's shows that it works from the project's folder),
+# whose line must be the same as strongest's with the name changed.
+for other_readme in "$source_dir"/assignments/*/README.md; do
+  name=$(basename "$(dirname "$other_readme")")
+  [ "$name" != strongest ] || continue
+  commands=$(blocks "$other_readme" student)
+  if [ -z "$commands" ]; then
+    fail "no \`\`\`sh student block in $other_readme"
+    continue
+  fi
+  grep -qx "syrof grade . --assignment $name --public-only" <<<"$commands" ||
+    fail "$other_readme: no line 'syrof grade . --assignment $name --public-only'"
+  runnable=$(grep -v '^syrof grade ' <<<"$commands")
+  (cd "$work" && PATH=$base_path bash -euo pipefail -c "$search_may_break"$'\n'"$runnable") > "$work/$name.log" 2>&1 ||
+    { fail "$other_readme: a command failed"; tail -15 "$work/$name.log" >&2; }
+  [ -s "$HOME/$name/out/replay.html" ] || fail "$other_readme: no out/replay.html in ~/$name"
+done
+step "every assignment's README: copy, build, run, view as written"
 
 # The page in a browser: a screenshot of it.
 if [ -z "$chromium" ] || [ ! -x "$chromium" ]; then
