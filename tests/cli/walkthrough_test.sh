@@ -2,6 +2,7 @@
 # A newcomer's first hour, end to end, from this tree's build: the commands
 # of the docs, extracted from them and run as written, so the docs cannot
 # drift from what works.
+#  0. README.md's "Your own app" block (syrof new, build, run).
 #  1. The student (assignments/strongest/README.md, every ```sh student
 #     block, in order, in one shell, HOME a fresh folder, PATH without the
 #     build tree until the README's own line adds it): copy the starter out
@@ -54,6 +55,17 @@ no_absolute_paths() {
 }
 
 base_path=/usr/local/bin:/usr/bin:/bin
+
+# 0. README.md's "Your own app": its ```sh block, in a fresh folder.
+own_app=$(awk '/^## Your own app$/ {on = 1; next} on && /^## / {exit} on {print}' "$source_dir/README.md" |
+  awk '/^```sh$/ {on = 1; next} on && /^```$/ {on = 0; next} on {print}' |
+  sed -e "s|/path/to/syrof/build/bin|$bin_dir|g" -e "s|/path/to/syrof|$source_dir|g")
+[ -n "$own_app" ] || fail "no \`\`\`sh block in README.md's 'Your own app'"
+mkdir -p "$work/own_app"
+(cd "$work/own_app" && PATH=$base_path bash -euo pipefail -c "$own_app") > "$work/own_app.log" 2>&1 ||
+  { fail "README.md's 'Your own app' failed"; tail -15 "$work/own_app.log" >&2; }
+[ -s "$work/own_app/myapp/out/myapp/metrics.json" ] || fail "README.md's 'Your own app' left no out/myapp/metrics.json"
+step "README.md's 'Your own app' ran as written"
 
 # 1. The student.
 readme="$source_dir/assignments/strongest/README.md"
