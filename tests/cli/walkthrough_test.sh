@@ -142,6 +142,21 @@ echo "---"
 (cd "$work/instructor" && PATH="$bin_dir:$base_path" bash -euo pipefail -c "$instructor") ||
   fail "an instructor command failed (above)"
 echo "---"
+# The skeleton's README, for its students: its blocks as written, the
+# assignment's folder being the one just written (its `/path/to/NAME`).
+skeleton_readme="$work/instructor/my_task/README.md"
+skeleton=$(blocks "$skeleton_readme" student | sed "s|/path/to/my_task|$work/instructor/my_task|g")
+if [ -z "$skeleton" ]; then
+  fail "no \`\`\`sh student block in the skeleton's README.md"
+else
+  (cd "$work" && PATH="$bin_dir:$base_path" bash -euo pipefail -c "$skeleton") > "$work/skeleton.log" 2>&1 ||
+    { fail "a command of the skeleton's README failed"; tail -15 "$work/skeleton.log" >&2; }
+  [ -s "$HOME/my_task/out/replay.html" ] || fail "the skeleton's README left no out/replay.html"
+  mapfile -t skeleton_reports < <(find "$HOME/my_task/grade-out" -name report.html 2>/dev/null)
+  [ "${#skeleton_reports[@]}" -gt 0 ] || fail "the skeleton README's syrof grade wrote no report.html"
+  step "the skeleton's README ran as written"
+fi
+
 graded="$work/instructor/graded"
 [ "$(grep -c . "$graded/class.csv" 2>/dev/null)" = 4 ] || fail "class.csv does not hold a header and 3 students"
 grep -q '^cyd,0' "$graded/class.csv" 2>/dev/null || fail "class.csv: cyd's code does not compile, yet: $(grep '^cyd' "$graded/class.csv")"
