@@ -23,6 +23,15 @@ float Dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 
 }  // namespace
 
+float OwnErrorAllowanceM(const SafetyConfig& config, const estimation::StateEstimate& estimate) {
+  // A sigma that is not a number says nothing good: the largest doubt.
+  const float position_sigma_m = std::max(estimate.sigma_x_m, estimate.sigma_y_m);
+  const float own_sigma_m = std::isfinite(position_sigma_m)
+                                ? std::clamp(position_sigma_m, 0.0f, config.max_own_sigma_m)
+                                : config.max_own_sigma_m;
+  return std::max(0.5f * config.margin_m, config.own_sigmas * own_sigma_m);
+}
+
 // A braking distance in millimetres: v^2 / 2a, v in mm/s, a in mm/s^2.
 uint16_t SafetyReports::BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2) {
   const float vx = static_cast<float>(vx_mm_s);
@@ -89,7 +98,7 @@ void SafetyFilter::Keep(const Constraint& constraint, float slack) {
   }
 }
 
-void SafetyFilter::Collect(float x, float y, float own_sigma_m, const SafetyReports& reports, int64_t now_ns) {
+void SafetyFilter::Collect(float x, float y, float own_allowance_m, const SafetyReports& reports, int64_t now_ns) {
   count_ = 0;
   // Against another robot this one brakes with half its deceleration: the
   // other may be closing in too, and brakes with half of its own, so the two
@@ -100,7 +109,7 @@ void SafetyFilter::Collect(float x, float y, float own_sigma_m, const SafetyRepo
                                  own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * shared_braking_mps2));
   // The margin covers each robot's error up to half of it; this robot's own
   // doubt beyond that grows every disc.
-  const float own_excess_m = std::max(0.0f, config_.own_sigmas * own_sigma_m - 0.5f * config_.margin_m);
+  const float own_excess_m = own_allowance_m - 0.5f * config_.margin_m;
   const float base_m = own_radius_m_ + config_.others_radius_m + config_.margin_m + own_excess_m;
   // A first, integer-only test in millimetres against the largest disc any
   // report can have (a full horizon's growth): on a soft-float core most
@@ -314,17 +323,13 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
   const float desired_forward = wheels ? 0.5f * (desired.left_mps + desired.right_mps) : 0.0f;
   const bool moving = wheels ? desired_forward != 0.0f : (desired_vx != 0.0f || desired_vy != 0.0f);
   count_ = 0;
-  // A sigma that is not a number says nothing good: the largest doubt.
-  const float position_sigma_m = std::max(estimate.sigma_x_m, estimate.sigma_y_m);
-  const float own_sigma_m = std::isfinite(position_sigma_m)
-                                ? std::clamp(position_sigma_m, 0.0f, config_.max_own_sigma_m)
-                                : config_.max_own_sigma_m;
+  const float own_allowance_m = OwnErrorAllowanceM(config_, estimate);
   const float heading_doubt_rad =
       std::isfinite(estimate.sigma_heading_rad)
           ? std::clamp(config_.heading_sigmas * estimate.sigma_heading_rad - config_.heading_free_rad, 0.0f,
                        0.5f * kPiF)
           : 0.5f * kPiF;
-  if (moving) Collect(estimate.x_m, estimate.y_m, own_sigma_m, reports, now_ns);
+  if (moving) Collect(estimate.x_m, estimate.y_m, own_allowance_m, reports, now_ns);
   if (count_ == 0) return desired;
 
   DriveCommand limited = desired;

@@ -274,6 +274,42 @@ TEST(SafetyFilterTest, OwnPositionDoubtGrowsEveryDisc) {
   EXPECT_LE(held.vx_mps, 1e-4f);
 }
 
+// The margin's share for this robot's own error: own_sigmas of its larger
+// position sigma, never less than half the margin, capped; two by default.
+TEST(SafetyFilterTest, OwnErrorAllowanceIsOwnSigmasTimesTheLargerSigmaAndAtLeastHalfTheMargin) {
+  SafetyConfig config = Config();  // margin 0.05 m
+  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.022f, 0)), 0.044f);
+  config.own_sigmas = 4.0f;
+  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.022f, 0)), 0.088f);
+  estimation::StateEstimate uneven = Doubtful(1, 1, 0.01f, 0);
+  uneven.sigma_y_m = 0.03f;  // the larger axis counts
+  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, uneven), 0.12f);
+  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.002f, 0)), 0.025f);
+  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 3.0f, 0)), 2.0f);  // capped at 0.5 m
+  estimation::StateEstimate broken = At(1, 1);
+  broken.sigma_x_m = std::nanf("");
+  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, broken), 2.0f);
+}
+
+// A sigma of 2.2 cm, the lab's usual: four sigmas (8.8 cm) reach past half
+// the margin by 6.3 cm, two (4.4 cm) by 1.9 cm. With four, a robot 5 cm
+// outside the sure disc is inside the grown one and may not approach; with
+// two it still may.
+TEST(SafetyFilterTest, FourSigmasOfTheUsualDoubtHoldARobotThatTwoLetApproach) {
+  SafetyConfig config = Config();
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.3f, 1.0f, false, 0, 0, 0.8f);  // sure disc: 0.25 m, gap 0.05 m
+  SafetyOutcome outcome;
+  SafetyFilter two(config, Omni(), 4);
+  const DriveCommand approaching = two.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.022f, 0), reports, 0, outcome);
+  EXPECT_GT(approaching.vx_mps, 0.05f);
+  config.own_sigmas = 4.0f;
+  SafetyFilter four(config, Omni(), 4);
+  const DriveCommand held = four.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.022f, 0), reports, 0, outcome);
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_LE(held.vx_mps, 1e-4f);
+}
+
 TEST(SafetyFilterTest, ALostEstimateStopsNearOthersOnly) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;

@@ -102,7 +102,8 @@ INSTANTIATE_TEST_SUITE_P(
 // 6 collisions in 20 seeds (parked robots whose heading estimate had
 // drifted up to 2.2 rad) and the link scenarios 3; none now. Every other
 // example and adversarial file over twenty seeds is measured in
-// docs/safety.md ("Twenty seeds"). Not under the sanitizers (ASAN_EXCLUDE):
+// docs/safety.md ("Twenty seeds"); the mixed/ files in
+// margin_coverage_test.cpp. Not under the sanitizers (ASAN_EXCLUDE):
 // 100 runs.
 class TwentySeeds : public ::testing::TestWithParam<const char*> {};
 
