@@ -20,6 +20,7 @@
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/simulation.h"
+#include "syrof/lab/view/view.h"
 #include "run_summary.h"
 #include "usage.h"
 #include "view_command.h"
@@ -231,7 +232,10 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   }
   replay_file.close();
   if (options.html && !options.no_replay) {
-    if (std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string());
+    lab::view::PageOptions page_options;
+    page_options.metrics = report.metrics;
+    page_options.scenario = &scenario;
+    if (std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
         !page_problem.empty()) {
       fmt::print(err, "syrof run: writing {} failed: {}\n", (dir / "replay.html").string(), page_problem);
       return 1;

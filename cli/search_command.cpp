@@ -13,6 +13,7 @@
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/search/search.h"
 #include "syrof/lab/sim/run_parts.h"
+#include "syrof/lab/view/view.h"
 #include "usage.h"
 #include "view_command.h"
 
@@ -179,7 +180,10 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     fmt::print(err, "syrof search: {}\n", problem);
     return 1;
   }
-  const std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string());
+  lab::view::PageOptions page_options;  // the banner says what broke, and the lost beacons
+  page_options.metrics = found.metrics;
+  page_options.scenario = &scenario;
+  const std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
 
   if (found.lost.empty()) {
     fmt::print(out, "BROKEN without any lost beacon (the loss-free run)\n");

@@ -9,6 +9,8 @@
 #include <fstream>
 
 #include "exit_status.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/view/verdict.h"
 #include "syrof/lab/view/view.h"
 
 namespace syrof::cli {
@@ -33,6 +35,9 @@ CLI::App* SetupViewCommand(CLI::App& app, ViewOptions& options) {
       "view", "Write a replay's page: one self-contained HTML file (arena, events, inspector, plots)");
   command->add_option("REPLAY", options.file, "Replay file written by `syrof run`")->required();
   command->add_option("-o,--output", options.output, "The page to write (default: REPLAY.html)");
+  command->add_option("--metrics", options.metrics,
+                      "The run's metrics.json, for the verdict (default: metrics.json beside REPLAY, if there)");
+  command->add_option("--scenario", options.scenario, "The run's scenario file, to draw the goal's target");
   return command;
 }
 
@@ -47,7 +52,39 @@ int RunViewCommand(const ViewOptions& options, std::ostream& out, std::ostream& 
     fmt::print(err, "syrof view: cannot open '{}': {}\n", options.file, std::strerror(errno));
     return kBadInput;
   }
-  const lab::view::Page page = lab::view::BuildPage(in, options.file);
+  lab::view::PageOptions page_options;
+  // The verdict's metrics: the run's metrics.json, named or beside the
+  // replay. Untrusted like the replay: a bad one is reported and left out.
+  const std::filesystem::path metrics_path = options.metrics.empty()
+                                                 ? std::filesystem::path(options.file).parent_path() / "metrics.json"
+                                                 : std::filesystem::path(options.metrics);
+  if (!options.metrics.empty() || std::filesystem::is_regular_file(metrics_path, error)) {
+    std::ifstream metrics_file(metrics_path, std::ios::binary);
+    lab::Error metrics_error;
+    if (!metrics_file) {
+      fmt::print(err, "syrof view: cannot open '{}': {}\n", metrics_path.string(), std::strerror(errno));
+      return kBadInput;
+    }
+    page_options.metrics = lab::view::ReadVerdictMetrics(metrics_file, metrics_path.string(), metrics_error);
+    if (!page_options.metrics && !options.metrics.empty()) {
+      fmt::print(err, "syrof view: {}\n", metrics_error.ToString());
+      return kBadInput;
+    }
+    if (!page_options.metrics) {  // found beside the replay, not asked for: the page goes on without it
+      fmt::print(err, "syrof view: warning: {}; the verdict is the replay's alone\n", metrics_error.ToString());
+    }
+  }
+  std::optional<lab::scenario::Scenario> scenario;
+  if (!options.scenario.empty()) {
+    const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(options.scenario);
+    if (!loaded.ok()) {
+      fmt::print(err, "syrof view: {}\n", loaded.error->ToString());
+      return kBadInput;
+    }
+    scenario = *loaded.scenario;
+    page_options.scenario = &*scenario;
+  }
+  const lab::view::Page page = lab::view::BuildPage(in, options.file, page_options);
   const std::string path = options.output.empty() ? DefaultPagePath(options.file) : options.output;
   if (std::string problem = WriteHtml(page, path); !problem.empty()) {
     fmt::print(err, "syrof view: {}\n", problem);
@@ -66,10 +103,11 @@ int RunViewCommand(const ViewOptions& options, std::ostream& out, std::ostream& 
   return kOk;
 }
 
-std::string WritePage(const std::string& replay_path, const std::string& page_path) {
+std::string WritePage(const std::string& replay_path, const std::string& page_path,
+                      const lab::view::PageOptions& options) {
   std::ifstream in(replay_path, std::ios::binary);
   if (!in) return fmt::format("cannot open {}", replay_path);
-  const lab::view::Page page = lab::view::BuildPage(in, replay_path);
+  const lab::view::Page page = lab::view::BuildPage(in, replay_path, options);
   if (std::string problem = WriteHtml(page, page_path); !problem.empty()) return problem;
   if (!page.complete) return page.error ? page.error->ToString() : "the replay is incomplete";
   return {};

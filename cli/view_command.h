@@ -7,11 +7,19 @@
 
 #include <CLI/CLI.hpp>
 
+namespace syrof::lab::view {
+struct PageOptions;  // syrof/lab/view/view.h
+}  // namespace syrof::lab::view
+
 namespace syrof::cli {
 
 struct ViewOptions {
   std::string file{};    ///< the replay
   std::string output{};  ///< the page; default: the replay's path with .html
+  /// The run's metrics.json, for the verdict; default: metrics.json beside
+  /// the replay, when there is one.
+  std::string metrics{};
+  std::string scenario{};  ///< the run's scenario, for the goal's target; none by default
 };
 
 /// Declares the subcommand on `app`.
@@ -27,7 +35,10 @@ int RunViewCommand(const ViewOptions& options, std::ostream& out, std::ostream& 
 std::string DefaultPagePath(const std::string& replay_path);
 
 /// Writes the page of the replay at `replay_path` to `page_path` (for `syrof
-/// run --html`). Returns "" or what went wrong.
-std::string WritePage(const std::string& replay_path, const std::string& page_path);
+/// run --html` and `syrof search`, which hand the run's metrics and
+/// scenario in `options`: the verdict and the goal's target). Returns "" or
+/// what went wrong.
+std::string WritePage(const std::string& replay_path, const std::string& page_path,
+                      const lab::view::PageOptions& options);
 
 }  // namespace syrof::cli

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "replay_test_support.h"
+#include "syrof/lab/metrics/metrics.h"
 #include "view_command.h"
 
 namespace syrof::cli {
@@ -356,6 +358,37 @@ TEST(ViewCommand, ABadReplayStillGetsAPageThatSaysWhyAndExitsTwo) {
   EXPECT_NE(err.str().find("wrote " + options.file + ".html"), std::string::npos) << err.str();
   EXPECT_NE(ReadBack(options.file + ".html").find("\"status\":\"truncated\""), std::string::npos);
   EXPECT_EQ(RunViewCommand(ViewOptions{.file = "/nonexistent/replay"}, out, err), 2);
+}
+
+TEST(ViewCommand, TheVerdictComesFromTheRunsMetricsBesideTheReplay) {
+  // A run folder: its replay (the sample, seed 42) and its metrics.json.
+  const std::filesystem::path run = std::filesystem::path(::testing::TempDir()) / "syrof_view_verdict_run";
+  std::filesystem::create_directories(run);
+  std::ofstream(run / "replay", std::ios::binary) << replay::testing::WriteSample().bytes;
+  lab::metrics::Metrics metrics;
+  metrics.seed = 42;
+  metrics.goal.app = "builtin:idle";
+  metrics.goal.reached = true;
+  metrics.collisions.count = 1;
+  metrics.collisions.pairs = {{.time_ns = 2'500'000'000, .a = 0, .b = 2}};
+  std::ofstream(run / "metrics.json", std::ios::binary) << lab::metrics::ToJson(metrics);
+  std::ostringstream out, err;
+
+  const int status = RunViewCommand(ViewOptions{.file = (run / "replay").string()}, out, err);
+
+  EXPECT_EQ(status, 0) << err.str();
+  EXPECT_NE(ReadBack((run / "replay.html").string()).find("BROKEN: 1 collision, the first robots 0 and 2 at 2.50 s"),
+            std::string::npos);
+}
+
+TEST(ViewCommand, AMalformedMetricsFileIsNamedWithItsField) {
+  const std::string metrics = WriteFile("bad_metrics", R"({"seed": 42, "goal": {"app": "x", "reached": 1}})");
+  std::ostringstream out, err;
+
+  const int status = RunViewCommand(ViewOptions{.file = SampleFile("view_bad_metrics"), .metrics = metrics}, out, err);
+
+  EXPECT_EQ(status, 2);
+  EXPECT_NE(err.str().find(metrics + ": goal.reached: expected true or false"), std::string::npos) << err.str();
 }
 
 }  // namespace

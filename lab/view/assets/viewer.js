@@ -35,6 +35,7 @@
     safety: [230, 180, 0],
     lost: [194, 24, 91],
     wall: [120, 124, 135],
+    target: [31, 138, 76],
   };
   const KIND_COLOURS = {
     EPOCH_START: '#9aa3b5', MEMBER_REMOVED: '#d0452f', MEMBER_JOINED: '#2e9d5b', BECAME_JOINER: '#8e6cc7',
@@ -78,6 +79,19 @@
     banner.hidden = false;
     banner.className = kind + (fatal ? ' fatal' : '');
     banner.replaceChildren(el('h2', { textContent: title }), el('div', { textContent: text }));
+  }
+
+  // The run's verdict, first on the page (docs/viewer.md, "The verdict"):
+  // lab/view wrote its words; the page only lays them out.
+  function showVerdict() {
+    const v = data.verdict;
+    const box = $('verdict');
+    if (!v || live) { box.hidden = true; return null; }
+    box.hidden = false;
+    box.className = v.state;
+    const lines = v.lines.map(([topic, ok, text]) => el('li', { className: ok ? 'ok' : 'bad' }, [el('b', { textContent: topic }), text]));
+    box.replaceChildren(el('div', { className: 'headline', textContent: v.headline }), el('ul', {}, lines));
+    return { state: v.state, headline: v.headline };
   }
 
   function finish(report) {
@@ -146,6 +160,7 @@
   if (data.status !== 'complete' && !live) {
     showBanner(data.status, TITLES[data.status] || 'Problem', data.message || '', data.status === 'empty');
   }
+  const verdictShown = showVerdict();
 
   const timings = { parse_ms: Math.round(performance.now() - scriptStart) };
   const robots = data.robots;
@@ -271,9 +286,10 @@
       ctx.moveTo(px, py - 7); ctx.lineTo(px + 6, py + 5); ctx.lineTo(px - 6, py + 5); ctx.closePath();
       ctx.fill();
     }
-    if (rounds === 0) return { robots_drawn: 0, marks: [] };
+    if (rounds === 0) return { robots_drawn: 0, marks: [], targets: [], labels: [] };
 
     const sample = sampleOf(pos);
+    const targetsDrawn = drawTargets(ctx, sample);
     const many = robots.length > 30;
     // Trails.
     ctx.lineWidth = 1.5;
@@ -309,6 +325,7 @@
     }
     // Bodies.
     let drawn = 0;
+    const labels = [];
     for (let slot = 0; slot < robots.length; ++slot) {
       const f = frames[slot];
       const s = f.s[sample];
@@ -349,9 +366,11 @@
         ctx.font = '600 11px system-ui, sans-serif';
         ctx.fillText(String(robots[slot].id), px + r * 0.75 + 2, py - r * 0.75 - 2);
         if (presence === 1) {
+          const label = stateLabel(s, f.e[sample]);
           ctx.fillStyle = '#667085';
           ctx.font = '10px system-ui, sans-serif';
-          ctx.fillText(PHASES[phaseOf(s)][0] + ' ' + f.e[sample], px + r * 0.75 + 2, py + r + 9);
+          ctx.fillText(label, px + r * 0.75 + 2, py + r + 9);
+          labels.push({ robot: robots[slot].id, label });
         }
       }
     }
@@ -416,7 +435,83 @@
       }
       marks.push({ kind: e.kind, robot: e.robot, other: e.other, round: roundIndex[e.pos] });
     }
-    return { robots_drawn: drawn, marks };
+    return { robots_drawn: drawn, marks, targets: targetsDrawn, labels };
+  }
+
+  // The goal's target (lab/view's GoalTargets), under everything else: a
+  // ring or an annulus (centred where the robots are when the goal leaves
+  // the centre free), slots with their tolerance, a coverage area.
+  function drawTargets(ctx, sample) {
+    const drawn = [];
+    const c = COLOURS.target;
+    for (const t of data.targets || []) {
+      if (t.shape === 'ring' || t.shape === 'free_ring') {
+        let x = t.x, y = t.y;
+        if (t.shape === 'free_ring') {
+          let n = 0; x = 0; y = 0;
+          for (let slot = 0; slot < robots.length; ++slot) {
+            const f = frames[slot];
+            const presence = presenceOf(f.s[sample]);
+            if (presence !== 1 && presence !== 2) continue;
+            x += f.x[sample] / 1000; y += f.y[sample] / 1000; ++n;
+          }
+          if (n === 0) continue;
+          x /= n; y /= n;
+        }
+        const px = sx(x), py = sy(y), r0 = t.r_min * view.scale, r1 = t.r_max * view.scale;
+        ctx.fillStyle = rgb(c, 0.10);
+        ctx.beginPath();
+        ctx.arc(px, py, r1, 0, 2 * Math.PI);
+        if (r1 - r0 > 1) { ctx.moveTo(px + r0, py); ctx.arc(px, py, r0, 0, 2 * Math.PI, true); }
+        ctx.fill('evenodd');
+        ctx.strokeStyle = rgb(c, 0.85);
+        ctx.lineWidth = 2;
+        ctx.setLineDash(t.shape === 'free_ring' ? [8, 5] : []);
+        ctx.beginPath(); ctx.arc(px, py, r1, 0, 2 * Math.PI); ctx.stroke();
+        if (r1 - r0 > 1) { ctx.beginPath(); ctx.arc(px, py, r0, 0, 2 * Math.PI); ctx.stroke(); }
+        ctx.setLineDash([]);
+        ctx.lineWidth = 1.5;
+        ctx.beginPath(); ctx.moveTo(px - 6, py); ctx.lineTo(px + 6, py); ctx.moveTo(px, py - 6); ctx.lineTo(px, py + 6); ctx.stroke();
+        drawn.push({ shape: t.shape, name: t.name, x, y, r_min: t.r_min, r_max: t.r_max });
+      } else if (t.shape === 'points') {
+        const r = Math.max(4, t.r * view.scale);
+        for (const [x, y, id] of t.points) {
+          const px = sx(x), py = sy(y);
+          ctx.fillStyle = rgb(c, 0.14);
+          ctx.strokeStyle = rgb(c, 0.85);
+          ctx.lineWidth = 1.5;
+          ctx.beginPath(); ctx.arc(px, py, r, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+          ctx.beginPath(); ctx.moveTo(px - 4, py); ctx.lineTo(px + 4, py); ctx.moveTo(px, py - 4); ctx.lineTo(px, py + 4); ctx.stroke();
+          if (id >= 0) {
+            ctx.fillStyle = rgb(c);
+            ctx.font = '600 10px system-ui, sans-serif';
+            ctx.fillText(String(id), px - r * 0.7 - 8, py - r * 0.7 - 2);
+          }
+        }
+        drawn.push({ shape: t.shape, name: t.name, points: t.points.length, r: t.r });
+      } else if (t.shape === 'rect') {
+        const x = sx(Math.min(t.x0, t.x1)), y = sy(Math.max(t.y0, t.y1));
+        const w = Math.abs(t.x1 - t.x0) * view.scale, h = Math.abs(t.y1 - t.y0) * view.scale;
+        ctx.fillStyle = rgb(c, 0.08);
+        ctx.fillRect(x, y, w, h);
+        ctx.strokeStyle = rgb(c, 0.85);
+        ctx.lineWidth = 2;
+        ctx.setLineDash([8, 5]);
+        ctx.strokeRect(x, y, w, h);
+        ctx.setLineDash([]);
+        drawn.push({ shape: t.shape, name: t.name });
+      }
+    }
+    return drawn;
+  }
+
+  // A running robot's label under its body: its phase's initial and its
+  // epoch; "joining" while it is not a member, "starting" before its first
+  // epoch (epoch 0: it has not started one, so no phase means anything yet).
+  function stateLabel(s, epoch) {
+    if (joiningOf(s)) return 'joining';
+    if (epoch === 0) return 'starting';
+    return PHASES[phaseOf(s)][0] + ' ' + epoch;
   }
 
   // First event at or after round position `p`.
@@ -436,7 +531,15 @@
     if (events.some((e) => e.kind === 'BEACON_LOST')) {
       nodes.push(el('span', { innerHTML: '<b style="color:#c2185b">⇢✕</b> lost beacon (scripted)' }));
     }
-    nodes.push(el('span', { textContent: '▲ UWB anchor · label: id, phase and epoch' }));
+    const targets = data.targets || [];
+    const drawnTargets = targets.filter((t) => t.shape !== 'none');
+    if (drawnTargets.length) {
+      const names = [...new Set(drawnTargets.map((t) => t.name))].join(', ');
+      const free = drawnTargets.some((t) => t.shape === 'free_ring') ? ' (dashed: centre free, drawn at the robots\' centre)' : '';
+      nodes.push(el('span', {}, [el('b', { textContent: '◎', style: `color:${rgb(COLOURS.target)}` }), `goal target: ${names}${free}`]));
+    }
+    for (const t of targets.filter((t) => t.shape === 'none')) nodes.push(el('span', { textContent: `goal ${t.name}: not drawn, ${t.why}` }));
+    nodes.push(el('span', { textContent: '▲ UWB anchor · label: id, phase (P, W, V) and epoch, or starting' }));
     $('legend').replaceChildren(...nodes);
   }
 
@@ -518,6 +621,7 @@
   // ---- Events list and timeline --------------------------------------------------
   function describe(e) {
     if (e.partition >= 0) return `partition ${e.partition}`;
+    if (e.kind === 'JOIN_WAIT') return `robot ${e.robot} waits to join: its start disc is not clear`;
     let text = e.robot >= 0 ? `robot ${e.robot}` : '';
     if (e.other >= 0) text += (e.kind === 'COLLISION' ? ' with ' : e.kind === 'SAFETY_INTERVENTION' ? ' kept from ' : ' → ') + `robot ${e.other}`;
     else if (e.kind === 'SAFETY_INTERVENTION') text += ' kept from a wall';
@@ -785,7 +889,8 @@
     const sample = sampleOf(pos);
     const epochsNow = new Set();
     for (let slot = 0; slot < robots.length; ++slot) if (presenceOf(frames[slot].s[sample]) === 1) epochsNow.add(frames[slot].e[sample]);
-    const epochText = epochsNow.size === 0 ? '-' : [...epochsNow].sort((a, b) => a - b).join(', ');
+    epochsNow.delete(0);  // a robot that has not started an epoch yet
+    const epochText = epochsNow.size === 0 ? 'none yet (starting)' : [...epochsNow].sort((a, b) => a - b).join(', ');
     $('clock').innerHTML = '';
     $('clock').append(el('b', { textContent: `t = ${fmt(timeOf(pos), 2)} s` }),
                       ` · round ${rounds ? roundIndex[pos] : '-'} · epoch ${epochText}`);
@@ -805,6 +910,8 @@
       round: rounds ? roundIndex[pos] : null, position: pos, stride,
       robots_drawn: arenaReport.robots_drawn, marks: arenaReport.marks,
       events_listed: eventItems.length, inspector: inspected,
+      verdict: verdictShown, targets: arenaReport.targets, labels: arenaReport.labels,
+
       arena: { left: rect.left + window.scrollX, top: rect.top + window.scrollY, ox: view.ox, oy: view.oy, scale: view.scale },
       colours: COLOURS,
     };
@@ -916,6 +1023,15 @@
   }
   const report = render();
   timings.render_ms = Math.round(performance.now() - scriptStart);
+  if (verdictShown) {
+    const box = $('verdict').getBoundingClientRect();
+    report.verdict.top = box.top + window.scrollY;
+    report.verdict.bottom = box.bottom + window.scrollY;
+  }
+  // Event kinds whose name does not fit its column (one item of each kind).
+  const kindItems = new Map();
+  for (const li of eventItems) if (!kindItems.has(li.children[1].textContent)) kindItems.set(li.children[1].textContent, li.children[1]);
+  report.events_overflowing = [...kindItems].filter(([, span]) => span.scrollWidth > span.clientWidth).map(([kind]) => kind);
   report.timings = timings;
   if (live) {
     live.follow = true;

@@ -16,6 +16,7 @@
 #include "syrof/lab/message/message_format.h"
 #include "syrof/lab/replay/replay.h"
 #include "syrof/lab/view/page_data.h"
+#include "syrof/lab/view/verdict.h"
 #include "view_assets.h"
 
 namespace syrof::lab::view {
@@ -200,6 +201,7 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
   json starts = json::array();
   std::map<const replay::EpochMap*, size_t> map_numbers;  // shared maps once
   std::vector<std::shared_ptr<const replay::EpochMap>> keep_alive;
+  ReplayFacts facts;  // what the replay shows of the run's troubles, for the verdict
   replay::Round round;
   while (reader.Next(round)) {
     const int64_t position = static_cast<int64_t>(round_index.size());
@@ -224,6 +226,15 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
     }
     for (const replay::Event& event : round.events) {
       events.push_back(EventData(event, position));
+      switch (event.kind) {
+        case replay::EventKind::kCollision: ++facts.collisions; break;
+        case replay::EventKind::kAppFault: ++facts.app_faults; break;
+        case replay::EventKind::kJoinWait: ++facts.join_waits; break;
+        case replay::EventKind::kBeaconLost:
+          facts.lost.push_back({.round = round.index, .from = event.robot, .to = event.other});
+          break;
+        default: break;
+      }
     }
     for (const replay::RobotMap& entry : round.maps) {
       auto [found, inserted] = map_numbers.emplace(entry.map.get(), map_numbers.size());
@@ -275,6 +286,22 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
   data["events"] = std::move(events);
   data["maps"] = std::move(maps);
   data["starts"] = std::move(starts);
+  // The verdict and the goal's target: how the run went, said first.
+  if (options.metrics && options.metrics->seed == header.seed) {
+    data["verdict"] = VerdictData(VerdictOf(*options.metrics, facts));
+  } else {
+    Verdict verdict = VerdictOfReplay(facts);
+    if (options.metrics) {
+      verdict.lines.front().text = fmt::format("not judged: the metrics given are of another run (seed {}, this "
+                                               "replay's is {})", options.metrics->seed, header.seed);
+    }
+    data["verdict"] = VerdictData(verdict);
+  }
+  size_t goal_robots = 0;  // running or paused at the end: a built-in goal's robots
+  for (const replay::RobotFrame& frame : current) {
+    goal_robots += frame.presence == replay::Presence::kRunning || frame.presence == replay::Presence::kPaused;
+  }
+  data["targets"] = options.scenario ? GoalTargets(*options.scenario, goal_robots) : json::array();
   if (page.rounds == 0 && page.complete) {
     data["status"] = "empty";
     data["message"] = "The replay holds no rounds: the run ended before its first radio round.";

@@ -26,6 +26,7 @@
 #include "syrof/lab/replay/reader.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
+#include "syrof/lab/view/verdict.h"
 #include "syrof/lab/view/view.h"
 #include "png_image.h"
 
@@ -98,9 +99,9 @@ size_t Count(const std::string& text, const std::string& what) {
   return count;
 }
 
-fs::path WritePage(const std::string& replay_bytes, const std::string& name) {
+fs::path WritePage(const std::string& replay_bytes, const std::string& name, const PageOptions& options = {}) {
   std::istringstream in(replay_bytes);
-  const Page page = BuildPage(in, name);
+  const Page page = BuildPage(in, name, options);
   const fs::path path = Artifacts() / (name + ".html");
   std::ofstream(path, std::ios::binary) << page.html;
   return path;
@@ -340,6 +341,177 @@ TEST(LostBeaconPage, ALostBeaconIsMarkedFromSenderToReceiver) {
   EXPECT_EQ(later.report["marks"], json::array()) << later.report.dump();
   EXPECT_NE(at.dom.find("<li class=\"ev k17 now\""), std::string::npos);  // listed (kind 17), as happening now
   EXPECT_NE(at.dom.find("BEACON_LOST"), std::string::npos);
+}
+
+// ---- The verdict: how the run went, first on the page ---------------------------
+
+// The verdict banner's class and headline, from the DOM itself.
+struct Banner {
+  std::string state, headline;
+};
+Banner VerdictBanner(const Loaded& loaded) {
+  std::smatch match;
+  if (!std::regex_search(loaded.dom, match,
+                         std::regex(R"re(<div id="verdict" class="([^"]*)"><div class="headline">([^<]*)</div>)re"))) {
+    return {};
+  }
+  return {match[1].str(), Unescape(match[2].str())};
+}
+
+// The banner is above the arena and within the window (1000 px high): seen
+// without scrolling.
+void ExpectSeenFirst(const Loaded& loaded) {
+  const json verdict = loaded.report.value("verdict", json());
+  ASSERT_TRUE(verdict.is_object()) << loaded.report.dump();
+  EXPECT_LT(verdict["bottom"].get<double>(), 1000.0);
+  EXPECT_LT(verdict["bottom"].get<double>(), loaded.report["arena"]["top"].get<double>());
+}
+
+// Metrics of a run (seed 1, as the hand-made replays) that broke nothing.
+metrics::Metrics CleanMetrics() {
+  metrics::Metrics m;
+  m.seed = 1;
+  m.goal.app = "builtin:gather";
+  m.goal.reached = true;
+  m.goal.source = "scenario";
+  metrics::GoalCheckResult check;
+  check.name = check.check = "gathered";
+  check.passed = true;
+  check.reason = "radius 0.210 m <= 0.300 m";
+  m.goal.checks = {check};
+  m.agreement.emplace();
+  m.agreement->cooperative_epochs = 3;
+  m.agreement->agreed_epochs = 3;
+  return m;
+}
+
+TEST(VerdictPage, ARunThatMetItsGoalSaysOkFirst) {
+  PageOptions options;
+  options.metrics = CleanMetrics();
+  const fs::path page = WritePage(CollisionReplay(replay::EventKind::kEpochStart), "verdict_ok", options);
+
+  const Loaded loaded = Load(page);
+
+  const Banner banner = VerdictBanner(loaded);
+  EXPECT_EQ(banner.state, "ok") << loaded.dom.substr(0, 3000);
+  EXPECT_EQ(banner.headline, "Goal met: 1 of 1 checks held; gathered held: radius 0.210 m <= 0.300 m");
+  ExpectSeenFirst(loaded);
+}
+
+TEST(VerdictPage, AMissedGoalSaysWhichCheckAndWhy) {
+  PageOptions options;
+  options.metrics = CleanMetrics();
+  options.metrics->goal.reached = false;
+  options.metrics->goal.checks[0].passed = false;
+  options.metrics->goal.checks[0].reason = "robot 3 is 0.420 m from the centre, radius 0.300 m";
+  const fs::path page = WritePage(CollisionReplay(replay::EventKind::kEpochStart), "verdict_missed", options);
+
+  const Loaded loaded = Load(page);
+
+  const Banner banner = VerdictBanner(loaded);
+  EXPECT_EQ(banner.state, "missed");
+  EXPECT_EQ(banner.headline, "Goal missed: gathered: robot 3 is 0.420 m from the centre, radius 0.300 m");
+  ExpectSeenFirst(loaded);
+}
+
+TEST(VerdictPage, ACounterexampleSaysWhatBrokeAndTheBeaconsItLost) {
+  // A search's counterexample: robot 0's beacon of round 30 lost on the way
+  // to robot 1, and the app's state split in epoch 1.
+  PageOptions options;
+  options.metrics = CleanMetrics();
+  options.metrics->agreement->agreed_epochs = 2;
+  options.metrics->agreement->disagreeing_calls = 4;
+  options.metrics->agreement->first_disagreement =
+      metrics::Disagreement{.epoch = 1, .round = 31, .callback = "new_round", .robot = 1, .state = 3,
+                            .reference_robot = 0, .reference_state = 1};
+  const fs::path page = WritePage(CollisionReplay(replay::EventKind::kBeaconLost), "verdict_counterexample", options);
+
+  const Loaded loaded = Load(page);
+
+  const Banner banner = VerdictBanner(loaded);
+  EXPECT_EQ(banner.state, "broken");
+  EXPECT_EQ(banner.headline, "BROKEN: agreement split in epoch 1: robot 1 holds 3, robot 0 holds 1 (newRound, round "
+                             "31); lost beacon at round 30, 0 → 1");
+  ExpectSeenFirst(loaded);
+}
+
+TEST(VerdictPage, WithoutMetricsTheReplaysCollisionsStillBreakIt) {
+  const fs::path page = WritePage(CollisionReplay(), "verdict_replay_only");
+
+  const Loaded loaded = Load(page);
+
+  const Banner banner = VerdictBanner(loaded);
+  EXPECT_EQ(banner.state, "broken");
+  EXPECT_EQ(banner.headline, "BROKEN: 1 collision in the replay");
+}
+
+// ---- The goal's target -------------------------------------------------------
+
+TEST(TargetPage, TheGatheredChecksCircleIsDrawnWhereItIs) {
+  // A 4 x 2 m arena (as the hand-made replay's) whose goal gathers the robots
+  // within 0.3 m of (1, 0.5), away from where the robots are.
+  const scenario::LoadResult loaded_scenario = scenario::LoadScenarioText(
+      "name: target\napp: builtin:idle\narena: { width_m: 4, height_m: 2 }\nrobots: { count: 2 }\n"
+      "goal:\n  - { check: gathered, radius_m: 0.3, centre: { x_m: 1, y_m: 0.5 } }\n"
+      "  - { check: line, spacing_m: 0.5 }\n",
+      "target.yaml");
+  ASSERT_TRUE(loaded_scenario.ok()) << *loaded_scenario.error;
+  PageOptions options;
+  options.scenario = &*loaded_scenario.scenario;
+  const fs::path page = WritePage(CollisionReplay(replay::EventKind::kEpochStart), "target", options);
+
+  const Loaded loaded = Load(page, "#round=5");
+  const fs::path shot = Artifacts() / "target.png";
+  fs::remove(shot);
+  ASSERT_EQ(std::system(Chromium("--screenshot=" + shot.string(), page, "#round=5").c_str()), 0);
+
+  const json targets = loaded.report.value("targets", json::array());
+  ASSERT_EQ(targets.size(), 1u) << loaded.report.dump();
+  EXPECT_EQ(targets[0]["shape"], "ring");
+  EXPECT_EQ(targets[0]["x"], 1.0);
+  EXPECT_EQ(targets[0]["r_max"], 0.3);
+  EXPECT_NE(loaded.dom.find("goal target: gathered"), std::string::npos);  // the legend
+  EXPECT_NE(loaded.dom.find("goal line: not drawn"), std::string::npos);
+  // The ring's stroke, in the target's green, right of the centre and above it.
+  const Image image = ReadPng(shot);
+  ASSERT_GT(image.width, 0u);
+  const json& arena = loaded.report["arena"];
+  const double scale = arena["scale"];
+  const double left = arena["left"].get<double>() + arena["ox"].get<double>();
+  const double top = arena["top"].get<double>() + arena["oy"].get<double>();
+  for (const auto& [x_m, y_m] : std::vector<std::pair<double, double>>{{1.3, 0.5}, {1.0, 0.8}, {0.7, 0.5}}) {
+    const std::array<int, 3> got =
+        image.At(static_cast<int>(std::lround(left + x_m * scale)), static_cast<int>(std::lround(top - y_m * scale)));
+    SCOPED_TRACE(::testing::Message() << "(" << x_m << ", " << y_m << ")");
+    EXPECT_LT(got[0], 110);  // green: the background and the grid are near white, the walls grey
+    EXPECT_GT(got[1], got[0] + 40);
+    EXPECT_GT(got[1], got[2] + 25);
+  }
+}
+
+// ---- Labels before the first epoch, the events list ----------------------------
+
+TEST_F(ScenarioPage, BeforeTheirFirstEpochRobotsAreLabelledStarting) {
+  const Loaded loaded = Load(page_, "#round=1");
+
+  const json labels = loaded.report.value("labels", json::array());
+  ASSERT_EQ(labels.size(), 10u) << loaded.report.dump();
+  for (const json& label : labels) EXPECT_EQ(label["label"], "starting") << label.dump();
+  EXPECT_NE(loaded.dom.find("epoch none yet (starting)"), std::string::npos);
+}
+
+TEST(EventsList, EveryKindFitsItsColumnAndAJoinWaitIsNamed) {
+  // A safety intervention (the longest kind's name) and a join wait.
+  const fs::path safety = WritePage(CollisionReplay(replay::EventKind::kSafetyIntervention), "events_safety");
+  const fs::path join_wait = WritePage(CollisionReplay(replay::EventKind::kJoinWait), "events_join_wait");
+
+  const Loaded with_safety = Load(safety);
+  const Loaded with_join_wait = Load(join_wait);
+
+  EXPECT_NE(with_safety.dom.find(">SAFETY_INTERVENTION<"), std::string::npos);
+  EXPECT_EQ(with_safety.report.value("events_overflowing", json()), json::array()) << with_safety.report.dump();
+  EXPECT_EQ(with_join_wait.report.value("events_overflowing", json()), json::array());
+  EXPECT_NE(with_join_wait.dom.find("robot 0 waits to join: its start disc is not clear"), std::string::npos);
 }
 
 // ---- A replay made by hand with private inputs and a message format --------

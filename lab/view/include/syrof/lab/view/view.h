@@ -14,6 +14,11 @@
 #include <string>
 
 #include "syrof/lab/base/error.h"
+#include "syrof/lab/metrics/metrics.h"
+
+namespace syrof::lab::scenario {
+struct Scenario;  // syrof/lab/scenario/scenario.h (not included: it brings Eigen, which lab/live's HTTP headers break)
+}  // namespace syrof::lab::scenario
 
 namespace syrof::lab::view {
 
@@ -23,6 +28,12 @@ struct PageOptions {
   /// k-th round's frames are kept (the smallest k that fits). Events and
   /// maps are never dropped.
   size_t max_robot_frames = 600'000;
+  /// The run's metrics, for the verdict banner (verdict.h); unset: the
+  /// page judges what the replay alone shows and says the goal is unknown.
+  std::optional<metrics::Metrics> metrics;
+  /// The run's scenario, for the goal's target in the arena (verdict.h:
+  /// GoalTargets); null: no target drawn. Outlives the call.
+  const scenario::Scenario* scenario = nullptr;
 };
 
 /// The page and what went into it.
