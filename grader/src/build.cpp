@@ -392,8 +392,9 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
     const pid_t tool = fork();
     if (tool < 0) _exit(125);
     if (tool == 0) exec_tool();
-    close(output[1]);
-    if (null_fd >= 0) close(null_fd);
+    // The init keeps only its report: it shares the build's uid and
+    // Landlock domain, so what it held would be one ptrace away.
+    CloseAllBut(status_pipe[1], status_pipe[1]);
     for (;;) {
       int status = 0;
       const pid_t reaped = waitpid(-1, &status, 0);
