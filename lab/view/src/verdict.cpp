@@ -169,7 +169,8 @@ Verdict VerdictOfReplay(const ReplayFacts& facts) {
   Verdict verdict;
   const std::string collisions = Plural(facts.collisions, "collision", "collisions");
   const std::string faults = Plural(facts.app_faults, "app fault", "app faults");
-  verdict.lines.push_back({"goal", true, "not judged: the run's metrics.json was not beside the replay"});
+  verdict.lines.push_back(
+      {"goal", true, "not judged here: this page was made from the replay alone, without the run's metrics"});
   verdict.lines.push_back({"collisions", facts.collisions == 0, facts.collisions == 0 ? "none" : collisions});
   verdict.lines.push_back({"app", facts.app_faults == 0, facts.app_faults == 0 ? "no fault" : faults});
   if (!facts.lost.empty()) verdict.lines.push_back({"lost beacons", true, LostText(facts.lost)});
@@ -179,8 +180,9 @@ Verdict VerdictOfReplay(const ReplayFacts& facts) {
     verdict.headline = "BROKEN: " + (facts.collisions > 0 ? collisions : faults) + " in the replay" + lost;
   } else {
     verdict.state = VerdictState::kUnjudged;
-    verdict.headline = "Not judged: no metrics.json beside this replay, so the goal, P3 and the app's agreement "
-                       "are unknown; the replay shows no collision and no app fault" + lost;
+    verdict.headline = "Not judged here: without the run's metrics (`syrof view` reads the metrics.json beside the "
+                       "replay) the goal, P3 and the app's agreement are unknown; the replay shows no collision and "
+                       "no app fault" + lost;
   }
   return verdict;
 }

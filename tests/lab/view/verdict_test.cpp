@@ -58,6 +58,19 @@ TEST(Verdict, ALibraryWithoutADeclaredGoalIsNotHeldToOne) {
   EXPECT_EQ(verdict.lines.front().text, "none declared: the scenario has no `goal:`");
 }
 
+TEST(Verdict, AReplayAloneIsUnjudgedUnlessItShowsACollisionOrAFault) {
+  ReplayFacts quiet;
+  ReplayFacts faulted;
+  faulted.app_faults = 2;
+
+  const Verdict unjudged = VerdictOfReplay(quiet);
+
+  EXPECT_EQ(unjudged.state, VerdictState::kUnjudged);
+  EXPECT_EQ(unjudged.headline.rfind("Not judged here: without the run's metrics", 0), 0u) << unjudged.headline;
+  EXPECT_EQ(VerdictOfReplay(faulted).state, VerdictState::kBroken);
+  EXPECT_EQ(VerdictOfReplay(faulted).headline, "BROKEN: 2 app faults in the replay");
+}
+
 TEST(Verdict, LostBeaconsAreListedAfterWhatBroke) {
   metrics::Metrics m = GoalMet();
   m.goal.reached = false;
