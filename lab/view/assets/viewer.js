@@ -36,6 +36,7 @@
     lost: [194, 24, 91],
     wall: [120, 124, 135],
     target: [31, 138, 76],
+    starting: [168, 186, 210],
   };
   const KIND_COLOURS = {
     EPOCH_START: '#9aa3b5', MEMBER_REMOVED: '#d0452f', MEMBER_JOINED: '#2e9d5b', BECAME_JOINER: '#8e6cc7',
@@ -214,6 +215,7 @@
     if (presence === 3) return faultedFrom.has(robots[slot].id) && faultedFrom.get(robots[slot].id) <= pos ? COLOURS.fault : COLOURS.crashed;
     if (presence === 2) return COLOURS.paused;
     if (joiningOf(s)) return COLOURS.joining;
+    if (frames[slot].e[sampleOf(pos)] === 0) return COLOURS.starting;  // no epoch yet: no mode either
     return modeOf(s) === 0 ? COLOURS.cooperative : COLOURS.autonomous;
   }
 
@@ -370,7 +372,7 @@
           ctx.fillStyle = '#667085';
           ctx.font = '10px system-ui, sans-serif';
           ctx.fillText(label, px + r * 0.75 + 2, py + r + 9);
-          labels.push({ robot: robots[slot].id, label });
+          labels.push({ robot: robots[slot].id, label, colour });
         }
       }
     }
@@ -523,7 +525,8 @@
 
   function legend() {
     const items = [['COOPERATIVE', COLOURS.cooperative], ['AUTONOMOUS', COLOURS.autonomous], ['joining', COLOURS.joining],
-                   ['paused', COLOURS.paused], ['crashed', COLOURS.crashed], ['app fault', COLOURS.fault]];
+                   ['paused', COLOURS.paused], ['crashed', COLOURS.crashed], ['app fault', COLOURS.fault],
+                   ['starting (no epoch yet)', COLOURS.starting]];
     const nodes = items.map(([name, c]) => el('span', {}, [el('i', { className: 'sw', style: `background:${rgb(c)};margin:0` }), name]));
     nodes.push(el('span', { textContent: '◌ dashed: the robot\'s own estimate' }));
     nodes.push(el('span', { innerHTML: '<b style="color:#d02828">◎</b> collision' }));

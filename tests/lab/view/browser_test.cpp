@@ -496,7 +496,10 @@ TEST_F(ScenarioPage, BeforeTheirFirstEpochRobotsAreLabelledStarting) {
 
   const json labels = loaded.report.value("labels", json::array());
   ASSERT_EQ(labels.size(), 10u) << loaded.report.dump();
-  for (const json& label : labels) EXPECT_EQ(label["label"], "starting") << label.dump();
+  for (const json& label : labels) {
+    EXPECT_EQ(label["label"], "starting") << label.dump();
+    EXPECT_EQ(label["colour"], loaded.report["colours"]["starting"]) << label.dump();  // not a mode's colour
+  }
   EXPECT_NE(loaded.dom.find("epoch none yet (starting)"), std::string::npos);
 }
 
