@@ -130,8 +130,9 @@ Verdict VerdictOf(const metrics::Metrics& m, const ReplayFacts& facts) {
     broken.push_back(text);
     verdict.lines.push_back({"app", false, text});
   } else if (m.app.invalid_commands.count > 0 || m.app.payload_refused.count > 0) {
-    const std::string text = fmt::format("{} refused, {} refused", Plural(m.app.invalid_commands.count, "command", "commands"),
-                                         Plural(m.app.payload_refused.count, "payload", "payloads"));
+    const std::string text =
+        fmt::format("{} refused, {} refused", Plural(m.app.invalid_commands.count, "command", "commands"),
+                    Plural(m.app.payload_refused.count, "payload", "payloads"));
     broken.push_back(text);
     verdict.lines.push_back({"app", false, text});
   } else {
@@ -216,7 +217,9 @@ class Fields {
     }
     return &*found;
   }
-  std::string Path(std::string_view key) const { return path_.empty() ? std::string(key) : path_ + "." + std::string(key); }
+  std::string Path(std::string_view key) const {
+    return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+  }
 
   bool Bool(std::string_view key, bool& out) {
     const json* value = Get(key);
@@ -394,7 +397,8 @@ json GoalTargets(const scenario::Scenario& scenario, size_t goal_robots) {
                          {"points", std::move(points)}});
     } else if (app == "gather" && goal_robots > 0) {
       const apps::GatherParams params = apps::ReadGatherParams(scenario.app.params);
-      const double radius = apps::HexRingRadiusM(goal_robots, apps::GatherSpacingM(params, body_m)) + params.tolerance_m;
+      const double radius =
+          apps::HexRingRadiusM(goal_robots, apps::GatherSpacingM(params, body_m)) + params.tolerance_m;
       targets.push_back({{"shape", "free_ring"}, {"name", "gather"}, {"r_min", radius}, {"r_max", radius}});
     }
     return targets;
