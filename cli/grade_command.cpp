@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 
 #include "syrof/app_host/landlock.h"
 #include "syrof/assignment/assignment.h"
@@ -151,6 +152,29 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
     };
   }
   const auto started = Clock::now();
+  if (options.deadline_s > 0) {
+    grade.deadline = started + std::chrono::duration_cast<Clock::duration>(
+                                   std::chrono::duration<double>(options.deadline_s));
+  }
+  // results.json kept valid while grading runs (--gradescope-results).
+  const assignment::Assignment graded = grader::GradedAssignment(*loaded, grade);
+  std::optional<grader::LiveResultsFile> live;
+  if (!options.gradescope_results.empty()) {
+    assignment::SubmissionResult planned;
+    planned.assignment = graded.name;
+    planned.title = graded.title;
+    planned.public_only = options.public_only || graded.hidden_missing;
+    planned.tests = grader::PlanTests(graded, planned.public_only);
+    live.emplace(options.gradescope_results, graded, std::move(planned));
+    if (std::string problem = live->Begin(); !problem.empty()) {
+      fmt::print(err, "syrof grade: --gradescope-results: {}\n", problem);
+      return kBadInput;
+    }
+    grade.on_test = [&live, progress = grade.on_test](const assignment::TestResult& test) {
+      if (progress) progress(test);
+      live->Record(test);
+    };
+  }
   std::vector<std::string> notes;
   assignment::SubmissionResult result =
       grader::GradeSubmission(*loaded, options.submission, out_dir, grade, notes);
@@ -163,6 +187,12 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
       !problem.empty()) {
     fmt::print(err, "syrof grade: {}\n", problem);
     return kInternalError;
+  }
+  if (live) {
+    if (std::string problem = live->Finish(result); !problem.empty()) {
+      fmt::print(err, "syrof grade: --gradescope-results: {}\n", problem);
+      return kInternalError;
+    }
   }
   out << "\n";
   grader::PrintSubmissionTable(result, out_dir, out);
@@ -313,6 +343,15 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
                         "report.html's form: student (default; a hidden test shows only its name, points and "
                         "pass/fail) or full (the instructor's: hidden tests with their reasons and viewers)")
           ->check(CLI::IsMember({"student", "full"}));
+  CLI::Option* deadline_option =
+      grade->add_option("--deadline-s", options.deadline_s,
+                        "One submission: a test not started this many seconds after grading began is not run "
+                        "(0 points, the reason said; run_autograder's deadline below Gradescope's timeout)")
+          ->check(CLI::Range(0.0, 86400.0));
+  CLI::Option* results_option = grade->add_option(
+      "--gradescope-results", options.gradescope_results,
+      "One submission: Gradescope's results.json also at this path, valid at every moment (rewritten after each "
+      "test), so an autograder stopped by Gradescope's timeout keeps the tests that finished");
   grade->add_flag("--unsafe-no-file-isolation", options.unsafe_no_file_isolation,
                   "Grade even where the kernel has no Landlock (older than 5.13): submissions' builds and "
                   "libraries can then read and write whatever uid 65534 (or yours) can; only for code you trust");
@@ -337,6 +376,10 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
   metadata_option->excludes(mix_option);
   class_option->excludes(mix_option);
   report_option->excludes(mix_option);
+  for (CLI::Option* one_submission : {deadline_option, results_option}) {
+    one_submission->excludes(class_option);
+    one_submission->excludes(mix_option);
+  }
 
   CLI::App* merge = grade->add_subcommand("merge", "Combine the outputs of class shards into one CSV and summary");
   merge->add_option("outputs", options.merge_dirs, "The shards' --out folders")->required();

@@ -2,7 +2,7 @@
 // and `syrof grade merge` (docs/grading.md):
 //   syrof grade SUBMISSION_DIR --assignment NAME|PATH [--public-only] [--jobs N] [--out DIR]
 //               [--student-seed ID | --gradescope-metadata FILE] [--course-secret-file FILE]
-//               [--report student|full]
+//               [--report student|full] [--deadline-s S] [--gradescope-results FILE]
 //   syrof grade --class SUBMISSIONS_DIR --assignment NAME --jobs N --out DIR [--shard I/N]
 //               [--per-student-seeds] [--course-secret-file FILE] [--report student|full]
 //   syrof grade --mix SUB1 SUB2 ... --assignment NAME [--out DIR]
@@ -34,6 +34,13 @@ struct GradeOptions {
   /// report.html's form: "student" (hidden tests as name, points and
   /// verdict only) or "full" (the instructor's: hidden tests whole).
   std::string report = "student";
+  /// One submission: a test not started this many seconds after grading
+  /// began is not run (0 points, the reason said); 0: no deadline.
+  double deadline_s = 0;
+  /// One submission: Gradescope's results.json also here, valid at every
+  /// moment (rewritten after each test), for an autograder that may be
+  /// stopped by Gradescope's timeout.
+  std::string gradescope_results;
   // Hidden seeds per student (docs/grading.md): the secret from
   // --course-secret-file, else $SYROF_COURSE_SECRET; never an argument.
   std::string student_seed;             ///< the student's id

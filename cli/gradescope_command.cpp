@@ -95,6 +95,11 @@ CLI::App* SetupGradescopeCommand(CLI::App& app, GradescopeOptions& options) {
   command->add_option("--prefix", options.prefix,
                       "SyROF as a self-contained folder, as `make gradescope-prefix` writes it (default: "
                       "gradescope-prefix/ in the running build tree)");
+  command->add_option("--deadline-s", options.deadline_s,
+                      "run_autograder starts no test after this many seconds: set it below the autograder "
+                      "timeout you give Gradescope, so that a slow submission's finished tests keep their points")
+      ->default_str(std::to_string(grader::report::kDefaultDeadlineS))
+      ->check(CLI::Range(10, 86400));
   command->add_flag("--per-student-seeds", options.per_student_seeds,
                     "Put the course secret ($SYROF_COURSE_SECRET or --course-secret-file) in the bundle: each "
                     "submission's hidden seeds are then derived from its Gradescope users (keep the zip private)");
@@ -142,7 +147,8 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
       return kBadInput;
     }
   }
-  const grader::report::BundleResult bundle = grader::report::GradescopeBundle(folder, prefix, course_secret);
+  const int deadline_s = options.deadline_s > 0 ? options.deadline_s : grader::report::kDefaultDeadlineS;
+  const grader::report::BundleResult bundle = grader::report::GradescopeBundle(folder, prefix, course_secret, deadline_s);
   if (!bundle.ok()) {
     fmt::print(err, "syrof gradescope: {}\n", bundle.error);
     return kBadInput;
@@ -158,8 +164,9 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
              bundle.bundle->files.size(), static_cast<double>(bytes) / (1024.0 * 1024.0));
   fmt::print(out, "  {:<15} installs a compiler, CMake and make where the image lacks them, then checks that "
                   "syrof runs\n", "setup.sh");
-  fmt::print(out, "  {:<15} grades /autograder/submission into /autograder/results/results.json\n",
-             "run_autograder");
+  fmt::print(out, "  {:<15} grades /autograder/submission into /autograder/results/results.json, kept valid "
+                  "after each test; starts no test after {} s (set Gradescope's timeout above that)\n",
+             "run_autograder", deadline_s);
   fmt::print(out, "  {:<15} SyROF {} from {}: its programs and the libraries they need but glibc and the C++ "
                   "runtime (for Ubuntu 22.04, glibc 2.35 and up)\n",
              std::string(grader::report::kSyrofFolder) + "/", SYROF_VERSION, prefix);

@@ -18,6 +18,10 @@ struct GradescopeOptions {
   std::string assignment{};               ///< a name under ./assignments/, or a folder (or its assignment.yaml)
   std::string output{"autograder.zip"};  ///< the zip to write
   std::string prefix{};                   ///< the self-contained SyROF; empty: PrefixBesideBuild of the running syrof
+  /// run_autograder's deadline, seconds: no test starts later (set it below
+  /// the autograder timeout configured on Gradescope).
+  /// 0: grader::report::kDefaultDeadlineS (8 of Gradescope's default 10 minutes).
+  int deadline_s = 0;
   /// Per-student hidden seeds: the course secret (from `course_secret_file`,
   /// else $SYROF_COURSE_SECRET) goes into the bundle, and run_autograder
   /// derives each submission's hidden seeds from its users.

@@ -41,8 +41,9 @@ demo_packages=(
 more_packages=(
   # make package: dpkg-shlibdeps (dpkg-dev) for the .deb's Depends, and file, which CPack uses to find the ELF files
   dpkg-dev file
-  # make gradescope-prefix: run paths relative to each file in the Gradescope bundle's SyROF
-  patchelf
+  # make gradescope-prefix: run paths relative to each file in the Gradescope bundle's SyROF;
+  # unzip opens bundles as Gradescope does (scripts/gradescope-limits.sh, test-gradescope-bundle.sh)
+  patchelf unzip
   # the independent Fast DDS 2.9 reader of the swarm's beacons (tests/sim_dds/interop; fastddsgen runs on Java)
   libfastrtps-dev libfastcdr-dev fastddsgen
   # fuzzing and sanitizers with clang

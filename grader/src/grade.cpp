@@ -325,6 +325,14 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
   auto work = [&] {
     for (size_t index = next++; index < result.tests.size(); index = next++) {
       TestResult& test = result.tests[index];
+      if (options.deadline && std::chrono::steady_clock::now() >= *options.deadline) {
+        test.run_error = kNotRunDeadline;
+        if (options.on_test) {
+          const std::lock_guard<std::mutex> lock(report_mutex);
+          options.on_test(test);
+        }
+        continue;
+      }
       if (test.search) {
         const assignment::SearchTestSpec& spec = *FindSearch(assignment, test);
         test.replay_command = SearchCommand(assignment, spec, shown_library);

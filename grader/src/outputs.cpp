@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "syrof/grader/grade.h"
 #include "syrof/grader/grade_json.h"
 #include "syrof/report/reports.h"
 
@@ -26,6 +27,47 @@ std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, c
   report::ReportOptions options;
   options.form = full_report ? report::ReportForm::kFull : report::ReportForm::kStudent;
   return report::WriteSubmissionReports(result, out_dir, options);
+}
+
+LiveResultsFile::LiveResultsFile(std::string path, const assignment::Assignment& assignment,
+                                 assignment::SubmissionResult planned)
+    : path_(std::move(path)), assignment_(assignment), current_(std::move(planned)) {
+  current_.build.verdict = "ok";
+  for (assignment::TestResult& test : current_.tests) test.run_error = kNotGraded;
+  AddUp(current_, assignment_);
+}
+
+std::string LiveResultsFile::Begin() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return Write(current_);
+}
+
+std::string LiveResultsFile::Record(const assignment::TestResult& test) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  for (assignment::TestResult& planned : current_.tests) {
+    if (planned.name == test.name) planned = test;
+  }
+  AddUp(current_, assignment_);
+  return Write(current_);
+}
+
+std::string LiveResultsFile::Finish(const assignment::SubmissionResult& result) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return Write(result);
+}
+
+std::string LiveResultsFile::Write(const assignment::SubmissionResult& result) {
+  const std::string temporary = path_ + ".partial";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << report::GradescopeResultsJson(result);
+    out.flush();
+    if (!out) return "cannot write " + temporary;
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path_, error);
+  if (error) return "cannot write " + path_ + ": " + error.message();
+  return {};
 }
 
 }  // namespace syrof::grader

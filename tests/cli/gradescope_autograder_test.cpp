@@ -203,6 +203,28 @@ TEST_F(AutograderTest, ASubmissionThatDoesNotBuildScoresZeroAndSaysWhy) {
   EXPECT_NE(results["output"].get<std::string>().find("did not build"), std::string::npos) << results["output"];
 }
 
+// The bundle's deadline (syrof gradescope --deadline-s): no test starts
+// after it; each says why it was not run, and results.json stays Gradescope's.
+TEST_F(AutograderTest, TestsPastTheBundlesDeadlineAreNotRunAndSaySo) {
+  EXPECT_EQ(ReadFile(root_ / "source/deadline_s"), "480\n") << "the default: 8 of Gradescope's 10 minutes";
+  fs::copy(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather/reference", root_ / "submission",
+           fs::copy_options::recursive);
+  fs::remove(root_ / "submission/expected.yaml");
+  std::ofstream(root_ / "source/deadline_s") << "1\n";  // the build alone takes longer
+
+  std::string output;
+  EXPECT_EQ(Script("run_autograder", output), 0) << output;
+
+  const json results = Results();
+  ASSERT_TRUE(results.is_object()) << output;
+  EXPECT_EQ(results["score"], 0.0);
+  ASSERT_EQ(results["tests"].size(), 8u) << results.dump(2);
+  for (const json& test : results["tests"]) {
+    EXPECT_NE(test["output"].get<std::string>().find("not run: grading reached its deadline"), std::string::npos)
+        << test.dump(2);
+  }
+}
+
 // The attacks of tests/grader/hostile_build_test.cpp through the bundle, as
 // a student would send them to Gradescope: the hidden scenarios sit under
 // /autograder/source, the results under /autograder/results.
@@ -280,6 +302,9 @@ TEST_F(PerStudentAutograderTest, RunAutograderPassesTheMetadataAndTheSecretToSyr
             std::string::npos)
       << arguments;
   EXPECT_NE(arguments.find("--course-secret-file " + (root_ / "source/course_secret").string()), std::string::npos)
+      << arguments;
+  EXPECT_NE(arguments.find("--deadline-s 480 --gradescope-results " + (root_ / "results/results.json").string()),
+            std::string::npos)
       << arguments;
 }
 

@@ -193,6 +193,64 @@ TEST(GradeSubmissionTest, ARunOverItsTimeLimitIsStoppedWithARunError) {
   EXPECT_EQ(result.points, 0);
 }
 
+// run_autograder's deadline: a test not started by then is not run, with
+// the reason, and the tests graded before keep their points.
+TEST(GradeSubmissionTest, TestsNotStartedByTheDeadlineAreNotRunAndTheOthersKeepTheirPoints) {
+  const Assignment tiny = LoadTiny();
+  const fs::path out = Fresh("deadline");
+  std::vector<std::string> notes;
+  GradeOptions options;
+  // The first test ends the grading's time: every later one finds the deadline passed.
+  options.deadline = std::chrono::steady_clock::time_point::max();
+  options.on_test = [&options](const assignment::TestResult&) { options.deadline = std::chrono::steady_clock::now(); };
+
+  const SubmissionResult result = GradeSubmission(tiny, kReference.string(), out.string(), options, notes);
+
+  ASSERT_EQ(result.build.verdict, "ok") << result.build.detail;
+  ASSERT_EQ(result.tests.size(), 3u);
+  EXPECT_TRUE(result.tests[0].passed);
+  EXPECT_EQ(result.tests[0].run_error, "");
+  for (size_t index : {1u, 2u}) {
+    EXPECT_EQ(result.tests[index].run_error, kNotRunDeadline) << result.tests[index].name;
+    EXPECT_EQ(result.tests[index].points, 0);
+  }
+  EXPECT_EQ(result.points, 20) << "the first test's share, 60 / 3";
+}
+
+// results.json while grading runs: valid JSON at every write, the tests
+// graded so far with their points, the others said not graded; at the end
+// the reports' bytes.
+TEST(LiveResultsFileTest, HoldsTheTestsGradedSoFarAndAtTheEndTheReportsBytes) {
+  const Assignment tiny = LoadTiny();
+  const fs::path out = Fresh("live_results");
+  std::vector<std::string> notes;
+  GradeOptions options;
+  const SubmissionResult graded = GradeSubmission(tiny, kReference.string(), out.string(), options, notes);
+  ASSERT_EQ(graded.points, 60);
+  SubmissionResult planned;
+  planned.assignment = tiny.name;
+  planned.title = tiny.title;
+  planned.tests = PlanTests(tiny, false);
+  const fs::path path = out / "live.json";
+  LiveResultsFile live(path.string(), tiny, planned);
+
+  ASSERT_EQ(live.Begin(), "");
+  const std::string begun = Read(path);
+  EXPECT_NE(begun.find("\"score\": 0"), std::string::npos) << begun;
+  EXPECT_NE(begun.find(LiveResultsFile::kNotGraded), std::string::npos) << begun;
+
+  ASSERT_EQ(live.Record(graded.tests[0]), "");
+  const std::string one = Read(path);
+  EXPECT_NE(one.find("\"score\": 20"), std::string::npos) << one;
+  EXPECT_NE(one.find("\"status\": \"passed\""), std::string::npos) << one;
+  EXPECT_NE(one.find(LiveResultsFile::kNotGraded), std::string::npos) << "two tests not graded yet: " << one;
+  EXPECT_FALSE(fs::exists(path.string() + ".partial")) << "each write is renamed into place";
+
+  ASSERT_EQ(live.Finish(graded), "");
+  ASSERT_EQ(WriteSubmissionOutputs(graded, "hash", notes, out.string()), "");
+  EXPECT_EQ(Read(path), Read(out / "results.json"));
+}
+
 TEST(GradeSubmissionTest, WithoutTheHiddenFilesOnlyPublicTestsAreGraded) {
   const fs::path copy = Fresh("student_copy");
   fs::copy(kTiny, copy, fs::copy_options::recursive);

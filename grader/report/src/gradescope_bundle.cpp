@@ -83,7 +83,7 @@ std::string GradescopeSetupScript() { return Asset(kAsset_setup_sh, kAsset_setup
 std::string GradescopeRunScript() { return Asset(kAsset_run_autograder, kAsset_run_autograder_size); }
 
 BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& syrof_folder,
-                              const std::optional<std::string>& course_secret) {
+                              const std::optional<std::string>& course_secret, int deadline_s) {
   BundleResult result;
   const fs::path folder(assignment_folder);
   std::error_code error;
@@ -108,6 +108,7 @@ BundleResult GradescopeBundle(const std::string& assignment_folder, const std::s
     return result;
   }
   if (course_secret) bundle.files.push_back({std::string(kCourseSecretFile), {}, *course_secret + "\n", false});
+  bundle.files.push_back({std::string(kDeadlineFile), {}, std::to_string(deadline_s) + "\n", false});
   if (std::string problem = ListFolder(folder, "assignment/", true, bundle.files); !problem.empty()) {
     result.error = problem;
     return result;

@@ -85,7 +85,7 @@ TEST_F(BundleTest, HoldsTheScriptsSyrofAndTheAssignmentButNotItsSolutions) {
   EXPECT_EQ(names, (std::vector<std::string>{"assignment/README.md", "assignment/assignment.yaml",
                                              "assignment/hidden/gather_10_crash.yaml",
                                              "assignment/scenarios/gather_6.yaml", "assignment/starter/app.c",
-                                             "run_autograder", "setup.sh", "syrof/bin/syrof",
+                                             "deadline_s", "run_autograder", "setup.sh", "syrof/bin/syrof",
                                              "syrof/gradescope-prefix.txt", "syrof/include/syrof/app.h",
                                              "syrof/lib/cmake/SyROF/SyROFConfig.cmake", "syrof/lib/libsyrof_app.so.1",
                                              "syrof/libexec/syrof/syrof-app-host"}));
@@ -112,17 +112,19 @@ TEST_F(BundleTest, TheZipListsFoldersBeforeTheirFilesWithModesAndOneFixedTime) {
                          "assignment/ 40755", "assignment/README.md 100644", "assignment/assignment.yaml 100644",
                          "assignment/hidden/ 40755", "assignment/hidden/gather_10_crash.yaml 100644",
                          "assignment/scenarios/ 40755", "assignment/scenarios/gather_6.yaml 100644",
-                         "assignment/starter/ 40755", "assignment/starter/app.c 100644", "run_autograder 100755",
+                         "assignment/starter/ 40755", "assignment/starter/app.c 100644", "deadline_s 100644",
+                         "run_autograder 100755",
                          "setup.sh 100755", "syrof/ 40755", "syrof/bin/ 40755", "syrof/bin/syrof 100755",
                          "syrof/gradescope-prefix.txt 100644", "syrof/include/ 40755", "syrof/include/syrof/ 40755",
                          "syrof/include/syrof/app.h 100644", "syrof/lib/ 40755", "syrof/lib/cmake/ 40755",
                          "syrof/lib/cmake/SyROF/ 40755", "syrof/lib/cmake/SyROF/SyROFConfig.cmake 100644",
                          "syrof/lib/libsyrof_app.so.1 100644", "syrof/libexec/ 40755", "syrof/libexec/syrof/ 40755",
                          "syrof/libexec/syrof/syrof-app-host 100644"}));
-  EXPECT_EQ(entries[9].bytes, GradescopeRunScript());
-  EXPECT_EQ(entries[10].bytes, GradescopeSetupScript());
-  EXPECT_EQ(entries[13].bytes, ReadFile(syrof_ / "bin/syrof"));
-  EXPECT_EQ(entries[13].method, ZIP_CM_DEFLATE);
+  EXPECT_EQ(entries[9].bytes, std::to_string(kDefaultDeadlineS) + "\n");
+  EXPECT_EQ(entries[10].bytes, GradescopeRunScript());
+  EXPECT_EQ(entries[11].bytes, GradescopeSetupScript());
+  EXPECT_EQ(entries[14].bytes, ReadFile(syrof_ / "bin/syrof"));
+  EXPECT_EQ(entries[14].method, ZIP_CM_DEFLATE);
   EXPECT_EQ(entries[2].bytes, "title: Gather\n");
 }
 
@@ -207,6 +209,8 @@ TEST(GradescopeScriptsTest, TheScriptsTakeTheirRootFromAutograderRoot) {
   EXPECT_NE(GradescopeRunScript().find("syrof=\"$root/source/syrof/bin/syrof\""), std::string::npos);
   EXPECT_NE(GradescopeRunScript().find(
                 "\"$syrof\" grade \"$root/submission\" --assignment \"$root/source/assignment\" --out \"$out\""),
+            std::string::npos);
+  EXPECT_NE(GradescopeRunScript().find("--deadline-s \"${deadline_s:-480}\" --gradescope-results \"$results/results.json\""),
             std::string::npos);
   // Nothing of SyROF from apt: only the tools a submission's build needs.
   EXPECT_EQ(GradescopeSetupScript().find(".deb"), std::string::npos);

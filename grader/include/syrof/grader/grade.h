@@ -12,6 +12,7 @@
 //   grade.json                       the SubmissionResult (grade_json.h)
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -36,7 +37,16 @@ struct GradeOptions {
   /// Called after each test is graded (from the thread that ran it; calls
   /// are serialised). Optional: progress lines.
   std::function<void(const assignment::TestResult&)> on_test;
+  /// Set: a test not started by then is not run; it gets 0 points and the
+  /// run_error kNotRunDeadline, and the tests run before keep theirs
+  /// (run_autograder's deadline below Gradescope's timeout).
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
+
+/// The run_error of a test that GradeOptions::deadline left unrun.
+inline constexpr const char* kNotRunDeadline =
+    "not run: grading reached its deadline before this test started (the autograder's own, set below "
+    "Gradescope's timeout so that the tests already graded keep their points)";
 
 /// The tests of `assignment`, in result.h's order (the runs, then the search
 /// tests), with name, scenario, seed, visibility and output folder set,

@@ -3,9 +3,11 @@
 // report.html with the viewer of each failing run).
 #pragma once
 
+#include <mutex>
 #include <string>
 #include <vector>
 
+#include "syrof/assignment/assignment.h"
 #include "syrof/assignment/result.h"
 
 namespace syrof::grader {
@@ -17,5 +19,41 @@ namespace syrof::grader {
 std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, const std::string& inputs_hash,
                                    const std::vector<std::string>& notes, const std::string& out_dir,
                                    bool full_report = false);
+
+/// Gradescope's results.json for one submission kept valid at every moment
+/// while it is graded (docs/grading.md, "Gradescope's limits"): an
+/// autograder stopped by Gradescope's timeout still leaves the tests that
+/// finished, with their points. Each write goes to a temporary file beside
+/// `path` and is renamed over it, so a reader never sees half a file.
+/// Record may be called from several threads.
+class LiveResultsFile {
+ public:
+  /// `assignment` is the assignment as graded (GradedAssignment), `planned`
+  /// a result whose tests are the plan (PlanTests), none of them run.
+  LiveResultsFile(std::string path, const assignment::Assignment& assignment, assignment::SubmissionResult planned);
+
+  /// Writes the plan: score 0, every test "not graded" with the reason
+  /// kNotGraded. Returns "" or what failed.
+  std::string Begin();
+  /// One test graded (as GradeOptions::on_test gives it): it replaces the
+  /// planned test of the same name, the total is added up again, the file
+  /// rewritten. Returns "" or what failed.
+  std::string Record(const assignment::TestResult& test);
+  /// The final result: the file then holds the same bytes as the reports'
+  /// results.json. Returns "" or what failed.
+  std::string Finish(const assignment::SubmissionResult& result);
+
+  /// The reason a test not graded yet carries in the file.
+  static constexpr const char* kNotGraded =
+      "not graded: grading stopped before this test finished (the autograder's time limit?)";
+
+ private:
+  std::string Write(const assignment::SubmissionResult& result);
+
+  std::string path_;
+  const assignment::Assignment& assignment_;
+  assignment::SubmissionResult current_;
+  std::mutex mutex_;
+};
 
 }  // namespace syrof::grader

@@ -56,6 +56,14 @@ inline constexpr const char* kCourseSecretFile = "course_secret";
 inline constexpr const char* kSyrofFolder = "syrof";
 inline constexpr const char* kSyrofFolderMark = "gradescope-prefix.txt";
 
+/// Where the bundle holds run_autograder's deadline: whole seconds after
+/// grading starts, past which no test is started (`syrof grade
+/// --deadline-s`); below Gradescope's timeout, so that a slow submission's
+/// finished tests keep their points. kDefaultDeadlineS: 8 of Gradescope's
+/// default 10 minutes.
+inline constexpr const char* kDeadlineFile = "deadline_s";
+inline constexpr int kDefaultDeadlineS = 480;
+
 /// The bundle of the assignment in `assignment_folder` (which holds
 /// assignment.yaml) with the self-contained SyROF in `syrof_folder` (as
 /// scripts/gradescope-prefix.sh makes it: it must hold bin/syrof, the app
@@ -63,8 +71,10 @@ inline constexpr const char* kSyrofFolderMark = "gradescope-prefix.txt";
 /// kSyrofFolderMark). Reads the folders' listings, not their files.
 /// With `course_secret`, the bundle holds it as kCourseSecretFile: the zip
 /// is then as secret as the secret.
+/// `deadline_s` goes into kDeadlineFile.
 BundleResult GradescopeBundle(const std::string& assignment_folder, const std::string& syrof_folder,
-                              const std::optional<std::string>& course_secret = std::nullopt);
+                              const std::optional<std::string>& course_secret = std::nullopt,
+                              int deadline_s = kDefaultDeadlineS);
 
 /// Writes `bundle` as a zip at `zip_path` (replacing it). Returns "" or
 /// what went wrong.
