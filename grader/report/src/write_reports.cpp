@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "syrof/lab/view/verdict.h"
 #include "syrof/lab/view/view.h"
 #include "syrof/report/reports.h"
 
@@ -55,9 +56,16 @@ std::string WriteSubmissionReports(const SubmissionResult& result, const std::st
       notes[test.name] = {false, fmt::format("No viewer: the run left no replay at {}.", test.replay_path)};
       continue;
     }
+    // The run's metrics.json beside its replay gives the page its verdict
+    // banner (a page without them only says it was not judged there).
+    lab::view::PageOptions page_options;
+    if (std::ifstream metrics(dir / test.output_dir / "metrics.json", std::ios::binary); metrics) {
+      lab::Error ignored;
+      page_options.metrics = lab::view::ReadVerdictMetrics(metrics, test.name + "/metrics.json", ignored);
+    }
     // Named by the test, not by a path, so the page's bytes do not depend
     // on where the reports are written.
-    const lab::view::Page page = lab::view::BuildPage(replay, test.name);
+    const lab::view::Page page = lab::view::BuildPage(replay, test.name, page_options);
     std::error_code error;
     fs::create_directories((dir / page_path).parent_path(), error);
     if (const std::string problem = WriteFile(dir / page_path, page.html); !problem.empty()) {

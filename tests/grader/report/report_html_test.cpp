@@ -12,6 +12,7 @@
 
 #include "replay_test_support.h"
 #include "report_test_support.h"
+#include "syrof/lab/metrics/metrics.h"
 #include "syrof/report/reports.h"
 
 namespace syrof::grader::report {
@@ -214,6 +215,27 @@ TEST(WriteSubmissionReportsTest, WritesTheThreeReportsAndEachFailingRunsViewer) 
   EXPECT_NE(page.find("gather_6/seed-2"), std::string::npos);  // named by the test, not a path
   EXPECT_EQ(page.find(dir.string()), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "runs/gather_6/seed-1/replay.html"));  // passed: no viewer
+  fs::remove_all(dir);
+}
+
+// A failing run's viewer page says its verdict from the run's metrics.json
+// beside its replay, as `syrof view` does, not "not judged here".
+TEST(WriteSubmissionReportsTest, AFailingRunsViewerSaysItsVerdictFromItsMetrics) {
+  const fs::path dir = FreshDir("verdict");
+  WriteReplay(dir / "runs/gather_6/seed-2/replay", lab::replay::testing::WriteSample().bytes);
+  lab::metrics::Metrics metrics;
+  metrics.seed = 42;  // the sample replay's
+  metrics.goal.app = "builtin:gather";
+  metrics.goal.reached = false;
+  metrics.goal.detail = "the robots fit in a circle of 1.942 m; the limit is 0.900 m";
+  std::ofstream(dir / "runs/gather_6/seed-2/metrics.json") << lab::metrics::ToJson(metrics);
+
+  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), "");
+
+  const std::string page = ReadHtml(dir / "runs/gather_6/seed-2/replay.html");
+  EXPECT_NE(page.find("\"state\":\"missed\""), std::string::npos);
+  EXPECT_NE(page.find("Goal missed: "), std::string::npos);
+  EXPECT_EQ(page.find("not judged"), std::string::npos);
   fs::remove_all(dir);
 }
 
