@@ -20,7 +20,7 @@ DEBUG_INFO  ?=
 
 CMAKE_CONFIGURE = cmake -G Ninja -Wno-dev $(if $(DEBUG_INFO),-DSYROF_DEBUG_INFO=$(DEBUG_INFO))
 
-.PHONY: all deps deps-demo build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm test-slurm gradescope-prefix asan tsan fuzz clean
+.PHONY: all deps deps-demo build demo test package bench bench-m4 cross firmware test-m4 test-firmware-swarm test-slurm gradescope-prefix test-gradescope asan tsan fuzz clean
 
 all: build
 
@@ -84,6 +84,15 @@ test-slurm: deps
 ## 22.04 has (glibc 2.35). `syrof gradescope` takes it from there.
 gradescope-prefix: build
 	bash scripts/gradescope-prefix.sh $(BUILD_DIR)
+
+## test-gradescope: every assignment's bundle graded under Gradescope's
+## default limits (half a core, 768 MB: a control group; as root): its
+## reference must get full marks within GRADESCOPE_BUDGET_S (half of
+## Gradescope's 10 minutes) and without being killed for memory; prints
+## the wall time and peak memory of each (scripts/gradescope-limits.sh).
+GRADESCOPE_BUDGET_S ?= 300
+test-gradescope: gradescope-prefix
+	bash scripts/gradescope-limits.sh --budget $(GRADESCOPE_BUDGET_S) $(BUILD_DIR)
 
 ## package: the Debian package $(BUILD_DIR)/syrof_<version>_<arch>.deb (CPack):
 ## the syrof command, the app host, libsyrof_app, the app API's headers, the
