@@ -156,6 +156,21 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
     grade.deadline = started + std::chrono::duration_cast<Clock::duration>(
                                    std::chrono::duration<double>(options.deadline_s));
   }
+  // Past the assignment's hidden_feedback_submissions, the hidden tests'
+  // results wait for the due date (--submission-metadata).
+  std::optional<grader::report::ReportOptions::FeedbackCap> feedback_withheld;
+  if (!options.submission_metadata.empty()) {
+    std::string problem;
+    const std::optional<int> number =
+        grader::SubmissionNumberFromGradescopeMetadataFile(options.submission_metadata, problem);
+    if (!number) {
+      fmt::print(err, "syrof grade: {}\n", problem);
+      return kBadInput;
+    }
+    if (loaded->hidden_feedback_submissions > 0 && *number > loaded->hidden_feedback_submissions) {
+      feedback_withheld = grader::report::ReportOptions::FeedbackCap{*number, loaded->hidden_feedback_submissions};
+    }
+  }
   // results.json kept valid while grading runs (--gradescope-results).
   const assignment::Assignment graded = grader::GradedAssignment(*loaded, grade);
   std::optional<grader::LiveResultsFile> live;
@@ -165,7 +180,9 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
     planned.title = graded.title;
     planned.public_only = options.public_only || graded.hidden_missing;
     planned.tests = grader::PlanTests(graded, planned.public_only);
-    live.emplace(options.gradescope_results, graded, std::move(planned));
+    grader::report::ReportOptions live_options;
+    live_options.feedback_withheld = feedback_withheld;
+    live.emplace(options.gradescope_results, graded, std::move(planned), live_options);
     if (std::string problem = live->Begin(); !problem.empty()) {
       fmt::print(err, "syrof grade: --gradescope-results: {}\n", problem);
       return kBadInput;
@@ -183,7 +200,8 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
       grade.student_seeds && !result.public_only
           ? grader::HiddenSeedsText(grader::GradedAssignment(*loaded, grade))
           : std::string());
-  if (std::string problem = grader::WriteSubmissionOutputs(result, hash, notes, out_dir, options.report == "full");
+  if (std::string problem = grader::WriteSubmissionOutputs(result, hash, notes, out_dir, options.report == "full",
+                                                          feedback_withheld);
       !problem.empty()) {
     fmt::print(err, "syrof grade: {}\n", problem);
     return kInternalError;
@@ -352,6 +370,10 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
       "--gradescope-results", options.gradescope_results,
       "One submission: Gradescope's results.json also at this path, valid at every moment (rewritten after each "
       "test), so an autograder stopped by Gradescope's timeout keeps the tests that finished");
+  CLI::Option* submission_metadata_option = grade->add_option(
+      "--submission-metadata", options.submission_metadata,
+      "One submission: Gradescope's submission_metadata.json, for which submission of its student(s) this is "
+      "(assignment.yaml's hidden_feedback_submissions)");
   grade->add_flag("--unsafe-no-file-isolation", options.unsafe_no_file_isolation,
                   "Grade even where the kernel has no Landlock (older than 5.13): submissions' builds and "
                   "libraries can then read and write whatever uid 65534 (or yours) can; only for code you trust");
@@ -376,7 +398,7 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
   metadata_option->excludes(mix_option);
   class_option->excludes(mix_option);
   report_option->excludes(mix_option);
-  for (CLI::Option* one_submission : {deadline_option, results_option}) {
+  for (CLI::Option* one_submission : {deadline_option, results_option, submission_metadata_option}) {
     one_submission->excludes(class_option);
     one_submission->excludes(mix_option);
   }

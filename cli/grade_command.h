@@ -3,6 +3,7 @@
 //   syrof grade SUBMISSION_DIR --assignment NAME|PATH [--public-only] [--jobs N] [--out DIR]
 //               [--student-seed ID | --gradescope-metadata FILE] [--course-secret-file FILE]
 //               [--report student|full] [--deadline-s S] [--gradescope-results FILE]
+//               [--submission-metadata FILE]
 //   syrof grade --class SUBMISSIONS_DIR --assignment NAME --jobs N --out DIR [--shard I/N]
 //               [--per-student-seeds] [--course-secret-file FILE] [--report student|full]
 //   syrof grade --mix SUB1 SUB2 ... --assignment NAME [--out DIR]
@@ -41,6 +42,10 @@ struct GradeOptions {
   /// moment (rewritten after each test), for an autograder that may be
   /// stopped by Gradescope's timeout.
   std::string gradescope_results;
+  /// One submission: Gradescope's submission_metadata.json, for which
+  /// submission of its student(s) this is (the assignment's
+  /// hidden_feedback_submissions cap); not for seeds.
+  std::string submission_metadata;
   // Hidden seeds per student (docs/grading.md): the secret from
   // --course-secret-file, else $SYROF_COURSE_SECRET; never an argument.
   std::string student_seed;             ///< the student's id

@@ -226,6 +226,7 @@ std::vector<TestResult> PlanTests(const Assignment& assignment, bool public_only
     test.scenario = spec.name;
     test.search = true;
     test.visibility = spec.visibility;
+    test.gradescope = spec.gradescope;
     test.output_dir = "search/" + spec.name;
     tests.push_back(std::move(test));
   }
@@ -279,6 +280,7 @@ std::vector<TestResult> PlanRuns(const Assignment& assignment, bool public_only)
       test.scenario = run->name;
       test.seed = seed;
       test.visibility = visibility;
+      test.gradescope = run->gradescope;
       test.output_dir = "runs/" + run->name + "/seed-" + std::to_string(seed);
       tests.push_back(std::move(test));
     }

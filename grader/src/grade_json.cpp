@@ -28,7 +28,7 @@ Json TestJson(const TestResult& test) {
                             {"max_points", criterion.max_points},
                             {"reason", criterion.reason}});
   }
-  return Json{{"name", test.name},
+  Json json{{"name", test.name},
               {"scenario", test.scenario},
               {"seed", test.seed},
               {"search", test.search},
@@ -44,6 +44,9 @@ Json TestJson(const TestResult& test) {
               {"replay_command", test.replay_command},
               {"output_dir", test.output_dir},
               {"replay_path", test.replay_path}};
+  // Only when assignment.yaml chose one: grade.json's bytes otherwise as before.
+  if (test.gradescope != assignment::GradescopeVisibility::kDefault) json["gradescope"] = ToString(test.gradescope);
+  return json;
 }
 
 // FNV-1a, 64 bits.
@@ -185,6 +188,12 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
     test.search = Get<bool>(entry, "search", false);
     test.visibility = Get<std::string>(entry, "visibility", "public") == "hidden" ? Visibility::kHidden
                                                                                    : Visibility::kPublic;
+    const std::string gradescope = Get<std::string>(entry, "gradescope", "");
+    for (const auto candidate : {assignment::GradescopeVisibility::kVisible, assignment::GradescopeVisibility::kHidden,
+                                 assignment::GradescopeVisibility::kAfterDueDate,
+                                 assignment::GradescopeVisibility::kAfterPublished}) {
+      if (gradescope == ToString(candidate)) test.gradescope = candidate;
+    }
     test.points = Get<double>(entry, "points", 0.0);
     test.max_points = Get<double>(entry, "max_points", 0.0);
     test.passed = Get<bool>(entry, "passed", false);

@@ -11,7 +11,8 @@ namespace syrof::grader {
 
 std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, const std::string& inputs_hash,
                                    const std::vector<std::string>& notes, const std::string& out_dir,
-                                   bool full_report) {
+                                   bool full_report,
+                                   std::optional<report::ReportOptions::FeedbackCap> feedback_withheld) {
   GradeFile file;
   file.result = result;
   file.inputs_hash = inputs_hash;
@@ -26,12 +27,13 @@ std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, c
   // Every graded submission, single or in a class, passes here once.
   report::ReportOptions options;
   options.form = full_report ? report::ReportForm::kFull : report::ReportForm::kStudent;
+  options.feedback_withheld = feedback_withheld;
   return report::WriteSubmissionReports(result, out_dir, options);
 }
 
 LiveResultsFile::LiveResultsFile(std::string path, const assignment::Assignment& assignment,
-                                 assignment::SubmissionResult planned)
-    : path_(std::move(path)), assignment_(assignment), current_(std::move(planned)) {
+                                 assignment::SubmissionResult planned, report::ReportOptions options)
+    : path_(std::move(path)), assignment_(assignment), current_(std::move(planned)), options_(std::move(options)) {
   current_.build.verdict = "ok";
   for (assignment::TestResult& test : current_.tests) test.run_error = kNotGraded;
   AddUp(current_, assignment_);
@@ -60,7 +62,7 @@ std::string LiveResultsFile::Write(const assignment::SubmissionResult& result) {
   const std::string temporary = path_ + ".partial";
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << report::GradescopeResultsJson(result);
+    out << report::GradescopeResultsJson(result, options_);
     out.flush();
     if (!out) return "cannot write " + temporary;
   }

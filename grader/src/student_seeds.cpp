@@ -143,4 +143,26 @@ std::optional<std::string> StudentFromGradescopeMetadataFile(const std::string& 
   return StudentFromGradescopeMetadata(bytes.str(), path, error);
 }
 
+std::optional<int> SubmissionNumberFromGradescopeMetadataFile(const std::string& path, std::string& error) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    error = "cannot read Gradescope's submission metadata '" + path + "'";
+    return std::nullopt;
+  }
+  std::ostringstream bytes;
+  bytes << file.rdbuf();
+  const nlohmann::json root = nlohmann::json::parse(bytes.str(), nullptr, /*allow_exceptions=*/false);
+  if (root.is_discarded() || !root.is_object()) {
+    error = path + ": not a JSON object (Gradescope's submission metadata is one)";
+    return std::nullopt;
+  }
+  if (!root.contains("previous_submissions")) return 1;
+  const nlohmann::json& previous = root["previous_submissions"];
+  if (!previous.is_array()) {
+    error = path + ": 'previous_submissions' is not a list";
+    return std::nullopt;
+  }
+  return static_cast<int>(std::min<size_t>(previous.size(), 1000000)) + 1;
+}
+
 }  // namespace syrof::grader

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.h"
@@ -223,6 +224,39 @@ TEST_F(AutograderTest, TestsPastTheBundlesDeadlineAreNotRunAndSaySo) {
     EXPECT_NE(test["output"].get<std::string>().find("not run: grading reached its deadline"), std::string::npos)
         << test.dump(2);
   }
+}
+
+// assignment.yaml's per-test visibility and its cap on hidden-test
+// feedback, read from Gradescope's metadata: the first submission sees the
+// hidden tests at once (`gradescope: visible`), the third only after the due date.
+TEST_F(AutograderTest, TheHiddenFeedbackCapCountsTheStudentsSubmissions) {
+  const fs::path yaml = root_ / "source/assignment/assignment.yaml";
+  std::string text = ReadFile(yaml);
+  text.replace(text.find("points: 100\n"), 12, "points: 100\nhidden_feedback_submissions: 1\n");
+  text.replace(text.find("time_limit_s: 120 }"), 19, "time_limit_s: 120, gradescope: visible }");
+  std::ofstream(yaml) << text;
+  fs::copy(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather/reference", root_ / "submission",
+           fs::copy_options::recursive);
+  fs::remove(root_ / "submission/expected.yaml");
+  const auto hidden_visibility = [this](const std::string& previous) {
+    std::ofstream(root_ / "submission_metadata.json")
+        << R"({"users": [{"id": 7}], "previous_submissions": [)" << previous << "]}";
+    std::string output;
+    EXPECT_EQ(Script("run_autograder", output), 0) << output;
+    const json results = Results();  // (a range-for over Results()["tests"] would read a destroyed temporary)
+    EXPECT_EQ(results["tests"].size(), 8u) << output;
+    std::set<std::string> seen;
+    for (const json& test : results["tests"]) {
+      if (test["name"].get<std::string>().starts_with("gather_10_join/")) seen.insert(test["visibility"].get<std::string>());
+    }
+    return seen;
+  };
+
+  EXPECT_EQ(hidden_visibility(""), std::set<std::string>{"visible"});
+  EXPECT_EQ(hidden_visibility("{}, {}"), std::set<std::string>{"after_due_date"});
+  EXPECT_NE(Results()["output"].get<std::string>().find("given for your first 1 submissions, and this is submission 3"),
+            std::string::npos)
+      << Results()["output"];
 }
 
 // The attacks of tests/grader/hostile_build_test.cpp through the bundle, as

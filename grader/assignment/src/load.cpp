@@ -12,6 +12,17 @@
 #include "syrof/lab/search/search.h"
 
 namespace syrof::grader::assignment {
+
+const char* ToString(GradescopeVisibility visibility) {
+  switch (visibility) {
+    case GradescopeVisibility::kDefault: return "";
+    case GradescopeVisibility::kVisible: return "visible";
+    case GradescopeVisibility::kHidden: return "hidden";
+    case GradescopeVisibility::kAfterDueDate: return "after_due_date";
+    case GradescopeVisibility::kAfterPublished: return "after_published";
+  }
+  return "";
+}
 namespace {
 
 using lab::scenario::CheckKeys;
@@ -53,9 +64,30 @@ struct Context {
   bool missing = false;            // a file was missing and skipped
 };
 
+// `gradescope:` on a scenario entry or a search test, if given.
+bool ReadGradescopeVisibility(const YamlNode& node, const std::string& path, GradescopeVisibility& visibility,
+                              Diagnostics& diagnostics) {
+  const YamlNode* word = node.Find("gradescope");
+  if (word == nullptr) return true;
+  static constexpr GradescopeVisibility kWords[] = {GradescopeVisibility::kVisible, GradescopeVisibility::kHidden,
+                                                    GradescopeVisibility::kAfterDueDate,
+                                                    GradescopeVisibility::kAfterPublished};
+  if (word->is_scalar() && !word->quoted) {
+    for (const GradescopeVisibility candidate : kWords) {
+      if (word->scalar == ToString(candidate)) {
+        visibility = candidate;
+        return true;
+      }
+    }
+  }
+  return FailAt(*word, JoinPath(path, "gradescope"),
+                "expected Gradescope's visibility of the test: visible, hidden, after_due_date or after_published",
+                diagnostics);
+}
+
 bool ReadRun(const YamlNode& node, const std::string& path, Context& context, ScenarioRun& run,
              std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"file", "name", "seeds", "time_limit_s"};
+  static constexpr std::string_view kKeys[] = {"file", "name", "seeds", "time_limit_s", "gradescope"};
   if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics) ||
       !RequireKey(node, path, "file", diagnostics) || !RequireKey(node, path, "seeds", diagnostics) ||
       !ReadString(*node.Find("file"), JoinPath(path, "file"), run.file, diagnostics)) {
@@ -110,7 +142,8 @@ bool ReadRun(const YamlNode& node, const std::string& path, Context& context, Sc
     }
     run.seeds.push_back(seed);
   }
-  if (!ReadNumberAt(node, path, "time_limit_s", NumberRange{0, kMaxTimeLimitS, true}, run.time_limit_s, diagnostics)) {
+  if (!ReadNumberAt(node, path, "time_limit_s", NumberRange{0, kMaxTimeLimitS, true}, run.time_limit_s, diagnostics) ||
+      !ReadGradescopeVisibility(node, path, run.gradescope, diagnostics)) {
     return false;
   }
   // The scenario itself, with its own file and places in any error.
@@ -136,8 +169,8 @@ bool ReadRun(const YamlNode& node, const std::string& path, Context& context, Sc
 // student's copy) is skipped when context.skip_missing.
 bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& context, SearchTestSpec& test,
                     bool& skipped, std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"scenario", "name",   "max_losses",  "epochs",
-                                               "points",   "hidden", "time_limit_s"};
+  static constexpr std::string_view kKeys[] = {"scenario", "name",   "max_losses",   "epochs",
+                                               "points",   "hidden", "time_limit_s", "gradescope"};
   if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics) ||
       !RequireKey(node, path, "scenario", diagnostics) || !RequireKey(node, path, "max_losses", diagnostics) ||
       !RequireKey(node, path, "points", diagnostics) ||
@@ -150,6 +183,7 @@ bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& cont
     }
     test.visibility = hidden->scalar == "true" ? Visibility::kHidden : Visibility::kPublic;
   }
+  if (!ReadGradescopeVisibility(node, path, test.gradescope, diagnostics)) return false;
   const YamlNode& file = *node.Find("scenario");
   if (test.file.empty() || std::filesystem::path(test.file).is_absolute()) {
     return FailAt(file, JoinPath(path, "scenario"),
@@ -361,8 +395,9 @@ bool ReadRubric(const YamlNode& node, const std::string& path, double total, Rub
 
 bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment& assignment,
                     std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"title",  "points",  "scenarios", "goal",
-                                               "rubric", "mixable", "message",   "search"};
+  static constexpr std::string_view kKeys[] = {"title",   "points",  "scenarios", "goal",
+                                               "rubric",  "mixable", "message",   "search",
+                                               "hidden_feedback_submissions"};
   if (root.is_null()) return diagnostics.Fail(0, 0, "the assignment is empty; it needs 'title', 'scenarios' and 'rubric'");
   if (!root.is_map()) return diagnostics.Fail(root.line, root.column, "the top level must be a map of keys (title, scenarios, rubric, ...)");
   if (!CheckKeys(root, "", kKeys, diagnostics) || !RequireKey(root, "", "title", diagnostics) ||
@@ -372,6 +407,11 @@ bool ReadAssignment(const YamlNode& root, bool allow_missing_hidden, Assignment&
     return false;
   }
   if (assignment.title.empty()) return FailAt(*root.Find("title"), "title", "must not be empty", diagnostics);
+  int64_t feedback = 0;
+  if (!lab::scenario::ReadIntegerAt(root, "", "hidden_feedback_submissions", 0, 100000, feedback, diagnostics)) {
+    return false;
+  }
+  assignment.hidden_feedback_submissions = static_cast<int>(feedback);
   if (const YamlNode* mixable = root.Find("mixable")) {
     if (!mixable->is_scalar() || mixable->quoted || (mixable->scalar != "true" && mixable->scalar != "false")) {
       return FailAt(*mixable, "mixable", "expected true or false", diagnostics);

@@ -21,7 +21,7 @@ double Hundredths(double points) {
 
 // What every student sees first: the build, and the public tests' tally.
 // The hidden tests are only counted: their results wait for the due date.
-std::string SummaryOutput(const SubmissionResult& result) {
+std::string SummaryOutput(const SubmissionResult& result, const ReportOptions& options) {
   std::string output = text::ValidUtf8(fmt::format("{} ({})\n", result.title, result.assignment));
   if (result.build.ok()) {
     output += "The submission built.\n";
@@ -32,7 +32,12 @@ std::string SummaryOutput(const SubmissionResult& result) {
   output += fmt::format("Public tests: passed {}/{}, points {}/{}.\n", visible.passed, visible.tests,
                         text::Points(visible.points), text::Points(visible.max_points));
   const text::SetTally hidden = text::Tally(result, Visibility::kHidden);
-  if (hidden.tests > 0) {
+  if (hidden.tests > 0 && options.feedback_withheld) {
+    output += fmt::format(
+        "Hidden tests: {}; feedback on them is given for your first {} submissions, and this is submission {}: "
+        "their results are shown after the due date.\n",
+        hidden.tests, options.feedback_withheld->cap, options.feedback_withheld->submission);
+  } else if (hidden.tests > 0) {
     output += fmt::format("Hidden tests: {}; their results are shown after the due date.\n", hidden.tests);
   } else if (result.public_only) {
     output += "Graded on the public tests only.\n";
@@ -51,6 +56,19 @@ std::string TestOutput(const SubmissionResult& result, const TestResult& test) {
 
 }  // namespace
 
+const char* GradescopeVisibilityOf(const TestResult& test, bool withheld) {
+  using assignment::GradescopeVisibility;
+  GradescopeVisibility visibility = test.gradescope;
+  if (visibility == GradescopeVisibility::kDefault) {
+    visibility = test.visibility == Visibility::kHidden ? GradescopeVisibility::kAfterDueDate
+                                                        : GradescopeVisibility::kVisible;
+  }
+  if (withheld && test.visibility == Visibility::kHidden && visibility == GradescopeVisibility::kVisible) {
+    visibility = GradescopeVisibility::kAfterDueDate;
+  }
+  return ToString(visibility);
+}
+
 std::string GradescopeResultsJson(const SubmissionResult& result, const ReportOptions& options) {
   double seconds = result.build.wall_seconds;
   for (const TestResult& test : result.tests) seconds += test.wall_seconds;
@@ -58,7 +76,7 @@ std::string GradescopeResultsJson(const SubmissionResult& result, const ReportOp
   ordered_json json;
   json["score"] = Hundredths(result.points);
   json["execution_time"] = options.zero_timings || !std::isfinite(seconds) ? 0 : std::llround(seconds);
-  json["output"] = SummaryOutput(result);
+  json["output"] = SummaryOutput(result, options);
   json["visibility"] = "visible";
   json["stdout_visibility"] = "hidden";
   json["tests"] = ordered_json::array();
@@ -69,7 +87,7 @@ std::string GradescopeResultsJson(const SubmissionResult& result, const ReportOp
     entry["max_score"] = Hundredths(test.max_points);
     entry["status"] = test.passed && result.build.ok() ? "passed" : "failed";
     entry["output"] = TestOutput(result, test);
-    entry["visibility"] = test.visibility == Visibility::kHidden ? "after_due_date" : "visible";
+    entry["visibility"] = GradescopeVisibilityOf(test, options.feedback_withheld.has_value());
     json["tests"].push_back(std::move(entry));
   }
   return json.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";

@@ -228,6 +228,34 @@ TEST_F(AssignmentFileTest, AWrongSearchTestIsPlaced) {
                       "assignment.yaml", 5, 21, "another search test is already named 'three'"));
 }
 
+// Gradescope's visibility per test, and the cap on hidden-test feedback.
+TEST_F(AssignmentFileTest, GradescopeVisibilityAndTheHiddenFeedbackCapAreRead) {
+  const LoadResult result = Load(
+      "title: T\nhidden_feedback_submissions: 3\nscenarios:\n"
+      "  public: [{file: s/three.yaml, seeds: [1], gradescope: after_published}]\n"
+      "  hidden: [{file: s/three.yaml, name: h, seeds: [2], gradescope: visible}, {file: s/three.yaml, name: d, "
+      "seeds: [3]}]\n"
+      "search: [{scenario: s/three.yaml, max_losses: 1, points: 10, hidden: true, gradescope: hidden}]\n" +
+      std::string(kValidRubric));
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_EQ(result.assignment->hidden_feedback_submissions, 3);
+  EXPECT_EQ(result.assignment->public_runs[0].gradescope, GradescopeVisibility::kAfterPublished);
+  EXPECT_EQ(result.assignment->hidden_runs[0].gradescope, GradescopeVisibility::kVisible);
+  EXPECT_EQ(result.assignment->hidden_runs[1].gradescope, GradescopeVisibility::kDefault);
+  EXPECT_EQ(result.assignment->search_tests[0].gradescope, GradescopeVisibility::kHidden);
+
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nscenarios:\n  public: [{file: s/three.yaml, seeds: [1], "
+                                       "gradescope: later}]\n") +
+                           kValidRubric),
+                      "assignment.yaml", 3, 57,
+                      "scenarios.public[0].gradescope: expected Gradescope's visibility of the test: visible, hidden, "
+                      "after_due_date or after_published"));
+  EXPECT_TRUE(FailsAt(Load(std::string("title: T\nhidden_feedback_submissions: -1\nscenarios:\n  public: "
+                                       "[{file: s/three.yaml, seeds: [1]}]\n") +
+                           kValidRubric),
+                      "assignment.yaml", 2, 30, "hidden_feedback_submissions"));
+}
+
 TEST_F(AssignmentFileTest, AMissingHiddenSearchScenarioIsDroppedOnlyWhenAllowed) {
   const std::string text = std::string(kOneRun) +
                            "search: [{scenario: h/secret.yaml, max_losses: 1, points: 10, hidden: true}]\n" +

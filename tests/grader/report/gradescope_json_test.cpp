@@ -92,6 +92,32 @@ TEST(GradescopeJsonTest, HiddenTestsWaitForTheDueDateAndNameNoScenarioFile) {
   EXPECT_EQ(results["output"].get<std::string>().find("crash10"), std::string::npos);
 }
 
+// assignment.yaml's `gradescope:` per test, and past the feedback cap a
+// hidden test that would be visible waits for the due date.
+TEST(GradescopeJsonTest, EachTestsVisibilityIsItsOwnAndTheFeedbackCapHoldsHiddenOnesBack) {
+  SubmissionResult result = ExampleResult();
+  for (TestResult& test : result.tests) {
+    if (test.visibility == assignment::Visibility::kHidden) test.gradescope = assignment::GradescopeVisibility::kVisible;
+  }
+  result.tests[0].gradescope = assignment::GradescopeVisibility::kAfterPublished;
+
+  const json open = json::parse(GradescopeResultsJson(result));
+  ReportOptions capped;
+  capped.feedback_withheld = ReportOptions::FeedbackCap{4, 3};
+  const json held = json::parse(GradescopeResultsJson(result, capped));
+
+  for (size_t i = 0; i < result.tests.size(); ++i) {
+    const bool hidden = result.tests[i].visibility == assignment::Visibility::kHidden;
+    const std::string expected = i == 0 ? "after_published" : "visible";
+    EXPECT_EQ(open["tests"][i]["visibility"], expected) << result.tests[i].name;
+    EXPECT_EQ(held["tests"][i]["visibility"], hidden ? "after_due_date" : expected) << result.tests[i].name;
+  }
+  EXPECT_NE(held["output"].get<std::string>().find(
+                "feedback on them is given for your first 3 submissions, and this is submission 4"),
+            std::string::npos)
+      << held["output"];
+}
+
 TEST(GradescopeJsonTest, StatusAndScoresFollowTheTests) {
   const json results = json::parse(GradescopeResultsJson(ExampleResult()));
 

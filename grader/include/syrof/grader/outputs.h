@@ -9,16 +9,19 @@
 
 #include "syrof/assignment/assignment.h"
 #include "syrof/assignment/result.h"
+#include "syrof/report/reports.h"
 
 namespace syrof::grader {
 
 /// Writes `out_dir`/grade.json for `result` (with the inputs' hash and the
 /// sandboxes' notes), then the reports: report.html in the student's form,
-/// or with `full_report` the instructor's (report::ReportForm). Returns ""
-/// or what failed.
-std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, const std::string& inputs_hash,
-                                   const std::vector<std::string>& notes, const std::string& out_dir,
-                                   bool full_report = false);
+/// or with `full_report` the instructor's (report::ReportForm);
+/// `feedback_withheld` as report::ReportOptions says. Returns "" or what
+/// failed.
+std::string WriteSubmissionOutputs(
+    const assignment::SubmissionResult& result, const std::string& inputs_hash, const std::vector<std::string>& notes,
+    const std::string& out_dir, bool full_report = false,
+    std::optional<report::ReportOptions::FeedbackCap> feedback_withheld = std::nullopt);
 
 /// Gradescope's results.json for one submission kept valid at every moment
 /// while it is graded (docs/grading.md, "Gradescope's limits"): an
@@ -30,7 +33,9 @@ class LiveResultsFile {
  public:
   /// `assignment` is the assignment as graded (GradedAssignment), `planned`
   /// a result whose tests are the plan (PlanTests), none of them run.
-  LiveResultsFile(std::string path, const assignment::Assignment& assignment, assignment::SubmissionResult planned);
+  /// `options` as the final results.json is written with (its feedback cap).
+  LiveResultsFile(std::string path, const assignment::Assignment& assignment, assignment::SubmissionResult planned,
+                  report::ReportOptions options = {});
 
   /// Writes the plan: score 0, every test "not graded" with the reason
   /// kNotGraded. Returns "" or what failed.
@@ -53,6 +58,7 @@ class LiveResultsFile {
   std::string path_;
   const assignment::Assignment& assignment_;
   assignment::SubmissionResult current_;
+  report::ReportOptions options_;
   std::mutex mutex_;
 };
 

@@ -75,4 +75,10 @@ std::optional<std::string> StudentFromGradescopeMetadata(std::string_view text, 
 /// The same, reading the file `path` (a missing file is an error).
 std::optional<std::string> StudentFromGradescopeMetadataFile(const std::string& path, std::string& error);
 
+/// Which submission of its student(s) Gradescope's submission_metadata.json
+/// describes: 1 + the length of its `previous_submissions` list (1 when it
+/// has none). Empty, with `error` naming the file and the problem, when the
+/// file cannot be read or `previous_submissions` is not a list.
+std::optional<int> SubmissionNumberFromGradescopeMetadataFile(const std::string& path, std::string& error);
+
 }  // namespace syrof::grader

@@ -24,6 +24,15 @@ namespace syrof::grader::assignment {
 /// only the grader has.
 enum class Visibility : uint8_t { kPublic = 0, kHidden = 1 };
 
+/// When students see a test's result on Gradescope (results.json's
+/// per-test `visibility`); `gradescope:` on a scenario entry or a search
+/// test. kDefault: kVisible for a public set's test, kAfterDueDate for a
+/// hidden set's.
+enum class GradescopeVisibility : uint8_t { kDefault = 0, kVisible, kHidden, kAfterDueDate, kAfterPublished };
+
+/// The `gradescope:` word of `visibility` ("" for kDefault).
+const char* ToString(GradescopeVisibility visibility);
+
 /// One scenario of a set, with the seeds it runs.
 struct ScenarioRun {
   std::string name;               ///< `name`, default the file's stem
@@ -35,6 +44,7 @@ struct ScenarioRun {
   /// assignment declares none (the scenario's own `goal:` is then used).
   std::vector<lab::goals::GoalCheck> goal;
   bool scenario_has_goal = false; ///< the scenario file declares `goal:` itself
+  GradescopeVisibility gradescope = GradescopeVisibility::kDefault;  ///< `gradescope:`
 };
 
 /// A search test (docs/grading.md, "Search tests"): the submission run
@@ -50,6 +60,7 @@ struct SearchTestSpec {
   double points = 0;              ///< taken from the assignment's points; the runs share the rest
   double time_limit_s = 300;      ///< wall time for the whole search (the grader's limit)
   Visibility visibility = Visibility::kPublic;  ///< `hidden: true`: only the grader has the file
+  GradescopeVisibility gradescope = GradescopeVisibility::kDefault;  ///< `gradescope:`
 };
 
 /// Points for a criterion; every criterion is optional (absent: not scored).
@@ -114,6 +125,11 @@ struct Assignment {
   /// `search:`: search tests, after the runs. Their points add up to less
   /// than `points`; every run shares what is left.
   std::vector<SearchTestSpec> search_tests;
+  /// `hidden_feedback_submissions: N`: on Gradescope, a student's first N
+  /// submissions see the hidden tests' results as their `gradescope:` says;
+  /// from the (N+1)-th on, a hidden test that would be `visible` shows only
+  /// after the due date (fewer chances to probe the hidden tests). 0: no cap.
+  int hidden_feedback_submissions = 0;
   /// Loaded with LoadOptions::allow_missing_hidden and a hidden scenario file
   /// was missing: hidden_runs is empty and only the public sets can be graded.
   bool hidden_missing = false;

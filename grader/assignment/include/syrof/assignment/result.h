@@ -47,6 +47,9 @@ struct TestResult {
   uint64_t seed = 0;     ///< a search test's: the scenario file's seed
   bool search = false;   ///< a search test: its score is one criterion, "search", all or nothing
   Visibility visibility = Visibility::kPublic;
+  /// Its entry's `gradescope:`; kDefault: by `visibility` (report's
+  /// GradescopeVisibilityOf).
+  GradescopeVisibility gradescope = GradescopeVisibility::kDefault;
   RunScore score;              ///< per criterion (empty when the run did not finish)
   double max_points = 0;       ///< this test's share of the assignment's points
   double points = 0;           ///< earned: max_points x score.points / score.max_points, to the hundredth

@@ -59,7 +59,21 @@ struct ReportOptions {
   /// gradings of the same submission give identical files.
   bool zero_timings = false;
   ReportForm form = ReportForm::kStudent;  ///< report.html's form
+  /// Set when this submission is past the assignment's
+  /// hidden_feedback_submissions: results.json shows a hidden test that
+  /// would be `visible` only after the due date, and its summary says why.
+  struct FeedbackCap {
+    int submission = 0;  ///< this submission's number, from 1
+    int cap = 0;         ///< the submissions that get the hidden tests' feedback
+  };
+  std::optional<FeedbackCap> feedback_withheld;
 };
+
+/// A test's visibility in results.json: its `gradescope:` when
+/// assignment.yaml gives one, else `visible` for a public test and
+/// `after_due_date` for a hidden one; with `withheld`, a hidden test that
+/// would be `visible` is `after_due_date`.
+const char* GradescopeVisibilityOf(const TestResult& test, bool withheld = false);
 
 /// Gradescope's results.json (Gradescope's autograder format): the score,
 /// a summary for the student, and one test per run. Public tests are
