@@ -430,22 +430,47 @@ TEST_F(HostedAppTest, AConstructorReadsNothingOutsideTheLibrariesFolders) {
 // library and the shared objects beside it, file by file, not the folder).
 // A shared object beside it stays readable. Every canary is readable by
 // every uid, so only the host's layers stop them.
+// SYROF_TEST_COPY_DIR/`test` (mode 0755, under /tmp, which all may
+// enter), holding copies of the named test libraries: the host's
+// unprivileged uid reaches it whatever the build folder's parents allow (a
+// CI clone may sit in a folder only root can enter).
+std::filesystem::path CopiedLibraries(const std::string& test, std::initializer_list<const char*> names) {
+  const std::filesystem::path folder = std::filesystem::path(SYROF_TEST_COPY_DIR) / test;
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  for (const std::filesystem::path& made : {folder.parent_path(), folder}) {
+    std::filesystem::permissions(made, std::filesystem::perms::owner_all | std::filesystem::perms::group_read |
+                                           std::filesystem::perms::group_exec | std::filesystem::perms::others_read |
+                                           std::filesystem::perms::others_exec);
+  }
+  for (const char* name : names) {
+    std::filesystem::copy_file(Library(name), folder / ("lib" + std::string(name) + ".so"));
+  }
+  return folder;
+}
+
 TEST_F(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSharedObjects) {
   if (LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
+  const std::filesystem::path folder = CopiedLibraries("snoop", {"snoop_on_load", "sibling"});
+  const std::string below = (folder / "elsewhere/hidden/tests.yaml").string();
+  const std::string beside = (folder / "notes.txt").string();
+  const std::string sibling = (folder / "libsibling.so").string();
   const std::string descriptor_text = "CANARY-descriptor-0b7d";
   const std::string below_text = "CANARY-below-the-library-41c9";
   const std::string beside_text = "CANARY-beside-the-library-93fe";
-  std::filesystem::create_directories(std::filesystem::path(SYROF_TEST_BELOW_FILE).parent_path());
+  std::filesystem::create_directories(std::filesystem::path(below).parent_path());
   for (const auto& [path, text] : {std::pair{std::string(SYROF_TEST_CANARY_FILE), descriptor_text},
-                                   std::pair{std::string(SYROF_TEST_BELOW_FILE), below_text},
-                                   std::pair{std::string(SYROF_TEST_BESIDE_FILE), beside_text}}) {
+                                   std::pair{below, below_text}, std::pair{beside, beside_text}}) {
     std::ofstream(path) << text << "\n";
     std::filesystem::permissions(path, std::filesystem::perms::all);
+  }
+  for (const std::filesystem::path& made : {folder / "elsewhere", folder / "elsewhere/hidden"}) {
+    std::filesystem::permissions(made, std::filesystem::perms::all);
   }
   const int inherited = open(SYROF_TEST_CANARY_FILE, O_RDONLY);  // no O_CLOEXEC, on purpose
   ASSERT_GE(inherited, 0);
   const int seven = fcntl(7, F_GETFD) == -1 ? dup2(inherited, 7) : -1;  // the finding's number when free
-  options_.library_path = Library("snoop_on_load");
+  options_.library_path = (folder / "libsnoop_on_load.so").string();
   std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
   uint8_t state = 0;
   const app::CallStatus init = app->Init(info_, platform_, state);
@@ -455,22 +480,22 @@ TEST_F(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSha
   app.reset();
 
   const std::string log = Log(1);
+  std::filesystem::remove_all(folder);
   for (const std::string& text : {descriptor_text, below_text, beside_text}) {
     EXPECT_EQ(log.find(text), std::string::npos) << text << " leaked:\n" << log;
   }
   // (The one it may read is the library itself, which the host opened.)
   EXPECT_NE(log.find("descriptors read: "), std::string::npos) << "the constructor ran: " << log;
-  EXPECT_NE(log.find(std::string("cannot read ") + SYROF_TEST_BELOW_FILE + ": Permission denied"), std::string::npos)
-      << log;
-  EXPECT_NE(log.find(std::string("cannot read ") + SYROF_TEST_BESIDE_FILE + ": Permission denied"), std::string::npos)
-      << log;
-  EXPECT_NE(log.find(std::string("read ") + SYROF_TEST_SIBLING_FILE + ": ?ELF"), std::string::npos) << log;
+  EXPECT_NE(log.find("cannot read " + below + ": Permission denied"), std::string::npos) << log;
+  EXPECT_NE(log.find("cannot read " + beside + ": Permission denied"), std::string::npos) << log;
+  EXPECT_NE(log.find("read " + sibling + ": ?ELF"), std::string::npos) << log;
 }
 
 // A library that links a shared library of its own beside it loads: the
 // rules that keep the rest of its folder out let the loader map that one.
 TEST_F(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
-  options_.library_path = Library("needs_sibling");
+  const std::filesystem::path folder = CopiedLibraries("sibling", {"needs_sibling", "sibling"});
+  options_.library_path = (folder / "libneeds_sibling.so").string();
   const LibraryCheck check = CheckLibrary(options_);
   ASSERT_TRUE(check.ok) << check.error;
   std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
@@ -478,6 +503,8 @@ TEST_F(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
   const app::CallStatus init = app->Init(info_, platform_, state);
   ASSERT_TRUE(init.ok()) << app::ToString(init.verdict()) << ": " << init.detail();
   EXPECT_EQ(state, 42) << "the answer of libsibling.so";
+  app.reset();
+  std::filesystem::remove_all(folder);
 }
 
 TEST_F(HostedAppTest, TheHostRunsHardened) {

@@ -1,10 +1,11 @@
 /* A constructor that looks for what it was not handed: every descriptor the
  * host might have inherited (read with pread, which needs no open), a file
- * below its own folder (SYROF_TEST_BELOW_FILE: DIR/elsewhere/hidden/
- * tests.yaml, as a course folder holds), a file beside it that is not a
- * shared object (SYROF_TEST_BESIDE_FILE), and a shared object beside it
- * (SYROF_TEST_SIBLING_FILE, which the loader may need). It prints what it
- * read; the app then behaves. */
+ * below its own folder (DIR/elsewhere/hidden/tests.yaml, as a course folder
+ * holds), a file beside it that is not a shared object (DIR/notes.txt), and
+ * a shared object beside it (DIR/libsibling.so, which the loader may
+ * need), DIR being SYROF_TEST_SNOOP_DIR, where the test copies it (the
+ * host loads it through /proc/self/fd, so it cannot ask where it lies).
+ * It prints what it read; the app then behaves. */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -47,9 +48,13 @@ __attribute__((constructor)) static void SnoopOnLoad(void) {
     }
   }
   printf("descriptors read: %d\n", descriptors_read);
-  TryToRead(SYROF_TEST_BELOW_FILE);
-  TryToRead(SYROF_TEST_BESIDE_FILE);
-  TryToRead(SYROF_TEST_SIBLING_FILE);
+  const char* folder = SYROF_TEST_SNOOP_DIR;
+  static const char* const kNames[] = {"elsewhere/hidden/tests.yaml", "notes.txt", "libsibling.so"};
+  for (size_t i = 0; i < sizeof kNames / sizeof kNames[0]; ++i) {
+    char path[640];
+    snprintf(path, sizeof path, "%s/%s", folder, kNames[i]);
+    TryToRead(path);
+  }
   fflush(stdout);
 }
 
