@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -54,6 +56,47 @@ std::vector<grader::CheckSubject> Choose(const std::vector<grader::CheckSubject>
     if (chosen[i]) result.push_back(subjects[i]);
   }
   return result;
+}
+
+// CPU seconds this process and its waited-for children have used.
+double CpuSeconds() {
+  double seconds = 0;
+  for (const int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+    rusage usage{};
+    getrusage(who, &usage);
+    seconds += static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+               static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
+  }
+  return seconds;
+}
+
+// --gradescope-budget: the reference graded alone (one job, after every
+// subject, so nothing else shares the process), its CPU time, and what it
+// projects under Gradescope's half a CPU. Prints the line; false when the
+// projection is over half the budget.
+bool CheckGradescopeBudget(const grader::assignment::Assignment& checked, const grader::CheckSubject& reference,
+                           const grader::CheckOptions& check, double budget_s, const std::string& out_dir,
+                           std::ostream& out) {
+  grader::GradeOptions grade = check.grade;
+  grade.jobs = 1;
+  grade.on_test = nullptr;
+  std::vector<std::string> notes;
+  const double before = CpuSeconds();
+  const auto started = std::chrono::steady_clock::now();
+  grader::GradeSubmission(checked, reference.folder, (fs::path(out_dir) / "gradescope-budget").string(), grade,
+                          notes);
+  const double cpu_s = CpuSeconds() - before;
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double projected_s = 2 * cpu_s;  // half a CPU: twice the CPU time, at best
+  const bool fits = projected_s <= budget_s / 2;
+  fmt::print(out,
+             "\nGradescope budget: the reference took {:.1f} CPU-s ({:.1f} s here, one job): about {:.0f} s under "
+             "Gradescope's half a CPU, {} half of the {:.0f} s budget{}\n",
+             cpu_s, wall_s, projected_s, fits ? "within" : "MORE than", budget_s,
+             fits ? ""
+                  : ": a slow submission may reach Gradescope's timeout; shorten the runs or drop seeds "
+                    "(docs/grading.md, \"Gradescope's limits\")");
+  return fits;
 }
 
 }  // namespace assignment_check
@@ -140,6 +183,16 @@ int RunAssignmentCheck(const AssignmentCheckOptions& options, std::ostream& out,
   }
   const size_t passed = static_cast<size_t>(
       std::count_if(outcomes.begin(), outcomes.end(), [](const grader::SubjectOutcome& o) { return o.ok(); }));
+  if (options.gradescope_budget_s > 0) {
+    const auto reference = std::find_if(subjects.begin(), subjects.end(), [](const grader::CheckSubject& subject) {
+      return subject.role == grader::SubjectRole::kReference && !subject.probe;
+    });
+    if (reference != subjects.end()) {
+      assignment_check::CheckGradescopeBudget(checked, *reference, check, options.gradescope_budget_s, out_dir, out);
+    } else {
+      fmt::print(out, "\nGradescope budget: not measured, the reference is not among the subjects (--only)\n");
+    }
+  }
   if (failed.empty()) {
     fmt::print(out, "\nAll {} as expected, in {:.1f} s; reports in {}/<subject>/\n", outcomes.size(), seconds,
                out_dir);

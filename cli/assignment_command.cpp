@@ -29,6 +29,10 @@ CLI::App* SetupAssignmentCommand(CLI::App& app, AssignmentOptions& options) {
   check->add_option("--out", c.out_dir, "Where each subject's reports go (default check-out/<assignment>)");
   check->add_option("--build-timeout-s", c.build_timeout_s, "Wall time for a build, seconds (default 120)")
       ->check(CLI::Range(1.0, 3600.0));
+  check->add_option("--gradescope-budget", c.gradescope_budget_s,
+                    "Also grade the reference alone, measure its CPU time and warn when, under Gradescope's half a "
+                    "CPU, it would take more than half of this many seconds (Gradescope's default timeout: 600)")
+      ->check(CLI::Range(1.0, 86400.0));
   check->add_option("--probe-students", c.probe_students,
                     "Also grade the reference on the hidden seeds derived for N probe students (per-student seeds: "
                     "it must get full marks on seeds no file lists); default 0")

@@ -28,6 +28,10 @@ struct AssignmentCheckOptions {
   /// --probe-students N: also grade the reference on the hidden seeds
   /// derived for N probe students (grader::ProbeSubjects).
   int probe_students = 0;
+  /// --gradescope-budget S: grade the reference once more, alone, measuring
+  /// its CPU time, and warn when its projected wall time under Gradescope's
+  /// half a CPU (twice the CPU time) is more than half of S.
+  double gradescope_budget_s = 0;
   /// Not a command-line option: scripts/broken-variant.sh. Empty: the
   /// source tree's, where this syrof was built.
   std::string broken_variant_script;

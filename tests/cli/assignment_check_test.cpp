@@ -61,6 +61,27 @@ TEST_F(AssignmentCheckTest, ARealAssignmentsReferenceGetsFullMarks) {
   EXPECT_TRUE(fs::is_regular_file(dir_ / "out" / "reference" / "report.html"));
 }
 
+// --gradescope-budget: the reference graded alone, its CPU time projected
+// to Gradescope's half a CPU, a warning when that is over half the budget
+// (the check's own verdict unchanged).
+TEST_F(AssignmentCheckTest, AGradescopeBudgetTooSmallForTheReferenceIsWarnedAbout) {
+  const Outcome roomy = Syrof("assignment check " SYROF_ASSIGNMENTS_DIR
+                              "/gather --only reference --jobs 2 --gradescope-budget 600 --out " +
+                              (dir_ / "roomy").string());
+  const Outcome tight = Syrof("assignment check " SYROF_ASSIGNMENTS_DIR
+                              "/gather --only reference --jobs 2 --gradescope-budget 1 --out " +
+                              (dir_ / "tight").string());
+
+  EXPECT_EQ(roomy.status, 0) << roomy.output;
+  EXPECT_NE(roomy.output.find("under Gradescope's half a CPU, within half of the 600 s budget"), std::string::npos)
+      << roomy.output;
+  EXPECT_EQ(tight.status, 0) << tight.output;
+  EXPECT_NE(tight.output.find("under Gradescope's half a CPU, MORE than half of the 1 s budget: a slow submission "
+                              "may reach Gradescope's timeout"),
+            std::string::npos)
+      << tight.output;
+}
+
 TEST_F(AssignmentCheckTest, AVariantThatDoesNotGetItsExpectedPointsFailsTheCheckByName) {
   fs::copy(SYROF_ASSIGNMENTS_DIR "/coverage", dir_ / "coverage", fs::copy_options::recursive);
   // own_id gets 87.50 losing goal; say it must lose more.
