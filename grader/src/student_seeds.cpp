@@ -84,15 +84,27 @@ std::string CheckCourseSecret(std::string_view secret) {
   return {};
 }
 
-std::optional<std::string> ReadCourseSecretFile(const std::string& path, std::string& error) {
+namespace {
+
+// The bytes of the file at `path`; empty, with `error` saying that `what`
+// cannot be read, when it cannot.
+std::optional<std::string> ReadWholeFile(const std::string& path, const std::string& what, std::string& error) {
   std::ifstream file(path, std::ios::binary);
   if (!file) {
-    error = "cannot read the course secret file '" + path + "'";
+    error = "cannot read " + what + " '" + path + "'";
     return std::nullopt;
   }
   std::ostringstream bytes;
   bytes << file.rdbuf();
-  std::string secret = bytes.str();
+  return bytes.str();
+}
+
+}  // namespace
+
+std::optional<std::string> ReadCourseSecretFile(const std::string& path, std::string& error) {
+  std::optional<std::string> read = ReadWholeFile(path, "the course secret file", error);
+  if (!read) return std::nullopt;
+  std::string secret = *std::move(read);
   while (!secret.empty() && (secret.back() == '\n' || secret.back() == '\r')) secret.pop_back();
   if (std::string problem = CheckCourseSecret(secret); !problem.empty()) {
     error = path + ": " + problem;
@@ -133,25 +145,15 @@ std::optional<std::string> StudentFromGradescopeMetadata(std::string_view text, 
 }
 
 std::optional<std::string> StudentFromGradescopeMetadataFile(const std::string& path, std::string& error) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    error = "cannot read Gradescope's submission metadata '" + path + "'";
-    return std::nullopt;
-  }
-  std::ostringstream bytes;
-  bytes << file.rdbuf();
-  return StudentFromGradescopeMetadata(bytes.str(), path, error);
+  const std::optional<std::string> text = ReadWholeFile(path, "Gradescope's submission metadata", error);
+  if (!text) return std::nullopt;
+  return StudentFromGradescopeMetadata(*text, path, error);
 }
 
 std::optional<int> SubmissionNumberFromGradescopeMetadataFile(const std::string& path, std::string& error) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    error = "cannot read Gradescope's submission metadata '" + path + "'";
-    return std::nullopt;
-  }
-  std::ostringstream bytes;
-  bytes << file.rdbuf();
-  const nlohmann::json root = nlohmann::json::parse(bytes.str(), nullptr, /*allow_exceptions=*/false);
+  const std::optional<std::string> text = ReadWholeFile(path, "Gradescope's submission metadata", error);
+  if (!text) return std::nullopt;
+  const nlohmann::json root = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
   if (root.is_discarded() || !root.is_object()) {
     error = path + ": not a JSON object (Gradescope's submission metadata is one)";
     return std::nullopt;
