@@ -7,9 +7,6 @@
 
 namespace syrof::app {
 
-/// Hold still.
-constexpr syrof_car_command StopCommand() { return syrof_car_command{}; }
-
 /// Go to (x_m, y_m), arena frame, at up to `speed_mps` (> 0), then stop.
 constexpr syrof_car_command MoveToCommand(float x_m, float y_m, float speed_mps) {
   syrof_car_command command{};

@@ -62,15 +62,6 @@ class StateDigest {
     AddBytes(std::as_bytes(std::span<const T, 1>(&value, 1)));
   }
 
-  /// An object's bytes as they lie in memory, for a type that holds its
-  /// values in place but is not trivially copyable (an Eigen matrix). It
-  /// must hold no pointer that differs between equal states.
-  template <typename T>
-  void AddObjectBytes(const T& object) {
-    static_assert(!std::is_pointer_v<T> && std::is_standard_layout_v<T>);
-    AddBytes(std::span<const std::byte>(reinterpret_cast<const std::byte*>(&object), sizeof(T)));
-  }
-
   /// The elements of `values`.
   template <typename T>
   void AddRange(std::span<const T> values) {

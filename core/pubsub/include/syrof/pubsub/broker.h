@@ -96,8 +96,6 @@ class Broker {
 
   size_t publisher_count() const { return publisher_count_; }
   size_t subscription_count() const { return subscription_count_; }
-  size_t publisher_capacity() const { return publishers_.size(); }
-  size_t subscription_capacity() const { return subscriptions_.size(); }
   /// Tuples delivered through publisher `index` so far (0 for unknown).
   uint32_t published(PublisherIndex index) const;
 

@@ -219,8 +219,6 @@ class Robot final : private app::Platform {
   uint8_t global_state() const { return global_state_; }
   /// Whether the app faulted (the robot is then stopped; see OnAppFault).
   bool app_faulted() const { return !app_fault_.ok(); }
-  /// The app's fault; ok while it has none.
-  const app::CallStatus& app_fault() const { return app_fault_; }
   const syrof_car_command& command() const { return command_; }
   /// Read them from the round task's thread, or once the port has stopped:
   /// ReceiveBytes' producer updates the receive counters under the port's
@@ -231,8 +229,6 @@ class Robot final : private app::Platform {
   const RobotConfig& config() const { return config_; }
   /// Round alignment's figures (measured even when alignment is off).
   const sync::AlignmentStats& alignment_stats() const { return alignment_stats_; }
-  /// The last round's alignment decision.
-  const sync::AlignmentStep& last_alignment() const { return last_alignment_; }
   /// When the round task last stepped (a round boundary), port time.
   int64_t last_round_ns() const { return last_round_ns_; }
 
