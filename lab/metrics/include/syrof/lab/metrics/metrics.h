@@ -276,8 +276,8 @@ struct MembershipMetrics {
   std::optional<double> mean_join_latency_rounds;
 };
 
-/// The DDS runtime's own figures (`syrof swarm`, docs/sim_dds.md): only a
-/// run over DDS has them.
+/// The DDS runtime's own figures (`syrof swarm`, docs/dds.md; the fields in
+/// docs/metrics.md, "dds"): only a run over DDS has them.
 struct DdsMetrics {
   uint32_t domain_id = 0;
   double delivery_ratio = 0;                ///< beacons delivered within their round / beacons the channel passed
