@@ -17,8 +17,8 @@
 # Defaults: bench_lab_throughput's standard scenario, written for each case
 # (robots on a 1 m grid, the arena one spacing wider and at most 32 m, its
 # anchors at the corners, 50 ms rounds, 5% i.i.d. loss: 11 m for 100
-# robots), and the cases of issue 30: 100 robots for 60 s and 1000 robots
-# for 3 s. --scenario FILE runs that file instead, with --robots as the
+# robots), and two cases: 100 robots for 60 s (the platform's own cost
+# per robot) and 1000 robots for 3 s (where the per-beacon work dominates). --scenario FILE runs that file instead, with --robots as the
 # case says. --this: the binary to compare (default build/bin/syrof; build
 # it Release first). Both binaries read the same scenario file; a commit
 # whose parser refuses it needs another --scenario. Deterministic runs: the

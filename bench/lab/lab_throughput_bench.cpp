@@ -243,8 +243,9 @@ int main(int argc, char** argv) {
   }
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const bool safety_only = argc > 1 && std::strcmp(argv[1], "--safety") == 0;
-  fmt::print("simulated lab throughput, robot-seconds per CPU-second on one core, safety filter on (issue 15's\n"
-             "targets: >= 20,000 at 100 robots; 1000 robots >= 10x real time)\n\n");
+  fmt::print("simulated lab throughput, robot-seconds per CPU-second on one core, safety filter on (docs/lab.md,\n"
+             "\"Speed\": figures measured here; \"What bounds it\": why 20,000 at 100 robots and 10x real time at\n"
+             "1000 robots are out of reach on one core)\n\n");
   fmt::print("{:<16} {:>8} {:>12} {:>27} {:>10}\n", "app", "robots", "sim seconds", "robot-s per CPU-s, best of 3",
              "x real time");
   struct Case {
