@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "syrof/app_host/landlock.h"
+#include "syrof/process/landlock.h"
 #include "syrof/assignment/assignment.h"
 #include "syrof/grader/class_grading.h"
 #include "syrof/grader/grade.h"
@@ -413,7 +413,7 @@ CLI::App* SetupGradeCommand(CLI::App& app, GradeOptions& options) {
 bool MayGradeHere(const std::string& command, bool unsafe_no_file_isolation, std::ostream& out, std::ostream& err) {
   // Graded code is hostile until proven otherwise: without Landlock its
   // build could read the hidden tests (docs/grading.md, "Threat model").
-  if (app_host::LandlockAbi() != 0) return true;
+  if (process::LandlockAbi() != 0) return true;
   if (!unsafe_no_file_isolation) {
     fmt::print(err,
                "{}: this kernel has no Landlock (Linux 5.13 or later, with landlock among its LSMs), so "

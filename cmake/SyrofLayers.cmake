@@ -43,6 +43,9 @@
 # - bridge (the base station, syrof-bridge) reads the firmware's radio link
 #   framing and publishes on sim_dds's beacon topic, so it sits above both
 #   (its own group: it runs no robot, nothing above needs it).
+# - app_host/process (Spawn, the sandbox's steps, Fd, Landlock) needs only
+#   the C library: it sits below every module that starts a process (the
+#   app host, sim_dds, the firmware swarm host, the grader). Host only.
 # - app_host (a student's library in a sandboxed process per robot) needs
 #   only core/app and queries; it sits below sim_dds and the grader, which
 #   both run student libraries through it (the lab's `syrof run` too).
@@ -68,6 +71,7 @@ set(SYROF_LAYERS
   "lab/metrics lab/replay"
   "lab/sim lab/view"
   "lab/search lab/live"
+  "app_host/process"
   "app_host"
   "sim_dds firmware"
   "bridge"
@@ -91,7 +95,7 @@ set(SYROF_EXCLUSIVE_HEADERS
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.
-set(SYROF_NESTED_MODULES "core/estimation/tasks" "grader/assignment" "grader/report")
+set(SYROF_NESTED_MODULES "core/estimation/tasks" "app_host/process" "grader/assignment" "grader/report")
 
 # The top-level folders whose sources the check walks.
 set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds app_host grader bridge)

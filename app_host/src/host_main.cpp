@@ -13,9 +13,7 @@
 #include <dirent.h>
 #include <dlfcn.h>
 #include <fcntl.h>
-#include <grp.h>
 #include <linux/capability.h>
-#include <linux/close_range.h>
 #include <sched.h>
 #include <seccomp.h>
 #include <signal.h>
@@ -40,7 +38,9 @@
 #include "platform_binding.h"
 #include "protocol.h"
 #include "syrof/app/call_status.h"
-#include "syrof/app_host/landlock.h"
+#include "syrof/process/confine.h"
+#include "syrof/process/fd.h"
+#include "syrof/process/landlock.h"
 
 namespace syrof::app_host {
 namespace {
@@ -48,8 +48,6 @@ namespace {
 namespace p = protocol;
 using app::Verdict;
 
-constexpr uid_t kNobody = 65534;
-constexpr gid_t kNogroup = 65534;
 constexpr int kMaxSyscall = 512;
 
 // Names of system calls by number, resolved before any filter is loaded so
@@ -80,15 +78,10 @@ void AppendNumber(char* out, size_t size, uint64_t value) {
   out[length] = '\0';
 }
 
-void WriteAll(int fd, const void* data, size_t size) {
-  const char* bytes = static_cast<const char*>(data);
-  while (size > 0) {
-    const ssize_t written = write(fd, bytes, size);
-    if (written < 0 && errno == EINTR) continue;
-    if (written <= 0) _exit(p::kExitParentGone);
-    bytes += written;
-    size -= static_cast<size_t>(written);
-  }
+// Sends one frame on the channel; the parent gone, the host ends.
+// Signal-safe.
+void Send(const p::Reply& frame) {
+  if (!process::WriteAll(p::kChannelFd, &frame, sizeof(frame))) _exit(p::kExitParentGone);
 }
 
 // Reports a fault and ends the process; signal-safe.
@@ -98,7 +91,7 @@ void WriteAll(int fd, const void* data, size_t size) {
   fault_reply.kind = static_cast<uint8_t>(p::ReplyKind::kFault);
   fault_reply.verdict = static_cast<uint8_t>(verdict);
   CopyText(fault_reply.text, sizeof(fault_reply.text), detail);
-  WriteAll(p::kChannelFd, &fault_reply, sizeof(fault_reply));
+  Send(fault_reply);
   _exit(p::kExitFaultReported);
 }
 
@@ -131,11 +124,6 @@ void OnAllocationRefused(size_t size) {
     CopyText(detail + length, sizeof(detail) - length, why);
   }
   ReportFault(verdict, detail);
-}
-
-void SetLimit(int resource, rlim_t value) {
-  const rlimit limit{value, value};
-  (void)setrlimit(resource, &limit);  // lowering a limit never needs privilege
 }
 
 // One argument comparison (libseccomp's SCMP_A* macros are C compound
@@ -237,7 +225,7 @@ scmp_filter_ctx CallbackFilter(pid_t self) {
 int RecordPayload(void*, const uint8_t* payload, size_t length) {
   if (reply.call_count == p::kCallsPerReply) {
     reply.kind = static_cast<uint8_t>(p::ReplyKind::kBatch);
-    WriteAll(p::kChannelFd, &reply, sizeof(reply));
+    Send(reply);
     reply.call_count = 0;
     for (p::PayloadCall& call : reply.calls) call = p::PayloadCall{};
   }
@@ -320,14 +308,14 @@ bool IsSharedObjectName(const char* name) {
 // its own rule: no folder, so nothing else beside it and nothing beneath
 // it. Symbolic links are left out (their targets beside it have rules of
 // their own).
-bool AllowSharedObjectsBeside(syrof::app_host::FileRuleset& rules, const char* library) {
+bool AllowSharedObjectsBeside(syrof::process::FileRuleset& rules, const char* library) {
   const std::string folder = FolderOf(library);
   DIR* listing = opendir(folder.c_str());
   if (listing == nullptr) return true;  // nothing beside it can be allowed
   bool ok = true;
   while (const dirent* entry = readdir(listing)) {
     if (!IsSharedObjectName(entry->d_name)) continue;
-    ok = ok && rules.AllowPlainFile(folder + "/" + entry->d_name, syrof::app_host::FileRuleset::Access::kReadExecute);
+    ok = ok && rules.AllowPlainFile(folder + "/" + entry->d_name, syrof::process::FileRuleset::Access::kReadExecute);
   }
   closedir(listing);
   return ok;
@@ -342,8 +330,8 @@ bool AllowSharedObjectsBeside(syrof::app_host::FileRuleset& rules, const char* l
 // host is still the caller's uid (it may have to reach a folder only the
 // caller reads); applied after the uid drop. False (and `error`) when a
 // rule is refused; `rules.created()` false when Landlock is missing.
-bool LoaderFileRules(syrof::app_host::FileRuleset& rules, const char* library, std::string& error) {
-  using Access = syrof::app_host::FileRuleset::Access;
+bool LoaderFileRules(syrof::process::FileRuleset& rules, const char* library, std::string& error) {
+  using Access = syrof::process::FileRuleset::Access;
   if (!rules.Create()) return true;
   std::string own_library;
   Dl_info info{};
@@ -410,7 +398,7 @@ bool LoaderFileRules(syrof::app_host::FileRuleset& rules, const char* library, s
     fflush(stdout);
     fflush(stderr);
     reply.kind = static_cast<uint8_t>(p::ReplyKind::kDone);
-    WriteAll(p::kChannelFd, &reply, sizeof(reply));
+    Send(reply);
   }
 }
 
@@ -442,16 +430,10 @@ int main(int argc, char** argv) {
 
   // 2. Every descriptor but 0-3 closed: nothing the parent had open
   //    without close-on-exec reaches the library (docs/app_host.md).
-  if (syscall(SYS_close_range, 4u, ~0u, 0u) != 0) {
-    notes |= p::kNoteNoCloseRange;
-    rlimit limit{};
-    const int most = getrlimit(RLIMIT_NOFILE, &limit) == 0 && limit.rlim_max < (1u << 20)
-                         ? static_cast<int>(limit.rlim_max)
-                         : 1 << 20;
-    for (int fd = 4; fd < most; ++fd) close(fd);
-  }
+  if (!syrof::process::CloseDescriptorsFrom(p::kChannelFd + 1)) notes |= p::kNoteNoCloseRange;
 
   // 3. Limits: no core files, no files written, few descriptors, bounded memory.
+  using syrof::process::SetLimit;
   SetLimit(RLIMIT_CORE, 0);
   SetLimit(RLIMIT_FSIZE, 0);
   SetLimit(RLIMIT_NOFILE, 16);
@@ -473,7 +455,7 @@ int main(int argc, char** argv) {
   //    /proc/self/fd, after the uid is dropped.
   const int library_fd = open(library, O_RDONLY | O_CLOEXEC);
   if (library_fd < 0) Fail(syrof::app::Verdict::kLoadFailed, "cannot open the library: ", strerror(errno));
-  syrof::app_host::FileRuleset file_rules;
+  syrof::process::FileRuleset file_rules;
   if (std::string error; !LoaderFileRules(file_rules, library, error)) {
     Fail(syrof::app::Verdict::kLoadFailed, "cannot confine the loader: ", error.c_str());
   }
@@ -482,17 +464,17 @@ int main(int argc, char** argv) {
   // 5. An unprivileged uid when started as root; no process may then be
   //    started under it (RLIMIT_NPROC 0: the host never forks).
   if (geteuid() == 0) {
-    if (setgroups(0, nullptr) != 0 || setgid(kNogroup) != 0 || setuid(kNobody) != 0) {
-      Fail(syrof::app::Verdict::kLoadFailed, "cannot drop to uid 65534: ", strerror(errno));
+    // (DropToNobody sets the parent-death signal again: a change of uid or
+    // gid clears it.)
+    if (const int refused = syrof::process::DropToNobody(); refused != 0) {
+      Fail(syrof::app::Verdict::kLoadFailed, "cannot drop to uid 65534: ", strerror(refused));
     }
   } else {
     notes |= p::kNoteNotRoot;
   }
   SetLimit(RLIMIT_NPROC, 0);
   prctl(PR_SET_DUMPABLE, 1);  // keeps /proc/self/fd/N readable after the uid change
-  // A change of uid or gid clears the parent-death signal: set it again,
-  // and check again that the parent is still there.
-  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  // The parent may have gone while the death signal was cleared.
   if (getppid() != parent) _exit(p::kExitParentGone);
 
   // 6. Namespaces: no network, no IPC, its own hostname, no uid outside.
@@ -569,7 +551,7 @@ int main(int argc, char** argv) {
   hello.kind = static_cast<uint8_t>(p::ReplyKind::kHello);
   hello.notes = notes;
   CopyText(hello.text, sizeof(hello.text), descriptor->name != nullptr ? descriptor->name : "c_app");
-  WriteAll(p::kChannelFd, &hello, sizeof(hello));
+  Send(hello);
   if (check_only) _exit(0);
   Serve();
 }

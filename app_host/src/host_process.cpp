@@ -3,21 +3,19 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/personality.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
-#include <sys/syscall.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
 #include <system_error>
+#include <utility>
 
 namespace syrof::app_host {
 namespace {
@@ -30,15 +28,6 @@ int64_t Nanoseconds(clockid_t clock) {
   timespec now{};
   if (clock_gettime(clock, &now) != 0) return -1;
   return int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
-}
-
-// `fd` moved to a number above 9, close-on-exec, so spawning can dup2 it to
-// 0-3 without a descriptor being its own target.
-int Lift(int fd) {
-  if (fd < 0 || fd > 9) return fd;
-  const int lifted = fcntl(fd, F_DUPFD_CLOEXEC, 10);
-  close(fd);
-  return lifted;
 }
 
 // Raises this process's soft descriptor limit to its hard limit (at most
@@ -55,24 +44,9 @@ bool RaiseDescriptorLimit() {
   return setrlimit(RLIMIT_NOFILE, &limit) == 0;
 }
 
-void CloseFd(int& fd) {
-  if (fd >= 0) close(fd);
-  fd = -1;
-}
-
 std::string SignalName(int signal) {
   const char* abbreviation = sigabbrev_np(signal);
   return abbreviation != nullptr ? std::string("SIG") + abbreviation : "signal " + std::to_string(signal);
-}
-
-void WriteAll(int fd, const char* data, size_t size) {
-  while (size > 0) {
-    const ssize_t written = write(fd, data, size);
-    if (written < 0 && errno == EINTR) continue;
-    if (written <= 0) return;  // a full disk loses log bytes, not the run
-    data += written;
-    size -= static_cast<size_t>(written);
-  }
 }
 
 }  // namespace
@@ -90,41 +64,37 @@ void HostProcess::SetFault(Verdict verdict, const std::string& detail) {
 }
 
 void HostProcess::KillAndReap() {
-  if (pid_ > 0) {
-    kill(pid_, SIGKILL);
-    siginfo_t info{};
-    while (waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED) != 0 && errno == EINTR) {
-    }
-    pid_ = -1;
+  if (child_.started() && !child_.reaped()) {
+    child_.Kill();
+    (void)child_.Reap();
   }
   // Whatever was still in the pipe belongs in the log.
-  if (output_ >= 0) (void)DrainOutput();
-  CloseFd(output_);
-  CloseFd(channel_);
-  CloseFd(pidfd_);
+  if (output_.valid()) (void)DrainOutput();
+  output_.Reset();
+  channel_.Reset();
 }
 
 void HostProcess::FinishLog() {
-  if (log_fd_ < 0) return;
+  if (!log_.valid()) return;
   if (output_bytes_ > log_written_) {
     const std::string line = "\n[syrof] " + std::to_string(output_bytes_ - log_written_) +
                              " more bytes were written and not kept (log_keep_bytes " +
                              std::to_string(limits_.log_keep_bytes) + ")\n";
-    WriteAll(log_fd_, line.data(), line.size());
+    (void)process::WriteAll(log_.get(), line.data(), line.size());  // a full disk loses log bytes, not the run
   }
-  CloseFd(log_fd_);
+  log_.Reset();
 }
 
 bool HostProcess::DrainOutput() {
   char buffer[65536];
   for (;;) {
-    const ssize_t got = read(output_, buffer, sizeof(buffer));
+    const ssize_t got = read(output_.get(), buffer, sizeof(buffer));
     if (got < 0 && errno == EINTR) continue;
     if (got <= 0) return output_bytes_ <= limits_.output_limit_bytes;
     const uint64_t size = static_cast<uint64_t>(got);
-    if (log_fd_ >= 0 && log_written_ < limits_.log_keep_bytes) {
+    if (log_.valid() && log_written_ < limits_.log_keep_bytes) {
       const uint64_t keep = std::min(size, limits_.log_keep_bytes - log_written_);
-      WriteAll(log_fd_, buffer, keep);
+      (void)process::WriteAll(log_.get(), buffer, keep);
       log_written_ += keep;
     }
     output_bytes_ += size;
@@ -146,9 +116,9 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
     std::error_code ignored;
     std::filesystem::create_directories(options.log_directory, ignored);
     const std::string log_path = options.log_directory + "/" + std::to_string(robot_id) + ".log";
-    log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (log_fd_ < 0 && errno == EMFILE && RaiseDescriptorLimit()) {
-      log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    log_.Reset(open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
+    if (!log_.valid() && errno == EMFILE && RaiseDescriptorLimit()) {
+      log_.Reset(open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
     }
   }
 
@@ -157,68 +127,41 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
   for (int attempt = 0;; ++attempt) {
     if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) == 0 && pipe2(output, O_CLOEXEC) == 0) break;
     const int error = errno;
-    CloseFd(channel[0]);
-    CloseFd(channel[1]);
+    // A channel made before the pipe was refused is closed.
+    const process::Fd made_a(std::exchange(channel[0], -1));
+    const process::Fd made_b(std::exchange(channel[1], -1));
     if (attempt == 0 && error == EMFILE && RaiseDescriptorLimit()) continue;
     SetFault(Verdict::kLoadFailed, std::string("cannot create the host's channel: ") + strerror(error));
-    CloseFd(log_fd_);
+    log_.Reset();
     return fault_;
   }
-  channel_ = Lift(channel[0]);
-  int child_channel = Lift(channel[1]);
-  output_ = Lift(output[0]);
-  int child_output = Lift(output[1]);
-  fcntl(output_, F_SETFL, O_NONBLOCK);
+  channel_.Reset(channel[0]);
+  const process::Fd child_channel(channel[1]);
+  output_.Reset(output[0]);
+  const process::Fd child_output(output[1]);
+  fcntl(output_.get(), F_SETFL, O_NONBLOCK);
 
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_adddup2(&actions, child_output, 1);
-  posix_spawn_file_actions_adddup2(&actions, child_output, 2);
-  posix_spawn_file_actions_adddup2(&actions, child_channel, p::kChannelFd);
-  posix_spawnattr_t attributes;
-  posix_spawnattr_init(&attributes);
-  sigset_t none;
-  sigemptyset(&none);
-  sigset_t all;
-  sigfillset(&all);
-  posix_spawnattr_setsigmask(&attributes, &none);
-  posix_spawnattr_setsigdefault(&attributes, &all);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-
-  const std::string parent = std::to_string(getpid());
-  const std::string address_space = std::to_string(limits_.address_space_bytes);
-  const char* arguments[] = {host.c_str(), mode == Mode::kCheck ? "check" : "run", options.library_path.c_str(),
-                             parent.c_str(), address_space.c_str(), nullptr};
+  process::Command command;
+  command.argv = {host, mode == Mode::kCheck ? "check" : "run", options.library_path, std::to_string(getpid()),
+                  std::to_string(limits_.address_space_bytes)};
   // A fixed, minimal environment: the app sees the same on every run. A
   // test of a kernel without Landlock passes its pretence on (it can only
   // take the host's Landlock layer away).
+  command.environment = {"PATH=/usr/bin:/bin", "LC_ALL=C"};
   const char* pretend = std::getenv("SYROF_PRETEND_NO_LANDLOCK");
-  const bool no_landlock = pretend != nullptr && pretend[0] == '1';
-  const char* environment[] = {"PATH=/usr/bin:/bin", "LC_ALL=C", no_landlock ? "SYROF_PRETEND_NO_LANDLOCK=1" : nullptr,
-                               nullptr};
-  pid_t pid = -1;
-  // Address randomisation off for the host (docs/app_host.md): the
-  // personality is the calling thread's, is inherited by the spawned child
-  // and only acts at its exec, so it is set around the spawn and restored
-  // (randomisation of this process was fixed at its own exec).
-  const int persona = personality(0xffffffff);
-  const bool no_aslr = persona != -1 && personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE) != -1;
-  const int spawned = posix_spawn(&pid, host.c_str(), &actions, &attributes, const_cast<char* const*>(arguments),
-                                  const_cast<char* const*>(environment));
-  if (no_aslr) personality(static_cast<unsigned long>(persona));
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attributes);
-  CloseFd(child_channel);
-  CloseFd(child_output);
-  if (spawned != 0) {
-    SetFault(Verdict::kLoadFailed, "cannot start " + host + ": " + strerror(spawned));
+  if (pretend != nullptr && pretend[0] == '1') command.environment.push_back("SYROF_PRETEND_NO_LANDLOCK=1");
+  // 0 /dev/null, 1 and 2 the output pipe, 3 the channel (protocol.h).
+  command.descriptors = {{1, child_output.get()}, {2, child_output.get()}, {p::kChannelFd, child_channel.get()}};
+  // Address randomisation off for the host (docs/app_host.md).
+  command.no_address_randomization = true;
+  child_ = process::Spawn(command);
+  if (!child_.started()) {
+    SetFault(Verdict::kLoadFailed, "cannot start " + host + ": " + strerror(child_.start_error()));
     KillAndReap();
     return fault_;
   }
-  pid_ = pid;
-  pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));  // -1 on old kernels: the channel's hang-up says it too
-  have_cpu_clock_ = clock_getcpuclockid(pid_, &cpu_clock_) == 0;
+  // A pidfd of -1 (old kernels): the channel's hang-up says it too.
+  have_cpu_clock_ = clock_getcpuclockid(child_.pid(), &cpu_clock_) == 0;
   return CallStatus::Ok();
 }
 
@@ -248,7 +191,7 @@ bool HostProcess::TryReceive(p::Reply& reply, bool& malformed) {
   p::Reply buffer;
   ssize_t got;
   do {
-    got = recv(channel_, &buffer, sizeof(buffer), MSG_DONTWAIT | MSG_TRUNC);
+    got = recv(channel_.get(), &buffer, sizeof(buffer), MSG_DONTWAIT | MSG_TRUNC);
   } while (got < 0 && errno == EINTR);
   if (got < 0) return false;  // nothing pending
   if (got == 0) return false; // the host closed its end (it is ending)
@@ -277,44 +220,29 @@ void HostProcess::FaultFromExit(bool load) {
   // The channel hangs up as the host's descriptors close, a moment before
   // the process is a zombie; a host that closed the channel itself and goes
   // on is stopped after a short grace.
-  siginfo_t info{};
-  bool killed = false;
-  for (int attempt = 0;; ++attempt) {
-    info = siginfo_t{};
-    const int waited = waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG);
-    if (waited != 0 && errno == EINTR) continue;
-    if (waited != 0) {
-      pid_ = -1;
-      SetFault(Verdict::kCrashed, std::string("the host vanished") + (load ? " during load" : ""));
-      return;
-    }
-    if (info.si_pid != 0) break;
-    if (attempt == 200) {
-      kill(pid_, SIGKILL);
-      killed = true;
-    }
-    if (killed) {
-      waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED);
-      break;
-    }
-    const timespec pause{0, 1'000'000};
-    nanosleep(&pause, nullptr);
+  std::optional<process::ExitStatus> status = child_.Wait(std::chrono::milliseconds(200));
+  const bool killed = !status.has_value();
+  if (killed) {
+    child_.Kill();
+    status = child_.Reap();
+  } else if (status->how == process::ExitStatus::How::kUnknown) {
+    SetFault(Verdict::kCrashed, std::string("the host vanished") + (load ? " during load" : ""));
+    return;
   }
-  pid_ = -1;
   const std::string when = load ? " during load" : "";
   if (killed) {
     SetFault(Verdict::kBadAbi, "the host closed its channel" + when);
-  } else if (info.si_code == CLD_EXITED) {
-    if (info.si_status == p::kExitParentGone) {
+  } else if (status->exited()) {
+    if (status->code == p::kExitParentGone) {
       SetFault(Verdict::kExited, "the host lost its channel" + when);
     } else {
-      SetFault(Verdict::kExited, "exit status " + std::to_string(info.si_status) + when);
+      SetFault(Verdict::kExited, "exit status " + std::to_string(status->code) + when);
     }
-  } else if (info.si_status == SIGSYS) {
+  } else if (status->signal == SIGSYS) {
     // Killed by the filter itself (the app blocked SIGSYS): not named.
     SetFault(Verdict::kForbiddenSyscall, "a forbidden system call (SIGSYS)" + when);
   } else {
-    SetFault(Verdict::kCrashed, SignalName(info.si_status) + when);
+    SetFault(Verdict::kCrashed, SignalName(status->signal) + when);
   }
 }
 
@@ -373,8 +301,9 @@ HostProcess::Wait HostProcess::WaitForReply(p::Reply& reply, bool load) {
     // waking when either could first be over is enough.
     wait_ns = std::max<int64_t>(wait_ns, 0) + 1'000'000;  // past the cap, not just before it
     const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
-    pollfd fds[3] = {{channel_, POLLIN, 0}, {output_open_ ? output_ : -1, POLLIN, 0}, {pidfd_, POLLIN, 0}};
-    const int ready = ppoll(fds, pidfd_ >= 0 ? 3 : 2, &timeout, nullptr);
+    pollfd fds[3] = {
+        {channel_.get(), POLLIN, 0}, {output_open_ ? output_.get() : -1, POLLIN, 0}, {child_.pidfd(), POLLIN, 0}};
+    const int ready = ppoll(fds, child_.pidfd() >= 0 ? 3 : 2, &timeout, nullptr);
     if (ready < 0 && errno != EINTR) {
       KillAndReap();
       SetFault(Verdict::kCrashed, std::string("cannot wait for the host: ") + strerror(errno));
@@ -435,7 +364,7 @@ CallStatus HostProcess::Call(const void* request, size_t size, uint32_t sequence
   do {
     // Never blocks: the host has read every earlier request, so its queue
     // is empty; a full one means it is not taking requests.
-    sent = send(channel_, request, size, MSG_NOSIGNAL | MSG_DONTWAIT);
+    sent = send(channel_.get(), request, size, MSG_NOSIGNAL | MSG_DONTWAIT);
   } while (sent < 0 && errno == EINTR);
   if (sent != static_cast<ssize_t>(size)) {
     // The host is gone (or going): its exit or signal is the verdict.

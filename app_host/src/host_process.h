@@ -14,6 +14,8 @@
 #include "protocol.h"
 #include "syrof/app/call_status.h"
 #include "syrof/app_host/hosted_app.h"
+#include "syrof/process/fd.h"
+#include "syrof/process/spawn.h"
 
 namespace syrof::app_host {
 
@@ -60,7 +62,7 @@ class HostProcess {
   const std::string& app_name() const { return app_name_; }
   uint32_t notes() const { return notes_; }
   const std::string& full_detail() const { return full_detail_; }
-  pid_t pid() const { return pid_; }
+  pid_t pid() const { return child_.reaped() ? -1 : child_.pid(); }
 
  private:
   enum class Wait { kMessage, kFault };
@@ -80,11 +82,10 @@ class HostProcess {
   void FinishLog();
 
   HostLimits limits_;
-  pid_t pid_ = -1;
-  int pidfd_ = -1;
-  int channel_ = -1;
-  int output_ = -1;
-  int log_fd_ = -1;
+  process::Child child_;
+  process::Fd channel_;
+  process::Fd output_;
+  process::Fd log_;
   clockid_t cpu_clock_ = 0;
   bool have_cpu_clock_ = false;
   uint64_t output_bytes_ = 0;

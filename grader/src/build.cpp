@@ -29,7 +29,7 @@
 #include <sstream>
 
 #include "syrof/app_host/hosted_app.h"
-#include "syrof/app_host/landlock.h"
+#include "syrof/process/landlock.h"
 #include "shared_text.h"
 
 namespace syrof::grader {
@@ -38,7 +38,7 @@ namespace {
 namespace fs = std::filesystem;
 using assignment::BuildResult;
 using Clock = std::chrono::steady_clock;
-using app_host::FileRuleset;
+using process::FileRuleset;
 
 // The uid and gid a build started by root runs as (nobody, nogroup).
 constexpr uid_t kBuildUid = 65534;

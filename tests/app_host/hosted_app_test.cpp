@@ -24,7 +24,7 @@
 
 #include "syrof/app/app.h"
 #include "syrof/app_host/hosted_app.h"
-#include "syrof/app_host/landlock.h"
+#include "syrof/process/landlock.h"
 
 namespace syrof::app_host {
 namespace {
@@ -401,7 +401,7 @@ std::string ReadText(const std::string& path) {
 // read-only; Landlock keeps them to the library's and the system's library
 // folders. The canary is readable by every uid, so only Landlock stops it.
 TEST_F(HostedAppTest, AConstructorReadsNothingOutsideTheLibrariesFolders) {
-  if (LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
+  if (process::LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
   const std::string canary_text = "CANARY-constructor-5e2a";
   {
     std::ofstream(SYROF_TEST_CANARY_FILE) << canary_text << "\n";
@@ -450,7 +450,7 @@ std::filesystem::path CopiedLibraries(const std::string& test, std::initializer_
 }
 
 TEST_F(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSharedObjects) {
-  if (LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
+  if (process::LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
   const std::filesystem::path folder = CopiedLibraries("snoop", {"snoop_on_load", "sibling"});
   const std::string below = (folder / "elsewhere/hidden/tests.yaml").string();
   const std::string beside = (folder / "notes.txt").string();

@@ -25,7 +25,7 @@
 #include <thread>
 #include <vector>
 
-#include "syrof/app_host/landlock.h"
+#include "syrof/process/landlock.h"
 #include "syrof/assignment/assignment.h"
 #include "syrof/grader/build.h"
 #include "syrof/grader/class_grading.h"
@@ -145,7 +145,7 @@ void AttackingSubmission(const fs::path& folder, const std::string& attack) {
 class HostileBuildTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (app_host::LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel: syrof grade refuses to build";
+    if (process::LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel: syrof grade refuses to build";
     outside_ = Fresh("outside");
     canary_ = outside_ / "canary.txt";
     Write(canary_, kCanaryText + "\n");

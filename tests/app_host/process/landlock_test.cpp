@@ -1,6 +1,6 @@
-// FileRuleset (app_host/src/landlock.cpp): a child restricted by a
+// FileRuleset (app_host/process/src/landlock.cpp): a child restricted by a
 // ruleset reads, writes and signals only what its rules allow.
-#include "syrof/app_host/landlock.h"
+#include "syrof/process/landlock.h"
 
 #include <gtest/gtest.h>
 #include <fcntl.h>
@@ -13,7 +13,7 @@
 #include <fstream>
 #include <string>
 
-namespace syrof::app_host {
+namespace syrof::process {
 namespace {
 
 namespace fs = std::filesystem;
@@ -96,4 +96,4 @@ TEST_F(FileRulesetTest, SignalsStayInsideTheSandbox) {
 }
 
 }  // namespace
-}  // namespace syrof::app_host
+}  // namespace syrof::process

@@ -1,5 +1,5 @@
-// Landlock through its system calls (include/syrof/app_host/landlock.h).
-#include "syrof/app_host/landlock.h"
+// Landlock through its system calls (include/syrof/process/landlock.h).
+#include "syrof/process/landlock.h"
 
 #include <fcntl.h>
 #include <sys/prctl.h>
@@ -13,7 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace syrof::app_host {
+namespace syrof::process {
 namespace {
 
 // The kernel's uapi (linux/landlock.h), ABI 1 to 7, under our own names:
@@ -156,4 +156,4 @@ int FileRuleset::RestrictSelf() const noexcept {
   return 0;
 }
 
-}  // namespace syrof::app_host
+}  // namespace syrof::process

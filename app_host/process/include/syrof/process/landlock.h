@@ -23,7 +23,7 @@
 
 #include <string>
 
-namespace syrof::app_host {
+namespace syrof::process {
 
 /// The Landlock ABI version of the running kernel: 0 when it has none (too
 /// old, or Landlock not enabled at boot), or when SYROF_PRETEND_NO_LANDLOCK=1
@@ -80,4 +80,4 @@ class FileRuleset {
   std::string error_;
 };
 
-}  // namespace syrof::app_host
+}  // namespace syrof::process
