@@ -23,6 +23,8 @@ const char* ToString(SampleVerdict verdict) {
       return "round_out_of_window";
     case SampleVerdict::kDuplicate:
       return "duplicate";
+    case SampleVerdict::kOtherRun:
+      return "other_run";
   }
   return "?";
 }
@@ -43,6 +45,10 @@ SampleVerdict CheckSample(uint16_t sample_sender, uint32_t sample_round, std::sp
   if (round <= receiver.last_round_from_sender) return SampleVerdict::kDuplicate;
   beacon = decoded.value();
   return SampleVerdict::kAccepted;
+}
+
+SampleVerdict CheckRun(uint64_t sample_run, uint64_t receiver_run) {
+  return sample_run == receiver_run ? SampleVerdict::kAccepted : SampleVerdict::kOtherRun;
 }
 
 int64_t AgreedRoundOffset(std::span<const SenderRoundOffset> offsets, int64_t since_round) {
@@ -71,9 +77,15 @@ uint64_t SampleCounters::rejected() const {
   return total;
 }
 
-SampleFilter::SampleFilter(uint16_t self, uint16_t swarm_size)
-    : self_(self), swarm_size_(swarm_size), last_round_(swarm_size, -1) {
+SampleFilter::SampleFilter(uint16_t self, uint16_t swarm_size, uint64_t run_id)
+    : self_(self), swarm_size_(swarm_size), run_id_(run_id), last_round_(swarm_size, -1) {
   SYROF_CHECK(swarm_size >= 1 && swarm_size <= kMaxDdsSwarm && self < swarm_size);
+}
+
+SampleVerdict SampleFilter::CheckRun(uint64_t sample_run) {
+  const SampleVerdict verdict = sim_dds::CheckRun(sample_run, run_id_);
+  if (verdict != SampleVerdict::kAccepted) counters_.Add(verdict);
+  return verdict;
 }
 
 SampleVerdict SampleFilter::Check(uint16_t sample_sender, uint32_t sample_round, std::span<const uint8_t> wire,

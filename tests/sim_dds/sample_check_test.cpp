@@ -92,6 +92,21 @@ TEST(SampleFilter, CountsByReasonAndRemembersRounds) {
   EXPECT_EQ(filter.counters().rejected(), 3u);
 }
 
+// Two runs on one domain (issue 46): a sample of another run never reaches
+// the other checks, and is counted by its own reason.
+TEST(SampleFilter, RefusesSamplesOfAnotherRun) {
+  EXPECT_EQ(CheckRun(42, 42), SampleVerdict::kAccepted);
+  EXPECT_EQ(CheckRun(43, 42), SampleVerdict::kOtherRun);
+  EXPECT_EQ(CheckRun(0, 42), SampleVerdict::kOtherRun);  // the bridge's relayed beacons are no run's robots
+  SampleFilter filter(0, kSwarm, 42);
+  EXPECT_EQ(filter.CheckRun(7), SampleVerdict::kOtherRun);
+  EXPECT_EQ(filter.CheckRun(42), SampleVerdict::kAccepted);
+  EXPECT_EQ(filter.counters().count(SampleVerdict::kOtherRun), 1u);
+  EXPECT_EQ(filter.counters().accepted(), 0u);  // Check counts the accepted ones
+  EXPECT_EQ(filter.counters().rejected(), 1u);
+  EXPECT_STREQ(ToString(SampleVerdict::kOtherRun), "other_run");
+}
+
 TEST(SampleVerdictNames, EveryVerdictHasOne) {
   for (int verdict = 0; verdict < kSampleVerdicts; ++verdict) {
     EXPECT_STRNE(ToString(static_cast<SampleVerdict>(verdict)), "?") << verdict;

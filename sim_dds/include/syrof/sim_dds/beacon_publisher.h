@@ -1,10 +1,12 @@
 // A writer of other robots' beacons on rt/syrof/beacon: what a relay (the
 // base station's bridge, docs/bridge.md) uses to put beacons it heard on the
-// air onto DDS. Each sample is {sender, round, wire} as BeaconRadio writes
-// it, but the sender is the beacon's own robot id, not this process's, so a
-// DDS reader (BeaconRadio, a ROS 2 node) sees every robot's beacon under its
-// own key. The bytes are published as they were heard; the caller checks
-// them first (the bridge decodes every beacon with wire::Decode).
+// air onto DDS. Each sample is {sender, round, run_id, wire} as BeaconRadio
+// writes it, with run_id 0 (no swarm run: a BeaconRadio of run 0 reads them,
+// a `syrof swarm` robot does not), and the sender the beacon's own robot id,
+// not this process's, so a DDS reader (BeaconRadio, a ROS 2 node) sees every
+// robot's beacon under its own key. The bytes are published as they were
+// heard; the caller checks them first (the bridge decodes every beacon with
+// wire::Decode).
 //
 //   BeaconPublisherOrError made = BeaconPublisher::Create(participant);
 //   made.publisher->Publish(beacon.robot_id, round, wire_bytes);

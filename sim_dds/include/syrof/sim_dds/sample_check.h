@@ -8,6 +8,9 @@
 // (tests/fuzz/beacon_sample_fuzz.cpp) run it without a participant.
 //
 // The checks, in this order (the first that fails is the reason):
+//   kOtherRun         the sample's run is not the receiver's (CheckRun; a
+//                     radio checks it on arrival, before anything else):
+//                     two runs that land on one domain hear each other
 //   kOversized        more wire bytes than this swarm's beacon
 //                     (wire::EncodedSize(swarm_size))
 //   kSenderOutOfSwarm the sample's sender >= swarm size
@@ -54,8 +57,9 @@ enum class SampleVerdict : uint8_t {
   kSenderMismatch,
   kRoundOutOfWindow,
   kDuplicate,
+  kOtherRun,  // checked first (CheckRun); last here so the others keep their values
 };
-inline constexpr int kSampleVerdicts = 8;
+inline constexpr int kSampleVerdicts = 9;
 
 /// "accepted", "oversized", "sender_out_of_swarm", ... (the names metrics
 /// and logs use); "?" for an unknown value.
@@ -92,6 +96,15 @@ int64_t AgreedRoundOffset(std::span<const SenderRoundOffset> offsets, int64_t si
 SampleVerdict CheckSample(uint16_t sample_sender, uint32_t sample_round, std::span<const uint8_t> wire,
                           const ReceiverView& receiver, wire::Beacon& beacon);
 
+/// kAccepted when the sample's run id is the receiver's, else kOtherRun.
+/// Every sample of a `syrof swarm` run carries the run's id (the world's,
+/// which changes every run); radios outside a run (the bridge's relayed
+/// beacons, tests) use 0. Without it, a robot of one run takes the beacons
+/// of another run on the same domain (1 in 231 concurrent pairs) as its
+/// own swarm's: same sender ids, other epochs, views and snapshots, and two
+/// COOPERATIVE robots start an epoch with different maps (issue 46).
+SampleVerdict CheckRun(uint64_t sample_run, uint64_t receiver_run);
+
 /// Counts of samples by verdict; readable from any thread while one thread
 /// checks.
 class SampleCounters {
@@ -111,8 +124,14 @@ class SampleCounters {
 /// any thread reads counters().
 class SampleFilter {
  public:
-  /// `self` < `swarm_size` <= kMaxDdsSwarm (SYROF_CHECK).
-  SampleFilter(uint16_t self, uint16_t swarm_size);
+  /// `self` < `swarm_size` <= kMaxDdsSwarm (SYROF_CHECK); `run_id`: the
+  /// receiver's run (CheckRun).
+  SampleFilter(uint16_t self, uint16_t swarm_size, uint64_t run_id = 0);
+
+  /// CheckRun against this receiver's run; a sample of another run is
+  /// counted (kOtherRun) and must go no further. An accepted one is not
+  /// counted here: Check counts it.
+  SampleVerdict CheckRun(uint64_t sample_run);
 
   /// CheckSample with the sender's last accepted round; remembers the round
   /// of an accepted sample and counts the verdict.
@@ -126,6 +145,7 @@ class SampleFilter {
  private:
   uint16_t self_;
   uint16_t swarm_size_;
+  uint64_t run_id_;
   std::vector<int64_t> last_round_;  // per sender; -1 none
   SampleCounters counters_;
 };
