@@ -143,6 +143,10 @@ test-m4: deps
 ## join, a pause, a partition, a crash; --expect-faults: the crashed robot is
 ## removed from the others' maps, the paused one comes back, the joiner
 ## becomes a member; P3 0) into out/firmware-swarm/faults/.
+## The same faults run again with 10 % loss under seeded stress (--stress
+## SWARM_STRESS_SEED: qemu and host stalls of 10-200 ms, late beacons;
+## docs/firmware.md, "Stress"): P3 0, every line parsed, the replay whole;
+## a failure prints the command that reruns it. Into out/firmware-swarm/stress/.
 ## The two runs take the guests' clocks from -icount shift=SWARM_ICOUNT (-1:
 ## the host's clock, syrof-firmware-swarm's default, which lines rounds up
 ## best when every instance has a core; four instances saturate 2 cores and
@@ -165,6 +169,7 @@ SWARM_SCENARIO ?= lab/scenarios/firmware_swarm.yaml
 SWARM_MAX_ESTIMATION_ERROR_M ?= 1.0
 SWARM_FAULTS_SCENARIO ?= lab/scenarios/firmware_faults.yaml
 SWARM_FAULTS_SECONDS ?= 14
+SWARM_STRESS_SEED ?= 1
 SWARM_COMPARE_SCENARIO ?= lab/scenarios/four_runtimes.yaml
 SWARM_BRIDGE_SECONDS ?= 8
 test-firmware-swarm: deps
@@ -181,6 +186,8 @@ test-firmware-swarm: deps
 	  --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_FAULTS_SCENARIO) \
 	  --seconds $(SWARM_FAULTS_SECONDS) --icount -1 --out out/firmware-swarm/faults --expect-faults
+	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_FAULTS_SCENARIO) \
+	  --seconds $(SWARM_FAULTS_SECONDS) --icount -1 --loss 0.1 --out out/firmware-swarm/stress --stress $(SWARM_STRESS_SEED)
 	bash scripts/bridge-hears-firmware-swarm.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  out/firmware-swarm/bridge 4 $(SWARM_BRIDGE_SECONDS)
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \

@@ -49,6 +49,11 @@ namespace {
 
 namespace scenario = lab::scenario;
 namespace replay = lab::replay;
+using lab::sim::CheckStressOptions;
+using lab::sim::CpuQuotaGroup;
+using lab::sim::kStallWorld;
+using lab::sim::PlanStalls;
+using lab::sim::Stall;
 
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 int64_t MonotonicNow() { return os::PosixPort::MonotonicNowNs(); }

@@ -56,7 +56,12 @@
 //   syrof-firmware-swarm --image build-m4/bin/syrof-robot-mps2.elf [--scenario FILE] --robots 4
 //       --seconds 20 --loss 0 --seed 1 --out DIR [--qemu qemu-system-arm] [--icount SHIFT|-1]
 //       [--align 0|1] [--latency-ms 25] [--expect-cooperative] [--expect-faults] [--max-estimation-error M]
-//       [--realtime] [--base-station PATH]
+//       [--realtime] [--base-station PATH] [--stress SEED [--stress-rate R] [--stress-late F] [--stress-cpu-quota P]]
+//
+// --stress SEED plays lab/sim/stress.h's seeded stress (stress_player.h):
+// qemu instances and the host stopped for 10-200 ms, a fraction of the
+// beacons delivered late, the qemu instances under one CPU quota; a run
+// that fails under it prints the command that reruns it.
 //
 // Exit status 0 when every instance ran to the end and reported, no P3
 // breach happened, the replay reads back whole, (with --expect-cooperative)
@@ -91,6 +96,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "syrof/firmware/drivers/radio_link.h"
@@ -100,6 +106,7 @@
 #include "syrof/firmware/swarm/guest_clock.h"
 #include "syrof/firmware/swarm/round_skew.h"
 #include "syrof/firmware/swarm/sensor_feed.h"
+#include "syrof/firmware/swarm/stress_player.h"
 #include "syrof/firmware/swarm/world_grid.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/builtin_goals.h"
@@ -161,6 +168,8 @@ struct Options {
   std::optional<double> loss_override;
   std::optional<double> max_estimation_error_m;
   std::string base_station;  // empty: none; else the Unix socket a base station's client connects to
+  syrof::lab::sim::StressOptions stress;  // --stress SEED and its options (docs/firmware.md, "Stress")
+  std::string command_line;               // as given: what reruns a run that failed under stress
 };
 
 // The robot image is built with SYROF_MAX_SWARM_SIZE=32 (the Teensy's).
@@ -170,7 +179,7 @@ constexpr const char* kUsage =
     "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..32] [--seconds S] [--loss 0..1]\n"
     "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT|-1] [--align 0|1] [--latency-ms MS]\n"
     "       [--expect-cooperative] [--expect-faults] [--max-estimation-error M] [--realtime]\n"
-    "       [--base-station PATH]\n"
+    "       [--base-station PATH] [--stress SEED [--stress-rate R] [--stress-late F] [--stress-cpu-quota P]]\n"
     "Starts one qemu mps2-an386 instance of the robot image per robot of the scenario (--robots, --seed\n"
     "and --loss override it) and plays the world, the robots' sensors and the radio channel between\n"
     "them; plays the scenario's faults (crash, pause, join, deaf, mute) and partitions on world time;\n"
@@ -178,7 +187,10 @@ constexpr const char* kUsage =
     "The guests run on the host's clock; --icount SHIFT runs them with qemu's -icount shift=SHIFT.\n"
     "--realtime runs this process and the qemu instances at SCHED_FIFO (root or CAP_SYS_NICE).\n"
     "--base-station PATH listens on the Unix socket PATH and sends a client there every beacon sent, as\n"
-    "ReceivedBeacon frames (syrof-bridge --socket PATH; docs/bridge.md).\n";
+    "ReceivedBeacon frames (syrof-bridge --socket PATH; docs/bridge.md).\n"
+    "--stress SEED: seeded SIGSTOP bursts of 10-200 ms of the qemu instances and the host (R a second,\n"
+    "default 4), the fraction F of beacons (default 0.05) delivered 10-200 ms late, the qemu instances\n"
+    "at P per mille of one core (a cgroup; root); a failing run prints the command that reruns it.\n";
 
 [[noreturn]] void Usage(const std::string& what) {
   std::fprintf(stderr, "syrof-firmware-swarm: %s\n%s", what.c_str(), kUsage);
@@ -208,7 +220,8 @@ Options ParseOptions(int argc, char** argv) {
     static const std::string_view kWithValue[] = {"--image",    "--qemu",    "--out",      "--robots",
                                                   "--seconds",  "--loss",    "--seed",     "--scenario",
                                                   "--max-estimation-error", "--latency-ms", "--align", "--icount",
-                                                  "--base-station"};
+                                                  "--base-station", "--stress", "--stress-rate", "--stress-late",
+                                                  "--stress-cpu-quota"};
     if (std::find(std::begin(kWithValue), std::end(kWithValue), key) == std::end(kWithValue)) {
       Usage("unknown argument '" + key + "'");
     }
@@ -253,6 +266,14 @@ Options ParseOptions(int argc, char** argv) {
       options.icount_shift = static_cast<int>(number(-1, 10));
     } else if (key == "--base-station") {
       options.base_station = value;
+    } else if (key == "--stress") {
+      options.stress.seed = static_cast<uint64_t>(number(1, 1e15));
+    } else if (key == "--stress-rate") {
+      options.stress.stalls_per_second = number(0, 100);
+    } else if (key == "--stress-late") {
+      options.stress.delayed_fraction = number(0, 1);
+    } else if (key == "--stress-cpu-quota") {
+      options.stress.cpu_quota_permille = static_cast<uint32_t>(number(1, 1000));
     } else {
       Usage("unknown argument '" + key + "'");
     }
@@ -694,6 +715,8 @@ class SwarmHost {
   void KillAll();
   int64_t WaitForLinks();
   void AdvanceWorld(int64_t now);
+  void PlayStress();
+  void EndStress();
   void Deliver(int64_t now);
   void ReadSensorLink(uint16_t i);
   void ReadRadio(uint16_t i, int64_t now);
@@ -768,6 +791,11 @@ class SwarmHost {
   // By due instant: the latency is scaled by each sender's clock rate.
   std::multimap<int64_t, Delivery> in_flight_;
   BaseStationLink base_station_;  // --base-station
+  // --stress: the stalls played on the qemu instances and this host, the
+  // beacons it delivered late, the qemu instances' CPU quota.
+  swarm::StressPlayer stress_;
+  int64_t stress_late_beacons_ = 0;
+  std::unique_ptr<syrof::lab::sim::CpuQuotaGroup> quota_;
   std::vector<pollfd> fds_;
   bool ended_ = false;  // EndPausedAndHeld was done
 };
@@ -788,7 +816,8 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
       open_consoles_(robots_),
       player_(scenario_, world_, recorder_.collector()),
       host_([this](const swarm::HostAction& action, int64_t at_ns) { return OnHostAction(action, at_ns); }),
-      latency_ns_(static_cast<int64_t>(options.latency_ms * 1e6)) {
+      latency_ns_(static_cast<int64_t>(options.latency_ms * 1e6)),
+      stress_(options.stress, int64_t{options.seconds} * 1'000'000'000, robots_) {
   if (options.icount_shift < 0) {
     for (Robot& robot : swarm_) robot.clock_rate = swarm::GuestClockRate::OnHostClock();
   }
@@ -841,10 +870,21 @@ bool SwarmHost::LaunchRobots() {
   timing_ = options_.icount_shift < 0 ? "host clock (no -icount)"
                                       : "-icount shift=" + std::to_string(options_.icount_shift);
   start_ns_ = HostNs();
+  if (options_.stress.on() && options_.stress.cpu_quota_permille > 0) {
+    quota_ = std::make_unique<syrof::lab::sim::CpuQuotaGroup>(options_.stress.cpu_quota_permille);
+    if (!quota_->ok()) {
+      std::fprintf(stderr, "syrof-firmware-swarm: --stress-cpu-quota: %s\n", quota_->error().c_str());
+      return false;
+    }
+  }
   for (uint16_t i = 0; i < robots_; ++i) {
     Robot& robot = swarm_[i];
     const RobotSockets& sockets = sockets_[i];
     robot.pid = LaunchQemu(options_, scenario_, i, sockets.console_path, sockets.radio_path, sockets.sensor_path);
+    if (quota_ && robot.pid > 0 && !quota_->Add(robot.pid)) {
+      std::fprintf(stderr, "syrof-firmware-swarm: robot %u's qemu could not join %s\n", static_cast<unsigned>(i),
+                   quota_->path().c_str());
+    }
     // qemu connects to its chardevs in order while starting up.
     robot.console = AcceptOne(sockets.console_listener, kBootTimeoutMs, "robot " + std::to_string(i) + "'s console");
     robot.radio = AcceptOne(sockets.radio_listener, kBootTimeoutMs, "robot " + std::to_string(i) + "'s radio");
@@ -904,10 +944,12 @@ bool SwarmHost::Running() const { return open_consoles_ > 0 && HostNs() < deadli
 void SwarmHost::Step() {
   if (!ended_ && world_ns_ >= int64_t{options_.seconds} * 1'000'000'000) {
     EndPausedAndHeld(swarm_, player_, open_consoles_);
+    EndStress();
     ended_ = true;
   }
   const int64_t now = WaitForLinks();
   AdvanceWorld(now);
+  PlayStress();
   for (Robot& robot : swarm_) Flush(robot.sensor, robot.sensor_out);
   Deliver(now);
   for (uint16_t i = 0; i < robots_; ++i) {
@@ -960,6 +1002,22 @@ void SwarmHost::AdvanceWorld(int64_t now) {
       robot.feed.clear();
     }
   }
+}
+
+// --stress: the stalls due by the world's time (stress_player.h). The host
+// is one thread, so a world stall is this host sleeping for its length.
+void SwarmHost::PlayStress() {
+  if (ended_) return;
+  const int64_t world_stall_ns = stress_.Play(
+      world_ns_, [this](uint16_t i) { return player_.running(i) && swarm_[i].switched_on && swarm_[i].pid > 0; },
+      [this](uint16_t i, bool stop) { kill(swarm_[i].pid, stop ? SIGSTOP : SIGCONT); });
+  if (world_stall_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(world_stall_ns));
+}
+
+// No qemu stays stopped by the stress past the run's end.
+void SwarmHost::EndStress() {
+  stress_.EndAll([this](uint16_t i) { return player_.running(i) && swarm_[i].pid > 0; },
+                 [this](uint16_t i, bool stop) { kill(swarm_[i].pid, stop ? SIGSTOP : SIGCONT); });
 }
 
 void SwarmHost::Deliver(int64_t now) {
@@ -1059,8 +1117,13 @@ void SwarmHost::OnBeacon(uint16_t i, const drivers::Frame& frame, int64_t now) {
         drivers::MakeReceivedBeacon(frame.sequence, -60,
                                     std::span<const uint8_t>(frame.beacon.data(), frame.beacon_length)),
         wire_bytes);
+    // --stress: this link's beacon late by a seeded 10-200 ms (lab/sim/stress.h).
+    const int64_t late_ns =
+        lab::sim::SampleDelayNs(options_.stress, lab::sim::DelayedStream::kBeacon, i, to, beacon_round);
+    stress_late_beacons_ += late_ns > 0 ? 1 : 0;
     if (encoded.ok()) {
-      in_flight_.emplace(due_ns, Delivery{due_ns, to, std::vector<uint8_t>(wire_bytes, wire_bytes + encoded.value())});
+      in_flight_.emplace(due_ns + late_ns,
+                         Delivery{due_ns + late_ns, to, std::vector<uint8_t>(wire_bytes, wire_bytes + encoded.value())});
     }
   }
 }
@@ -1190,6 +1253,7 @@ metrics::RobotRound SwarmHost::RecordRobot(uint16_t i, int64_t now, std::vector<
 
 int SwarmHost::Finish() {
   RunResult result;
+  EndStress();
   result.ok = ReapRobots();
   std::vector<lab::sim::Lifecycle> final_presence;
   for (uint16_t i = 0; i < robots_; ++i) final_presence.push_back(player_.lifecycle(i));
@@ -1218,6 +1282,10 @@ int SwarmHost::Finish() {
   CountSensorLink(result);
   WriteReport(result);
   PrintSummary(result);
+  if (!result.ok && options_.stress.on()) {
+    std::fprintf(stderr, "syrof-firmware-swarm: failed under stress seed %llu: rerun with  %s\n",
+                 static_cast<unsigned long long>(options_.stress.seed), options_.command_line.c_str());
+  }
   return result.ok ? 0 : 1;
 }
 
@@ -1358,7 +1426,16 @@ void SwarmHost::WriteReport(const RunResult& result) const {
          << ", \"max_m\": " << (max_error_m ? std::to_string(*max_error_m) : std::string("null")) << "}"
          << ",\n  \"exit_statuses\": [";
   for (uint16_t i = 0; i < robots_; ++i) report << (i ? ", " : "") << swarm_[i].exit_status;
-  report << "],\n  \"partitioned_beacons\": " << channel_.partitioned() << ",\n  \"faults\": [";
+  report << "],\n  \"partitioned_beacons\": " << channel_.partitioned() << ",\n  \"stress\": ";
+  if (options_.stress.on()) {
+    report << "{\"seed\": " << options_.stress.seed << ", \"stalls_per_second\": " << options_.stress.stalls_per_second
+           << ", \"qemu_stalls\": " << stress_.robot_stalls() << ", \"host_stalls\": " << stress_.world_stalls()
+           << ", \"late_fraction\": " << options_.stress.delayed_fraction << ", \"late_beacons\": " << stress_late_beacons_
+           << ", \"cpu_quota_permille\": " << options_.stress.cpu_quota_permille << "}";
+  } else {
+    report << "null";
+  }
+  report << ",\n  \"faults\": [";
   WriteFaultOutcomes(report, result.outcomes);
   report << "]\n}\n";
 }
@@ -1396,6 +1473,13 @@ void SwarmHost::PrintSummary(const RunResult& result) const {
               run.goal.detail.c_str());
   std::printf("  %s/replay: %lld rounds%s\n", options_.out.c_str(), static_cast<long long>(result.replay_rounds),
               result.replay_problem.empty() ? "" : (", " + result.replay_problem).c_str());
+  if (options_.stress.on()) {
+    std::printf("  stress seed %llu: %lld qemu stalls, %lld host stalls, %lld beacons late%s (rerun: --stress %llu)\n",
+                static_cast<unsigned long long>(options_.stress.seed), static_cast<long long>(stress_.robot_stalls()),
+                static_cast<long long>(stress_.world_stalls()), static_cast<long long>(stress_late_beacons_),
+                quota_ ? (", qemu at " + std::to_string(options_.stress.cpu_quota_permille) + " per mille of a core").c_str() : "",
+                static_cast<unsigned long long>(options_.stress.seed));
+  }
   for (uint16_t i = 0; i < robots_; ++i) {
     std::printf("  robot %u: exit %d, %s\n", static_cast<unsigned>(i), swarm_[i].exit_status,
                 swarm_[i].last_status.c_str());
@@ -1412,6 +1496,7 @@ int main(int argc, char** argv) {
   const Options parsed_options = ParseOptions(argc, argv);
   const lab::scenario::Scenario scenario = LoadScenario(parsed_options);
   Options options = parsed_options;
+  for (int i = 0; i < argc; ++i) options.command_line += (i == 0 ? "" : " ") + std::string(argv[i]);
   options.robots = static_cast<int>(scenario.robots.size());
   options.seed = scenario.seed;
   options.loss = scenario.channel.loss;

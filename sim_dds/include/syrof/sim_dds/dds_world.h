@@ -30,7 +30,7 @@
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/round_sink.h"
 #include "syrof/lab/scenario/scenario.h"
-#include "syrof/sim_dds/stress.h"
+#include "syrof/lab/sim/stress.h"
 
 namespace syrof::sim_dds {
 
@@ -69,9 +69,10 @@ struct SwarmOptions {
   const std::atomic<bool>* stop = nullptr;
   /// Called about once a second of run time.
   std::function<void(double run_seconds)> progress;
-  /// Seeded stress (stress.h, docs/dds.md "Stress"): SIGSTOP bursts of
-  /// robots and the world, a CPU quota. Off unless stress.seed is set.
-  StressOptions stress;
+  /// Seeded stress (lab/sim/stress.h, docs/dds.md "Stress"): SIGSTOP bursts
+  /// of robots and the world, beacons and readings delivered late, a CPU
+  /// quota. Off unless stress.seed is set.
+  lab::sim::StressOptions stress;
 };
 
 /// Round-start skew over the run: per round, the spread (latest minus

@@ -1,4 +1,4 @@
-#include "syrof/sim_dds/stress.h"
+#include "syrof/lab/sim/stress.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -12,7 +12,7 @@
 
 #include "syrof/base/split_mix64.h"
 
-namespace syrof::sim_dds {
+namespace syrof::lab::sim {
 
 std::string CheckStressOptions(const StressOptions& options) {
   if (options.min_stall_ms < 1 || options.max_stall_ms > 10'000 || options.min_stall_ms > options.max_stall_ms) {
@@ -23,6 +23,13 @@ std::string CheckStressOptions(const StressOptions& options) {
     return "stalls per second must be 0 .. 100";
   }
   if (options.cpu_quota_permille > 1000) return "the CPU quota is at most 1000 per mille of one core";
+  if (!(options.delayed_fraction >= 0 && options.delayed_fraction <= 1)) {
+    return "the fraction of samples delayed must be 0 .. 1";
+  }
+  if (options.min_delay_ms < 1 || options.max_delay_ms > 10'000 || options.min_delay_ms > options.max_delay_ms) {
+    return "sample delays must be 1 .. 10000 ms with min <= max (got " + std::to_string(options.min_delay_ms) +
+           " .. " + std::to_string(options.max_delay_ms) + ")";
+  }
   return {};
 }
 
@@ -45,6 +52,23 @@ std::vector<Stall> PlanStalls(const StressOptions& options, int64_t duration_ns,
   }
   std::stable_sort(stalls.begin(), stalls.end(), [](const Stall& a, const Stall& b) { return a.at_ns < b.at_ns; });
   return stalls;
+}
+
+int64_t SampleDelayNs(const StressOptions& options, DelayedStream stream, uint16_t sender, uint16_t receiver,
+                      int64_t stamp) {
+  if (!options.on() || options.delayed_fraction <= 0 || !CheckStressOptions(options).empty()) return 0;
+  // One hash per sample, its key folded in one field at a time; the seed's
+  // own hash keeps the stalls' draws (SplitMix64 from the same seed) apart.
+  uint64_t h = base::SplitMix64Hash(base::SplitMix64Hash(options.seed) ^ 0x5D1A7ED5A3D1E5ull);
+  h = base::SplitMix64Hash(h ^ static_cast<uint64_t>(stream));
+  h = base::SplitMix64Hash(h ^ (uint64_t{sender} << 16 | receiver));
+  h = base::SplitMix64Hash(h ^ static_cast<uint64_t>(stamp));
+  // The top 53 bits as a fraction in [0, 1): late when below the fraction.
+  const double draw = static_cast<double>(h >> 11) * 0x1.0p-53;
+  if (draw >= options.delayed_fraction) return 0;
+  const auto span = static_cast<uint64_t>(options.max_delay_ms - options.min_delay_ms + 1);
+  const uint64_t length_ms = static_cast<uint64_t>(options.min_delay_ms) + base::SplitMix64Hash(h) % span;
+  return static_cast<int64_t>(length_ms) * 1'000'000;
 }
 
 namespace {
@@ -109,4 +133,4 @@ CpuQuotaGroup::~CpuQuotaGroup() {
   rmdir(path_.c_str());
 }
 
-}  // namespace syrof::sim_dds
+}  // namespace syrof::lab::sim
