@@ -34,6 +34,7 @@
 #include "robot_image.h"
 #include "sensor_link.h"
 #include "syrof/board/mps2_an386/cmsdk_uart.h"
+#include "syrof/firmware/robot/console_patience.h"
 #include "syrof/firmware/kernel/mps2_an386_hardware.h"
 #include "syrof/firmware/kernel/nvic_port.h"
 
@@ -130,8 +131,7 @@ void SleepIfBusy(Busy busy) {
 void ConsoleWrite(const char* line, size_t length, void* context) {
   const auto& port = *static_cast<const kernel::NvicPort*>(context);
   const auto* bytes = reinterpret_cast<const uint8_t*>(line);
-  constexpr int64_t kPatienceNs = 200'000'000;
-  int64_t last_progress_ns = port.now_ns();
+  robot::ConsolePatience patience(port.now_ns());
   for (size_t sent = 0; sent < length;) {
     size_t wrote = 0;
     {
@@ -140,12 +140,7 @@ void ConsoleWrite(const char* line, size_t length, void* context) {
     }
     sent += wrote;
     if (sent == length) return;
-    const int64_t now_ns = port.now_ns();
-    if (wrote > 0) {
-      last_progress_ns = now_ns;
-    } else if (now_ns - last_progress_ns > kPatienceNs) {
-      return;
-    }
+    if (patience.Exhausted(port.now_ns(), wrote > 0)) return;
     SleepIfBusy([] { return console.Free() == 0; });
   }
 }
