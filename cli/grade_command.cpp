@@ -257,7 +257,7 @@ int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err
     ++done;
     if (options.quiet) return;
     fmt::print(out, "  [{}/{}] {:<24} {:>7.2f}/{:.2f}  {}{}\n", done, total, result.submission, result.points,
-               result.max_points, result.build.ok() ? "" : "build " + result.build.verdict,
+               result.max_points, result.build.ok() ? "" : "build " + std::string(ToString(result.build.verdict)),
                resumed ? " (resumed)" : "");
   };
   const auto started = Clock::now();
@@ -303,7 +303,7 @@ int GradeMix(const GradeOptions& options, std::ostream& out, std::ostream& err) 
     std::vector<std::string> notes;
     const assignment::BuildResult build = grader::BuildSubmission(options.mix[i], build_dir, grade.build, notes);
     if (!build.ok()) {
-      fmt::print(out, "syrof grade: {} did not build ({}): {}; see {}/build.log\n", name, build.verdict, build.detail,
+      fmt::print(out, "syrof grade: {} did not build ({}): {}; see {}/build.log\n", name, ToString(build.verdict), build.detail,
                  build_dir);
       return 0;
     }

@@ -5,8 +5,6 @@
 #include "syrof/grader/assignment_check.h"
 
 #include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,8 +21,8 @@
 #include "syrof/grader/grade_json.h"
 #include "syrof/grader/outputs.h"
 #include "syrof/grader/table.h"
-
-extern char** environ;
+#include "syrof/process/fd.h"
+#include "syrof/process/spawn.h"
 
 namespace syrof::grader {
 namespace {
@@ -84,36 +82,28 @@ int RunProgram(const std::vector<std::string>& command, std::string& output) {
     output = std::string("cannot make a pipe: ") + std::strerror(errno);
     return -1;
   }
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  std::vector<char*> argv;
-  for (const std::string& argument : command) argv.push_back(const_cast<char*>(argument.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  close(pipe_fds[1]);
-  if (spawned != 0) {
-    close(pipe_fds[0]);
-    output = "cannot start " + command[0] + ": " + std::strerror(spawned);
+  const process::Fd read_end(pipe_fds[0]);
+  process::Fd write_end(pipe_fds[1]);
+  process::Command program;
+  program.argv = command;
+  program.inherit_environment = true;
+  program.descriptors = {{STDOUT_FILENO, write_end.get()}, {STDERR_FILENO, write_end.get()}};
+  process::Child child = process::Spawn(program);
+  write_end.Reset();
+  if (!child.started()) {
+    output = "cannot start " + command[0] + ": " + std::strerror(child.start_error());
     return -1;
   }
   char buffer[4096];
-  for (ssize_t got; (got = read(pipe_fds[0], buffer, sizeof buffer)) != 0;) {
+  for (ssize_t got; (got = read(read_end.get(), buffer, sizeof buffer)) != 0;) {
     if (got < 0) {
       if (errno == EINTR) continue;
       break;
     }
     output.append(buffer, static_cast<size_t>(got));
   }
-  close(pipe_fds[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const process::ExitStatus status = child.Reap();
+  return status.exited() ? status.code : -1;
 }
 
 // Makes a variant's project in `dir` with the script; "" or what went wrong.
@@ -154,7 +144,7 @@ SubjectOutcome CheckOne(const assignment::Assignment& assignment, const CheckSub
     if (std::string problem = MakeVariant(script, assignment, subject, made); !problem.empty()) {
       outcome.problems.push_back(problem);
       outcome.result.max_points = assignment.points;
-      outcome.result.build.verdict = "not_made";
+      outcome.result.build.verdict = assignment::BuildVerdict::kNotMade;
       outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
       return outcome;
     }
@@ -194,7 +184,7 @@ std::string ExpectedText(const CheckSubject& subject, double assignment_points) 
 }
 
 std::string GotText(const SubjectOutcome& outcome) {
-  if (!outcome.result.build.ok()) return outcome.result.build.verdict == "not_made" ? "not made" : "did not build";
+  if (!outcome.result.build.ok()) return outcome.result.build.verdict == assignment::BuildVerdict::kNotMade ? "not made" : "did not build";
   return Hundredths(outcome.result.points) + ", loses " + assignment::CriteriaText(assignment::LostCriteria(outcome.result));
 }
 
@@ -263,7 +253,7 @@ std::vector<CheckSubject> ProbeSubjects(const CheckSubject& reference, int count
 std::vector<std::string> JudgeSubject(const CheckSubject& subject, const SubmissionResult& result) {
   std::vector<std::string> problems;
   if (!result.build.ok()) {
-    problems.push_back("did not build (" + result.build.verdict + "): " + result.build.detail);
+    problems.push_back("did not build (" + std::string(ToString(result.build.verdict)) + "): " + result.build.detail);
     return problems;
   }
   if (subject.expected) problems = assignment::CompareWithExpected(result, *subject.expected);

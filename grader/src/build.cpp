@@ -3,9 +3,7 @@
 #include "syrof/grader/build.h"
 
 #include <fcntl.h>
-#include <grp.h>
 #include <linux/filter.h>
-#include <linux/seccomp.h>
 #include <poll.h>
 #include <sched.h>
 #include <signal.h>
@@ -16,7 +14,6 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
-#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -29,7 +26,10 @@
 #include <sstream>
 
 #include "syrof/app_host/hosted_app.h"
+#include "syrof/process/confine.h"
+#include "syrof/process/fd.h"
 #include "syrof/process/landlock.h"
+#include "syrof/process/spawn.h"
 #include "shared_text.h"
 
 namespace syrof::grader {
@@ -37,34 +37,15 @@ namespace {
 
 namespace fs = std::filesystem;
 using assignment::BuildResult;
+using assignment::BuildVerdict;
 using Clock = std::chrono::steady_clock;
 using process::FileRuleset;
 
+using process::SandboxFailure;
+
 // The uid and gid a build started by root runs as (nobody, nogroup).
-constexpr uid_t kBuildUid = 65534;
-constexpr gid_t kBuildGid = 65534;
-
-// Closes every descriptor from `first` up; async-signal-safe (between fork
-// and exec). Without close_range (Linux 5.9), one by one up to the hard
-// descriptor limit.
-void CloseDescriptorsFrom(int first) {
-  if (syscall(SYS_close_range, static_cast<unsigned>(first), ~0u, 0u) == 0) return;
-  rlimit limit{};
-  const int most = getrlimit(RLIMIT_NOFILE, &limit) == 0 && limit.rlim_max < (1u << 20)
-                       ? static_cast<int>(limit.rlim_max)
-                       : 1 << 20;
-  for (int fd = first; fd < most; ++fd) close(fd);
-}
-
-// Closes every descriptor from 3 up but `keep_a` and `keep_b`;
-// async-signal-safe.
-void CloseAllBut(int keep_a, int keep_b) {
-  const int low = std::min(keep_a, keep_b);
-  const int high = std::max(keep_a, keep_b);
-  for (int fd = 3; fd < low; ++fd) close(fd);
-  for (int fd = low + 1; fd < high; ++fd) close(fd);
-  CloseDescriptorsFrom(high + 1);
-}
+constexpr uid_t kBuildUid = process::kNobodyUid;
+constexpr gid_t kBuildGid = process::kNobodyGid;
 
 bool IsSource(const fs::path& path) {
   const std::string extension = path.extension().string();
@@ -224,213 +205,37 @@ std::vector<sock_filter> BuildSyscallFilter() {
   return program;
 }
 
-// What a build's processes may reach (docs/grading.md, "Threat model"),
-// made in the parent; the child applies it between fork and exec.
-struct BuildSandbox {
-  FileRuleset files;      // not created(): no Landlock (only with allow_unconfined)
-  bool drop_uid = false;  // started as root: the build runs as kBuildUid
-  // The namespaces of the build's size-limited folder (WorkMount), entered
-  // first; -1: none (the user namespace only without root).
-  int user_ns = -1;
-  int mount_ns = -1;
-  std::vector<sock_filter> syscalls = BuildSyscallFilter();  // empty: not filtered
-};
-
-struct ChildOutcome {
+// How one step of the build ended.
+struct StepOutcome {
   bool started = false;
   bool timed_out = false;
   bool output_limit = false;
-  int exit_code = -1;   // when it exited
-  int signal = 0;       // when a signal ended it
-  // What the child could set up, as it reported before exec.
-  int isolation = 2;    // 0 network cut and processes in their own PID namespace, 1 network cut only, 2 neither
-  int isolation_errno = 0;
-  int setup_failure = 0;  // kSetup*: a layer that must hold did not, and the build was not started
-  int setup_errno = 0;
+  process::ExitStatus status;        // when it ended on its own (not timed out, not over the output limit)
+  process::SandboxReport sandbox;    // what the child could set up, as it reported before exec
 };
 
-enum SetupFailure { kSetupOk = 0, kSetupUid = 1, kSetupLandlock = 2, kSetupFilter = 3, kSetupWorkMount = 4 };
-
-// The child's report, written once before the build tool starts; with a
-// PID namespace its init writes the tool's wait status after it ends.
-struct SetupReport {
-  int isolation = 2;
-  int isolation_errno = 0;
-  int failure = kSetupOk;
-  int failure_errno = 0;
-};
-
-bool WriteText(const char* path, const char* text, size_t length) {
-  const int fd = open(path, O_WRONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  const bool ok = write(fd, text, length) == static_cast<ssize_t>(length);
-  close(fd);
-  return ok;
-}
-
-// Runs `argv` sandboxed until it exits or `deadline`, output to `log`.
-// The child, in its own process group: when root, the network, PID, IPC and
-// UTS namespaces, then uid 65534 (setgroups, setgid, setuid: never root
-// inside or outside a namespace); otherwise a user namespace mapping the
-// caller's own ids with the same namespaces; rlimits; no_new_privs and the
-// Landlock ruleset. In a PID namespace the first process is a small init
-// that starts the tool and reaps; when it exits the kernel kills whatever
-// is left in the namespace (a daemon that double-forked and called setsid
-// included), so no process of the build outlives it. Everything the child
-// does between fork and exec is async-signal-safe (the parent may have
-// threads).
-ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::string& working_dir,
-                          const std::vector<std::string>& environment, const BuildOptions& options,
-                          const BuildSandbox& sandbox, Clock::time_point deadline, OutputLog& log) {
-  ChildOutcome outcome;
-  std::vector<char*> args;
-  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
-  args.push_back(nullptr);
-  std::vector<char*> env;
-  for (const std::string& entry : environment) env.push_back(const_cast<char*>(entry.c_str()));
-  env.push_back(nullptr);
-  int output[2];
-  int status_pipe[2];
-  if (pipe2(output, O_CLOEXEC) != 0) return outcome;
-  if (pipe2(status_pipe, O_CLOEXEC) != 0) {
-    close(output[0]);
-    close(output[1]);
-    return outcome;
-  }
-  const int null_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
-  const rlimit file_size{options.file_size_limit_bytes, options.file_size_limit_bytes};
-  const rlimit cpu{options.cpu_limit_s, options.cpu_limit_s};
-  const rlimit no_core{0, 0};
-  const rlimit processes{options.max_processes, options.max_processes};
-  // Without root, the user namespace maps the caller's own ids (the one
-  // mapping an unprivileged process may write), so files the build creates
-  // are owned as usual.
-  const std::string uid_map = std::to_string(geteuid()) + " " + std::to_string(geteuid()) + " 1\n";
-  const std::string gid_map = std::to_string(getegid()) + " " + std::to_string(getegid()) + " 1\n";
-  static const char kDeny[] = "deny";
-  constexpr int kNamespaces = CLONE_NEWNET | CLONE_NEWPID | CLONE_NEWIPC | CLONE_NEWUTS;
-  const pid_t pid = fork();
-  if (pid == 0) {
-    setpgid(0, 0);
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    SetupReport report;
-    auto fail = [&](int failure) {
-      report.failure = failure;
-      report.failure_errno = errno;
-      (void)!write(status_pipe[1], &report, sizeof report);
-      _exit(125);
-    };
-    // Into the namespace where the work folder is the size-limited tmpfs
-    // (the same paths, other files beneath them).
-    if (sandbox.user_ns >= 0 && setns(sandbox.user_ns, CLONE_NEWUSER) != 0) fail(kSetupWorkMount);
-    if (sandbox.mount_ns >= 0 && setns(sandbox.mount_ns, CLONE_NEWNS) != 0) fail(kSetupWorkMount);
-    if (sandbox.drop_uid) {
-      // Namespaces while root may make them, then the uid.
-      if (unshare(kNamespaces) == 0) {
-        report.isolation = 0;
-      } else {
-        report.isolation_errno = errno;
-        report.isolation = unshare(CLONE_NEWNET) == 0 ? 1 : 2;
-      }
-      if (setgroups(0, nullptr) != 0 || setgid(kBuildGid) != 0 || setuid(kBuildUid) != 0) fail(kSetupUid);
-      if (getuid() == 0 || geteuid() == 0) fail(kSetupUid);
-      prctl(PR_SET_PDEATHSIG, SIGKILL);  // a change of uid clears it
-    } else if (unshare(CLONE_NEWUSER | kNamespaces) == 0) {
-      report.isolation = 0;
-      WriteText("/proc/self/setgroups", kDeny, sizeof kDeny - 1);
-      if (!WriteText("/proc/self/uid_map", uid_map.data(), uid_map.size()) ||
-          !WriteText("/proc/self/gid_map", gid_map.data(), gid_map.size())) {
-        report.isolation_errno = errno;
-      }
-    } else {
-      report.isolation_errno = errno;
-      report.isolation = unshare(CLONE_NEWNET) == 0 ? 1 : 2;
-    }
-    setrlimit(RLIMIT_FSIZE, &file_size);
-    setrlimit(RLIMIT_CPU, &cpu);
-    setrlimit(RLIMIT_CORE, &no_core);
-    setrlimit(RLIMIT_NPROC, &processes);
-    if (sandbox.files.created()) {
-      if (const int refused = sandbox.files.RestrictSelf(); refused != 0) {
-        errno = refused;
-        fail(kSetupLandlock);
-      }
-    } else {
-      prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0);
-    }
-    if (!sandbox.syscalls.empty()) {
-      const sock_fprog program{static_cast<unsigned short>(sandbox.syscalls.size()),
-                               const_cast<sock_filter*>(sandbox.syscalls.data())};
-      if (prctl(PR_SET_SECCOMP, SECCOMP_MODE_FILTER, &program) != 0) fail(kSetupFilter);
-    }
-    (void)!write(status_pipe[1], &report, sizeof report);
-    auto exec_tool = [&]() {
-      if (null_fd >= 0) dup2(null_fd, 0);
-      dup2(output[1], 1);
-      dup2(output[1], 2);
-      // Nothing but 0-2 reaches the build: not a file the grader had open
-      // without close-on-exec, nor one another job opened in the moment of
-      // the fork.
-      CloseDescriptorsFrom(3);
-      if (chdir(working_dir.c_str()) != 0) _exit(126);
-      execve(args[0], args.data(), env.data());
-      static const char kFailed[] = "syrof grade: cannot start the build tool\n";
-      (void)!write(2, kFailed, sizeof kFailed - 1);
-      _exit(127);
-    };
-    if (report.isolation != 0) exec_tool();
-    // The namespace's init (pid 1 inside), then the tool under it.
-    const pid_t init = fork();
-    if (init < 0) _exit(125);
-    if (init > 0) {
-      int status = 0;
-      while (waitpid(init, &status, 0) < 0 && errno == EINTR) {
-      }
-      _exit(WIFEXITED(status) ? WEXITSTATUS(status) : 125);
-    }
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    const pid_t tool = fork();
-    if (tool < 0) _exit(125);
-    if (tool == 0) exec_tool();
-    // The init keeps only its report: it shares the build's uid and
-    // Landlock domain, so what it held would be one ptrace away.
-    CloseAllBut(status_pipe[1], status_pipe[1]);
-    for (;;) {
-      int status = 0;
-      const pid_t reaped = waitpid(-1, &status, 0);
-      if (reaped == tool) {
-        (void)!write(status_pipe[1], &status, sizeof status);
-        _exit(WIFEXITED(status) ? WEXITSTATUS(status) : 125);
-      }
-      if (reaped < 0 && errno != EINTR) _exit(125);
-    }
-  }
-  close(output[1]);
-  close(status_pipe[1]);
-  if (null_fd >= 0) close(null_fd);
-  if (pid < 0) {
-    close(output[0]);
-    close(status_pipe[0]);
-    return outcome;
-  }
+// Runs `command` confined by `sandbox` (process::Spawn: its own process
+// group, namespaces, uid 65534 when root, limits, no_new_privs, Landlock,
+// the system call filter; in a PID namespace under a small init, so no
+// process of the build outlives it) until it ends or `deadline`, its output
+// and errors to `log`. Stopped once it writes over `output_limit_bytes`.
+// Whatever it leaves in its process group is killed when it ends.
+StepOutcome RunStep(process::Command command, const process::Sandbox& sandbox, uint64_t output_limit_bytes,
+                    Clock::time_point deadline, OutputLog& log) {
+  StepOutcome outcome;
+  int ends[2];
+  if (pipe2(ends, O_CLOEXEC) != 0) return outcome;
+  const process::Fd output(ends[0]);
+  process::Fd output_write(ends[1]);
+  command.descriptors = {{1, output_write.get()}, {2, output_write.get()}};
+  process::Child child = process::Spawn(command, sandbox);
+  output_write.Reset();
+  if (!child.started()) return outcome;
   outcome.started = true;
-  setpgid(pid, pid);  // also from the parent: no window where a kill(-pid) misses
-  SetupReport report;
-  if (read(status_pipe[0], &report, sizeof report) == static_cast<ssize_t>(sizeof report)) {
-    outcome.isolation = report.isolation;
-    outcome.isolation_errno = report.isolation_errno;
-    outcome.setup_failure = report.failure;
-    outcome.setup_errno = report.failure_errno;
-  }
-  const int pidfd = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));
+  outcome.sandbox = child.sandbox();
   bool exited = false;
   bool output_open = true;
   char buffer[65536];
-  auto take_status = [&](int status) {
-    exited = true;
-    if (WIFEXITED(status)) outcome.exit_code = WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) outcome.signal = WTERMSIG(status);
-  };
   while (output_open || !exited) {
     const auto now = Clock::now();
     if (now >= deadline) {
@@ -441,58 +246,56 @@ ChildOutcome RunSandboxed(const std::vector<std::string>& argv, const std::strin
         std::min<int64_t>(1000, std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now).count() + 1));
     pollfd fds[2];
     nfds_t count = 0;
-    if (output_open) fds[count++] = {output[0], POLLIN, 0};
-    if (pidfd >= 0 && !exited) fds[count++] = {pidfd, POLLIN, 0};
+    if (output_open) fds[count++] = {output.get(), POLLIN, 0};
+    const int pidfd = exited ? -1 : child.pidfd();
+    if (pidfd >= 0) fds[count++] = {pidfd, POLLIN, 0};
     if (count == 0) break;
     const int ready = poll(fds, count, wait_ms);
     if (ready < 0 && errno != EINTR) break;
-    if (pidfd < 0 && !exited) {
-      int status = 0;
-      if (waitpid(pid, &status, WNOHANG) == pid) take_status(status);
+    // (Without a pidfd the child is looked at after each poll.)
+    if (!exited && (pidfd < 0 || (count > 0 && fds[count - 1].fd == pidfd && fds[count - 1].revents != 0)) &&
+        child.Wait(std::chrono::milliseconds(0)).has_value()) {
+      exited = true;
+      // Whatever the build left behind in its group goes too; output
+      // still in the pipe is read until every writer is gone.
+      child.KillGroup();
     }
-    for (nfds_t i = 0; i < count; ++i) {
-      if (fds[i].revents == 0) continue;
-      if (fds[i].fd == output[0]) {
-        const ssize_t got = read(output[0], buffer, sizeof buffer);
-        if (got > 0) {
-          log.Add(buffer, static_cast<size_t>(got));
-          if (log.total > options.output_limit_bytes) {
-            outcome.output_limit = true;
-            output_open = false;
-          }
-        } else if (got == 0 || (errno != EINTR && errno != EAGAIN)) {
+    if (output_open && (fds[0].revents != 0)) {
+      const ssize_t got = read(output.get(), buffer, sizeof buffer);
+      if (got > 0) {
+        log.Add(buffer, static_cast<size_t>(got));
+        if (log.total > output_limit_bytes) {
+          outcome.output_limit = true;
           output_open = false;
         }
-      } else {
-        int status = 0;
-        if (waitpid(pid, &status, 0) == pid) {
-          take_status(status);
-          // Whatever the build left behind in its group goes too; output
-          // still in the pipe is read until every writer is gone.
-          kill(-pid, SIGKILL);
-        }
+      } else if (got == 0 || (errno != EINTR && errno != EAGAIN)) {
+        output_open = false;
       }
     }
     if (outcome.output_limit) break;
   }
-  kill(-pid, SIGKILL);
-  if (!exited) {
-    int status = 0;
-    waitpid(pid, &status, 0);
-    if (!outcome.timed_out && !outcome.output_limit) take_status(status);
-  }
-  // The tool's own wait status, from the namespace's init: a signal that
-  // ended the compiler is named as such.
-  int tool_status = 0;
-  if (outcome.isolation == 0 && !outcome.timed_out && !outcome.output_limit &&
-      read(status_pipe[0], &tool_status, sizeof tool_status) == static_cast<ssize_t>(sizeof tool_status)) {
-    outcome.exit_code = WIFEXITED(tool_status) ? WEXITSTATUS(tool_status) : -1;
-    outcome.signal = WIFSIGNALED(tool_status) ? WTERMSIG(tool_status) : 0;
-  }
-  close(status_pipe[0]);
-  if (pidfd >= 0) close(pidfd);
-  close(output[0]);
+  child.KillGroup();
+  // The program's own status (from the namespace's init when there is one):
+  // a signal that ended the compiler is named as such.
+  const process::ExitStatus status = child.Reap();
+  if (!outcome.timed_out && !outcome.output_limit) outcome.status = status;
   return outcome;
+}
+
+// The layer of the build's sandbox that did not hold, in words.
+std::string FailedLayer(SandboxFailure failure) {
+  switch (failure) {
+    case SandboxFailure::kUid:
+      return "cannot drop to uid " + std::to_string(kBuildUid);
+    case SandboxFailure::kLandlock:
+      return "Landlock refused the build's file rules";
+    case SandboxFailure::kEnterNamespace:
+      return "cannot enter its size-limited folder";
+    case SandboxFailure::kFilter:
+    case SandboxFailure::kNone:
+      break;
+  }
+  return "the system call filter was refused";
 }
 
 // The first line of the kept log a student should read: a compiler's
@@ -734,27 +537,21 @@ class WorkMount {
       return;
     }
     const bool root = geteuid() == 0;
-    const std::string uid_map = std::to_string(geteuid()) + " " + std::to_string(geteuid()) + " 1\n";
-    const std::string gid_map = std::to_string(getegid()) + " " + std::to_string(getegid()) + " 1\n";
+    const process::CallerIdMaps id_maps = process::CallerIdMaps::OfCaller();
     const std::string options = "size=" + std::to_string(limit_bytes) + ",nr_inodes=" +
                                 std::to_string(kWorkInodes) + ",mode=0700";
-    static const char kDeny[] = "deny";
     const pid_t pid = fork();
     if (pid == 0) {
       // Async-signal-safe from here (the grader may have threads).
       prctl(PR_SET_PDEATHSIG, SIGKILL);
-      CloseAllBut(hold[0], report[1]);
+      process::CloseAllBut(hold[0], report[1]);
       int failed_step = 0;
       if (root) {
         if (unshare(CLONE_NEWNS) != 0) failed_step = 1;
       } else if (unshare(CLONE_NEWUSER | CLONE_NEWNS) != 0) {
         failed_step = 1;
-      } else {
-        WriteText("/proc/self/setgroups", kDeny, sizeof kDeny - 1);
-        if (!WriteText("/proc/self/uid_map", uid_map.data(), uid_map.size()) ||
-            !WriteText("/proc/self/gid_map", gid_map.data(), gid_map.size())) {
-          failed_step = 2;
-        }
+      } else if (!process::MapCallerIds(id_maps)) {
+        failed_step = 2;
       }
       if (failed_step == 0 && mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0) failed_step = 3;
       if (failed_step == 0 &&
@@ -883,10 +680,11 @@ std::vector<std::string> FindSources(const std::string& dir) {
 
 BuildResult BuildSubmission(const std::string& submission_dir, const std::string& out_dir,
                             const BuildOptions& options, std::vector<std::string>& notes) {
+  using enum BuildVerdict;
   const auto started = Clock::now();
   BuildResult result;
   result.log_path = "build.log";
-  auto finish = [&](const char* verdict, std::string detail) {
+  auto finish = [&](BuildVerdict verdict, std::string detail) {
     result.verdict = verdict;
     result.detail = std::move(detail);
     result.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
@@ -899,22 +697,30 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   fs::create_directories(out, error);
   fs::remove_all(library_dir, error);
   fs::create_directories(library_dir, error);
-  if (error) return finish("build_failed", "cannot create " + library_dir.string() + ": " + error.message());
+  if (error) return finish(kBuildFailed, "cannot create " + library_dir.string() + ": " + error.message());
   OutputLog log;
   log.keep = options.log_keep_bytes;
   log.file.open(out / "build.log", std::ios::binary | std::ios::trunc);
 
-  // The sandbox first: without Landlock nothing is built unless the caller
-  // said so.
-  BuildSandbox sandbox;
-  sandbox.drop_uid = geteuid() == 0;
-  if (!sandbox.files.Create()) {
+  // The sandbox first (what a build's processes may reach, docs/grading.md,
+  // "Threat model"; the build's child applies it between fork and exec):
+  // without Landlock nothing is built unless the caller said so.
+  FileRuleset files;  // not created(): no Landlock (only with allow_unconfined)
+  process::Sandbox sandbox;
+  sandbox.drop_to_nobody = geteuid() == 0;
+  sandbox.limits = {{RLIMIT_FSIZE, options.file_size_limit_bytes},
+                    {RLIMIT_CPU, options.cpu_limit_s},
+                    {RLIMIT_CORE, 0},
+                    {RLIMIT_NPROC, options.max_processes}};
+  sandbox.files = &files;
+  sandbox.syscalls = BuildSyscallFilter();
+  if (!files.Create()) {
     if (!options.allow_unconfined) {
-      log.file << "syrof grade: " << sandbox.files.error() << "; not building untrusted code\n";
-      return finish("refused", sandbox.files.error() +
-                                   ": the build's file isolation is missing (--unsafe-no-file-isolation builds anyway)");
+      log.file << "syrof grade: " << files.error() << "; not building untrusted code\n";
+      return finish(kRefused, files.error() +
+                                  ": the build's file isolation is missing (--unsafe-no-file-isolation builds anyway)");
     }
-    notes.push_back("build: NO FILE ISOLATION (" + sandbox.files.error() +
+    notes.push_back("build: NO FILE ISOLATION (" + files.error() +
                     "): the build can read and write whatever its uid can (--unsafe-no-file-isolation)");
   }
   if (sandbox.syscalls.empty()) {
@@ -923,26 +729,26 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   }
   const std::string syrof_dir = options.syrof_dir.empty() ? FindSyrofPackage() : options.syrof_dir;
   if (syrof_dir.empty()) {
-    return finish("build_failed", "SyROF's CMake package (SyROFConfig.cmake) was not found beside this syrof");
+    return finish(kBuildFailed, "SyROF's CMake package (SyROFConfig.cmake) was not found beside this syrof");
   }
   std::string problem;
   const std::string cmake = FindOnPath("cmake");
-  if (cmake.empty()) return finish("build_failed", "cmake is not installed on the grading machine");
+  if (cmake.empty()) return finish(kBuildFailed, "cmake is not installed on the grading machine");
 
-  const Stage stage(sandbox.drop_uid);
-  if (!stage.ok()) return finish("build_failed", stage.problem());
-  if (!StagePackage(syrof_dir, stage.package(), problem)) return finish("build_failed", problem);
+  const Stage stage(sandbox.drop_to_nobody);
+  if (!stage.ok()) return finish(kBuildFailed, stage.problem());
+  if (!StagePackage(syrof_dir, stage.package(), problem)) return finish(kBuildFailed, problem);
   log.file << "syrof grade: SyROF's package from " << syrof_dir << "\n";
   // The build's folder, bounded in size; `work` is where the grader reaches
   // it, stage.work() where the build sees it (the same folder).
   const WorkMount mount(stage.work(), options.work_limit_bytes);
   fs::path work = stage.work();
   if (mount.ok()) {
-    sandbox.user_ns = mount.user_ns();
-    sandbox.mount_ns = mount.mount_ns();
+    sandbox.enter_user_namespace = mount.user_ns();
+    sandbox.enter_mount_namespace = mount.mount_ns();
     work = mount.view();
     for (const char* folder : {"source", "build", "tmp"}) fs::create_directories(work / folder, error);
-    if (error) return finish("build_failed", "cannot make a folder for the build: " + error.message());
+    if (error) return finish(kBuildFailed, "cannot make a folder for the build: " + error.message());
   } else {
     notes.push_back("build: no bound on what the build writes in all (a size-limited folder: " + mount.problem() +
                     "): only RLIMIT_FSIZE per file");
@@ -956,13 +762,13 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   for (const std::string& file : skipped) log.file << "syrof grade: left out " << file << "\n";
   if (!problem.empty()) {
     log.file << "syrof grade: " << problem << "\n";
-    return finish("build_failed", problem);
+    return finish(kBuildFailed, problem);
   }
   if (!fs::exists(source / "CMakeLists.txt", error)) {
     const std::vector<std::string> sources = FindSources(source.string());
     if (sources.empty()) {
       log.file << "syrof grade: no CMakeLists.txt and no C/C++ source (*.c, *.cc, *.cpp, *.cxx)\n";
-      return finish("no_sources", "no CMakeLists.txt and no C/C++ source (*.c, *.cc, *.cpp, *.cxx) in the submission");
+      return finish(kNoSources, "no CMakeLists.txt and no C/C++ source (*.c, *.cc, *.cpp, *.cxx) in the submission");
     }
     std::ofstream(source / "CMakeLists.txt") << GeneratedCMakeLists(sources);
     log.file << "syrof grade: no CMakeLists.txt; one app library from " << sources.size() << " source file"
@@ -972,14 +778,14 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   fs::remove_all(source_record, error);
   fs::copy(source, source_record, fs::copy_options::recursive, error);
   fs::permissions(work, fs::perms::owner_all, error);
-  if (sandbox.drop_uid && !HandOver(work)) {
-    return finish("build_failed", "cannot hand the build's folder to uid " + std::to_string(kBuildUid) + ": " +
+  if (sandbox.drop_to_nobody && !HandOver(work)) {
+    return finish(kBuildFailed, "cannot hand the build's folder to uid " + std::to_string(kBuildUid) + ": " +
                                       std::strerror(errno));
   }
   // (The rule names the folder the grader reaches: with the bound, the
   // tmpfs itself, not the folder it covers.)
-  if (sandbox.files.created() && !BuildFileRules(sandbox.files, stage.package(), work, problem)) {
-    return finish("build_failed", problem);
+  if (files.created() && !BuildFileRules(files, stage.package(), work, problem)) {
+    return finish(kBuildFailed, problem);
   }
 
   const std::vector<std::string> environment = {"PATH=/usr/local/bin:/usr/bin:/bin", "LC_ALL=C", "LANG=C",
@@ -997,47 +803,52 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     shown += "\n";
     log.file << shown;
     log.file.flush();
-    const ChildOutcome outcome = RunSandboxed(step, built_build.string(), environment, options, sandbox, deadline, log);
-    if (!outcome.started) return finish("build_failed", "cannot start " + cmake);
-    if (outcome.setup_failure != kSetupOk) {
-      const std::string layer = outcome.setup_failure == kSetupUid        ? "cannot drop to uid " + std::to_string(kBuildUid)
-                                : outcome.setup_failure == kSetupLandlock  ? "Landlock refused the build's file rules"
-                                : outcome.setup_failure == kSetupWorkMount ? "cannot enter its size-limited folder"
-                                                                            : "the system call filter was refused";
-      log.file << "syrof grade: " << layer << ": " << std::strerror(outcome.setup_errno) << "\n";
-      return finish("build_failed", "the build's sandbox failed: " + layer + ": " + std::strerror(outcome.setup_errno));
+    process::Command command;
+    command.argv = step;
+    command.environment = environment;
+    command.working_directory = built_build.string();
+    command.exec_failure_text = "syrof grade: cannot start the build tool\n";
+    const StepOutcome outcome = RunStep(command, sandbox, options.output_limit_bytes, deadline, log);
+    if (!outcome.started) return finish(kBuildFailed, "cannot start " + cmake);
+    if (const SandboxFailure failure = outcome.sandbox.failure; failure != SandboxFailure::kNone) {
+      const std::string layer = FailedLayer(failure);
+      const char* why = std::strerror(outcome.sandbox.failure_errno);
+      log.file << "syrof grade: " << layer << ": " << why << "\n";
+      return finish(kBuildFailed, "the build's sandbox failed: " + layer + ": " + why);
     }
     if (!noted) {
       noted = true;
-      if (outcome.isolation == 1) {
-        notes.push_back("build: no PID namespace (" + std::string(std::strerror(outcome.isolation_errno)) +
+      const std::string why = std::strerror(outcome.sandbox.isolation_errno);
+      if (outcome.sandbox.isolation == process::Isolation::kNetworkOnly) {
+        notes.push_back("build: no PID namespace (" + why +
                         "): the network is cut, but a process the build leaves in a session of its own may outlive it");
-      } else if (outcome.isolation == 2) {
-        notes.push_back("build: network not isolated and no PID namespace (namespaces refused: " +
-                        std::string(std::strerror(outcome.isolation_errno)) + ")");
+      } else if (outcome.sandbox.isolation == process::Isolation::kNone) {
+        notes.push_back("build: network not isolated and no PID namespace (namespaces refused: " + why + ")");
       }
     }
     if (mount.ok() && mount.Full()) {
       const std::string bound = std::to_string(mount.limit_bytes() >> 20) + " MB";
       log.file << "\nsyrof grade: stopped: the build filled its folder (" << bound
                << ", the most a build may write in all)\n";
-      return finish("build_failed", "the build wrote more than its folder holds (" + bound +
+      return finish(kBuildFailed, "the build wrote more than its folder holds (" + bound +
                                         " in all: its copy, build files and temporary files)");
     }
     if (outcome.timed_out) {
       log.file << "\nsyrof grade: stopped at the build's time limit of " << options.timeout_s << " s\n";
-      return finish("timeout", "the build took longer than its limit of " + std::to_string(static_cast<int>(options.timeout_s)) + " s");
+      return finish(kTimeout, "the build took longer than its limit of " + std::to_string(static_cast<int>(options.timeout_s)) + " s");
     }
     if (outcome.output_limit) {
       log.file << "\nsyrof grade: stopped: the build wrote over " << (options.output_limit_bytes >> 20) << " MB\n";
-      return finish("output_limit", "the build wrote over " + std::to_string(options.output_limit_bytes >> 20) + " MB of output");
+      return finish(kOutputLimit, "the build wrote over " + std::to_string(options.output_limit_bytes >> 20) + " MB of output");
     }
-    if (outcome.exit_code != 0) {
+    if (!outcome.status.exited() || outcome.status.code != 0) {
       if (log.total > log.kept) log.file << "\n[syrof grade: " << (log.total - log.kept) << " more bytes not kept]\n";
       log.file.flush();
       std::string detail = FirstErrorLine((out / "build.log").string(), stage.root().string());
-      if (outcome.signal != 0) detail = "the build was killed by signal " + std::to_string(outcome.signal) + ": " + detail;
-      return finish("build_failed", detail);
+      if (outcome.status.signaled()) {
+        detail = "the build was killed by signal " + std::to_string(outcome.status.signal) + ": " + detail;
+      }
+      return finish(kBuildFailed, detail);
     }
   }
   if (log.total > log.kept) log.file << "\n[syrof grade: " << (log.total - log.kept) << " more bytes not kept]\n";
@@ -1066,7 +877,7 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     if (TakeLibrary(library, taken)) candidates.push_back(taken.string());
   }
   if (candidates.empty()) {
-    return finish("no_library",
+    return finish(kNoLibrary,
                   "the build made no lib*.so; syrof_add_app(NAME app.c) in CMakeLists.txt makes libNAME.so");
   }
   std::vector<std::string> apps;
@@ -1085,16 +896,16 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     std::string detail = first_error;
     const std::string prefix = library_dir.string() + "/";
     if (detail.starts_with(prefix)) detail.erase(0, prefix.size());
-    return finish("bad_library", detail);
+    return finish(kBadLibrary, detail);
   }
   if (apps.size() > 1) {
     std::string names;
     for (const std::string& app : apps) names += (names.empty() ? "" : ", ") + fs::path(app).filename().string();
-    return finish("no_library", std::to_string(apps.size()) + " app libraries were built (" + names +
+    return finish(kNoLibrary, std::to_string(apps.size()) + " app libraries were built (" + names +
                                     "); a submission builds exactly one");
   }
   result.library_path = apps.front();
-  return finish("ok", "built " + fs::path(apps.front()).filename().string());
+  return finish(kOk, "built " + fs::path(apps.front()).filename().string());
 }
 
 }  // namespace syrof::grader

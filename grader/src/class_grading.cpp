@@ -161,7 +161,7 @@ std::string ClassCsv(const std::vector<SubmissionResult>& students) {
     for (const TestResult& test : student.tests) per_scenario[test.search ? test.name : test.scenario] += test.points;
     csv += CsvField(student.submission) + "," + PointsText(student.points) + "," + PointsText(student.max_points) + "," +
            std::to_string(student.tests_passed) + "," + std::to_string(student.tests.size()) + "," +
-           CsvField(student.build.verdict);
+           CsvField(ToString(student.build.verdict));
     for (const std::string& column : columns) {
       const auto found = per_scenario.find(column);
       csv += "," + (found == per_scenario.end() ? std::string() : PointsText(found->second));
@@ -206,7 +206,7 @@ std::string ClassSummary(const std::vector<SubmissionResult>& students) {
   }
   text << "Builds failed: " << failed_builds.size() << "\n";
   for (const SubmissionResult* student : failed_builds) {
-    text << "  " << student->submission << ": " << student->build.verdict << ": " << student->build.detail << "\n";
+    text << "  " << student->submission << ": " << ToString(student->build.verdict) << ": " << student->build.detail << "\n";
   }
   std::map<std::string, int> failures;
   std::vector<std::string> order;

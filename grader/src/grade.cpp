@@ -315,7 +315,7 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
   result.title = assignment.title;
   result.public_only = options.public_only || assignment.hidden_missing;
   result.build.library_path = library;
-  result.build.verdict = "ok";
+  result.build.verdict = assignment::BuildVerdict::kOk;
   result.tests = PlanTests(assignment, result.public_only);
 
   const fs::path out = fs::absolute(out_dir);
@@ -389,7 +389,7 @@ SubmissionResult GradeSubmission(const Assignment& assignment, const std::string
     result.tests = PlanTests(GradedAssignment(assignment, options), result.public_only);
     if (options.student_seeds) result.seed_student = options.student_seeds->student;
     for (TestResult& test : result.tests) {
-      test.run_error = "not run: the submission did not build (" + build.verdict + ")";
+      test.run_error = "not run: the submission did not build (" + std::string(ToString(build.verdict)) + ")";
     }
   }
   result.build = build;

@@ -129,7 +129,7 @@ std::string GradeJson(const GradeFile& file) {
             {"tests_passed", result.tests_passed},
             {"tests_total", result.tests.size()},
             {"build",
-             Json{{"verdict", result.build.verdict},
+             Json{{"verdict", ToString(result.build.verdict)},
                   {"detail", result.build.detail},
                   {"log_path", result.build.log_path},
                   {"library_path", result.build.library_path}}},
@@ -169,7 +169,13 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
   result.max_points = Get<double>(root, "max_points", 0.0);
   result.tests_passed = Get<int>(root, "tests_passed", 0);
   const nlohmann::json build = root.value("build", nlohmann::json::object());
-  result.build.verdict = Get<std::string>(build, "verdict", "");
+  const std::string verdict = Get<std::string>(build, "verdict", "");
+  if (const auto named = assignment::BuildVerdictNamed(verdict)) {
+    result.build.verdict = *named;
+  } else {
+    error = path + ": build.verdict \"" + verdict + "\" is not a build verdict (ok, build_failed, ...)";
+    return std::nullopt;
+  }
   result.build.detail = Get<std::string>(build, "detail", "");
   result.build.log_path = Get<std::string>(build, "log_path", "");
   result.build.library_path = Get<std::string>(build, "library_path", "");

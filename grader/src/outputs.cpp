@@ -34,7 +34,7 @@ std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, c
 LiveResultsFile::LiveResultsFile(std::string path, const assignment::Assignment& assignment,
                                  assignment::SubmissionResult planned, report::ReportOptions options)
     : path_(std::move(path)), assignment_(assignment), current_(std::move(planned)), options_(std::move(options)) {
-  current_.build.verdict = "ok";
+  current_.build.verdict = assignment::BuildVerdict::kOk;
   for (assignment::TestResult& test : current_.tests) test.run_error = kNotGraded;
   AddUp(current_, assignment_);
 }

@@ -37,7 +37,7 @@ void PrintSubmissionTable(const SubmissionResult& result, const std::string& out
   if (result.build.ok()) {
     out << "Build: ok, " << result.build.detail << "\n";
   } else {
-    out << "Build: FAILED (" << result.build.verdict << "): " << result.build.detail << "\n"
+    out << "Build: FAILED (" << ToString(result.build.verdict) << "): " << result.build.detail << "\n"
         << "  the build's output: " << out_dir << "/" << result.build.log_path << "\n";
   }
   out << "Tests passed " << result.tests_passed << "/" << result.tests.size() << ", Points "

@@ -107,7 +107,7 @@ TEST(BuildSubmissionTest, BuildsACMakeSubmission) {
   const fs::path out = Fresh("cmake");
   std::vector<std::string> notes;
   const assignment::BuildResult build = BuildSubmission(kReference.string(), out.string(), {}, notes);
-  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << Read(out / "build.log");
+  EXPECT_EQ(build.verdict, assignment::BuildVerdict::kOk) << build.detail << "\n" << Read(out / "build.log");
   EXPECT_EQ(build.detail, "built libgather.so");
   EXPECT_TRUE(fs::exists(build.library_path));
   EXPECT_TRUE(fs::exists(out / "source" / "gather.c"));
@@ -119,7 +119,7 @@ TEST(BuildSubmissionTest, BuildsASubmissionOfSourcesOnly) {
   const fs::path out = Fresh("sources");
   std::vector<std::string> notes;
   const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), {}, notes);
-  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << Read(out / "build.log");
+  EXPECT_EQ(build.verdict, assignment::BuildVerdict::kOk) << build.detail << "\n" << Read(out / "build.log");
   EXPECT_EQ(build.detail, "built libsubmission.so");
   EXPECT_NE(Read(out / "source" / "CMakeLists.txt").find("add_library(submission MODULE"), std::string::npos);
   EXPECT_FALSE(fs::exists(submission / "CMakeLists.txt")) << "the student's folder is never written";
@@ -131,7 +131,7 @@ TEST(BuildSubmissionTest, ACompileErrorGivesTheFirstErrorLine) {
   const fs::path out = Fresh("broken");
   std::vector<std::string> notes;
   const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), {}, notes);
-  EXPECT_EQ(build.verdict, "build_failed");
+  EXPECT_EQ(build.verdict, assignment::BuildVerdict::kBuildFailed);
   EXPECT_TRUE(build.detail.starts_with("app.c:2:")) << build.detail;
   EXPECT_NE(build.detail.find("error:"), std::string::npos) << build.detail;
   EXPECT_NE(build.detail.find("undeclared_thing"), std::string::npos) << build.detail;
@@ -147,7 +147,7 @@ TEST(BuildSubmissionTest, ABuildThatLoopsIsStoppedAtItsTimeLimit) {
   options.timeout_s = 2;
   std::vector<std::string> notes;
   const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), options, notes);
-  EXPECT_EQ(build.verdict, "timeout");
+  EXPECT_EQ(build.verdict, assignment::BuildVerdict::kTimeout);
   EXPECT_EQ(build.detail, "the build took longer than its limit of 2 s");
   EXPECT_LT(build.wall_seconds, 30.0) << "the sleeping child was killed with its group";
 }
@@ -157,7 +157,7 @@ TEST(BuildSubmissionTest, AFolderWithoutSourcesHasNothingToBuild) {
   Write(submission / "notes.txt", "nothing here\n");
   const fs::path out = Fresh("empty");
   std::vector<std::string> notes;
-  EXPECT_EQ(BuildSubmission(submission.string(), out.string(), {}, notes).verdict, "no_sources");
+  EXPECT_EQ(BuildSubmission(submission.string(), out.string(), {}, notes).verdict, assignment::BuildVerdict::kNoSources);
 }
 
 TEST(GradeSubmissionTest, TheReferenceGetsFullMarksAndTheTableSaysSo) {
@@ -167,7 +167,7 @@ TEST(GradeSubmissionTest, TheReferenceGetsFullMarksAndTheTableSaysSo) {
   GradeOptions options;
   options.jobs = 2;
   const SubmissionResult result = GradeSubmission(tiny, kReference.string(), out.string(), options, notes);
-  ASSERT_EQ(result.build.verdict, "ok") << result.build.detail;
+  ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
   ASSERT_EQ(result.tests.size(), 3u);
   EXPECT_EQ(result.tests[0].name, "tiny/seed-1");
   EXPECT_EQ(result.tests[2].name, "secret/seed-3");
@@ -206,7 +206,7 @@ TEST(GradeSubmissionTest, TestsNotStartedByTheDeadlineAreNotRunAndTheOthersKeepT
 
   const SubmissionResult result = GradeSubmission(tiny, kReference.string(), out.string(), options, notes);
 
-  ASSERT_EQ(result.build.verdict, "ok") << result.build.detail;
+  ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
   ASSERT_EQ(result.tests.size(), 3u);
   EXPECT_TRUE(result.tests[0].passed);
   EXPECT_EQ(result.tests[0].run_error, "");
@@ -383,7 +383,7 @@ TEST(SearchGradeTest, TheReferenceSurvivesTheSearchTestAndEarnsItsPoints) {
   const fs::path out = Fresh("search_reference");
   std::vector<std::string> notes;
   const SubmissionResult result = GradeSubmission(searched, kReference.string(), out.string(), {}, notes);
-  ASSERT_EQ(result.build.verdict, "ok") << result.build.detail;
+  ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
   ASSERT_EQ(result.tests.size(), 2u);
   const assignment::TestResult& search = result.tests[1];
   EXPECT_EQ(search.name, "search/tiny_vote1");
@@ -405,7 +405,7 @@ TEST(SearchGradeTest, AnAppThatFailsInAnAutonomousEpochLosesTheSearchTestWithACo
   const fs::path out = Fresh("search_broken");
   std::vector<std::string> notes;
   const SubmissionResult result = GradeSubmission(searched, submission.string(), out.string(), {}, notes);
-  ASSERT_EQ(result.build.verdict, "ok") << result.build.detail;
+  ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
   ASSERT_EQ(result.tests.size(), 2u);
   const assignment::TestResult& search = result.tests[1];
   EXPECT_FALSE(search.passed);
@@ -452,13 +452,13 @@ TEST_F(ClassTest, EachSubmissionGetsItsVerdictRerunsAreIdenticalAndShardsMerge) 
   for (const SubmissionResult& student : first.students) by_name[student.submission] = student;
 
   EXPECT_EQ(by_name["good"].points, 60) << "the others' crashes, loops and floods cost it nothing";
-  EXPECT_EQ(by_name["syntax"].build.verdict, "build_failed");
-  EXPECT_EQ(by_name["missing_entry"].build.verdict, "bad_library");
+  EXPECT_EQ(by_name["syntax"].build.verdict, assignment::BuildVerdict::kBuildFailed);
+  EXPECT_EQ(by_name["missing_entry"].build.verdict, assignment::BuildVerdict::kBadLibrary);
   EXPECT_NE(by_name["missing_entry"].build.detail.find("syrof_app_entry"), std::string::npos)
       << by_name["missing_entry"].build.detail;
   for (const char* name : {"segfault", "infinite_loop", "flood_output", "fork"}) {
     const SubmissionResult& student = by_name[name];
-    EXPECT_EQ(student.build.verdict, "ok") << name << ": " << student.build.detail;
+    EXPECT_EQ(student.build.verdict, assignment::BuildVerdict::kOk) << name << ": " << student.build.detail;
     EXPECT_LT(student.points, 60) << name;
     ASSERT_FALSE(student.tests.empty());
     EXPECT_TRUE(student.tests[0].run_error.empty()) << name << ": " << student.tests[0].run_error;

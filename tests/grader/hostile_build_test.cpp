@@ -162,7 +162,7 @@ class HostileBuildTest : public ::testing::Test {
   }
 
   void ExpectGradedAsUsual(const SubmissionResult& result, const fs::path& out) {
-    EXPECT_EQ(result.build.verdict, "ok") << result.build.detail << "\n" << Read(out / "build.log");
+    EXPECT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail << "\n" << Read(out / "build.log");
     EXPECT_EQ(result.points, 60) << "the attack costs nothing and earns nothing";
   }
 
@@ -200,7 +200,7 @@ TEST_F(HostileBuildTest, ReadsOutsideItsCopyFindNothingAndTheGradeIsAsUsual) {
   // file(READ) of the canary is a CMake error: the build fails on it, with
   // the denial (not the text) in its detail. Everything else was tried first.
   const std::string log = Read(out / "build.log");
-  EXPECT_EQ(result.build.verdict, "build_failed") << result.build.detail << "\n" << log;
+  EXPECT_EQ(result.build.verdict, assignment::BuildVerdict::kBuildFailed) << result.build.detail << "\n" << log;
   EXPECT_NE(result.build.detail.find("Permission denied"), std::string::npos) << result.build.detail;
   EXPECT_NE(log.find("attempt [env; id] -> 0"), std::string::npos) << "the attempts ran: " << log;
   EXPECT_EQ(FilesHolding(out, kCanaryText), std::vector<std::string>{}) << log;
@@ -305,7 +305,7 @@ TEST_F(HostileBuildTest, ADaemonTheBuildStartsDiesBeforeAnyRun) {
   const fs::path out = Fresh("daemon_out");
   std::vector<std::string> notes;
   const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), {}, notes);
-  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << Read(out / "build.log");
+  EXPECT_EQ(build.verdict, assignment::BuildVerdict::kOk) << build.detail << "\n" << Read(out / "build.log");
   EXPECT_NE(Read(out / "build.log").find("started"), std::string::npos) << Read(out / "build.log");
   EXPECT_EQ(ProcessesWith("sleep " + marker), 0) << "a process of the build outlived it";
   for (const std::string& note : notes) EXPECT_EQ(note.find("PID namespace"), std::string::npos) << note;
@@ -340,7 +340,7 @@ TEST_F(HostileBuildTest, AUnixSocketOnTheMachineIsOutOfReach) {
   std::vector<std::string> notes;
   const assignment::BuildResult build = BuildSubmission(submission.string(), out.string(), {}, notes);
   const std::string log = Read(out / "build.log");
-  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << log;
+  EXPECT_EQ(build.verdict, assignment::BuildVerdict::kOk) << build.detail << "\n" << log;
   EXPECT_NE(log.find("probe: socket: Permission denied"), std::string::npos) << log;
   const int client = accept(listener, nullptr, nullptr);
   EXPECT_LT(client, 0) << "the build connected to " << socket_path;
@@ -414,14 +414,14 @@ TEST_F(HostileBuildTest, ABuildThatWritesTenGigabytesStopsAtItsBoundAndTheClassG
   for (const SubmissionResult& student : result.students) {
     const std::string log = Read(out / fs::path(student.submission).filename() / "build.log");
     if (fs::path(student.submission).filename() == "alice") {
-      EXPECT_EQ(student.build.verdict, "build_failed") << student.build.detail << "\n" << log;
+      EXPECT_EQ(student.build.verdict, assignment::BuildVerdict::kBuildFailed) << student.build.detail << "\n" << log;
       EXPECT_NE(student.build.detail.find("more than its folder holds (32 MB"), std::string::npos)
           << student.build.detail;
       EXPECT_NE(log.find("the build filled its folder (32 MB"), std::string::npos) << log;
       EXPECT_NE(log.find("No space left on device"), std::string::npos) << log;
       EXPECT_EQ(student.points, 0);
     } else {
-      EXPECT_EQ(student.build.verdict, "ok") << student.build.detail << "\n" << log;
+      EXPECT_EQ(student.build.verdict, assignment::BuildVerdict::kOk) << student.build.detail << "\n" << log;
       EXPECT_EQ(student.points, 60) << student.submission;
     }
   }
@@ -444,7 +444,7 @@ TEST(BuildSubmissionPackageTest, SyrofInAFolderOnlyRootEntersStillBuilds) {
   options.syrof_dir = (hidden_away / "package").string();
   std::vector<std::string> notes;
   const assignment::BuildResult build = BuildSubmission(kReference.string(), out.string(), options, notes);
-  EXPECT_EQ(build.verdict, "ok") << build.detail << "\n" << Read(out / "build.log");
+  EXPECT_EQ(build.verdict, assignment::BuildVerdict::kOk) << build.detail << "\n" << Read(out / "build.log");
   EXPECT_NE(Read(out / "build.log").find("-DSyROF_DIR=package "), std::string::npos) << Read(out / "build.log");
   fs::remove_all(hidden_away);
 }
@@ -454,14 +454,14 @@ TEST(BuildWithoutLandlockTest, IsRefusedUnlessTheInstructorSaysSo) {
   const fs::path out = Fresh("refused_out");
   std::vector<std::string> notes;
   const assignment::BuildResult refused = BuildSubmission(kReference.string(), out.string(), {}, notes);
-  EXPECT_EQ(refused.verdict, "refused");
+  EXPECT_EQ(refused.verdict, assignment::BuildVerdict::kRefused);
   EXPECT_NE(refused.detail.find("--unsafe-no-file-isolation"), std::string::npos) << refused.detail;
   EXPECT_FALSE(fs::exists(out / "source")) << "nothing of the submission was touched";
   BuildOptions unsafe;
   unsafe.allow_unconfined = true;
   const assignment::BuildResult built = BuildSubmission(kReference.string(), out.string(), unsafe, notes);
   unsetenv("SYROF_PRETEND_NO_LANDLOCK");
-  EXPECT_EQ(built.verdict, "ok") << built.detail;
+  EXPECT_EQ(built.verdict, assignment::BuildVerdict::kOk) << built.detail;
   ASSERT_FALSE(notes.empty());
   EXPECT_NE(notes[0].find("NO FILE ISOLATION"), std::string::npos) << notes[0];
 }

@@ -70,7 +70,7 @@ TEST(AddUpTest, EachTestIsAnEqualShareEarnedByItsRunsFraction) {
 
 TEST(AddUpTest, ASubmissionThatDidNotBuildGetsNothing) {
   SubmissionResult result = Sample();
-  result.build.verdict = "build_failed";
+  result.build.verdict = assignment::BuildVerdict::kBuildFailed;
   AddUp(result, WorthPoints(90));
   EXPECT_EQ(result.points, 0);
   EXPECT_EQ(result.tests_passed, 0);
@@ -169,7 +169,7 @@ TEST(ClassFilesTest, CsvHasAColumnPerScenarioAndTheSummaryDeciles) {
   SubmissionResult alice = Sample();
   SubmissionResult bob = Sample();
   bob.submission = "bob, jr";
-  bob.build.verdict = "timeout";
+  bob.build.verdict = assignment::BuildVerdict::kTimeout;
   bob.build.detail = "the build took longer than its limit of 120 s";
   AddUp(bob, WorthPoints(90));
   EXPECT_EQ(ClassCsv({alice, bob}),

@@ -46,7 +46,7 @@ std::string JunitXml(const SubmissionResult& result, const ReportOptions& option
         "      <system-out>{}</system-out>\n"
         "    </testcase>\n",
         classname, Seconds(result.build.wall_seconds, options), Attribute(text::BuildFailure(result.build)),
-        Attribute(result.build.verdict), Text(out), Text(out));
+        Attribute(ToString(result.build.verdict)), Text(out), Text(out));
   } else {
     for (const TestResult& test : result.tests) {
       ++tests;
@@ -84,7 +84,7 @@ std::string JunitXml(const SubmissionResult& result, const ReportOptions& option
   property("points", text::Points(result.points) + "/" + text::Points(result.max_points));
   property("tests_passed", fmt::format("{}/{}", result.tests_passed, result.tests.size()));
   property("public_only", result.public_only ? "true" : "false");
-  property("build", result.build.verdict);
+  property("build", ToString(result.build.verdict));
   xml += "    </properties>\n";
   xml += cases;
   xml += "  </testsuite>\n</testsuites>\n";

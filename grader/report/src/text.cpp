@@ -108,8 +108,8 @@ std::string_view SetName(const TestResult& test) {
 }
 
 std::string BuildFailure(const BuildResult& build) {
-  return ValidUtf8(build.detail.empty() ? fmt::format("the submission did not build ({})", build.verdict)
-                                        : fmt::format("the submission did not build ({}): {}", build.verdict,
+  return ValidUtf8(build.detail.empty() ? fmt::format("the submission did not build ({})", ToString(build.verdict))
+                                        : fmt::format("the submission did not build ({}): {}", ToString(build.verdict),
                                                       build.detail));
 }
 

@@ -131,7 +131,7 @@ TEST(GradescopeJsonTest, StatusAndScoresFollowTheTests) {
 
 TEST(GradescopeJsonTest, ASubmissionThatDidNotBuildScoresZeroAndSaysWhy) {
   assignment::SubmissionResult result = ExampleResult();
-  result.build.verdict = "build_failed";
+  result.build.verdict = assignment::BuildVerdict::kBuildFailed;
   result.build.detail = "app.c:3:1: error: expected ';' before '}' token";
   for (assignment::TestResult& test : result.tests) {
     test.points = 0;

@@ -123,7 +123,7 @@ TEST(JunitXmlTest, ControlCharactersAndBadBytesStillGiveWellFormedXml) {
 
 TEST(JunitXmlTest, ABuildFailureIsOneFailingTestcaseNamedBuild) {
   assignment::SubmissionResult result = ExampleResult();
-  result.build.verdict = "build_failed";
+  result.build.verdict = assignment::BuildVerdict::kBuildFailed;
   result.build.detail = "app.c:3:1: error: expected ';' before '}' token";
   result.points = 0;
   result.tests_passed = 0;

@@ -166,7 +166,7 @@ TEST(ReportHtmlTest, NoTimingsAndNoAbsolutePaths) {
 
 TEST(ReportHtmlTest, ABuildFailureSaysWhyAndLinksTheLog) {
   assignment::SubmissionResult result = ExampleResult();
-  result.build.verdict = "build_failed";
+  result.build.verdict = assignment::BuildVerdict::kBuildFailed;
   result.build.detail = "app.c:3:1: error: expected ';'";
   result.points = 0;
   result.tests_passed = 0;

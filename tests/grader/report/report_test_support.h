@@ -26,7 +26,7 @@ inline SubmissionResult ExampleResult() {
   result.submission = "alice";
   result.assignment = "gather";
   result.title = "Gather the swarm";
-  result.build.verdict = "ok";
+  result.build.verdict = assignment::BuildVerdict::kOk;
   result.build.log_path = "build.log";
   result.build.library_path = "/tmp/grade/alice/build/libgather.so";
   result.build.wall_seconds = 3.5;

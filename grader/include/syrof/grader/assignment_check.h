@@ -77,7 +77,7 @@ std::vector<std::string> JudgeSubject(const CheckSubject& subject, const assignm
 struct SubjectOutcome {
   CheckSubject subject;
   /// As GradeSubmission returned it; a variant whose project could not be
-  /// made has no tests and build.verdict "not_made".
+  /// made has no tests and build.verdict BuildVerdict::kNotMade.
   assignment::SubmissionResult result;
   /// JudgeSubject's lines, or why it could not be graded (a variant's patch
   /// does not apply, the reports could not be written).

@@ -16,7 +16,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "syrof/assignment/assignment.h"
@@ -24,20 +26,56 @@
 
 namespace syrof::grader::assignment {
 
+/// How building a submission ended. Its name (ToString) is what grade.json,
+/// the reports and the messages say.
+enum class BuildVerdict {
+  kOk,           ///< "ok"
+  kNoSources,    ///< "no_sources": nothing to build
+  kBuildFailed,  ///< "build_failed": the compiler or CMake said no (or the build's sandbox failed)
+  kTimeout,      ///< "timeout": over the build's time limit
+  kOutputLimit,  ///< "output_limit": over the build's output limit
+  kNoLibrary,    ///< "no_library": it built, but no app library (or more than one) came out
+  kBadLibrary,   ///< "bad_library": refused by the app host's CheckLibrary (no entry point, wrong ABI, ...)
+  kRefused,      ///< "refused": the machine cannot confine the build (no Landlock) and was not told to go on
+  kNotMade,      ///< "not_made": `syrof assignment check` could not make the broken variant to build
+};
+
+inline constexpr BuildVerdict kBuildVerdicts[] = {
+    BuildVerdict::kOk,        BuildVerdict::kNoSources,  BuildVerdict::kBuildFailed,
+    BuildVerdict::kTimeout,   BuildVerdict::kOutputLimit, BuildVerdict::kNoLibrary,
+    BuildVerdict::kBadLibrary, BuildVerdict::kRefused,    BuildVerdict::kNotMade};
+
+constexpr const char* ToString(BuildVerdict verdict) {
+  switch (verdict) {
+    case BuildVerdict::kOk: return "ok";
+    case BuildVerdict::kNoSources: return "no_sources";
+    case BuildVerdict::kBuildFailed: return "build_failed";
+    case BuildVerdict::kTimeout: return "timeout";
+    case BuildVerdict::kOutputLimit: return "output_limit";
+    case BuildVerdict::kNoLibrary: return "no_library";
+    case BuildVerdict::kBadLibrary: return "bad_library";
+    case BuildVerdict::kRefused: return "refused";
+    case BuildVerdict::kNotMade: return "not_made";
+  }
+  return "?";
+}
+
+/// The verdict whose name is `name`; nullopt for a name no verdict has.
+inline std::optional<BuildVerdict> BuildVerdictNamed(std::string_view name) {
+  for (const BuildVerdict verdict : kBuildVerdicts) {
+    if (name == ToString(verdict)) return verdict;
+  }
+  return std::nullopt;
+}
+
 /// How building the submission ended.
 struct BuildResult {
-  /// "ok", "no_sources" (nothing to build), "build_failed" (the compiler or
-  /// CMake said no), "timeout", "output_limit", "no_library" (it built but
-  /// no app library came out), "bad_library" (the library is refused by the
-  /// app host's CheckLibrary: no entry point, wrong ABI, undefined symbol),
-  /// "refused" (the grading machine cannot confine the build: no Landlock,
-  /// and grading was not told --unsafe-no-file-isolation).
-  std::string verdict = "ok";
+  BuildVerdict verdict = BuildVerdict::kOk;
   std::string detail;        ///< one line a student understands, e.g. the first compiler error
   std::string log_path;      ///< the build's kept output, relative to the submission's out dir
   std::string library_path;  ///< the app library built (absolute), when verdict is "ok"
   double wall_seconds = 0;   ///< timing: not part of any byte-identical output
-  bool ok() const { return verdict == "ok"; }
+  bool ok() const { return verdict == BuildVerdict::kOk; }
 };
 
 /// One graded run: one scenario of a set with one seed; or a search test.
