@@ -205,6 +205,21 @@ std::vector<sock_filter> BuildSyscallFilter() {
   return program;
 }
 
+// The build's sandbox as far as the options say: uid 65534 when root, the
+// limits, the system call filter, and `files` (made and filled later; not
+// created: no Landlock). The size-limited folder's namespaces come later.
+process::Sandbox BuildSandbox(const BuildOptions& options, const FileRuleset& files) {
+  process::Sandbox sandbox;
+  sandbox.drop_to_nobody = geteuid() == 0;
+  sandbox.limits = {{RLIMIT_FSIZE, options.file_size_limit_bytes},
+                    {RLIMIT_CPU, options.cpu_limit_s},
+                    {RLIMIT_CORE, 0},
+                    {RLIMIT_NPROC, options.max_processes}};
+  sandbox.files = &files;
+  sandbox.syscalls = BuildSyscallFilter();
+  return sandbox;
+}
+
 // How one step of the build ended.
 struct StepOutcome {
   bool started = false;
@@ -706,14 +721,7 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   // "Threat model"; the build's child applies it between fork and exec):
   // without Landlock nothing is built unless the caller said so.
   FileRuleset files;  // not created(): no Landlock (only with allow_unconfined)
-  process::Sandbox sandbox;
-  sandbox.drop_to_nobody = geteuid() == 0;
-  sandbox.limits = {{RLIMIT_FSIZE, options.file_size_limit_bytes},
-                    {RLIMIT_CPU, options.cpu_limit_s},
-                    {RLIMIT_CORE, 0},
-                    {RLIMIT_NPROC, options.max_processes}};
-  sandbox.files = &files;
-  sandbox.syscalls = BuildSyscallFilter();
+  process::Sandbox sandbox = BuildSandbox(options, files);
   if (!files.Create()) {
     if (!options.allow_unconfined) {
       log.file << "syrof grade: " << files.error() << "; not building untrusted code\n";
