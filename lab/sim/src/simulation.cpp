@@ -2,20 +2,21 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <new>
 #include <span>
 #include <string>
+#include <variant>
 
 #include "syrof/base/check.h"
 #include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/apps/builtin_goals.h"
 #include "syrof/lab/metrics/agreement.h"
 #include "lab_robot.h"
-#include "worker_pool.h"
+#include "observer_call.h"
+#include "robot_chunks.h"
 #include "syrof/lab/sim/world_player.h"
 #include "syrof/lab/sim/observation.h"
 #include "syrof/lab/sim/radio_network.h"
@@ -40,20 +41,7 @@ using registry::kPhysicsPriority;
 using registry::kRecorderPriority;
 constexpr int kTasksPerRobot = 4;  // state, Kalman, round, motion
 constexpr int kWorldTasks = 5;     // faults, physics, hardware, radio, recorder
-// Below this many steps a batch runs on the calling thread: 16 robot steps
-// are a few microseconds, about what waking a sleeping worker takes. A
-// reasoned guess, not tuned: on the shared machine of docs/lab.md
-// ("Threads") no batch size gave a reliable gain to tune against.
-constexpr size_t kMinParallelSteps = 16;
 constexpr int64_t kNoBoundary = std::numeric_limits<int64_t>::min();
-// --threads: the robots are cut into this many chunks per worker, which
-// the workers take as they go (a worker first its own chunks, then what is
-// left of the others'), so a core that runs slower, or is shared, takes
-// fewer: a fixed half per worker left the faster one waiting for the other
-// (docs/lab.md, "Threads"). A chunk has at least kMinChunkRobots robots.
-constexpr size_t kChunksPerWorker = 4;
-constexpr size_t kMinChunkRobots = 8;
-constexpr int kNoChunk = -1;
 
 }  // namespace
 
@@ -76,7 +64,7 @@ class Simulation::Impl final : public runtime::RobotObserver,
                                private RobotRuntime,
                                private BeaconReceivers,
                                public AppStateSink,
-                               private os::SimBatchRunner {
+                               private ObserverCallHandler {
  public:
   Impl(const Scenario& scenario, const SimulationOptions& options);
 
@@ -95,54 +83,8 @@ class Simulation::Impl final : public runtime::RobotObserver,
   void OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) override;
   void OnSafetyIntervention(uint16_t robot, int64_t time_ns, uint16_t other) override;
 
-  // What a robot's step tells the lab (the observer calls above and
-  // OnAppState), as data: handled at once, or, during a parallel batch,
-  // kept per robot and handled when the batch ends, robot by robot in the
-  // order the steps would have run one at a time. It carries what the
-  // handling reads of the robot at the moment of the call (its epoch and
-  // mode), since the robot's step has gone on by then; ldmap, removed and
-  // joined point into the robot, unchanged until its next round step.
-  struct ObserverCall {
-    enum class Kind : uint8_t {
-      kEpochStart,
-      kMembership,
-      kBecameJoiner,
-      kAppFault,
-      kInvalidCommand,
-      kPayloadRefused,
-      kSafetyIntervention,
-      kAppState,
-    };
-    Kind kind;
-    uint16_t robot;
-    uint16_t epoch;   // the robot's epoch at the call (its events' stamp)
-    wire::Mode mode;  // that epoch's mode at the call
-    int64_t local_ns = 0;
-    const sync::LDMap* ldmap = nullptr;
-    std::shared_ptr<const replay::EpochMap> map;  // kEpochStart with a replay: ldmap as the replay stores it
-    const wire::MemberSet* removed = nullptr;
-    const wire::MemberSet* joined = nullptr;
-    uint16_t other = 0;       // kSafetyIntervention
-    uint16_t call_epoch = 0;  // the app call's epoch (kAppFault, kInvalidCommand, kPayloadRefused)
-    app::Callback callback = app::Callback::kInit;
-    app::CallStatus status;
-    app::CommandCheck check{};
-    size_t length = 0;
-    // kAppState
-    bool new_round = false;
-    bool cooperative = false;
-    uint16_t map_epoch = 0;
-    uint64_t fingerprint = 0;
-    uint8_t state = 0;
-  };
-  ObserverCall CallOf(ObserverCall::Kind kind, uint16_t robot) const;
-  // `ldmap` as the replay stores it, made in the robot's step (so on its
-  // worker); the same object as the last map its worker made when equal,
-  // which spares the replay writer checking, hashing and comparing it again
-  // (a COOPERATIVE epoch's map of 1000 members, 1000 times, on one thread).
-  std::shared_ptr<const replay::EpochMap> ReplayMapOf(uint16_t robot, const sync::LDMap& ldmap);
-  void Report(const ObserverCall& call);
-  void Handle(const ObserverCall& call);
+  // AppStateSink (public: the robots' RecordingApps report here)
+  void OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) override;
 
   Scenario scenario_;
   SimulationOptions options_;
@@ -151,8 +93,12 @@ class Simulation::Impl final : public runtime::RobotObserver,
   int64_t end_ns_;
   os::SimScheduler scheduler_;
   os::SimPort world_port_;
-  QueriesWorkspace workspace_;
-  std::vector<std::unique_ptr<QueriesWorkspace>> chunk_workspaces_;  // --threads: chunks 1.. (below)
+  // --threads: how the robots are cut into chunks (robot_chunks.h), fixed
+  // before the robots are made: chunk c lends its robots' apps
+  // workspaces_[c] (the scratch memory of their matching), since a chunk
+  // runs on one thread at a time, whichever takes it.
+  ChunkPlan chunk_plan_;
+  std::vector<std::unique_ptr<QueriesWorkspace>> workspaces_;
   // The scenario's app params as syrofAppParameter answers them (names view
   // scenario_.app.params' keys, which never change during the run).
   std::vector<app::Parameter> app_params_;
@@ -178,47 +124,23 @@ class Simulation::Impl final : public runtime::RobotObserver,
   std::vector<replay::RobotMap> round_maps_;  // the maps robots started an epoch with this round
   std::vector<metrics::RobotRound> robot_rounds_;
   std::vector<uint8_t> partition_active_;
-
-  // --threads: the pool (destroyed before the robots), each robot's chunk
-  // by port (contiguous blocks of robots, each the radio's receiver block of
-  // the same robots; kNoChunk for the world's port), and the observer calls
-  // kept during a parallel batch, per robot. Chunk c > 0 lends its robots'
-  // apps chunk_workspaces_[c - 1], chunk 0 workspace_: a chunk runs on one
-  // thread at a time, whichever takes it.
-  std::unique_ptr<WorkerPool> pool_;
-  std::vector<int> chunk_of_port_;
-  std::vector<uint16_t> robot_of_port_;
-  std::vector<std::vector<ObserverCall>> kept_calls_;
   std::vector<std::shared_ptr<const replay::EpochMap>> last_replay_maps_;  // ReplayMapOf's, per chunk
-  std::vector<size_t> chunk_starts_;      // chunk c's robots: chunk_starts_[c] .. chunk_starts_[c + 1]
-  std::vector<os::SimPort*> robot_ports_;  // in robot order
-  // Which chunks are left in the job running now: worker w's own chunks
-  // are queues_[w].next .. queues_[w].end, taken from the front by it and
-  // then by the others once theirs are done.
-  struct alignas(64) ChunkQueue {
-    std::atomic<uint32_t> next{0};
-    uint32_t begin = 0;
-    uint32_t end = 0;
-  };
-  std::unique_ptr<ChunkQueue[]> queues_;
-  int workers_ = 1;
-  // Runs run(chunk) for every chunk once, on the pool's workers.
-  template <typename Run>
-  void ForEachChunk(Run run);
-  // RunBatch: the batch's steps of chunk c are batch_[chunk_steps_[i]] for
-  // i in chunk_step_begin_[c] .. chunk_step_begin_[c + 1], in batch order.
-  std::vector<uint32_t> chunk_steps_;
-  std::vector<uint32_t> chunk_step_begin_;
-  std::span<const os::SimStep> batch_;
-  bool parallel_ = false;  // a parallel batch is running
-  // os::SimBatchRunner
-  void RunBatch(std::span<const os::SimStep> steps) override;
-
-  // AppStateSink (public: the robots' RecordingApps report here)
-  void OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) override;
+  // --threads: the workers and the batches (null with one worker);
+  // destroyed before the robots, whose steps its workers run.
+  std::unique_ptr<RobotChunks> chunks_;
 
  private:
+  // The constructor's steps, in order.
+  void MakeRobots();
+  void AddWorldTasks();
+  void AttachRobots();
+  void OpenRecorder();
+  void StartWorld();
+  void StartThreads();
+
   int64_t RoundOf(int64_t now_ns) const { return now_ns / radio_round_ns_; }
+  // Whether the world's per-robot work runs chunk by chunk on the workers.
+  bool SideBySide() const { return chunks_ != nullptr && robots_.size() >= kMinParallelSteps; }
   void StepFaults(int64_t now_ns);
   void StepPhysics(int64_t now_ns);
   void StepHardware(int64_t now_ns);
@@ -242,6 +164,25 @@ class Simulation::Impl final : public runtime::RobotObserver,
   bool StartRobot(uint16_t id, int64_t now_ns, bool resume) override;
   void StopRobot(uint16_t id, int64_t now_ns, StopReason reason) override;
   EventStamp Stamp(uint16_t id) const override;
+
+  // What a robot's step tells the lab (observer_call.h): handled at once,
+  // or, during a batch on the workers, kept and handled after it.
+  void Report(uint16_t robot, ObserverCall::What what);
+  // `ldmap` as the replay stores it, made in the robot's step (so on its
+  // worker); the same object as the last map its chunk made when equal,
+  // which spares the replay writer checking, hashing and comparing it again
+  // (a COOPERATIVE epoch's map of 1000 members, 1000 times, on one thread).
+  std::shared_ptr<const replay::EpochMap> ReplayMapOf(uint16_t robot, const sync::LDMap& ldmap);
+  // ObserverCallHandler
+  void Handle(const ObserverCall& call) override;
+  void Handle(const ObserverCall& call, const ObserverCall::EpochStart& epoch_start);
+  void Handle(const ObserverCall& call, const ObserverCall::Membership& membership);
+  void Handle(const ObserverCall& call, const ObserverCall::BecameJoiner& became_joiner);
+  void Handle(const ObserverCall& call, const ObserverCall::AppFault& fault);
+  void Handle(const ObserverCall& call, const ObserverCall::InvalidCommand& invalid);
+  void Handle(const ObserverCall& call, const ObserverCall::PayloadRefused& refused);
+  void Handle(const ObserverCall& call, const ObserverCall::SafetyIntervention& intervention);
+  void Handle(const ObserverCall& call, const ObserverCall::AppState& app_state);
 };
 
 Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& options)
@@ -252,6 +193,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       end_ns_(Nanoseconds(scenario.timing.duration_s)),
       scheduler_(scenario.robots.size() * kTasksPerRobot + kWorldTasks),
       world_port_(scheduler_, "world"),
+      chunk_plan_(scenario.robots.size(), options.threads, scenario.clocks.enabled),
       world_(scenario.arena, Bodies(scenario)),
       radio_(scenario.channel, static_cast<uint16_t>(scenario.robots.size()), ChannelSeed(scenario.seed)),
       recorder_(scenario_, CollectorConfigFor(scenario_)),
@@ -261,32 +203,28 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       hardware_task_([this](int64_t now_ns) { StepHardware(now_ns); }),
       radio_task_([this](int64_t now_ns) { StepRadio(now_ns); }),
       recorder_task_([this](int64_t now_ns) { StepRecorder(now_ns); }),
-      partition_active_(scenario.channel.partitions.size(), 0) {
+      partition_active_(scenario.channel.partitions.size(), 0),
+      last_replay_maps_(chunk_plan_.chunks()) {
   recorder_.MeasureAgreement();  // the robots' observers report every app return
+  MakeRobots();
+  AddWorldTasks();
+  AttachRobots();
+  OpenRecorder();
+  StartWorld();
+  StartThreads();
+}
+
+// Each robot's software (its config, app and private inputs) on its own
+// port; with clocks, each port's drift and the radio's clocked delivery.
+void Simulation::Impl::MakeRobots() {
   for (const auto& [name, value] : scenario_.app.params) app_params_.push_back(app::Parameter{name, value});
   radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
   app_inputs_.reserve(scenario_.robots.size());
-  // Threads step robots of one batch side by side. With clocks the radio
-  // hands a beacon to its receivers inside the sender's round step
-  // (radio_network.h), so robots' steps are not independent, and drifting
-  // clocks rarely release two robots at one instant anyway: serial.
-  const size_t robot_count = scenario_.robots.size();
-  SYROF_CHECK(options_.threads >= 1 && options_.threads <= kMaxThreads);
-  const int workers = scenario_.clocks.enabled || robot_count < 2
-                          ? 1
-                          : static_cast<int>(std::min<size_t>(static_cast<size_t>(options_.threads), robot_count));
-  const size_t chunks =
-      workers == 1 ? 1
-                   : std::max<size_t>(static_cast<size_t>(workers),
-                                      std::min(static_cast<size_t>(workers) * kChunksPerWorker, robot_count / kMinChunkRobots));
-  const auto chunk_of_robot = [&](size_t robot) { return static_cast<int>(robot * chunks / robot_count); };
-  for (size_t chunk = 1; chunk < chunks; ++chunk) chunk_workspaces_.push_back(std::make_unique<QueriesWorkspace>());
-  last_replay_maps_.resize(chunks);
+  for (size_t chunk = 0; chunk < chunk_plan_.chunks(); ++chunk) workspaces_.push_back(std::make_unique<QueriesWorkspace>());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
-    const int chunk = chunk_of_robot(spec.id);
-    config.queries_workspace = chunk == 0 ? workspace_.handle() : chunk_workspaces_[chunk - 1]->handle();
+    config.queries_workspace = workspaces_[chunk_plan_.ChunkOf(spec.id)]->handle();
     config.app_params = app_params_;
     app_inputs_.push_back(InputsOf(scenario_, spec.id));
     config.app_inputs = app_inputs_.back();
@@ -306,8 +244,11 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
     radio_.UseClocks([this] { return scheduler_.now_ns(); }, *this, radio_round_ns_,
                      Nanoseconds(scenario_.clocks.jitter_ms * 1e-3), JitterSeed(scenario_.seed));
   }
-  phase_boundaries_.reserve(robots_.size());
+}
 
+// The world's tasks on the world port, their order within an instant set
+// by their priorities (registry/tasks.h).
+void Simulation::Impl::AddWorldTasks() {
   SYROF_CHECK(world_port_.AddTask(fault_task_, {"lab.faults", os::Trigger::periodic(physics_step_ns_),
                                                 kFaultPriority})
                   .ok());
@@ -326,111 +267,45 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
                                                    os::Trigger::periodic(radio_round_ns_, radio_round_ns_),
                                                    kRecorderPriority})
                   .ok());
+}
+
+void Simulation::Impl::AttachRobots() {
   for (auto& robot : robots_) {
     robot->robot().set_observer(this);  // before Attach: init may fault
     robot->Attach();
   }
+}
 
+// The recorder's name for the app, its sinks and replay, and the per-robot
+// rows StepRecorder fills each round.
+void Simulation::Impl::OpenRecorder() {
   // A runtime-supplied app (the grader's or --app's library) is the run's
   // app in the replay and the goal, not the scenario's `app:`.
   recorder_.NameApp(options_.app_source);
   for (replay::RoundSink* sink : options_.sinks) recorder_.AddSink(sink);
   if (options_.replay != nullptr) recorder_.OpenReplay(*options_.replay);
+  phase_boundaries_.reserve(robots_.size());
   frames_.resize(robots_.size());
   robot_rounds_.resize(robots_.size());
   round_boundaries_.resize(robots_.size());
+}
 
+void Simulation::Impl::StartWorld() {
   SYROF_CHECK(world_port_.Start() == os::PortError::kOk);
   player_.StartPresentRobots(*this);
-  if (workers > 1) {
-    uint32_t ports = world_port_.index() + 1;
-    for (const auto& robot : robots_) ports = std::max(ports, robot->port().index() + 1);
-    chunk_of_port_.assign(ports, kNoChunk);
-    robot_of_port_.assign(ports, 0);
-    for (const auto& robot : robots_) {
-      chunk_of_port_[robot->port().index()] = chunk_of_robot(robot->id());
-      robot_of_port_[robot->port().index()] = robot->id();
-    }
-    kept_calls_.resize(robot_count);
-    std::vector<uint16_t> block_starts;
-    for (size_t robot = 0; robot < robot_count; ++robot) {
-      if (robot == 0 || chunk_of_robot(robot) != chunk_of_robot(robot - 1)) {
-        block_starts.push_back(static_cast<uint16_t>(robot));
-      }
-    }
-    SYROF_CHECK(block_starts.size() == chunks);
-    radio_.SplitReceivers(block_starts);  // the radio's block c: chunk c's robots
-    chunk_starts_.assign(block_starts.begin(), block_starts.end());
-    chunk_starts_.push_back(robot_count);
-    for (const auto& robot : robots_) robot_ports_.push_back(&robot->port());
-    chunk_steps_.resize(robot_count);
-    chunk_step_begin_.resize(chunks + 1);
-    workers_ = workers;
-    queues_ = std::make_unique<ChunkQueue[]>(static_cast<size_t>(workers));
-    for (int worker = 0; worker < workers; ++worker) {
-      queues_[worker].begin = static_cast<uint32_t>(chunks * static_cast<size_t>(worker) / static_cast<size_t>(workers));
-      queues_[worker].end = static_cast<uint32_t>(chunks * static_cast<size_t>(worker + 1) / static_cast<size_t>(workers));
-    }
-    pool_ = std::make_unique<WorkerPool>(workers);
-    scheduler_.set_batch_runner(this);
-  }
 }
 
-template <typename Run>
-void Simulation::Impl::ForEachChunk(Run run) {
-  for (int worker = 0; worker < workers_; ++worker) {
-    queues_[worker].next.store(queues_[worker].begin, std::memory_order_relaxed);
-  }
-  auto job = [this, &run](int worker) {
-    for (int k = 0; k < workers_; ++k) {
-      ChunkQueue& queue = queues_[(worker + k) % workers_];
-      for (uint32_t chunk; (chunk = queue.next.fetch_add(1, std::memory_order_relaxed)) < queue.end;) run(chunk);
-    }
-  };
-  pool_->Run(job);
-}
-
-// A batch holds one task per robot, due at one instant with one priority
-// (os::SimScheduler); each robot's step touches its own robot, port, broker
-// and radio slot, and tells the lab what happened through the observer
-// calls, which are kept and handled afterwards in the serial order. The
-// world's tasks have priorities of their own (registry/tasks.h), so they
-// never share a batch with a robot's; a batch that holds one anyway runs
-// serially.
-void Simulation::Impl::RunBatch(std::span<const os::SimStep> steps) {
-  bool robots_only = steps.size() >= kMinParallelSteps;
-  for (size_t i = 0; robots_only && i < steps.size(); ++i) {
-    robots_only = chunk_of_port_[steps[i].port_index] != kNoChunk;
-  }
-  if (!robots_only) {
-    for (const os::SimStep& step : steps) step.task->Step(step.now_ns);
-    return;
-  }
-  // The steps by chunk (a counting sort that keeps the batch's order).
-  const size_t chunks = chunk_starts_.size() - 1;
-  std::fill(chunk_step_begin_.begin(), chunk_step_begin_.end(), 0u);
-  for (const os::SimStep& step : steps) ++chunk_step_begin_[static_cast<size_t>(chunk_of_port_[step.port_index]) + 1];
-  for (size_t chunk = 0; chunk < chunks; ++chunk) chunk_step_begin_[chunk + 1] += chunk_step_begin_[chunk];
-  for (uint32_t i = 0; i < steps.size(); ++i) {
-    uint32_t& end = chunk_step_begin_[static_cast<size_t>(chunk_of_port_[steps[i].port_index])];
-    chunk_steps_[end++] = i;
-  }
-  for (size_t chunk = chunks; chunk > 0; --chunk) chunk_step_begin_[chunk] = chunk_step_begin_[chunk - 1];
-  chunk_step_begin_[0] = 0;
-  parallel_ = true;
-  batch_ = steps;
-  ForEachChunk([this](size_t chunk) {
-    for (uint32_t i = chunk_step_begin_[chunk]; i < chunk_step_begin_[chunk + 1]; ++i) {
-      const os::SimStep& step = batch_[chunk_steps_[i]];
-      step.task->Step(step.now_ns);
-    }
-  });
-  parallel_ = false;
-  for (const os::SimStep& step : steps) {
-    std::vector<ObserverCall>& calls = kept_calls_[robot_of_port_[step.port_index]];
-    for (const ObserverCall& call : calls) Handle(call);
-    calls.clear();
-  }
+// --threads: the radio's receiver blocks are the chunks (each decides its
+// links on its own copy of the channel), and the scheduler hands batches of
+// robot steps to the chunks' workers.
+void Simulation::Impl::StartThreads() {
+  if (chunk_plan_.workers() == 1) return;
+  radio_.SplitReceivers(chunk_plan_.FirstRobots());
+  std::vector<os::SimPort*> robot_ports;
+  for (const auto& robot : robots_) robot_ports.push_back(&robot->port());
+  ObserverCallHandler& handler = *this;
+  chunks_ = std::make_unique<RobotChunks>(chunk_plan_, std::move(robot_ports), handler);
+  scheduler_.set_batch_runner(chunks_.get());
 }
 
 bool Simulation::Impl::StartRobot(uint16_t id, int64_t /*now_ns*/, bool /*resume*/) {
@@ -481,7 +356,7 @@ void Simulation::Impl::StepPhysics(int64_t now_ns) {
 }
 
 void Simulation::Impl::StepHardware(int64_t now_ns) {
-  if (pool_ == nullptr || robots_.size() < kMinParallelSteps) {
+  if (!SideBySide()) {
     for (auto& robot : robots_) {
       if (robot->port().running()) robot->StepHardware(now_ns);
     }
@@ -490,9 +365,9 @@ void Simulation::Impl::StepHardware(int64_t now_ns) {
   // Worker w samples its own robots' sensors, which publish to their own
   // brokers (the notifications wait, os::SimScheduler::BeginSideBySide);
   // the drive commands they took reach the bodies here, after.
-  scheduler_.BeginSideBySide(robot_ports_);
-  ForEachChunk([this](size_t chunk) {
-    for (size_t robot = chunk_starts_[chunk]; robot < chunk_starts_[chunk + 1]; ++robot) {
+  scheduler_.BeginSideBySide(chunks_->robot_ports());
+  chunks_->ForEachChunk([this](size_t chunk) {
+    for (size_t robot = chunk_plan_.begin(chunk); robot < chunk_plan_.end(chunk); ++robot) {
       if (robots_[robot]->port().running()) robots_[robot]->SampleHardware();
     }
   });
@@ -506,7 +381,7 @@ void Simulation::Impl::StepRadio(int64_t now_ns) {
   if (scenario_.clocks.enabled) return;  // beacons travel when sent (radio_network.h)
   const int64_t round = RoundOf(now_ns) - 1;
   const double sent_at_s = static_cast<double>(round * radio_round_ns_) * 1e-9;
-  if (pool_ == nullptr) {
+  if (chunks_ == nullptr) {
     radio_.Deliver(round, sent_at_s, *this);
     return;
   }
@@ -520,9 +395,9 @@ void Simulation::Impl::StepRadio(int64_t now_ns) {
     for (size_t block = 0; block < radio_.blocks(); ++block) radio_.DeliverToBlock(block, *this);
     return;
   }
-  ForEachChunk([this](size_t chunk) { radio_.EncodeBlock(chunk); });
+  chunks_->ForEachChunk([this](size_t chunk) { radio_.EncodeBlock(chunk); });
   radio_.EndEncoding();
-  ForEachChunk([this](size_t chunk) { radio_.DeliverToBlock(chunk, *this); });
+  chunks_->ForEachChunk([this](size_t chunk) { radio_.DeliverToBlock(chunk, *this); });
 }
 
 bool Simulation::Impl::Listening(uint16_t robot) const { return robots_[robot]->port().running(); }
@@ -564,11 +439,11 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
                           robot.sync_state().status == sync::Status::kMember;
     round_boundaries_[i] = boundary ? lab_robot.port().TrueFromLocal(robot.last_round_ns()) : kNoBoundary;
   };
-  if (pool_ == nullptr || robots_.size() < kMinParallelSteps) {
+  if (!SideBySide()) {
     for (size_t i = 0; i < robots_.size(); ++i) observe(i);
   } else {
-    ForEachChunk([this, &observe](size_t chunk) {
-      for (size_t i = chunk_starts_[chunk]; i < chunk_starts_[chunk + 1]; ++i) observe(i);
+    chunks_->ForEachChunk([this, &observe](size_t chunk) {
+      for (size_t i = chunk_plan_.begin(chunk); i < chunk_plan_.end(chunk); ++i) observe(i);
     });
   }
   phase_boundaries_.clear();
@@ -587,159 +462,133 @@ void Simulation::Impl::StepRecorder(int64_t now_ns) {
 
 // ---- What the robots tell the lab ------------------------------------------
 
-Simulation::Impl::ObserverCall Simulation::Impl::CallOf(ObserverCall::Kind kind, uint16_t robot) const {
-  ObserverCall call{};
-  call.kind = kind;
-  call.robot = robot;
+void Simulation::Impl::Report(uint16_t robot, ObserverCall::What what) {
   const sync::SyncState& state = robots_[robot]->robot().sync_state();
-  call.epoch = state.epoch;
-  call.mode = state.epoch_mode;
-  return call;
-}
-
-void Simulation::Impl::Report(const ObserverCall& call) {
-  if (parallel_) {
-    kept_calls_[call.robot].push_back(call);  // this robot's own list: only its worker writes it
+  ObserverCall call{robot, state.epoch, state.epoch_mode, std::move(what)};
+  if (chunks_ != nullptr && chunks_->in_batch()) {
+    chunks_->Keep(std::move(call));
     return;
   }
   Handle(call);
 }
 
 void Simulation::Impl::OnEpochStart(uint16_t robot, int64_t /*local_ns*/, const sync::LDMap& ldmap) {
-  ObserverCall call = CallOf(ObserverCall::Kind::kEpochStart, robot);
-  call.ldmap = &ldmap;
-  if (recorder_.replaying()) call.map = ReplayMapOf(robot, ldmap);
-  Report(call);
+  Report(robot, ObserverCall::EpochStart{&ldmap, recorder_.replaying() ? ReplayMapOf(robot, ldmap) : nullptr});
 }
 
 std::shared_ptr<const replay::EpochMap> Simulation::Impl::ReplayMapOf(uint16_t robot, const sync::LDMap& ldmap) {
-  const int chunk = pool_ == nullptr ? 0 : chunk_of_port_[robots_[robot]->port().index()];
-  std::shared_ptr<const replay::EpochMap>& last = last_replay_maps_[static_cast<size_t>(chunk)];
+  std::shared_ptr<const replay::EpochMap>& last = last_replay_maps_[chunk_plan_.ChunkOf(robot)];
   if (last == nullptr || !MatchesEpochMap(*last, ldmap)) last = ToEpochMap(ldmap);
   return last;
 }
 
 void Simulation::Impl::OnMembership(uint16_t robot, int64_t /*local_ns*/, const wire::MemberSet& removed,
                                     const wire::MemberSet& joined) {
-  ObserverCall call = CallOf(ObserverCall::Kind::kMembership, robot);
-  call.removed = &removed;
-  call.joined = &joined;
-  Report(call);
+  Report(robot, ObserverCall::Membership{&removed, &joined});
 }
 
 void Simulation::Impl::OnBecameJoiner(uint16_t robot, int64_t /*local_ns*/) {
-  Report(CallOf(ObserverCall::Kind::kBecameJoiner, robot));
+  Report(robot, ObserverCall::BecameJoiner{});
 }
 
 void Simulation::Impl::OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) {
-  ObserverCall call = CallOf(ObserverCall::Kind::kAppState, robot);
-  call.new_round = new_round;
-  call.map_epoch = ldmap.epoch;
-  call.cooperative = ldmap.mode == SYROF_MODE_COOPERATIVE;
-  call.fingerprint = MapFingerprint(ldmap);  // the app's map changes within the step: read it now
-  call.state = state;
-  Report(call);
+  Report(robot, ObserverCall::AppState{new_round, ldmap.mode == SYROF_MODE_COOPERATIVE, ldmap.epoch,
+                                       MapFingerprint(ldmap), state});
 }
 
-void Simulation::Impl::OnAppFault(uint16_t robot, int64_t local_ns, app::Callback callback, uint16_t epoch,
+void Simulation::Impl::OnAppFault(uint16_t robot, int64_t /*local_ns*/, app::Callback callback, uint16_t epoch,
                                   const app::CallStatus& status) {
-  ObserverCall call = CallOf(ObserverCall::Kind::kAppFault, robot);
-  call.local_ns = local_ns;
-  call.callback = callback;
-  call.call_epoch = epoch;
-  call.status = status;
-  Report(call);
+  Report(robot, ObserverCall::AppFault{callback, epoch, status});
 }
 
-void Simulation::Impl::OnInvalidCommand(uint16_t robot, int64_t local_ns, uint16_t epoch,
+void Simulation::Impl::OnInvalidCommand(uint16_t robot, int64_t /*local_ns*/, uint16_t epoch,
                                         const app::CommandCheck& check) {
-  ObserverCall call = CallOf(ObserverCall::Kind::kInvalidCommand, robot);
-  call.local_ns = local_ns;
-  call.call_epoch = epoch;
-  call.check = check;
-  Report(call);
+  Report(robot, ObserverCall::InvalidCommand{epoch, check});
 }
 
-void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t local_ns, uint16_t epoch, size_t length) {
-  ObserverCall call = CallOf(ObserverCall::Kind::kPayloadRefused, robot);
-  call.local_ns = local_ns;
-  call.call_epoch = epoch;
-  call.length = length;
-  Report(call);
+void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t /*local_ns*/, uint16_t epoch, size_t length) {
+  Report(robot, ObserverCall::PayloadRefused{epoch, length});
 }
 
 void Simulation::Impl::OnSafetyIntervention(uint16_t robot, int64_t local_ns, uint16_t other) {
-  ObserverCall call = CallOf(ObserverCall::Kind::kSafetyIntervention, robot);
-  call.local_ns = local_ns;
-  call.other = other;
-  Report(call);
+  Report(robot, ObserverCall::SafetyIntervention{local_ns, other});
+}
+
+void Simulation::Impl::Handle(const ObserverCall& call) {
+  std::visit([this, &call](const auto& what) { Handle(call, what); }, call.what);
+}
+
+void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::EpochStart& epoch_start) {
+  const int64_t now_ns = TrueNow();
+  const sync::LDMap& ldmap = *epoch_start.ldmap;
+  recorder_.OnEpochStart(call.robot, RoundOf(now_ns), now_ns, ldmap);
+  AddEvent(replay::EventKind::kEpochStart, now_ns, call.robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
+  if (epoch_start.map != nullptr) round_maps_.push_back(replay::RobotMap{call.robot, epoch_start.map});
+}
+
+void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::Membership& membership) {
+  const int64_t now_ns = TrueNow();
+  recorder_.collector().OnMembership(call.robot, RoundOf(now_ns), *membership.removed, *membership.joined);
+  for (const uint16_t member : *membership.removed) {
+    AddEvent(replay::EventKind::kMemberRemoved, now_ns, call.robot, member, call.epoch, call.mode);
+  }
+  for (const uint16_t member : *membership.joined) {
+    AddEvent(replay::EventKind::kMemberJoined, now_ns, call.robot, member, call.epoch, call.mode);
+  }
+}
+
+void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::BecameJoiner& /*became_joiner*/) {
+  AddEvent(replay::EventKind::kBecameJoiner, TrueNow(), call.robot, replay::kNoRobot, call.epoch, call.mode);
+}
+
+void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::AppState& app_state) {
+  using Call = metrics::AgreementTracker::Call;
+  recorder_.OnAppState(call.robot, RoundOf(TrueNow()), app_state.new_round ? Call::kNewRound : Call::kEndOfRound,
+                       app_state.map_epoch, app_state.cooperative, app_state.fingerprint, app_state.state);
 }
 
 // A robot whose app faulted is stopped as a crashed robot is (its software
 // stops, its body stays, the others' failure detectors remove it) and the
 // run goes on. Reported from inside the robot's own step (or from Attach,
 // for init), which the robot ends without another app call.
-void Simulation::Impl::Handle(const ObserverCall& call) {
-  const uint16_t robot = call.robot;
+void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::AppFault& fault) {
   const int64_t now_ns = TrueNow();
-  LabRobot& lab_robot = *robots_[robot];
-  switch (call.kind) {
-    case ObserverCall::Kind::kEpochStart: {
-      const sync::LDMap& ldmap = *call.ldmap;
-      recorder_.OnEpochStart(robot, RoundOf(now_ns), now_ns, ldmap);
-      AddEvent(replay::EventKind::kEpochStart, now_ns, robot, replay::kNoRobot, ldmap.epoch, ldmap.mode);
-      if (call.map != nullptr) round_maps_.push_back(replay::RobotMap{robot, call.map});
-      break;
-    }
-    case ObserverCall::Kind::kMembership:
-      recorder_.collector().OnMembership(robot, RoundOf(now_ns), *call.removed, *call.joined);
-      for (const uint16_t member : *call.removed) {
-        AddEvent(replay::EventKind::kMemberRemoved, now_ns, robot, member, call.epoch, call.mode);
-      }
-      for (const uint16_t member : *call.joined) {
-        AddEvent(replay::EventKind::kMemberJoined, now_ns, robot, member, call.epoch, call.mode);
-      }
-      break;
-    case ObserverCall::Kind::kBecameJoiner:
-      AddEvent(replay::EventKind::kBecameJoiner, now_ns, robot, replay::kNoRobot, call.epoch, call.mode);
-      break;
-    case ObserverCall::Kind::kAppState: {
-      using Call = metrics::AgreementTracker::Call;
-      recorder_.OnAppState(robot, RoundOf(now_ns), call.new_round ? Call::kNewRound : Call::kEndOfRound,
-                           call.map_epoch, call.cooperative, call.fingerprint, call.state);
-      break;
-    }
-    case ObserverCall::Kind::kAppFault:
-      recorder_.collector().OnAppFault(metrics::AppFault{robot, app::ToString(call.callback), call.call_epoch, now_ns,
-                                              app::ToString(call.status.verdict()), call.status.detail()});
-      AddEvent(replay::EventKind::kAppFault, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
-      player_.AppFaulted(robot, now_ns, *this);
-      break;
-    case ObserverCall::Kind::kInvalidCommand: {
-      std::array<char, 64> what{};
-      recorder_.collector().OnInvalidCommand(robot, call.call_epoch,
-                                             app::Describe(call.check, what.data(), what.size()));
-      if (lab_robot.invalid_command_recorded) break;
-      lab_robot.invalid_command_recorded = true;
-      AddEvent(replay::EventKind::kInvalidCommand, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
-      break;
-    }
-    case ObserverCall::Kind::kPayloadRefused:
-      recorder_.collector().OnPayloadRefused(robot, call.call_epoch, std::to_string(call.length) + " bytes");
-      if (lab_robot.payload_refusal_recorded) break;
-      lab_robot.payload_refusal_recorded = true;
-      AddEvent(replay::EventKind::kPayloadRefused, now_ns, robot, replay::kNoRobot, call.call_epoch, call.mode);
-      break;
-    case ObserverCall::Kind::kSafetyIntervention: {
-      const int64_t time_ns = lab_robot.port().TrueFromLocal(call.local_ns);
-      const bool wall = call.other == motion::kWallObstacle;
-      recorder_.collector().OnSafetyIntervention(time_ns, robot,
-                                                 wall ? std::nullopt : std::optional<uint16_t>(call.other));
-      AddEvent(replay::EventKind::kSafetyIntervention, time_ns, robot, wall ? replay::kNoRobot : call.other,
-               call.epoch, call.mode);
-      break;
-    }
-  }
+  recorder_.collector().OnAppFault(metrics::AppFault{call.robot, app::ToString(fault.callback), fault.call_epoch,
+                                                     now_ns, app::ToString(fault.status.verdict()),
+                                                     fault.status.detail()});
+  AddEvent(replay::EventKind::kAppFault, now_ns, call.robot, replay::kNoRobot, fault.call_epoch, call.mode);
+  player_.AppFaulted(call.robot, now_ns, *this);
+}
+
+// The metrics count every invalid command and refused payload; the replay
+// records the first of each per robot.
+void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::InvalidCommand& invalid) {
+  std::array<char, 64> what{};
+  recorder_.collector().OnInvalidCommand(call.robot, invalid.call_epoch,
+                                         app::Describe(invalid.check, what.data(), what.size()));
+  LabRobot& robot = *robots_[call.robot];
+  if (robot.invalid_command_recorded) return;
+  robot.invalid_command_recorded = true;
+  AddEvent(replay::EventKind::kInvalidCommand, TrueNow(), call.robot, replay::kNoRobot, invalid.call_epoch,
+           call.mode);
+}
+
+void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::PayloadRefused& refused) {
+  recorder_.collector().OnPayloadRefused(call.robot, refused.call_epoch, std::to_string(refused.length) + " bytes");
+  LabRobot& robot = *robots_[call.robot];
+  if (robot.payload_refusal_recorded) return;
+  robot.payload_refusal_recorded = true;
+  AddEvent(replay::EventKind::kPayloadRefused, TrueNow(), call.robot, replay::kNoRobot, refused.call_epoch,
+           call.mode);
+}
+
+void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::SafetyIntervention& intervention) {
+  const int64_t time_ns = robots_[call.robot]->port().TrueFromLocal(intervention.local_ns);
+  const bool wall = intervention.other == motion::kWallObstacle;
+  recorder_.collector().OnSafetyIntervention(time_ns, call.robot,
+                                             wall ? std::nullopt : std::optional<uint16_t>(intervention.other));
+  AddEvent(replay::EventKind::kSafetyIntervention, time_ns, call.robot, wall ? replay::kNoRobot : intervention.other,
+           call.epoch, call.mode);
 }
 
 void Simulation::Impl::RunUntil(double end_s) {

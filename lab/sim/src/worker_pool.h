@@ -1,5 +1,5 @@
 // A fixed pool of threads that runs one job on every worker at once: the
-// lab's `--threads` (simulation.cpp). Internal to lab/sim.
+// lab's `--threads` (robot_chunks.h). Internal to lab/sim.
 //
 // Made once per run; Run() allocates nothing and, between jobs, the workers
 // sleep on an atomic (a futex), so an idle pool costs no CPU. The caller's
