@@ -1,0 +1,116 @@
+#include "syrof/sync/activation.h"
+
+#include "syrof/base/split_mix64.h"
+
+namespace syrof::sync {
+namespace {
+
+// Each use of the seed has its own stream, so the draws do not correlate.
+constexpr uint64_t kDrawPurpose = 0x61637469766174ull;     // "activat"
+constexpr uint64_t kOffsetPurpose = 0x6f6666736574ull;     // "offset"
+constexpr uint64_t kFallbackPurpose = 0x66616c6c6261ull;   // "fallba"
+
+uint64_t Mix(uint64_t seed, uint64_t purpose, uint64_t a, uint64_t b) {
+  return base::SplitMix64Hash(base::SplitMix64Hash(seed ^ purpose) ^ base::SplitMix64Hash((a << 16) ^ b));
+}
+
+// The member at `position` (0-based) of the ascending member list.
+uint16_t MemberAt(const wire::MemberSet& members, uint32_t position) {
+  uint32_t index = 0;
+  for (const uint16_t member : members) {
+    if (index++ == position) return member;
+  }
+  return wire::MemberSet::kCapacity;  // unreachable for position < count
+}
+
+bool ScriptListsEpoch(std::span<const ScriptedActivation> script, uint16_t epoch, size_t& first) {
+  // Binary search for the first entry of `epoch`.
+  size_t low = 0;
+  size_t high = script.size();
+  while (low < high) {
+    const size_t middle = low + (high - low) / 2;
+    if (script[middle].epoch < epoch) {
+      low = middle + 1;
+    } else {
+      high = middle;
+    }
+  }
+  first = low;
+  return low < script.size() && script[low].epoch == epoch;
+}
+
+bool ScriptNames(std::span<const ScriptedActivation> script, size_t first, uint16_t epoch, uint16_t robot) {
+  for (size_t i = first; i < script.size() && script[i].epoch == epoch; ++i) {
+    if (script[i].robot == robot) return true;
+  }
+  return false;
+}
+
+// The schedule's own choice for `robot`, before the non-empty rule.
+bool Chosen(const ActivationConfig& config, uint16_t epoch, const wire::MemberSet& members, uint16_t robot) {
+  switch (config.schedule) {
+    case ActivationSchedule::kRandom: {
+      const uint32_t bound = config.fair_within;
+      const uint32_t offset = static_cast<uint32_t>(Mix(config.seed, kOffsetPurpose, robot, 0) % bound);
+      if ((epoch + offset) % bound == 0) return true;
+      return (Mix(config.seed, kDrawPurpose, epoch, robot) & 1U) != 0;
+    }
+    case ActivationSchedule::kRoundRobin:
+      return MemberAt(members, epoch % members.count()) == robot;
+    case ActivationSchedule::kScripted: {
+      size_t first = 0;
+      if (!ScriptListsEpoch(config.script, epoch, first)) return true;
+      return ScriptNames(config.script, first, epoch, robot);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+const char* ToString(ActivationModel model) {
+  switch (model) {
+    case ActivationModel::kFsync: return "fsync";
+    case ActivationModel::kSsync: return "ssync";
+  }
+  return "?";
+}
+
+const char* ToString(ActivationSchedule schedule) {
+  switch (schedule) {
+    case ActivationSchedule::kRandom: return "random";
+    case ActivationSchedule::kRoundRobin: return "round_robin";
+    case ActivationSchedule::kScripted: return "scripted";
+  }
+  return "?";
+}
+
+bool IsValid(const ActivationConfig& config) {
+  if (config.fair_within < 1) return false;
+  for (size_t i = 1; i < config.script.size(); ++i) {
+    const ScriptedActivation& before = config.script[i - 1];
+    const ScriptedActivation& entry = config.script[i];
+    if (entry.epoch < before.epoch || (entry.epoch == before.epoch && entry.robot <= before.robot)) return false;
+  }
+  return true;
+}
+
+bool IsActive(const ActivationConfig& config, uint16_t epoch, const wire::MemberSet& members, uint16_t robot) {
+  if (robot >= wire::MemberSet::kCapacity || !members.test(robot)) return false;
+  if (config.model == ActivationModel::kFsync) return true;
+  if (Chosen(config, epoch, members, robot)) return true;
+  // Only when the schedule chose no member at all does the fallback apply.
+  for (const uint16_t member : members) {
+    if (Chosen(config, epoch, members, member)) return false;
+  }
+  const uint32_t position = static_cast<uint32_t>(Mix(config.seed, kFallbackPurpose, epoch, 0) % members.count());
+  return MemberAt(members, position) == robot;
+}
+
+uint16_t ActiveCount(const ActivationConfig& config, uint16_t epoch, const wire::MemberSet& members) {
+  uint16_t count = 0;
+  for (const uint16_t member : members) count += IsActive(config, epoch, members, member) ? 1 : 0;
+  return count;
+}
+
+}  // namespace syrof::sync
