@@ -97,6 +97,14 @@ void PrintSummary(std::ostream& out, const metrics::Metrics& m, const std::files
   }
   fmt::print(out, "  {:<17} {} epochs, start skew max {} rounds ({} ms)\n", "synchrony", m.epochs_started,
              m.synchrony.max_start_skew_rounds, Number(m.synchrony.max_start_skew_ms, 1));
+  if (m.activation) {
+    const metrics::ActivationMetrics& activation = *m.activation;
+    fmt::print(out, "  {:<17} {} {}{}: {} of {} robot-epoch starts active, fair within {} epochs\n", "activation",
+               activation.model, activation.schedule,
+               activation.fair_within ? fmt::format(" (bound {})", *activation.fair_within) : std::string(),
+               activation.active_starts, activation.active_starts + activation.inactive_starts,
+               activation.fair_within_achieved);
+  }
   const std::optional<double>& fraction = m.common_knowledge.cooperative_fraction;
   fmt::print(out, "  {:<17} {} P3 violations, {} COOPERATIVE starts, mode disagreement max {} rounds\n",
              "common knowledge", m.common_knowledge.violations,

@@ -326,7 +326,15 @@ void Robot::RunRound(int64_t now_ns) {
   if (maneuver_active_ && !still_in_progress) EndManeuver(now_ns);
   if (app_faulted()) return;
 
-  if (out_.epoch_started) {
+  if (out_.epoch_started && !sync::IsActive(config_.activation, ldmap_.epoch, ldmap_.members, id())) {
+    // Left out of this epoch (SSYNC): no look, no compute, no move. The
+    // maneuver's rounds still count, for the synchronizer's PROGRESS.
+    ++counters_.inactive_epochs;
+    command_ = syrof_car_command{};
+    HandToMotion(command_);
+    rounds_in_progress_ = 0;
+    if (observer_ != nullptr) observer_->OnEpochStart(id(), now_ns, ldmap_);
+  } else if (out_.epoch_started) {
     FillAppMap(ldmap_);
     syrof_car_command command{};
     BeginAppCall(now_ns, ldmap_.epoch);

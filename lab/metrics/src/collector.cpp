@@ -154,6 +154,7 @@ Collector::Collector(const CollectorConfig& config)
       tracks_(std::min<size_t>(config.robots, wire::kMaxSwarmSize)),
       robot_interventions_(tracks_.size(), 0),
       robot_starts_(tracks_.size(), 0),
+      inactive_run_(tracks_.size(), 0),
       robot_cooperative_starts_(tracks_.size(), 0) {
   // Errors reach half a round at most.
   const int64_t half_round_ns = std::max<int64_t>(config.radio_round_ns / 2, kFineLimitNs);
@@ -245,6 +246,15 @@ void Collector::OnEpochStart(uint16_t robot, int64_t round, int64_t time_ns, con
   }
   ++epoch_starts_;
   ++robot_starts_[robot];
+  if (config_.activation.model == sync::ActivationModel::kSsync) {
+    if (sync::IsActive(config_.activation, ldmap.epoch, ldmap.members, robot)) {
+      ++active_starts_;
+      inactive_run_[robot] = 0;
+    } else {
+      ++inactive_starts_;
+      longest_inactive_run_ = std::max(longest_inactive_run_, ++inactive_run_[robot]);
+    }
+  }
   const bool cooperative = ldmap.mode == wire::Mode::kCooperative;
   if (cooperative) {
     ++cooperative_starts_;
@@ -490,6 +500,17 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   metrics.epochs_started = epochs_started_;
   metrics.epoch_starts = epoch_starts_;
   metrics.goal = facts.goal;
+  if (config_.activation.model == sync::ActivationModel::kSsync) {
+    ActivationMetrics& activation = metrics.activation.emplace();
+    activation.model = sync::ToString(config_.activation.model);
+    activation.schedule = sync::ToString(config_.activation.schedule);
+    if (config_.activation.schedule == sync::ActivationSchedule::kRandom) {
+      activation.fair_within = config_.activation.fair_within;
+    }
+    activation.active_starts = active_starts_;
+    activation.inactive_starts = inactive_starts_;
+    activation.fair_within_achieved = longest_inactive_run_ + 1;
+  }
 
   // Epochs still open are measured as they stand, in the order they opened.
   SkewTotals skews = skews_;

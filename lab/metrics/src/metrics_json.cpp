@@ -156,6 +156,17 @@ Json CommonKnowledgeJson(const CommonKnowledgeMetrics& knowledge) {
   return json;
 }
 
+Json ActivationJson(const ActivationMetrics& activation) {
+  Json json;
+  json["model"] = activation.model;
+  json["schedule"] = activation.schedule;
+  json["fair_within"] = activation.fair_within ? Json(*activation.fair_within) : Json(nullptr);
+  json["active_starts"] = activation.active_starts;
+  json["inactive_starts"] = activation.inactive_starts;
+  json["fair_within_achieved"] = activation.fair_within_achieved;
+  return json;
+}
+
 Json AgreementJson(const std::optional<AgreementMetrics>& measured) {
   if (!measured) return Json(nullptr);
   const AgreementMetrics& agreement = *measured;
@@ -328,6 +339,7 @@ std::string ToJson(const Metrics& metrics) {
   json["epochs_started"] = metrics.epochs_started;
   json["epoch_starts"] = metrics.epoch_starts;
   json["goal"] = GoalJson(metrics.goal);
+  if (metrics.activation) json["activation"] = ActivationJson(*metrics.activation);
   json["synchrony"] = SynchronyJson(metrics.synchrony);
   json["round_phase"] = RoundPhaseJson(metrics.round_phase);
   json["common_knowledge"] = CommonKnowledgeJson(metrics.common_knowledge);

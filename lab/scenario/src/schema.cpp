@@ -72,7 +72,7 @@ bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& sc
   static constexpr std::string_view kKeys[] = {"name",    "seed",   "arena",  "kinds", "robots",
                                                "timing",  "sensors", "channel", "clocks", "faults",
                                                "inputs",  "app",    "safety", "goal",
-                                               "message"};
+                                               "message", "activation"};
   if (root.is_null()) {
     return diagnostics.Fail(0, 0, "the scenario is empty; it needs at least 'robots' and 'app'");
   }
@@ -106,6 +106,7 @@ bool ReadScenario(const YamlNode& root, const Overrides& overrides, Scenario& sc
       !ReadChannel(root.Find("channel"), scenario, diagnostics) ||
       !ReadClocks(root.Find("clocks"), scenario, diagnostics) ||
       !ReadFaults(root.Find("faults"), scenario, diagnostics) ||
+      !ReadActivation(root.Find("activation"), scenario, diagnostics) ||
       !ReadInputs(root.Find("inputs"), scenario, diagnostics) ||
       !ReadGoal(root.Find("goal"), scenario, diagnostics) ||
       !ReadApp(*root.Find("app"), apps::BuiltinApps(), LibraryBaseDir(scenario), scenario.app, diagnostics)) {

@@ -44,6 +44,9 @@ bool ReadClocks(const YamlNode* node, Scenario& scenario, Diagnostics& diagnosti
 // Needs the robots and the timing; marks joining robots absent at start.
 bool ReadFaults(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
 
+// Needs the robots and the timing (the run's epochs).
+bool ReadActivation(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
+
 // Needs the arena, the robots and the timing.
 bool ReadGoal(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostics);
 

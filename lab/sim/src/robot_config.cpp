@@ -67,12 +67,23 @@ runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const sc
   config.arena_height_m = static_cast<float>(scenario.arena.height_m);
   config.safety = SafetyConfigFor(scenario);
   config.announce_presence = scenario.safety;
+  config.activation = ActivationConfigFor(scenario);
   // With a clocks section the robots align their rounds unless it says
   // alignment: off; without one every robot shares the lab's clock.
   config.align_rounds = scenario.clocks.enabled && scenario.clocks.alignment;
   // The lab's radio sends in the middle of the round (radio_network.h).
   if (scenario.clocks.enabled) config.beacon_delay_ns = std::llround(scenario.timing.radio_round_s * 1e9) / 2;
   return config;
+}
+
+sync::ActivationConfig ActivationConfigFor(const scenario::Scenario& scenario) {
+  sync::ActivationConfig activation;
+  activation.model = scenario.activation.model;
+  activation.schedule = scenario.activation.schedule;
+  activation.seed = scenario.seed;
+  activation.fair_within = scenario.activation.fair_within;
+  activation.script = scenario.activation.script;
+  return activation;
 }
 
 motion::SafetyConfig SafetyConfigFor(const scenario::Scenario& scenario) {

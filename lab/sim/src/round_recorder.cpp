@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "syrof/base/check.h"
+#include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/sync/synchronizer.h"
 
@@ -12,7 +13,7 @@ namespace syrof::lab::sim {
 metrics::CollectorConfig CollectorConfigFor(const scenario::Scenario& scenario) {
   return metrics::CollectorConfig{static_cast<uint16_t>(scenario.robots.size()),
                                   std::llround(scenario.timing.radio_round_s * 1e9),
-                                  static_cast<uint16_t>(scenario.timing.silence_rounds)};
+                                  static_cast<uint16_t>(scenario.timing.silence_rounds), ActivationConfigFor(scenario)};
 }
 
 void OrderByTime(std::span<replay::Event> events) {

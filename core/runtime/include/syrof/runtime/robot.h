@@ -13,7 +13,9 @@
 // and reports "maneuver finished" once PROGRESS has lasted the configured
 // number of rounds. When an epoch starts it builds the app's LDMap and calls
 // newRound; the command goes to the motion controller. When the maneuver
-// ends the robot stops and endOfRound is called.
+// ends the robot stops and endOfRound is called. Under SSYNC
+// (RobotConfig::activation) an epoch the schedule leaves the robot out of
+// gets neither call: the robot holds still through it.
 //
 // Receiving: beacons heard during a round are stepped at the round's end.
 // ReceiveBytes() may run on another thread or in an interrupt while the
@@ -62,6 +64,7 @@
 #include "syrof/registry/tasks.h"
 #include "syrof/runtime/radio.h"
 #include "syrof/runtime/robot_observer.h"
+#include "syrof/sync/activation.h"
 #include "syrof/sync/config.h"
 #include "syrof/sync/ldmap.h"
 #include "syrof/sync/round_alignment.h"
@@ -109,6 +112,12 @@ struct RobotConfig {
   /// What syrofAppInput answers: this robot's private inputs (the
   /// scenario's `inputs`, its own value of each); kept alive as app_params.
   std::span<const app::Parameter> app_inputs;
+  /// Which members move in each epoch (sync/activation.h,
+  /// docs/activation.md); the same on every robot of the swarm. FSYNC (the
+  /// default): all. An epoch this robot is inactive in: no newRound and no
+  /// endOfRound, the drive command STOP, the global state and payload kept;
+  /// the synchronizer steps and beacons as ever.
+  sync::ActivationConfig activation{};
 };
 
 /// Why a robot could not be set up.
@@ -134,6 +143,7 @@ struct RobotCounters {
   uint32_t beacons_overflow = 0;   ///< more than a round's storage (or inbox) holds
   uint32_t beacons_stepped = 0;    ///< handed to the synchronizer's steps
   uint32_t new_rounds = 0;         ///< newRound calls
+  uint32_t inactive_epochs = 0;    ///< epochs started that the activation schedule left this robot out of
   uint32_t end_of_rounds = 0;      ///< endOfRound calls
   uint32_t payloads_refused = 0;   ///< sendMessageData calls over the limit
   uint32_t invalid_commands = 0;   ///< newRound commands CheckCommand refused (replaced by STOP)

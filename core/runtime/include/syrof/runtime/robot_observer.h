@@ -37,7 +37,9 @@ namespace syrof::runtime {
 ///     except its const accessors.
 class RobotObserver {
  public:
-  /// An epoch started with `ldmap` (what newRound received).
+  /// An epoch started with `ldmap` (what newRound received). Also called
+  /// when the activation schedule leaves the robot out of the epoch (SSYNC:
+  /// no newRound then; sync::IsActive on `ldmap` tells which).
   virtual void OnEpochStart(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap) = 0;
   /// The failure detector removed, or the membership added, these robots.
   virtual void OnMembership(uint16_t robot, int64_t now_ns, const wire::MemberSet& removed,

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "syrof/lab/metrics/metrics.h"
+#include "syrof/sync/activation.h"
 #include "syrof/sync/ldmap.h"
 #include "syrof/wire/beacon.h"
 #include "syrof/wire/member_set.h"
@@ -63,6 +64,10 @@ struct CollectorConfig {
   /// F: a robot paused for F or more rounds restarts as a joiner, so it can
   /// no longer start the epoch after the one it was paused in.
   uint16_t silence_rounds = 6;
+  /// The robots' activation schedule: under SSYNC each start is counted
+  /// active or inactive (ActivationMetrics). Its script must outlive the
+  /// collector.
+  sync::ActivationConfig activation{};
 };
 
 /// Round phase: robots are aligned when every pair's boundaries are within
@@ -272,6 +277,12 @@ class Collector {
   int64_t interventions_ = 0;
   std::vector<int64_t> robot_interventions_;  // by robot id
   std::vector<int64_t> robot_starts_;         // by robot id
+  // Under SSYNC: starts counted active and inactive, each robot's current
+  // run of inactive starts, and the longest run seen.
+  int64_t active_starts_ = 0;
+  int64_t inactive_starts_ = 0;
+  std::vector<int64_t> inactive_run_;         // by robot id
+  int64_t longest_inactive_run_ = 0;
   std::vector<int64_t> robot_cooperative_starts_;  // by robot id
   std::vector<SafetyIntervention> first_interventions_;
   int64_t join_waits_ = 0;

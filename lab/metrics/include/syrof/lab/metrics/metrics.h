@@ -76,6 +76,20 @@ struct Disagreement {
   uint8_t reference_state = 0;
 };
 
+/// The activation schedule under SSYNC (docs/activation.md), counted over
+/// robot-epoch starts: the schedule decides from each start's map
+/// (sync::IsActive), as the robot did.
+struct ActivationMetrics {
+  std::string model;      ///< "ssync"
+  std::string schedule;   ///< "random", "round_robin" or "scripted"
+  std::optional<int64_t> fair_within;  ///< the random schedule's bound; unset for the others
+  int64_t active_starts = 0;    ///< robot-epoch starts the robot was active in (newRound called)
+  int64_t inactive_starts = 0;  ///< robot-epoch starts the schedule left the robot out of
+  /// The smallest bound the run met: 1 + the most consecutive epoch starts
+  /// any robot was left out of (1: every start active).
+  int64_t fair_within_achieved = 1;
+};
+
 /// App-level agreement over COOPERATIVE epochs (AgreementTracker).
 struct AgreementMetrics {
   int64_t cooperative_epochs = 0;          ///< epochs with at least one COOPERATIVE call reported
@@ -316,6 +330,7 @@ struct Metrics {
   int64_t epochs_started = 0;  ///< distinct epochs (docs/metrics.md)
   int64_t epoch_starts = 0;    ///< robot-epoch starts
   GoalResult goal;
+  std::optional<ActivationMetrics> activation;  ///< only under SSYNC; the file has no `activation` key otherwise
   SynchronyMetrics synchrony;
   RoundPhaseMetrics round_phase;
   CommonKnowledgeMetrics common_knowledge;

@@ -21,6 +21,7 @@
 #include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/lab/world/arena.h"
 #include "syrof/lab/world/channel.h"
+#include "syrof/sync/activation.h"
 
 namespace syrof::lab::scenario {
 
@@ -92,6 +93,28 @@ struct FaultSpec {
   double until_s = 0;  ///< pause, deaf and mute only; > at_s
 };
 
+/// `activation:` (docs/activation.md): which robots look, compute and move
+/// in each epoch. Every robot's sync::ActivationConfig is this with the
+/// scenario's seed.
+struct ActivationSpec {
+  sync::ActivationModel model = sync::ActivationModel::kFsync;
+  sync::ActivationSchedule schedule = sync::ActivationSchedule::kRandom;  ///< ssync only
+  /// Random schedule: every robot active at least once in any this many
+  /// consecutive epochs; 1 .. the run's epochs (RunEpochs).
+  uint16_t fair_within = 3;
+  /// Scripted schedule: (epoch, robot) pairs, sorted, each epoch listed
+  /// naming at least one robot; the epochs not listed activate every member.
+  std::vector<sync::ScriptedActivation> script;
+};
+
+/// fair_within when the file gives none (or the run's epochs, if fewer).
+inline constexpr int64_t kDefaultFairWithinEpochs = 3;
+
+/// The most epochs a run of `timing` can hold (an epoch lasts at least its
+/// maneuver): floor(duration_s / app_round_s), at least 1. Bounds
+/// activation.fair_within and the scripted schedule's epochs.
+int64_t RunEpochs(const TimingSpec& timing);
+
 /// The app every robot runs: a built-in app ("builtin:NAME", with its
 /// parameters) or a student's shared library (run by the app host, one
 /// sandboxed process per robot).
@@ -134,6 +157,7 @@ struct Scenario {
   world::ChannelSpec channel;
   ClockSpec clocks;
   std::vector<FaultSpec> faults;      ///< sorted by at_s, then robot
+  ActivationSpec activation;          ///< FSYNC unless the file says otherwise
   AppSpec app;
   /// `inputs:`: each robot's private values by name (docs/scenarios.md,
   /// "Private inputs"), one per robot in id order, listed in the file or

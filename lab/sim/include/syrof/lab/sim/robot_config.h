@@ -56,11 +56,17 @@ motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world:
 /// kind); the arena's walls.
 motion::SafetyConfig SafetyConfigFor(const scenario::Scenario& scenario);
 
+/// Every robot's activation schedule (docs/activation.md): the scenario's
+/// `activation` with its seed. The script is a view into `scenario`, which
+/// must outlive the config.
+sync::ActivationConfig ActivationConfigFor(const scenario::Scenario& scenario);
+
 /// Robot `robot`'s start-up config in `scenario` (a resolved, validated
 /// scenario; `robot` one of its robots): the synchronizer's swarm, K, F and
 /// initial members; the radio round and maneuver length; the estimator's
 /// arena and noise (with the floors above); the known start pose (with the
-/// sigmas above); its kind's motion limits; the arena size. The queries
+/// sigmas above); its kind's motion limits; the arena size; the activation
+/// schedule (a view into `scenario`, which must outlive it). The queries
 /// workspace is left null: the caller owns one and sets it.
 runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const scenario::RobotSpec& robot);
 
