@@ -404,5 +404,44 @@ TEST(MetricsJson, EveryFieldIsDocumented) {
   }
 }
 
+// Under SSYNC each start is counted active or inactive by the robots' own
+// schedule; round-robin over two members alternates them.
+TEST(MetricsJson, SsyncCountsActivationsAndDocumentsThem) {
+  CollectorConfig config{2, 50'000'000};
+  config.activation.model = sync::ActivationModel::kSsync;
+  config.activation.schedule = sync::ActivationSchedule::kRoundRobin;
+  Collector collector(config);
+  sync::LDMap map;
+  map.mode = Mode::kCooperative;
+  map.members.set(0);
+  map.members.set(1);
+  for (uint16_t epoch = 1; epoch <= 4; ++epoch) {
+    map.epoch = epoch;
+    collector.OnEpochStart(0, 20 * epoch, map);
+    collector.OnEpochStart(1, 20 * epoch, map);
+  }
+
+  const Metrics metrics = collector.Finish(Facts());
+
+  ASSERT_TRUE(metrics.activation.has_value());
+  EXPECT_EQ(metrics.activation->schedule, "round_robin");
+  EXPECT_EQ(metrics.activation->active_starts, 4);
+  EXPECT_EQ(metrics.activation->inactive_starts, 4);
+  EXPECT_EQ(metrics.activation->fair_within_achieved, 2);
+  const Json json = Parse(ToJson(metrics));
+  EXPECT_TRUE(json.at("activation").at("fair_within").is_null());
+  std::ifstream file(SYROF_METRICS_DOC);
+  std::stringstream document;
+  document << file.rdbuf();
+  for (const auto& item : json.at("activation").items()) {
+    EXPECT_NE(document.str().find("`activation." + item.key() + "`"), std::string::npos) << item.key();
+  }
+}
+
+TEST(MetricsJson, FsyncHasNoActivationSection) {
+  const Json json = Parse(ToJson(ObservedRun().Finish(Facts())));
+  EXPECT_FALSE(json.contains("activation"));
+}
+
 }  // namespace
 }  // namespace syrof::lab::metrics
