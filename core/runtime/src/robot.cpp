@@ -62,7 +62,9 @@ Robot::Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<w
 
 RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   if (port_ != nullptr) return RobotSetupError::kAlreadyAttached;
-  if (sync::Validate(config_.sync) != sync::ConfigError::kOk) return RobotSetupError::kInvalidSyncConfig;
+  if (sync::Validate(config_.sync) != sync::ConfigError::kOk || !sync::IsValid(config_.activation)) {
+    return RobotSetupError::kInvalidSyncConfig;
+  }
   if (config_.radio_round_ns <= 0 || config_.maneuver_rounds < config_.sync.vote_rounds ||
       config_.maneuver_rounds > kMaxManeuverRounds) {
     return RobotSetupError::kInvalidTiming;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <memory>
@@ -150,7 +151,8 @@ struct TestRobot {
 
 class Swarm {
  public:
-  explicit Swarm(std::vector<app::App*> apps, RobotObserver* observer = nullptr)
+  explicit Swarm(std::vector<app::App*> apps, RobotObserver* observer = nullptr,
+                 const sync::ActivationConfig& activation = {})
       : scheduler_(64), air_(scheduler_, "air"), delivery_(*this) {
     EXPECT_TRUE(air_.AddTask(delivery_, {"air.delivery", os::Trigger::periodic(kRoundNs, kRoundNs),
                                          registry::kRadioDeliveryPriority})
@@ -163,6 +165,7 @@ class Swarm {
       config.maneuver_rounds = 4;
       config.initial_pose.x_m = 0.5f + static_cast<float>(id);
       config.initial_pose.y_m = 0.5f;
+      config.activation = activation;
       robots_.push_back(std::make_unique<TestRobot>(scheduler_, config, *apps[id], *this));
     }
     for (auto& robot : robots_) {
@@ -285,6 +288,33 @@ TEST(RobotTest, EndOfRoundFollowsEachManeuverAndGlobalStateThreads) {
   // The maneuver lasts maneuver_rounds: consecutive newRound calls are at
   // least that far apart, plus WAIT and K vote rounds.
   for (size_t i = 1; i < a.clocks.size(); ++i) EXPECT_GE(a.clocks[i] - a.clocks[i - 1], 200u + 3 * 50u);
+}
+
+TEST(RobotTest, UnderRoundRobinOneRobotAnEpochGetsNewRoundAndEndOfRound) {
+  RecordingApp a, b, c;
+  sync::ActivationConfig activation;
+  activation.model = sync::ActivationModel::kSsync;
+  activation.schedule = sync::ActivationSchedule::kRoundRobin;
+  Swarm swarm({&a, &b, &c}, nullptr, activation);
+
+  swarm.RunFor(4'000'000'000);
+
+  std::vector<uint16_t> all;
+  for (const RecordingApp* app : {&a, &b, &c}) {
+    // endOfRound only after its own newRound (the last maneuver may still run).
+    ASSERT_LE(app->end_epochs.size(), app->epochs.size());
+    for (size_t i = 0; i < app->end_epochs.size(); ++i) EXPECT_EQ(app->end_epochs[i], app->epochs[i]);
+    all.insert(all.end(), app->epochs.begin(), app->epochs.end());
+  }
+  std::sort(all.begin(), all.end());
+  ASSERT_GE(all.size(), 4u);
+  // Each epoch went to exactly one robot: the member at epoch mod 3.
+  for (size_t i = 1; i < all.size(); ++i) EXPECT_EQ(all[i], all[i - 1] + 1);
+  for (const uint16_t epoch : a.epochs) EXPECT_EQ(epoch % 3, 0);
+  for (const uint16_t epoch : b.epochs) EXPECT_EQ(epoch % 3, 1);
+  uint32_t inactive = 0;
+  for (uint16_t id = 0; id < 3; ++id) inactive += swarm.robot(id).counters().inactive_epochs;
+  EXPECT_EQ(inactive, 2 * all.size());
 }
 
 TEST(RobotTest, CommandGoesToTheControllerAndStopsWhenTheManeuverEnds) {

@@ -123,7 +123,7 @@ struct RobotConfig {
 /// Why a robot could not be set up.
 enum class [[nodiscard]] RobotSetupError : uint8_t {
   kOk = 0,
-  kInvalidSyncConfig,   ///< sync::Validate refused the config
+  kInvalidSyncConfig,   ///< sync::Validate refused the config, or sync::IsValid the activation
   kInvalidTiming,       ///< radio_round_ns <= 0, or maneuver_rounds < K or above kMaxManeuverRounds
   kEstimatorFailed,     ///< the estimator could not attach (sensor topics missing?)
   kAddTaskFailed,       ///< the port refused a task
