@@ -66,6 +66,30 @@ bool Chosen(const ActivationConfig& config, uint16_t epoch, const wire::MemberSe
   return true;
 }
 
+// Whether the schedule's own choice holds at least one of `members` (not
+// empty). Linear in the members at most, so a swarm's decisions for one
+// epoch stay quadratic, not cubic.
+bool ChoiceHoldsAMember(const ActivationConfig& config, uint16_t epoch, const wire::MemberSet& members) {
+  switch (config.schedule) {
+    case ActivationSchedule::kRandom:
+      for (const uint16_t member : members) {
+        if (Chosen(config, epoch, members, member)) return true;
+      }
+      return false;
+    case ActivationSchedule::kRoundRobin:
+      return true;  // always one of the members
+    case ActivationSchedule::kScripted: {
+      size_t first = 0;
+      if (!ScriptListsEpoch(config.script, epoch, first)) return true;  // every member
+      for (size_t i = first; i < config.script.size() && config.script[i].epoch == epoch; ++i) {
+        if (config.script[i].robot < wire::MemberSet::kCapacity && members.test(config.script[i].robot)) return true;
+      }
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 const char* ToString(ActivationModel model) {
@@ -100,9 +124,7 @@ bool IsActive(const ActivationConfig& config, uint16_t epoch, const wire::Member
   if (config.model == ActivationModel::kFsync) return true;
   if (Chosen(config, epoch, members, robot)) return true;
   // Only when the schedule chose no member at all does the fallback apply.
-  for (const uint16_t member : members) {
-    if (Chosen(config, epoch, members, member)) return false;
-  }
+  if (ChoiceHoldsAMember(config, epoch, members)) return false;
   const uint32_t position = static_cast<uint32_t>(Mix(config.seed, kFallbackPurpose, epoch, 0) % members.count());
   return MemberAt(members, position) == robot;
 }
