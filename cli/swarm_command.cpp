@@ -51,13 +51,16 @@ CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
   swarm->add_flag("--realtime-start", options.realtime_start,
                   "Robots read the start on CLOCK_REALTIME (robots on several hosts whose clocks are kept in sync)");
   swarm->add_option("--stress", options.stress_seed,
-                    "Seeded stress: SIGSTOP bursts of 10-200 ms to robots and the world; a failing run reruns from its seed (docs/dds.md)")
+                    "Seeded stress: SIGSTOP bursts of 10-200 ms to robots and the world, late beacons and readings; a failing run reruns from its seed (docs/dds.md)")
       ->check(CLI::Range(uint64_t{1}, std::numeric_limits<uint64_t>::max()));
   swarm->add_option("--stress-rate", options.stress_rate, "With --stress: bursts a second over the swarm (default 4)")
       ->check(CLI::Range(0.0, 100.0));
   swarm->add_option("--stress-cpu-quota", options.stress_cpu_quota,
                     "With --stress: the robot processes together get this many per mille of one core (a cgroup; root)")
       ->check(CLI::Range(1, 1000));
+  swarm->add_option("--stress-late", options.stress_late,
+                    "With --stress: this fraction of beacons and sensor readings reach their robot 10-200 ms late (default 0.05)")
+      ->check(CLI::Range(0.0, 1.0));
   swarm->add_flag("--quiet", options.quiet, "No progress line, no summary");
   lab::live::SetupLiveOptions(*swarm, options.live);
   swarm->footer(
@@ -99,6 +102,7 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
   swarm.stress.seed = options.stress_seed;
   swarm.stress.stalls_per_second = options.stress_rate;
   swarm.stress.cpu_quota_permille = options.stress_cpu_quota;
+  swarm.stress.delayed_fraction = options.stress_late;
   g_swarm_stop.store(false);
   swarm.stop = &g_swarm_stop;
   struct sigaction action {};
@@ -144,8 +148,11 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
     return result.exit_code == 2 ? kBadInput : kInternalError;
   }
   if (result.stress_seed != 0 && result.metrics.common_knowledge.violations > 0) {
-    fmt::print(err, "syrof swarm: P3 violated under stress seed {} ({} stalls): rerun with --stress {}\n",
-               result.stress_seed, result.stalls, result.stress_seed);
+    fmt::print(err, "syrof swarm: P3 violated under stress seed {} ({} stalls): rerun with --stress {} --stress-rate {:g} "
+               "--stress-late {:g}{}{}\n",
+               result.stress_seed, result.stalls, result.stress_seed, options.stress_rate, options.stress_late,
+               options.stress_cpu_quota > 0 ? fmt::format(" --stress-cpu-quota {}", options.stress_cpu_quota) : "",
+               options.align_rounds ? " --align-rounds" : "");
   }
   if (!options.quiet) {
     const lab::metrics::Metrics& metrics = result.metrics;
@@ -166,8 +173,9 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
     }
   }
   if (!options.quiet && result.stress_seed != 0) {
-    fmt::print(out, "  {:<17} seed {}: {} SIGSTOP bursts{} (rerun: --stress {})\n", "stress", result.stress_seed,
+    fmt::print(out, "  {:<17} seed {}: {} SIGSTOP bursts{}{} (rerun: --stress {})\n", "stress", result.stress_seed,
                result.stalls,
+               options.stress_late > 0 ? fmt::format(", {:g}% of beacons and readings 10-200 ms late", 100 * options.stress_late) : "",
                options.stress_cpu_quota > 0 ? fmt::format(", robots at {} per mille of a core", options.stress_cpu_quota) : "",
                result.stress_seed);
   }

@@ -31,6 +31,7 @@ struct SwarmOptions {
   uint64_t stress_seed = 0;           ///< --stress SEED: seeded SIGSTOP bursts (docs/dds.md, "Stress")
   uint32_t stress_cpu_quota = 0;      ///< --stress-cpu-quota PERMILLE of one core for the robots
   double stress_rate = 4;             ///< --stress-rate: bursts a second
+  double stress_late = 0.05;          ///< --stress-late: the fraction of beacons and readings delivered late
   lab::live::LiveCommandOptions live;  ///< the live page while the swarm runs
 };
 

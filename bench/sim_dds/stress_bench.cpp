@@ -1,18 +1,20 @@
 // P3 of a DDS swarm under seeded stress (docs/dds.md, "Stress"): the
 // crash, pause, late join and 10 % loss of tests/sim_dds/scenarios/
 // swarm_stress.yaml, on the world's grid and aligning from beacons, each run
-// with its own stress seed (SIGSTOP bursts of robots and the world, and
-// optionally the robots under one CPU quota), then the same runs unstressed
+// with its own stress seed (SIGSTOP bursts of robots and the world, late
+// beacons and readings, and optionally the robots under one CPU quota),
+// then the same runs unstressed
 // for the COOPERATIVE fraction beside them.
 //
-// Usage: bench_sim_dds_stress [--runs N] [--first-seed S] [--rate R]
+// Usage: bench_sim_dds_stress [--runs N] [--first-seed S] [--rate R] [--late F]
 //          [--cpu-quota PERMILLE] [--grid-only | --align-only] [--unstressed N]
 //          [--keep-failures DIR] [--scenario FILE]
 // Run i (0 .. N-1) uses stress seed S + i and alternates the round mode
 // (even: the world's grid, odd: aligning) unless one mode is asked for. A
 // run with a P3 violation prints its seed and the command that reruns it,
 // keeps its metrics and replay under DIR (default /tmp), and makes the exit
-// status 1. Defaults: 20 runs from seed 1, 4 bursts a second, no quota,
+// status 1. Defaults: 20 runs from seed 1, 4 bursts a second, 5 % of the
+// samples late (lab/sim/stress.h's defaults), no quota,
 // 4 unstressed runs. syrof-robot is found as bench_sim_dds_swarm finds it.
 #include <unistd.h>
 
@@ -50,6 +52,7 @@ int main(int argc, char** argv) {
   int unstressed = 4;
   uint64_t first_seed = 1;
   double rate = 4;
+  double late = syrof::lab::sim::StressOptions{}.delayed_fraction;
   uint32_t quota = 0;
   int only = -1;  // -1 both, 0 grid, 1 align
   std::string keep = std::filesystem::temp_directory_path().string();
@@ -63,6 +66,8 @@ int main(int argc, char** argv) {
       first_seed = std::strtoull(argv[++i], nullptr, 10);
     } else if (arg == "--rate" && has_value) {
       rate = std::atof(argv[++i]);
+    } else if (arg == "--late" && has_value) {
+      late = std::atof(argv[++i]);
     } else if (arg == "--cpu-quota" && has_value) {
       quota = static_cast<uint32_t>(std::atoi(argv[++i]));
     } else if (arg == "--unstressed" && has_value) {
@@ -77,7 +82,7 @@ int main(int argc, char** argv) {
       only = 1;
     } else {
       std::fprintf(stderr,
-                   "usage: bench_sim_dds_stress [--runs N] [--first-seed S] [--rate R] [--cpu-quota PERMILLE]\n"
+                   "usage: bench_sim_dds_stress [--runs N] [--first-seed S] [--rate R] [--late F] [--cpu-quota PERMILLE]\n"
                    "         [--grid-only | --align-only] [--unstressed N] [--keep-failures DIR] [--scenario FILE]\n");
       return 2;
     }
@@ -102,6 +107,7 @@ int main(int argc, char** argv) {
       options.stress.seed = seed;
       options.stress.stalls_per_second = rate;
       options.stress.cpu_quota_permille = quota;
+      options.stress.delayed_fraction = late;
     }
     std::ostringstream log;
     const syrof::sim_dds::SwarmResult result = syrof::sim_dds::RunSwarm(options, log);
@@ -129,8 +135,8 @@ int main(int argc, char** argv) {
       std::error_code error;
       std::filesystem::remove_all(kept, error);
       std::filesystem::rename(options.out_dir, kept, error);
-      std::printf("  stress seed %llu failed: rerun with  build/bin/syrof swarm %s --stress %llu --stress-rate %g%s%s --out %s\n",
-                  static_cast<unsigned long long>(seed), scenario.c_str(), static_cast<unsigned long long>(seed), rate,
+      std::printf("  stress seed %llu failed: rerun with  build/bin/syrof swarm %s --stress %llu --stress-rate %g --stress-late %g%s%s --out %s\n",
+                  static_cast<unsigned long long>(seed), scenario.c_str(), static_cast<unsigned long long>(seed), rate, late,
                   quota > 0 ? (" --stress-cpu-quota " + std::to_string(quota)).c_str() : "", align ? " --align-rounds" : "",
                   kept.c_str());
       std::printf("%s", log.str().c_str());
@@ -150,5 +156,6 @@ int main(int argc, char** argv) {
   PrintTally("stressed, aligning", stressed[1]);
   PrintTally("unstressed, the world's grid", calm[0]);
   PrintTally("unstressed, aligning", calm[1]);
+  if (getloadavg(load, 3) == 3) std::printf("load average at the end %.2f %.2f %.2f\n", load[0], load[1], load[2]);
   return any_failure ? 1 : 0;
 }

@@ -1,5 +1,6 @@
 #include "syrof/sim_dds/beacon_radio.h"
 
+#include <chrono>
 #include <string>
 #include <utility>
 
@@ -16,13 +17,18 @@ static_assert(wire::EncodedSize(kMaxDdsSwarm) <= syrof_msg_dds__BEACON_MAX_BYTES
 // Samples taken per dds_take call (loaned, so no copies).
 constexpr int32_t kTakeBatch = 16;
 
+int64_t SteadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
 }  // namespace
 
 BeaconRadio::BeaconRadio(const Participant& participant, BeaconRadioOptions options)
     : participant_(&participant),
       options_(std::move(options)),
       send_bytes_(wire::EncodedSize(options_.swarm_size)),
-      filter_(options_.self, options_.swarm_size),
+      filter_(options_.self, options_.swarm_size, options_.run_id),
       channel_(options_.channel, options_.swarm_size, options_.seed),
       offsets_(options_.swarm_size) {}
 
@@ -76,6 +82,7 @@ std::optional<Error> BeaconRadio::StartReceiving(BeaconSink sink) {
   dds_qset_ignorelocal(qos.mutable_get(), DDS_IGNORELOCAL_PARTICIPANT);
   dds_listener_t* listener = dds_create_listener(this);
   dds_lset_data_available(listener, &BeaconRadio::OnDataAvailable);
+  if (options_.hold_ns) holder_ = std::thread([this] { ReleaseHeld(); });
   const dds_entity_t reader = dds_create_reader(participant_->handle(), topic.entity, qos.get(), listener);
   dds_delete_listener(listener);
   if (reader < 0) return DdsError(name, "dds_create_reader", reader);
@@ -89,8 +96,17 @@ std::optional<Error> BeaconRadio::StartReceiving(runtime::Robot& robot) {
 }
 
 BeaconRadio::~BeaconRadio() {
-  // dds_delete waits for a listener call in progress before it returns.
+  // dds_delete waits for a listener call in progress before it returns;
+  // then nothing more is held, and what is held never arrives.
   if (reader_ > 0) dds_delete(reader_);
+  if (holder_.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(held_mutex_);
+      stop_holding_ = true;
+    }
+    held_changed_.notify_all();
+    holder_.join();
+  }
   if (writer_ > 0) dds_delete(writer_);
 }
 
@@ -104,6 +120,7 @@ void BeaconRadio::Broadcast(const wire::Beacon& beacon) {
   syrof_msg_dds__Beacon_ sample{};
   sample.sender = options_.self;
   sample.round = static_cast<uint32_t>(round);
+  sample.run_id = options_.run_id;
   sample.wire._maximum = static_cast<uint32_t>(encoded.value());
   sample.wire._length = static_cast<uint32_t>(encoded.value());
   sample.wire._buffer = send_bytes_.data();
@@ -122,36 +139,77 @@ void BeaconRadio::TakeAll(dds_entity_t reader) {
     samples[0] = nullptr;  // loan
     const dds_return_t taken = dds_take(reader, samples, infos, kTakeBatch, kTakeBatch);
     if (taken <= 0) return;
-    const int64_t current_round = options_.current_round();
-    const int64_t expected_round = ExpectedRound();
     for (int32_t i = 0; i < taken; ++i) {
       if (!infos[i].valid_data) continue;
       received_.fetch_add(1, std::memory_order_relaxed);
       const auto* sample = static_cast<const syrof_msg_dds__Beacon_*>(samples[i]);
+      // Another run's robot on this domain: not of this swarm at all.
+      if (filter_.CheckRun(sample->run_id) != SampleVerdict::kAccepted) continue;
       const std::span<const uint8_t> bytes(sample->wire._buffer, sample->wire._length);
-      wire::Beacon beacon;
-      const SampleVerdict verdict = filter_.Check(sample->sender, sample->round, bytes, current_round, beacon);
-      // A well-formed sample from another robot, in or out of the window:
-      // its sender's count against this robot's.
-      if ((verdict == SampleVerdict::kAccepted || verdict == SampleVerdict::kRoundOutOfWindow) && expected_round >= 0) {
-        offsets_[sample->sender] = SenderRoundOffset{expected_round, static_cast<int64_t>(sample->round) - expected_round};
-      }
-      if (verdict != SampleVerdict::kAccepted) continue;
-      if (static_cast<int64_t>(sample->round) == expected_round) {
-        HeardRound& heard = heard_[static_cast<size_t>(expected_round) % kHeardRounds];
-        if (heard.round != expected_round) heard = HeardRound{expected_round, {}};
-        heard.senders.set(sample->sender);
-      }
-      const double sent_at_s = static_cast<double>(static_cast<int64_t>(sample->round) * options_.radio_round_ns) * 1e-9;
-      if (!channel_.Delivers(sample->sender, options_.self, sample->round, sent_at_s)) {
-        lost_.fetch_add(1, std::memory_order_relaxed);
+      const int64_t hold_ns = options_.hold_ns ? options_.hold_ns(sample->sender, sample->round) : 0;
+      if (hold_ns > 0) {
+        held_count_.fetch_add(1, std::memory_order_relaxed);
+        {
+          std::lock_guard<std::mutex> held_lock(held_mutex_);
+          held_.emplace(SteadyNowNs() + hold_ns,
+                        HeldSample{sample->sender, sample->round, std::vector<uint8_t>(bytes.begin(), bytes.end())});
+        }
+        held_changed_.notify_one();
         continue;
       }
-      sink_(bytes, sample->sender, sample->round);
-      delivered_.fetch_add(1, std::memory_order_release);  // after the sink: a reader of the count sees its effects
+      Arrive(sample->sender, sample->round, bytes);
     }
     dds_return_loan(reader, samples, taken);
     if (taken < kTakeBatch) return;
+  }
+}
+
+void BeaconRadio::Arrive(uint16_t sender, uint32_t round, std::span<const uint8_t> bytes) {
+  const int64_t current_round = options_.current_round();
+  const int64_t expected_round = ExpectedRound();
+  wire::Beacon beacon;
+  const SampleVerdict verdict = filter_.Check(sender, round, bytes, current_round, beacon);
+  // A well-formed sample from another robot, in or out of the window:
+  // its sender's count against this robot's.
+  if ((verdict == SampleVerdict::kAccepted || verdict == SampleVerdict::kRoundOutOfWindow) && expected_round >= 0) {
+    offsets_[sender] = SenderRoundOffset{expected_round, static_cast<int64_t>(round) - expected_round};
+  }
+  if (verdict != SampleVerdict::kAccepted) return;
+  if (static_cast<int64_t>(round) == expected_round) {
+    HeardRound& heard = heard_[static_cast<size_t>(expected_round) % kHeardRounds];
+    if (heard.round != expected_round) heard = HeardRound{expected_round, {}};
+    heard.senders.set(sender);
+  }
+  const double sent_at_s = static_cast<double>(static_cast<int64_t>(round) * options_.radio_round_ns) * 1e-9;
+  if (!channel_.Delivers(sender, options_.self, round, sent_at_s)) {
+    lost_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  sink_(bytes, sender, round);
+  delivered_.fetch_add(1, std::memory_order_release);  // after the sink: a reader of the count sees its effects
+}
+
+void BeaconRadio::ReleaseHeld() {
+  std::unique_lock<std::mutex> held_lock(held_mutex_);
+  for (;;) {
+    if (stop_holding_) return;
+    if (held_.empty()) {
+      held_changed_.wait(held_lock);
+      continue;
+    }
+    const int64_t due_ns = held_.begin()->first;
+    if (SteadyNowNs() < due_ns) {
+      held_changed_.wait_until(held_lock, std::chrono::steady_clock::time_point(std::chrono::nanoseconds(due_ns)));
+      continue;
+    }
+    HeldSample sample = std::move(held_.begin()->second);
+    held_.erase(held_.begin());
+    held_lock.unlock();
+    {
+      std::lock_guard<std::mutex> lock(receive_mutex_);
+      Arrive(sample.sender, sample.round, sample.bytes);
+    }
+    held_lock.lock();
   }
 }
 
@@ -186,6 +244,7 @@ BeaconRadioCounters BeaconRadio::counters() const {
   return BeaconRadioCounters{.sent = sent_.load(std::memory_order_relaxed),
                              .send_failed = send_failed_.load(std::memory_order_relaxed),
                              .received = received_.load(std::memory_order_relaxed),
+                             .held = held_count_.load(std::memory_order_relaxed),
                              .rejected = filter_.counters().rejected(),
                              .lost = lost_.load(std::memory_order_relaxed),
                              .delivered = delivered_.load(std::memory_order_acquire)};

@@ -355,6 +355,7 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
   robot_options_.realtime = options.realtime;
   robot_options_.align_rounds = options.align_rounds;
   robot_options_.realtime_start = options.realtime_start;
+  robot_options_.stress = options.stress;  // the late samples are the robots' to play (RadioOptionsFor, WorldLink)
 }
 
 bool DdsWorld::Fail(int code, std::string why) {
@@ -539,6 +540,10 @@ bool DdsWorld::StartStress() {
   log_ << "syrof swarm: stress seed " << options_.stress.seed << ": " << stalls_.size() << " SIGSTOP bursts of "
        << options_.stress.min_stall_ms << "-" << options_.stress.max_stall_ms << " ms (" << world_stalls.size()
        << " of the world)";
+  if (options_.stress.delayed_fraction > 0) {
+    log_ << ", " << options_.stress.delayed_fraction * 100 << " % of beacons and readings "
+         << options_.stress.min_delay_ms << "-" << options_.stress.max_delay_ms << " ms late";
+  }
   if (quota_) log_ << ", robots' CPU quota " << options_.stress.cpu_quota_permille << " per mille of a core";
   log_ << "\n";
   result_.stalls += static_cast<int64_t>(world_stalls.size());

@@ -16,6 +16,8 @@
 #include <mutex>
 #include <new>
 #include <thread>
+#include <type_traits>
+#include <variant>
 
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/estimation/topics.h"
@@ -303,6 +305,7 @@ BeaconRadioOptions RadioOptionsFor(const lab::scenario::Scenario& scenario, cons
                                    const runtime::RobotConfig& config, const RoundTap& tap) {
   BeaconRadioOptions radio_options;
   radio_options.self = options.robot;
+  radio_options.run_id = options.run_id;  // another run on this domain is not this swarm
   radio_options.swarm_size = static_cast<uint16_t>(scenario.robots.size());
   radio_options.channel = scenario.channel;
   // The lab's channel seed: the same loss in both runtimes.
@@ -310,6 +313,12 @@ BeaconRadioOptions RadioOptionsFor(const lab::scenario::Scenario& scenario, cons
   radio_options.radio_round_ns = config.radio_round_ns;
   radio_options.current_round = [&tap] { return tap.CurrentRound(); };
   if (config.align_rounds) radio_options.expected_round = [&tap] { return tap.ExpectedRound(); };
+  // The stress's late beacons: held by this receiver, per link (SampleDelayNs).
+  if (options.stress.on() && options.stress.delayed_fraction > 0) {
+    radio_options.hold_ns = [stress = options.stress, self = options.robot](uint16_t sender, uint32_t round) {
+      return lab::sim::SampleDelayNs(stress, lab::sim::DelayedStream::kBeacon, sender, self, round);
+    };
+  }
   return radio_options;
 }
 
@@ -333,6 +342,13 @@ class WorldLink {
   void WriteStatus();
   void TakeControl();
   void TakeSensors(int64_t now);
+  void OnImu(const syrof_msg_dds__Imu_& s, int64_t now);
+  void OnFlow(const syrof_msg_dds__Flow_& s, int64_t now);
+  void OnUwb(const syrof_msg_dds__Uwb_& s, int64_t now);
+  // Holds a reading the stress makes late (SampleDelayNs) until its due
+  // instant on the port's clock; false when it is not late.
+  template <typename Sample>
+  bool Hold(const Sample& s, lab::sim::DelayedStream stream, int64_t now);
   void PassEstimateAndDrive();
   bool WorldLost(int64_t now);
 
@@ -354,6 +370,8 @@ class WorldLink {
   bool world_seen_ = false;
   int64_t world_missing_since_ = -1;
   int exit_code_ = 0;
+  // Readings the stress holds, by the port time they arrive (a late network delivery).
+  std::multimap<int64_t, std::variant<syrof_msg_dds__Imu_, syrof_msg_dds__Flow_, syrof_msg_dds__Uwb_>> held_;
 };
 
 int WorldLink::Run(const Participant& participant) {
@@ -430,29 +448,62 @@ void WorldLink::TakeControl() {
 }
 
 // The sensor samples for this robot, once started, published on its broker
-// stamped with the port's clock `now`.
+// stamped with the port's clock `now`; then the held ones now due, stamped
+// with the instant they arrive, as a late network delivers them.
 void WorldLink::TakeSensors(int64_t now) {
   TakeSamples<syrof_msg_dds__Imu_>(e_.imu, [&](const syrof_msg_dds__Imu_& s, const dds_sample_info_t&) {
-    if (s.robot != options_.robot || start_monotonic_ < 0) return;
-    estimation::ImuReading reading{};
-    reading.timestamp_ns = now;
-    std::memcpy(reading.accel_g, s.accel_g, sizeof reading.accel_g);
-    std::memcpy(reading.gyro_dps, s.gyro_dps, sizeof reading.gyro_dps);
-    sensors_.OnImu(reading);
+    if (!Hold(s, lab::sim::DelayedStream::kImu, now)) OnImu(s, now);
   });
   TakeSamples<syrof_msg_dds__Flow_>(e_.flow, [&](const syrof_msg_dds__Flow_& s, const dds_sample_info_t&) {
-    if (s.robot != options_.robot || start_monotonic_ < 0 || s.interval_ns == 0) return;
-    sensors_.OnFlow(estimation::FlowReading{now, s.interval_ns, s.delta_x_px, s.delta_y_px});
+    if (!Hold(s, lab::sim::DelayedStream::kFlow, now)) OnFlow(s, now);
   });
   TakeSamples<syrof_msg_dds__Uwb_>(e_.uwb, [&](const syrof_msg_dds__Uwb_& s, const dds_sample_info_t&) {
-    if (s.robot != options_.robot || start_monotonic_ < 0) return;
-    estimation::UwbReading reading{};
-    reading.timestamp_ns = now;
-    std::memcpy(reading.range_m, s.range_m, sizeof reading.range_m);
-    reading.valid_mask = s.valid_mask & ((1u << estimation::kMaxAnchors) - 1);
-    reading.sweep = s.sweep;
-    sensors_.OnUwb(reading);
+    if (!Hold(s, lab::sim::DelayedStream::kUwb, now)) OnUwb(s, now);
   });
+  while (!held_.empty() && held_.begin()->first <= now) {
+    std::visit(
+        [&](const auto& s) {
+          using Sample = std::decay_t<decltype(s)>;
+          if constexpr (std::is_same_v<Sample, syrof_msg_dds__Imu_>) OnImu(s, now);
+          if constexpr (std::is_same_v<Sample, syrof_msg_dds__Flow_>) OnFlow(s, now);
+          if constexpr (std::is_same_v<Sample, syrof_msg_dds__Uwb_>) OnUwb(s, now);
+        },
+        held_.begin()->second);
+    held_.erase(held_.begin());
+  }
+}
+
+template <typename Sample>
+bool WorldLink::Hold(const Sample& s, lab::sim::DelayedStream stream, int64_t now) {
+  if (s.robot != options_.robot || start_monotonic_ < 0) return false;
+  const int64_t hold_ns = lab::sim::SampleDelayNs(options_.stress, stream, lab::sim::kFromWorld, options_.robot, s.world_time_ns);
+  if (hold_ns <= 0) return false;
+  held_.emplace(now + hold_ns, s);
+  return true;
+}
+
+void WorldLink::OnImu(const syrof_msg_dds__Imu_& s, int64_t now) {
+  if (s.robot != options_.robot || start_monotonic_ < 0) return;
+  estimation::ImuReading reading{};
+  reading.timestamp_ns = now;
+  std::memcpy(reading.accel_g, s.accel_g, sizeof reading.accel_g);
+  std::memcpy(reading.gyro_dps, s.gyro_dps, sizeof reading.gyro_dps);
+  sensors_.OnImu(reading);
+}
+
+void WorldLink::OnFlow(const syrof_msg_dds__Flow_& s, int64_t now) {
+  if (s.robot != options_.robot || start_monotonic_ < 0 || s.interval_ns == 0) return;
+  sensors_.OnFlow(estimation::FlowReading{now, s.interval_ns, s.delta_x_px, s.delta_y_px});
+}
+
+void WorldLink::OnUwb(const syrof_msg_dds__Uwb_& s, int64_t now) {
+  if (s.robot != options_.robot || start_monotonic_ < 0) return;
+  estimation::UwbReading reading{};
+  reading.timestamp_ns = now;
+  std::memcpy(reading.range_m, s.range_m, sizeof reading.range_m);
+  reading.valid_mask = s.valid_mask & ((1u << estimation::kMaxAnchors) - 1);
+  reading.sweep = s.sweep;
+  sensors_.OnUwb(reading);
 }
 
 // The newest estimate to the round tap; the newest drive command to the
@@ -506,6 +557,11 @@ std::vector<std::string> RobotArguments(const RobotProcessOptions& o) {
   if (o.align_rounds) a.insert(a.end(), {"--align-rounds", "1"});
   if (o.realtime_start) a.insert(a.end(), {"--realtime-start", "1"});
   if (o.clock_offset_us != 0) a.insert(a.end(), {"--clock-offset-us", std::to_string(o.clock_offset_us)});
+  if (o.stress.on() && o.stress.delayed_fraction > 0) {
+    a.insert(a.end(), {"--late-seed", std::to_string(o.stress.seed), "--late-fraction",
+                       fmt_double(o.stress.delayed_fraction), "--late-min-ms", std::to_string(o.stress.min_delay_ms),
+                       "--late-max-ms", std::to_string(o.stress.max_delay_ms)});
+  }
   return a;
 }
 
@@ -565,6 +621,17 @@ ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& argumen
         if (used != value.size() || o.clock_offset_us < -kMaxClockOffsetUs || o.clock_offset_us > kMaxClockOffsetUs) {
           throw std::out_of_range(name);
         }
+      } else if (name == "--late-seed") {
+        o.stress.seed = whole(UINT64_MAX);
+      } else if (name == "--late-fraction") {
+        o.stress.delayed_fraction = std::stod(value, &used);
+        if (used != value.size() || !(o.stress.delayed_fraction >= 0 && o.stress.delayed_fraction <= 1)) {
+          throw std::out_of_range(name);
+        }
+      } else if (name == "--late-min-ms") {
+        o.stress.min_delay_ms = static_cast<int64_t>(whole(10'000));
+      } else if (name == "--late-max-ms") {
+        o.stress.max_delay_ms = static_cast<int64_t>(whole(10'000));
       } else {
         parsed.error = "unknown argument " + name;
         return parsed;

@@ -49,6 +49,30 @@ TEST(RobotArgumentsTest, WhatTheWorldWritesTheRobotReadsBack) {
   EXPECT_EQ(plain.options->clock_offset_us, 0);
 }
 
+// The stress's late samples reach the robot (it plays them, RadioOptionsFor
+// and WorldLink); without a seed nothing is passed.
+TEST(RobotArgumentsTest, TheLateSamplesOfTheStressReachTheRobot) {
+  RobotProcessOptions options;
+  options.scenario_path = "s.yaml";
+  options.stress.seed = 123456789012345ull;
+  options.stress.delayed_fraction = 0.2;
+  options.stress.min_delay_ms = 15;
+  options.stress.max_delay_ms = 180;
+  const ParsedRobotArguments parsed = ParseRobotArguments(RobotArguments(options));
+  ASSERT_TRUE(parsed.options) << parsed.error;
+  EXPECT_EQ(parsed.options->stress.seed, options.stress.seed);
+  EXPECT_EQ(parsed.options->stress.delayed_fraction, 0.2);
+  EXPECT_EQ(parsed.options->stress.min_delay_ms, 15);
+  EXPECT_EQ(parsed.options->stress.max_delay_ms, 180);
+  options.stress.seed = 0;
+  const ParsedRobotArguments off = ParseRobotArguments(RobotArguments(options));
+  ASSERT_TRUE(off.options) << off.error;
+  EXPECT_FALSE(off.options->stress.on());
+  EXPECT_NE(ParseRobotArguments({"--scenario", "s", "--robot", "0", "--run-id", "1", "--domain", "0", "--late-fraction", "2"})
+                .error.find("--late-fraction"),
+            std::string::npos);
+}
+
 TEST(RobotArgumentsTest, BadArgumentsAreNamed) {
   EXPECT_NE(ParseRobotArguments({"--robot", "70000", "--scenario", "s", "--run-id", "1", "--domain", "1"}).error.find("--robot"),
             std::string::npos);

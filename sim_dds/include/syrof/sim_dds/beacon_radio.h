@@ -1,11 +1,15 @@
 // A robot's radio over DDS: runtime::Radio on rt/syrof/beacon.
 //
 // Sending: Broadcast() encodes the beacon (wire::Encode, docs/beacon.md) and
-// writes one Beacon_ sample {sender, round, wire bytes}; best effort, it
+// writes one Beacon_ sample {sender, round, run_id, wire bytes}; best effort, it
 // never blocks.
 //
 // Receiving: a listener on the beacon reader (Cyclone's receive thread)
-// takes every sample and, in order,
+// takes every sample; one of another run (BeaconRadioOptions::run_id) is
+// refused at once (kOtherRun); a sample `hold_ns` makes late (the stress's late
+// beacons, lab/sim/stress.h) is kept by a thread of the radio's until its
+// due instant, as if the network had delivered it then; every sample, on
+// arrival or at its due instant, then goes, in order,
 //   1. checks it (sample_check.h: size, ids, round window, duplicates);
 //      a rejected sample is counted by reason and goes no further;
 //   2. applies the lab's channel model for the link sender -> self
@@ -27,12 +31,15 @@
 
 #include <array>
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <span>
+#include <thread>
 #include <vector>
 
 #include "syrof/lab/world/channel.h"
@@ -50,6 +57,10 @@ namespace syrof::sim_dds {
 struct BeaconRadioOptions {
   uint16_t self = 0;
   uint16_t swarm_size = 1;                ///< 1 .. kMaxDdsSwarm
+  /// The run: stamped on every sample this radio writes; a sample of
+  /// another run is refused on arrival (kOtherRun), before anything else.
+  /// A `syrof swarm` robot gets the world's run id; 0 outside a run.
+  uint64_t run_id = 0;
   lab::world::ChannelSpec channel;        ///< the scenario's channel (CheckChannelSpec must pass)
   uint64_t seed = 0;                      ///< the scenario's seed: the lab's channel seed
   int64_t radio_round_ns = 50'000'000;    ///< round length: round r starts at r * this (partitions' time)
@@ -64,6 +75,11 @@ struct BeaconRadioOptions {
   /// It decides in-round delivery (HeardInRound) and the senders' round
   /// offsets (AgreedRoundOffset). Unset: current_round.
   std::function<int64_t()> expected_round;
+  /// How long to hold the sample of `round` from `sender` before it arrives
+  /// (ns; 0: not held): a late network delivery, played by the receiver
+  /// before the sample checks, so a late beacon is judged by the round in
+  /// which it arrives (docs/dds.md, "Stress"). Unset: nothing held.
+  std::function<int64_t(uint16_t sender, uint32_t round)> hold_ns;
 };
 
 /// Receives an accepted, delivered frame: the wire bytes, valid for the call
@@ -76,6 +92,7 @@ struct BeaconRadioCounters {
   uint64_t sent = 0;            ///< samples written
   uint64_t send_failed = 0;     ///< Encode or dds_write refused (the beacon is lost)
   uint64_t received = 0;        ///< samples taken (valid data), before any check
+  uint64_t held = 0;            ///< of those, held by hold_ns before they arrived (late)
   uint64_t rejected = 0;        ///< refused by the sample checks (see SampleFilter counters)
   uint64_t lost = 0;            ///< accepted, then dropped by the channel model
   uint64_t delivered = 0;       ///< handed to the sink
@@ -148,6 +165,11 @@ class BeaconRadio final : public runtime::Radio {
   BeaconRadio(const Participant& participant, BeaconRadioOptions options);
   static void OnDataAvailable(dds_entity_t reader, void* self);
   void TakeAll(dds_entity_t reader);
+  // One sample arriving now, through the checks, the channel and the sink;
+  // under receive_mutex_.
+  void Arrive(uint16_t sender, uint32_t round, std::span<const uint8_t> bytes);
+  // The holder thread: releases held samples at their due instants.
+  void ReleaseHeld();
 
   const Participant* participant_;
   BeaconRadioOptions options_;
@@ -168,9 +190,23 @@ class BeaconRadio final : public runtime::Radio {
   std::vector<SenderRoundOffset> offsets_;  // per sender; under receive_mutex_
   int64_t ExpectedRound() const;
 
+  // Samples hold_ns made late, by due instant (steady clock, ns), and the
+  // thread that lets them arrive; started with the reader when hold_ns is set.
+  struct HeldSample {
+    uint16_t sender = 0;
+    uint32_t round = 0;
+    std::vector<uint8_t> bytes;
+  };
+  std::mutex held_mutex_;
+  std::condition_variable held_changed_;
+  std::multimap<int64_t, HeldSample> held_;  // under held_mutex_
+  bool stop_holding_ = false;                // under held_mutex_
+  std::thread holder_;
+
   std::atomic<uint64_t> sent_{0};
   std::atomic<uint64_t> send_failed_{0};
   std::atomic<uint64_t> received_{0};
+  std::atomic<uint64_t> held_count_{0};
   std::atomic<uint64_t> lost_{0};
   std::atomic<uint64_t> delivered_{0};
 };

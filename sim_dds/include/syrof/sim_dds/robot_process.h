@@ -30,6 +30,7 @@
 
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/stress.h"
 
 namespace syrof::sim_dds {
 
@@ -57,6 +58,11 @@ struct RobotProcessOptions {
   /// +-kMaxClockOffsetUs): a host whose clock is not in sync with the
   /// others', for tests of align_rounds on one machine.
   int64_t clock_offset_us = 0;
+  /// The stress's late samples (lab/sim/stress.h, SampleDelayNs): with a
+  /// seed, the robot holds that fraction of the beacons and sensor readings
+  /// it takes before it handles them, as a network that delivers them late
+  /// (docs/dds.md, "Stress"). Only the seed and the delay fields are passed.
+  lab::sim::StressOptions stress;
 };
 
 inline constexpr int64_t kMaxClockOffsetUs = 10'000'000;
