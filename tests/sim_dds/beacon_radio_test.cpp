@@ -112,6 +112,58 @@ TEST(BeaconRadio, TwoParticipantsExchangeBeacons) {
   EXPECT_EQ(b.radio->sample_counters().count(SampleVerdict::kFromSelf), 0u);
 }
 
+// Two runs that land on one domain (1 in 231 pairs of concurrent runs, more
+// on a machine running many): each radio hears only its own run's robots,
+// though the other run's robot 0 writes under the same key (issue 46).
+TEST(BeaconRadio, HearsOnlyItsOwnRunOnASharedDomain) {
+  const uint32_t domain = testing::FreshDomainId();
+  ParticipantOrError pa = Participant::Create(domain, CycloneOptions{});
+  ParticipantOrError pb = Participant::Create(domain, CycloneOptions{});
+  ParticipantOrError pc = Participant::Create(domain, CycloneOptions{});
+  ASSERT_TRUE(pa.ok() && pb.ok() && pc.ok());
+  std::atomic<int64_t> round{0};
+  BeaconRadioOptions ours = Options(0, 3, round);
+  ours.run_id = 1001;
+  BeaconRadioOptions listener = Options(1, 3, round);
+  listener.run_id = 1001;
+  BeaconRadioOptions theirs = Options(0, 3, round);  // the other run's robot 0
+  theirs.run_id = 2002;
+  std::mutex mutex;
+  std::vector<uint16_t> epochs;  // of every frame delivered to robot 1
+  BeaconRadioOrError a = BeaconRadio::Create(*pa.participant, ours);
+  BeaconRadioOrError b = BeaconRadio::Create(*pb.participant, listener,
+                                             [&](std::span<const uint8_t> frame, uint16_t, uint32_t) {
+                                               const auto beacon = wire::Decode(frame, 3);
+                                               std::lock_guard<std::mutex> lock(mutex);
+                                               epochs.push_back(beacon.ok() ? beacon.value().epoch : 0xFFFF);
+                                             });
+  BeaconRadioOrError c = BeaconRadio::Create(*pc.participant, theirs);
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok());
+  ASSERT_TRUE(WaitFor([&] { return a.radio->matched_readers() >= 1 && c.radio->matched_readers() >= 1; }));
+
+  for (int64_t r = 0; r < 10; ++r) {
+    round = r;
+    wire::Beacon other = BeaconOf(0);
+    other.epoch = 9;  // another swarm's epoch
+    // One at a time: both write under key 0, and keep last 1 would let the
+    // second replace the first before the listener takes it.
+    c.radio->Broadcast(other);
+    ASSERT_TRUE(WaitFor([&] { return b.radio->counters().received == static_cast<uint64_t>(2 * r + 1); }))
+        << "round " << r;
+    a.radio->Broadcast(BeaconOf(0));
+    ASSERT_TRUE(WaitFor([&] { return b.radio->counters().received == static_cast<uint64_t>(2 * r + 2); }))
+        << "round " << r;
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    EXPECT_EQ(epochs, std::vector<uint16_t>(10, 1));  // robot 0 of this run, every round, nothing of the other
+  }
+  EXPECT_EQ(b.radio->sample_counters().count(SampleVerdict::kOtherRun), 10u);
+  EXPECT_EQ(b.radio->counters().delivered, 10u);
+  EXPECT_EQ(b.radio->counters().received, 20u);
+  EXPECT_EQ(b.radio->counters().rejected, 10u);
+}
+
 class IdleApp final : public app::App {
  public:
   const char* name() const override { return "idle"; }
