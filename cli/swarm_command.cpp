@@ -50,17 +50,20 @@ CLI::App* SetupSwarmCommand(CLI::App& app, SwarmOptions& options) {
                   "Robots align their rounds from the beacons they hear and number their own (hosts without synchronised clocks; docs/dds.md)");
   swarm->add_flag("--realtime-start", options.realtime_start,
                   "Robots read the start on CLOCK_REALTIME (robots on several hosts whose clocks are kept in sync)");
-  swarm->add_option("--stress", options.stress_seed,
+  CLI::Option* stress = swarm->add_option("--stress", options.stress_seed,
                     "Seeded stress: SIGSTOP bursts of 10-200 ms to robots and the world, late beacons and readings; a failing run reruns from its seed (docs/dds.md)")
       ->check(CLI::Range(uint64_t{1}, std::numeric_limits<uint64_t>::max()));
   swarm->add_option("--stress-rate", options.stress_rate, "With --stress: bursts a second over the swarm (default 4)")
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(CLI::Range(0.0, 100.0))
+      ->needs(stress);
   swarm->add_option("--stress-cpu-quota", options.stress_cpu_quota,
                     "With --stress: the robot processes together get this many per mille of one core (a cgroup; root)")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, 1000))
+      ->needs(stress);
   swarm->add_option("--stress-late", options.stress_late,
                     "With --stress: this fraction of beacons and sensor readings reach their robot 10-200 ms late (default 0.05)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(CLI::Range(0.0, 1.0))
+      ->needs(stress);
   swarm->add_flag("--quiet", options.quiet, "No progress line, no summary");
   lab::live::SetupLiveOptions(*swarm, options.live);
   swarm->footer(

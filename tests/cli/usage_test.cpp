@@ -114,6 +114,16 @@ TEST(UsageTest, DurationAboveADaySaysTheMaximum) {
   EXPECT_EQ(Parse("run s.yaml --duration 0.5").status, 0);
 }
 
+// The stress's own options without its seed are refused (they were ignored).
+TEST(UsageTest, StressOptionsWithoutTheSeedAreRefused) {
+  for (const std::string option : {"--stress-rate 2", "--stress-late 0.2", "--stress-cpu-quota 500"}) {
+    const Report report = Parse("swarm s.yaml " + option);
+    EXPECT_EQ(report.status, 2) << option;
+    EXPECT_NE(report.err.find("requires --stress"), std::string::npos) << report.err;
+    EXPECT_EQ(Parse("swarm s.yaml --stress 7 " + option).status, 0) << option;
+  }
+}
+
 TEST(UsageTest, UnknownSubcommandIsNamedWithTheRealOnes) {
   const Report report = Parse("frobnicate");
   EXPECT_EQ(report.status, 2);

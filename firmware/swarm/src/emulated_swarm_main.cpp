@@ -279,6 +279,15 @@ Options ParseOptions(int argc, char** argv) {
     }
   }
   if (!options.align) options.align = options.icount_shift >= 0;
+  // The stress's own options mean nothing without its seed: refused, not ignored.
+  if (!options.stress.on()) {
+    for (int i = 1; i < argc; ++i) {
+      const std::string_view key = argv[i];
+      if (key == "--stress-rate" || key == "--stress-late" || key == "--stress-cpu-quota") {
+        Usage(std::string(key) + " needs --stress SEED");
+      }
+    }
+  }
   if (options.image.empty()) Usage("--image is required");
   if (access(options.image.c_str(), R_OK) != 0) {
     Usage("--image: cannot read " + options.image + " (build it: make test-m4, or cmake --build build-m4 --target syrof-robot-mps2)");
