@@ -398,6 +398,10 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
   if (std::llround(scenario.timing.radio_round_s * 1e9) != syrof::registry::kDefaultRadioRoundNs) {
     Usage("--scenario: timing.radio_round_s must be 0.05 (the robot image's radio round)");
   }
+  if (scenario.activation.model != syrof::sync::ActivationModel::kFsync) {
+    Usage("--scenario: activation.model must be fsync (the robot image runs every robot in every epoch; "
+          "docs/activation.md)");
+  }
   for (const lab::scenario::RobotSpec& robot : scenario.robots) {
     if (robot.kind != lab::world::RobotKind::kOmni) Usage("--scenario: robot " + std::to_string(robot.id) + " is not omni; the robot image drives omni robots");
   }
