@@ -66,6 +66,17 @@ std::string DdsAgainstLab(const std::string& scenario, const std::string& lab_re
   // The faults happened: robot 3 joined, nobody broke P3.
   EXPECT_EQ(dds.metrics.membership.robots_joined, lab.metrics.membership.robots_joined);
   EXPECT_EQ(dds.metrics.common_knowledge.violations, 0);
+  // Under SSYNC the robots' own reports show who ran newRound: as many
+  // calls as in the lab, less at most the DDS run's last epoch (4 robots).
+  if (lab.metrics.activation) {
+    if (!dds.metrics.activation) return "the swarm's metrics have no activation";
+    if (!lab.metrics.agreement || !dds.metrics.agreement) return "a run has no agreement metrics";
+    const int64_t lab_calls = lab.metrics.agreement->new_round_calls;
+    const int64_t dds_calls = dds.metrics.agreement->new_round_calls;
+    if (dds_calls > lab_calls || dds_calls < lab_calls - 4) {
+      return "newRound calls: " + std::to_string(dds_calls) + " over DDS, " + std::to_string(lab_calls) + " in the lab";
+    }
+  }
   if (const auto& first = compared.epochs.first_difference) {
     return "first difference at epoch " + std::to_string(first->number) + " (in-round delivery " +
            std::to_string(dds.delivery_ratio) + ", round-start skew max " + std::to_string(dds.skew.max_us) + " us)";
@@ -89,6 +100,30 @@ TEST(CrossRuntimeTest, LabAndDdsStartTheSameEpochsModesAndMembersWithLossAJoinAP
     std::cerr << "the first swarm run disagreed with the lab: " << first << "; trying once more\n";
     EXPECT_EQ(DdsAgainstLab(scenario, lab.replay, out, lab), "") << "(the first run: " << first << ")";
   }
+  std::filesystem::remove_all(out);
+}
+
+// Under SSYNC the decision "who is active" is each robot's own
+// (sync::IsActive on its epoch's map), so both runtimes activate the same
+// robots: the same epochs, modes and members, and an active robot-epoch count
+// that differs by at most the DDS run's last, unfinished epoch.
+TEST(CrossRuntimeTest, LabAndDdsAgreeUnderSsync) {
+  const std::string scenario = std::string(SYROF_SWARM_SCENARIOS_DIR) + "/ssync_runtimes.yaml";
+  const std::filesystem::path out = OutDir("ssync");
+  const LabRun lab = RunInTheLab(scenario);
+  ASSERT_TRUE(lab.metrics.activation.has_value());
+  ASSERT_GT(lab.metrics.activation->inactive_starts, 0);
+
+  std::string differs = DdsAgainstLab(scenario, lab.replay, out, lab);
+  if (!differs.empty()) {
+    std::cerr << "the first swarm run disagreed with the lab: " << differs << "; trying once more\n";
+    differs = DdsAgainstLab(scenario, lab.replay, out, lab);
+  }
+  EXPECT_EQ(differs, "");
+  // SSYNC left robots out: fewer newRound calls than COOPERATIVE starts.
+  ASSERT_TRUE(lab.metrics.agreement.has_value());
+  EXPECT_LT(lab.metrics.agreement->new_round_calls,
+            lab.metrics.activation->active_starts + lab.metrics.activation->inactive_starts);
   std::filesystem::remove_all(out);
 }
 

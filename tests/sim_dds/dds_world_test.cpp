@@ -195,9 +195,11 @@ TEST_P(FaultSwarmTest, CrashPauseAndJoinAreRealSignalsAndTheSwarmKeepsP3) {
   EXPECT_EQ(*result.robot_exits[5], 0);
   // The others removed the crashed robot and the paused one, and admitted
   // the joiner (and the paused robot back).
-  EXPECT_GE(m["membership"]["robots_removed"].get<int>(), 2);
-  EXPECT_GE(m["membership"]["robots_joined"].get<int>(), 1);
-  EXPECT_GT(result.delivery_ratio, 0.8) << log.str();
+  // A failure says what the world saw (membership, synchrony) and the log.
+  const std::string seen = m["membership"].dump() + "\n" + m["synchrony"].dump() + "\n" + log.str();
+  EXPECT_GE(m["membership"]["robots_removed"].get<int>(), 2) << seen;
+  EXPECT_GE(m["membership"]["robots_joined"].get<int>(), 1) << seen;
+  EXPECT_GT(result.delivery_ratio, 0.8) << seen;
   ExpectNoRobotLeft(result);
   std::filesystem::remove_all(options.out_dir);
 }
