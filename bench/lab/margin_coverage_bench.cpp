@@ -7,18 +7,12 @@
 //     dimension) and pose NEES over x, y and heading (expected 3);
 //   - the margin the safety filter used for it: OwnErrorAllowanceM of the
 //     estimate the robot's tasks published (motion::SafetyConfig of the
-//     robot), and the share of robot-rounds in which the error carries the
-//     robot further towards its nearest other body than that allowance (the
-//     error's component along the line to that body: only that component
-//     shortens the true distance, docs/safety.md "Margin coverage"); for
+//     robot), and the share of robot-rounds whose error exceeds it; also for
 //     the robot-rounds within 0.3 m of another body (where a wrong estimate
-//     can turn into a contact), the share in which the component towards
-//     any body within 0.3 m exceeds it; and, for comparison, the share in
-//     which the whole error |e| (towards any direction) exceeds it;
-//   - the multiple of the estimate's own sigma that the error towards the
-//     nearest body, and the whole error, reached in 99.9% of robot-rounds
-//     (what own_sigmas would have to be for the margin to cover it there,
-//     ignoring the floor of half the margin).
+//     can turn into a contact);
+//   - the multiple of the estimate's own sigma that the true error reached
+//     in 99.9% of robot-rounds (what own_sigmas would have to be for the
+//     margin to cover it there, ignoring the floor of half the margin).
 // Per kind (omni, rover), with each run's collisions, interventions and the
 // time from which the goal held to the end (judged every radio round on the
 // true poses, as the run's metrics judge the final ones). Deterministic: the
@@ -64,26 +58,21 @@ struct KindStats {
   int64_t robot_rounds = 0;
   double nees_position_sum = 0;
   double nees_pose_sum = 0;
-  int64_t beyond_allowance = 0;         // error towards the nearest body > allowance
-  int64_t whole_beyond_allowance = 0;   // |e| > allowance
+  int64_t beyond_allowance = 0;
   int64_t near_rounds = 0;
-  int64_t near_beyond_allowance = 0;    // error towards any body within kNearGapM > allowance
+  int64_t near_beyond_allowance = 0;
   double max_error_m = 0;
-  std::vector<float> error_over_sigma;    // |e| / max(sigma_x, sigma_y)
-  std::vector<float> towards_over_sigma;  // error towards the nearest body / max(sigma_x, sigma_y)
+  std::vector<float> error_over_sigma;  // |e| / max(sigma_x, sigma_y)
 
   void Add(const KindStats& other) {
     robot_rounds += other.robot_rounds;
     nees_position_sum += other.nees_position_sum;
     nees_pose_sum += other.nees_pose_sum;
     beyond_allowance += other.beyond_allowance;
-    whole_beyond_allowance += other.whole_beyond_allowance;
     near_rounds += other.near_rounds;
     near_beyond_allowance += other.near_beyond_allowance;
     max_error_m = std::max(max_error_m, other.max_error_m);
     error_over_sigma.insert(error_over_sigma.end(), other.error_over_sigma.begin(), other.error_over_sigma.end());
-    towards_over_sigma.insert(towards_over_sigma.end(), other.towards_over_sigma.begin(),
-                              other.towards_over_sigma.end());
   }
 };
 
@@ -132,42 +121,24 @@ void Sample(const sim::Simulation& simulation, uint16_t id, KindStats& stats) {
   const double nees_position = e2.dot(p.topLeftCorner<2, 2>().ldlt().solve(e2));
   const double nees_pose = e.dot(p.ldlt().solve(e));
 
-  // The error's component towards each other body: how much nearer the
-  // robot truly is to it than it believes (to first order; the true distance
-  // is at least the believed one less this).
   double nearest_gap_m = 1e9;
-  double towards_nearest_m = 0;
-  double towards_near_worst_m = -1e9;
   for (uint16_t other = 0; other < world.size(); ++other) {
     if (other == id || world.presence(other) == world::BodyPresence::kAbsent) continue;
     const world::BodyState& body = world.state(other);
-    const double dx = body.x_m - truth.x_m;
-    const double dy = body.y_m - truth.y_m;
-    const double distance_m = std::hypot(dx, dy);
-    const double gap_m = distance_m - world.body_radius_m(id) - world.body_radius_m(other);
-    const double towards_m = distance_m > 0 ? (ex * dx + ey * dy) / distance_m : error_m;
-    if (gap_m < nearest_gap_m) {
-      nearest_gap_m = gap_m;
-      towards_nearest_m = towards_m;
-    }
-    if (gap_m < kNearGapM) towards_near_worst_m = std::max(towards_near_worst_m, towards_m);
+    nearest_gap_m = std::min(nearest_gap_m, std::hypot(body.x_m - truth.x_m, body.y_m - truth.y_m) -
+                                                world.body_radius_m(id) - world.body_radius_m(other));
   }
-  // Alone in the arena: the whole error counts.
-  if (nearest_gap_m >= 1e9) towards_nearest_m = error_m;
   ++stats.robot_rounds;
   stats.nees_position_sum += nees_position;
   stats.nees_pose_sum += nees_pose;
-  stats.beyond_allowance += towards_nearest_m > allowance_m ? 1 : 0;
-  stats.whole_beyond_allowance += error_m > allowance_m ? 1 : 0;
+  const bool beyond = error_m > allowance_m;
+  stats.beyond_allowance += beyond ? 1 : 0;
   if (nearest_gap_m < kNearGapM) {
     ++stats.near_rounds;
-    stats.near_beyond_allowance += towards_near_worst_m > allowance_m ? 1 : 0;
+    stats.near_beyond_allowance += beyond ? 1 : 0;
   }
   stats.max_error_m = std::max(stats.max_error_m, error_m);
-  if (sigma_m > 0) {
-    stats.error_over_sigma.push_back(static_cast<float>(error_m / sigma_m));
-    stats.towards_over_sigma.push_back(static_cast<float>(towards_nearest_m / sigma_m));
-  }
+  if (sigma_m > 0) stats.error_over_sigma.push_back(static_cast<float>(error_m / sigma_m));
 }
 
 RunResult RunOne(const std::string& file, uint64_t seed, double duration_s, float own_sigmas) {
@@ -319,11 +290,10 @@ int main(int argc, char** argv) {
              first + static_cast<uint64_t>(seeds) - 1,
              duration_s > 0 ? fmt::format(", runs capped at {} s", duration_s) : "");
   fmt::print(
-      "| scenario | kind | robot-rounds | NEES x,y (2) | NEES x,y,heading (3) | error towards nearest > allowance | "
-      "near: error towards a body > allowance | whole error > allowance | 99.9 % of error towards nearest / "
-      "sigma | 99.9 % of whole error / sigma | max error (m) | collisions | goal (runs) | goal from (s, mean) | "
+      "| scenario | kind | robot-rounds | NEES x,y (2) | NEES x,y,heading (3) | error > allowance | near: error > "
+      "allowance | 99.9 % of error / sigma | max error (m) | collisions | goal (runs) | goal from (s, mean) | "
       "interventions |\n");
-  fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   std::array<KindStats, kKinds> total;
   int64_t total_collisions = 0;
   for (size_t f = 0; f < files.size(); ++f) {
@@ -352,12 +322,10 @@ int main(int argc, char** argv) {
           first_row ? fmt::format("{} | {} / {} | {} | {}", collisions, goals, seeds,
                                   goals == 0 ? std::string("-") : fmt::format("{:.2f}", goal_sum_s / goals), interventions)
                     : " | | |";
-      fmt::print("| {} | {} | {} | {:.2f} | {:.2f} | {} | {} of {} | {} | {:.2f} | {:.2f} | {:.3f} | {} |\n",
-                 BaseName(files[f]), kKindNames[k], s.robot_rounds, s.nees_position_sum / n, s.nees_pose_sum / n,
+      fmt::print("| {} | {} | {} | {:.2f} | {:.2f} | {} | {} of {} | {:.2f} | {:.3f} | {} |\n", BaseName(files[f]),
+                 kKindNames[k], s.robot_rounds, s.nees_position_sum / n, s.nees_pose_sum / n,
                  Percent(s.beyond_allowance, s.robot_rounds), Percent(s.near_beyond_allowance, s.near_rounds),
-                 s.near_rounds, Percent(s.whole_beyond_allowance, s.robot_rounds),
-                 Quantile(s.towards_over_sigma, 0.999), Quantile(s.error_over_sigma, 0.999), s.max_error_m,
-                 run_columns);
+                 s.near_rounds, Quantile(s.error_over_sigma, 0.999), s.max_error_m, run_columns);
       first_row = false;
     }
   }
@@ -366,12 +334,10 @@ int main(int argc, char** argv) {
       const KindStats& s = total[k];
       if (s.robot_rounds == 0) continue;
       const double n = static_cast<double>(s.robot_rounds);
-      fmt::print("| all | {} | {} | {:.2f} | {:.2f} | {} | {} of {} | {} | {:.2f} | {:.2f} | {:.3f} | {} | | | |\n",
-                 kKindNames[k], s.robot_rounds, s.nees_position_sum / n, s.nees_pose_sum / n,
+      fmt::print("| all | {} | {} | {:.2f} | {:.2f} | {} | {} of {} | {:.2f} | {:.3f} | {} | | | |\n", kKindNames[k],
+                 s.robot_rounds, s.nees_position_sum / n, s.nees_pose_sum / n,
                  Percent(s.beyond_allowance, s.robot_rounds), Percent(s.near_beyond_allowance, s.near_rounds),
-                 s.near_rounds, Percent(s.whole_beyond_allowance, s.robot_rounds),
-                 Quantile(s.towards_over_sigma, 0.999), Quantile(s.error_over_sigma, 0.999), s.max_error_m,
-                 k == 0 ? total_collisions : 0);
+                 s.near_rounds, Quantile(s.error_over_sigma, 0.999), s.max_error_m, k == 0 ? total_collisions : 0);
     }
   }
   return 0;

@@ -35,7 +35,7 @@
 
 #define BORDER_M 0.5f   /* the area is the arena less this border */
 #define CELL_M 0.25f    /* the goal's cell size: one lane per cell column */
-#define MARGIN_M 0.23f  /* extra room to another robot's body: it may be moving too, and the safety filter allows for 3.4 sigmas of position error (docs/safety.md) */
+#define MARGIN_M 0.2f   /* extra room to another robot's body: it may be moving too */
 #define ARRIVED_M 0.1f  /* a waypoint this close counts as reached (the estimate wanders a few cm while a robot stands) */
 #define MAX_ROBOTS 64
 

@@ -24,8 +24,7 @@
 
 #include "syrof/app.h"
 
-#define MARGIN_M 0.15f  /* extra room between bodies: covers both robots' position errors (the safety filter allows 3.4 sigmas, docs/safety.md) */
-#define CRUISE_MPS 0.3f /* the fastest it drives: the safety filter (docs/safety.md) holds back a robot that heads fast towards another */
+#define MARGIN_M 0.12f  /* extra room between bodies: covers both robots' position errors */
 #define SETTLED_M 0.02f /* closer than this to its point, a robot stays put */
 #define MAX_ROBOTS 64
 #define TWO_PI 6.28318531f
@@ -131,7 +130,6 @@ static uint8_t app_new_round(syrof_car_command* command, const syrof_ldmap* map,
   command->y_m = end.y;
   command->speed_mps = length / (0.8f * (float)me.maneuver_ms / 1000.0f);
   if (command->speed_mps > me.max_speed_mps) command->speed_mps = me.max_speed_mps;
-  if (command->speed_mps > CRUISE_MPS) command->speed_mps = CRUISE_MPS;
   return decided;
 }
 

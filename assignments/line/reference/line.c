@@ -60,7 +60,7 @@ static void move_to(syrof_car_command* command, float from_x, float from_y, floa
   x = from_x + (x - from_x) * scale;
   y = from_y + (y - from_y) * scale;
   const float length = hypotf(x - from_x, y - from_y);
-  if (length < 0.05f) return; /* settled: the estimate wanders a few centimetres; a robot that chases it creeps towards neighbours 0.45 m away, whose discs the safety filter grows by 3.4 sigmas of its own error and while their beacons are lost (docs/safety.md) */
+  if (length < 0.005f) return;
   const float seconds = 0.8f * (float)me.maneuver_ms / 1000.0f;
   command->kind = SYROF_COMMAND_MOVE_TO;
   command->x_m = x;

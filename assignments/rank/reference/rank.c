@@ -18,7 +18,7 @@
  *   2. every robot is in its column: all move vertically onto the line
  *      (each in its own column; columns are S apart, so no two paths meet);
  *   1. else, every robot is in a lane of its own (lane j for the j-th lowest
- *      robot, lanes LANE_M apart): all move horizontally to their columns, each
+ *      robot, lanes S apart): all move horizontally to their columns, each
  *      in its own lane;
  *   0. else: all move vertically to their lanes, keeping their order, with
  *      every move scaled by the same factor, so the robots stay at least as
@@ -35,8 +35,7 @@
 
 #include "syrof/app.h"
 
-#define SPACING_M 0.45f       /* between neighbours on the line (README.md) */
-#define LANE_M 0.5f           /* between lanes: robots pass each other there, and the safety filter's discs allow for 3.4 sigmas of position error (docs/safety.md) */
+#define SPACING_M 0.45f       /* between neighbours on the line (README.md), and between lanes */
 #define IN_PLACE_M 0.1f       /* how near a lane or a column counts as in it */
 #define SORT_CRUISE_MPS 0.25f /* phase 0, when robots may share a column */
 #define CRUISE_MPS 0.25f      /* phases 1 and 2, every robot in its own lane or column */
@@ -80,7 +79,6 @@ static float y_of(const syrof_member_state* m) { return m->y_mm / 1000.0f; }
 
 /* Where slot k of n lies along an axis centred on `middle`. */
 static float slot(size_t k, size_t n, float middle) { return middle + ((float)k - (float)(n - 1) / 2.0f) * SPACING_M; }
-static float lane(size_t k, size_t n, float middle) { return middle + ((float)k - (float)(n - 1) / 2.0f) * LANE_M; }
 
 /* x kept WALL_ROOM_M from the side walls: the safety filter limits a robot
  * whose body is near a wall, even moving along it. */
@@ -95,7 +93,7 @@ static void move_to(syrof_car_command* command, float from_x, float from_y, floa
   x = from_x + (x - from_x) * scale;
   y = from_y + (y - from_y) * scale;
   const float length = hypotf(x - from_x, y - from_y);
-  if (length < 0.05f) return; /* settled: the estimate wanders a few centimetres; a robot that chases it creeps towards neighbours 0.45 m away, whose discs the safety filter grows by 3.4 sigmas of its own error and while their beacons are lost (docs/safety.md) */
+  if (length < 0.005f) return;
   const float seconds = 0.8f * (float)me.maneuver_ms / 1000.0f;
   command->kind = SYROF_COMMAND_MOVE_TO;
   command->x_m = x;
@@ -127,7 +125,7 @@ static uint8_t app_new_round(syrof_car_command* command, const syrof_ldmap* map,
   size_t self = 0;
   for (size_t k = 0; k < n; ++k) {
     if (fabsf(x_of(&m[k]) - slot(column[k], n, centre_x)) > IN_PLACE_M) in_columns = 0;
-    if (fabsf(y_of(&m[k]) - lane(lane_of[k], n, centre_y)) > IN_PLACE_M) in_lanes = 0;
+    if (fabsf(y_of(&m[k]) - slot(lane_of[k], n, centre_y)) > IN_PLACE_M) in_lanes = 0;
     if (m[k].id == map->self_id) self = k;
   }
   const int phase = in_columns ? 2 : (in_lanes ? 1 : 0);
@@ -137,17 +135,17 @@ static uint8_t app_new_round(syrof_car_command* command, const syrof_ldmap* map,
   if (phase == 2) {
     move_to(command, x, y, slot(column[self], n, centre_x), centre_y, 1.0f, cruise);
   } else if (phase == 1) {
-    move_to(command, x, y, slot(column[self], n, centre_x), lane(lane_of[self], n, centre_y), 1.0f, cruise);
+    move_to(command, x, y, slot(column[self], n, centre_x), slot(lane_of[self], n, centre_y), 1.0f, cruise);
   } else {
     /* every robot's vertical move to its lane, all scaled alike */
     const float reach = 0.8f * sort_cruise * (float)me.maneuver_ms / 1000.0f;
     float longest = 0;
     for (size_t k = 0; k < n; ++k) {
-      const float length = fabsf(lane(lane_of[k], n, centre_y) - y_of(&m[k]));
+      const float length = fabsf(slot(lane_of[k], n, centre_y) - y_of(&m[k]));
       if (length > longest) longest = length;
     }
     const float scale = longest > reach ? reach / longest : 1.0f;
-    move_to(command, x, y, away_from_walls(x, me.arena_width_m), lane(lane_of[self], n, centre_y), scale, sort_cruise);
+    move_to(command, x, y, away_from_walls(x, me.arena_width_m), slot(lane_of[self], n, centre_y), scale, sort_cruise);
   }
   return decided;
 }

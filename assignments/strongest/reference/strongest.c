@@ -31,9 +31,9 @@
 
 #include "syrof/app.h"
 
-#define CLEARANCE_M 0.50f /* centre to centre while moving: two bodies, position errors (3.4 sigmas, docs/safety.md), the filter's margin */
+#define CLEARANCE_M 0.47f /* centre to centre while moving: two bodies, position errors, the filter's margin */
 #define SPACING_M 0.52f   /* between places */
-#define PASSING_M 0.48f   /* centre to centre when passing a robot that stands: two bodies, the filter's disc */
+#define PASSING_M 0.45f   /* centre to centre when passing a robot that stands: two bodies, the filter's disc */
 #define PASSING_MPS 0.08f /* the speed within NEAR_M of another robot */
 #define NEAR_M 0.7f       /* centre to centre: closer than this, go slowly */
 #define CRUISE_MPS 0.15f  /* the speed while moving */

@@ -262,12 +262,11 @@ TEST(SafetyFilterTest, OwnPositionDoubtGrowsEveryDisc) {
   SafetyOutcome doubtful;
 
   const DriveCommand approach = filter.Apply(DriveVelocity(0.4f, 0), At(1, 1), reports, 0, sure);
-  // sigma 0.0625 m, 3.4 of them (the default) less half the margin
-  // (0.025 m): the disc grows by 0.19 m and reaches this robot; only away or
-  // sideways.
+  // sigma 0.0625 m, two of them less half the margin (0.025 m): the disc
+  // grows by 0.1 m and reaches this robot; only away or sideways.
   const DriveCommand held = filter.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.0625f, 0), reports, 0, doubtful);
-  // Within half the margin nothing changes (3.4 x 0.007 m = 0.0238 m).
-  const DriveCommand usual = filter.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.007f, 0), reports, 0, sure);
+  // Within half the margin nothing changes.
+  const DriveCommand usual = filter.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.0125f, 0), reports, 0, sure);
   EXPECT_NEAR(usual.vx_mps, std::sqrt(0.08f), 1e-4f);
 
   EXPECT_NEAR(approach.vx_mps, std::sqrt(0.08f), 1e-4f);
@@ -276,14 +275,9 @@ TEST(SafetyFilterTest, OwnPositionDoubtGrowsEveryDisc) {
 }
 
 // The margin's share for this robot's own error: own_sigmas of its larger
-// position sigma, never less than half the margin, capped; 3.4 by default
-// (the error's component towards another robot stays within it in 99.9% of
-// robot-rounds, docs/safety.md "Margin coverage").
+// position sigma, never less than half the margin, capped; two by default.
 TEST(SafetyFilterTest, OwnErrorAllowanceIsOwnSigmasTimesTheLargerSigmaAndAtLeastHalfTheMargin) {
   SafetyConfig config = Config();  // margin 0.05 m
-  EXPECT_FLOAT_EQ(config.own_sigmas, 3.4f);
-  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.022f, 0)), 3.4f * 0.022f);
-  config.own_sigmas = 2.0f;
   EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.022f, 0)), 0.044f);
   config.own_sigmas = 4.0f;
   EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.022f, 0)), 0.088f);
@@ -297,25 +291,23 @@ TEST(SafetyFilterTest, OwnErrorAllowanceIsOwnSigmasTimesTheLargerSigmaAndAtLeast
   EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, broken), 2.0f);
 }
 
-// A sigma of 2.2 cm, the lab's usual: the default 3.4 sigmas (7.5 cm) reach
-// past half the margin by 5.0 cm, two (4.4 cm) by 1.9 cm. With the default,
-// a robot 4 cm outside the sure disc is inside the grown one and may not
-// approach; with two it still may (mixed/gather_4_4_loss seed 2 collided
-// so, its estimate 7 cm off).
-TEST(SafetyFilterTest, TheDefaultAllowanceOfTheUsualDoubtHoldsARobotThatTwoSigmasLetApproach) {
+// A sigma of 2.2 cm, the lab's usual: four sigmas (8.8 cm) reach past half
+// the margin by 6.3 cm, two (4.4 cm) by 1.9 cm. With four, a robot 5 cm
+// outside the sure disc is inside the grown one and may not approach; with
+// two it still may.
+TEST(SafetyFilterTest, FourSigmasOfTheUsualDoubtHoldARobotThatTwoLetApproach) {
   SafetyConfig config = Config();
   SafetyReports reports;
-  reports.ReportMetres(1, 0, 1.29f, 1.0f, false, 0, 0, 0.8f);  // sure disc: 0.25 m, gap 0.04 m
+  reports.ReportMetres(1, 0, 1.3f, 1.0f, false, 0, 0, 0.8f);  // sure disc: 0.25 m, gap 0.05 m
   SafetyOutcome outcome;
-  SafetyFilter held_by_default(config, Omni(), 4);
-  const DriveCommand held =
-      held_by_default.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.022f, 0), reports, 0, outcome);
-  EXPECT_TRUE(outcome.limited);
-  EXPECT_LE(held.vx_mps, 1e-4f);
-  config.own_sigmas = 2.0f;
   SafetyFilter two(config, Omni(), 4);
   const DriveCommand approaching = two.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.022f, 0), reports, 0, outcome);
   EXPECT_GT(approaching.vx_mps, 0.05f);
+  config.own_sigmas = 4.0f;
+  SafetyFilter four(config, Omni(), 4);
+  const DriveCommand held = four.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.022f, 0), reports, 0, outcome);
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_LE(held.vx_mps, 1e-4f);
 }
 
 TEST(SafetyFilterTest, ALostEstimateStopsNearOthersOnly) {
@@ -323,8 +315,8 @@ TEST(SafetyFilterTest, ALostEstimateStopsNearOthersOnly) {
   SafetyReports reports;
   reports.ReportMetres(1, 0, 1.6f, 1.0f, false, 0, 0, 0.8f);
   SafetyOutcome outcome;
-  // A relocalizing filter claims metres of doubt: capped at 0.5 m, 3.4 of
-  // them less 0.025 m, a disc of 1.925 m around a robot 0.6 m away.
+  // A relocalizing filter claims metres of doubt: capped at 0.5 m, two of
+  // them less 0.025 m, a disc of 1.225 m around a robot 0.6 m away.
   const DriveCommand lost = filter.Apply(DriveVelocity(0.3f, 0.2f), Doubtful(1, 1, 3.0f, 0), reports, 0, outcome);
   EXPECT_TRUE(outcome.limited);
   EXPECT_LE(lost.vx_mps, 1e-4f);  // nothing towards it

@@ -119,13 +119,8 @@ TEST(LeaderPathTest, CrowdedLineSharesTheWholeCircle) {
   EXPECT_NEAR(path.slot_angle_rad, 2 * std::numbers::pi / 40, 1e-12);
 }
 
-// The cap leaves room for the safety filter's disc growth too: with the
-// default spacing a follower's next slot is 0.33 m from where its
-// predecessor starts (0.30 m before the filter's allowance was 3.4 sigmas,
-// which held followers there: docs/safety.md, "Margin coverage").
 TEST(LeaderStepTest, SlowedSoTheLineCanFollowInOneEpoch) {
-  EXPECT_NEAR(LeaderStepM(LeaderFollowParams{}, kRadiusM, 1.0), 0.4 - 0.2 - 0.08 - kPlanSlackM - kFilterGrowthM, 1e-12);
-  EXPECT_NEAR(LeaderStepM(LeaderFollowParams{}, kRadiusM, 1.0), 0.07, 1e-12);
+  EXPECT_NEAR(LeaderStepM(LeaderFollowParams{}, kRadiusM, 1.0), 0.4 - 0.2 - 0.08 - kPlanSlackM, 1e-12);
   LeaderFollowParams wide;
   wide.spacing_m = 1.0;
   EXPECT_NEAR(LeaderStepM(wide, kRadiusM, 1.0), 0.15, 1e-12);

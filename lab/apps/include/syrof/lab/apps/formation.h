@@ -33,14 +33,6 @@ struct ArenaSize {
 /// (millimetre rounding of maps, controller tolerance), metres.
 inline constexpr double kPlanSlackM = 0.02;
 
-/// What the platform's safety filter grows every disc by at the lab's usual
-/// position doubt (SafetyConfig::own_sigmas = 3.4 of a 2.2 cm sigma, 7.5 cm,
-/// less the half of its 6 cm margin that covers it: 4.5 cm), less the 1.4 cm
-/// the plans' margin already absorbed at the former two sigmas (docs/safety.md,
-/// "Margin coverage"). A follower whose next slot is nearer its predecessor's
-/// start than the filter's disc waits for it, and the line falls behind.
-inline constexpr double kFilterGrowthM = 0.03;
-
 /// Parameters of `gather` (catalog.h lists defaults and bounds).
 struct GatherParams {
   double gap_m = 0.1;        ///< free space between neighbouring bodies in the packing
@@ -135,10 +127,9 @@ struct LeaderPath {
 LeaderPath MakeLeaderPath(const LeaderFollowParams& params, size_t count, ArenaSize arena, double body_radius_m);
 
 /// How far the leader advances per maneuver, metres: speed x maneuver time,
-/// but at most spacing - 2 R - margin - kPlanSlackM - kFilterGrowthM (and not
-/// below 0), so a follower's next slot stays clear of where its predecessor
-/// starts, for the apps' safety rule and the platform's safety filter alike,
-/// and the whole line can move in one epoch.
+/// but at most spacing - 2 R - margin - kPlanSlackM (and not below 0), so
+/// a follower's next slot stays clear of where its predecessor starts and
+/// the whole line can move in one epoch under the safety rule.
 double LeaderStepM(const LeaderFollowParams& params, double body_radius_m, double maneuver_s);
 
 /// The angle of `position` seen from the path's centre, in (-pi, pi]; 0 at
