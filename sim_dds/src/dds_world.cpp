@@ -68,11 +68,12 @@ double Percentile(std::vector<int64_t> values, double fraction) {
 // Sends one robot's simulated readings as its DDS sensor samples.
 class DdsSensorSink final : public lab::sensors::ReadingSink {
  public:
-  DdsSensorSink(uint16_t robot, dds_entity_t imu, dds_entity_t flow, dds_entity_t uwb)
-      : robot_(robot), imu_(imu), flow_(flow), uwb_(uwb) {}
+  DdsSensorSink(uint16_t robot, uint64_t run_id, dds_entity_t imu, dds_entity_t flow, dds_entity_t uwb)
+      : robot_(robot), run_id_(run_id), imu_(imu), flow_(flow), uwb_(uwb) {}
   void OnImu(const estimation::ImuReading& r) override {
     syrof_msg_dds__Imu_ s{};
     s.robot = robot_;
+    s.run_id = run_id_;
     s.world_time_ns = r.timestamp_ns;
     std::memcpy(s.accel_g, r.accel_g, sizeof s.accel_g);
     std::memcpy(s.gyro_dps, r.gyro_dps, sizeof s.gyro_dps);
@@ -81,6 +82,7 @@ class DdsSensorSink final : public lab::sensors::ReadingSink {
   void OnFlow(const estimation::FlowReading& r) override {
     syrof_msg_dds__Flow_ s{};
     s.robot = robot_;
+    s.run_id = run_id_;
     s.world_time_ns = r.timestamp_ns;
     s.interval_ns = r.interval_ns;
     s.delta_x_px = r.delta_x_px;
@@ -90,6 +92,7 @@ class DdsSensorSink final : public lab::sensors::ReadingSink {
   void OnUwb(const estimation::UwbReading& r) override {
     syrof_msg_dds__Uwb_ s{};
     s.robot = robot_;
+    s.run_id = run_id_;
     s.world_time_ns = r.timestamp_ns;
     std::memcpy(s.range_m, r.range_m, sizeof s.range_m);
     s.valid_mask = r.valid_mask;
@@ -99,6 +102,7 @@ class DdsSensorSink final : public lab::sensors::ReadingSink {
 
  private:
   uint16_t robot_;
+  uint64_t run_id_;
   dds_entity_t imu_, flow_, uwb_;
 };
 
@@ -290,7 +294,7 @@ class DdsWorld {
   std::vector<lab::metrics::RobotRound> robot_rounds_;
   std::vector<replay::RobotFrame> frames_;
   std::map<int64_t, wire::MemberSet> round_senders_;  // robots that reported (broadcast) in a round
-  int64_t reports_rejected_ = 0, reports_late_ = 0, reports_foreign_ = 0;
+  int64_t reports_rejected_ = 0, reports_late_ = 0, reports_foreign_ = 0, drives_foreign_ = 0;
   int64_t next_recorded_ = 1;
   double expected_deliveries_ = 0;
   double in_round_deliveries_ = 0;
@@ -382,7 +386,7 @@ bool DdsWorld::CreateEntities() {
                   Assign(CreateWriter(participant, TopicKind::kUwb, id), r.uwb) &&
                   Assign(CreateReader(participant, TopicKind::kDrive, id), r.drive);
     r.bank = std::make_unique<lab::sensors::SensorBank>(scenario_.sensors, lab::sim::SensorSeed(scenario_.seed, id));
-    r.sink = std::make_unique<DdsSensorSink>(id, r.imu, r.flow, r.uwb);
+    r.sink = std::make_unique<DdsSensorSink>(id, run_id_, r.imu, r.flow, r.uwb);
   }
   if (!entities_ok) {
     return Fail(1, "the world's DDS readers and writers could not be created (domain " +
@@ -678,6 +682,10 @@ void DdsWorld::TakeDrives() {
   for (uint16_t id = 0; id < swarm_size_; ++id) {
     RobotSlot& r = robots_[id];
     TakeSamples<syrof_msg_dds__Drive_>(r.drive, [&](const syrof_msg_dds__Drive_& s, const dds_sample_info_t&) {
+      if (s.run_id != run_id_) {
+        ++drives_foreign_;  // the same robot of another run on this domain
+        return;
+      }
       if (s.robot != id || !player_.running(id) || s.kind > 1) return;
       motion::DriveCommand command{};
       command.timestamp_ns = s.robot_time_ns;
@@ -984,6 +992,7 @@ lab::metrics::DdsMetrics DdsWorld::DdsFacts() const {
   dds.reports_rejected = reports_rejected_;
   dds.reports_late = reports_late_;
   dds.reports_other_runs = reports_foreign_;
+  dds.drives_other_runs = drives_foreign_;
   dds.stopped_early = result_.stopped_early;
   for (const RobotSlot& r : robots_) dds.robot_exits.push_back(r.exit);
   return dds;

@@ -475,7 +475,7 @@ void WorldLink::TakeSensors(int64_t now) {
 
 template <typename Sample>
 bool WorldLink::Hold(const Sample& s, lab::sim::DelayedStream stream, int64_t now) {
-  if (s.robot != options_.robot || start_monotonic_ < 0) return false;
+  if (s.robot != options_.robot || s.run_id != options_.run_id || start_monotonic_ < 0) return false;
   const int64_t hold_ns = lab::sim::SampleDelayNs(options_.stress, stream, lab::sim::kFromWorld, options_.robot, s.world_time_ns);
   if (hold_ns <= 0) return false;
   held_.emplace(now + hold_ns, s);
@@ -483,7 +483,7 @@ bool WorldLink::Hold(const Sample& s, lab::sim::DelayedStream stream, int64_t no
 }
 
 void WorldLink::OnImu(const syrof_msg_dds__Imu_& s, int64_t now) {
-  if (s.robot != options_.robot || start_monotonic_ < 0) return;
+  if (s.robot != options_.robot || s.run_id != options_.run_id || start_monotonic_ < 0) return;
   estimation::ImuReading reading{};
   reading.timestamp_ns = now;
   std::memcpy(reading.accel_g, s.accel_g, sizeof reading.accel_g);
@@ -492,12 +492,12 @@ void WorldLink::OnImu(const syrof_msg_dds__Imu_& s, int64_t now) {
 }
 
 void WorldLink::OnFlow(const syrof_msg_dds__Flow_& s, int64_t now) {
-  if (s.robot != options_.robot || start_monotonic_ < 0 || s.interval_ns == 0) return;
+  if (s.robot != options_.robot || s.run_id != options_.run_id || start_monotonic_ < 0 || s.interval_ns == 0) return;
   sensors_.OnFlow(estimation::FlowReading{now, s.interval_ns, s.delta_x_px, s.delta_y_px});
 }
 
 void WorldLink::OnUwb(const syrof_msg_dds__Uwb_& s, int64_t now) {
-  if (s.robot != options_.robot || start_monotonic_ < 0) return;
+  if (s.robot != options_.robot || s.run_id != options_.run_id || start_monotonic_ < 0) return;
   estimation::UwbReading reading{};
   reading.timestamp_ns = now;
   std::memcpy(reading.range_m, s.range_m, sizeof reading.range_m);
@@ -515,6 +515,7 @@ void WorldLink::PassEstimateAndDrive() {
   if (drive_.TakeLatest(command)) {
     syrof_msg_dds__Drive_ sample{};
     sample.robot = options_.robot;
+    sample.run_id = options_.run_id;
     sample.robot_time_ns = port_.PortToMonotonic(command.timestamp_ns);
     sample.kind = static_cast<uint8_t>(command.kind);
     sample.vx_mps = command.vx_mps;

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <set>
 #include <string>
+#include <vector>
 
 #include "syrof/sim_dds/topics.h"
 #include "test_domain.h"
@@ -130,6 +133,65 @@ TEST(DdsTopics, EveryTopicGetsAReaderAndAWriter) {
     const EntityOrError reader = CreateReader(*made.participant, topic, 2);
     ASSERT_TRUE(reader.ok()) << reader.error->ToString();
   }
+}
+
+// Two runs on one domain (docs/dds.md, "Domain ids") use the same robot ids.
+// Every topic a robot or a world keeps only the newest samples of is keyed
+// by the run as well, so one run's samples never push the other's out of a
+// reader's history: before, a beacon of robot 3 in one run replaced robot
+// 3's beacon of the other in every reader not yet taken (keep last 1 per
+// sender), and four readings of the other world pushed out this world's.
+template <typename Sample>
+std::vector<uint64_t> RunsLeftAfterTwoRunsWrite(TopicKind kind, Sample sample) {
+  ParticipantOrError made = Participant::Create(testing::FreshDomainId(), CycloneOptions{});
+  EXPECT_TRUE(made.ok()) << made.error->ToString();
+  if (!made.ok()) return {};
+  const EntityOrError writer = CreateWriter(*made.participant, kind, 3);
+  const EntityOrError reader = CreateReader(*made.participant, kind, 3);
+  EXPECT_TRUE(writer.ok() && reader.ok());
+  // This run's sample, then as many of the other run's as the history keeps.
+  sample.run_id = 11;
+  EXPECT_EQ(dds_write(writer.entity, &sample), 0);
+  sample.run_id = 22;
+  for (int i = 0; i < std::max(1, QosOf(kind).keep_last); ++i) EXPECT_EQ(dds_write(writer.entity, &sample), 0);
+  std::vector<uint64_t> runs;
+  void* samples[16] = {};
+  dds_sample_info_t infos[16];
+  const dds_return_t taken = dds_take(reader.entity, samples, infos, 16, 16);
+  for (dds_return_t i = 0; i < taken; ++i) {
+    if (infos[i].valid_data) runs.push_back(static_cast<const Sample*>(samples[i])->run_id);
+  }
+  if (taken > 0) dds_return_loan(reader.entity, samples, taken);
+  return runs;
+}
+
+bool Has(const std::vector<uint64_t>& runs, uint64_t run) { return std::find(runs.begin(), runs.end(), run) != runs.end(); }
+
+TEST(DdsTopics, TwoRunsOnOneDomainNeverPushOutEachOthersSamples) {
+  syrof_msg_dds__Beacon_ beacon{};
+  beacon.sender = 3;
+  const auto beacons = RunsLeftAfterTwoRunsWrite(TopicKind::kBeacon, beacon);
+  EXPECT_TRUE(Has(beacons, 11) && Has(beacons, 22)) << "beacons";
+  syrof_msg_dds__Status_ status{};
+  status.robot = 3;
+  const auto statuses = RunsLeftAfterTwoRunsWrite(TopicKind::kStatus, status);
+  EXPECT_TRUE(Has(statuses, 11) && Has(statuses, 22)) << "status";
+  syrof_msg_dds__Imu_ imu{};
+  imu.robot = 3;
+  const auto imus = RunsLeftAfterTwoRunsWrite(TopicKind::kImu, imu);
+  EXPECT_TRUE(Has(imus, 11) && Has(imus, 22)) << "imu";
+  syrof_msg_dds__Flow_ flow{};
+  flow.robot = 3;
+  const auto flows = RunsLeftAfterTwoRunsWrite(TopicKind::kFlow, flow);
+  EXPECT_TRUE(Has(flows, 11) && Has(flows, 22)) << "flow";
+  syrof_msg_dds__Uwb_ uwb{};
+  uwb.robot = 3;
+  const auto uwbs = RunsLeftAfterTwoRunsWrite(TopicKind::kUwb, uwb);
+  EXPECT_TRUE(Has(uwbs, 11) && Has(uwbs, 22)) << "uwb";
+  syrof_msg_dds__Drive_ drive{};
+  drive.robot = 3;
+  const auto drives = RunsLeftAfterTwoRunsWrite(TopicKind::kDrive, drive);
+  EXPECT_TRUE(Has(drives, 11) && Has(drives, 22)) << "drive";
 }
 
 }  // namespace

@@ -302,6 +302,7 @@ Json DdsJson(const DdsMetrics& dds) {
   json["reports_rejected"] = dds.reports_rejected;
   json["reports_late"] = dds.reports_late;
   json["reports_other_runs"] = dds.reports_other_runs;
+  json["drives_other_runs"] = dds.drives_other_runs;
   json["stopped_early"] = dds.stopped_early;
   json["robot_exits"] = Json::array();
   for (const std::optional<int>& exit : dds.robot_exits) json["robot_exits"].push_back(IntegerOrNull(exit));

@@ -289,6 +289,7 @@ TEST(MetricsJson, DdsObjectLastWithEveryField) {
   dds.reports_rejected = 1;
   dds.reports_late = 2;
   dds.reports_other_runs = 3;
+  dds.drives_other_runs = 4;
   dds.stopped_early = true;
   dds.robot_exits = {0, std::nullopt, -9};
   metrics.dds = dds;
@@ -299,7 +300,7 @@ TEST(MetricsJson, DdsObjectLastWithEveryField) {
   EXPECT_EQ(json["dds"], Json::parse(R"({"domain_id": 17, "delivery_ratio": 0.999,
       "round_start_skew_us": {"rounds": 200, "p50": 40.0, "p99": 900.0, "max": 2500.0},
       "cpu_seconds_per_robot": [0.5, 0.0], "reports_rejected": 1, "reports_late": 2, "reports_other_runs": 3,
-      "stopped_early": true, "robot_exits": [0, null, -9]})"));
+      "drives_other_runs": 4, "stopped_early": true, "robot_exits": [0, null, -9]})"));
 }
 
 TEST(MetricsJson, IdenticalObservationsGiveIdenticalBytes) {

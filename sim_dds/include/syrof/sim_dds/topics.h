@@ -3,14 +3,18 @@
 // one table, and helpers that create a topic with its reader or writer.
 //
 //   topic                      type      QoS
-//   rt/syrof/beacon            Beacon_   best effort, keep last 1, volatile (keyed by sender)
-//   rt/robot_<i>/syrof/imu     Imu_      best effort, keep last 4, volatile
-//   rt/robot_<i>/syrof/flow    Flow_     best effort, keep last 4, volatile
-//   rt/robot_<i>/syrof/uwb     Uwb_      best effort, keep last 4, volatile
-//   rt/robot_<i>/syrof/drive   Drive_    best effort, keep last 1, volatile
+//   rt/syrof/beacon            Beacon_   best effort, keep last 1, volatile (keyed by sender, run)
+//   rt/robot_<i>/syrof/imu     Imu_      best effort, keep last 4, volatile (keyed by robot, run)
+//   rt/robot_<i>/syrof/flow    Flow_     best effort, keep last 4, volatile (keyed by robot, run)
+//   rt/robot_<i>/syrof/uwb     Uwb_      best effort, keep last 4, volatile (keyed by robot, run)
+//   rt/robot_<i>/syrof/drive   Drive_    best effort, keep last 1, volatile (keyed by robot, run)
 //   rt/syrof/control           Control_  reliable, keep last 1, transient-local
 //   rt/syrof/report            Report_   reliable, keep all, volatile
-//   rt/syrof/status            Status_   reliable, keep last 1, transient-local (keyed by robot)
+//   rt/syrof/status            Status_   reliable, keep last 1, transient-local (keyed by robot, run)
+//
+// Keyed by the run as well as the robot: runs that share a domain use the
+// same robot ids, and "keep last" keeps the newest per key, so one run's
+// samples never push another's out of a reader's history.
 //
 // Every type is @final and sent as XCDR1 (forced), which Fast DDS 2.9 reads.
 // Readers and writers take the topic's QoS, so every pair matches.

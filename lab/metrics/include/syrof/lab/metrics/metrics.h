@@ -303,6 +303,7 @@ struct DdsMetrics {
   int64_t reports_rejected = 0;             ///< robot reports that failed their checks
   int64_t reports_late = 0;                 ///< reports for a round already closed
   int64_t reports_other_runs = 0;           ///< reports of another run on the same domain
+  int64_t drives_other_runs = 0;            ///< drive commands of another run on the same domain
   bool stopped_early = false;               ///< a signal ended the run
   /// Per robot: its exit code, or minus the signal that ended it; unset for
   /// a robot never started.
