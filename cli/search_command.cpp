@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -53,9 +54,16 @@ CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options) {
   CLI::App* command = app.add_subcommand(
       "search", "Search test: run a scenario under every pattern of up to F lost beacons; show one that breaks it");
   command->add_option("scenario", options.scenario_path, "Scenario file (YAML, docs/scenarios.md)")->required();
-  command->add_option("--max-losses", options.max_losses, "Most beacons a pattern loses (F)")
-      ->required()
+  command->add_option("--max-losses", options.max_losses, "Most beacons a pattern loses (F; required unless --activations)")
       ->check(CLI::Range(0, search::kMaxSearchLosses));
+  command->add_option("--activations", options.activations,
+                      "Search activation schedules instead of losses: ssync (docs/activation.md)");
+  command->add_option("--max-inactive", options.max_inactive,
+                      "With --activations: most robot-epochs a schedule leaves out (default: every schedule)")
+      ->check(CLI::Range(1, search::kMaxSearchInactive));
+  command->add_option("--fair-within", options.fair_within,
+                      "With --activations: no robot left out of this many epochs in a row (default: no bound)")
+      ->check(CLI::Range(1, search::kMaxSearchEpochs));
   command->add_option("--epochs", options.epochs, "The losses fall in the run's first E epochs (default 3)")
       ->check(CLI::Range(1, search::kMaxSearchEpochs));
   command->add_option("--jobs", options.jobs, "Runs side by side (default 1); the result does not depend on it")
@@ -74,7 +82,36 @@ CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options) {
   return command;
 }
 
+// The flags that go together: losses or activations, and the activation
+// search's own flags only with it. "" when they do.
+std::string CheckSearchFlags(const SearchOptions& options) {
+  if (options.activations.empty()) {
+    if (options.max_losses < 0) return "--max-losses is required (or --activations ssync to search schedules)";
+    if (options.max_inactive >= 0) return "--max-inactive applies to --activations only";
+    if (options.fair_within > 0) return "--fair-within applies to --activations only";
+    return {};
+  }
+  if (options.activations == "async") {
+    return "--activations async is not built yet: the schedule search runs SSYNC (docs/activation.md)";
+  }
+  if (options.activations != "ssync") {
+    return "--activations must be ssync, not '" + options.activations + "'";
+  }
+  if (options.max_losses >= 0) {
+    return "--max-losses and --activations do not combine yet: search losses or schedules, one at a time";
+  }
+  if (options.fair_within > options.epochs) {
+    return fmt::format("--fair-within {} is more than the {} epochs searched (--epochs)", options.fair_within,
+                       options.epochs);
+  }
+  return {};
+}
+
 int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal) {
+  if (const std::string problem = CheckSearchFlags(options); !problem.empty()) {
+    fmt::print(err, "syrof search: {}\n", problem);
+    return 2;
+  }
   scenario::Overrides overrides;
   overrides.app = options.app;
   overrides.seed = options.seed;
@@ -92,7 +129,10 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     scenario.app.name = scenario.app.library;
   }
   search::SearchOptions search_options;
-  search_options.max_losses = options.max_losses;
+  search_options.max_losses = std::max(options.max_losses, 0);
+  search_options.activations = !options.activations.empty();
+  if (options.max_inactive > 0) search_options.max_inactive = options.max_inactive;
+  search_options.fair_within = options.fair_within;
   search_options.epochs = options.epochs;
   search_options.jobs = options.jobs;
   search_options.time_limit_s = options.time_limit_s;
@@ -136,11 +176,19 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   if (search_options.app_sandbox) {
     for (const std::string& note : *search_options.app_sandbox) fmt::print(out, "  sandbox: {}\n", note);
   }
-  fmt::print(out, "  patterns of up to {} lost beacon{} in the first {} epoch{}, fewest and earliest first\n",
-             options.max_losses, options.max_losses == 1 ? "" : "s", options.epochs, options.epochs == 1 ? "" : "s");
+  const char* unit = search_options.activations ? "inactive robot-epoch" : "lost beacon";
+  if (search_options.activations) {
+    fmt::print(out, "  SSYNC schedules of the first {} epoch{}, fewest inactive robot-epochs and earliest first{}\n",
+               options.epochs, options.epochs == 1 ? "" : "s",
+               options.fair_within > 0 ? fmt::format("; no robot left out of {} epochs in a row", options.fair_within)
+                                       : std::string());
+  } else {
+    fmt::print(out, "  patterns of up to {} lost beacon{} in the first {} epoch{}, fewest and earliest first\n",
+               options.max_losses, options.max_losses == 1 ? "" : "s", options.epochs, options.epochs == 1 ? "" : "s");
+  }
   if (!options.quiet && err_is_terminal) {
-    search_options.progress = [&err](int64_t runs, int losses) {
-      fmt::print(err, "\r  {} runs, now {} lost beacon{}   ", runs, losses, losses == 1 ? "" : "s");
+    search_options.progress = [&err, unit](int64_t runs, int losses) {
+      fmt::print(err, "\r  {} runs, now {} {}{}   ", runs, losses, unit, losses == 1 ? "" : "s");
       err.flush();
     };
   }
@@ -150,7 +198,12 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     fmt::print(err, "syrof search: {}\n", result.error);
     return 2;
   }
-  if (result.complete_losses >= 0) {
+  if (result.complete_losses >= 0 && search_options.activations) {
+    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the run with every robot active), {} robot-epochs; {} "
+                    "schedules{}\n",
+               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
+               result.patterns_in_all, options.fair_within > 0 ? " before the fairness bound" : "");
+  } else if (result.complete_losses >= 0) {
     fmt::print(out, "  window: {} radio rounds ({} epoch{} of the loss-free run), {} beacon slots; {} patterns in all\n",
                result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
                search::PatternCount(result.slots, options.max_losses));
@@ -159,15 +212,21 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   if (!result.counterexample) {
     if (result.stopped_by_time) {
       fmt::print(out, "no pattern broke it before the time limit: {} runs in {:.1f} s ({:.0f} a second); every "
-                      "pattern of up to {} lost beacon{} was tried\n",
-                 result.runs, result.seconds, rate, result.complete_losses, result.complete_losses == 1 ? "" : "s");
+                      "pattern of up to {} {}{} was tried\n",
+                 result.runs, result.seconds, rate, result.complete_losses, unit,
+                 result.complete_losses == 1 ? "" : "s");
     } else {
       fmt::print(out, "no pattern broke it: all {} runs in {:.1f} s ({:.0f} a second)\n", result.runs, result.seconds,
                  rate);
     }
-    fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the losses fell in the first {} epoch{}\n",
-               result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s", result.epochs_in_window,
+    fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the {} fell in the first {} epoch{}\n",
+               result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s",
+               search_options.activations ? "inactive robot-epochs" : "losses", result.epochs_in_window,
                result.epochs_in_window == 1 ? "" : "s");
+    if (result.not_schedules > 0) {
+      fmt::print(out, "  {} pattern{} left an epoch with no active robot{} and did not run\n", result.not_schedules,
+                 result.not_schedules == 1 ? "" : "s", options.fair_within > 0 ? " or were unfair" : "");
+    }
     PrintPruning(out, result);
     return result.pruning_mismatches > 0 ? 1 : 0;
   }
@@ -185,7 +244,16 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   page_options.scenario = &scenario;
   const std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
 
-  if (found.lost.empty()) {
+  if (search_options.activations && found.inactive.empty()) {
+    fmt::print(out, "BROKEN with every robot active (FSYNC)\n");
+  } else if (search_options.activations) {
+    fmt::print(out, "BROKEN by a schedule leaving {} robot-epoch{} out ([epoch: robot]):", found.inactive.size(),
+               found.inactive.size() == 1 ? "" : "s");
+    for (const search::Inactivation& left_out : found.inactive) {
+      fmt::print(out, " [{}: {}]", left_out.epoch, left_out.robot);
+    }
+    fmt::print(out, "\n");
+  } else if (found.lost.empty()) {
     fmt::print(out, "BROKEN without any lost beacon (the loss-free run)\n");
   } else {
     fmt::print(out, "BROKEN by {} lost beacon{} ([round, sender, receiver]):", found.lost.size(),
@@ -196,8 +264,9 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     fmt::print(out, "\n");
   }
   PrintViolations(out, found.violations);
-  fmt::print(out, "  after {} runs ({} distinct outcomes) in {:.1f} s; every pattern of fewer losses passed\n",
-             result.runs, result.distinct_outcomes, result.seconds);
+  fmt::print(out, "  after {} runs ({} distinct outcomes) in {:.1f} s; every {} of fewer {} passed\n", result.runs,
+             result.distinct_outcomes, result.seconds, search_options.activations ? "schedule" : "pattern",
+             search_options.activations ? "inactive robot-epochs" : "losses");
   PrintPruning(out, result);
   fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),
              page_problem.empty() ? ", replay.html" : "");

@@ -8,6 +8,12 @@
 // a scripted channel losing exactly those beacons), DIR/replay,
 // DIR/metrics.json and DIR/replay.html, all from a rerun of that file, and
 // prints the commands that reproduce it.
+//
+// `syrof search SCENARIO.yaml --activations ssync [--max-inactive K]
+// [--fair-within F] [--epochs E] ...`: the same over SSYNC schedules
+// (docs/activation.md, "The schedule search"): every schedule of the first
+// E epochs, fewest inactive robot-epochs and earliest first; the
+// counterexample is the scenario with a scripted schedule.
 #pragma once
 
 #include <cstdint>
@@ -24,7 +30,10 @@ struct SearchOptions {
   std::optional<std::string> app;  ///< "builtin:NAME" or a library's path
   std::optional<uint64_t> seed;
   std::optional<double> duration_s;
-  int max_losses = -1;             ///< required
+  int max_losses = -1;             ///< required, unless activations
+  std::string activations;         ///< "ssync": search schedules instead of losses
+  int max_inactive = -1;           ///< -1: every schedule
+  int fair_within = 0;             ///< 0: no bound
   int epochs = 3;
   int jobs = 1;
   double time_limit_s = 0;         ///< 0: none

@@ -148,5 +148,56 @@ TEST(SearchCommandTest, BadInputExitsTwoAndSaysWhatIsWrong) {
   EXPECT_NE(absent.err.find("--max-losses"), std::string::npos) << absent.err;
 }
 
+// The schedule search (docs/activation.md): a library that counts its own
+// turns passes the FSYNC run (the search's first), and the first SSYNC
+// schedule that leaves one robot out of one epoch breaks its agreement;
+// the counterexample is a scripted schedule that `syrof run` reruns.
+TEST(SearchCommandTest, TheScheduleSearchBreaksALibraryCountingItsTurnsAndItReruns) {
+  const fs::path dir = FreshDir("syrof_search_test_", "activations");
+  const fs::path path = dir / "scenario.yaml";
+  fs::create_directories(dir);
+  std::ofstream(path) << "name: turns\nseed: 3\nrobots: { count: 3, spacing_m: 1.0 }\ntiming: { duration_s: 4 }\n"
+                      << "app: " << TestLib("counts_turns") << "\n";
+  const fs::path out = dir / "out";
+  const Outcome outcome = RunSearch({path.string(), "--activations", "ssync", "--epochs", "3", "--out", out});
+  ASSERT_EQ(outcome.status, 1) << outcome.out << outcome.err;
+  EXPECT_NE(outcome.out.find("SSYNC schedules of the first 3 epochs"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("BROKEN by a schedule leaving 1 robot-epoch out ([epoch: robot]): ["), std::string::npos)
+      << outcome.out;
+  EXPECT_NE(outcome.out.find("broken: agreement"), std::string::npos) << outcome.out;
+  const std::string yaml = ReadFile(out / "counterexample.yaml");
+  EXPECT_NE(yaml.find("schedule: scripted"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("active:"), std::string::npos) << yaml;
+
+  RunOptions rerun;
+  rerun.scenario_path = (out / "counterexample.yaml").string();
+  rerun.out_dir = (dir / "rerun").string();
+  rerun.quiet = true;
+  rerun.reproducible = true;
+  std::ostringstream run_out, run_err;
+  ASSERT_EQ(RunRunCommand(rerun, run_out, run_err, false), 0) << run_err.str();
+  EXPECT_EQ(ReadFile(dir / "rerun" / "replay"), ReadFile(out / "replay"));
+  EXPECT_EQ(ReadFile(dir / "rerun" / "metrics.json"), ReadFile(out / "metrics.json"));
+}
+
+TEST(SearchCommandTest, TheScheduleSearchRefusesFlagsThatDoNotGoWithIt) {
+  const fs::path dir = FreshDir("syrof_search_test_", "activation_flags");
+  const std::string scenario = WriteSearchScenario(dir, "builtin:idle");
+  const auto refused = [&](const std::vector<std::string>& arguments, const std::string& words) {
+    std::vector<std::string> all{scenario};
+    all.insert(all.end(), arguments.begin(), arguments.end());
+    const Outcome outcome = RunSearch(all);
+    EXPECT_EQ(outcome.status, 2) << outcome.out;
+    EXPECT_NE(outcome.err.find(words), std::string::npos) << outcome.err;
+    EXPECT_FALSE(fs::exists(dir / "o")) << "nothing written";
+  };
+  refused({"--activations", "async", "--out", (dir / "o").string()}, "async is not built yet");
+  refused({"--activations", "sometimes", "--out", (dir / "o").string()}, "must be ssync, not 'sometimes'");
+  refused({"--activations", "ssync", "--max-losses", "1", "--out", (dir / "o").string()}, "do not combine");
+  refused({"--max-losses", "1", "--fair-within", "2", "--out", (dir / "o").string()}, "--fair-within applies to --activations only");
+  refused({"--activations", "ssync", "--fair-within", "5", "--epochs", "3", "--out", (dir / "o").string()},
+          "--fair-within 5 is more than the 3 epochs searched");
+}
+
 }  // namespace
 }  // namespace syrof::cli

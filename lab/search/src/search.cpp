@@ -34,19 +34,44 @@ using world::LostBeacon;
 struct Window {
   int64_t rounds = 0;
   int64_t epochs = 0;
+  std::vector<WindowEpoch> rows;  // the window's epochs (the activation search's slots)
 };
+
+// An epoch row as an activation search's window holds it: the earliest
+// start, and the members of every robot's map that started it.
+WindowEpoch WindowEpochOf(const replay::EpochRow& row, const std::vector<uint16_t>& robot_ids) {
+  WindowEpoch epoch;
+  epoch.epoch = row.wire_epoch();
+  epoch.round = -1;
+  for (size_t i = 0; i < row.robots.size(); ++i) {
+    const replay::EpochStart& start = row.robots[i];
+    if (!start.started()) continue;
+    if (epoch.round < 0 || start.round < epoch.round) epoch.round = start.round;
+    if (start.members) {
+      epoch.members.insert(epoch.members.end(), start.members->begin(), start.members->end());
+    } else {
+      epoch.members.push_back(robot_ids[i]);
+    }
+  }
+  std::sort(epoch.members.begin(), epoch.members.end());
+  epoch.members.erase(std::unique(epoch.members.begin(), epoch.members.end()), epoch.members.end());
+  return epoch;
+}
 
 Window WindowOf(const std::string& replay_bytes, int64_t run_rounds, int epochs) {
   std::istringstream in(replay_bytes);
   replay::Reader reader(in);
   replay::Header header;
-  Window window{run_rounds, 0};
+  Window window{run_rounds, 0, {}};
   if (!reader.ReadHeader(header)) return window;
   replay::EpochTableBuilder builder(header, reader.version());
   replay::Round round;
   while (reader.Next(round)) builder.Add(round);
   const replay::EpochTable table = std::move(builder).Finish();
   window.epochs = static_cast<int64_t>(table.epochs.size());
+  for (size_t row = 0; row < table.epochs.size() && row < static_cast<size_t>(epochs); ++row) {
+    window.rows.push_back(WindowEpochOf(table.epochs[row], table.robot_ids));
+  }
   if (table.epochs.size() <= static_cast<size_t>(epochs)) return window;
   window.epochs = epochs;
   int64_t first_start = run_rounds;
@@ -130,6 +155,97 @@ class Patterns {
   bool done_ = false;
 };
 
+// What a search's patterns choose from: beacons to lose, or members of the
+// window's epochs to leave out (search.h). Slots are in round order.
+struct SearchSpace {
+  bool activations = false;
+  std::vector<LostBeacon> beacons;
+  std::vector<Inactivation> inactivations;
+  std::vector<size_t> epoch_of;  // per inactivation slot: its index in `epochs`
+  std::vector<WindowEpoch> epochs;
+  int fair_within = 0;
+
+  int64_t size() const { return static_cast<int64_t>(activations ? inactivations.size() : beacons.size()); }
+  int64_t RoundOf(int64_t slot) const {
+    const auto i = static_cast<size_t>(slot);
+    return activations ? inactivations[i].round : beacons[i].round;
+  }
+};
+
+std::vector<Inactivation> InactivationSlots(const std::vector<WindowEpoch>& epochs, std::vector<size_t>& epoch_of) {
+  std::vector<Inactivation> slots;
+  for (size_t e = 0; e < epochs.size(); ++e) {
+    for (const uint16_t robot : epochs[e].members) {
+      slots.push_back({epochs[e].round, epochs[e].epoch, robot});
+      epoch_of.push_back(e);
+    }
+  }
+  return slots;
+}
+
+// Whether no robot is left out of `fair_within` of the window's epochs in
+// a row (a robot that is not a member of an epoch ends its run).
+bool IsFair(const SearchSpace& space, std::span<const int64_t> indices) {
+  std::vector<int> runs;  // per robot id: inactive epochs in a row so far
+  for (const WindowEpoch& epoch : space.epochs) {
+    if (!epoch.members.empty()) runs.resize(std::max<size_t>(runs.size(), epoch.members.back() + 1u), 0);
+  }
+  for (size_t e = 0; e < space.epochs.size(); ++e) {
+    std::vector<int> after(runs.size(), 0);
+    for (const uint16_t robot : space.epochs[e].members) {
+      const bool left_out = std::any_of(indices.begin(), indices.end(), [&](int64_t index) {
+        const auto slot = static_cast<size_t>(index);
+        return space.epoch_of[slot] == e && space.inactivations[slot].robot == robot;
+      });
+      after[robot] = left_out ? runs[robot] + 1 : 0;
+      if (after[robot] >= space.fair_within) return false;
+    }
+    runs = std::move(after);
+  }
+  return true;
+}
+
+// Whether an activation pattern is a schedule: every epoch keeps an active
+// member, and no robot is inactive in fair_within epochs in a row.
+bool IsSchedule(const SearchSpace& space, std::span<const int64_t> indices) {
+  size_t i = 0;
+  while (i < indices.size()) {
+    const size_t epoch = space.epoch_of[static_cast<size_t>(indices[i])];
+    size_t left_out = 0;
+    for (; i < indices.size() && space.epoch_of[static_cast<size_t>(indices[i])] == epoch; ++i) ++left_out;
+    if (left_out >= space.epochs[epoch].members.size()) return false;
+  }
+  return space.fair_within <= 0 || IsFair(space, indices);
+}
+
+// The schedules of up to `most` inactive robot-epochs (no fairness bound):
+// the product over epochs of sum_j C(m, j), j < m, truncated at `most`.
+int64_t ScheduleCount(const std::vector<WindowEpoch>& epochs, int most) {
+  constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
+  auto add = [&](int64_t a, int64_t b) { return a > kMax - b ? kMax : a + b; };
+  auto times = [&](int64_t a, int64_t b) {
+    if (a == 0 || b == 0) return int64_t{0};
+    return a > kMax / b ? kMax : a * b;
+  };
+  std::vector<int64_t> ways(static_cast<size_t>(most) + 1, 0);  // [k]: schedules with k left out
+  ways[0] = 1;
+  for (const WindowEpoch& epoch : epochs) {
+    const auto m = static_cast<int>(epoch.members.size());
+    std::vector<int64_t> next(ways.size(), 0);
+    int64_t choose = 1;  // C(m, j)
+    for (int j = 0; j < m && j <= most; ++j) {
+      if (j > 0) choose = times(choose, m - j + 1) == kMax ? kMax : choose * (m - j + 1) / j;
+      for (int k = 0; k + j <= most; ++k) {
+        next[static_cast<size_t>(k + j)] = add(next[static_cast<size_t>(k + j)], times(ways[static_cast<size_t>(k)], choose));
+      }
+    }
+    ways = std::move(next);
+  }
+  int64_t total = 0;
+  for (const int64_t count : ways) total = add(total, count);
+  return total;
+}
+
 struct Outcome {
   std::vector<Violation> violations;
   metrics::Metrics metrics;
@@ -160,7 +276,9 @@ constexpr int64_t kMaxStoredStates = 1'000'000;
 // One pattern of a batch, and what its run saw.
 struct PatternRun {
   std::vector<int64_t> indices;   // slot indices, increasing (so by round)
+  std::vector<int64_t> rounds;    // the slots' rounds
   std::vector<LostBeacon> lost;
+  std::vector<Inactivation> inactive;
   std::vector<Digest> prefixes;   // [c]: the fingerprint of its first c losses
   // Its state at the start of rounds 1, 2, ... while it had broken nothing;
   // it ends early when the run stopped at a state seen before.
@@ -175,11 +293,17 @@ Digest PrefixDigest(std::span<const int64_t> indices) {
   return digest.value();
 }
 
-// Losses of `run` in rounds before `round`.
+// Losses (inactive robot-epochs) of `run` in rounds before `round`.
 int LossesBefore(const PatternRun& run, int64_t round) {
   int count = 0;
-  while (count < static_cast<int>(run.lost.size()) && run.lost[static_cast<size_t>(count)].round < round) ++count;
+  while (count < static_cast<int>(run.rounds.size()) && run.rounds[static_cast<size_t>(count)] < round) ++count;
   return count;
+}
+
+// The scenario a pattern stands for.
+scenario::Scenario PatternScenario(const scenario::Scenario& scenario, const SearchSpace& space, const PatternRun& run) {
+  if (space.activations) return WithInactivations(scenario, space.epochs, run.inactive);
+  return WithLosses(scenario, run.lost);
 }
 
 // Whether a run with `losses` losses so far (fingerprinted `prefix`) in
@@ -191,14 +315,14 @@ const Representative* Dominated(const StateTable& table, const Digest& state, in
   return first.prefix != prefix && first.losses <= losses ? &first : nullptr;
 }
 
-void RunPattern(const scenario::Scenario& scenario, const SearchOptions& options, PatternRun& run,
-                bool goal_declared, const std::vector<StateTable>* tables, bool end_state) {
+void RunPattern(const scenario::Scenario& scenario, const SearchSpace& space, const SearchOptions& options,
+                PatternRun& run, bool goal_declared, const std::vector<StateTable>* tables, bool end_state) {
   sim::SimulationOptions sim_options;
   sim_options.app_factory = options.app_factory;
   sim_options.app_source = options.app_source;
   sim_options.app_sandbox = options.app_sandbox;
   sim_options.state_digests = tables != nullptr || end_state;
-  sim::Simulation simulation(WithLosses(scenario, run.lost), sim_options);
+  sim::Simulation simulation(PatternScenario(scenario, space, run), sim_options);
   if (tables != nullptr) {
     for (int64_t round = 1; round < static_cast<int64_t>(tables->size()); ++round) {
       simulation.RunThroughRoundStart(round);
@@ -222,12 +346,12 @@ void RunPattern(const scenario::Scenario& scenario, const SearchOptions& options
 }
 
 // Runs `batch` on `jobs` threads, reading `tables` (null: no pruning).
-void RunBatch(const scenario::Scenario& scenario, const SearchOptions& options, std::vector<PatternRun*>& batch,
-              bool goal_declared, const std::vector<StateTable>* tables) {
+void RunBatch(const scenario::Scenario& scenario, const SearchSpace& space, const SearchOptions& options,
+              std::vector<PatternRun*>& batch, bool goal_declared, const std::vector<StateTable>* tables) {
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i = next++; i < batch.size(); i = next++) {
-      RunPattern(scenario, options, *batch[i], goal_declared, tables, false);
+      RunPattern(scenario, space, options, *batch[i], goal_declared, tables, false);
     }
   };
   const int threads = std::min<int>(options.jobs, static_cast<int>(batch.size()));
@@ -241,8 +365,37 @@ void RunBatch(const scenario::Scenario& scenario, const SearchOptions& options, 
 // partitions and links kept), with the command line's overrides written in
 // and a library's path made absolute, so the file runs from any folder.
 // Comments are not kept.
+// The `activation:` section of an activation search's counterexample: the
+// script WithInactivations gives, or FSYNC when nobody is left out.
+YAML::Node ActivationNode(const Counterexample& found) {
+  YAML::Node activation(YAML::NodeType::Map);
+  activation.SetStyle(YAML::EmitterStyle::Block);
+  if (found.inactive.empty()) {
+    activation["model"] = "fsync";
+    return activation;
+  }
+  activation["model"] = "ssync";
+  activation["schedule"] = "scripted";
+  YAML::Node list(YAML::NodeType::Sequence);
+  std::optional<uint16_t> epoch;
+  for (const sync::ScriptedActivation& entry : WithInactivations({}, found.window_epochs, found.inactive).activation.script) {
+    if (!epoch || *epoch != entry.epoch) {
+      YAML::Node row(YAML::NodeType::Sequence);
+      row.SetStyle(YAML::EmitterStyle::Flow);
+      row.push_back(entry.epoch);
+      row.push_back(YAML::Node(YAML::NodeType::Sequence));
+      list.push_back(row);
+      epoch = entry.epoch;
+    }
+    YAML::Node ids = list[list.size() - 1][1];
+    ids.push_back(entry.robot);
+  }
+  activation["active"] = list;
+  return activation;
+}
+
 std::string CounterexampleText(const scenario::Scenario& resolved, const CounterexampleSource& source,
-                               const std::vector<LostBeacon>& lost) {
+                               const Counterexample& found, bool activations) {
   YAML::Node root = YAML::LoadFile(source.scenario_path);
   YAML::Node channel(YAML::NodeType::Map);
   channel["model"] = "scripted";
@@ -252,7 +405,7 @@ std::string CounterexampleText(const scenario::Scenario& resolved, const Counter
     }
   }
   YAML::Node list(YAML::NodeType::Sequence);
-  for (const LostBeacon& beacon : lost) {
+  for (const LostBeacon& beacon : found.lost) {
     YAML::Node entry(YAML::NodeType::Sequence);
     entry.SetStyle(YAML::EmitterStyle::Flow);
     entry.push_back(beacon.round);
@@ -261,7 +414,11 @@ std::string CounterexampleText(const scenario::Scenario& resolved, const Counter
     list.push_back(entry);
   }
   channel["lost"] = list;
-  root["channel"] = channel;
+  if (activations) {
+    root["activation"] = ActivationNode(found);  // the scenario's channel stays
+  } else {
+    root["channel"] = channel;
+  }
   root["name"] = resolved.name;  // else the name would be the new file's stem
   root["seed"] = resolved.seed;
   if (source.duration_s) root["timing"]["duration_s"] = *source.duration_s;
@@ -277,8 +434,14 @@ std::string CounterexampleText(const scenario::Scenario& resolved, const Counter
   }
   YAML::Emitter emitter;
   emitter << root;
+  if (activations) {
+    return fmt::format(
+        "# syrof search --activations: {} with {} inactive robot-epoch{} (activation.active: [epoch, [the robots "
+        "active in it]]; epochs not listed: every member)\n{}\n",
+        source.scenario_path, found.inactive.size(), found.inactive.size() == 1 ? "" : "s", emitter.c_str());
+  }
   return fmt::format("# syrof search: {} with {} lost beacon{} (channel.lost: [round, sender, receiver])\n{}\n",
-                     source.scenario_path, lost.size(), lost.size() == 1 ? "" : "s", emitter.c_str());
+                     source.scenario_path, found.lost.size(), found.lost.size() == 1 ? "" : "s", emitter.c_str());
 }
 
 }  // namespace
@@ -290,7 +453,7 @@ std::string WriteCounterexample(const std::string& dir, const scenario::Scenario
   const std::string yaml_path = (folder / "counterexample.yaml").string();
   std::string text;
   try {
-    text = CounterexampleText(resolved, source, found.lost);
+    text = CounterexampleText(resolved, source, found, options.activations);
   } catch (const std::exception& error) {
     return fmt::format("cannot write {}: reading {} again failed: {}", yaml_path, source.scenario_path, error.what());
   }
@@ -377,6 +540,27 @@ scenario::Scenario WithLosses(const scenario::Scenario& base, std::span<const Lo
   return result;
 }
 
+scenario::Scenario WithInactivations(const scenario::Scenario& base, std::span<const WindowEpoch> epochs,
+                                     std::span<const Inactivation> inactive) {
+  scenario::Scenario result = base;
+  result.activation = scenario::ActivationSpec{};
+  if (inactive.empty()) return result;  // FSYNC: every member, every epoch
+  result.activation.model = sync::ActivationModel::kSsync;
+  result.activation.schedule = sync::ActivationSchedule::kScripted;
+  for (const WindowEpoch& epoch : epochs) {
+    const bool listed = std::any_of(inactive.begin(), inactive.end(),
+                                    [&](const Inactivation& out) { return out.epoch == epoch.epoch; });
+    if (!listed) continue;
+    for (const uint16_t robot : epoch.members) {
+      const bool left_out = std::any_of(inactive.begin(), inactive.end(), [&](const Inactivation& out) {
+        return out.epoch == epoch.epoch && out.robot == robot;
+      });
+      if (!left_out) result.activation.script.push_back({epoch.epoch, robot});
+    }
+  }
+  return result;
+}
+
 int64_t PatternCount(int64_t slots, int losses) {
   constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
   int64_t total = 0;
@@ -422,12 +606,14 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   sim_options.app_source = options.app_source;
   sim_options.app_sandbox = options.app_sandbox;
   sim_options.replay = &replay_bytes;
-  const scenario::Scenario loss_free = WithLosses(scenario, {});
+  // With every robot active (FSYNC), for the activation search.
+  const scenario::Scenario loss_free =
+      options.activations ? WithInactivations(scenario, {}, {}) : WithLosses(scenario, {});
   sim::RunReport baseline = sim::Run(loss_free, sim_options, 0);
   result.runs = 1;
   std::vector<Violation> violations = ViolationsOf(baseline.metrics, goal_declared);
   if (!violations.empty()) {
-    result.counterexample = Counterexample{{}, std::move(violations), std::move(baseline.metrics)};
+    result.counterexample = Counterexample{{}, {}, {}, std::move(violations), std::move(baseline.metrics)};
     result.seconds = elapsed_s();
     return result;
   }
@@ -436,7 +622,18 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   result.window_rounds = window.rounds;
   result.epochs_in_window = window.epochs;
   const auto robots = static_cast<int64_t>(scenario.robots.size());
-  if (const int64_t most = robots * (robots - 1) * window.rounds; most > kMaxSearchSlots) {
+  SearchSpace space;
+  space.activations = options.activations;
+  space.fair_within = options.fair_within;
+  int most_in_pattern = options.max_losses;
+  if (options.activations) {
+    space.epochs = window.rows;
+    space.inactivations = InactivationSlots(space.epochs, space.epoch_of);
+    // Each epoch keeps one member active.
+    most_in_pattern = static_cast<int>(std::min<int64_t>(
+        options.max_inactive, space.size() - static_cast<int64_t>(space.epochs.size())));
+    result.patterns_in_all = ScheduleCount(space.epochs, std::max(most_in_pattern, 0));
+  } else if (const int64_t most = robots * (robots - 1) * window.rounds; most > kMaxSearchSlots) {
     result.error = fmt::format(
         "the first {} epoch{} hold up to {} beacon slots ({} robots, {} radio rounds), more than a search can try "
         "(at most {}): search a smaller swarm or fewer epochs",
@@ -444,14 +641,16 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
     result.seconds = elapsed_s();
     return result;
   }
-  const std::vector<LostBeacon> slots = SlotsOf(scenario, window.rounds);
-  result.slots = static_cast<int64_t>(slots.size());
+  if (!options.activations) space.beacons = SlotsOf(scenario, window.rounds);
+  result.slots = space.size();
 
   // Pruning (search.h): a table per round start of the states seen there,
   // and, for patterns shorter than the longest, the round at which each was
   // pruned (0: it ran to its end), so that the patterns that extend it with
   // later losses are skipped.
-  const bool prune = options.prune && !scenario.clocks.enabled && window.rounds > 0;
+  // No two schedules meet in a state: the state holds each app's call
+  // history (search.h), and schedules differ in who was called when.
+  const bool prune = options.prune && !options.activations && !scenario.clocks.enabled && window.rounds > 0;
   std::vector<StateTable> tables(prune ? static_cast<size_t>(window.rounds) + 1 : 0);
   struct Pruned {
     int64_t round = 0;
@@ -469,7 +668,14 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   auto make_run = [&](std::vector<int64_t> indices) {
     PatternRun run;
     run.indices = std::move(indices);
-    for (int64_t index : run.indices) run.lost.push_back(slots[static_cast<size_t>(index)]);
+    for (int64_t index : run.indices) {
+      run.rounds.push_back(space.RoundOf(index));
+      if (space.activations) {
+        run.inactive.push_back(space.inactivations[static_cast<size_t>(index)]);
+      } else {
+        run.lost.push_back(space.beacons[static_cast<size_t>(index)]);
+      }
+    }
     for (size_t c = 0; c <= run.indices.size(); ++c) {
       run.prefixes.push_back(PrefixDigest(std::span<const int64_t>(run.indices.data(), c)));
     }
@@ -504,7 +710,7 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
     for (size_t m = 1; m < indices.size(); ++m) {
       const auto found = memo.find(std::vector<int64_t>(indices.begin(), indices.begin() + static_cast<ptrdiff_t>(m)));
       if (found == memo.end() || found->second.round == 0) continue;
-      if (slots[static_cast<size_t>(indices[m])].round >= found->second.round) {
+      if (space.RoundOf(indices[m]) >= found->second.round) {
         why = found->second;
         return true;
       }
@@ -515,7 +721,7 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   if (prune) {
     // The loss-free run's states come first: every masked loss meets them.
     PatternRun loss_free_run = make_run({});
-    RunPattern(scenario, options, loss_free_run, goal_declared, &tables, false);
+    RunPattern(scenario, space, options, loss_free_run, goal_declared, &tables, false);
     merge(loss_free_run);
     result.round_starts += static_cast<int64_t>(loss_free_run.states.size());
   }
@@ -523,8 +729,8 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   const size_t batch_size = static_cast<size_t>(options.jobs) * 8;
   std::unordered_set<size_t> outcome_hashes{std::hash<std::string>{}(baseline.metrics_json)};
   result.distinct_outcomes = 1;
-  for (int losses = 1; losses <= options.max_losses; ++losses) {
-    const bool remember = prune && losses < options.max_losses;
+  for (int losses = 1; losses <= most_in_pattern; ++losses) {
+    const bool remember = prune && losses < most_in_pattern;
     Patterns patterns(result.slots, losses);
     while (!patterns.done()) {
       if (options.time_limit_s > 0 && elapsed_s() >= options.time_limit_s) {
@@ -536,6 +742,10 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
       std::vector<Pruned> skipped;  // per batch entry; round 0: to run
       size_t to_run = 0;
       for (; !patterns.done() && to_run < batch_size; patterns.Advance()) {
+        if (space.activations && !IsSchedule(space, patterns.current())) {
+          ++result.not_schedules;
+          continue;
+        }
         Pruned why;
         const bool skip = prune && skipped_by_prefix(patterns.current(), why);
         batch.push_back(make_run(patterns.current()));
@@ -546,7 +756,7 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
       for (size_t i = 0; i < batch.size(); ++i) {
         if (skipped[i].round == 0) running.push_back(&batch[i]);
       }
-      RunBatch(scenario, options, running, goal_declared, prune ? &tables : nullptr);
+      RunBatch(scenario, space, options, running, goal_declared, prune ? &tables : nullptr);
       for (size_t i = 0; i < batch.size(); ++i) {
         // Counted in search order, up to the first pattern that broke the
         // run, whatever else the batch ran: the same figures for any --jobs.
@@ -569,8 +779,8 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
         outcome_hashes.insert(run.outcome.metrics_hash);
         result.distinct_outcomes = static_cast<int64_t>(outcome_hashes.size());
         if (run.outcome.violations.empty()) continue;
-        result.counterexample = Counterexample{std::move(run.lost), std::move(run.outcome.violations),
-                                               std::move(run.outcome.metrics)};
+        result.counterexample = Counterexample{std::move(run.lost), std::move(run.inactive), space.epochs,
+                                               std::move(run.outcome.violations), std::move(run.outcome.metrics)};
         break;
       }
       if (result.counterexample) break;
@@ -587,12 +797,12 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   for (const Check& check : checks) {
     std::vector<int64_t> standing_for = representative_prefixes.at(static_cast<size_t>(check.pruned.prefix_index));
     for (int64_t index : check.indices) {
-      if (slots[static_cast<size_t>(index)].round >= check.pruned.round) standing_for.push_back(index);
+      if (space.RoundOf(index) >= check.pruned.round) standing_for.push_back(index);
     }
     PatternRun pruned_run = make_run(check.indices);
     PatternRun other_run = make_run(standing_for);
-    RunPattern(scenario, options, pruned_run, goal_declared, nullptr, true);
-    RunPattern(scenario, options, other_run, goal_declared, nullptr, true);
+    RunPattern(scenario, space, options, pruned_run, goal_declared, nullptr, true);
+    RunPattern(scenario, space, options, other_run, goal_declared, nullptr, true);
     ++result.pruning_checked;
     auto properties = [](const Outcome& outcome) {
       std::string text;
@@ -604,13 +814,14 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
       continue;
     }
     if (result.pruning_mismatches++ == 0) {
-      auto describe = [&](const std::vector<LostBeacon>& lost) {
+      auto describe = [&](const PatternRun& run) {
         std::string text;
-        for (const LostBeacon& beacon : lost) text += fmt::format("[{}, {}, {}] ", beacon.round, beacon.from, beacon.to);
+        for (const LostBeacon& beacon : run.lost) text += fmt::format("[{}, {}, {}] ", beacon.round, beacon.from, beacon.to);
+        for (const Inactivation& out : run.inactive) text += fmt::format("[epoch {}: {}] ", out.epoch, out.robot);
         return text;
       };
-      result.first_mismatch = fmt::format("{}pruned at round {} as {}: they end {} ({} / {})", describe(pruned_run.lost),
-                                          check.pruned.round, describe(other_run.lost),
+      result.first_mismatch = fmt::format("{}pruned at round {} as {}: they end {} ({} / {})", describe(pruned_run),
+                                          check.pruned.round, describe(other_run),
                                           pruned_run.outcome.end_state == other_run.outcome.end_state
                                               ? "in the same state but break other properties"
                                               : "in different states",

@@ -7,8 +7,10 @@
 // round (K = 1, F = 2), where one loss can.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/scenario/scenario.h"
@@ -247,6 +249,132 @@ TEST(SearchTest, PatternCountsAddUpBinomials) {
   EXPECT_EQ(PatternCount(3, 5), 8);  // every subset
   EXPECT_EQ(PatternCount(int64_t{1} << 40, 8), INT64_MAX);
 }
+
+// ---- The activation search (SSYNC schedules, search.h) ----
+
+// Holds still; its global state counts its own newRound calls: the same on
+// every robot under FSYNC, and one behind on a robot an SSYNC schedule left
+// out of an epoch, which the agreement check sees in the next epoch all
+// run.
+class TurnCountingApp final : public app::App {
+ public:
+  const char* name() const override { return "turn_counting_test"; }
+  app::CallStatus Init(const syrof_app_info&, app::Platform&, uint8_t& global_state) override {
+    global_state = 0;
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus NewRound(syrof_car_command&, const syrof_ldmap&, uint8_t& global_state, uint32_t) override {
+    ++global_state;
+    return app::CallStatus::Ok();
+  }
+  app::CallStatus EndOfRound(const syrof_ldmap&, uint8_t&, uint32_t) override { return app::CallStatus::Ok(); }
+};
+
+const char* const kThreeClean =
+    "seed: 3\nrobots: {count: 3, spacing_m: 1.0}\ntiming: {duration_s: 4}\napp: builtin:idle\n";
+
+SearchOptions ActivationOptions(std::function<std::unique_ptr<app::App>(uint16_t)> factory, int epochs, int jobs) {
+  SearchOptions options;
+  options.activations = true;
+  options.epochs = epochs;
+  options.jobs = jobs;
+  options.app_factory = std::move(factory);
+  options.app_source = "test:activation";
+  return options;
+}
+
+std::unique_ptr<app::App> TurnCounting(uint16_t) { return std::make_unique<TurnCountingApp>(); }
+std::unique_ptr<app::App> EpochFollowing(uint16_t) { return std::make_unique<CountingApp>(false); }
+
+TEST(ActivationSearchTest, FindsTheSmallestEarliestScheduleThatBreaksAnAppCountingItsTurns) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  for (const int jobs : {1, 2}) {
+    const SearchResult result = Search(scenario, ActivationOptions(TurnCounting, 3, jobs));
+    ASSERT_TRUE(result.error.empty()) << result.error;
+    ASSERT_TRUE(result.counterexample.has_value()) << result.runs << " runs";
+    const Counterexample& found = *result.counterexample;
+    EXPECT_TRUE(found.lost.empty());
+    // One robot left out of one epoch is enough, and the first such
+    // pattern (the first epoch, the lowest id) already breaks it.
+    ASSERT_EQ(found.inactive.size(), 1u);
+    ASSERT_FALSE(found.window_epochs.empty());
+    EXPECT_EQ(found.inactive[0].epoch, found.window_epochs[0].epoch);
+    EXPECT_EQ(found.inactive[0].robot, found.window_epochs[0].members[0]);
+    EXPECT_EQ(result.complete_losses, 0);
+    EXPECT_EQ(result.runs, 2);  // every robot active, then the first pattern
+    ASSERT_FALSE(found.violations.empty());
+    EXPECT_EQ(found.violations.front().property, "agreement");
+  }
+}
+
+TEST(ActivationSearchTest, TheCounterexampleReplaysAsAScriptedSchedule) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  const SearchOptions options = ActivationOptions(TurnCounting, 3, 1);
+  const SearchResult result = Search(scenario, options);
+  ASSERT_TRUE(result.counterexample.has_value());
+  const Counterexample& found = *result.counterexample;
+  const scenario::Scenario again = WithInactivations(scenario, found.window_epochs, found.inactive);
+  EXPECT_EQ(again.activation.model, sync::ActivationModel::kSsync);
+  EXPECT_EQ(again.activation.schedule, sync::ActivationSchedule::kScripted);
+  // The listed epoch activates the others; nothing else is listed.
+  ASSERT_EQ(again.activation.script.size(), found.window_epochs[0].members.size() - 1);
+  for (const sync::ScriptedActivation& entry : again.activation.script) {
+    EXPECT_EQ(entry.epoch, found.inactive[0].epoch);
+    EXPECT_NE(entry.robot, found.inactive[0].robot);
+  }
+  sim::SimulationOptions sim_options;
+  sim_options.app_factory = options.app_factory;
+  sim_options.app_source = options.app_source;
+  EXPECT_EQ(sim::Run(again, sim_options, 0).metrics_json, metrics::ToJson(found.metrics));
+  // Every robot active: FSYNC, and nothing breaks.
+  const sim::RunReport fsync = sim::Run(WithInactivations(scenario, found.window_epochs, {}), sim_options, 0);
+  EXPECT_TRUE(ViolationsOf(fsync.metrics, false).empty());
+}
+
+// Every schedule of 3 robots over 3 epochs: 7^3 = 343 with the one every
+// robot is active in; 169 of the 512 subsets of the 9 robot-epochs leave an
+// epoch empty, 123 of them with at most 6 robot-epochs (the largest a
+// schedule can leave out).
+TEST(ActivationSearchTest, AnAppFollowingTheEpochSurvivesEveryScheduleOfThreeRobotsOverThreeEpochs) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  SearchOptions options = ActivationOptions(EpochFollowing, 3, 2);
+  const SearchResult result = Search(scenario, options);
+  ASSERT_TRUE(result.error.empty()) << result.error;
+  EXPECT_FALSE(result.counterexample.has_value()) << result.counterexample->violations.front().detail;
+  EXPECT_EQ(result.slots, 9);
+  EXPECT_EQ(result.patterns_in_all, 343);
+  EXPECT_EQ(result.runs, 343);
+  EXPECT_EQ(result.not_schedules, 123);
+  EXPECT_EQ(result.complete_losses, 6);
+  // Each schedule calls the apps differently: none is pruned.
+  EXPECT_EQ(result.skipped + result.stopped_early + result.round_starts, 0);
+}
+
+// The fairness bound: no robot left out of fair_within epochs in a row.
+// Counted here by brute force over the 512 subsets.
+TEST(ActivationSearchTest, AFairnessBoundRunsOnlyTheFairSchedules) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  int64_t fair = 0;
+  for (int subset = 0; subset < 512; ++subset) {
+    auto out = [&](int epoch, int robot) { return ((subset >> (epoch * 3 + robot)) & 1) != 0; };
+    bool ok = true;
+    for (int epoch = 0; epoch < 3; ++epoch) ok = ok && !(out(epoch, 0) && out(epoch, 1) && out(epoch, 2));
+    for (int robot = 0; robot < 3; ++robot) {
+      ok = ok && !(out(0, robot) && out(1, robot)) && !(out(1, robot) && out(2, robot));
+    }
+    fair += ok ? 1 : 0;
+  }
+  SearchOptions options = ActivationOptions(EpochFollowing, 3, 1);
+  options.fair_within = 2;
+  const SearchResult result = Search(scenario, options);
+  ASSERT_FALSE(result.counterexample.has_value());
+  EXPECT_EQ(result.runs, fair);
+  EXPECT_EQ(result.runs - 1 + result.not_schedules, PatternCount(9, 6) - 1);
+  options.fair_within = 1;  // nobody may be left out
+  EXPECT_EQ(Search(scenario, options).runs, 1);
+}
+
+
 
 }  // namespace
 }  // namespace syrof::lab::search

@@ -28,12 +28,26 @@
 // that is not running, deaf or mute) is not a slot: losing it again would
 // repeat a shorter pattern.
 //
+// The activation search (docs/activation.md, "The schedule search") is the
+// same search over SSYNC schedules instead of losses: a slot is one member
+// of one epoch of the window (its epochs and members as the run with every
+// robot active has them), a pattern leaves those members inactive, and a
+// pattern that leaves an epoch with no active member, or a robot inactive
+// in `fair_within` epochs in a row, is not a schedule and is not run. The
+// fewest inactive robot-epochs first, the earliest first among as many. The
+// schedule after the window activates every member; the scenario's channel
+// is kept (its losses are the seed's, the same in every run). Nothing is
+// pruned: the state holds each app's call history, and two schedules differ
+// in which robots were called in which epoch, so no two ever meet in a
+// state; every schedule runs to its end.
+//
 // Usage:
 //   SearchOptions options{.max_losses = 2, .epochs = 4, .jobs = 2};
 //   SearchResult result = Search(scenario, options);
 //   if (result.counterexample) ... WithLosses(scenario, result.counterexample->lost)
 #pragma once
 
+#include <compare>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -59,8 +73,18 @@ inline constexpr int kMaxSearchJobs = 64;
 /// is for a small swarm over a few epochs.
 inline constexpr int64_t kMaxSearchSlots = 1'000'000;
 
+/// Most inactive robot-epochs an activation search's pattern may hold.
+inline constexpr int kMaxSearchInactive = 64;
+
 struct SearchOptions {
-  int max_losses = 1;         ///< 0 .. kMaxSearchLosses
+  int max_losses = 1;         ///< 0 .. kMaxSearchLosses (not with `activations`)
+  /// Search SSYNC schedules instead of losses (above): patterns of up to
+  /// max_inactive inactive robot-epochs in the first `epochs` epochs.
+  bool activations = false;
+  int max_inactive = kMaxSearchInactive;  ///< 1 .. kMaxSearchInactive
+  /// Activation search: no robot inactive in this many epochs of the window
+  /// in a row (1 .. kMaxSearchEpochs); 0: no bound.
+  int fair_within = 0;
   int epochs = 3;             ///< 1 .. kMaxSearchEpochs: the losses fall in the first this many epochs
   int jobs = 1;               ///< 1 .. kMaxSearchJobs: runs side by side (the result does not depend on it)
   double time_limit_s = 0;    ///< stop after this much wall time; 0: no limit
@@ -92,14 +116,41 @@ struct Violation {
 /// declares one (`goal:`; a built-in app's own goal is not held against it).
 std::vector<Violation> ViolationsOf(const metrics::Metrics& metrics, bool goal_declared);
 
+/// One robot left out of one epoch by an activation search's pattern.
+struct Inactivation {
+  int64_t round = 0;   ///< the radio round the epoch starts in (the run with every robot active)
+  uint16_t epoch = 0;  ///< the epoch's number (sync::ActivationConfig's)
+  uint16_t robot = 0;
+  auto operator<=>(const Inactivation&) const = default;
+};
+
+/// An epoch of an activation search's window: its number, the round it
+/// starts in and its members, as the run with every robot active has them.
+struct WindowEpoch {
+  uint16_t epoch = 0;
+  int64_t round = 0;
+  std::vector<uint16_t> members;  ///< increasing
+};
+
 struct Counterexample {
   std::vector<world::LostBeacon> lost;  ///< sorted by round, sender, receiver
+  /// Activation search: the robots left out (sorted), and the window's
+  /// epochs they fall in (for WithInactivations).
+  std::vector<Inactivation> inactive;
+  std::vector<WindowEpoch> window_epochs;
   std::vector<Violation> violations;
   metrics::Metrics metrics;
 };
 
 struct SearchResult {
-  int64_t slots = 0;              ///< beacons a pattern may lose (round, sender, receiver)
+  int64_t slots = 0;              ///< beacons a pattern may lose (round, sender, receiver), or robot-epochs it may leave out
+  /// Activation search: the schedules of up to max_inactive inactive
+  /// robot-epochs the window holds (without the fairness bound; capped at
+  /// INT64_MAX), the loss search's PatternCount.
+  int64_t patterns_in_all = 0;
+  /// Activation search: patterns of the sizes tried that are no schedule
+  /// (an epoch with no active member, or unfair), not run and not in `runs`.
+  int64_t not_schedules = 0;
   int64_t window_rounds = 0;      ///< radio rounds the losses fall in
   int64_t epochs_in_window = 0;   ///< epochs the loss-free run started in that window (< epochs: the run is shorter)
   int64_t runs = 0;               ///< patterns run, the loss-free one included, in search order up to the counterexample
@@ -122,7 +173,9 @@ struct SearchResult {
   int64_t pruning_checked = 0;
   int64_t pruning_mismatches = 0;
   std::string first_mismatch;     ///< the first such pattern, described
-  int complete_losses = -1;       ///< every pattern of up to this many losses was run (-1: not even the loss-free one)
+  /// Every pattern of up to this many losses (inactive robot-epochs) was
+  /// run (-1: not even the loss-free one).
+  int complete_losses = -1;
   bool stopped_by_time = false;   ///< the time limit ended the search
   double seconds = 0;             ///< wall time
   /// Set when the search could not start: the window holds more than
@@ -137,6 +190,13 @@ struct SearchResult {
 /// The scenario with its channel replaced by a scripted one losing exactly
 /// `lost` (its cuts and partitions kept): the run a pattern stands for.
 scenario::Scenario WithLosses(const scenario::Scenario& base, std::span<const world::LostBeacon> lost);
+
+/// The scenario under SSYNC with a scripted schedule leaving exactly
+/// `inactive` out of `epochs` (each listed epoch activates its other
+/// members; every other epoch, all): the run an activation pattern stands
+/// for. Its channel is kept.
+scenario::Scenario WithInactivations(const scenario::Scenario& base, std::span<const WindowEpoch> epochs,
+                                     std::span<const Inactivation> inactive);
 
 /// Runs the search. The options must be in range (the command checks them).
 SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& options);
