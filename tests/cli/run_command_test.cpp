@@ -397,6 +397,23 @@ TEST(AppsCommandTest, ListsEveryBuiltinApp) {
   }
 }
 
+// Each says which activation models it was searched under
+// (docs/activation.md, "Which apps survive SSYNC").
+TEST(AppsCommandTest, SaysWhichModelsEachBuiltinSurvives) {
+  std::ostringstream out;
+  ASSERT_EQ(RunAppsCommand(AppsOptions{}, out), 0);
+  EXPECT_NE(out.str().find("builtin:gather         pack around the centre of the first smallest enclosing circle\n"
+                           "    models: FSYNC; SSYNC (every schedule of 3 robots over 6 epochs survived: 117,649)"),
+            std::string::npos)
+      << out.str();
+  size_t lines = 0;
+  for (size_t at = out.str().find("    models: FSYNC; SSYNC"); at != std::string::npos;
+       at = out.str().find("    models: FSYNC; SSYNC", at + 1)) {
+    ++lines;
+  }
+  EXPECT_EQ(lines, 4u);
+}
+
 // The installed command itself: exit status 2 for a usage error.
 TEST(SyrofExecutableTest, UsageErrorsExitWithTwo) {
   const std::string syrof = SYROF_EXECUTABLE;

@@ -376,5 +376,29 @@ TEST(ActivationSearchTest, AFairnessBoundRunsOnlyTheFairSchedules) {
 
 
 
+// The built-in moving apps under every SSYNC schedule of 3 robots over 3
+// epochs (lab/scenarios/gather3.yaml's swarm): none breaks P3, agreement,
+// the no-collision rule or the app. `syrof apps` and docs/activation.md
+// give the longer searches (gather over 6 epochs: bench_search --full).
+TEST(ActivationSearchTest, TheBuiltInMovingAppsSurviveEveryScheduleOfThreeRobotsOverThreeEpochs) {
+  for (const char* app : {"gather", "circle", "leader_follow"}) {
+    const scenario::Scenario scenario = LoadText(
+        std::string("seed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: 8}\napp: builtin:") +
+        app + "\n");
+    SearchOptions options;
+    options.activations = true;
+    options.epochs = 3;
+    options.jobs = 2;
+    const SearchResult result = Search(scenario, options);
+    ASSERT_TRUE(result.error.empty()) << result.error;
+    EXPECT_FALSE(result.counterexample.has_value())
+        << app << ": " << result.counterexample->violations.front().property << ": "
+        << result.counterexample->violations.front().detail;
+    EXPECT_EQ(result.runs, 343) << app;
+    // The schedules do change what the robots do.
+    EXPECT_GT(result.distinct_outcomes, 100) << app;
+  }
+}
+
 }  // namespace
 }  // namespace syrof::lab::search
