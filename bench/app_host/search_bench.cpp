@@ -14,7 +14,8 @@
 // machine's load. "ended" counts the runs that ran to their end; the others
 // stopped at a state seen before or were skipped without running.
 //
-// Usage: bench_search [--full]
+// Usage: bench_search [--full | --schedules]   (--schedules: only the
+// schedule search, over 4 and 6 epochs)
 #include <fmt/format.h>
 
 #include <sys/resource.h>
@@ -137,6 +138,10 @@ void PrintRow(Way way, int robots, int jobs, bool prune, const lab::search::Sear
 
 int main(int argc, char** argv) {
   const bool full = argc > 1 && std::strcmp(argv[1], "--full") == 0;
+  if (argc > 1 && std::strcmp(argv[1], "--schedules") == 0) {
+    PrintSchedules(/*full=*/true);  // the schedule search alone, 4 and 6 epochs
+    return 0;
+  }
   const std::pair<Way, int> ways[] = {{Way::kBuiltin, 1}, {Way::kBuiltin, 2}, {Way::kLinked, 1}, {Way::kHosted, 1},
                                       {Way::kHosted, 2}};
   fmt::print("Every single lost beacon in the first epoch of a 4 s run (wall clock):\n");
