@@ -241,7 +241,11 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   }
   lab::view::PageOptions page_options;  // the banner says what broke, and the lost beacons
   page_options.metrics = found.metrics;
-  page_options.scenario = &scenario;
+  // The run the page shows: under the schedule found, whose left-out
+  // robots it marks.
+  const scenario::Scenario shown =
+      search_options.activations ? search::WithInactivations(scenario, found.window_epochs, found.inactive) : scenario;
+  page_options.scenario = &shown;
   const std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
 
   if (search_options.activations && found.inactive.empty()) {

@@ -170,7 +170,7 @@
   const slotOf = new Map(robots.map((r, i) => [r.id, i]));
   // The run's rounds as the page draws them: from the file's columns once,
   // or (live) from the rounds received so far, again at each update.
-  let roundIndex, roundTime, rounds, samples, frames, events, startsOf, faultedFrom;
+  let roundIndex, roundTime, rounds, samples, frames, events, startsOf, faultedFrom, leftOut;
   function deriveRounds() {
     if (live) {
       roundIndex = data.rounds.index;
@@ -191,10 +191,14 @@
       t: e[6] / 1e6, partition: e[7],
     }));
     // Per robot: its epoch starts in order, with the map each began with.
+    // Under SSYNC a start's fourth field is 0 when the schedule left its
+    // robot out of that epoch (docs/activation.md).
     startsOf = robots.map(() => []);
-    for (const [pos, robot, map] of data.starts) {
+    leftOut = new Set();
+    for (const [pos, robot, map, active] of data.starts) {
       const slot = slotOf.get(robot);
-      if (slot !== undefined) startsOf[slot].push({ pos, map });
+      if (slot !== undefined) startsOf[slot].push({ pos, map, active: active !== 0 });
+      if (active === 0) leftOut.add(pos + ':' + robot);
     }
     // Robots whose app faulted, from which round position.
     faultedFrom = new Map();
@@ -327,6 +331,7 @@
     }
     // Bodies.
     let drawn = 0;
+    const leftOutDrawn = [];
     const labels = [];
     for (let slot = 0; slot < robots.length; ++slot) {
       const f = frames[slot];
@@ -345,6 +350,11 @@
       ctx.stroke();
       if (joiningOf(s) && presence === 1) {
         ctx.setLineDash([4, 3]); ctx.strokeStyle = rgb(COLOURS.joining); ctx.lineWidth = 2;
+        ctx.beginPath(); ctx.arc(px, py, r + 4, 0, 2 * Math.PI); ctx.stroke(); ctx.setLineDash([]);
+      } else if (presence === 1 && leftOutAt(slot, pos)) {
+        // Left out of this epoch by the SSYNC schedule: it holds its place.
+        leftOutDrawn.push(robots[slot].id);
+        ctx.setLineDash([2, 3]); ctx.strokeStyle = '#5b6272'; ctx.lineWidth = 2;
         ctx.beginPath(); ctx.arc(px, py, r + 4, 0, 2 * Math.PI); ctx.stroke(); ctx.setLineDash([]);
       }
       // Heading: a white line from the centre to the rim (rovers: a wedge).
@@ -437,7 +447,7 @@
       }
       marks.push({ kind: e.kind, robot: e.robot, other: e.other, round: roundIndex[e.pos] });
     }
-    return { robots_drawn: drawn, marks, targets: targetsDrawn, labels };
+    return { robots_drawn: drawn, marks, targets: targetsDrawn, labels, left_out: leftOutDrawn };
   }
 
   // The goal's target (lab/view's GoalTargets), under everything else: a
@@ -517,6 +527,14 @@
   }
 
   // First event at or after round position `p`.
+  // The robot's latest epoch start at or before position p, if the schedule
+  // left it out of that epoch.
+  function leftOutAt(slot, p) {
+    let latest = null;
+    for (const start of startsOf[slot]) { if (start.pos <= p) latest = start; else break; }
+    return latest !== null && !latest.active;
+  }
+
   function lowerBound(p) {
     let lo = 0, hi = events.length;
     while (lo < hi) { const mid = (lo + hi) >> 1; if (events[mid].pos < p) lo = mid + 1; else hi = mid; }
@@ -529,6 +547,9 @@
                    ['starting (no epoch yet)', COLOURS.starting]];
     const nodes = items.map(([name, c]) => el('span', {}, [el('i', { className: 'sw', style: `background:${rgb(c)};margin:0` }), name]));
     nodes.push(el('span', { textContent: '◌ dashed: the robot\'s own estimate' }));
+    if (data.activation) {
+      nodes.push(el('span', { textContent: `⋯ dotted ring: left out of this epoch (${data.activation.model.toUpperCase()}, ${data.activation.schedule})` }));
+    }
     nodes.push(el('span', { innerHTML: '<b style="color:#d02828">◎</b> collision' }));
     nodes.push(el('span', { innerHTML: '<b style="color:#e6b400">▲</b> safety intervention' }));
     if (events.some((e) => e.kind === 'BEACON_LOST')) {
@@ -604,7 +625,8 @@
       report.payloads = members.map(payloadText);
       const sharing = data.starts.filter((st) => st[2] === latest.map).length;
       children.push(el('h3', {}, [`LDMap it started epoch ${epoch} with `, pill(MODES[mode], mode ? COLOURS.autonomous : COLOURS.cooperative),
-                                  ` (round ${roundIndex[latest.pos]}, ${members.length} members${sharing > 1 ? `, same map as ${sharing - 1} other robot start${sharing > 2 ? 's' : ''}` : ''})`]));
+                                  ` (round ${roundIndex[latest.pos]}, ${members.length} members${sharing > 1 ? `, same map as ${sharing - 1} other robot start${sharing > 2 ? 's' : ''}` : ''})`,
+                                  latest.active ? '' : ': left out of this epoch by the schedule (no newRound; it holds its place)']));
       const head = el('tr', {}, ['id', 'phase', 'x', 'y', 'θ', 'vx', 'vy', 'payload'].map((t) => el('th', { textContent: t })));
       const rows = members.map((m) => {
         const tr = el('tr', {}, [m[0], PHASES[m[1]] || m[1], fmt(m[2] / 1000, 3), fmt(m[3] / 1000, 3), fmt(m[4] / 1000, 2),
@@ -629,6 +651,7 @@
     if (e.other >= 0) text += (e.kind === 'COLLISION' ? ' with ' : e.kind === 'SAFETY_INTERVENTION' ? ' kept from ' : ' → ') + `robot ${e.other}`;
     else if (e.kind === 'SAFETY_INTERVENTION') text += ' kept from a wall';
     if (e.robot >= 0) text += ` · epoch ${e.epoch} ${e.mode === 1 ? 'AUT' : 'COOP'}`;
+    if (e.kind === 'EPOCH_START' && leftOut.has(e.pos + ':' + e.robot)) text += ' · left out (inactive)';
     return text;
   }
   let eventItems = [];
@@ -911,7 +934,7 @@
     const rect = arena.getBoundingClientRect();
     lastReport = {
       round: rounds ? roundIndex[pos] : null, position: pos, stride,
-      robots_drawn: arenaReport.robots_drawn, marks: arenaReport.marks,
+      robots_drawn: arenaReport.robots_drawn, marks: arenaReport.marks, left_out: arenaReport.left_out || [],
       events_listed: eventItems.length, inspector: inspected,
       verdict: verdictShown, targets: arenaReport.targets, labels: arenaReport.labels,
 

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -17,6 +18,8 @@
 #include "syrof/lab/replay/replay.h"
 #include "syrof/lab/view/page_data.h"
 #include "syrof/lab/view/verdict.h"
+#include "syrof/sync/activation.h"
+#include "syrof/wire/member_set.h"
 #include "view_assets.h"
 
 namespace syrof::lab::view {
@@ -200,6 +203,23 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
   json maps = json::array();
   json starts = json::array();
   std::map<const replay::EpochMap*, size_t> map_numbers;  // shared maps once
+  // Under SSYNC each start says whether the schedule left its robot out:
+  // the robots' own decision (sync::IsActive) on the map they started with.
+  std::optional<sync::ActivationConfig> activation;
+  if (options.scenario != nullptr && options.scenario->activation.model == sync::ActivationModel::kSsync &&
+      options.scenario->seed == header.seed) {
+    const scenario::ActivationSpec& spec = options.scenario->activation;
+    activation = sync::ActivationConfig{.model = spec.model, .schedule = spec.schedule, .seed = options.scenario->seed,
+                                        .fair_within = spec.fair_within, .script = spec.script};
+    data["activation"] = {{"model", sync::ToString(spec.model)}, {"schedule", sync::ToString(spec.schedule)}};
+  }
+  auto is_active = [&](const replay::RobotMap& entry) {
+    wire::MemberSet members;
+    for (const replay::MapMember& member : entry.map->members) {
+      if (member.id < wire::MemberSet::kCapacity) members.set(member.id);
+    }
+    return sync::IsValid(*activation) && sync::IsActive(*activation, entry.map->epoch, members, entry.robot);
+  };
   std::vector<std::shared_ptr<const replay::EpochMap>> keep_alive;
   ReplayFacts facts;  // what the replay shows of the run's troubles, for the verdict
   replay::Round round;
@@ -242,7 +262,11 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
         keep_alive.push_back(entry.map);
         maps.push_back(MapData(*entry.map, header));
       }
-      starts.push_back({position, entry.robot, found->second});
+      if (activation) {
+        starts.push_back({position, entry.robot, found->second, is_active(entry) ? 1 : 0});
+      } else {
+        starts.push_back({position, entry.robot, found->second});
+      }
     }
     page.events += round.events.size();
   }

@@ -588,6 +588,57 @@ TEST(MessagePage, WithoutAFormatPayloadsAreHexAndInputsSayNone) {
   EXPECT_EQ(inspector["payloads"], json::array({"–", "–"})) << inspector.dump();
 }
 
+// ---- SSYNC: robots the schedule left out (docs/activation.md) --------------------
+
+// Three robots gathering, robot 0 left out of epochs 1 and 2 (a scripted
+// schedule): its starts of those epochs carry active 0 in the page's data,
+// it is drawn with the dotted ring while those epochs last and not after,
+// the events list says so, and the legend names the model.
+TEST(ActivationPage, ARobotLeftOutOfAnEpochIsMarkedWhileItLasts) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioText(
+      "name: ssync_page\nseed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: 6}\n"
+      "app: builtin:gather\nactivation: {model: ssync, schedule: scripted, active: [[1, [1, 2]], [2, [1, 2]]]}\n",
+      "ssync_page.yaml");
+  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
+  std::ostringstream bytes;
+  sim::SimulationOptions sim_options;
+  sim_options.replay = &bytes;
+  (void)sim::Run(*loaded.scenario, sim_options, 0.0);
+  PageOptions options;
+  options.scenario = &*loaded.scenario;
+
+  // The data: robot 0's starts of epochs 1 and 2 are left out, no other.
+  std::istringstream in(bytes.str());
+  Page page;
+  const json data = json::parse(ReplayJson(in, "ssync_page", options, page));
+  EXPECT_EQ(data["activation"], json::parse(R"({"model": "ssync", "schedule": "scripted"})"));
+  std::vector<int64_t> left_out_positions;
+  int64_t epoch3_position = -1;
+  for (const json& start : data["starts"]) {
+    ASSERT_EQ(start.size(), 4u) << start.dump();
+    const int epoch = data["maps"][start[2].get<size_t>()][0].get<int>();
+    const bool left_out = start[3] == 0;
+    EXPECT_EQ(left_out, start[1] == 0 && (epoch == 1 || epoch == 2)) << start.dump() << " epoch " << epoch;
+    if (left_out) left_out_positions.push_back(start[0].get<int64_t>());
+    if (start[1] == 0 && epoch == 3) epoch3_position = start[0].get<int64_t>();
+  }
+  ASSERT_EQ(left_out_positions.size(), 2u);
+  ASSERT_GT(epoch3_position, left_out_positions[1]);
+
+  // The page, in the browser: during epoch 1 robot 0 has the ring; in
+  // epoch 3 nobody has it.
+  const fs::path path = WritePage(bytes.str(), "ssync_left_out", options);
+  const Replay replay = ReadAll(bytes.str());
+  auto round_at = [&](int64_t position) { return replay.rounds.at(static_cast<size_t>(position)).index; };
+  const Loaded during = Load(path, "#round=" + std::to_string(round_at(left_out_positions[0] + 2)));
+  const Loaded after = Load(path, "#round=" + std::to_string(round_at(epoch3_position + 2)));
+  ASSERT_TRUE(during.report.is_object()) << during.dom.substr(0, 2000);
+  EXPECT_EQ(during.report["left_out"], json::array({0})) << during.report.dump();
+  EXPECT_EQ(after.report["left_out"], json::array()) << after.report.dump();
+  EXPECT_EQ(Count(during.dom, "left out (inactive)</span>"), 2u);  // the two starts, in the events list
+  EXPECT_NE(during.dom.find("dotted ring: left out of this epoch (SSYNC, scripted)"), std::string::npos);
+}
+
 // ---- Replays the page cannot show whole ------------------------------------
 
 TEST(ProblemPages, SayClearlyWhatIsWrong) {
