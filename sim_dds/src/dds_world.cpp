@@ -1,12 +1,8 @@
 #include "syrof/sim_dds/dds_world.h"
 
 #include <fcntl.h>
-#include <sched.h>
 #include <signal.h>
 #include <sys/mman.h>
-#include <sys/prctl.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -38,6 +34,8 @@
 #include "syrof/lab/sim/world_player.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/os/posix_port.h"
+#include "syrof/process/fd.h"
+#include "syrof/process/spawn.h"
 #include "syrof/sim_dds/participant.h"
 #include "syrof/sim_dds/report_codec.h"
 #include "syrof/sim_dds/robot_process.h"
@@ -114,12 +112,11 @@ struct Received {
 };
 
 struct RobotSlot {
-  pid_t pid = -1;
+  process::Child process;    // not started: a joiner not yet switched on
   RoundReport last;          // the newest round observation
   bool has_last = false;
   double cpu_seconds = 0;
-  bool reaped = false;
-  std::optional<int> exit;
+  std::optional<int> exit;   // the exit code, or minus the signal that ended it
   dds_entity_t imu = 0, flow = 0, uwb = 0, drive = 0;
   std::unique_ptr<lab::sensors::SensorBank> bank;
   std::unique_ptr<DdsSensorSink> sink;
@@ -145,17 +142,16 @@ class ProcessRuntime final : public lab::sim::RobotRuntime {
   bool StartRobot(uint16_t id, int64_t /*world_ns*/, bool resume) override {
     RobotSlot& r = robots_[id];
     if (resume) {
-      if (r.pid > 0) (void)kill(r.pid, SIGCONT);
+      r.process.Signal(SIGCONT);
       return true;
     }
-    return r.pid > 0 || spawn_(id);
+    return r.process.started() || spawn_(id);
   }
 
   void StopRobot(uint16_t id, int64_t /*world_ns*/, lab::sim::StopReason reason) override {
-    const pid_t pid = robots_[id].pid;
-    if (pid <= 0) return;
-    if (reason == lab::sim::StopReason::kCrash) (void)kill(pid, SIGKILL);
-    if (reason == lab::sim::StopReason::kPause) (void)kill(pid, SIGSTOP);
+    process::Child& robot = robots_[id].process;
+    if (reason == lab::sim::StopReason::kCrash) robot.Kill();
+    if (reason == lab::sim::StopReason::kPause) robot.Signal(SIGSTOP);
   }
 
   // The robot's newest report says its epoch and mode.
@@ -225,7 +221,7 @@ class DdsWorld {
   bool Fail(int code, std::string why);
 
   // ---- Processes
-  bool Spawn(uint16_t id);
+  bool Spawn(uint16_t id);  // false: spawn_error_ says why
   void Reap(RobotSlot& r, bool block);
   void EndAll();
   void TakeStatus();
@@ -274,8 +270,8 @@ class DdsWorld {
   std::ofstream replay_file_;
 
   // ---- Processes
-  pid_t group_ = 0;  // the robots' process group (the first robot's pid)
   RobotProcessOptions robot_options_;
+  std::string spawn_error_;  // why the last Spawn failed
 
   // ---- Discovery: every present robot attached
   std::vector<uint8_t> attached_;
@@ -313,7 +309,7 @@ class DdsWorld {
   std::vector<Stall> stalls_;
   size_t next_stall_ = 0;
   std::vector<int64_t> stalled_until_;
-  pid_t world_staller_ = -1;
+  process::Child world_staller_;
   std::atomic<int>* staller_stop_ = nullptr;  // shared with the staller (an anonymous shared page)
   std::unique_ptr<CpuQuotaGroup> quota_;
 
@@ -342,7 +338,12 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
       recorder_(scenario, lab::sim::CollectorConfigFor(scenario)),
       attached_(swarm_size_, 0),
       last_status_(swarm_size_),
-      runtime_(robots_, [this](uint16_t id) { return Spawn(id); }),
+      runtime_(robots_,
+               [this](uint16_t id) {
+                 if (Spawn(id)) return true;
+                 log_ << "syrof swarm: " << spawn_error_ << "\n";  // the player counts it crashed
+                 return false;
+               }),
       player_(scenario, world_, recorder_.collector()),
       robot_rounds_(swarm_size_),
       frames_(swarm_size_),
@@ -404,6 +405,9 @@ void DdsWorld::OpenReplay() {
 
 // ---- Processes --------------------------------------------------------------
 
+// Robot `id`'s process: the world's environment, standard output and error;
+// a process group of its own; SIGKILL when the world ends, even killed
+// outright; its network namespace when SwarmOptions::robot_networks names one.
 bool DdsWorld::Spawn(uint16_t id) {
   robot_options_.robot = id;
   robot_options_.clock_offset_us =
@@ -412,59 +416,55 @@ bool DdsWorld::Spawn(uint16_t id) {
       id < options_.robot_networks.size() ? &options_.robot_networks[id] : nullptr;
   robot_options_.interface =
       network != nullptr && !network->interface.empty() ? network->interface : options_.interface;
-  int netns = -1;
+  process::Fd netns;
   if (network != nullptr && !network->netns_path.empty()) {
-    netns = open(network->netns_path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (netns < 0) return false;
+    netns.Reset(open(network->netns_path.c_str(), O_RDONLY | O_CLOEXEC));
+    if (!netns.valid()) {
+      spawn_error_ = "robot " + std::to_string(id) + ": cannot open its network namespace " + network->netns_path +
+                     ": " + std::strerror(errno);
+      return false;
+    }
   }
-  std::vector<std::string> args = RobotArguments(robot_options_);
-  args.insert(args.begin(), robot_binary_);
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) {
-    if (netns >= 0) close(netns);
+  process::Command command;
+  command.argv = RobotArguments(robot_options_);
+  command.argv.insert(command.argv.begin(), robot_binary_);
+  command.inherit_environment = true;
+  command.descriptors = {{1, 1}, {2, 2}};
+  command.own_process_group = true;
+  command.die_with_parent = true;
+  command.network_namespace = netns.get();
+  RobotSlot& r = robots_[id];
+  r.process = process::Spawn(command);
+  if (!r.process.started()) {
+    spawn_error_ = "robot " + std::to_string(id) + ": cannot start " + robot_binary_ + ": " +
+                   std::strerror(r.process.start_error());
     return false;
   }
-  if (pid == 0) {
-    // Only async-signal-safe calls between fork and exec.
-    (void)prctl(PR_SET_PDEATHSIG, SIGKILL);
-    (void)setpgid(0, group_);
-    if (netns >= 0 && setns(netns, CLONE_NEWNET) != 0) _exit(126);
-    execv(argv[0], argv.data());
-    _exit(127);
+  result_.robot_pids.push_back(r.process.pid());
+  if (quota_ && !quota_->Add(r.process.pid())) {
+    log_ << "syrof swarm: robot " << id << " could not join " << quota_->path() << "\n";
   }
-  if (netns >= 0) close(netns);
-  (void)setpgid(pid, group_);  // both sides, so neither races the other
-  if (group_ == 0) group_ = pid;
-  robots_[id].pid = pid;
-  result_.robot_pids.push_back(pid);
-  if (quota_ && !quota_->Add(pid)) log_ << "syrof swarm: robot " << id << " could not join " << quota_->path() << "\n";
   return true;
 }
 
 void DdsWorld::Reap(RobotSlot& r, bool block) {
-  if (r.pid <= 0 || r.reaped) return;
-  int status = 0;
-  rusage usage{};
-  const pid_t done = wait4(r.pid, &status, block ? 0 : WNOHANG, &usage);
-  if (done == r.pid) {
-    r.reaped = true;
-    r.exit = WIFSIGNALED(status) ? -WTERMSIG(status) : WEXITSTATUS(status);
-    r.cpu_seconds = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-                    static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
-  }
+  if (!r.process.started() || r.process.reaped()) return;
+  const std::optional<process::ExitStatus> status =
+      block ? r.process.Reap() : r.process.Wait(std::chrono::milliseconds(0));
+  if (!status) return;
+  if (status->exited()) r.exit = status->code;
+  if (status->signaled()) r.exit = -status->signal;
+  r.cpu_seconds = status->cpu_seconds;
 }
 
-// Every exit path ends every robot: SIGKILL to the group, then reap.
+// Every exit path ends every robot: SIGKILL to each running robot's
+// process group, then reap.
 void DdsWorld::EndAll() {
   EndStress();
-  if (group_ > 0) (void)kill(-group_, SIGKILL);
   for (RobotSlot& r : robots_) {
-    if (r.pid > 0 && !r.reaped) (void)kill(r.pid, SIGKILL);
-    Reap(r, true);
+    if (!r.process.reaped()) r.process.KillGroup();
   }
+  for (RobotSlot& r : robots_) Reap(r, true);
 }
 
 bool DdsWorld::SpawnPresentRobots() {
@@ -473,7 +473,7 @@ bool DdsWorld::SpawnPresentRobots() {
     if (!quota_->ok()) return Fail(1, "stress: " + quota_->error());
   }
   for (uint16_t id = 0; id < swarm_size_; ++id) {
-    if (scenario_.robots[id].present_at_start && !Spawn(id)) return Fail(1, "fork failed for robot " + std::to_string(id));
+    if (scenario_.robots[id].present_at_start && !Spawn(id)) return Fail(1, spawn_error_);
   }
   return true;
 }
@@ -497,7 +497,7 @@ bool DdsWorld::AwaitDiscovery() {
     if (all) return true;
     for (RobotSlot& r : robots_) {
       Reap(r, false);
-      if (r.reaped) return Fail(1, "a robot process exited before it attached (see its messages above)");
+      if (r.process.reaped()) return Fail(1, "a robot process exited before it attached (see its messages above)");
     }
     if (MonotonicNow() > discovery_deadline) return Fail(1, "robots did not attach within the discovery timeout");
     if (options_.stop != nullptr && options_.stop->load()) {
@@ -556,14 +556,10 @@ bool DdsWorld::StartStress() {
   if (page == MAP_FAILED) return Fail(1, "stress: mmap failed");
   staller_stop_ = new (page) std::atomic<int>(0);
   const pid_t world = getpid();
-  const pid_t pid = fork();
-  if (pid < 0) return Fail(1, "stress: fork failed");
-  if (pid == 0) {
-    // Only async-signal-safe calls: sleep, stop the world, sleep, resume it.
-    // It checks the stop flag at least every 10 ms, and never leaves the
-    // world stopped: each SIGSTOP is followed by its SIGCONT.
-    (void)prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() != world) _exit(0);
+  world_staller_ = process::ForkHelper([this, world, &world_stalls] {
+    // Sleep, stop the world, sleep, resume it. It checks the stop flag at
+    // least every 10 ms, and never leaves the world stopped: each SIGSTOP
+    // is followed by its SIGCONT.
     const auto sleep_until = [this](int64_t until_ns) {
       for (;;) {
         if (staller_stop_->load() != 0) return false;
@@ -582,9 +578,12 @@ bool DdsWorld::StartStress() {
       }
       (void)kill(world, SIGCONT);
     }
-    _exit(0);
+    return 0;
+  });
+  if (!world_staller_.started()) {
+    return Fail(1, std::string("stress: cannot start the process that stalls the world: ") +
+                       std::strerror(world_staller_.start_error()));
   }
-  world_staller_ = pid;
   return true;
 }
 
@@ -594,15 +593,15 @@ void DdsWorld::ApplyStalls() {
   for (uint16_t id = 0; id < swarm_size_; ++id) {
     if (stalled_until_[id] < 0 || stalled_until_[id] > step_ns_) continue;
     stalled_until_[id] = -1;
-    if (player_.running(id) && robots_[id].pid > 0) (void)kill(robots_[id].pid, SIGCONT);
+    if (player_.running(id)) robots_[id].process.Signal(SIGCONT);
   }
   while (next_stall_ < stalls_.size() && stalls_[next_stall_].at_ns <= step_ns_) {
     const Stall& stall = stalls_[next_stall_++];
     if (stall.target == kStallWorld || stall.target >= swarm_size_) continue;
     RobotSlot& r = robots_[stall.target];
-    if (!player_.running(stall.target) || r.pid <= 0) continue;
+    if (!player_.running(stall.target) || !r.process.started()) continue;
     if (stalled_until_[stall.target] < 0) {
-      (void)kill(r.pid, SIGSTOP);
+      r.process.Signal(SIGSTOP);
       ++result_.stalls;
     }
     stalled_until_[stall.target] = std::max(stalled_until_[stall.target], stall.at_ns + stall.duration_ns);
@@ -616,16 +615,11 @@ void DdsWorld::EndStress() {
   for (uint16_t id = 0; id < swarm_size_; ++id) {
     if (stalled_until_[id] < 0) continue;
     stalled_until_[id] = -1;
-    if (player_.lifecycle(id) != lab::sim::Lifecycle::kPaused && robots_[id].pid > 0 && !robots_[id].reaped) {
-      (void)kill(robots_[id].pid, SIGCONT);
-    }
+    if (player_.lifecycle(id) != lab::sim::Lifecycle::kPaused) robots_[id].process.Signal(SIGCONT);
   }
-  if (world_staller_ > 0) {
+  if (world_staller_.started() && !world_staller_.reaped()) {
     staller_stop_->store(1);
-    int status = 0;
-    while (waitpid(world_staller_, &status, 0) < 0 && errno == EINTR) {
-    }
-    world_staller_ = -1;
+    (void)world_staller_.Reap();
   }
   if (staller_stop_ != nullptr) {
     (void)munmap(staller_stop_, sizeof(std::atomic<int>));
@@ -944,14 +938,14 @@ void DdsWorld::StopRobots() {
   control_sample_.state = 2;
   (void)dds_write(control_, &control_sample_);
   for (uint16_t id = 0; id < swarm_size_; ++id) {
-    if (player_.lifecycle(id) == lab::sim::Lifecycle::kPaused && robots_[id].pid > 0) (void)kill(robots_[id].pid, SIGCONT);
+    if (player_.lifecycle(id) == lab::sim::Lifecycle::kPaused) robots_[id].process.Signal(SIGCONT);
   }
   const int64_t exit_deadline = MonotonicNow() + 2'000'000'000;
   for (;;) {
     bool all = true;
     for (RobotSlot& r : robots_) {
       Reap(r, false);
-      all = all && (r.pid <= 0 || r.reaped);
+      all = all && (!r.process.started() || r.process.reaped());
     }
     if (all || MonotonicNow() > exit_deadline) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));

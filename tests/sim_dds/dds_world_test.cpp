@@ -5,11 +5,13 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 
 #include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <span>
 #include <sstream>
@@ -300,6 +302,40 @@ TEST(SwarmTest, AStopRequestEndsTheRunEarlyWithEveryRobotStopped) {
   EXPECT_TRUE(result.stopped_early);
   EXPECT_LT(std::chrono::steady_clock::now() - before, std::chrono::seconds(9));  // not the full 10 s
   EXPECT_FALSE(result.robot_pids.empty());
+  ExpectNoRobotLeft(result);
+  std::filesystem::remove_all(options.out_dir);
+}
+
+// A robot binary that passes the "executable" check but cannot be executed
+// (its interpreter is missing) is named with the kernel's reason, before
+// discovery (it read as a robot that exited before it attached).
+TEST(SwarmTest, ARobotBinaryThatCannotBeExecutedIsNamedWithTheReason) {
+  SwarmOptions options = OptionsFor("swarm8_loss.yaml");
+  std::filesystem::create_directories(options.out_dir);
+  options.robot_binary = options.out_dir + "/robot-without-interpreter";
+  std::ofstream(options.robot_binary) << "#!/nonexistent/interpreter\n";
+  ASSERT_EQ(chmod(options.robot_binary.c_str(), 0755), 0);
+  std::ostringstream log;
+  const SwarmResult result = RunSwarm(options, log);
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_EQ(result.error, "robot 0: cannot start " + options.robot_binary + ": No such file or directory");
+  EXPECT_TRUE(result.robot_pids.empty());
+  ExpectNoRobotLeft(result);
+  std::filesystem::remove_all(options.out_dir);
+}
+
+// A robot whose network namespace cannot be opened is named with the path
+// and the reason (it was "fork failed for robot 2"), and the robots already
+// started are ended and reaped.
+TEST(SwarmTest, ARobotNetworkNamespaceThatCannotBeOpenedIsNamedAndNoRobotIsLeft) {
+  SwarmOptions options = OptionsFor("swarm8_loss.yaml");
+  options.robot_networks.resize(3);
+  options.robot_networks[2].netns_path = "/nonexistent/netns";
+  std::ostringstream log;
+  const SwarmResult result = RunSwarm(options, log);
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_EQ(result.error, "robot 2: cannot open its network namespace /nonexistent/netns: No such file or directory");
+  EXPECT_EQ(result.robot_pids.size(), 2u);  // robots 0 and 1
   ExpectNoRobotLeft(result);
   std::filesystem::remove_all(options.out_dir);
 }

@@ -8,6 +8,7 @@
 #include <spawn.h>
 #include <sys/personality.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -68,15 +69,11 @@ class LiftedRedirects {
   int highest_ = 2;
 };
 
-ExitStatus FromSiginfo(const siginfo_t& info) {
-  ExitStatus status;
-  if (info.si_code == CLD_EXITED) {
-    status.how = ExitStatus::How::kExited;
-    status.code = info.si_status;
-  } else {
-    status.how = ExitStatus::How::kSignaled;
-    status.signal = info.si_status;
-  }
+// How a child that wait4 reaped ended, and its CPU time.
+ExitStatus Ended(int wait_status, const rusage& usage) {
+  ExitStatus status = ExitStatus::FromWaitStatus(wait_status);
+  status.cpu_seconds = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                       static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
   return status;
 }
 
@@ -94,6 +91,93 @@ struct ReportFrame {
 };
 
 constexpr int kNamespaces = CLONE_NEWNET | CLONE_NEWPID | CLONE_NEWIPC | CLONE_NEWUTS;
+
+// Starts `command` by fork and exec, for the steps posix_spawn has no
+// attribute for (die_with_parent, network_namespace), with every other step
+// of Command as posix_spawn takes it. Returns the child's pid, or -1 and
+// `error` the errno of the step that failed: as with posix_spawn, a child
+// that could not exec tells so through a close-on-exec pipe and is reaped
+// here.
+pid_t ForkAndExec(const Command& command, const ExecArrays& arrays, const LiftedRedirects& lifted, int& error) {
+  int error_pipe[2];
+  if (pipe2(error_pipe, O_CLOEXEC) != 0) {
+    error = errno;
+    return -1;
+  }
+  const Fd error_read(error_pipe[0]);
+  // Above every redirect's target, so that no dup2 replaces it.
+  Fd error_write(fcntl(error_pipe[1], F_DUPFD_CLOEXEC, lifted.highest() + 1));
+  close(error_pipe[1]);
+  const Fd null_fd(lifted.names_stdin() ? -1 : open("/dev/null", O_RDONLY | O_CLOEXEC));
+  if (!error_write.valid() || (!lifted.names_stdin() && !null_fd.valid())) {
+    error = errno;
+    return -1;
+  }
+  char* const* environment = command.inherit_environment ? environ : arrays.env();
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    // Async-signal-safe from here on (the caller may have threads).
+    auto fail = [&]() {
+      const int failed = errno;
+      (void)WriteAll(error_write.get(), &failed, sizeof failed);
+      _exit(127);
+    };
+    if (command.own_process_group && setpgid(0, 0) != 0) fail();
+    if (command.die_with_parent) {
+      if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) fail();
+      if (getppid() != parent) _exit(127);  // gone before the signal was armed
+    }
+    struct sigaction default_action {};
+    default_action.sa_handler = SIG_DFL;
+    for (int number = 1; number < NSIG; ++number) (void)sigaction(number, &default_action, nullptr);
+    sigset_t none;
+    sigemptyset(&none);
+    (void)sigprocmask(SIG_SETMASK, &none, nullptr);
+    if (command.no_address_randomization) {
+      const int persona = personality(0xffffffff);
+      if (persona != -1) (void)personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE);
+    }
+    if (command.fifo_priority > 0) {
+      sched_param parameters{};
+      parameters.sched_priority = command.fifo_priority;
+      if (sched_setscheduler(0, SCHED_FIFO, &parameters) != 0) fail();
+    }
+    if (command.network_namespace >= 0 && setns(command.network_namespace, CLONE_NEWNET) != 0) fail();
+    if (null_fd.valid() && dup2(null_fd.get(), 0) < 0) fail();
+    for (const Redirect& redirect : lifted.redirects()) {
+      // The same number on both sides (it could not be lifted): passed on
+      // as it is.
+      const bool passed = redirect.parent == redirect.child ? fcntl(redirect.child, F_SETFD, 0) == 0
+                                                            : dup2(redirect.parent, redirect.child) >= 0;
+      if (!passed) fail();
+    }
+    if (!command.working_directory.empty() && chdir(command.working_directory.c_str()) != 0) fail();
+    if (command.search_path) {
+      execvpe(arrays.argv[0], arrays.argv.data(), environment);
+    } else {
+      execve(arrays.argv[0], arrays.argv.data(), environment);
+    }
+    fail();
+  }
+  const int fork_error = errno;
+  error_write.Reset();
+  if (pid < 0) {
+    error = fork_error;
+    return -1;
+  }
+  if (command.own_process_group) setpgid(pid, pid);  // also from here: no moment where a kill of the group misses
+  int failed = 0;
+  ssize_t got;
+  do {
+    got = read(error_read.get(), &failed, sizeof failed);
+  } while (got < 0 && errno == EINTR);
+  if (got != static_cast<ssize_t>(sizeof failed)) return pid;  // exec closed the pipe
+  while (waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {
+  }
+  error = failed;
+  return -1;
+}
 
 }  // namespace
 
@@ -157,6 +241,7 @@ void Child::Finish(ExitStatus status) {
       read(report_pipe_.get(), &program_status, sizeof program_status) ==
           static_cast<ssize_t>(sizeof program_status)) {
     status_ = ExitStatus::FromWaitStatus(program_status);
+    status_.cpu_seconds = status.cpu_seconds;  // the init's, which waited for the program
   }
   report_pipe_.Reset();
 }
@@ -166,14 +251,16 @@ std::optional<ExitStatus> Child::Wait(std::chrono::milliseconds timeout) {
   if (reaped_) return status_;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
-    siginfo_t info{};
-    if (waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG) != 0) {
+    int wait_status = 0;
+    rusage usage{};
+    const pid_t waited = wait4(pid_, &wait_status, WNOHANG, &usage);
+    if (waited < 0) {
       if (errno == EINTR) continue;
       Finish(ExitStatus{});  // not ours to wait for any more
       return status_;
     }
-    if (info.si_pid != 0) {
-      Finish(FromSiginfo(info));
+    if (waited == pid_) {
+      Finish(Ended(wait_status, usage));
       return status_;
     }
     const int64_t left = MillisecondsLeft(deadline);
@@ -191,18 +278,20 @@ std::optional<ExitStatus> Child::Wait(std::chrono::milliseconds timeout) {
 ExitStatus Child::Reap() {
   if (!started()) return ExitStatus{};
   if (reaped_) return status_;
-  siginfo_t info{};
-  int waited;
+  int wait_status = 0;
+  rusage usage{};
+  pid_t waited;
   do {
-    info = siginfo_t{};
-    waited = waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED);
-  } while (waited != 0 && errno == EINTR);
-  Finish(waited == 0 ? FromSiginfo(info) : ExitStatus{});
+    waited = wait4(pid_, &wait_status, 0, &usage);
+  } while (waited < 0 && errno == EINTR);
+  Finish(waited == pid_ ? Ended(wait_status, usage) : ExitStatus{});
   return status_;
 }
 
-void Child::Kill() {
-  if (started() && !reaped_) kill(pid_, SIGKILL);
+void Child::Kill() { Signal(SIGKILL); }
+
+void Child::Signal(int signal) {
+  if (started() && !reaped_) kill(pid_, signal);
 }
 
 void Child::KillGroup() {
@@ -224,6 +313,14 @@ Child Spawn(const Command& command) {
   }
   const ExecArrays arrays(command);
   const LiftedRedirects lifted(command.descriptors);
+  if (command.die_with_parent || command.network_namespace >= 0) {
+    const pid_t pid = ForkAndExec(command, arrays, lifted, child.start_error_);
+    if (pid < 0) return child;
+    child.pid_ = pid;
+    child.own_group_ = command.own_process_group;
+    child.pidfd_.Reset(static_cast<int>(syscall(SYS_pidfd_open, pid, 0)));
+    return child;
+  }
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   if (!lifted.names_stdin()) posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
@@ -246,6 +343,13 @@ Child Spawn(const Command& command) {
     flags |= POSIX_SPAWN_SETPGROUP;
     posix_spawnattr_setpgroup(&attributes, 0);
   }
+  if (command.fifo_priority > 0) {
+    flags |= POSIX_SPAWN_SETSCHEDULER;
+    posix_spawnattr_setschedpolicy(&attributes, SCHED_FIFO);
+    sched_param parameters{};
+    parameters.sched_priority = command.fifo_priority;
+    posix_spawnattr_setschedparam(&attributes, &parameters);
+  }
   posix_spawnattr_setflags(&attributes, flags);
   // The personality is the calling thread's, is inherited by the child and
   // acts only at its exec: set around the spawn and restored (this
@@ -257,8 +361,9 @@ Child Spawn(const Command& command) {
     no_aslr = persona != -1 && personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE) != -1;
   }
   pid_t pid = -1;
-  const int spawned = posix_spawn(&pid, command.argv[0].c_str(), &actions, &attributes, arrays.argv.data(),
-                                  command.inherit_environment ? environ : arrays.env());
+  const auto start = command.search_path ? posix_spawnp : posix_spawn;
+  const int spawned = start(&pid, command.argv[0].c_str(), &actions, &attributes, arrays.argv.data(),
+                            command.inherit_environment ? environ : arrays.env());
   if (no_aslr) personality(static_cast<unsigned long>(persona));
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
@@ -409,6 +514,25 @@ Child Spawn(const Command& command, const Sandbox& sandbox) {
     child.report_.failure_errno = report.failure_errno;
   }
   child.report_pipe_ = std::move(report_read);
+  child.pidfd_.Reset(static_cast<int>(syscall(SYS_pidfd_open, pid, 0)));
+  return child;
+}
+
+Child ForkHelper(const std::function<int()>& body) {
+  Child child;
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    // Async-signal-safe from here on: what `body` promises.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(1);  // gone before the signal was armed
+    _exit(body());
+  }
+  if (pid < 0) {
+    child.start_error_ = errno;
+    return child;
+  }
+  child.pid_ = pid;
   child.pidfd_.Reset(static_cast<int>(syscall(SYS_pidfd_open, pid, 0)));
   return child;
 }

@@ -77,7 +77,6 @@
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -120,6 +119,8 @@
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/world/channel.h"
 #include "syrof/lab/world/world.h"
+#include "syrof/process/fd.h"
+#include "syrof/process/spawn.h"
 #include "syrof/registry/tasks.h"
 
 namespace {
@@ -128,6 +129,7 @@ namespace drivers = syrof::firmware::drivers;
 namespace swarm = syrof::firmware::swarm;
 namespace metrics = syrof::lab::metrics;
 namespace lab = syrof::lab;
+namespace process = syrof::process;
 namespace replay = syrof::lab::replay;
 
 // Without --scenario: what the swarm ran before it had a world (the image's
@@ -327,19 +329,6 @@ int AcceptOne(int listener, int timeout_ms, const std::string& what) {
   return accept(listener, nullptr, nullptr);
 }
 
-bool WriteAll(int fd, const uint8_t* bytes, size_t length) {
-  while (length > 0) {
-    const ssize_t written = write(fd, bytes, length);
-    if (written < 0) {
-      if (errno == EINTR) continue;
-      return false;
-    }
-    bytes += written;
-    length -= static_cast<size_t>(written);
-  }
-  return true;
-}
-
 // A ReceivedBeacon frame on its way to robot `to`.
 struct Delivery {
   int64_t due_ns = 0;
@@ -348,7 +337,7 @@ struct Delivery {
 };
 
 struct Robot {
-  pid_t pid = -1;
+  process::Child qemu;       // not started: LaunchRobots failed before it
   bool held = false;         // its image said `held`: prepared, waiting for its Start frame
   bool switched_on = false;  // its Start frame was sent
   swarm::SwitchOn switched_on_at;  // where its rounds lie on the world's grid
@@ -419,7 +408,7 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
 int64_t Milli(double value) { return std::llround(value * 1000.0); }
 
 // --realtime: this process at SCHED_FIFO priority kHostPriority and the
-// qemu instances it forks (their threads too) one below (LaunchQemu), so
+// qemu instances it starts (their threads too) one below (LaunchQemu), so
 // the world player takes a beacon and delivers it on time even when the
 // guests want both cores. On two cores, four guests and this process want
 // most of the machine; at normal priority a build beside them, or their own
@@ -437,15 +426,6 @@ void SetRealtime() {
     std::fprintf(stderr, "syrof-firmware-swarm: --realtime: SCHED_FIFO refused (%s); running at normal priority\n",
                  std::strerror(errno));
   }
-}
-
-// In a forked qemu, before exec: a real-time host's guests one priority
-// below it (SetRealtime).
-void LowerGuestPriority() {
-  if (sched_getscheduler(0) != SCHED_FIFO) return;
-  sched_param parameters{};
-  parameters.sched_priority = kGuestPriority;
-  (void)sched_setscheduler(0, SCHED_FIFO, &parameters);
 }
 
 // The start pose as the image's -append words (whole mm and mrad >= 0).
@@ -470,8 +450,10 @@ std::string LateJoinerWords(const lab::scenario::Scenario& scenario) {
 // Starts robot `id`'s qemu with `hold 1`: the image sets itself up, prints
 // `held id=N` and waits for its Start frame (DoHostAction), which says how
 // long it runs; `paths` are its console, radio and sensor sockets (qemu
-// connects to them in that order). Returns its pid, or -1.
-pid_t LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id,
+// connects to them in that order). qemu is looked for in PATH unless
+// --qemu names a path; its standard output and error go to DIR/qemu_<id>.log;
+// a real-time host's guests run one priority below it (SetRealtime).
+process::Child LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id,
                  const std::string& console_path, const std::string& radio_path, const std::string& sensor_path) {
   const auto robots = static_cast<uint16_t>(scenario.robots.size());
   std::vector<std::string> args = {
@@ -488,23 +470,16 @@ pid_t LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario
     args.push_back("-icount");
     args.push_back("shift=" + std::to_string(options.icount_shift));
   }
-  const pid_t pid = fork();
-  if (pid == 0) {
-    LowerGuestPriority();
-    const std::string log = options.out + "/qemu_" + std::to_string(id) + ".log";
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-      dup2(fd, 1);
-      dup2(fd, 2);
-    }
-    std::vector<char*> argv_child;
-    for (std::string& arg : args) argv_child.push_back(arg.data());
-    argv_child.push_back(nullptr);
-    execvp(argv_child[0], argv_child.data());
-    std::perror("syrof-firmware-swarm: exec qemu");
-    _exit(127);
-  }
-  return pid;
+  process::Command command;
+  command.argv = std::move(args);
+  command.search_path = true;
+  command.inherit_environment = true;
+  if (sched_getscheduler(0) == SCHED_FIFO) command.fifo_priority = kGuestPriority;
+  const std::string log = options.out + "/qemu_" + std::to_string(id) + ".log";
+  const process::Fd log_fd(open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
+  const int output = log_fd.valid() ? log_fd.get() : 1;
+  command.descriptors = {{1, output}, {2, log_fd.valid() ? output : 2}};
+  return process::Spawn(command);
 }
 
 // Writes what the socket takes now, keeps the rest (a robot that stopped
@@ -591,21 +566,21 @@ bool DoHostAction(const swarm::HostAction& action, int64_t world_ns, const Optio
       uint8_t wire_bytes[drivers::kMaxWireBytes];
       const auto encoded =
           drivers::EncodeFrame(drivers::MakeStart(0, swarm::RemainingMs(options.seconds, world_ns)), wire_bytes);
-      robot.switched_on = encoded.ok() && WriteAll(robot.sensor, wire_bytes, encoded.value());
+      robot.switched_on = encoded.ok() && process::WriteAll(robot.sensor, wire_bytes, encoded.value());
       return robot.switched_on;
     }
     case swarm::HostAction::Kind::kKill:
-      if (robot.pid > 0) kill(robot.pid, SIGKILL);
+      robot.qemu.Kill();
       if (robot.console >= 0) --open_consoles;
       CloseLinks(robot);
       robot.sensor_out.clear();
       return true;
     case swarm::HostAction::Kind::kStop:
-      if (robot.pid > 0) kill(robot.pid, SIGSTOP);
+      robot.qemu.Signal(SIGSTOP);
       robot.sensor_out.clear();  // readings it would only get, stale, after the pause
       return true;
     case swarm::HostAction::Kind::kContinue:
-      if (robot.pid > 0) kill(robot.pid, SIGCONT);
+      robot.qemu.Signal(SIGCONT);
       return true;
   }
   return false;
@@ -632,13 +607,13 @@ double HostPerWorld(const std::vector<Robot>& swarm, const lab::sim::WorldPlayer
 void EndPausedAndHeld(std::vector<Robot>& swarm, const lab::sim::WorldPlayer& player, int& open_consoles) {
   for (uint16_t i = 0; i < swarm.size(); ++i) {
     Robot& robot = swarm[i];
-    if (robot.pid <= 0 || robot.console < 0) continue;
+    if (!robot.qemu.started() || robot.console < 0) continue;
     if (!robot.switched_on) {
-      kill(robot.pid, SIGKILL);
+      robot.qemu.Kill();
       CloseLinks(robot);
       --open_consoles;
     } else if (player.lifecycle(i) == lab::sim::Lifecycle::kPaused) {
-      kill(robot.pid, SIGCONT);
+      robot.qemu.Signal(SIGCONT);
     }
   }
 }
@@ -893,8 +868,14 @@ bool SwarmHost::LaunchRobots() {
   for (uint16_t i = 0; i < robots_; ++i) {
     Robot& robot = swarm_[i];
     const RobotSockets& sockets = sockets_[i];
-    robot.pid = LaunchQemu(options_, scenario_, i, sockets.console_path, sockets.radio_path, sockets.sensor_path);
-    if (quota_ && robot.pid > 0 && !quota_->Add(robot.pid)) {
+    robot.qemu = LaunchQemu(options_, scenario_, i, sockets.console_path, sockets.radio_path, sockets.sensor_path);
+    if (!robot.qemu.started()) {
+      std::fprintf(stderr, "syrof-firmware-swarm: cannot start robot %u's qemu %s: %s\n", static_cast<unsigned>(i),
+                   options_.qemu.c_str(), std::strerror(robot.qemu.start_error()));
+      KillAll();
+      return false;
+    }
+    if (quota_ && !quota_->Add(robot.qemu.pid())) {
       std::fprintf(stderr, "syrof-firmware-swarm: robot %u's qemu could not join %s\n", static_cast<unsigned>(i),
                    quota_->path().c_str());
     }
@@ -936,9 +917,7 @@ bool SwarmHost::WaitUntilHeld() {
 }
 
 void SwarmHost::KillAll() {
-  for (Robot& robot : swarm_) {
-    if (robot.pid > 0) kill(robot.pid, SIGKILL);
-  }
+  for (Robot& robot : swarm_) robot.qemu.Kill();
 }
 
 void SwarmHost::StartWorld() {
@@ -1022,22 +1001,22 @@ void SwarmHost::AdvanceWorld(int64_t now) {
 void SwarmHost::PlayStress() {
   if (ended_) return;
   const int64_t world_stall_ns = stress_.Play(
-      world_ns_, [this](uint16_t i) { return player_.running(i) && swarm_[i].switched_on && swarm_[i].pid > 0; },
-      [this](uint16_t i, bool stop) { kill(swarm_[i].pid, stop ? SIGSTOP : SIGCONT); });
+      world_ns_, [this](uint16_t i) { return player_.running(i) && swarm_[i].switched_on && swarm_[i].qemu.started(); },
+      [this](uint16_t i, bool stop) { swarm_[i].qemu.Signal(stop ? SIGSTOP : SIGCONT); });
   if (world_stall_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(world_stall_ns));
 }
 
 // No qemu stays stopped by the stress past the run's end.
 void SwarmHost::EndStress() {
-  stress_.EndAll([this](uint16_t i) { return player_.running(i) && swarm_[i].pid > 0; },
-                 [this](uint16_t i, bool stop) { kill(swarm_[i].pid, stop ? SIGSTOP : SIGCONT); });
+  stress_.EndAll([this](uint16_t i) { return player_.running(i) && swarm_[i].qemu.started(); },
+                 [this](uint16_t i, bool stop) { swarm_[i].qemu.Signal(stop ? SIGSTOP : SIGCONT); });
 }
 
 void SwarmHost::Deliver(int64_t now) {
   while (!in_flight_.empty() && in_flight_.begin()->first <= now) {
     const Delivery& delivery = in_flight_.begin()->second;
     if (swarm_[delivery.to].radio >= 0 && player_.running(delivery.to)) {
-      (void)WriteAll(swarm_[delivery.to].radio, delivery.bytes.data(), delivery.bytes.size());
+      (void)process::WriteAll(swarm_[delivery.to].radio, delivery.bytes.data(), delivery.bytes.size());
     }
     in_flight_.erase(in_flight_.begin());
   }
@@ -1309,13 +1288,12 @@ bool SwarmHost::ReapRobots() {
   bool ok = true;
   for (uint16_t i = 0; i < robots_; ++i) {
     Robot& robot = swarm_[i];
-    int status = 0;
-    if (robot.pid <= 0) continue;  // never launched: LaunchRobots failed
+    if (!robot.qemu.started()) continue;  // never launched: LaunchRobots failed
     // A crashed robot was killed (exit 137), perhaps before it reported or
     // even before it was switched on (a crash while waiting to join).
     const bool crashed = player_.lifecycle(i) == lab::sim::Lifecycle::kCrashed;
     if (robot.console >= 0 || robot.radio >= 0) {  // the deadline passed
-      kill(robot.pid, SIGKILL);
+      robot.qemu.Kill();
       ok = false;
       std::fprintf(stderr, "robot %u: still running at the deadline\n", static_cast<unsigned>(i));
     }
@@ -1323,8 +1301,8 @@ bool SwarmHost::ReapRobots() {
       ok = false;
       std::fprintf(stderr, "robot %u: never switched on\n", static_cast<unsigned>(i));
     }
-    waitpid(robot.pid, &status, 0);
-    robot.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    const process::ExitStatus status = robot.qemu.Reap();
+    robot.exit_status = status.exited() ? status.code : status.signaled() ? 128 + status.signal : -1;
     if (robot.switched_on && !crashed && (robot.exit_status != 0 || !robot.latest)) ok = false;
     if (robot.bad_lines > 0) ok = false;
   }

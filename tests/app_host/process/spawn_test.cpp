@@ -4,13 +4,17 @@
 #include <gtest/gtest.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <sched.h>
 #include <signal.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <chrono>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include "syrof/process/fd.h"
@@ -197,6 +201,209 @@ TEST(ChildTest, TheProcessDescriptorSaysWhenTheChildEnded) {
   const std::optional<ExitStatus> status = child.Wait(milliseconds(0));
   ASSERT_TRUE(status.has_value());
   EXPECT_EQ(status->code, 3);
+}
+
+// The state letter of process `pid` in /proc (R, S, T, Z...).
+char StateOf(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  std::getline(stat, line);
+  const size_t close = line.rfind(')');
+  return close == std::string::npos || close + 2 >= line.size() ? '?' : line[close + 2];
+}
+
+TEST(SpawnTest, SearchesThePathOnlyWhenAsked) {
+  Command command;
+  command.argv = {"sh", "-c", "exit 4"};
+  command.inherit_environment = true;  // PATH
+  const Child unsearched = Spawn(command);
+  EXPECT_FALSE(unsearched.started());
+  EXPECT_EQ(unsearched.start_error(), ENOENT);
+  command.search_path = true;
+  Child searched = Spawn(command);
+  ASSERT_TRUE(searched.started()) << strerror(searched.start_error());
+  EXPECT_EQ(searched.Reap().code, 4);
+}
+
+// posix_spawn, and fork and exec (die_with_parent), say why a program did
+// not start, and leave no child behind.
+TEST(SpawnTest, AProgramThatCannotBeExecutedIsAStartErrorOnBothWaysOfStarting) {
+  // Executable, but neither a binary nor a script with a #! line.
+  const std::string not_a_program = "/tmp/syrof_spawn_not_a_program_" + std::to_string(getpid());
+  std::ofstream(not_a_program) << "not a program\n";
+  ASSERT_EQ(chmod(not_a_program.c_str(), 0755), 0);
+  for (const bool forked : {false, true}) {
+    Command command;
+    command.argv = {"/nonexistent/syrof-no-such-program"};
+    command.die_with_parent = forked;
+    const Child missing = Spawn(command);
+    EXPECT_FALSE(missing.started()) << forked;
+    EXPECT_EQ(missing.start_error(), ENOENT) << forked;
+    command.argv = {not_a_program};
+    const Child not_executable = Spawn(command);
+    EXPECT_FALSE(not_executable.started()) << forked;
+    EXPECT_EQ(not_executable.start_error(), ENOEXEC) << forked;
+    EXPECT_EQ(waitpid(-1, nullptr, WNOHANG), -1) << forked;  // nothing left to reap
+    EXPECT_EQ(errno, ECHILD) << forked;
+  }
+  unlink(not_a_program.c_str());
+}
+
+TEST(SpawnTest, ForkAndExecTakeTheCommandAsPosixSpawnDoes) {
+  Pipe output;
+  Command command;
+  command.argv = {"/bin/sh", "-c", "echo \"$1 $GREETING $(pwd)\"; cat; echo to-errors >&2", "sh", "first"};
+  command.environment = {"GREETING=hello"};
+  command.working_directory = "/usr";
+  command.descriptors = {{1, output.write_end.get()}, {2, output.write_end.get()}};
+  command.die_with_parent = true;
+  Child child = Spawn(command);
+  ASSERT_TRUE(child.started()) << strerror(child.start_error());
+  EXPECT_EQ(output.ReadAll(), "first hello /usr\nto-errors\n");  // cat: standard input is /dev/null
+  EXPECT_EQ(child.Reap().code, 0);
+}
+
+// Starts a process that starts a child with `start`, then kills that process
+// with SIGKILL: whether the child died with it (it is not ours to reap, so
+// its pidfd says when it ended).
+bool DiesWithItsStarter(const std::function<Child()>& start) {
+  Pipe pid_pipe;
+  const pid_t starter = fork();
+  if (starter == 0) {
+    Child child = start();
+    const pid_t pid = child.pid();
+    (void)WriteAll(pid_pipe.write_end.get(), &pid, sizeof pid);
+    for (;;) pause();
+  }
+  pid_pipe.write_end.Reset();
+  pid_t pid = -1;
+  EXPECT_EQ(read(pid_pipe.read_end.get(), &pid, sizeof pid), static_cast<ssize_t>(sizeof pid));
+  const Fd pidfd(static_cast<int>(syscall(SYS_pidfd_open, pid, 0)));
+  EXPECT_TRUE(pidfd.valid());
+  kill(starter, SIGKILL);
+  waitpid(starter, nullptr, 0);
+  pollfd ended{pidfd.get(), POLLIN, 0};
+  const bool died = poll(&ended, 1, 10'000) == 1;
+  if (!died) kill(pid, SIGKILL);
+  return died;
+}
+
+TEST(SpawnTest, AChildDiesWithItsStarterWhenAsked) {
+  for (const bool die : {false, true}) {
+    const bool died = DiesWithItsStarter([die] {
+      Command command;
+      command.argv = {"/bin/sleep", "30"};
+      command.die_with_parent = die;
+      return Spawn(command);
+    });
+    EXPECT_EQ(died, die);
+  }
+}
+
+TEST(SpawnTest, RunsUnderSchedFifoWhenAsked) {
+  for (const bool forked : {false, true}) {
+    Command command;
+    command.argv = {"/bin/sleep", "30"};
+    command.fifo_priority = 3;
+    command.die_with_parent = forked;
+    Child child = Spawn(command);
+    if (!child.started() && child.start_error() == EPERM) GTEST_SKIP() << "SCHED_FIFO needs CAP_SYS_NICE";
+    ASSERT_TRUE(child.started()) << strerror(child.start_error());
+    EXPECT_EQ(sched_getscheduler(child.pid()), SCHED_FIFO) << forked;
+    sched_param parameters{};
+    EXPECT_EQ(sched_getparam(child.pid(), &parameters), 0);
+    EXPECT_EQ(parameters.sched_priority, 3) << forked;
+    child.Kill();
+  }
+}
+
+TEST(SpawnTest, EntersTheNetworkNamespaceGiven) {
+  // Not a namespace: the start fails, saying so.
+  const Fd not_a_namespace(open("/dev/null", O_RDONLY | O_CLOEXEC));
+  Command refused;
+  refused.argv = {"/bin/true"};
+  refused.network_namespace = not_a_namespace.get();
+  const Child not_started = Spawn(refused);
+  EXPECT_FALSE(not_started.started());
+  EXPECT_EQ(not_started.start_error(), EINVAL);
+
+  if (geteuid() != 0) GTEST_SKIP() << "making and entering a network namespace needs root";
+  // A process in a network namespace of its own holds it.
+  Command holder;
+  holder.argv = {"/usr/bin/unshare", "--net", "/bin/sleep", "30"};
+  Child held = Spawn(holder);
+  ASSERT_TRUE(held.started()) << strerror(held.start_error());
+  auto namespace_of = [](const std::string& pid) {
+    char target[64] = {};
+    const ssize_t length = readlink(("/proc/" + pid + "/ns/net").c_str(), target, sizeof target - 1);
+    return std::string(target, length > 0 ? static_cast<size_t>(length) : 0);
+  };
+  const std::string ours = namespace_of("self");
+  std::string theirs = ours;
+  for (int tries = 0; tries < 1000 && theirs == ours; ++tries) {  // until unshare has run
+    usleep(10'000);
+    theirs = namespace_of(std::to_string(held.pid()));
+  }
+  ASSERT_NE(theirs, ours);
+  const Fd net(open(("/proc/" + std::to_string(held.pid()) + "/ns/net").c_str(), O_RDONLY | O_CLOEXEC));
+  ASSERT_TRUE(net.valid());
+  Pipe output;
+  Command command;
+  command.argv = {"/bin/readlink", "/proc/self/ns/net"};
+  command.network_namespace = net.get();
+  command.descriptors = {{1, output.write_end.get()}};
+  Child child = Spawn(command);
+  ASSERT_TRUE(child.started()) << strerror(child.start_error());
+  EXPECT_EQ(output.ReadAll(), theirs + "\n");
+  EXPECT_EQ(child.Reap().code, 0);
+}
+
+TEST(ChildTest, SignalStopsAndContinuesTheChild) {
+  Command command;
+  command.argv = {"/bin/sleep", "30"};
+  Child child = Spawn(command);
+  ASSERT_TRUE(child.started());
+  child.Signal(SIGSTOP);
+  char state = '?';
+  for (int tries = 0; tries < 1000 && (state = StateOf(child.pid())) != 'T'; ++tries) usleep(10'000);
+  EXPECT_EQ(state, 'T');
+  child.Signal(SIGCONT);
+  for (int tries = 0; tries < 1000 && (state = StateOf(child.pid())) == 'T'; ++tries) usleep(10'000);
+  EXPECT_NE(state, 'T');
+  child.Kill();
+  EXPECT_EQ(child.Reap().signal, SIGKILL);
+}
+
+TEST(ChildTest, TheStatusCarriesTheChildsCpuTime) {
+  Child idle = Spawn(Shell("exit 0"));
+  Child busy = Spawn(Shell("i=0; while [ $i -lt 300000 ]; do i=$((i+1)); done"));
+  ASSERT_TRUE(idle.started());
+  ASSERT_TRUE(busy.started());
+  const double idle_seconds = idle.Reap().cpu_seconds;
+  const double busy_seconds = busy.Reap().cpu_seconds;
+  EXPECT_GT(busy_seconds, 0.0);
+  EXPECT_GT(busy_seconds, idle_seconds);
+}
+
+TEST(ForkHelperTest, RunsTheBodyInACopyOfTheCallerAndExitsWithItsValue) {
+  Pipe output;
+  const int fd = output.write_end.get();
+  Child helper = ForkHelper([fd] {
+    static const char kText[] = "from the helper";
+    return WriteAll(fd, kText, sizeof kText - 1) ? 6 : 1;
+  });
+  ASSERT_TRUE(helper.started()) << strerror(helper.start_error());
+  EXPECT_EQ(output.ReadAll(), "from the helper");
+  EXPECT_EQ(helper.Reap().code, 6);
+}
+
+TEST(ForkHelperTest, TheHelperDiesWithItsStarter) {
+  EXPECT_TRUE(DiesWithItsStarter([] {
+    return ForkHelper([] {
+      for (;;) pause();
+      return 0;
+    });
+  }));
 }
 
 }  // namespace

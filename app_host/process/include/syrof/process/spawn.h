@@ -20,6 +20,7 @@
 #include <sys/types.h>
 
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,9 @@ struct ExitStatus {
   How how = How::kUnknown;
   int code = -1;
   int signal = 0;
+  /// User and system CPU time of the child (and of the children it waited
+  /// for), in seconds; 0 when unknown.
+  double cpu_seconds = 0;
 
   bool exited() const { return how == How::kExited; }
   bool signaled() const { return how == How::kSignaled; }
@@ -57,8 +61,10 @@ struct Redirect {
 
 /// What to start.
 struct Command {
-  /// argv[0] is the program's path (no PATH search).
+  /// argv[0] is the program's path (no PATH search unless `search_path`).
   std::vector<std::string> argv;
+  /// An argv[0] without a slash is looked for in PATH, as a shell does.
+  bool search_path = false;
   /// Exactly this environment, unless `inherit_environment`.
   std::vector<std::string> environment;
   bool inherit_environment = false;
@@ -72,6 +78,19 @@ struct Command {
   /// Address randomisation off for the program (its addresses the same on
   /// every run).
   bool no_address_randomization = false;
+  /// > 0: the program runs under SCHED_FIFO at this priority (a real-time
+  /// caller's children one step below it); 0: the caller's policy.
+  int fifo_priority = 0;
+  /// SIGKILL to the child when the thread that started it ends (a caller
+  /// killed outright takes its children along), armed before exec; a child
+  /// whose caller is already gone does not run the program.
+  bool die_with_parent = false;
+  /// A network namespace the child enters before exec (an open
+  /// /proc/PID/ns/net or a bind mount of one); -1: the caller's.
+  /// `die_with_parent` and this are steps posix_spawn has no attribute for:
+  /// such a command is started by fork and exec, its failures reported the
+  /// same way (start_error).
+  int network_namespace = -1;
   /// Written to the child's standard error when the program cannot be
   /// executed (the exit status is then 127); empty: nothing.
   std::string exec_failure_text;
@@ -154,6 +173,9 @@ class Child {
   ExitStatus Reap();
   /// SIGKILL to the child alone.
   void Kill();
+  /// `signal` to the child alone (SIGSTOP, SIGCONT, ...); nothing once it
+  /// is reaped, when its pid may be another process's.
+  void Signal(int signal);
   /// SIGKILL to the child's process group (the child alone without one).
   /// With a group, also after Reap: what the child left in it goes too.
   void KillGroup();
@@ -162,6 +184,7 @@ class Child {
  private:
   friend Child Spawn(const Command& command);
   friend Child Spawn(const Command& command, const Sandbox& sandbox);
+  friend Child ForkHelper(const std::function<int()>& body);
   void Finish(ExitStatus status);
 
   pid_t pid_ = -1;
@@ -174,13 +197,23 @@ class Child {
   SandboxReport report_;
 };
 
-/// Starts `command` (posix_spawn): signals unblocked and at their defaults
-/// in the child.
+/// Starts `command` (posix_spawn; fork and exec for the steps it lacks):
+/// signals unblocked and at their defaults in the child. A program that
+/// cannot be executed is a failed start (start_error: ENOENT, EACCES,
+/// ENOEXEC...), not a child exiting 127.
 Child Spawn(const Command& command);
 
 /// Starts `command` confined by `sandbox` (fork, the steps of Sandbox,
 /// exec). The report is read before this returns; a SandboxFailure means
 /// the program never ran.
 Child Spawn(const Command& command, const Sandbox& sandbox);
+
+/// Starts a copy of the caller that runs `body` and exits with its return
+/// value: a helper that must act on its caller from outside, such as
+/// stopping and continuing it (no thread of a stopped process runs). `body`
+/// runs in a copy of a process that may have threads: async-signal-safe
+/// calls only, no allocation. The helper dies with the thread that started
+/// it, and does not run `body` when the caller is already gone.
+Child ForkHelper(const std::function<int()>& body);
 
 }  // namespace syrof::process
