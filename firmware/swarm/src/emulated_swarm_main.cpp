@@ -677,6 +677,8 @@ metrics::CollectorConfig SwarmCollectorConfig(uint16_t robots, int64_t period_ns
 class SwarmHost {
  public:
   SwarmHost(const Options& options, const lab::scenario::Scenario& scenario);
+  // The sockets and their folder go on every way out (a launch that failed too).
+  ~SwarmHost() { RemoveSockets(); }
   SwarmHost(const SwarmHost&) = delete;
   SwarmHost& operator=(const SwarmHost&) = delete;
 
@@ -701,6 +703,7 @@ class SwarmHost {
   bool OnHostAction(const swarm::HostAction& action, int64_t at_ns);
   bool WaitUntilHeld();
   void KillAll();
+  void RemoveSockets();
   int64_t WaitForLinks();
   void AdvanceWorld(int64_t now);
   void PlayStress();
@@ -918,6 +921,13 @@ bool SwarmHost::WaitUntilHeld() {
 
 void SwarmHost::KillAll() {
   for (Robot& robot : swarm_) robot.qemu.Kill();
+}
+
+void SwarmHost::RemoveSockets() {
+  for (const std::string& path : paths_) unlink(path.c_str());
+  paths_.clear();
+  if (!socket_dir_.empty()) rmdir(socket_dir_.c_str());
+  socket_dir_.clear();
 }
 
 void SwarmHost::StartWorld() {
@@ -1253,8 +1263,7 @@ int SwarmHost::Finish() {
   for (const swarm::FaultOutcome& outcome : result.outcomes) {
     if (options_.expect_faults && !outcome.ok) result.ok = false;
   }
-  for (const std::string& path : paths_) unlink(path.c_str());
-  rmdir(socket_dir_.c_str());
+  RemoveSockets();
   if (base_station_.listener >= 0) {
     base_station_.Serve();
     if (base_station_.client >= 0) close(base_station_.client);
