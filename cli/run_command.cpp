@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/app_supply.h"
 #include "syrof/lab/live/live_server.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/run_parts.h"
@@ -40,32 +40,20 @@ scenario::Overrides OverridesOf(const RunOptions& options) {
   return overrides;
 }
 
-// The app host's limits for a library run: the command line's budgets over
-// the scenario's over the host's defaults. An unset wall cap is raised to
-// 4x the CPU budget when that is more than the default, so a larger budget
-// is not cut short by the default wall cap. Empty and `problem` set when the
-// two disagree or a budget is given for a built-in app.
-std::optional<app_host::HostLimits> LimitsFor(const scenario::AppSpec& app, const RunOptions& options,
-                                              std::string& problem) {
-  if (!app.is_library()) {
-    if (options.cpu_budget_ms || options.wall_cap_ms) {
-      problem = fmt::format("{} is for a library app; {} runs inside the simulator",
-                            options.cpu_budget_ms ? "--cpu-budget-ms" : "--wall-cap-ms", app.name);
-      return std::nullopt;
-    }
-    return app_host::HostLimits{};
-  }
-  const std::optional<uint32_t> cpu = options.cpu_budget_ms ? options.cpu_budget_ms : app.cpu_budget_ms;
-  const std::optional<uint32_t> wall = options.wall_cap_ms ? options.wall_cap_ms : app.wall_cap_ms;
-  const app_host::HostLimits limits = app_host::HostLimits::ForBudgets(cpu, wall);
-  if (limits.wall_cap_ms < limits.cpu_budget_ms) {
-    problem = fmt::format("the wall cap ({} ms) must be at least the CPU budget ({} ms)", limits.wall_cap_ms,
-                          limits.cpu_budget_ms);
-    return std::nullopt;
-  }
-  return limits;
+// The run's apps: the test's own when RunOptions::apps has a factory, else
+// the scenario's (or --app's) through the app supply. A library is loaded
+// once in a sandboxed host before any output exists, so a library that
+// cannot run is refused like a bad scenario.
+app_host::AppsResult AppsOf(const scenario::Scenario& scenario, const RunOptions& options,
+                            const std::filesystem::path& dir) {
+  if (options.apps.factory) return app_host::AppsResult{options.apps, {}, std::nullopt};
+  app_host::AppRequest request;
+  request.cpu_budget_ms = options.cpu_budget_ms;
+  request.wall_cap_ms = options.wall_cap_ms;
+  request.log_directory = (dir / "robots").string();
+  request.check_first = true;
+  return app_host::AppsFor(scenario, request);
 }
-
 
 }  // namespace
 
@@ -110,36 +98,18 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
     return 2;
   }
   const scenario::Scenario& scenario = *loaded.scenario;
-  std::string problem;
-  const std::optional<app_host::HostLimits> limits = LimitsFor(scenario.app, options, problem);
-  if (!limits) {
-    fmt::print(err, "syrof run: {}\n", problem);
-    return 2;
-  }
-  const bool library = scenario.app.is_library() && !options.app_factory;
   const std::filesystem::path dir =
       options.out_dir.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(options.out_dir);
-  // A library is loaded once in a sandboxed host before any output exists,
-  // so a library that cannot run is refused like a bad scenario.
-  app_host::HostOptions host;
-  std::vector<std::string> sandbox_notes;
+  const app_host::AppsResult apps = AppsOf(scenario, options, dir);
+  if (!apps.ok()) {
+    fmt::print(err, "syrof run: {}\n", apps.error->ToString());
+    return 2;
+  }
+  const bool library = !apps.hosts.empty();
   if (library) {
-    host.library_path = scenario.app.library;
-    host.limits = *limits;
-    host.params = scenario.app.params;
-    for (const scenario::RobotSpec& robot : scenario.robots) {
-      host.inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
-    }
-    const app_host::LibraryCheck check = app_host::CheckLibrary(host);
-    if (!check.ok) {
-      fmt::print(err, "syrof run: {}\n", check.error);
-      return 2;
-    }
-    sandbox_notes = app_host::SandboxNotes();
-    host.log_directory = (dir / "robots").string();
     // Logs of an earlier run with more robots would pass for this run's.
     std::error_code ignored;
-    std::filesystem::remove_all(host.log_directory, ignored);
+    std::filesystem::remove_all(dir / "robots", ignored);
   }
   std::error_code error;
   std::filesystem::create_directories(dir, error);
@@ -160,9 +130,11 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
                scenario.robots.size(), scenario.seed, scenario.timing.duration_s);
     if (library) {
       fmt::print(out, "  each robot's app in its own sandboxed process: CPU budget {} ms, wall cap {} ms per callback\n",
-                 host.limits.cpu_budget_ms, host.limits.wall_cap_ms);
+                 apps.hosts.front().limits.cpu_budget_ms, apps.hosts.front().limits.wall_cap_ms);
     }
-    for (const std::string& note : sandbox_notes) fmt::print(out, "  sandbox: {}\n", note);
+    if (library && apps.supply.sandbox) {
+      for (const std::string& note : *apps.supply.sandbox) fmt::print(out, "  sandbox: {}\n", note);
+    }
   }
 
   const auto started = std::chrono::steady_clock::now();
@@ -171,14 +143,8 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   };
   sim::SimulationOptions sim_options;
   sim_options.replay = options.no_replay ? nullptr : &replay_file;
-  sim_options.app_factory = options.app_factory;
-  sim_options.app_source = options.app_source;
+  sim_options.apps = apps.supply;
   sim_options.threads = options.threads;
-  if (library) {
-    sim_options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
-    sim_options.app_source = scenario.app.library;
-    sim_options.app_sandbox = sandbox_notes;
-  }
   if (!options.quiet && err_is_terminal) {
     const double duration_s = scenario.timing.duration_s;
     sim_options.progress = [&err, &elapsed_s, duration_s](double sim_seconds) {

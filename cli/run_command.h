@@ -6,16 +6,14 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
-#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "syrof/lab/apps/app_supply.h"
 #include "syrof/lab/live/live_command.h"
-#include "syrof/app/app.h"
 
 namespace syrof::cli {
 
@@ -39,11 +37,11 @@ struct RunOptions {
   /// without it.
   bool realtime = false;
   lab::live::LiveCommandOptions live;    ///< the live page (implies `realtime`)
-  /// Not a command-line option: makes robot `id`'s app instead of the
-  /// scenario's (tests; the app host later), with `app_source` naming it in
-  /// metrics.json. `syrof` itself never sets it.
-  std::function<std::unique_ptr<app::App>(uint16_t id)> app_factory;
-  std::string app_source;
+  /// Not a command-line option: with a factory, the robots' apps instead
+  /// of the scenario's (tests), used as given (no budgets, no library
+  /// check). `syrof` itself never sets it: its apps come from
+  /// app_host::AppsFor.
+  lab::apps::AppSupply apps;
 };
 
 /// Declares the subcommand's arguments on `app`.

@@ -8,12 +8,12 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/app_supply.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/search/search.h"
-#include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/view/view.h"
 #include "usage.h"
 #include "view_command.h"
@@ -138,25 +138,15 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   search_options.time_limit_s = options.time_limit_s;
   search_options.prune = !options.no_prune;
   search_options.check_pruning = options.check_pruning;
-  if (scenario.app.is_library()) {
-    app_host::HostOptions host;
-    host.library_path = scenario.app.library;
-    host.params = scenario.app.params;
-    // As `syrof run` and the grader set them (an unset wall cap is at least
-    // 4x the CPU budget).
-    host.limits = app_host::HostLimits::ForBudgets(scenario.app.cpu_budget_ms, scenario.app.wall_cap_ms);
-    for (const scenario::RobotSpec& robot : scenario.robots) {
-      host.inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
-    }
-    const app_host::LibraryCheck check = app_host::CheckLibrary(host);
-    if (!check.ok) {
-      fmt::print(err, "syrof search: {}\n", check.error);
-      return 2;
-    }
-    search_options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
-    search_options.app_source = scenario.app.library;
-    search_options.app_sandbox = app_host::SandboxNotes();
+  // A library is loaded once before the search, as `syrof run` does.
+  app_host::AppRequest request;
+  request.check_first = true;
+  app_host::AppsResult apps = app_host::AppsFor(scenario, request);
+  if (!apps.ok()) {
+    fmt::print(err, "syrof search: {}\n", apps.error->ToString());
+    return 2;
   }
+  search_options.apps = std::move(apps.supply);
   const std::filesystem::path dir = options.out_dir.empty()
                                         ? std::filesystem::path("out") / (scenario.name + "-search")
                                         : std::filesystem::path(options.out_dir);
@@ -173,8 +163,8 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
 
   fmt::print(out, "syrof search: {} ({}), {} robots, seed {}, {:.1f} s a run\n", scenario.name, scenario.app.name,
              scenario.robots.size(), scenario.seed, scenario.timing.duration_s);
-  if (search_options.app_sandbox) {
-    for (const std::string& note : *search_options.app_sandbox) fmt::print(out, "  sandbox: {}\n", note);
+  if (search_options.apps.sandbox) {
+    for (const std::string& note : *search_options.apps.sandbox) fmt::print(out, "  sandbox: {}\n", note);
   }
   const char* unit = search_options.activations ? "inactive robot-epoch" : "lost beacon";
   if (search_options.activations) {

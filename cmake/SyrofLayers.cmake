@@ -46,9 +46,13 @@
 # - app_host/process (Spawn, the sandbox's steps, Fd, Landlock) needs only
 #   the C library: it sits below every module that starts a process (the
 #   app host, sim_dds, the firmware swarm host, the grader). Host only.
-# - app_host (a student's library in a sandboxed process per robot) needs
-#   only core/app and queries; it sits below sim_dds and the grader, which
-#   both run student libraries through it (the lab's `syrof run` too).
+# - app_host (a student's library in a sandboxed process per robot) sits
+#   below sim_dds and the grader, which both run student libraries through
+#   it (the lab's `syrof run` too). Its hosts need only core/app and
+#   queries; its app supply (AppsFor: a run's apps from its scenario, the
+#   one setup every runtime uses) reads the scenario and makes the built-in
+#   apps, so it sits above lab. The value it fills (lab/apps' AppSupply) is
+#   in lab, where the engine's options hold it.
 # - grader/assignment (assignment files and the rubric's scoring) reads
 #   scenarios and metrics; the grade command's runner (grader) sits on it.
 # - grader/report (results.json, JUnit, the HTML report with lab/view's

@@ -165,15 +165,15 @@ Timing RunWall(int robots, double duration_s, bool hosted) {
   const app_host::HostOptions options = Options();
   std::vector<app::App*> apps;
   lab::sim::SimulationOptions sim_options;
-  sim_options.app_source = "bench";
+  sim_options.apps.source = "bench";
   if (hosted) {
-    sim_options.app_factory = [&options, &apps](uint16_t id) {
+    sim_options.apps.factory = [&options, &apps](uint16_t id) {
       std::unique_ptr<app::App> app = app_host::MakeHostedApp(options, id);
       apps.push_back(app.get());
       return app;
     };
   } else {
-    sim_options.app_factory = [](uint16_t) { return std::make_unique<app::CAbiApp>(*bench_app_entry()); };
+    sim_options.apps.factory = [](uint16_t) { return std::make_unique<app::CAbiApp>(*bench_app_entry()); };
   }
   Timing timing;
   const double cpu_before = CpuSeconds(RUSAGE_SELF) + CpuSeconds(RUSAGE_CHILDREN);

@@ -70,13 +70,13 @@ lab::search::SearchResult Measure(const lab::scenario::Scenario& scenario, Way w
   options.epochs = epochs;
   options.jobs = jobs;
   if (way == Way::kLinked) {
-    options.app_factory = [](uint16_t) { return std::make_unique<app::CAbiApp>(*bench_app_entry()); };
-    options.app_source = "bench_app (linked)";
+    options.apps.factory = [](uint16_t) { return std::make_unique<app::CAbiApp>(*bench_app_entry()); };
+    options.apps.source = "bench_app (linked)";
   } else if (way == Way::kHosted) {
     app_host::HostOptions host;
     host.library_path = SYROF_BENCH_APP_LIBRARY;
-    options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
-    options.app_source = SYROF_BENCH_APP_LIBRARY;
+    options.apps.factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
+    options.apps.source = SYROF_BENCH_APP_LIBRARY;
   }
   return lab::search::Search(scenario, options);
 }

@@ -12,13 +12,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
+#include <utility>
 
-#include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/app_supply.h"
 #include "syrof/assignment/score.h"
 #include "syrof/lab/scenario/scenario.h"
-#include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/simulation.h"
 #include "run_scenario.h"
 #include "shared_text.h"
@@ -63,11 +65,17 @@ const ScenarioRun* FindRun(const Assignment& assignment, const TestResult& test)
   return nullptr;
 }
 
-// The host's limits for a run: the scenario's app section over the host's
-// defaults, as `syrof run` sets them (an unset wall cap is at least 4x the
-// CPU budget).
-app_host::HostLimits LimitsFor(const lab::scenario::AppSpec& app) {
-  return app_host::HostLimits::ForBudgets(app.cpu_budget_ms, app.wall_cap_ms);
+using AppFactory = std::function<std::unique_ptr<app::App>(uint16_t id)>;
+
+// `make`'s apps, each robot's payloads checked against `format` into its
+// own slot of `violations` (so apps on several threads never share one).
+AppFactory CheckingPayloads(AppFactory make, const lab::message::MessageFormat& format,
+                            std::vector<internal::PayloadViolations>& violations) {
+  return [make = std::move(make), &format, &violations](uint16_t id) {
+    std::unique_ptr<app::App> app = make(id);
+    if (id >= violations.size()) return app;
+    return internal::CheckPayloads(std::move(app), format, violations[id]);
+  };
 }
 
 }  // namespace
@@ -104,15 +112,15 @@ RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<
   fs::remove_all(dir / "robots", error);
   fs::remove(dir / "replay.bin", error);
   fs::create_directories(dir, error);
-  std::vector<app_host::HostOptions> hosts(libraries.size());
-  for (size_t i = 0; i < libraries.size(); ++i) {
-    hosts[i].library_path = libraries[i];
-    hosts[i].log_directory = (dir / "robots").string();
-    hosts[i].params = scenario.app.params;
-    for (const lab::scenario::RobotSpec& robot : scenario.robots) {
-      hosts[i].inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
-    }
-    hosts[i].limits = LimitsFor(scenario.app);
+  app_host::AppRequest request;
+  request.libraries = libraries;
+  request.shown_libraries = shown_libraries;
+  request.log_directory = (dir / "robots").string();
+  app_host::AppsResult apps = app_host::AppsFor(scenario, request);
+  if (!apps.ok()) {
+    outcome.run_error = "the app cannot be set up: " + apps.error->ToString();
+    outcome.wall_seconds = elapsed();
+    return outcome;
   }
   std::ofstream replay_file;
   lab::sim::SimulationOptions options;
@@ -123,17 +131,10 @@ RunOutcome RunScenario(const ScenarioRun& run, uint64_t seed, const std::vector<
   size_t robot_slots = 0;
   for (const lab::scenario::RobotSpec& robot : scenario.robots) robot_slots = std::max<size_t>(robot_slots, robot.id + 1u);
   if (message != nullptr) outcome.payload_violations.assign(robot_slots, PayloadViolations{});
-  // Each robot's app writes only its own slot, so apps on several threads
-  // never share one.
-  options.app_factory = [&hosts, &outcome, message](uint16_t id) {
-    std::unique_ptr<app::App> app = app_host::MakeHostedApp(hosts[id % hosts.size()], id);
-    if (message == nullptr || id >= outcome.payload_violations.size()) return app;
-    return CheckPayloads(std::move(app), *message, outcome.payload_violations[id]);
-  };
-  std::string source;
-  for (const std::string& library : shown_libraries) source += (source.empty() ? "" : " + ") + library;
-  options.app_source = source;
-  options.app_sandbox = app_host::SandboxNotes();
+  options.apps = std::move(apps.supply);
+  if (message != nullptr) {
+    options.apps.factory = CheckingPayloads(std::move(options.apps.factory), *message, outcome.payload_violations);
+  }
 
   // The hosts are spawned by this thread (in the Simulation's constructor),
   // which outlives them: their parent-death signal follows it.

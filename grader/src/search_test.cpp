@@ -5,11 +5,11 @@
 
 #include <filesystem>
 #include <memory>
+#include <utility>
 
-#include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/app_supply.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/search/search.h"
-#include "syrof/lab/sim/run_parts.h"
 #include "run_scenario.h"
 
 namespace syrof::grader::internal {
@@ -44,21 +44,20 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
     return;
   }
   const lab::scenario::Scenario& scenario = *loaded.scenario;
-  app_host::HostOptions host;
-  host.library_path = library;
-  host.params = scenario.app.params;
-  host.limits = app_host::HostLimits::ForBudgets(scenario.app.cpu_budget_ms, scenario.app.wall_cap_ms);
-  for (const lab::scenario::RobotSpec& robot : scenario.robots) {
-    host.inputs[robot.id] = lab::sim::InputValuesOf(scenario, robot.id);
+  app_host::AppRequest request;
+  request.libraries = {library};
+  request.shown_libraries = {shown_library};
+  app_host::AppsResult apps = app_host::AppsFor(scenario, request);
+  if (!apps.ok()) {
+    test.run_error = "the app cannot be set up: " + apps.error->ToString();
+    return;
   }
   lab::search::SearchOptions options;
   options.max_losses = spec.max_losses;
   options.epochs = spec.epochs;
   options.jobs = 1;  // the grader's workers already run tests side by side
   options.time_limit_s = spec.time_limit_s;
-  options.app_factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
-  options.app_source = shown_library;
-  options.app_sandbox = app_host::SandboxNotes();
+  options.apps = std::move(apps.supply);
   const lab::search::SearchResult result = lab::search::Search(scenario, options);
   test.wall_seconds = result.seconds;
 

@@ -19,9 +19,8 @@
 #include <type_traits>
 #include <variant>
 
-#include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/app_supply.h"
 #include "syrof/estimation/topics.h"
-#include "syrof/lab/apps/catalog.h"
 #include "syrof/lab/sensors/sensor_publishers.h"
 #include "syrof/lab/sim/recording_app.h"
 #include "syrof/lab/sim/robot_config.h"
@@ -271,12 +270,6 @@ struct Entities {
   dds_entity_t imu = 0, flow = 0, uwb = 0, control = 0;
   dds_entity_t drive = 0, report = 0, status = 0;
 };
-
-// The app, as `syrof run` makes it; nullptr when there is none of that name.
-std::unique_ptr<app::App> MakeApp(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options) {
-  if (scenario.app.is_library()) return app_host::MakeHostedApp(RobotHostOptions(scenario, options), options.robot);
-  return lab::apps::MakeBuiltinApp(lab::apps::BareAppName(scenario.app.name), scenario.app.params);
-}
 
 // The robot's readers and writers into `e`; false once one failed (said on
 // `err`).
@@ -650,14 +643,10 @@ ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& argumen
   return parsed;
 }
 
-app_host::HostOptions RobotHostOptions(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options) {
-  app_host::HostOptions host;
-  host.library_path = scenario.app.library;
-  host.log_directory = options.log_directory;
-  host.params = scenario.app.params;
-  host.inputs[options.robot] = lab::sim::InputValuesOf(scenario, options.robot);
-  host.limits = app_host::HostLimits::ForBudgets(scenario.app.cpu_budget_ms, scenario.app.wall_cap_ms);
-  return host;
+app_host::AppsResult RobotApps(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options) {
+  app_host::AppRequest request;
+  request.log_directory = options.log_directory;
+  return app_host::AppsFor(scenario, request);
 }
 
 int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
@@ -684,7 +673,12 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   const auto swarm_size = static_cast<uint16_t>(scenario.robots.size());
   const lab::scenario::RobotSpec& spec = scenario.robots[options.robot];
 
-  std::unique_ptr<app::App> app = MakeApp(scenario, options);
+  const app_host::AppsResult apps = RobotApps(scenario, options);
+  if (!apps.ok()) {
+    err << who << apps.error->ToString() << "\n";
+    return 2;
+  }
+  std::unique_ptr<app::App> app = apps.supply.factory(options.robot);
   if (app == nullptr) {
     err << who << "no app named " << scenario.app.name << "\n";
     return 2;

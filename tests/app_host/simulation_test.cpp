@@ -57,8 +57,8 @@ Outcome RunWith(const scenario::Scenario& scenario, std::function<std::unique_pt
   std::ostringstream replay;
   sim::SimulationOptions options;
   options.replay = &replay;
-  options.app_factory = std::move(factory);
-  options.app_source = "test:cooperative";
+  options.apps.factory = std::move(factory);
+  options.apps.source = "test:cooperative";
   const sim::RunReport report = sim::Run(scenario, options, 0.0);
   return Outcome{report.metrics_json, replay.str()};
 }
@@ -169,8 +169,8 @@ TEST(HostedAppSimulationTest, ARobotWhoseLibraryCrashesStopsAndTheOthersGoOn) {
   std::ostringstream replay;
   sim::SimulationOptions sim_options;
   sim_options.replay = &replay;
-  sim_options.app_factory = [&](uint16_t id) { return MakeHostedApp(options, id); };
-  sim_options.app_source = options.library_path;
+  sim_options.apps.factory = [&](uint16_t id) { return MakeHostedApp(options, id); };
+  sim_options.apps.source = options.library_path;
   sim::Simulation simulation(scenario, sim_options);
   const json metrics = json::parse(simulation.Finish(0.0).metrics_json);
 
@@ -199,12 +199,12 @@ TEST(HostedAppSimulationTest, EachHostileRobotFaultsAloneAndTheWellBehavedOneRun
       {"flood_output", "output_limit"}, {"kill_parent", "forbidden_syscall"}, {"allocate_gigabytes", "memory"},
       {"exit0", "exited"}};
   sim::SimulationOptions sim_options;
-  sim_options.app_factory = [&](uint16_t id) {
+  sim_options.apps.factory = [&](uint16_t id) {
     HostOptions options = Options(plan[id].first, logs);
     options.limits.cpu_budget_ms = 50;
     return MakeHostedApp(options, id);
   };
-  sim_options.app_source = "test:mixed";
+  sim_options.apps.source = "test:mixed";
   sim::Simulation simulation(scenario, sim_options);
   const json metrics = json::parse(simulation.Finish(0.0).metrics_json);
 

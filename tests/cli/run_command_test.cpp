@@ -307,8 +307,8 @@ RunOptions MisbehavingRun(const std::string& name) {
   options.robots = 4;
   options.duration_s = 5;
   options.out_dir = RunTempDir(name).string();
-  options.app_factory = [](uint16_t id) { return std::make_unique<MisbehavingApp>(id); };
-  options.app_source = "test:misbehaving";
+  options.apps.factory = [](uint16_t id) { return std::make_unique<MisbehavingApp>(id); };
+  options.apps.source = "test:misbehaving";
   return options;
 }
 
@@ -373,7 +373,7 @@ TEST(RunCommandTest, StrictIsACommandLineFlag) {
   app.parse("run some.yaml --strict", false);
 
   EXPECT_TRUE(options.strict);
-  EXPECT_FALSE(options.app_factory);  // only code sets a factory
+  EXPECT_FALSE(options.apps.factory);  // only code sets a factory
 }
 
 TEST(ValidateCommandTest, PrintsTheResolvedScenario) {

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <string>
 
-#include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/app_supply.h"
 #include "syrof/sim_dds/robot_process.h"
 
 namespace syrof::sim_dds {
@@ -35,7 +35,7 @@ TEST(RobotHostOptionsTest, ARobotGetsTheLimitsSyrofRunGivesTheSameScenario) {
     const lab::scenario::Scenario scenario = LoadLibraryScenario(budgets);
     RobotProcessOptions options;
     options.robot = 1;
-    const app_host::HostLimits robot = RobotHostOptions(scenario, options).limits;
+    const app_host::HostLimits robot = RobotApps(scenario, options).hosts.at(0).limits;
     const app_host::HostLimits run = app_host::HostLimits::ForBudgets(scenario.app.cpu_budget_ms, scenario.app.wall_cap_ms);
     EXPECT_EQ(robot.cpu_budget_ms, run.cpu_budget_ms) << budgets;
     EXPECT_EQ(robot.wall_cap_ms, run.wall_cap_ms) << budgets;
@@ -49,11 +49,24 @@ TEST(RobotHostOptionsTest, AOneSecondBudgetGetsAFourSecondWallCap) {
   RobotProcessOptions options;
   options.robot = 0;
   options.log_directory = "/tmp/out/robots";
-  const app_host::HostOptions host = RobotHostOptions(scenario, options);
+  const app_host::HostOptions host = RobotApps(scenario, options).hosts.at(0);
   EXPECT_EQ(host.limits.cpu_budget_ms, 1000u);
   EXPECT_EQ(host.limits.wall_cap_ms, 4000u);
   EXPECT_EQ(host.library_path, scenario.app.library);
   EXPECT_EQ(host.log_directory, "/tmp/out/robots");
+}
+
+// A wall cap below the default CPU budget stops the robot process as it
+// stops `syrof run` (it used to host the app with the wall cap under the budget).
+TEST(RobotHostOptionsTest, AWallCapBelowTheDefaultCpuBudgetIsRefusedAsSyrofRunRefusesIt) {
+  const lab::scenario::Scenario scenario = LoadLibraryScenario(", wall_cap_ms: 50");
+  RobotProcessOptions options;
+  options.robot = 0;
+
+  const app_host::AppsResult apps = RobotApps(scenario, options);
+
+  ASSERT_FALSE(apps.ok());
+  EXPECT_EQ(apps.error->ToString(), "the wall cap (50 ms) must be at least the CPU budget (100 ms)");
 }
 
 }  // namespace

@@ -318,9 +318,7 @@ const Representative* Dominated(const StateTable& table, const Digest& state, in
 void RunPattern(const scenario::Scenario& scenario, const SearchSpace& space, const SearchOptions& options,
                 PatternRun& run, bool goal_declared, const std::vector<StateTable>* tables, bool end_state) {
   sim::SimulationOptions sim_options;
-  sim_options.app_factory = options.app_factory;
-  sim_options.app_source = options.app_source;
-  sim_options.app_sandbox = options.app_sandbox;
+  sim_options.apps = options.apps;
   sim_options.state_digests = tables != nullptr || end_state;
   sim::Simulation simulation(PatternScenario(scenario, space, run), sim_options);
   if (tables != nullptr) {
@@ -467,9 +465,7 @@ std::string WriteCounterexample(const std::string& dir, const scenario::Scenario
   std::ofstream replay_file(folder / "replay", std::ios::binary | std::ios::trunc);
   sim::SimulationOptions sim_options;
   sim_options.replay = &replay_file;
-  sim_options.app_factory = options.app_factory;
-  sim_options.app_source = options.app_source;
-  sim_options.app_sandbox = options.app_sandbox;
+  sim_options.apps = options.apps;
   const sim::RunReport rerun = sim::Run(*again.scenario, sim_options, 0);
   replay_file.close();
   std::ofstream metrics_file(folder / "metrics.json", std::ios::binary | std::ios::trunc);
@@ -602,9 +598,7 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   // The loss-free run: the first pattern, and the epochs that set the window.
   std::ostringstream replay_bytes;
   sim::SimulationOptions sim_options;
-  sim_options.app_factory = options.app_factory;
-  sim_options.app_source = options.app_source;
-  sim_options.app_sandbox = options.app_sandbox;
+  sim_options.apps = options.apps;
   sim_options.replay = &replay_bytes;
   // With every robot active (FSYNC), for the activation search.
   const scenario::Scenario loss_free =

@@ -230,7 +230,7 @@ void Simulation::Impl::MakeRobots() {
     config.app_inputs = app_inputs_.back();
     if (options_.configure_robot) options_.configure_robot(config);
     std::unique_ptr<app::App> app =
-        options_.app_factory ? options_.app_factory(spec.id)
+        options_.apps.factory ? options_.apps.factory(spec.id)
                              : apps::MakeBuiltinApp(apps::BareAppName(scenario_.app.name), scenario_.app.params);
     SYROF_CHECK(app != nullptr);
     app = std::make_unique<RecordingApp>(std::move(app), spec.id, *this, options_.state_digests);
@@ -281,7 +281,7 @@ void Simulation::Impl::AttachRobots() {
 void Simulation::Impl::OpenRecorder() {
   // A runtime-supplied app (the grader's or --app's library) is the run's
   // app in the replay and the goal, not the scenario's `app:`.
-  recorder_.NameApp(options_.app_source);
+  recorder_.NameApp(options_.apps.source);
   for (replay::RoundSink* sink : options_.sinks) recorder_.AddSink(sink);
   if (options_.replay != nullptr) recorder_.OpenReplay(*options_.replay);
   phase_boundaries_.reserve(robots_.size());
@@ -604,7 +604,7 @@ RunReport Simulation::Impl::Finish(double wall_seconds) {
   metrics::RunFacts facts = recorder_.Facts(end, player_, world_);
   facts.app_name = robots_.empty() ? std::string() : robots_.front()->app_name();
   facts.app_source = recorder_.app_name();
-  facts.app_sandbox = options_.app_sandbox;
+  facts.app_sandbox = options_.apps.sandbox;
   RunReport report;
   report.metrics = recorder_.Finish(facts);
   report.metrics_json = metrics::ToJson(report.metrics);

@@ -59,8 +59,8 @@ SearchOptions OptionsFor(bool drifts, int max_losses, int jobs) {
   options.max_losses = max_losses;
   options.epochs = 2;
   options.jobs = jobs;
-  options.app_factory = [drifts](uint16_t) { return std::make_unique<CountingApp>(drifts); };
-  options.app_source = "test:counting";
+  options.apps.factory = [drifts](uint16_t) { return std::make_unique<CountingApp>(drifts); };
+  options.apps.source = "test:counting";
   return options;
 }
 
@@ -95,8 +95,8 @@ TEST(SearchTest, TheCounterexampleReplaysExactlyAsAScriptedChannel) {
   const SearchResult result = Search(scenario, options);
   ASSERT_TRUE(result.counterexample.has_value());
   sim::SimulationOptions sim_options;
-  sim_options.app_factory = options.app_factory;
-  sim_options.app_source = options.app_source;
+  sim_options.apps.factory = options.apps.factory;
+  sim_options.apps.source = options.apps.source;
   const sim::RunReport again = sim::Run(WithLosses(scenario, result.counterexample->lost), sim_options, 0);
   EXPECT_EQ(again.metrics_json, metrics::ToJson(result.counterexample->metrics));
   // One loss fewer (the last dropped) no longer breaks it.
@@ -278,8 +278,8 @@ SearchOptions ActivationOptions(std::function<std::unique_ptr<app::App>(uint16_t
   options.activations = true;
   options.epochs = epochs;
   options.jobs = jobs;
-  options.app_factory = std::move(factory);
-  options.app_source = "test:activation";
+  options.apps.factory = std::move(factory);
+  options.apps.source = "test:activation";
   return options;
 }
 
@@ -323,8 +323,8 @@ TEST(ActivationSearchTest, TheCounterexampleReplaysAsAScriptedSchedule) {
     EXPECT_NE(entry.robot, found.inactive[0].robot);
   }
   sim::SimulationOptions sim_options;
-  sim_options.app_factory = options.app_factory;
-  sim_options.app_source = options.app_source;
+  sim_options.apps.factory = options.apps.factory;
+  sim_options.apps.source = options.apps.source;
   EXPECT_EQ(sim::Run(again, sim_options, 0).metrics_json, metrics::ToJson(found.metrics));
   // Every robot active: FSYNC, and nothing breaks.
   const sim::RunReport fsync = sim::Run(WithInactivations(scenario, found.window_epochs, {}), sim_options, 0);

@@ -47,8 +47,8 @@ constexpr const char* kSwarm =
 
 SimulationOptions DriftOptions() {
   SimulationOptions options;
-  options.app_factory = [](uint16_t) { return std::make_unique<DriftApp>(); };
-  options.app_source = "drift_test";
+  options.apps.factory = [](uint16_t) { return std::make_unique<DriftApp>(); };
+  options.apps.source = "drift_test";
   return options;
 }
 

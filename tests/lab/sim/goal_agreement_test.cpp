@@ -68,8 +68,8 @@ class StateApp final : public app::App {
 
 json RunWith(const scenario::Scenario& scenario, StateRule rule) {
   SimulationOptions options;
-  options.app_factory = [rule](uint16_t) { return std::make_unique<StateApp>(rule); };
-  options.app_source = "test:state_app";
+  options.apps.factory = [rule](uint16_t) { return std::make_unique<StateApp>(rule); };
+  options.apps.source = "test:state_app";
   return json::parse(sim::Run(scenario, options).metrics_json);
 }
 

@@ -431,7 +431,7 @@ class RamApp final : public app::App {
 TEST(SimulationTest, CollisionsAreCountedAndBodiesDoNotPassThrough) {
   const scenario::Scenario scenario = Load(Swarm("safety: off\n", 0.0, 8, 4));
   SimulationOptions options;
-  options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
+  options.apps.factory = [](uint16_t) { return std::make_unique<RamApp>(); };
   Simulation simulation(scenario, options);
 
   const json metrics = json::parse(simulation.Finish(0).metrics_json);
@@ -450,7 +450,7 @@ TEST(SimulationTest, CollisionsAreCountedAndBodiesDoNotPassThrough) {
 TEST(SimulationTest, TheSafetyFilterStopsRammers) {
   const scenario::Scenario scenario = Load(Swarm("", 0.0, 8, 4));
   SimulationOptions options;
-  options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
+  options.apps.factory = [](uint16_t) { return std::make_unique<RamApp>(); };
 
   const json metrics = json::parse(sim::Run(scenario, options, 0.0).metrics_json);
 
@@ -468,7 +468,7 @@ TEST(SimulationTest, EventsCarryTheRobotsEpochAndModeThen) {
       Load(Swarm("faults: [{crash: 2, at_s: 4}, {pause: 1, at_s: 3, until_s: 6}, {join: 3, at_s: 2}]\nsafety: off\n",
                  0.0, 9, 5));
   SimulationOptions options;
-  options.app_factory = [](uint16_t) { return std::make_unique<RamApp>(); };
+  options.apps.factory = [](uint16_t) { return std::make_unique<RamApp>(); };
   std::stringstream bytes;
   options.replay = &bytes;
   (void)sim::Run(scenario, options, 0.0);
@@ -559,8 +559,8 @@ FaultyRun RunFaulty(const Plan& plan) {
   std::ostringstream replay_bytes;
   SimulationOptions options;
   options.replay = &replay_bytes;
-  options.app_factory = [plan](uint16_t id) { return std::make_unique<FaultyApp>(id, plan); };
-  options.app_source = "test:faulty";
+  options.apps.factory = [plan](uint16_t id) { return std::make_unique<FaultyApp>(id, plan); };
+  options.apps.source = "test:faulty";
   Simulation simulation(scenario, options);
   const RunReport report = simulation.Finish(0.0);
   FaultyRun run;
@@ -590,8 +590,8 @@ TEST(SimulationAppNameTest, TheSuppliedAppIsNamedInTheReplayAndTheMetrics) {
     std::ostringstream replay_bytes;
     SimulationOptions options;
     options.replay = &replay_bytes;
-    options.app_factory = [](uint16_t id) { return std::make_unique<FaultyApp>(id, Plan{}); };
-    options.app_source = "build/libstudent.so";
+    options.apps.factory = [](uint16_t id) { return std::make_unique<FaultyApp>(id, Plan{}); };
+    options.apps.source = "build/libstudent.so";
 
     // Act
     const RunReport report = sim::Run(scenario, options, 0.0);

@@ -174,10 +174,10 @@ channel: { model: iid, loss: 0.02 }
 app: builtin:circle
 )");
   SimulationOptions options;
-  options.app_factory = [](uint16_t id) {
+  options.apps.factory = [](uint16_t id) {
     return std::make_unique<BreakingApp>(id, apps::MakeBuiltinApp("circle", {}));
   };
-  options.app_source = "test:breaking";
+  options.apps.source = "test:breaking";
   const Bytes one = RunOn(scenario, 1, options);
   ASSERT_NE(one.metrics.find("SIGSEGV"), std::string::npos);  // the faults happened
   ExpectSameBytes(scenario, options);
@@ -200,7 +200,7 @@ faults:
 app: builtin:circle
 )");
   SimulationOptions options;
-  options.app_factory = [](uint16_t id) {
+  options.apps.factory = [](uint16_t id) {
     return std::make_unique<BreakingApp>(id, apps::MakeBuiltinApp("circle", {}));
   };
   const Bytes one = RunOn(scenario, 1, options);

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "syrof/app_host/hosted_app.h"
+#include "syrof/app_host/app_supply.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/stress.h"
 
@@ -86,11 +86,12 @@ inline constexpr int64_t kBeaconLatencyNs = 150'000;
 /// robot stops.
 inline constexpr int64_t kWorldLostNs = 3'000'000'000;
 
-/// How robot `options.robot`'s library app is hosted: the scenario's
-/// library, params and this robot's inputs, the log folder, and the limits
-/// `syrof run` gives the same scenario (HostLimits::ForBudgets: an unset
-/// wall cap is 4x the CPU budget when that is more than the default).
-app_host::HostOptions RobotHostOptions(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options);
+/// Robot `options.robot`'s apps, as every runtime sets them up
+/// (app_host::AppsFor): the scenario's built-in app, or its library with the
+/// scenario's params and inputs, the log folder, and the limits `syrof run`
+/// gives the same scenario (HostLimits::ForBudgets: an unset wall cap is 4x
+/// the CPU budget when that is more than the default).
+app_host::AppsResult RobotApps(const lab::scenario::Scenario& scenario, const RobotProcessOptions& options);
 
 /// Runs the robot until the world stops it. 0 on a clean stop, 2 on bad
 /// input (scenario, robot id, app), 1 on a DDS or system failure; the reason

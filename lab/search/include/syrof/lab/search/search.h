@@ -57,6 +57,7 @@
 #include <vector>
 
 #include "syrof/app/app.h"
+#include "syrof/lab/apps/app_supply.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/world/channel.h"
@@ -88,12 +89,10 @@ struct SearchOptions {
   int epochs = 3;             ///< 1 .. kMaxSearchEpochs: the losses fall in the first this many epochs
   int jobs = 1;               ///< 1 .. kMaxSearchJobs: runs side by side (the result does not depend on it)
   double time_limit_s = 0;    ///< stop after this much wall time; 0: no limit
-  /// Makes robot `id`'s app (a library through the app host); empty: the
-  /// scenario's built-in app. Called from `jobs` threads at once.
-  std::function<std::unique_ptr<app::App>(uint16_t id)> app_factory;
-  std::string app_source;     ///< metrics.json's app.source when app_factory is set
-  /// metrics.json's app.sandbox for a library (SimulationOptions::app_sandbox).
-  std::optional<std::vector<std::string>> app_sandbox;
+  /// The robots' apps, as the runs' SimulationOptions::apps (a library
+  /// through app_host::AppsFor); default: the scenario's built-in app. The
+  /// factory is called from `jobs` threads at once.
+  lab::apps::AppSupply apps;
   /// Prune states seen (above); false runs every pattern to its end.
   bool prune = true;
   /// A self-test of the pruning, for tests: each pattern pruned is also run

@@ -102,7 +102,7 @@ class RoundRecorder {
   metrics::Collector& collector() { return collector_; }
 
   /// Names the app the runtime runs in place of the scenario's (a student's
-  /// library given to the grader or `--app`; SimulationOptions::app_source):
+  /// library given to the grader or `--app`; SimulationOptions::apps.source):
   /// the replay header's app_name and metrics' goal.app then say `name`, not
   /// the scenario's `app:`. Empty: the scenario's app. Before OpenReplay and
   /// AddSink.

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "syrof/app/app.h"
+#include "syrof/lab/apps/app_supply.h"
 #include "syrof/lab/base/error.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/replay/round_sink.h"
@@ -47,17 +48,10 @@ struct SimulationOptions {
   /// Called about every `progress_period_s` of simulated time (and at the end).
   std::function<void(double sim_seconds)> progress;
   double progress_period_s = 1.0;
-  /// Makes robot `id`'s app. Default (empty): the scenario's built-in app
-  /// from lab/apps. The grader's app host and tests supply their own.
-  std::function<std::unique_ptr<app::App>(uint16_t id)> app_factory;
-  /// The app's name when app_factory supplies the apps (a library's path as
-  /// the user should read it): metrics.json's app.source and goal.app and
-  /// the replay header's app_name say it (RoundRecorder::NameApp). Empty:
-  /// the scenario's app ("builtin:NAME").
-  std::string app_source;
-  /// metrics.json's app.sandbox: the app host's notes on what its sandbox
-  /// could not apply (a library run); unset (null) for in-process apps.
-  std::optional<std::vector<std::string>> app_sandbox;
+  /// Where the robots' apps come from and how the outputs name them
+  /// (app_host::AppsFor for a scenario's app or a student's library; tests
+  /// supply their own). Default: the scenario's built-in app from lab/apps.
+  lab::apps::AppSupply apps;
   /// For tests and tools: adjusts each robot's start-up config after the
   /// scenario's (RobotConfigFor), before the robot is built. Empty: none.
   std::function<void(runtime::RobotConfig&)> configure_robot;
@@ -68,7 +62,7 @@ struct SimulationOptions {
   /// is byte-identical to a run with 1.
   /// 1 .. kMaxThreads (SYROF_CHECK); capped at the robot count; with clocks (scenario `clocks:`) the
   /// run is serial whatever this says. With more than 1, the apps that
-  /// `app_factory` makes are called from several threads at once, each app
+  /// `apps.factory` makes are called from several threads at once, each app
   /// from one thread at a time: an app must touch only its own state.
   int threads = 1;
   /// Keeps what Simulation::StateDigest needs beyond the run's own state:
