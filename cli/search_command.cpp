@@ -64,7 +64,7 @@ CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options) {
   command->add_option("--fair-within", options.fair_within,
                       "With --activations: no robot left out of this many epochs in a row (default: no bound)")
       ->check(CLI::Range(1, search::kMaxSearchEpochs));
-  command->add_option("--epochs", options.epochs, "The losses fall in the run's first E epochs (default 3)")
+  command->add_option("--epochs", options.epochs, "The losses (with --activations, the schedules) fall in the run's first E epochs (default 3)")
       ->check(CLI::Range(1, search::kMaxSearchEpochs));
   command->add_option("--jobs", options.jobs, "Runs side by side (default 1); the result does not depend on it")
       ->check(CLI::Range(1, search::kMaxSearchJobs));
@@ -167,6 +167,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     for (const std::string& note : *search_options.apps.sandbox) fmt::print(out, "  sandbox: {}\n", note);
   }
   const char* unit = search_options.activations ? "inactive robot-epoch" : "lost beacon";
+  const char* tried = search_options.activations ? "schedule" : "pattern";
   if (search_options.activations) {
     fmt::print(out, "  SSYNC schedules of the first {} epoch{}, fewest inactive robot-epochs and earliest first{}\n",
                options.epochs, options.epochs == 1 ? "" : "s",
@@ -201,13 +202,13 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   const double rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
   if (!result.counterexample) {
     if (result.stopped_by_time) {
-      fmt::print(out, "no pattern broke it before the time limit: {} runs in {:.1f} s ({:.0f} a second); every "
-                      "pattern of up to {} {}{} was tried\n",
-                 result.runs, result.seconds, rate, result.complete_losses, unit,
+      fmt::print(out, "no {} broke it before the time limit: {} runs in {:.1f} s ({:.0f} a second); every "
+                      "{} of up to {} {}{} was tried\n",
+                 tried, result.runs, result.seconds, rate, tried, result.complete_losses, unit,
                  result.complete_losses == 1 ? "" : "s");
     } else {
-      fmt::print(out, "no pattern broke it: all {} runs in {:.1f} s ({:.0f} a second)\n", result.runs, result.seconds,
-                 rate);
+      fmt::print(out, "no {} broke it: all {} runs in {:.1f} s ({:.0f} a second)\n", tried, result.runs,
+                 result.seconds, rate);
     }
     fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the {} fell in the first {} epoch{}\n",
                result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s",
@@ -259,7 +260,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   }
   PrintViolations(out, found.violations);
   fmt::print(out, "  after {} runs ({} distinct outcomes) in {:.1f} s; every {} of fewer {} passed\n", result.runs,
-             result.distinct_outcomes, result.seconds, search_options.activations ? "schedule" : "pattern",
+             result.distinct_outcomes, result.seconds, tried,
              search_options.activations ? "inactive robot-epochs" : "losses");
   PrintPruning(out, result);
   fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),

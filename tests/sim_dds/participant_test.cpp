@@ -165,33 +165,24 @@ std::vector<uint64_t> RunsLeftAfterTwoRunsWrite(TopicKind kind, Sample sample) {
   return runs;
 }
 
-bool Has(const std::vector<uint64_t>& runs, uint64_t run) { return std::find(runs.begin(), runs.end(), run) != runs.end(); }
+// Both runs' samples of robot 3 are left for `kind` (the robot field named
+// `sender` for beacons, `robot` elsewhere).
+template <typename Sample>
+void ExpectBothRunsLeft(TopicKind kind, uint16_t Sample::*robot_field, const char* what) {
+  Sample sample{};
+  sample.*robot_field = 3;
+  const std::vector<uint64_t> runs = RunsLeftAfterTwoRunsWrite(kind, sample);
+  const auto has = [&](uint64_t run) { return std::find(runs.begin(), runs.end(), run) != runs.end(); };
+  EXPECT_TRUE(has(11) && has(22)) << what;
+}
 
 TEST(DdsTopics, TwoRunsOnOneDomainNeverPushOutEachOthersSamples) {
-  syrof_msg_dds__Beacon_ beacon{};
-  beacon.sender = 3;
-  const auto beacons = RunsLeftAfterTwoRunsWrite(TopicKind::kBeacon, beacon);
-  EXPECT_TRUE(Has(beacons, 11) && Has(beacons, 22)) << "beacons";
-  syrof_msg_dds__Status_ status{};
-  status.robot = 3;
-  const auto statuses = RunsLeftAfterTwoRunsWrite(TopicKind::kStatus, status);
-  EXPECT_TRUE(Has(statuses, 11) && Has(statuses, 22)) << "status";
-  syrof_msg_dds__Imu_ imu{};
-  imu.robot = 3;
-  const auto imus = RunsLeftAfterTwoRunsWrite(TopicKind::kImu, imu);
-  EXPECT_TRUE(Has(imus, 11) && Has(imus, 22)) << "imu";
-  syrof_msg_dds__Flow_ flow{};
-  flow.robot = 3;
-  const auto flows = RunsLeftAfterTwoRunsWrite(TopicKind::kFlow, flow);
-  EXPECT_TRUE(Has(flows, 11) && Has(flows, 22)) << "flow";
-  syrof_msg_dds__Uwb_ uwb{};
-  uwb.robot = 3;
-  const auto uwbs = RunsLeftAfterTwoRunsWrite(TopicKind::kUwb, uwb);
-  EXPECT_TRUE(Has(uwbs, 11) && Has(uwbs, 22)) << "uwb";
-  syrof_msg_dds__Drive_ drive{};
-  drive.robot = 3;
-  const auto drives = RunsLeftAfterTwoRunsWrite(TopicKind::kDrive, drive);
-  EXPECT_TRUE(Has(drives, 11) && Has(drives, 22)) << "drive";
+  ExpectBothRunsLeft(TopicKind::kBeacon, &syrof_msg_dds__Beacon_::sender, "beacons");
+  ExpectBothRunsLeft(TopicKind::kStatus, &syrof_msg_dds__Status_::robot, "status");
+  ExpectBothRunsLeft(TopicKind::kImu, &syrof_msg_dds__Imu_::robot, "imu");
+  ExpectBothRunsLeft(TopicKind::kFlow, &syrof_msg_dds__Flow_::robot, "flow");
+  ExpectBothRunsLeft(TopicKind::kUwb, &syrof_msg_dds__Uwb_::robot, "uwb");
+  ExpectBothRunsLeft(TopicKind::kDrive, &syrof_msg_dds__Drive_::robot, "drive");
 }
 
 }  // namespace
