@@ -99,11 +99,23 @@ void PrintSummary(std::ostream& out, const metrics::Metrics& m, const std::files
              m.synchrony.max_start_skew_rounds, Number(m.synchrony.max_start_skew_ms, 1));
   if (m.activation) {
     const metrics::ActivationMetrics& activation = *m.activation;
-    fmt::print(out, "  {:<17} {} {}{}: {} of {} robot-epoch starts active, fair within {} epochs\n", "activation",
-               activation.model, activation.schedule,
-               activation.fair_within ? fmt::format(" (bound {})", *activation.fair_within) : std::string(),
-               activation.active_starts, activation.active_starts + activation.inactive_starts,
-               activation.fair_within_achieved);
+    if (activation.async) {
+      // A look starts a cycle; the move may start and end epochs later.
+      const metrics::AsyncActivationMetrics& async = *activation.async;
+      fmt::print(out,
+                 "  {:<17} async {} (delays up to {} epochs{}): {} of {} robot-epoch starts looked, every robot within "
+                 "{} epochs; {} robot-epochs moving, {} on a stale look, {} moves cut\n",
+                 "activation", activation.schedule, async.max_delay_epochs,
+                 async.min_move_m > 0 ? fmt::format(", non-rigid {} m", Number(async.min_move_m, 3)) : std::string(),
+                 activation.active_starts, activation.active_starts + activation.inactive_starts,
+                 activation.fair_within_achieved, async.move_epochs, async.stale_move_epochs, async.moves_cut);
+    } else {
+      fmt::print(out, "  {:<17} {} {}{}: {} of {} robot-epoch starts active, fair within {} epochs\n", "activation",
+                 activation.model, activation.schedule,
+                 activation.fair_within ? fmt::format(" (bound {})", *activation.fair_within) : std::string(),
+                 activation.active_starts, activation.active_starts + activation.inactive_starts,
+                 activation.fair_within_achieved);
+    }
   }
   const std::optional<double>& fraction = m.common_knowledge.cooperative_fraction;
   fmt::print(out, "  {:<17} {} P3 violations, {} COOPERATIVE starts, mode disagreement max {} rounds\n",

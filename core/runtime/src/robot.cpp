@@ -1,6 +1,7 @@
 #include "syrof/runtime/robot.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "syrof/base/check.h"
@@ -263,6 +264,68 @@ void Robot::EndManeuver(int64_t now_ns) {
   if (!status.ok()) StopApp(app::Callback::kEndOfRound, now_ns, app_map_.epoch, status);
 }
 
+// ASYNC (sync/activation.h): the robot looks when no cycle is under way;
+// its move runs in the maneuvers the cycle's timing names, at the command's
+// speed divided by their number, so it covers what one maneuver would.
+void Robot::StartAsyncEpoch(int64_t now_ns) {
+  const sync::AsyncTracker::Step step = async_tracker_.OnEpochStart(config_.activation, ldmap_.epoch, id());
+  rounds_in_progress_ = 0;
+  if (step.looks) {
+    FillAppMap(ldmap_);
+    syrof_car_command command{};
+    BeginAppCall(now_ns, ldmap_.epoch);
+    const app::CallStatus status = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
+    ++counters_.new_rounds;
+    if (!status.ok()) {
+      StopApp(app::Callback::kNewRound, now_ns, ldmap_.epoch, status);
+      return;
+    }
+    const app::CommandCheck check = app::CheckCommand(command);
+    if (!check.ok()) {
+      ++counters_.invalid_commands;
+      command = syrof_car_command{};
+    }
+    const float spread = static_cast<float>(step.cycle.move_epochs);
+    async_move_ = command;
+    async_move_.speed_mps = command.speed_mps / spread;
+    async_move_.vx_mps = command.vx_mps / spread;
+    async_move_.vy_mps = command.vy_mps / spread;
+    if (observer_ != nullptr) {
+      observer_->OnEpochStart(id(), now_ns, ldmap_);
+      if (!check.ok()) observer_->OnInvalidCommand(id(), now_ns, ldmap_.epoch, check);
+    }
+  } else {
+    ++counters_.inactive_epochs;
+    if (observer_ != nullptr) observer_->OnEpochStart(id(), now_ns, ldmap_);
+  }
+  if (step.first_move_epoch) {
+    async_covered_m_ = 0;
+    async_cut_pending_ = step.cycle.cut;
+    async_cut_done_ = false;
+  }
+  command_ = step.moves && !async_cut_done_ ? async_move_ : syrof_car_command{};
+  HandToMotion(command_);
+  // A move's maneuver ends with endOfRound only when it is the move's last.
+  maneuver_active_ = step.moves;
+  async_last_move_epoch_ = step.last_move_epoch;
+}
+
+// Non-rigid ASYNC: a move the scheduler cuts stops once it has covered
+// min_move_mm: the path length of the robot's own velocity estimate, summed
+// each radio round of the move (its position estimate's noise is of the
+// order of a short move; the velocity's, integrated, is not).
+void Robot::CutAsyncMove() {
+  const float vx = estimate_.vx_mps;
+  const float vy = estimate_.vy_mps;
+  async_covered_m_ += std::sqrt(vx * vx + vy * vy) * (static_cast<float>(config_.radio_round_ns) * 1e-9f);
+  if (async_covered_m_ * 1000.0f < static_cast<float>(config_.activation.min_move_mm)) return;
+  async_cut_pending_ = false;
+  async_cut_done_ = true;
+  ++counters_.moves_cut;
+  command_ = syrof_car_command{};
+  HandToMotion(command_);
+}
+
 void Robot::RunRound(int64_t now_ns) {
   if (app_faulted()) {
     // Stopped as a crashed robot is: what arrived is dropped unread.
@@ -325,10 +388,22 @@ void Robot::RunRound(int64_t now_ns) {
   // or the robot lost its group).
   const bool still_in_progress =
       state_.status == sync::Status::kMember && state_.phase == wire::Phase::kProgress && !out_.epoch_started;
-  if (maneuver_active_ && !still_in_progress) EndManeuver(now_ns);
+  if (maneuver_active_ && !still_in_progress) {
+    if (config_.activation.model != sync::ActivationModel::kAsync || async_last_move_epoch_) {
+      EndManeuver(now_ns);
+    } else {
+      // ASYNC: a maneuver of a move that goes on in a later epoch: hold
+      // until then, no endOfRound yet.
+      maneuver_active_ = false;
+      HandToMotion(syrof_car_command{});
+    }
+  }
   if (app_faulted()) return;
 
-  if (out_.epoch_started && !sync::IsActive(config_.activation, ldmap_.epoch, ldmap_.members, id())) {
+  if (out_.epoch_started && config_.activation.model == sync::ActivationModel::kAsync) {
+    StartAsyncEpoch(now_ns);
+    if (app_faulted()) return;
+  } else if (out_.epoch_started && !sync::IsActive(config_.activation, ldmap_.epoch, ldmap_.members, id())) {
     // Left out of this epoch (SSYNC): no look, no compute, no move. The
     // maneuver's rounds still count, for the synchronizer's PROGRESS.
     ++counters_.inactive_epochs;
@@ -366,6 +441,7 @@ void Robot::RunRound(int64_t now_ns) {
     if (!out_.removed.empty() || !out_.joined.empty()) observer_->OnMembership(id(), now_ns, out_.removed, out_.joined);
     if (out_.became_joiner) observer_->OnBecameJoiner(id(), now_ns);
   }
+  if (async_cut_pending_ && maneuver_active_) CutAsyncMove();
   if (out_.send) {
     radio_.Broadcast(out_.beacon);
     ++counters_.beacons_sent;

@@ -78,6 +78,14 @@ void Robot::AddToDigest(base::StateDigest& digest) const {
   digest.AddValue(payload_length_);
   digest.AddValue(payload_);
   digest.AddValue(maneuver_active_);
+  if (config_.activation.model == sync::ActivationModel::kAsync) {
+    digest.AddValue(async_tracker_.Packed());
+    app::AddToDigest(digest, async_move_);
+    digest.AddValue(async_last_move_epoch_);
+    digest.AddValue(async_cut_pending_);
+    digest.AddValue(async_cut_done_);
+    digest.AddValue(async_covered_m_);
+  }
   digest.AddValue(rounds_in_progress_);
   digest.AddValue(app_fault_.verdict());
   digest.AddBytes(std::as_bytes(std::span(app_fault_.detail(), std::strlen(app_fault_.detail()))));

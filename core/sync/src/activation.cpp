@@ -9,6 +9,9 @@ namespace {
 constexpr uint64_t kDrawPurpose = 0x61637469766174ull;     // "activat"
 constexpr uint64_t kOffsetPurpose = 0x6f6666736574ull;     // "offset"
 constexpr uint64_t kFallbackPurpose = 0x66616c6c6261ull;   // "fallba"
+constexpr uint64_t kStartPurpose = 0x7374617274ull;        // "start"
+constexpr uint64_t kLengthPurpose = 0x6c656e677468ull;     // "length"
+constexpr uint64_t kCutPurpose = 0x637574ull;              // "cut"
 
 uint64_t Mix(uint64_t seed, uint64_t purpose, uint64_t a, uint64_t b) {
   return base::SplitMix64Hash(base::SplitMix64Hash(seed ^ purpose) ^ base::SplitMix64Hash((a << 16) ^ b));
@@ -96,6 +99,7 @@ const char* ToString(ActivationModel model) {
   switch (model) {
     case ActivationModel::kFsync: return "fsync";
     case ActivationModel::kSsync: return "ssync";
+    case ActivationModel::kAsync: return "async";
   }
   return "?";
 }
@@ -116,12 +120,23 @@ bool IsValid(const ActivationConfig& config) {
     const ScriptedActivation& entry = config.script[i];
     if (entry.epoch < before.epoch || (entry.epoch == before.epoch && entry.robot <= before.robot)) return false;
   }
+  if (config.max_delay_epochs > kMaxAsyncDelayEpochs) return false;
+  for (size_t i = 0; i < config.cycles.size(); ++i) {
+    const ScriptedCycle& entry = config.cycles[i];
+    if (entry.start_delay > config.max_delay_epochs || entry.move_epochs < 1 ||
+        entry.move_epochs > config.max_delay_epochs + 1) {
+      return false;
+    }
+    if (i == 0) continue;
+    const ScriptedCycle& before = config.cycles[i - 1];
+    if (entry.epoch < before.epoch || (entry.epoch == before.epoch && entry.robot <= before.robot)) return false;
+  }
   return true;
 }
 
 bool IsActive(const ActivationConfig& config, uint16_t epoch, const wire::MemberSet& members, uint16_t robot) {
   if (robot >= wire::MemberSet::kCapacity || !members.test(robot)) return false;
-  if (config.model == ActivationModel::kFsync) return true;
+  if (config.model != ActivationModel::kSsync) return true;
   if (Chosen(config, epoch, members, robot)) return true;
   // Only when the schedule chose no member at all does the fallback apply.
   if (ChoiceHoldsAMember(config, epoch, members)) return false;
@@ -133,6 +148,65 @@ uint16_t ActiveCount(const ActivationConfig& config, uint16_t epoch, const wire:
   uint16_t count = 0;
   for (const uint16_t member : members) count += IsActive(config, epoch, members, member) ? 1 : 0;
   return count;
+}
+
+AsyncCycle CycleFor(const ActivationConfig& config, uint16_t epoch, uint16_t robot) {
+  AsyncCycle cycle;
+  if (config.model != ActivationModel::kAsync) return cycle;
+  if (config.schedule == ActivationSchedule::kScripted) {
+    // Binary search for (epoch, robot); a look the script does not list is
+    // a one-epoch cycle.
+    size_t low = 0;
+    size_t high = config.cycles.size();
+    while (low < high) {
+      const size_t middle = low + (high - low) / 2;
+      const ScriptedCycle& entry = config.cycles[middle];
+      if (entry.epoch < epoch || (entry.epoch == epoch && entry.robot < robot)) {
+        low = middle + 1;
+      } else {
+        high = middle;
+      }
+    }
+    if (low < config.cycles.size() && config.cycles[low].epoch == epoch && config.cycles[low].robot == robot) {
+      const ScriptedCycle& entry = config.cycles[low];
+      cycle.start_delay = entry.start_delay;
+      cycle.move_epochs = entry.move_epochs;
+      cycle.cut = entry.cut && config.min_move_mm > 0;
+    }
+    return cycle;
+  }
+  const uint64_t choices = static_cast<uint64_t>(config.max_delay_epochs) + 1;
+  cycle.start_delay = static_cast<uint8_t>(Mix(config.seed, kStartPurpose, epoch, robot) % choices);
+  cycle.move_epochs = static_cast<uint8_t>(1 + Mix(config.seed, kLengthPurpose, epoch, robot) % choices);
+  cycle.cut = config.min_move_mm > 0 && (Mix(config.seed, kCutPurpose, epoch, robot) & 1U) != 0;
+  return cycle;
+}
+
+AsyncTracker::Step AsyncTracker::OnEpochStart(const ActivationConfig& config, uint16_t epoch, uint16_t robot) {
+  Step step;
+  if (!busy_) {
+    busy_ = true;
+    look_epoch_ = epoch;
+    since_look_ = 0;
+    cycle_ = CycleFor(config, epoch, robot);
+    step.looks = true;
+  } else {
+    ++since_look_;
+  }
+  const uint32_t first_move = cycle_.start_delay;
+  const uint32_t last_move = first_move + cycle_.move_epochs - 1;
+  step.moves = since_look_ >= first_move && since_look_ <= last_move;
+  step.first_move_epoch = since_look_ == first_move;
+  step.last_move_epoch = since_look_ == last_move;
+  step.look_epoch = look_epoch_;
+  step.cycle = cycle_;
+  if (step.last_move_epoch) busy_ = false;  // the next epoch start looks again
+  return step;
+}
+
+uint64_t AsyncTracker::Packed() const {
+  return (busy_ ? 1ULL : 0ULL) | (uint64_t{look_epoch_} << 1) | (uint64_t{since_look_} << 17) |
+         (uint64_t{cycle_.start_delay} << 33) | (uint64_t{cycle_.move_epochs} << 41) | (cycle_.cut ? 1ULL << 49 : 0ULL);
 }
 
 }  // namespace syrof::sync

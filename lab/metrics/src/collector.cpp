@@ -155,6 +155,7 @@ Collector::Collector(const CollectorConfig& config)
       robot_interventions_(tracks_.size(), 0),
       robot_starts_(tracks_.size(), 0),
       inactive_run_(tracks_.size(), 0),
+      async_cycles_(tracks_.size()),
       robot_cooperative_starts_(tracks_.size(), 0) {
   // Errors reach half a round at most.
   const int64_t half_round_ns = std::max<int64_t>(config.radio_round_ns / 2, kFineLimitNs);
@@ -246,8 +247,18 @@ void Collector::OnEpochStart(uint16_t robot, int64_t round, int64_t time_ns, con
   }
   ++epoch_starts_;
   ++robot_starts_[robot];
-  if (config_.activation.model == sync::ActivationModel::kSsync) {
-    if (sync::IsActive(config_.activation, ldmap.epoch, ldmap.members, robot)) {
+  if (config_.activation.model != sync::ActivationModel::kFsync) {
+    bool active = false;
+    if (config_.activation.model == sync::ActivationModel::kSsync) {
+      active = sync::IsActive(config_.activation, ldmap.epoch, ldmap.members, robot);
+    } else {
+      const sync::AsyncTracker::Step step = async_cycles_[robot].OnEpochStart(config_.activation, ldmap.epoch, robot);
+      active = step.looks;
+      move_epochs_ += step.moves ? 1 : 0;
+      stale_move_epochs_ += step.moves && step.look_epoch != ldmap.epoch ? 1 : 0;
+      cuts_ += step.looks && step.cycle.cut ? 1 : 0;
+    }
+    if (active) {
       ++active_starts_;
       inactive_run_[robot] = 0;
     } else {
@@ -500,16 +511,25 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   metrics.epochs_started = epochs_started_;
   metrics.epoch_starts = epoch_starts_;
   metrics.goal = facts.goal;
-  if (config_.activation.model == sync::ActivationModel::kSsync) {
+  if (config_.activation.model != sync::ActivationModel::kFsync) {
     ActivationMetrics& activation = metrics.activation.emplace();
     activation.model = sync::ToString(config_.activation.model);
     activation.schedule = sync::ToString(config_.activation.schedule);
-    if (config_.activation.schedule == sync::ActivationSchedule::kRandom) {
+    if (config_.activation.model == sync::ActivationModel::kSsync &&
+        config_.activation.schedule == sync::ActivationSchedule::kRandom) {
       activation.fair_within = config_.activation.fair_within;
     }
     activation.active_starts = active_starts_;
     activation.inactive_starts = inactive_starts_;
     activation.fair_within_achieved = longest_inactive_run_ + 1;
+    if (config_.activation.model == sync::ActivationModel::kAsync) {
+      AsyncActivationMetrics& async = activation.async.emplace();
+      async.max_delay_epochs = config_.activation.max_delay_epochs;
+      async.min_move_m = config_.activation.min_move_mm / 1000.0;
+      async.move_epochs = move_epochs_;
+      async.stale_move_epochs = stale_move_epochs_;
+      async.moves_cut = cuts_;
+    }
   }
 
   // Epochs still open are measured as they stand, in the order they opened.

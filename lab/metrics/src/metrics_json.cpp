@@ -164,6 +164,14 @@ Json ActivationJson(const ActivationMetrics& activation) {
   json["active_starts"] = activation.active_starts;
   json["inactive_starts"] = activation.inactive_starts;
   json["fair_within_achieved"] = activation.fair_within_achieved;
+  if (activation.async) {
+    const AsyncActivationMetrics& async = *activation.async;
+    json["max_delay_epochs"] = async.max_delay_epochs;
+    json["min_move_m"] = async.min_move_m;
+    json["move_epochs"] = async.move_epochs;
+    json["stale_move_epochs"] = async.stale_move_epochs;
+    json["moves_cut"] = async.moves_cut;
+  }
   return json;
 }
 

@@ -83,6 +83,9 @@ sync::ActivationConfig ActivationConfigFor(const scenario::Scenario& scenario) {
   activation.seed = scenario.seed;
   activation.fair_within = scenario.activation.fair_within;
   activation.script = scenario.activation.script;
+  activation.max_delay_epochs = scenario.activation.max_delay_epochs;
+  activation.min_move_mm = static_cast<uint32_t>(std::lround(scenario.activation.min_move_m * 1000.0));
+  activation.cycles = scenario.activation.cycles;
   return activation;
 }
 

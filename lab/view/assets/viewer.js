@@ -192,13 +192,17 @@
     }));
     // Per robot: its epoch starts in order, with the map each began with.
     // Under SSYNC a start's fourth field is 0 when the schedule left its
-    // robot out of that epoch (docs/activation.md).
+    // robot out of that epoch; under ASYNC it is 0 when the robot did not
+    // look (a cycle under way), and the start also carries the epoch of the
+    // look its move comes from, whether it moves and whether the move is
+    // cut (docs/activation.md).
     startsOf = robots.map(() => []);
-    leftOut = new Set();
-    for (const [pos, robot, map, active] of data.starts) {
+    leftOut = new Map();
+    for (const [pos, robot, map, active, lookEpoch, moves, cut] of data.starts) {
       const slot = slotOf.get(robot);
-      if (slot !== undefined) startsOf[slot].push({ pos, map, active: active !== 0 });
-      if (active === 0) leftOut.add(pos + ':' + robot);
+      const start = { pos, map, active: active !== 0, lookEpoch, moves: moves === 1, cut: cut === 1 };
+      if (slot !== undefined) startsOf[slot].push(start);
+      if (active === 0) leftOut.set(pos + ':' + robot, start);
     }
     // Robots whose app faulted, from which round position.
     faultedFrom = new Map();
@@ -547,7 +551,9 @@
                    ['starting (no epoch yet)', COLOURS.starting]];
     const nodes = items.map(([name, c]) => el('span', {}, [el('i', { className: 'sw', style: `background:${rgb(c)};margin:0` }), name]));
     nodes.push(el('span', { textContent: '◌ dashed: the robot\'s own estimate' }));
-    if (data.activation) {
+    if (data.activation && data.activation.model === 'async') {
+      nodes.push(el('span', { textContent: `⋯ dotted ring: did not look this epoch (ASYNC, ${data.activation.schedule}): moving on an older look, or waiting to move` }));
+    } else if (data.activation) {
       nodes.push(el('span', { textContent: `⋯ dotted ring: left out of this epoch (${data.activation.model.toUpperCase()}, ${data.activation.schedule})` }));
     }
     nodes.push(el('span', { innerHTML: '<b style="color:#d02828">◎</b> collision' }));
@@ -626,7 +632,7 @@
       const sharing = data.starts.filter((st) => st[2] === latest.map).length;
       children.push(el('h3', {}, [`LDMap it started epoch ${epoch} with `, pill(MODES[mode], mode ? COLOURS.autonomous : COLOURS.cooperative),
                                   ` (round ${roundIndex[latest.pos]}, ${members.length} members${sharing > 1 ? `, same map as ${sharing - 1} other robot start${sharing > 2 ? 's' : ''}` : ''})`,
-                                  latest.active ? '' : ': left out of this epoch by the schedule (no newRound; it holds its place)']));
+                                  latest.active ? '' : ': ' + notLooking(latest)]));
       const head = el('tr', {}, ['id', 'phase', 'x', 'y', 'θ', 'vx', 'vy', 'payload'].map((t) => el('th', { textContent: t })));
       const rows = members.map((m) => {
         const tr = el('tr', {}, [m[0], PHASES[m[1]] || m[1], fmt(m[2] / 1000, 3), fmt(m[3] / 1000, 3), fmt(m[4] / 1000, 2),
@@ -643,6 +649,15 @@
     return report;
   }
 
+  // Why a start had no newRound: SSYNC left the robot out; under ASYNC its
+  // cycle was under way.
+  function notLooking(start) {
+    if (start.lookEpoch === undefined) return 'left out of this epoch by the schedule (no newRound; it holds its place)';
+    const cut = start.cut ? ', a move the scheduler cuts once it has covered the least distance' : '';
+    return start.moves ? `no newRound (ASYNC): moving on its look of epoch ${start.lookEpoch}, a stale map${cut}`
+                       : `no newRound (ASYNC): waiting to move on its look of epoch ${start.lookEpoch}${cut}`;
+  }
+
   // ---- Events list and timeline --------------------------------------------------
   function describe(e) {
     if (e.partition >= 0) return `partition ${e.partition}`;
@@ -651,7 +666,10 @@
     if (e.other >= 0) text += (e.kind === 'COLLISION' ? ' with ' : e.kind === 'SAFETY_INTERVENTION' ? ' kept from ' : ' → ') + `robot ${e.other}`;
     else if (e.kind === 'SAFETY_INTERVENTION') text += ' kept from a wall';
     if (e.robot >= 0) text += ` · epoch ${e.epoch} ${e.mode === 1 ? 'AUT' : 'COOP'}`;
-    if (e.kind === 'EPOCH_START' && leftOut.has(e.pos + ':' + e.robot)) text += ' · left out (inactive)';
+    const out = e.kind === 'EPOCH_START' ? leftOut.get(e.pos + ':' + e.robot) : undefined;
+    if (out && out.lookEpoch === undefined) text += ' · left out (inactive)';
+    else if (out) text += out.moves ? ` · no look: moving on its look of epoch ${out.lookEpoch} (stale)` : ` · no look: waiting to move on its look of epoch ${out.lookEpoch}`;
+    else if (e.kind === 'EPOCH_START' && data.activation && data.activation.model === 'async') text += ' · looks';
     return text;
   }
   let eventItems = [];

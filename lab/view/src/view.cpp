@@ -205,12 +205,23 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
   std::map<const replay::EpochMap*, size_t> map_numbers;  // shared maps once
   // Under SSYNC each start says whether the schedule left its robot out:
   // the robots' own decision (sync::IsActive) on the map they started with.
+  // Under ASYNC whether it looked, from its cycles followed as the robot
+  // followed them (sync::AsyncTracker), with the look its move comes from.
   std::optional<sync::ActivationConfig> activation;
-  if (options.scenario != nullptr && options.scenario->activation.model == sync::ActivationModel::kSsync &&
+  std::vector<sync::AsyncTracker> cycles(header.robots.size());
+  if (options.scenario != nullptr && options.scenario->activation.model != sync::ActivationModel::kFsync &&
       options.scenario->seed == header.seed) {
     const scenario::ActivationSpec& spec = options.scenario->activation;
-    activation = sync::ActivationConfig{.model = spec.model, .schedule = spec.schedule, .seed = options.scenario->seed,
-                                        .fair_within = spec.fair_within, .script = spec.script};
+    sync::ActivationConfig config;
+    config.model = spec.model;
+    config.schedule = spec.schedule;
+    config.seed = options.scenario->seed;
+    config.fair_within = spec.fair_within;
+    config.script = spec.script;
+    config.max_delay_epochs = spec.max_delay_epochs;
+    config.min_move_mm = static_cast<uint32_t>(std::lround(spec.min_move_m * 1000.0));
+    config.cycles = spec.cycles;
+    if (sync::IsValid(config)) activation = config;
     data["activation"] = {{"model", sync::ToString(spec.model)}, {"schedule", sync::ToString(spec.schedule)}};
   }
   auto is_active = [&](const replay::RobotMap& entry) {
@@ -218,7 +229,7 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
     for (const replay::MapMember& member : entry.map->members) {
       if (member.id < wire::MemberSet::kCapacity) members.set(member.id);
     }
-    return sync::IsValid(*activation) && sync::IsActive(*activation, entry.map->epoch, members, entry.robot);
+    return sync::IsActive(*activation, entry.map->epoch, members, entry.robot);
   };
   std::vector<std::shared_ptr<const replay::EpochMap>> keep_alive;
   ReplayFacts facts;  // what the replay shows of the run's troubles, for the verdict
@@ -262,7 +273,12 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
         keep_alive.push_back(entry.map);
         maps.push_back(MapData(*entry.map, header));
       }
-      if (activation) {
+      if (activation && activation->model == sync::ActivationModel::kAsync && entry.robot < cycles.size()) {
+        // [.., looked, the look's epoch, moves this epoch, the move is cut]
+        const sync::AsyncTracker::Step step = cycles[entry.robot].OnEpochStart(*activation, entry.map->epoch, entry.robot);
+        starts.push_back({position, entry.robot, found->second, step.looks ? 1 : 0, step.look_epoch, step.moves ? 1 : 0,
+                          step.cycle.cut ? 1 : 0});
+      } else if (activation) {
         starts.push_back({position, entry.robot, found->second, is_active(entry) ? 1 : 0});
       } else {
         starts.push_back({position, entry.robot, found->second});

@@ -149,9 +149,129 @@ TEST(ActivationTest, ValidityRefusesZeroBoundAndUnsortedScripts) {
   EXPECT_FALSE(IsValid(config));
 }
 
+ActivationConfig Async(uint8_t max_delay, uint64_t seed = 7, uint32_t min_move_mm = 0) {
+  ActivationConfig config;
+  config.model = ActivationModel::kAsync;
+  config.schedule = ActivationSchedule::kRandom;
+  config.seed = seed;
+  config.max_delay_epochs = max_delay;
+  config.min_move_mm = min_move_mm;
+  return config;
+}
+
+TEST(AsyncActivationTest, RandomCyclesStayWithinTheBoundAndTakeEveryValue) {
+  const ActivationConfig config = Async(2);
+  std::vector<int> starts(3, 0);
+  std::vector<int> lengths(4, 0);
+  for (uint16_t epoch = 1; epoch < 400; ++epoch) {
+    for (uint16_t robot = 0; robot < 4; ++robot) {
+      const AsyncCycle cycle = CycleFor(config, epoch, robot);
+      ASSERT_LE(cycle.start_delay, 2);
+      ASSERT_GE(cycle.move_epochs, 1);
+      ASSERT_LE(cycle.move_epochs, 3);
+      EXPECT_FALSE(cycle.cut);  // rigid: min_move_mm 0
+      ++starts[cycle.start_delay];
+      ++lengths[cycle.move_epochs];
+      // A pure function of the seed, the epoch and the robot.
+      const AsyncCycle again = CycleFor(config, epoch, robot);
+      EXPECT_EQ(again.start_delay, cycle.start_delay);
+      EXPECT_EQ(again.move_epochs, cycle.move_epochs);
+    }
+  }
+  for (int value : starts) EXPECT_GT(value, 300);  // about 532 of 1,596 each
+  EXPECT_EQ(lengths[0], 0);
+  for (int i = 1; i <= 3; ++i) EXPECT_GT(lengths[i], 300);
+}
+
+TEST(AsyncActivationTest, NonRigidCutsAboutHalfTheMoves) {
+  const ActivationConfig config = Async(1, 7, 50);
+  int cut = 0;
+  for (uint16_t epoch = 1; epoch <= 200; ++epoch) cut += CycleFor(config, epoch, 3).cut ? 1 : 0;
+  EXPECT_GT(cut, 70);
+  EXPECT_LT(cut, 130);
+}
+
+TEST(AsyncActivationTest, ScriptedCyclesAreLookedUpAndTheRestTakeOneEpoch) {
+  ActivationConfig config = Async(3);
+  config.schedule = ActivationSchedule::kScripted;
+  config.min_move_mm = 20;
+  const std::vector<ScriptedCycle> cycles = {{2, 0, 1, 2, false}, {2, 1, 0, 4, true}, {5, 0, 3, 1, false}};
+  config.cycles = cycles;
+  ASSERT_TRUE(IsValid(config));
+  const AsyncCycle a = CycleFor(config, 2, 0);
+  EXPECT_EQ(a.start_delay, 1);
+  EXPECT_EQ(a.move_epochs, 2);
+  const AsyncCycle b = CycleFor(config, 2, 1);
+  EXPECT_EQ(b.move_epochs, 4);
+  EXPECT_TRUE(b.cut);
+  EXPECT_EQ(CycleFor(config, 5, 0).start_delay, 3);
+  const AsyncCycle unlisted = CycleFor(config, 3, 0);
+  EXPECT_EQ(unlisted.start_delay, 0);
+  EXPECT_EQ(unlisted.move_epochs, 1);
+  EXPECT_FALSE(unlisted.cut);
+}
+
+TEST(AsyncActivationTest, ValidityRefusesCyclesBeyondTheBoundOrUnsorted) {
+  ActivationConfig config = Async(2);
+  config.schedule = ActivationSchedule::kScripted;
+  const std::vector<ScriptedCycle> late = {{2, 0, 3, 1, false}};
+  config.cycles = late;
+  EXPECT_FALSE(IsValid(config));
+  const std::vector<ScriptedCycle> long_move = {{2, 0, 0, 4, false}};
+  config.cycles = long_move;
+  EXPECT_FALSE(IsValid(config));
+  const std::vector<ScriptedCycle> no_move = {{2, 0, 0, 0, false}};
+  config.cycles = no_move;
+  EXPECT_FALSE(IsValid(config));
+  const std::vector<ScriptedCycle> unsorted = {{3, 0, 0, 1, false}, {2, 0, 0, 1, false}};
+  config.cycles = unsorted;
+  EXPECT_FALSE(IsValid(config));
+  config.cycles = {};
+  config.max_delay_epochs = kMaxAsyncDelayEpochs + 1;
+  EXPECT_FALSE(IsValid(config));
+}
+
+// A cycle looked in epoch 2 that starts its move one epoch later and lasts
+// two: look (wait), move, move (last); the next start looks again.
+TEST(AsyncActivationTest, TheTrackerFollowsACycleFromLookToTheMovesLastEpoch) {
+  ActivationConfig config = Async(2);
+  config.schedule = ActivationSchedule::kScripted;
+  const std::vector<ScriptedCycle> cycles = {{2, 0, 1, 2, false}};
+  config.cycles = cycles;
+  AsyncTracker tracker;
+  AsyncTracker::Step step = tracker.OnEpochStart(config, 1, 0);  // unlisted: one epoch
+  EXPECT_TRUE(step.looks && step.moves && step.first_move_epoch && step.last_move_epoch);
+  step = tracker.OnEpochStart(config, 2, 0);
+  EXPECT_TRUE(step.looks);
+  EXPECT_FALSE(step.moves);
+  EXPECT_EQ(step.look_epoch, 2);
+  step = tracker.OnEpochStart(config, 3, 0);
+  EXPECT_FALSE(step.looks);
+  EXPECT_TRUE(step.moves && step.first_move_epoch);
+  EXPECT_FALSE(step.last_move_epoch);
+  EXPECT_EQ(step.look_epoch, 2);
+  const uint64_t mid_move = tracker.Packed();
+  step = tracker.OnEpochStart(config, 4, 0);
+  EXPECT_FALSE(step.looks);
+  EXPECT_TRUE(step.moves && step.last_move_epoch);
+  EXPECT_NE(tracker.Packed(), mid_move);
+  step = tracker.OnEpochStart(config, 5, 0);
+  EXPECT_TRUE(step.looks && step.moves && step.last_move_epoch);
+  EXPECT_EQ(step.look_epoch, 5);
+}
+
+TEST(AsyncActivationTest, EveryMemberIsActiveForIsActive) {
+  const ActivationConfig config = Async(2);
+  const wire::MemberSet members = Members({0, 2});
+  EXPECT_TRUE(IsActive(config, 4, members, 0));
+  EXPECT_TRUE(IsActive(config, 4, members, 2));
+  EXPECT_FALSE(IsActive(config, 4, members, 1));
+}
+
 TEST(ActivationTest, NamesMatchTheScenarioWords) {
   EXPECT_STREQ(ToString(ActivationModel::kFsync), "fsync");
   EXPECT_STREQ(ToString(ActivationModel::kSsync), "ssync");
+  EXPECT_STREQ(ToString(ActivationModel::kAsync), "async");
   EXPECT_STREQ(ToString(ActivationSchedule::kRandom), "random");
   EXPECT_STREQ(ToString(ActivationSchedule::kRoundRobin), "round_robin");
   EXPECT_STREQ(ToString(ActivationSchedule::kScripted), "scripted");

@@ -45,9 +45,56 @@ TEST(ReadActivation, ScriptedScheduleIsSortedByEpochThenRobot) {
   EXPECT_EQ(script[2].robot, 3);
 }
 
-TEST(ReadActivation, AsyncIsRefusedByName) {
-  EXPECT_TRUE(FailsAt(LoadActivation("  model: async\n"), 4, 10,
-                      {"activation.model", "activation model async is not built yet"}));
+TEST(ReadActivation, AsyncRandomWithItsBoundAndNonRigidMoves) {
+  const LoadResult result =
+      LoadActivation("  model: async\n  schedule: random\n  max_delay_epochs: 3\n  min_move_m: 0.05\n");
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  EXPECT_EQ(result.scenario->activation.model, sync::ActivationModel::kAsync);
+  EXPECT_EQ(result.scenario->activation.max_delay_epochs, 3);
+  EXPECT_DOUBLE_EQ(result.scenario->activation.min_move_m, 0.05);
+}
+
+TEST(ReadActivation, AsyncScriptedCyclesAreSortedAndChecked) {
+  const LoadResult result = LoadActivation(
+      "  model: async\n  schedule: scripted\n  max_delay_epochs: 2\n  min_move_m: 0.1\n"
+      "  cycles: [[4, 1, 0, 3, 1], [2, 3, 2, 1]]\n");
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  const std::vector<sync::ScriptedCycle>& cycles = result.scenario->activation.cycles;
+  ASSERT_EQ(cycles.size(), 2u);
+  EXPECT_EQ(cycles[0].epoch, 2);
+  EXPECT_EQ(cycles[0].robot, 3);
+  EXPECT_EQ(cycles[0].start_delay, 2);
+  EXPECT_FALSE(cycles[0].cut);
+  EXPECT_EQ(cycles[1].move_epochs, 3);
+  EXPECT_TRUE(cycles[1].cut);
+}
+
+TEST(ReadActivation, AsyncBadInputIsNamed) {
+  EXPECT_TRUE(FailsAt(LoadActivation("  model: async\n  schedule: random\n"), 4, 3,
+                      {"activation", "max_delay_epochs"}));
+  EXPECT_TRUE(FailsAt(LoadActivation("  model: async\n  schedule: random\n  max_delay_epochs: 9\n"), 6, 21,
+                      {"activation.max_delay_epochs", "[1, 8]"}));
+  EXPECT_TRUE(FailsAt(LoadActivation("  model: async\n  schedule: round_robin\n  max_delay_epochs: 1\n"), 5, 13,
+                      {"activation.schedule", "round_robin applies to model ssync only"}));
+  EXPECT_TRUE(FailsAt(LoadActivation("  model: async\n  schedule: random\n  max_delay_epochs: 1\n  fair_within: 2\n"),
+                      7, 3, {"'fair_within' applies to model ssync only"}));
+  EXPECT_TRUE(FailsAt(LoadActivation("  model: ssync\n  schedule: random\n  max_delay_epochs: 1\n"), 6, 3,
+                      {"'max_delay_epochs' applies to model async only"}));
+  const std::string scripted = "  model: async\n  schedule: scripted\n  max_delay_epochs: 2\n";
+  EXPECT_TRUE(FailsAt(LoadActivation(scripted + "  cycles: [[2, 9, 0, 1]]\n"), 7, 16, {"activation.cycles[0][1]"}));
+  EXPECT_TRUE(FailsAt(LoadActivation(scripted + "  cycles: [[61, 0, 0, 1]]\n"), 7, 13,
+                      {"activation.cycles[0][0]", "[1, 60]"}));
+  EXPECT_TRUE(FailsAt(LoadActivation(scripted + "  cycles: [[2, 0, 3, 1]]\n"), 7, 19,
+                      {"activation.cycles[0][2]", "[0, 2]"}));
+  EXPECT_TRUE(FailsAt(LoadActivation(scripted + "  cycles: [[2, 0, 0, 0]]\n"), 7, 22,
+                      {"activation.cycles[0][3]", "[1, 3]"}));
+  EXPECT_TRUE(FailsAt(LoadActivation(scripted + "  cycles: [[2, 0, 0, 1, 1]]\n"), 7, 25,
+                      {"activation.cycles[0][4]", "a cut needs min_move_m"}));
+  EXPECT_TRUE(FailsAt(LoadActivation(scripted + "  cycles: [[2, 0, 0, 1], [2, 0, 1, 1]]\n"), 7, 26,
+                      {"activation.cycles[1]", "listed twice"}));
+  EXPECT_TRUE(FailsAt(LoadActivation(scripted + "  cycles: [[2, 0, 1]]\n"), 7, 12,
+                      {"activation.cycles[0]", "got 3 values"}));
+  EXPECT_TRUE(FailsAt(LoadActivation(scripted), 4, 3, {"activation", "cycles"}));
 }
 
 TEST(ReadActivation, UnknownModelNamesTheField) {
@@ -85,7 +132,7 @@ TEST(ReadActivation, KeysOfAnotherScheduleAreRefused) {
   EXPECT_TRUE(FailsAt(LoadActivation("  model: ssync\n  schedule: round_robin\n  fair_within: 3\n"), 6, 3,
                       {"'fair_within' applies to schedule random only"}));
   EXPECT_TRUE(FailsAt(LoadActivation("  model: fsync\n  schedule: random\n"), 5, 3,
-                      {"'schedule' applies to model ssync only"}));
+                      {"'schedule' applies to models ssync and async only"}));
 }
 
 TEST(ReadActivation, SsyncNeedsASchedule) {

@@ -639,6 +639,56 @@ TEST(ActivationPage, ARobotLeftOutOfAnEpochIsMarkedWhileItLasts) {
   EXPECT_NE(during.dom.find("dotted ring: left out of this epoch (SSYNC, scripted)"), std::string::npos);
 }
 
+// Under ASYNC robot 0 looks in epoch 2, waits one epoch and moves over two:
+// its starts of epochs 3 and 4 carry no look, the look's epoch (2), and
+// whether it moves; the page rings it and says why.
+TEST(ActivationPage, AnAsyncRobotMovingOnAStaleLookIsMarked) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioText(
+      "name: async_page\nseed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: 7}\n"
+      "app: builtin:gather\nactivation: {model: async, schedule: scripted, max_delay_epochs: 2, cycles: [[2, 0, 1, 2]]}\n",
+      "async_page.yaml");
+  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
+  std::ostringstream bytes;
+  sim::SimulationOptions sim_options;
+  sim_options.replay = &bytes;
+  (void)sim::Run(*loaded.scenario, sim_options, 0.0);
+  PageOptions options;
+  options.scenario = &*loaded.scenario;
+
+  std::istringstream in(bytes.str());
+  Page page;
+  const json data = json::parse(ReplayJson(in, "async_page", options, page));
+  EXPECT_EQ(data["activation"], json::parse(R"({"model": "async", "schedule": "scripted"})"));
+  int64_t waiting_position = -1;
+  int64_t moving_position = -1;
+  for (const json& start : data["starts"]) {
+    ASSERT_EQ(start.size(), 7u) << start.dump();
+    const int epoch = data["maps"][start[2].get<size_t>()][0].get<int>();
+    const bool looks = start[3] == 1;
+    EXPECT_EQ(looks, start[1] != 0 || (epoch != 3 && epoch != 4)) << start.dump() << " epoch " << epoch;
+    if (start[1] == 0 && epoch == 2) {
+      EXPECT_EQ(start[5], 0) << "looked in epoch 2, its move starts in 3";
+    }
+    if (start[1] == 0 && epoch == 3) {
+      EXPECT_EQ(start[4], 2);
+      EXPECT_EQ(start[5], 1);
+      moving_position = start[0].get<int64_t>();
+    }
+    if (start[1] == 0 && epoch == 2) waiting_position = start[0].get<int64_t>();
+  }
+  ASSERT_GE(waiting_position, 0);
+  ASSERT_GT(moving_position, waiting_position);
+
+  const fs::path path = WritePage(bytes.str(), "async_stale_look", options);
+  const Replay replay = ReadAll(bytes.str());
+  auto round_at = [&](int64_t position) { return replay.rounds.at(static_cast<size_t>(position)).index; };
+  const Loaded moving = Load(path, "#round=" + std::to_string(round_at(moving_position + 2)));
+  ASSERT_TRUE(moving.report.is_object()) << moving.dom.substr(0, 2000);
+  EXPECT_EQ(moving.report["left_out"], json::array({0})) << moving.report.dump();
+  EXPECT_EQ(Count(moving.dom, "no look: moving on its look of epoch 2 (stale)</span>"), 2u);  // epochs 3 and 4
+  EXPECT_NE(moving.dom.find("dotted ring: did not look this epoch (ASYNC, scripted)"), std::string::npos);
+}
+
 // ---- Replays the page cannot show whole ------------------------------------
 
 TEST(ProblemPages, SayClearlyWhatIsWrong) {

@@ -143,7 +143,8 @@ struct RobotCounters {
   uint32_t beacons_overflow = 0;   ///< more than a round's storage (or inbox) holds
   uint32_t beacons_stepped = 0;    ///< handed to the synchronizer's steps
   uint32_t new_rounds = 0;         ///< newRound calls
-  uint32_t inactive_epochs = 0;    ///< epochs started that the activation schedule left this robot out of
+  uint32_t inactive_epochs = 0;    ///< epochs started that the activation schedule left this robot out of (SSYNC), or that it did not look in (ASYNC)
+  uint32_t moves_cut = 0;          ///< ASYNC non-rigid: moves stopped once they covered min_move_mm
   uint32_t end_of_rounds = 0;      ///< endOfRound calls
   uint32_t payloads_refused = 0;   ///< sendMessageData calls over the limit
   uint32_t invalid_commands = 0;   ///< newRound commands CheckCommand refused (replaced by STOP)
@@ -284,6 +285,8 @@ class Robot final : private app::Platform {
   wire::Snapshot OwnSnapshot() const;
   void FillAppMap(const sync::LDMap& ldmap);
   void EndManeuver(int64_t now_ns);
+  void StartAsyncEpoch(int64_t now_ns);
+  void CutAsyncMove();
   void BeginAppCall(int64_t now_ns, uint16_t epoch);
   void StopApp(app::Callback callback, int64_t now_ns, uint16_t epoch, const app::CallStatus& status);
   uint32_t ClockMs(int64_t now_ns) const;
@@ -384,6 +387,14 @@ class Robot final : private app::Platform {
   std::array<uint8_t, wire::kMaxPayloadBytes> payload_{};
   bool maneuver_active_ = false;
   uint16_t rounds_in_progress_ = 0;
+  // ASYNC (sync/activation.h): the cycle under way, the move's command
+  // (spread over its epochs), how far the move came and whether it was cut.
+  sync::AsyncTracker async_tracker_{};
+  syrof_car_command async_move_{};
+  bool async_last_move_epoch_ = false;
+  bool async_cut_pending_ = false;
+  bool async_cut_done_ = false;
+  float async_covered_m_ = 0;
   app::CallStatus app_fault_;  // ok until the app faults
   int64_t app_call_now_ns_ = 0;  // the current (or last) app call, for reports
   uint16_t app_call_epoch_ = 0;

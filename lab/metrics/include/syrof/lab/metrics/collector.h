@@ -283,6 +283,12 @@ class Collector {
   int64_t inactive_starts_ = 0;
   std::vector<int64_t> inactive_run_;         // by robot id
   int64_t longest_inactive_run_ = 0;
+  // ASYNC: each robot's cycles, stepped with its epoch starts as the robot
+  // steps its own (sync::AsyncTracker), and what they add up to.
+  std::vector<sync::AsyncTracker> async_cycles_;  // by robot id
+  int64_t move_epochs_ = 0;
+  int64_t stale_move_epochs_ = 0;
+  int64_t cuts_ = 0;
   std::vector<int64_t> robot_cooperative_starts_;  // by robot id
   std::vector<SafetyIntervention> first_interventions_;
   int64_t join_waits_ = 0;

@@ -76,11 +76,22 @@ struct Disagreement {
   uint8_t reference_state = 0;
 };
 
-/// The activation schedule under SSYNC (docs/activation.md), counted over
-/// robot-epoch starts: the schedule decides from each start's map
-/// (sync::IsActive), as the robot did.
+/// ASYNC's part of ActivationMetrics: the cycles' moves, counted with
+/// sync::AsyncTracker from each robot's epoch starts, as the robot did.
+struct AsyncActivationMetrics {
+  int64_t max_delay_epochs = 0;   ///< the schedule's bound
+  double min_move_m = 0;          ///< non-rigid moves' least cover (0: rigid)
+  int64_t move_epochs = 0;        ///< robot-epochs in which a move ran (or held after a cut)
+  int64_t stale_move_epochs = 0;  ///< of those, epochs after the look's: a move on a map no longer the newest
+  int64_t moves_cut = 0;          ///< moves the scheduler cut (each stops once it covered min_move_m)
+};
+
+/// The activation schedule under SSYNC or ASYNC (docs/activation.md),
+/// counted over robot-epoch starts. SSYNC: the schedule decides from each
+/// start's map (sync::IsActive), as the robot did; ASYNC: "active" is a
+/// start in which the robot looked (began a cycle).
 struct ActivationMetrics {
-  std::string model;      ///< "ssync"
+  std::string model;      ///< "ssync" or "async"
   std::string schedule;   ///< "random", "round_robin" or "scripted"
   std::optional<int64_t> fair_within;  ///< the random schedule's bound; unset for the others
   int64_t active_starts = 0;    ///< robot-epoch starts the robot was active in (newRound called)
@@ -88,6 +99,7 @@ struct ActivationMetrics {
   /// The smallest bound the run met: 1 + the most consecutive epoch starts
   /// any robot was left out of (1: every start active).
   int64_t fair_within_achieved = 1;
+  std::optional<AsyncActivationMetrics> async;  ///< ASYNC only
 };
 
 /// App-level agreement over COOPERATIVE epochs (AgreementTracker).
@@ -331,7 +343,7 @@ struct Metrics {
   int64_t epochs_started = 0;  ///< distinct epochs (docs/metrics.md)
   int64_t epoch_starts = 0;    ///< robot-epoch starts
   GoalResult goal;
-  std::optional<ActivationMetrics> activation;  ///< only under SSYNC; the file has no `activation` key otherwise
+  std::optional<ActivationMetrics> activation;  ///< only under SSYNC and ASYNC; the file has no `activation` key otherwise
   SynchronyMetrics synchrony;
   RoundPhaseMetrics round_phase;
   CommonKnowledgeMetrics common_knowledge;

@@ -98,13 +98,20 @@ struct FaultSpec {
 /// scenario's seed.
 struct ActivationSpec {
   sync::ActivationModel model = sync::ActivationModel::kFsync;
-  sync::ActivationSchedule schedule = sync::ActivationSchedule::kRandom;  ///< ssync only
+  sync::ActivationSchedule schedule = sync::ActivationSchedule::kRandom;  ///< ssync and async
   /// Random schedule: every robot active at least once in any this many
   /// consecutive epochs; 1 .. the run's epochs (RunEpochs).
   uint16_t fair_within = 3;
   /// Scripted schedule: (epoch, robot) pairs, sorted, each epoch listed
   /// naming at least one robot; the epochs not listed activate every member.
   std::vector<sync::ScriptedActivation> script;
+  /// ASYNC: the start delay and the move's extra epochs are each at most
+  /// this (1 .. sync::kMaxAsyncDelayEpochs).
+  uint8_t max_delay_epochs = 1;
+  /// ASYNC non-rigid moves: a cut move stops once it covered this; 0 rigid.
+  double min_move_m = 0;
+  /// ASYNC scripted: each listed look's timing, sorted by epoch then robot.
+  std::vector<sync::ScriptedCycle> cycles;
 };
 
 /// fair_within when the file gives none (or the run's epochs, if fewer).
