@@ -260,9 +260,14 @@ double ShareOf(const Assignment& assignment, const std::vector<TestResult>& test
 std::string SearchCommand(const Assignment& assignment, const assignment::SearchTestSpec& spec,
                           const std::string& library) {
   if (spec.visibility == Visibility::kHidden) return {};
-  return "syrof search " + ScenarioPathShown(assignment, spec.file) + " --app " + library +
-         " --max-losses " + std::to_string(spec.max_losses) + " --epochs " + std::to_string(spec.epochs) +
-         " --out rerun/search-" + spec.name;
+  std::string budget = " --max-losses " + std::to_string(spec.max_losses);
+  if (spec.activations) {
+    budget = " --activations ssync";
+    if (spec.max_inactive > 0) budget += " --max-inactive " + std::to_string(spec.max_inactive);
+    if (spec.fair_within > 0) budget += " --fair-within " + std::to_string(spec.fair_within);
+  }
+  return "syrof search " + ScenarioPathShown(assignment, spec.file) + " --app " + library + budget + " --epochs " +
+         std::to_string(spec.epochs) + " --out rerun/search-" + spec.name;
 }
 
 }  // namespace

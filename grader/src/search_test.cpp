@@ -1,6 +1,6 @@
 // A search test of an assignment (docs/grading.md, "Search tests"): the
-// student's library under every loss pattern within the test's budget
-// (lab/search), scored all or nothing.
+// student's library under every loss pattern, or every SSYNC schedule,
+// within the test's budget (lab/search), scored all or nothing.
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -30,6 +30,31 @@ std::string PatternText(const std::vector<lab::world::LostBeacon>& lost) {
   return text;
 }
 
+std::string ScheduleText(const std::vector<lab::search::Inactivation>& inactive) {
+  if (inactive.empty()) return "with every robot active (FSYNC)";
+  std::string text =
+      "by a schedule leaving " + Plural(static_cast<int64_t>(inactive.size()), "robot-epoch") + " out [epoch: robot]:";
+  for (const lab::search::Inactivation& left_out : inactive) {
+    text += fmt::format(" [{}: {}]", left_out.epoch, left_out.robot);
+  }
+  return text;
+}
+
+// What the test searched, in the reasons' words.
+std::string BudgetText(const assignment::SearchTestSpec& spec) {
+  if (!spec.activations) {
+    return fmt::format("pattern of up to {} in the first {}", Plural(spec.max_losses, "lost beacon"),
+                       Plural(spec.epochs, "epoch"));
+  }
+  std::string text = "SSYNC schedule";
+  if (spec.max_inactive > 0) text += fmt::format(" of up to {} out", Plural(spec.max_inactive, "robot-epoch"));
+  text += fmt::format(" in the first {}", Plural(spec.epochs, "epoch"));
+  if (spec.fair_within > 0) {
+    text += fmt::format(" that leaves no robot out of {} in a row", Plural(spec.fair_within, "epoch"));
+  }
+  return text;
+}
+
 }  // namespace
 
 void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& library,
@@ -54,6 +79,9 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   }
   lab::search::SearchOptions options;
   options.max_losses = spec.max_losses;
+  options.activations = spec.activations;
+  if (spec.max_inactive > 0) options.max_inactive = spec.max_inactive;
+  options.fair_within = spec.fair_within;
   options.epochs = spec.epochs;
   options.jobs = 1;  // the grader's workers already run tests side by side
   options.time_limit_s = spec.time_limit_s;
@@ -64,8 +92,7 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   assignment::CriterionScore score;
   score.criterion = "search";
   score.max_points = spec.points;
-  const std::string budget = fmt::format("up to {} in the first {}", Plural(spec.max_losses, "lost beacon"),
-                                         Plural(spec.epochs, "epoch"));
+  const std::string budget = BudgetText(spec);
   if (!result.error.empty()) {
     test.run_error = "the search could not start: " + result.error;
     return;
@@ -78,11 +105,11 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   }
   if (!result.counterexample) {
     score.points = spec.points;
-    score.reason = fmt::format("no pattern of {} broke it ({})", budget, Plural(result.runs, "run"));
+    score.reason = fmt::format("no {} broke it ({})", budget, Plural(result.runs, "run"));
   } else {
     const lab::search::Counterexample& found = *result.counterexample;
     score.points = 0;
-    score.reason = "broken " + PatternText(found.lost) + ":";
+    score.reason = "broken " + (spec.activations ? ScheduleText(found.inactive) : PatternText(found.lost)) + ":";
     for (size_t i = 0; i < found.violations.size(); ++i) {
       score.reason += fmt::format("{} {}: {}", i == 0 ? "" : ";", found.violations[i].property,
                                   found.violations[i].detail);

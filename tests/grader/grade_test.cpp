@@ -419,6 +419,76 @@ TEST(SearchGradeTest, AnAppThatFailsInAnAutonomousEpochLosesTheSearchTestWithACo
   EXPECT_EQ(assignment::LostCriteria(result).back(), "search");
 }
 
+// Holds still; its global state counts its own newRound calls: under FSYNC
+// every robot's count agrees, under SSYNC a robot left out falls behind.
+constexpr const char* kCountsTurns = R"(#include "syrof/app.h"
+static uint8_t Init(const syrof_app_info* info) { (void)info; return 0; }
+static uint8_t NewRound(syrof_car_command* command, const syrof_ldmap* map, uint8_t state, uint32_t clock_ms) {
+  (void)command, (void)map, (void)clock_ms;
+  return (uint8_t)(state + 1);
+}
+static uint8_t EndOfRound(const syrof_ldmap* map, uint8_t state, uint32_t clock_ms) {
+  (void)map, (void)clock_ms;
+  return state;
+}
+SYROF_APP_DEFINE("counts_turns", Init, NewRound, EndOfRound)
+)";
+
+// A schedule search test (`activations: ssync`): the grader runs the same
+// activation search as `syrof search --activations ssync`.
+TEST(SearchGradeTest, TheReferenceSurvivesEveryScheduleOfAScheduleSearchTest) {
+  const Assignment scheduled = LoadTiny("schedules.yaml");
+  ASSERT_EQ(scheduled.search_tests.size(), 1u);
+  ASSERT_TRUE(scheduled.search_tests[0].activations);
+  const fs::path out = Fresh("schedules_reference");
+  std::vector<std::string> notes;
+  const SubmissionResult result = GradeSubmission(scheduled, kReference.string(), out.string(), {}, notes);
+  ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
+  ASSERT_EQ(result.tests.size(), 3u);
+  EXPECT_TRUE(result.tests[1].passed) << "under the scripted schedule too: " << FirstLoss(result.tests[1]);
+  const assignment::TestResult& search = result.tests[2];
+  EXPECT_EQ(search.name, "search/tiny_ssync");
+  EXPECT_TRUE(search.passed) << FirstLoss(search);
+  EXPECT_NE(search.score.criteria.at(0).reason.find("no SSYNC schedule in the first 2 epochs broke it (49 runs)"),
+            std::string::npos)
+      << search.score.criteria.at(0).reason;
+  EXPECT_NE(search.replay_command.find(" --activations ssync --epochs 2 "), std::string::npos) << search.replay_command;
+  EXPECT_EQ(search.replay_command.find("--max-losses"), std::string::npos) << search.replay_command;
+  EXPECT_EQ(result.points, 60);
+}
+
+TEST(SearchGradeTest, AnAppThatCountsItsTurnsLosesTheScheduleSearchTestWithACounterexample) {
+  const Assignment scheduled = LoadTiny("schedules.yaml");
+  const fs::path submission = Fresh("schedules_counts_turns_in");
+  Write(submission / "app.c", kCountsTurns);
+  const fs::path out = Fresh("schedules_counts_turns");
+  std::vector<std::string> notes;
+  const SubmissionResult result = GradeSubmission(scheduled, submission.string(), out.string(), {}, notes);
+  ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
+  ASSERT_EQ(result.tests.size(), 3u);
+  // A set runs its scenario file's own activation model: the FSYNC run's
+  // counts agree, the scripted run's do not (robot 3 falls one behind).
+  const auto agreement = [](const assignment::TestResult& test) {
+    for (const assignment::CriterionScore& criterion : test.score.criteria) {
+      if (criterion.criterion == "agreement") return criterion;
+    }
+    return assignment::CriterionScore{};
+  };
+  EXPECT_EQ(agreement(result.tests[0]).points, agreement(result.tests[0]).max_points) << agreement(result.tests[0]).reason;
+  EXPECT_GT(agreement(result.tests[0]).max_points, 0);
+  EXPECT_LT(agreement(result.tests[1]).points, agreement(result.tests[1]).max_points) << agreement(result.tests[1]).reason;
+  const assignment::TestResult& search = result.tests[2];
+  EXPECT_FALSE(search.passed);
+  EXPECT_EQ(search.points, 0);
+  const std::string& reason = search.score.criteria.at(0).reason;
+  EXPECT_NE(reason.find("broken by a schedule leaving 1 robot-epoch out [epoch: robot]: [1: 0]"), std::string::npos)
+      << reason;
+  EXPECT_NE(reason.find("agreement"), std::string::npos) << reason;
+  const std::string counterexample = Read(out / "search" / "tiny_ssync" / "counterexample.yaml");
+  EXPECT_NE(counterexample.find("schedule: scripted"), std::string::npos) << counterexample;
+  EXPECT_TRUE(fs::exists(out / search.replay_path));
+}
+
 // The hostile libraries as a class, with a good submission (the gather
 // reference, a CMake project) and one that does not compile.
 class ClassTest : public ::testing::Test {

@@ -165,14 +165,54 @@ bool ReadRun(const YamlNode& node, const std::string& path, Context& context, Sc
   return true;
 }
 
+// What a search test searches: `max_losses` (lost beacons) or
+// `activations: ssync` (schedules, with `max_inactive` and `fair_within`),
+// one of the two, as `syrof search` takes them.
+bool ReadSearchKind(const YamlNode& node, const std::string& path, SearchTestSpec& test, Diagnostics& diagnostics) {
+  const YamlNode* model = node.Find("activations");
+  if (model == nullptr) {
+    for (const char* key : {"max_inactive", "fair_within"}) {
+      if (const YamlNode* only = node.Find(key)) {
+        return FailAt(*only, JoinPath(path, key), "applies to a schedule search only ('activations: ssync')",
+                      diagnostics);
+      }
+    }
+    if (node.Find("max_losses") != nullptr) return true;
+    return FailAt(node, path,
+                  "missing required key '" + JoinPath(path, "max_losses") +
+                      "' (or 'activations: ssync' to search schedules)",
+                  diagnostics);
+  }
+  const std::string at = JoinPath(path, "activations");
+  if (!model->is_scalar() || model->quoted) {
+    return FailAt(*model, at, "expected the activation model to search: ssync", diagnostics);
+  }
+  if (model->scalar == "async") {
+    return FailAt(*model, at, "activation model async is not built yet: a search test searches SSYNC schedules "
+                  "(docs/activation.md)", diagnostics);
+  }
+  if (model->scalar != "ssync") {
+    return FailAt(*model, at, "unknown activation model '" + model->scalar + "'; a search test searches ssync",
+                  diagnostics);
+  }
+  if (const YamlNode* losses = node.Find("max_losses")) {
+    return FailAt(*losses, JoinPath(path, "max_losses"),
+                  "a search test searches losses or schedules, one at a time: drop 'max_losses' or 'activations'",
+                  diagnostics);
+  }
+  test.activations = true;
+  return true;
+}
+
 // One entry of `search:`. A hidden entry whose file is missing (a
 // student's copy) is skipped when context.skip_missing.
 bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& context, SearchTestSpec& test,
                     bool& skipped, std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"scenario", "name",   "max_losses",   "epochs",
-                                               "points",   "hidden", "time_limit_s", "gradescope"};
+  static constexpr std::string_view kKeys[] = {"scenario",     "name",        "max_losses", "activations",
+                                               "max_inactive", "fair_within", "epochs",     "points",
+                                               "hidden",       "time_limit_s", "gradescope"};
   if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics) ||
-      !RequireKey(node, path, "scenario", diagnostics) || !RequireKey(node, path, "max_losses", diagnostics) ||
+      !RequireKey(node, path, "scenario", diagnostics) || !ReadSearchKind(node, path, test, diagnostics) ||
       !RequireKey(node, path, "points", diagnostics) ||
       !ReadString(*node.Find("scenario"), JoinPath(path, "scenario"), test.file, diagnostics)) {
     return false;
@@ -217,16 +257,31 @@ bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& cont
   }
   int64_t max_losses = 0;
   int64_t epochs = test.epochs;
+  int64_t max_inactive = 0;
+  int64_t fair_within = 0;
   if (!lab::scenario::ReadIntegerAt(node, path, "max_losses", 0, lab::search::kMaxSearchLosses, max_losses,
                                     diagnostics) ||
       !lab::scenario::ReadIntegerAt(node, path, "epochs", 1, lab::search::kMaxSearchEpochs, epochs, diagnostics) ||
+      !lab::scenario::ReadIntegerAt(node, path, "max_inactive", 1, lab::search::kMaxSearchInactive, max_inactive,
+                                    diagnostics) ||
+      !lab::scenario::ReadIntegerAt(node, path, "fair_within", 1, lab::search::kMaxSearchEpochs, fair_within,
+                                    diagnostics) ||
       !ReadNumberAt(node, path, "points", NumberRange{0, kMaxPoints, true}, test.points, diagnostics) ||
       !ReadNumberAt(node, path, "time_limit_s", NumberRange{0, kMaxTimeLimitS, true}, test.time_limit_s,
                     diagnostics)) {
     return false;
   }
+  if (fair_within > epochs) {
+    // As `syrof search --fair-within`: a bound above the window is no bound.
+    return FailAt(*node.Find("fair_within"), JoinPath(path, "fair_within"),
+                  "must be at most the " + std::to_string(epochs) + " epochs searched ('epochs'), got " +
+                      std::to_string(fair_within),
+                  diagnostics);
+  }
   test.max_losses = static_cast<int>(max_losses);
   test.epochs = static_cast<int>(epochs);
+  test.max_inactive = static_cast<int>(max_inactive);
+  test.fair_within = static_cast<int>(fair_within);
   const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(test.path);
   if (!loaded.ok()) {
     scenario_error = loaded.error;

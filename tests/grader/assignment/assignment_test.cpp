@@ -228,6 +228,57 @@ TEST_F(AssignmentFileTest, AWrongSearchTestIsPlaced) {
                       "assignment.yaml", 5, 21, "another search test is already named 'three'"));
 }
 
+// A schedule search (docs/activation.md, "The schedule search"): the
+// activation model and its budget, as `syrof search --activations` takes them.
+TEST_F(AssignmentFileTest, AScheduleSearchTestIsReadWithItsBudget) {
+  const LoadResult result =
+      Load(std::string(kOneRun) + "search:\n  - {scenario: s/three.yaml, activations: ssync, epochs: 3, points: 10}\n" +
+           "  - {scenario: s/nogoal.yaml, activations: ssync, epochs: 4, max_inactive: 2, fair_within: 3, "
+           "points: 5}\n" + kValidRubric);
+  ASSERT_TRUE(result.ok()) << result.error->ToString();
+  const std::vector<SearchTestSpec>& tests = result.assignment->search_tests;
+  ASSERT_EQ(tests.size(), 2u);
+  EXPECT_TRUE(tests[0].activations);
+  EXPECT_EQ(tests[0].epochs, 3);
+  EXPECT_EQ(tests[0].max_inactive, 0) << "every schedule";
+  EXPECT_EQ(tests[0].fair_within, 0) << "no fairness bound";
+  EXPECT_TRUE(tests[1].activations);
+  EXPECT_EQ(tests[1].max_inactive, 2);
+  EXPECT_EQ(tests[1].fair_within, 3);
+  EXPECT_EQ(RunPoints(*result.assignment, true), 85);
+
+  const LoadResult losses = Load(std::string(kOneRun) + "search: [{scenario: s/three.yaml, max_losses: 1, points: 1}]\n" +
+                                 kValidRubric);
+  ASSERT_TRUE(losses.ok()) << losses.error->ToString();
+  EXPECT_FALSE(losses.assignment->search_tests[0].activations);
+}
+
+TEST_F(AssignmentFileTest, AWrongScheduleSearchTestIsPlaced) {
+  const auto search = [&](const std::string& entry) {
+    return Load(std::string(kOneRun) + "search: [{scenario: s/three.yaml, " + entry + ", points: 1}]\n" + kValidRubric);
+  };
+  EXPECT_TRUE(FailsAt(search("activations: fsync"), "assignment.yaml", 4, 48,
+                      "search[0].activations: unknown activation model 'fsync'; a search test searches ssync"));
+  EXPECT_TRUE(FailsAt(search("activations: async"), "assignment.yaml", 4, 48,
+                      "search[0].activations: activation model async is not built yet"));
+  EXPECT_TRUE(FailsAt(search("activations: [ssync]"), "assignment.yaml", 4, 48,
+                      "search[0].activations: expected the activation model to search: ssync"));
+  EXPECT_TRUE(FailsAt(search("activations: ssync, max_losses: 1"), "assignment.yaml", 4, 67,
+                      "search[0].max_losses: a search test searches losses or schedules, one at a time"));
+  EXPECT_TRUE(FailsAt(search("max_losses: 1, fair_within: 2"), "assignment.yaml", 4, 63,
+                      "search[0].fair_within: applies to a schedule search only ('activations: ssync')"));
+  EXPECT_TRUE(FailsAt(search("max_losses: 1, max_inactive: 2"), "assignment.yaml", 4, 64,
+                      "search[0].max_inactive: applies to a schedule search only"));
+  EXPECT_TRUE(FailsAt(search("epochs: 2"), "assignment.yaml", 4, 10,
+                      "missing required key 'search[0].max_losses' (or 'activations: ssync' to search schedules)"));
+  EXPECT_TRUE(FailsAt(search("activations: ssync, epochs: 3, fair_within: 4"), "assignment.yaml", 4, 79,
+                      "search[0].fair_within: must be at most the 3 epochs searched ('epochs'), got 4"));
+  EXPECT_TRUE(FailsAt(search("activations: ssync, fair_within: 0"), "assignment.yaml", 4, 68,
+                      "search[0].fair_within: must be in [1, 1000], got 0"));
+  EXPECT_TRUE(FailsAt(search("activations: ssync, max_inactive: 65"), "assignment.yaml", 4, 69,
+                      "search[0].max_inactive: must be in [1, 64], got 65"));
+}
+
 // Gradescope's visibility per test, and the cap on hidden-test feedback.
 TEST_F(AssignmentFileTest, GradescopeVisibilityAndTheHiddenFeedbackCapAreRead) {
   const LoadResult result = Load(

@@ -49,13 +49,20 @@ struct ScenarioRun {
 
 /// A search test (docs/grading.md, "Search tests"): the submission run
 /// under every pattern of up to `max_losses` lost beacons in the first
-/// `epochs` epochs of a scenario (lab/search, `syrof search`). It earns all
+/// `epochs` epochs of a scenario (lab/search, `syrof search`), or, with
+/// `activations: ssync`, under every SSYNC schedule of those epochs
+/// (`syrof search --activations ssync`, docs/activation.md). It earns all
 /// its points when no pattern breaks the run, none when one does.
 struct SearchTestSpec {
   std::string name;               ///< `name`, default the file's stem; unique among the assignment's tests
   std::string file;               ///< `scenario:` as written, relative to the assignment folder
   std::string path;               ///< resolved: assignment folder / file
-  int max_losses = 1;             ///< F
+  int max_losses = 1;             ///< F (a loss search)
+  /// `activations: ssync`: search SSYNC schedules instead of losses
+  /// (lab::search::SearchOptions::activations); `max_losses` is then absent.
+  bool activations = false;
+  int max_inactive = 0;           ///< `max_inactive`: most robot-epochs a schedule leaves out; 0: every schedule
+  int fair_within = 0;            ///< `fair_within`: no robot left out of this many epochs in a row; 0: no bound
   int epochs = 2;                 ///< E
   double points = 0;              ///< taken from the assignment's points; the runs share the rest
   double time_limit_s = 300;      ///< wall time for the whole search (the grader's limit)
