@@ -438,13 +438,13 @@ SYROF_APP_DEFINE("counts_turns", Init, NewRound, EndOfRound)
 // activation search as `syrof search --activations ssync`.
 TEST(SearchGradeTest, TheReferenceSurvivesEveryScheduleOfAScheduleSearchTest) {
   const Assignment scheduled = LoadTiny("schedules.yaml");
-  ASSERT_EQ(scheduled.search_tests.size(), 1u);
+  ASSERT_EQ(scheduled.search_tests.size(), 2u);
   ASSERT_TRUE(scheduled.search_tests[0].activations);
   const fs::path out = Fresh("schedules_reference");
   std::vector<std::string> notes;
   const SubmissionResult result = GradeSubmission(scheduled, kReference.string(), out.string(), {}, notes);
   ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
-  ASSERT_EQ(result.tests.size(), 3u);
+  ASSERT_EQ(result.tests.size(), 4u);
   EXPECT_TRUE(result.tests[1].passed) << "under the scripted schedule too: " << FirstLoss(result.tests[1]);
   const assignment::TestResult& search = result.tests[2];
   EXPECT_EQ(search.name, "search/tiny_ssync");
@@ -454,6 +454,18 @@ TEST(SearchGradeTest, TheReferenceSurvivesEveryScheduleOfAScheduleSearchTest) {
       << search.score.criteria.at(0).reason;
   EXPECT_NE(search.replay_command.find(" --activations ssync --epochs 2 "), std::string::npos) << search.replay_command;
   EXPECT_EQ(search.replay_command.find("--max-losses"), std::string::npos) << search.replay_command;
+  // The budget reaches the search: of the 22 schedules leaving at most 2
+  // robot-epochs out, the 3 leaving one robot out of both epochs are not run.
+  const assignment::TestResult& fair = result.tests[3];
+  EXPECT_TRUE(fair.passed) << FirstLoss(fair);
+  EXPECT_NE(fair.score.criteria.at(0).reason.find("no SSYNC schedule of up to 2 robot-epochs out in the first 2 "
+                                                  "epochs that leaves no robot out of 2 epochs in a row broke it "
+                                                  "(19 runs)"),
+            std::string::npos)
+      << fair.score.criteria.at(0).reason;
+  EXPECT_NE(fair.replay_command.find(" --activations ssync --max-inactive 2 --fair-within 2 --epochs 2 "),
+            std::string::npos)
+      << fair.replay_command;
   EXPECT_EQ(result.points, 60);
 }
 
@@ -465,7 +477,7 @@ TEST(SearchGradeTest, AnAppThatCountsItsTurnsLosesTheScheduleSearchTestWithACoun
   std::vector<std::string> notes;
   const SubmissionResult result = GradeSubmission(scheduled, submission.string(), out.string(), {}, notes);
   ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
-  ASSERT_EQ(result.tests.size(), 3u);
+  ASSERT_EQ(result.tests.size(), 4u);
   // A set runs its scenario file's own activation model: the FSYNC run's
   // counts agree, the scripted run's do not (robot 3 falls one behind).
   const auto agreement = [](const assignment::TestResult& test) {
