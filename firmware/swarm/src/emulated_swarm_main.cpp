@@ -102,6 +102,7 @@
 #include "syrof/firmware/swarm/console_lines.h"
 #include "syrof/firmware/swarm/fault_outcomes.h"
 #include "syrof/firmware/swarm/fault_player.h"
+#include "syrof/firmware/swarm/firmware_metrics.h"
 #include "syrof/firmware/swarm/guest_clock.h"
 #include "syrof/firmware/swarm/round_skew.h"
 #include "syrof/firmware/swarm/sensor_feed.h"
@@ -624,42 +625,13 @@ replay::Presence ReplayPresence(lab::sim::Lifecycle lifecycle, bool reporting) {
   return presence == replay::Presence::kRunning && !reporting ? replay::Presence::kAbsent : presence;
 }
 
-// firmware-swarm.json's "faults": one object per crash, pause and join.
-void WriteFaultOutcomes(std::ostream& out, const std::vector<swarm::FaultOutcome>& outcomes) {
-  auto optional_ms = [](const std::optional<int64_t>& value) {
-    return value ? std::to_string(*value) : std::string("null");
-  };
-  bool first = true;
-  for (const swarm::FaultOutcome& outcome : outcomes) {
-    const char* kind = outcome.kind == swarm::HostAction::Kind::kKill   ? "crash"
-                       : outcome.kind == swarm::HostAction::Kind::kStop ? "pause"
-                                                                        : "join";
-    out << (first ? "\n    " : ",\n    ") << "{\"kind\": \"" << kind << "\", \"robot\": " << outcome.robot
-        << ", \"at_s\": " << static_cast<double>(outcome.at_ns) * 1e-9 << ", \"ok\": " << (outcome.ok ? "true" : "false")
-        << ", \"done_s\": "
-        << (outcome.done_ns ? std::to_string(static_cast<double>(*outcome.done_ns) * 1e-9) : std::string("null"));
-    if (outcome.kind == swarm::HostAction::Kind::kStop) {
-      out << ", \"guest_gap_ms\": " << optional_ms(outcome.guest_gap_ms)
-          << ", \"world_gap_ms\": " << optional_ms(outcome.world_gap_ms)
-          << ", \"rejoined_as_joiner\": " << (outcome.rejoined_as_joiner ? "true" : "false");
-    }
-    out << "}";
-    first = false;
-  }
-  if (!first) out << "\n  ";
-}
-
-// The result of a run's last checks, for firmware-swarm.json and the summary.
+// The result of a run's last checks: the lab's metrics, the firmware's own
+// figures (firmware-swarm.json) and the summary's extra words.
 struct RunResult {
   bool ok = true;
-  double wall_s = 0;
   metrics::Metrics metrics;
-  std::vector<swarm::FaultOutcome> outcomes;
-  int64_t replay_rounds = 0;
+  swarm::FirmwareMetrics report;
   std::string replay_problem;
-  swarm::SkewStats skew;
-  swarm::SensorFeedCounters sensor_totals;
-  uint64_t sensor_rejected = 0;
 };
 
 metrics::CollectorConfig SwarmCollectorConfig(uint16_t robots, int64_t period_ns) {
@@ -726,8 +698,8 @@ class SwarmHost {
   void CheckEstimation(RunResult& result) const;
   void WriteMetrics(RunResult& result) const;
   void WriteBeacons(RunResult& result) const;
-  void CountSensorLink(RunResult& result) const;
-  void WriteReport(const RunResult& result) const;
+  void FillReport(RunResult& result) const;
+  void WriteReport(RunResult& result) const;
   void PrintSummary(const RunResult& result) const;
 
   static constexpr int64_t kPhysicsNs = syrof::registry::kImuPeriodNs;
@@ -1259,8 +1231,8 @@ int SwarmHost::Finish() {
   result.ok = ReapRobots();
   std::vector<lab::sim::Lifecycle> final_presence;
   for (uint16_t i = 0; i < robots_; ++i) final_presence.push_back(player_.lifecycle(i));
-  result.outcomes = fault_outcomes_.Finish(final_presence);
-  for (const swarm::FaultOutcome& outcome : result.outcomes) {
+  result.report.faults = fault_outcomes_.Finish(final_presence);
+  for (const swarm::FaultOutcome& outcome : result.report.faults) {
     if (options_.expect_faults && !outcome.ok) result.ok = false;
   }
   RemoveSockets();
@@ -1272,15 +1244,15 @@ int SwarmHost::Finish() {
                  static_cast<long long>(base_station_.frames), options_.base_station.c_str(),
                  static_cast<long long>(base_station_.dropped));
   }
-  result.wall_s = static_cast<double>(HostNs() - start_ns_) * 1e-9;
-  result.metrics = CollectMetrics(result.wall_s);
+  result.report.wall_seconds = static_cast<double>(HostNs() - start_ns_) * 1e-9;
+  result.metrics = CollectMetrics(result.report.wall_seconds);
   ReadReplayBack(result);
   CheckEstimation(result);
   WriteMetrics(result);
   WriteBeacons(result);
   if (options_.expect_cooperative && !all_cooperative_s_) result.ok = false;
   if (result.metrics.common_knowledge.violations != 0) result.ok = false;
-  CountSensorLink(result);
+  FillReport(result);
   WriteReport(result);
   PrintSummary(result);
   if (!result.ok && options_.stress.on()) {
@@ -1341,13 +1313,13 @@ void SwarmHost::ReadReplayBack(RunResult& result) {
     replay::Header header;
     replay::Round replay_round;
     if (reader.ReadHeader(header)) {
-      while (reader.Next(replay_round)) ++result.replay_rounds;
+      while (reader.Next(replay_round)) ++result.report.replay_rounds;
     }
     if (!reader.complete()) result.replay_problem = reader.error().ToString();
   }
-  if (!result.replay_problem.empty() || result.replay_rounds != round_) {
+  if (!result.replay_problem.empty() || result.report.replay_rounds != round_) {
     std::fprintf(stderr, "syrof-firmware-swarm: %s/replay does not read back (%lld of %lld rounds): %s\n",
-                 options_.out.c_str(), static_cast<long long>(result.replay_rounds), static_cast<long long>(round_),
+                 options_.out.c_str(), static_cast<long long>(result.report.replay_rounds), static_cast<long long>(round_),
                  result.replay_problem.c_str());
     result.ok = false;
   }
@@ -1384,71 +1356,64 @@ void SwarmHost::WriteBeacons(RunResult& result) const {
   }
   // Skew from 5 s on: the start-up (instances boot one after another) and
   // the round alignment's first corrections are left out.
-  result.skew = swarm::RoundStartSkew(beacon_times, period_ns_, all_started_ns_ + 5'000'000'000);
+  result.report.round_start_skew = swarm::RoundStartSkew(beacon_times, period_ns_, all_started_ns_ + 5'000'000'000);
 }
 
-void SwarmHost::CountSensorLink(RunResult& result) const {
-  for (const Robot& robot : swarm_) {
-    result.sensor_totals.imu += robot.feed.counters().imu;
-    result.sensor_totals.flow += robot.feed.counters().flow;
-    result.sensor_totals.uwb += robot.feed.counters().uwb;
-    result.sensor_totals.not_encoded += robot.feed.counters().not_encoded;
-    result.sensor_totals.drives += robot.feed.counters().drives;
-    result.sensor_rejected += robot.feed.link_counters().rejected;
-  }
-}
-
-void SwarmHost::WriteReport(const RunResult& result) const {
+// The firmware's own figures of the run, as measured, beside those the
+// earlier steps put in (wall time, faults, replay rounds, skew).
+void SwarmHost::FillReport(RunResult& result) const {
+  swarm::FirmwareMetrics& report = result.report;
   const metrics::Metrics& run = result.metrics;
-  const swarm::SkewStats& skew = result.skew;
-  const swarm::SensorFeedCounters& sensor_totals = result.sensor_totals;
-  const std::optional<double> max_error_m = run.estimation.max_error_m;
-  const bool cooperative = all_cooperative_s_.has_value();
-  std::ofstream report(options_.out + "/firmware-swarm.json");
-  report << "{\n  \"robots\": " << robots_ << ",\n  \"seconds\": " << options_.seconds << ",\n  \"loss\": " << options_.loss
-         << ",\n  \"seed\": " << options_.seed << ",\n  \"align\": " << (*options_.align ? "true" : "false")
-         << ",\n  \"latency_ms\": " << options_.latency_ms << ",\n  \"timing\": \"" << timing_ << "\",\n  \"wall_seconds\": " << result.wall_s
-         << ",\n  \"all_cooperative_s\": "
-         << (cooperative ? std::to_string(*all_cooperative_s_) : std::string("null"))
-         << ",\n  \"p3_violations\": " << run.common_knowledge.violations
-         << ",\n  \"cooperative_starts\": " << run.common_knowledge.cooperative_starts
-         << ",\n  \"round_start_skew\": {\"samples\": " << skew.samples << ", \"median_ms\": " << skew.median_ns * 1e-6
-         << ", \"p95_ms\": " << skew.p95_ns * 1e-6 << ", \"max_ms\": " << skew.max_ns * 1e-6 << "}"
-         << ",\n  \"beacons\": {\"offered\": " << offered_ << ", \"delivered\": " << delivered_
-         << ", \"link_errors\": " << link_errors_ << ", \"late\": " << late_beacons_
-         << ", \"past_their_round\": " << beacons_past_their_round_ << "}";
-  report << ",\n  \"sensor_link\": {\"imu\": " << sensor_totals.imu << ", \"flow\": " << sensor_totals.flow
-         << ", \"uwb\": " << sensor_totals.uwb << ", \"not_encoded\": " << sensor_totals.not_encoded
-         << ", \"drives\": " << sensor_totals.drives << ", \"rejected_from_robots\": " << result.sensor_rejected << "}"
-         << ",\n  \"scenario\": \"" << scenario_.name << "\", \"replay_rounds\": " << result.replay_rounds
-         << ",\n  \"estimation\": {\"samples\": " << run.estimation.samples << ", \"rmse_m\": "
-         << (run.estimation.position_rmse_m ? std::to_string(*run.estimation.position_rmse_m) : std::string("null"))
-         << ", \"max_m\": " << (max_error_m ? std::to_string(*max_error_m) : std::string("null")) << "}"
-         << ",\n  \"exit_statuses\": [";
-  for (uint16_t i = 0; i < robots_; ++i) report << (i ? ", " : "") << swarm_[i].exit_status;
-  report << "],\n  \"partitioned_beacons\": " << channel_.partitioned() << ",\n  \"stress\": ";
-  if (options_.stress.on()) {
-    report << "{\"seed\": " << options_.stress.seed << ", \"stalls_per_second\": " << options_.stress.stalls_per_second
-           << ", \"qemu_stalls\": " << stress_.robot_stalls() << ", \"host_stalls\": " << stress_.world_stalls()
-           << ", \"late_fraction\": " << options_.stress.delayed_fraction << ", \"late_beacons\": " << stress_late_beacons_
-           << ", \"cpu_quota_permille\": " << options_.stress.cpu_quota_permille << "}";
-  } else {
-    report << "null";
+  report.robots = robots_;
+  report.seconds = options_.seconds;
+  report.loss = options_.loss;
+  report.seed = options_.seed;
+  report.align = *options_.align;
+  report.latency_ms = options_.latency_ms;
+  report.timing = timing_;
+  report.all_cooperative_s = all_cooperative_s_;
+  report.p3_violations = run.common_knowledge.violations;
+  report.cooperative_starts = run.common_knowledge.cooperative_starts;
+  report.beacons = swarm::BeaconCounts{offered_, delivered_, link_errors_, late_beacons_, beacons_past_their_round_};
+  for (const Robot& robot : swarm_) {
+    report.sensor_link.imu += robot.feed.counters().imu;
+    report.sensor_link.flow += robot.feed.counters().flow;
+    report.sensor_link.uwb += robot.feed.counters().uwb;
+    report.sensor_link.not_encoded += robot.feed.counters().not_encoded;
+    report.sensor_link.drives += robot.feed.counters().drives;
+    report.sensor_link.rejected_from_robots += robot.feed.link_counters().rejected;
+    report.exit_statuses.push_back(robot.exit_status);
   }
-  report << ",\n  \"faults\": [";
-  WriteFaultOutcomes(report, result.outcomes);
-  report << "]\n}\n";
+  report.scenario = scenario_.name;
+  report.estimation = swarm::EstimationFigures{run.estimation.samples, run.estimation.position_rmse_m,
+                                               run.estimation.max_error_m};
+  report.partitioned_beacons = channel_.partitioned();
+  if (options_.stress.on()) {
+    report.stress = swarm::StressFigures{options_.stress.seed,          options_.stress.stalls_per_second,
+                                         stress_.robot_stalls(),        stress_.world_stalls(),
+                                         options_.stress.delayed_fraction, stress_late_beacons_,
+                                         options_.stress.cpu_quota_permille};
+  }
+}
+
+void SwarmHost::WriteReport(RunResult& result) const {
+  std::ofstream file(options_.out + "/firmware-swarm.json");
+  file << swarm::ToJson(result.report);
+  if (!file.flush()) {
+    std::fprintf(stderr, "syrof-firmware-swarm: cannot write %s/firmware-swarm.json\n", options_.out.c_str());
+    result.ok = false;
+  }
 }
 
 void SwarmHost::PrintSummary(const RunResult& result) const {
   const metrics::Metrics& run = result.metrics;
-  const swarm::SkewStats& skew = result.skew;
-  const swarm::SensorFeedCounters& sensor_totals = result.sensor_totals;
+  const swarm::SkewStats& skew = result.report.round_start_skew;
+  const swarm::SensorLinkCounts& sensor_totals = result.report.sensor_link;
   const std::optional<double> max_error_m = run.estimation.max_error_m;
   const bool cooperative = all_cooperative_s_.has_value();
   std::printf("firmware swarm: %u robots, %d s, loss %.2f, seed %llu, timing %s, wall %.1f s\n",
               static_cast<unsigned>(robots_), options_.seconds, options_.loss,
-              static_cast<unsigned long long>(options_.seed), timing_.c_str(), result.wall_s);
+              static_cast<unsigned long long>(options_.seed), timing_.c_str(), result.report.wall_seconds);
   std::printf("  all robots COOPERATIVE in one epoch: %s; COOPERATIVE starts %lld; P3 violations %lld\n",
               cooperative ? ("at " + std::to_string(*all_cooperative_s_) + " s").c_str() : "never",
               static_cast<long long>(run.common_knowledge.cooperative_starts),
@@ -1471,7 +1436,7 @@ void SwarmHost::PrintSummary(const RunResult& result) const {
               max_error_m ? std::to_string(*max_error_m).c_str() : "-",
               static_cast<long long>(run.collisions.count), run.goal.reached ? "reached" : "not reached",
               run.goal.detail.c_str());
-  std::printf("  %s/replay: %lld rounds%s\n", options_.out.c_str(), static_cast<long long>(result.replay_rounds),
+  std::printf("  %s/replay: %lld rounds%s\n", options_.out.c_str(), static_cast<long long>(result.report.replay_rounds),
               result.replay_problem.empty() ? "" : (", " + result.replay_problem).c_str());
   if (options_.stress.on()) {
     std::printf("  stress seed %llu: %lld qemu stalls, %lld host stalls, %lld beacons late%s (rerun: --stress %llu)\n",
@@ -1484,7 +1449,7 @@ void SwarmHost::PrintSummary(const RunResult& result) const {
     std::printf("  robot %u: exit %d, %s\n", static_cast<unsigned>(i), swarm_[i].exit_status,
                 swarm_[i].last_status.c_str());
   }
-  for (const swarm::FaultOutcome& outcome : result.outcomes) {
+  for (const swarm::FaultOutcome& outcome : result.report.faults) {
     std::printf("  fault: %s: %s\n", outcome.ok ? "ok" : (options_.expect_faults ? "FAILED" : "not seen"),
                 outcome.detail.c_str());
   }
