@@ -1,0 +1,142 @@
+// syrof-firmware-swarm's host, the world side (SwarmHost below), holding
+// the launcher (qemu_launcher.h) and the channel (beacon_channel.h).
+#pragma once
+
+#include <poll.h>
+
+#include <cstdint>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "syrof/firmware/swarm/beacon_channel.h"
+#include "syrof/firmware/swarm/console_lines.h"
+#include "syrof/firmware/swarm/fault_outcomes.h"
+#include "syrof/firmware/swarm/fault_player.h"
+#include "syrof/firmware/swarm/firmware_metrics.h"
+#include "syrof/firmware/swarm/qemu_launcher.h"
+#include "syrof/firmware/swarm/stress_player.h"
+#include "syrof/firmware/swarm/swarm_options.h"
+#include "syrof/firmware/swarm/swarm_robot.h"
+#include "syrof/lab/metrics/metrics.h"
+#include "syrof/lab/replay/replay.h"
+#include "syrof/lab/scenario/scenario.h"
+#include "syrof/lab/sim/round_recorder.h"
+#include "syrof/lab/sim/world_player.h"
+#include "syrof/lab/world/world.h"
+#include "syrof/registry/tasks.h"
+
+namespace syrof::firmware::swarm {
+
+// The result of a run's last checks: the lab's metrics, the firmware's own
+// figures (firmware-swarm.json) and the summary's extra words.
+struct RunResult {
+  bool ok = true;
+  lab::metrics::Metrics metrics;
+  FirmwareMetrics report;
+  std::string replay_problem;
+};
+
+// One run of the emulated swarm, its world side: the world the robots move
+// in (stepped on the host's clock slowed to the robots' mean clock rate),
+// their sensors and drives on the sensor links, the scenario's faults
+// (lab::sim::WorldPlayer), their console reports, and what is recorded of
+// them (metrics, replay, fault outcomes, firmware-swarm.json). It holds the
+// launcher (qemu_launcher.h) and the channel (beacon_channel.h). main()
+// calls, in order: OpenSockets, LaunchRobots, StartWorld, Step until
+// Running() is false, Finish.
+class SwarmHost {
+ public:
+  SwarmHost(const Options& options, const lab::scenario::Scenario& scenario);
+  SwarmHost(const SwarmHost&) = delete;
+  SwarmHost& operator=(const SwarmHost&) = delete;
+
+  // The socket directory, each robot's three listeners and its console log.
+  bool OpenSockets();
+  // One qemu per robot, joiners too, its sockets accepted, until every
+  // image says it is held; false (every qemu killed) when one did not
+  // connect or say so within kBootTimeoutMs.
+  bool LaunchRobots();
+  // The world's clock starts; the player switches on the robots present at
+  // start, at one instant.
+  void StartWorld();
+  // Whether a console is still open and the deadline has not passed.
+  bool Running() const;
+  // One pass of the host loop: the world's steps due, the deliveries due,
+  // every robot's links, the rounds ended.
+  void Step();
+  // The checks and the output files; the exit status.
+  int Finish();
+
+ private:
+  bool OnHostAction(const swarm::HostAction& action, int64_t at_ns);
+  bool WaitUntilHeld();
+  int64_t WaitForLinks();
+  void AdvanceWorld(int64_t now);
+  void PlayStress();
+  void EndStress();
+  void ReadSensorLink(uint16_t i);
+  void ReadConsole(uint16_t i, int64_t now);
+  void OnConsoleLine(uint16_t i, const std::string& line, int64_t now);
+  void OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now);
+  void RecordRound(int64_t now);
+  lab::metrics::RobotRound RecordRobot(uint16_t i, int64_t now, std::vector<int64_t>& boundaries);
+  bool ReapRobots();
+  lab::metrics::Metrics CollectMetrics(double wall_s);
+  void ReadReplayBack(RunResult& result);
+  void CheckEstimation(RunResult& result) const;
+  void WriteMetrics(RunResult& result) const;
+  void WriteBeacons(RunResult& result) const;
+  void FillReport(RunResult& result) const;
+  void WriteReport(RunResult& result) const;
+  void PrintSummary(const RunResult& result) const;
+
+  static constexpr int64_t kPhysicsNs = syrof::registry::kImuPeriodNs;
+  // From launching the qemu instances until every image is held.
+  static constexpr int kBootTimeoutMs = 30'000;
+  const Options options_;
+  const lab::scenario::Scenario scenario_;
+  const uint16_t robots_;
+  const int64_t period_ns_ = syrof::registry::kDefaultRadioRoundNs;
+  std::vector<Robot> swarm_;
+  // The qemu instances and their sockets; their sockets and folder go on
+  // every way out (a launch that failed too).
+  QemuLauncher launcher_;
+  std::string timing_;
+  int64_t start_ns_ = 0;
+  int64_t all_started_ns_ = 0;
+  int64_t deadline_ns_ = 0;
+  // Whether the robots handled the scenario's faults.
+  swarm::FaultOutcomes fault_outcomes_;
+  // The metrics, the goal checks and the replay, as every runtime records them.
+  lab::sim::RoundRecorder recorder_;
+  // The world, on the host's clock from all_started_ns_.
+  lab::world::World world_;
+  int64_t world_ns_ = 0;       // the world's time, stepped in kPhysicsNs
+  double world_clock_ns_ = 0;  // where the world's time should be now
+  int64_t last_loop_ns_ = 0;
+  double host_per_world_ = 1;  // this pass's HostPerWorld
+  std::ofstream replay_file_;
+  std::vector<lab::replay::RobotMap> round_maps_;
+  std::vector<lab::replay::RobotFrame> frames_;
+  // Every COOPERATIVE epoch start, to find the first epoch all robots started so.
+  std::map<uint16_t, std::vector<uint16_t>> cooperative_starters_;
+  std::optional<double> all_cooperative_s_;
+  int64_t round_ = 0;
+  int64_t next_round_ns_;  // on the world's time
+  int open_consoles_;
+  // The robots' lifecycle, the faults on world time and the join wait: the
+  // lab's rules (lab::sim::WorldPlayer); the host does them to qemu.
+  lab::sim::WorldPlayer player_;
+  swarm::HostActions host_;
+  // The beacons between the robots, and the base station's.
+  BeaconChannel channel_;
+  // --stress: the stalls played on the qemu instances and this host.
+  swarm::StressPlayer stress_;
+  std::vector<pollfd> fds_;
+  bool ended_ = false;  // EndPausedAndHeld was done
+};
+
+}  // namespace syrof::firmware::swarm
