@@ -63,19 +63,6 @@ int64_t Milli(double value) { return std::llround(value * 1000.0); }
 constexpr int kHostPriority = 11;
 constexpr int kGuestPriority = 10;
 
-}  // namespace
-
-void SetRealtime() {
-  sched_param parameters{};
-  parameters.sched_priority = kHostPriority;
-  if (sched_setscheduler(0, SCHED_FIFO, &parameters) != 0) {
-    std::fprintf(stderr, "syrof-firmware-swarm: --realtime: SCHED_FIFO refused (%s); running at normal priority\n",
-                 std::strerror(errno));
-  }
-}
-
-namespace {
-
 // The start pose as the image's -append words (whole mm and mrad >= 0).
 std::string StartPoseWords(const lab::scenario::RobotSpec& robot) {
   double heading = std::fmod(robot.heading_rad, 2 * M_PI);
@@ -131,6 +118,15 @@ process::Child LaunchQemu(const Options& options, const lab::scenario::Scenario&
 }
 
 }  // namespace
+
+void SetRealtime() {
+  sched_param parameters{};
+  parameters.sched_priority = kHostPriority;
+  if (sched_setscheduler(0, SCHED_FIFO, &parameters) != 0) {
+    std::fprintf(stderr, "syrof-firmware-swarm: --realtime: SCHED_FIFO refused (%s); running at normal priority\n",
+                 std::strerror(errno));
+  }
+}
 
 QemuLauncher::QemuLauncher(const Options& options, const lab::scenario::Scenario& scenario)
     : options_(options), scenario_(scenario), sockets_(scenario.robots.size()) {}

@@ -27,7 +27,7 @@ struct Robot {
   process::Child qemu;       // not started: LaunchRobots failed before it
   bool held = false;         // its image said `held`: prepared, waiting for its Start frame
   bool switched_on = false;  // its Start frame was sent
-  SwitchOn switched_on_at;  // where its rounds lie on the world's grid
+  SwitchOn switched_on_at;   // where its rounds lie on the world's grid
   int radio = -1;
   int console = -1;
   int sensor = -1;
