@@ -56,13 +56,6 @@ using lab::sim::Stall;
 int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 int64_t MonotonicNow() { return os::PosixPort::MonotonicNowNs(); }
 
-double Percentile(std::vector<int64_t> values, double fraction) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const size_t index = std::min(values.size() - 1, static_cast<size_t>(std::ceil(fraction * values.size())) - (fraction > 0 ? 1 : 0));
-  return static_cast<double>(values[index]);
-}
-
 // Sends one robot's simulated readings as its DDS sensor samples.
 class DdsSensorSink final : public lab::sensors::ReadingSink {
  public:
@@ -238,7 +231,6 @@ class DdsWorld {
   int64_t RoundAt(int64_t monotonic_ns) const;
   void FollowRobots();
   void TakeReports();
-  std::vector<lab::goals::RobotPose> RunningPoses(const BoundaryTruth* truth) const;
 
   // ---- The recorder
   void Record(int64_t round);
@@ -754,19 +746,6 @@ void DdsWorld::TakeReports() {
   });
 }
 
-// The running robots' true positions (at a recorded boundary, or now),
-// for the scenario's goal checks.
-std::vector<lab::goals::RobotPose> DdsWorld::RunningPoses(const BoundaryTruth* truth) const {
-  std::vector<lab::goals::RobotPose> poses;
-  for (uint16_t id = 0; id < swarm_size_; ++id) {
-    const replay::Presence presence = truth != nullptr ? truth->presence[id] : player_.presence(id);
-    if (presence != replay::Presence::kRunning || player_.app_faulted(id)) continue;
-    const lab::world::BodyState& body = truth != nullptr ? truth->bodies[id] : world_.state(id);
-    poses.push_back(lab::goals::RobotPose{id, body.x_m, body.y_m, world_.body_radius_m(id)});
-  }
-  return poses;
-}
-
 // ---- The recorder ---------------------------------------------------------------
 
 // The recorder of round r: the lab's StepRecorder from reports.
@@ -785,8 +764,12 @@ void DdsWorld::Record(int64_t round) {
   std::vector<replay::Event>& events = read.events;
   if (truth != nullptr) events.insert(events.begin(), truth->events.begin(), truth->events.end());
   lab::sim::OrderByTime(events);
+  // The running robots' true positions, for the goal checks: at the recorded boundary, or now.
+  auto running_poses = [&] {
+    return truth != nullptr ? player_.RunningPoses(truth->presence, truth->bodies) : player_.RunningPoses();
+  };
   recorder_.RecordRound(lab::sim::RecordedRound{round, round_time_ns, robot_rounds_, read.phase_boundaries, frames_,
-                                                events, read.maps, [&] { return RunningPoses(truth); }});
+                                                events, read.maps, running_poses});
   if (truth != nullptr) truths_.erase(truth_it);
 }
 
@@ -957,10 +940,7 @@ void DdsWorld::StopRobots() {
 
 void DdsWorld::WriteMetrics() {
   result_.delivery_ratio = expected_deliveries_ > 0 ? in_round_deliveries_ / expected_deliveries_ : 0;
-  result_.skew.rounds = static_cast<int64_t>(skews_ns_.size());
-  result_.skew.p50_us = Percentile(skews_ns_, 0.50) * 1e-3;
-  result_.skew.p99_us = Percentile(skews_ns_, 0.99) * 1e-3;
-  result_.skew.max_us = skews_ns_.empty() ? 0 : static_cast<double>(*std::max_element(skews_ns_.begin(), skews_ns_.end())) * 1e-3;
+  result_.skew = lab::metrics::SkewOf(skews_ns_);
   for (const RobotSlot& r : robots_) {
     result_.cpu_seconds.push_back(r.cpu_seconds);
     result_.robot_exits.push_back(r.exit);
@@ -978,10 +958,7 @@ lab::metrics::DdsMetrics DdsWorld::DdsFacts() const {
   lab::metrics::DdsMetrics dds;
   dds.domain_id = participant_->domain_id();
   dds.delivery_ratio = result_.delivery_ratio;
-  dds.skew_rounds = result_.skew.rounds;
-  dds.skew_p50_us = result_.skew.p50_us;
-  dds.skew_p99_us = result_.skew.p99_us;
-  dds.skew_max_us = result_.skew.max_us;
+  dds.round_start_skew = result_.skew;
   dds.cpu_seconds_per_robot = result_.cpu_seconds;
   dds.reports_rejected = reports_rejected_;
   dds.reports_late = reports_late_;

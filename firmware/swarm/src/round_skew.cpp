@@ -1,12 +1,13 @@
 #include "syrof/firmware/swarm/round_skew.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace syrof::firmware::swarm {
 
-SkewStats RoundStartSkew(std::span<const std::vector<int64_t>> send_ns, int64_t period_ns, int64_t from_ns) {
-  SkewStats stats;
-  if (send_ns.size() < 2 || send_ns[0].empty() || period_ns <= 0) return stats;
+lab::metrics::SkewStats RoundStartSkew(std::span<const std::vector<int64_t>> send_ns, int64_t period_ns,
+                                       int64_t from_ns) {
+  if (send_ns.size() < 2 || send_ns[0].empty() || period_ns <= 0) return {};
   const std::vector<int64_t>& reference = send_ns[0];
   std::vector<int64_t> skews;
   for (size_t robot = 1; robot < send_ns.size(); ++robot) {
@@ -22,13 +23,7 @@ SkewStats RoundStartSkew(std::span<const std::vector<int64_t>> send_ns, int64_t 
       skews.push_back(folded);
     }
   }
-  if (skews.empty()) return stats;
-  std::sort(skews.begin(), skews.end());
-  stats.samples = static_cast<int64_t>(skews.size());
-  stats.median_ns = skews[skews.size() / 2];
-  stats.p95_ns = skews[std::min(skews.size() - 1, skews.size() * 95 / 100)];
-  stats.max_ns = skews.back();
-  return stats;
+  return lab::metrics::SkewOf(std::move(skews));
 }
 
 }  // namespace syrof::firmware::swarm

@@ -190,7 +190,7 @@ void SwarmHost::WriteReport(RunResult& result) const {
 
 void SwarmHost::PrintSummary(const RunResult& result) const {
   const metrics::Metrics& run = result.metrics;
-  const swarm::SkewStats& skew = result.report.round_start_skew;
+  const lab::metrics::SkewStats& skew = result.report.round_start_skew;
   const swarm::SensorLinkCounts& sensor_totals = result.report.sensor_link;
   const swarm::BeaconCounts& beacons = result.report.beacons;
   const std::optional<double> max_error_m = run.estimation.max_error_m;
@@ -202,9 +202,9 @@ void SwarmHost::PrintSummary(const RunResult& result) const {
               cooperative ? ("at " + std::to_string(*all_cooperative_s_) + " s").c_str() : "never",
               static_cast<long long>(run.common_knowledge.cooperative_starts),
               static_cast<long long>(run.common_knowledge.violations));
-  std::printf("  round-start skew (beacon arrivals vs robot 0, after 5 s): median %.3f ms, p95 %.3f ms, max %.3f ms "
+  std::printf("  round-start skew (beacon arrivals vs robot 0, after 5 s): p50 %.0f us, p99 %.0f us, max %.0f us "
               "over %lld beacons\n",
-              skew.median_ns * 1e-6, skew.p95_ns * 1e-6, skew.max_ns * 1e-6, static_cast<long long>(skew.samples));
+              skew.p50_us, skew.p99_us, skew.max_us, static_cast<long long>(skew.samples));
   std::printf("  beacons offered %lld, delivered %lld; radio-link errors %lld; %lld beacons reached the host past "
               "their delivery instant, %lld past their round\n",
               static_cast<long long>(beacons.offered), static_cast<long long>(beacons.delivered),

@@ -300,10 +300,10 @@ Json DdsJson(const DdsMetrics& dds) {
   json["domain_id"] = dds.domain_id;
   json["delivery_ratio"] = FiniteOrNull(dds.delivery_ratio);
   Json skew;
-  skew["rounds"] = dds.skew_rounds;
-  skew["p50"] = FiniteOrNull(dds.skew_p50_us);
-  skew["p99"] = FiniteOrNull(dds.skew_p99_us);
-  skew["max"] = FiniteOrNull(dds.skew_max_us);
+  skew["rounds"] = dds.round_start_skew.samples;
+  skew["p50"] = FiniteOrNull(dds.round_start_skew.p50_us);
+  skew["p99"] = FiniteOrNull(dds.round_start_skew.p99_us);
+  skew["max"] = FiniteOrNull(dds.round_start_skew.max_us);
   json["round_start_skew_us"] = skew;
   json["cpu_seconds_per_robot"] = Json::array();
   for (const double seconds : dds.cpu_seconds_per_robot) json["cpu_seconds_per_robot"].push_back(FiniteOrNull(seconds));

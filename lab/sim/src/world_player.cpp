@@ -183,10 +183,22 @@ void WorldPlayer::AppFaulted(uint16_t id, int64_t now_ns, RobotRuntime& runtime)
 }
 
 std::vector<goals::RobotPose> WorldPlayer::RunningPoses() const {
+  return RunningPosesOf([this](uint16_t id) { return presence(id); },
+                        [this](uint16_t id) -> const world::BodyState& { return world_.state(id); });
+}
+
+std::vector<goals::RobotPose> WorldPlayer::RunningPoses(std::span<const replay::Presence> presence,
+                                                        std::span<const world::BodyState> bodies) const {
+  return RunningPosesOf([&](uint16_t id) { return presence[id]; },
+                        [&](uint16_t id) -> const world::BodyState& { return bodies[id]; });
+}
+
+template <typename PresenceOf, typename BodyOf>
+std::vector<goals::RobotPose> WorldPlayer::RunningPosesOf(PresenceOf presence_of, BodyOf body_of) const {
   std::vector<goals::RobotPose> poses;
   for (uint16_t id = 0; id < robots_.size(); ++id) {
-    if (!running(id) || robots_[id].app_faulted) continue;
-    const world::BodyState& body = world_.state(id);
+    if (presence_of(id) != replay::Presence::kRunning || robots_[id].app_faulted) continue;
+    const world::BodyState& body = body_of(id);
     poses.push_back(goals::RobotPose{id, body.x_m, body.y_m, world_.body_radius_m(id)});
   }
   return poses;

@@ -17,9 +17,9 @@ std::vector<int64_t> Grid(int64_t offset_ns, int rounds) {
 
 TEST(RoundSkewTest, AlignedRobotsHaveNoSkew) {
   const std::vector<std::vector<int64_t>> sends = {Grid(0, 100), Grid(0, 100), Grid(0, 100)};
-  const SkewStats stats = RoundStartSkew(sends, kRound, 0);
+  const lab::metrics::SkewStats stats = RoundStartSkew(sends, kRound, 0);
   EXPECT_EQ(stats.samples, 200);
-  EXPECT_EQ(stats.max_ns, 0);
+  EXPECT_EQ(stats.max_us, 0);
 }
 
 TEST(RoundSkewTest, OffsetsAreMeasuredEitherSideAndFoldedToHalfARound) {
@@ -27,17 +27,17 @@ TEST(RoundSkewTest, OffsetsAreMeasuredEitherSideAndFoldedToHalfARound) {
   // early for the next round).
   const std::vector<std::vector<int64_t>> sends = {Grid(10 * kRound, 100), Grid(3'000'000, 120),
                                                    Grid(-4'000'000, 120), Grid(40'000'000, 120)};
-  const SkewStats stats = RoundStartSkew(sends, kRound, 10 * kRound);
-  EXPECT_EQ(stats.max_ns, 10'000'000);
-  EXPECT_EQ(stats.median_ns, 4'000'000);
+  const lab::metrics::SkewStats stats = RoundStartSkew(sends, kRound, 10 * kRound);
+  EXPECT_EQ(stats.max_us, 10'000);
+  EXPECT_EQ(stats.p50_us, 4'000);
 }
 
 TEST(RoundSkewTest, BeaconsBeforeTheStartAreLeftOut) {
   std::vector<int64_t> late = Grid(20'000'000, 10);  // misaligned during the first 10 rounds
   for (int64_t t : Grid(10 * kRound, 50)) late.push_back(t);
   const std::vector<std::vector<int64_t>> sends = {Grid(0, 60), late};
-  EXPECT_EQ(RoundStartSkew(sends, kRound, 10 * kRound).max_ns, 0);
-  EXPECT_EQ(RoundStartSkew(sends, kRound, 0).max_ns, 20'000'000);
+  EXPECT_EQ(RoundStartSkew(sends, kRound, 10 * kRound).max_us, 0);
+  EXPECT_EQ(RoundStartSkew(sends, kRound, 0).max_us, 20'000);
 }
 
 TEST(RoundSkewTest, NothingToCompareGivesNoSamples) {

@@ -281,10 +281,7 @@ TEST(MetricsJson, DdsObjectLastWithEveryField) {
   DdsMetrics dds;
   dds.domain_id = 17;
   dds.delivery_ratio = 0.999;
-  dds.skew_rounds = 200;
-  dds.skew_p50_us = 40;
-  dds.skew_p99_us = 900;
-  dds.skew_max_us = 2500;
+  dds.round_start_skew = SkewStats{200, 40, 900, 2500};
   dds.cpu_seconds_per_robot = {0.5, 0.0};
   dds.reports_rejected = 1;
   dds.reports_late = 2;

@@ -263,6 +263,37 @@ TEST(WorldPlayerTest, TheGoalSeesOnlyRobotsRunningWithAWorkingApp) {
   EXPECT_EQ(f.player.lifecycle(0), Lifecycle::kRunning);  // noted only: the robot stopped its app itself
 }
 
+// At an instant captured earlier (the DDS world's boundary truth), the goal
+// sees the robots running then, where they were then; an app fault noted
+// since counts as well.
+TEST(WorldPlayerTest, TheGoalAtACapturedInstantSeesWhoRanThenWhereTheyWere) {
+  Fixture f(kFourRobots);
+  f.player.StartPresentRobots(f.runtime);
+  f.PlayUntil(500'000'000);  // robots 0, 1 and 2 running; 3 not joined yet
+  std::vector<replay::Presence> presence;
+  std::vector<world::BodyState> bodies;
+  for (uint16_t id = 0; id < 4; ++id) {
+    presence.push_back(f.player.presence(id));
+    bodies.push_back(f.world.state(id));
+  }
+  bodies[2].x_m = 3.25;  // where the snapshot says robot 2 was
+  f.PlayUntil(2'000'000'000);  // now robot 3 joined, robot 1 paused
+  f.player.NoteAppFault(0);
+
+  std::vector<uint16_t> ids;
+  std::vector<double> xs;
+  for (const goals::RobotPose& pose : f.player.RunningPoses(presence, bodies)) {
+    ids.push_back(pose.id);
+    xs.push_back(pose.x_m);
+  }
+
+  EXPECT_EQ(ids, (std::vector<uint16_t>{1, 2}));
+  EXPECT_EQ(xs, (std::vector<double>{4.0, 3.25}));
+  std::vector<uint16_t> now;
+  for (const goals::RobotPose& pose : f.player.RunningPoses()) now.push_back(pose.id);
+  EXPECT_EQ(now, (std::vector<uint16_t>{2, 3}));
+}
+
 TEST(WorldPlayerTest, ContactsGoToTheMetricsAndTheReplay) {
   Fixture f(R"(
 name: bump

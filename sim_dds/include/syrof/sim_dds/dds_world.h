@@ -75,22 +75,15 @@ struct SwarmOptions {
   lab::sim::StressOptions stress;
 };
 
-/// Round-start skew over the run: per round, the spread (latest minus
-/// earliest) of the round task activations of the robots that ran it.
-struct SkewStats {
-  int64_t rounds = 0;
-  double p50_us = 0;
-  double p99_us = 0;
-  double max_us = 0;
-};
-
 struct SwarmResult {
   int exit_code = 0;            ///< 0 done, 1 failed inside, 2 bad input (error says)
   std::string error;
   lab::metrics::Metrics metrics;  ///< runtime "dds", with the dds object
   std::string metrics_json;       ///< ToJson(metrics): what metrics.json holds
   double delivery_ratio = 0;
-  SkewStats skew;
+  /// Round-start skew: one sample per round, its spread (latest minus
+  /// earliest) of the round task activations of the robots that ran it.
+  lab::metrics::SkewStats skew;
   std::vector<double> cpu_seconds;  ///< per robot process (0 for one never started)
   std::vector<int> robot_pids;      ///< every robot process started (for tests: none may be left)
   /// Per robot: its exit code, or minus the signal that ended it (-9: a

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "syrof/firmware/swarm/fault_outcomes.h"
-#include "syrof/firmware/swarm/round_skew.h"
+#include "syrof/lab/metrics/metrics.h"
 
 namespace syrof::firmware::swarm {
 
@@ -63,7 +63,7 @@ struct FirmwareMetrics {
   std::optional<double> all_cooperative_s;  ///< host time from the world's start; unset: never
   int64_t p3_violations = 0;
   int64_t cooperative_starts = 0;
-  SkewStats round_start_skew;
+  lab::metrics::SkewStats round_start_skew;  ///< round_skew.h: a sample a beacon, in microseconds
   BeaconCounts beacons;
   SensorLinkCounts sensor_link;
   std::string scenario;  ///< the scenario's name (letters, digits, '_', '-', '.')

@@ -6,24 +6,22 @@
 // scheduling noise.
 //
 // For each beacon of robot i > 0, the skew is the distance to the nearest
-// beacon of robot 0, folded into [0, period / 2]. Beacons before `from_ns`
-// (the start-up, before round alignment settled) are left out.
+// beacon of robot 0, folded into [0, period / 2]: one sample a beacon.
+// Beacons before `from_ns` (the start-up, before round alignment settled)
+// are left out. The figures (p50, p99, max in microseconds) are the ones
+// DDS gives its own samples (lab::metrics::SkewOf).
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "syrof/lab/metrics/metrics.h"
+
 namespace syrof::firmware::swarm {
 
-struct SkewStats {
-  int64_t samples = 0;
-  int64_t median_ns = 0;
-  int64_t p95_ns = 0;
-  int64_t max_ns = 0;
-};
-
 /// `send_ns[i]`: robot i's beacon arrival instants, increasing.
-SkewStats RoundStartSkew(std::span<const std::vector<int64_t>> send_ns, int64_t period_ns, int64_t from_ns);
+lab::metrics::SkewStats RoundStartSkew(std::span<const std::vector<int64_t>> send_ns, int64_t period_ns,
+                                       int64_t from_ns);
 
 }  // namespace syrof::firmware::swarm

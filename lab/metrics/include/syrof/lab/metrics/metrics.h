@@ -302,15 +302,32 @@ struct MembershipMetrics {
   std::optional<double> mean_join_latency_rounds;
 };
 
+/// Round-start skew outside the lab: how far apart the robots' round
+/// boundaries lay, over a run's samples. What one sample is belongs to the
+/// runtime: over DDS a round's spread (its latest minus its earliest round
+/// task activation, over the robots that ran it), on the emulated firmware
+/// a beacon's distance to robot 0's nearest beacon as both reached the host
+/// (docs/firmware.md). One unit (microseconds) and one percentile for both
+/// (SkewOf).
+struct SkewStats {
+  int64_t samples = 0;
+  double p50_us = 0;
+  double p99_us = 0;
+  double max_us = 0;
+};
+
+/// The figures of `skews_ns` (in any order; nanoseconds). A percentile p is
+/// the nearest rank: the smallest sample with at least the fraction p of
+/// the samples at or below it (of 200 samples, p50 is the 100th smallest and
+/// p99 the 198th); max is the largest. All 0 without samples.
+SkewStats SkewOf(std::vector<int64_t> skews_ns);
+
 /// The DDS runtime's own figures (`syrof swarm`, docs/dds.md; the fields in
 /// docs/metrics.md, "dds"): only a run over DDS has them.
 struct DdsMetrics {
   uint32_t domain_id = 0;
   double delivery_ratio = 0;                ///< beacons delivered within their round / beacons the channel passed
-  int64_t skew_rounds = 0;                  ///< rounds whose round-start skew was measured
-  double skew_p50_us = 0;
-  double skew_p99_us = 0;
-  double skew_max_us = 0;
+  SkewStats round_start_skew;               ///< one sample per round the robots ran (`rounds` in the file)
   std::vector<double> cpu_seconds_per_robot;  ///< per robot process (0 for one never started)
   int64_t reports_rejected = 0;             ///< robot reports that failed their checks
   int64_t reports_late = 0;                 ///< reports for a round already closed

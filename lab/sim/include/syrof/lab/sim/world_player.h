@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "syrof/lab/apps/builtin_goals.h"
@@ -110,6 +111,11 @@ class WorldPlayer {
   /// The true positions of the robots running now with a working app, for
   /// the scenario's goal checks (lab/goals).
   std::vector<goals::RobotPose> RunningPoses() const;
+  /// The same at an instant captured earlier (the DDS world's boundary
+  /// truth): `presence` and `bodies` per robot as they were then; an app
+  /// fault noted since counts too. Both hold robot_count() entries.
+  std::vector<goals::RobotPose> RunningPoses(std::span<const replay::Presence> presence,
+                                             std::span<const world::BodyState> bodies) const;
   /// Every robot's true pose now, `present` for those running with a
   /// working app, for the built-in app's goal (apps::EvaluateGoal).
   std::vector<apps::GoalPose> FinalPoses() const;
@@ -144,6 +150,10 @@ class WorldPlayer {
   }
 
  private:
+  // RunningPoses' rule, over robot ids: `presence_of(id)`, `body_of(id)`.
+  template <typename PresenceOf, typename BodyOf>
+  std::vector<goals::RobotPose> RunningPosesOf(PresenceOf presence_of, BodyOf body_of) const;
+
   struct Robot {
     Lifecycle lifecycle = Lifecycle::kAbsent;
     bool app_faulted = false;
