@@ -264,6 +264,35 @@ void Robot::EndManeuver(int64_t now_ns) {
   if (!status.ok()) StopApp(app::Callback::kEndOfRound, now_ns, app_map_.epoch, status);
 }
 
+// The look and the compute of an epoch: newRound on the epoch's map. False
+// when the app faulted (the robot is stopped). A command the controller could
+// not carry out is `check`ed, reported, and replaced by STOP: the robot holds
+// still for the maneuver.
+bool Robot::LookAndCompute(int64_t now_ns, syrof_car_command& command, app::CommandCheck& check) {
+  FillAppMap(ldmap_);
+  command = syrof_car_command{};
+  BeginAppCall(now_ns, ldmap_.epoch);
+  const app::CallStatus status = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
+  ++counters_.new_rounds;
+  if (!status.ok()) {
+    StopApp(app::Callback::kNewRound, now_ns, ldmap_.epoch, status);
+    return false;
+  }
+  check = app::CheckCommand(command);
+  if (!check.ok()) {
+    ++counters_.invalid_commands;
+    command = syrof_car_command{};
+  }
+  return true;
+}
+
+// The epoch's start for the observer, and the command `check` refused.
+void Robot::ReportEpochStart(int64_t now_ns, const app::CommandCheck& check) {
+  if (observer_ == nullptr) return;
+  observer_->OnEpochStart(id(), now_ns, ldmap_);
+  if (!check.ok()) observer_->OnInvalidCommand(id(), now_ns, ldmap_.epoch, check);
+}
+
 // ASYNC (sync/activation.h): the robot looks when no cycle is under way;
 // its move runs in the maneuvers the cycle's timing names, at the command's
 // speed divided by their number, so it covers what one maneuver would.
@@ -271,32 +300,18 @@ void Robot::StartAsyncEpoch(int64_t now_ns) {
   const sync::AsyncTracker::Step step = async_tracker_.OnEpochStart(config_.activation, ldmap_.epoch, id());
   rounds_in_progress_ = 0;
   if (step.looks) {
-    FillAppMap(ldmap_);
     syrof_car_command command{};
-    BeginAppCall(now_ns, ldmap_.epoch);
-    const app::CallStatus status = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
-    ++counters_.new_rounds;
-    if (!status.ok()) {
-      StopApp(app::Callback::kNewRound, now_ns, ldmap_.epoch, status);
-      return;
-    }
-    const app::CommandCheck check = app::CheckCommand(command);
-    if (!check.ok()) {
-      ++counters_.invalid_commands;
-      command = syrof_car_command{};
-    }
+    app::CommandCheck check;
+    if (!LookAndCompute(now_ns, command, check)) return;
     const float spread = static_cast<float>(step.cycle.move_epochs);
     async_move_ = command;
     async_move_.speed_mps = command.speed_mps / spread;
     async_move_.vx_mps = command.vx_mps / spread;
     async_move_.vy_mps = command.vy_mps / spread;
-    if (observer_ != nullptr) {
-      observer_->OnEpochStart(id(), now_ns, ldmap_);
-      if (!check.ok()) observer_->OnInvalidCommand(id(), now_ns, ldmap_.epoch, check);
-    }
+    ReportEpochStart(now_ns, check);
   } else {
     ++counters_.inactive_epochs;
-    if (observer_ != nullptr) observer_->OnEpochStart(id(), now_ns, ldmap_);
+    ReportEpochStart(now_ns, app::CommandCheck{});
   }
   if (step.first_move_epoch) {
     async_covered_m_ = 0;
@@ -412,30 +427,14 @@ void Robot::RunRound(int64_t now_ns) {
     rounds_in_progress_ = 0;
     if (observer_ != nullptr) observer_->OnEpochStart(id(), now_ns, ldmap_);
   } else if (out_.epoch_started) {
-    FillAppMap(ldmap_);
     syrof_car_command command{};
-    BeginAppCall(now_ns, ldmap_.epoch);
-    const app::CallStatus status = app_.NewRound(command, app_map_, global_state_, ClockMs(now_ns));
-    ++counters_.new_rounds;
-    if (!status.ok()) {
-      StopApp(app::Callback::kNewRound, now_ns, ldmap_.epoch, status);
-      return;
-    }
-    // A command the controller could not carry out is reported, and the
-    // robot holds still for the maneuver.
-    const app::CommandCheck check = app::CheckCommand(command);
-    if (!check.ok()) {
-      ++counters_.invalid_commands;
-      command = syrof_car_command{};
-    }
+    app::CommandCheck check;
+    if (!LookAndCompute(now_ns, command, check)) return;
     command_ = command;
     HandToMotion(command_);
     maneuver_active_ = true;
     rounds_in_progress_ = 0;
-    if (observer_ != nullptr) {
-      observer_->OnEpochStart(id(), now_ns, ldmap_);
-      if (!check.ok()) observer_->OnInvalidCommand(id(), now_ns, ldmap_.epoch, check);
-    }
+    ReportEpochStart(now_ns, check);
   }
   if (observer_ != nullptr) {
     if (!out_.removed.empty() || !out_.joined.empty()) observer_->OnMembership(id(), now_ns, out_.removed, out_.joined);

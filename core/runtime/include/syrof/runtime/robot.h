@@ -285,6 +285,8 @@ class Robot final : private app::Platform {
   wire::Snapshot OwnSnapshot() const;
   void FillAppMap(const sync::LDMap& ldmap);
   void EndManeuver(int64_t now_ns);
+  bool LookAndCompute(int64_t now_ns, syrof_car_command& command, app::CommandCheck& check);
+  void ReportEpochStart(int64_t now_ns, const app::CommandCheck& check);
   void StartAsyncEpoch(int64_t now_ns);
   void CutAsyncMove();
   void BeginAppCall(int64_t now_ns, uint16_t epoch);
