@@ -30,6 +30,33 @@ int64_t Nanoseconds(clockid_t clock) {
   return int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
 }
 
+// The user-mode CPU time of process `stat_fd`'s (an open /proc/PID/stat),
+// in nanoseconds (the kernel counts it in clock ticks); -1 if unreadable.
+// Only user time is held against a callback's CPU budget: system time
+// includes what the kernel does on the host's behalf when the machine is
+// short of memory (a page fault that enters direct reclaim was seen to take
+// 100 ms), which the app does not control; the wall cap bounds it.
+int64_t UserNanoseconds(int stat_fd) {
+  char text[1024];
+  const ssize_t got = pread(stat_fd, text, sizeof text - 1, 0);
+  if (got <= 0) return -1;
+  text[got] = '\0';
+  // The command name (field 2) is in parentheses and may hold spaces:
+  // fields 3 onwards follow the last ')'. utime is field 14.
+  const char* field = strrchr(text, ')');
+  if (field == nullptr) return -1;
+  for (int i = 2; i < 14; ++i) {
+    field = strchr(field + 1, ' ');
+    if (field == nullptr) return -1;
+  }
+  char* end = nullptr;
+  const unsigned long long ticks = strtoull(field + 1, &end, 10);
+  if (end == field + 1) return -1;
+  static const long kTicksPerSecond = sysconf(_SC_CLK_TCK);
+  if (kTicksPerSecond <= 0) return -1;
+  return static_cast<int64_t>(ticks) * (1'000'000'000 / kTicksPerSecond);
+}
+
 // Raises this process's soft descriptor limit to its hard limit (at most
 // 1 << 20). Each host holds four descriptors here (channel, output, pidfd,
 // log): a swarm of a few hundred passes the usual soft limit of 1024.
@@ -161,7 +188,8 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
     return fault_;
   }
   // A pidfd of -1 (old kernels): the channel's hang-up says it too.
-  have_cpu_clock_ = clock_getcpuclockid(child_.pid(), &cpu_clock_) == 0;
+  cpu_stat_ = process::Fd(open(("/proc/" + std::to_string(child_.pid()) + "/stat").c_str(), O_RDONLY | O_CLOEXEC));
+  have_cpu_clock_ = cpu_stat_.get() >= 0 && UserNanoseconds(cpu_stat_.get()) >= 0;
   return CallStatus::Ok();
 }
 
@@ -292,7 +320,7 @@ HostProcess::Wait HostProcess::WaitForReply(p::Reply& reply, bool load) {
   // spawn: a swarm's hosts all start at once and load side by side, and the
   // last robot's turn may come long after its host was spawned.
   const int64_t wall_start = Nanoseconds(CLOCK_MONOTONIC);
-  const int64_t cpu_start = !load && have_cpu_clock_ ? Nanoseconds(cpu_clock_) : -1;
+  const int64_t cpu_start = !load && have_cpu_clock_ ? UserNanoseconds(cpu_stat_.get()) : -1;
   const int64_t wall_cap = int64_t{load ? limits_.load_wall_cap_ms : limits_.wall_cap_ms} * 1'000'000;
   const int64_t cpu_budget = int64_t{limits_.cpu_budget_ms} * 1'000'000;
   int64_t wait_ns = cpu_start >= 0 ? std::min(wall_cap, cpu_budget) : wall_cap;
@@ -333,7 +361,7 @@ HostProcess::Wait HostProcess::WaitForReply(p::Reply& reply, bool load) {
       }
     }
     const int64_t wall_used = Nanoseconds(CLOCK_MONOTONIC) - wall_start;
-    const int64_t cpu_used = cpu_start >= 0 ? Nanoseconds(cpu_clock_) - cpu_start : 0;
+    const int64_t cpu_used = cpu_start >= 0 ? UserNanoseconds(cpu_stat_.get()) - cpu_start : 0;
     if (cpu_start >= 0 && cpu_used > cpu_budget) {
       KillAndReap();
       // Not the CPU time measured: it varies from run to run, and the

@@ -86,7 +86,7 @@ class HostProcess {
   process::Fd channel_;
   process::Fd output_;
   process::Fd log_;
-  clockid_t cpu_clock_ = 0;
+  process::Fd cpu_stat_;  // the host's /proc/PID/stat: its user CPU time
   bool have_cpu_clock_ = false;
   uint64_t output_bytes_ = 0;
   uint64_t log_written_ = 0;

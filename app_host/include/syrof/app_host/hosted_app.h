@@ -32,7 +32,7 @@ namespace syrof::app_host {
 
 /// What a robot's app host may use. Defaults are the design's.
 struct HostLimits {
-  uint32_t cpu_budget_ms = 100;         ///< CPU time per callback (the host's own, read from the parent)
+  uint32_t cpu_budget_ms = 100;         ///< user CPU time per callback (the host's own, read by the parent; system time is left to the wall cap)
   uint32_t wall_cap_ms = 2000;          ///< wall time per callback, whatever the CPU did
   uint32_t load_wall_cap_ms = 5000;     ///< wall time to start the host and load the library
   uint64_t address_space_bytes = 256ull << 20;  ///< RLIMIT_AS of the host
