@@ -594,23 +594,44 @@ TEST(MessagePage, WithoutAFormatPayloadsAreHexAndInputsSayNone) {
 // schedule): its starts of those epochs carry active 0 in the page's data,
 // it is drawn with the dotted ring while those epochs last and not after,
 // the events list says so, and the legend names the model.
-TEST(ActivationPage, ARobotLeftOutOfAnEpochIsMarkedWhileItLasts) {
+// A scheduled run for the activation pages: the scenario (3 robots
+// gathering from a circle, seed 5) with `activation`, its replay's bytes,
+// and the page's data drawn with the scenario.
+struct ScheduledRun {
+  scenario::Scenario scenario;
+  std::string bytes;
+  json data;
+};
+
+ScheduledRun RunForThePage(const std::string& name, double duration_s, const std::string& activation) {
   const scenario::LoadResult loaded = scenario::LoadScenarioText(
-      "name: ssync_page\nseed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: 6}\n"
-      "app: builtin:gather\nactivation: {model: ssync, schedule: scripted, active: [[1, [1, 2]], [2, [1, 2]]]}\n",
-      "ssync_page.yaml");
-  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
+      "name: " + name + "\nseed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: " +
+          std::to_string(duration_s) + "}\napp: builtin:gather\nactivation: " + activation + "\n",
+      name + ".yaml");
+  EXPECT_TRUE(loaded.ok()) << loaded.error->ToString();
+  ScheduledRun run{*loaded.scenario, {}, {}};
   std::ostringstream bytes;
   sim::SimulationOptions sim_options;
   sim_options.replay = &bytes;
-  (void)sim::Run(*loaded.scenario, sim_options, 0.0);
+  (void)sim::Run(run.scenario, sim_options, 0.0);
+  run.bytes = bytes.str();
   PageOptions options;
-  options.scenario = &*loaded.scenario;
+  options.scenario = &run.scenario;
+  std::istringstream in(run.bytes);
+  Page page;
+  run.data = json::parse(ReplayJson(in, name, options, page));
+  return run;
+}
+
+TEST(ActivationPage, ARobotLeftOutOfAnEpochIsMarkedWhileItLasts) {
+  const ScheduledRun run =
+      RunForThePage("ssync_page", 6, "{model: ssync, schedule: scripted, active: [[1, [1, 2]], [2, [1, 2]]]}");
+  PageOptions options;
+  options.scenario = &run.scenario;
+  const std::string& bytes_text = run.bytes;
+  const json& data = run.data;
 
   // The data: robot 0's starts of epochs 1 and 2 are left out, no other.
-  std::istringstream in(bytes.str());
-  Page page;
-  const json data = json::parse(ReplayJson(in, "ssync_page", options, page));
   EXPECT_EQ(data["activation"], json::parse(R"({"model": "ssync", "schedule": "scripted"})"));
   std::vector<int64_t> left_out_positions;
   int64_t epoch3_position = -1;
@@ -627,8 +648,8 @@ TEST(ActivationPage, ARobotLeftOutOfAnEpochIsMarkedWhileItLasts) {
 
   // The page, in the browser: during epoch 1 robot 0 has the ring; in
   // epoch 3 nobody has it.
-  const fs::path path = WritePage(bytes.str(), "ssync_left_out", options);
-  const Replay replay = ReadAll(bytes.str());
+  const fs::path path = WritePage(bytes_text, "ssync_left_out", options);
+  const Replay replay = ReadAll(bytes_text);
   auto round_at = [&](int64_t position) { return replay.rounds.at(static_cast<size_t>(position)).index; };
   const Loaded during = Load(path, "#round=" + std::to_string(round_at(left_out_positions[0] + 2)));
   const Loaded after = Load(path, "#round=" + std::to_string(round_at(epoch3_position + 2)));
@@ -643,21 +664,12 @@ TEST(ActivationPage, ARobotLeftOutOfAnEpochIsMarkedWhileItLasts) {
 // its starts of epochs 3 and 4 carry no look, the look's epoch (2), and
 // whether it moves; the page rings it and says why.
 TEST(ActivationPage, AnAsyncRobotMovingOnAStaleLookIsMarked) {
-  const scenario::LoadResult loaded = scenario::LoadScenarioText(
-      "name: async_page\nseed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: 7}\n"
-      "app: builtin:gather\nactivation: {model: async, schedule: scripted, max_delay_epochs: 2, cycles: [[2, 0, 1, 2]]}\n",
-      "async_page.yaml");
-  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
-  std::ostringstream bytes;
-  sim::SimulationOptions sim_options;
-  sim_options.replay = &bytes;
-  (void)sim::Run(*loaded.scenario, sim_options, 0.0);
+  const ScheduledRun run =
+      RunForThePage("async_page", 7, "{model: async, schedule: scripted, max_delay_epochs: 2, cycles: [[2, 0, 1, 2]]}");
   PageOptions options;
-  options.scenario = &*loaded.scenario;
-
-  std::istringstream in(bytes.str());
-  Page page;
-  const json data = json::parse(ReplayJson(in, "async_page", options, page));
+  options.scenario = &run.scenario;
+  const std::string& bytes_text = run.bytes;
+  const json& data = run.data;
   EXPECT_EQ(data["activation"], json::parse(R"({"model": "async", "schedule": "scripted"})"));
   int64_t waiting_position = -1;
   int64_t moving_position = -1;
@@ -679,8 +691,8 @@ TEST(ActivationPage, AnAsyncRobotMovingOnAStaleLookIsMarked) {
   ASSERT_GE(waiting_position, 0);
   ASSERT_GT(moving_position, waiting_position);
 
-  const fs::path path = WritePage(bytes.str(), "async_stale_look", options);
-  const Replay replay = ReadAll(bytes.str());
+  const fs::path path = WritePage(bytes_text, "async_stale_look", options);
+  const Replay replay = ReadAll(bytes_text);
   auto round_at = [&](int64_t position) { return replay.rounds.at(static_cast<size_t>(position)).index; };
   const Loaded moving = Load(path, "#round=" + std::to_string(round_at(moving_position + 2)));
   ASSERT_TRUE(moving.report.is_object()) << moving.dom.substr(0, 2000);
