@@ -92,7 +92,8 @@ CLI::App* SetupRunCommand(CLI::App& app, RunOptions& options) {
 }
 
 int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal) {
-  const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path, OverridesOf(options));
+  const std::string scenario_file = ScenarioArgument(options.scenario_path, "run", err, options.quiet);
+  const scenario::LoadResult loaded = scenario::LoadScenarioFile(scenario_file, OverridesOf(options));
   if (!loaded.ok()) {
     fmt::print(err, "syrof run: {}\n", loaded.error->ToString());
     return 2;

@@ -116,7 +116,8 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   overrides.app = options.app;
   overrides.seed = options.seed;
   overrides.duration_s = options.duration_s;
-  const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path, overrides);
+  const std::string scenario_file = ScenarioArgument(options.scenario_path, "search", err, options.quiet);
+  const scenario::LoadResult loaded = scenario::LoadScenarioFile(scenario_file, overrides);
   if (!loaded.ok()) {
     fmt::print(err, "syrof search: {}\n", loaded.error->ToString());
     return 2;
@@ -224,7 +225,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
 
   const search::Counterexample& found = *result.counterexample;
   const std::filesystem::path yaml_path = dir / "counterexample.yaml";
-  const search::CounterexampleSource source{options.scenario_path, options.app, options.duration_s};
+  const search::CounterexampleSource source{scenario_file, options.app, options.duration_s};
   if (std::string problem = search::WriteCounterexample(dir.string(), scenario, source, found, search_options);
       !problem.empty()) {
     fmt::print(err, "syrof search: {}\n", problem);

@@ -81,7 +81,8 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
   overrides.app = options.app;
   // The scenario is read here once for its name and errors; the world and
   // every robot read it again with the same overrides.
-  const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(options.scenario_path, overrides);
+  const std::string scenario_file = ScenarioArgument(options.scenario_path, "swarm", err, options.quiet);
+  const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(scenario_file, overrides);
   if (!loaded.ok()) {
     fmt::print(err, "syrof swarm: {}\n", loaded.error->ToString());
     return kBadInput;
@@ -89,7 +90,7 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
   sim_dds::SwarmOptions swarm;
   // Robots may run in another working directory's meaning of a relative
   // path: hand them absolute ones.
-  swarm.scenario_path = std::filesystem::absolute(options.scenario_path).string();
+  swarm.scenario_path = std::filesystem::absolute(scenario_file).string();
   swarm.overrides = overrides;
   if (overrides.app && lab::scenario::IsLibraryPath(*overrides.app)) {
     swarm.overrides.app = std::filesystem::absolute(*overrides.app).string();

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/grader/grade.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 
@@ -82,6 +83,13 @@ CLI::Validator DurationValidator() {
         return {};
       },
       fmt::format("(0..{}]", max), "SECONDS");
+}
+
+std::string ScenarioArgument(const std::string& given, std::string_view command, std::ostream& err, bool quiet) {
+  const std::string found = grader::FindAssignmentFile(given, SYROF_SOURCE_ASSIGNMENTS_DIR);
+  if (found.empty()) return given;  // the loader names the path it cannot open
+  if (found != given && !quiet) fmt::print(err, "syrof {}: {} is the assignment's file {}\n", command, given, found);
+  return found;
 }
 
 int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ostream& out, std::ostream& err) {

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <ostream>
+#include <string>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
@@ -26,6 +28,15 @@ CLI::Validator ThreadsValidator();
 /// syrof subcommand" and the list of subcommands; a missing subcommand the
 /// list too; the same for a subcommand that requires its own ("'chek' is
 /// not a subcommand of syrof assignment"); anything else CLI11's own message.
+/// The scenario file a command line names, to load: the path as given when
+/// it exists (or when no assignment has it); else the assignment's own file
+/// when the path reads as the grader's replay commands write it,
+/// `NAME/scenarios/FILE.yaml` from the folder holding the assignment NAME
+/// (found as --assignment NAME is: grader::FindAssignment), said on `err`
+/// unless `quiet`. So `syrof grade`'s "replay:" line runs as printed from a
+/// student's project folder (docs/grading.md).
+std::string ScenarioArgument(const std::string& given, std::string_view command, std::ostream& err, bool quiet);
+
 int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ostream& out, std::ostream& err);
 
 }  // namespace syrof::cli

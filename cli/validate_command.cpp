@@ -6,6 +6,7 @@
 #include "syrof/app.h"
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/lab/scenario/scenario.h"
+#include "usage.h"
 
 namespace syrof::cli {
 
@@ -18,7 +19,8 @@ CLI::App* SetupValidateCommand(CLI::App& app, ValidateOptions& options) {
 }
 
 int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::ostream& err) {
-  const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path);
+  const std::string scenario_file = ScenarioArgument(options.scenario_path, "validate", err, false);
+  const scenario::LoadResult loaded = scenario::LoadScenarioFile(scenario_file);
   if (!loaded.ok()) {
     fmt::print(err, "syrof validate: {}\n", loaded.error->ToString());
     return 2;

@@ -430,4 +430,22 @@ std::string FindAssignment(const std::string& name_or_path, const std::string& s
   return {};
 }
 
+std::string FindAssignmentFile(const std::string& path, const std::string& source_tree_dir) {
+  std::error_code error;
+  const fs::path given(path);
+  if (path.empty() || fs::exists(given, error) || given.is_absolute()) return path;
+  const fs::path normal = given.lexically_normal();
+  auto part = normal.begin();
+  const std::string name = part->string();
+  if (name == "." || name == ".." || ++part == normal.end()) return {};
+  fs::path rest;
+  for (; part != normal.end(); ++part) rest /= *part;
+  if (rest.empty() || *rest.begin() == "..") return {};
+  std::vector<std::string> looked;
+  const std::string folder = FindAssignment(name, source_tree_dir, looked);
+  if (folder.empty()) return {};
+  const fs::path inside = fs::path(folder) / rest;
+  return fs::is_regular_file(inside, error) ? inside.string() : std::string();
+}
+
 }  // namespace syrof::grader

@@ -252,6 +252,34 @@ TEST(RunCommandTest, MissingScenarioIsBadInputWithItsName) {
   EXPECT_NE(outcome.err.find("/nonexistent/scenario.yaml"), std::string::npos) << outcome.err;
 }
 
+// `syrof grade` prints a failed public test's replay as
+// `syrof run gather/scenarios/gather_6.yaml --app build/lib...` (no absolute
+// path: the student reads it on their own machine). From a student's
+// project folder, where no gather/ is, that names the assignment's own file.
+TEST(RunCommandTest, TheGradersReplayPathNamesTheAssignmentsFileFromAnyFolder) {
+  RunOptions options;
+  options.scenario_path = "gather/scenarios/gather_6.yaml";
+  ASSERT_FALSE(fs::exists(options.scenario_path)) << "the test's working folder must not hold gather/";
+  options.out_dir = RunTempDir("assignment_file").string();
+
+  const Outcome outcome = RunWith(options);
+
+  ASSERT_EQ(outcome.status, 0) << outcome.err;
+  const std::string own = (fs::path(SYROF_ASSIGNMENTS_DIR) / "gather/scenarios/gather_6.yaml").string();
+  EXPECT_EQ(outcome.err, "syrof run: gather/scenarios/gather_6.yaml is the assignment's file " + own + "\n");
+  const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
+  EXPECT_EQ(metrics["scenario"], "gather_6");
+
+  // Only a file inside the assignment's folder, and only when the path
+  // itself names nothing: these stay the loader's "cannot open".
+  for (const char* path : {"gather/../../etc/passwd", "gather/scenarios/none.yaml", "gather", "nosuch/scenarios/x.yaml"}) {
+    options.scenario_path = path;
+    const Outcome missing = RunWith(options);
+    EXPECT_EQ(missing.status, 2) << path;
+    EXPECT_NE(missing.err.find(std::string(path) + ": cannot open"), std::string::npos) << missing.err;
+  }
+}
+
 TEST(RunCommandTest, InvalidScenarioNamesFileLineAndColumn) {
   const fs::path dir = RunTempDir("invalid");
   fs::create_directories(dir);

@@ -89,4 +89,12 @@ assignment::SubmissionResult GradeSubmission(const assignment::Assignment& assig
 std::string FindAssignment(const std::string& name_or_path, const std::string& source_tree_dir,
                            std::vector<std::string>& looked);
 
+/// Where a scenario file named as the grader's replay commands name it is:
+/// `path` itself when it exists; else, for a relative `NAME/REST` (the
+/// assignment's name, then the file inside its folder, as
+/// `gather/scenarios/gather_6.yaml`), REST inside the assignment NAME found
+/// as FindAssignment finds it. So the command a report prints runs from a
+/// student's own project folder. Empty when neither exists.
+std::string FindAssignmentFile(const std::string& path, const std::string& source_tree_dir);
+
 }  // namespace syrof::grader
