@@ -63,6 +63,7 @@ std::vector<std::pair<std::string, std::string>> SkeletonFiles(const std::string
       {"scenarios/spread_6.yaml", assignment("spread_6.yaml.in")},
       {"hidden/spread_8_loss.yaml", assignment("spread_8_loss.yaml.in")},
       {"search/spread_3_vote1.yaml", assignment("spread_3_vote1.yaml.in")},
+      {"search/spread_3_ssync.yaml", assignment("spread_3_ssync.yaml.in")},
       {"reference/CMakeLists.txt", project("CMakeLists.txt.in")},
       {"reference/" + source, project("app.c")},
       {"reference/expected.yaml", assignment("reference_expected.yaml")},
@@ -129,7 +130,8 @@ int RunAssignmentNew(const AssignmentNewOptions& options, std::ostream& out, std
   }
   fmt::print(out,
              "syrof assignment new: wrote {0}/: assignment.yaml, README.md, scenarios/spread_6.yaml, "
-             "hidden/spread_8_loss.yaml, search/spread_3_vote1.yaml (a search test's, off), reference/, starter/, "
+             "hidden/spread_8_loss.yaml, search/spread_3_vote1.yaml and search/spread_3_ssync.yaml (search tests', off), "
+             "reference/, starter/, "
              "broken/off_by_one/\n"
              "The skeleton's task: spread on a circle; its reference is the app `syrof new` writes, its starter "
              "holds still, and broken/off_by_one spaces the points for one robot too few.\n"

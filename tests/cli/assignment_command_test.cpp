@@ -114,6 +114,7 @@ class SkeletonTest : public ::testing::Test {
 TEST_F(SkeletonTest, NewWritesAnAssignmentThatLoadsWithItsThreeSubjects) {
   for (const char* file : {"assignment.yaml", "README.md", "scenarios/spread_6.yaml", "hidden/spread_8_loss.yaml",
                            "search/spread_3_vote1.yaml",
+                           "search/spread_3_ssync.yaml",
                            "reference/CMakeLists.txt", "reference/spread.c", "reference/expected.yaml",
                            "starter/CMakeLists.txt", "starter/spread.c", "starter/expected.yaml",
                            "broken/off_by_one/NOTE.md", "broken/off_by_one/expected.yaml",
@@ -135,6 +136,29 @@ TEST_F(SkeletonTest, NewWritesAnAssignmentThatLoadsWithItsThreeSubjects) {
   EXPECT_LT(subjects[2].expected->points, loaded.assignment->points);
   EXPECT_NE(ReadFile(dir_ / "reference" / "spread.c").find("SYROF_APP_DEFINE(\"spread\""), std::string::npos);
   EXPECT_NE(ReadFile(dir_ / "broken" / "off_by_one" / "mistake.patch").find("--- a/spread.c\n"), std::string::npos);
+}
+
+// The search tests assignment.yaml shows commented out load as written once
+// switched on: a loss search and a schedule search, each on the scenario
+// the skeleton carries. (That the reference then keeps full marks and the
+// starter loses both: tests/cli/walkthrough_test.sh runs the loss search's
+// block of docs/grading.md; the schedule search was checked by hand.)
+TEST_F(SkeletonTest, TheCommentedSearchTestsLoadWhenSwitchedOn) {
+  std::string text = ReadFile(dir_ / "assignment.yaml");
+  for (const std::string line : {"# search:", "#   - { scenario: search/spread_3_vote1.yaml",
+                                 "#   - { scenario: search/spread_3_ssync.yaml"}) {
+    const size_t at = text.find("\n" + line);
+    ASSERT_NE(at, std::string::npos) << line;
+    text.erase(at + 1, 2);  // "# ", as an instructor switches a line on
+  }
+  Write(dir_ / "assignment.yaml", text);
+  const grader::assignment::LoadResult loaded = grader::assignment::LoadAssignmentFile(dir_.string());
+  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
+  const auto& tests = loaded.assignment->search_tests;
+  ASSERT_EQ(tests.size(), 2u);
+  EXPECT_FALSE(tests[0].activations);
+  EXPECT_TRUE(tests[1].activations);
+  EXPECT_EQ(tests[1].epochs, 3);
 }
 
 // The skeleton's projects go to students, as the shipped starters do: no

@@ -7,8 +7,9 @@
 #     block, in order, in one shell, HOME a fresh folder, PATH without the
 #     build tree until the README's own line adds it): copy the starter out
 #     of the tree, build it, run a public scenario, view it, grade it, run
-#     the search test. Then the page is opened in headless Chromium and a
-#     screenshot taken. Every other assignment's README likewise, but for
+#     the search test; paste the report's replay lines (a run's and the
+#     search test's) as printed. Then the page is opened in headless
+#     Chromium and a screenshot taken. Every other assignment's README likewise, but for
 #     its grade line (checked to be strongest's with its name).
 #  2. The instructor (docs/grading.md, every ```sh instructor block, in an
 #     empty folder with syrof on PATH): `syrof assignment new`, a search
@@ -94,6 +95,17 @@ mapfile -t student_reports < <(find "$project/grade-out" -name report.html 2>/de
 [ "${#student_reports[@]}" -gt 0 ] || fail "syrof grade wrote no report.html under $project/grade-out"
 for report in "${student_reports[@]}"; do no_absolute_paths "$report"; done
 no_absolute_paths "$project/out/replay.html"
+# The report's replay lines, pasted in the project's folder as printed: the
+# first run's and the search test's (the starter fails both).
+mapfile -t replays < <(grep -ho '"replay_command": "syrof [a-z]* [^"]*"' "$project"/grade-out/*/grade.json 2>/dev/null |
+  sed 's/^"replay_command": "\(.*\)"$/\1/' | awk '!seen[$2]++')
+[ "${#replays[@]}" = 2 ] || fail "grade.json has no replay line of a run and of the search test: ${replays[*]}"
+for replay in "${replays[@]}"; do
+  (cd "$project" && PATH="$bin_dir:$base_path" bash -euo pipefail -c "$search_may_break"$'\n'"$replay") \
+    > "$work/replay.log" 2>&1 || { fail "the report's '$replay' failed in the project's folder"; tail -5 "$work/replay.log" >&2; }
+done
+[ -n "$(find "$project/rerun" -name counterexample.yaml 2>/dev/null)" ] || fail "the search test's replay line wrote no counterexample"
+step "the report's replay lines ran as printed in the project's folder"
 
 # Every other assignment's README: the same blocks, run as written, but for
 # grading (strongest's shows that it works from the project's folder),
