@@ -17,7 +17,9 @@
 // `sensors 0|1` (the sensor link on UART2, default 0), `x_mm N`, `y_mm N`,
 // `heading_mrad N` (the start pose, arena frame; heading 0..6283), `late N`
 // (robot N is switched on later, so it is no initial member; repeatable:
-// the swarm host's late joiners, and the joiner itself), `hold 0|1` (with
+// the swarm host's late joiners, and the joiner itself), the activation
+// model's words (boot_words.h: `activation ssync schedule random seed N
+// fair_within F`, ...; absent: FSYNC), `hold 0|1` (with
 // `sensors 1`: set everything up, print `held id=N`, and start the clock
 // only when a Start frame arrives on the sensor link, then run its run_ms;
 // `seconds` is then ignored). A word it does not know stops the image with
@@ -34,6 +36,7 @@
 #include "robot_image.h"
 #include "sensor_link.h"
 #include "syrof/board/mps2_an386/cmsdk_uart.h"
+#include "syrof/firmware/robot/boot_words.h"
 #include "syrof/firmware/robot/console_patience.h"
 #include "syrof/firmware/kernel/mps2_an386_hardware.h"
 #include "syrof/firmware/kernel/nvic_port.h"
@@ -175,6 +178,8 @@ void RadioReceiveInterrupt() {
 }
 
 alignas(16) unsigned char queries_memory[SYROF_FIRMWARE_QUERIES_BYTES];
+// The activation's boot words and its scripts (the robot's config points here).
+robot::BootActivation boot_activation;
 char report_line[2048];
 
 struct Options {
@@ -193,6 +198,19 @@ bool ParseOptions(int argc, char** argv, Options& options) {
       std::printf("syrof-robot: -append word %d '%s' has no value (expected: key value pairs, e.g. id 0 swarm 4)\n", i,
                   key);
       return false;
+    }
+    switch (boot_activation.Read(key, argv[i + 1])) {
+      case robot::BootWordRead::kNotMine: break;
+      case robot::BootWordRead::kOk: continue;
+      case robot::BootWordRead::kBadValue:
+        std::printf("syrof-robot: -append word %d '%s': '%s' is not a value it takes (firmware/robot boot_words.h)\n",
+                    i + 1, key, argv[i + 1]);
+        return false;
+      case robot::BootWordRead::kFull:
+        std::printf("syrof-robot: -append word %d '%s': longer than the image holds (%u scripted pairs, %u cycles)\n",
+                    i + 1, key, static_cast<unsigned>(robot::kMaxBootScriptedActivations),
+                    static_cast<unsigned>(robot::kMaxBootScriptedCycles));
+        return false;
     }
     char* end = nullptr;
     const long value = std::strtol(argv[i + 1], &end, 10);
@@ -226,7 +244,7 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     } else {
       std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
                   "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1, sensors 0|1, x_mm and y_mm 0..1000000, "
-                  "heading_mrad 0..6283, late 0..31, hold 0|1)\n",
+                  "heading_mrad 0..6283, late 0..31, hold 0|1, and the activation words of boot_words.h)\n",
                   i, key, value);
       return false;
     }
@@ -234,6 +252,11 @@ bool ParseOptions(int argc, char** argv, Options& options) {
   if (options.image.self_id >= options.image.swarm_size) {
     std::printf("syrof-robot: id %u is not below swarm %u\n", static_cast<unsigned>(options.image.self_id),
                 static_cast<unsigned>(options.image.swarm_size));
+    return false;
+  }
+  options.image.activation = boot_activation.config();
+  if (!syrof::sync::IsValid(options.image.activation)) {
+    std::printf("syrof-robot: the activation words make no valid schedule (scripts sorted, delays within max_delay)\n");
     return false;
   }
   if (options.hold && !options.sensors) {

@@ -15,16 +15,17 @@ size_t FormatRoundLine(uint16_t robot, int64_t now_ns, const sync::SyncState& st
   return length > 0 && static_cast<size_t>(length) < out.size() ? static_cast<size_t>(length) : 0;
 }
 
-size_t FormatEpochLine(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap, std::span<char> out) {
+size_t FormatEpochLine(uint16_t robot, int64_t now_ns, const sync::LDMap& ldmap, bool active, std::span<char> out) {
   size_t used = 0;
   auto append = [&](int written) {
     if (written < 0 || used + static_cast<size_t>(written) >= out.size()) return false;
     used += static_cast<size_t>(written);
     return true;
   };
-  if (!append(std::snprintf(out.data(), out.size(), "E t_ms=%lu robot=%u epoch=%u mode=%u members=",
+  if (!append(std::snprintf(out.data(), out.size(), "E t_ms=%lu robot=%u epoch=%u mode=%u active=%u members=",
                             static_cast<unsigned long>(now_ns / 1'000'000), static_cast<unsigned>(robot),
-                            static_cast<unsigned>(ldmap.epoch), static_cast<unsigned>(ldmap.mode)))) {
+                            static_cast<unsigned>(ldmap.epoch), static_cast<unsigned>(ldmap.mode),
+                            active ? 1u : 0u))) {
     return 0;
   }
   // Each member: id:x:y:heading:vx:vy:payload (hex, may be empty), ';' between.

@@ -87,6 +87,7 @@ const char* RobotImage::Prepare(const ImageConfig& config, const syrof_app_descr
   robot_config.initial_pose.x_m = config.start_x_m;
   robot_config.initial_pose.y_m = config.start_y_m;
   robot_config.initial_pose.heading_rad = config.start_heading_rad;
+  robot_config.activation = config.activation;
   radio_.set_swarm_size(config.swarm_size);
   const std::span<wire::Beacon> storage(receive_storage_.data(),
                                         size_t{runtime::Robot::kReceiveBanks} * config.swarm_size);
@@ -140,9 +141,14 @@ void RobotImage::RadioTask::Step(int64_t /*now_ns*/) {
 }
 
 void RobotImage::EpochObserver::OnEpochStart(uint16_t /*robot*/, int64_t now_ns, const sync::LDMap& ldmap) {
+  // The robot counts a start it does not look at before it tells the observer.
+  const uint32_t inactive = image_.robot_->counters().inactive_epochs;
+  const bool active = inactive == image_.inactive_epochs_seen_;
+  image_.inactive_epochs_seen_ = inactive;
   image_.port_.Lock();
   if (image_.pending_sequence_ != image_.printed_sequence_) ++image_.epoch_lines_lost_;
   image_.pending_map_ = ldmap;
+  image_.pending_active_ = active;
   image_.pending_ns_ = now_ns;
   ++image_.pending_sequence_;
   image_.port_.Unlock();
@@ -154,10 +160,12 @@ void RobotImage::Report(int64_t now_ns) {
   sync::LDMap& map = report_map_;  // kept off the stack
   bool have_map = false;
   int64_t map_ns = 0;
+  bool active = true;
   port_.Lock();
   if (pending_sequence_ != printed_sequence_) {
     map = pending_map_;
     map_ns = pending_ns_;
+    active = pending_active_;
     printed_sequence_ = pending_sequence_;
     have_map = true;
   }
@@ -165,7 +173,7 @@ void RobotImage::Report(int64_t now_ns) {
   const std::span<char> line = config_.report_line;
   if (line.size() < 128) return;
   if (have_map) {
-    const size_t length = FormatEpochLine(config_.self_id, map_ns, map, line);
+    const size_t length = FormatEpochLine(config_.self_id, map_ns, map, active, line);
     if (length > 0) {
       console_(line.data(), length, console_context_);
     } else {
@@ -194,7 +202,8 @@ void RobotImage::PrintStatus(int64_t now_ns) {
   const int length = std::snprintf(
       line, sizeof line,
       "status t_ms=%lu board=%s robot=%u/%u steps%s overruns=%lu sync=%s epoch=%u mode=%s phase=%s members=%u "
-      "sent=%lu heard=%lu link_rejected=%lu align_rounds=%lu shifts=%lu phase_error_us=%ld\n",
+      "sent=%lu heard=%lu link_rejected=%lu align_rounds=%lu shifts=%lu phase_error_us=%ld activation=%s "
+      "inactive=%lu\n",
       static_cast<unsigned long>(now_ns / 1'000'000), config_.board, static_cast<unsigned>(config_.self_id),
       static_cast<unsigned>(config_.swarm_size), steps, static_cast<unsigned long>(port_.total_overruns()),
       sync::ToString(state.status), static_cast<unsigned>(state.epoch), wire::ToString(state.epoch_mode),
@@ -203,7 +212,8 @@ void RobotImage::PrintStatus(int64_t now_ns) {
       static_cast<unsigned long>(decoder_.counters().rejected),
       static_cast<unsigned long>(robot_->alignment_stats().rounds_with_samples),
       static_cast<unsigned long>(robot_->counters().alignment_shifts),
-      static_cast<long>(robot_->alignment_stats().last_error_ns / 1000));
+      static_cast<long>(robot_->alignment_stats().last_error_ns / 1000), sync::ToString(config_.activation.model),
+      static_cast<unsigned long>(robot_->counters().inactive_epochs));
   if (length > 0) console_(line, static_cast<size_t>(length) < sizeof line ? length : sizeof line - 1, console_context_);
 }
 

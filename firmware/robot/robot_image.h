@@ -16,7 +16,9 @@
 //       (docs/firmware.md, "The emulated swarm"): "R ..." the robot's state
 //       each round, and "E ..." each epoch start with its LDMap, queued by
 //       the round task (the robot's observer) and printed here, so every
-//       console line comes from one level and none interleave.
+//       console line comes from one level and none interleave. The "E" line
+//       says whether the robot looked at that start (its activation
+//       schedule's decision, ImageConfig::activation).
 //
 // The sensor topics (IMU, flow, UWB) are advertised here; the board's
 // drivers publish on them (imu(), flow(), uwb()) or, with none wired, the
@@ -41,6 +43,7 @@
 #include "syrof/registry/tasks.h"
 #include "syrof/runtime/robot.h"
 #include "syrof/runtime/robot_observer.h"
+#include "syrof/sync/activation.h"
 #include "syrof/sync/ldmap.h"
 #include "syrof/wire/beacon.h"
 #include "syrof/wire/member_set.h"
@@ -93,6 +96,10 @@ struct ImageConfig {
   /// members, as in the lab (lab/sim robot_config). A robot in it starts as a
   /// joiner; the others start their first epoch without it.
   wire::MemberSet late_joiners{};
+  /// Which members move in each epoch (sync/activation.h), the same on every
+  /// robot of the swarm; its scripts must outlive the image (the mps2-an386
+  /// image reads it from its boot words, boot_words.h). FSYNC by default.
+  sync::ActivationConfig activation{};
   ImageExtension* extension = nullptr;  ///< not owned
 };
 
@@ -231,6 +238,10 @@ class RobotImage {
   // holds each start until it is printed.
   sync::LDMap pending_map_{};
   sync::LDMap report_map_{};
+  bool pending_active_ = true;
+  // The robot's inactive_epochs at the last epoch start: it grows at a start
+  // the robot did not look at.
+  uint32_t inactive_epochs_seen_ = 0;
   int64_t pending_ns_ = 0;
   uint32_t pending_sequence_ = 0;
   uint32_t printed_sequence_ = 0;

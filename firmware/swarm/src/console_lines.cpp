@@ -95,9 +95,10 @@ ConsoleLine ParseRound(std::string_view line, uint16_t swarm_size) {
 ConsoleLine ParseEpoch(std::string_view line, uint16_t swarm_size) {
   Fields fields(line);
   EpochLine epoch_line;
-  int64_t t = 0, robot = 0, epoch = 0, mode = 0;
+  int64_t t = 0, robot = 0, epoch = 0, mode = 0, active = 0;
   if (!fields.Integer("t_ms", 0, INT64_MAX / 1'000'000, t) || !fields.Integer("robot", 0, swarm_size - 1, robot) ||
-      !fields.Integer("epoch", 0, 65535, epoch) || !fields.Integer("mode", 0, 1, mode) || !fields.Key("members")) {
+      !fields.Integer("epoch", 0, 65535, epoch) || !fields.Integer("mode", 0, 1, mode) ||
+      !fields.Integer("active", 0, 1, active) || !fields.Key("members")) {
     return fields.error();
   }
   sync::LDMap& map = epoch_line.map;
@@ -147,6 +148,7 @@ ConsoleLine ParseEpoch(std::string_view line, uint16_t swarm_size) {
   }
   epoch_line.t_ms = t;
   epoch_line.robot = static_cast<uint16_t>(robot);
+  epoch_line.active = active == 1;
   return epoch_line;
 }
 

@@ -86,6 +86,7 @@ namespace swarm = syrof::firmware::swarm;
 int main(int argc, char** argv) {
   const swarm::Options parsed_options = swarm::ParseOptions(argc, argv);
   const syrof::lab::scenario::Scenario scenario = swarm::LoadScenario(parsed_options);
+  swarm::CheckBootLines(parsed_options, scenario);
   swarm::Options options = parsed_options;
   for (int i = 0; i < argc; ++i) options.command_line += (i == 0 ? "" : " ") + std::string(argv[i]);
   options.robots = static_cast<int>(scenario.robots.size());

@@ -94,6 +94,9 @@ std::string ToJson(const FirmwareMetrics& metrics) {
   }
   out << ",\n  \"faults\": ";
   WriteFaults(out, metrics.faults);
+  const ActivationFigures& activation = metrics.activation;
+  out << ",\n  \"activation\": {\"model\": \"" << activation.model << "\", \"starts\": " << activation.starts
+      << ", \"looked\": " << activation.looked << ", \"against_schedule\": " << activation.against_schedule << "}";
   out << "\n}\n";
   return out.str();
 }

@@ -16,6 +16,8 @@
 #include <cstring>
 
 #include "syrof/firmware/drivers/radio_link.h"
+#include "syrof/firmware/robot/boot_words.h"
+#include "syrof/lab/sim/robot_config.h"
 #include "syrof/process/fd.h"
 
 namespace syrof::firmware::swarm {
@@ -82,6 +84,59 @@ std::string LateJoinerWords(const lab::scenario::Scenario& scenario) {
   return words;
 }
 
+// The scenario's activation as the image's words (boot_words.h); exits 2
+// naming the field when its script is longer than the image holds.
+std::string ActivationWords(const lab::scenario::Scenario& scenario) {
+  const sync::ActivationConfig activation = lab::sim::ActivationConfigFor(scenario);
+  std::vector<char> text(16 * robot::kMaxBootLineBytes);
+  size_t length = 0;
+  switch (robot::FormatActivationWords(activation, text, length)) {
+    case robot::BootWordsError::kOk: return std::string(text.data(), length);
+    case robot::BootWordsError::kTooManyScripted:
+      Usage("--scenario: activation.active lists " + std::to_string(activation.script.size()) +
+            " (epoch, robot) pairs; the robot image holds at most " +
+            std::to_string(robot::kMaxBootScriptedActivations));
+    case robot::BootWordsError::kTooManyCycles:
+      Usage("--scenario: activation.cycles lists " + std::to_string(activation.cycles.size()) +
+            " cycles; the robot image holds at most " + std::to_string(robot::kMaxBootScriptedCycles));
+    case robot::BootWordsError::kRobotOutOfRange:
+    case robot::BootWordsError::kInvalid:
+    case robot::BootWordsError::kBufferTooSmall:
+      break;
+  }
+  Usage("--scenario: activation: the robot image cannot be told this schedule (docs/firmware.md, \"Activation\")");
+}
+
+}  // namespace
+
+std::string ImageAppend(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id) {
+  const auto robots = static_cast<uint16_t>(scenario.robots.size());
+  return "id " + std::to_string(id) + " swarm " + std::to_string(robots) + " hold 1 report 1 sensors 1 align " +
+         (options.align.value_or(true) ? "1" : "0") + StartPoseWords(scenario.robots[id]) + LateJoinerWords(scenario) +
+         ActivationWords(scenario);
+}
+
+void CheckBootLines(const Options& options, const lab::scenario::Scenario& scenario) {
+  const std::string activation = ActivationWords(scenario);
+  for (uint16_t id = 0; id < scenario.robots.size(); ++id) {
+    // qemu passes the image's path, a space and the -append text.
+    const std::string line = options.image + " " + ImageAppend(options, scenario, id);
+    size_t words = 0;
+    for (size_t i = 0; i < line.size(); ++i) {
+      if (line[i] != ' ' && (i == 0 || line[i - 1] == ' ')) ++words;
+    }
+    if (line.size() > robot::kMaxBootLineBytes || words > robot::kMaxBootLineWords) {
+      Usage("--scenario: robot " + std::to_string(id) + "'s boot line (the image's path and its -append words) takes " +
+            std::to_string(line.size()) + " bytes in " + std::to_string(words) +
+            " words; the robot image reads at most " + std::to_string(robot::kMaxBootLineBytes) + " bytes in " +
+            std::to_string(robot::kMaxBootLineWords) + " words (activation.active or activation.cycles takes " +
+            std::to_string(activation.size()) + " bytes of it; a shorter image path or script fits)");
+    }
+  }
+}
+
+namespace {
+
 // Starts robot `id`'s qemu with `hold 1`: the image sets itself up, prints
 // `held id=N` and waits for its Start frame (DoHostAction), which says how
 // long it runs; `paths` are its console, radio and sensor sockets (qemu
@@ -90,17 +145,13 @@ std::string LateJoinerWords(const lab::scenario::Scenario& scenario) {
 // a real-time host's guests run one priority below it (SetRealtime).
 process::Child LaunchQemu(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id,
                  const std::string& console_path, const std::string& radio_path, const std::string& sensor_path) {
-  const auto robots = static_cast<uint16_t>(scenario.robots.size());
   std::vector<std::string> args = {
       options.qemu, "-M", "mps2-an386", "-nographic", "-monitor", "none", "-semihosting-config",
       "enable=on,target=native",
       "-chardev", "socket,id=console,path=" + console_path, "-serial", "chardev:console",
       "-chardev", "socket,id=radio,path=" + radio_path, "-serial", "chardev:radio",
       "-chardev", "socket,id=sensor,path=" + sensor_path, "-serial", "chardev:sensor",
-      "-kernel", options.image, "-append",
-      "id " + std::to_string(id) + " swarm " + std::to_string(robots) +
-          " hold 1 report 1 sensors 1 align " + (*options.align ? "1" : "0") + StartPoseWords(scenario.robots[id]) +
-          LateJoinerWords(scenario)};
+      "-kernel", options.image, "-append", ImageAppend(options, scenario, id)};
   if (options.icount_shift >= 0) {
     args.push_back("-icount");
     args.push_back("shift=" + std::to_string(options.icount_shift));

@@ -16,6 +16,7 @@
 #include "syrof/firmware/swarm/world_grid.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/sensors/sensor_bank.h"
+#include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sim/run_parts.h"
 
 namespace syrof::firmware::swarm {
@@ -56,10 +57,14 @@ replay::Presence ReplayPresence(lab::sim::Lifecycle lifecycle, bool reporting) {
   return presence == replay::Presence::kRunning && !reporting ? replay::Presence::kAbsent : presence;
 }
 
-metrics::CollectorConfig SwarmCollectorConfig(uint16_t robots, int64_t period_ns) {
+// The activation as the robots run it (their boot words carry it,
+// qemu_launcher.cpp), so the metrics count active starts as the lab's do.
+metrics::CollectorConfig SwarmCollectorConfig(const lab::scenario::Scenario& scenario, uint16_t robots,
+                                              int64_t period_ns) {
   metrics::CollectorConfig config;
   config.robots = robots;
   config.radio_round_ns = period_ns;
+  config.activation = lab::sim::ActivationConfigFor(scenario);
   return config;
 }
 
@@ -72,7 +77,8 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
       swarm_(robots_),
       launcher_(options_, scenario_),
       fault_outcomes_(robots_),
-      recorder_(scenario_, SwarmCollectorConfig(robots_, period_ns_)),
+      recorder_(scenario_, SwarmCollectorConfig(scenario_, robots_, period_ns_)),
+      activation_check_(lab::sim::ActivationConfigFor(scenario_), robots_),
       world_(scenario_.arena, lab::sim::Bodies(scenario_)),
       frames_(robots_),
       next_round_ns_(period_ns_),
@@ -289,6 +295,7 @@ void SwarmHost::OnConsoleLine(uint16_t i, const std::string& line, int64_t now) 
 
 void SwarmHost::OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now) {
   recorder_.OnEpochStart(epoch_line.robot, round_, world_ns_, epoch_line.map);
+  activation_check_.OnEpochLine(epoch_line);
   fault_outcomes_.OnEpochLine(epoch_line, world_ns_);
   player_.events().push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line.robot, replay::kNoRobot,
                                            epoch_line.map.epoch, static_cast<uint8_t>(epoch_line.map.mode),

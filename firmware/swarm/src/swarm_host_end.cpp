@@ -35,6 +35,7 @@ int SwarmHost::Finish() {
   WriteBeacons(result);
   if (options_.expect_cooperative && !all_cooperative_s_) result.ok = false;
   if (result.metrics.common_knowledge.violations != 0) result.ok = false;
+  if (activation_check_.figures().against_schedule != 0) result.ok = false;
   FillReport(result);
   WriteReport(result);
   PrintSummary(result);
@@ -157,6 +158,7 @@ void SwarmHost::FillReport(RunResult& result) const {
   report.all_cooperative_s = all_cooperative_s_;
   report.p3_violations = run.common_knowledge.violations;
   report.cooperative_starts = run.common_knowledge.cooperative_starts;
+  report.activation = activation_check_.figures();
   report.beacons = channel_.counts();
   for (const Robot& robot : swarm_) {
     report.sensor_link.imu += robot.feed.counters().imu;
@@ -228,6 +230,16 @@ void SwarmHost::PrintSummary(const RunResult& result) const {
                 static_cast<long long>(stress_.world_stalls()), static_cast<long long>(channel_.stress_late_beacons()),
                 launcher_.cpu_quota() ? (", qemu at " + std::to_string(options_.stress.cpu_quota_permille) + " per mille of a core").c_str() : "",
                 static_cast<unsigned long long>(options_.stress.seed));
+  }
+  const swarm::ActivationFigures& activation = result.report.activation;
+  if (activation.model != "fsync" || activation.against_schedule != 0) {
+    std::printf("  activation %s: the robots looked at %lld of %lld epoch starts; %s\n", activation.model.c_str(),
+                static_cast<long long>(activation.looked), static_cast<long long>(activation.starts),
+                activation.against_schedule == 0
+                    ? "each as its schedule says"
+                    : ("FAILED: " + std::to_string(activation.against_schedule) + " against the schedule, first: " +
+                       activation.first_difference)
+                          .c_str());
   }
   for (uint16_t i = 0; i < robots_; ++i) {
     std::printf("  robot %u: exit %d, %s\n", static_cast<unsigned>(i), swarm_[i].exit_status,

@@ -10,7 +10,6 @@
 #include <string_view>
 
 #include "syrof/registry/tasks.h"
-#include "syrof/sync/activation.h"
 
 namespace syrof::firmware::swarm {
 
@@ -171,10 +170,8 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
   if (std::llround(scenario.timing.radio_round_s * 1e9) != syrof::registry::kDefaultRadioRoundNs) {
     Usage("--scenario: timing.radio_round_s must be 0.05 (the robot image's radio round)");
   }
-  if (scenario.activation.model != syrof::sync::ActivationModel::kFsync) {
-    Usage("--scenario: activation.model must be fsync (the robot image runs every robot in every epoch; "
-          "docs/activation.md)");
-  }
+  // Every model runs on the image: each robot reads the activation from its
+  // boot words (qemu_launcher.cpp, CheckBootLines bounds the script).
   for (const lab::scenario::RobotSpec& robot : scenario.robots) {
     if (robot.kind != lab::world::RobotKind::kOmni) Usage("--scenario: robot " + std::to_string(robot.id) + " is not omni; the robot image drives omni robots");
   }

@@ -60,13 +60,14 @@ TEST(ReportLinesTest, EpochLineOfThirtyTwoMembersReadsBackWithTheSameKnowledge) 
     ASSERT_EQ(snapshot.SetPayload(std::span<const uint8_t>(payload.data(), payload_length)), wire::WireError::kOk);
   }
   std::array<char, 2048> out{};  // the mps2-an386 image's buffer
-  const size_t length = FormatEpochLine(31, 7'000'000, map, out);
+  const size_t length = FormatEpochLine(31, 7'000'000, map, /*active=*/false, out);
   ASSERT_GT(length, 0u) << "a 32-member line must fit the image's buffer";
   const swarm::ConsoleLine line = swarm::ParseConsoleLine(std::string_view(out.data(), length - 1), kRobots);
   const auto* epoch = std::get_if<swarm::EpochLine>(&line);
   ASSERT_NE(epoch, nullptr) << std::get<swarm::LineError>(line).what;
   EXPECT_EQ(epoch->robot, 31);
   EXPECT_EQ(epoch->t_ms, 7);
+  EXPECT_FALSE(epoch->active);
   EXPECT_TRUE(epoch->map.SameKnowledge(map));
 }
 
@@ -74,7 +75,7 @@ TEST(ReportLinesTest, TooSmallABufferWritesNothing) {
   sync::LDMap map;
   map.members.set(0);
   std::array<char, 40> out{};
-  EXPECT_EQ(FormatEpochLine(0, 0, map, out), 0u);
+  EXPECT_EQ(FormatEpochLine(0, 0, map, true, out), 0u);
   EXPECT_EQ(FormatRoundLine(0, 0, sync::SyncState{}, false, 0, 0, 0, std::span<char>(out.data(), 10)), 0u);
 }
 

@@ -26,10 +26,11 @@ TEST(ConsoleLinesTest, RoundLineGivesTheRobotsState) {
 
 TEST(ConsoleLinesTest, EpochLineRebuildsTheMapSoSameKnowledgeCanCompareIt) {
   const ConsoleLine line =
-      ParseConsoleLine("E t_ms=450 robot=1 epoch=3 mode=0 members=0:100:-200:31:5:-6:;1:7:8:9:10:11:0aff", 4);
+      ParseConsoleLine("E t_ms=450 robot=1 epoch=3 mode=0 active=0 members=0:100:-200:31:5:-6:;1:7:8:9:10:11:0aff", 4);
   const auto* epoch = std::get_if<EpochLine>(&line);
   ASSERT_NE(epoch, nullptr);
   EXPECT_EQ(epoch->robot, 1);
+  EXPECT_FALSE(epoch->active);
   sync::LDMap expected;
   expected.epoch = 3;
   expected.mode = wire::Mode::kCooperative;
@@ -64,14 +65,19 @@ TEST(ConsoleLinesTest, GarbledLinesNameTheFieldAndColumn) {
   EXPECT_EQ(error.what, "expected ' lost='");
   error = error_of("R t_ms=5 robot=1 epoch=1 mode=0 phase=0 member=1 valid=1 x_mm=0 y_mm=0 lost=0 extra");
   EXPECT_EQ(error.what, "unexpected text after lost=");
-  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:2:3:4:5:;0:1:2:3:4:5:");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 active=1 members=0:1:2:3:4:5:;0:1:2:3:4:5:");
   EXPECT_EQ(error.what, "member 0 listed twice");
-  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:2:3:4:5:0g");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 active=1 members=0:1:2:3:4:5:0g");
   EXPECT_EQ(error.what, "payload: expected pairs of hex digits");
-  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:2:3:4:5:00112233445566778899");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 active=1 members=0:1:2:3:4:5:00112233445566778899");
   EXPECT_EQ(error.what, "payload: more than 9 bytes");
-  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:40000:3:4:5:");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 active=1 members=0:1:40000:3:4:5:");
   EXPECT_EQ(error.what, "y_mm: 40000 is outside [-32768, 32767]");
+  // The robot's own activation decision is part of the line.
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 members=0:1:2:3:4:5:");
+  EXPECT_EQ(error.what, "expected ' active='");
+  error = error_of("E t_ms=1 robot=0 epoch=3 mode=0 active=2 members=0:1:2:3:4:5:");
+  EXPECT_EQ(error.what, "active: 2 is outside [0, 1]");
 }
 
 }  // namespace

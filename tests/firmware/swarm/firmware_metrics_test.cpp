@@ -85,7 +85,8 @@ TEST(FirmwareMetricsTest, WritesTheLayoutTheHostWroteBeforeTheReportWasTyped) {
             "    {\"kind\": \"pause\", \"robot\": 2, \"at_s\": 3, \"ok\": true, \"done_s\": 12.450000, \"guest_gap_ms\": 3250, "
             "\"world_gap_ms\": 3320, \"rejoined_as_joiner\": true},\n"
             "    {\"kind\": \"crash\", \"robot\": 1, \"at_s\": 9.5, \"ok\": true, \"done_s\": 13.050000}\n"
-            "  ]\n"
+            "  ],\n"
+            "  \"activation\": {\"model\": \"fsync\", \"starts\": 0, \"looked\": 0, \"against_schedule\": 0}\n"
             "}\n");
 }
 
@@ -115,6 +116,7 @@ TEST(FirmwareMetricsTest, EveryFigureIsUnderItsKeyInOrder) {
   FaultOutcome pause = Outcome(HostAction::Kind::kStop, 4, 2'500'000'000, std::nullopt);
   pause.world_gap_ms = 37;
   metrics.faults.push_back(pause);
+  metrics.activation = ActivationFigures{"ssync", 38, 39, 40, "not written"};
 
   const Json json = Json::parse(ToJson(metrics));
 
@@ -123,7 +125,8 @@ TEST(FirmwareMetricsTest, EveryFigureIsUnderItsKeyInOrder) {
   EXPECT_EQ(keys, (std::vector<std::string>{"robots", "seconds", "loss", "seed", "align", "latency_ms", "timing",
                                             "wall_seconds", "all_cooperative_s", "p3_violations", "cooperative_starts",
                                             "round_start_skew_us", "beacons", "sensor_link", "scenario", "replay_rounds",
-                                            "estimation", "exit_statuses", "partitioned_beacons", "stress", "faults"}));
+                                            "estimation", "exit_statuses", "partitioned_beacons", "stress", "faults",
+                                            "activation"}));
   EXPECT_EQ(json["robots"], 5);
   EXPECT_EQ(json["seconds"], 6);
   EXPECT_EQ(json["loss"], 0.25);
@@ -150,6 +153,7 @@ TEST(FirmwareMetricsTest, EveryFigureIsUnderItsKeyInOrder) {
   EXPECT_EQ(json["faults"], Json::parse(R"([{"kind": "pause", "robot": 4, "at_s": 2.5, "ok": false, "done_s": null,
                                              "guest_gap_ms": null, "world_gap_ms": 37,
                                              "rejoined_as_joiner": false}])"));
+  EXPECT_EQ(json["activation"], Json::parse(R"({"model": "ssync", "starts": 38, "looked": 39, "against_schedule": 40})"));
 }
 
 TEST(FirmwareMetricsTest, WhatWasNotMeasuredIsNull) {

@@ -22,8 +22,11 @@ std::uint32_t semihosting_call(std::uint32_t operation, const void* argument) {
   return result;
 }
 
-constexpr int kMaxArguments = 32;
-constexpr int kCommandLineBytes = 512;
+// The robot image's boot line fits (firmware/robot's boot_words.h,
+// kMaxBootLineBytes and kMaxBootLineWords: the swarm host checks each
+// robot's line against them before it starts qemu).
+constexpr int kMaxArguments = 64;
+constexpr int kCommandLineBytes = 1024;
 
 }  // namespace
 
@@ -39,7 +42,12 @@ CommandLine& semihosting_command_line() {
     char* buffer;
     std::uint32_t length;
   } block{text, sizeof(text) - 1};
-  if (semihosting_call(kSysGetCmdline, &block) != 0) block.length = 0;
+  // qemu refuses a command line longer than the buffer: a run with none of
+  // its words would be another run, so it stops here.
+  if (semihosting_call(kSysGetCmdline, &block) != 0) {
+    semihosting_fatal("mps2-an386: the semihosting command line is longer than its buffer (bytes)",
+                      static_cast<std::uint32_t>(kCommandLineBytes - 1));
+  }
   text[block.length] = '\0';
 
   char* cursor = text;
@@ -48,6 +56,10 @@ CommandLine& semihosting_command_line() {
     if (*cursor == '\0') break;
     words[command_line.argc++] = cursor;
     while (*cursor != '\0' && *cursor != ' ') ++cursor;
+  }
+  while (*cursor == ' ') *cursor++ = '\0';
+  if (*cursor != '\0') {
+    semihosting_fatal("mps2-an386: the semihosting command line has more words than", kMaxArguments);
   }
   words[command_line.argc] = nullptr;
   return command_line;

@@ -3,9 +3,11 @@
 //
 //   R t_ms=T robot=I epoch=E mode=M phase=P member=0|1 valid=0|1 x_mm=X y_mm=Y lost=L
 //       the robot's state once a radio round, on its own clock T;
-//   E t_ms=T robot=I epoch=E mode=M members=ID:X:Y:H:VX:VY:PAYLOADHEX;...
-//       an epoch start with the LDMap newRound received (mode 0 COOPERATIVE,
-//       1 AUTONOMOUS; phases are not sent: SameKnowledge ignores them).
+//   E t_ms=T robot=I epoch=E mode=M active=0|1 members=ID:X:Y:H:VX:VY:PAYLOADHEX;...
+//       an epoch start with its LDMap (mode 0 COOPERATIVE, 1 AUTONOMOUS;
+//       phases are not sent: SameKnowledge ignores them); active 1 when the
+//       robot looked (newRound on this map), 0 when its activation schedule
+//       left it out (SSYNC) or a cycle was under way (ASYNC).
 //
 // The robot is untrusted input here (a bug, a garbled byte): a line that
 // does not parse gives an error naming the field and the column.
@@ -37,6 +39,7 @@ struct RoundLine {
 struct EpochLine {
   int64_t t_ms = 0;
   uint16_t robot = 0;
+  bool active = true;  ///< the robot looked at this start
   sync::LDMap map{};
 };
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/firmware/swarm/activation_check.h"
 #include "syrof/firmware/swarm/fault_outcomes.h"
 #include "syrof/lab/metrics/metrics.h"
 
@@ -73,6 +74,7 @@ struct FirmwareMetrics {
   int64_t partitioned_beacons = 0;
   std::optional<StressFigures> stress;  ///< unset without --stress
   std::vector<FaultOutcome> faults;     ///< one per crash, pause and join
+  ActivationFigures activation;         ///< activation_check.h
 };
 
 /// firmware-swarm.json: the keys in FirmwareMetrics' order, a trailing

@@ -61,6 +61,18 @@ class QemuLauncher {
   std::unique_ptr<lab::sim::CpuQuotaGroup> quota_;
 };
 
+/// Robot `id`'s -append text: its id, the swarm, `hold 1`, its start pose,
+/// the late joiners and the scenario's activation (boot_words.h). Exits 2
+/// (Usage) naming the field when the activation's script is longer than
+/// the image holds.
+std::string ImageAppend(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id);
+
+/// Exits 2 (Usage) naming the field when some robot's boot line (the
+/// image's path and ImageAppend) is longer than the image reads
+/// (boot_words.h, kMaxBootLineBytes and kMaxBootLineWords): qemu would
+/// refuse it, or the image stop on it.
+void CheckBootLines(const Options& options, const lab::scenario::Scenario& scenario);
+
 /// --realtime: this process at SCHED_FIFO, its qemu instances one priority
 /// below (qemu_launcher.cpp says why); says so and goes on at normal
 /// priority when it may not.

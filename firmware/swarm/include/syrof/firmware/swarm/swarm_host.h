@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/firmware/swarm/activation_check.h"
 #include "syrof/firmware/swarm/beacon_channel.h"
 #include "syrof/firmware/swarm/console_lines.h"
 #include "syrof/firmware/swarm/fault_outcomes.h"
@@ -112,6 +113,8 @@ class SwarmHost {
   swarm::FaultOutcomes fault_outcomes_;
   // The metrics, the goal checks and the replay, as every runtime records them.
   lab::sim::RoundRecorder recorder_;
+  // Whether each robot looked when its activation schedule says it does.
+  swarm::ActivationCheck activation_check_;
   // The world, on the host's clock from all_started_ns_.
   lab::world::World world_;
   int64_t world_ns_ = 0;       // the world's time, stepped in kPhysicsNs

@@ -1,0 +1,224 @@
+#include "syrof/firmware/robot/boot_words.h"
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+
+namespace syrof::firmware::robot {
+
+namespace {
+
+constexpr uint32_t kMaxMinMoveMm = 30000;
+constexpr uint16_t kMaskWidth = 32;
+
+// Writes into `out` after `used`; false once it no longer fits.
+class Writer {
+ public:
+  explicit Writer(std::span<char> out) : out_(out) {}
+  template <typename... Args>
+  bool Print(const char* format, Args... args) {
+    if (used_ >= out_.size()) return false;
+    const int written = std::snprintf(out_.data() + used_, out_.size() - used_, format, args...);
+    if (written < 0 || used_ + static_cast<size_t>(written) >= out_.size()) return false;
+    used_ += static_cast<size_t>(written);
+    return true;
+  }
+  size_t used() const { return used_; }
+
+ private:
+  std::span<char> out_;
+  size_t used_ = 0;
+};
+
+// Reads a whole number in `base` (10 or 16) from `text`, up to a character
+// that is no digit; advances `text` past it. False for no digit, or above `most`.
+bool Number(const char*& text, unsigned base, uint64_t most, uint64_t& value) {
+  value = 0;
+  const char* start = text;
+  for (;; ++text) {
+    unsigned digit = 0;
+    const char c = *text;
+    if (c >= '0' && c <= '9') {
+      digit = static_cast<unsigned>(c - '0');
+    } else if (base == 16 && c >= 'a' && c <= 'f') {
+      digit = static_cast<unsigned>(c - 'a' + 10);
+    } else {
+      break;
+    }
+    if (digit > most || value > (most - digit) / base) return false;
+    value = value * base + digit;
+  }
+  return text != start;
+}
+
+// The whole of `text` as one number.
+bool WholeNumber(const char* text, unsigned base, uint64_t most, uint64_t& value) {
+  return Number(text, base, most, value) && *text == '\0';
+}
+
+// A number followed by `separator`, which it skips.
+bool Field(const char*& text, unsigned base, uint64_t most, uint64_t& value, char separator) {
+  if (!Number(text, base, most, value)) return false;
+  if (*text != separator) return false;
+  ++text;
+  return true;
+}
+
+}  // namespace
+
+const char* ToString(BootWordsError error) {
+  switch (error) {
+    case BootWordsError::kOk: return "Ok";
+    case BootWordsError::kTooManyScripted: return "TooManyScripted";
+    case BootWordsError::kTooManyCycles: return "TooManyCycles";
+    case BootWordsError::kRobotOutOfRange: return "RobotOutOfRange";
+    case BootWordsError::kInvalid: return "Invalid";
+    case BootWordsError::kBufferTooSmall: return "BufferTooSmall";
+  }
+  return "?";
+}
+
+BootWordsError FormatActivationWords(const sync::ActivationConfig& config, std::span<char> out, size_t& length) {
+  length = 0;
+  if (!sync::IsValid(config)) return BootWordsError::kInvalid;
+  if (config.model == sync::ActivationModel::kFsync) {
+    if (!out.empty()) out[0] = '\0';
+    return out.empty() ? BootWordsError::kBufferTooSmall : BootWordsError::kOk;
+  }
+  if (config.script.size() > kMaxBootScriptedActivations) return BootWordsError::kTooManyScripted;
+  if (config.cycles.size() > kMaxBootScriptedCycles) return BootWordsError::kTooManyCycles;
+  Writer writer(out);
+  bool fits = writer.Print(" activation %s schedule %s seed %" PRIu64, sync::ToString(config.model),
+                           sync::ToString(config.schedule), config.seed);
+  if (config.model == sync::ActivationModel::kSsync) {
+    if (config.schedule == sync::ActivationSchedule::kRandom) {
+      fits = fits && writer.Print(" fair_within %u", static_cast<unsigned>(config.fair_within));
+    }
+    if (config.schedule == sync::ActivationSchedule::kScripted && !config.script.empty()) {
+      fits = fits && writer.Print(" active ");
+      // One E:MASK item per epoch (the script is sorted by epoch).
+      for (size_t i = 0; i < config.script.size() && fits;) {
+        const uint16_t epoch = config.script[i].epoch;
+        uint32_t mask = 0;
+        for (; i < config.script.size() && config.script[i].epoch == epoch; ++i) {
+          if (config.script[i].robot >= kMaskWidth) return BootWordsError::kRobotOutOfRange;
+          mask |= uint32_t{1} << config.script[i].robot;
+        }
+        fits = writer.Print("%u:%" PRIx32, static_cast<unsigned>(epoch), mask) &&
+               (i == config.script.size() || writer.Print(","));
+      }
+    }
+  } else {
+    if (config.min_move_mm > kMaxMinMoveMm) return BootWordsError::kInvalid;
+    fits = fits && writer.Print(" max_delay %u min_move_mm %" PRIu32, static_cast<unsigned>(config.max_delay_epochs),
+                                config.min_move_mm);
+    if (config.schedule == sync::ActivationSchedule::kScripted && !config.cycles.empty()) {
+      fits = fits && writer.Print(" cycles ");
+      for (size_t i = 0; i < config.cycles.size() && fits; ++i) {
+        const sync::ScriptedCycle& cycle = config.cycles[i];
+        if (cycle.robot >= kMaskWidth) return BootWordsError::kRobotOutOfRange;
+        fits = writer.Print("%s%u:%u:%u:%u:%u", i == 0 ? "" : ",", static_cast<unsigned>(cycle.epoch),
+                            static_cast<unsigned>(cycle.robot), static_cast<unsigned>(cycle.start_delay),
+                            static_cast<unsigned>(cycle.move_epochs), cycle.cut ? 1u : 0u);
+      }
+    }
+  }
+  if (!fits) return BootWordsError::kBufferTooSmall;
+  length = writer.used();
+  return BootWordsError::kOk;
+}
+
+BootWordRead BootActivation::Read(const char* key, const char* value) {
+  uint64_t number = 0;
+  if (std::strcmp(key, "activation") == 0) {
+    if (std::strcmp(value, "ssync") == 0) {
+      config_.model = sync::ActivationModel::kSsync;
+    } else if (std::strcmp(value, "async") == 0) {
+      config_.model = sync::ActivationModel::kAsync;
+    } else if (std::strcmp(value, "fsync") == 0) {
+      config_.model = sync::ActivationModel::kFsync;
+    } else {
+      return BootWordRead::kBadValue;
+    }
+  } else if (std::strcmp(key, "schedule") == 0) {
+    if (std::strcmp(value, "random") == 0) {
+      config_.schedule = sync::ActivationSchedule::kRandom;
+    } else if (std::strcmp(value, "round_robin") == 0) {
+      config_.schedule = sync::ActivationSchedule::kRoundRobin;
+    } else if (std::strcmp(value, "scripted") == 0) {
+      config_.schedule = sync::ActivationSchedule::kScripted;
+    } else {
+      return BootWordRead::kBadValue;
+    }
+  } else if (std::strcmp(key, "seed") == 0) {
+    if (!WholeNumber(value, 10, UINT64_MAX, number)) return BootWordRead::kBadValue;
+    config_.seed = number;
+  } else if (std::strcmp(key, "fair_within") == 0) {
+    if (!WholeNumber(value, 10, sync::kMaxFairWithinEpochs, number) || number < 1) return BootWordRead::kBadValue;
+    config_.fair_within = static_cast<uint16_t>(number);
+  } else if (std::strcmp(key, "max_delay") == 0) {
+    if (!WholeNumber(value, 10, sync::kMaxAsyncDelayEpochs, number) || number < 1) return BootWordRead::kBadValue;
+    config_.max_delay_epochs = static_cast<uint8_t>(number);
+  } else if (std::strcmp(key, "min_move_mm") == 0) {
+    if (!WholeNumber(value, 10, kMaxMinMoveMm, number)) return BootWordRead::kBadValue;
+    config_.min_move_mm = static_cast<uint32_t>(number);
+  } else if (std::strcmp(key, "active") == 0) {
+    script_size_ = 0;
+    uint64_t previous_epoch = 0;
+    for (const char* text = value; *text != '\0';) {
+      uint64_t epoch = 0, mask = 0;
+      if (!Field(text, 10, UINT16_MAX, epoch, ':') || !Number(text, 16, UINT32_MAX, mask) || mask == 0 ||
+          (script_size_ > 0 && epoch <= previous_epoch) || (*text != ',' && *text != '\0')) {
+        script_size_ = 0;
+        return BootWordRead::kBadValue;
+      }
+      if (*text == ',') {
+        ++text;
+        if (*text == '\0') return BootWordRead::kBadValue;
+      }
+      previous_epoch = epoch;
+      for (uint16_t robot = 0; robot < kMaskWidth; ++robot) {
+        if ((mask & (uint64_t{1} << robot)) == 0) continue;
+        if (script_size_ == script_.size()) {
+          script_size_ = 0;
+          return BootWordRead::kFull;
+        }
+        script_[script_size_++] = sync::ScriptedActivation{static_cast<uint16_t>(epoch), robot};
+      }
+    }
+  } else if (std::strcmp(key, "cycles") == 0) {
+    cycles_size_ = 0;
+    for (const char* text = value; *text != '\0';) {
+      uint64_t epoch = 0, robot = 0, delay = 0, move = 0, cut = 0;
+      if (!Field(text, 10, UINT16_MAX, epoch, ':') || !Field(text, 10, kMaskWidth - 1, robot, ':') ||
+          !Field(text, 10, sync::kMaxAsyncDelayEpochs, delay, ':') ||
+          !Field(text, 10, sync::kMaxAsyncDelayEpochs + 1, move, ':') || !Number(text, 10, 1, cut) ||
+          (*text != ',' && *text != '\0')) {
+        cycles_size_ = 0;
+        return BootWordRead::kBadValue;
+      }
+      if (*text == ',') {
+        ++text;
+        if (*text == '\0') return BootWordRead::kBadValue;
+      }
+      if (cycles_size_ == cycles_.size()) {
+        cycles_size_ = 0;
+        return BootWordRead::kFull;
+      }
+      cycles_[cycles_size_++] = sync::ScriptedCycle{static_cast<uint16_t>(epoch), static_cast<uint16_t>(robot),
+                                                    static_cast<uint8_t>(delay), static_cast<uint8_t>(move), cut == 1};
+    }
+  } else {
+    return BootWordRead::kNotMine;
+  }
+  return BootWordRead::kOk;
+}
+
+sync::ActivationConfig BootActivation::config() const {
+  sync::ActivationConfig config = config_;
+  config.script = std::span<const sync::ScriptedActivation>(script_.data(), script_size_);
+  config.cycles = std::span<const sync::ScriptedCycle>(cycles_.data(), cycles_size_);
+  return config;
+}
+
+}  // namespace syrof::firmware::robot

@@ -1,0 +1,192 @@
+// The activation model's boot words (firmware/robot boot_words.h): what
+// the swarm host writes on a robot's -append reads back on the image into
+// the same schedule, and what the image cannot hold is refused on both sides.
+#include "syrof/firmware/robot/boot_words.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace syrof::firmware::robot {
+namespace {
+
+// Splits `text` at spaces into (key, value) pairs and reads them as the image does.
+BootWordRead ReadAll(const std::string& text, BootActivation& boot) {
+  std::vector<std::string> words;
+  size_t start = 0;
+  while (start < text.size()) {
+    const size_t end = text.find(' ', start);
+    const std::string word = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (!word.empty()) words.push_back(word);
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  EXPECT_EQ(words.size() % 2, 0u) << text;
+  for (size_t i = 0; i + 1 < words.size(); i += 2) {
+    const BootWordRead read = boot.Read(words[i].c_str(), words[i + 1].c_str());
+    if (read != BootWordRead::kOk) return read;
+  }
+  return BootWordRead::kOk;
+}
+
+std::string Format(const sync::ActivationConfig& config) {
+  std::array<char, 4096> out{};
+  size_t length = 0;
+  EXPECT_EQ(FormatActivationWords(config, out, length), BootWordsError::kOk);
+  return std::string(out.data(), length);
+}
+
+// Every epoch and member set of a small swarm gets the same answer from both.
+void ExpectSameSchedule(const sync::ActivationConfig& a, const sync::ActivationConfig& b) {
+  ASSERT_TRUE(sync::IsValid(b));
+  EXPECT_EQ(a.model, b.model);
+  EXPECT_EQ(a.schedule, b.schedule);
+  EXPECT_EQ(a.seed, b.seed);
+  for (uint16_t epoch = 0; epoch < 40; ++epoch) {
+    for (uint32_t bits = 1; bits < 16; ++bits) {
+      wire::MemberSet members;
+      for (uint16_t id = 0; id < 4; ++id) {
+        if ((bits & (1u << id)) != 0) members.set(id);
+      }
+      for (uint16_t id = 0; id < 4; ++id) {
+        ASSERT_EQ(sync::IsActive(a, epoch, members, id), sync::IsActive(b, epoch, members, id))
+            << "epoch " << epoch << " members " << bits << " robot " << id;
+      }
+    }
+    for (uint16_t id = 0; id < 4; ++id) {
+      const sync::AsyncCycle ca = sync::CycleFor(a, epoch, id);
+      const sync::AsyncCycle cb = sync::CycleFor(b, epoch, id);
+      ASSERT_EQ(ca.start_delay, cb.start_delay);
+      ASSERT_EQ(ca.move_epochs, cb.move_epochs);
+      ASSERT_EQ(ca.cut, cb.cut);
+    }
+  }
+}
+
+TEST(BootWordsTest, FsyncWritesNoWordSoTheBootLineIsUnchanged) {
+  EXPECT_EQ(Format(sync::ActivationConfig{}), "");
+}
+
+TEST(BootWordsTest, SsyncRandomReadsBackWithItsSeedAndBound) {
+  sync::ActivationConfig config;
+  config.model = sync::ActivationModel::kSsync;
+  config.schedule = sync::ActivationSchedule::kRandom;
+  config.seed = 18'446'744'073'709'551'557ull;  // above 2^63: the whole 64 bits
+  config.fair_within = 3;
+  const std::string words = Format(config);
+  EXPECT_EQ(words, " activation ssync schedule random seed 18446744073709551557 fair_within 3");
+  BootActivation boot;
+  ASSERT_EQ(ReadAll(words, boot), BootWordRead::kOk);
+  EXPECT_EQ(boot.config().fair_within, 3);
+  ExpectSameSchedule(config, boot.config());
+}
+
+TEST(BootWordsTest, SsyncRoundRobinReadsBack) {
+  sync::ActivationConfig config;
+  config.model = sync::ActivationModel::kSsync;
+  config.schedule = sync::ActivationSchedule::kRoundRobin;
+  config.seed = 5;
+  BootActivation boot;
+  ASSERT_EQ(ReadAll(Format(config), boot), BootWordRead::kOk);
+  ExpectSameSchedule(config, boot.config());
+}
+
+TEST(BootWordsTest, SsyncScriptReadsBackAsOneMaskAnEpoch) {
+  const std::vector<sync::ScriptedActivation> script = {{2, 0}, {2, 3}, {3, 1}, {7, 0}, {7, 1}, {7, 2}, {31, 31}};
+  sync::ActivationConfig config;
+  config.model = sync::ActivationModel::kSsync;
+  config.schedule = sync::ActivationSchedule::kScripted;
+  config.seed = 1;
+  config.script = script;
+  const std::string words = Format(config);
+  EXPECT_EQ(words, " activation ssync schedule scripted seed 1 active 2:9,3:2,7:7,31:80000000");
+  BootActivation boot;
+  ASSERT_EQ(ReadAll(words, boot), BootWordRead::kOk);
+  const sync::ActivationConfig read = boot.config();
+  ASSERT_EQ(read.script.size(), script.size());
+  for (size_t i = 0; i < script.size(); ++i) {
+    EXPECT_EQ(read.script[i].epoch, script[i].epoch);
+    EXPECT_EQ(read.script[i].robot, script[i].robot);
+  }
+  ExpectSameSchedule(config, read);
+}
+
+TEST(BootWordsTest, AsyncRandomAndScriptedReadBack) {
+  sync::ActivationConfig config;
+  config.model = sync::ActivationModel::kAsync;
+  config.schedule = sync::ActivationSchedule::kRandom;
+  config.seed = 42;
+  config.max_delay_epochs = 2;
+  config.min_move_mm = 50;
+  BootActivation random;
+  ASSERT_EQ(ReadAll(Format(config), random), BootWordRead::kOk);
+  EXPECT_EQ(random.config().max_delay_epochs, 2);
+  EXPECT_EQ(random.config().min_move_mm, 50u);
+  ExpectSameSchedule(config, random.config());
+
+  const std::vector<sync::ScriptedCycle> cycles = {{1, 0, 2, 1, false}, {1, 3, 0, 3, true}, {4, 2, 1, 2, false}};
+  config.schedule = sync::ActivationSchedule::kScripted;
+  config.cycles = cycles;
+  const std::string words = Format(config);
+  EXPECT_NE(words.find(" cycles 1:0:2:1:0,1:3:0:3:1,4:2:1:2:0"), std::string::npos) << words;
+  BootActivation scripted;
+  ASSERT_EQ(ReadAll(words, scripted), BootWordRead::kOk);
+  ASSERT_EQ(scripted.config().cycles.size(), cycles.size());
+  EXPECT_TRUE(scripted.config().cycles[1].cut);
+  ExpectSameSchedule(config, scripted.config());
+}
+
+TEST(BootWordsTest, TheImageRefusesMalformedValues) {
+  const std::vector<std::pair<const char*, const char*>> bad = {
+      {"activation", "lsync"},   {"schedule", "roundrobin"}, {"seed", "-1"},
+      {"seed", "18446744073709551616"},                      {"fair_within", "0"},
+      {"fair_within", "65536"},  {"max_delay", "9"},         {"min_move_mm", "30001"},
+      {"active", "3:0"},         {"active", "3:1,3:2"},      {"active", "4:1,3:2"},
+      {"active", "3:1,"},        {"active", "3"},            {"active", "3:1x"},
+      {"active", "70000:1"},     {"cycles", "1:0:9:1:0"},    {"cycles", "1:32:0:1:0"},
+      {"cycles", "1:0:0:1:2"},   {"cycles", "1:0:0:1"},
+  };
+  for (const auto& [key, value] : bad) {
+    BootActivation boot;
+    EXPECT_EQ(boot.Read(key, value), BootWordRead::kBadValue) << key << " " << value;
+  }
+  BootActivation boot;
+  EXPECT_EQ(boot.Read("swarm", "4"), BootWordRead::kNotMine);
+}
+
+// A script longer than the image holds: the host refuses to write it, and
+// an image given one anyway says it is full rather than keep a part.
+TEST(BootWordsTest, AScriptLongerThanTheImageHoldsIsRefusedOnBothSides) {
+  std::vector<sync::ScriptedActivation> script;
+  for (uint16_t epoch = 1; script.size() <= kMaxBootScriptedActivations; ++epoch) {
+    for (uint16_t robot = 0; robot < 4; ++robot) script.push_back({epoch, robot});
+  }
+  sync::ActivationConfig config;
+  config.model = sync::ActivationModel::kSsync;
+  config.schedule = sync::ActivationSchedule::kScripted;
+  config.script = script;
+  std::array<char, 8192> out{};
+  size_t length = 0;
+  EXPECT_EQ(FormatActivationWords(config, out, length), BootWordsError::kTooManyScripted);
+  EXPECT_EQ(length, 0u);
+
+  std::string active;
+  for (size_t epoch = 1; epoch <= kMaxBootScriptedActivations / 4 + 1; ++epoch) {
+    active += (active.empty() ? "" : ",") + std::to_string(epoch) + ":f";
+  }
+  BootActivation boot;
+  EXPECT_EQ(boot.Read("active", active.c_str()), BootWordRead::kFull);
+  EXPECT_TRUE(boot.config().script.empty());
+
+  // A buffer too short for the words writes none.
+  config.script = std::span<const sync::ScriptedActivation>(script.data(), 8);
+  std::array<char, 40> small{};
+  EXPECT_EQ(FormatActivationWords(config, small, length), BootWordsError::kBufferTooSmall);
+  EXPECT_EQ(length, 0u);
+}
+
+}  // namespace
+}  // namespace syrof::firmware::robot
