@@ -5,7 +5,11 @@
 # robot), then `syrof compare`s them: the same epochs, started in the same
 # rounds and modes, with the same members (docs/firmware.md, "One start for
 # every robot"). `make test-firmware-swarm` runs it on
-# lab/scenarios/four_runtimes.yaml (loss, a join, a pause, a crash).
+# lab/scenarios/four_runtimes.yaml (loss, a join, a pause, a crash) and on
+# its SSYNC and ASYNC variants in tests/sim_dds/scenarios. Under those the
+# firmware run's own checks include that each robot looked exactly at the
+# epoch starts its schedule says (the epochs alone would agree with an
+# image that ignored its schedule).
 #
 #   firmware-agrees-with-lab.sh BUILD_DIR IMAGE SCENARIO OUT
 #
