@@ -5,16 +5,10 @@
 #include <fcntl.h>
 #include <linux/filter.h>
 #include <poll.h>
-#include <sched.h>
-#include <signal.h>
 #include <seccomp.h>
 #include <sys/mman.h>
-#include <sys/mount.h>
-#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
-#include <sys/statvfs.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -30,6 +24,7 @@
 #include "syrof/process/fd.h"
 #include "syrof/process/landlock.h"
 #include "syrof/process/spawn.h"
+#include "syrof/process/tmpfs_holder.h"
 #include "shared_text.h"
 
 namespace syrof::grader {
@@ -527,118 +522,24 @@ class Stage {
 
 // The bound on what a build writes in all: its work folder (the copy,
 // build/, tmp/; Landlock lets it write nowhere else) is a tmpfs of
-// `limit_bytes`, mounted over the stage's work/ in a mount namespace of its
-// own. A small process holds that namespace while the build runs (as root
-// it makes only the mount namespace; without root a user namespace mapping
-// the caller's own ids as well, which may mount a tmpfs); the build's
-// processes enter it (setns) before anything else, and the grader reaches
-// the folder through /proc/HOLDER/root. When the holder ends, the mount and
-// everything in it are gone. A tmpfs lives in memory (or swap): the bound is
-// also what a build may take of it. Nothing of it reaches the machine's
-// other mounts (the namespace's mounts are private).
+// `limit_bytes` (process::TmpfsHolder: mounted over the stage's work/ in a
+// mount namespace of its own, which the build's processes enter before
+// anything else; the grader reaches the folder through the holder's
+// /proc/PID/root). When the build is done, the mount and everything in it
+// are gone.
 class WorkMount {
  public:
-  WorkMount(const fs::path& work, uint64_t limit_bytes) : limit_bytes_(limit_bytes) {
-    int hold[2];
-    int report[2];
-    if (pipe2(hold, O_CLOEXEC) != 0) {
-      problem_ = std::string("cannot make a pipe: ") + std::strerror(errno);
-      return;
-    }
-    if (pipe2(report, O_CLOEXEC) != 0) {
-      problem_ = std::string("cannot make a pipe: ") + std::strerror(errno);
-      close(hold[0]);
-      close(hold[1]);
-      return;
-    }
-    const bool root = geteuid() == 0;
-    const process::CallerIdMaps id_maps = process::CallerIdMaps::OfCaller();
-    const std::string options = "size=" + std::to_string(limit_bytes) + ",nr_inodes=" +
-                                std::to_string(kWorkInodes) + ",mode=0700";
-    const pid_t pid = fork();
-    if (pid == 0) {
-      // Async-signal-safe from here (the grader may have threads).
-      prctl(PR_SET_PDEATHSIG, SIGKILL);
-      process::CloseAllBut(hold[0], report[1]);
-      int failed_step = 0;
-      if (root) {
-        if (unshare(CLONE_NEWNS) != 0) failed_step = 1;
-      } else if (unshare(CLONE_NEWUSER | CLONE_NEWNS) != 0) {
-        failed_step = 1;
-      } else if (!process::MapCallerIds(id_maps)) {
-        failed_step = 2;
-      }
-      if (failed_step == 0 && mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0) failed_step = 3;
-      if (failed_step == 0 &&
-          mount("syrof-build", work.c_str(), "tmpfs", MS_NOSUID | MS_NODEV, options.c_str()) != 0) {
-        failed_step = 4;
-      }
-      const int outcome[2] = {failed_step, failed_step == 0 ? 0 : errno};
-      (void)!write(report[1], outcome, sizeof outcome);
-      if (failed_step != 0) _exit(1);
-      char byte;
-      while (read(hold[0], &byte, 1) != 0 && errno == EINTR) {
-      }
-      _exit(0);
-    }
-    close(hold[0]);
-    close(report[1]);
-    hold_ = hold[1];
-    if (pid < 0) {
-      problem_ = std::string("cannot start its holder: ") + std::strerror(errno);
-      close(report[0]);
-      return;
-    }
-    holder_ = pid;
-    int outcome[2] = {-1, 0};
-    ssize_t got;
-    do {
-      got = read(report[0], outcome, sizeof outcome);
-    } while (got < 0 && errno == EINTR);
-    close(report[0]);
-    if (got != static_cast<ssize_t>(sizeof outcome) || outcome[0] != 0) {
-      static const char* const kSteps[] = {"its holder ended", "namespaces refused", "uid map refused",
-                                           "mounts not made private", "tmpfs mount refused"};
-      const int step = got == static_cast<ssize_t>(sizeof outcome) && outcome[0] > 0 && outcome[0] < 5 ? outcome[0] : 0;
-      problem_ = std::string(kSteps[step]) + (step != 0 ? std::string(": ") + std::strerror(outcome[1]) : "");
-      return;
-    }
-    const std::string proc = "/proc/" + std::to_string(pid);
-    mount_ns_ = open((proc + "/ns/mnt").c_str(), O_RDONLY | O_CLOEXEC);
-    if (!root) user_ns_ = open((proc + "/ns/user").c_str(), O_RDONLY | O_CLOEXEC);
-    view_ = fs::path(proc + "/root") / work.relative_path();
-    if (mount_ns_ < 0 || (!root && user_ns_ < 0)) {
-      problem_ = std::string("cannot open its namespaces: ") + std::strerror(errno);
-      return;
-    }
-    ok_ = true;
-  }
-  ~WorkMount() {
-    if (mount_ns_ >= 0) close(mount_ns_);
-    if (user_ns_ >= 0) close(user_ns_);
-    if (hold_ >= 0) close(hold_);  // the holder ends, and the tmpfs with it
-    if (holder_ > 0) {
-      int status = 0;
-      while (waitpid(holder_, &status, 0) < 0 && errno == EINTR) {
-      }
-    }
-  }
-  WorkMount(const WorkMount&) = delete;
-  WorkMount& operator=(const WorkMount&) = delete;
+  WorkMount(const fs::path& work, uint64_t limit_bytes) : holder_(work, limit_bytes, kWorkInodes) {}
 
-  bool ok() const { return ok_; }
-  const std::string& problem() const { return problem_; }
+  bool ok() const { return holder_.ok(); }
+  const std::string& problem() const { return holder_.problem(); }
   /// The work folder as the grader reaches it.
-  const fs::path& view() const { return view_; }
-  int user_ns() const { return user_ns_; }
-  int mount_ns() const { return mount_ns_; }
-  uint64_t limit_bytes() const { return limit_bytes_; }
+  const fs::path& view() const { return holder_.view(); }
+  int user_ns() const { return holder_.user_ns(); }
+  int mount_ns() const { return holder_.mount_ns(); }
+  uint64_t limit_bytes() const { return holder_.size_bytes(); }
   /// What the folder holds reached the bound (its bytes or its files).
-  bool Full() const {
-    struct statvfs status {};
-    if (statvfs(view_.c_str(), &status) != 0) return false;
-    return uint64_t{status.f_bavail} * status.f_frsize < kFullMarginBytes || status.f_favail == 0;
-  }
+  bool Full() const { return holder_.Full(kFullMarginBytes); }
 
  private:
   // Files and folders the work folder may hold (a tmpfs inode takes memory
@@ -646,14 +547,7 @@ class WorkMount {
   static constexpr uint64_t kWorkInodes = 32768;
   // Less room than this left: the build reached the bound.
   static constexpr uint64_t kFullMarginBytes = 64 << 10;
-  uint64_t limit_bytes_ = 0;
-  bool ok_ = false;
-  std::string problem_;
-  pid_t holder_ = -1;
-  int hold_ = -1;
-  int mount_ns_ = -1;
-  int user_ns_ = -1;
-  fs::path view_;
+  process::TmpfsHolder holder_;
 };
 
 // Copies the library `from` that the build made to `to`, as the grader's
