@@ -57,13 +57,23 @@ CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options) {
   command->add_option("--max-losses", options.max_losses, "Most beacons a pattern loses (F; required unless --activations)")
       ->check(CLI::Range(0, search::kMaxSearchLosses));
   command->add_option("--activations", options.activations,
-                      "Search activation schedules instead of losses: ssync (docs/activation.md)");
+                      "Search activation schedules instead of losses: ssync or async (docs/activation.md)");
   command->add_option("--max-inactive", options.max_inactive,
                       "With --activations: most robot-epochs a schedule leaves out (default: every schedule)")
       ->check(CLI::Range(1, search::kMaxSearchInactive));
   command->add_option("--fair-within", options.fair_within,
                       "With --activations: no robot left out of this many epochs in a row (default: no bound)")
       ->check(CLI::Range(1, search::kMaxSearchEpochs));
+  command->add_option("--max-deviations", options.max_deviations,
+                      "With --activations async: most cycles other than a one-epoch uncut move (default: every schedule)")
+      ->check(CLI::Range(1, search::kMaxSearchDeviations));
+  command->add_option("--max-delay", options.max_delay,
+                      "With --activations async: the delay bound D in epochs (default: the scenario's max_delay_epochs)")
+      ->check(CLI::Range(1, static_cast<int>(sync::kMaxAsyncDelayEpochs)));
+  command->add_option("--min-move", options.min_move_m,
+                      "With --activations async: cut moves once they covered this many metres; 0 rigid (default: the "
+                      "scenario's min_move_m)")
+      ->check(CLI::Range(0.0, 30.0));
   command->add_option("--epochs", options.epochs, "The losses (with --activations, the schedules) fall in the run's first E epochs (default 3)")
       ->check(CLI::Range(1, search::kMaxSearchEpochs));
   command->add_option("--jobs", options.jobs, "Runs side by side (default 1); the result does not depend on it")
@@ -89,16 +99,24 @@ std::string CheckSearchFlags(const SearchOptions& options) {
     if (options.max_losses < 0) return "--max-losses is required (or --activations ssync to search schedules)";
     if (options.max_inactive >= 0) return "--max-inactive applies to --activations only";
     if (options.fair_within > 0) return "--fair-within applies to --activations only";
+    if (options.max_deviations >= 0 || options.max_delay > 0 || options.min_move_m) {
+      return "--max-deviations, --max-delay and --min-move apply to --activations async only";
+    }
     return {};
   }
-  if (options.activations == "async") {
-    return "--activations async is not built yet: the schedule search runs SSYNC (docs/activation.md)";
-  }
-  if (options.activations != "ssync") {
-    return "--activations must be ssync, not '" + options.activations + "'";
+  if (options.activations != "ssync" && options.activations != "async") {
+    return "--activations must be ssync or async, not '" + options.activations + "'";
   }
   if (options.max_losses >= 0) {
     return "--max-losses and --activations do not combine yet: search losses or schedules, one at a time";
+  }
+  if (options.activations == "async") {
+    if (options.max_inactive >= 0) return "--max-inactive applies to --activations ssync only (async: --max-deviations)";
+    if (options.fair_within > 0) return "--fair-within applies to --activations ssync only";
+    return {};
+  }
+  if (options.max_deviations >= 0 || options.max_delay > 0 || options.min_move_m) {
+    return "--max-deviations, --max-delay and --min-move apply to --activations async only";
   }
   if (options.fair_within > options.epochs) {
     return fmt::format("--fair-within {} is more than the {} epochs searched (--epochs)", options.fair_within,
@@ -123,6 +141,14 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     return 2;
   }
   scenario::Scenario scenario = *loaded.scenario;
+  const bool async = options.activations == "async";
+  if (async && options.max_delay == 0 && scenario.activation.model != sync::ActivationModel::kAsync) {
+    fmt::print(err,
+               "syrof search: --activations async needs a delay bound: {}'s activation is {}, so give --max-delay D "
+               "(1 .. {} epochs), or search a scenario with activation.model async and its max_delay_epochs\n",
+               options.scenario_path, sync::ToString(scenario.activation.model), sync::kMaxAsyncDelayEpochs);
+    return 2;
+  }
   if (scenario.app.is_library()) {
     // As the counterexample's file names it (absolute, to run from any
     // folder), so that its rerun's metrics.json is the search's run's.
@@ -134,6 +160,12 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   search_options.activations = !options.activations.empty();
   if (options.max_inactive > 0) search_options.max_inactive = options.max_inactive;
   search_options.fair_within = options.fair_within;
+  if (async) {
+    search_options.activation_model = sync::ActivationModel::kAsync;
+    if (options.max_deviations > 0) search_options.max_deviations = options.max_deviations;
+    search_options.max_delay_epochs = options.max_delay;
+    search_options.min_move_m = options.min_move_m;
+  }
   search_options.epochs = options.epochs;
   search_options.jobs = options.jobs;
   search_options.time_limit_s = options.time_limit_s;
@@ -152,6 +184,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
                                         ? std::filesystem::path("out") / (scenario.name + "-search")
                                         : std::filesystem::path(options.out_dir);
   std::error_code error;
+  const bool dir_existed = std::filesystem::exists(dir, error);
   std::filesystem::create_directories(dir, error);
   if (error) {
     fmt::print(err, "syrof search: cannot create output folder {}: {}\n", dir.string(), error.message());
@@ -167,9 +200,20 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   if (search_options.apps.sandbox) {
     for (const std::string& note : *search_options.apps.sandbox) fmt::print(out, "  sandbox: {}\n", note);
   }
-  const char* unit = search_options.activations ? "inactive robot-epoch" : "lost beacon";
+  const char* unit = async ? "deviating cycle" : search_options.activations ? "inactive robot-epoch" : "lost beacon";
+  const char* units = async ? "deviating cycles" : search_options.activations ? "inactive robot-epochs" : "losses";
   const char* tried = search_options.activations ? "schedule" : "pattern";
-  if (search_options.activations) {
+  // The bounds the ASYNC search runs under, as it resolves them.
+  const bool scenario_async = scenario.activation.model == sync::ActivationModel::kAsync;
+  const int max_delay = options.max_delay > 0 ? options.max_delay : scenario.activation.max_delay_epochs;
+  const double min_move_m = options.min_move_m.value_or(scenario_async ? scenario.activation.min_move_m : 0.0);
+  if (async) {
+    fmt::print(out,
+               "  ASYNC schedules of the first {} epoch{}: start delays up to {} epoch{}, moves up to {} epochs{}; "
+               "fewest deviating cycles (other than a one-epoch uncut move) and earliest first\n",
+               options.epochs, options.epochs == 1 ? "" : "s", max_delay, max_delay == 1 ? "" : "s", max_delay + 1,
+               min_move_m > 0 ? fmt::format(", cut once they covered {} m", min_move_m) : std::string(", rigid"));
+  } else if (search_options.activations) {
     fmt::print(out, "  SSYNC schedules of the first {} epoch{}, fewest inactive robot-epochs and earliest first{}\n",
                options.epochs, options.epochs == 1 ? "" : "s",
                options.fair_within > 0 ? fmt::format("; no robot left out of {} epochs in a row", options.fair_within)
@@ -188,9 +232,18 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   if (search_options.progress) fmt::print(err, "\n");
   if (!result.error.empty()) {
     fmt::print(err, "syrof search: {}\n", result.error);
+    if (!dir_existed) std::filesystem::remove(dir, error);  // nothing written: only if still empty
     return 2;
   }
-  if (result.complete_losses >= 0 && search_options.activations) {
+  if (result.complete_losses >= 0 && async) {
+    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the run with every robot active), {} robot-epochs; {} "
+                    "schedules{}\n",
+               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
+               result.patterns_in_all,
+               options.max_deviations > 0 ? fmt::format(" of at most {} deviating cycle{}", options.max_deviations,
+                                                        options.max_deviations == 1 ? "" : "s")
+                                          : std::string());
+  } else if (result.complete_losses >= 0 && search_options.activations) {
     fmt::print(out, "  window: {} radio rounds ({} epoch{} of the run with every robot active), {} robot-epochs; {} "
                     "schedules{}\n",
                result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
@@ -212,8 +265,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
                  result.seconds, rate);
     }
     fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the {} fell in the first {} epoch{}\n",
-               result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s",
-               search_options.activations ? "inactive robot-epochs" : "losses", result.epochs_in_window,
+               result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s", units, result.epochs_in_window,
                result.epochs_in_window == 1 ? "" : "s");
     if (result.not_schedules > 0) {
       fmt::print(out, "  {} pattern{} left an epoch with no active robot{} and did not run\n", result.not_schedules,
@@ -236,12 +288,24 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   // The run the page shows: under the schedule found, whose left-out
   // robots it marks.
   const scenario::Scenario shown =
-      search_options.activations ? search::WithInactivations(scenario, found.window_epochs, found.inactive) : scenario;
+      async ? search::WithCycles(scenario, found.cycles, found.max_delay_epochs, found.min_move_m)
+      : search_options.activations ? search::WithInactivations(scenario, found.window_epochs, found.inactive)
+                                   : scenario;
   page_options.scenario = &shown;
   const std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
 
-  if (search_options.activations && found.inactive.empty()) {
+  if (search_options.activations && found.inactive.empty() && found.cycles.empty()) {
     fmt::print(out, "BROKEN with every robot active (FSYNC)\n");
+  } else if (async) {
+    fmt::print(out,
+               "BROKEN by a schedule with {} deviating cycle{} ([look epoch, robot, start_delay, move_epochs(, "
+               "cut)]):",
+               found.cycles.size(), found.cycles.size() == 1 ? "" : "s");
+    for (const sync::ScriptedCycle& cycle : found.cycles) {
+      fmt::print(out, " [{}, {}, {}, {}{}]", cycle.epoch, cycle.robot, cycle.start_delay, cycle.move_epochs,
+                 cycle.cut ? ", 1" : "");
+    }
+    fmt::print(out, "\n");
   } else if (search_options.activations) {
     fmt::print(out, "BROKEN by a schedule leaving {} robot-epoch{} out ([epoch: robot]):", found.inactive.size(),
                found.inactive.size() == 1 ? "" : "s");
@@ -261,8 +325,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   }
   PrintViolations(out, found.violations);
   fmt::print(out, "  after {} runs ({} distinct outcomes) in {:.1f} s; every {} of fewer {} passed\n", result.runs,
-             result.distinct_outcomes, result.seconds, tried,
-             search_options.activations ? "inactive robot-epochs" : "losses");
+             result.distinct_outcomes, result.seconds, tried, units);
   PrintPruning(out, result);
   fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),
              page_problem.empty() ? ", replay.html" : "");

@@ -31,9 +31,12 @@ struct SearchOptions {
   std::optional<uint64_t> seed;
   std::optional<double> duration_s;
   int max_losses = -1;             ///< required, unless activations
-  std::string activations;         ///< "ssync": search schedules instead of losses
+  std::string activations;         ///< "ssync" or "async": search schedules instead of losses
   int max_inactive = -1;           ///< -1: every schedule
   int fair_within = 0;             ///< 0: no bound
+  int max_deviations = -1;         ///< async: -1: every schedule
+  int max_delay = 0;               ///< async: 0: the scenario's max_delay_epochs
+  std::optional<double> min_move_m;  ///< async: none: the scenario's
   int epochs = 3;
   int jobs = 1;
   double time_limit_s = 0;         ///< 0: none

@@ -195,12 +195,99 @@ TEST(SearchCommandTest, TheScheduleSearchRefusesFlagsThatDoNotGoWithIt) {
     EXPECT_NE(outcome.err.find(words), std::string::npos) << outcome.err;
     EXPECT_FALSE(fs::exists(dir / "o")) << "nothing written";
   };
-  refused({"--activations", "async", "--out", (dir / "o").string()}, "async is not built yet");
-  refused({"--activations", "sometimes", "--out", (dir / "o").string()}, "must be ssync, not 'sometimes'");
+  refused({"--activations", "sometimes", "--out", (dir / "o").string()}, "must be ssync or async, not 'sometimes'");
   refused({"--activations", "ssync", "--max-losses", "1", "--out", (dir / "o").string()}, "do not combine");
   refused({"--max-losses", "1", "--fair-within", "2", "--out", (dir / "o").string()}, "--fair-within applies to --activations only");
   refused({"--activations", "ssync", "--fair-within", "5", "--epochs", "3", "--out", (dir / "o").string()},
           "--fair-within 5 is more than the 3 epochs searched");
+}
+
+// The ASYNC schedule search (docs/activation.md): the library counting its
+// turns passes the FSYNC run, and the first schedule with one deviating
+// cycle (robot 0's first move over two epochs, so it skips the second
+// look) breaks its agreement; the counterexample is a scripted ASYNC
+// schedule that `syrof run` reruns bit for bit, with its page.
+TEST(SearchCommandTest, TheAsyncScheduleSearchBreaksALibraryCountingItsTurnsAndItReruns) {
+  const fs::path dir = FreshDir("syrof_search_test_", "async");
+  const fs::path path = dir / "scenario.yaml";
+  fs::create_directories(dir);
+  std::ofstream(path) << "name: turns\nseed: 3\nrobots: { count: 3, spacing_m: 1.0 }\ntiming: { duration_s: 4 }\n"
+                      << "app: " << TestLib("counts_turns") << "\n";
+  const fs::path out = dir / "out";
+  const Outcome outcome =
+      RunSearch({path.string(), "--activations", "async", "--max-delay", "1", "--epochs", "3", "--out", out});
+  ASSERT_EQ(outcome.status, 1) << outcome.out << outcome.err;
+  EXPECT_NE(outcome.out.find("ASYNC schedules of the first 3 epochs: start delays up to 1 epoch, moves up to 2 "
+                             "epochs, rigid"),
+            std::string::npos)
+      << outcome.out;
+  // (1 + 3x + 3x (from the second look) ...) per robot over 3 epochs: 16^3.
+  EXPECT_NE(outcome.out.find("9 robot-epochs; 4096 schedules"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("BROKEN by a schedule with 1 deviating cycle ([look epoch, robot, start_delay, "
+                             "move_epochs(, cut)]): [1, 0, 0, 2]\n"),
+            std::string::npos)
+      << outcome.out;
+  EXPECT_NE(outcome.out.find("broken: agreement"), std::string::npos) << outcome.out;
+  const std::string yaml = ReadFile(out / "counterexample.yaml");
+  EXPECT_NE(yaml.find("model: async"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("max_delay_epochs: 1"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("[1, 0, 0, 2]"), std::string::npos) << yaml;
+  EXPECT_TRUE(fs::exists(out / "replay.html"));
+  ExpectRerunsBitForBit(dir, out);
+}
+
+// builtin:gather on lab/scenarios/gather_async.yaml (4 robots, delays up to
+// 2 epochs, cuts at 5 cm): every schedule of at most one deviating cycle
+// in its first 2 epochs, 1 + 8 looks x 17 choices = 137, none breaks it.
+TEST(SearchCommandTest, GatherSurvivesTheAsyncSchedulesOfItsOwnScenario) {
+  const fs::path dir = FreshDir("syrof_search_test_", "async_gather");
+  const Outcome outcome =
+      RunSearch({std::string(SYROF_SCENARIOS_DIR) + "/gather_async.yaml", "--activations", "async", "--epochs", "2",
+                 "--max-deviations", "1", "--jobs", "2", "--out", (dir / "out").string()});
+  EXPECT_EQ(outcome.status, 0) << outcome.out << outcome.err;
+  EXPECT_NE(outcome.out.find("start delays up to 2 epochs, moves up to 3 epochs, cut once they covered 0.05 m"),
+            std::string::npos)
+      << outcome.out;
+  EXPECT_NE(outcome.out.find("137 schedules of at most 1 deviating cycle\n"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("no schedule broke it: all 137 runs"), std::string::npos) << outcome.out;
+  EXPECT_FALSE(fs::exists(dir / "out" / "counterexample.yaml"));
+}
+
+TEST(SearchCommandTest, TheAsyncScheduleSearchRefusesBadInputAndWritesNothing) {
+  const fs::path dir = FreshDir("syrof_search_test_", "async_flags");
+  const std::string scenario = WriteSearchScenario(dir, "builtin:idle");
+  const auto refused = [&](const std::vector<std::string>& arguments, const std::string& words) {
+    std::vector<std::string> all{scenario};
+    all.insert(all.end(), arguments.begin(), arguments.end());
+    all.push_back("--out");
+    all.push_back((dir / "o").string());
+    const Outcome outcome = RunSearch(all);
+    EXPECT_EQ(outcome.status, 2) << outcome.out;
+    EXPECT_NE(outcome.err.find(words), std::string::npos) << outcome.err;
+    EXPECT_FALSE(fs::exists(dir / "o")) << "nothing written";
+  };
+  refused({"--activations", "async", "--max-delay", "1", "--max-losses", "1"}, "do not combine");
+  refused({"--activations", "async", "--max-delay", "1", "--fair-within", "2"},
+          "--fair-within applies to --activations ssync only");
+  refused({"--activations", "async", "--max-delay", "1", "--max-inactive", "2"}, "async: --max-deviations");
+  refused({"--activations", "ssync", "--max-delay", "1"}, "apply to --activations async only");
+  refused({"--max-losses", "1", "--min-move", "0.1"}, "apply to --activations async only");
+  // An FSYNC scenario has no delay bound of its own.
+  refused({"--activations", "async"}, "give --max-delay D");
+  refused({"--activations", "async", "--max-delay", "9"}, "--max-delay");
+  refused({"--activations", "async", "--max-delay", "1", "--max-deviations", "0"}, "--max-deviations");
+  refused({"--activations", "async", "--max-delay", "1", "--min-move", "-1"}, "--min-move");
+  // 3 robots over 1000 epochs: up to 3,000 looks, within the bound; 200
+  // robots over 21 epochs: 4,200, beyond it (refused before any run).
+  const fs::path crowd = dir / "crowd.yaml";
+  std::ofstream(crowd) << "robots: { count: 200, spacing_m: 0.5 }\narena: { width_m: 20, height_m: 20 }\n"
+                       << "timing: { duration_s: 4 }\napp: builtin:idle\n";
+  const Outcome crowded = RunSearch({crowd.string(), "--activations", "async", "--max-delay", "1", "--epochs", "21",
+                                     "--out", (dir / "o").string()});
+  EXPECT_EQ(crowded.status, 2) << crowded.out;
+  EXPECT_NE(crowded.err.find("up to 4200 robot-epochs"), std::string::npos) << crowded.err;
+  EXPECT_NE(crowded.err.find("--epochs"), std::string::npos) << crowded.err;
+  EXPECT_FALSE(fs::exists(dir / "o")) << "nothing written";
 }
 
 }  // namespace

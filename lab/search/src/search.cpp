@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -164,6 +165,10 @@ struct SearchSpace {
   std::vector<size_t> epoch_of;  // per inactivation slot: its index in `epochs`
   std::vector<WindowEpoch> epochs;
   int fair_within = 0;
+  // ASYNC: the patterns are cycle timings (AsyncSchedules), under these bounds.
+  bool async = false;
+  int max_delay_epochs = 0;
+  double min_move_m = 0;
 
   int64_t size() const { return static_cast<int64_t>(activations ? inactivations.size() : beacons.size()); }
   int64_t RoundOf(int64_t slot) const {
@@ -246,6 +251,66 @@ int64_t ScheduleCount(const std::vector<WindowEpoch>& epochs, int most) {
   return total;
 }
 
+// ASYNC: the schedules of exactly k deviating cycles in the window, in
+// search order (search.h). A robot looks at each epoch start of the window
+// it makes (a member of the epoch's row) unless its cycle still holds it;
+// the walk goes look by look in (epoch, robot) order, trying each
+// deviating choice before FSYNC's one-epoch cycle, so the patterns come
+// earliest deviation first. Each robot's looks follow its own cycles only.
+class AsyncSchedules {
+ public:
+  using Visit = std::function<bool(const std::vector<sync::ScriptedCycle>&)>;
+  AsyncSchedules(const std::vector<WindowEpoch>& epochs, std::vector<sync::AsyncCycle> choices)
+      : epochs_(epochs), choices_(std::move(choices)) {
+    uint16_t most = 0;
+    for (const WindowEpoch& epoch : epochs_) {
+      if (!epoch.members.empty()) most = std::max(most, epoch.members.back());
+    }
+    busy_.assign(static_cast<size_t>(most) + 1, 0);
+  }
+  // Calls `visit` with each schedule of exactly `k` deviating cycles (sorted
+  // by epoch, then robot); false when `visit` asked to stop.
+  bool ForEach(int k, const Visit& visit) {
+    visit_ = &visit;
+    cycles_.clear();
+    std::fill(busy_.begin(), busy_.end(), 0);
+    return Walk(0, 0, k);
+  }
+
+ private:
+  bool Walk(size_t epoch, size_t member, int left) {
+    if (left == 0) return (*visit_)(cycles_);  // every later look: FSYNC's cycle
+    while (epoch < epochs_.size() && member >= epochs_[epoch].members.size()) {
+      ++epoch;
+      member = 0;
+    }
+    if (epoch == epochs_.size()) return true;  // the window ended with deviations left to place
+    const uint16_t robot = epochs_[epoch].members[member];
+    int& busy = busy_[robot];
+    if (busy > 0) {  // inside a cycle: no look
+      --busy;
+      const bool go = Walk(epoch, member + 1, left);
+      ++busy;
+      return go;
+    }
+    for (const sync::AsyncCycle& choice : choices_) {
+      cycles_.push_back({epochs_[epoch].epoch, robot, choice.start_delay, choice.move_epochs, choice.cut});
+      busy = choice.start_delay + choice.move_epochs - 1;  // the epoch starts it holds after the look's
+      const bool go = Walk(epoch, member + 1, left - 1);
+      busy = 0;
+      cycles_.pop_back();
+      if (!go) return false;
+    }
+    return Walk(epoch, member + 1, left);  // FSYNC's cycle: the next epoch start looks again
+  }
+
+  const std::vector<WindowEpoch>& epochs_;
+  std::vector<sync::AsyncCycle> choices_;
+  std::vector<int> busy_;  // per robot id
+  std::vector<sync::ScriptedCycle> cycles_;
+  const Visit* visit_ = nullptr;
+};
+
 struct Outcome {
   std::vector<Violation> violations;
   metrics::Metrics metrics;
@@ -279,6 +344,7 @@ struct PatternRun {
   std::vector<int64_t> rounds;    // the slots' rounds
   std::vector<LostBeacon> lost;
   std::vector<Inactivation> inactive;
+  std::vector<sync::ScriptedCycle> cycles;  // ASYNC
   std::vector<Digest> prefixes;   // [c]: the fingerprint of its first c losses
   // Its state at the start of rounds 1, 2, ... while it had broken nothing;
   // it ends early when the run stopped at a state seen before.
@@ -302,6 +368,7 @@ int LossesBefore(const PatternRun& run, int64_t round) {
 
 // The scenario a pattern stands for.
 scenario::Scenario PatternScenario(const scenario::Scenario& scenario, const SearchSpace& space, const PatternRun& run) {
+  if (space.async) return WithCycles(scenario, run.cycles, space.max_delay_epochs, space.min_move_m);
   if (space.activations) return WithInactivations(scenario, space.epochs, run.inactive);
   return WithLosses(scenario, run.lost);
 }
@@ -359,6 +426,56 @@ void RunBatch(const scenario::Scenario& scenario, const SearchSpace& space, cons
   for (std::thread& thread : pool) thread.join();
 }
 
+// ASYNC: the patterns of 1 .. `most` deviating cycles in search order,
+// `jobs` at a time, up to the first that breaks the run (into `result`).
+void SearchCycles(const scenario::Scenario& scenario, const SearchSpace& space, const SearchOptions& options,
+                  int most, bool goal_declared, const std::function<double()>& elapsed_s,
+                  std::unordered_set<size_t>& outcome_hashes, SearchResult& result) {
+  AsyncSchedules schedules(space.epochs, AsyncChoices(space.max_delay_epochs, space.min_move_m > 0));
+  const size_t batch_size = static_cast<size_t>(options.jobs) * 8;
+  for (int deviations = 1; deviations <= most; ++deviations) {
+    std::vector<PatternRun> batch;
+    // Runs the batch; false once a run broke (counted in search order, as
+    // the loss search counts, so the figures do not depend on --jobs).
+    auto flush = [&] {
+      std::vector<PatternRun*> running;
+      for (PatternRun& run : batch) running.push_back(&run);
+      RunBatch(scenario, space, options, running, goal_declared, nullptr);
+      for (PatternRun& run : batch) {
+        ++result.runs;
+        outcome_hashes.insert(run.outcome.metrics_hash);
+        result.distinct_outcomes = static_cast<int64_t>(outcome_hashes.size());
+        if (run.outcome.violations.empty()) continue;
+        Counterexample found;
+        found.cycles = std::move(run.cycles);
+        found.window_epochs = space.epochs;
+        found.max_delay_epochs = space.max_delay_epochs;
+        found.min_move_m = space.min_move_m;
+        found.violations = std::move(run.outcome.violations);
+        found.metrics = std::move(run.outcome.metrics);
+        result.counterexample = std::move(found);
+        return false;
+      }
+      batch.clear();
+      if (options.progress) options.progress(result.runs, deviations);
+      return true;
+    };
+    bool go = schedules.ForEach(deviations, [&](const std::vector<sync::ScriptedCycle>& cycles) {
+      if (batch.empty() && options.time_limit_s > 0 && elapsed_s() >= options.time_limit_s) {
+        result.stopped_by_time = true;
+        return false;
+      }
+      PatternRun run;
+      run.cycles = cycles;
+      batch.push_back(std::move(run));
+      return batch.size() < batch_size || flush();
+    });
+    if (go && !batch.empty()) go = flush();
+    if (!go) return;
+    result.complete_losses = deviations;
+  }
+}
+
 // The scenario file again, its channel scripted to lose `lost` (its cuts,
 // partitions and links kept), with the command line's overrides written in
 // and a library's path made absolute, so the file runs from any folder.
@@ -368,8 +485,30 @@ void RunBatch(const scenario::Scenario& scenario, const SearchSpace& space, cons
 YAML::Node ActivationNode(const Counterexample& found) {
   YAML::Node activation(YAML::NodeType::Map);
   activation.SetStyle(YAML::EmitterStyle::Block);
-  if (found.inactive.empty()) {
+  if (found.inactive.empty() && found.cycles.empty()) {
     activation["model"] = "fsync";
+    return activation;
+  }
+  if (!found.cycles.empty()) {  // the scenario WithCycles gives
+    const scenario::ActivationSpec spec =
+        WithCycles({}, found.cycles, found.max_delay_epochs, found.min_move_m).activation;
+    activation["model"] = "async";
+    activation["schedule"] = "scripted";
+    activation["max_delay_epochs"] = static_cast<int>(spec.max_delay_epochs);
+    // The shortest text that reads back as the same double.
+    if (spec.min_move_m > 0) activation["min_move_m"] = fmt::format("{}", spec.min_move_m);
+    YAML::Node list(YAML::NodeType::Sequence);
+    for (const sync::ScriptedCycle& cycle : spec.cycles) {
+      YAML::Node row(YAML::NodeType::Sequence);
+      row.SetStyle(YAML::EmitterStyle::Flow);
+      row.push_back(cycle.epoch);
+      row.push_back(cycle.robot);
+      row.push_back(static_cast<int>(cycle.start_delay));
+      row.push_back(static_cast<int>(cycle.move_epochs));
+      if (cycle.cut) row.push_back(1);
+      list.push_back(row);
+    }
+    activation["cycles"] = list;
     return activation;
   }
   activation["model"] = "ssync";
@@ -432,6 +571,12 @@ std::string CounterexampleText(const scenario::Scenario& resolved, const Counter
   }
   YAML::Emitter emitter;
   emitter << root;
+  if (activations && !found.cycles.empty()) {
+    return fmt::format(
+        "# syrof search --activations async: {} with {} deviating cycle{} (activation.cycles: [look epoch, robot, "
+        "start_delay, move_epochs(, cut)]; a look not listed: a one-epoch uncut move)\n{}\n",
+        source.scenario_path, found.cycles.size(), found.cycles.size() == 1 ? "" : "s", emitter.c_str());
+  }
   if (activations) {
     return fmt::format(
         "# syrof search --activations: {} with {} inactive robot-epoch{} (activation.active: [epoch, [the robots "
@@ -557,6 +702,82 @@ scenario::Scenario WithInactivations(const scenario::Scenario& base, std::span<c
   return result;
 }
 
+scenario::Scenario WithCycles(const scenario::Scenario& base, std::span<const sync::ScriptedCycle> cycles,
+                              int max_delay_epochs, double min_move_m) {
+  scenario::Scenario result = base;
+  result.activation = scenario::ActivationSpec{};
+  if (cycles.empty()) return result;  // FSYNC: every look a one-epoch move
+  result.activation.model = sync::ActivationModel::kAsync;
+  result.activation.schedule = sync::ActivationSchedule::kScripted;
+  result.activation.max_delay_epochs = static_cast<uint8_t>(max_delay_epochs);
+  result.activation.min_move_m = min_move_m;
+  result.activation.cycles.assign(cycles.begin(), cycles.end());
+  std::sort(result.activation.cycles.begin(), result.activation.cycles.end(),
+            [](const sync::ScriptedCycle& a, const sync::ScriptedCycle& b) {
+              return a.epoch != b.epoch ? a.epoch < b.epoch : a.robot < b.robot;
+            });
+  return result;
+}
+
+std::vector<sync::AsyncCycle> AsyncChoices(int max_delay_epochs, bool cuts) {
+  std::vector<sync::AsyncCycle> choices;
+  for (int length = 1; length <= 2 * max_delay_epochs + 1; ++length) {
+    for (int delay = 0; delay <= max_delay_epochs; ++delay) {
+      const int move = length - delay;
+      if (move < 1 || move > max_delay_epochs + 1) continue;
+      for (const bool cut : {false, true}) {
+        if (cut && !cuts) continue;
+        if (delay == 0 && move == 1 && !cut) continue;  // FSYNC's cycle
+        choices.push_back({static_cast<uint8_t>(delay), static_cast<uint8_t>(move), cut});
+      }
+    }
+  }
+  return choices;
+}
+
+int64_t AsyncScheduleCount(const std::vector<WindowEpoch>& epochs, int max_delay_epochs, bool cuts, int most) {
+  constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
+  auto add = [&](int64_t a, int64_t b) { return a > kMax - b ? kMax : a + b; };
+  auto times = [&](int64_t a, int64_t b) {
+    if (a == 0 || b == 0) return int64_t{0};
+    return a > kMax / b ? kMax : a * b;
+  };
+  const std::vector<sync::AsyncCycle> choices = AsyncChoices(max_delay_epochs, cuts);
+  using Polynomial = std::vector<int64_t>;  // [k]: schedules with k deviating cycles
+  auto multiply = [&](const Polynomial& a, const Polynomial& b) {
+    Polynomial product(static_cast<size_t>(most) + 1, 0);
+    for (size_t i = 0; i < a.size(); ++i) {
+      for (size_t j = 0; i + j < product.size(); ++j) product[i + j] = add(product[i + j], times(a[i], b[j]));
+    }
+    return product;
+  };
+  std::map<uint16_t, int64_t> starts;  // per robot: the window's epoch starts it makes
+  for (const WindowEpoch& epoch : epochs) {
+    for (const uint16_t robot : epoch.members) ++starts[robot];
+  }
+  Polynomial total(static_cast<size_t>(most) + 1, 0);
+  total[0] = 1;
+  for (const auto& [robot, count] : starts) {
+    // after[i]: the schedules of the robot's starts from its i-th on, when
+    // it looks at the i-th (1 once past the window).
+    std::vector<Polynomial> after(static_cast<size_t>(count) + 1, Polynomial(total.size(), 0));
+    after[static_cast<size_t>(count)][0] = 1;
+    for (int64_t i = count - 1; i >= 0; --i) {
+      Polynomial& here = after[static_cast<size_t>(i)];
+      here = after[static_cast<size_t>(i) + 1];
+      for (const sync::AsyncCycle& choice : choices) {
+        const int64_t next = std::min<int64_t>(count, i + choice.start_delay + choice.move_epochs);
+        const Polynomial& rest = after[static_cast<size_t>(next)];
+        for (size_t k = 0; k + 1 < here.size(); ++k) here[k + 1] = add(here[k + 1], rest[k]);
+      }
+    }
+    total = multiply(total, after[0]);
+  }
+  int64_t sum = 0;
+  for (const int64_t count : total) sum = add(sum, count);
+  return sum;
+}
+
 int64_t PatternCount(int64_t slots, int losses) {
   constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
   int64_t total = 0;
@@ -583,6 +804,29 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   auto elapsed_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
   const bool goal_declared = !scenario.goal.empty();
   SearchResult result;
+  // ASYNC: the bounds a cycle is chosen under, the command's or the scenario's.
+  const bool async = options.activations && options.activation_model == sync::ActivationModel::kAsync;
+  const bool scenario_async = scenario.activation.model == sync::ActivationModel::kAsync;
+  int max_delay_epochs = options.max_delay_epochs;
+  if (max_delay_epochs == 0 && scenario_async) max_delay_epochs = scenario.activation.max_delay_epochs;
+  const double min_move_m = options.min_move_m.value_or(scenario_async ? scenario.activation.min_move_m : 0.0);
+  if (async && (max_delay_epochs < 1 || max_delay_epochs > sync::kMaxAsyncDelayEpochs)) {
+    result.error = fmt::format(
+        "an ASYNC search needs a delay bound of 1 .. {} epochs (the scenario's activation.max_delay_epochs under "
+        "model async, or --max-delay), got {}",
+        sync::kMaxAsyncDelayEpochs, max_delay_epochs);
+    return result;
+  }
+  // The window's looks, at most every robot in every epoch (checked before
+  // any run, so that a search too large costs nothing).
+  if (const int64_t most = static_cast<int64_t>(scenario.robots.size()) * options.epochs;
+      async && most > kMaxAsyncSearchLooks) {
+    result.error = fmt::format(
+        "the first {} epochs of {} robots hold up to {} robot-epochs, more looks than an ASYNC search walks (at most "
+        "{}): search fewer epochs (--epochs) or a smaller swarm",
+        options.epochs, scenario.robots.size(), most, kMaxAsyncSearchLooks);
+    return result;
+  }
   // The search chooses every loss itself; a link that loses some beacons at
   // random would make a pattern's outcome the seed's as much as the search's.
   for (const world::LinkLossSpec& link : scenario.channel.links) {
@@ -620,7 +864,17 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   space.activations = options.activations;
   space.fair_within = options.fair_within;
   int most_in_pattern = options.max_losses;
-  if (options.activations) {
+  if (async) {
+    space.epochs = window.rows;
+    space.async = true;
+    space.max_delay_epochs = max_delay_epochs;
+    space.min_move_m = min_move_m;
+    int64_t looks = 0;  // the robot-epochs of the window: the most looks a schedule makes
+    for (const WindowEpoch& epoch : space.epochs) looks += static_cast<int64_t>(epoch.members.size());
+    most_in_pattern = static_cast<int>(std::min<int64_t>(options.max_deviations, looks));
+    result.patterns_in_all = AsyncScheduleCount(space.epochs, max_delay_epochs, min_move_m > 0, most_in_pattern);
+    result.slots = looks;
+  } else if (options.activations) {
     space.epochs = window.rows;
     space.inactivations = InactivationSlots(space.epochs, space.epoch_of);
     // Each epoch keeps one member active.
@@ -636,7 +890,7 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
     return result;
   }
   if (!options.activations) space.beacons = SlotsOf(scenario, window.rounds);
-  result.slots = space.size();
+  if (!async) result.slots = space.size();
 
   // Pruning (search.h): a table per round start of the states seen there,
   // and, for patterns shorter than the longest, the round at which each was
@@ -723,7 +977,10 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   const size_t batch_size = static_cast<size_t>(options.jobs) * 8;
   std::unordered_set<size_t> outcome_hashes{std::hash<std::string>{}(baseline.metrics_json)};
   result.distinct_outcomes = 1;
-  for (int losses = 1; losses <= most_in_pattern; ++losses) {
+  if (async) {
+    SearchCycles(scenario, space, options, most_in_pattern, goal_declared, elapsed_s, outcome_hashes, result);
+  }
+  for (int losses = 1; !async && losses <= most_in_pattern; ++losses) {
     const bool remember = prune && losses < most_in_pattern;
     Patterns patterns(result.slots, losses);
     while (!patterns.done()) {

@@ -400,5 +400,141 @@ TEST(ActivationSearchTest, TheBuiltInMovingAppsSurviveEveryScheduleOfThreeRobots
   }
 }
 
+// The ASYNC schedule search (docs/activation.md, "The schedule search"):
+// cycle timings instead of inactive robot-epochs.
+SearchOptions AsyncOptions(std::function<std::unique_ptr<app::App>(uint16_t)> factory, int epochs, int jobs) {
+  SearchOptions options = ActivationOptions(std::move(factory), epochs, jobs);
+  options.activation_model = sync::ActivationModel::kAsync;
+  options.max_delay_epochs = 1;
+  return options;
+}
+
+bool SameCycle(const sync::ScriptedCycle& a, const sync::ScriptedCycle& b) {
+  return a.epoch == b.epoch && a.robot == b.robot && a.start_delay == b.start_delay &&
+         a.move_epochs == b.move_epochs && a.cut == b.cut;
+}
+
+// A robot whose first move lasts two epochs skips its look of the second:
+// it counts one turn fewer than the others when it looks again. The first
+// schedule of one deviating cycle (the first look of the lowest id, the
+// shortest cycle) breaks the agreement; the FSYNC run does not.
+TEST(AsyncSearchTest, FindsTheSmallestEarliestScheduleThatBreaksAnAppCountingItsTurns) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  for (const int jobs : {1, 2}) {
+    const SearchResult result = Search(scenario, AsyncOptions(TurnCounting, 3, jobs));
+    ASSERT_TRUE(result.error.empty()) << result.error;
+    ASSERT_TRUE(result.counterexample.has_value()) << result.runs << " runs";
+    const Counterexample& found = *result.counterexample;
+    EXPECT_TRUE(found.inactive.empty());
+    ASSERT_EQ(found.cycles.size(), 1u);
+    ASSERT_FALSE(found.window_epochs.empty());
+    const sync::ScriptedCycle expected{found.window_epochs[0].epoch, found.window_epochs[0].members[0], 0, 2, false};
+    EXPECT_TRUE(SameCycle(found.cycles[0], expected))
+        << found.cycles[0].epoch << " " << found.cycles[0].robot << " " << int{found.cycles[0].start_delay} << " "
+        << int{found.cycles[0].move_epochs};
+    EXPECT_EQ(found.max_delay_epochs, 1);
+    EXPECT_EQ(result.complete_losses, 0);
+    EXPECT_EQ(result.runs, 2);  // the FSYNC run, then the first schedule
+    EXPECT_EQ(result.slots, 9);  // 3 robots, 3 epochs
+    ASSERT_FALSE(found.violations.empty());
+    EXPECT_EQ(found.violations.front().property, "agreement");
+  }
+}
+
+TEST(AsyncSearchTest, TheCounterexampleReplaysAsAScriptedAsyncSchedule) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  const SearchOptions options = AsyncOptions(TurnCounting, 3, 1);
+  const SearchResult result = Search(scenario, options);
+  ASSERT_TRUE(result.counterexample.has_value());
+  const Counterexample& found = *result.counterexample;
+  const scenario::Scenario again = WithCycles(scenario, found.cycles, found.max_delay_epochs, found.min_move_m);
+  EXPECT_EQ(again.activation.model, sync::ActivationModel::kAsync);
+  EXPECT_EQ(again.activation.schedule, sync::ActivationSchedule::kScripted);
+  EXPECT_EQ(again.activation.max_delay_epochs, 1);
+  ASSERT_EQ(again.activation.cycles.size(), 1u);
+  sim::SimulationOptions sim_options;
+  sim_options.apps.factory = options.apps.factory;
+  sim_options.apps.source = options.apps.source;
+  EXPECT_EQ(sim::Run(again, sim_options, 0).metrics_json, metrics::ToJson(found.metrics));
+  const sim::RunReport fsync = sim::Run(WithCycles(scenario, {}, 1, 0), sim_options, 0);
+  EXPECT_TRUE(ViolationsOf(fsync.metrics, false).empty());
+}
+
+// The counts, by hand. One robot over 2 epochs, D = 1, rigid: the cycles
+// other than FSYNC's are (0, 2), (1, 1) (2 epochs each) and (1, 2) (3); a
+// deviating first look holds the second epoch, so the robot has 1 + 3 + 3
+// = 7 schedules (the FSYNC one, a deviating first look, a deviating second
+// look), one of them with no deviation and none with two: 3 robots,
+// (1 + 6x)^3 = 1 + 18x + 108x^2 + 216x^3, 343 in all (19 with at most one
+// deviation, 127 with at most two). With cuts (min_move_m > 0) there are 7
+// choices, (0, 1, cut) of 1 epoch, four of 2, two of 3: from the second
+// look on 1 + 7x, from the first (1 + 7x) + x ((1 + 7x) + 6) = 1 + 14x +
+// 7x^2 (FSYNC's first cycle; a cut one-epoch one, then any second; one of
+// 2 epochs or more), 22 a robot, 22^3 = 10,648.
+TEST(AsyncSearchTest, ScheduleCountsMatchTheHandCount) {
+  std::vector<WindowEpoch> two{{1, 0, {0, 1, 2}}, {2, 20, {0, 1, 2}}};
+  EXPECT_EQ(AsyncChoices(1, false).size(), 3u);
+  EXPECT_EQ(AsyncChoices(1, true).size(), 7u);
+  EXPECT_EQ(AsyncChoices(2, true).size(), 17u);  // 3 delays x 3 moves x 2 - 1
+  EXPECT_EQ(AsyncScheduleCount(two, 1, false, 6), 343);
+  EXPECT_EQ(AsyncScheduleCount(two, 1, false, 1), 19);
+  EXPECT_EQ(AsyncScheduleCount(two, 1, false, 2), 127);
+  EXPECT_EQ(AsyncScheduleCount(two, 1, true, 6), 10648);
+  const std::vector<WindowEpoch> one{{1, 0, {0, 1, 2}}};
+  EXPECT_EQ(AsyncScheduleCount(one, 2, true, 6), 18 * 18 * 18);
+  // The shortest first: a cut one-epoch move, then (0, 2), (0, 2, cut), (1, 1), ...
+  const std::vector<sync::AsyncCycle> choices = AsyncChoices(1, true);
+  EXPECT_TRUE(choices[0].cut && choices[0].start_delay == 0 && choices[0].move_epochs == 1);
+  EXPECT_TRUE(!choices[1].cut && choices[1].start_delay == 0 && choices[1].move_epochs == 2);
+  EXPECT_TRUE(choices[6].cut && choices[6].start_delay == 1 && choices[6].move_epochs == 2);
+}
+
+// Every schedule of 3 robots over 2 epochs, D = 1 rigid: the 343 counted
+// above, each run once; an app following the epoch survives them.
+TEST(AsyncSearchTest, AnAppFollowingTheEpochSurvivesEveryScheduleOfThreeRobotsOverTwoEpochs) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  const SearchResult result = Search(scenario, AsyncOptions(EpochFollowing, 2, 2));
+  ASSERT_TRUE(result.error.empty()) << result.error;
+  EXPECT_FALSE(result.counterexample.has_value()) << result.counterexample->violations.front().detail;
+  EXPECT_EQ(result.slots, 6);
+  EXPECT_EQ(result.patterns_in_all, 343);
+  EXPECT_EQ(result.runs, 343);
+  EXPECT_EQ(result.complete_losses, 6);
+  EXPECT_EQ(result.skipped + result.stopped_early + result.round_starts, 0);  // nothing pruned
+}
+
+// Non-rigid moves add the cut; a deviation bound stops the search early:
+// one epoch, at most one deviating cycle, 1 + 3 robots x 7 choices.
+TEST(AsyncSearchTest, CutsAreChoicesWhereMovesAreNonRigid) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  SearchOptions options = AsyncOptions(EpochFollowing, 1, 1);
+  options.max_deviations = 1;
+  options.min_move_m = 0.05;
+  const SearchResult result = Search(scenario, options);
+  ASSERT_TRUE(result.error.empty()) << result.error;
+  EXPECT_FALSE(result.counterexample.has_value());
+  EXPECT_EQ(result.patterns_in_all, 22);
+  EXPECT_EQ(result.runs, 22);
+  options.min_move_m = 0;  // rigid: 1 + 3 x 3
+  EXPECT_EQ(Search(scenario, options).runs, 10);
+}
+
+// The bound comes from the options or an ASYNC scenario; without either
+// the search does not start.
+TEST(AsyncSearchTest, ADelayBoundIsNeeded) {
+  const scenario::Scenario scenario = LoadText(kThreeClean);
+  SearchOptions options = AsyncOptions(EpochFollowing, 1, 1);
+  options.max_delay_epochs = 0;
+  const SearchResult refused = Search(scenario, options);
+  EXPECT_NE(refused.error.find("delay bound"), std::string::npos) << refused.error;
+  EXPECT_EQ(refused.runs, 0);
+  const scenario::Scenario async = LoadText(std::string(kThreeClean) +
+                                            "activation: {model: async, schedule: random, max_delay_epochs: 2}\n");
+  options.max_deviations = 1;
+  const SearchResult result = Search(async, options);
+  ASSERT_TRUE(result.error.empty()) << result.error;
+  EXPECT_EQ(result.runs, 1 + 3 * 8);  // D = 2, rigid: 3 x 3 - 1 choices
+}
+
 }  // namespace
 }  // namespace syrof::lab::search

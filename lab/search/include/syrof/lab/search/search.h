@@ -41,6 +41,20 @@
 // in which robots were called in which epoch, so no two ever meet in a
 // state; every schedule runs to its end.
 //
+// Under ASYNC (activation_model kAsync) a pattern times robots' cycles
+// instead: each look a robot makes in the window (the first epoch start
+// after its previous cycle) gets a cycle, sync::AsyncCycle{start_delay
+// 0..D, move_epochs 1..D+1, cut where min_move_m > 0}, and a *deviating
+// cycle* is any but FSYNC's (a one-epoch uncut move). Which looks a robot
+// makes depends on its earlier cycles, so the patterns are walked as a
+// tree: look by look in (epoch, robot) order, each deviating choice before
+// leaving the look at FSYNC's. The fewest deviating cycles first, and among
+// as many the earliest first (then the shortest cycle: AsyncChoices'
+// order). Looks after the window (and unlisted ones) are one-epoch moves.
+// Nothing is pruned, for the same reason as under SSYNC: two schedules
+// call the apps at other epochs (and a robot's pending move is in its
+// state), so no two meet in a state.
+//
 // Usage:
 //   SearchOptions options{.max_losses = 2, .epochs = 4, .jobs = 2};
 //   SearchResult result = Search(scenario, options);
@@ -61,6 +75,7 @@
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/world/channel.h"
+#include "syrof/sync/activation.h"
 
 namespace syrof::lab::search {
 
@@ -76,6 +91,10 @@ inline constexpr int64_t kMaxSearchSlots = 1'000'000;
 
 /// Most inactive robot-epochs an activation search's pattern may hold.
 inline constexpr int kMaxSearchInactive = 64;
+/// Most deviating cycles an ASYNC schedule may hold.
+inline constexpr int kMaxSearchDeviations = 64;
+/// Most looks (robot-epochs of the window) an ASYNC search walks.
+inline constexpr int64_t kMaxAsyncSearchLooks = 4096;
 
 struct SearchOptions {
   int max_losses = 1;         ///< 0 .. kMaxSearchLosses (not with `activations`)
@@ -86,6 +105,17 @@ struct SearchOptions {
   /// Activation search: no robot inactive in this many epochs of the window
   /// in a row (1 .. kMaxSearchEpochs); 0: no bound.
   int fair_within = 0;
+  /// Activation search: the model searched, kSsync (the schedules above) or
+  /// kAsync (cycle timings, above); kFsync is not a search.
+  sync::ActivationModel activation_model = sync::ActivationModel::kSsync;
+  /// ASYNC: most deviating cycles a schedule holds (1 .. kMaxSearchDeviations).
+  int max_deviations = kMaxSearchDeviations;
+  /// ASYNC: the delay bound D (1 .. sync::kMaxAsyncDelayEpochs); 0: the
+  /// scenario's activation.max_delay_epochs, which must then be ASYNC's.
+  int max_delay_epochs = 0;
+  /// ASYNC: moves may be cut once they covered this (non-rigid); none: the
+  /// scenario's min_move_m under ASYNC, else 0 (rigid, no cuts).
+  std::optional<double> min_move_m;
   int epochs = 3;             ///< 1 .. kMaxSearchEpochs: the losses fall in the first this many epochs
   int jobs = 1;               ///< 1 .. kMaxSearchJobs: runs side by side (the result does not depend on it)
   double time_limit_s = 0;    ///< stop after this much wall time; 0: no limit
@@ -139,13 +169,19 @@ struct Counterexample {
   std::vector<WindowEpoch> window_epochs;
   std::vector<Violation> violations;
   metrics::Metrics metrics;
+  /// ASYNC search: the deviating cycles (sorted by epoch, then robot) and
+  /// the bounds they were chosen under (for WithCycles).
+  std::vector<sync::ScriptedCycle> cycles{};
+  int max_delay_epochs = 0;
+  double min_move_m = 0;
 };
 
 struct SearchResult {
-  int64_t slots = 0;              ///< beacons a pattern may lose (round, sender, receiver), or robot-epochs it may leave out
+  int64_t slots = 0;              ///< beacons a pattern may lose (round, sender, receiver), or robot-epochs it may leave out (ASYNC: may look in)
   /// Activation search: the schedules of up to max_inactive inactive
   /// robot-epochs the window holds (without the fairness bound; capped at
-  /// INT64_MAX), the loss search's PatternCount.
+  /// INT64_MAX), the loss search's PatternCount. ASYNC: of up to
+  /// max_deviations deviating cycles (AsyncScheduleCount).
   int64_t patterns_in_all = 0;
   /// Activation search: patterns of the sizes tried that are no schedule
   /// (an epoch with no active member, or unfair), not run and not in `runs`.
@@ -172,13 +208,15 @@ struct SearchResult {
   int64_t pruning_checked = 0;
   int64_t pruning_mismatches = 0;
   std::string first_mismatch;     ///< the first such pattern, described
-  /// Every pattern of up to this many losses (inactive robot-epochs) was
-  /// run (-1: not even the loss-free one).
+  /// Every pattern of up to this many losses (inactive robot-epochs,
+  /// deviating cycles) was run (-1: not even the loss-free one).
   int complete_losses = -1;
   bool stopped_by_time = false;   ///< the time limit ended the search
   double seconds = 0;             ///< wall time
   /// Set when the search could not start: the window holds more than
-  /// kMaxSearchSlots slots (the message says how many and what to shrink).
+  /// kMaxSearchSlots slots, or (ASYNC) more than kMaxAsyncSearchLooks
+  /// robot-epochs, or no delay bound was given (the message says how many
+  /// and what to change).
   std::string error;
   /// The first pattern in search order that broke the run; none if no
   /// pattern within the budget did. A loss-free run that breaks is one, with
@@ -196,6 +234,23 @@ scenario::Scenario WithLosses(const scenario::Scenario& base, std::span<const wo
 /// for. Its channel is kept.
 scenario::Scenario WithInactivations(const scenario::Scenario& base, std::span<const WindowEpoch> epochs,
                                      std::span<const Inactivation> inactive);
+
+/// The scenario under ASYNC with a scripted schedule timing exactly
+/// `cycles` (every other look a one-epoch uncut move), delays up to
+/// `max_delay_epochs`, cuts at `min_move_m`: the run an ASYNC pattern
+/// stands for. No cycle: FSYNC. Its channel is kept.
+scenario::Scenario WithCycles(const scenario::Scenario& base, std::span<const sync::ScriptedCycle> cycles,
+                              int max_delay_epochs, double min_move_m);
+
+/// ASYNC: the cycles a look may get other than FSYNC's, in search order:
+/// the shortest (start_delay + move_epochs) first, then the smaller delay,
+/// then uncut before cut; cuts only when `cuts`.
+std::vector<sync::AsyncCycle> AsyncChoices(int max_delay_epochs, bool cuts);
+
+/// ASYNC: how many schedules of up to `most` deviating cycles the window's
+/// `epochs` hold (each robot's looks follow its own cycles), capped at
+/// INT64_MAX.
+int64_t AsyncScheduleCount(const std::vector<WindowEpoch>& epochs, int max_delay_epochs, bool cuts, int most);
 
 /// Runs the search. The options must be in range (the command checks them).
 SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& options);
