@@ -10,12 +10,14 @@
 // pair of lost beacons in the first epoch, the same ways; and every pair in
 // 6 epochs at 3 robots with pruning, and what it takes without (--full
 // runs that too: about 9 minutes); and every SSYNC schedule of 3 robots
-// (PrintSchedules). Wall-clock figures: they move with the
+// (PrintSchedules), and every ASYNC one of 3 robots over 3 epochs with
+// delays up to 1 (and, with --full, over 2 with cuts). Wall-clock figures: they move with the
 // machine's load. "ended" counts the runs that ran to their end; the others
 // stopped at a state seen before or were skipped without running.
 //
-// Usage: bench_search [--full | --schedules]   (--schedules: only the
-// schedule search, over 4 and 6 epochs)
+// Usage: bench_search [--full | --schedules | --async]   (--schedules: only
+// the schedule search, SSYNC over 4 and 6 epochs, ASYNC rigid and cut;
+// --async: only the ASYNC rows)
 #include <fmt/format.h>
 
 #include <sys/resource.h>
@@ -93,6 +95,35 @@ double CpuSeconds() {
          static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
 }
 
+// ASYNC (docs/activation.md, "Under ASYNC"): every timing of the cycles
+// that start in gather3.yaml's first epochs, delays up to 1 epoch: rigid
+// over 3 epochs (16^3 = 4,096 schedules), and with `cuts` moves cut at 5 cm
+// over 2 epochs (22^3 = 10,648).
+void PrintAsyncSchedules(const lab::scenario::Scenario& scenario, bool cuts) {
+  fmt::print("\nEvery ASYNC schedule of gather3.yaml, delays up to 1 epoch (3 robots, builtin:gather, 2 jobs; wall "
+             "clock):\n");
+  fmt::print("  {:>6} {:>9} {:>10} {:>10} {:>10} {:>12} {:>14}\n", "epochs", "moves", "schedules", "seconds", "CPU s",
+             "schedules/s", "CPU ms/schedule");
+  for (const auto& [epochs, min_move_m] : {std::pair{3, 0.0}, std::pair{2, 0.05}}) {
+    if (min_move_m > 0 && !cuts) break;
+    lab::search::SearchOptions options;
+    options.activations = true;
+    options.activation_model = sync::ActivationModel::kAsync;
+    options.max_delay_epochs = 1;
+    options.min_move_m = min_move_m;
+    options.epochs = epochs;
+    options.jobs = 2;
+    const double cpu_before = CpuSeconds();
+    const lab::search::SearchResult result = lab::search::Search(scenario, options);
+    const double cpu = CpuSeconds() - cpu_before;
+    const double async_rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
+    fmt::print("  {:>6} {:>9} {:>10} {:>10.1f} {:>10.1f} {:>12.0f} {:>14.2f}{}\n", epochs,
+               min_move_m > 0 ? "cut 5 cm" : "rigid", result.runs, result.seconds, cpu, async_rate,
+               result.runs > 0 ? 1000.0 * cpu / static_cast<double>(result.runs) : 0.0,
+               result.counterexample ? "  (stopped at a counterexample)" : "");
+  }
+}
+
 void PrintSchedules(bool full) {
   const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(SYROF_GATHER3_SCENARIO);
   if (!loaded.ok()) {
@@ -120,6 +151,7 @@ void PrintSchedules(bool full) {
   if (!full && rate > 0) {
     fmt::print("  6 epochs (117,649 schedules) at that rate: {:.1f} min (--full runs it)\n", 117649.0 / rate / 60.0);
   }
+  PrintAsyncSchedules(*loaded.scenario, full);
 }
 
 }  // namespace
@@ -138,6 +170,15 @@ void PrintRow(Way way, int robots, int jobs, bool prune, const lab::search::Sear
 
 int main(int argc, char** argv) {
   const bool full = argc > 1 && std::strcmp(argv[1], "--full") == 0;
+  if (argc > 1 && std::strcmp(argv[1], "--async") == 0) {
+    const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(SYROF_GATHER3_SCENARIO);
+    if (!loaded.ok()) {
+      fmt::print(stderr, "bench_search: {}\n", loaded.error->ToString());
+      return 1;
+    }
+    PrintAsyncSchedules(*loaded.scenario, /*cuts=*/true);  // the ASYNC rows alone
+    return 0;
+  }
   if (argc > 1 && std::strcmp(argv[1], "--schedules") == 0) {
     PrintSchedules(/*full=*/true);  // the schedule search alone, 4 and 6 epochs
     return 0;
