@@ -503,6 +503,27 @@ TEST(AsyncSearchTest, AnAppFollowingTheEpochSurvivesEveryScheduleOfThreeRobotsOv
   EXPECT_EQ(result.skipped + result.stopped_early + result.round_starts, 0);  // nothing pruned
 }
 
+// Each schedule the walk lists is a run of its own: every cycle it names
+// falls on a look the robot makes (else two schedules would run alike).
+// builtin:gather on gather3.yaml's swarm moves in every epoch, so its
+// metrics.json tells every two of the 343 schedules of 2 epochs apart; and
+// it survives them.
+TEST(AsyncSearchTest, EveryScheduleIsARunOfItsOwnAndGatherSurvivesThem) {
+  const scenario::Scenario scenario = LoadText(
+      "seed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: 8}\napp: builtin:gather\n");
+  SearchOptions options;
+  options.activations = true;
+  options.activation_model = sync::ActivationModel::kAsync;
+  options.max_delay_epochs = 1;
+  options.epochs = 2;
+  options.jobs = 2;
+  const SearchResult result = Search(scenario, options);
+  ASSERT_TRUE(result.error.empty()) << result.error;
+  EXPECT_FALSE(result.counterexample.has_value()) << result.counterexample->violations.front().detail;
+  EXPECT_EQ(result.runs, 343);
+  EXPECT_EQ(result.distinct_outcomes, 343);
+}
+
 // Non-rigid moves add the cut; a deviation bound stops the search early:
 // one epoch, at most one deviating cycle, 1 + 3 robots x 7 choices.
 TEST(AsyncSearchTest, CutsAreChoicesWhereMovesAreNonRigid) {
