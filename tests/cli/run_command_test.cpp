@@ -426,20 +426,22 @@ TEST(AppsCommandTest, ListsEveryBuiltinApp) {
 }
 
 // Each says which activation models it was searched under
-// (docs/activation.md, "Which apps survive SSYNC").
+// (docs/activation.md, "Which apps survive which model").
 TEST(AppsCommandTest, SaysWhichModelsEachBuiltinSurvives) {
   std::ostringstream out;
   ASSERT_EQ(RunAppsCommand(AppsOptions{}, out), 0);
   EXPECT_NE(out.str().find("builtin:gather         pack around the centre of the first smallest enclosing circle\n"
-                           "    models: FSYNC; SSYNC (every schedule of 3 robots over 6 epochs survived: 117,649)"),
+                           "    models: FSYNC\n"
+                           "            SSYNC: survived every schedule of 3 robots over 6 epochs (117,649)\n"
+                           "            ASYNC: survived every schedule of 3 robots with delays up to 1 epoch over 3 "
+                           "epochs (4,096), and with moves cut at 5 cm over 2 epochs (10,648)\n"),
             std::string::npos)
       << out.str();
-  size_t lines = 0;
-  for (size_t at = out.str().find("    models: FSYNC; SSYNC"); at != std::string::npos;
-       at = out.str().find("    models: FSYNC; SSYNC", at + 1)) {
-    ++lines;
+  for (const char* model : {"    models: FSYNC\n", "            SSYNC: survived", "            ASYNC: survived"}) {
+    size_t lines = 0;
+    for (size_t at = out.str().find(model); at != std::string::npos; at = out.str().find(model, at + 1)) ++lines;
+    EXPECT_EQ(lines, 4u) << model;
   }
-  EXPECT_EQ(lines, 4u);
 }
 
 // The installed command itself: exit status 2 for a usage error.

@@ -505,23 +505,26 @@ TEST(AsyncSearchTest, AnAppFollowingTheEpochSurvivesEveryScheduleOfThreeRobotsOv
 
 // Each schedule the walk lists is a run of its own: every cycle it names
 // falls on a look the robot makes (else two schedules would run alike).
-// builtin:gather on gather3.yaml's swarm moves in every epoch, so its
-// metrics.json tells every two of the 343 schedules of 2 epochs apart; and
-// it survives them.
-TEST(AsyncSearchTest, EveryScheduleIsARunOfItsOwnAndGatherSurvivesThem) {
-  const scenario::Scenario scenario = LoadText(
-      "seed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: 8}\napp: builtin:gather\n");
-  SearchOptions options;
-  options.activations = true;
-  options.activation_model = sync::ActivationModel::kAsync;
-  options.max_delay_epochs = 1;
-  options.epochs = 2;
-  options.jobs = 2;
-  const SearchResult result = Search(scenario, options);
-  ASSERT_TRUE(result.error.empty()) << result.error;
-  EXPECT_FALSE(result.counterexample.has_value()) << result.counterexample->violations.front().detail;
-  EXPECT_EQ(result.runs, 343);
-  EXPECT_EQ(result.distinct_outcomes, 343);
+// The built-in moving apps on gather3.yaml's swarm move in every epoch, so
+// their metrics.json tells every two of the 343 schedules of 2 epochs
+// apart; and they survive them (`syrof apps` gives the longer searches).
+TEST(AsyncSearchTest, EveryScheduleIsARunOfItsOwnAndTheBuiltInMovingAppsSurviveThem) {
+  for (const char* app : {"gather", "circle", "leader_follow"}) {
+    const scenario::Scenario scenario = LoadText(
+        std::string("seed: 5\nrobots: {count: 3, placement: circle, radius_m: 0.8}\ntiming: {duration_s: 8}\napp: builtin:") +
+        app + "\n");
+    SearchOptions options;
+    options.activations = true;
+    options.activation_model = sync::ActivationModel::kAsync;
+    options.max_delay_epochs = 1;
+    options.epochs = 2;
+    options.jobs = 2;
+    const SearchResult result = Search(scenario, options);
+    ASSERT_TRUE(result.error.empty()) << result.error;
+    EXPECT_FALSE(result.counterexample.has_value()) << app << ": " << result.counterexample->violations.front().detail;
+    EXPECT_EQ(result.runs, 343) << app;
+    EXPECT_EQ(result.distinct_outcomes, 343) << app;
+  }
 }
 
 // Non-rigid moves add the cut; a deviation bound stops the search early:
