@@ -2,6 +2,7 @@
 // wall time limit per run; failed runs again with a replay.
 #include "syrof/grader/grade.h"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -261,7 +262,12 @@ std::string SearchCommand(const Assignment& assignment, const assignment::Search
                           const std::string& library) {
   if (spec.visibility == Visibility::kHidden) return {};
   std::string budget = " --max-losses " + std::to_string(spec.max_losses);
-  if (spec.activations) {
+  if (spec.async) {
+    budget = " --activations async";
+    if (spec.max_delay > 0) budget += " --max-delay " + std::to_string(spec.max_delay);
+    if (spec.min_move_m >= 0) budget += fmt::format(" --min-move {}", spec.min_move_m);
+    if (spec.max_deviations > 0) budget += " --max-deviations " + std::to_string(spec.max_deviations);
+  } else if (spec.activations) {
     budget = " --activations ssync";
     if (spec.max_inactive > 0) budget += " --max-inactive " + std::to_string(spec.max_inactive);
     if (spec.fair_within > 0) budget += " --fair-within " + std::to_string(spec.fair_within);

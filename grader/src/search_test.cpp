@@ -40,11 +40,32 @@ std::string ScheduleText(const std::vector<lab::search::Inactivation>& inactive)
   return text;
 }
 
-// What the test searched, in the reasons' words.
-std::string BudgetText(const assignment::SearchTestSpec& spec) {
+std::string CyclesText(const std::vector<sync::ScriptedCycle>& cycles) {
+  if (cycles.empty()) return "with every cycle one epoch long (FSYNC)";
+  std::string text = "by a schedule with " + Plural(static_cast<int64_t>(cycles.size()), "deviating cycle") +
+                     " [look epoch, robot, start_delay, move_epochs(, cut)]:";
+  for (const sync::ScriptedCycle& cycle : cycles) {
+    text += fmt::format(" [{}, {}, {}, {}{}]", cycle.epoch, cycle.robot, cycle.start_delay, cycle.move_epochs,
+                        cycle.cut ? ", 1" : "");
+  }
+  return text;
+}
+
+// What the test searched, in the reasons' words. `max_delay` and
+// `min_move_m` are the ASYNC search's, the scenario's where the test gives
+// none.
+std::string BudgetText(const assignment::SearchTestSpec& spec, int max_delay, double min_move_m) {
   if (!spec.activations) {
     return fmt::format("pattern of up to {} in the first {}", Plural(spec.max_losses, "lost beacon"),
                        Plural(spec.epochs, "epoch"));
+  }
+  if (spec.async) {
+    std::string text = "ASYNC schedule";
+    if (spec.max_deviations > 0) text += fmt::format(" of up to {}", Plural(spec.max_deviations, "deviating cycle"));
+    text += fmt::format(" in the first {} with delays up to {}", Plural(spec.epochs, "epoch"),
+                        Plural(max_delay, "epoch"));
+    if (min_move_m > 0) text += fmt::format(", moves cut at {} m", min_move_m);
+    return text;
   }
   std::string text = "SSYNC schedule";
   if (spec.max_inactive > 0) text += fmt::format(" of up to {} out", Plural(spec.max_inactive, "robot-epoch"));
@@ -82,6 +103,15 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   options.activations = spec.activations;
   if (spec.max_inactive > 0) options.max_inactive = spec.max_inactive;
   options.fair_within = spec.fair_within;
+  const bool scenario_async = scenario.activation.model == sync::ActivationModel::kAsync;
+  const int max_delay = spec.max_delay > 0 ? spec.max_delay : scenario_async ? scenario.activation.max_delay_epochs : 0;
+  const double min_move_m = spec.min_move_m >= 0 ? spec.min_move_m : scenario_async ? scenario.activation.min_move_m : 0;
+  if (spec.async) {
+    options.activation_model = sync::ActivationModel::kAsync;
+    options.max_delay_epochs = spec.max_delay;
+    if (spec.min_move_m >= 0) options.min_move_m = spec.min_move_m;
+    if (spec.max_deviations > 0) options.max_deviations = spec.max_deviations;
+  }
   options.epochs = spec.epochs;
   options.jobs = 1;  // the grader's workers already run tests side by side
   options.time_limit_s = spec.time_limit_s;
@@ -92,7 +122,7 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   assignment::CriterionScore score;
   score.criterion = "search";
   score.max_points = spec.points;
-  const std::string budget = BudgetText(spec);
+  const std::string budget = BudgetText(spec, max_delay, min_move_m);
   if (!result.error.empty()) {
     test.run_error = "the search could not start: " + result.error;
     return;
@@ -109,7 +139,11 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   } else {
     const lab::search::Counterexample& found = *result.counterexample;
     score.points = 0;
-    score.reason = "broken " + (spec.activations ? ScheduleText(found.inactive) : PatternText(found.lost)) + ":";
+    score.reason = "broken " +
+                   (spec.async         ? CyclesText(found.cycles)
+                    : spec.activations ? ScheduleText(found.inactive)
+                                       : PatternText(found.lost)) +
+                   ":";
     for (size_t i = 0; i < found.violations.size(); ++i) {
       score.reason += fmt::format("{} {}: {}", i == 0 ? "" : ";", found.violations[i].property,
                                   found.violations[i].detail);

@@ -501,6 +501,48 @@ TEST(SearchGradeTest, AnAppThatCountsItsTurnsLosesTheScheduleSearchTestWithACoun
   EXPECT_TRUE(fs::exists(out / search.replay_path));
 }
 
+// An ASYNC search test (tiny/async.yaml): the reference survives the 10
+// schedules; an app counting its turns is broken by the first cycle that
+// moves over two epochs, with a counterexample of scripted cycles.
+TEST(SearchGradeTest, AnAsyncSearchTestKeepsTheReferenceAndBreaksAnAppCountingItsTurns) {
+  const Assignment asynchronous = LoadTiny("async.yaml");
+  ASSERT_EQ(asynchronous.search_tests.size(), 1u);
+  ASSERT_TRUE(asynchronous.search_tests[0].async);
+  std::vector<std::string> notes;
+  const fs::path reference_out = Fresh("async_reference");
+  const SubmissionResult reference =
+      GradeSubmission(asynchronous, kReference.string(), reference_out.string(), {}, notes);
+  ASSERT_EQ(reference.build.verdict, assignment::BuildVerdict::kOk) << reference.build.detail;
+  ASSERT_EQ(reference.tests.size(), 2u);
+  const assignment::TestResult& survived = reference.tests[1];
+  EXPECT_TRUE(survived.passed) << FirstLoss(survived);
+  EXPECT_NE(survived.score.criteria.at(0).reason.find("no ASYNC schedule of up to 1 deviating cycle in the first 1 "
+                                                      "epoch with delays up to 1 epoch broke it (10 runs)"),
+            std::string::npos)
+      << survived.score.criteria.at(0).reason;
+  EXPECT_NE(survived.replay_command.find(" --activations async --max-delay 1 --max-deviations 1 --epochs 1 "),
+            std::string::npos)
+      << survived.replay_command;
+  EXPECT_EQ(reference.points, 60);
+
+  const fs::path submission = Fresh("async_counts_turns_in");
+  Write(submission / "app.c", kCountsTurns);
+  const fs::path out = Fresh("async_counts_turns");
+  const SubmissionResult result = GradeSubmission(asynchronous, submission.string(), out.string(), {}, notes);
+  ASSERT_EQ(result.build.verdict, assignment::BuildVerdict::kOk) << result.build.detail;
+  const assignment::TestResult& search = result.tests.at(1);
+  EXPECT_FALSE(search.passed);
+  const std::string& reason = search.score.criteria.at(0).reason;
+  EXPECT_NE(reason.find("broken by a schedule with 1 deviating cycle [look epoch, robot, start_delay, "
+                        "move_epochs(, cut)]: [1, 0, 0, 2]"),
+            std::string::npos)
+      << reason;
+  const std::string counterexample = Read(out / "search" / "tiny_async" / "counterexample.yaml");
+  EXPECT_NE(counterexample.find("model: async"), std::string::npos) << counterexample;
+  EXPECT_NE(counterexample.find("schedule: scripted"), std::string::npos) << counterexample;
+  EXPECT_TRUE(fs::exists(out / search.replay_path));
+}
+
 // The hostile libraries as a class, with a good submission (the gather
 // reference, a CMake project) and one that does not compile.
 class ClassTest : public ::testing::Test {

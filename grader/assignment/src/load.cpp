@@ -166,33 +166,40 @@ bool ReadRun(const YamlNode& node, const std::string& path, Context& context, Sc
 }
 
 // What a search test searches: `max_losses` (lost beacons) or
-// `activations: ssync` (schedules, with `max_inactive` and `fair_within`),
-// one of the two, as `syrof search` takes them.
+// `activations: ssync` (schedules, with `max_inactive` and `fair_within`)
+// or `activations: async` (cycles, with `max_delay`, `min_move_m` and
+// `max_deviations`), one of them, as `syrof search` takes them.
 bool ReadSearchKind(const YamlNode& node, const std::string& path, SearchTestSpec& test, Diagnostics& diagnostics) {
+  static constexpr const char* kSsyncKeys[] = {"max_inactive", "fair_within"};
+  static constexpr const char* kAsyncKeys[] = {"max_delay", "min_move_m", "max_deviations"};
+  const auto refuse = [&](const auto& keys, const char* only) {
+    for (const char* key : keys) {
+      if (const YamlNode* found = node.Find(key)) {
+        FailAt(*found, JoinPath(path, key), std::string("applies to ") + only, diagnostics);
+        return true;
+      }
+    }
+    return false;
+  };
   const YamlNode* model = node.Find("activations");
   if (model == nullptr) {
-    for (const char* key : {"max_inactive", "fair_within"}) {
-      if (const YamlNode* only = node.Find(key)) {
-        return FailAt(*only, JoinPath(path, key), "applies to a schedule search only ('activations: ssync')",
-                      diagnostics);
-      }
+    if (refuse(kSsyncKeys, "a schedule search only ('activations: ssync')") ||
+        refuse(kAsyncKeys, "an ASYNC schedule search only ('activations: async')")) {
+      return false;
     }
     if (node.Find("max_losses") != nullptr) return true;
     return FailAt(node, path,
                   "missing required key '" + JoinPath(path, "max_losses") +
-                      "' (or 'activations: ssync' to search schedules)",
+                      "' (or 'activations: ssync' or 'async' to search schedules)",
                   diagnostics);
   }
   const std::string at = JoinPath(path, "activations");
   if (!model->is_scalar() || model->quoted) {
-    return FailAt(*model, at, "expected the activation model to search: ssync", diagnostics);
+    return FailAt(*model, at, "expected the activation model to search: ssync or async", diagnostics);
   }
-  if (model->scalar == "async") {
-    return FailAt(*model, at, "activation model async is not built yet: a search test searches SSYNC schedules "
-                  "(docs/activation.md)", diagnostics);
-  }
-  if (model->scalar != "ssync") {
-    return FailAt(*model, at, "unknown activation model '" + model->scalar + "'; a search test searches ssync",
+  if (model->scalar != "ssync" && model->scalar != "async") {
+    return FailAt(*model, at,
+                  "unknown activation model '" + model->scalar + "'; a search test searches ssync or async",
                   diagnostics);
   }
   if (const YamlNode* losses = node.Find("max_losses")) {
@@ -201,6 +208,11 @@ bool ReadSearchKind(const YamlNode& node, const std::string& path, SearchTestSpe
                   diagnostics);
   }
   test.activations = true;
+  test.async = model->scalar == "async";
+  if (test.async ? refuse(kSsyncKeys, "an SSYNC schedule search only ('activations: ssync')")
+                 : refuse(kAsyncKeys, "an ASYNC schedule search only ('activations: async')")) {
+    return false;
+  }
   return true;
 }
 
@@ -208,9 +220,9 @@ bool ReadSearchKind(const YamlNode& node, const std::string& path, SearchTestSpe
 // student's copy) is skipped when context.skip_missing.
 bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& context, SearchTestSpec& test,
                     bool& skipped, std::optional<lab::Error>& scenario_error, Diagnostics& diagnostics) {
-  static constexpr std::string_view kKeys[] = {"scenario",     "name",        "max_losses", "activations",
-                                               "max_inactive", "fair_within", "epochs",     "points",
-                                               "hidden",       "time_limit_s", "gradescope"};
+  static constexpr std::string_view kKeys[] = {
+      "scenario",  "name",       "max_losses",     "activations", "max_inactive", "fair_within",  "max_delay",
+      "min_move_m", "max_deviations", "epochs", "points",      "hidden",       "time_limit_s", "gradescope"};
   if (!ExpectMap(node, path, diagnostics) || !CheckKeys(node, path, kKeys, diagnostics) ||
       !RequireKey(node, path, "scenario", diagnostics) || !ReadSearchKind(node, path, test, diagnostics) ||
       !RequireKey(node, path, "points", diagnostics) ||
@@ -259,6 +271,8 @@ bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& cont
   int64_t epochs = test.epochs;
   int64_t max_inactive = 0;
   int64_t fair_within = 0;
+  int64_t max_delay = 0;
+  int64_t max_deviations = 0;
   if (!lab::scenario::ReadIntegerAt(node, path, "max_losses", 0, lab::search::kMaxSearchLosses, max_losses,
                                     diagnostics) ||
       !lab::scenario::ReadIntegerAt(node, path, "epochs", 1, lab::search::kMaxSearchEpochs, epochs, diagnostics) ||
@@ -266,6 +280,11 @@ bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& cont
                                     diagnostics) ||
       !lab::scenario::ReadIntegerAt(node, path, "fair_within", 1, lab::search::kMaxSearchEpochs, fair_within,
                                     diagnostics) ||
+      !lab::scenario::ReadIntegerAt(node, path, "max_delay", 1, sync::kMaxAsyncDelayEpochs, max_delay, diagnostics) ||
+      !lab::scenario::ReadIntegerAt(node, path, "max_deviations", 1, lab::search::kMaxSearchDeviations,
+                                    max_deviations, diagnostics) ||
+      (node.Find("min_move_m") != nullptr &&
+       !ReadNumberAt(node, path, "min_move_m", NumberRange{0, 30, true}, test.min_move_m, diagnostics)) ||
       !ReadNumberAt(node, path, "points", NumberRange{0, kMaxPoints, true}, test.points, diagnostics) ||
       !ReadNumberAt(node, path, "time_limit_s", NumberRange{0, kMaxTimeLimitS, true}, test.time_limit_s,
                     diagnostics)) {
@@ -282,10 +301,21 @@ bool ReadSearchTest(const YamlNode& node, const std::string& path, Context& cont
   test.epochs = static_cast<int>(epochs);
   test.max_inactive = static_cast<int>(max_inactive);
   test.fair_within = static_cast<int>(fair_within);
+  test.max_delay = static_cast<int>(max_delay);
+  test.max_deviations = static_cast<int>(max_deviations);
   const lab::scenario::LoadResult loaded = lab::scenario::LoadScenarioFile(test.path);
   if (!loaded.ok()) {
     scenario_error = loaded.error;
     return false;
+  }
+  if (test.async && test.max_delay == 0 && loaded.scenario->activation.model != sync::ActivationModel::kAsync) {
+    // As `syrof search --activations async`: the delay bound is the
+    // scenario's only when the scenario is ASYNC.
+    return FailAt(*node.Find("activations"), JoinPath(path, "activations"),
+                  "an ASYNC search needs a delay bound: give 'max_delay' (1 .. " +
+                      std::to_string(sync::kMaxAsyncDelayEpochs) + " epochs), or search a scenario whose activation "
+                      "is async (" + test.file + " is " + sync::ToString(loaded.scenario->activation.model) + ")",
+                  diagnostics);
   }
   return true;
 }

@@ -247,6 +247,18 @@ TEST_F(AssignmentFileTest, AScheduleSearchTestIsReadWithItsBudget) {
   EXPECT_EQ(tests[1].fair_within, 3);
   EXPECT_EQ(RunPoints(*result.assignment, true), 85);
 
+  const LoadResult async = Load(std::string(kOneRun) +
+                                "search: [{scenario: s/three.yaml, activations: async, max_delay: 2, min_move_m: 0.05, "
+                                "max_deviations: 3, epochs: 2, points: 10}]\n" + kValidRubric);
+  ASSERT_TRUE(async.ok()) << async.error->ToString();
+  const SearchTestSpec& cycles = async.assignment->search_tests[0];
+  EXPECT_TRUE(cycles.activations);
+  EXPECT_TRUE(cycles.async);
+  EXPECT_EQ(cycles.max_delay, 2);
+  EXPECT_EQ(cycles.min_move_m, 0.05);
+  EXPECT_EQ(cycles.max_deviations, 3);
+  EXPECT_FALSE(tests[0].async);
+
   const LoadResult losses = Load(std::string(kOneRun) + "search: [{scenario: s/three.yaml, max_losses: 1, points: 1}]\n" +
                                  kValidRubric);
   ASSERT_TRUE(losses.ok()) << losses.error->ToString();
@@ -260,7 +272,16 @@ TEST_F(AssignmentFileTest, AWrongScheduleSearchTestIsPlaced) {
   EXPECT_TRUE(FailsAt(search("activations: fsync"), "assignment.yaml", 4, 48,
                       "search[0].activations: unknown activation model 'fsync'; a search test searches ssync"));
   EXPECT_TRUE(FailsAt(search("activations: async"), "assignment.yaml", 4, 48,
-                      "search[0].activations: activation model async is not built yet"));
+                      "search[0].activations: an ASYNC search needs a delay bound: give 'max_delay' (1 .. 8 epochs), "
+                      "or search a scenario whose activation is async (s/three.yaml is fsync)"));
+  EXPECT_TRUE(FailsAt(search("activations: async, max_delay: 9"), "assignment.yaml", 4, 66,
+                      "search[0].max_delay: must be in [1, 8], got 9"));
+  EXPECT_TRUE(FailsAt(search("activations: async, max_delay: 1, fair_within: 2"), "assignment.yaml", 4, 82,
+                      "search[0].fair_within: applies to an SSYNC schedule search only ('activations: ssync')"));
+  EXPECT_TRUE(FailsAt(search("activations: ssync, max_delay: 1"), "assignment.yaml", 4, 66,
+                      "search[0].max_delay: applies to an ASYNC schedule search only ('activations: async')"));
+  EXPECT_TRUE(FailsAt(search("max_losses: 1, min_move_m: 0.05"), "assignment.yaml", 4, 62,
+                      "search[0].min_move_m: applies to an ASYNC schedule search only ('activations: async')"));
   EXPECT_TRUE(FailsAt(search("activations: [ssync]"), "assignment.yaml", 4, 48,
                       "search[0].activations: expected the activation model to search: ssync"));
   EXPECT_TRUE(FailsAt(search("activations: ssync, max_losses: 1"), "assignment.yaml", 4, 67,
@@ -270,7 +291,8 @@ TEST_F(AssignmentFileTest, AWrongScheduleSearchTestIsPlaced) {
   EXPECT_TRUE(FailsAt(search("max_losses: 1, max_inactive: 2"), "assignment.yaml", 4, 64,
                       "search[0].max_inactive: applies to a schedule search only"));
   EXPECT_TRUE(FailsAt(search("epochs: 2"), "assignment.yaml", 4, 10,
-                      "missing required key 'search[0].max_losses' (or 'activations: ssync' to search schedules)"));
+                      "missing required key 'search[0].max_losses' (or 'activations: ssync' or 'async' to search "
+                      "schedules)"));
   EXPECT_TRUE(FailsAt(search("activations: ssync, epochs: 3, fair_within: 4"), "assignment.yaml", 4, 79,
                       "search[0].fair_within: must be at most the 3 epochs searched ('epochs'), got 4"));
   EXPECT_TRUE(FailsAt(search("activations: ssync, fair_within: 0"), "assignment.yaml", 4, 68,

@@ -58,11 +58,15 @@ struct SearchTestSpec {
   std::string file;               ///< `scenario:` as written, relative to the assignment folder
   std::string path;               ///< resolved: assignment folder / file
   int max_losses = 1;             ///< F (a loss search)
-  /// `activations: ssync`: search SSYNC schedules instead of losses
+  /// `activations: ssync` or `async`: search schedules instead of losses
   /// (lab::search::SearchOptions::activations); `max_losses` is then absent.
   bool activations = false;
-  int max_inactive = 0;           ///< `max_inactive`: most robot-epochs a schedule leaves out; 0: every schedule
-  int fair_within = 0;            ///< `fair_within`: no robot left out of this many epochs in a row; 0: no bound
+  bool async = false;             ///< `activations: async`: ASYNC cycles, not SSYNC's active subsets
+  int max_inactive = 0;           ///< SSYNC `max_inactive`: most robot-epochs a schedule leaves out; 0: every schedule
+  int fair_within = 0;            ///< SSYNC `fair_within`: no robot left out of this many epochs in a row; 0: no bound
+  int max_delay = 0;              ///< ASYNC `max_delay`: the delay bound D; 0: the scenario's max_delay_epochs
+  double min_move_m = -1;         ///< ASYNC `min_move_m`: cut moves at this; < 0: the scenario's (rigid unless ASYNC)
+  int max_deviations = 0;         ///< ASYNC `max_deviations`: most deviating cycles; 0: every schedule
   int epochs = 2;                 ///< E
   double points = 0;              ///< taken from the assignment's points; the runs share the rest
   double time_limit_s = 300;      ///< wall time for the whole search (the grader's limit)
