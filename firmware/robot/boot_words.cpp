@@ -1,7 +1,9 @@
 #include "syrof/firmware/robot/boot_words.h"
 
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace syrof::firmware::robot {
@@ -64,6 +66,26 @@ bool Field(const char*& text, unsigned base, uint64_t most, uint64_t& value, cha
   return true;
 }
 
+// A private input's name as the scenario's loader takes it: a letter or
+// `_`, then letters, digits and `_`, 1 to kMaxBootInputNameBytes bytes.
+bool IsInputName(const char* name, size_t length) {
+  if (length == 0 || length > kMaxBootInputNameBytes) return false;
+  for (size_t i = 0; i < length; ++i) {
+    const char c = name[i];
+    const bool letter = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+    if (!letter && (i == 0 || c < '0' || c > '9')) return false;
+  }
+  return true;
+}
+
+// The whole of `text` as a finite number (strtod: decimal or hex).
+bool FiniteNumber(const char* text, double& value) {
+  if (*text == '\0') return false;
+  char* end = nullptr;
+  value = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(value);
+}
+
 }  // namespace
 
 const char* ToString(BootWordsError error) {
@@ -74,6 +96,7 @@ const char* ToString(BootWordsError error) {
     case BootWordsError::kRobotOutOfRange: return "RobotOutOfRange";
     case BootWordsError::kInvalid: return "Invalid";
     case BootWordsError::kBufferTooSmall: return "BufferTooSmall";
+    case BootWordsError::kTooManyInputs: return "TooManyInputs";
   }
   return "?";
 }
@@ -219,6 +242,85 @@ sync::ActivationConfig BootActivation::config() const {
   config.script = std::span<const sync::ScriptedActivation>(script_.data(), script_size_);
   config.cycles = std::span<const sync::ScriptedCycle>(cycles_.data(), cycles_size_);
   return config;
+}
+
+BootWordsError FormatInputWords(uint16_t id, std::span<const app::Parameter> inputs, std::span<char> out,
+                                size_t& length) {
+  length = 0;
+  if (inputs.size() > kMaxBootInputs) return BootWordsError::kTooManyInputs;
+  if (out.empty()) return BootWordsError::kBufferTooSmall;
+  out[0] = '\0';
+  if (inputs.empty()) return BootWordsError::kOk;
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    if (!IsInputName(inputs[i].name.data(), inputs[i].name.size()) || !std::isfinite(inputs[i].value)) {
+      return BootWordsError::kInvalid;
+    }
+    for (size_t j = 0; j < i; ++j) {
+      if (inputs[j].name == inputs[i].name) return BootWordsError::kInvalid;
+    }
+  }
+  Writer writer(out);
+  bool fits = writer.Print(" inputs %u:%u", static_cast<unsigned>(id), static_cast<unsigned>(inputs.size()));
+  for (const app::Parameter& input : inputs) {
+    if (!fits) break;
+    // The fewest significant digits (of 15 to 17) that read back to the
+    // same double: 0.3 stays "0.3", and every double survives the trip.
+    char value[40];
+    for (int digits = 15; digits <= 17; ++digits) {
+      std::snprintf(value, sizeof value, "%.*g", digits, input.value);
+      if (std::strtod(value, nullptr) == input.value) break;
+    }
+    fits = writer.Print(" input %.*s=%s", static_cast<int>(input.name.size()), input.name.data(), value);
+  }
+  if (!fits) return BootWordsError::kBufferTooSmall;
+  length = writer.used();
+  return BootWordsError::kOk;
+}
+
+BootWordRead BootInputs::Read(const char* key, const char* value) {
+  if (std::strcmp(key, "inputs") == 0) {
+    uint64_t id = 0, count = 0;
+    const char* text = value;
+    if (announced_ || !Field(text, 10, UINT16_MAX, id, ':') || !WholeNumber(text, 10, kMaxBootInputs, count)) {
+      return BootWordRead::kBadValue;
+    }
+    announced_ = true;
+    for_id_ = static_cast<uint16_t>(id);
+    expected_ = static_cast<size_t>(count);
+    return BootWordRead::kOk;
+  }
+  if (std::strcmp(key, "input") != 0) return BootWordRead::kNotMine;
+  const char* equals = std::strchr(value, '=');
+  if (!announced_ || equals == nullptr) return BootWordRead::kBadValue;
+  const auto name_length = static_cast<size_t>(equals - value);
+  double number = 0;
+  if (!IsInputName(value, name_length) || !FiniteNumber(equals + 1, number)) return BootWordRead::kBadValue;
+  const std::string_view name(value, name_length);
+  for (size_t i = 0; i < size_; ++i) {
+    if (table_[i].name == name) return BootWordRead::kBadValue;
+  }
+  if (size_ == expected_) return BootWordRead::kFull;
+  std::memcpy(names_[size_].data(), value, name_length);
+  names_[size_][name_length] = '\0';
+  table_[size_] = app::Parameter{std::string_view(names_[size_].data(), name_length), number};
+  ++size_;
+  return BootWordRead::kOk;
+}
+
+const char* BootInputs::Check(uint16_t self_id) {
+  if (!announced_) return nullptr;
+  if (for_id_ != self_id) {
+    std::snprintf(message_.data(), message_.size(), "the inputs were written for robot %u; this is robot %u",
+                  static_cast<unsigned>(for_id_), static_cast<unsigned>(self_id));
+    return message_.data();
+  }
+  if (size_ != expected_) {
+    std::snprintf(message_.data(), message_.size(), "inputs %u:%u announced %u inputs; %u came (an input is missing)",
+                  static_cast<unsigned>(for_id_), static_cast<unsigned>(expected_), static_cast<unsigned>(expected_),
+                  static_cast<unsigned>(size_));
+    return message_.data();
+  }
+  return nullptr;
 }
 
 }  // namespace syrof::firmware::robot

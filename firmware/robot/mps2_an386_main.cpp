@@ -19,7 +19,9 @@
 // (robot N is switched on later, so it is no initial member; repeatable:
 // the swarm host's late joiners, and the joiner itself), the activation
 // model's words (boot_words.h: `activation ssync schedule random seed N
-// fair_within F`, ...; absent: FSYNC), `hold 0|1` (with
+// fair_within F`, ...; absent: FSYNC), the robot's private inputs
+// (boot_words.h: `inputs ID:N` then N `input NAME=VALUE`; refused, with no
+// start, when written for another id or one is missing), `hold 0|1` (with
 // `sensors 1`: set everything up, print `held id=N`, and start the clock
 // only when a Start frame arrives on the sensor link, then run its run_ms;
 // `seconds` is then ignored). A word it does not know stops the image with
@@ -180,6 +182,8 @@ void RadioReceiveInterrupt() {
 alignas(16) unsigned char queries_memory[SYROF_FIRMWARE_QUERIES_BYTES];
 // The activation's boot words and its scripts (the robot's config points here).
 robot::BootActivation boot_activation;
+// The robot's private inputs (syrofAppInput answers from here).
+robot::BootInputs boot_inputs;
 char report_line[2048];
 
 struct Options {
@@ -198,6 +202,19 @@ bool ParseOptions(int argc, char** argv, Options& options) {
       std::printf("syrof-robot: -append word %d '%s' has no value (expected: key value pairs, e.g. id 0 swarm 4)\n", i,
                   key);
       return false;
+    }
+    switch (boot_inputs.Read(key, argv[i + 1])) {
+      case robot::BootWordRead::kNotMine: break;
+      case robot::BootWordRead::kOk: continue;
+      case robot::BootWordRead::kBadValue:
+        std::printf("syrof-robot: -append word %d '%s': '%s' is not a value it takes (inputs ID:N first, then N "
+                    "input NAME=VALUE, each name once, each value a finite number; firmware/robot boot_words.h)\n",
+                    i + 1, key, argv[i + 1]);
+        return false;
+      case robot::BootWordRead::kFull:
+        std::printf("syrof-robot: -append word %d '%s': '%s' is one input more than its inputs word announced\n", i + 1,
+                    key, argv[i + 1]);
+        return false;
     }
     switch (boot_activation.Read(key, argv[i + 1])) {
       case robot::BootWordRead::kNotMine: break;
@@ -244,7 +261,7 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     } else {
       std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
                   "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1, sensors 0|1, x_mm and y_mm 0..1000000, "
-                  "heading_mrad 0..6283, late 0..31, hold 0|1, and the activation words of boot_words.h)\n",
+                  "heading_mrad 0..6283, late 0..31, hold 0|1, and the activation and input words of boot_words.h)\n",
                   i, key, value);
       return false;
     }
@@ -254,6 +271,11 @@ bool ParseOptions(int argc, char** argv, Options& options) {
                 static_cast<unsigned>(options.image.swarm_size));
     return false;
   }
+  if (const char* error = boot_inputs.Check(options.image.self_id)) {
+    std::printf("syrof-robot: %s\n", error);
+    return false;
+  }
+  options.image.app_inputs = boot_inputs.inputs();
   options.image.activation = boot_activation.config();
   if (!syrof::sync::IsValid(options.image.activation)) {
     std::printf("syrof-robot: the activation words make no valid schedule (scripts sorted, delays within max_delay)\n");

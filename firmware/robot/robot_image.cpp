@@ -88,6 +88,7 @@ const char* RobotImage::Prepare(const ImageConfig& config, const syrof_app_descr
   robot_config.initial_pose.y_m = config.start_y_m;
   robot_config.initial_pose.heading_rad = config.start_heading_rad;
   robot_config.activation = config.activation;
+  robot_config.app_inputs = config.app_inputs;
   radio_.set_swarm_size(config.swarm_size);
   const std::span<wire::Beacon> storage(receive_storage_.data(),
                                         size_t{runtime::Robot::kReceiveBanks} * config.swarm_size);
@@ -203,7 +204,7 @@ void RobotImage::PrintStatus(int64_t now_ns) {
       line, sizeof line,
       "status t_ms=%lu board=%s robot=%u/%u steps%s overruns=%lu sync=%s epoch=%u mode=%s phase=%s members=%u "
       "sent=%lu heard=%lu link_rejected=%lu align_rounds=%lu shifts=%lu phase_error_us=%ld activation=%s "
-      "inactive=%lu\n",
+      "inactive=%lu inputs=%u\n",
       static_cast<unsigned long>(now_ns / 1'000'000), config_.board, static_cast<unsigned>(config_.self_id),
       static_cast<unsigned>(config_.swarm_size), steps, static_cast<unsigned long>(port_.total_overruns()),
       sync::ToString(state.status), static_cast<unsigned>(state.epoch), wire::ToString(state.epoch_mode),
@@ -213,7 +214,7 @@ void RobotImage::PrintStatus(int64_t now_ns) {
       static_cast<unsigned long>(robot_->alignment_stats().rounds_with_samples),
       static_cast<unsigned long>(robot_->counters().alignment_shifts),
       static_cast<long>(robot_->alignment_stats().last_error_ns / 1000), sync::ToString(config_.activation.model),
-      static_cast<unsigned long>(robot_->counters().inactive_epochs));
+      static_cast<unsigned long>(robot_->counters().inactive_epochs), static_cast<unsigned>(config_.app_inputs.size()));
   if (length > 0) console_(line, static_cast<size_t>(length) < sizeof line ? length : sizeof line - 1, console_context_);
 }
 

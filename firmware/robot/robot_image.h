@@ -100,6 +100,11 @@ struct ImageConfig {
   /// robot of the swarm; its scripts must outlive the image (the mps2-an386
   /// image reads it from its boot words, boot_words.h). FSYNC by default.
   sync::ActivationConfig activation{};
+  /// What syrofAppInput answers: this robot's private inputs (the
+  /// scenario's `inputs:`, its own value of each); the table and its names
+  /// must outlive the image (the mps2-an386 image reads them from its boot
+  /// words, boot_words.h). Empty: no inputs.
+  std::span<const app::Parameter> app_inputs{};
   ImageExtension* extension = nullptr;  ///< not owned
 };
 

@@ -102,9 +102,39 @@ std::string ActivationWords(const lab::scenario::Scenario& scenario) {
     case robot::BootWordsError::kRobotOutOfRange:
     case robot::BootWordsError::kInvalid:
     case robot::BootWordsError::kBufferTooSmall:
+    case robot::BootWordsError::kTooManyInputs:
       break;
   }
   Usage("--scenario: activation: the robot image cannot be told this schedule (docs/firmware.md, \"Activation\")");
+}
+
+// Robot `id`'s own private inputs (the scenario's `inputs:`, its value of
+// each, never another robot's) as the image's words (boot_words.h); exits 2
+// naming the field when the image cannot be told them.
+std::string InputWords(const lab::scenario::Scenario& scenario, uint16_t id) {
+  if (scenario.inputs.size() > robot::kMaxBootInputs) {
+    Usage("--scenario: inputs: " + std::to_string(scenario.inputs.size()) +
+          " private inputs; the robot image holds at most " + std::to_string(robot::kMaxBootInputs));
+  }
+  std::vector<app::Parameter> own;
+  for (const auto& [name, values] : scenario.inputs) {
+    if (id >= values.size()) {
+      Usage("--scenario: inputs." + name + " gives " + std::to_string(values.size()) + " values; robot " +
+            std::to_string(id) + " has none");
+    }
+    if (!std::isfinite(values[id])) {
+      Usage("--scenario: inputs." + name + ": robot " + std::to_string(id) + "'s value is not a finite number");
+    }
+    own.push_back(app::Parameter{name, values[id]});
+  }
+  std::vector<char> text(16 * robot::kMaxBootLineBytes);
+  size_t length = 0;
+  if (robot::FormatInputWords(id, own, text, length) == robot::BootWordsError::kOk) {
+    return std::string(text.data(), length);
+  }
+  Usage("--scenario: inputs: the robot image cannot be told robot " + std::to_string(id) +
+        "'s inputs (a name of at most " + std::to_string(robot::kMaxBootInputNameBytes) +
+        " bytes, a letter or _ then letters, digits and _; docs/firmware.md, \"Private inputs\")");
 }
 
 }  // namespace
@@ -113,12 +143,13 @@ std::string ImageAppend(const Options& options, const lab::scenario::Scenario& s
   const auto robots = static_cast<uint16_t>(scenario.robots.size());
   return "id " + std::to_string(id) + " swarm " + std::to_string(robots) + " hold 1 report 1 sensors 1 align " +
          (options.align.value_or(true) ? "1" : "0") + StartPoseWords(scenario.robots[id]) + LateJoinerWords(scenario) +
-         ActivationWords(scenario);
+         ActivationWords(scenario) + InputWords(scenario, id);
 }
 
 void CheckBootLines(const Options& options, const lab::scenario::Scenario& scenario) {
   const std::string activation = ActivationWords(scenario);
   for (uint16_t id = 0; id < scenario.robots.size(); ++id) {
+    const std::string inputs = InputWords(scenario, id);
     // qemu passes the image's path, a space and the -append text.
     const std::string line = options.image + " " + ImageAppend(options, scenario, id);
     size_t words = 0;
@@ -130,7 +161,8 @@ void CheckBootLines(const Options& options, const lab::scenario::Scenario& scena
             std::to_string(line.size()) + " bytes in " + std::to_string(words) +
             " words; the robot image reads at most " + std::to_string(robot::kMaxBootLineBytes) + " bytes in " +
             std::to_string(robot::kMaxBootLineWords) + " words (activation.active or activation.cycles takes " +
-            std::to_string(activation.size()) + " bytes of it; a shorter image path or script fits)");
+            std::to_string(activation.size()) + " bytes of it, its inputs " + std::to_string(inputs.size()) +
+            "; a shorter image path, script or input names fit)");
     }
   }
 }

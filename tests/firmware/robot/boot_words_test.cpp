@@ -1,20 +1,24 @@
-// The activation model's boot words (firmware/robot boot_words.h): what
-// the swarm host writes on a robot's -append reads back on the image into
-// the same schedule, and what the image cannot hold is refused on both sides.
+// The activation model's and the private inputs' boot words (firmware/robot
+// boot_words.h): what the swarm host writes on a robot's -append reads back
+// on the image into the same schedule and the same inputs, and what the
+// image cannot hold, or a line meant for another robot, is refused.
 #include "syrof/firmware/robot/boot_words.h"
 
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace syrof::firmware::robot {
 namespace {
 
-// Splits `text` at spaces into (key, value) pairs and reads them as the image does.
-BootWordRead ReadAll(const std::string& text, BootActivation& boot) {
+// Splits `text` at spaces into (key, value) pairs and reads them as the image
+// does (into a BootActivation or a BootInputs).
+template <typename Boot>
+BootWordRead ReadAll(const std::string& text, Boot& boot) {
   std::vector<std::string> words;
   size_t start = 0;
   while (start < text.size()) {
@@ -185,6 +189,109 @@ TEST(BootWordsTest, AScriptLongerThanTheImageHoldsIsRefusedOnBothSides) {
   config.script = std::span<const sync::ScriptedActivation>(script.data(), 8);
   std::array<char, 40> small{};
   EXPECT_EQ(FormatActivationWords(config, small, length), BootWordsError::kBufferTooSmall);
+  EXPECT_EQ(length, 0u);
+}
+
+std::string FormatInputs(uint16_t id, const std::vector<app::Parameter>& inputs) {
+  std::array<char, 4096> out{};
+  size_t length = 0;
+  EXPECT_EQ(FormatInputWords(id, inputs, out, length), BootWordsError::kOk);
+  return std::string(out.data(), length);
+}
+
+TEST(BootWordsTest, NoInputsWriteNoWordAndReadBackAsNone) {
+  EXPECT_EQ(FormatInputs(3, {}), "");
+  BootInputs boot;
+  EXPECT_EQ(boot.Check(3), nullptr);
+  EXPECT_TRUE(boot.inputs().empty());
+}
+
+TEST(BootWordsTest, InputsReadBackToTheSameDoublesForTheirRobot) {
+  // A whole charge as strongest's, 0.3 (written in its short form), and
+  // doubles that need 17 digits: a third, the largest, the smallest normal.
+  const std::vector<app::Parameter> inputs = {{"charge", 734},
+                                              {"key", 0.3},
+                                              {"third", 1.0 / 3.0},
+                                              {"_big", 1.7976931348623157e308},
+                                              {"tiny9", -2.2250738585072014e-308}};
+  const std::string words = FormatInputs(2, inputs);
+  EXPECT_EQ(words.substr(0, 38), " inputs 2:5 input charge=734 input key") << words;
+  EXPECT_NE(words.find(" input key=0.3 "), std::string::npos) << words;
+  BootInputs boot;
+  ASSERT_EQ(ReadAll(words, boot), BootWordRead::kOk) << words;
+  EXPECT_EQ(boot.Check(2), nullptr);
+  ASSERT_EQ(boot.inputs().size(), inputs.size());
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    EXPECT_EQ(boot.inputs()[i].name, inputs[i].name);
+    EXPECT_EQ(boot.inputs()[i].value, inputs[i].value) << inputs[i].name;  // bit for bit
+    double value = 0;
+    EXPECT_EQ(app::FindParameter(boot.inputs(), inputs[i].name, value, SYROF_APP_NO_SUCH_INPUT), SYROF_APP_OK);
+    EXPECT_EQ(value, inputs[i].value);
+  }
+  double value = 7;
+  EXPECT_EQ(app::FindParameter(boot.inputs(), "charg", value, SYROF_APP_NO_SUCH_INPUT), SYROF_APP_NO_SUCH_INPUT);
+  EXPECT_EQ(value, 7);
+}
+
+TEST(BootWordsTest, InputsWrittenForAnotherRobotOrWithOneMissingAreRefusedByTheImage) {
+  const std::string words = FormatInputs(2, {{"charge", 5}, {"rank", 1}});
+  BootInputs other;
+  ASSERT_EQ(ReadAll(words, other), BootWordRead::kOk);
+  ASSERT_NE(other.Check(1), nullptr);
+  EXPECT_STREQ(other.Check(1), "the inputs were written for robot 2; this is robot 1");
+
+  BootInputs missing;
+  ASSERT_EQ(ReadAll(" inputs 2:2 input charge=5", missing), BootWordRead::kOk);
+  ASSERT_NE(missing.Check(2), nullptr);
+  EXPECT_STREQ(missing.Check(2), "inputs 2:2 announced 2 inputs; 1 came (an input is missing)");
+
+  BootInputs extra;
+  EXPECT_EQ(ReadAll(" inputs 2:1 input charge=5 input rank=1", extra), BootWordRead::kFull);
+}
+
+TEST(BootWordsTest, MalformedInputWordsAreRefused) {
+  for (const char* bad : {"charge", "=5", "charge=", "charge=5x", "charge=nan", "charge=inf", "charge=1e999",
+                          "9lives=1", "a-b=1", "charge=5 "}) {
+    BootInputs boot;
+    ASSERT_EQ(boot.Read("inputs", "0:1"), BootWordRead::kOk);
+    EXPECT_EQ(boot.Read("input", bad), BootWordRead::kBadValue) << bad;
+  }
+  const std::string long_name(kMaxBootInputNameBytes + 1, 'n');
+  BootInputs boot;
+  ASSERT_EQ(boot.Read("inputs", "0:2"), BootWordRead::kOk);
+  EXPECT_EQ(boot.Read("input", (long_name + "=1").c_str()), BootWordRead::kBadValue);
+  EXPECT_EQ(boot.Read("input", (long_name.substr(1) + "=1").c_str()), BootWordRead::kOk);  // 63 bytes fit
+  EXPECT_EQ(boot.Read("input", (long_name.substr(1) + "=2").c_str()), BootWordRead::kBadValue);  // twice
+  EXPECT_EQ(boot.Read("inputs", "0:2"), BootWordRead::kBadValue);  // announced twice
+
+  BootInputs unannounced;
+  EXPECT_EQ(unannounced.Read("input", "charge=1"), BootWordRead::kBadValue);
+  for (const char* bad : {"1", "1:", ":1", "1:17", "65536:1", "1:1:1"}) {
+    BootInputs count;
+    EXPECT_EQ(count.Read("inputs", bad), BootWordRead::kBadValue) << bad;
+  }
+  EXPECT_EQ(unannounced.Read("activation", "ssync"), BootWordRead::kNotMine);
+}
+
+TEST(BootWordsTest, InputsTheImageCannotHoldAreRefusedByTheHost) {
+  std::vector<std::string> names;
+  for (size_t i = 0; i <= kMaxBootInputs; ++i) names.push_back("in" + std::to_string(i));
+  std::vector<app::Parameter> inputs;
+  for (const std::string& name : names) inputs.push_back({name, 1});
+  std::array<char, 4096> out{};
+  size_t length = 0;
+  EXPECT_EQ(FormatInputWords(0, inputs, out, length), BootWordsError::kTooManyInputs);
+  EXPECT_EQ(length, 0u);
+  inputs.pop_back();
+  EXPECT_EQ(FormatInputWords(0, inputs, out, length), BootWordsError::kOk);
+  const std::vector<app::Parameter> not_finite = {{"charge", std::numeric_limits<double>::infinity()}};
+  EXPECT_EQ(FormatInputWords(0, not_finite, out, length), BootWordsError::kInvalid);
+  const std::vector<app::Parameter> bad_name = {{"a b", 1}};
+  EXPECT_EQ(FormatInputWords(0, bad_name, out, length), BootWordsError::kInvalid);
+  const std::vector<app::Parameter> twice = {{"a", 1}, {"a", 2}};
+  EXPECT_EQ(FormatInputWords(0, twice, out, length), BootWordsError::kInvalid);
+  std::array<char, 20> small{};
+  EXPECT_EQ(FormatInputWords(0, {{{"charge", 1}}}, small, length), BootWordsError::kBufferTooSmall);
   EXPECT_EQ(length, 0u);
 }
 

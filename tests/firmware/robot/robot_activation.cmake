@@ -1,4 +1,5 @@
-# The activation model's boot words on syrof-robot-mps2 (boot_words.h):
+# The activation model's and the private inputs' boot words on
+# syrof-robot-mps2 (boot_words.h):
 # the image reads them (its status line names the model), stops with exit
 # status 2 naming a word whose value it does not take, and the board stops
 # on a command line with more words than it reads, rather than run without
@@ -40,4 +41,30 @@ endforeach()
 run_image("${many}" result output)
 if(result STREQUAL "0" OR NOT output MATCHES "more words than")
   message(FATAL_ERROR "a command line of more words than the board reads ran (exit ${result}):\n${output}")
+endif()
+
+# The robot's private inputs (boot_words.h): read into its table (the
+# status line counts them); a line written for another robot, one input
+# short of its count, or a value that is no finite number stops the image
+# with a report line and exit status 2, before it starts.
+run_image("inputs 0:2 input charge=734 input key=0.3" result output)
+if(NOT result STREQUAL "0" OR NOT output MATCHES "status t_ms=[0-9]+ [^\n]* inputs=2")
+  message(FATAL_ERROR "an image with two inputs did not run and count them (exit ${result}):\n${output}")
+endif()
+run_image("" result output)
+if(NOT result STREQUAL "0" OR NOT output MATCHES " inputs=0")
+  message(FATAL_ERROR "an image without input words has inputs (exit ${result}):\n${output}")
+endif()
+run_image("inputs 2:1 input charge=734" result output)
+if(NOT result STREQUAL "2" OR NOT output MATCHES "the inputs were written for robot 2; this is robot 0"
+   OR output MATCHES "status t_ms")
+  message(FATAL_ERROR "inputs for another robot were not refused by name (exit ${result}):\n${output}")
+endif()
+run_image("inputs 0:2 input charge=734" result output)
+if(NOT result STREQUAL "2" OR NOT output MATCHES "announced 2 inputs; 1 came \\(an input is missing\\)")
+  message(FATAL_ERROR "a missing input was not refused by name (exit ${result}):\n${output}")
+endif()
+run_image("inputs 0:1 input charge=nan" result output)
+if(NOT result STREQUAL "2" OR NOT output MATCHES "'input': 'charge=nan' is not a value it takes")
+  message(FATAL_ERROR "a value that is no finite number was not refused by name (exit ${result}):\n${output}")
 endif()

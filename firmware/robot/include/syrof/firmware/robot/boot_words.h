@@ -20,6 +20,19 @@
 //
 // A FSYNC config gives no words, so a FSYNC image boots with the line it
 // always had.
+//
+// The robot's private inputs (the scenario's `inputs:`, its own value of
+// each; syrofAppInput) are words of the same line (FormatInputWords,
+// BootInputs), only the robot's own:
+//
+//   inputs ID:N                     written for robot ID, N inputs follow
+//   input NAME=VALUE                N times: a name as the scenario's (a
+//                                   letter or _, then letters, digits, _;
+//                                   at most 63 bytes), a finite decimal
+//                                   number that reads back to the same double
+//
+// No `inputs` word: the robot has no inputs (syrofAppInput answers
+// SYROF_APP_NO_SUCH_INPUT, as in the lab for a scenario without them).
 #pragma once
 
 #include <array>
@@ -27,6 +40,8 @@
 #include <cstdint>
 #include <span>
 
+#include "syrof/app.h"
+#include "syrof/app/app.h"
 #include "syrof/sync/activation.h"
 
 namespace syrof::firmware::robot {
@@ -50,6 +65,7 @@ enum class [[nodiscard]] BootWordsError : uint8_t {
   kRobotOutOfRange,  ///< a scripted robot id at or above 32 (a mask's width)
   kInvalid,          ///< sync::IsValid refused the config
   kBufferTooSmall,   ///< `out` is too short
+  kTooManyInputs,    ///< more than kMaxBootInputs private inputs
 };
 
 const char* ToString(BootWordsError error);
@@ -87,6 +103,47 @@ class BootActivation {
   size_t script_size_ = 0;
   std::array<sync::ScriptedCycle, kMaxBootScriptedCycles> cycles_{};
   size_t cycles_size_ = 0;
+};
+
+/// The most private inputs the image holds: as many as a scenario gives.
+inline constexpr size_t kMaxBootInputs = SYROF_APP_MAX_INPUTS;
+/// The longest input name the image holds (bytes, without the zero).
+inline constexpr size_t kMaxBootInputNameBytes = SYROF_APP_MAX_PARAMETER_NAME_LENGTH;
+
+/// Writes robot `id`'s `inputs` as words into `out` (each preceded by a
+/// space) and sets `length`; no inputs write nothing. kTooManyInputs for
+/// more than kMaxBootInputs, kInvalid for a name the image does not take
+/// or a value that is not finite, kBufferTooSmall when `out` is too short.
+BootWordsError FormatInputWords(uint16_t id, std::span<const app::Parameter> inputs, std::span<char> out,
+                                size_t& length);
+
+/// The private inputs the image boots with: their names and values in
+/// fixed storage, and the table syrofAppInput reads.
+class BootInputs {
+ public:
+  BootInputs() = default;
+  // inputs() points into this object: not copied or moved.
+  BootInputs(const BootInputs&) = delete;
+  BootInputs& operator=(const BootInputs&) = delete;
+
+  /// Reads one boot word pair (`key`, `value`, zero-terminated): kNotMine
+  /// for another key, kBadValue for a malformed value, an `input` before
+  /// `inputs`, a name given twice or more inputs than `inputs` announced.
+  BootWordRead Read(const char* key, const char* value);
+  /// Once every word is read: nullptr when the inputs are whole and were
+  /// written for `self_id`, else why not (a line for the robot's report).
+  const char* Check(uint16_t self_id);
+  /// The inputs read (names point into this object).
+  std::span<const app::Parameter> inputs() const { return {table_.data(), size_}; }
+
+ private:
+  bool announced_ = false;
+  uint16_t for_id_ = 0;
+  size_t expected_ = 0;
+  size_t size_ = 0;
+  std::array<std::array<char, kMaxBootInputNameBytes + 1>, kMaxBootInputs> names_{};
+  std::array<app::Parameter, kMaxBootInputs> table_{};
+  std::array<char, 112> message_{};
 };
 
 }  // namespace syrof::firmware::robot
