@@ -165,7 +165,13 @@ test-m4: deps
 ## SWARM_COMPARE_ASYNC_SCENARIO (the files the lab and DDS are compared on,
 ## docs/activation.md; each robot must also have looked exactly when its
 ## schedule says), into out/firmware-swarm/compare-ssync/ and compare-async/
-## (about 25 s each when the first try agrees).
+## (about 25 s each when the first try agrees). Then a message assignment
+## whose robots need their private inputs: SWARM_COMPARE_INPUTS_SCENARIO
+## (assignments/strongest's scenario on 4 robots, each told its own charge on
+## its boot line) with the strongest reference in the lab (--app, its
+## library) and on the image built with it (syrof-robot-mps2-strongest), the
+## robots' true positions compared too (within SWARM_COMPARE_POSE_TOLERANCE_M),
+## into out/firmware-swarm/compare-inputs/ (21 s here when the first try agrees).
 SWARM_ICOUNT  ?= 4
 SWARM_ROBOTS  ?= $(if $(CI),4,$(shell [ $$(nproc) -ge 4 ] && echo 8 || echo 4))
 SWARM_SECONDS ?= $(if $(CI),30,60)
@@ -178,12 +184,15 @@ SWARM_STRESS_SEED ?= 1
 SWARM_COMPARE_SCENARIO ?= lab/scenarios/four_runtimes.yaml
 SWARM_COMPARE_SSYNC_SCENARIO ?= tests/sim_dds/scenarios/ssync_runtimes.yaml
 SWARM_COMPARE_ASYNC_SCENARIO ?= tests/sim_dds/scenarios/async_runtimes.yaml
+SWARM_COMPARE_INPUTS_SCENARIO ?= tests/firmware/swarm/strongest_4.yaml
+SWARM_COMPARE_INPUTS_APP ?= $(BUILD_DIR)/tests/grader/assignment/submissions/strongest/reference/libstrongest.so
+SWARM_COMPARE_POSE_TOLERANCE_M ?= 0.25
 SWARM_BRIDGE_SECONDS ?= 8
 test-firmware-swarm: deps
 	$(configure-build)
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
-	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof syrof-bridge
+	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2 syrof-robot-mps2-strongest
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof syrof-bridge submission_strongest_reference
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
 	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --icount $(SWARM_ICOUNT) \
 	  --out out/firmware-swarm/no-loss --expect-cooperative --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
@@ -203,6 +212,9 @@ test-firmware-swarm: deps
 	  $(SWARM_COMPARE_SSYNC_SCENARIO) out/firmware-swarm/compare-ssync
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  $(SWARM_COMPARE_ASYNC_SCENARIO) out/firmware-swarm/compare-async
+	LAB_APP=$(SWARM_COMPARE_INPUTS_APP) POSE_TOLERANCE_M=$(SWARM_COMPARE_POSE_TOLERANCE_M) \
+	  bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2-strongest.elf \
+	  $(SWARM_COMPARE_INPUTS_SCENARIO) out/firmware-swarm/compare-inputs
 
 ## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
 QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \

@@ -13,6 +13,12 @@
 #
 #   firmware-agrees-with-lab.sh BUILD_DIR IMAGE SCENARIO OUT
 #
+# LAB_APP=LIB runs the lab with `--app LIB` (a student's library; the image
+# must be built with the same C file, SYROF_FIRMWARE_APP), and
+# POSE_TOLERANCE_M=M also compares every robot's true position round by
+# round (`syrof compare --pose-tolerance-m M`): the epochs alone agree
+# whatever the app does.
+#
 # The emulated robots run in real time on a shared machine: a guest held
 # back tens of milliseconds sends or hears a beacon a round late, and one
 # such beacon can change an epoch's mode (docs/firmware.md, "What made
@@ -33,7 +39,11 @@ done
 [[ -r $image ]] || { echo "$0: cannot read the robot image $image" >&2; exit 2; }
 mkdir -p "$out"
 
-if ! "$build/bin/syrof" run "$scenario" --out "$out/lab" >"$out/lab.txt" 2>&1; then
+lab_app=()
+[[ -n ${LAB_APP:-} ]] && lab_app=(--app "$LAB_APP")
+compare_poses=()
+[[ -n ${POSE_TOLERANCE_M:-} ]] && compare_poses=(--pose-tolerance-m "$POSE_TOLERANCE_M")
+if ! "$build/bin/syrof" run "$scenario" "${lab_app[@]}" --out "$out/lab" >"$out/lab.txt" 2>&1; then
   cat "$out/lab.txt" >&2
   echo "$0: the lab run of $scenario failed" >&2
   exit 2
@@ -56,7 +66,7 @@ for try in $(seq 1 $tries); do
     # it is a failed try.
     grep -E "console, column|FAILED|never|deadline" "$out/firmware-$try.txt" >&2 || true
     echo "$0: the firmware run's own checks failed (above)" >&2
-  elif "$build/bin/syrof" compare "$out/lab" "$out/firmware"; then
+  elif "$build/bin/syrof" compare "$out/lab" "$out/firmware" "${compare_poses[@]}"; then
     echo "$0: agreed on try $try of $tries"
     exit 0
   fi
