@@ -79,7 +79,15 @@ AppsResult LibraryApps(const scenario::Scenario& scenario, const std::vector<std
       return result;
     }
   }
-  result.supply.factory = [hosts = result.hosts](uint16_t id) { return MakeHostedApp(hosts[id % hosts.size()], id); };
+  if (request.load_once) {
+    std::vector<std::shared_ptr<LoadedLibrary>> loaded;
+    for (const HostOptions& host : result.hosts) loaded.push_back(LoadOnce(host));
+    result.supply.factory = [hosts = result.hosts, loaded = std::move(loaded)](uint16_t id) {
+      return MakeHostedApp(hosts[id % hosts.size()], id, loaded[id % loaded.size()]);
+    };
+  } else {
+    result.supply.factory = [hosts = result.hosts](uint16_t id) { return MakeHostedApp(hosts[id % hosts.size()], id); };
+  }
   result.supply.source = SourceOf(request.shown_libraries.empty() ? libraries : request.shown_libraries);
   result.supply.sandbox = SandboxNotes();
   return result;

@@ -21,6 +21,7 @@
 #include <sys/personality.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <termios.h>
@@ -139,7 +140,10 @@ scmp_arg_cmp Arg(unsigned int index, scmp_compare op, scmp_datum_t a, scmp_datum
 
 // The rules both filters share: what a callback may do. Everything else
 // traps (SIGSYS, reported by name).
-bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
+// `any_target`: a held host's loader filter, whose copies (other pids)
+// inherit it: signals to any process, which Landlock's signal scope (ABI 6)
+// keeps to the held host's own domain (docs/app_host.md "The fork server").
+bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid, bool any_target = false) {
   const auto self = static_cast<scmp_datum_t>(self_pid);
   const int allowed[] = {
       SCMP_SYS(read),          SCMP_SYS(write),         SCMP_SYS(readv),           SCMP_SYS(writev),
@@ -164,9 +168,17 @@ bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
   }
 #endif
   // Signals: only to itself (abort, raise); never to another process.
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(kill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) return false;
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tgkill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) return false;
-  if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tkill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) return false;
+  if (any_target) {
+    for (const int number : {SCMP_SYS(kill), SCMP_SYS(tgkill), SCMP_SYS(tkill)}) {
+      if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, number, 0) != 0) return false;
+    }
+  } else if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(kill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) {
+    return false;
+  }
+  if (!any_target) {
+    if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tgkill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) return false;
+    if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(tkill), 1, Arg(0, SCMP_CMP_EQ, self)) != 0) return false;
+  }
   // Any handler but SIGSYS's, which reports forbidden calls.
   if (seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(rt_sigaction), 1, Arg(0, SCMP_CMP_NE, SIGSYS)) != 0) {
     return false;
@@ -183,11 +195,16 @@ bool AddCallbackRules(scmp_filter_ctx filter, pid_t self_pid) {
 
 // Stage 1, for the dynamic loader and the library's constructors: the
 // callback rules plus opening files read-only, the stat family, and what
-// loading stage 2 needs (seccomp; prctl for no_new_privs only).
-scmp_filter_ctx LoaderFilter(pid_t self) {
+// loading stage 2 needs (seccomp; prctl for no_new_privs only). A held
+// host (`hold`) also needs what making a copy takes: recvmsg (the copy's
+// descriptors), the one clone of protocol::kCopyCloneFlags, the copy's
+// parent-death SIGKILL and sigpending (the check of what the constructors
+// left). docs/app_host.md, "The fork server", says why a constructor gains
+// nothing from them.
+scmp_filter_ctx LoaderFilter(pid_t self, bool hold) {
   scmp_filter_ctx filter = seccomp_init(SCMP_ACT_TRAP);
   if (filter == nullptr) return nullptr;
-  bool ok = seccomp_attr_set(filter, SCMP_FLTATR_CTL_NNP, 0) == 0 && AddCallbackRules(filter, self);
+  bool ok = seccomp_attr_set(filter, SCMP_FLTATR_CTL_NNP, 0) == 0 && AddCallbackRules(filter, self, hold);
   const scmp_datum_t write_flags = O_ACCMODE | O_CREAT | O_TRUNC | __O_TMPFILE;
   ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(openat), 1,
                               Arg(2, SCMP_CMP_MASKED_EQ, write_flags, 0)) == 0;
@@ -201,6 +218,14 @@ scmp_filter_ctx LoaderFilter(pid_t self) {
   // not undo the parent-death signal or the dumpable flag.
   ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(prctl), 1,
                               Arg(0, SCMP_CMP_EQ, PR_SET_NO_NEW_PRIVS)) == 0;
+  if (hold) {
+    ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(clone), 1,
+                                Arg(0, SCMP_CMP_EQ, p::kCopyCloneFlags)) == 0;
+    ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(prctl), 2, Arg(0, SCMP_CMP_EQ, PR_SET_PDEATHSIG),
+                                Arg(1, SCMP_CMP_EQ, SIGKILL)) == 0;
+    ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(recvmsg), 0) == 0;
+    ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, SCMP_SYS(rt_sigpending), 0) == 0;
+  }
   if (!ok) {
     seccomp_release(filter);
     return nullptr;
@@ -348,6 +373,176 @@ bool LoaderFileRules(syrof::process::FileRuleset& rules, const char* library, st
   return ok;
 }
 
+// What a held host checks before it offers copies: the descriptors it was
+// given (0-3) as they were before the library loaded, and /proc/self/maps,
+// opened while it could be.
+struct HoldState {
+  struct stat standard[p::kChannelFd + 1];
+  int maps_fd = -1;
+  sigset_t load_mask;  // the signal mask the constructors left (the copies get it back)
+  pid_t parent = 0;
+  scmp_filter_ctx callbacks = nullptr;  // built before the load, as a run host does
+  p::Reply hello;
+};
+HoldState hold;
+
+void RecordStandardDescriptors() {
+  for (int fd = 0; fd <= p::kChannelFd; ++fd) {
+    if (fstat(fd, &hold.standard[fd]) != 0) hold.standard[fd] = {};
+  }
+}
+
+// Whether /proc/self/maps lists a mapping shared with another process
+// (MAP_SHARED: the fourth permission letter is 's'). Reads with the
+// descriptor opened before Landlock; false when it cannot read.
+bool HasSharedMapping(bool& checked) {
+  static char text[1 << 16];
+  checked = false;
+  if (hold.maps_fd < 0 || lseek(hold.maps_fd, 0, SEEK_SET) != 0) return false;
+  bool at_line_start = true;
+  int field = 0;     // 0: the address range, 1: the permissions
+  int position = 0;  // within the permissions
+  for (;;) {
+    const ssize_t got = read(hold.maps_fd, text, sizeof(text));
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) return false;
+    if (got == 0) break;
+    for (ssize_t i = 0; i < got; ++i) {
+      const char c = text[i];
+      if (c == '\n') {
+        at_line_start = true;
+        continue;
+      }
+      if (at_line_start) {
+        at_line_start = false;
+        field = 0;
+        position = 0;
+      }
+      if (c == ' ') {
+        ++field;
+        continue;
+      }
+      if (field == 1 && position++ == 3 && c == 's') {
+        checked = true;
+        return true;
+      }
+    }
+  }
+  checked = true;
+  return false;
+}
+
+// What the constructors left that a fork would not copy as a fresh host
+// has it: protocol::HoldBits, 0 when every copy starts as a fresh host.
+// Threads and timers need no check: the loader's filter refuses clone3,
+// clone (but the copy's), setitimer, alarm and timer_create, and a fork
+// copies neither.
+uint32_t WhatCopiesWouldShare() {
+  uint32_t bits = 0;
+  bool checked = false;
+  if (HasSharedMapping(checked)) bits |= p::kHoldSharedMapping;
+  if (!checked) bits |= p::kHoldUnchecked;
+  if (hold.maps_fd >= 0) close(hold.maps_fd);
+  hold.maps_fd = -1;
+  for (int fd = 0; fd <= p::kChannelFd; ++fd) {
+    struct stat now {};
+    if (fstat(fd, &now) != 0 || now.st_dev != hold.standard[fd].st_dev || now.st_ino != hold.standard[fd].st_ino) {
+      bits |= p::kHoldStandardDescriptors;
+    }
+  }
+  rlimit files{};
+  const int last = getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < 4096 ? static_cast<int>(files.rlim_cur) : 4096;
+  for (int fd = p::kChannelFd + 1; fd < last; ++fd) {
+    if (fcntl(fd, F_GETFD) >= 0) bits |= p::kHoldOpenDescriptor;
+  }
+  sigset_t pending;
+  sigemptyset(&pending);
+  if (sigpending(&pending) != 0 || !sigisemptyset(&pending)) bits |= p::kHoldPendingSignal;
+  return bits;
+}
+
+[[noreturn]] void Serve();
+
+// A copy, just made: arms its own death with the parent (a fork clears
+// it), puts its channel on 3 and its output on 1 and 2, closes every other
+// descriptor, loads the callbacks' filter with its own pid (the rule
+// letting it signal itself names it), gives back the signal mask the
+// constructors left, says hello as the held host did, and serves. No code
+// of the library runs before the filter is on.
+[[noreturn]] void BecomeCopy(int channel, int output) {
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() != hold.parent) _exit(p::kExitParentGone);
+  // 0-3 are open (checked), so each F_DUPFD lands on the number closed.
+  close(1);
+  if (fcntl(output, F_DUPFD, 1) != 1) _exit(p::kExitUsage);
+  close(2);
+  if (fcntl(output, F_DUPFD, 2) != 2) _exit(p::kExitUsage);
+  close(p::kChannelFd);
+  if (fcntl(channel, F_DUPFD, p::kChannelFd) != p::kChannelFd) _exit(p::kExitUsage);
+  rlimit files{};
+  const int last = getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < 4096 ? static_cast<int>(files.rlim_cur) : 4096;
+  for (int fd = p::kChannelFd + 1; fd < last; ++fd) close(fd);
+  seccomp_release(hold.callbacks);
+  scmp_filter_ctx callbacks = CallbackFilter(getpid());
+  if (callbacks == nullptr || seccomp_load(callbacks) != 0) {
+    Fail(Verdict::kLoadFailed, "cannot install the callback filter", nullptr);
+  }
+  seccomp_release(callbacks);
+  sigprocmask(SIG_SETMASK, &hold.load_mask, nullptr);
+  Send(hold.hello);
+  Serve();
+}
+
+// The held host's loop: one copy per ForkRequest, until the parent closes
+// the channel. Every signal is blocked (no handler of the library runs
+// here) and nothing of the library is called.
+[[noreturn]] void Hold() {
+  for (;;) {
+    p::ForkRequest request;
+    iovec part{&request, sizeof(request)};
+    alignas(cmsghdr) char control[CMSG_SPACE(2 * sizeof(int))];
+    msghdr message{};
+    message.msg_iov = &part;
+    message.msg_iovlen = 1;
+    message.msg_control = control;
+    message.msg_controllen = sizeof(control);
+    ssize_t got;
+    do {
+      got = recvmsg(p::kChannelFd, &message, MSG_CMSG_CLOEXEC);
+    } while (got < 0 && errno == EINTR);
+    if (got <= 0) _exit(0);  // the parent closed the channel: the search is over
+    int descriptors[2] = {-1, -1};
+    int received = 0;
+    for (cmsghdr* header = CMSG_FIRSTHDR(&message); header != nullptr; header = CMSG_NXTHDR(&message, header)) {
+      if (header->cmsg_level != SOL_SOCKET || header->cmsg_type != SCM_RIGHTS) continue;
+      const size_t count = (header->cmsg_len - CMSG_LEN(0)) / sizeof(int);
+      for (size_t i = 0; i < count; ++i) {
+        int fd;
+        memcpy(&fd, CMSG_DATA(header) + i * sizeof(int), sizeof(int));
+        if (received < 2) {
+          descriptors[received] = fd;
+        } else {
+          close(fd);
+        }
+        ++received;
+      }
+    }
+    if (static_cast<size_t>(got) != sizeof(request) || request.magic != p::kForkMagic || received != 2 ||
+        (message.msg_flags & MSG_CTRUNC) != 0) {
+      _exit(p::kExitUsage);
+    }
+    const long pid = syscall(SYS_clone, p::kCopyCloneFlags, 0, nullptr, nullptr, 0);
+    if (pid == 0) BecomeCopy(descriptors[0], descriptors[1]);
+    const int error = pid < 0 ? errno : 0;
+    close(descriptors[0]);
+    close(descriptors[1]);
+    p::ForkReply made;
+    made.pid = pid > 0 ? static_cast<int32_t>(pid) : 0;
+    made.error = error;
+    if (!process::WriteAll(p::kChannelFd, &made, sizeof(made))) _exit(p::kExitParentGone);
+  }
+}
+
 [[noreturn]] void Serve() {
   for (;;) {
     ssize_t got;
@@ -409,11 +604,13 @@ int main(int argc, char** argv) {
   using namespace syrof::app_host;
   namespace p = protocol;
   if (argc != 5) {
-    fprintf(stderr, "usage: syrof-app-host run|check LIBRARY PARENT_PID ADDRESS_SPACE_BYTES\n"
+    fprintf(stderr, "usage: syrof-app-host run|check|hold LIBRARY PARENT_PID ADDRESS_SPACE_BYTES\n"
                     "(started by SyROF; not meant to be run by hand)\n");
     return p::kExitUsage;
   }
   const bool check_only = strcmp(argv[1], "check") == 0;
+  // hold: the fork server's held host (docs/app_host.md "The fork server").
+  const bool hold_mode = strcmp(argv[1], "hold") == 0;
   const char* library = argv[2];
   const pid_t parent = static_cast<pid_t>(strtol(argv[3], nullptr, 10));
   const unsigned long long address_space = strtoull(argv[4], nullptr, 10);
@@ -460,6 +657,23 @@ int main(int argc, char** argv) {
     Fail(syrof::app::Verdict::kLoadFailed, "cannot confine the loader: ", error.c_str());
   }
   if (!file_rules.created()) notes |= p::kNoteNoLandlock;
+  // A held host's copies inherit its loader filter, which cannot name their
+  // pids: it lets signals through, and only Landlock's signal scope keeps
+  // them in the held host's domain. Without the scope there is no holding.
+  const bool can_hold = hold_mode && file_rules.created() && syrof::process::LandlockAbi() >= 6;
+  if (hold_mode && !can_hold) {
+    p::Reply refused;
+    refused.kind = static_cast<uint8_t>(p::ReplyKind::kHello);
+    refused.notes = notes | p::kHoldNoSignalScope;
+    Send(refused);
+    _exit(0);
+  }
+  if (hold_mode) {
+    // Read after the load, to find a mapping a constructor shared; /proc is
+    // out of Landlock's rules, so it is opened now.
+    hold.maps_fd = open("/proc/self/maps", O_RDONLY | O_CLOEXEC);
+    RecordStandardDescriptors();
+  }
 
   // 5. An unprivileged uid when started as root; no process may then be
   //    started under it (RLIMIT_NPROC 0: the host never forks).
@@ -472,7 +686,10 @@ int main(int argc, char** argv) {
   } else {
     notes |= p::kNoteNotRoot;
   }
-  SetLimit(RLIMIT_NPROC, 0);
+  // (A held host makes its copies: it keeps the limit it was given. A
+  // process its constructors start stays in its process group, where the
+  // parent finds it after the load: docs/app_host.md "The fork server".)
+  if (!hold_mode) SetLimit(RLIMIT_NPROC, 0);
   prctl(PR_SET_DUMPABLE, 1);  // keeps /proc/self/fd/N readable after the uid change
   // The parent may have gone while the death signal was cleared.
   if (getppid() != parent) _exit(p::kExitParentGone);
@@ -507,7 +724,7 @@ int main(int argc, char** argv) {
     file_rules.Close();  // descriptors 0-3 only, as before
   }
   const pid_t self = getpid();
-  scmp_filter_ctx loader = LoaderFilter(self);
+  scmp_filter_ctx loader = LoaderFilter(self, hold_mode);
   scmp_filter_ctx callbacks = CallbackFilter(self);
   if (loader == nullptr || callbacks == nullptr || seccomp_load(loader) != 0) {
     Fail(syrof::app::Verdict::kLoadFailed, "cannot install the system call filter", nullptr);
@@ -538,6 +755,28 @@ int main(int argc, char** argv) {
   const int bound = syrof_internal_host_bind(descriptor, RecordPayload, LookUpParameter, LookUpInput, nullptr);
   if (bound == 1) Fail(syrof::app::Verdict::kBadAbi, SYROF_APP_ENTRY_SYMBOL "() returned no descriptor", nullptr);
   if (bound != 0) Fail(syrof::app::Verdict::kBadAbi, "the descriptor lacks a callback", nullptr);
+
+  if (hold_mode) {
+    // 9'. The fork server: no callbacks' filter here; each copy loads its
+    //     own (BecomeCopy). The hello says whether copies would start
+    //     clean; if not, the parent starts a fresh host per robot instead.
+    const uint32_t unclean = WhatCopiesWouldShare();
+    sigset_t all;
+    sigfillset(&all);
+    sigprocmask(SIG_SETMASK, &all, &hold.load_mask);
+    hold.parent = parent;
+    hold.callbacks = callbacks;
+    fflush(stdout);
+    fflush(stderr);
+    hold.hello.kind = static_cast<uint8_t>(p::ReplyKind::kHello);
+    hold.hello.notes = notes;
+    CopyText(hold.hello.text, sizeof(hold.hello.text), descriptor->name != nullptr ? descriptor->name : "c_app");
+    p::Reply held = hold.hello;
+    held.notes |= unclean;
+    Send(held);
+    if (unclean != 0) _exit(0);
+    Hold();
+  }
 
   // 9. The callbacks' filter: from here on nothing is opened.
   if (seccomp_load(callbacks) != 0) {

@@ -1,5 +1,7 @@
 #include "host_process.h"
 
+#include "loaded_library.h"
+
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -92,6 +94,8 @@ void HostProcess::SetFault(Verdict verdict, const std::string& detail) {
 
 void HostProcess::KillAndReap() {
   if (child_.started() && !child_.reaped()) {
+    // The host alone: a held host's copies, in its group, run on (the
+    // group goes with the LoadedLibrary).
     child_.Kill();
     (void)child_.Reap();
   }
@@ -119,6 +123,9 @@ bool HostProcess::DrainOutput() {
     if (got < 0 && errno == EINTR) continue;
     if (got <= 0) return output_bytes_ <= limits_.output_limit_bytes;
     const uint64_t size = static_cast<uint64_t>(got);
+    if (capture_ && captured_.size() < limits_.log_keep_bytes) {
+      captured_.append(buffer, std::min<uint64_t>(size, limits_.log_keep_bytes - captured_.size()));
+    }
     if (log_.valid() && log_written_ < limits_.log_keep_bytes) {
       const uint64_t keep = std::min(size, limits_.log_keep_bytes - log_written_);
       (void)process::WriteAll(log_.get(), buffer, keep);
@@ -129,15 +136,11 @@ bool HostProcess::DrainOutput() {
   }
 }
 
-CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mode mode) {
+bool HostProcess::OpenPipes(const HostOptions& options, uint16_t robot_id, process::Fd& child_channel,
+                            process::Fd& child_output) {
   limits_ = options.limits;
   library_path_ = options.library_path;
-  const std::string host = options.host_binary.empty() ? FindHostBinary() : options.host_binary;
-  if (host.empty()) {
-    SetFault(Verdict::kLoadFailed, "syrof-app-host not found (set SYROF_APP_HOST)");
-    return fault_;
-  }
-  if (!options.log_directory.empty()) {
+  if (!options.log_directory.empty() && !capture_) {
     // Parents too (OUT/robots before OUT exists). A log that cannot be
     // opened loses the robot's output, not the robot.
     std::error_code ignored;
@@ -160,16 +163,32 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
     if (attempt == 0 && error == EMFILE && RaiseDescriptorLimit()) continue;
     SetFault(Verdict::kLoadFailed, std::string("cannot create the host's channel: ") + strerror(error));
     log_.Reset();
-    return fault_;
+    return false;
   }
   channel_.Reset(channel[0]);
-  const process::Fd child_channel(channel[1]);
+  child_channel.Reset(channel[1]);
   output_.Reset(output[0]);
-  const process::Fd child_output(output[1]);
+  child_output.Reset(output[1]);
   fcntl(output_.get(), F_SETFL, O_NONBLOCK);
+  return true;
+}
+
+CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mode mode) {
+  capture_ = mode == Mode::kHold;
+  const std::string host = options.host_binary.empty() ? FindHostBinary() : options.host_binary;
+  if (host.empty()) {
+    limits_ = options.limits;
+    library_path_ = options.library_path;
+    SetFault(Verdict::kLoadFailed, "syrof-app-host not found (set SYROF_APP_HOST)");
+    return fault_;
+  }
+  process::Fd child_channel;
+  process::Fd child_output;
+  if (!OpenPipes(options, robot_id, child_channel, child_output)) return fault_;
 
   process::Command command;
-  command.argv = {host, mode == Mode::kCheck ? "check" : "run", options.library_path, std::to_string(getpid()),
+  const char* verb = mode == Mode::kCheck ? "check" : mode == Mode::kHold ? "hold" : "run";
+  command.argv = {host, verb, options.library_path, std::to_string(getpid()),
                   std::to_string(limits_.address_space_bytes)};
   // A fixed, minimal environment: the app sees the same on every run. A
   // test of a kernel without Landlock passes its pretence on (it can only
@@ -181,6 +200,9 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
   command.descriptors = {{1, child_output.get()}, {2, child_output.get()}, {p::kChannelFd, child_channel.get()}};
   // Address randomisation off for the host (docs/app_host.md).
   command.no_address_randomization = true;
+  // A held host leads a group of its own: its copies, and any process its
+  // library's constructors started, are in it (docs/app_host.md).
+  command.own_process_group = mode == Mode::kHold;
   child_ = process::Spawn(command);
   if (!child_.started()) {
     SetFault(Verdict::kLoadFailed, "cannot start " + host + ": " + strerror(child_.start_error()));
@@ -188,9 +210,13 @@ CallStatus HostProcess::Spawn(const HostOptions& options, uint16_t robot_id, Mod
     return fault_;
   }
   // A pidfd of -1 (old kernels): the channel's hang-up says it too.
+  OpenCpuStat();
+  return CallStatus::Ok();
+}
+
+void HostProcess::OpenCpuStat() {
   cpu_stat_ = process::Fd(open(("/proc/" + std::to_string(child_.pid()) + "/stat").c_str(), O_RDONLY | O_CLOEXEC));
   have_cpu_clock_ = cpu_stat_.get() >= 0 && UserNanoseconds(cpu_stat_.get()) >= 0;
-  return CallStatus::Ok();
 }
 
 CallStatus HostProcess::Start(const HostOptions& options, uint16_t robot_id, Mode mode) {
@@ -423,6 +449,92 @@ CallStatus HostProcess::Call(const void* request, size_t size, uint32_t sequence
       return CallStatus::Ok();
     }
   }
+}
+
+CallStatus HostProcess::SpawnCopy(const HostOptions& options, uint16_t robot_id, LoadedLibrary& library) {
+  process::Fd child_channel;
+  process::Fd child_output;
+  if (!OpenPipes(options, robot_id, child_channel, child_output)) return fault_;
+  const LoadedLibrary::CopyStart copy = library.StartCopy(child_channel.get(), child_output.get());
+  if (!copy.made) {
+    // Fresh, as without the fork server: the same host from the start.
+    channel_.Reset();
+    output_.Reset();
+    log_.Reset();
+    return Spawn(options, robot_id, Mode::kRun);
+  }
+  child_ = process::Adopt(copy.pid);
+  if (!child_.started()) {
+    // Not ours (cannot happen with CLONE_PARENT): never left running.
+    kill(copy.pid, SIGKILL);
+    SetFault(Verdict::kLoadFailed, std::string("cannot hold the host's copy: ") + strerror(child_.start_error()));
+    KillAndReap();
+    return fault_;
+  }
+  // The log begins as a fresh host's would: with what the library printed
+  // while it loaded.
+  if (log_.valid() && !copy.load_output.empty()) {
+    (void)process::WriteAll(log_.get(), copy.load_output.data(), copy.load_output.size());
+  }
+  log_written_ = copy.load_output.size();
+  output_bytes_ = copy.load_output_bytes;
+  // Its CPU budget is counted as a fresh host's: user time only.
+  OpenCpuStat();
+  return CallStatus::Ok();
+}
+
+HostProcess::Copy HostProcess::MakeCopy(int child_channel, int child_output, pid_t& pid, int& error) {
+  pid = -1;
+  error = 0;
+  if (faulted_ || !started_ || child_.reaped()) return Copy::kGone;
+  p::ForkRequest request;
+  iovec part{&request, sizeof(request)};
+  alignas(cmsghdr) char control[CMSG_SPACE(2 * sizeof(int))] = {};
+  msghdr message{};
+  message.msg_iov = &part;
+  message.msg_iovlen = 1;
+  message.msg_control = control;
+  message.msg_controllen = sizeof(control);
+  cmsghdr* header = CMSG_FIRSTHDR(&message);
+  header->cmsg_level = SOL_SOCKET;
+  header->cmsg_type = SCM_RIGHTS;
+  header->cmsg_len = CMSG_LEN(2 * sizeof(int));
+  const int descriptors[2] = {child_channel, child_output};
+  std::memcpy(CMSG_DATA(header), descriptors, sizeof(descriptors));
+  ssize_t sent;
+  do {
+    sent = sendmsg(channel_.get(), &message, MSG_NOSIGNAL | MSG_DONTWAIT);
+  } while (sent < 0 && errno == EINTR);
+  if (sent != static_cast<ssize_t>(sizeof(request))) {
+    KillAndReap();
+    SetFault(Verdict::kCrashed, "the held host took no request");
+    return Copy::kGone;
+  }
+  const int64_t deadline = Nanoseconds(CLOCK_MONOTONIC) + int64_t{limits_.load_wall_cap_ms} * 1'000'000;
+  for (;;) {
+    p::ForkReply reply;
+    ssize_t got;
+    do {
+      got = recv(channel_.get(), &reply, sizeof(reply), MSG_DONTWAIT | MSG_TRUNC);
+    } while (got < 0 && errno == EINTR);
+    if (got == static_cast<ssize_t>(sizeof(reply)) && reply.magic == p::kForkMagic) {
+      if (reply.pid > 0) {
+        pid = reply.pid;
+        return Copy::kMade;
+      }
+      error = reply.error;
+      return Copy::kRefused;
+    }
+    const int64_t left = deadline - Nanoseconds(CLOCK_MONOTONIC);
+    if (got >= 0 || (errno != EAGAIN && errno != EWOULDBLOCK) || left <= 0) break;  // hung up, malformed, or late
+    const timespec timeout{static_cast<time_t>(left / 1'000'000'000), static_cast<long>(left % 1'000'000'000)};
+    pollfd fds[2] = {{channel_.get(), POLLIN, 0}, {child_.pidfd(), POLLIN, 0}};
+    const int ready = ppoll(fds, child_.pidfd() >= 0 ? 2 : 1, &timeout, nullptr);
+    if (ready > 0 && (fds[0].revents & POLLIN) == 0 && (fds[1].revents & POLLIN) != 0) break;  // it ended
+  }
+  KillAndReap();
+  SetFault(Verdict::kCrashed, "the held host ended");
+  return Copy::kGone;
 }
 
 }  // namespace syrof::app_host

@@ -19,9 +19,13 @@
 
 namespace syrof::app_host {
 
+class LoadedLibrary;
+
 class HostProcess {
  public:
-  enum class Mode { kRun, kCheck };
+  /// kHold: the fork server's held host (docs/app_host.md "The fork
+  /// server"): no log, its output kept in `load_output()` instead.
+  enum class Mode { kRun, kCheck, kHold };
 
   HostProcess() = default;
   /// Kills the host if it still runs, reaps it, closes the log.
@@ -39,6 +43,24 @@ class HostProcess {
   /// Init, so they load side by side); the first Call waits for the hello.
   /// The load wall cap counts from when that wait begins.
   app::CallStatus Spawn(const HostOptions& options, uint16_t robot_id, Mode mode);
+
+  /// Spawn for a copy of `library`'s held host: the copy is asked of the
+  /// held host, adopted as this process's child, and begins its log with
+  /// what the library printed while it loaded (as a fresh host's log
+  /// would). A fresh host (Spawn) when `library` no longer holds.
+  app::CallStatus SpawnCopy(const HostOptions& options, uint16_t robot_id, LoadedLibrary& library);
+
+  /// A held host's side of a copy: sends the copy's two descriptors and
+  /// waits (load wall cap) for its pid. kGone: the held host ended or did
+  /// not answer (it is then killed and reaped); kRefused: its clone
+  /// failed (`error`).
+  enum class Copy { kMade, kGone, kRefused };
+  Copy MakeCopy(int child_channel, int child_output, pid_t& pid, int& error);
+
+  /// What the host wrote while it loaded (kHold): the kept bytes (at most
+  /// log_keep_bytes) and how many there were in all.
+  const std::string& load_output() const { return captured_; }
+  uint64_t output_bytes() const { return output_bytes_; }
 
   /// Start's second half (Call does it when needed).
   app::CallStatus AwaitHello(protocol::Reply& hello);
@@ -80,6 +102,13 @@ class HostProcess {
   void FaultFromExit(bool load);
   void KillAndReap();
   void FinishLog();
+  // The log file (options.log_directory) and the channel and output pipe;
+  // false (a fault set) when they cannot be made.
+  bool OpenPipes(const HostOptions& options, uint16_t robot_id, process::Fd& child_channel,
+                 process::Fd& child_output);
+  // Opens the host's /proc/PID/stat, whose utime the CPU budget counts, for
+  // a spawned host and a copy alike.
+  void OpenCpuStat();
 
   HostLimits limits_;
   process::Child child_;
@@ -98,6 +127,8 @@ class HostProcess {
   std::string app_name_;
   std::string library_path_;
   uint32_t notes_ = 0;
+  bool capture_ = false;   // kHold: output kept in captured_, no log
+  std::string captured_;
 };
 
 }  // namespace syrof::app_host

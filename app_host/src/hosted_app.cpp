@@ -4,9 +4,11 @@
 #include <memory>
 #include <string>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "host_process.h"
+#include "loaded_library.h"
 #include "protocol.h"
 #include "syrof/app_host/hosted_app.h"
 
@@ -23,8 +25,10 @@ const uint8_t kNoBytes[SYROF_APP_MAX_PAYLOAD_BYTES] = {};
 
 class HostedApp final : public app::App {
  public:
-  HostedApp(const HostOptions& options, uint16_t robot_id) : request_(p::kMaxRequestBytes) {
-    start_status_ = process_.Spawn(options, robot_id, HostProcess::Mode::kRun);
+  HostedApp(const HostOptions& options, uint16_t robot_id, std::shared_ptr<LoadedLibrary> loaded = nullptr)
+      : loaded_(std::move(loaded)), request_(p::kMaxRequestBytes) {
+    start_status_ = loaded_ != nullptr ? process_.SpawnCopy(options, robot_id, *loaded_)
+                                       : process_.Spawn(options, robot_id, HostProcess::Mode::kRun);
     if (start_status_.ok()) {
       start_status_ =
           EncodeEntries(options.params, p::kMaxParameters, kParameterFaults, parameters_);
@@ -151,6 +155,9 @@ class HostedApp final : public app::App {
         reply);
   }
 
+  // The held host this app's host is a copy of: it lives while the copy
+  // does (declared first, so it goes after the process).
+  std::shared_ptr<LoadedLibrary> loaded_;
   mutable HostProcess process_;  // name() may have to wait for the hello
   CallStatus start_status_;
   std::vector<unsigned char> request_;
@@ -164,6 +171,11 @@ class HostedApp final : public app::App {
 
 std::unique_ptr<app::App> MakeHostedApp(const HostOptions& options, uint16_t robot_id) {
   return std::make_unique<HostedApp>(options, robot_id);
+}
+
+std::unique_ptr<app::App> MakeHostedApp(const HostOptions& options, uint16_t robot_id,
+                                        const std::shared_ptr<LoadedLibrary>& loaded) {
+  return std::make_unique<HostedApp>(options, robot_id, loaded);
 }
 
 }  // namespace syrof::app_host

@@ -112,6 +112,44 @@ enum NoteBits : uint32_t {
   kNoteNoLandlock = 1u << 5,       ///< Landlock missing: the loader's opens are not confined to the library's folders
 };
 
+/// The fork server (docs/app_host.md "The fork server"). A host started in
+/// `hold` mode loads the library, checks what its constructors left, and
+/// says in its hello's notes whether copies of it would start clean: any
+/// of these bits means they would not, and the parent starts a fresh host
+/// per robot instead. Without them it holds the loaded library and makes
+/// one copy per ForkRequest.
+enum HoldBits : uint32_t {
+  kHoldOpenDescriptor = 1u << 16,     ///< a descriptor past 3 is open (a file the copies would share, offset and all)
+  kHoldSharedMapping = 1u << 17,      ///< a MAP_SHARED mapping (the copies would see each other's writes)
+  kHoldPendingSignal = 1u << 18,      ///< a signal is pending (a fork clears it; a fresh host would have it)
+  kHoldStandardDescriptors = 1u << 19,  ///< descriptors 0-3 are not the ones the host was given
+  kHoldUnchecked = 1u << 20,          ///< the host could not check (no /proc/self/maps)
+  kHoldNoSignalScope = 1u << 21,      ///< no Landlock signal scope (ABI 6): the host did not load the library
+};
+inline constexpr uint32_t kHoldNotClean = kHoldOpenDescriptor | kHoldSharedMapping | kHoldPendingSignal |
+                                          kHoldStandardDescriptors | kHoldUnchecked | kHoldNoSignalScope;
+
+/// Parent to held host: make a copy. Sent with two descriptors
+/// (SCM_RIGHTS): the copy's channel (its descriptor 3) and its output pipe
+/// (1 and 2).
+inline constexpr uint32_t kForkMagic = 0x53464f52;  // "SFOR"
+struct ForkRequest {
+  uint32_t magic = kForkMagic;
+};
+/// Held host to parent: the copy's pid (a child of the parent: the copy is
+/// made with CLONE_PARENT), or the errno of a refused clone.
+struct ForkReply {
+  uint32_t magic = kForkMagic;
+  int32_t pid = 0;
+  int32_t error = 0;
+};
+/// The only clone a held host's loader filter lets through: a copy whose
+/// parent is the host's parent. glibc's fork, vfork, posix_spawn and
+/// pthread_create never pass exactly this; a constructor that makes it
+/// itself leaves a process in the held host's process group, which the
+/// parent finds after the load (and then holds nothing).
+inline constexpr unsigned long kCopyCloneFlags = 0x00008000;  // CLONE_PARENT
+
 /// Exit statuses of the host that mean something (the parent prefers the
 /// fault frame the host sends before them).
 inline constexpr int kExitUsage = 64;

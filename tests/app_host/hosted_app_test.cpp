@@ -1,6 +1,8 @@
 // HostedApp against hostile libraries: each misbehaviour ends in its verdict,
 // the parent survives, no child is left behind, and a well-behaved library
-// works as it would in-process.
+// works as it would in-process. Every test runs twice: with a fresh host
+// per app (`fresh`), and with each app a copy of one held host (`forked`:
+// LoadOnce, the fork server), which must give the same verdicts and logs.
 #include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -10,10 +12,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <thread>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -72,8 +77,21 @@ std::vector<pid_t> Children() {
   return children;
 }
 
-class HostedAppTest : public ::testing::Test {
+// Fresh hosts, or copies of a held one (the test's parameter).
+class HostedAppTest : public ::testing::TestWithParam<bool> {
  protected:
+  bool forked() const { return GetParam(); }
+
+  // Robot `id`'s app as the test's way of hosting makes it: in `forked`,
+  // a copy of the held host of `options.library_path` (one held host per
+  // library and test).
+  std::unique_ptr<app::App> MakeApp(const HostOptions& options, uint16_t id) {
+    if (!forked()) return MakeHostedApp(options, id);
+    std::shared_ptr<LoadedLibrary>& loaded = loaded_[options.library_path];
+    if (loaded == nullptr) loaded = LoadOnce(options);
+    return MakeHostedApp(options, id, loaded);
+  }
+
   void SetUp() override {
     // Two levels that do not exist yet: the host makes both (OUT/robots).
     log_dir_ = ::testing::TempDir() + "app_host_logs_" + std::to_string(getpid()) + "/robots";
@@ -87,6 +105,7 @@ class HostedAppTest : public ::testing::Test {
     }
   }
   void TearDown() override {
+    loaded_.clear();  // the held hosts end
     EXPECT_TRUE(Children().empty()) << "a host outlived its app";
     std::error_code ignored;
     std::filesystem::remove_all(std::filesystem::path(log_dir_).parent_path(), ignored);
@@ -97,7 +116,7 @@ class HostedAppTest : public ::testing::Test {
   // Init then one NewRound of robot `id` on `name`; the first fault.
   app::CallStatus RunOnce(const std::string& name, uint16_t id = 0) {
     options_.library_path = Library(name);
-    std::unique_ptr<app::App> app = MakeHostedApp(options_, id);
+    std::unique_ptr<app::App> app = MakeApp(options_, id);
     uint8_t state = 0;
     info_.self_id = id;
     app::CallStatus status = app->Init(info_, platform_, state);
@@ -125,7 +144,13 @@ class HostedAppTest : public ::testing::Test {
   syrof_app_info info_{};
   syrof_member_state members_[3];
   RecordingPlatform platform_;
+  std::map<std::string, std::shared_ptr<LoadedLibrary>> loaded_;
 };
+
+INSTANTIATE_TEST_SUITE_P(Hosts, HostedAppTest, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& hosts) {
+                           return std::string(hosts.param ? "forked" : "fresh");
+                         });
 
 #define EXPECT_VERDICT(status, verdict_value, detail_text)                         \
   do {                                                                             \
@@ -143,15 +168,15 @@ TEST(HostLimitsTest, AnUnsetWallCapIsAtLeastFourTimesTheCpuBudget) {
   EXPECT_EQ(HostLimits::ForBudgets(std::nullopt, 300).cpu_budget_ms, 100u);
 }
 
-TEST_F(HostedAppTest, SegfaultIsACrashNamingTheSignal) { EXPECT_VERDICT(RunOnce("segfault"), kCrashed, "SIGSEGV"); }
+TEST_P(HostedAppTest, SegfaultIsACrashNamingTheSignal) { EXPECT_VERDICT(RunOnce("segfault"), kCrashed, "SIGSEGV"); }
 
-TEST_F(HostedAppTest, AbortIsACrashNamingTheSignal) { EXPECT_VERDICT(RunOnce("abort"), kCrashed, "SIGABRT"); }
+TEST_P(HostedAppTest, AbortIsACrashNamingTheSignal) { EXPECT_VERDICT(RunOnce("abort"), kCrashed, "SIGABRT"); }
 
-TEST_F(HostedAppTest, ExitDuringACallIsExitedWithItsStatus) {
+TEST_P(HostedAppTest, ExitDuringACallIsExitedWithItsStatus) {
   EXPECT_VERDICT(RunOnce("exit0"), kExited, "exit status 0");
 }
 
-TEST_F(HostedAppTest, AnInfiniteLoopIsATimeoutOnCpuTime) {
+TEST_P(HostedAppTest, AnInfiniteLoopIsATimeoutOnCpuTime) {
   options_.limits.cpu_budget_ms = 50;
   EXPECT_VERDICT(RunOnce("infinite_loop"), kTimeout, "CPU time over 50 ms");
 }
@@ -160,39 +185,39 @@ TEST_F(HostedAppTest, AnInfiniteLoopIsATimeoutOnCpuTime) {
 // to the kernel (page faults here; direct reclaim on a machine short of
 // memory) is not a CPU time-out, and the wall cap still bounds it. With the
 // host's whole CPU clock this was "CPU time over 50 ms".
-TEST_F(HostedAppTest, TimeTheKernelSpendsForTheHostIsNotHeldAgainstTheCpuBudget) {
+TEST_P(HostedAppTest, TimeTheKernelSpendsForTheHostIsNotHeldAgainstTheCpuBudget) {
   options_.limits.cpu_budget_ms = 50;
   EXPECT_TRUE(RunOnce("kernel_time").ok()) << RunOnce("kernel_time").detail();
   options_.limits.wall_cap_ms = 100;
   EXPECT_VERDICT(RunOnce("kernel_time"), kTimeout, "wall time over 100 ms");
 }
 
-TEST_F(HostedAppTest, SleepingPastTheWallCapIsATimeoutOnWallTime) {
+TEST_P(HostedAppTest, SleepingPastTheWallCapIsATimeoutOnWallTime) {
   options_.limits.wall_cap_ms = 200;
   EXPECT_VERDICT(RunOnce("sleep_forever"), kTimeout, "wall time over 200 ms");
 }
 
-TEST_F(HostedAppTest, AllocatingGigabytesIsMemory) {
+TEST_P(HostedAppTest, AllocatingGigabytesIsMemory) {
   EXPECT_VERDICT(RunOnce("allocate_gigabytes"), kMemory, "allocation of 1073741824 bytes refused");
 }
 
-TEST_F(HostedAppTest, ForkIsAForbiddenSyscallNamed) {
+TEST_P(HostedAppTest, ForkIsAForbiddenSyscallNamed) {
   // glibc's fork() is the clone system call.
   EXPECT_VERDICT(RunOnce("fork"), kForbiddenSyscall, "clone");
 }
 
-TEST_F(HostedAppTest, SocketConnectIsAForbiddenSyscallNamed) {
+TEST_P(HostedAppTest, SocketConnectIsAForbiddenSyscallNamed) {
   EXPECT_VERDICT(RunOnce("socket_connect"), kForbiddenSyscall, "socket");
 }
 
-TEST_F(HostedAppTest, OpeningAFileForWritingIsForbiddenAndWritesNothing) {
+TEST_P(HostedAppTest, OpeningAFileForWritingIsForbiddenAndWritesNothing) {
   std::remove(SYROF_TEST_WRITTEN_FILE);
   EXPECT_VERDICT(RunOnce("open_for_writing"), kForbiddenSyscall, "openat");
   struct stat info {};
   EXPECT_NE(stat(SYROF_TEST_WRITTEN_FILE, &info), 0) << "the app wrote " << SYROF_TEST_WRITTEN_FILE;
 }
 
-TEST_F(HostedAppTest, FloodingOutputIsOutputLimitWithTheLogCapped) {
+TEST_P(HostedAppTest, FloodingOutputIsOutputLimitWithTheLogCapped) {
   options_.limits.log_keep_bytes = 1000;
   EXPECT_VERDICT(RunOnce("flood_output"), kOutputLimit, "wrote over 16777216 bytes");
   const std::string log = Log(0);
@@ -201,50 +226,50 @@ TEST_F(HostedAppTest, FloodingOutputIsOutputLimitWithTheLogCapped) {
   EXPECT_LT(log.size(), 1200u);
 }
 
-TEST_F(HostedAppTest, KillingTheParentIsForbiddenAndTheParentSurvives) {
+TEST_P(HostedAppTest, KillingTheParentIsForbiddenAndTheParentSurvives) {
   EXPECT_VERDICT(RunOnce("kill_parent"), kForbiddenSyscall, "kill");
 }
 
-TEST_F(HostedAppTest, StackOverflowIsACrash) { EXPECT_VERDICT(RunOnce("stack_overflow"), kCrashed, "SIGSEGV"); }
+TEST_P(HostedAppTest, StackOverflowIsACrash) { EXPECT_VERDICT(RunOnce("stack_overflow"), kCrashed, "SIGSEGV"); }
 
-TEST_F(HostedAppTest, ACrashingConstructorIsACrashDuringLoad) {
+TEST_P(HostedAppTest, ACrashingConstructorIsACrashDuringLoad) {
   EXPECT_VERDICT(RunOnce("crashing_constructor"), kCrashed, "SIGSEGV during load");
 }
 
-TEST_F(HostedAppTest, AForbiddenCallWhileLoadingIsNamedDuringLoad) {
+TEST_P(HostedAppTest, AForbiddenCallWhileLoadingIsNamedDuringLoad) {
   EXPECT_VERDICT(RunOnce("socket_on_load"), kForbiddenSyscall, "socket during load");
 }
 
-TEST_F(HostedAppTest, ADescriptorWithoutACallbackIsBadAbi) {
+TEST_P(HostedAppTest, ADescriptorWithoutACallbackIsBadAbi) {
   EXPECT_VERDICT(RunOnce("null_callback"), kBadAbi, "the descriptor lacks a callback");
 }
 
-TEST_F(HostedAppTest, AWrongAbiIsBadAbi) {
+TEST_P(HostedAppTest, AWrongAbiIsBadAbi) {
   EXPECT_VERDICT(RunOnce("wrong_abi"), kBadAbi, "built for app ABI 2, this SyROF has 1");
 }
 
-TEST_F(HostedAppTest, AMissingEntryIsLoadFailed) {
+TEST_P(HostedAppTest, AMissingEntryIsLoadFailed) {
   EXPECT_VERDICT(RunOnce("missing_entry"), kLoadFailed, "no symbol syrof_app_entry");
 }
 
-TEST_F(HostedAppTest, AnUndefinedSymbolIsLoadFailedWithTheLoadersText) {
+TEST_P(HostedAppTest, AnUndefinedSymbolIsLoadFailedWithTheLoadersText) {
   EXPECT_VERDICT(RunOnce("undefined_symbol"), kLoadFailed, "cannot load: undefined symbol: syrof_no_such");
 }
 
-TEST_F(HostedAppTest, AForgedReplyIsBadAbi) {
+TEST_P(HostedAppTest, AForgedReplyIsBadAbi) {
   EXPECT_VERDICT(RunOnce("forge_reply"), kBadAbi, "a malformed reply from the host");
 }
 
-TEST_F(HostedAppTest, AMissingFileIsLoadFailed) {
+TEST_P(HostedAppTest, AMissingFileIsLoadFailed) {
   EXPECT_VERDICT(RunOnce("no_such_library"), kLoadFailed, "cannot open the library");
 }
 
-TEST_F(HostedAppTest, EachRobotKeepsItsOwnGlobals) {
+TEST_P(HostedAppTest, EachRobotKeepsItsOwnGlobals) {
   options_.library_path = Library("per_robot_global");
   std::vector<std::unique_ptr<app::App>> apps;
   std::vector<RecordingPlatform> platforms(3);
   for (uint16_t id = 0; id < 3; ++id) {
-    apps.push_back(MakeHostedApp(options_, id));
+    apps.push_back(MakeApp(options_, id));
     uint8_t state = 0;
     info_.self_id = id;
     ASSERT_TRUE(apps[id]->Init(info_, platforms[id], state).ok());
@@ -260,7 +285,7 @@ TEST_F(HostedAppTest, EachRobotKeepsItsOwnGlobals) {
 
 // The host answers syrofAppParameter from the init request: here the most
 // parameters, with the longest names, one of which the app reads.
-TEST_F(HostedAppTest, TheAppReadsItsParametersInTheHost) {
+TEST_P(HostedAppTest, TheAppReadsItsParametersInTheHost) {
   options_.library_path = Library("parameters");
   for (unsigned i = 1; i < SYROF_APP_MAX_PARAMETERS; ++i) {
     std::string name = "p" + std::to_string(i);
@@ -269,7 +294,7 @@ TEST_F(HostedAppTest, TheAppReadsItsParametersInTheHost) {
   }
   options_.params["target_x_m"] = 2.5;
   ASSERT_EQ(options_.params.size(), SYROF_APP_MAX_PARAMETERS);
-  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  std::unique_ptr<app::App> app = MakeApp(options_, 1);
   uint8_t state = 0;
   info_.self_id = 1;
   ASSERT_TRUE(app->Init(info_, platform_, state).ok());
@@ -284,7 +309,7 @@ TEST_F(HostedAppTest, TheAppReadsItsParametersInTheHost) {
   EXPECT_EQ(command.x_m, 2.5f);
 }
 
-TEST_F(HostedAppTest, ParametersTheAppApiCannotCarryAreRefusedAtInit) {
+TEST_P(HostedAppTest, ParametersTheAppApiCannotCarryAreRefusedAtInit) {
   options_.library_path = Library("parameters");
   HostOptions too_many = options_;
   for (unsigned i = 0; i <= SYROF_APP_MAX_PARAMETERS; ++i) too_many.params["p" + std::to_string(i)] = i;
@@ -294,7 +319,7 @@ TEST_F(HostedAppTest, ParametersTheAppApiCannotCarryAreRefusedAtInit) {
   empty_name.params[""] = 1;
 
   for (const HostOptions* options : {&too_many, &too_long, &empty_name}) {
-    std::unique_ptr<app::App> app = MakeHostedApp(*options, 0);
+    std::unique_ptr<app::App> app = MakeApp(*options, 0);
     uint8_t state = 0;
     EXPECT_VERDICT(app->Init(info_, platform_, state), kBadAbi, "app parameter");
   }
@@ -302,13 +327,13 @@ TEST_F(HostedAppTest, ParametersTheAppApiCannotCarryAreRefusedAtInit) {
 
 // The host answers syrofAppInput from the init request, with this robot's
 // inputs only: robot 2 never sees robot 1's.
-TEST_F(HostedAppTest, TheAppReadsOnlyItsOwnRobotsInputsInTheHost) {
+TEST_P(HostedAppTest, TheAppReadsOnlyItsOwnRobotsInputsInTheHost) {
   options_.library_path = Library("inputs");
   options_.inputs[1] = {{"charge", 2.5}};
   options_.inputs[2] = {{"charge", 0.5}};
   for (uint16_t id : {1, 2}) {
     platform_.accepted.clear();
-    std::unique_ptr<app::App> app = MakeHostedApp(options_, id);
+    std::unique_ptr<app::App> app = MakeApp(options_, id);
     uint8_t state = 0;
     info_.self_id = id;
     const app::CallStatus init = app->Init(info_, platform_, state);
@@ -322,20 +347,20 @@ TEST_F(HostedAppTest, TheAppReadsOnlyItsOwnRobotsInputsInTheHost) {
   }
 }
 
-TEST_F(HostedAppTest, InputsTheAppApiCannotCarryAreRefusedAtInit) {
+TEST_P(HostedAppTest, InputsTheAppApiCannotCarryAreRefusedAtInit) {
   options_.library_path = Library("inputs");
   HostOptions too_many = options_;
   for (unsigned i = 0; i <= SYROF_APP_MAX_INPUTS; ++i) too_many.inputs[0]["in" + std::to_string(i)] = i;
   HostOptions too_long = options_;
   too_long.inputs[0][std::string(SYROF_APP_MAX_PARAMETER_NAME_LENGTH + 1, 'a')] = 1;
   for (const HostOptions* options : {&too_many, &too_long}) {
-    std::unique_ptr<app::App> app = MakeHostedApp(*options, 0);
+    std::unique_ptr<app::App> app = MakeApp(*options, 0);
     uint8_t state = 0;
     EXPECT_VERDICT(app->Init(info_, platform_, state), kBadAbi, "private input");
   }
 }
 
-TEST_F(HostedAppTest, ManyHostsPassALowSoftDescriptorLimit) {
+TEST_P(HostedAppTest, ManyHostsPassALowSoftDescriptorLimit) {
   // Each host holds four descriptors in the parent; a soft limit of 64
   // would stop at about 14 robots unless the limit is raised.
   rlimit saved{};
@@ -349,7 +374,7 @@ TEST_F(HostedAppTest, ManyHostsPassALowSoftDescriptorLimit) {
   std::vector<RecordingPlatform> platforms(30);
   bool all_ok = true;
   for (uint16_t id = 0; id < 30; ++id) {
-    apps.push_back(MakeHostedApp(options_, id));
+    apps.push_back(MakeApp(options_, id));
     uint8_t state = 0;
     info_.self_id = id;
     const app::CallStatus status = apps.back()->Init(info_, platforms[id], state);
@@ -364,9 +389,9 @@ TEST_F(HostedAppTest, ManyHostsPassALowSoftDescriptorLimit) {
   EXPECT_TRUE(all_ok);
 }
 
-TEST_F(HostedAppTest, EveryPayloadCallReachesThePlatformInOrder) {
+TEST_P(HostedAppTest, EveryPayloadCallReachesThePlatformInOrder) {
   options_.library_path = Library("many_payloads");
-  std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+  std::unique_ptr<app::App> app = MakeApp(options_, 0);
   uint8_t state = 0;
   ASSERT_TRUE(app->Init(info_, platform_, state).ok());
   syrof_car_command command{};
@@ -381,9 +406,9 @@ TEST_F(HostedAppTest, EveryPayloadCallReachesThePlatformInOrder) {
   }
 }
 
-TEST_F(HostedAppTest, AWellBehavedAppRunsAndLogsItsOutput) {
+TEST_P(HostedAppTest, AWellBehavedAppRunsAndLogsItsOutput) {
   options_.library_path = Library("cooperative");
-  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  std::unique_ptr<app::App> app = MakeApp(options_, 1);
   EXPECT_STREQ(app->name(), "cooperative");
   uint8_t state = 9;
   info_.self_id = 1;
@@ -411,7 +436,7 @@ std::string ReadText(const std::string& path) {
 // A library's constructors run while the loader may still open files
 // read-only; Landlock keeps them to the library's and the system's library
 // folders. The canary is readable by every uid, so only Landlock stops it.
-TEST_F(HostedAppTest, AConstructorReadsNothingOutsideTheLibrariesFolders) {
+TEST_P(HostedAppTest, AConstructorReadsNothingOutsideTheLibrariesFolders) {
   if (process::LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
   const std::string canary_text = "CANARY-constructor-5e2a";
   {
@@ -419,7 +444,7 @@ TEST_F(HostedAppTest, AConstructorReadsNothingOutsideTheLibrariesFolders) {
   }
   std::filesystem::permissions(SYROF_TEST_CANARY_FILE, std::filesystem::perms::all);
   options_.library_path = Library("read_on_load");
-  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  std::unique_ptr<app::App> app = MakeApp(options_, 1);
   uint8_t state = 0;
   const app::CallStatus init = app->Init(info_, platform_, state);
   ASSERT_TRUE(init.ok()) << app::ToString(init.verdict()) << ": " << init.detail();
@@ -460,7 +485,7 @@ std::filesystem::path CopiedLibraries(const std::string& test, std::initializer_
   return folder;
 }
 
-TEST_F(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSharedObjects) {
+TEST_P(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSharedObjects) {
   if (process::LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
   const std::filesystem::path folder = CopiedLibraries("snoop", {"snoop_on_load", "sibling"});
   const std::string below = (folder / "elsewhere/hidden/tests.yaml").string();
@@ -482,7 +507,7 @@ TEST_F(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSha
   ASSERT_GE(inherited, 0);
   const int seven = fcntl(7, F_GETFD) == -1 ? dup2(inherited, 7) : -1;  // the finding's number when free
   options_.library_path = (folder / "libsnoop_on_load.so").string();
-  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  std::unique_ptr<app::App> app = MakeApp(options_, 1);
   uint8_t state = 0;
   const app::CallStatus init = app->Init(info_, platform_, state);
   close(inherited);
@@ -504,12 +529,12 @@ TEST_F(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSha
 
 // A library that links a shared library of its own beside it loads: the
 // rules that keep the rest of its folder out let the loader map that one.
-TEST_F(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
+TEST_P(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
   const std::filesystem::path folder = CopiedLibraries("sibling", {"needs_sibling", "sibling"});
   options_.library_path = (folder / "libneeds_sibling.so").string();
   const LibraryCheck check = CheckLibrary(options_);
   ASSERT_TRUE(check.ok) << check.error;
-  std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+  std::unique_ptr<app::App> app = MakeApp(options_, 0);
   uint8_t state = 0;
   const app::CallStatus init = app->Init(info_, platform_, state);
   ASSERT_TRUE(init.ok()) << app::ToString(init.verdict()) << ": " << init.detail();
@@ -518,17 +543,25 @@ TEST_F(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
   std::filesystem::remove_all(folder);
 }
 
-TEST_F(HostedAppTest, TheHostRunsHardened) {
+TEST_P(HostedAppTest, TheHostRunsHardened) {
   options_.library_path = Library("cooperative");
   const LibraryCheck check = CheckLibrary(options_);
   ASSERT_TRUE(check.ok) << check.error;
   std::string notes;
   for (const std::string& note : SandboxNotes()) notes += note + "\n";
-  std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+  std::unique_ptr<app::App> app = MakeApp(options_, 0);
   uint8_t state = 0;
   ASSERT_TRUE(app->Init(info_, platform_, state).ok());
-  const std::vector<pid_t> children = Children();
+  // The host running callbacks (with a held host beside it in `forked`:
+  // that one has only the loader's filter).
+  std::vector<pid_t> children;
+  for (const pid_t child : Children()) {
+    if (ReadText("/proc/" + std::to_string(child) + "/status").find("Seccomp_filters:\t2\n") != std::string::npos) {
+      children.push_back(child);
+    }
+  }
   ASSERT_EQ(children.size(), 1u);
+  EXPECT_EQ(Children().size(), forked() ? 2u : 1u);
   const std::string proc = "/proc/" + std::to_string(children[0]);
 
   const std::string status = ReadText(proc + "/status");
@@ -570,7 +603,7 @@ TEST_F(HostedAppTest, TheHostRunsHardened) {
 // The parent-death signal survives the drop to uid 65534 (a uid change
 // clears it, so the host sets it again): a host whose parent dies in the
 // middle of a call (so the host is not reading its channel) dies too.
-TEST_F(HostedAppTest, AHostDiesWithItsParent) {
+TEST_P(HostedAppTest, AHostDiesWithItsParent) {
   int report[2];
   ASSERT_EQ(pipe(report), 0);
   const pid_t parent = fork();
@@ -580,49 +613,57 @@ TEST_F(HostedAppTest, AHostDiesWithItsParent) {
     // app never ends (it sleeps) until it is killed.
     options_.library_path = Library("sleep_forever");
     options_.limits.wall_cap_ms = 60'000;
-    std::unique_ptr<app::App> app = MakeHostedApp(options_, 0);
+    std::unique_ptr<app::App> app = MakeApp(options_, 0);
     uint8_t state = 0;
     const bool ok = app->Init(info_, platform_, state).ok();
-    const std::vector<pid_t> hosts = Children();
-    const pid_t host = ok && hosts.size() == 1 ? hosts[0] : -1;
-    (void)!write(report[1], &host, sizeof(host));
+    // Its host (and in `forked` the held host beside it).
+    std::vector<pid_t> hosts = Children();
+    if (!ok || hosts.size() != (forked() ? 2u : 1u)) hosts.clear();
+    hosts.resize(2, -1);
+    (void)!write(report[1], hosts.data(), 2 * sizeof(pid_t));
     syrof_car_command command{};
     (void)app->NewRound(command, Map(0), state, 10);
     _exit(0);
   }
   close(report[1]);
-  pid_t host = -1;
-  ASSERT_EQ(read(report[0], &host, sizeof(host)), static_cast<ssize_t>(sizeof(host)));
+  pid_t hosts[2] = {-1, -1};
+  ASSERT_EQ(read(report[0], hosts, sizeof(hosts)), static_cast<ssize_t>(sizeof(hosts)));
   close(report[0]);
-  ASSERT_GT(host, 0);
+  ASSERT_GT(hosts[0], 0);
+  if (forked()) {
+    ASSERT_GT(hosts[1], 0);
+  }
   kill(parent, SIGKILL);
   int status = 0;
   ASSERT_EQ(waitpid(parent, &status, 0), parent);
-  // The host gets SIGKILL at once; give the kernel up to 5 s to finish it.
-  bool gone = false;
-  for (int i = 0; i < 500 && !gone; ++i) {
-    const std::string stat = ReadText("/proc/" + std::to_string(host) + "/stat");
-    gone = stat.empty() || stat.find(") Z ") != std::string::npos;
-    if (!gone) usleep(10'000);
+  // The hosts get SIGKILL at once; give the kernel up to 5 s to finish them.
+  for (const pid_t host : hosts) {
+    if (host <= 0) continue;
+    bool gone = false;
+    for (int i = 0; i < 500 && !gone; ++i) {
+      const std::string stat = ReadText("/proc/" + std::to_string(host) + "/stat");
+      gone = stat.empty() || stat.find(") Z ") != std::string::npos;
+      if (!gone) usleep(10'000);
+    }
+    EXPECT_TRUE(gone) << "host " << host << " outlived its parent";
+    if (!gone) kill(host, SIGKILL);
   }
-  EXPECT_TRUE(gone) << "host " << host << " outlived its parent";
-  if (!gone) kill(host, SIGKILL);
 }
 
 // The descriptor's name is the student's text, printed in run summaries: a
 // terminal escape sequence in it must not reach the instructor's terminal.
-TEST_F(HostedAppTest, ANameIsPassedOnAsPrintableText) {
+TEST_P(HostedAppTest, ANameIsPassedOnAsPrintableText) {
   options_.library_path = Library("control_name");
 
   const LibraryCheck check = CheckLibrary(options_);
-  std::unique_ptr<app::App> app = MakeHostedApp(options_, 1);
+  std::unique_ptr<app::App> app = MakeApp(options_, 1);
 
   EXPECT_TRUE(check.ok) << check.error;
   EXPECT_EQ(check.app_name, "red?[31m?");
   EXPECT_STREQ(app->name(), "red?[31m?");
 }
 
-TEST_F(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {
+TEST_P(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {
   const auto check = [&](const std::string& path) {
     options_.library_path = path;
     return CheckLibrary(options_);
@@ -641,7 +682,183 @@ TEST_F(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {
             Library("crashing_constructor") + ": crashed while loading (SIGSEGV)");
 }
 
-TEST_F(HostedAppTest, FindHostBinaryFindsTheBuiltHost) {
+// What a constructor may not leave for the copies of a held host: a
+// thread (a fork copies only the forking one) and a timer. The loader's
+// filter refuses both, fresh or held.
+TEST_P(HostedAppTest, AConstructorThatStartsAThreadIsAForbiddenSyscall) {
+  // pthread_create blocks every signal around its clone3, so the trap's
+  // SIGSYS ends the host before its handler can name the call.
+  EXPECT_VERDICT(RunOnce("thread_on_load"), kForbiddenSyscall, "a forbidden system call (SIGSYS) during load");
+}
+
+TEST_P(HostedAppTest, AConstructorThatClonesItselfIsAForbiddenSyscall) {
+  EXPECT_VERDICT(RunOnce("clone_on_load"), kForbiddenSyscall, "clone during load");
+}
+
+TEST_P(HostedAppTest, AConstructorThatSetsATimerIsAForbiddenSyscall) {
+  EXPECT_VERDICT(RunOnce("itimer_on_load"), kForbiddenSyscall, "setitimer during load");
+}
+
+// The fork server alone: copies of one held host.
+class ForkServerTest : public HostedAppTest {
+ protected:
+  // Init, then `rounds` NewRounds of robot `id`'s app; the payloads sent.
+  std::vector<std::vector<uint8_t>> Run(app::App& app, uint16_t id, int rounds) {
+    RecordingPlatform platform;
+    uint8_t state = 0;
+    info_.self_id = id;
+    const app::CallStatus init = app.Init(info_, platform, state);
+    EXPECT_TRUE(init.ok()) << init.detail();
+    for (int round = 0; round < rounds && init.ok(); ++round) {
+      syrof_car_command command{};
+      const app::CallStatus status = app.NewRound(command, Map(id), state, 10);
+      EXPECT_TRUE(status.ok()) << status.detail();
+    }
+    return platform.accepted;
+  }
+
+  // The children running with only the loader's filter: held hosts.
+  static std::vector<pid_t> HeldHosts() {
+    std::vector<pid_t> held;
+    for (const pid_t child : Children()) {
+      if (ReadText("/proc/" + std::to_string(child) + "/status").find("Seccomp_filters:\t1\n") != std::string::npos) {
+        held.push_back(child);
+      }
+    }
+    return held;
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(Hosts, ForkServerTest, ::testing::Values(true),
+                         [](const ::testing::TestParamInfo<bool>&) { return std::string("forked"); });
+
+// Every copy starts where a fresh host starts: its globals as the
+// constructors left them, its log opening with what they printed.
+TEST_P(ForkServerTest, EachCopyStartsAsAFreshHostDoes) {
+  options_.library_path = Library("counts_rounds");
+  const std::shared_ptr<LoadedLibrary> loaded = LoadOnce(options_);
+  ASSERT_TRUE(StateOf(*loaded).holding) << StateOf(*loaded).fresh_reason;
+  const std::vector<std::vector<uint8_t>> expected = {{1}, {2}, {3}};
+  std::string fresh_log;
+  {
+    std::unique_ptr<app::App> fresh = MakeHostedApp(options_, 2);
+    EXPECT_EQ(Run(*fresh, 2, 3), expected);
+  }
+  fresh_log = Log(2);
+  EXPECT_EQ(fresh_log, "loaded (stderr)\nloaded (stdout)\ninit of robot 2\nround 1 of robot 2\nround 2 of robot 2\n"
+                       "round 3 of robot 2\n");
+  for (int copy = 0; copy < 3; ++copy) {
+    {
+      std::unique_ptr<app::App> app = MakeHostedApp(options_, 2, loaded);
+      EXPECT_EQ(Run(*app, 2, 3), expected) << "copy " << copy;
+      EXPECT_STREQ(app->name(), "counts_rounds");
+    }
+    EXPECT_EQ(Log(2), fresh_log) << "copy " << copy;
+  }
+  EXPECT_EQ(StateOf(*loaded).starts, 1);
+  EXPECT_EQ(HeldHosts().size(), 1u);
+}
+
+// A file a constructor opened and kept: copies would share its offset, so
+// the library is not held and each app is a fresh host, reading from 0.
+TEST_P(ForkServerTest, AFileAConstructorKeptOpenIsNotSharedByTheRuns) {
+  options_.library_path = Library("keeps_file_open");
+  const std::shared_ptr<LoadedLibrary> loaded = LoadOnce(options_);
+  for (int run = 0; run < 3; ++run) {
+    std::unique_ptr<app::App> app = MakeHostedApp(options_, 0, loaded);
+    EXPECT_EQ(Run(*app, 0, 2), (std::vector<std::vector<uint8_t>>{{1}, {2}})) << "run " << run;
+  }
+  const LoadedLibraryState state = StateOf(*loaded);
+  EXPECT_FALSE(state.holding);
+  EXPECT_NE(state.fresh_reason.find("an open descriptor"), std::string::npos) << state.fresh_reason;
+}
+
+// Shared memory a constructor mapped: copies would count in one another's.
+TEST_P(ForkServerTest, SharedMemoryAConstructorMappedIsNotSharedByTheRuns) {
+  options_.library_path = Library("shared_counter");
+  const std::shared_ptr<LoadedLibrary> loaded = LoadOnce(options_);
+  std::vector<std::unique_ptr<app::App>> apps;
+  for (uint16_t id = 0; id < 3; ++id) {
+    apps.push_back(MakeHostedApp(options_, id, loaded));
+    EXPECT_EQ(Run(*apps.back(), id, 2), (std::vector<std::vector<uint8_t>>{{1, 1}, {2, 2}})) << "robot " << id;
+  }
+  const LoadedLibraryState state = StateOf(*loaded);
+  EXPECT_FALSE(state.holding);
+  EXPECT_NE(state.fresh_reason.find("a shared memory mapping"), std::string::npos) << state.fresh_reason;
+}
+
+// The one clone a held host's filter lets through, made by a constructor:
+// the process is found in the held host's group and killed, and each run
+// starts a fresh host, whose filter refuses the clone as without the fork
+// server.
+TEST_P(ForkServerTest, AProcessAConstructorStartsIsFoundAndNoCopyIsMade) {
+  options_.library_path = Library("clone_on_load");
+  const std::shared_ptr<LoadedLibrary> loaded = LoadOnce(options_);
+  const LoadedLibraryState state = StateOf(*loaded);
+  EXPECT_FALSE(state.holding);
+  EXPECT_NE(state.fresh_reason.find("started a process"), std::string::npos) << state.fresh_reason;
+  EXPECT_TRUE(Children().empty()) << "the process the constructor started outlived the check";
+  {
+    std::unique_ptr<app::App> app = MakeHostedApp(options_, 0, loaded);
+    uint8_t state_byte = 0;
+    EXPECT_VERDICT(app->Init(info_, platform_, state_byte), kForbiddenSyscall, "clone during load");
+  }
+}
+
+// A held host that ends (killed here) is started again for the next copy.
+TEST_P(ForkServerTest, AHeldHostThatEndsIsStartedAgain) {
+  options_.library_path = Library("counts_rounds");
+  const std::shared_ptr<LoadedLibrary> loaded = LoadOnce(options_);
+  {
+    std::unique_ptr<app::App> app = MakeHostedApp(options_, 0, loaded);
+    EXPECT_EQ(Run(*app, 0, 1), (std::vector<std::vector<uint8_t>>{{1}}));
+  }
+  const std::vector<pid_t> held = HeldHosts();
+  ASSERT_EQ(held.size(), 1u);
+  kill(held[0], SIGKILL);
+  for (int i = 0; i < 500 && ReadText("/proc/" + std::to_string(held[0]) + "/stat").find(") Z ") == std::string::npos; ++i) {
+    usleep(10'000);
+  }
+  {
+    std::unique_ptr<app::App> app = MakeHostedApp(options_, 0, loaded);
+    EXPECT_EQ(Run(*app, 0, 1), (std::vector<std::vector<uint8_t>>{{1}}));
+  }
+  const LoadedLibraryState state = StateOf(*loaded);
+  EXPECT_TRUE(state.holding) << state.fresh_reason;
+  EXPECT_EQ(state.starts, 2);
+}
+
+// A search's jobs ask for copies at once.
+TEST_P(ForkServerTest, CopiesAreMadeForSeveralThreadsAtOnce) {
+  options_.library_path = Library("per_robot_global");
+  const std::shared_ptr<LoadedLibrary> loaded = LoadOnce(options_);
+  std::vector<std::thread> threads;
+  std::atomic<int> good{0};
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 5; ++i) {
+        const uint16_t id = static_cast<uint16_t>(t * 5 + i);
+        std::unique_ptr<app::App> app = MakeHostedApp(options_, id, loaded);
+        RecordingPlatform platform;
+        syrof_app_info info = info_;
+        info.self_id = id;
+        uint8_t state = 0;
+        syrof_car_command command{};
+        syrof_ldmap map = Map(0);
+        map.self_id = id;
+        if (app->Init(info, platform, state).ok() && app->NewRound(command, map, state, 10).ok() &&
+            platform.accepted == std::vector<std::vector<uint8_t>>{{static_cast<uint8_t>(id), 0}}) {
+          ++good;
+        }
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  EXPECT_EQ(good.load(), 20);
+  EXPECT_EQ(StateOf(*loaded).starts, 1);
+}
+
+TEST_P(HostedAppTest, FindHostBinaryFindsTheBuiltHost) {
   const std::string host = FindHostBinary();
   ASSERT_FALSE(host.empty());
   EXPECT_EQ(host.substr(host.rfind('/')), "/syrof-app-host");

@@ -537,4 +537,18 @@ Child ForkHelper(const std::function<int()>& body) {
   return child;
 }
 
+Child Adopt(pid_t pid) {
+  Child child;
+  siginfo_t info{};
+  // WNOWAIT: only looks; a pid that is not our child (or already reaped)
+  // gives ECHILD.
+  if (pid <= 0 || waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) != 0) {
+    child.start_error_ = pid <= 0 ? EINVAL : errno;
+    return child;
+  }
+  child.pid_ = pid;
+  child.pidfd_.Reset(static_cast<int>(syscall(SYS_pidfd_open, pid, 0)));
+  return child;
+}
+
 }  // namespace syrof::process

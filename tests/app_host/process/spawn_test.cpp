@@ -408,3 +408,46 @@ TEST(ForkHelperTest, TheHelperDiesWithItsStarter) {
 
 }  // namespace
 }  // namespace syrof::process
+
+namespace syrof::process {
+namespace {
+
+// A child's copy made with CLONE_PARENT is this process's child: Adopt
+// holds it as a Child (waited for, with its status); a pid that is not a
+// child of this process is refused.
+TEST(AdoptTest, HoldsACopyAChildMadeWithCloneParent) {
+  int report[2];
+  ASSERT_EQ(pipe(report), 0);
+  Child helper = ForkHelper([&] {
+    const long pid = syscall(SYS_clone, CLONE_PARENT, 0, nullptr, nullptr, 0);
+    if (pid == 0) {
+      const timespec pause{0, 50'000'000};
+      nanosleep(&pause, nullptr);
+      _exit(7);
+    }
+    const pid_t made = static_cast<pid_t>(pid);
+    return write(report[1], &made, sizeof(made)) == static_cast<ssize_t>(sizeof(made)) ? 0 : 1;
+  });
+  ASSERT_TRUE(helper.started());
+  pid_t copy = -1;
+  ASSERT_EQ(read(report[0], &copy, sizeof(copy)), static_cast<ssize_t>(sizeof(copy)));
+  close(report[0]);
+  close(report[1]);
+  ASSERT_GT(copy, 0);
+  EXPECT_EQ(helper.Reap().code, 0);
+
+  Child adopted = Adopt(copy);
+  ASSERT_TRUE(adopted.started());
+  EXPECT_GE(adopted.pidfd(), 0);
+  const std::optional<ExitStatus> status = adopted.Wait(std::chrono::seconds(5));
+  ASSERT_TRUE(status.has_value());
+  EXPECT_TRUE(status->exited());
+  EXPECT_EQ(status->code, 7);
+
+  const Child not_ours = Adopt(1);
+  EXPECT_FALSE(not_ours.started());
+  EXPECT_EQ(not_ours.start_error(), ECHILD);
+}
+
+}  // namespace
+}  // namespace syrof::process

@@ -44,6 +44,12 @@ struct AppRequest {
   /// Load each library once in a sandboxed host (CheckLibrary) and refuse
   /// one that fails, before any robot starts. Also fills SandboxNotes.
   bool check_first = false;
+  /// Load each library once in a held host and give each robot of each
+  /// run a fresh copy of it (LoadOnce, the fork server): for a search or
+  /// anything else that runs the library many times. The same results as
+  /// a fresh host per robot; the first host starts from the caller's
+  /// thread, which must outlive the apps.
+  bool load_once = false;
 };
 
 /// A run's apps, or what is wrong with the request.

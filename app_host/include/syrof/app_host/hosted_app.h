@@ -100,4 +100,37 @@ std::vector<std::string> SandboxNotes();
 /// signal follows the spawning thread. docs/app_host.md has the details.
 std::unique_ptr<app::App> MakeHostedApp(const HostOptions& options, uint16_t robot_id);
 
+/// A library loaded once for many runs: the fork server (docs/app_host.md
+/// "The fork server"). One held host loads the library, hardened as a
+/// run's host is up to its callbacks' filter, and never runs a callback;
+/// each app made from it is a fresh copy of that host made right after the
+/// load (a fork), which then installs the callbacks' filter. A copy starts
+/// as a fresh host would, so a run gives the same results, byte for byte.
+/// When the library does not load in the held host, or its constructors
+/// left what copies would share (an open file, a shared mapping, a pending
+/// signal), every app is a fresh host instead; a held host that ends is
+/// started again. Make it from a thread that outlives every app made from
+/// it (the copies' parent-death signal follows that thread); destroying it
+/// (the last shared_ptr) ends the held host.
+class LoadedLibrary;
+std::shared_ptr<LoadedLibrary> LoadOnce(const HostOptions& options);
+
+/// Whether `loaded` still makes copies (`holding`), why not (each app then
+/// a fresh host: the library did not load in the held host, its
+/// constructors left an open file, a shared mapping or a pending signal,
+/// or a held host started again loaded differently), and how many held
+/// hosts it started (more than 1: one ended and was started again).
+struct LoadedLibraryState {
+  bool holding = false;
+  std::string fresh_reason;
+  int starts = 0;
+};
+LoadedLibraryState StateOf(const LoadedLibrary& loaded);
+
+/// Robot `robot_id`'s app as MakeHostedApp makes it, its host a copy of
+/// `loaded`'s held host (`options` as given to LoadOnce, but for
+/// log_directory and the inputs, which are the robot's).
+std::unique_ptr<app::App> MakeHostedApp(const HostOptions& options, uint16_t robot_id,
+                                        const std::shared_ptr<LoadedLibrary>& loaded);
+
 }  // namespace syrof::app_host

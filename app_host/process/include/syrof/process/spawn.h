@@ -185,6 +185,7 @@ class Child {
   friend Child Spawn(const Command& command);
   friend Child Spawn(const Command& command, const Sandbox& sandbox);
   friend Child ForkHelper(const std::function<int()>& body);
+  friend Child Adopt(pid_t pid);
   void Finish(ExitStatus status);
 
   pid_t pid_ = -1;
@@ -215,5 +216,12 @@ Child Spawn(const Command& command, const Sandbox& sandbox);
 /// calls only, no allocation. The helper dies with the thread that started
 /// it, and does not run `body` when the caller is already gone.
 Child ForkHelper(const std::function<int()>& body);
+
+/// A child of this process that another process started for it: a copy a
+/// child of ours made with clone(CLONE_PARENT) (the app host's held
+/// process, docs/app_host.md "The fork server"). From here on it is held
+/// as a Child Spawn returned: waited for, killed and reaped here. `pid`
+/// must be a child of this process not yet reaped (else it is not started).
+Child Adopt(pid_t pid);
 
 }  // namespace syrof::process
