@@ -171,9 +171,12 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   search_options.time_limit_s = options.time_limit_s;
   search_options.prune = !options.no_prune;
   search_options.check_pruning = options.check_pruning;
-  // A library is loaded once before the search, as `syrof run` does.
+  // A library is checked once before the search, as `syrof run` does, then
+  // loaded once in a held host: each run's robots are copies of it (the
+  // fork server, docs/app_host.md), not hosts started afresh.
   app_host::AppRequest request;
   request.check_first = true;
+  request.load_once = true;
   app_host::AppsResult apps = app_host::AppsFor(scenario, request);
   if (!apps.ok()) {
     fmt::print(err, "syrof search: {}\n", apps.error->ToString());
@@ -281,6 +284,9 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   if (std::string problem = search::WriteCounterexample(dir.string(), scenario, source, found, search_options);
       !problem.empty()) {
     fmt::print(err, "syrof search: {}\n", problem);
+    for (const search::Violation& violation : found.violations) {
+      fmt::print(err, "  the pattern's own run broke {}: {}\n", violation.property, violation.detail);
+    }
     return 1;
   }
   lab::view::PageOptions page_options;  // the banner says what broke, and the lost beacons

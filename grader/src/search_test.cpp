@@ -93,6 +93,9 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   app_host::AppRequest request;
   request.libraries = {library};
   request.shown_libraries = {shown_library};
+  // Loaded once for the whole search; each run's robots are copies of it
+  // (the fork server, docs/app_host.md). This thread outlives the search.
+  request.load_once = true;
   app_host::AppsResult apps = app_host::AppsFor(scenario, request);
   if (!apps.ok()) {
     test.run_error = "the app cannot be set up: " + apps.error->ToString();
