@@ -6,6 +6,8 @@
 //     never on two threads);
 //   - bench_app.c as a library through the app host (a process per robot
 //     per run), 1 and 2 jobs;
+//   - the same library through the fork server (loaded once in a held
+//     host, each robot of each run a copy of it: LoadOnce), 1 and 2 jobs;
 // each with the pruning of states seen (search.h) and without; then every
 // pair of lost beacons in the first epoch, the same ways; and every pair in
 // 6 epochs at 3 robots with pruning, and what it takes without (--full
@@ -15,9 +17,10 @@
 // machine's load. "ended" counts the runs that ran to their end; the others
 // stopped at a state seen before or were skipped without running.
 //
-// Usage: bench_search [--full | --schedules | --async]   (--schedules: only
-// the schedule search, SSYNC over 4 and 6 epochs, ASYNC rigid and cut;
-// --async: only the ASYNC rows)
+// Usage: bench_search [--full | --schedules | --async | --hosted]
+// (--schedules: only the schedule search, SSYNC over 4 and 6 epochs, ASYNC
+// rigid and cut; --async: only the ASYNC rows; --hosted: only the rows
+// through the app host, fresh hosts and the fork server)
 #include <fmt/format.h>
 
 #include <sys/resource.h>
@@ -25,6 +28,8 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "syrof/app/c_abi_app.h"
 #include "syrof/app_host/hosted_app.h"
@@ -50,7 +55,7 @@ lab::scenario::Scenario Scenario(int robots, double duration_s) {
   return *loaded.scenario;
 }
 
-enum class Way { kBuiltin, kLinked, kHosted };
+enum class Way { kBuiltin, kLinked, kHosted, kForked };
 
 const char* Name(Way way) {
   switch (way) {
@@ -60,6 +65,8 @@ const char* Name(Way way) {
       return "bench_app.c linked in";
     case Way::kHosted:
       return "bench_app.c through the app host";
+    case Way::kForked:
+      return "bench_app.c, app host's fork server";
   }
   return "";
 }
@@ -78,6 +85,14 @@ lab::search::SearchResult Measure(const lab::scenario::Scenario& scenario, Way w
     app_host::HostOptions host;
     host.library_path = SYROF_BENCH_APP_LIBRARY;
     options.apps.factory = [host](uint16_t id) { return app_host::MakeHostedApp(host, id); };
+    options.apps.source = SYROF_BENCH_APP_LIBRARY;
+  } else if (way == Way::kForked) {
+    // Loaded once for the search (its start counted in the search's time
+    // only from the first run: it is made here, before the search starts).
+    app_host::HostOptions host;
+    host.library_path = SYROF_BENCH_APP_LIBRARY;
+    std::shared_ptr<app_host::LoadedLibrary> loaded = app_host::LoadOnce(host);
+    options.apps.factory = [host, loaded](uint16_t id) { return app_host::MakeHostedApp(host, id, loaded); };
     options.apps.source = SYROF_BENCH_APP_LIBRARY;
   }
   return lab::search::Search(scenario, options);
@@ -183,8 +198,10 @@ int main(int argc, char** argv) {
     PrintSchedules(/*full=*/true);  // the schedule search alone, 4 and 6 epochs
     return 0;
   }
-  const std::pair<Way, int> ways[] = {{Way::kBuiltin, 1}, {Way::kBuiltin, 2}, {Way::kLinked, 1}, {Way::kHosted, 1},
-                                      {Way::kHosted, 2}};
+  const bool hosted_only = argc > 1 && std::strcmp(argv[1], "--hosted") == 0;
+  std::vector<std::pair<Way, int>> ways = {{Way::kBuiltin, 1}, {Way::kBuiltin, 2}, {Way::kLinked, 1}, {Way::kHosted, 1},
+                                           {Way::kHosted, 2},  {Way::kForked, 1},  {Way::kForked, 2}};
+  if (hosted_only) ways = {{Way::kHosted, 1}, {Way::kHosted, 2}, {Way::kForked, 1}, {Way::kForked, 2}};
   fmt::print("Every single lost beacon in the first epoch of a 4 s run (wall clock):\n");
   PrintHeader();
   for (const int robots : {3, 4}) {
@@ -197,9 +214,11 @@ int main(int argc, char** argv) {
   PrintHeader();
   const lab::scenario::Scenario three = Scenario(3, 4.0);
   for (const auto& [way, jobs] : ways) {
+    if (hosted_only && way == Way::kHosted && jobs == 2) continue;  // about as long as 1 job
     PrintRow(way, 3, jobs, true, Measure(three, way, jobs, 2, 1, true));
-    if (way != Way::kHosted) PrintRow(way, 3, jobs, false, Measure(three, way, jobs, 2, 1, false));
+    if (way != Way::kHosted && way != Way::kForked) PrintRow(way, 3, jobs, false, Measure(three, way, jobs, 2, 1, false));
   }
+  if (hosted_only) return 0;
 
   // Every pair of lost beacons in 6 epochs at 3 robots, builtin:idle, 2 jobs.
   const lab::scenario::Scenario six = Scenario(3, 9.0);
