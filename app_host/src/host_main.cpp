@@ -27,6 +27,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -379,6 +380,7 @@ bool LoaderFileRules(syrof::process::FileRuleset& rules, const char* library, st
 struct HoldState {
   struct stat standard[p::kChannelFd + 1];
   int maps_fd = -1;
+  int pagemap_fd = -1;  // /proc/self/pagemap, for the pages a copy takes over at once
   sigset_t load_mask;  // the signal mask the constructors left (the copies get it back)
   pid_t parent = 0;
   scmp_filter_ctx callbacks = nullptr;  // built before the load, as a run host does
@@ -461,6 +463,115 @@ uint32_t WhatCopiesWouldShare() {
   return bits;
 }
 
+// The held host's writable private pages that are in memory when it starts
+// holding, as runs of whole pages. A copy shares them copy-on-write, so its
+// first write to each would take a page fault in the callback that writes
+// first. The budget counts user time, but tick-based accounting splits a
+// process's run time by where its ticks land, and a loop of faulting writes
+// is caught in user mode often (docs/app_host.md): a copy's first callback
+// would pay what a fresh host pays while it loads. Each copy writes them in
+// before its hello instead (BecomeCopy). At most kMaxPresentRuns runs (the
+// rest fault in the callbacks, as before).
+struct PageRun {
+  uintptr_t start;
+  size_t length;
+};
+constexpr size_t kMaxPresentRuns = 4096;
+PageRun present_runs[kMaxPresentRuns];
+size_t present_run_count = 0;
+
+void AddPresentPage(uintptr_t page, size_t page_size) {
+  if (present_run_count > 0) {
+    PageRun& last = present_runs[present_run_count - 1];
+    if (last.start + last.length == page) {
+      last.length += page_size;
+      return;
+    }
+  }
+  if (present_run_count < kMaxPresentRuns) present_runs[present_run_count++] = {page, page_size};
+}
+
+// Adds the present pages of [start, end) (pagemap's bit 63).
+void AddPresentPages(uintptr_t start, uintptr_t end, size_t page_size) {
+  static uint64_t entries[512];
+  for (uintptr_t page = start; page < end;) {
+    const size_t count = std::min<size_t>(512, (end - page) / page_size);
+    const ssize_t got = pread(hold.pagemap_fd, entries, count * sizeof(uint64_t),
+                              static_cast<off_t>(page / page_size * sizeof(uint64_t)));
+    if (got <= 0) return;
+    const size_t read_count = static_cast<size_t>(got) / sizeof(uint64_t);
+    for (size_t i = 0; i < read_count; ++i) {
+      if ((entries[i] >> 63) != 0) AddPresentPage(page + i * page_size, page_size);
+    }
+    page += read_count * page_size;
+  }
+}
+
+// Fills present_runs from /proc/self/maps (its writable private mappings)
+// and /proc/self/pagemap, both opened before Landlock; closes pagemap.
+void RecordPresentPages() {
+  static char text[1 << 16];
+  if (hold.maps_fd >= 0 && hold.pagemap_fd >= 0 && lseek(hold.maps_fd, 0, SEEK_SET) == 0) {
+    const size_t page_size = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+    // A line's start and end (hex) and permissions, parsed as they come.
+    uintptr_t bounds[2] = {0, 0};
+    char permissions[4] = {};
+    int field = 0;     // 0 start, 1 end, 2 permissions, 3 the rest
+    int position = 0;  // within the permissions
+    for (;;) {
+      const ssize_t got = read(hold.maps_fd, text, sizeof(text));
+      if (got < 0 && errno == EINTR) continue;
+      if (got <= 0) break;
+      for (ssize_t i = 0; i < got; ++i) {
+        const char c = text[i];
+        if (c == '\n') {
+          if (field >= 2 && permissions[1] == 'w' && permissions[3] == 'p') {
+            AddPresentPages(bounds[0], bounds[1], page_size);
+          }
+          bounds[0] = bounds[1] = 0;
+          field = 0;
+          position = 0;
+          continue;
+        }
+        if (field < 2) {
+          if ((field == 0 && c == '-') || (field == 1 && c == ' ')) {
+            ++field;
+          } else {
+            const int digit = c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : 0;
+            bounds[field] = bounds[field] * 16 + static_cast<uintptr_t>(digit);
+          }
+        } else if (field == 2) {
+          if (c == ' ') {
+            field = 3;
+          } else if (position < 4) {
+            permissions[position++] = c;
+          }
+        }
+      }
+    }
+  }
+  if (hold.pagemap_fd >= 0) close(hold.pagemap_fd);
+  hold.pagemap_fd = -1;
+}
+
+// A copy's first write to each page the held host had: done now, before
+// the hello (under the load's wall cap, as a fresh host's own loading),
+// not in its first callback (under the CPU budget). Each page's first byte
+// is read and written back from user mode, which changes nothing the
+// library sees (one thread, every signal blocked). Not madvise's
+// MADV_POPULATE_WRITE: on the VM this was measured on, a page populated so
+// still cost about 8 us at its first write from user mode (32768 pages:
+// 280 ms), where a page written once costs 50 ns.
+void TakeOverPresentPages() {
+  const size_t page_size = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+  for (size_t i = 0; i < present_run_count; ++i) {
+    for (size_t offset = 0; offset < present_runs[i].length; offset += page_size) {
+      volatile unsigned char* const byte = reinterpret_cast<volatile unsigned char*>(present_runs[i].start + offset);
+      *byte = *byte;
+    }
+  }
+}
+
 [[noreturn]] void Serve();
 
 // A copy, just made: arms its own death with the parent (a fork clears
@@ -482,6 +593,7 @@ uint32_t WhatCopiesWouldShare() {
   rlimit files{};
   const int last = getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < 4096 ? static_cast<int>(files.rlim_cur) : 4096;
   for (int fd = p::kChannelFd + 1; fd < last; ++fd) close(fd);
+  TakeOverPresentPages();
   seccomp_release(hold.callbacks);
   scmp_filter_ctx callbacks = CallbackFilter(getpid());
   if (callbacks == nullptr || seccomp_load(callbacks) != 0) {
@@ -672,6 +784,7 @@ int main(int argc, char** argv) {
     // Read after the load, to find a mapping a constructor shared; /proc is
     // out of Landlock's rules, so it is opened now.
     hold.maps_fd = open("/proc/self/maps", O_RDONLY | O_CLOEXEC);
+    hold.pagemap_fd = open("/proc/self/pagemap", O_RDONLY | O_CLOEXEC);
     RecordStandardDescriptors();
   }
 
@@ -760,6 +873,7 @@ int main(int argc, char** argv) {
     // 9'. The fork server: no callbacks' filter here; each copy loads its
     //     own (BecomeCopy). The hello says whether copies would start
     //     clean; if not, the parent starts a fresh host per robot instead.
+    RecordPresentPages();
     const uint32_t unclean = WhatCopiesWouldShare();
     sigset_t all;
     sigfillset(&all);
