@@ -25,6 +25,7 @@
 
 #include <sys/resource.h>
 
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -178,9 +179,21 @@ void PrintHeader() {
 
 void PrintRow(Way way, int robots, int jobs, bool prune, const lab::search::SearchResult& result) {
   const double rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
+  // bench_app.c breaks nothing: a counterexample is the machine's (a
+  // callback stopped by a cap), so what it broke is printed.
+  std::string stopped;
+  if (result.counterexample) {
+    stopped = "  (stopped at a counterexample";
+    if (!result.counterexample->violations.empty()) {
+      stopped += ": " + result.counterexample->violations.front().property + ": " +
+                 result.counterexample->violations.front().detail;
+    }
+    stopped += ")";
+  }
   fmt::print("  {:<36} {:>6} {:>4} {:>5} {:>9} {:>8} {:>8.2f} {:>12.0f} {:>10.2f}{}\n", Name(way), robots, jobs,
              prune ? "on" : "off", result.runs, result.runs - result.skipped - result.stopped_early, result.seconds,
-             rate, rate > 0 ? 1000.0 / rate : 0.0, result.counterexample ? "  (stopped at a counterexample)" : "");
+             rate, rate > 0 ? 1000.0 / rate : 0.0, stopped);
+  std::fflush(stdout);
 }
 
 int main(int argc, char** argv) {
