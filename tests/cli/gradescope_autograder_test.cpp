@@ -211,7 +211,10 @@ TEST_F(AutograderTest, TestsPastTheBundlesDeadlineAreNotRunAndSaySo) {
   fs::copy(std::string(SYROF_ASSIGNMENTS_DIR) + "/gather/reference", root_ / "submission",
            fs::copy_options::recursive);
   fs::remove(root_ / "submission/expected.yaml");
-  std::ofstream(root_ / "source/deadline_s") << "1\n";  // the build alone takes longer
+  // A deadline of 1 s (the least the bundle's file takes), and a build that
+  // outlasts it for sure: a cached compile of the reference can take less.
+  std::ofstream(root_ / "submission/CMakeLists.txt", std::ios::app) << "execute_process(COMMAND sleep 2)\n";
+  std::ofstream(root_ / "source/deadline_s") << "1\n";
 
   std::string output;
   EXPECT_EQ(Script("run_autograder", output), 0) << output;
