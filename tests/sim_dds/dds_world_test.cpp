@@ -19,30 +19,14 @@
 #include <thread>
 #include <tuple>
 
+#include "swarm_test_support.h"
 #include "test_domain.h"
 
 namespace syrof::sim_dds {
 namespace {
 
-SwarmOptions OptionsFor(const std::string& scenario) {
-  SwarmOptions options;
-  options.scenario_path = std::string(SYROF_SWARM_SCENARIOS_DIR) + "/" + scenario;
-  options.robot_binary = SYROF_ROBOT_BINARY;
-  options.domain_id = testing::FreshDomainId();
-  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  options.out_dir = (std::filesystem::temp_directory_path() /
-                     ("syrof_swarm_test_" + std::string(test->name()) + "_" + std::to_string(getpid())))
-                        .string();
-  return options;
-}
-
-// Every robot process the run started is gone (reaped: kill finds nothing).
-void ExpectNoRobotLeft(const SwarmResult& result) {
-  for (const int pid : result.robot_pids) {
-    EXPECT_EQ(kill(pid, 0), -1) << "robot process " << pid << " is still there";
-    EXPECT_EQ(errno, ESRCH);
-  }
-}
+using testing::ExpectNoRobotLeft;
+using testing::OptionsFor;
 
 TEST(SwarmTest, EightRobotProcessesForTenSecondsWithLossKeepP3AndAgreeOnMembership) {
   const SwarmOptions options = OptionsFor("swarm8_loss.yaml");

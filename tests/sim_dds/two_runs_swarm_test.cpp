@@ -16,27 +16,14 @@
 #include <utility>
 
 #include "syrof/sim_dds/dds_world.h"
+#include "swarm_test_support.h"
 #include "test_domain.h"
 
 namespace syrof::sim_dds {
 namespace {
 
-SwarmOptions OptionsFor(const std::string& scenario) {
-  SwarmOptions options;
-  options.scenario_path = std::string(SYROF_SWARM_SCENARIOS_DIR) + "/" + scenario;
-  options.robot_binary = SYROF_ROBOT_BINARY;
-  options.domain_id = testing::FreshDomainId();
-  options.out_dir =
-      (std::filesystem::temp_directory_path() / ("syrof_two_runs_test_" + std::to_string(getpid()))).string();
-  return options;
-}
-
-void ExpectNoRobotLeft(const SwarmResult& result) {
-  for (const int pid : result.robot_pids) {
-    EXPECT_EQ(kill(pid, 0), -1) << "robot process " << pid << " is still there";
-    EXPECT_EQ(errno, ESRCH);
-  }
-}
+using testing::ExpectNoRobotLeft;
+using testing::OptionsFor;
 
 // Two runs that land on one domain at once: concurrent runs draw their
 // domain from 231 (docs/dds.md, "Domain ids"), so on a machine running many
