@@ -259,13 +259,13 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   const double rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
   if (!result.counterexample) {
     if (result.stopped_by_time) {
-      fmt::print(out, "no {} broke it before the time limit: {} runs in {:.1f} s ({:.0f} a second); every "
+      fmt::print(out, "no {} broke it before the time limit: {} run{} in {:.1f} s ({:.0f} a second); every "
                       "{} of up to {} {}{} was tried\n",
-                 tried, result.runs, result.seconds, rate, tried, result.complete_losses, unit,
+                 tried, result.runs, result.runs == 1 ? "" : "s", result.seconds, rate, tried, result.complete_losses, unit,
                  result.complete_losses == 1 ? "" : "s");
     } else {
-      fmt::print(out, "no {} broke it: all {} runs in {:.1f} s ({:.0f} a second)\n", tried, result.runs,
-                 result.seconds, rate);
+      fmt::print(out, "no {} broke it: {} {} run{} in {:.1f} s ({:.0f} a second)\n", tried,
+                 result.runs == 1 ? "its" : "all", result.runs, result.runs == 1 ? "" : "s", result.seconds, rate);
     }
     fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the {} fell in the first {} epoch{}\n",
                result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s", units, result.epochs_in_window,
@@ -330,8 +330,9 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     fmt::print(out, "\n");
   }
   PrintViolations(out, found.violations);
-  fmt::print(out, "  after {} runs ({} distinct outcomes) in {:.1f} s; every {} of fewer {} passed\n", result.runs,
-             result.distinct_outcomes, result.seconds, tried, units);
+  fmt::print(out, "  after {} run{} ({} distinct outcome{}) in {:.1f} s; every {} of fewer {} passed\n", result.runs,
+             result.runs == 1 ? "" : "s", result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s",
+             result.seconds, tried, units);
   PrintPruning(out, result);
   fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),
              page_problem.empty() ? ", replay.html" : "");

@@ -107,6 +107,8 @@ TEST(SearchCommandTest, AScenarioWithoutANameKeepsItsNameInTheCounterexample) {
                                      "--out", (dir / "out").string()});
   ASSERT_EQ(outcome.status, 1) << outcome.out << outcome.err;
   EXPECT_NE(outcome.out.find("BROKEN without any lost beacon"), std::string::npos) << outcome.out;
+  // The loss-free run is the first: one run, counted in the singular.
+  EXPECT_NE(outcome.out.find("after 1 run (1 distinct outcome) in"), std::string::npos) << outcome.out;
   EXPECT_NE(ReadFile(dir / "out" / "metrics.json").find("\"scenario\": \"three\""), std::string::npos);
 }
 

@@ -849,6 +849,7 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
       options.activations ? WithInactivations(scenario, {}, {}) : WithLosses(scenario, {});
   sim::RunReport baseline = sim::Run(loss_free, sim_options, 0);
   result.runs = 1;
+  result.distinct_outcomes = 1;
   std::vector<Violation> violations = ViolationsOf(baseline.metrics, goal_declared);
   if (!violations.empty()) {
     result.counterexample = Counterexample{{}, {}, {}, std::move(violations), std::move(baseline.metrics)};
