@@ -129,6 +129,17 @@ int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ost
     fmt::print(err, "Run with --help for more information.\n");
     return kUsageError;
   }
+  // A required argument missing beside an option the command does not know
+  // (`syrof run --sead 3`): the unknown option is the mistake to name, not
+  // the argument CLI11 checks first.
+  if (given != &app && dynamic_cast<const CLI::RequiredError*>(&error) != nullptr) {
+    for (const std::string& word : given->remaining()) {
+      if (!word.starts_with("-") || word == "-") continue;
+      fmt::print(err, "{}: unknown option '{}'\n", command, word);
+      fmt::print(err, "Run with --help for more information.\n");
+      return kUsageError;
+    }
+  }
   app.exit(error, out, err);
   return kUsageError;
 }

@@ -139,6 +139,20 @@ TEST(UsageTest, MissingSubcommandListsThem) {
       << report.err;
 }
 
+// A wrong option and no scenario: the option is named (CLI11 said
+// only "scenario is required").
+TEST(UsageTest, AnUnknownOptionIsNamedBeforeAMissingArgument) {
+  for (const std::string command : {"run", "swarm", "validate"}) {
+    const Report report = Parse(command + " --sead");
+    EXPECT_EQ(report.status, 2) << command;
+    EXPECT_NE(report.err.find("syrof " + command + ": unknown option '--sead'"), std::string::npos) << report.err;
+    EXPECT_EQ(report.err.find("is required"), std::string::npos) << report.err;
+  }
+  const Report missing = Parse("run");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("scenario is required"), std::string::npos) << missing.err;
+}
+
 TEST(UsageTest, HelpIsNotAnError) { EXPECT_EQ(Parse("--help").status, 0); }
 
 // The built command prints the same (main wires ReportParseError).
