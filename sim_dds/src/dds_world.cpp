@@ -1,6 +1,7 @@
 #include "syrof/sim_dds/dds_world.h"
 
 #include <fcntl.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <time.h>
@@ -34,6 +35,7 @@
 #include "syrof/lab/sim/world_player.h"
 #include "syrof/lab/world/world.h"
 #include "syrof/os/posix_port.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/process/fd.h"
 #include "syrof/process/spawn.h"
 #include "syrof/sim_dds/participant.h"
@@ -1005,6 +1007,14 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   }
   CycloneOptions cyclone;
   cyclone.interface = options.interface;
+  // With --realtime the world's loop runs above every robot task (the
+  // physics task's place in registry/tasks.h), its network threads with the
+  // robots' (robot_process.cpp).
+  const int fifo_minimum = sched_get_priority_min(SCHED_FIFO);
+  // Without CAP_SYS_NICE the robots say so each and the run goes on at
+  // normal priority.
+  const bool realtime = options.realtime && CanUseFifoScheduling();
+  if (realtime) cyclone.network_fifo_priority = fifo_minimum + registry::kSensorTaskPriority + 1;
   ParticipantOrError made = Participant::Create(domain, cyclone);
   if (!made.ok()) return fail(1, made.error->ToString());
 
@@ -1015,7 +1025,16 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     if (world.CreateEntities()) {
       world.OpenReplay();
       if (world.SpawnPresentRobots() && world.AwaitDiscovery() && world.Start()) {
+        // This thread only, for the run; the robots it starts from here
+        // (joiners) start at normal priority (SCHED_RESET_ON_FORK).
+        sched_param fifo{};
+        fifo.sched_priority = fifo_minimum + registry::kPhysicsPriority + 1;
+        const bool raised = realtime && sched_setscheduler(0, SCHED_FIFO | SCHED_RESET_ON_FORK, &fifo) == 0;
         world.Run();
+        if (raised) {
+          sched_param normal{};
+          (void)sched_setscheduler(0, SCHED_OTHER, &normal);
+        }
         world.DrainReports();
         world.StopRobots();
         world.WriteMetrics();

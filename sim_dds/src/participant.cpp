@@ -1,5 +1,8 @@
 #include "syrof/sim_dds/participant.h"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <cerrno>
 #include <cstdlib>
 #include <map>
@@ -57,6 +60,15 @@ std::optional<Error> CheckCycloneOptions(const CycloneOptions& options) {
   return std::nullopt;
 }
 
+bool CanUseFifoScheduling() {
+  sched_param low{};
+  low.sched_priority = sched_get_priority_min(SCHED_FIFO);
+  if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &low) != 0) return false;
+  sched_param normal{};
+  (void)pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
+  return true;
+}
+
 std::string CycloneConfig(const CycloneOptions& options) {
   const bool loopback = options.interface == "lo";
   std::string xml;
@@ -78,6 +90,18 @@ std::string CycloneConfig(const CycloneOptions& options) {
     xml += "</Peers>";
   }
   xml += "</Discovery>";
+  if (options.network_fifo_priority > 0) {
+    // One receive thread: the extra ones Cyclone starts by default (recvUC,
+    // recvMC) take no scheduling from the configuration (it refuses their
+    // names) and would stay at normal priority.
+    xml += "<Internal><MultipleReceiveThreads>false</MultipleReceiveThreads></Internal>";
+    xml += "<Threads>";
+    for (const char* name : {"recv", "tev", "dq.user", "dq.builtins"}) {
+      xml += std::string("<Thread name=\"") + name + "\"><Scheduling><Class>realtime</Class><Priority>" +
+             std::to_string(options.network_fifo_priority) + "</Priority></Scheduling></Thread>";
+    }
+    xml += "</Threads>";
+  }
   xml += "</Domain></CycloneDDS>";
   return xml;
 }

@@ -29,6 +29,7 @@
 #include "syrof/os/posix_port.h"
 #include "syrof/pubsub/broker.h"
 #include "syrof/queries/queries.h"
+#include "syrof/registry/tasks.h"
 #include "syrof/runtime/robot.h"
 #include "syrof/sim_dds/beacon_radio.h"
 #include "syrof/sim_dds/report_codec.h"
@@ -244,17 +245,6 @@ int64_t RealtimeToMonotonic(int64_t realtime_ns) {
   const int64_t monotonic_now = os::PosixPort::MonotonicNowNs();
   const int64_t realtime_now = static_cast<int64_t>(realtime.tv_sec) * 1'000'000'000 + realtime.tv_nsec;
   return realtime_ns - realtime_now + monotonic_now;
-}
-
-// Whether this process may use SCHED_FIFO: tried on the calling thread,
-// then put back.
-bool CanUseRealtimePriorities() {
-  sched_param low{};
-  low.sched_priority = sched_get_priority_min(SCHED_FIFO);
-  if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &low) != 0) return false;
-  sched_param normal{};
-  (void)pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
-  return true;
 }
 
 // Polled subscriptions name no task (a port ignores unknown ids).
@@ -686,6 +676,13 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
 
   CycloneOptions cyclone;
   cyclone.interface = options.interface;
+  const bool realtime = options.realtime && CanUseFifoScheduling();
+  if (options.realtime && !realtime) {
+    err << who << "--realtime: SCHED_FIFO refused (needs root or CAP_SYS_NICE); the tasks run at normal priority\n";
+  }
+  // Above every task of the robot (PosixPort: the minimum plus the task's
+  // priority): a beacon taken off the network is what a round waits for.
+  if (realtime) cyclone.network_fifo_priority = sched_get_priority_min(SCHED_FIFO) + registry::kSensorTaskPriority + 1;
   ParticipantOrError made = Participant::Create(options.domain_id, cyclone);
   if (!made.ok()) {
     err << who << made.error->ToString() << "\n";
@@ -712,9 +709,6 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
 
   os::PosixPortOptions port_options;
   port_options.realtime_priorities = options.realtime;
-  if (options.realtime && !CanUseRealtimePriorities()) {
-    err << who << "--realtime: SCHED_FIFO refused (needs root or CAP_SYS_NICE); the tasks run at normal priority\n";
-  }
   os::PosixPort port(port_options);
   pubsub::StaticBroker<8, 12> broker(port);
   lab::sensors::SensorPublishers sensors;

@@ -207,6 +207,7 @@ class StressedSwarmTest : public ::testing::TestWithParam<std::tuple<bool, uint6
 
 TEST_P(StressedSwarmTest, P3HoldsUnderSigstopBursts) {
   SwarmOptions options = OptionsFor("swarm_stress.yaml");
+  options.realtime = false;  // stalls at normal priority, as a student's machine runs it
   options.align_rounds = std::get<0>(GetParam());
   options.stress.seed = std::get<1>(GetParam());
   std::ostringstream log;

@@ -47,7 +47,10 @@ struct SwarmOptions {
   /// this executable.
   std::string robot_binary;
   std::string interface = "lo";
-  bool realtime = false;      ///< RobotProcessOptions::realtime for every robot
+  /// RobotProcessOptions::realtime for every robot; the world's own loop
+  /// (faults, physics, sensors) and its network threads at SCHED_FIFO above
+  /// them, so that a crash or a join falls on the round it is due in.
+  bool realtime = false;
   bool align_rounds = false;  ///< RobotProcessOptions::align_rounds for every robot
   bool realtime_start = false;  ///< RobotProcessOptions::realtime_start for every robot
   /// Where each robot runs, by robot id (missing or empty entries: beside

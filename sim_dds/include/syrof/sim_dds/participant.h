@@ -38,7 +38,17 @@ struct CycloneOptions {
   /// Processes (participants) expected on one host at most; the automatic
   /// participant index goes a little above it. At most kMaxProcesses.
   uint32_t max_processes = 64;
+  /// Above 0: Cyclone's own threads that take samples off the network and
+  /// send them on (receive, timed events, delivery queues) run at SCHED_FIFO
+  /// with this priority, so that on a loaded machine a beacon is not held
+  /// by a thread at normal priority while the robot's tasks run at
+  /// SCHED_FIFO (`--realtime`). Needs root or CAP_SYS_NICE: callers check.
+  int network_fifo_priority = 0;
 };
+
+/// Whether this process may use SCHED_FIFO (root or CAP_SYS_NICE): tried on
+/// the calling thread, then put back.
+bool CanUseFifoScheduling();
 
 /// Most processes per host one domain's port range can hold (participant
 /// indices 0 .. 119 keep every unicast port inside the domain's 250 ports).
