@@ -92,6 +92,9 @@ struct LiveServer::Impl {
   bool finished = false;
   bool complete = false;
   bool replay_page_decided = false;
+  // Stop(): first every stream is sent what it has not had (draining), then
+  // the server stops (stopping).
+  bool draining = false;
   bool stopping = false;
   size_t clients = 0;
 };
@@ -102,19 +105,23 @@ bool LiveServer::Impl::Stream(Client& client, httplib::DataSink& sink) {
   bool end = false;
   bool with_link = false;
   bool run_complete = false;
+  bool closing = false;
   {
     std::unique_lock lock(mutex);
     changed.wait_for(lock, Milliseconds(options.keepalive_s), [&] {
-      return stopping || (!client.header_sent && header_event) ||
+      return stopping || draining || (!client.header_sent && header_event) ||
              (client.header_sent && (ring.end() > client.cursor || EndReady()));
     });
     if (stopping) return false;
+    // Draining: the last write of this stream, with all the ring holds
+    // past its cursor (httplib calls no stream again once it stops).
+    closing = draining;
     if (!client.header_sent && header_event) {
       header_text = header_event;
       client.header_sent = true;
     }
     if (client.header_sent) {
-      taken = ring.Take(client.cursor, options.batch_rounds);
+      taken = ring.Take(client.cursor, closing ? ring.size() : options.batch_rounds);
       client.cursor = taken.next;
       end = EndReady() && client.cursor == ring.end();
       with_link = replay_page != nullptr;
@@ -130,10 +137,14 @@ bool LiveServer::Impl::Stream(Client& client, httplib::DataSink& sink) {
     out += SseEvent("end", json{{"complete", run_complete},
                                 {"replay", with_link ? json("replay.html") : json(nullptr)}}.dump());
   }
+  if (out.empty() && closing) return false;
   if (out.empty()) out = ": idle\n\n";  // a write finds a browser that went away
   if (!sink.write(out.data(), out.size())) return false;
-  if (end) sink.done();
-  return true;
+  // After the end, and when draining (that was the stream's last write),
+  // the connection closes: a finished response would keep it open for
+  // another request, and stopping the server would wait for that (httplib's
+  // keep-alive, 5 s). The page closes its EventSource at the end anyway.
+  return !end && !closing;
 }
 
 LiveServer::LiveServer(const LiveOptions& options) : options_(options), impl_(std::make_unique<Impl>(options)) {
@@ -178,7 +189,7 @@ LiveServer::LiveServer(const LiveOptions& options) : options_(options), impl_(st
     auto client = std::make_shared<Impl::Client>();
     {
       std::lock_guard lock(impl.mutex);
-      if (impl.clients >= impl.options.max_clients || impl.stopping) {
+      if (impl.clients >= impl.options.max_clients || impl.draining || impl.stopping) {
         response.status = 503;
         response.set_content("Too many browsers are watching this run.\n", "text/plain");
         return;
@@ -202,8 +213,11 @@ LiveServer::LiveServer(const LiveOptions& options) : options_(options), impl_(st
         "text/event-stream",
         [&impl, client](size_t, httplib::DataSink& sink) { return impl.Stream(*client, sink); },
         [&impl](bool) {
-          std::lock_guard lock(impl.mutex);
-          --impl.clients;
+          {
+            std::lock_guard lock(impl.mutex);
+            --impl.clients;
+          }
+          impl.changed.notify_all();  // Stop() waits for the streams to end
         });
   });
 }
@@ -243,7 +257,15 @@ std::optional<Error> LiveServer::Start(const std::string& address, int port) {
 
 void LiveServer::Stop() {
   {
-    std::lock_guard lock(impl_->mutex);
+    // Each browser streaming now first gets the rounds it has not had and,
+    // once the run ended, the end with the replay's link: a command that
+    // exits right after EndLive (--live-linger 0) leaves every page ended.
+    // One that does not read is dropped after write_timeout_s, as always.
+    std::unique_lock lock(impl_->mutex);
+    impl_->draining = true;
+    impl_->changed.notify_all();
+    impl_->changed.wait_for(lock, Milliseconds(options_.write_timeout_s + options_.keepalive_s),
+                            [&] { return impl_->clients == 0; });
     impl_->stopping = true;
   }
   impl_->changed.notify_all();

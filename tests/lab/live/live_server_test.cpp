@@ -148,6 +148,35 @@ TEST(LiveServer, StreamsTheHeaderThenTheRoundsAsTheyComeThenTheEndWithTheLink) {
   EXPECT_EQ(replay_page.body(), "<html>the replay</html>");
 }
 
+// A command that exits right after the run (`--live-linger 0`) stops its
+// server at once: a browser still taking the last rounds gets them all and
+// the end with the replay's link first. (The stream was cut where it was,
+// the end never sent: a page left saying Live.)
+TEST(LiveServer, StoppingRightAfterTheEndStillSendsEachBrowserTheRestAndTheEnd) {
+  LiveOptions options;
+  options.replay_page_follows = true;
+  options.history_s = 3600;       // the ring keeps every round: none skipped
+  options.write_timeout_s = 120;  // the browser reads only after the stop: not dropped for it
+  auto server = Started(options);
+  server->OnHeader(MakeHeader(100));
+  SseClient client;
+  // A small window, read only after the stop: with megabytes of rounds
+  // (3,000 rounds of 100 robots) the stream is still writing when Stop() comes.
+  ASSERT_TRUE(client.Get(server->listening().port, "/events", 4096));
+  ASSERT_TRUE(client.ReadUntil(HasEvent("header"), milliseconds(5000)));
+  for (uint32_t n = 0; n < 3000; ++n) PushRound(*server, 100, n);
+  server->OnFinish(true);
+  server->SetReplayPage("<html>the replay</html>");
+  std::thread stopping([&server] { server->Stop(); });
+  const bool ended = client.ReadUntil(HasEvent("end"), milliseconds(30000));
+  stopping.join();
+  ASSERT_TRUE(ended) << Count(client.events(), "round") << " rounds, closed " << client.closed();
+  EXPECT_EQ(Count(client.events(), "round"), 3000u);
+  EXPECT_EQ(Count(client.events(), "skipped"), 0u);
+  EXPECT_EQ(json::parse(client.events().back().data)["replay"], "replay.html");
+  EXPECT_EQ(server->clients(), 0u);
+}
+
 TEST(LiveServer, ABrowserThatOpensLateSeesTheLastMinute) {
   auto server = Started();
   server->OnHeader(MakeHeader(2));

@@ -75,7 +75,10 @@ class LiveServer : public replay::RoundSink {
   std::optional<Error> Start(const std::string& address, int port);
   /// Where it listens, after a successful Start.
   const Listening& listening() const { return listening_; }
-  /// Ends every stream and stops serving; waits for the server's threads.
+  /// Sends each browser streaming now the rounds it has not had and, once
+  /// the run ended (and the replay's page was decided), the end; then ends
+  /// every stream and stops serving, and waits for the server's threads. A
+  /// browser that does not read holds it up to write_timeout_s.
   void Stop();
 
   // replay::RoundSink: the recording thread's calls.
