@@ -156,7 +156,11 @@ test-m4: deps
 ## --base-station, syrof-bridge connected; its replay must hold every robot with
 ## its epochs advancing, COOPERATIVE epochs, each robot's epoch starts as the
 ## robot reported them, nothing rejected (scripts/bridge-hears-firmware-swarm.sh),
-## into out/firmware-swarm/bridge/.
+## into out/firmware-swarm/bridge/. Then the swarm's own live page
+## (syrof-firmware-swarm --live; tests/firmware/swarm, ctest -R FirmwareSwarmLive):
+## 4 robots for 4 s, the page's /events read whole (the header, the
+## replay's rounds, every robot RUNNING, the end linking the replay) and the
+## page opened in headless Chromium while 3 robots run for 10 s (every robot RUNNING).
 ## Last, the lab against the firmware: SWARM_COMPARE_SCENARIO in `syrof run`
 ## and on the emulated swarm (--realtime), which must start the same epochs
 ## in the same modes with the same members (scripts/firmware-agrees-with-lab.sh,
@@ -192,7 +196,8 @@ test-firmware-swarm: deps
 	$(configure-build)
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2 syrof-robot-mps2-strongest
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof syrof-bridge submission_strongest_reference
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof syrof-bridge submission_strongest_reference \
+	  test_firmware_swarm_live test_firmware_swarm_live_browser
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
 	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --icount $(SWARM_ICOUNT) \
 	  --out out/firmware-swarm/no-loss --expect-cooperative --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
@@ -206,6 +211,8 @@ test-firmware-swarm: deps
 	  --seconds $(SWARM_FAULTS_SECONDS) --icount -1 --loss 0.1 --out out/firmware-swarm/stress --stress $(SWARM_STRESS_SEED)
 	bash scripts/bridge-hears-firmware-swarm.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  out/firmware-swarm/bridge 4 $(SWARM_BRIDGE_SECONDS)
+	SYROF_REQUIRE_MPS2_IMAGE=1 SYROF_MPS2_ROBOT_IMAGE=$(abspath $(M4_DIR))/bin/syrof-robot-mps2.elf \
+	  ctest --test-dir $(BUILD_DIR) --output-on-failure --no-tests=error -R '^FirmwareSwarmLive'
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  $(SWARM_COMPARE_SCENARIO) out/firmware-swarm/compare
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \

@@ -57,6 +57,12 @@
 //       --seconds 20 --loss 0 --seed 1 --out DIR [--qemu qemu-system-arm] [--icount SHIFT|-1]
 //       [--align 0|1] [--latency-ms 25] [--expect-cooperative] [--expect-faults] [--max-estimation-error M]
 //       [--realtime] [--base-station PATH] [--stress SEED [--stress-rate R] [--stress-late F] [--stress-cpu-quota P]]
+//       [--live [ADDR:PORT] [--live-linger S]]
+//
+// --live serves the live page (docs/viewer.md, "Live") as `syrof swarm
+// --live` does, with the same server and options (lab/live): a reader of the
+// rounds the host records, so the page shows each round as the robots'
+// reports make it; after the run it links the replay.
 //
 // --stress SEED plays lab/sim/stress.h's seeded stress (stress_player.h):
 // qemu instances and the host stopped for 10-200 ms, a fraction of the
@@ -74,14 +80,20 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
+#include <memory>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "syrof/firmware/swarm/qemu_launcher.h"
 #include "syrof/firmware/swarm/swarm_host.h"
 #include "syrof/firmware/swarm/swarm_options.h"
+#include "syrof/lab/live/live_command.h"
+#include "syrof/lab/live/live_server.h"
 
 namespace swarm = syrof::firmware::swarm;
+namespace live = syrof::lab::live;
 
 int main(int argc, char** argv) {
   const swarm::Options parsed_options = swarm::ParseOptions(argc, argv);
@@ -101,9 +113,30 @@ int main(int argc, char** argv) {
                  made.message().c_str());
     return 1;
   }
-  swarm::SwarmHost host(options, scenario);
-  if (!host.OpenSockets() || !host.LaunchRobots()) return 1;
+  // The live page listens before any qemu starts: an address it cannot
+  // have is a usage error (exit 2), as for `syrof swarm --live`.
+  std::unique_ptr<live::LiveServer> live_page;
+  std::vector<syrof::lab::replay::RoundSink*> sinks;
+  if (options.live.on()) {
+    live::LiveOptions live_options;
+    live_options.replay_page_follows = true;
+    live_options.title = "SyROF live: " + scenario.name + " (firmware swarm)";
+    live_page = std::make_unique<live::LiveServer>(live_options);
+    if (!live::StartLive(*live_page, options.live, "syrof-firmware-swarm", std::cout, std::cerr)) return 2;
+    sinks.push_back(live_page.get());
+  }
+  swarm::SwarmHost host(options, scenario, sinks);
+  if (!host.OpenSockets() || !host.LaunchRobots()) {
+    // The page says the run stopped, with no replay to link.
+    if (live_page) {
+      live_page->OnFinish(false);
+      live_page->SetReplayPage(std::nullopt);
+    }
+    return 1;
+  }
   host.StartWorld();
   while (host.Running()) host.Step();
-  return host.Finish();
+  const int status = host.Finish();
+  if (live_page) live::EndLive(*live_page, options.live, options.out + "/replay", std::cout);
+  return status;
 }

@@ -70,7 +70,8 @@ metrics::CollectorConfig SwarmCollectorConfig(const lab::scenario::Scenario& sce
 
 }  // namespace
 
-SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scenario)
+SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scenario,
+                     std::span<lab::replay::RoundSink* const> sinks)
     : options_(options),
       scenario_(scenario),
       robots_(static_cast<uint16_t>(options.robots)),
@@ -90,6 +91,7 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
   if (options.icount_shift < 0) {
     for (Robot& robot : swarm_) robot.clock_rate = swarm::GuestClockRate::OnHostClock();
   }
+  for (lab::replay::RoundSink* sink : sinks) recorder_.AddSink(sink);
 }
 bool SwarmHost::OnHostAction(const swarm::HostAction& action, int64_t at_ns) {
   const bool done = DoHostAction(action, at_ns, options_, swarm_[action.robot], open_consoles_);

@@ -34,6 +34,7 @@ const char* const kUsage =
     "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT|-1] [--align 0|1] [--latency-ms MS]\n"
     "       [--expect-cooperative] [--expect-faults] [--max-estimation-error M] [--realtime]\n"
     "       [--base-station PATH] [--stress SEED [--stress-rate R] [--stress-late F] [--stress-cpu-quota P]]\n"
+    "       [--live [ADDR:PORT] [--live-linger S]]\n"
     "Starts one qemu mps2-an386 instance of the robot image per robot of the scenario (--robots, --seed\n"
     "and --loss override it) and plays the world, the robots' sensors and the radio channel between\n"
     "them; plays the scenario's faults (crash, pause, join, deaf, mute) and partitions on world time;\n"
@@ -44,7 +45,11 @@ const char* const kUsage =
     "ReceivedBeacon frames (syrof-bridge --socket PATH; docs/bridge.md).\n"
     "--stress SEED: seeded SIGSTOP bursts of 10-200 ms of the qemu instances and the host (R a second,\n"
     "default 4), the fraction F of beacons (default 0.05) delivered 10-200 ms late, the qemu instances\n"
-    "at P per mille of one core (a cgroup; root); a failing run prints the command that reruns it.\n";
+    "at P per mille of one core (a cgroup; root); a failing run prints the command that reruns it.\n"
+    "--live serves the live page while the robots run, as `syrof swarm --live` does (docs/viewer.md \"Live\"):\n"
+    "--live alone on 127.0.0.1:8765 (only this host can open it), --live ADDR:PORT or --live=ADDR:PORT\n"
+    "elsewhere, --live PORT on 127.0.0.1 (port 0: a free one); it prints the page's URL. After the run the\n"
+    "page links the replay and stays up --live-linger S seconds (default: until Ctrl-C; 0: exit at once).\n";
 
 void Usage(const std::string& what) {
   std::fprintf(stderr, "syrof-firmware-swarm: %s\n%s", what.c_str(), kUsage);
@@ -71,11 +76,27 @@ Options ParseOptions(int argc, char** argv) {
       options.realtime = true;
       continue;
     }
+    // --live, --live ADDR:PORT, --live PORT and --live=..., as `syrof swarm`
+    // takes them (lab/live/live_command.h). This program has no positional
+    // argument, so whatever follows --live and is no option is its address.
+    if (key == "--live" || key.rfind("--live=", 0) == 0) {
+      if (key != "--live") {
+        options.live.address = key.substr(std::string_view("--live=").size());
+      } else if (i + 1 < argc && argv[i + 1][0] != '-') {
+        options.live.address = argv[++i];
+      } else {
+        options.live.address = lab::live::kDefaultLiveAddress;
+      }
+      std::string address, problem;
+      int port = 0;
+      if (!lab::live::ParseLiveAddress(options.live.address, address, port, problem)) Usage(problem);
+      continue;
+    }
     static const std::string_view kWithValue[] = {"--image",    "--qemu",    "--out",      "--robots",
                                                   "--seconds",  "--loss",    "--seed",     "--scenario",
                                                   "--max-estimation-error", "--latency-ms", "--align", "--icount",
                                                   "--base-station", "--stress", "--stress-rate", "--stress-late",
-                                                  "--stress-cpu-quota"};
+                                                  "--stress-cpu-quota", "--live-linger"};
     if (std::find(std::begin(kWithValue), std::end(kWithValue), key) == std::end(kWithValue)) {
       Usage("unknown argument '" + key + "'");
     }
@@ -128,6 +149,8 @@ Options ParseOptions(int argc, char** argv) {
       options.stress.delayed_fraction = number(0, 1);
     } else if (key == "--stress-cpu-quota") {
       options.stress.cpu_quota_permille = static_cast<uint32_t>(number(1, 1000));
+    } else if (key == "--live-linger") {
+      options.live.linger_s = number(-1, 1e6);
     } else {
       Usage("unknown argument '" + key + "'");
     }
@@ -140,6 +163,11 @@ Options ParseOptions(int argc, char** argv) {
       if (key == "--stress-rate" || key == "--stress-late" || key == "--stress-cpu-quota") {
         Usage(std::string(key) + " needs --stress SEED");
       }
+    }
+  }
+  if (!options.live.on()) {
+    for (int i = 1; i < argc; ++i) {
+      if (std::string_view(argv[i]) == "--live-linger") Usage("--live-linger needs --live");
     }
   }
   if (options.image.empty()) Usage("--image is required");

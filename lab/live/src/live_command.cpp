@@ -1,5 +1,6 @@
 #include "syrof/lab/live/live_command.h"
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 

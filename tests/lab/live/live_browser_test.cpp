@@ -27,6 +27,7 @@
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/simulation.h"
 #include "syrof/lab/view/view.h"
+#include "headless_chromium.h"
 #include "png_image.h"
 
 namespace syrof::lab::live {
@@ -36,11 +37,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-int64_t WallMicroseconds() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 fs::path Artifacts() {
   const fs::path dir = SYROF_LIVE_ARTIFACTS;
   fs::create_directories(dir);
@@ -49,53 +45,15 @@ fs::path Artifacts() {
 
 bool HaveChromium() { return access(SYROF_CHROMIUM, X_OK) == 0; }
 
-// Chromium on a URL, on a thread of its own: its output, and when the
-// output was complete (the host's clock, µs since the epoch).
-class Browser {
+using testing::WallMicroseconds;
+
+// Chromium (headless_chromium.h) on `url`, its profile a fresh folder in
+// the artifacts named after `name`.
+class Browser : public testing::Browser {
  public:
-  Browser(const std::string& what, const std::string& url, const std::string& name) {
-    const fs::path profile = Artifacts() / ("profile-" + name + "-" + std::to_string(getpid()));
-    command_ = std::string(SYROF_CHROMIUM) +
-               " --headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run --disable-extensions"
-               " --disable-dev-shm-usage --user-data-dir=" + profile.string() +
-               " --window-size=1280,1000 --virtual-time-budget=30000 " + what + " '" + url + "' 2>/dev/null";
-    thread_ = std::thread([this] {
-      std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command_.c_str(), "r"), pclose);
-      if (!pipe) return;
-      std::array<char, 65536> buffer;
-      size_t got = 0;
-      while ((got = fread(buffer.data(), 1, buffer.size(), pipe.get())) > 0) {
-        output_.append(buffer.data(), got);
-        if (output_.find("</html>") != std::string::npos && done_us_ == 0) done_us_ = WallMicroseconds();
-      }
-      if (done_us_ == 0) done_us_ = WallMicroseconds();
-    });
-  }
-  ~Browser() { Join(); }
-  void Join() {
-    if (thread_.joinable()) thread_.join();
-  }
-  const std::string& output() const { return output_; }
-  int64_t done_us() const { return done_us_; }
-
-  // The page's #report (viewer.js), from a DOM dump.
-  json Report() const {
-    const size_t at = output_.find("<pre id=\"report\"");
-    if (at == std::string::npos) return nullptr;
-    const size_t start = output_.find('>', at) + 1;
-    std::string text = output_.substr(start, output_.find("</pre>", start) - start);
-    for (const auto& [from, to] : std::array<std::pair<std::string, std::string>, 4>{
-             {{"&lt;", "<"}, {"&gt;", ">"}, {"&quot;", "\""}, {"&amp;", "&"}}}) {
-      for (size_t i = text.find(from); i != std::string::npos; i = text.find(from, i + to.size())) text.replace(i, from.size(), to);
-    }
-    return json::parse(text, nullptr, false);
-  }
-
- private:
-  std::string command_;
-  std::string output_;
-  int64_t done_us_ = 0;
-  std::thread thread_;
+  Browser(const std::string& what, const std::string& url, const std::string& name)
+      : testing::Browser(SYROF_CHROMIUM, Artifacts() / ("profile-" + name + "-" + std::to_string(getpid())), what,
+                         url) {}
 };
 
 // Passes the rounds on to the live server and remembers, for the checks,
@@ -176,8 +134,8 @@ bool PlayWhenWatched(Run& run, size_t browsers) {
   return true;
 }
 
-using testing::Image;
-using testing::ReadPng;
+using lab::testing::Image;
+using lab::testing::ReadPng;
 
 TEST(LiveBrowser, RobotsMoveBetweenTwoScreenshotsOfARunningRun) {
   if (!HaveChromium()) GTEST_SKIP() << "no Chromium at " << SYROF_CHROMIUM;

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "syrof/firmware/swarm/swarm_robot.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/replay.h"
+#include "syrof/lab/replay/round_sink.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/round_recorder.h"
 #include "syrof/lab/sim/world_player.h"
@@ -50,7 +52,11 @@ struct RunResult {
 // Running() is false, Finish.
 class SwarmHost {
  public:
-  SwarmHost(const Options& options, const lab::scenario::Scenario& scenario);
+  // `sinks` read the rounds as the replay gets them (the live page; as
+  // sim_dds::SwarmOptions::sinks): the header now, a round at each round's
+  // end, the end in Finish. Each outlives the host.
+  SwarmHost(const Options& options, const lab::scenario::Scenario& scenario,
+            std::span<lab::replay::RoundSink* const> sinks = {});
   SwarmHost(const SwarmHost&) = delete;
   SwarmHost& operator=(const SwarmHost&) = delete;
 

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "syrof/lab/live/live_command.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/stress.h"
 
@@ -45,6 +46,9 @@ struct Options {
   std::string base_station;  // empty: none; else the Unix socket a base station's client connects to
   lab::sim::StressOptions stress;  // --stress SEED and its options (docs/firmware.md, "Stress")
   std::string command_line;        // as given: what reruns a run that failed under stress
+  // --live[=ADDR:PORT] and --live-linger S: the live page, as `syrof swarm
+  // --live` serves it (docs/viewer.md, "Live"); off when its address is empty.
+  lab::live::LiveCommandOptions live;
 };
 
 // The robot image is built with SYROF_MAX_SWARM_SIZE=32 (the Teensy's).
@@ -58,7 +62,8 @@ extern const char* const kUsage;
 
 /// The command line; --help prints the usage and exits 0, a usage error
 /// exits 2 (an unknown argument, a value out of its range, a stress option
-/// without --stress, an image that cannot be read).
+/// without --stress, a --live address that is none, --live-linger without
+/// --live, an image that cannot be read).
 Options ParseOptions(int argc, char** argv);
 
 /// The scenario, with the command line's overrides; exits 2 with the

@@ -1,7 +1,10 @@
 // `--live[=ADDR:PORT]` and `--live-linger SECONDS`, shared by `syrof run`,
-// `syrof swarm` and `syrof-bridge` (docs/viewer.md, "Live"): the live
-// page's server started before the run, given the replay's page after it,
-// and kept serving after the end for a while or until Ctrl-C.
+// `syrof swarm`, `syrof-bridge` and `syrof-firmware-swarm` (docs/viewer.md,
+// "Live"): the live page's server started before the run, given the
+// replay's page after it, and kept serving after the end for a while or
+// until Ctrl-C. The CLI11 commands declare the options with
+// SetupLiveOptions; a program with a parser of its own reads the same forms
+// with ParseLiveAddress and kDefaultLiveAddress.
 #pragma once
 
 #include <optional>
@@ -9,9 +12,11 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "syrof/lab/live/live_server.h"
+
+namespace CLI {
+class App;  // CLI11's; only SetupLiveOptions needs it, and its callers include it
+}  // namespace CLI
 
 namespace syrof::lab::live {
 
