@@ -652,8 +652,16 @@ void DdsWorld::Run() {
 
 // One physics step at step_ns_.
 void DdsWorld::Step() {
-  // Faults on the radio-round grid, as real ones, with the lab's rules.
-  player_.PlayFaults(step_ns_, runtime_);
+  // Faults on the radio-round grid, as real ones, with the lab's rules, one
+  // physics step ahead of their instant. A fault due at a round boundary
+  // acts in the lab before the robots' round tasks at that instant (its
+  // priority is higher); here the world and the robots are processes woken
+  // at the same instant, so a robot killed or stopped right at the boundary
+  // raced its own round task and sometimes sent that round's beacon, and
+  // the swarm removed it a round later than in the lab. Half a round at
+  // most: more would move a fault to the round before.
+  const int64_t lead_ns = 2 * physics_step_ns_ <= radio_round_ns_ ? physics_step_ns_ : 0;
+  player_.PlayFaults(step_ns_ + lead_ns, runtime_);
   TakeDrives();
   world_.Step(step_ns_, static_cast<double>(physics_step_ns_) * 1e-9);
   player_.TakeContacts(runtime_);
