@@ -265,6 +265,8 @@ class DdsWorld {
 
   // ---- Processes
   RobotProcessOptions robot_options_;
+  // Above 0: robot processes start at SCHED_FIFO with this priority (--realtime where allowed).
+  int robot_fifo_priority_ = 0;
   std::string spawn_error_;  // why the last Spawn failed
 
   // ---- Discovery: every present robot attached
@@ -352,6 +354,12 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
   robot_options_.log_directory = (std::filesystem::path(options.out_dir) / "robots").string();
   robot_options_.parent_pid = getpid();
   robot_options_.realtime = options.realtime;
+  // The robot's main thread is its hardware: it passes the world's readings
+  // to the sensor drivers and the drive back (WorldLink), so it starts at
+  // the drivers' priority, and a joiner's start-up is not starved either.
+  if (options.realtime && CanUseFifoScheduling()) {
+    robot_fifo_priority_ = sched_get_priority_min(SCHED_FIFO) + registry::kSensorTaskPriority;
+  }
   robot_options_.align_rounds = options.align_rounds;
   robot_options_.realtime_start = options.realtime_start;
   robot_options_.stress = options.stress;  // the late samples are the robots' to play (RadioOptionsFor, WorldLink)
@@ -427,6 +435,7 @@ bool DdsWorld::Spawn(uint16_t id) {
   command.own_process_group = true;
   command.die_with_parent = true;
   command.network_namespace = netns.get();
+  command.fifo_priority = robot_fifo_priority_;
   RobotSlot& r = robots_[id];
   r.process = process::Spawn(command);
   if (!r.process.started()) {
@@ -1033,8 +1042,9 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
     if (world.CreateEntities()) {
       world.OpenReplay();
       if (world.SpawnPresentRobots() && world.AwaitDiscovery() && world.Start()) {
-        // This thread only, for the run; the robots it starts from here
-        // (joiners) start at normal priority (SCHED_RESET_ON_FORK).
+        // This thread only, for the run; anything it forks starts at normal
+        // priority (SCHED_RESET_ON_FORK) unless it asks for more, as the
+        // robots do (Spawn).
         sched_param fifo{};
         fifo.sched_priority = fifo_minimum + registry::kPhysicsPriority + 1;
         const bool raised = realtime && sched_setscheduler(0, SCHED_FIFO | SCHED_RESET_ON_FORK, &fifo) == 0;

@@ -1,6 +1,5 @@
 #include "syrof/sim_dds/participant.h"
 
-#include <pthread.h>
 #include <sched.h>
 
 #include <cerrno>
@@ -61,11 +60,17 @@ std::optional<Error> CheckCycloneOptions(const CycloneOptions& options) {
 }
 
 bool CanUseFifoScheduling() {
+  // The kernel's calls on this thread (0), not pthread's: glibc keeps the
+  // policy pthread_setschedparam last set and reports that, whatever
+  // sched_setscheduler or the spawn that started the process set since.
+  const int policy = sched_getscheduler(0);
+  sched_param before{};
+  if (policy < 0 || sched_getparam(0, &before) != 0) return false;
   sched_param low{};
   low.sched_priority = sched_get_priority_min(SCHED_FIFO);
-  if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &low) != 0) return false;
-  sched_param normal{};
-  (void)pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
+  if (sched_setscheduler(0, SCHED_FIFO, &low) != 0) return false;
+  // Back to what it was (a robot process may start at SCHED_FIFO).
+  (void)sched_setscheduler(0, policy, &before);
   return true;
 }
 

@@ -142,6 +142,23 @@ TEST(DdsParticipant, WithAFifoPriorityEveryNetworkThreadRunsAtIt) {
   EXPECT_FALSE(policies.contains("recvMC"));
 }
 
+// The check leaves the thread as it found it: a robot process started at
+// SCHED_FIFO (DdsWorld's Spawn) was put back to SCHED_OTHER by it.
+TEST(DdsParticipant, TheFifoCheckLeavesTheThreadsPolicyAsItWas) {
+  if (!CanUseFifoScheduling()) GTEST_SKIP() << "SCHED_FIFO needs root or CAP_SYS_NICE";
+  EXPECT_EQ(sched_getscheduler(0), SCHED_OTHER);
+  sched_param raised{};
+  raised.sched_priority = sched_get_priority_min(SCHED_FIFO) + 3;
+  ASSERT_EQ(sched_setscheduler(0, SCHED_FIFO, &raised), 0);
+  EXPECT_TRUE(CanUseFifoScheduling());
+  sched_param now{};
+  EXPECT_EQ(sched_getscheduler(0), SCHED_FIFO);
+  ASSERT_EQ(sched_getparam(0, &now), 0);
+  EXPECT_EQ(now.sched_priority, raised.sched_priority);
+  sched_param normal{};
+  ASSERT_EQ(sched_setscheduler(0, SCHED_OTHER, &normal), 0);
+}
+
 TEST(DdsParticipant, RefusesADomainAboveTheRange) {
   const ParticipantOrError made = Participant::Create(kMaxDomainId + 1, CycloneOptions{});
   ASSERT_FALSE(made.ok());

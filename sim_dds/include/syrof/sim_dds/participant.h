@@ -47,7 +47,7 @@ struct CycloneOptions {
 };
 
 /// Whether this process may use SCHED_FIFO (root or CAP_SYS_NICE): tried on
-/// the calling thread, then put back.
+/// the calling thread, then put back as it was.
 bool CanUseFifoScheduling();
 
 /// Most processes per host one domain's port range can hold (participant
