@@ -330,7 +330,7 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
       run_id_(run_id),
       participant_(std::move(participant)),
       robots_(swarm_size_),
-      world_(scenario.arena, lab::sim::Bodies(scenario)),
+      world_(scenario.arena, lab::sim::Bodies(scenario), scenario.seed),
       recorder_(scenario, lab::sim::CollectorConfigFor(scenario)),
       attached_(swarm_size_, 0),
       last_status_(swarm_size_),

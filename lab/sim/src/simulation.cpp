@@ -194,7 +194,7 @@ Simulation::Impl::Impl(const Scenario& scenario, const SimulationOptions& option
       scheduler_(scenario.robots.size() * kTasksPerRobot + kWorldTasks),
       world_port_(scheduler_, "world"),
       chunk_plan_(scenario.robots.size(), options.threads, scenario.clocks.enabled),
-      world_(scenario.arena, Bodies(scenario)),
+      world_(scenario.arena, Bodies(scenario), scenario.seed),
       radio_(scenario.channel, static_cast<uint16_t>(scenario.robots.size()), ChannelSeed(scenario.seed)),
       recorder_(scenario_, CollectorConfigFor(scenario_)),
       player_(scenario_, world_, recorder_.collector()),

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "syrof/base/check.h"
+#include "syrof/base/split_mix64.h"
 
 namespace syrof::lab::world {
 namespace {
@@ -57,6 +58,14 @@ double Approach(double value, double target, double step) {
 }
 
 bool PositiveFinite(double value) { return std::isfinite(value) && value > 0; }
+bool NonNegativeFinite(double value) { return std::isfinite(value) && value >= 0; }
+
+// The purpose mixed into the seed for the drones' drift (no other stream
+// draws from the world's seed yet).
+constexpr uint64_t kDriftPurpose = 0x64726966745F7677ull;  // "drift_vw"
+
+// Uniform in (0, 1) from the top 53 bits of a hash (never 0: the log below).
+double OpenUniform(uint64_t hash) { return (static_cast<double>(hash >> 11) + 0.5) * 0x1.0p-53; }
 
 bool IsFinite(const motion::DriveCommand& drive) {
   return std::isfinite(drive.vx_mps) && std::isfinite(drive.vy_mps) && std::isfinite(drive.yaw_rate_radps) &&
@@ -95,6 +104,10 @@ std::optional<Error> CheckWorldSpec(const ArenaSpec& arena, std::span<const Body
         !PositiveFinite(spec.spec.wheel_base_m)) {
       return Error{.where = where, .message = "radius and limits must be > 0"};
     }
+    if (!NonNegativeFinite(spec.spec.tilt_time_constant_s) || !NonNegativeFinite(spec.spec.drift_sigma_mps) ||
+        !NonNegativeFinite(spec.spec.flight_height_m)) {
+      return Error{.where = where, .message = "tilt time constant, drift and flight height must be finite and >= 0"};
+    }
     if (!std::isfinite(spec.x_m) || !std::isfinite(spec.y_m) || !std::isfinite(spec.heading_rad)) {
       return Error{.where = where, .message = "pose must be finite"};
     }
@@ -102,8 +115,12 @@ std::optional<Error> CheckWorldSpec(const ArenaSpec& arena, std::span<const Body
   return std::nullopt;
 }
 
-World::World(const ArenaSpec& arena, std::span<const BodySpec> bodies)
-    : width_m_(arena.width_m), height_m_(arena.height_m), min_separation_m_(kInfinity), gap_floor_m_(-kInfinity) {
+World::World(const ArenaSpec& arena, std::span<const BodySpec> bodies, uint64_t seed)
+    : width_m_(arena.width_m),
+      height_m_(arena.height_m),
+      seed_(seed),
+      min_separation_m_(kInfinity),
+      gap_floor_m_(-kInfinity) {
   if (const std::optional<Error> problem = CheckWorldSpec(arena, bodies)) {
     base::check_failed(("World: " + problem->ToString()).c_str(), __FILE__, __LINE__);
   }
@@ -213,6 +230,7 @@ void World::SetPresence(uint16_t robot, BodyPresence presence) {
     target.state.vx_mps = target.state.vy_mps = target.state.yaw_rate_radps = 0;
     target.state.ax_mps2 = target.state.ay_mps2 = 0;
     target.left_mps = target.right_mps = 0;
+    target.drift_x_mps = target.drift_y_mps = 0;
   }
   if (presence == BodyPresence::kAbsent) {
     target.touching_wall = false;
@@ -222,17 +240,74 @@ void World::SetPresence(uint16_t robot, BodyPresence presence) {
   gap_floor_m_ = -kInfinity;
 }
 
-void World::Integrate(Body& target, double dt_s) const {
+void World::Integrate(Body& target, uint16_t robot, int64_t now_ns, double dt_s) const {
   if (target.presence == BodyPresence::kStopped) {
     target.state.vx_mps = target.state.vy_mps = target.state.yaw_rate_radps = 0;
     target.left_mps = target.right_mps = 0;
+    target.drift_x_mps = target.drift_y_mps = 0;
     return;
   }
   if (target.kind == RobotKind::kRover) {
     IntegrateRover(target, dt_s);
+  } else if (target.kind == RobotKind::kDrone) {
+    IntegrateDrone(target, robot, now_ns, dt_s);
   } else {
     IntegrateOmni(target, dt_s);
   }
+}
+
+double World::DriftNormal(int64_t now_ns, uint16_t robot, int axis) const {
+  // Box-Muller from two uniforms, each a hash of (seed, time, robot, axis,
+  // which): independent of the order bodies and steps are visited in.
+  const uint64_t base = base::SplitMix64Hash(base::SplitMix64Hash(seed_ ^ kDriftPurpose) ^
+                                             static_cast<uint64_t>(now_ns));
+  const uint64_t key = base::SplitMix64Hash(base ^ ((static_cast<uint64_t>(robot) << 8) | static_cast<uint64_t>(axis)));
+  const double u1 = OpenUniform(key);
+  const double u2 = OpenUniform(base::SplitMix64Hash(key));
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
+void World::IntegrateDrone(Body& target, uint16_t robot, int64_t now_ns, double dt_s) const {
+  const KindSpec& spec = target.spec;
+  BodyState& state = target.state;
+  double set_vx = target.drive.vx_mps;
+  double set_vy = target.drive.vy_mps;
+  const double set_speed = Length(set_vx, set_vy);
+  if (set_speed > spec.max_speed_mps) {
+    set_vx *= spec.max_speed_mps / set_speed;
+    set_vy *= spec.max_speed_mps / set_speed;
+  }
+  // The velocity the tilt gives (the body's, less its drift) follows the
+  // setpoint as a first-order lag, exact for a setpoint held over the step,
+  // and never faster than the tilt's acceleration limit.
+  const double flown_vx = state.vx_mps - target.drift_x_mps;
+  const double flown_vy = state.vy_mps - target.drift_y_mps;
+  const double share = spec.tilt_time_constant_s > 0 ? -std::expm1(-dt_s / spec.tilt_time_constant_s) : 1.0;
+  double dvx = (set_vx - flown_vx) * share;
+  double dvy = (set_vy - flown_vy) * share;
+  const double dv = Length(dvx, dvy);
+  const double max_dv = spec.max_accel_mps2 * dt_s;
+  if (dv > max_dv) {
+    dvx *= max_dv / dv;
+    dvy *= max_dv / dv;
+  }
+  // The drift: a first-order Gauss-Markov velocity, exact over the step, so
+  // its standard deviation stays drift_sigma whatever the step.
+  if (spec.drift_sigma_mps > 0) {
+    const double keep = std::exp(-dt_s / kDriftCorrelationS);
+    const double fresh = spec.drift_sigma_mps * std::sqrt(-std::expm1(-2.0 * dt_s / kDriftCorrelationS));
+    target.drift_x_mps = keep * target.drift_x_mps + fresh * DriftNormal(now_ns, robot, 0);
+    target.drift_y_mps = keep * target.drift_y_mps + fresh * DriftNormal(now_ns, robot, 1);
+  }
+  const double vx = flown_vx + dvx + target.drift_x_mps;
+  const double vy = flown_vy + dvy + target.drift_y_mps;
+  state.x_m += 0.5 * (state.vx_mps + vx) * dt_s;
+  state.y_m += 0.5 * (state.vy_mps + vy) * dt_s;
+  state.vx_mps = vx;
+  state.vy_mps = vy;
+  state.yaw_rate_radps = std::clamp(static_cast<double>(target.drive.yaw_rate_radps), -spec.max_turn_rate_radps,
+                                    spec.max_turn_rate_radps);
+  state.heading_rad = Wrap(state.heading_rad + state.yaw_rate_radps * dt_s);
 }
 
 void World::IntegrateOmni(Body& target, double dt_s) const {
@@ -575,10 +650,11 @@ World::Normal World::NearestAllowed(Normal velocity, std::span<const Normal> nor
 
 void World::Step(int64_t now_ns, double dt_s) {
   SYROF_CHECK(dt_s > 0 && std::isfinite(dt_s));
-  for (Body& each : bodies_) {
+  for (size_t i = 0; i < bodies_.size(); ++i) {
+    Body& each = bodies_[i];
     each.previous = each.state;
     if (each.presence != BodyPresence::kAbsent) {
-      Integrate(each, dt_s);
+      Integrate(each, static_cast<uint16_t>(i), now_ns, dt_s);
     }
   }
   BuildGrid();
@@ -688,6 +764,10 @@ void World::AddToDigest(base::StateDigest& digest) const {
     digest.AddValue(body.left_mps);
     digest.AddValue(body.right_mps);
     digest.AddValue(body.touching_wall);
+    if (body.kind == RobotKind::kDrone) {  // only drones drift: the others' digests stay as they were
+      digest.AddValue(body.drift_x_mps);
+      digest.AddValue(body.drift_y_mps);
+    }
   }
   digest.AddRange(std::span<const uint32_t>(touching_));
 }

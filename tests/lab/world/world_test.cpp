@@ -701,6 +701,157 @@ TEST(WorldTest, SameCallsGiveTheSameBits) {
 TEST(WorldTest, DriveKindFollowsTheRobotKind) {
   EXPECT_EQ(DriveKindFor(RobotKind::kOmni), motion::DriveKind::kOmni);
   EXPECT_EQ(DriveKindFor(RobotKind::kRover), motion::DriveKind::kWheels);
+  EXPECT_EQ(DriveKindFor(RobotKind::kDrone), motion::DriveKind::kOmni);
+  EXPECT_STREQ(ToString(RobotKind::kDrone), "drone");
+}
+
+// The drone's defaults, with the drift switched off where a test needs
+// exact kinematics.
+KindSpec DroneSpec(double drift_sigma_mps = 0) {
+  KindSpec spec = DefaultKindSpec(RobotKind::kDrone);
+  spec.drift_sigma_mps = drift_sigma_mps;
+  return spec;
+}
+
+BodySpec DroneAt(uint16_t id, double x_m, double y_m, const KindSpec& spec) {
+  return BodySpec{id, RobotKind::kDrone, spec, x_m, y_m, 0.0, BodyPresence::kActive};
+}
+
+TEST(WorldTest, DroneDefaultsAreFasterAndBrakeLaterThanOmni) {
+  const KindSpec drone = DefaultKindSpec(RobotKind::kDrone);
+  const KindSpec omni = DefaultKindSpec(RobotKind::kOmni);
+  EXPECT_GT(drone.max_speed_mps, omni.max_speed_mps);
+  EXPECT_LT(drone.max_accel_mps2, omni.max_accel_mps2);
+  EXPECT_GT(drone.tilt_time_constant_s, 0);
+  EXPECT_GT(drone.drift_sigma_mps, 0);
+  EXPECT_GT(drone.flight_height_m, 0);
+  // 0.8^2 / (2 * 0.5) + 0.8 * 0.25 = 0.84 m against the omni's 0.125 m.
+  EXPECT_NEAR(StoppingDistanceM(drone), 0.84, 1e-12);
+  EXPECT_NEAR(StoppingDistanceM(omni), 0.125, 1e-12);
+  EXPECT_EQ(omni.tilt_time_constant_s, 0);
+  EXPECT_EQ(DefaultKindSpec(RobotKind::kRover).drift_sigma_mps, 0);
+}
+
+TEST(WorldTest, DroneVelocityFollowsTheCommandAsAFirstOrderLag) {
+  // A tilt limit too high to bind: the lag alone shapes the response, and
+  // after one time constant the speed is 1 - 1/e of the setpoint.
+  KindSpec spec = DroneSpec();
+  spec.max_accel_mps2 = 100;
+  const std::vector<BodySpec> bodies{DroneAt(0, 1, 1, spec)};
+  World world(Arena(10, 10), bodies, 7);
+  world.SetDrive(0, OmniDrive(0.6, 0.0));
+  Events run;
+
+  const int steps_per_tau = static_cast<int>(std::lround(spec.tilt_time_constant_s / kDt));
+  StepMany(world, 1, steps_per_tau, run);
+  EXPECT_NEAR(world.state(0).vx_mps, AsFloat(0.6) * (1 - std::exp(-1.0)), 1e-9);
+  EXPECT_EQ(world.state(0).vy_mps, 0.0);
+  StepMany(world, 1 + steps_per_tau, 4 * steps_per_tau, run);
+  EXPECT_NEAR(world.state(0).vx_mps, AsFloat(0.6) * (1 - std::exp(-5.0)), 1e-9);
+}
+
+TEST(WorldTest, DroneAccelerationIsCappedByTheTiltLimitAndSpeedByItsTopSpeed) {
+  const KindSpec spec = DroneSpec();
+  const std::vector<BodySpec> bodies{DroneAt(0, 1, 1, spec)};
+  World world(Arena(10, 10), bodies);
+  world.SetDrive(0, OmniDrive(3.0, 4.0));  // beyond the top speed
+  Events run;
+
+  StepMany(world, 1, 1, run);
+  // The lag asks for 0.8 * (1 - exp(-0.04)) = 0.031 m/s in a step; the tilt
+  // allows 0.5 m/s^2 * 0.01 s = 0.005.
+  EXPECT_NEAR(std::hypot(world.state(0).vx_mps, world.state(0).vy_mps), 0.005, 1e-12);
+  EXPECT_NEAR(world.state(0).ax_mps2, 0.3, 1e-9);
+  EXPECT_NEAR(world.state(0).ay_mps2, 0.4, 1e-9);
+  StepMany(world, 2, 999, run);
+  EXPECT_NEAR(std::hypot(world.state(0).vx_mps, world.state(0).vy_mps), 0.8, 1e-9);
+}
+
+// Distance a body at its top speed along x travels once commanded to stop.
+double StoppingRun(const BodySpec& body) {
+  const std::vector<BodySpec> bodies{body};
+  World world(Arena(20, 4), bodies);
+  world.SetDrive(0, OmniDrive(10.0, 0.0));
+  Events run;
+  StepMany(world, 1, 1000, run);
+  const double start_x = world.state(0).x_m;
+  world.SetDrive(0, OmniDrive(0.0, 0.0));
+  StepMany(world, 1001, 1000, run);
+  EXPECT_NEAR(world.state(0).vx_mps, 0.0, 1e-6);
+  return world.state(0).x_m - start_x;
+}
+
+TEST(WorldTest, DroneStopsWithinItsStoppingDistanceAndFurtherThanItsBrakingAlone) {
+  const KindSpec spec = DroneSpec();
+  const double distance_m = StoppingRun(DroneAt(0, 1, 2, spec));
+  const double braking_only_m = spec.max_speed_mps * spec.max_speed_mps / (2 * spec.max_accel_mps2);
+  // v >= a tau: v^2 / 2a + a tau^2 / 2 (0.655 m) <= StoppingDistanceM (0.84 m).
+  EXPECT_NEAR(distance_m, braking_only_m + 0.5 * spec.max_accel_mps2 * 0.0625, 0.01);
+  EXPECT_LE(distance_m, StoppingDistanceM(spec));
+  EXPECT_GT(distance_m, braking_only_m);
+  EXPECT_GT(distance_m, 4 * StoppingRun(Omni(0, 1, 2)));
+}
+
+TEST(WorldTest, HoveringDroneDriftsBySeedAndTheSameSeedGivesTheSameBits) {
+  const std::vector<BodySpec> bodies{DroneAt(0, 2, 2, DroneSpec(0.02)), Omni(1, 1, 1)};
+  World first(Arena(4, 4), bodies, 3);
+  World again(Arena(4, 4), bodies, 3);
+  World other(Arena(4, 4), bodies, 4);
+  Events run;
+  // A hover (zero setpoint) for 20 s; the velocity's spread over it.
+  double sum_squares = 0;
+  int samples = 0;
+  for (int step = 1; step <= 2000; ++step) {
+    first.Step(step * kStepNs, kDt);
+    again.Step(step * kStepNs, kDt);
+    other.Step(step * kStepNs, kDt);
+    sum_squares += first.state(0).vx_mps * first.state(0).vx_mps + first.state(0).vy_mps * first.state(0).vy_mps;
+    samples += 2;
+  }
+  EXPECT_EQ(first.state(0).x_m, again.state(0).x_m);
+  EXPECT_EQ(first.state(0).y_m, again.state(0).y_m);
+  EXPECT_EQ(first.state(0).vx_mps, again.state(0).vx_mps);
+  EXPECT_NE(first.state(0).x_m, other.state(0).x_m);
+  const double moved_m = std::hypot(first.state(0).x_m - 2, first.state(0).y_m - 2);
+  EXPECT_GT(moved_m, 0.001);  // it drifts ...
+  EXPECT_LT(moved_m, 0.5);    // ... slowly: 0.02 m/s, correlated over 2 s
+  // The drift velocity's standard deviation per axis is about drift_sigma
+  // (10 correlation times: a loose bound).
+  const double rms = std::sqrt(sum_squares / samples);
+  EXPECT_GT(rms, 0.005);
+  EXPECT_LT(rms, 0.05);
+  // The omni beside it draws nothing and does not move, whatever the seed.
+  EXPECT_EQ(first.state(1).x_m, 1.0);
+  EXPECT_EQ(other.state(1).y_m, 1.0);
+}
+
+TEST(WorldTest, AWorldWithoutDronesIsTheSameWhateverItsSeed) {
+  const Crowd crowd = MakeCrowd(24, 5);
+  World first(Arena(3.6, 3.2), crowd.bodies, 1);
+  World second(Arena(3.6, 3.2), crowd.bodies, 99);
+  for (uint16_t id = 0; id < first.size(); ++id) {
+    first.SetDrive(id, crowd.drives[id]);
+    second.SetDrive(id, crowd.drives[id]);
+  }
+  for (int step = 1; step <= 200; ++step) {
+    first.Step(step * kStepNs, kDt);
+    second.Step(step * kStepNs, kDt);
+  }
+  base::StateDigest a;
+  base::StateDigest b;
+  first.AddToDigest(a);
+  second.AddToDigest(b);
+  EXPECT_EQ(a.value(), b.value());
+}
+
+TEST(WorldTest, CheckWorldSpecRefusesANegativeTiltOrDrift) {
+  KindSpec spec = DroneSpec();
+  spec.tilt_time_constant_s = -0.1;
+  const std::vector<BodySpec> bodies{DroneAt(0, 1, 1, spec)};
+  const std::optional<Error> problem = CheckWorldSpec(Arena(4, 4), bodies);
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_EQ(problem->where, "body 0");
+  EXPECT_NE(problem->message.find("tilt time constant"), std::string::npos);
 }
 
 }  // namespace

@@ -31,23 +31,48 @@ struct ArenaSpec {
 enum class RobotKind : uint8_t {
   kOmni = 0,   ///< omnidirectional (the paper's robots): commanded by a velocity vector
   kRover = 1,  ///< differential drive: commanded by wheel speeds
+  kDrone = 2,  ///< planar multirotor at a fixed flight height: commanded by a velocity vector, through a tilt lag
 };
 
-/// "omni" or "rover"; "?" otherwise.
+/// "omni", "rover" or "drone"; "?" otherwise.
 const char* ToString(RobotKind kind);
 
 /// The body and kinematic limits of a robot kind. Defaults per kind come from
 /// DefaultKindSpec(); a scenario may override any field.
 struct KindSpec {
   double body_radius_m = 0.1;          ///< bodies are discs
-  double max_speed_mps = 0.5;          ///< omni: |v|; rover: each wheel's ground speed
-  double max_accel_mps2 = 1.0;         ///< omni: |dv/dt|; rover: each wheel's
-  double max_turn_rate_radps = 3.0;    ///< omni: yaw rate limit
+  double max_speed_mps = 0.5;          ///< omni, drone: |v|; rover: each wheel's ground speed
+  double max_accel_mps2 = 1.0;         ///< omni, drone: |dv/dt| (speeding up and braking); rover: each wheel's
+  double max_turn_rate_radps = 3.0;    ///< omni, drone: yaw rate limit
   double wheel_base_m = 0.16;          ///< rover only: distance between the wheels
+  /// Drone only: the velocity follows the commanded one as a first-order lag
+  /// with this time constant (the time the body takes to tilt), within
+  /// max_accel. 0 for the other kinds.
+  double tilt_time_constant_s = 0;
+  /// Drone only: standard deviation of the drift velocity (air, an
+  /// imperfect hover), per axis; a Gauss-Markov process with correlation
+  /// time kDriftCorrelationS drawn from the world's seed. 0 for the others.
+  double drift_sigma_mps = 0;
+  /// Drone only: the fixed height it flies at (its flow sensor and UWB
+  /// antenna are there). 0 for the others (their sensors' heights are the
+  /// scenario's sensor geometry).
+  double flight_height_m = 0;
 };
 
+/// Correlation time of a drone's drift velocity, s.
+inline constexpr double kDriftCorrelationS = 2.0;
+
 /// The defaults: omni radius 0.10 m, 0.5 m/s, 1.0 m/s^2, 3 rad/s; rover
-/// radius 0.12 m, 0.4 m/s, 0.8 m/s^2, wheel base 0.16 m.
+/// radius 0.12 m, 0.4 m/s, 0.8 m/s^2, wheel base 0.16 m; drone radius 0.12 m
+/// (its rotors), 0.8 m/s, 0.5 m/s^2, 3 rad/s, tilt time constant 0.25 s,
+/// drift 0.02 m/s, flight height 0.30 m.
 KindSpec DefaultKindSpec(RobotKind kind);
+
+/// How far a body of this kind moving at its top speed travels before it
+/// stops when commanded to: v^2 / 2a, plus v tau for a drone (its velocity
+/// goes on at full speed for about one tilt time constant before braking
+/// takes hold; an upper bound of the lagged body's distance, which is
+/// v^2 / 2a + a tau^2 / 2 when v >= a tau, and v tau otherwise).
+double StoppingDistanceM(const KindSpec& spec);
 
 }  // namespace syrof::lab::world

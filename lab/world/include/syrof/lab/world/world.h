@@ -7,9 +7,12 @@
 // the lower-left corner, x right, y up, headings counter-clockwise from +x in
 // [-pi, pi].
 //
-// Determinism: a World has no randomness and no dependence on container
-// iteration order; pairs are processed in increasing (a, b) order, bodies in
-// increasing id. The same calls give the same bits.
+// Determinism: a World depends on no container iteration order; pairs are
+// processed in increasing (a, b) order, bodies in increasing id. Its only
+// randomness is the drones' drift, a counter-based hash of (seed, step time,
+// robot, axis), so it does not depend on the order of anything either. The
+// same seed and the same calls give the same bits; a world without drones
+// draws nothing.
 //
 // Cost: a uniform grid (about one cell per body, cells at least one contact
 // distance wide) finds the pairs near enough to matter, so a step is linear
@@ -81,7 +84,8 @@ struct WallContact {
 
 /// What World's constructor requires: a positive, finite arena; at most
 /// 65535 bodies, each with its index as id, radius and limits > 0 and a
-/// finite pose. Returns what is wrong and where (where "body 3", message
+/// finite pose; a drone's tilt time constant, drift and flight height
+/// finite and >= 0. Returns what is wrong and where (where "body 3", message
 /// "radius and limits must be > 0"), or nothing. A scenario the loader
 /// accepted always passes; a caller with other input checks it before
 /// building a World.
@@ -101,7 +105,8 @@ class World {
   /// with the check's message). Bodies may start overlapping each other or a wall:
   /// the first Step separates them; contacts present at construction are not
   /// counted (placement, not motion, caused them).
-  World(const ArenaSpec& arena, std::span<const BodySpec> bodies);
+  /// `seed` drives the drones' drift (nothing else draws from it).
+  World(const ArenaSpec& arena, std::span<const BodySpec> bodies, uint64_t seed = 0);
 
   /// The body's latest setpoint, applied from the next Step on. A command of
   /// the other drive kind or with a non-finite field is replaced by zero
@@ -122,7 +127,12 @@ class World {
   ///     (omni: velocity vector slews at most max_accel dt, speed capped,
   ///     yaw rate = setpoint capped; rover: each wheel slews at max_accel dt,
   ///     capped at max_speed, and the unicycle moves along the exact arc of
-  ///     the mean wheel speeds);
+  ///     the mean wheel speeds; drone: as omni, but the velocity moves
+  ///     toward the capped setpoint by the first-order lag's share of the
+  ///     difference, 1 - exp(-dt / tilt_time_constant), still at most
+  ///     max_accel dt, and a drift velocity, a Gauss-Markov process of
+  ///     standard deviation drift_sigma per axis and correlation time
+  ///     kDriftCorrelationS, is added on top);
   ///  2. records contacts: a pair (or body and wall) whose gap after
   ///     integration is <= 0 and was not touching starts one; touching ends
   ///     when that gap exceeds kContactHysteresisM;
@@ -186,13 +196,18 @@ class World {
     motion::DriveCommand drive;
     double left_mps = 0;   // rover wheel speeds
     double right_mps = 0;
+    double drift_x_mps = 0;  // drone drift velocity, part of state.vx / vy
+    double drift_y_mps = 0;
     bool touching_wall = false;
   };
 
   const Body& body(uint16_t robot) const;
   Body& body(uint16_t robot);
-  void Integrate(Body& body, double dt_s) const;
+  void Integrate(Body& body, uint16_t robot, int64_t now_ns, double dt_s) const;
   void IntegrateOmni(Body& body, double dt_s) const;
+  void IntegrateDrone(Body& body, uint16_t robot, int64_t now_ns, double dt_s) const;
+  // A standard normal number for (step time, robot, axis) from the seed.
+  double DriftNormal(int64_t now_ns, uint16_t robot, int axis) const;
   void IntegrateRover(Body& body, double dt_s) const;
   // Counting sort of the present bodies into the grid by their current position.
   void BuildGrid();
@@ -223,6 +238,7 @@ class World {
 
   double width_m_;
   double height_m_;
+  uint64_t seed_;
   std::vector<Body> bodies_;
   double max_radius_m_ = 0;
 
