@@ -30,6 +30,7 @@
 #include "syrof/lab/goals/goals.h"
 #include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/sensors/sensor_bank.h"
+#include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sim/round_recorder.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/world_player.h"
@@ -388,7 +389,8 @@ bool DdsWorld::CreateEntities() {
                   Assign(CreateWriter(participant, TopicKind::kFlow, id), r.flow) &&
                   Assign(CreateWriter(participant, TopicKind::kUwb, id), r.uwb) &&
                   Assign(CreateReader(participant, TopicKind::kDrive, id), r.drive);
-    r.bank = std::make_unique<lab::sensors::SensorBank>(scenario_.sensors, lab::sim::SensorSeed(scenario_.seed, id));
+    r.bank = std::make_unique<lab::sensors::SensorBank>(lab::sim::SensorConfigFor(scenario_, scenario_.robots[id]),
+                                                        lab::sim::SensorSeed(scenario_.seed, id));
     r.sink = std::make_unique<DdsSensorSink>(id, run_id_, r.imu, r.flow, r.uwb);
   }
   if (!entities_ok) {

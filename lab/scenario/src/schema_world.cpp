@@ -1,6 +1,8 @@
 // The arena, the robot kinds and the robots' start.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <string_view>
 
 #include "placement.h"
@@ -103,17 +105,27 @@ bool ReadKind(const YamlNode& node, const std::string& path, world::RobotKind ki
                                                    "max_turn_rate_radps"};
   static constexpr std::string_view kRoverKeys[] = {"body_radius_m", "max_speed_mps", "max_accel_mps2",
                                                     "wheel_base_m"};
+  static constexpr std::string_view kDroneKeys[] = {"body_radius_m",        "max_speed_mps",   "max_accel_mps2",
+                                                    "max_turn_rate_radps",  "tilt_time_constant_s",
+                                                    "drift_sigma_mps",      "flight_height_m"};
   if (!ExpectMap(node, path, diagnostics)) return false;
-  if (!CheckKeys(node, path, kind == world::RobotKind::kRover ? kRoverKeys : kOmniKeys, diagnostics)) return false;
+  std::span<const std::string_view> keys = kOmniKeys;
+  if (kind == world::RobotKind::kRover) keys = kRoverKeys;
+  if (kind == world::RobotKind::kDrone) keys = kDroneKeys;
+  if (!CheckKeys(node, path, keys, diagnostics)) return false;
   return ReadNumberAt(node, path, "body_radius_m", NumberRange{0, 1, true}, spec.body_radius_m, diagnostics) &&
          ReadNumberAt(node, path, "max_speed_mps", NumberRange{0, 10, true}, spec.max_speed_mps, diagnostics) &&
          ReadNumberAt(node, path, "max_accel_mps2", NumberRange{0, 100, true}, spec.max_accel_mps2, diagnostics) &&
          ReadNumberAt(node, path, "max_turn_rate_radps", NumberRange{0, 100, true}, spec.max_turn_rate_radps,
                       diagnostics) &&
-         ReadNumberAt(node, path, "wheel_base_m", NumberRange{0, 2, true}, spec.wheel_base_m, diagnostics);
+         ReadNumberAt(node, path, "wheel_base_m", NumberRange{0, 2, true}, spec.wheel_base_m, diagnostics) &&
+         ReadNumberAt(node, path, "tilt_time_constant_s", NumberRange{0, 2}, spec.tilt_time_constant_s,
+                      diagnostics) &&
+         ReadNumberAt(node, path, "drift_sigma_mps", NumberRange{0, 0.5}, spec.drift_sigma_mps, diagnostics) &&
+         ReadNumberAt(node, path, "flight_height_m", NumberRange{0, 3, true}, spec.flight_height_m, diagnostics);
 }
 
-constexpr std::string_view kKindNames[] = {"omni", "rover"};
+constexpr std::string_view kKindNames[] = {"omni", "rover", "drone"};  // RobotKind's order
 constexpr std::string_view kPlacementNames[] = {"explicit", "grid", "circle", "random"};  // Placement's order
 
 bool ReadKindName(const YamlNode& node, const std::string& path, world::RobotKind& kind, Diagnostics& diagnostics) {
@@ -299,8 +311,10 @@ bool ReadKinds(const YamlNode* node, Scenario& scenario, Diagnostics& diagnostic
   if (!ExpectMap(*node, path, diagnostics) || !CheckKeys(*node, path, kKindNames, diagnostics)) return false;
   const YamlNode* omni = node->Find("omni");
   const YamlNode* rover = node->Find("rover");
+  const YamlNode* drone = node->Find("drone");
   return (omni == nullptr || ReadKind(*omni, "kinds.omni", world::RobotKind::kOmni, scenario.omni, diagnostics)) &&
-         (rover == nullptr || ReadKind(*rover, "kinds.rover", world::RobotKind::kRover, scenario.rover, diagnostics));
+         (rover == nullptr || ReadKind(*rover, "kinds.rover", world::RobotKind::kRover, scenario.rover, diagnostics)) &&
+         (drone == nullptr || ReadKind(*drone, "kinds.drone", world::RobotKind::kDrone, scenario.drone, diagnostics));
 }
 
 bool ReadRobots(const YamlNode& node, const Overrides& overrides, Scenario& scenario, Diagnostics& diagnostics) {
@@ -336,6 +350,28 @@ bool ReadRobots(const YamlNode& node, const Overrides& overrides, Scenario& scen
                   RobotAt(first) + " and " + RobotAt(second) + " overlap at start: centres " + FormatShort(apart_m) +
                       " m apart, their bodies need " + FormatShort(needed_m) + " m",
                   diagnostics);
+  }
+  // A drone flying at its top speed must be able to stop before the far
+  // wall from the arena's middle: the safety filter brakes for the walls,
+  // but an arena narrower than two stopping distances and a body leaves a
+  // drone nowhere to go at speed (docs/scenarios.md, "Drones").
+  const auto drone = std::find_if(scenario.robots.begin(), scenario.robots.end(),
+                                  [](const RobotSpec& robot) { return robot.kind == world::RobotKind::kDrone; });
+  if (drone != scenario.robots.end()) {
+    const world::KindSpec& spec = scenario.drone;
+    const double needed_m = 2 * (spec.body_radius_m + world::StoppingDistanceM(spec));
+    const double side_m = std::min(scenario.arena.width_m, scenario.arena.height_m);
+    if (side_m < needed_m) {
+      const int index = static_cast<int>(drone - scenario.robots.begin());
+      return FailAt(StartNode(node, request, index), StartPath(request, index),
+                    "robot " + std::to_string(drone->id) + " is a drone, and the arena (" +
+                        FormatNumber(scenario.arena.width_m) + " m x " + FormatNumber(scenario.arena.height_m) +
+                        " m) is too small for its stopping distance: at " + FormatShort(spec.max_speed_mps) +
+                        " m/s it needs " + FormatShort(world::StoppingDistanceM(spec)) +
+                        " m to stop, so each side must be at least 2 x (radius + stopping distance) = " +
+                        FormatShort(needed_m) + " m; use a larger arena or a slower drone (kinds.drone)",
+                    diagnostics);
+    }
   }
   return true;
 }

@@ -1,6 +1,7 @@
 #include "lab_robot.h"
 
 #include "syrof/base/check.h"
+#include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/lab/sim/recording_app.h"
 
@@ -23,7 +24,7 @@ LabRobot::LabRobot(const scenario::Scenario& scenario, const scenario::RobotSpec
       world_(world),
       port_(scheduler, "robot"),
       broker_(port_),
-      bank_(scenario.sensors, SensorSeed(scenario.seed, spec.id)),
+      bank_(SensorConfigFor(scenario, spec), SensorSeed(scenario.seed, spec.id)),
       app_(std::move(app)),
       robot_(config, *app_, radio) {}
 

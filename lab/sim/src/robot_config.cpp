@@ -10,8 +10,8 @@ namespace syrof::lab::sim {
 namespace {
 
 // The estimator's arena: the one the simulated sensors measure against.
-estimation::Arena<float> EstimatorArena(const scenario::Scenario& scenario) {
-  const estimation::Arena<double>& source = scenario.sensors.arena;
+estimation::Arena<float> EstimatorArena(const sensors::SensorBankConfig& bank) {
+  const estimation::Arena<double>& source = bank.arena;
   estimation::Arena<float> arena{};
   arena.width_m = static_cast<float>(source.width_m);
   arena.depth_m = static_cast<float>(source.depth_m);
@@ -46,7 +46,17 @@ motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world:
   return config;
 }
 
+sensors::SensorBankConfig SensorConfigFor(const scenario::Scenario& scenario, const scenario::RobotSpec& robot) {
+  sensors::SensorBankConfig bank = scenario.sensors;
+  if (robot.kind == world::RobotKind::kDrone) {
+    bank.flow.geometry.height_m = scenario.drone.flight_height_m;
+    bank.arena.tag_height_m = scenario.drone.flight_height_m;
+  }
+  return bank;
+}
+
 runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const scenario::RobotSpec& robot) {
+  const sensors::SensorBankConfig bank = SensorConfigFor(scenario, robot);
   runtime::RobotConfig config;
   config.sync = sync::SyncConfig::ForSwarm(static_cast<uint16_t>(scenario.robots.size()), robot.id);
   config.sync.vote_rounds = static_cast<uint8_t>(scenario.timing.vote_rounds);
@@ -54,7 +64,16 @@ runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const sc
   config.sync.initial_members = InitialMembers(scenario);
   config.radio_round_ns = Nanoseconds(scenario.timing.radio_round_s);
   config.maneuver_rounds = ManeuverRounds(scenario.timing);
-  config.estimator.arena = EstimatorArena(scenario);
+  config.estimator.arena = EstimatorArena(bank);
+  if (robot.kind == world::RobotKind::kDrone) {
+    // The flow sensor flies with the drone: its metres per pixel are the
+    // flight height's. (Omni and rover keep the estimator's default
+    // geometry, the one the scenario's sensors default to.)
+    config.estimator.flow_geometry.viewing_angle_rad = static_cast<float>(bank.flow.geometry.viewing_angle_rad);
+    config.estimator.flow_geometry.pixels = static_cast<float>(bank.flow.geometry.pixels);
+    config.estimator.flow_geometry.height_m = static_cast<float>(bank.flow.geometry.height_m);
+    config.estimator.flow_geometry.mounting_angle_rad = static_cast<float>(bank.flow.geometry.mounting_angle_rad);
+  }
   config.estimator.range_sigma_m = static_cast<float>(std::max(kRangeSigmaFloorM, scenario.sensors.uwb.sigma_m));
   config.estimator.flow_sigma_px = static_cast<float>(std::max(kFlowSigmaFloorPx, scenario.sensors.flow.sigma_px));
   config.initial_pose.x_m = static_cast<float>(robot.x_m);

@@ -192,6 +192,49 @@ TEST(Schema, KindKeysDependOnTheKind) {
                       {"kinds.rover: unknown key 'max_turn_rate_radps'"}));
 }
 
+TEST(Schema, DroneIsAKindWhereverRoverIs) {
+  const LoadResult loaded = Load(
+      "arena: { width_m: 4, height_m: 4 }\n"
+      "kinds: { drone: { max_speed_mps: 0.7, tilt_time_constant_s: 0.3, flight_height_m: 0.4 } }\n"
+      "robots: { kind: drone, poses: [ {x_m: 1, y_m: 1}, {x_m: 3, y_m: 3, kind: omni}, {x_m: 2, y_m: 1, kind: rover} ] }\n"
+      "app: builtin:idle\n");
+  ASSERT_TRUE(loaded.ok()) << loaded.error->ToString();
+  const Scenario& scenario = *loaded.scenario;
+  EXPECT_EQ(scenario.robots[0].kind, world::RobotKind::kDrone);
+  EXPECT_EQ(scenario.robots[1].kind, world::RobotKind::kOmni);
+  EXPECT_EQ(scenario.robots[2].kind, world::RobotKind::kRover);
+  EXPECT_DOUBLE_EQ(scenario.kind_spec(world::RobotKind::kDrone).max_speed_mps, 0.7);
+  EXPECT_DOUBLE_EQ(scenario.drone.tilt_time_constant_s, 0.3);
+  EXPECT_DOUBLE_EQ(scenario.drone.flight_height_m, 0.4);
+  EXPECT_DOUBLE_EQ(scenario.drone.max_accel_mps2, 0.5);  // the default
+}
+
+TEST(Schema, DroneKeysAreTheDronesAlone) {
+  EXPECT_TRUE(FailsAt(LoadWith("kinds: { drone: { wheel_base_m: 0.2 } }\n"), 3, 19,
+                      {"kinds.drone: unknown key 'wheel_base_m'"}));
+  EXPECT_TRUE(FailsAt(LoadWith("kinds: { omni: { tilt_time_constant_s: 0.2 } }\n"), 3, 18,
+                      {"kinds.omni: unknown key 'tilt_time_constant_s'"}));
+  EXPECT_TRUE(FailsAt(LoadWith("kinds: { drone: { drift_sigma_mps: -1 } }\n"), 3, 36,
+                      {"kinds.drone.drift_sigma_mps: must be in [0, 0.5]"}));
+}
+
+TEST(Schema, ADroneInAnArenaTooSmallForItsStoppingDistanceIsRefusedByName) {
+  // 2 x (0.12 + 0.84) = 1.92 m needed; 1.5 m given.
+  const LoadResult loaded = Load(
+      "arena: { width_m: 3, height_m: 1.5 }\n"
+      "robots: { kind: omni, poses: [ {x_m: 0.5, y_m: 0.5}, {x_m: 2, y_m: 0.75, kind: drone} ] }\n"
+      "app: builtin:idle\n");
+  EXPECT_TRUE(FailsAt(loaded, 2, 54,
+                      {"robot 1 is a drone", "too small for its stopping distance", "0.84 m to stop",
+                       "at least 2 x (radius + stopping distance) = 1.92 m"}));
+  // A slower drone fits: 0.3^2 / 1 + 0.3 * 0.25 = 0.165 m to stop.
+  EXPECT_TRUE(Load("arena: { width_m: 3, height_m: 1.5 }\n"
+                   "kinds: { drone: { max_speed_mps: 0.3 } }\n"
+                   "robots: { kind: omni, poses: [ {x_m: 0.5, y_m: 0.5}, {x_m: 2, y_m: 0.75, kind: drone} ] }\n"
+                   "app: builtin:idle\n")
+                  .ok());
+}
+
 // --- the arena's anchors ----------------------------------------------------
 
 TEST(Schema, TooFewAnchorsAreRefused) {

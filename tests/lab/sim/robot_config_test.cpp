@@ -45,6 +45,34 @@ TEST(RobotConfigForTest, SynchronizerKnowsTheSwarmAndWhoIsThereAtStart) {
   EXPECT_EQ(config.queries_workspace, nullptr);  // the caller's
 }
 
+TEST(RobotConfigForTest, ADronesFlowSensorAndAntennaFlyAtItsHeight) {
+  const scenario::Scenario scenario = Load(R"(kinds: { drone: { flight_height_m: 0.4 } }
+robots:
+  kind: drone
+  poses: [ { x_m: 1.0, y_m: 1.0 }, { x_m: 3.0, y_m: 3.0, kind: omni } ]
+app: builtin:idle
+)");
+  const sensors::SensorBankConfig drone_bank = SensorConfigFor(scenario, scenario.robots[0]);
+  const sensors::SensorBankConfig omni_bank = SensorConfigFor(scenario, scenario.robots[1]);
+  EXPECT_DOUBLE_EQ(drone_bank.flow.geometry.height_m, 0.4);
+  EXPECT_DOUBLE_EQ(drone_bank.arena.tag_height_m, 0.4);
+  EXPECT_DOUBLE_EQ(omni_bank.flow.geometry.height_m, scenario.sensors.flow.geometry.height_m);
+  EXPECT_DOUBLE_EQ(omni_bank.arena.tag_height_m, scenario.sensors.arena.tag_height_m);
+  // Four times as high: four times the metres per pixel.
+  EXPECT_NEAR(estimation::FlowMetresPerPixel(drone_bank.flow.geometry) /
+                  estimation::FlowMetresPerPixel(omni_bank.flow.geometry),
+              4.0, 1e-9);
+
+  // The estimator is told the same geometry as the sensors.
+  const runtime::RobotConfig drone = RobotConfigFor(scenario, scenario.robots[0]);
+  const runtime::RobotConfig omni = RobotConfigFor(scenario, scenario.robots[1]);
+  EXPECT_FLOAT_EQ(drone.estimator.flow_geometry.height_m, 0.4f);
+  EXPECT_FLOAT_EQ(drone.estimator.arena.tag_height_m, 0.4f);
+  EXPECT_FLOAT_EQ(omni.estimator.flow_geometry.height_m, static_cast<float>(omni_bank.flow.geometry.height_m));
+  EXPECT_FLOAT_EQ(omni.estimator.arena.tag_height_m, static_cast<float>(omni_bank.arena.tag_height_m));
+  EXPECT_EQ(drone.motion.kind, motion::DriveKind::kOmni);
+}
+
 TEST(RobotConfigForTest, ManeuverRoundsRoundToTheNearestWholeRound) {
   scenario::TimingSpec timing;
   timing.radio_round_s = 0.05;

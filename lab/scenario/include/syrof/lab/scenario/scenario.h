@@ -157,6 +157,7 @@ struct Scenario {
   world::ArenaSpec arena;
   world::KindSpec omni = world::DefaultKindSpec(world::RobotKind::kOmni);
   world::KindSpec rover = world::DefaultKindSpec(world::RobotKind::kRover);
+  world::KindSpec drone = world::DefaultKindSpec(world::RobotKind::kDrone);
   Placement placement = Placement::kGrid;
   std::vector<RobotSpec> robots;  ///< resolved; at least 1
   TimingSpec timing;
@@ -185,7 +186,10 @@ struct Scenario {
   /// file declares none. The grader puts its assignment's here.
   std::optional<message::MessageFormat> message;
 
-  const world::KindSpec& kind_spec(world::RobotKind kind) const { return kind == world::RobotKind::kRover ? rover : omni; }
+  const world::KindSpec& kind_spec(world::RobotKind kind) const {
+    if (kind == world::RobotKind::kRover) return rover;
+    return kind == world::RobotKind::kDrone ? drone : omni;
+  }
 };
 
 /// Command-line values that replace the file's.

@@ -50,6 +50,12 @@ wire::MemberSet InitialMembers(const scenario::Scenario& scenario);
 /// robot kind (omni: velocity, rover: wheels).
 motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world::KindSpec& spec);
 
+/// Robot `robot`'s simulated sensors: the scenario's, except that a drone's
+/// flow sensor and UWB antenna sit at its kind's flight height (a fixed
+/// height: the flow sensor's metres per pixel grow with it, docs/estimation.md
+/// "Drones"). The estimator of RobotConfigFor is given the same geometry.
+sensors::SensorBankConfig SensorConfigFor(const scenario::Scenario& scenario, const scenario::RobotSpec& robot);
+
 /// The safety filter's view of `scenario`'s swarm (docs/safety.md): on or off
 /// as the scenario says; the fastest speed limit, largest body and weakest
 /// braking among the kinds present (a beacon does not carry its sender's
