@@ -39,6 +39,7 @@ float WrapAngle(float angle_rad) {
 MotionController::MotionController(const ControllerConfig& config) : config_(config) {}
 
 void MotionController::SetCommand(const syrof_car_command& command) {
+  const bool was_stop = command_.kind == SYROF_COMMAND_STOP;
   if (app::CheckCommand(command).ok()) {
     command_ = command;
   } else {
@@ -47,6 +48,8 @@ void MotionController::SetCommand(const syrof_car_command& command) {
     command_.kind = SYROF_COMMAND_STOP;
   }
   arrived_ = command_.kind == SYROF_COMMAND_STOP;
+  // A new command holds anew; a STOP after a STOP keeps holding where it was.
+  if (!(was_stop && command_.kind == SYROF_COMMAND_STOP)) hold_.set = false;
 }
 
 bool MotionController::arrived() const {
@@ -64,13 +67,18 @@ DriveCommand MotionController::Update(const estimation::StateEstimate& estimate,
   DriveCommand drive;
   drive.timestamp_ns = now_ns;
   drive.kind = config_.kind;
-  if (command_.kind == SYROF_COMMAND_STOP) {
+  if (command_.kind == SYROF_COMMAND_STOP && !config_.hold_position) {
     return drive;
   }
   const bool usable = (estimate.status & estimation::kEstimateInitialized) != 0 &&
                       AllFinite({estimate.x_m, estimate.y_m, estimate.heading_rad});
   if (!usable) {
     ++blind_updates_;
+    return drive;
+  }
+  if (command_.kind == SYROF_COMMAND_STOP) {  // holding: a drone hovers where it stopped
+    const HoldPoint& hold = HoldHere(estimate);
+    SteerTo(estimate, hold.x_m, hold.y_m, config_.limits.max_speed_mps, drive);
     return drive;
   }
   return config_.kind == DriveKind::kWheels ? UpdateWheels(estimate, drive) : UpdateOmni(estimate, drive);
@@ -88,9 +96,29 @@ bool MotionController::Latch(float error, float tolerance) {
 float MotionController::ApproachSpeed(float distance_m, float cruise_mps) const {
   const MotionLimits& limits = config_.limits;
   const float braking_mps2 = config_.braking_fraction * limits.max_accel_mps2;
-  const float braking_speed = std::sqrt(2.0f * braking_mps2 * distance_m);
+  const float braking_speed = BrakingSpeed(distance_m, braking_mps2, limits.response_lag_s);
   const float linear_speed = config_.position_gain_per_s * distance_m;
   return std::min({cruise_mps, limits.max_speed_mps, braking_speed, linear_speed});
+}
+
+const HoldPoint& MotionController::HoldHere(const estimation::StateEstimate& estimate) {
+  if (!hold_.set) {
+    hold_.x_m = estimate.x_m;
+    hold_.y_m = estimate.y_m;
+    hold_.set = true;
+  }
+  return hold_;
+}
+
+void MotionController::SteerTo(const estimation::StateEstimate& estimate, float x_m, float y_m, float cruise_mps,
+                               DriveCommand& drive) const {
+  const float dx = x_m - estimate.x_m;
+  const float dy = y_m - estimate.y_m;
+  const float distance_m = std::sqrt(dx * dx + dy * dy);
+  if (!(distance_m > 0.0f)) return;
+  const float speed = ApproachSpeed(distance_m, cruise_mps);
+  drive.vx_mps = speed * dx / distance_m;
+  drive.vy_mps = speed * dy / distance_m;
 }
 
 DriveCommand MotionController::UpdateOmni(const estimation::StateEstimate& estimate, DriveCommand drive) {
@@ -101,6 +129,7 @@ DriveCommand MotionController::UpdateOmni(const estimation::StateEstimate& estim
       const float dy = command_.y_m - estimate.y_m;
       const float distance_m = std::sqrt(dx * dx + dy * dy);
       if (Latch(distance_m, config_.position_tolerance_m)) {
+        if (config_.hold_position) SteerTo(estimate, command_.x_m, command_.y_m, command_.speed_mps, drive);
         return drive;
       }
       const float speed = ApproachSpeed(distance_m, command_.speed_mps);
@@ -117,6 +146,10 @@ DriveCommand MotionController::UpdateOmni(const estimation::StateEstimate& estim
     }
     case SYROF_COMMAND_TURN_TO: {
       const float error_rad = WrapAngle(command_.heading_rad - estimate.heading_rad);
+      if (config_.hold_position) {
+        const HoldPoint& hold = HoldHere(estimate);
+        SteerTo(estimate, hold.x_m, hold.y_m, limits.max_speed_mps, drive);
+      }
       if (Latch(std::fabs(error_rad), config_.heading_tolerance_rad)) {
         return drive;
       }

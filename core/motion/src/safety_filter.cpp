@@ -33,11 +33,14 @@ float OwnErrorAllowanceM(const SafetyConfig& config, const estimation::StateEsti
 }
 
 // A braking distance in millimetres: v^2 / 2a, v in mm/s, a in mm/s^2.
-uint16_t SafetyReports::BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2) {
+uint16_t SafetyReports::BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2, float lag_s) {
   const float vx = static_cast<float>(vx_mm_s);
   const float vy = static_cast<float>(vy_mm_s);
   const float braking_mm_s2 = std::max(braking_mps2, 1e-3f) * 1000.0f;
-  const float allowance = std::ceil((vx * vx + vy * vy) / (2.0f * braking_mm_s2));
+  float distance_mm = (vx * vx + vy * vy) / (2.0f * braking_mm_s2);
+  // The sender may go on at its frozen speed for one lag before braking.
+  if (lag_s > 0.0f) distance_mm += lag_s * std::sqrt(vx * vx + vy * vy);
+  const float allowance = std::ceil(distance_mm);
   return static_cast<uint16_t>(std::min(allowance, 65535.0f));
 }
 
@@ -48,13 +51,13 @@ bool SafetyFilter::NeedsReports(const DriveCommand& desired) const {
 }
 
 void SafetyReports::ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps,
-                                 float vy_mps, float braking_mps2) {
+                                 float vy_mps, float braking_mps2, float lag_s) {
   const auto millimetres = [](float metres) {
     if (!std::isfinite(metres)) return int16_t{0};
     return static_cast<int16_t>(std::lround(std::clamp(metres * 1000.0f, -32768.0f, 32767.0f)));
   };
   Report(id, time_ns, millimetres(x_m), millimetres(y_m), parked, millimetres(vx_mps), millimetres(vy_mps),
-         braking_mps2);
+         braking_mps2, lag_s);
   if (!std::isfinite(x_m) || !std::isfinite(y_m) || id >= wire::kMaxSwarmSize) {
     if (id < wire::kMaxSwarmSize) entries_[id].valid = false;
   }
@@ -72,12 +75,13 @@ SafetyFilter::SafetyFilter(const SafetyConfig& config, const ControllerConfig& c
       own_radius_m_(controller.limits.body_radius_m),
       own_max_speed_mps_(controller.limits.max_speed_mps),
       own_braking_mps2_(controller.braking_fraction * controller.limits.max_accel_mps2),
+      own_lag_s_(std::max(controller.limits.response_lag_s, 0.0f)),
       kind_(controller.kind),
       swarm_size_(std::min<uint16_t>(swarm_size, wire::kMaxSwarmSize)) {}
 
-float SafetyFilter::ApproachBound(float gap_m, float braking_mps2) const {
+float SafetyFilter::ApproachBound(float gap_m, float braking_mps2, float lag_s) const {
   if (gap_m <= 0.0f) return 0.0f;
-  return std::min(config_.gain_per_s * gap_m, std::sqrt(2.0f * braking_mps2 * gap_m));
+  return std::min(config_.gain_per_s * gap_m, BrakingSpeed(gap_m, braking_mps2, lag_s));
 }
 
 void SafetyFilter::Keep(const Constraint& constraint, float slack) {
@@ -105,8 +109,12 @@ void SafetyFilter::Collect(float x, float y, float own_allowance_m, const Safety
   // stop within the gap between them (docs/safety.md, "Proof sketch").
   const float shared_braking_mps2 = 0.5f * own_braking_mps2_;
   // A linear constraint whose bound reaches the speed limit cannot bind.
-  const float reach_m = std::max(own_max_speed_mps_ / config_.gain_per_s,
-                                 own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * shared_braking_mps2));
+  // Its half of the gap holds its whole lag: in terms of the shared
+  // braking, v (2 lag) + v^2 / 2 (a / 2) <= h.
+  const float shared_lag_s = 2.0f * own_lag_s_;
+  float braking_reach_m = own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * shared_braking_mps2);
+  if (shared_lag_s > 0.0f) braking_reach_m += shared_lag_s * own_max_speed_mps_;
+  const float reach_m = std::max(own_max_speed_mps_ / config_.gain_per_s, braking_reach_m);
   // The margin covers each robot's error up to half of it; this robot's own
   // doubt beyond that grows every disc.
   const float own_excess_m = own_allowance_m - 0.5f * config_.margin_m;
@@ -159,7 +167,7 @@ void SafetyFilter::Collect(float x, float y, float own_allowance_m, const Safety
     constraint.ny = dy / distance_m;
     const float gap_m = distance_m - radius_m;
     if (gap_m > 0.0f) {
-      constraint.bound = ApproachBound(gap_m, shared_braking_mps2);
+      constraint.bound = ApproachBound(gap_m, shared_braking_mps2, shared_lag_s);
       constraint.cone = false;
     } else {
       // sigma >= d: this robot stands where the other may be; every
@@ -179,7 +187,7 @@ void SafetyFilter::Collect(float x, float y, float own_allowance_m, const Safety
       Constraint constraint{};
       constraint.nx = normals[wall][0];
       constraint.ny = normals[wall][1];
-      constraint.bound = ApproachBound(gaps[wall], own_braking_mps2_);
+      constraint.bound = ApproachBound(gaps[wall], own_braking_mps2_, own_lag_s_);
       constraint.cone = false;
       constraint.other = kWallObstacle;
       Keep(constraint, gaps[wall]);

@@ -467,7 +467,7 @@ void Robot::TakeSafetyReports(int64_t now_ns) {
       const bool parked = !beacon.presence_only && beacon.phase != wire::Phase::kProgress;
       presence += beacon.presence_only ? 1 : 0;
       shared_reports_.Report(beacon.robot_id, sent_ns, snapshot.x_mm, snapshot.y_mm, parked, snapshot.vx_mm_s,
-                             snapshot.vy_mm_s, braking_mps2);
+                             snapshot.vy_mm_s, braking_mps2, config_.safety.others_lag_s);
     }
     if (inbox_count_ > 0) reports_changed_ = true;
   } else {

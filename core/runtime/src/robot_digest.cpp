@@ -30,6 +30,12 @@ void Robot::AddToDigest(base::StateDigest& digest) const {
   estimator_.AddToDigest(digest);
   app::AddToDigest(digest, controller_.command());
   digest.AddValue(controller_.arrived());
+  if (controller_.config().hold_position) {  // drones only: the others' digests stay as they were
+    const motion::HoldPoint& hold = controller_.hold();  // field by field: padding
+    digest.AddValue(hold.x_m);
+    digest.AddValue(hold.y_m);
+    digest.AddValue(hold.set);
+  }
   digest.AddValue(estimate_);
   digest.AddValue(motion_estimate_);
 

@@ -43,6 +43,14 @@ motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world:
   config.limits.max_turn_rate_radps = static_cast<float>(spec.max_turn_rate_radps);
   config.limits.wheel_base_m = static_cast<float>(spec.wheel_base_m);
   config.limits.body_radius_m = static_cast<float>(spec.body_radius_m);
+  if (kind == world::RobotKind::kDrone) {
+    config.limits.response_lag_s = static_cast<float>(spec.tilt_time_constant_s);
+    // Position loop k over a velocity lag tau: damping 1 / (2 sqrt(k tau)),
+    // 0.5 at the omni's 4/s with 0.25 s; 2/s gives 0.71 and no overshoot
+    // worth the name.
+    config.position_gain_per_s = kDronePositionGainPerS;
+    config.hold_position = true;  // it drifts: hover in place rather than let go
+  }
   return config;
 }
 
@@ -85,6 +93,7 @@ runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const sc
   config.arena_width_m = static_cast<float>(scenario.arena.width_m);
   config.arena_height_m = static_cast<float>(scenario.arena.height_m);
   config.safety = SafetyConfigFor(scenario);
+  if (robot.kind == world::RobotKind::kDrone) config.safety.own_sigmas = kDroneOwnSigmas;
   config.announce_presence = scenario.safety;
   config.activation = ActivationConfigFor(scenario);
   // With a clocks section the robots align their rounds unless it says
@@ -114,7 +123,7 @@ motion::SafetyConfig SafetyConfigFor(const scenario::Scenario& scenario) {
   // A beacon does not say its sender's kind: assume the fastest, largest and
   // slowest-braking kind present.
   bool first = true;
-  for (const world::RobotKind kind : {world::RobotKind::kOmni, world::RobotKind::kRover}) {
+  for (const world::RobotKind kind : {world::RobotKind::kOmni, world::RobotKind::kRover, world::RobotKind::kDrone}) {
     const bool present = std::any_of(scenario.robots.begin(), scenario.robots.end(),
                                      [kind](const scenario::RobotSpec& robot) { return robot.kind == kind; });
     if (!present) continue;
@@ -126,6 +135,7 @@ motion::SafetyConfig SafetyConfigFor(const scenario::Scenario& scenario) {
     safety.others_radius_m =
         first ? controller.limits.body_radius_m : std::max(safety.others_radius_m, controller.limits.body_radius_m);
     safety.others_braking_mps2 = first ? braking : std::min(safety.others_braking_mps2, braking);
+    safety.others_lag_s = std::max(safety.others_lag_s, controller.limits.response_lag_s);
     first = false;
   }
   safety.arena_width_m = static_cast<float>(scenario.arena.width_m);

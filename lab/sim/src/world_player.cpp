@@ -98,7 +98,8 @@ bool WorldPlayer::StartDiscClear(uint16_t id) const {
     if (other == id || world_.presence(other) == world::BodyPresence::kAbsent) continue;
     const world::BodyState& body = world_.state(other);
     const double squared_speed = body.vx_mps * body.vx_mps + body.vy_mps * body.vy_mps;
-    const double stopping_m = squared_speed / safety.others_braking_mps2;
+    const double stopping_m =
+        squared_speed / safety.others_braking_mps2 + 2.0 * safety.others_lag_s * std::sqrt(squared_speed);
     const double clearance_m = world_.body_radius_m(id) + world_.body_radius_m(other) + reach_m + stopping_m;
     if (std::hypot(body.x_m - spec.x_m, body.y_m - spec.y_m) < clearance_m) return false;
   }

@@ -27,7 +27,7 @@ KindSpec DefaultKindSpec(RobotKind kind) {
     spec.max_speed_mps = 0.8;
     spec.max_accel_mps2 = 0.5;
     spec.tilt_time_constant_s = 0.25;
-    spec.drift_sigma_mps = 0.02;
+    spec.drift_sigma_mps = 0.005;
     spec.flight_height_m = 0.30;
   }
   return spec;

@@ -358,5 +358,70 @@ TEST(MotionControllerTest, RoverSteeringKeepsWheelsWithinMaxSpeed) {
   EXPECT_GT(drive.right_mps, drive.left_mps);  // steering left toward the vector
 }
 
+
+syrof_car_command Stop() {
+  syrof_car_command command{};
+  command.kind = SYROF_COMMAND_STOP;
+  return command;
+}
+
+// A drone's controller: a tilt lag and hold_position.
+ControllerConfig DroneConfig() {
+  ControllerConfig config = OmniConfig();
+  config.limits.response_lag_s = 0.25f;
+  config.position_gain_per_s = 2.0f;
+  config.hold_position = true;
+  return config;
+}
+
+TEST(MotionControllerTest, ALaggedMoveToBrakesOnTheLaggedCurve) {
+  const ControllerConfig config = DroneConfig();
+  MotionController controller(config);
+  controller.SetCommand(MoveTo(3.0f, 0.0f, 0.5f));
+  // 0.5 m short of the target, the braking curve with the lag binds.
+  const DriveCommand drive = controller.Update(Perfect(2.5f, 0, 0), kStepNs);
+  const float braking = config.braking_fraction * config.limits.max_accel_mps2;
+  EXPECT_NEAR(drive.vx_mps, std::min({0.5f, BrakingSpeed(0.5f, braking, 0.25f), 2.0f * 0.5f}), 1e-6f);
+  EXPECT_LT(drive.vx_mps, std::sqrt(2.0f * braking * 0.5f));
+}
+
+TEST(MotionControllerTest, AHoldingControllerKeepsAStoppedDroneWhereItStopped) {
+  MotionController controller(DroneConfig());
+  controller.SetCommand(Stop());
+  // The first usable estimate is the hold point: nothing to correct yet.
+  DriveCommand drive = controller.Update(Perfect(1.0f, 1.0f, 0), kStepNs);
+  EXPECT_EQ(drive.vx_mps, 0.0f);
+  EXPECT_TRUE(controller.hold().set);
+  // Drifted 4 cm along +x: steered back at gain * distance.
+  drive = controller.Update(Perfect(1.04f, 1.0f, 0), 2 * kStepNs);
+  EXPECT_NEAR(drive.vx_mps, -2.0f * 0.04f, 1e-5f);
+  EXPECT_NEAR(drive.vy_mps, 0.0f, 1e-6f);
+  EXPECT_TRUE(controller.arrived());
+  // Another STOP keeps the same point; a MOVE_TO and a STOP after it hold anew.
+  controller.SetCommand(Stop());
+  drive = controller.Update(Perfect(1.04f, 1.0f, 0), 3 * kStepNs);
+  EXPECT_NEAR(drive.vx_mps, -0.08f, 1e-5f);
+  controller.SetCommand(MoveTo(2.0f, 1.0f, 0.3f));
+  controller.SetCommand(Stop());
+  drive = controller.Update(Perfect(1.5f, 1.0f, 0), 4 * kStepNs);
+  EXPECT_EQ(drive.vx_mps, 0.0f);
+  EXPECT_FLOAT_EQ(controller.hold().x_m, 1.5f);
+}
+
+TEST(MotionControllerTest, AnArrivedDroneKeepsSteeringToItsTargetAndAnOmniDoesNot) {
+  MotionController drone(DroneConfig());
+  MotionController omni(OmniConfig());
+  drone.SetCommand(MoveTo(1.0f, 1.0f, 0.3f));
+  omni.SetCommand(MoveTo(1.0f, 1.0f, 0.3f));
+  // 1 cm off: within the tolerance, arrived.
+  const DriveCommand held = drone.Update(Perfect(1.01f, 1.0f, 0), kStepNs);
+  const DriveCommand still = omni.Update(Perfect(1.01f, 1.0f, 0), kStepNs);
+  EXPECT_TRUE(drone.arrived());
+  EXPECT_TRUE(omni.arrived());
+  EXPECT_NEAR(held.vx_mps, -0.02f, 1e-5f);
+  EXPECT_EQ(still.vx_mps, 0.0f);
+  EXPECT_FALSE(omni.hold().set);
+}
+
 }  // namespace
 }  // namespace syrof::motion

@@ -447,5 +447,67 @@ TEST(SafetyFilterTest, TwoRobotsDrivingHeadOnNeverTouch) {
   EXPECT_LT(closest, 0.5f);  // and they did come close: the filter let them approach
 }
 
+
+// A drone: its velocity follows the setpoint through a tilt lag.
+ControllerConfig Lagged(float lag_s) {
+  ControllerConfig config = Omni();
+  config.limits.response_lag_s = lag_s;
+  return config;
+}
+
+TEST(BrakingSpeedTest, WithoutALagItIsTheSquareRootBitForBit) {
+  for (const float d : {0.0f, 0.001f, 0.1f, 0.37f, 2.0f}) {
+    EXPECT_EQ(BrakingSpeed(d, 0.8f, 0.0f), std::sqrt(2.0f * 0.8f * d));
+  }
+}
+
+TEST(BrakingSpeedTest, WithALagTheBodyStopsExactlyWithinTheDistance) {
+  for (const float d : {0.001f, 0.1f, 0.5f, 2.0f}) {
+    const float v = BrakingSpeed(d, 0.4f, 0.25f);
+    EXPECT_NEAR(v * 0.25f + v * v / (2.0f * 0.4f), d, 1e-6f * (1 + d));
+    EXPECT_LT(v, std::sqrt(2.0f * 0.4f * d));
+  }
+  EXPECT_EQ(BrakingSpeed(0.0f, 0.4f, 0.25f), 0.0f);
+}
+
+TEST(SafetyFilterTest, ALaggedRobotApproachesOnItsLaggedCurveWithHalfTheGapAndTwiceTheLag) {
+  SafetyFilter filter(Config(), Lagged(0.25f), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.35f, 1.0f, false, 0, 0, 0.8f);  // gap 0.1 m, as above
+  SafetyOutcome outcome;
+
+  const DriveCommand out = filter.Apply(DriveVelocity(0.4f, 0.3f), At(1, 1), reports, 0, outcome);
+
+  // Shared braking 0.4 m/s^2 with twice the lag: v 0.5 + v^2 / 0.8 = 0.1,
+  // 0.1464 m/s, where the omni above may approach at 0.283 m/s.
+  EXPECT_NEAR(out.vx_mps, BrakingSpeed(0.1f, 0.4f, 0.5f), 1e-6f);
+  EXPECT_NEAR(out.vx_mps, 0.1464f, 1e-4f);
+  EXPECT_FLOAT_EQ(out.vy_mps, 0.3f);
+  EXPECT_TRUE(outcome.limited);
+}
+
+TEST(SafetyFilterTest, ALaggedRobotBrakesForAWallOnItsLaggedCurve) {
+  SafetyConfig config = Config();
+  config.arena_width_m = 4;
+  config.arena_height_m = 4;
+  SafetyFilter filter(config, Lagged(0.25f), 4);
+  SafetyReports reports;
+  SafetyOutcome outcome;
+
+  // 0.2 m from the wall at x = 4 beyond radius and margin.
+  const DriveCommand out = filter.Apply(DriveVelocity(0.5f, 0), At(4 - 0.1f - 0.05f - 0.2f, 2), reports, 0, outcome);
+
+  EXPECT_NEAR(out.vx_mps, BrakingSpeed(0.2f, 0.8f, 0.25f), 1e-5f);
+  EXPECT_LT(out.vx_mps, std::sqrt(2.0f * 0.8f * 0.2f));
+}
+
+TEST(SafetyReportsTest, AParkedReportsAllowanceAddsTheSwarmsLagAtItsSpeed) {
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.0f, 1.0f, true, 0.4f, 0, 0.8f);
+  reports.ReportMetres(2, 0, 2.0f, 1.0f, true, 0.4f, 0, 0.8f, 0.25f);
+  EXPECT_EQ(reports[1].allowance_mm, 100);        // 0.4^2 / 1.6
+  EXPECT_EQ(reports[2].allowance_mm, 100 + 100);  // + 0.4 * 0.25
+}
+
 }  // namespace
 }  // namespace syrof::motion

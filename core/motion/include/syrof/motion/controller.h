@@ -9,7 +9,12 @@
 // Control laws (d = distance to the target, e = heading error wrapped to
 // [-pi, pi], a = braking_fraction * max_accel):
 //
-// Omni (DriveKind::kOmni), velocity in the arena frame:
+// With a response lag (limits.response_lag_s > 0: a drone, whose velocity
+// follows the setpoint through its tilt) every braking curve sqrt(2 a d)
+// below becomes BrakingSpeed(d, a, lag), the speed that still stops within
+// d when braking starts one lag late.
+//
+// Omni (DriveKind::kOmni; also drones), velocity in the arena frame:
 //   MOVE_TO   v = min(speed_mps, max_speed, sqrt(2 a d), position_gain * d)
 //             along the unit vector to the target, yaw rate 0. The square
 //             root is the braking curve: a body that brakes at a reaches the
@@ -45,6 +50,13 @@
 //   TURN_TO   turns in place with the capped, braked law above.
 //   STOP      both wheels 0.
 //
+// Holding (hold_position, drones): a body that drifts when its setpoint is
+// zero is held where it should be. STOP and TURN_TO hold the position
+// estimated at their first usable Update (kept across repeated STOPs), and
+// an arrived MOVE_TO keeps steering to its target; each with the MOVE_TO law
+// at the robot's top speed, so a drift of a few centimetres is corrected at
+// a few centimetres a second. arrived() is unchanged by holding.
+//
 // Arrival latches: once within tolerance the controller holds until the
 // error grows past release_factor * tolerance (pushed away by a neighbour,
 // or estimate noise), so it does not twitch around the target.
@@ -54,6 +66,7 @@
 // commands zero and counts a blind step.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "syrof/app.h"
@@ -69,7 +82,20 @@ struct MotionLimits {
   float max_turn_rate_radps = 3.0f;  ///< yaw rate cap
   float wheel_base_m = 0.16f;        ///< rover only: distance between the wheels
   float body_radius_m = 0.1f;        ///< the body's disc (informational; apps keep clear)
+  /// How long the velocity takes to follow a setpoint before braking takes
+  /// hold (a drone's tilt time constant); 0: at once (omni, rover).
+  float response_lag_s = 0.0f;
 };
+
+/// The largest speed from which a body that brakes at `braking_mps2` after
+/// a response lag of `lag_s` stops within `distance_m` (>= 0): sqrt(2 a d)
+/// without a lag (bit for bit), else the positive root of
+/// v lag + v^2 / 2a = d, written 2d / (lag + sqrt(lag^2 + 2d / a)) so it
+/// loses no digits for small d. Portable (float, sqrt only).
+inline float BrakingSpeed(float distance_m, float braking_mps2, float lag_s) {
+  if (lag_s <= 0.0f) return std::sqrt(2.0f * braking_mps2 * distance_m);
+  return 2.0f * distance_m / (lag_s + std::sqrt(lag_s * lag_s + 2.0f * distance_m / braking_mps2));
+}
 
 /// Everything a controller needs. Gains are per second (1/s).
 struct ControllerConfig {
@@ -83,6 +109,16 @@ struct ControllerConfig {
   float heading_gain_per_s = 4.0f;     ///< yaw rate = gain * heading error
   float steer_gain_per_s = 6.0f;       ///< rover: yaw rate = gain * bearing error while driving (> position gain)
   float turn_in_place_rad = 0.6f;      ///< rover: larger bearing errors turn in place first
+  /// Omni drive only: hold the position actively instead of commanding zero
+  /// (a drone, which drifts when it hovers; see the file comment).
+  bool hold_position = false;
+};
+
+/// Where a holding controller keeps the robot (ControllerConfig::hold_position).
+struct HoldPoint {
+  float x_m = 0;
+  float y_m = 0;
+  bool set = false;  ///< taken from the estimate at the first usable Update of a STOP or TURN_TO
 };
 
 /// One robot's motion controller.
@@ -112,6 +148,8 @@ class MotionController {
   uint32_t invalid_commands() const { return invalid_commands_; }
   /// Updates that commanded zero because the estimate was unusable.
   uint32_t blind_updates() const { return blind_updates_; }
+  /// The point a holding controller keeps (unset without hold_position).
+  const HoldPoint& hold() const { return hold_; }
 
  private:
   DriveCommand UpdateOmni(const estimation::StateEstimate& estimate, DriveCommand drive);
@@ -124,10 +162,16 @@ class MotionController {
   void SetWheels(float speed_mps, float turn_rate_radps, DriveCommand& drive) const;
   // Updates the arrival latch for an error against its tolerance.
   bool Latch(float error, float tolerance);
+  // Omni velocity toward (x, y) by the MOVE_TO law at `cruise_mps`, no latch.
+  void SteerTo(const estimation::StateEstimate& estimate, float x_m, float y_m, float cruise_mps,
+               DriveCommand& drive) const;
+  // The hold point, taken from `estimate` if not yet set.
+  const HoldPoint& HoldHere(const estimation::StateEstimate& estimate);
 
   ControllerConfig config_;
   syrof_car_command command_{};
   bool arrived_ = true;
+  HoldPoint hold_{};
   uint32_t invalid_commands_ = 0;
   uint32_t blind_updates_ = 0;
 };

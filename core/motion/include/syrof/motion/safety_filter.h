@@ -24,6 +24,14 @@
 // Walls: u . n <= min(gain * h, sqrt(2 a h)) with h the distance to the wall
 // less radius and margin, and u . n <= 0 once there. A stopped robot
 // satisfies every constraint, so the filter always has an answer.
+// A robot whose velocity lags its setpoint (a drone: ControllerConfig's
+// limits.response_lag_s, its tilt time constant tau) goes on for up to tau
+// before its braking takes hold, so its stopping distance from v is
+// v tau + v^2 / 2a: against a robot u . n <= BrakingSpeed(h, a/2, 2 tau)
+// (its half of the gap, v tau + v^2 / 2a <= h / 2), against a wall
+// BrakingSpeed(h, a, tau) (motion/controller.h); without a lag these are the
+// square roots above, bit for bit. A parked report's braking allowance is
+// v lag + v^2 / 2a with the swarm's longest lag (SafetyConfig::others_lag_s).
 //
 // Each disc also grows by this robot's own position uncertainty beyond half
 // the margin (own_sigmas of its EKF's standard deviation), and the command is scaled down until it
@@ -74,6 +82,10 @@ struct SafetyConfig {
   float others_max_speed_mps = 0.5f;  ///< the fastest kind in the swarm (a beacon does not say its sender's kind)
   float others_radius_m = 0.12f;      ///< the largest body radius in the swarm
   float others_braking_mps2 = 0.8f;   ///< the weakest deceleration in the swarm (braking allowance)
+  /// The longest response lag in the swarm (a drone's tilt time constant;
+  /// 0 without drones): a parked report's sender may go on at its frozen
+  /// speed this long before it brakes (braking allowance v lag + v^2 / 2a).
+  float others_lag_s = 0.0f;
   float margin_m = 0.06f;             ///< covers two estimates' errors, half each (docs/safety.md)
   /// Every disc grows by what this many of this robot's own position
   /// standard deviations (the EKF's, the larger of x and y) exceed half the
@@ -132,19 +144,20 @@ class SafetyReports {
   /// vy) in mm/s adds its braking distance at `braking_mps2`. Ids >=
   /// wire::kMaxSwarmSize are ignored.
   void Report(uint16_t id, int64_t time_ns, int16_t x_mm, int16_t y_mm, bool parked, int16_t vx_mm_s,
-              int16_t vy_mm_s, float braking_mps2) {
+              int16_t vy_mm_s, float braking_mps2, float lag_s = 0.0f) {
     // Inline: the runtime records every beacon heard.
     if (id >= entries_.size()) return;
     SafetyReport& entry = entries_[id];
     entry.time_ns = time_ns;
     entry.x_mm = x_mm;
     entry.y_mm = y_mm;
-    entry.allowance_mm = parked && (vx_mm_s != 0 || vy_mm_s != 0) ? BrakingMillimetres(vx_mm_s, vy_mm_s, braking_mps2) : 0;
+    entry.allowance_mm =
+        parked && (vx_mm_s != 0 || vy_mm_s != 0) ? BrakingMillimetres(vx_mm_s, vy_mm_s, braking_mps2, lag_s) : 0;
     entry.valid = true;
   }
   /// The same in metres (tests, benches): rounded to millimetres.
   void ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps, float vy_mps,
-                    float braking_mps2);
+                    float braking_mps2, float lag_s = 0.0f);
   /// Copies the first `count` entries of `other`, and its listening gap
   /// (the motion task's handoff).
   void CopyFrom(const SafetyReports& other, size_t count);
@@ -177,7 +190,7 @@ class SafetyReports {
   }
 
  private:
-  static uint16_t BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2);
+  static uint16_t BrakingMillimetres(int16_t vx_mm_s, int16_t vy_mm_s, float braking_mps2, float lag_s);
 
   std::array<SafetyReport, wire::kMaxSwarmSize> entries_{};
   int64_t gap_start_ns_ = 0;
@@ -233,12 +246,13 @@ class SafetyFilter {
   void Keep(const Constraint& constraint, float slack);
   void LimitOmni(float& vx, float& vy) const;
   float LimitForward(float speed, float hx, float hy) const;
-  float ApproachBound(float gap_m, float braking_mps2) const;
+  float ApproachBound(float gap_m, float braking_mps2, float lag_s) const;
 
   SafetyConfig config_;
   float own_radius_m_;
   float own_max_speed_mps_;
   float own_braking_mps2_;
+  float own_lag_s_;
   DriveKind kind_;
   uint16_t swarm_size_;
   std::array<Constraint, kMaxSafetyConstraints> constraints_{};

@@ -24,6 +24,16 @@ namespace syrof::lab::sim {
 inline constexpr float kInitialPositionSigmaM = 0.05f;
 inline constexpr float kInitialHeadingSigmaRad = 0.05f;
 
+/// A drone's position gain (1/s): its velocity follows the setpoint through
+/// its tilt lag tau, and a position loop of gain k over that lag is damped
+/// 1 / (2 sqrt(k tau)): 0.5 at the omni's 4/s and 0.25 s, 0.71 at 2/s.
+inline constexpr float kDronePositionGainPerS = 2.0f;
+
+/// A drone's safety filter grows the discs by this many of its own position
+/// sigmas (SafetyConfig::own_sigmas): a hovering drone holds on its
+/// estimate, so its true position wanders with the estimate's error.
+inline constexpr float kDroneOwnSigmas = 3.4f;
+
 /// Floors on the noise the estimator assumes, whatever the scenario's
 /// simulated sensors do. A scenario may set a sensor's noise to 0 (perfect
 /// sensors, for teaching); a filter told "0" would have a singular
@@ -47,7 +57,9 @@ wire::MemberSet InitialMembers(const scenario::Scenario& scenario);
 
 /// A motion controller configuration with `spec`'s limits (converted to
 /// float) and the default gains and tolerances; the drive kind follows the
-/// robot kind (omni: velocity, rover: wheels).
+/// robot kind (omni and drone: velocity, rover: wheels). A drone's response
+/// lag is its tilt time constant, and its position gain
+/// kDronePositionGainPerS.
 motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world::KindSpec& spec);
 
 /// Robot `robot`'s simulated sensors: the scenario's, except that a drone's

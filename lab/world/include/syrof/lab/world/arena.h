@@ -65,7 +65,7 @@ inline constexpr double kDriftCorrelationS = 2.0;
 /// The defaults: omni radius 0.10 m, 0.5 m/s, 1.0 m/s^2, 3 rad/s; rover
 /// radius 0.12 m, 0.4 m/s, 0.8 m/s^2, wheel base 0.16 m; drone radius 0.12 m
 /// (its rotors), 0.8 m/s, 0.5 m/s^2, 3 rad/s, tilt time constant 0.25 s,
-/// drift 0.02 m/s, flight height 0.30 m.
+/// drift 0.005 m/s, flight height 0.30 m.
 KindSpec DefaultKindSpec(RobotKind kind);
 
 /// How far a body of this kind moving at its top speed travels before it
