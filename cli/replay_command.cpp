@@ -41,6 +41,7 @@ std::string FormatTime(int64_t time_ns) {
 std::string KindName(uint8_t kind) {
   if (kind == 0) return "omni";
   if (kind == 1) return "rover";
+  if (kind == 2) return "drone";
   return fmt::format("kind {}", kind);
 }
 

@@ -51,8 +51,8 @@ using namespace syrof;
 using namespace syrof::lab;
 
 constexpr double kNearGapM = 0.3;  // surface gap to the nearest other body
-constexpr int kKinds = 2;          // omni, rover
-const char* const kKindNames[kKinds] = {"omni", "rover"};
+constexpr int kKinds = 3;          // world::RobotKind's values: omni, rover, drone
+const char* const kKindNames[kKinds] = {"omni", "rover", "drone"};
 
 struct KindStats {
   int64_t robot_rounds = 0;
@@ -62,6 +62,7 @@ struct KindStats {
   int64_t near_rounds = 0;
   int64_t near_beyond_allowance = 0;
   double max_error_m = 0;
+  double squared_error_sum_m2 = 0;      // for the position RMSE
   std::vector<float> error_over_sigma;  // |e| / max(sigma_x, sigma_y)
 
   void Add(const KindStats& other) {
@@ -72,6 +73,7 @@ struct KindStats {
     near_rounds += other.near_rounds;
     near_beyond_allowance += other.near_beyond_allowance;
     max_error_m = std::max(max_error_m, other.max_error_m);
+    squared_error_sum_m2 += other.squared_error_sum_m2;
     error_over_sigma.insert(error_over_sigma.end(), other.error_over_sigma.begin(), other.error_over_sigma.end());
   }
 };
@@ -138,6 +140,7 @@ void Sample(const sim::Simulation& simulation, uint16_t id, KindStats& stats) {
     stats.near_beyond_allowance += beyond ? 1 : 0;
   }
   stats.max_error_m = std::max(stats.max_error_m, error_m);
+  stats.squared_error_sum_m2 += error_m * error_m;
   if (sigma_m > 0) stats.error_over_sigma.push_back(static_cast<float>(error_m / sigma_m));
 }
 
@@ -167,7 +170,7 @@ RunResult RunOne(const std::string& file, uint64_t seed, double duration_s, floa
     const double now_s = static_cast<double>(round) * round_s;
     simulation.RunUntil(now_s);
     for (uint16_t id = 0; id < simulation.robot_count(); ++id) {
-      const int kind = scenario.robots[id].kind == world::RobotKind::kRover ? 1 : 0;
+      const int kind = static_cast<int>(scenario.robots[id].kind);
       Sample(simulation, id, result.kinds[kind]);
     }
     if (builtin_goal) {
@@ -328,6 +331,13 @@ int main(int argc, char** argv) {
                  s.near_rounds, Quantile(s.error_over_sigma, 0.999), s.max_error_m, run_columns);
       first_row = false;
     }
+  }
+  // The position RMSE of the published estimate, per kind, over every file.
+  for (int k = 0; k < kKinds; ++k) {
+    const KindStats& s = total[k];
+    if (s.robot_rounds == 0) continue;
+    fmt::print("position RMSE, {}: {:.4f} m over {} robot-rounds (max {:.3f} m)\n", kKindNames[k],
+               std::sqrt(s.squared_error_sum_m2 / static_cast<double>(s.robot_rounds)), s.robot_rounds, s.max_error_m);
   }
   if (files.size() > 1) {
     for (int k = 0; k < kKinds; ++k) {

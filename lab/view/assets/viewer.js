@@ -38,6 +38,8 @@
     target: [31, 138, 76],
     starting: [168, 186, 210],
   };
+  // world::RobotKind by value, as the replay stores it.
+  const KIND_NAMES = ['omni', 'rover', 'drone'];
   const KIND_COLOURS = {
     EPOCH_START: '#9aa3b5', MEMBER_REMOVED: '#d0452f', MEMBER_JOINED: '#2e9d5b', BECAME_JOINER: '#8e6cc7',
     COLLISION: '#d02828', WALL_CONTACT: '#a0522d', CRASH: '#4b5160', PAUSE: '#7d8699', RESUME: '#2e9d5b',
@@ -352,6 +354,18 @@
       ctx.lineWidth = slot === selected ? 3 : 1;
       ctx.strokeStyle = slot === selected ? '#111' : 'rgba(0,0,0,0.35)';
       ctx.stroke();
+      if (robots[slot].kind === 2) {
+        // A drone: four rotors, rings on the diagonals joined by arms.
+        ctx.strokeStyle = 'rgba(0,0,0,0.55)';
+        ctx.lineWidth = 1;
+        const arm = r * 0.62, rotor = Math.max(1.5, r * 0.32);
+        for (let k = 0; k < 4; ++k) {
+          const a = heading + Math.PI / 4 + k * Math.PI / 2;
+          const qx = px + Math.cos(a) * arm, qy = py - Math.sin(a) * arm;
+          ctx.beginPath(); ctx.moveTo(px, py); ctx.lineTo(qx, qy); ctx.stroke();
+          ctx.beginPath(); ctx.arc(qx, qy, rotor, 0, 2 * Math.PI); ctx.stroke();
+        }
+      }
       if (joiningOf(s) && presence === 1) {
         ctx.setLineDash([4, 3]); ctx.strokeStyle = rgb(COLOURS.joining); ctx.lineWidth = 2;
         ctx.beginPath(); ctx.arc(px, py, r + 4, 0, 2 * Math.PI); ctx.stroke(); ctx.setLineDash([]);
@@ -606,7 +620,7 @@
     const row = (name, value) => el('tr', {}, [el('td', { textContent: name }), el('td', {}, [value])]);
     const faulted = faultedFrom.has(robot.id) && faultedFrom.get(robot.id) <= pos;
     const facts = el('table', { className: 'facts' }, [
-      row('robot', `${robot.id} (${robot.kind === 1 ? 'rover' : 'omni'}, body radius ${fmt(robot.radius, 3)} m)`),
+      row('robot', `${robot.id} (${KIND_NAMES[robot.kind] || 'kind ' + robot.kind}, body radius ${fmt(robot.radius, 3)} m)`),
       row('presence', faulted ? 'CRASHED (its app faulted)' : PRESENCE[presenceOf(s)]),
       row('status', joiningOf(s) ? 'joining' : 'member'),
       row('epoch', el('span', {}, [`${f.e[sample]} `, pill(MODES[modeOf(s)], modeOf(s) ? COLOURS.autonomous : COLOURS.cooperative), ` ${PHASES[phaseOf(s)]}`])),

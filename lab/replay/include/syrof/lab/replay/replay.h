@@ -60,7 +60,7 @@ struct InputValue {
 /// One robot of the run.
 struct RobotInfo {
   uint16_t id = 0;            ///< any value but kNoRobot; ids increase along Header::robots
-  uint8_t kind = 0;           ///< world::RobotKind value (0 omni, 1 rover), stored as is
+  uint8_t kind = 0;           ///< world::RobotKind value (0 omni, 1 rover, 2 drone), stored as is
   float body_radius_m = 0;    ///< disc radius, finite and >= 0
   /// Its private inputs (the scenario's `inputs:` resolved for it), at most
   /// kMaxInputsPerRobot, names unique; empty in files before version 4.
