@@ -109,6 +109,25 @@ TEST(CrossRuntimeTest, LabAndDdsStartTheSameEpochsModesAndMembersWithLossAJoinAP
   std::filesystem::remove_all(out);
 }
 
+// Drones over DDS: the world process moves them (tilt lag, seeded drift)
+// and builds their sensors at flight height as the lab does, and their
+// robots brake and hold as in the lab, so the epochs, modes and members
+// agree as for the other kinds.
+TEST(CrossRuntimeTest, LabAndDdsAgreeWithDronesAmongTheKinds) {
+  const std::string scenario = std::string(SYROF_SWARM_SCENARIOS_DIR) + "/drone_runtimes.yaml";
+  const std::filesystem::path out = OutDir("drones");
+  const LabRun lab = RunInTheLab(scenario);
+  ASSERT_GE(lab.metrics.membership.robots_joined, 1);
+  EXPECT_EQ(lab.metrics.collisions.count, 0);
+
+  const std::string first = DdsAgainstLab(scenario, lab.replay, out, lab);
+  if (!first.empty()) {
+    std::cerr << "the first swarm run disagreed with the lab: " << first << "; trying once more\n";
+    EXPECT_EQ(DdsAgainstLab(scenario, lab.replay, out, lab), "") << "(the first run: " << first << ")";
+  }
+  std::filesystem::remove_all(out);
+}
+
 // Under SSYNC the decision "who is active" is each robot's own
 // (sync::IsActive on its epoch's map), so both runtimes activate the same
 // robots: the same epochs, modes and members, and an active robot-epoch count
