@@ -63,11 +63,10 @@ std::optional<assignment::Assignment> LoadAssignment(const GradeOptions& options
 // $SYROF_COURSE_SECRET. Prints why and returns empty when there is none or
 // it is unusable.
 std::optional<std::string> CourseSecret(const GradeOptions& options, std::ostream& err) {
-  std::string problem;
   if (!options.course_secret_file.empty()) {
-    std::optional<std::string> secret = grader::ReadCourseSecretFile(options.course_secret_file, problem);
-    if (!secret) fmt::print(err, "syrof grade: {}\n", problem);
-    return secret;
+    grader::CourseSecretOrError read = grader::ReadCourseSecretFile(options.course_secret_file);
+    if (!read.ok()) fmt::print(err, "syrof grade: {}\n", read.error->ToString());
+    return std::move(read.secret);
   }
   const char* variable = std::getenv(grader::kCourseSecretVariable);
   if (variable == nullptr || *variable == '\0') {
@@ -77,8 +76,8 @@ std::optional<std::string> CourseSecret(const GradeOptions& options, std::ostrea
                grader::kCourseSecretVariable);
     return std::nullopt;
   }
-  if (problem = grader::CheckCourseSecret(variable); !problem.empty()) {
-    fmt::print(err, "syrof grade: {}: {}\n", grader::kCourseSecretVariable, problem);
+  if (const std::optional<lab::Error> problem = grader::CheckCourseSecret(variable)) {
+    fmt::print(err, "syrof grade: {}: {}\n", grader::kCourseSecretVariable, problem->ToString());
     return std::nullopt;
   }
   return std::string(variable);
@@ -101,14 +100,12 @@ bool ResolveStudentSeeds(const GradeOptions& options, grader::GradeOptions& grad
   if (!secret) return false;
   grader::StudentSeeds seeds{*std::move(secret), options.student_seed};
   if (!options.gradescope_metadata.empty()) {
-    std::string problem;
-    const std::optional<std::string> student =
-        grader::StudentFromGradescopeMetadataFile(options.gradescope_metadata, problem);
-    if (!student) {
-      fmt::print(err, "syrof grade: {}\n", problem);
+    const grader::StudentOrError student = grader::StudentFromGradescopeMetadataFile(options.gradescope_metadata);
+    if (!student.ok()) {
+      fmt::print(err, "syrof grade: {}\n", student.error->ToString());
       return false;
     }
-    seeds.student = *student;
+    seeds.student = *student.student;
   }
   grade.student_seeds = std::move(seeds);
   return true;
@@ -160,15 +157,15 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
   // results wait for the due date (--submission-metadata).
   std::optional<grader::report::ReportOptions::FeedbackCap> feedback_withheld;
   if (!options.submission_metadata.empty()) {
-    std::string problem;
-    const std::optional<int> number =
-        grader::SubmissionNumberFromGradescopeMetadataFile(options.submission_metadata, problem);
-    if (!number) {
-      fmt::print(err, "syrof grade: {}\n", problem);
+    const grader::SubmissionNumberOrError submission =
+        grader::SubmissionNumberFromGradescopeMetadataFile(options.submission_metadata);
+    if (!submission.ok()) {
+      fmt::print(err, "syrof grade: {}\n", submission.error->ToString());
       return kBadInput;
     }
-    if (loaded->hidden_feedback_submissions > 0 && *number > loaded->hidden_feedback_submissions) {
-      feedback_withheld = grader::report::ReportOptions::FeedbackCap{*number, loaded->hidden_feedback_submissions};
+    const int number = *submission.number;
+    if (loaded->hidden_feedback_submissions > 0 && number > loaded->hidden_feedback_submissions) {
+      feedback_withheld = grader::report::ReportOptions::FeedbackCap{number, loaded->hidden_feedback_submissions};
     }
   }
   // results.json kept valid while grading runs (--gradescope-results).

@@ -132,12 +132,16 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
   std::optional<std::string> course_secret;
   if (options.per_student_seeds) {
     if (!options.course_secret_file.empty()) {
-      course_secret = grader::ReadCourseSecretFile(options.course_secret_file, error);
+      grader::CourseSecretOrError read = grader::ReadCourseSecretFile(options.course_secret_file);
+      course_secret = std::move(read.secret);
+      if (read.error) error = read.error->ToString();
     } else if (const char* variable = std::getenv(grader::kCourseSecretVariable);
                variable != nullptr && *variable != '\0') {
-      error = grader::CheckCourseSecret(variable);
-      if (error.empty()) course_secret = std::string(variable);
-      else error = std::string(grader::kCourseSecretVariable) + ": " + error;
+      if (const std::optional<lab::Error> problem = grader::CheckCourseSecret(variable)) {
+        error = std::string(grader::kCourseSecretVariable) + ": " + problem->ToString();
+      } else {
+        course_secret = std::string(variable);
+      }
     } else {
       error = fmt::format("--per-student-seeds needs the course secret: set {} or give --course-secret-file FILE",
                           grader::kCourseSecretVariable);

@@ -75,54 +75,60 @@ std::string HiddenSeedsText(const Assignment& assignment) {
   return text;
 }
 
-std::string CheckCourseSecret(std::string_view secret) {
-  if (secret.empty()) return "the course secret is empty";
+std::optional<lab::Error> CheckCourseSecret(std::string_view secret) {
+  if (secret.empty()) return lab::Error{.where = "", .message = "the course secret is empty"};
   if (secret.size() < kMinimumCourseSecretBytes) {
-    return "the course secret has " + std::to_string(secret.size()) + " bytes; it needs at least " +
-           std::to_string(kMinimumCourseSecretBytes) + " (for example `openssl rand -hex 32`)";
+    return lab::Error{.where = "",
+                      .message = "the course secret has " + std::to_string(secret.size()) + " bytes; it needs at least " +
+                                 std::to_string(kMinimumCourseSecretBytes) + " (for example `openssl rand -hex 32`)"};
   }
-  return {};
+  return std::nullopt;
 }
 
 namespace {
 
-// The bytes of the file at `path`; empty, with `error` saying that `what`
-// cannot be read, when it cannot.
-std::optional<std::string> ReadWholeFile(const std::string& path, const std::string& what, std::string& error) {
+// The bytes of the file at `path`, or an error saying that `what` cannot be
+// read.
+struct FileOrError {
+  std::optional<std::string> bytes;
+  std::optional<lab::Error> error;
+};
+
+FileOrError ReadWholeFile(const std::string& path, const std::string& what) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    error = "cannot read " + what + " '" + path + "'";
-    return std::nullopt;
-  }
+  if (!file) return {std::nullopt, lab::Error{.where = "", .message = "cannot read " + what + " '" + path + "'"}};
   std::ostringstream bytes;
   bytes << file.rdbuf();
-  return bytes.str();
+  return {bytes.str(), std::nullopt};
+}
+
+// An error at `where` (a file, or the text's source).
+lab::Error ErrorAt(const std::string& where, std::string message) {
+  return lab::Error{.where = where, .message = std::move(message)};
 }
 
 }  // namespace
 
-std::optional<std::string> ReadCourseSecretFile(const std::string& path, std::string& error) {
-  std::optional<std::string> read = ReadWholeFile(path, "the course secret file", error);
-  if (!read) return std::nullopt;
-  std::string secret = *std::move(read);
+CourseSecretOrError ReadCourseSecretFile(const std::string& path) {
+  FileOrError read = ReadWholeFile(path, "the course secret file");
+  if (!read.bytes) return {std::nullopt, std::move(read.error)};
+  std::string secret = *std::move(read.bytes);
   while (!secret.empty() && (secret.back() == '\n' || secret.back() == '\r')) secret.pop_back();
-  if (std::string problem = CheckCourseSecret(secret); !problem.empty()) {
-    error = path + ": " + problem;
-    return std::nullopt;
+  if (std::optional<lab::Error> problem = CheckCourseSecret(secret)) {
+    return {std::nullopt, ErrorAt(path, std::move(problem->message))};
   }
-  return secret;
+  return {std::move(secret), std::nullopt};
 }
 
-std::optional<std::string> StudentFromGradescopeMetadata(std::string_view text, const std::string& source,
-                                                         std::string& error) {
+StudentOrError StudentFromGradescopeMetadata(std::string_view text, const std::string& source) {
   const nlohmann::json root = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (root.is_discarded()) {
-    error = source + ": not JSON (Gradescope's submission metadata is a JSON object with a 'users' list)";
-    return std::nullopt;
+    return {std::nullopt,
+            ErrorAt(source, "not JSON (Gradescope's submission metadata is a JSON object with a 'users' list)")};
   }
   if (!root.is_object() || !root.contains("users") || !root["users"].is_array() || root["users"].empty()) {
-    error = source + ": no 'users' list naming who submitted (Gradescope's submission metadata has one)";
-    return std::nullopt;
+    return {std::nullopt,
+            ErrorAt(source, "no 'users' list naming who submitted (Gradescope's submission metadata has one)")};
   }
   std::vector<std::string> ids;
   for (size_t i = 0; i < root["users"].size(); ++i) {
@@ -133,38 +139,34 @@ std::optional<std::string> StudentFromGradescopeMetadata(std::string_view text, 
     } else if (id != nullptr && id->is_string() && !id->get<std::string>().empty()) {
       ids.push_back(id->get<std::string>());
     } else {
-      error = source + ": users[" + std::to_string(i) + "] has no 'id' (a number or a non-empty string)";
-      return std::nullopt;
+      return {std::nullopt,
+              ErrorAt(source, "users[" + std::to_string(i) + "] has no 'id' (a number or a non-empty string)")};
     }
   }
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   std::string student;
   for (const std::string& id : ids) student += (student.empty() ? "" : "+") + id;
-  return student;
+  return {std::move(student), std::nullopt};
 }
 
-std::optional<std::string> StudentFromGradescopeMetadataFile(const std::string& path, std::string& error) {
-  const std::optional<std::string> text = ReadWholeFile(path, "Gradescope's submission metadata", error);
-  if (!text) return std::nullopt;
-  return StudentFromGradescopeMetadata(*text, path, error);
+StudentOrError StudentFromGradescopeMetadataFile(const std::string& path) {
+  FileOrError text = ReadWholeFile(path, "Gradescope's submission metadata");
+  if (!text.bytes) return {std::nullopt, std::move(text.error)};
+  return StudentFromGradescopeMetadata(*text.bytes, path);
 }
 
-std::optional<int> SubmissionNumberFromGradescopeMetadataFile(const std::string& path, std::string& error) {
-  const std::optional<std::string> text = ReadWholeFile(path, "Gradescope's submission metadata", error);
-  if (!text) return std::nullopt;
-  const nlohmann::json root = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
+SubmissionNumberOrError SubmissionNumberFromGradescopeMetadataFile(const std::string& path) {
+  FileOrError text = ReadWholeFile(path, "Gradescope's submission metadata");
+  if (!text.bytes) return {std::nullopt, std::move(text.error)};
+  const nlohmann::json root = nlohmann::json::parse(*text.bytes, nullptr, /*allow_exceptions=*/false);
   if (root.is_discarded() || !root.is_object()) {
-    error = path + ": not a JSON object (Gradescope's submission metadata is one)";
-    return std::nullopt;
+    return {std::nullopt, ErrorAt(path, "not a JSON object (Gradescope's submission metadata is one)")};
   }
-  if (!root.contains("previous_submissions")) return 1;
+  if (!root.contains("previous_submissions")) return {1, std::nullopt};
   const nlohmann::json& previous = root["previous_submissions"];
-  if (!previous.is_array()) {
-    error = path + ": 'previous_submissions' is not a list";
-    return std::nullopt;
-  }
-  return static_cast<int>(std::min<size_t>(previous.size(), 1000000)) + 1;
+  if (!previous.is_array()) return {std::nullopt, ErrorAt(path, "'previous_submissions' is not a list")};
+  return {static_cast<int>(std::min<size_t>(previous.size(), 1000000)) + 1, std::nullopt};
 }
 
 }  // namespace syrof::grader

@@ -102,60 +102,99 @@ TEST(WithStudentSeedsTest, TwoStudentsShareNoHiddenSeed) {
 }
 
 TEST(CourseSecretTest, EmptyAndShortSecretsAreRefused) {
-  EXPECT_NE(CheckCourseSecret(""), "");
-  EXPECT_NE(CheckCourseSecret("short").find("at least 16"), std::string::npos) << CheckCourseSecret("short");
-  EXPECT_EQ(CheckCourseSecret(kSecret), "");
+  ASSERT_TRUE(CheckCourseSecret(""));
+  EXPECT_EQ(CheckCourseSecret("")->ToString(), "the course secret is empty");
+  ASSERT_TRUE(CheckCourseSecret("short"));
+  EXPECT_EQ(CheckCourseSecret("short")->ToString(),
+            "the course secret has 5 bytes; it needs at least 16 (for example `openssl rand -hex 32`)");
+  EXPECT_FALSE(CheckCourseSecret(kSecret));
 }
 
 TEST(CourseSecretTest, AFileLosesItsTrailingNewlineOnly) {
   const fs::path dir = Fresh("secret_file");
   std::ofstream(dir / "secret") << kSecret << "\n";
-  std::string error;
-  EXPECT_EQ(ReadCourseSecretFile((dir / "secret").string(), error), std::string(kSecret)) << error;
+  const CourseSecretOrError read = ReadCourseSecretFile((dir / "secret").string());
+  ASSERT_TRUE(read.ok()) << read.error->ToString();
+  EXPECT_EQ(*read.secret, std::string(kSecret));
+  EXPECT_FALSE(read.error);
   std::ofstream(dir / "short") << "abc\n";
-  EXPECT_FALSE(ReadCourseSecretFile((dir / "short").string(), error));
-  EXPECT_NE(error.find("short: the course secret has 3 bytes"), std::string::npos) << error;
-  EXPECT_FALSE(ReadCourseSecretFile((dir / "missing").string(), error));
-  EXPECT_NE(error.find("cannot read the course secret file"), std::string::npos) << error;
+  const CourseSecretOrError too_short = ReadCourseSecretFile((dir / "short").string());
+  ASSERT_FALSE(too_short.ok());
+  EXPECT_EQ(too_short.error->where, (dir / "short").string());
+  EXPECT_EQ(too_short.error->ToString(), (dir / "short").string() +
+                                              ": the course secret has 3 bytes; it needs at least 16 (for example "
+                                              "`openssl rand -hex 32`)");
+  const CourseSecretOrError missing = ReadCourseSecretFile((dir / "missing").string());
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error->ToString(), "cannot read the course secret file '" + (dir / "missing").string() + "'");
 }
 
 TEST(GradescopeMetadataTest, OneUsersIdIsTheStudent) {
-  std::string error;
   const char* text = R"({"id": 123, "users": [{"email": "alice@example.edu", "id": 4242, "name": "Alice"}]})";
-  EXPECT_EQ(StudentFromGradescopeMetadata(text, "meta.json", error), std::string("4242")) << error;
+  const StudentOrError read = StudentFromGradescopeMetadata(text, "meta.json");
+  ASSERT_TRUE(read.ok()) << read.error->ToString();
+  EXPECT_EQ(*read.student, "4242");
 }
 
 TEST(GradescopeMetadataTest, AGroupGetsItsSortedIdsWhoeverSubmitted) {
-  std::string error;
-  const auto first = StudentFromGradescopeMetadata(R"({"users": [{"id": 9}, {"id": 10}, {"id": "x7"}]})", "m", error);
-  const auto second = StudentFromGradescopeMetadata(R"({"users": [{"id": "x7"}, {"id": 10}, {"id": 9}]})", "m", error);
-  ASSERT_TRUE(first) << error;
-  EXPECT_EQ(*first, "10+9+x7");
-  EXPECT_EQ(first, second);
+  const auto first = StudentFromGradescopeMetadata(R"({"users": [{"id": 9}, {"id": 10}, {"id": "x7"}]})", "m");
+  const auto second = StudentFromGradescopeMetadata(R"({"users": [{"id": "x7"}, {"id": 10}, {"id": 9}]})", "m");
+  ASSERT_TRUE(first.ok()) << first.error->ToString();
+  EXPECT_EQ(*first.student, "10+9+x7");
+  EXPECT_EQ(first.student, second.student);
 }
 
 TEST(GradescopeMetadataTest, MalformedMetadataSaysWhatIsWrong) {
-  std::string error;
-  EXPECT_FALSE(StudentFromGradescopeMetadata("{\"users\": [", "meta.json", error));
-  EXPECT_NE(error.find("meta.json: not JSON"), std::string::npos) << error;
-  EXPECT_FALSE(StudentFromGradescopeMetadata(R"({"id": 1})", "meta.json", error));
-  EXPECT_NE(error.find("meta.json: no 'users' list"), std::string::npos) << error;
-  EXPECT_FALSE(StudentFromGradescopeMetadata(R"({"users": []})", "meta.json", error));
-  EXPECT_NE(error.find("no 'users' list"), std::string::npos) << error;
-  EXPECT_FALSE(StudentFromGradescopeMetadata(R"({"users": [{"id": 1}, {"email": "b@x"}]})", "meta.json", error));
-  EXPECT_NE(error.find("meta.json: users[1] has no 'id'"), std::string::npos) << error;
-  EXPECT_FALSE(StudentFromGradescopeMetadata(R"({"users": [{"id": ""}]})", "meta.json", error));
-  EXPECT_NE(error.find("users[0] has no 'id'"), std::string::npos) << error;
+  auto error_of = [](std::string_view text) {
+    const StudentOrError read = StudentFromGradescopeMetadata(text, "meta.json");
+    EXPECT_FALSE(read.ok()) << text;
+    return read.error ? read.error->ToString() : std::string("(no error)");
+  };
+  EXPECT_EQ(error_of("{\"users\": ["),
+            "meta.json: not JSON (Gradescope's submission metadata is a JSON object with a 'users' list)");
+  EXPECT_EQ(error_of(R"({"id": 1})"),
+            "meta.json: no 'users' list naming who submitted (Gradescope's submission metadata has one)");
+  EXPECT_EQ(error_of(R"({"users": []})"),
+            "meta.json: no 'users' list naming who submitted (Gradescope's submission metadata has one)");
+  EXPECT_EQ(error_of(R"({"users": [{"id": 1}, {"email": "b@x"}]})"),
+            "meta.json: users[1] has no 'id' (a number or a non-empty string)");
+  EXPECT_EQ(error_of(R"({"users": [{"id": ""}]})"), "meta.json: users[0] has no 'id' (a number or a non-empty string)");
 }
 
 TEST(GradescopeMetadataTest, AMissingFileIsAnError) {
   const fs::path dir = Fresh("metadata");
-  std::string error;
-  EXPECT_FALSE(StudentFromGradescopeMetadataFile((dir / "submission_metadata.json").string(), error));
-  EXPECT_NE(error.find("cannot read Gradescope's submission metadata"), std::string::npos) << error;
-  std::ofstream(dir / "submission_metadata.json") << R"({"users": [{"id": 5}]})";
-  EXPECT_EQ(StudentFromGradescopeMetadataFile((dir / "submission_metadata.json").string(), error),
-            std::string("5"));
+  const std::string path = (dir / "submission_metadata.json").string();
+  const StudentOrError missing = StudentFromGradescopeMetadataFile(path);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error->ToString(), "cannot read Gradescope's submission metadata '" + path + "'");
+  std::ofstream(path) << R"({"users": [{"id": 5}]})";
+  const StudentOrError read = StudentFromGradescopeMetadataFile(path);
+  ASSERT_TRUE(read.ok()) << read.error->ToString();
+  EXPECT_EQ(*read.student, "5");
+}
+
+TEST(GradescopeMetadataTest, TheSubmissionNumberCountsThePreviousOnes) {
+  const fs::path dir = Fresh("submission_number");
+  const std::string path = (dir / "submission_metadata.json").string();
+  const SubmissionNumberOrError missing = SubmissionNumberFromGradescopeMetadataFile(path);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error->ToString(), "cannot read Gradescope's submission metadata '" + path + "'");
+  std::ofstream(path) << R"({"users": [{"id": 5}]})";
+  SubmissionNumberOrError read = SubmissionNumberFromGradescopeMetadataFile(path);
+  ASSERT_TRUE(read.ok()) << read.error->ToString();
+  EXPECT_EQ(*read.number, 1);
+  std::ofstream(path, std::ios::trunc) << R"({"previous_submissions": [{}, {}]})";
+  read = SubmissionNumberFromGradescopeMetadataFile(path);
+  ASSERT_TRUE(read.ok()) << read.error->ToString();
+  EXPECT_EQ(*read.number, 3);
+  std::ofstream(path, std::ios::trunc) << R"({"previous_submissions": 2})";
+  read = SubmissionNumberFromGradescopeMetadataFile(path);
+  ASSERT_FALSE(read.ok());
+  EXPECT_EQ(read.error->ToString(), path + ": 'previous_submissions' is not a list");
+  std::ofstream(path, std::ios::trunc) << "[1]";
+  read = SubmissionNumberFromGradescopeMetadataFile(path);
+  ASSERT_FALSE(read.ok());
+  EXPECT_EQ(read.error->ToString(), path + ": not a JSON object (Gradescope's submission metadata is one)");
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 #include <string_view>
 
 #include "syrof/assignment/assignment.h"
+#include "syrof/lab/base/error.h"
 
 namespace syrof::grader {
 
@@ -55,30 +56,50 @@ assignment::Assignment WithStudentSeeds(const assignment::Assignment& assignment
 /// inputs' hash of a class: derived seeds change when the secret does.
 std::string HiddenSeedsText(const assignment::Assignment& assignment);
 
-/// "" when `secret` can be used, else why not (empty, too short).
-std::string CheckCourseSecret(std::string_view secret);
+/// Why `secret` cannot be used (empty, too short); nothing when it can.
+std::optional<lab::Error> CheckCourseSecret(std::string_view secret);
+
+/// A course secret, or why there is none.
+struct CourseSecretOrError {
+  std::optional<std::string> secret;
+  std::optional<lab::Error> error;
+  bool ok() const { return secret.has_value(); }
+};
 
 /// The course secret in file `path`: its bytes without trailing newlines
-/// (as `echo` or an editor leaves them). Empty and `error` set when the
-/// file cannot be read or the secret fails CheckCourseSecret.
-std::optional<std::string> ReadCourseSecretFile(const std::string& path, std::string& error);
+/// (as `echo` or an editor leaves them). An error, where the file, when it
+/// cannot be read or the secret fails CheckCourseSecret.
+CourseSecretOrError ReadCourseSecretFile(const std::string& path);
+
+/// A student id, or why there is none.
+struct StudentOrError {
+  std::optional<std::string> student;
+  std::optional<lab::Error> error;
+  bool ok() const { return student.has_value(); }
+};
 
 /// The student id of a Gradescope submission from the text of its
 /// /autograder/submission_metadata.json: the `id` of every entry of
 /// `users` (a number or a string), sorted and joined with '+', so a group
-/// submission gets the same id whoever of the group submitted. Empty and
-/// `error` set (naming `source`) when the text is not JSON, has no
-/// `users`, or a user has no id.
-std::optional<std::string> StudentFromGradescopeMetadata(std::string_view text, const std::string& source,
-                                                         std::string& error);
+/// submission gets the same id whoever of the group submitted. An error,
+/// where `source`, when the text is not JSON, has no `users`, or a user
+/// has no id.
+StudentOrError StudentFromGradescopeMetadata(std::string_view text, const std::string& source);
 
 /// The same, reading the file `path` (a missing file is an error).
-std::optional<std::string> StudentFromGradescopeMetadataFile(const std::string& path, std::string& error);
+StudentOrError StudentFromGradescopeMetadataFile(const std::string& path);
+
+/// Which submission of its student(s), or why it cannot be told.
+struct SubmissionNumberOrError {
+  std::optional<int> number;
+  std::optional<lab::Error> error;
+  bool ok() const { return number.has_value(); }
+};
 
 /// Which submission of its student(s) Gradescope's submission_metadata.json
 /// describes: 1 + the length of its `previous_submissions` list (1 when it
-/// has none). Empty, with `error` naming the file and the problem, when the
-/// file cannot be read or `previous_submissions` is not a list.
-std::optional<int> SubmissionNumberFromGradescopeMetadataFile(const std::string& path, std::string& error);
+/// has none). An error naming the file and the problem when the file
+/// cannot be read or `previous_submissions` is not a list.
+SubmissionNumberOrError SubmissionNumberFromGradescopeMetadataFile(const std::string& path);
 
 }  // namespace syrof::grader
