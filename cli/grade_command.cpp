@@ -224,13 +224,12 @@ int GradeClass(const GradeOptions& options, std::ostream& out, std::ostream& err
   }
   grader::Shard shard;
   if (!options.shard.empty()) {
-    std::string problem;
-    const std::optional<grader::Shard> parsed = grader::ParseShard(options.shard, problem);
-    if (!parsed) {
-      fmt::print(err, "syrof grade: {}\n", problem);
+    const grader::ShardOrError parsed = grader::ParseShard(options.shard);
+    if (!parsed.ok()) {
+      fmt::print(err, "syrof grade: {}\n", parsed.error->ToString());
       return kBadInput;
     }
-    shard = *parsed;
+    shard = *parsed.shard;
   }
   std::string folder;
   const std::optional<assignment::Assignment> loaded = LoadAssignment(options, folder, out, err);
@@ -316,14 +315,14 @@ int Merge(const GradeOptions& options, std::ostream& out, std::ostream& err) {
     fmt::print(err, "syrof grade merge: name the class outputs to merge (OUT1 OUT2 ...)\n");
     return kBadInput;
   }
-  std::string problem;
-  const auto students = grader::MergeClassOutputs(options.merge_dirs, options.merge_out, problem);
-  if (!students) {
-    fmt::print(err, "syrof grade merge: {}\n", problem);
+  const grader::MergedClass merged = grader::MergeClassOutputs(options.merge_dirs, options.merge_out);
+  if (!merged.ok()) {
+    fmt::print(err, "syrof grade merge: {}\n", merged.error->ToString());
     return kBadInput;
   }
-  out << grader::ClassSummary(*students);
-  fmt::print(out, "Merged {} students from {} folders into {}/class.csv and {}/summary.txt\n", students->size(),
+  const std::vector<assignment::SubmissionResult>& students = *merged.students;
+  out << grader::ClassSummary(students);
+  fmt::print(out, "Merged {} students from {} folders into {}/class.csv and {}/summary.txt\n", students.size(),
              options.merge_dirs.size(), options.merge_out, options.merge_out);
   return 0;
 }

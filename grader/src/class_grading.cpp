@@ -50,7 +50,7 @@ std::vector<std::string> ScenarioColumns(const std::vector<SubmissionResult>& st
 
 }  // namespace
 
-std::optional<Shard> ParseShard(const std::string& text, std::string& error) {
+ShardOrError ParseShard(const std::string& text) {
   const size_t slash = text.find('/');
   Shard shard;
   auto number = [](std::string_view part, int& value) {
@@ -59,14 +59,13 @@ std::optional<Shard> ParseShard(const std::string& text, std::string& error) {
   };
   if (slash == std::string::npos || !number(std::string_view(text).substr(0, slash), shard.index) ||
       !number(std::string_view(text).substr(slash + 1), shard.count)) {
-    error = "--shard must be I/N (for example 2/4), not '" + text + "'";
-    return std::nullopt;
+    return {std::nullopt, lab::Error{.where = "", .message = "--shard must be I/N (for example 2/4), not '" + text + "'"}};
   }
   if (shard.count < 1 || shard.count > 10000 || shard.index < 1 || shard.index > shard.count) {
-    error = "--shard I/N needs 1 <= I <= N <= 10000, not '" + text + "'";
-    return std::nullopt;
+    return {std::nullopt,
+            lab::Error{.where = "", .message = "--shard I/N needs 1 <= I <= N <= 10000, not '" + text + "'"}};
   }
-  return shard;
+  return {shard, std::nullopt};
 }
 
 std::vector<std::string> ListStudents(const std::string& submissions_dir) {
@@ -114,9 +113,8 @@ ClassResult GradeClass(const assignment::Assignment& assignment, const std::stri
               ? HiddenSeedsText(WithStudentSeeds(assignment, *student_grade.student_seeds))
               : std::string();
       const std::string hash = InputsHash(submission.string(), options.assignment_dir, public_only, hidden_seeds);
-      std::string ignored;
       std::optional<GradeFile> previous;
-      if (options.resume) previous = ReadGradeJson((out / "grade.json").string(), ignored);
+      if (options.resume) previous = ReadGradeJson((out / "grade.json").string()).file;
       if (previous && previous->inputs_hash == hash) {
         result.students[index] = previous->result;
         resumed[index] = true;
@@ -231,56 +229,51 @@ std::string ClassSummary(const std::vector<SubmissionResult>& students) {
   return text.str();
 }
 
-std::string WriteClassFiles(const std::vector<SubmissionResult>& students, const std::string& out_dir) {
+std::optional<lab::Error> WriteClassFiles(const std::vector<SubmissionResult>& students, const std::string& out_dir) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   std::ofstream csv(fs::path(out_dir) / "class.csv", std::ios::binary | std::ios::trunc);
   csv << ClassCsv(students);
   std::ofstream summary(fs::path(out_dir) / "summary.txt", std::ios::binary | std::ios::trunc);
   summary << ClassSummary(students);
-  if (!csv || !summary) return "cannot write class.csv or summary.txt in " + out_dir;
-  return {};
+  if (!csv || !summary) return lab::Error{.where = "", .message = "cannot write class.csv or summary.txt in " + out_dir};
+  return std::nullopt;
 }
 
-std::optional<std::vector<SubmissionResult>> MergeClassOutputs(const std::vector<std::string>& shard_dirs,
-                                                               const std::string& out_dir, std::string& error) {
+MergedClass MergeClassOutputs(const std::vector<std::string>& shard_dirs, const std::string& out_dir) {
+  auto failed = [](std::string where, std::string message) {
+    return MergedClass{std::nullopt, lab::Error{.where = std::move(where), .message = std::move(message)}};
+  };
   std::map<std::string, SubmissionResult> by_student;
   for (const std::string& dir : shard_dirs) {
     std::error_code io_error;
     if (!fs::is_directory(dir, io_error)) {
-      error = dir + ": not a folder";
-      return std::nullopt;
+      return failed(dir, "not a folder");
     }
     // A shard writes class.csv last, once every student of it is graded: a
     // shard stopped on the way (scancel, a lost node, a time limit) has
     // none, and merging it would drop its students without a word.
     if (!fs::is_regular_file(fs::path(dir) / "class.csv", io_error)) {
-      error = dir + ": this shard did not finish (it has no class.csv): grade it again, it resumes where it stopped";
-      return std::nullopt;
+      return failed(dir, "this shard did not finish (it has no class.csv): grade it again, it resumes where it stopped");
     }
     for (const std::string& student : ListStudents(dir)) {
       const fs::path path = fs::path(dir) / student / "grade.json";
       if (!fs::exists(path, io_error)) {
-        error = (fs::path(dir) / student).string() +
-                ": no grade.json: this shard did not finish grading the student: grade it again, it resumes";
-        return std::nullopt;
+        return failed((fs::path(dir) / student).string(),
+                      "no grade.json: this shard did not finish grading the student: grade it again, it resumes");
       }
-      std::optional<GradeFile> file = ReadGradeJson(path.string(), error);
-      if (!file) return std::nullopt;
-      file->result.submission = student;
-      if (!by_student.emplace(student, std::move(file->result)).second) {
-        error = "student '" + student + "' is in two of the folders merged (" + path.string() + ")";
-        return std::nullopt;
+      GradeFileOrError read = ReadGradeJson(path.string());
+      if (!read.ok()) return {std::nullopt, std::move(read.error)};
+      read.file->result.submission = student;
+      if (!by_student.emplace(student, std::move(read.file->result)).second) {
+        return failed("", "student '" + student + "' is in two of the folders merged (" + path.string() + ")");
       }
     }
   }
   std::vector<SubmissionResult> students;
   for (auto& [name, result] : by_student) students.push_back(std::move(result));
-  if (std::string problem = WriteClassFiles(students, out_dir); !problem.empty()) {
-    error = problem;
-    return std::nullopt;
-  }
-  return students;
+  if (std::optional<lab::Error> problem = WriteClassFiles(students, out_dir)) return {std::nullopt, std::move(problem)};
+  return {std::move(students), std::nullopt};
 }
 
 }  // namespace syrof::grader

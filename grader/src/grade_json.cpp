@@ -138,22 +138,20 @@ std::string GradeJson(const GradeFile& file) {
   return root.dump(2) + "\n";
 }
 
-std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& error) {
+GradeFileOrError ReadGradeJson(const std::string& path) {
+  auto failed = [&path](std::string message) {
+    return GradeFileOrError{std::nullopt, lab::Error{.where = path, .message = std::move(message)}};
+  };
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    error = path + ": cannot be read";
-    return std::nullopt;
-  }
+  if (!in) return failed("cannot be read");
   nlohmann::json root;
   try {
     root = nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& parse_error) {
-    error = path + ": not JSON: " + parse_error.what();
-    return std::nullopt;
+    return failed(std::string("not JSON: ") + parse_error.what());
   }
   if (Get<std::string>(root, "format", "") != kFormat || Get<int>(root, "version", 0) != kGradeJsonVersion) {
-    error = path + ": not a grade.json of format " + kFormat + " version " + std::to_string(kGradeJsonVersion);
-    return std::nullopt;
+    return failed(std::string("not a grade.json of format ") + kFormat + " version " + std::to_string(kGradeJsonVersion));
   }
   GradeFile file;
   file.syrof_version = Get<std::string>(root, "syrof_version", "");
@@ -173,8 +171,7 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
   if (const auto named = assignment::BuildVerdictNamed(verdict)) {
     result.build.verdict = *named;
   } else {
-    error = path + ": build.verdict \"" + verdict + "\" is not a build verdict (ok, build_failed, ...)";
-    return std::nullopt;
+    return failed("build.verdict \"" + verdict + "\" is not a build verdict (ok, build_failed, ...)");
   }
   result.build.detail = Get<std::string>(build, "detail", "");
   result.build.log_path = Get<std::string>(build, "log_path", "");
@@ -182,10 +179,7 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
   const nlohmann::json timings = root.value("timings", nlohmann::json::object());
   result.build.wall_seconds = Get<double>(timings, "build_s", 0.0);
   const nlohmann::json test_timings = timings.value("tests", nlohmann::json::object());
-  if (!root.contains("tests") || !root["tests"].is_array()) {
-    error = path + ": no tests array";
-    return std::nullopt;
-  }
+  if (!root.contains("tests") || !root["tests"].is_array()) return failed("no tests array");
   for (const nlohmann::json& entry : root["tests"]) {
     TestResult test;
     test.name = Get<std::string>(entry, "name", "");
@@ -219,7 +213,7 @@ std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& err
     test.wall_seconds = Get<double>(test_timings, test.name.c_str(), 0.0);
     result.tests.push_back(std::move(test));
   }
-  return file;
+  return {std::move(file), std::nullopt};
 }
 
 std::string InputsHash(const std::string& submission_dir, const std::string& assignment_dir, bool public_only,

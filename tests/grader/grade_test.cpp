@@ -625,26 +625,38 @@ TEST_F(ClassTest, EachSubmissionGetsItsVerdictRerunsAreIdenticalAndShardsMerge) 
   EXPECT_EQ(Grade(shard1, {1, 2}).students.size(), 3u);
   EXPECT_EQ(Grade(shard2, {2, 2}).students.size(), 4u);
   const fs::path merged = Fresh("class_merged");
-  std::string error;
-  ASSERT_TRUE(MergeClassOutputs({shard1.string(), shard2.string()}, merged.string(), error)) << error;
+  const MergedClass both = MergeClassOutputs({shard1.string(), shard2.string()}, merged.string());
+  ASSERT_TRUE(both.ok()) << both.error->ToString();
+  EXPECT_EQ(both.students->size(), 7u);
+  EXPECT_FALSE(both.error);
   EXPECT_EQ(Read(merged / "class.csv"), before.at("class.csv"));
   EXPECT_EQ(Read(merged / "summary.txt"), before.at("summary.txt"));
-  EXPECT_FALSE(MergeClassOutputs({shard1.string(), shard1.string()}, merged.string(), error));
-  EXPECT_NE(error.find("is in two of the folders"), std::string::npos) << error;
+  const MergedClass twice = MergeClassOutputs({shard1.string(), shard1.string()}, merged.string());
+  ASSERT_FALSE(twice.ok());
+  EXPECT_EQ(twice.error->ToString(), "student '" + ListStudents(shard1.string()).front() +
+                                         "' is in two of the folders merged (" +
+                                         (shard1 / ListStudents(shard1.string()).front() / "grade.json").string() + ")");
+  const MergedClass not_a_folder = MergeClassOutputs({(shard1 / "class.csv").string()}, merged.string());
+  ASSERT_FALSE(not_a_folder.ok());
+  EXPECT_EQ(not_a_folder.error->ToString(), (shard1 / "class.csv").string() + ": not a folder");
 
   // A shard stopped on the way is refused by name, not merged short.
   const fs::path stopped = Fresh("class_shard2_stopped");
   fs::copy(shard2, stopped, fs::copy_options::recursive);
   fs::remove(stopped / "class.csv");
   const fs::path short_merge = Fresh("class_merged_short");
-  EXPECT_FALSE(MergeClassOutputs({shard1.string(), stopped.string()}, short_merge.string(), error));
-  EXPECT_NE(error.find(stopped.string() + ": this shard did not finish (it has no class.csv)"), std::string::npos)
-      << error;
+  const MergedClass unfinished = MergeClassOutputs({shard1.string(), stopped.string()}, short_merge.string());
+  ASSERT_FALSE(unfinished.ok());
+  EXPECT_EQ(unfinished.error->ToString(), stopped.string() + ": this shard did not finish (it has no class.csv): grade "
+                                                               "it again, it resumes where it stopped");
   fs::copy_file(shard2 / "class.csv", stopped / "class.csv");
   const std::string student = ListStudents(stopped.string()).back();
   fs::remove(stopped / student / "grade.json");
-  EXPECT_FALSE(MergeClassOutputs({shard1.string(), stopped.string()}, short_merge.string(), error));
-  EXPECT_NE(error.find((stopped / student).string() + ": no grade.json"), std::string::npos) << error;
+  const MergedClass no_grade = MergeClassOutputs({shard1.string(), stopped.string()}, short_merge.string());
+  ASSERT_FALSE(no_grade.ok());
+  EXPECT_EQ(no_grade.error->ToString(), (stopped / student).string() +
+                                            ": no grade.json: this shard did not finish grading the student: grade it "
+                                            "again, it resumes");
   EXPECT_FALSE(fs::exists(short_merge / "class.csv"));
 }
 
@@ -677,9 +689,9 @@ TEST(StudentSeedsGradeTest, HiddenRunsUseTheStudentsSeedsAndTheReplayCommandRepr
 
   // grade.json keeps the student and the seeds.
   ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string()), "");
-  std::string error;
-  const std::optional<GradeFile> read = ReadGradeJson((out / "grade.json").string(), error);
-  ASSERT_TRUE(read) << error;
+  const GradeFileOrError read_json = ReadGradeJson((out / "grade.json").string());
+  ASSERT_TRUE(read_json.ok()) << read_json.error->ToString();
+  const std::optional<GradeFile>& read = read_json.file;
   EXPECT_EQ(read->result.seed_student, "alice@example.edu");
   EXPECT_EQ(read->result.tests[2].seed, derived);
   EXPECT_EQ(read->result.tests[2].replay_command, hidden.replay_command);
@@ -727,9 +739,9 @@ TEST(StudentSeedsGradeTest, AClassDerivesEachStudentsSeedsFromItsFolderName) {
     ASSERT_EQ(student.tests.size(), 3u);
     EXPECT_EQ(student.tests[2].seed, DeriveSeed(kCourseSecret, "Tiny gather", "secret", student.submission, 0));
     EXPECT_EQ(student.points, 60) << student.submission;
-    std::string error;
-    const std::optional<GradeFile> read = ReadGradeJson((out / student.submission / "grade.json").string(), error);
-    ASSERT_TRUE(read) << error;
+    const GradeFileOrError read_json = ReadGradeJson((out / student.submission / "grade.json").string());
+    ASSERT_TRUE(read_json.ok()) << read_json.error->ToString();
+    const std::optional<GradeFile>& read = read_json.file;
     EXPECT_EQ(read->result.tests[2].seed, student.tests[2].seed);
   }
   EXPECT_NE(first.students[0].tests[2].seed, first.students[1].tests[2].seed);
@@ -888,9 +900,9 @@ TEST_F(MixMessageTest, GradedAloneTooLongIsToldItsPayloadsBreakTheFormat) {
   GradeFile file;
   file.result = broken;
   std::ofstream(json) << GradeJson(file);
-  std::string error;
-  const std::optional<GradeFile> read_back = ReadGradeJson(json.string(), error);
-  ASSERT_TRUE(read_back.has_value()) << error;
+  const GradeFileOrError read_json = ReadGradeJson(json.string());
+  ASSERT_TRUE(read_json.ok()) << read_json.error->ToString();
+  const std::optional<GradeFile>& read_back = read_json.file;
   ASSERT_EQ(read_back->result.tests.size(), 1u);
   EXPECT_EQ(read_back->result.tests[0].message_format, broken.tests[0].message_format);
 

@@ -138,15 +138,34 @@ TEST(GradeJsonTest, ReadsBackWhatItWroteAndKeepsTimingsApart) {
 
   const std::string path = ::testing::TempDir() + "grade_json_" + std::to_string(getpid()) + ".json";
   std::ofstream(path) << text;
-  std::string error;
-  const std::optional<GradeFile> read = ReadGradeJson(path, error);
-  ASSERT_TRUE(read) << error;
+  const GradeFileOrError read_json = ReadGradeJson(path);
+  ASSERT_TRUE(read_json.ok()) << read_json.error->ToString();
+  const std::optional<GradeFile>& read = read_json.file;
   EXPECT_EQ(GradeJson(*read), text);
   EXPECT_EQ(read->result.tests[2].wall_seconds, 61.5);
 
   std::ofstream(path) << "{\"format\": \"something else\"}";
-  EXPECT_FALSE(ReadGradeJson(path, error));
-  EXPECT_NE(error.find("not a grade.json of format syrof-grade version 1"), std::string::npos) << error;
+  GradeFileOrError wrong = ReadGradeJson(path);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_EQ(wrong.error->where, path);
+  EXPECT_EQ(wrong.error->ToString(), path + ": not a grade.json of format syrof-grade version 1");
+  std::ofstream(path) << "{\"format\": ";
+  wrong = ReadGradeJson(path);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_TRUE(wrong.error->ToString().starts_with(path + ": not JSON: [json.exception.parse_error"))
+      << wrong.error->ToString();
+  std::ofstream(path) << R"({"format": "syrof-grade", "version": 1, "build": {"verdict": "fine"}, "tests": []})";
+  wrong = ReadGradeJson(path);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_EQ(wrong.error->ToString(),
+            path + ": build.verdict \"fine\" is not a build verdict (ok, build_failed, ...)");
+  std::ofstream(path) << R"({"format": "syrof-grade", "version": 1, "build": {"verdict": "ok"}})";
+  wrong = ReadGradeJson(path);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_EQ(wrong.error->ToString(), path + ": no tests array");
+  wrong = ReadGradeJson(path + ".missing");
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_EQ(wrong.error->ToString(), path + ".missing: cannot be read");
 }
 
 TEST(TableTest, HeaderThenOneLinePerTestWithWhyAndTheReplay) {
@@ -194,12 +213,17 @@ TEST(ShardTest, SlicesCoverTheSortedListOnce) {
     for (const std::string& student : ShardOf(students, {i, 3})) all.push_back(student);
   }
   EXPECT_EQ(all, students);
-  std::string error;
-  EXPECT_FALSE(ParseShard("3/2", error));
-  EXPECT_EQ(error, "--shard I/N needs 1 <= I <= N <= 10000, not '3/2'");
-  EXPECT_FALSE(ParseShard("two", error));
-  ASSERT_TRUE(ParseShard("2/4", error));
-  EXPECT_EQ(ParseShard("2/4", error)->count, 4);
+  ShardOrError parsed = ParseShard("3/2");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_EQ(parsed.error->ToString(), "--shard I/N needs 1 <= I <= N <= 10000, not '3/2'");
+  parsed = ParseShard("two");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_EQ(parsed.error->ToString(), "--shard must be I/N (for example 2/4), not 'two'");
+  parsed = ParseShard("2/4");
+  ASSERT_TRUE(parsed.ok()) << parsed.error->ToString();
+  EXPECT_FALSE(parsed.error);
+  EXPECT_EQ(parsed.shard->index, 2);
+  EXPECT_EQ(parsed.shard->count, 4);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include "syrof/assignment/assignment.h"
 #include "syrof/assignment/result.h"
 #include "syrof/grader/grade.h"
+#include "syrof/lab/base/error.h"
 
 namespace syrof::grader {
 
@@ -32,8 +33,15 @@ struct Shard {
   int count = 1;
 };
 
-/// Parses "I/N" (1 <= I <= N <= 10000); empty and `error` set otherwise.
-std::optional<Shard> ParseShard(const std::string& text, std::string& error);
+/// A shard, or why the text names none.
+struct ShardOrError {
+  std::optional<Shard> shard;
+  std::optional<lab::Error> error;
+  bool ok() const { return shard.has_value(); }
+};
+
+/// Parses "I/N" (1 <= I <= N <= 10000); an error otherwise.
+ShardOrError ParseShard(const std::string& text);
 
 /// The students (folder names, sorted, hidden folders left out) of `submissions_dir`.
 std::vector<std::string> ListStudents(const std::string& submissions_dir);
@@ -77,14 +85,21 @@ std::string ClassCsv(const std::vector<assignment::SubmissionResult>& students);
 /// build failures, the most-failed tests.
 std::string ClassSummary(const std::vector<assignment::SubmissionResult>& students);
 
-/// Writes class.csv and summary.txt into `out_dir`; "" or what failed.
-std::string WriteClassFiles(const std::vector<assignment::SubmissionResult>& students, const std::string& out_dir);
+/// Writes class.csv and summary.txt into `out_dir`; what failed, if anything.
+std::optional<lab::Error> WriteClassFiles(const std::vector<assignment::SubmissionResult>& students,
+                                          const std::string& out_dir);
+
+/// The students of merged class outputs, or why they cannot be merged.
+struct MergedClass {
+  std::optional<std::vector<assignment::SubmissionResult>> students;  ///< sorted by name
+  std::optional<lab::Error> error;
+  bool ok() const { return students.has_value(); }
+};
 
 /// Reads every OUT/<student>/grade.json of each of `shard_dirs` and writes
-/// the combined class.csv and summary.txt into `out_dir`. Empty and `error`
-/// set when a folder cannot be read or a student appears twice.
-std::optional<std::vector<assignment::SubmissionResult>> MergeClassOutputs(const std::vector<std::string>& shard_dirs,
-                                                                           const std::string& out_dir,
-                                                                           std::string& error);
+/// the combined class.csv and summary.txt into `out_dir`. An error when a
+/// folder cannot be read, a shard did not finish, or a student appears
+/// twice.
+MergedClass MergeClassOutputs(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
 
 }  // namespace syrof::grader

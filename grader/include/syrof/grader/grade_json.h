@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "syrof/assignment/result.h"
+#include "syrof/lab/base/error.h"
 
 namespace syrof::grader {
 
@@ -30,9 +31,16 @@ struct GradeFile {
 /// The text of grade.json.
 std::string GradeJson(const GradeFile& file);
 
-/// Reads `path`; empty and `error` set when it is missing or not a grade.json
-/// of this version.
-std::optional<GradeFile> ReadGradeJson(const std::string& path, std::string& error);
+/// A grade.json read back, or why it cannot be.
+struct GradeFileOrError {
+  std::optional<GradeFile> file;
+  std::optional<lab::Error> error;
+  bool ok() const { return file.has_value(); }
+};
+
+/// Reads `path`; an error, where `path`, when it is missing or not a
+/// grade.json of this version.
+GradeFileOrError ReadGradeJson(const std::string& path);
 
 /// A hash (16 hex digits, FNV-1a 64) of everything a grade depends on: the
 /// submission's files (names and bytes), the assignment folder's files,
