@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "syrof/app_host/hosted_app.h"
+#include "syrof/lab/base/error.h"
 #include "syrof/process/confine.h"
 #include "syrof/process/fd.h"
 #include "syrof/process/landlock.h"
@@ -37,6 +38,9 @@ using Clock = std::chrono::steady_clock;
 using process::FileRuleset;
 
 using process::SandboxFailure;
+
+// A step's failure: the words go whole into the build's detail and log.
+lab::Error Failure(std::string message) { return lab::Error{.where = "", .message = std::move(message)}; }
 
 // The uid and gid a build started by root runs as (nobody, nogroup).
 constexpr uid_t kBuildUid = process::kNobodyUid;
@@ -88,18 +92,18 @@ bool CopyOpenFile(int fd, const fs::path& to) {
 // Copies regular files only, at most `max_bytes` in all. Symbolic links,
 // files with more than one hard link (a link to a file elsewhere on the
 // machine, which this process, often root, could read), devices and FIFOs
-// are left out, each named in `skipped`. Returns "" or what went wrong.
-std::string CopySubmission(const fs::path& from, const fs::path& to, uint64_t max_bytes,
-                           std::vector<std::string>& skipped) {
+// are left out, each named in `skipped`. Returns what went wrong, if anything.
+std::optional<lab::Error> CopySubmission(const fs::path& from, const fs::path& to, uint64_t max_bytes,
+                                         std::vector<std::string>& skipped) {
   std::error_code error;
   fs::remove_all(to, error);
   fs::create_directories(to, error);
-  if (error) return "cannot create " + to.string() + ": " + error.message();
+  if (error) return Failure("cannot create " + to.string() + ": " + error.message());
   uint64_t total = 0;
   fs::recursive_directory_iterator it(from, fs::directory_options::none, error);
-  if (error) return "cannot read " + from.string() + ": " + error.message();
+  if (error) return Failure("cannot read " + from.string() + ": " + error.message());
   for (; it != fs::recursive_directory_iterator(); it.increment(error)) {
-    if (error) return "cannot read " + from.string() + ": " + error.message();
+    if (error) return Failure("cannot read " + from.string() + ": " + error.message());
     const fs::directory_entry& entry = *it;
     const fs::path relative = entry.path().lexically_relative(from);
     if (entry.is_symlink(error)) {
@@ -127,11 +131,13 @@ std::string CopySubmission(const fs::path& from, const fs::path& to, uint64_t ma
     total += static_cast<uint64_t>(status.st_size);
     if (total > max_bytes) {
       close(fd);
-      return "the submission holds more than " + std::to_string(max_bytes >> 20) + " MB of files";
+      return Failure("the submission holds more than " + std::to_string(max_bytes >> 20) + " MB of files");
     }
-    if (!CopyOpenFile(fd, to / relative)) return "cannot copy " + relative.string() + ": " + std::strerror(errno);
+    if (!CopyOpenFile(fd, to / relative)) {
+      return Failure("cannot copy " + relative.string() + ": " + std::strerror(errno));
+    }
   }
-  return {};
+  return std::nullopt;
 }
 
 std::string GeneratedCMakeLists(const std::vector<std::string>& sources) {
@@ -375,9 +381,9 @@ std::string FindOnPath(const std::string& name) {
 // what the package holds and nothing beside it (a build tree's source tree,
 // with its assignments/, stays out of reach), and it can read it wherever
 // SyROF lies: a build tree in a 0700 folder (a CI clone, a home folder) is
-// no obstacle to uid 65534. About 140 KB. False and `error` when the
-// package cannot be read.
-bool StagePackage(const std::string& syrof_dir, const fs::path& into, std::string& error) {
+// no obstacle to uid 65534. About 140 KB. An error when the package cannot
+// be read.
+std::optional<lab::Error> StagePackage(const std::string& syrof_dir, const fs::path& into) {
   const fs::path config = fs::path(syrof_dir) / "SyROFConfig.cmake";
   std::ifstream in(config);
   std::ostringstream text;
@@ -400,8 +406,7 @@ bool StagePackage(const std::string& syrof_dir, const fs::path& into, std::strin
   size_t library_at = 0, library_length = 0, includes_at = 0, includes_length = 0;
   if (!in || !property("IMPORTED_LOCATION", library_at, library_length) ||
       !property("INTERFACE_INCLUDE_DIRECTORIES", includes_at, includes_length)) {
-    error = config.string() + " is missing or names no IMPORTED_LOCATION or INTERFACE_INCLUDE_DIRECTORIES";
-    return false;
+    return Failure(config.string() + " is missing or names no IMPORTED_LOCATION or INTERFACE_INCLUDE_DIRECTORIES");
   }
   const fs::path library = content.substr(library_at, library_length);
   std::stringstream list(content.substr(includes_at, includes_length));
@@ -410,8 +415,7 @@ bool StagePackage(const std::string& syrof_dir, const fs::path& into, std::strin
   const auto copied = fs::copy_options::overwrite_existing;
   fs::copy_file(library, into / "lib" / "libsyrof_app.so.1", copied, failed);  // the file a symlink names
   if (failed) {
-    error = "cannot copy " + library.string() + ": " + failed.message();
-    return false;
+    return Failure("cannot copy " + library.string() + ": " + failed.message());
   }
   int index = 0;
   for (std::string folder; std::getline(list, folder, ';');) {
@@ -420,16 +424,14 @@ bool StagePackage(const std::string& syrof_dir, const fs::path& into, std::strin
     fs::create_directories(staged, failed);
     fs::copy(folder, staged, fs::copy_options::recursive | copied, failed);
     if (failed) {
-      error = "cannot copy " + folder + ": " + failed.message();
-      return false;
+      return Failure("cannot copy " + folder + ": " + failed.message());
     }
     staged_includes += (staged_includes.empty() ? "" : ";") + staged.string();
   }
   for (const char* file : {"SyROFConfigVersion.cmake", "SyROFAddApp.cmake"}) {
     fs::copy_file(fs::path(syrof_dir) / file, into / file, copied, failed);
     if (failed) {
-      error = "cannot copy " + (fs::path(syrof_dir) / file).string() + ": " + failed.message();
-      return false;
+      return Failure("cannot copy " + (fs::path(syrof_dir) / file).string() + ": " + failed.message());
     }
   }
   content.replace(includes_at, includes_length, staged_includes);
@@ -448,14 +450,14 @@ bool StagePackage(const std::string& syrof_dir, const fs::path& into, std::strin
                                  fs::perms::others_read,
                     failed);
   }
-  if (failed) error = "cannot stage SyROF's package: " + failed.message();
-  return !failed;
+  if (failed) return Failure("cannot stage SyROF's package: " + failed.message());
+  return std::nullopt;
 }
 
 // The build's ruleset: read and execute the toolchain, read the few /etc
 // files compilers and CMake open and SyROF's package, read and write /dev's
 // null device and its own `work_dir`. Nothing else (docs/grading.md).
-bool BuildFileRules(FileRuleset& rules, const fs::path& package, const fs::path& work_dir, std::string& error) {
+std::optional<lab::Error> BuildFileRules(FileRuleset& rules, const fs::path& package, const fs::path& work_dir) {
   using Access = FileRuleset::Access;
   bool ok = true;
   for (const char* toolchain : {"/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32"}) {
@@ -469,8 +471,8 @@ bool BuildFileRules(FileRuleset& rules, const fs::path& package, const fs::path&
   ok = ok && rules.Allow("/dev/null", Access::kReadWrite);
   ok = ok && rules.Allow(package.string(), Access::kRead);
   ok = ok && rules.Allow(work_dir.string(), Access::kReadWrite);
-  if (!ok) error = rules.error();
-  return ok;
+  if (!ok) return Failure(rules.error());
+  return std::nullopt;
 }
 
 // Hands `dir` and everything beneath it to the build's uid.
@@ -633,13 +635,14 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   if (syrof_dir.empty()) {
     return finish(kBuildFailed, "SyROF's CMake package (SyROFConfig.cmake) was not found beside this syrof");
   }
-  std::string problem;
   const std::string cmake = FindOnPath("cmake");
   if (cmake.empty()) return finish(kBuildFailed, "cmake is not installed on the grading machine");
 
   const Stage stage(sandbox.drop_to_nobody);
   if (!stage.ok()) return finish(kBuildFailed, stage.problem());
-  if (!StagePackage(syrof_dir, stage.package(), problem)) return finish(kBuildFailed, problem);
+  if (const std::optional<lab::Error> problem = StagePackage(syrof_dir, stage.package())) {
+    return finish(kBuildFailed, problem->ToString());
+  }
   log.file << "syrof grade: SyROF's package from " << syrof_dir << "\n";
   // The build's folder, bounded in size; `work` is where the grader reaches
   // it, stage.work() where the build sees it (the same folder).
@@ -660,11 +663,12 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   const fs::path built_source = stage.work() / "source";  // as the build sees them
   const fs::path built_build = stage.work() / "build";
   std::vector<std::string> skipped;
-  problem = CopySubmission(submission_dir, source, options.max_submission_bytes, skipped);
+  const std::optional<lab::Error> copy_failed =
+      CopySubmission(submission_dir, source, options.max_submission_bytes, skipped);
   for (const std::string& file : skipped) log.file << "syrof grade: left out " << file << "\n";
-  if (!problem.empty()) {
-    log.file << "syrof grade: " << problem << "\n";
-    return finish(kBuildFailed, problem);
+  if (copy_failed) {
+    log.file << "syrof grade: " << copy_failed->ToString() << "\n";
+    return finish(kBuildFailed, copy_failed->ToString());
   }
   if (!fs::exists(source / "CMakeLists.txt", error)) {
     const std::vector<std::string> sources = FindSources(source.string());
@@ -686,8 +690,10 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   }
   // (The rule names the folder the grader reaches: with the bound, the
   // tmpfs itself, not the folder it covers.)
-  if (files.created() && !BuildFileRules(files, stage.package(), work, problem)) {
-    return finish(kBuildFailed, problem);
+  if (files.created()) {
+    if (const std::optional<lab::Error> problem = BuildFileRules(files, stage.package(), work)) {
+      return finish(kBuildFailed, problem->ToString());
+    }
   }
 
   const std::vector<std::string> environment = {"PATH=/usr/local/bin:/usr/bin:/bin", "LC_ALL=C", "LANG=C",

@@ -160,6 +160,31 @@ TEST(BuildSubmissionTest, AFolderWithoutSourcesHasNothingToBuild) {
   EXPECT_EQ(BuildSubmission(submission.string(), out.string(), {}, notes).verdict, assignment::BuildVerdict::kNoSources);
 }
 
+// What fails before the build starts is said whole, in the detail and the log.
+TEST(BuildSubmissionTest, ASubmissionAboveItsSizeAndAPackageWithoutItsConfigAreSaidWhole) {
+  const fs::path submission = Fresh("big_in");
+  Write(submission / "app.c", std::string(1536u << 10, ' '));
+  const fs::path out = Fresh("big");
+  BuildOptions options;
+  options.max_submission_bytes = 1u << 20;
+  std::vector<std::string> notes;
+  const assignment::BuildResult big = BuildSubmission(submission.string(), out.string(), options, notes);
+  EXPECT_EQ(big.verdict, assignment::BuildVerdict::kBuildFailed);
+  EXPECT_EQ(big.detail, "the submission holds more than 1 MB of files");
+  EXPECT_NE(Read(out / "build.log").find("syrof grade: the submission holds more than 1 MB of files\n"),
+            std::string::npos)
+      << Read(out / "build.log");
+
+  const fs::path no_package = Fresh("no_package");
+  BuildOptions elsewhere;
+  elsewhere.syrof_dir = no_package.string();
+  const assignment::BuildResult unstaged =
+      BuildSubmission(kReference.string(), Fresh("unstaged").string(), elsewhere, notes);
+  EXPECT_EQ(unstaged.verdict, assignment::BuildVerdict::kBuildFailed);
+  EXPECT_EQ(unstaged.detail, (no_package / "SyROFConfig.cmake").string() +
+                                 " is missing or names no IMPORTED_LOCATION or INTERFACE_INCLUDE_DIRECTORIES");
+}
+
 TEST(GradeSubmissionTest, TheReferenceGetsFullMarksAndTheTableSaysSo) {
   const Assignment tiny = LoadTiny();
   const fs::path out = Fresh("reference");
