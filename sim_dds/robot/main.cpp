@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> arguments(argv + 1, argv + argc);
   const syrof::sim_dds::ParsedRobotArguments parsed = syrof::sim_dds::ParseRobotArguments(arguments);
   if (!parsed.options) {
-    std::cerr << "syrof-robot: " << parsed.error << " (it is started by `syrof swarm`, docs/dds.md)\n";
+    std::cerr << "syrof-robot: " << parsed.error->ToString() << " (it is started by `syrof swarm`, docs/dds.md)\n";
     return 2;
   }
   return syrof::sim_dds::RunRobotProcess(*parsed.options, std::cerr);

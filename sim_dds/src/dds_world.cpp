@@ -749,7 +749,8 @@ void DdsWorld::TakeReports() {
     DecodedReport decoded = DecodeReport(s.kind, std::span<const uint8_t>(s.body._buffer, s.body._length), swarm_size_);
     if (!decoded.body) {
       ++reports_rejected_;
-      log_ << "syrof swarm: robot " << s.robot << "'s report " << s.sequence_number << " refused: " << decoded.error << "\n";
+      log_ << "syrof swarm: robot " << s.robot << "'s report " << s.sequence_number
+           << " refused: " << decoded.error->ToString() << "\n";
       return;
     }
     Received received{s.robot, s.robot_time_ns - start_monotonic_ns_, std::move(*decoded.body)};

@@ -66,20 +66,28 @@ void WriteSet(Writer& w, const wire::MemberSet& set) {
   for (const uint16_t id : set) w.U16(id);
 }
 
-bool ReadSet(Reader& r, uint16_t swarm_size, wire::MemberSet& set, std::string& error, const char* what) {
+// What is wrong with the report's part `where` ("" for the whole report).
+lab::Error BadReport(std::string where, std::string message) {
+  return lab::Error{.where = std::move(where), .message = std::move(message)};
+}
+
+// Reads a member set, the report's part `what`, into `set`; what is wrong
+// with it, if anything.
+std::optional<lab::Error> ReadSet(Reader& r, uint16_t swarm_size, wire::MemberSet& set, const char* what) {
   uint16_t count = 0;
-  if (!r.U16(count)) return error = std::string(what) + ": truncated count", false;
-  if (count > swarm_size) return error = std::string(what) + ": " + std::to_string(count) + " ids for a swarm of " + std::to_string(swarm_size), false;
+  if (!r.U16(count)) return BadReport(what, "truncated count");
+  if (count > swarm_size) {
+    return BadReport(what, std::to_string(count) + " ids for a swarm of " + std::to_string(swarm_size));
+  }
   for (uint16_t i = 0; i < count; ++i) {
     uint16_t id = 0;
-    if (!r.U16(id)) return error = std::string(what) + ": truncated id list", false;
+    if (!r.U16(id)) return BadReport(what, "truncated id list");
     if (id >= swarm_size) {
-      error = std::string(what) + ": id " + std::to_string(id) + " at or above the swarm size " + std::to_string(swarm_size);
-      return false;
+      return BadReport(what, "id " + std::to_string(id) + " at or above the swarm size " + std::to_string(swarm_size));
     }
     set.set(id);
   }
-  return true;
+  return std::nullopt;
 }
 
 }  // namespace
@@ -170,13 +178,15 @@ std::vector<uint8_t> EncodeAppState(const AppStateReport& app_state) {
 
 DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_t swarm_size) {
   DecodedReport result;
-  std::string& error = result.error;
+  std::optional<lab::Error>& error = result.error;
   if (kind >= kReportKinds) {
-    error = "report kind " + std::to_string(kind) + " unknown (0 .. " + std::to_string(kReportKinds - 1) + ")";
+    error = BadReport("", "report kind " + std::to_string(kind) + " unknown (0 .. " +
+                              std::to_string(kReportKinds - 1) + ")");
     return result;
   }
   if (bytes.size() > kMaxReportBytes) {
-    error = "report body of " + std::to_string(bytes.size()) + " bytes, above " + std::to_string(kMaxReportBytes);
+    error = BadReport("", "report body of " + std::to_string(bytes.size()) + " bytes, above " +
+                              std::to_string(kMaxReportBytes));
     return result;
   }
   ReportBody body;
@@ -189,9 +199,13 @@ DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_
       uint16_t count = 0;
       ok = r.U16(body.ldmap.epoch) && r.U8(mode) && r.U16(count);
       if (!ok) break;
-      if (mode > 1) return error = "epoch start: mode " + std::to_string(mode) + " unknown", result;
+      if (mode > 1) {
+        error = BadReport("epoch start", "mode " + std::to_string(mode) + " unknown");
+        return result;
+      }
       if (count == 0 || count > swarm_size) {
-        error = "epoch start: " + std::to_string(count) + " members for a swarm of " + std::to_string(swarm_size);
+        error = BadReport("epoch start",
+                          std::to_string(count) + " members for a swarm of " + std::to_string(swarm_size));
         return result;
       }
       body.ldmap.mode = static_cast<wire::Mode>(mode);
@@ -205,13 +219,15 @@ DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_
         for (uint8_t& byte : s.payload) ok = ok && r.U8(byte);
         if (!ok) break;
         if (id >= swarm_size || static_cast<int>(id) <= last) {
-          error = "epoch start: member " + std::to_string(id) + " out of order or at or above the swarm size " +
-                  std::to_string(swarm_size);
+          error = BadReport("epoch start", "member " + std::to_string(id) +
+                                               " out of order or at or above the swarm size " +
+                                               std::to_string(swarm_size));
           return result;
         }
         if (phase > 2 || s.payload_length > wire::kMaxPayloadBytes) {
-          error = "epoch start: member " + std::to_string(id) + " has phase " + std::to_string(phase) +
-                  " or payload length " + std::to_string(s.payload_length) + " out of range";
+          error = BadReport("epoch start", "member " + std::to_string(id) + " has phase " + std::to_string(phase) +
+                                               " or payload length " + std::to_string(s.payload_length) +
+                                               " out of range");
           return result;
         }
         last = id;
@@ -222,8 +238,8 @@ DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_
       break;
     }
     case ReportKind::kMembership:
-      if (!ReadSet(r, swarm_size, body.removed, error, "membership removed") ||
-          !ReadSet(r, swarm_size, body.joined, error, "membership joined")) {
+      if ((error = ReadSet(r, swarm_size, body.removed, "membership removed")) ||
+          (error = ReadSet(r, swarm_size, body.joined, "membership joined"))) {
         return result;
       }
       break;
@@ -249,10 +265,10 @@ DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_
            r.U8(round.epoch_mode) && r.U8(round.estimate_valid) && r.U16(round.epoch) && r.F32(round.est_x_m) &&
            r.F32(round.est_y_m) && r.F32(round.est_heading_rad) && r.U32(round.beacons_heard);
       if (ok && (round.status > 1 || round.phase > 2 || round.epoch_mode > 1 || round.estimate_valid > 1)) {
-        error = "round report: status, phase, mode or estimate flag out of range";
+        error = BadReport("round report", "status, phase, mode or estimate flag out of range");
         return result;
       }
-      if (ok && !ReadSet(r, swarm_size, round.heard_in_round, error, "round report heard_in_round")) return result;
+      if (ok && (error = ReadSet(r, swarm_size, round.heard_in_round, "round report heard_in_round"))) return result;
       break;
     }
     case ReportKind::kAppState: {
@@ -261,7 +277,7 @@ DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_
       ok = r.U8(new_round) && r.U16(app_state.epoch) && r.U8(cooperative) && r.U64(app_state.map_fingerprint) &&
            r.U8(app_state.state);
       if (ok && (new_round > 1 || cooperative > 1)) {
-        error = "app state report: call or mode flag out of range";
+        error = BadReport("app state report", "call or mode flag out of range");
         return result;
       }
       app_state.new_round = new_round != 0;
@@ -270,11 +286,13 @@ DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_
     }
   }
   if (!ok) {
-    error = "report kind " + std::to_string(kind) + ": body of " + std::to_string(bytes.size()) + " bytes is truncated";
+    error = BadReport("report kind " + std::to_string(kind),
+                      "body of " + std::to_string(bytes.size()) + " bytes is truncated");
     return result;
   }
   if (!r.done()) {
-    error = "report kind " + std::to_string(kind) + ": " + std::to_string(bytes.size()) + " bytes, more than its layout";
+    error = BadReport("report kind " + std::to_string(kind),
+                      std::to_string(bytes.size()) + " bytes, more than its layout");
     return result;
   }
   result.body = std::move(body);

@@ -556,7 +556,7 @@ ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& argumen
   for (size_t i = 0; i < arguments.size(); i += 2) {
     const std::string& name = arguments[i];
     if (i + 1 >= arguments.size()) {
-      parsed.error = "argument " + name + " has no value";
+      parsed.error = lab::Error{.where = "", .message = "argument " + name + " has no value"};
       return parsed;
     }
     const std::string& value = arguments[i + 1];
@@ -617,16 +617,16 @@ ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& argumen
       } else if (name == "--late-max-ms") {
         o.stress.max_delay_ms = static_cast<int64_t>(whole(10'000));
       } else {
-        parsed.error = "unknown argument " + name;
+        parsed.error = lab::Error{.where = "", .message = "unknown argument " + name};
         return parsed;
       }
     } catch (const std::exception&) {
-      parsed.error = "argument " + name + ": \"" + value + "\" is not a valid value";
+      parsed.error = lab::Error{.where = "argument " + name, .message = "\"" + value + "\" is not a valid value"};
       return parsed;
     }
   }
   if (!have_scenario || !have_robot || !have_run || !have_domain) {
-    parsed.error = "--scenario, --robot, --run-id and --domain are required";
+    parsed.error = lab::Error{.where = "", .message = "--scenario, --robot, --run-id and --domain are required"};
     return parsed;
   }
   parsed.options = o;

@@ -23,7 +23,7 @@ TEST(RobotArgumentsTest, WhatTheWorldWritesTheRobotReadsBack) {
   options.realtime_start = true;
   options.clock_offset_us = -41'000;
   const ParsedRobotArguments parsed = ParseRobotArguments(RobotArguments(options));
-  ASSERT_TRUE(parsed.options) << parsed.error;
+  ASSERT_TRUE(parsed.ok()) << parsed.error->ToString();
   const RobotProcessOptions& back = *parsed.options;
   EXPECT_EQ(back.scenario_path, options.scenario_path);
   EXPECT_EQ(back.robot, 31);
@@ -44,7 +44,7 @@ TEST(RobotArgumentsTest, WhatTheWorldWritesTheRobotReadsBack) {
   RobotProcessOptions plain_options;
   plain_options.scenario_path = "s";
   const ParsedRobotArguments plain = ParseRobotArguments(RobotArguments(plain_options));
-  ASSERT_TRUE(plain.options) << plain.error;
+  ASSERT_TRUE(plain.ok()) << plain.error->ToString();
   EXPECT_FALSE(plain.options->realtime || plain.options->align_rounds || plain.options->realtime_start);
   EXPECT_EQ(plain.options->clock_offset_us, 0);
 }
@@ -59,30 +59,36 @@ TEST(RobotArgumentsTest, TheLateSamplesOfTheStressReachTheRobot) {
   options.stress.min_delay_ms = 15;
   options.stress.max_delay_ms = 180;
   const ParsedRobotArguments parsed = ParseRobotArguments(RobotArguments(options));
-  ASSERT_TRUE(parsed.options) << parsed.error;
+  ASSERT_TRUE(parsed.ok()) << parsed.error->ToString();
   EXPECT_EQ(parsed.options->stress.seed, options.stress.seed);
   EXPECT_EQ(parsed.options->stress.delayed_fraction, 0.2);
   EXPECT_EQ(parsed.options->stress.min_delay_ms, 15);
   EXPECT_EQ(parsed.options->stress.max_delay_ms, 180);
   options.stress.seed = 0;
   const ParsedRobotArguments off = ParseRobotArguments(RobotArguments(options));
-  ASSERT_TRUE(off.options) << off.error;
+  ASSERT_TRUE(off.ok()) << off.error->ToString();
   EXPECT_FALSE(off.options->stress.on());
-  EXPECT_NE(ParseRobotArguments({"--scenario", "s", "--robot", "0", "--run-id", "1", "--domain", "0", "--late-fraction", "2"})
-                .error.find("--late-fraction"),
-            std::string::npos);
+  const ParsedRobotArguments above_one =
+      ParseRobotArguments({"--scenario", "s", "--robot", "0", "--run-id", "1", "--domain", "0", "--late-fraction", "2"});
+  ASSERT_FALSE(above_one.ok());
+  EXPECT_EQ(above_one.error->ToString(), "argument --late-fraction: \"2\" is not a valid value");
 }
 
 TEST(RobotArgumentsTest, BadArgumentsAreNamed) {
-  EXPECT_NE(ParseRobotArguments({"--robot", "70000", "--scenario", "s", "--run-id", "1", "--domain", "1"}).error.find("--robot"),
-            std::string::npos);
-  EXPECT_NE(ParseRobotArguments({"--domain", "233"}).error.find("--domain"), std::string::npos);
-  EXPECT_NE(ParseRobotArguments({"--robot", "-1"}).error.find("--robot"), std::string::npos);
-  EXPECT_NE(ParseRobotArguments({"--clock-offset-us", "10000001"}).error.find("--clock-offset-us"), std::string::npos);
-  EXPECT_NE(ParseRobotArguments({"--clock-offset-us", "5ms"}).error.find("--clock-offset-us"), std::string::npos);
-  EXPECT_NE(ParseRobotArguments({"--colour", "red"}).error.find("unknown argument --colour"), std::string::npos);
-  EXPECT_NE(ParseRobotArguments({"--scenario"}).error.find("no value"), std::string::npos);
-  EXPECT_NE(ParseRobotArguments({"--scenario", "s"}).error.find("required"), std::string::npos);
+  auto error_of = [](const std::vector<std::string>& arguments) {
+    const ParsedRobotArguments parsed = ParseRobotArguments(arguments);
+    EXPECT_FALSE(parsed.ok());
+    return parsed.error ? parsed.error->ToString() : std::string("(no error)");
+  };
+  EXPECT_EQ(error_of({"--robot", "70000", "--scenario", "s", "--run-id", "1", "--domain", "1"}),
+            "argument --robot: \"70000\" is not a valid value");
+  EXPECT_EQ(error_of({"--domain", "233"}), "argument --domain: \"233\" is not a valid value");
+  EXPECT_EQ(error_of({"--robot", "-1"}), "argument --robot: \"-1\" is not a valid value");
+  EXPECT_EQ(error_of({"--clock-offset-us", "10000001"}), "argument --clock-offset-us: \"10000001\" is not a valid value");
+  EXPECT_EQ(error_of({"--clock-offset-us", "5ms"}), "argument --clock-offset-us: \"5ms\" is not a valid value");
+  EXPECT_EQ(error_of({"--colour", "red"}), "unknown argument --colour");
+  EXPECT_EQ(error_of({"--scenario"}), "argument --scenario has no value");
+  EXPECT_EQ(error_of({"--scenario", "s"}), "--scenario, --robot, --run-id and --domain are required");
 }
 
 }  // namespace

@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/base/error.h"
 #include "syrof/sync/ldmap.h"
 #include "syrof/wire/member_set.h"
 
@@ -102,12 +103,14 @@ std::vector<uint8_t> EncodeSafety(int64_t time_ns, uint16_t other);
 std::vector<uint8_t> EncodeRound(const RoundReport& round);
 std::vector<uint8_t> EncodeAppState(const AppStateReport& app_state);
 
-/// The body of `kind` (a Report_'s kind byte) or what is wrong with it
-/// ("epoch start: member 70 at or above the swarm size 8", ...). `swarm_size`
-/// bounds every robot id.
+/// The body of `kind` (a Report_'s kind byte) or what is wrong with it:
+/// where the part of the report ("epoch start", "membership removed"; none
+/// for the kind or the length), and the message ("member 70 out of order or
+/// at or above the swarm size 8", ...). `swarm_size` bounds every robot id.
 struct DecodedReport {
   std::optional<ReportBody> body;
-  std::string error;
+  std::optional<lab::Error> error;
+  bool ok() const { return body.has_value(); }
 };
 DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> body, uint16_t swarm_size);
 

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "syrof/app_host/app_supply.h"
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/stress.h"
 
@@ -73,7 +74,8 @@ std::vector<std::string> RobotArguments(const RobotProcessOptions& options);
 /// Parses them back; an error names the argument.
 struct ParsedRobotArguments {
   std::optional<RobotProcessOptions> options;
-  std::string error;
+  std::optional<lab::Error> error;
+  bool ok() const { return options.has_value(); }
 };
 ParsedRobotArguments ParseRobotArguments(const std::vector<std::string>& arguments);
 
