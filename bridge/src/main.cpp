@@ -77,17 +77,23 @@ int64_t NowNs() {
       .count();
 }
 
+// The replay's header, or why there is none.
+struct HeaderOrError {
+  std::optional<replay::Header> header;
+  std::optional<syrof::lab::Error> error;
+  bool ok() const { return header.has_value(); }
+};
+
 // The replay's header: the scenario's (arena, robots, radio round), or
 // --robots N robots in the default 4 m arena.
-std::optional<replay::Header> MakeHeader(const Options& options, std::string& error) {
+HeaderOrError MakeHeader(const Options& options) {
   replay::Header header;
   if (!options.scenario.empty()) {
     syrof::lab::scenario::Overrides overrides;
     if (options.robots > 0) overrides.robots = options.robots;
     const auto loaded = syrof::lab::scenario::LoadScenarioFile(options.scenario, overrides);
     if (!loaded.ok()) {
-      error = "--scenario: " + loaded.error->ToString();
-      return std::nullopt;
+      return {std::nullopt, syrof::lab::Error{.where = "--scenario", .message = loaded.error->ToString()}};
     }
     header = syrof::lab::sim::ReplayHeader(*loaded.scenario);
   } else {
@@ -102,11 +108,12 @@ std::optional<replay::Header> MakeHeader(const Options& options, std::string& er
   }
   if (options.round_ms > 0) header.radio_round_ns = std::llround(options.round_ms * 1e6);
   if (header.robots.empty() || header.robots.size() > syrof::wire::kMaxSwarmSize) {
-    error = "the swarm has " + std::to_string(header.robots.size()) + " robots; it must have 1 to " +
-            std::to_string(syrof::wire::kMaxSwarmSize);
-    return std::nullopt;
+    return {std::nullopt, syrof::lab::Error{.where = "",
+                                            .message = "the swarm has " + std::to_string(header.robots.size()) +
+                                                       " robots; it must have 1 to " +
+                                                       std::to_string(syrof::wire::kMaxSwarmSize)}};
   }
-  return header;
+  return {std::move(header), std::nullopt};
 }
 
 // Reads the link until it ends, a signal, or --seconds; ends rounds on the
@@ -163,12 +170,12 @@ std::string RunLink(int fd, bool wall_rounds, const Options& options, bridge::Ba
 }
 
 int Run(const Options& options) {
-  std::string error;
-  const std::optional<replay::Header> header = MakeHeader(options, error);
-  if (!header) {
-    std::fprintf(stderr, "syrof-bridge: %s\n", error.c_str());
+  const HeaderOrError made_header = MakeHeader(options);
+  if (!made_header.ok()) {
+    std::fprintf(stderr, "syrof-bridge: %s\n", made_header.error->ToString().c_str());
     return kBadInput;
   }
+  const std::optional<replay::Header>& header = made_header.header;
 
   // The input.
   bridge::LinkOrError link;
@@ -279,7 +286,8 @@ int Run(const Options& options) {
     std::ifstream in(run.replay_path, std::ios::binary);
     facts = bridge::ReadReplayFacts(in);
     if (!facts->read) {
-      std::fprintf(stderr, "syrof-bridge: the replay does not read back: %s\n", facts->error.c_str());
+      std::fprintf(stderr, "syrof-bridge: the replay does not read back: %s\n",
+                   facts->error->ToString().c_str());
       status = kFailed;
     }
   }

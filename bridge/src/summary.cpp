@@ -16,7 +16,7 @@ ReplayFacts ReadReplayFacts(std::istream& in) {
   replay::Reader reader(in);
   replay::Header header;
   if (!reader.ReadHeader(header)) {
-    facts.error = reader.error().ToString();
+    facts.error = reader.error();
     return facts;
   }
   facts.robots.resize(header.robots.size());
@@ -39,7 +39,7 @@ ReplayFacts ReadReplayFacts(std::istream& in) {
     }
   }
   facts.read = reader.complete();
-  if (!facts.read) facts.error = reader.error().ToString();
+  if (!facts.read) facts.error = reader.error();
   return facts;
 }
 
@@ -112,7 +112,7 @@ std::string SummaryJson(const BaseStation& station, const BridgeRunInfo& run, co
     nlohmann::json replay_entry = {{"path", run.replay_path}};
     if (facts) {
       replay_entry["read_back"] = facts->read;
-      if (!facts->read) replay_entry["error"] = facts->error;
+      if (!facts->read) replay_entry["error"] = facts->error->ToString();
       replay_entry["rounds"] = facts->rounds;
       nlohmann::json per_robot = nlohmann::json::array();
       for (const RobotReplayFacts& robot : facts->robots) {

@@ -303,7 +303,8 @@ TEST(BaseStationTest, TheReplayItWritesReadsBackWithEveryRobotsEpochs) {
   }
   ASSERT_TRUE(replay_sink.ok()) << replay_sink.error().ToString();
   const ReplayFacts facts = ReadReplayFacts(file);
-  ASSERT_TRUE(facts.read) << facts.error;
+  ASSERT_TRUE(facts.read) << facts.error->ToString();
+  EXPECT_FALSE(facts.error);
   EXPECT_EQ(facts.rounds, 3u);
   ASSERT_EQ(facts.robots.size(), kSwarm);
   for (const RobotReplayFacts& robot : facts.robots) {

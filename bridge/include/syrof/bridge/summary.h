@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "syrof/bridge/base_station.h"
+#include "syrof/lab/base/error.h"
 
 namespace syrof::bridge {
 
@@ -27,7 +28,7 @@ struct RobotReplayFacts {
 
 struct ReplayFacts {
   bool read = false;      ///< the header and every round read, end marker included
-  std::string error;      ///< the reader's error when not read
+  std::optional<lab::Error> error;  ///< the reader's error when not read
   uint32_t rounds = 0;
   std::vector<RobotReplayFacts> robots;  ///< per header robot, in id order
 };
