@@ -24,6 +24,24 @@ size_t Tests(const std::vector<grader::assignment::ScenarioRun>& runs) {
   return tests;
 }
 
+// The course secret for --per-student-seeds: --course-secret-file, else
+// $SYROF_COURSE_SECRET (its error names the variable).
+grader::CourseSecretOrError CourseSecret(const GradescopeOptions& options) {
+  if (!options.course_secret_file.empty()) return grader::ReadCourseSecretFile(options.course_secret_file);
+  const char* variable = std::getenv(grader::kCourseSecretVariable);
+  if (variable == nullptr || *variable == '\0') {
+    return {std::nullopt,
+            lab::Error{.where = "",
+                       .message = fmt::format("--per-student-seeds needs the course secret: set {} or give "
+                                              "--course-secret-file FILE",
+                                              grader::kCourseSecretVariable)}};
+  }
+  if (std::optional<lab::Error> problem = grader::CheckCourseSecret(variable)) {
+    return {std::nullopt, lab::Error{.where = grader::kCourseSecretVariable, .message = problem->ToString()}};
+  }
+  return {std::string(variable), std::nullopt};
+}
+
 // The build tree the running syrof is in (build/bin/syrof -> build).
 fs::path RunningBuildTree() {
   std::error_code error;
@@ -32,54 +50,54 @@ fs::path RunningBuildTree() {
   return self.parent_path().parent_path();
 }
 
+// No folder, and why.
+FolderOrError NoFolder(std::string message) {
+  return {std::nullopt, lab::Error{.where = "", .message = std::move(message)}};
+}
+
 }  // namespace
 
-std::string FindAssignmentFolder(const std::string& name_or_path, std::string& error) {
+FolderOrError FindAssignmentFolder(const std::string& name_or_path) {
   std::error_code ignored;
   const fs::path given(name_or_path);
   if (fs::is_regular_file(given, ignored) && given.filename() == "assignment.yaml") {
-    return given.parent_path().empty() ? "." : given.parent_path().string();
+    return {given.parent_path().empty() ? "." : given.parent_path().string(), std::nullopt};
   }
   if (fs::is_directory(given, ignored)) {
-    if (fs::is_regular_file(given / "assignment.yaml", ignored)) return given.string();
-    error = fmt::format("{} holds no assignment.yaml", name_or_path);
-    return {};
+    if (fs::is_regular_file(given / "assignment.yaml", ignored)) return {given.string(), std::nullopt};
+    return NoFolder(fmt::format("{} holds no assignment.yaml", name_or_path));
   }
   const bool plain_name = !name_or_path.empty() && name_or_path.find('/') == std::string::npos &&
                           name_or_path != "." && name_or_path != "..";
   if (plain_name) {
     const fs::path named = fs::path("assignments") / name_or_path;
-    if (fs::is_regular_file(named / "assignment.yaml", ignored)) return named.string();
-    error = fmt::format("no assignment '{}': neither a folder nor ./{}/assignment.yaml", name_or_path,
-                        named.string());
-    return {};
+    if (fs::is_regular_file(named / "assignment.yaml", ignored)) return {named.string(), std::nullopt};
+    return NoFolder(fmt::format("no assignment '{}': neither a folder nor ./{}/assignment.yaml", name_or_path,
+                                named.string()));
   }
-  error = fmt::format("no assignment at {}", name_or_path);
-  return {};
+  return NoFolder(fmt::format("no assignment at {}", name_or_path));
 }
 
-std::string PrefixBesideBuild(const fs::path& build_dir, std::string& error) {
+FolderOrError PrefixBesideBuild(const fs::path& build_dir) {
   const fs::path prefix = build_dir / "gradescope-prefix";
   const fs::path mark = prefix / grader::report::kSyrofFolderMark;
   std::error_code failed;
   if (!fs::is_regular_file(mark, failed)) {
-    error = fmt::format(
+    return NoFolder(fmt::format(
         "no self-contained SyROF for Gradescope beside this build ({}): make it with `make gradescope-prefix` "
         "(scripts/gradescope-prefix.sh), or give one with --prefix DIR",
-        prefix.string());
-    return {};
+        prefix.string()));
   }
   // A folder older than the programs it copied would ship an old syrof.
   for (const char* program : {"bin/syrof", "bin/syrof-app-host", "lib/libsyrof_app.so.1"}) {
     const fs::path built = build_dir / program;
     if (!fs::exists(built, failed)) continue;
     if (fs::last_write_time(built, failed) > fs::last_write_time(mark, failed)) {
-      error = fmt::format("{} is older than {}: make it again with `make gradescope-prefix`", prefix.string(),
-                          built.string());
-      return {};
+      return NoFolder(fmt::format("{} is older than {}: make it again with `make gradescope-prefix`",
+                                  prefix.string(), built.string()));
     }
   }
-  return prefix.string();
+  return {prefix.string(), std::nullopt};
 }
 
 CLI::App* SetupGradescopeCommand(CLI::App& app, GradescopeOptions& options) {
@@ -110,12 +128,12 @@ CLI::App* SetupGradescopeCommand(CLI::App& app, GradescopeOptions& options) {
 }
 
 int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, std::ostream& err) {
-  std::string error;
-  const std::string folder = FindAssignmentFolder(options.assignment, error);
-  if (folder.empty()) {
-    fmt::print(err, "syrof gradescope: {}\n", error);
+  const FolderOrError found = FindAssignmentFolder(options.assignment);
+  if (!found.ok()) {
+    fmt::print(err, "syrof gradescope: {}\n", found.error->ToString());
     return kBadInput;
   }
+  const std::string& folder = *found.folder;
   const grader::assignment::LoadResult loaded = grader::assignment::LoadAssignmentFile(folder);
   if (!loaded.ok()) {
     fmt::print(err, "syrof gradescope: the assignment does not load: {}\n", loaded.error->ToString());
@@ -123,33 +141,21 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
   }
   std::string prefix = options.prefix;
   if (prefix.empty()) {
-    prefix = PrefixBesideBuild(RunningBuildTree(), error);
-    if (prefix.empty()) {
-      fmt::print(err, "syrof gradescope: {}\n", error);
+    const FolderOrError beside = PrefixBesideBuild(RunningBuildTree());
+    if (!beside.ok()) {
+      fmt::print(err, "syrof gradescope: {}\n", beside.error->ToString());
       return kBadInput;
     }
+    prefix = *beside.folder;
   }
   std::optional<std::string> course_secret;
   if (options.per_student_seeds) {
-    if (!options.course_secret_file.empty()) {
-      grader::CourseSecretOrError read = grader::ReadCourseSecretFile(options.course_secret_file);
-      course_secret = std::move(read.secret);
-      if (read.error) error = read.error->ToString();
-    } else if (const char* variable = std::getenv(grader::kCourseSecretVariable);
-               variable != nullptr && *variable != '\0') {
-      if (const std::optional<lab::Error> problem = grader::CheckCourseSecret(variable)) {
-        error = std::string(grader::kCourseSecretVariable) + ": " + problem->ToString();
-      } else {
-        course_secret = std::string(variable);
-      }
-    } else {
-      error = fmt::format("--per-student-seeds needs the course secret: set {} or give --course-secret-file FILE",
-                          grader::kCourseSecretVariable);
-    }
-    if (!course_secret) {
-      fmt::print(err, "syrof gradescope: {}\n", error);
+    grader::CourseSecretOrError secret = CourseSecret(options);
+    if (!secret.ok()) {
+      fmt::print(err, "syrof gradescope: {}\n", secret.error->ToString());
       return kBadInput;
     }
+    course_secret = std::move(secret.secret);
   }
   const int deadline_s = options.deadline_s > 0 ? options.deadline_s : grader::report::kDefaultDeadlineS;
   const grader::report::BundleResult bundle = grader::report::GradescopeBundle(folder, prefix, course_secret, deadline_s);

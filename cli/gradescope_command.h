@@ -7,10 +7,13 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <string>
 
 #include <CLI/CLI.hpp>
+
+#include "syrof/lab/base/error.h"
 
 namespace syrof::cli {
 
@@ -38,15 +41,22 @@ CLI::App* SetupGradescopeCommand(CLI::App& app, GradescopeOptions& options);
 /// the zip cannot be written.
 int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, std::ostream& err);
 
+/// A folder, or why there is none.
+struct FolderOrError {
+  std::optional<std::string> folder;
+  std::optional<lab::Error> error;
+  bool ok() const { return folder.has_value(); }
+};
+
 /// The assignment folder `name_or_path` names: a folder holding
 /// assignment.yaml, an assignment.yaml itself, or a name NAME for
-/// ./assignments/NAME. Empty, with `error` set, when there is none.
-std::string FindAssignmentFolder(const std::string& name_or_path, std::string& error);
+/// ./assignments/NAME. An error when there is none.
+FolderOrError FindAssignmentFolder(const std::string& name_or_path);
 
 /// The self-contained SyROF that `make gradescope-prefix` wrote into the
-/// build tree `build_dir` (its gradescope-prefix/ folder). Empty, with
-/// `error` set, when there is none, or when it is older than the build's
-/// syrof, app host or libsyrof_app (it would ship old programs).
-std::string PrefixBesideBuild(const std::filesystem::path& build_dir, std::string& error);
+/// build tree `build_dir` (its gradescope-prefix/ folder). An error when
+/// there is none, or when it is older than the build's syrof, app host or
+/// libsyrof_app (it would ship old programs).
+FolderOrError PrefixBesideBuild(const std::filesystem::path& build_dir);
 
 }  // namespace syrof::cli

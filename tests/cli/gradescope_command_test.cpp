@@ -100,7 +100,15 @@ TEST_F(GradescopeCommandTest, PerStudentSeedsPutTheCourseSecretInTheBundleOrRefu
   unsetenv("SYROF_COURSE_SECRET");
   const Outcome refused = Gradescope(options);
   EXPECT_EQ(refused.status, 2);
-  EXPECT_NE(refused.err.find("--per-student-seeds needs the course secret"), std::string::npos) << refused.err;
+  EXPECT_EQ(refused.err, "syrof gradescope: --per-student-seeds needs the course secret: set SYROF_COURSE_SECRET or "
+                         "give --course-secret-file FILE\n");
+  EXPECT_FALSE(fs::exists(options.output));
+  setenv("SYROF_COURSE_SECRET", "short", 1);
+  const Outcome too_short = Gradescope(options);
+  unsetenv("SYROF_COURSE_SECRET");
+  EXPECT_EQ(too_short.status, 2);
+  EXPECT_EQ(too_short.err, "syrof gradescope: SYROF_COURSE_SECRET: the course secret has 5 bytes; it needs at least "
+                           "16 (for example `openssl rand -hex 32`)\n");
   EXPECT_FALSE(fs::exists(options.output));
 
   std::ofstream(dir_ / "secret") << "0123456789abcdef-course-secret\n";
@@ -125,15 +133,26 @@ TEST_F(GradescopeCommandTest, PerStudentSeedsPutTheCourseSecretInTheBundleOrRefu
 }
 
 TEST_F(GradescopeCommandTest, FindsAnAssignmentByItsFileOrByNameUnderAssignments) {
-  std::string error;
   const std::string gather = std::string(SYROF_ASSIGNMENTS_DIR) + "/gather";
 
-  EXPECT_EQ(FindAssignmentFolder(gather + "/assignment.yaml", error), gather);
-  EXPECT_EQ(FindAssignmentFolder(gather, error), gather);
+  EXPECT_EQ(FindAssignmentFolder(gather + "/assignment.yaml").folder, gather);
+  EXPECT_EQ(FindAssignmentFolder(gather).folder, gather);
   const fs::path here = fs::current_path();
   fs::current_path(fs::path(SYROF_ASSIGNMENTS_DIR).parent_path());
-  EXPECT_EQ(FindAssignmentFolder("gather", error), "assignments/gather");
+  const FolderOrError by_name = FindAssignmentFolder("gather");
+  const FolderOrError missing = FindAssignmentFolder("no_such_assignment");
   fs::current_path(here);
+  EXPECT_EQ(by_name.folder, "assignments/gather");
+  EXPECT_FALSE(by_name.error);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error->ToString(),
+            "no assignment 'no_such_assignment': neither a folder nor ./assignments/no_such_assignment/assignment.yaml");
+  const FolderOrError no_file = FindAssignmentFolder(dir_.string());
+  ASSERT_FALSE(no_file.ok());
+  EXPECT_EQ(no_file.error->ToString(), dir_.string() + " holds no assignment.yaml");
+  const FolderOrError nowhere = FindAssignmentFolder((dir_ / "nowhere").string());
+  ASSERT_FALSE(nowhere.ok());
+  EXPECT_EQ(nowhere.error->ToString(), "no assignment at " + (dir_ / "nowhere").string());
 }
 
 TEST_F(GradescopeCommandTest, RefusesAnAssignmentThatIsNotThereOrDoesNotLoad) {
@@ -159,23 +178,26 @@ TEST_F(GradescopeCommandTest, RefusesAnAssignmentThatIsNotThereOrDoesNotLoad) {
 TEST_F(GradescopeCommandTest, FindsTheSyrofFolderBesideTheBuildOrSaysHowToMakeOne) {
   const fs::path build = dir_ / "build";
   fs::create_directories(build / "bin");
-  std::string error;
-
-  EXPECT_EQ(PrefixBesideBuild(build, error), "");
-  EXPECT_NE(error.find("no self-contained SyROF for Gradescope beside this build"), std::string::npos) << error;
-  EXPECT_NE(error.find("make gradescope-prefix"), std::string::npos) << error;
-  EXPECT_NE(error.find("--prefix DIR"), std::string::npos) << error;
+  const FolderOrError none = PrefixBesideBuild(build);
+  ASSERT_FALSE(none.ok());
+  EXPECT_EQ(none.error->ToString(), "no self-contained SyROF for Gradescope beside this build (" +
+                                        (build / "gradescope-prefix").string() +
+                                        "): make it with `make gradescope-prefix` (scripts/gradescope-prefix.sh), or "
+                                        "give one with --prefix DIR");
 
   std::ofstream(build / "bin/syrof") << "the build's syrof\n";
   MakeSyrofFolder(build / "gradescope-prefix");
-  error.clear();
-  EXPECT_EQ(PrefixBesideBuild(build, error), (build / "gradescope-prefix").string()) << error;
+  const FolderOrError made = PrefixBesideBuild(build);
+  ASSERT_TRUE(made.ok()) << made.error->ToString();
+  EXPECT_EQ(*made.folder, (build / "gradescope-prefix").string());
 
   // The build's syrof rebuilt after the folder was made: the folder would ship the old one.
   fs::last_write_time(build / "bin/syrof",
                       fs::last_write_time(build / "gradescope-prefix/gradescope-prefix.txt") + std::chrono::seconds(5));
-  EXPECT_EQ(PrefixBesideBuild(build, error), "");
-  EXPECT_NE(error.find("is older than " + (build / "bin/syrof").string()), std::string::npos) << error;
+  const FolderOrError old = PrefixBesideBuild(build);
+  ASSERT_FALSE(old.ok());
+  EXPECT_EQ(old.error->ToString(), (build / "gradescope-prefix").string() + " is older than " +
+                                       (build / "bin/syrof").string() + ": make it again with `make gradescope-prefix`");
 }
 
 TEST_F(GradescopeCommandTest, KeepsTheProgramsExecutableInTheZip) {
