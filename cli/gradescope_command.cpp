@@ -160,11 +160,11 @@ int RunGradescopeCommand(const GradescopeOptions& options, std::ostream& out, st
   const int deadline_s = options.deadline_s > 0 ? options.deadline_s : grader::report::kDefaultDeadlineS;
   const grader::report::BundleResult bundle = grader::report::GradescopeBundle(folder, prefix, course_secret, deadline_s);
   if (!bundle.ok()) {
-    fmt::print(err, "syrof gradescope: {}\n", bundle.error);
+    fmt::print(err, "syrof gradescope: {}\n", bundle.error->ToString());
     return kBadInput;
   }
-  if (std::string problem = grader::report::WriteBundleZip(*bundle.bundle, options.output); !problem.empty()) {
-    fmt::print(err, "syrof gradescope: {}\n", problem);
+  if (const std::optional<lab::Error> problem = grader::report::WriteBundleZip(*bundle.bundle, options.output)) {
+    fmt::print(err, "syrof gradescope: {}\n", problem->ToString());
     return kInternalError;
   }
   std::error_code ignored;

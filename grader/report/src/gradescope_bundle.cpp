@@ -17,6 +17,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A bundle's failure, its words whole.
+lab::Error BundleError(std::string message) { return lab::Error{.where = "", .message = std::move(message)}; }
+
 // The assignment's folders that stay with the instructor: its solution and
 // the variants that test the grader.
 const std::set<std::string> kLeftOut = {"reference", "broken"};
@@ -34,33 +37,35 @@ std::string Asset(const unsigned char* bytes, size_t size) {
 }
 
 // Lists `folder` into `files` under `prefix`, a file executable when its
-// owner may execute it; "" or what went wrong. `top`: the assignment's
-// folder, whose reference/ and broken/ stay with the instructor.
-std::string ListFolder(const fs::path& folder, const std::string& prefix, bool top, std::vector<BundleFile>& files) {
+// owner may execute it; what went wrong, if anything. `top`: the
+// assignment's folder, whose reference/ and broken/ stay with the instructor.
+std::optional<lab::Error> ListFolder(const fs::path& folder, const std::string& prefix, bool top,
+                                     std::vector<BundleFile>& files) {
   std::error_code error;
   fs::directory_iterator it(folder, error);
-  if (error) return fmt::format("cannot list {}: {}", folder.string(), error.message());
+  if (error) return BundleError(fmt::format("cannot list {}: {}", folder.string(), error.message()));
   for (; it != fs::directory_iterator(); it.increment(error)) {
     const std::string name = it->path().filename().string();
     if (name.starts_with(".")) continue;
     if (top && kLeftOut.contains(name)) continue;
     const fs::file_status status = it->symlink_status(error);
     if (fs::is_symlink(status)) {
-      return fmt::format("{} is a symbolic link; a bundle holds only regular files and folders", it->path().string());
+      return BundleError(
+          fmt::format("{} is a symbolic link; a bundle holds only regular files and folders", it->path().string()));
     }
     if (fs::is_directory(status)) {
-      if (std::string problem = ListFolder(it->path(), prefix + name + "/", false, files); !problem.empty()) {
+      if (std::optional<lab::Error> problem = ListFolder(it->path(), prefix + name + "/", false, files)) {
         return problem;
       }
     } else if (fs::is_regular_file(status)) {
       const bool executable = (status.permissions() & fs::perms::owner_exec) != fs::perms::none;
       files.push_back({prefix + name, it->path().string(), {}, executable});
     } else {
-      return fmt::format("{} is neither a file nor a folder", it->path().string());
+      return BundleError(fmt::format("{} is neither a file nor a folder", it->path().string()));
     }
   }
-  if (error) return fmt::format("cannot list {}: {}", folder.string(), error.message());
-  return {};
+  if (error) return BundleError(fmt::format("cannot list {}: {}", folder.string(), error.message()));
+  return std::nullopt;
 }
 
 // What a self-contained SyROF folder must hold for grading, relative to it.
@@ -68,13 +73,11 @@ const char* const kSyrofFolderNeeds[] = {"bin/syrof", "libexec/syrof/syrof-app-h
                                          "lib/cmake/SyROF/SyROFConfig.cmake", "include/syrof/app.h",
                                          kSyrofFolderMark};
 
-// Sets an entry's mode and timestamp; "" or what went wrong.
-std::string SetAttributes(zip_t* zip, zip_int64_t index, zip_uint32_t mode) {
-  if (zip_file_set_external_attributes(zip, static_cast<zip_uint64_t>(index), 0, ZIP_OPSYS_UNIX, mode << 16) != 0 ||
-      zip_file_set_dostime(zip, static_cast<zip_uint64_t>(index), kDosTime, kDosDate, 0) != 0) {
-    return zip_strerror(zip);
-  }
-  return {};
+// Sets an entry's mode and timestamp; false when libzip refuses
+// (zip_strerror says why).
+bool SetAttributes(zip_t* zip, zip_int64_t index, zip_uint32_t mode) {
+  return zip_file_set_external_attributes(zip, static_cast<zip_uint64_t>(index), 0, ZIP_OPSYS_UNIX, mode << 16) == 0 &&
+         zip_file_set_dostime(zip, static_cast<zip_uint64_t>(index), kDosTime, kDosDate, 0) == 0;
 }
 
 }  // namespace
@@ -88,29 +91,29 @@ BundleResult GradescopeBundle(const std::string& assignment_folder, const std::s
   const fs::path folder(assignment_folder);
   std::error_code error;
   if (!fs::is_regular_file(folder / "assignment.yaml", error)) {
-    result.error = fmt::format("{} holds no assignment.yaml", assignment_folder);
+    result.error = BundleError(fmt::format("{} holds no assignment.yaml", assignment_folder));
     return result;
   }
   for (const char* needed : kSyrofFolderNeeds) {
     if (!fs::is_regular_file(fs::path(syrof_folder) / needed, error)) {
-      result.error = fmt::format(
+      result.error = BundleError(fmt::format(
           "{} is not a self-contained SyROF for Gradescope: it has no {} (make one with `make gradescope-prefix`)",
-          syrof_folder, needed);
+          syrof_folder, needed));
       return result;
     }
   }
   Bundle bundle;
   bundle.files.push_back({"setup.sh", {}, GradescopeSetupScript(), true});
   bundle.files.push_back({"run_autograder", {}, GradescopeRunScript(), true});
-  if (std::string problem = ListFolder(syrof_folder, std::string(kSyrofFolder) + "/", false, bundle.files);
-      !problem.empty()) {
-    result.error = problem;
+  if (std::optional<lab::Error> problem =
+          ListFolder(syrof_folder, std::string(kSyrofFolder) + "/", false, bundle.files)) {
+    result.error = std::move(problem);
     return result;
   }
   if (course_secret) bundle.files.push_back({std::string(kCourseSecretFile), {}, *course_secret + "\n", false});
   bundle.files.push_back({std::string(kDeadlineFile), {}, std::to_string(deadline_s) + "\n", false});
-  if (std::string problem = ListFolder(folder, "assignment/", true, bundle.files); !problem.empty()) {
-    result.error = problem;
+  if (std::optional<lab::Error> problem = ListFolder(folder, "assignment/", true, bundle.files)) {
+    result.error = std::move(problem);
     return result;
   }
   std::sort(bundle.files.begin(), bundle.files.end(),
@@ -119,7 +122,7 @@ BundleResult GradescopeBundle(const std::string& assignment_folder, const std::s
   return result;
 }
 
-std::string WriteBundleZip(const Bundle& bundle, const std::string& zip_path) {
+std::optional<lab::Error> WriteBundleZip(const Bundle& bundle, const std::string& zip_path) {
   int code = 0;
   zip_t* zip = zip_open(zip_path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &code);
   if (zip == nullptr) {
@@ -127,12 +130,13 @@ std::string WriteBundleZip(const Bundle& bundle, const std::string& zip_path) {
     zip_error_init_with_code(&error, code);
     std::string message = fmt::format("cannot write {}: {}", zip_path, zip_error_strerror(&error));
     zip_error_fini(&error);
-    return message;
+    return BundleError(std::move(message));
   }
   // On a problem, nothing is written (zip_discard leaves no file behind).
   const auto fail = [&](const std::string& what) {
+    std::optional<lab::Error> failed = BundleError(fmt::format("cannot write {}: {}", zip_path, what));
     zip_discard(zip);
-    return fmt::format("cannot write {}: {}", zip_path, what);
+    return failed;
   };
   // Folders get entries of their own (mode 0755), each before its files;
   // names sort so that "a/" comes before "a/b".
@@ -151,7 +155,7 @@ std::string WriteBundleZip(const Bundle& bundle, const std::string& zip_path) {
     if (file == nullptr) {
       const zip_int64_t index = zip_dir_add(zip, name.c_str(), ZIP_FL_ENC_UTF_8);
       if (index < 0) return fail(zip_strerror(zip));
-      if (std::string problem = SetAttributes(zip, index, kFolderMode); !problem.empty()) return fail(problem);
+      if (!SetAttributes(zip, index, kFolderMode)) return fail(zip_strerror(zip));
       continue;
     }
     zip_source_t* source =
@@ -167,13 +171,10 @@ std::string WriteBundleZip(const Bundle& bundle, const std::string& zip_path) {
     if (zip_set_file_compression(zip, static_cast<zip_uint64_t>(index), ZIP_CM_DEFLATE, 9) != 0) {
       return fail(zip_strerror(zip));
     }
-    if (std::string problem = SetAttributes(zip, index, file->executable ? kExecutableMode : kFileMode);
-        !problem.empty()) {
-      return fail(problem);
-    }
+    if (!SetAttributes(zip, index, file->executable ? kExecutableMode : kFileMode)) return fail(zip_strerror(zip));
   }
   if (zip_close(zip) != 0) return fail(zip_strerror(zip));
-  return {};
+  return std::nullopt;
 }
 
 }  // namespace syrof::grader::report

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/base/error.h"
+
 namespace syrof::grader::report {
 
 /// One file of the bundle.
@@ -37,7 +39,7 @@ struct Bundle {
 /// A bundle, or why there is none.
 struct BundleResult {
   std::optional<Bundle> bundle;
-  std::string error;
+  std::optional<lab::Error> error;
   bool ok() const { return bundle.has_value(); }
 };
 
@@ -76,8 +78,8 @@ BundleResult GradescopeBundle(const std::string& assignment_folder, const std::s
                               const std::optional<std::string>& course_secret = std::nullopt,
                               int deadline_s = kDefaultDeadlineS);
 
-/// Writes `bundle` as a zip at `zip_path` (replacing it). Returns "" or
-/// what went wrong.
-std::string WriteBundleZip(const Bundle& bundle, const std::string& zip_path);
+/// Writes `bundle` as a zip at `zip_path` (replacing it). Returns what went
+/// wrong (naming the zip), if anything; nothing is written then.
+std::optional<lab::Error> WriteBundleZip(const Bundle& bundle, const std::string& zip_path);
 
 }  // namespace syrof::grader::report
