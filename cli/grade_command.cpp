@@ -180,8 +180,8 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
     grader::report::ReportOptions live_options;
     live_options.feedback_withheld = feedback_withheld;
     live.emplace(options.gradescope_results, graded, std::move(planned), live_options);
-    if (std::string problem = live->Begin(); !problem.empty()) {
-      fmt::print(err, "syrof grade: --gradescope-results: {}\n", problem);
+    if (const std::optional<lab::Error> problem = live->Begin()) {
+      fmt::print(err, "syrof grade: --gradescope-results: {}\n", problem->ToString());
       return kBadInput;
     }
     grade.on_test = [&live, progress = grade.on_test](const assignment::TestResult& test) {
@@ -197,15 +197,14 @@ int GradeOne(const GradeOptions& options, std::ostream& out, std::ostream& err) 
       grade.student_seeds && !result.public_only
           ? grader::HiddenSeedsText(grader::GradedAssignment(*loaded, grade))
           : std::string());
-  if (std::string problem = grader::WriteSubmissionOutputs(result, hash, notes, out_dir, options.report == "full",
-                                                          feedback_withheld);
-      !problem.empty()) {
-    fmt::print(err, "syrof grade: {}\n", problem);
+  if (const std::optional<lab::Error> problem = grader::WriteSubmissionOutputs(
+          result, hash, notes, out_dir, options.report == "full", feedback_withheld)) {
+    fmt::print(err, "syrof grade: {}\n", problem->ToString());
     return kInternalError;
   }
   if (live) {
-    if (std::string problem = live->Finish(result); !problem.empty()) {
-      fmt::print(err, "syrof grade: --gradescope-results: {}\n", problem);
+    if (const std::optional<lab::Error> problem = live->Finish(result)) {
+      fmt::print(err, "syrof grade: --gradescope-results: {}\n", problem->ToString());
       return kInternalError;
     }
   }

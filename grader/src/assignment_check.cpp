@@ -168,8 +168,8 @@ SubjectOutcome CheckOne(const assignment::Assignment& assignment, const CheckSub
   outcome.result.submission = subject.name;
   outcome.problems = JudgeSubject(subject, outcome.result);
   const std::string hash = InputsHash(project, assignment.folder, false);
-  if (std::string problem = WriteSubmissionOutputs(outcome.result, hash, notes, subject_out); !problem.empty()) {
-    outcome.problems.push_back(problem);
+  if (std::optional<lab::Error> problem = WriteSubmissionOutputs(outcome.result, hash, notes, subject_out)) {
+    outcome.problems.push_back(problem->ToString());
   }
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   return outcome;

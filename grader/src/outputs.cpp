@@ -9,10 +9,10 @@
 
 namespace syrof::grader {
 
-std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, const std::string& inputs_hash,
-                                   const std::vector<std::string>& notes, const std::string& out_dir,
-                                   bool full_report,
-                                   std::optional<report::ReportOptions::FeedbackCap> feedback_withheld) {
+std::optional<lab::Error> WriteSubmissionOutputs(const assignment::SubmissionResult& result,
+                                                 const std::string& inputs_hash, const std::vector<std::string>& notes,
+                                                 const std::string& out_dir, bool full_report,
+                                                 std::optional<report::ReportOptions::FeedbackCap> feedback_withheld) {
   GradeFile file;
   file.result = result;
   file.inputs_hash = inputs_hash;
@@ -23,7 +23,7 @@ std::string WriteSubmissionOutputs(const assignment::SubmissionResult& result, c
   const std::filesystem::path path = std::filesystem::path(out_dir) / "grade.json";
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << GradeJson(file);
-  if (!out) return "cannot write " + path.string();
+  if (!out) return lab::Error{.where = "", .message = "cannot write " + path.string()};
   // Every graded submission, single or in a class, passes here once.
   report::ReportOptions options;
   options.form = full_report ? report::ReportForm::kFull : report::ReportForm::kStudent;
@@ -39,12 +39,12 @@ LiveResultsFile::LiveResultsFile(std::string path, const assignment::Assignment&
   AddUp(current_, assignment_);
 }
 
-std::string LiveResultsFile::Begin() {
+std::optional<lab::Error> LiveResultsFile::Begin() {
   const std::lock_guard<std::mutex> lock(mutex_);
   return Write(current_);
 }
 
-std::string LiveResultsFile::Record(const assignment::TestResult& test) {
+std::optional<lab::Error> LiveResultsFile::Record(const assignment::TestResult& test) {
   const std::lock_guard<std::mutex> lock(mutex_);
   for (assignment::TestResult& planned : current_.tests) {
     if (planned.name == test.name) planned = test;
@@ -53,23 +53,23 @@ std::string LiveResultsFile::Record(const assignment::TestResult& test) {
   return Write(current_);
 }
 
-std::string LiveResultsFile::Finish(const assignment::SubmissionResult& result) {
+std::optional<lab::Error> LiveResultsFile::Finish(const assignment::SubmissionResult& result) {
   const std::lock_guard<std::mutex> lock(mutex_);
   return Write(result);
 }
 
-std::string LiveResultsFile::Write(const assignment::SubmissionResult& result) {
+std::optional<lab::Error> LiveResultsFile::Write(const assignment::SubmissionResult& result) {
   const std::string temporary = path_ + ".partial";
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     out << report::GradescopeResultsJson(result, options_);
     out.flush();
-    if (!out) return "cannot write " + temporary;
+    if (!out) return lab::Error{.where = "", .message = "cannot write " + temporary};
   }
   std::error_code error;
   std::filesystem::rename(temporary, path_, error);
-  if (error) return "cannot write " + path_ + ": " + error.message();
-  return {};
+  if (error) return lab::Error{.where = "", .message = "cannot write " + path_ + ": " + error.message()};
+  return std::nullopt;
 }
 
 }  // namespace syrof::grader

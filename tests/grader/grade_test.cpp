@@ -259,20 +259,20 @@ TEST(LiveResultsFileTest, HoldsTheTestsGradedSoFarAndAtTheEndTheReportsBytes) {
   const fs::path path = out / "live.json";
   LiveResultsFile live(path.string(), tiny, planned);
 
-  ASSERT_EQ(live.Begin(), "");
+  ASSERT_EQ(live.Begin(), std::nullopt);
   const std::string begun = Read(path);
   EXPECT_NE(begun.find("\"score\": 0"), std::string::npos) << begun;
   EXPECT_NE(begun.find(LiveResultsFile::kNotGraded), std::string::npos) << begun;
 
-  ASSERT_EQ(live.Record(graded.tests[0]), "");
+  ASSERT_EQ(live.Record(graded.tests[0]), std::nullopt);
   const std::string one = Read(path);
   EXPECT_NE(one.find("\"score\": 20"), std::string::npos) << one;
   EXPECT_NE(one.find("\"status\": \"passed\""), std::string::npos) << one;
   EXPECT_NE(one.find(LiveResultsFile::kNotGraded), std::string::npos) << "two tests not graded yet: " << one;
   EXPECT_FALSE(fs::exists(path.string() + ".partial")) << "each write is renamed into place";
 
-  ASSERT_EQ(live.Finish(graded), "");
-  ASSERT_EQ(WriteSubmissionOutputs(graded, "hash", notes, out.string()), "");
+  ASSERT_EQ(live.Finish(graded), std::nullopt);
+  ASSERT_EQ(WriteSubmissionOutputs(graded, "hash", notes, out.string()), std::nullopt);
   EXPECT_EQ(Read(path), Read(out / "results.json"));
 }
 
@@ -349,7 +349,7 @@ TEST(GradeOutputsTest, StudentOutputsNameNoAbsolutePathTheStudentsLibraryAndNoHi
   std::vector<std::string> notes;
 
   const SubmissionResult result = GradeSubmission(tiny, submission.string(), out.string(), options, notes);
-  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string()), "");
+  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string()), std::nullopt);
 
   ASSERT_TRUE(result.build.ok()) << result.build.detail;
   ASSERT_EQ(result.tests.size(), 3u);
@@ -393,7 +393,7 @@ TEST(GradeOutputsTest, StudentOutputsNameNoAbsolutePathTheStudentsLibraryAndNoHi
   EXPECT_NE(Row(report, 1).find("agreement"), std::string::npos) << Row(report, 1);
 
   // The instructor's full form shows it whole, still with no absolute path.
-  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string(), true), "");
+  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string(), true), std::nullopt);
   const std::string full = Read(out / "report.html");
   EXPECT_NE(full.find("runs/secret/seed-3/replay.html"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "runs/secret/seed-3/replay.html"));
@@ -713,7 +713,7 @@ TEST(StudentSeedsGradeTest, HiddenRunsUseTheStudentsSeedsAndTheReplayCommandRepr
       << hidden.replay_command;
 
   // grade.json keeps the student and the seeds.
-  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string()), "");
+  ASSERT_EQ(WriteSubmissionOutputs(result, "hash", notes, out.string()), std::nullopt);
   const GradeFileOrError read_json = ReadGradeJson((out / "grade.json").string());
   ASSERT_TRUE(read_json.ok()) << read_json.error->ToString();
   const std::optional<GradeFile>& read = read_json.file;

@@ -157,7 +157,7 @@ class HostileBuildTest : public ::testing::Test {
     options.jobs = 2;
     SubmissionResult result = GradeSubmission(LoadTiny(), submission.string(), out.string(), options, notes);
     const std::string hash = InputsHash(submission.string(), kTiny.string(), result.public_only);
-    EXPECT_EQ(WriteSubmissionOutputs(result, hash, notes, out.string()), "");
+    EXPECT_EQ(WriteSubmissionOutputs(result, hash, notes, out.string()), std::nullopt);
     return result;
   }
 

@@ -13,28 +13,35 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Writes `bytes` to `path`; "" or what went wrong.
-std::string WriteFile(const fs::path& path, const std::string& bytes) {
+// A report's failure, its words whole.
+lab::Error ReportError(std::string message) { return lab::Error{.where = "", .message = std::move(message)}; }
+
+// Writes `bytes` to `path`; what went wrong, if anything.
+std::optional<lab::Error> WriteFile(const fs::path& path, const std::string& bytes) {
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) return fmt::format("cannot write {}", path.string());
+  if (!file) return ReportError(fmt::format("cannot write {}", path.string()));
   file << bytes;
   file.flush();
-  if (!file) return fmt::format("writing {} failed", path.string());
-  return {};
+  if (!file) return ReportError(fmt::format("writing {} failed", path.string()));
+  return std::nullopt;
 }
 
-void Add(std::string& problems, const std::string& problem) {
-  if (problem.empty()) return;
-  if (!problems.empty()) problems += "\n";
-  problems += problem;
+// Adds `problem`, if any, to `problems` on a line of its own.
+void Add(std::optional<lab::Error>& problems, const std::optional<lab::Error>& problem) {
+  if (!problem) return;
+  if (!problems) {
+    problems = ReportError(problem->ToString());
+  } else {
+    problems->message += "\n" + problem->ToString();
+  }
 }
 
 }  // namespace
 
-std::string WriteSubmissionReports(const SubmissionResult& result, const std::string& out_dir,
-                                   const ReportOptions& options) {
+std::optional<lab::Error> WriteSubmissionReports(const SubmissionResult& result, const std::string& out_dir,
+                                                 const ReportOptions& options) {
   const fs::path dir(out_dir);
-  std::string problems;
+  std::optional<lab::Error> problems;
   std::map<std::string, ReplayPageNote> notes;
   for (const TestResult& test : result.tests) {
     if (test.passed || test.replay_path.empty()) continue;
@@ -68,9 +75,9 @@ std::string WriteSubmissionReports(const SubmissionResult& result, const std::st
     const lab::view::Page page = lab::view::BuildPage(replay, test.name, page_options);
     std::error_code error;
     fs::create_directories((dir / page_path).parent_path(), error);
-    if (const std::string problem = WriteFile(dir / page_path, page.html); !problem.empty()) {
+    if (const std::optional<lab::Error> problem = WriteFile(dir / page_path, page.html)) {
       Add(problems, problem);
-      notes[test.name] = {false, "No viewer: " + problem + "."};
+      notes[test.name] = {false, "No viewer: " + problem->ToString() + "."};
       continue;
     }
     if (!page.complete) {

@@ -107,7 +107,7 @@ class ReportBrowserTest : public ::testing::Test {
     options.replay = &replay;
     (void)lab::sim::Run(*loaded.scenario, options, 0.0);
     replay.close();
-    ASSERT_EQ(WriteSubmissionReports(testing::ExampleResult(), dir_->string()), "");
+    ASSERT_EQ(WriteSubmissionReports(testing::ExampleResult(), dir_->string()), std::nullopt);
     std::ofstream(*dir_ / "probe.html", std::ios::binary) << kProbe;
   }
   static void TearDownTestSuite() {

@@ -205,7 +205,7 @@ TEST(WriteSubmissionReportsTest, WritesTheThreeReportsAndEachFailingRunsViewer) 
   const fs::path dir = FreshDir("writes");
   WriteReplay(dir / "runs/gather_6/seed-2/replay", lab::replay::testing::WriteSample().bytes);
 
-  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), "");
+  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), std::nullopt);
 
   EXPECT_EQ(ReadHtml(dir / "results.json"), GradescopeResultsJson(ExampleResult()));
   EXPECT_EQ(ReadHtml(dir / "junit.xml"), JunitXml(ExampleResult()));
@@ -230,7 +230,7 @@ TEST(WriteSubmissionReportsTest, AFailingRunsViewerSaysItsVerdictFromItsMetrics)
   metrics.goal.detail = "the robots fit in a circle of 1.942 m; the limit is 0.900 m";
   std::ofstream(dir / "runs/gather_6/seed-2/metrics.json") << lab::metrics::ToJson(metrics);
 
-  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), "");
+  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), std::nullopt);
 
   const std::string page = ReadHtml(dir / "runs/gather_6/seed-2/replay.html");
   EXPECT_NE(page.find("\"state\":\"missed\""), std::string::npos);
@@ -252,11 +252,11 @@ TEST(WriteSubmissionReportsTest, AHiddenRunsViewerPageIsWrittenOnlyForTheFullFor
   ReportOptions full;
   full.form = ReportForm::kFull;
 
-  ASSERT_EQ(WriteSubmissionReports(result, dir.string(), full), "");
+  ASSERT_EQ(WriteSubmissionReports(result, dir.string(), full), std::nullopt);
   EXPECT_TRUE(fs::exists(hidden_page));
   EXPECT_EQ(ReadHtml(dir / "report.html"), ReportHtml(result, {}, ReportForm::kFull));
 
-  ASSERT_EQ(WriteSubmissionReports(result, dir.string()), "");
+  ASSERT_EQ(WriteSubmissionReports(result, dir.string()), std::nullopt);
   EXPECT_FALSE(fs::exists(hidden_page));
   EXPECT_TRUE(fs::exists(dir / "runs/gather_6/seed-2/replay.html"));
   EXPECT_EQ(ReadHtml(dir / "report.html"), ReportHtml(result));
@@ -274,8 +274,8 @@ TEST(WriteSubmissionReportsTest, TheSameResultGivesTheSameBytesWhereverItIsWritt
   ReportOptions zero;
   zero.zero_timings = true;
 
-  ASSERT_EQ(WriteSubmissionReports(ExampleResult(), a.string(), zero), "");
-  ASSERT_EQ(WriteSubmissionReports(slower, b.string(), zero), "");
+  ASSERT_EQ(WriteSubmissionReports(ExampleResult(), a.string(), zero), std::nullopt);
+  ASSERT_EQ(WriteSubmissionReports(slower, b.string(), zero), std::nullopt);
 
   for (const std::string file : {"results.json", "junit.xml", "report.html", "runs/gather_6/seed-2/replay.html"}) {
     EXPECT_EQ(ReadHtml(a / file), ReadHtml(b / file)) << file;
@@ -288,7 +288,7 @@ TEST(WriteSubmissionReportsTest, TheSameResultGivesTheSameBytesWhereverItIsWritt
 TEST(WriteSubmissionReportsTest, AMissingReplayIsSaidWhereItsViewerWouldBe) {
   const fs::path dir = FreshDir("missing");
 
-  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), "");
+  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), std::nullopt);
 
   const std::string html = ReadHtml(dir / "report.html");
   EXPECT_NE(html.find("No viewer: the run left no replay at runs/gather_6/seed-2/replay."), std::string::npos);
@@ -301,7 +301,7 @@ TEST(WriteSubmissionReportsTest, AReplayCutShortStillGetsItsViewerAndANote) {
   const std::string bytes = lab::replay::testing::WriteSample().bytes;
   WriteReplay(dir / "runs/gather_6/seed-2/replay", bytes.substr(0, bytes.size() - 7));
 
-  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), "");
+  EXPECT_EQ(WriteSubmissionReports(ExampleResult(), dir.string()), std::nullopt);
 
   EXPECT_TRUE(fs::exists(dir / "runs/gather_6/seed-2/replay.html"));
   const std::string html = ReadHtml(dir / "report.html");
@@ -318,7 +318,7 @@ TEST(WriteSubmissionReportsTest, AReplayPathOutsideTheFolderWritesNothingThere) 
   result.tests[1].replay_path = "../replay";
   WriteReplay(root / "replay", lab::replay::testing::WriteSample().bytes);
 
-  EXPECT_EQ(WriteSubmissionReports(result, dir.string()), "");
+  EXPECT_EQ(WriteSubmissionReports(result, dir.string()), std::nullopt);
 
   EXPECT_FALSE(fs::exists(root / "replay.html"));
   EXPECT_NE(ReadHtml(dir / "report.html").find("is not inside the report&#39;s folder"), std::string::npos);
@@ -326,10 +326,13 @@ TEST(WriteSubmissionReportsTest, AReplayPathOutsideTheFolderWritesNothingThere) 
 }
 
 TEST(WriteSubmissionReportsTest, AFolderThatCannotBeWrittenIsReported) {
-  const std::string problem = WriteSubmissionReports(ExampleResult(), "/nonexistent/syrof/reports");
+  const std::optional<lab::Error> problem = WriteSubmissionReports(ExampleResult(), "/nonexistent/syrof/reports");
 
-  EXPECT_NE(problem.find("cannot write /nonexistent/syrof/reports/results.json"), std::string::npos) << problem;
-  EXPECT_NE(problem.find("report.html"), std::string::npos) << problem;
+  ASSERT_TRUE(problem);
+  EXPECT_EQ(problem->ToString(),
+            "cannot write /nonexistent/syrof/reports/results.json\n"
+            "cannot write /nonexistent/syrof/reports/junit.xml\n"
+            "cannot write /nonexistent/syrof/reports/report.html");
 }
 
 }  // namespace

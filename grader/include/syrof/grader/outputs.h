@@ -4,11 +4,13 @@
 #pragma once
 
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "syrof/assignment/assignment.h"
 #include "syrof/assignment/result.h"
+#include "syrof/lab/base/error.h"
 #include "syrof/report/reports.h"
 
 namespace syrof::grader {
@@ -16,9 +18,9 @@ namespace syrof::grader {
 /// Writes `out_dir`/grade.json for `result` (with the inputs' hash and the
 /// sandboxes' notes), then the reports: report.html in the student's form,
 /// or with `full_report` the instructor's (report::ReportForm);
-/// `feedback_withheld` as report::ReportOptions says. Returns "" or what
-/// failed.
-std::string WriteSubmissionOutputs(
+/// `feedback_withheld` as report::ReportOptions says. Returns what failed,
+/// if anything.
+std::optional<lab::Error> WriteSubmissionOutputs(
     const assignment::SubmissionResult& result, const std::string& inputs_hash, const std::vector<std::string>& notes,
     const std::string& out_dir, bool full_report = false,
     std::optional<report::ReportOptions::FeedbackCap> feedback_withheld = std::nullopt);
@@ -38,22 +40,22 @@ class LiveResultsFile {
                   report::ReportOptions options = {});
 
   /// Writes the plan: score 0, every test "not graded" with the reason
-  /// kNotGraded. Returns "" or what failed.
-  std::string Begin();
+  /// kNotGraded. Returns what failed, if anything.
+  std::optional<lab::Error> Begin();
   /// One test graded (as GradeOptions::on_test gives it): it replaces the
   /// planned test of the same name, the total is added up again, the file
-  /// rewritten. Returns "" or what failed.
-  std::string Record(const assignment::TestResult& test);
+  /// rewritten. Returns what failed, if anything.
+  std::optional<lab::Error> Record(const assignment::TestResult& test);
   /// The final result: the file then holds the same bytes as the reports'
-  /// results.json. Returns "" or what failed.
-  std::string Finish(const assignment::SubmissionResult& result);
+  /// results.json. Returns what failed, if anything.
+  std::optional<lab::Error> Finish(const assignment::SubmissionResult& result);
 
   /// The reason a test not graded yet carries in the file.
   static constexpr const char* kNotGraded =
       "not graded: grading stopped before this test finished (the autograder's time limit?)";
 
  private:
-  std::string Write(const assignment::SubmissionResult& result);
+  std::optional<lab::Error> Write(const assignment::SubmissionResult& result);
 
   std::string path_;
   const assignment::Assignment& assignment_;

@@ -23,8 +23,9 @@
 //
 // Usage, from the runner once a submission is graded:
 //
-//   const std::string problem = report::WriteSubmissionReports(result, out_dir);
-//   if (!problem.empty()) ... // the reports that could be written are there
+//   if (std::optional<lab::Error> problem = report::WriteSubmissionReports(result, out_dir)) {
+//     ...  // problem->ToString(); the reports that could be written are there
+//   }
 #pragma once
 
 #include <map>
@@ -33,6 +34,7 @@
 #include <string_view>
 
 #include "syrof/assignment/result.h"
+#include "syrof/lab/base/error.h"
 
 namespace syrof::grader::report {
 
@@ -116,11 +118,12 @@ bool ShowsWhole(const TestResult& test, ReportForm form);
 /// Writes, into `out_dir` (which exists, and where the result's relative
 /// paths point): the viewer page (BuildPage of its replay) of every failing
 /// run that options.form shows whole (ShowsWhole), then results.json,
-/// junit.xml and report.html in options.form. Returns "" or what went
-/// wrong (each problem on its own line); every file that can be written is,
-/// whatever else failed. A replay that is missing or cannot be read is not
-/// a failure: report.html says so where its viewer would be.
-std::string WriteSubmissionReports(const SubmissionResult& result, const std::string& out_dir,
-                                   const ReportOptions& options = {});
+/// junit.xml and report.html in options.form. Returns what went wrong, if
+/// anything (each problem on its own line of the message); every file that
+/// can be written is, whatever else failed. A replay that is missing or
+/// cannot be read is not a failure: report.html says so where its viewer
+/// would be.
+std::optional<lab::Error> WriteSubmissionReports(const SubmissionResult& result, const std::string& out_dir,
+                                                 const ReportOptions& options = {});
 
 }  // namespace syrof::grader::report
