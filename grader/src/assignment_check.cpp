@@ -106,21 +106,25 @@ int RunProgram(const std::vector<std::string>& command, std::string& output) {
   return status.exited() ? status.code : -1;
 }
 
-// Makes a variant's project in `dir` with the script; "" or what went wrong.
-std::string MakeVariant(const std::string& script, const assignment::Assignment& assignment,
-                        const CheckSubject& subject, const fs::path& dir) {
+// Makes a variant's project in `dir` with the script; what went wrong, if
+// anything (the script's own output when it says).
+std::optional<lab::Error> MakeVariant(const std::string& script, const assignment::Assignment& assignment,
+                                      const CheckSubject& subject, const fs::path& dir) {
   std::error_code error;
   if (script.empty() || !fs::is_regular_file(script, error)) {
-    return "cannot make the variant: scripts/broken-variant.sh was not found" +
-           (script.empty() ? std::string() : " (looked for " + script + ")");
+    return lab::Error{.where = "",
+                      .message = "cannot make the variant: scripts/broken-variant.sh was not found" +
+                                 (script.empty() ? std::string() : " (looked for " + script + ")")};
   }
   fs::remove_all(dir, error);
   std::string output;
   const int status = RunProgram({script, fs::absolute(assignment.folder).string(), subject.variant, dir.string()},
                                 output);
-  if (status == 0) return {};
+  if (status == 0) return std::nullopt;
   while (!output.empty() && output.back() == '\n') output.pop_back();
-  return output.empty() ? "broken-variant.sh failed (status " + std::to_string(status) + ")" : output;
+  return lab::Error{.where = "",
+                    .message = output.empty() ? "broken-variant.sh failed (status " + std::to_string(status) + ")"
+                                              : output};
 }
 
 std::string FirstLostTest(const SubmissionResult& result) {
@@ -141,8 +145,8 @@ SubjectOutcome CheckOne(const assignment::Assignment& assignment, const CheckSub
   std::string project = subject.folder;
   if (subject.role == SubjectRole::kBrokenVariant) {
     const fs::path made = out / "variants" / subject.variant;
-    if (std::string problem = MakeVariant(script, assignment, subject, made); !problem.empty()) {
-      outcome.problems.push_back(problem);
+    if (std::optional<lab::Error> problem = MakeVariant(script, assignment, subject, made)) {
+      outcome.problems.push_back(problem->ToString());
       outcome.result.max_points = assignment.points;
       outcome.result.build.verdict = assignment::BuildVerdict::kNotMade;
       outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();

@@ -16,6 +16,7 @@
 
 #include "syrof/assignment/assignment.h"
 #include "syrof/assignment/expected.h"
+#include "syrof/grader/assignment_check.h"
 #include "syrof/grader/build.h"
 #include "syrof/grader/class_grading.h"
 #include "syrof/grader/grade.h"
@@ -683,6 +684,23 @@ TEST_F(ClassTest, EachSubmissionGetsItsVerdictRerunsAreIdenticalAndShardsMerge) 
                                             ": no grade.json: this shard did not finish grading the student: grade it "
                                             "again, it resumes");
   EXPECT_FALSE(fs::exists(short_merge / "class.csv"));
+}
+
+// A broken variant whose project cannot be made is not graded, and says why.
+TEST(AssignmentCheckTest, AVariantWithoutTheScriptIsNotMadeAndSaysWhy) {
+  CheckSubject variant;
+  variant.name = "broken/off_by_one";
+  variant.role = SubjectRole::kBrokenVariant;
+  variant.variant = "off_by_one";
+  CheckOptions options;
+  options.broken_variant_script = "/nonexistent/broken-variant.sh";
+  const std::vector<SubjectOutcome> outcomes =
+      CheckAssignment(LoadTiny(), {variant}, Fresh("check_no_script").string(), options);
+  ASSERT_EQ(outcomes.size(), 1u);
+  EXPECT_EQ(outcomes[0].problems, std::vector<std::string>{"cannot make the variant: scripts/broken-variant.sh was not "
+                                                           "found (looked for /nonexistent/broken-variant.sh)"});
+  EXPECT_EQ(outcomes[0].result.build.verdict, assignment::BuildVerdict::kNotMade);
+  EXPECT_TRUE(outcomes[0].result.tests.empty());
 }
 
 // Hidden seeds per student (student_seeds.h): the derived seeds reach the
