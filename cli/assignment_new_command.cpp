@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string_view>
 #include <system_error>
 #include <utility>
@@ -21,6 +22,7 @@
 #include "exit_status.h"
 #include "new_command.h"
 #include "new_project_files.h"
+#include "syrof/lab/base/error.h"
 
 namespace syrof::cli {
 // A named namespace: the subcommands compile as one unity translation unit.
@@ -76,17 +78,21 @@ std::vector<std::pair<std::string, std::string>> SkeletonFiles(const std::string
   };
 }
 
-// Writes `files` under `dir`; "" or what failed.
-std::string WriteFiles(const fs::path& dir, const std::vector<std::pair<std::string, std::string>>& files) {
+// Writes `files` under `dir`; what failed, if anything.
+std::optional<lab::Error> WriteFiles(const fs::path& dir,
+                                     const std::vector<std::pair<std::string, std::string>>& files) {
   for (const auto& [path, text] : files) {
     std::error_code error;
     fs::create_directories((dir / path).parent_path(), error);
-    if (error) return fmt::format("cannot create {}: {}", (dir / path).parent_path().string(), error.message());
+    if (error) {
+      return lab::Error{.where = "", .message = fmt::format("cannot create {}: {}", (dir / path).parent_path().string(),
+                                                            error.message())};
+    }
     std::ofstream file(dir / path, std::ios::binary | std::ios::trunc);
     file << text;
-    if (!file.flush()) return fmt::format("cannot write {}", (dir / path).string());
+    if (!file.flush()) return lab::Error{.where = "", .message = fmt::format("cannot write {}", (dir / path).string())};
   }
-  return {};
+  return std::nullopt;
 }
 
 }  // namespace assignment_new
@@ -118,14 +124,17 @@ int RunAssignmentNew(const AssignmentNewOptions& options, std::ostream& out, std
   // Written beside it, then renamed: a failure leaves no half skeleton.
   const fs::path partial = fs::path(options.parent) / fmt::format(".{}.partial-{}", name, getpid());
   fs::remove_all(partial, error);
-  std::string problem = assignment_new::WriteFiles(partial, assignment_new::SkeletonFiles(name));
-  if (problem.empty()) {
+  std::optional<lab::Error> problem = assignment_new::WriteFiles(partial, assignment_new::SkeletonFiles(name));
+  if (!problem) {
     fs::rename(partial, dir, error);
-    if (error) problem = fmt::format("cannot rename {} to {}: {}", partial.string(), dir.string(), error.message());
+    if (error) {
+      problem = lab::Error{.where = "", .message = fmt::format("cannot rename {} to {}: {}", partial.string(),
+                                                               dir.string(), error.message())};
+    }
   }
-  if (!problem.empty()) {
+  if (problem) {
     fs::remove_all(partial, error);
-    fmt::print(err, "syrof assignment new: {}\n", problem);
+    fmt::print(err, "syrof assignment new: {}\n", problem->ToString());
     return kInternalError;
   }
   fmt::print(out,

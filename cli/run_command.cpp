@@ -202,9 +202,9 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
     lab::view::PageOptions page_options;
     page_options.metrics = report.metrics;
     page_options.scenario = &scenario;
-    if (std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
-        !page_problem.empty()) {
-      fmt::print(err, "syrof run: writing {} failed: {}\n", (dir / "replay.html").string(), page_problem);
+    if (const std::optional<lab::Error> page_problem =
+            WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options)) {
+      fmt::print(err, "syrof run: writing {} failed: {}\n", (dir / "replay.html").string(), page_problem->ToString());
       return 1;
     }
   }

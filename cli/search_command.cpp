@@ -93,41 +93,44 @@ CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options) {
 }
 
 // The flags that go together: losses or activations, and the activation
-// search's own flags only with it. "" when they do.
-std::string CheckSearchFlags(const SearchOptions& options) {
+// search's own flags only with it. Nothing when they do.
+std::optional<lab::Error> CheckSearchFlags(const SearchOptions& options) {
+  auto refused = [](std::string message) { return lab::Error{.where = "", .message = std::move(message)}; };
   if (options.activations.empty()) {
-    if (options.max_losses < 0) return "--max-losses is required (or --activations ssync to search schedules)";
-    if (options.max_inactive >= 0) return "--max-inactive applies to --activations only";
-    if (options.fair_within > 0) return "--fair-within applies to --activations only";
+    if (options.max_losses < 0) return refused("--max-losses is required (or --activations ssync to search schedules)");
+    if (options.max_inactive >= 0) return refused("--max-inactive applies to --activations only");
+    if (options.fair_within > 0) return refused("--fair-within applies to --activations only");
     if (options.max_deviations >= 0 || options.max_delay > 0 || options.min_move_m) {
-      return "--max-deviations, --max-delay and --min-move apply to --activations async only";
+      return refused("--max-deviations, --max-delay and --min-move apply to --activations async only");
     }
-    return {};
+    return std::nullopt;
   }
   if (options.activations != "ssync" && options.activations != "async") {
-    return "--activations must be ssync or async, not '" + options.activations + "'";
+    return refused("--activations must be ssync or async, not '" + options.activations + "'");
   }
   if (options.max_losses >= 0) {
-    return "--max-losses and --activations do not combine yet: search losses or schedules, one at a time";
+    return refused("--max-losses and --activations do not combine yet: search losses or schedules, one at a time");
   }
   if (options.activations == "async") {
-    if (options.max_inactive >= 0) return "--max-inactive applies to --activations ssync only (async: --max-deviations)";
-    if (options.fair_within > 0) return "--fair-within applies to --activations ssync only";
-    return {};
+    if (options.max_inactive >= 0) {
+      return refused("--max-inactive applies to --activations ssync only (async: --max-deviations)");
+    }
+    if (options.fair_within > 0) return refused("--fair-within applies to --activations ssync only");
+    return std::nullopt;
   }
   if (options.max_deviations >= 0 || options.max_delay > 0 || options.min_move_m) {
-    return "--max-deviations, --max-delay and --min-move apply to --activations async only";
+    return refused("--max-deviations, --max-delay and --min-move apply to --activations async only");
   }
   if (options.fair_within > options.epochs) {
-    return fmt::format("--fair-within {} is more than the {} epochs searched (--epochs)", options.fair_within,
-                       options.epochs);
+    return refused(fmt::format("--fair-within {} is more than the {} epochs searched (--epochs)",
+                               options.fair_within, options.epochs));
   }
-  return {};
+  return std::nullopt;
 }
 
 int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostream& err, bool err_is_terminal) {
-  if (const std::string problem = CheckSearchFlags(options); !problem.empty()) {
-    fmt::print(err, "syrof search: {}\n", problem);
+  if (const std::optional<lab::Error> problem = CheckSearchFlags(options)) {
+    fmt::print(err, "syrof search: {}\n", problem->ToString());
     return 2;
   }
   scenario::Overrides overrides;
@@ -298,7 +301,8 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
       : search_options.activations ? search::WithInactivations(scenario, found.window_epochs, found.inactive)
                                    : scenario;
   page_options.scenario = &shown;
-  const std::string page_problem = WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
+  const std::optional<lab::Error> page_problem =
+      WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
 
   if (search_options.activations && found.inactive.empty() && found.cycles.empty()) {
     fmt::print(out, "BROKEN with every robot active (FSYNC)\n");
@@ -335,7 +339,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
              result.seconds, tried, units);
   PrintPruning(out, result);
   fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),
-             page_problem.empty() ? ", replay.html" : "");
+             page_problem ? "" : ", replay.html");
   fmt::print(out, "  rerun:   syrof run {} --out {}\n", yaml_path.string(), (dir / "rerun").string());
   fmt::print(out, "  view:    syrof view {}\n", (dir / "replay").string());
   return 1;

@@ -16,14 +16,17 @@
 namespace syrof::cli {
 namespace {
 
-// Writes `page` to `path`; "" or what went wrong.
-std::string WriteHtml(const lab::view::Page& page, const std::string& path) {
+// An error in words alone.
+lab::Error PageError(std::string message) { return lab::Error{.where = "", .message = std::move(message)}; }
+
+// Writes `page` to `path`; what went wrong, if anything.
+std::optional<lab::Error> WriteHtml(const lab::view::Page& page, const std::string& path) {
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) return fmt::format("cannot write {}", path);
+  if (!file) return PageError(fmt::format("cannot write {}", path));
   file << page.html;
   file.flush();
-  if (!file) return fmt::format("writing {} failed", path);
-  return {};
+  if (!file) return PageError(fmt::format("writing {} failed", path));
+  return std::nullopt;
 }
 
 }  // namespace
@@ -86,8 +89,8 @@ int RunViewCommand(const ViewOptions& options, std::ostream& out, std::ostream& 
   }
   const lab::view::Page page = lab::view::BuildPage(in, options.file, page_options);
   const std::string path = options.output.empty() ? DefaultPagePath(options.file) : options.output;
-  if (std::string problem = WriteHtml(page, path); !problem.empty()) {
-    fmt::print(err, "syrof view: {}\n", problem);
+  if (const std::optional<lab::Error> problem = WriteHtml(page, path)) {
+    fmt::print(err, "syrof view: {}\n", problem->ToString());
     return kInternalError;
   }
   if (!page.complete) {
@@ -103,14 +106,14 @@ int RunViewCommand(const ViewOptions& options, std::ostream& out, std::ostream& 
   return kOk;
 }
 
-std::string WritePage(const std::string& replay_path, const std::string& page_path,
-                      const lab::view::PageOptions& options) {
+std::optional<lab::Error> WritePage(const std::string& replay_path, const std::string& page_path,
+                                    const lab::view::PageOptions& options) {
   std::ifstream in(replay_path, std::ios::binary);
-  if (!in) return fmt::format("cannot open {}", replay_path);
+  if (!in) return PageError(fmt::format("cannot open {}", replay_path));
   const lab::view::Page page = lab::view::BuildPage(in, replay_path, options);
-  if (std::string problem = WriteHtml(page, page_path); !problem.empty()) return problem;
-  if (!page.complete) return page.error ? page.error->ToString() : "the replay is incomplete";
-  return {};
+  if (std::optional<lab::Error> problem = WriteHtml(page, page_path)) return problem;
+  if (!page.complete) return page.error ? *page.error : PageError("the replay is incomplete");
+  return std::nullopt;
 }
 
 }  // namespace syrof::cli

@@ -2,10 +2,13 @@
 // self-contained HTML file (lab/view, docs/viewer.md).
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 
 #include <CLI/CLI.hpp>
+
+#include "syrof/lab/base/error.h"
 
 namespace syrof::lab::view {
 struct PageOptions;  // syrof/lab/view/view.h
@@ -36,9 +39,9 @@ std::string DefaultPagePath(const std::string& replay_path);
 
 /// Writes the page of the replay at `replay_path` to `page_path` (for `syrof
 /// run --html` and `syrof search`, which hand the run's metrics and
-/// scenario in `options`: the verdict and the goal's target). Returns "" or
-/// what went wrong.
-std::string WritePage(const std::string& replay_path, const std::string& page_path,
-                      const lab::view::PageOptions& options);
+/// scenario in `options`: the verdict and the goal's target). Returns what
+/// went wrong, if anything (a replay that is not whole: its reader's error).
+std::optional<lab::Error> WritePage(const std::string& replay_path, const std::string& page_path,
+                                    const lab::view::PageOptions& options);
 
 }  // namespace syrof::cli
