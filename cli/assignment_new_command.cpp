@@ -105,8 +105,8 @@ int RunAssignmentNew(const AssignmentNewOptions& options, std::ostream& out, std
                name);
     return kBadInput;
   }
-  if (const std::string problem = CheckProjectName(name); !problem.empty()) {
-    fmt::print(err, "syrof assignment new: bad assignment name: {}\n", problem);
+  if (const std::optional<lab::Error> problem = CheckProjectName(name)) {
+    fmt::print(err, "syrof assignment new: bad assignment name: {}\n", problem->ToString());
     return kBadInput;
   }
   const fs::path dir = options.parent == "." ? fs::path(name) : fs::path(options.parent) / name;

@@ -94,32 +94,33 @@ std::string SyROFPackageDir(const fs::path& executable) {
   return {};
 }
 
-std::string CheckProjectName(const std::string& name) {
-  if (name.empty()) return "the name is empty";
+std::optional<lab::Error> CheckProjectName(const std::string& name) {
+  auto refused = [](std::string message) { return lab::Error{.where = "", .message = std::move(message)}; };
+  if (name.empty()) return refused("the name is empty");
   if (name.size() > kMaxNameLength) {
-    return fmt::format("'{}' is {} characters long; at most {}", name, name.size(), kMaxNameLength);
+    return refused(fmt::format("'{}' is {} characters long; at most {}", name, name.size(), kMaxNameLength));
   }
   auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
   auto digit = [](char c) { return c >= '0' && c <= '9'; };
   if (!letter(name.front())) {
-    return fmt::format("'{}' must start with a letter or '_' (it names a C library and a CMake target)", name);
+    return refused(
+        fmt::format("'{}' must start with a letter or '_' (it names a C library and a CMake target)", name));
   }
   for (char c : name) {
     if (!letter(c) && !digit(c)) {
-      return fmt::format("'{}' may hold only letters, digits and '_', not '{}' (it names a C library and a CMake "
-                         "target)",
-                         name, c);
+      return refused(fmt::format(
+          "'{}' may hold only letters, digits and '_', not '{}' (it names a C library and a CMake target)", name, c));
     }
   }
   for (std::string_view reserved : kReservedNames) {
-    if (name == reserved) return fmt::format("'{}' is a target name CMake reserves; choose another", name);
+    if (name == reserved) return refused(fmt::format("'{}' is a target name CMake reserves; choose another", name));
   }
-  return {};
+  return std::nullopt;
 }
 
 int RunNewCommand(const NewOptions& options, std::ostream& out, std::ostream& err) {
-  if (const std::string problem = CheckProjectName(options.name); !problem.empty()) {
-    fmt::print(err, "syrof new: bad app name: {}\n", problem);
+  if (const std::optional<lab::Error> problem = CheckProjectName(options.name)) {
+    fmt::print(err, "syrof new: bad app name: {}\n", problem->ToString());
     return 2;
   }
   const bool cpp = options.lang == "cpp";

@@ -11,6 +11,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "syrof/lab/base/error.h"
+
 namespace syrof::cli {
 
 struct NewOptions {
@@ -33,9 +35,9 @@ std::string SyROFPackageDir(const std::filesystem::path& executable);
 
 /// Whether `name` can name an app project: 1 to 64 characters, a C
 /// identifier (a letter or '_', then letters, digits, '_'), and not a
-/// target name CMake reserves (all, test, install, ...). Empty when it can;
-/// else why not.
-std::string CheckProjectName(const std::string& name);
+/// target name CMake reserves (all, test, install, ...). Nothing when it
+/// can; else why not.
+std::optional<lab::Error> CheckProjectName(const std::string& name);
 
 /// Writes the project. Returns 0 on success, 2 when the name is bad or the
 /// folder exists and is not empty (nothing written), 1 when writing failed.

@@ -31,19 +31,25 @@ Outcome New(const NewOptions& options) {
 }
 
 TEST(CheckProjectName, AcceptsCIdentifiers) {
-  EXPECT_EQ(CheckProjectName("myapp"), "");
-  EXPECT_EQ(CheckProjectName("_flock2"), "");
-  EXPECT_EQ(CheckProjectName("Swarm_App"), "");
+  EXPECT_EQ(CheckProjectName("myapp"), std::nullopt);
+  EXPECT_EQ(CheckProjectName("_flock2"), std::nullopt);
+  EXPECT_EQ(CheckProjectName("Swarm_App"), std::nullopt);
 }
 
 TEST(CheckProjectName, RefusesWhatIsNoIdentifierWithTheReason) {
-  EXPECT_NE(CheckProjectName("").find("empty"), std::string::npos);
-  EXPECT_NE(CheckProjectName("2fast").find("must start with a letter or '_'"), std::string::npos);
-  EXPECT_NE(CheckProjectName("my-app").find("not '-'"), std::string::npos);
-  EXPECT_NE(CheckProjectName("../evil").find("must start with a letter"), std::string::npos);
-  EXPECT_NE(CheckProjectName("a/b").find("not '/'"), std::string::npos);
-  EXPECT_NE(CheckProjectName(std::string(65, 'a')).find("at most 64"), std::string::npos);
-  EXPECT_NE(CheckProjectName("test").find("CMake reserves"), std::string::npos);
+  auto why = [](const std::string& name) {
+    const std::optional<lab::Error> problem = CheckProjectName(name);
+    EXPECT_TRUE(problem) << name;
+    return problem ? problem->ToString() : std::string("(accepted)");
+  };
+  EXPECT_EQ(why(""), "the name is empty");
+  EXPECT_EQ(why("2fast"), "'2fast' must start with a letter or '_' (it names a C library and a CMake target)");
+  EXPECT_EQ(why("my-app"),
+            "'my-app' may hold only letters, digits and '_', not '-' (it names a C library and a CMake target)");
+  EXPECT_EQ(why("../evil"), "'../evil' must start with a letter or '_' (it names a C library and a CMake target)");
+  EXPECT_EQ(why("a/b"), "'a/b' may hold only letters, digits and '_', not '/' (it names a C library and a CMake target)");
+  EXPECT_EQ(why(std::string(65, 'a')), "'" + std::string(65, 'a') + "' is 65 characters long; at most 64");
+  EXPECT_EQ(why("test"), "'test' is a target name CMake reserves; choose another");
 }
 
 TEST(NewCommandTest, WritesACProjectWithTheNameAndTheHintFilledIn) {
