@@ -147,7 +147,7 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
   if (result.exit_code != 0) {
-    fmt::print(err, "syrof swarm: {}\n", result.error);
+    fmt::print(err, "syrof swarm: {}\n", result.error->ToString());
     if (live) live->SetReplayPage(std::nullopt);
     return result.exit_code == 2 ? kBadInput : kInternalError;
   }

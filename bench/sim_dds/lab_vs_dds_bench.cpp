@@ -99,7 +99,8 @@ int main(int argc, char** argv) {
     const syrof::sim_dds::SwarmResult result = syrof::sim_dds::RunSwarm(options, log);
     std::filesystem::remove_all(options.out_dir);
     if (result.exit_code != 0) {
-      std::fprintf(stderr, "seed %llu: %s\n%s", static_cast<unsigned long long>(*overrides.seed), result.error.c_str(),
+      std::fprintf(stderr, "seed %llu: %s\n%s", static_cast<unsigned long long>(*overrides.seed),
+                   result.error.value_or(syrof::lab::Error{}).ToString().c_str(),
                    log.str().c_str());
       return 1;
     }

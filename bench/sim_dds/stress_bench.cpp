@@ -112,7 +112,8 @@ int main(int argc, char** argv) {
     std::ostringstream log;
     const syrof::sim_dds::SwarmResult result = syrof::sim_dds::RunSwarm(options, log);
     if (result.exit_code != 0) {
-      std::fprintf(stderr, "seed %llu: %s\n%s", static_cast<unsigned long long>(seed), result.error.c_str(), log.str().c_str());
+      std::fprintf(stderr, "seed %llu: %s\n%s", static_cast<unsigned long long>(seed),
+                   result.error.value_or(syrof::lab::Error{}).ToString().c_str(), log.str().c_str());
       return false;
     }
     const auto& k = result.metrics.common_knowledge;

@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
     std::ostringstream log;
     const syrof::sim_dds::SwarmResult result = syrof::sim_dds::RunSwarm(options, log);
     if (result.exit_code != 0) {
-      std::fprintf(stderr, "%d robots: %s\n%s", robots, result.error.c_str(), log.str().c_str());
+      std::fprintf(stderr, "%d robots: %s\n%s", robots, result.error.value_or(syrof::lab::Error{}).ToString().c_str(),
+                   log.str().c_str());
       return 1;
     }
     const double cpu_sum = std::accumulate(result.cpu_seconds.begin(), result.cpu_seconds.end(), 0.0);

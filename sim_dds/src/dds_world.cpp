@@ -368,7 +368,7 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
 
 bool DdsWorld::Fail(int code, std::string why) {
   result_.exit_code = code;
-  result_.error = std::move(why);
+  result_.error = lab::Error{.where = "", .message = std::move(why)};
   return false;
 }
 
@@ -1005,7 +1005,7 @@ SwarmResult RunSwarm(const SwarmOptions& options, std::ostream& log) {
   SwarmResult result;
   auto fail = [&](int code, std::string why) {
     result.exit_code = code;
-    result.error = std::move(why);
+    result.error = lab::Error{.where = "", .message = std::move(why)};
     return result;
   };
   const scenario::LoadResult loaded = scenario::LoadScenarioFile(options.scenario_path, options.overrides);

@@ -55,7 +55,7 @@ SwarmResult RunOverDds(const std::string& path, const std::filesystem::path& out
   options.realtime = true;
   std::ostringstream log;
   SwarmResult result = RunSwarm(options, log);
-  EXPECT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  EXPECT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   return result;
 }
 
@@ -63,7 +63,7 @@ SwarmResult RunOverDds(const std::string& path, const std::filesystem::path& out
 std::string DdsAgainstLab(const std::string& scenario, const std::string& lab_replay, const std::filesystem::path& out,
                           const LabRun& lab) {
   const SwarmResult dds = RunOverDds(scenario, out);
-  if (dds.exit_code != 0) return "the swarm failed: " + dds.error;
+  if (dds.exit_code != 0) return "the swarm failed: " + dds.error.value_or(lab::Error{}).ToString();
   std::istringstream lab_stream(lab_replay);
   std::ifstream dds_stream(out / "replay", std::ios::binary);
   const lab::replay::ReplayComparison compared = lab::replay::CompareReplays(lab_stream, dds_stream, {});

@@ -32,7 +32,7 @@ TEST(SwarmTest, EightRobotProcessesForTenSecondsWithLossKeepP3AndAgreeOnMembersh
   const SwarmOptions options = OptionsFor("swarm8_loss.yaml");
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
-  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  ASSERT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
 
   EXPECT_EQ(m["runtime"], "dds");
@@ -81,7 +81,7 @@ TEST(SwarmTest, EightRobotProcessesAligningTheirRoundsFromBeaconsKeepP3AndCooper
   options.robot_clock_offsets_us = {0, 37'000, 0, -13'000, 0, 21'000, 0, -41'000};
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
-  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  ASSERT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
 
   EXPECT_EQ(m["common_knowledge"]["violations"], 0);
@@ -123,7 +123,7 @@ TEST(SwarmTest, ASinkHearsEveryRoundAndTheEnd) {
   options.sinks = {&sink};
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
-  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  ASSERT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   EXPECT_EQ(sink.headers, 1);
   EXPECT_EQ(sink.robots, 8u);
   EXPECT_GE(sink.indices.size(), 50u);  // 3 s of 50 ms rounds, less the start
@@ -139,7 +139,7 @@ TEST(SwarmTest, AStudentLibraryRunsInEveryRobotProcessThroughTheAppHost) {
   options.overrides.app = SYROF_STARTER_LIBRARY;
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
-  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  ASSERT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
 
   EXPECT_EQ(m["app"]["source"], SYROF_STARTER_LIBRARY);
@@ -166,7 +166,7 @@ TEST_P(FaultSwarmTest, CrashPauseAndJoinAreRealSignalsAndTheSwarmKeepsP3) {
   options.align_rounds = GetParam();
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
-  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  ASSERT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
 
   EXPECT_EQ(m["common_knowledge"]["violations"], 0);
@@ -212,7 +212,7 @@ TEST_P(StressedSwarmTest, P3HoldsUnderSigstopBursts) {
   options.stress.seed = std::get<1>(GetParam());
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
-  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  ASSERT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
   EXPECT_EQ(result.stress_seed, options.stress.seed);
   EXPECT_GT(result.stalls, 0);
@@ -243,7 +243,7 @@ TEST(SwarmTest, AStopRequestEndsTheRunEarlyWithEveryRobotStopped) {
   const auto before = std::chrono::steady_clock::now();
   const SwarmResult result = RunSwarm(options, log);
   stopper.join();
-  EXPECT_EQ(result.exit_code, 0) << result.error;
+  EXPECT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{});
   EXPECT_TRUE(result.stopped_early);
   EXPECT_LT(std::chrono::steady_clock::now() - before, std::chrono::seconds(9));  // not the full 10 s
   EXPECT_FALSE(result.robot_pids.empty());
@@ -263,7 +263,7 @@ TEST(SwarmTest, ARobotBinaryThatCannotBeExecutedIsNamedWithTheReason) {
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
   EXPECT_EQ(result.exit_code, 1);
-  EXPECT_EQ(result.error, "robot 0: cannot start " + options.robot_binary + ": No such file or directory");
+  EXPECT_EQ(result.error.value_or(lab::Error{}).ToString(), "robot 0: cannot start " + options.robot_binary + ": No such file or directory");
   EXPECT_TRUE(result.robot_pids.empty());
   ExpectNoRobotLeft(result);
   std::filesystem::remove_all(options.out_dir);
@@ -279,7 +279,7 @@ TEST(SwarmTest, ARobotNetworkNamespaceThatCannotBeOpenedIsNamedAndNoRobotIsLeft)
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
   EXPECT_EQ(result.exit_code, 1);
-  EXPECT_EQ(result.error, "robot 2: cannot open its network namespace /nonexistent/netns: No such file or directory");
+  EXPECT_EQ(result.error.value_or(lab::Error{}).ToString(), "robot 2: cannot open its network namespace /nonexistent/netns: No such file or directory");
   EXPECT_EQ(result.robot_pids.size(), 2u);  // robots 0 and 1
   ExpectNoRobotLeft(result);
   std::filesystem::remove_all(options.out_dir);

@@ -28,7 +28,7 @@ TEST(LateSamplesSwarmTest, P3HoldsWithAFifthOfBeaconsAndReadingsLate) {
   options.stress.delayed_fraction = 0.2;
   std::ostringstream log;
   const SwarmResult result = RunSwarm(options, log);
-  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  ASSERT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
   EXPECT_EQ(m["common_knowledge"]["violations"], 0)
       << "rerun: syrof swarm tests/sim_dds/scenarios/swarm_stress.yaml --stress 3 --stress-rate 0 --stress-late 0.2: "

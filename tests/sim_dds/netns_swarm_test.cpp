@@ -84,7 +84,7 @@ TEST(NetnsSwarmTest, RobotsInTwoNetworkNamespacesJoinedByVethFormOneSwarm) {
   ASSERT_EQ(setns(home, CLONE_NEWNET), 0);
   close(home);
 
-  ASSERT_EQ(result.exit_code, 0) << result.error << "\n" << log.str();
+  ASSERT_EQ(result.exit_code, 0) << result.error.value_or(lab::Error{}) << "\n" << log.str();
   const nlohmann::json m = nlohmann::json::parse(result.metrics_json);
   EXPECT_EQ(m["common_knowledge"]["violations"], 0);
   EXPECT_GE(m["epochs_started"].get<int>(), 2);

@@ -46,7 +46,7 @@ TEST(SwarmTest, TwoRunsOnOneDomainAtOnceEachKeepP3) {
   SwarmResult first_result = RunSwarm(first, first_log);
   beside.join();
   for (const auto& [result, log] : {std::pair{&first_result, &first_log}, std::pair{&second_result, &second_log}}) {
-    ASSERT_EQ(result->exit_code, 0) << result->error << "\n" << log->str();
+    ASSERT_EQ(result->exit_code, 0) << result->error.value_or(lab::Error{}) << "\n" << log->str();
     const nlohmann::json m = nlohmann::json::parse(result->metrics_json);
     // A failure says what the world saw and the log.
     const std::string seen = m["common_knowledge"].dump() + "\n" + m["membership"].dump() + "\n" +

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/replay/round_sink.h"
 #include "syrof/lab/scenario/scenario.h"
@@ -80,7 +81,7 @@ struct SwarmOptions {
 
 struct SwarmResult {
   int exit_code = 0;            ///< 0 done, 1 failed inside, 2 bad input (error says)
-  std::string error;
+  std::optional<lab::Error> error;  ///< set with a non-zero exit_code
   lab::metrics::Metrics metrics;  ///< runtime "dds", with the dds object
   std::string metrics_json;       ///< ToJson(metrics): what metrics.json holds
   double delivery_ratio = 0;
