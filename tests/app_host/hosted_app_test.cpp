@@ -6,6 +6,7 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -29,6 +30,7 @@
 
 #include "syrof/app/app.h"
 #include "syrof/app_host/hosted_app.h"
+#include "syrof/process/fd.h"
 #include "syrof/process/landlock.h"
 
 namespace syrof::app_host {
@@ -470,8 +472,24 @@ TEST_P(HostedAppTest, AConstructorReadsNothingOutsideTheLibrariesFolders) {
 // enter), holding copies of the named test libraries: the host's
 // unprivileged uid reaches it whatever the build folder's parents allow (a
 // CI clone may sit in a folder only root can enter).
-std::filesystem::path CopiedLibraries(const std::string& test, std::initializer_list<const char*> names) {
+// The copies' folder, held for the test: its name is compiled into the
+// libraries (snoop_on_load's folder, needs_sibling's run path), and ctest
+// -j2 runs a test's fresh and forked instances at once, so one's
+// remove_all took the other's library away ("load_failed: cannot open the
+// library"). The lock, a file beside the folder, is held until the test ends.
+struct CopiedFolder {
+  std::filesystem::path folder;
+  process::Fd lock;
+};
+
+CopiedFolder CopiedLibraries(const std::string& test, std::initializer_list<const char*> names) {
   const std::filesystem::path folder = std::filesystem::path(SYROF_TEST_COPY_DIR) / test;
+  std::filesystem::create_directories(folder.parent_path());
+  process::Fd lock(open((folder.string() + ".lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600));
+  EXPECT_TRUE(lock.valid());
+  if (lock.valid()) {
+    EXPECT_EQ(flock(lock.get(), LOCK_EX), 0);
+  }
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder);
   for (const std::filesystem::path& made : {folder.parent_path(), folder}) {
@@ -482,12 +500,13 @@ std::filesystem::path CopiedLibraries(const std::string& test, std::initializer_
   for (const char* name : names) {
     std::filesystem::copy_file(Library(name), folder / ("lib" + std::string(name) + ".so"));
   }
-  return folder;
+  return CopiedFolder{folder, std::move(lock)};
 }
 
 TEST_P(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSharedObjects) {
   if (process::LandlockAbi() == 0) GTEST_SKIP() << "no Landlock on this kernel (the host notes it)";
-  const std::filesystem::path folder = CopiedLibraries("snoop", {"snoop_on_load", "sibling"});
+  const CopiedFolder copied = CopiedLibraries("snoop", {"snoop_on_load", "sibling"});
+  const std::filesystem::path& folder = copied.folder;
   const std::string below = (folder / "elsewhere/hidden/tests.yaml").string();
   const std::string beside = (folder / "notes.txt").string();
   const std::string sibling = (folder / "libsibling.so").string();
@@ -530,7 +549,8 @@ TEST_P(HostedAppTest, ALibraryReadsNoInheritedDescriptorAndNothingBesideItButSha
 // A library that links a shared library of its own beside it loads: the
 // rules that keep the rest of its folder out let the loader map that one.
 TEST_P(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
-  const std::filesystem::path folder = CopiedLibraries("sibling", {"needs_sibling", "sibling"});
+  const CopiedFolder copied = CopiedLibraries("sibling", {"needs_sibling", "sibling"});
+  const std::filesystem::path& folder = copied.folder;
   options_.library_path = (folder / "libneeds_sibling.so").string();
   const LibraryCheck check = CheckLibrary(options_);
   ASSERT_TRUE(check.ok) << check.error;

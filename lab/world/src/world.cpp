@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "syrof/base/check.h"
 #include "syrof/base/split_mix64.h"
@@ -17,6 +18,17 @@ namespace {
 // of nearby bodies every physics step).
 double Length(double x, double y) { return std::sqrt(x * x + y * y); }
 
+// A holonomic body's commanded velocity, scaled down to its top speed.
+std::pair<double, double> Setpoint(const motion::DriveCommand& drive, double max_speed_mps) {
+  double vx = drive.vx_mps;
+  double vy = drive.vy_mps;
+  const double speed = Length(vx, vy);
+  if (speed > max_speed_mps) {
+    vx *= max_speed_mps / speed;
+    vy *= max_speed_mps / speed;
+  }
+  return {vx, vy};
+}
 
 // Pairs closer than this (surface to surface) after integration are the
 // candidates a step examines: every overlapping or touching pair is one.
@@ -270,13 +282,7 @@ double World::DriftNormal(int64_t now_ns, uint16_t robot, int axis) const {
 void World::IntegrateDrone(Body& target, uint16_t robot, int64_t now_ns, double dt_s) const {
   const KindSpec& spec = target.spec;
   BodyState& state = target.state;
-  double set_vx = target.drive.vx_mps;
-  double set_vy = target.drive.vy_mps;
-  const double set_speed = Length(set_vx, set_vy);
-  if (set_speed > spec.max_speed_mps) {
-    set_vx *= spec.max_speed_mps / set_speed;
-    set_vy *= spec.max_speed_mps / set_speed;
-  }
+  const auto [set_vx, set_vy] = Setpoint(target.drive, spec.max_speed_mps);
   // The velocity the tilt gives (the body's, less its drift) follows the
   // setpoint as a first-order lag, exact for a setpoint held over the step,
   // and never faster than the tilt's acceleration limit.
@@ -313,13 +319,7 @@ void World::IntegrateDrone(Body& target, uint16_t robot, int64_t now_ns, double 
 void World::IntegrateOmni(Body& target, double dt_s) const {
   const KindSpec& spec = target.spec;
   BodyState& state = target.state;
-  double set_vx = target.drive.vx_mps;
-  double set_vy = target.drive.vy_mps;
-  const double set_speed = Length(set_vx, set_vy);
-  if (set_speed > spec.max_speed_mps) {
-    set_vx *= spec.max_speed_mps / set_speed;
-    set_vy *= spec.max_speed_mps / set_speed;
-  }
+  const auto [set_vx, set_vy] = Setpoint(target.drive, spec.max_speed_mps);
   double dvx = set_vx - state.vx_mps;
   double dvy = set_vy - state.vy_mps;
   const double dv = Length(dvx, dvy);
