@@ -4,12 +4,14 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
 
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "syrof/sim_dds/topics.h"
@@ -132,7 +134,14 @@ TEST(DdsParticipant, WithAFifoPriorityEveryNetworkThreadRunsAtIt) {
   options.network_fifo_priority = sched_get_priority_min(SCHED_FIFO) + 7;
   ParticipantOrError made = Participant::Create(testing::FreshDomainId(), options);
   ASSERT_TRUE(made.ok()) << made.error->ToString();
-  const std::map<std::string, int> policies = PoliciesByThreadName();
+  // A thread names itself once it runs: wait for the receive thread's name.
+  std::map<std::string, int> policies = PoliciesByThreadName();
+  for (int tries = 0; tries < 200 && !(policies.contains("recv") && policies.contains("tev") &&
+                                       policies.contains("dq.user"));
+       ++tries) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    policies = PoliciesByThreadName();
+  }
   ASSERT_TRUE(policies.contains("recv"));
   for (const char* name : {"recv", "tev", "dq.user"}) {
     ASSERT_TRUE(policies.contains(name)) << name;
