@@ -140,6 +140,21 @@ int ReportParseError(const CLI::App& app, const CLI::ParseError& error, std::ost
       return kUsageError;
     }
   }
+  // A word the command does not take, after what it needs (`syrof grade .
+  // --bogus`): named with the command, as above, not CLI11's bare line.
+  if (given != &app && dynamic_cast<const CLI::ExtrasError*>(&error) != nullptr) {
+    const std::vector<std::string> words = given->remaining();
+    if (!words.empty()) {
+      const std::string& word = words.front();
+      if (word.starts_with("-") && word != "-") {
+        fmt::print(err, "{}: unknown option '{}'\n", command, word);
+      } else {
+        fmt::print(err, "{}: unexpected argument '{}'\n", command, word);
+      }
+      fmt::print(err, "Run with --help for more information.\n");
+      return kUsageError;
+    }
+  }
   app.exit(error, out, err);
   return kUsageError;
 }

@@ -153,6 +153,18 @@ TEST(UsageTest, AnUnknownOptionIsNamedBeforeAMissingArgument) {
   EXPECT_NE(missing.err.find("scenario is required"), std::string::npos) << missing.err;
 }
 
+// After the scenario, a wrong option or a second word is named with the
+// command (CLI11 said "The following argument was not expected").
+TEST(UsageTest, AWordTheCommandDoesNotTakeIsNamedWithTheCommand) {
+  const Report option = Parse("run s.yaml --bogus");
+  EXPECT_EQ(option.status, 2);
+  EXPECT_NE(option.err.find("syrof run: unknown option '--bogus'"), std::string::npos) << option.err;
+  const Report extra = Parse("apps extra");
+  EXPECT_EQ(extra.status, 2);
+  EXPECT_NE(extra.err.find("syrof apps: unexpected argument 'extra'"), std::string::npos) << extra.err;
+  EXPECT_EQ(extra.err.find("was not expected"), std::string::npos) << extra.err;
+}
+
 TEST(UsageTest, HelpIsNotAnError) { EXPECT_EQ(Parse("--help").status, 0); }
 
 // The built command prints the same (main wires ReportParseError).
