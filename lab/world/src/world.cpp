@@ -279,6 +279,20 @@ double World::DriftNormal(int64_t now_ns, uint16_t robot, int axis) const {
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
 }
 
+// A holonomic body's step to velocity (vx, vy): constant acceleration over
+// the step, so the mean velocity moves it; it turns at its commanded rate.
+void World::MoveHolonomic(Body& target, double vx, double vy, double dt_s) const {
+  const KindSpec& spec = target.spec;
+  BodyState& state = target.state;
+  state.x_m += 0.5 * (state.vx_mps + vx) * dt_s;
+  state.y_m += 0.5 * (state.vy_mps + vy) * dt_s;
+  state.vx_mps = vx;
+  state.vy_mps = vy;
+  state.yaw_rate_radps = std::clamp(static_cast<double>(target.drive.yaw_rate_radps), -spec.max_turn_rate_radps,
+                                    spec.max_turn_rate_radps);
+  state.heading_rad = Wrap(state.heading_rad + state.yaw_rate_radps * dt_s);
+}
+
 void World::IntegrateDrone(Body& target, uint16_t robot, int64_t now_ns, double dt_s) const {
   const KindSpec& spec = target.spec;
   BodyState& state = target.state;
@@ -305,15 +319,7 @@ void World::IntegrateDrone(Body& target, uint16_t robot, int64_t now_ns, double 
     target.drift_x_mps = keep * target.drift_x_mps + fresh * DriftNormal(now_ns, robot, 0);
     target.drift_y_mps = keep * target.drift_y_mps + fresh * DriftNormal(now_ns, robot, 1);
   }
-  const double vx = flown_vx + dvx + target.drift_x_mps;
-  const double vy = flown_vy + dvy + target.drift_y_mps;
-  state.x_m += 0.5 * (state.vx_mps + vx) * dt_s;
-  state.y_m += 0.5 * (state.vy_mps + vy) * dt_s;
-  state.vx_mps = vx;
-  state.vy_mps = vy;
-  state.yaw_rate_radps = std::clamp(static_cast<double>(target.drive.yaw_rate_radps), -spec.max_turn_rate_radps,
-                                    spec.max_turn_rate_radps);
-  state.heading_rad = Wrap(state.heading_rad + state.yaw_rate_radps * dt_s);
+  MoveHolonomic(target, flown_vx + dvx + target.drift_x_mps, flown_vy + dvy + target.drift_y_mps, dt_s);
 }
 
 void World::IntegrateOmni(Body& target, double dt_s) const {
@@ -328,16 +334,7 @@ void World::IntegrateOmni(Body& target, double dt_s) const {
     dvx *= max_dv / dv;
     dvy *= max_dv / dv;
   }
-  const double vx = state.vx_mps + dvx;
-  const double vy = state.vy_mps + dvy;
-  // Constant acceleration over the step: the mean velocity moves the body.
-  state.x_m += 0.5 * (state.vx_mps + vx) * dt_s;
-  state.y_m += 0.5 * (state.vy_mps + vy) * dt_s;
-  state.vx_mps = vx;
-  state.vy_mps = vy;
-  state.yaw_rate_radps = std::clamp(static_cast<double>(target.drive.yaw_rate_radps), -spec.max_turn_rate_radps,
-                                    spec.max_turn_rate_radps);
-  state.heading_rad = Wrap(state.heading_rad + state.yaw_rate_radps * dt_s);
+  MoveHolonomic(target, state.vx_mps + dvx, state.vy_mps + dvy, dt_s);
 }
 
 void World::IntegrateRover(Body& target, double dt_s) const {

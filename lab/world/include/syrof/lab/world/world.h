@@ -204,6 +204,7 @@ class World {
   const Body& body(uint16_t robot) const;
   Body& body(uint16_t robot);
   void Integrate(Body& body, uint16_t robot, int64_t now_ns, double dt_s) const;
+  void MoveHolonomic(Body& body, double vx, double vy, double dt_s) const;
   void IntegrateOmni(Body& body, double dt_s) const;
   void IntegrateDrone(Body& body, uint16_t robot, int64_t now_ns, double dt_s) const;
   // A standard normal number for (step time, robot, axis) from the seed.
