@@ -175,7 +175,9 @@ test-m4: deps
 ## its boot line) with the strongest reference in the lab (--app, its
 ## library) and on the image built with it (syrof-robot-mps2-strongest), the
 ## robots' true positions compared too (within SWARM_COMPARE_POSE_TOLERANCE_M),
-## into out/firmware-swarm/compare-inputs/ (21 s here when the first try agrees).
+## and the apps' payloads in every map epoch by epoch (syrof compare --payloads:
+## the charges the robots share), into out/firmware-swarm/compare-inputs/ (21 s
+## here when the first try agrees).
 SWARM_ICOUNT  ?= 4
 SWARM_ROBOTS  ?= $(if $(CI),4,$(shell [ $$(nproc) -ge 4 ] && echo 8 || echo 4))
 SWARM_SECONDS ?= $(if $(CI),30,60)
@@ -219,7 +221,7 @@ test-firmware-swarm: deps
 	  $(SWARM_COMPARE_SSYNC_SCENARIO) out/firmware-swarm/compare-ssync
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  $(SWARM_COMPARE_ASYNC_SCENARIO) out/firmware-swarm/compare-async
-	LAB_APP=$(SWARM_COMPARE_INPUTS_APP) POSE_TOLERANCE_M=$(SWARM_COMPARE_POSE_TOLERANCE_M) \
+	LAB_APP=$(SWARM_COMPARE_INPUTS_APP) POSE_TOLERANCE_M=$(SWARM_COMPARE_POSE_TOLERANCE_M) PAYLOADS=1 \
 	  bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2-strongest.elf \
 	  $(SWARM_COMPARE_INPUTS_SCENARIO) out/firmware-swarm/compare-inputs
 

@@ -98,13 +98,15 @@ std::string FieldsText(uint8_t fields) {
   if ((fields & replay::kStartedField) != 0) names.emplace_back("started");
   if ((fields & replay::kModeField) != 0) names.emplace_back("mode");
   if ((fields & replay::kMembersField) != 0) names.emplace_back("members");
+  if ((fields & replay::kPayloadsField) != 0) names.emplace_back("payloads");
   return Join(names);
 }
 
 // "mode (robots 1 2), members (robot 4)": each field with the robots it differs for.
 std::string WhatDiffers(const replay::EpochDisagreement& disagreement) {
   std::vector<std::string> parts;
-  for (const uint8_t field : {replay::kStartedField, replay::kModeField, replay::kMembersField}) {
+  for (const uint8_t field :
+       {replay::kStartedField, replay::kModeField, replay::kMembersField, replay::kPayloadsField}) {
     std::vector<uint16_t> robots;
     for (const replay::RobotDifference& robot : disagreement.robots) {
       if ((robot.fields & field) != 0) robots.push_back(robot.robot);
@@ -139,6 +141,46 @@ void PrintColumns(const std::vector<std::vector<std::string>>& rows, std::ostrea
   }
 }
 
+// "47 1a 00" (hex bytes), or "none".
+std::string PayloadText(const std::vector<uint8_t>& payload) {
+  if (payload.empty()) return "none";
+  std::string text;
+  for (const uint8_t byte : payload) text += fmt::format("{}{:02x}", text.empty() ? "" : " ", byte);
+  return text;
+}
+
+// For each robot whose map's payloads differ, the members whose payloads
+// differ and both runs' bytes: a line a member, the first robot's map whole
+// and, for the others, the members only (a COOPERATIVE epoch's maps are one).
+void PrintPayloads(const replay::EpochDisagreement& disagreement, const std::vector<uint16_t>& robot_ids,
+                   std::ostream& out) {
+  bool first = true;
+  for (const replay::RobotDifference& robot : disagreement.robots) {
+    if ((robot.fields & replay::kPayloadsField) == 0) continue;
+    const auto id = std::lower_bound(robot_ids.begin(), robot_ids.end(), robot.robot);
+    const auto slot = static_cast<size_t>(id - robot_ids.begin());
+    const replay::EpochStart& a = disagreement.a.robots[slot];
+    const replay::EpochStart& b = disagreement.b.robots[slot];
+    const std::vector<uint16_t> members = replay::MembersWithOtherPayloads(a, b);
+    if (!first) {
+      out << fmt::format("robot {}'s map: the payloads of member{} {} differ\n", robot.robot,
+                         members.size() == 1 ? "" : "s", IdList(members));
+      continue;
+    }
+    first = false;
+    out << fmt::format("\npayloads that differ in robot {}'s map of epoch {} (bytes the members' apps sent):\n",
+                       robot.robot, EpochLabel(disagreement.number));
+    std::vector<std::vector<std::string>> rows;
+    rows.push_back({"member", "A: payload", "B: payload"});
+    for (const uint16_t member : members) {
+      const auto at = std::lower_bound(a.members->begin(), a.members->end(), member);
+      const auto index = static_cast<size_t>(at - a.members->begin());
+      rows.push_back({fmt::format("{}", member), PayloadText((*a.payloads)[index]), PayloadText((*b.payloads)[index])});
+    }
+    PrintColumns(rows, out);
+  }
+}
+
 // Both sides of the first epoch that differs, one robot per line.
 void PrintEpochTable(const replay::EpochComparison& comparison, const std::vector<uint16_t>& robot_ids,
                      std::ostream& out) {
@@ -167,6 +209,7 @@ void PrintEpochTable(const replay::EpochComparison& comparison, const std::vecto
     const size_t hidden = robot_ids.size() - disagreement.robots.size();
     out << fmt::format("({} {} that agree not shown)\n", hidden, RobotWord(hidden));
   }
+  PrintPayloads(disagreement, robot_ids, out);
 }
 
 void PrintPositionTable(const replay::PositionDisagreement& disagreement, std::ostream& out) {
@@ -289,8 +332,8 @@ int Compare(const CompareOptions& options, std::ostream& out, std::ostream& err)
   if (!problem_b.empty()) fmt::print(err, "syrof compare: B: {}\n", problem_b);
   if (!problem_a.empty() || !problem_b.empty()) return kBadInput;
 
-  const replay::ReplayComparison result =
-      replay::CompareReplays(in_a, in_b, {.pose_tolerance_m = options.pose_tolerance_m});
+  const replay::ReplayComparison result = replay::CompareReplays(
+      in_a, in_b, {.pose_tolerance_m = options.pose_tolerance_m, .compare_payloads = options.payloads});
   if (result.a.error) fmt::print(err, "syrof compare: A: {}: {}\n", path_a, result.a.error->ToString());
   if (result.b.error) fmt::print(err, "syrof compare: B: {}: {}\n", path_b, result.b.error->ToString());
   if (result.a.error || result.b.error) return kBadInput;
@@ -309,7 +352,9 @@ int Compare(const CompareOptions& options, std::ostream& out, std::ostream& err)
 
   const replay::EpochComparison& epochs = result.epochs;
   const size_t robots = result.a.header.robots.size();
-  const std::string compared = epochs.members_compared ? "starts, modes and members" : "starts and modes";
+  const std::string compared = epochs.payloads_compared  ? "starts, modes, members and payloads"
+                               : epochs.members_compared ? "starts, modes and members"
+                                                         : "starts and modes";
   std::string positions;
   if (options.pose_tolerance_m && !result.first_position_difference) {
     positions = result.rounds_position_compared == 0
@@ -369,10 +414,14 @@ std::string ReplayPathOf(const std::string& argument) {
 CLI::App* SetupCompareCommand(CLI::App& app, CompareOptions& options) {
   CLI::App* command = app.add_subcommand(
       "compare",
-      "Do two runs agree? The epochs each robot started, their modes and members (and, with "
-      "--pose-tolerance-m, the robots' true positions); the first difference as a table");
+      "Do two runs agree? The epochs each robot started, their modes and members (and, with --payloads, "
+      "the apps' payloads in those maps; with --pose-tolerance-m, the robots' true positions); the first "
+      "difference as a table");
   command->add_option("RUN_A", options.run_a, "An output folder (syrof run/swarm --out) or a replay file")->required();
   command->add_option("RUN_B", options.run_b, "The run to compare it with, the same way")->required();
+  command->add_flag("--payloads", options.payloads,
+                    "Also compare the payloads (sendMessageData's bytes) of the members of the map each robot "
+                    "started each epoch with: the state the apps share");
   command
       ->add_option("--pose-tolerance-m", options.pose_tolerance_m,
                    "Also compare every robot's true position in each round both runs hold; report the first round "

@@ -1,6 +1,7 @@
-// `syrof compare RUN_A RUN_B [--pose-tolerance-m X]`: do two runs agree on
-// who started which epoch, in which mode, with which members (and, with the
-// option, on where the robots were)? Each run is an output folder (its
+// `syrof compare RUN_A RUN_B [--payloads] [--pose-tolerance-m X]`: do two
+// runs agree on who started which epoch, in which mode, with which members
+// (and, with the options, on the apps' payloads in those maps and on where
+// the robots were)? Each run is an output folder (its
 // `replay`) or a replay file; the comparison itself is lab/replay's
 // (comparison.h, docs/replay.md "Comparing two runs").
 #pragma once
@@ -17,6 +18,7 @@ struct CompareOptions {
   std::string run_a;                       ///< a folder holding `replay`, or a replay file
   std::string run_b;
   std::optional<double> pose_tolerance_m;  ///< also compare true positions, allowing this many metres
+  bool payloads = false;                   ///< also compare the members' payloads in the maps
 };
 
 /// Declares the subcommand on `app`.

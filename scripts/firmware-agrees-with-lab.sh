@@ -17,7 +17,9 @@
 # must be built with the same C file, SYROF_FIRMWARE_APP), and
 # POSE_TOLERANCE_M=M also compares every robot's true position round by
 # round (`syrof compare --pose-tolerance-m M`): the epochs alone agree
-# whatever the app does.
+# whatever the app does. PAYLOADS=1 also compares the apps' payloads in
+# every map a robot started an epoch with (`syrof compare --payloads`): the
+# state the apps share, epoch by epoch.
 #
 # The emulated robots run in real time on a shared machine: a guest held
 # back tens of milliseconds sends or hears a beacon a round late, and one
@@ -43,6 +45,7 @@ lab_app=()
 [[ -n ${LAB_APP:-} ]] && lab_app=(--app "$LAB_APP")
 compare_poses=()
 [[ -n ${POSE_TOLERANCE_M:-} ]] && compare_poses=(--pose-tolerance-m "$POSE_TOLERANCE_M")
+[[ ${PAYLOADS:-0} == 1 ]] && compare_poses+=(--payloads)
 if ! "$build/bin/syrof" run "$scenario" "${lab_app[@]}" --out "$out/lab" >"$out/lab.txt" 2>&1; then
   cat "$out/lab.txt" >&2
   echo "$0: the lab run of $scenario failed" >&2

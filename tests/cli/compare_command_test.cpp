@@ -49,9 +49,11 @@ std::string WriteReplay(const fs::path& path, const std::string& bytes) {
   return path.string();
 }
 
-Outcome Compare(const std::string& a, const std::string& b, std::optional<double> pose_tolerance_m = std::nullopt) {
+Outcome Compare(const std::string& a, const std::string& b, std::optional<double> pose_tolerance_m = std::nullopt,
+                bool payloads = false) {
   std::ostringstream out, err;
-  const int status = RunCompareCommand({.run_a = a, .run_b = b, .pose_tolerance_m = pose_tolerance_m}, out, err);
+  const int status =
+      RunCompareCommand({.run_a = a, .run_b = b, .pose_tolerance_m = pose_tolerance_m, .payloads = payloads}, out, err);
   return Outcome{status, out.str(), err.str()};
 }
 
@@ -181,6 +183,38 @@ TEST(CompareCommandTest, OneRobotsMembersAtEpochKAreNamedAtK) {
   EXPECT_TRUE(Contains(outcome.out, "differ at epoch 3 (epochs 1 to 2 agree): members (robot 4)\n")) << outcome.out;
   EXPECT_TRUE(Contains(outcome.out, "*  4      round 6  COOPERATIVE  0-4      round 6  COOPERATIVE  0 1 3 4  members\n"))
       << outcome.out;
+}
+
+TEST(CompareCommandTest, WithPayloadsTheAppsStateIsComparedAndItsBytesShown) {
+  const fs::path dir = TestDir();
+  SyntheticRun a = SteppedRun(3, 5);
+  for (uint16_t epoch = 1; epoch <= 5; ++epoch) replay::testing::SetPayload(a, StartRoundOf(epoch), 1, {'C', 0x62, 0x03});
+  SyntheticRun b = a;
+  replay::testing::SetPayload(b, StartRoundOf(3), 1, {'C', 0x17, 0x03});
+  const std::string path_a = WriteReplay(dir / "a.replay", a.Bytes());
+  const std::string path_b = WriteReplay(dir / "b.replay", b.Bytes());
+
+  const Outcome without = Compare(path_a, path_b);
+  const Outcome with = Compare(path_a, path_b, std::nullopt, true);
+  const Outcome same = Compare(path_a, path_a, std::nullopt, true);
+
+  EXPECT_EQ(without.status, 0) << without.out;
+  EXPECT_TRUE(Contains(without.out, "the same starts, modes and members\n")) << without.out;
+  EXPECT_EQ(same.status, 0) << same.out;
+  EXPECT_TRUE(Contains(same.out, "5 epochs (1 to 5) of 3 robots, the same starts, modes, members and payloads\n"))
+      << same.out;
+  EXPECT_EQ(with.status, 1) << with.err;
+  EXPECT_TRUE(Contains(with.out, "differ at epoch 3 (epochs 1 to 2 agree): payloads (robots 0-2)\n")) << with.out;
+  EXPECT_TRUE(Contains(with.out, "*  0      round 6  COOPERATIVE  0-2      round 6  COOPERATIVE  0-2      payloads\n"))
+      << with.out;
+  EXPECT_TRUE(Contains(with.out,
+                       "payloads that differ in robot 0's map of epoch 3 (bytes the members' apps sent):\n"
+                       "member  A: payload  B: payload\n"
+                       "1       43 62 03    43 17 03\n"
+                       "robot 1's map: the payloads of member 1 differ\n"
+                       "robot 2's map: the payloads of member 1 differ\n"))
+      << with.out;
+  fs::remove_all(dir);
 }
 
 TEST(CompareCommandTest, ALongerRunIsComparedOnWhatBothHoldAndSaysSo) {

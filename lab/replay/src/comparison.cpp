@@ -32,12 +32,22 @@ bool SameMembers(const std::shared_ptr<const MemberIds>& a, const std::shared_pt
   return *a == *b;
 }
 
-uint8_t Differences(const EpochStart& a, const EpochStart& b, bool compare_members) {
+bool SamePayloads(const EpochStart& a, const EpochStart& b) {
+  if (a.payloads == b.payloads) return true;
+  if (a.payloads == nullptr || b.payloads == nullptr) return false;
+  return *a.payloads == *b.payloads;
+}
+
+uint8_t Differences(const EpochStart& a, const EpochStart& b, bool compare_members, bool compare_payloads) {
   if (a.start_count != b.start_count) return kStartedField;
   if (!a.started()) return 0;
   uint8_t fields = 0;
   if (a.mode != b.mode) fields |= kModeField;
-  if (compare_members && !SameMembers(a.members, b.members)) fields |= kMembersField;
+  if (compare_members && !SameMembers(a.members, b.members)) {
+    fields |= kMembersField;
+  } else if (compare_payloads && !SamePayloads(a, b)) {
+    fields |= kPayloadsField;
+  }
   return fields;
 }
 
@@ -65,10 +75,21 @@ bool SamePosition(const RobotFrame& a, const RobotFrame& b) {
 
 }  // namespace
 
-EpochComparison CompareEpochs(const EpochTable& a, const EpochTable& b) {
+std::vector<uint16_t> MembersWithOtherPayloads(const EpochStart& a, const EpochStart& b) {
+  std::vector<uint16_t> members;
+  if (a.members == nullptr || a.payloads == nullptr || b.payloads == nullptr) return members;
+  const size_t count = std::min({a.members->size(), a.payloads->size(), b.payloads->size()});
+  for (size_t i = 0; i < count; ++i) {
+    if ((*a.payloads)[i] != (*b.payloads)[i]) members.push_back((*a.members)[i]);
+  }
+  return members;
+}
+
+EpochComparison CompareEpochs(const EpochTable& a, const EpochTable& b, bool compare_payloads) {
   SYROF_CHECK(a.robot_ids == b.robot_ids);
   EpochComparison result;
   result.members_compared = a.has_maps && b.has_maps;
+  result.payloads_compared = result.members_compared && compare_payloads;
   if (a.round_count == 0 || b.round_count == 0) {
     // Nothing in common: every epoch is the longer run's tail.
     result.a_epochs_after = a.epochs.size();
@@ -111,7 +132,7 @@ EpochComparison CompareEpochs(const EpochTable& a, const EpochTable& b) {
 
     EpochDisagreement disagreement;
     for (size_t slot = 0; slot < a.robot_ids.size(); ++slot) {
-      const uint8_t fields = Differences(row_a.robots[slot], row_b.robots[slot], result.members_compared);
+      const uint8_t fields = Differences(row_a.robots[slot], row_b.robots[slot], result.members_compared, result.payloads_compared);
       if (fields == 0) continue;
       disagreement.robots.push_back({.robot = a.robot_ids[slot], .fields = fields});
       disagreement.fields |= fields;
@@ -242,7 +263,7 @@ ReplayComparison CompareReplays(std::istream& a, std::istream& b, const Comparis
   }
   if (side_a.header_read()) side_a.Finish();
   if (side_b.header_read()) side_b.Finish();
-  if (result.comparable()) result.epochs = CompareEpochs(result.a.table, result.b.table);
+  if (result.comparable()) result.epochs = CompareEpochs(result.a.table, result.b.table, options.compare_payloads);
   return result;
 }
 

@@ -42,14 +42,20 @@ EpochStart* EpochTableBuilder::Entry(int64_t number, uint16_t robot) {
   return &row->robots[slot];
 }
 
-std::shared_ptr<const MemberIds> EpochTableBuilder::MembersOf(const std::shared_ptr<const EpochMap>& map) {
-  if (const auto cached = members_cache_.find(map.get()); cached != members_cache_.end()) return cached->second.second;
-  if (members_cache_.size() > table_.robot_ids.size()) members_cache_.clear();
+EpochTableBuilder::MapContents EpochTableBuilder::ContentsOf(const std::shared_ptr<const EpochMap>& map) {
+  if (const auto cached = contents_cache_.find(map.get()); cached != contents_cache_.end()) return cached->second.second;
+  if (contents_cache_.size() > table_.robot_ids.size()) contents_cache_.clear();
   auto members = std::make_shared<MemberIds>();
+  auto payloads = std::make_shared<MemberPayloads>();
   members->reserve(map->members.size());
-  for (const MapMember& member : map->members) members->push_back(member.id);
-  members_cache_.emplace(map.get(), std::make_pair(map, members));
-  return members;
+  payloads->reserve(map->members.size());
+  for (const MapMember& member : map->members) {
+    members->push_back(member.id);
+    payloads->push_back(member.payload);
+  }
+  MapContents contents{.members = std::move(members), .payloads = std::move(payloads)};
+  contents_cache_.emplace(map.get(), std::make_pair(map, contents));
+  return contents;
 }
 
 bool EpochTableBuilder::Add(const Round& round) {
@@ -77,13 +83,17 @@ bool EpochTableBuilder::Add(const Round& round) {
     }
     // The map of the first start only: a second start of the same epoch
     // (start_count > 1) already has the first's members.
-    if (start->members == nullptr && start->round == round.index) start->members = MembersOf(entry.map);
+    if (start->members == nullptr && start->round == round.index) {
+      MapContents contents = ContentsOf(entry.map);
+      start->members = std::move(contents.members);
+      start->payloads = std::move(contents.payloads);
+    }
   }
   return !full_;
 }
 
 EpochTable EpochTableBuilder::Finish() && {
-  members_cache_.clear();
+  contents_cache_.clear();
   return std::move(table_);
 }
 

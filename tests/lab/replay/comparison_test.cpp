@@ -80,6 +80,40 @@ TEST(CompareEpochsTest, OneRobotsMembersAtEpochKAreReportedAtK) {
   EXPECT_EQ(*comparison.first_difference->b.robots[0].members, (std::vector<uint16_t>{0, 1, 3}));
 }
 
+TEST(CompareEpochsTest, PayloadsAreComparedOnlyWhenAskedAndReportedAtTheirEpoch) {
+  SyntheticRun a = SteppedRun(3, 6);
+  testing::SetPayload(a, StartRoundOf(2), 1, {'C', 0x62, 0x03});
+  SyntheticRun b = a;
+  testing::SetPayload(b, StartRoundOf(4), 2, {'C', 0x17});  // another app state, the same members
+
+  const EpochComparison without = CompareEpochs(TableOf(a), TableOf(b));
+  const EpochComparison with = CompareEpochs(TableOf(a), TableOf(b), /*compare_payloads=*/true);
+
+  EXPECT_FALSE(without.first_difference.has_value());
+  EXPECT_FALSE(without.payloads_compared);
+  EXPECT_TRUE(with.payloads_compared);
+  ASSERT_TRUE(with.first_difference.has_value());
+  const EpochDisagreement& first = *with.first_difference;
+  EXPECT_EQ(first.number, 4);
+  EXPECT_EQ(first.fields, kPayloadsField);
+  ASSERT_EQ(first.robots.size(), 3u);  // each robot's map holds robot 2's payload
+  EXPECT_EQ(MembersWithOtherPayloads(first.a.robots[0], first.b.robots[0]), (std::vector<uint16_t>{2}));
+  EXPECT_EQ((*first.b.robots[0].payloads)[2], (std::vector<uint8_t>{'C', 0x17}));
+}
+
+TEST(CompareEpochsTest, EqualPayloadsAgreeAndMembersThatDifferAreNotPayloadDifferences) {
+  SyntheticRun a = SteppedRun(3, 4);
+  testing::SetPayload(a, StartRoundOf(3), 0, {1, 2, 3});
+  SyntheticRun b = a;
+
+  EXPECT_FALSE(CompareEpochs(TableOf(a), TableOf(b), true).first_difference.has_value());
+
+  testing::SetStart(b, StartRoundOf(3), 0, kCooperative, {0, 1});
+  const EpochComparison comparison = CompareEpochs(TableOf(a), TableOf(b), true);
+  ASSERT_TRUE(comparison.first_difference.has_value());
+  EXPECT_EQ(comparison.first_difference->robots[0].fields, kMembersField);
+}
+
 TEST(CompareEpochsTest, ARobotThatStartedInOneRunOnlyIsAStartedDifference) {
   const SyntheticRun a = SteppedRun(3, 5);
   SyntheticRun b = a;
@@ -227,6 +261,20 @@ TEST(CompareReplaysTest, ReadsBothFilesAndFindsTheFirstDifferences) {
   EXPECT_EQ(result.first_position_difference->round, 3u);
   EXPECT_EQ(result.rounds_position_compared, 3u);
   EXPECT_EQ(result.a.header.scenario_name, "three_robots");
+}
+
+TEST(CompareReplaysTest, PayloadsAreReadFromTheFilesMaps) {
+  SyntheticRun a = SteppedRun(2, 3);
+  testing::SetPayload(a, StartRoundOf(1), 0, {'G', 1});
+  SyntheticRun b = a;
+  testing::SetPayload(b, StartRoundOf(2), 0, {'G', 2});
+
+  const ReplayComparison result = CompareBytes(a.Bytes(), b.Bytes(), {.pose_tolerance_m = std::nullopt, .compare_payloads = true});
+
+  ASSERT_TRUE(result.epochs.first_difference.has_value());
+  EXPECT_EQ(result.epochs.first_difference->number, 2);
+  EXPECT_EQ(result.epochs.first_difference->fields, kPayloadsField);
+  EXPECT_FALSE(CompareBytes(a.Bytes(), b.Bytes()).epochs.first_difference.has_value());
 }
 
 TEST(CompareReplaysTest, PositionsAreComparedOnlyWhenAsked) {

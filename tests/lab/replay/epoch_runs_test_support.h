@@ -77,6 +77,18 @@ inline void SetStart(SyntheticRun& run, uint32_t index, uint16_t robot, uint8_t 
   }
 }
 
+// Gives `member` the app payload `payload` in every map of round `index`
+// (every robot's, as the one COOPERATIVE map they share would).
+inline void SetPayload(SyntheticRun& run, uint32_t index, uint16_t member, std::vector<uint8_t> payload) {
+  for (RobotMap& entry : RoundAt(run, index).maps) {
+    auto map = std::make_shared<EpochMap>(*entry.map);
+    for (MapMember& holder : map->members) {
+      if (holder.id == member) holder.payload = payload;
+    }
+    entry.map = std::move(map);
+  }
+}
+
 // Removes `robot`'s start (event and map) from round `index`.
 inline void DropStart(SyntheticRun& run, uint32_t index, uint16_t robot) {
   Round& round = RoundAt(run, index);

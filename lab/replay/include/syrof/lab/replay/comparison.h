@@ -1,7 +1,7 @@
 // Do two runs agree? The same scenario and seed in the lab, the DDS swarm and
 // the firmware swarm must give the same epochs, modes and members; this
 // compares two replays' epoch tables (epoch_table.h) and, on request, the
-// robots' true positions round by round. `syrof compare` prints the result
+// apps' payloads in those maps and the robots' true positions round by round. `syrof compare` prints the result
 // (docs/replay.md, "Comparing two runs").
 //
 //   std::ifstream a(path_a, std::ios::binary), b(path_b, std::ios::binary);
@@ -31,6 +31,9 @@ enum EpochField : uint8_t {
   kStartedField = 1,  ///< started it in one run and not the other, or a different number of times
   kModeField = 2,     ///< started it in both, in different modes
   kMembersField = 4,  ///< started it in both, with maps of different members (both runs record maps)
+  /// started it in both with maps of the same members, and some member's
+  /// payload differs (compared on request: ComparisonOptions::compare_payloads)
+  kPayloadsField = 8,
 };
 
 /// One robot that differs in an epoch.
@@ -65,6 +68,8 @@ struct EpochComparison {
   int64_t last_epoch = 0;   ///< when epochs_compared > 0
   /// Members are compared only when both files record maps (version 3).
   bool members_compared = false;
+  /// Payloads too: on request, and when members are compared.
+  bool payloads_compared = false;
   /// Epochs each run started only after the common rounds (the longer run's
   /// tail), not compared: how many, and the range of their numbers.
   size_t a_epochs_after = 0;
@@ -76,9 +81,14 @@ struct EpochComparison {
   std::optional<EpochDisagreement> first_difference;
 };
 
-/// Compares two tables epoch by epoch, up to the shorter run's last round.
-/// Precondition (checked): the tables have the same robot ids.
-EpochComparison CompareEpochs(const EpochTable& a, const EpochTable& b);
+/// Compares two tables epoch by epoch, up to the shorter run's last round;
+/// with `compare_payloads`, also the payloads of the maps' members (when both
+/// tables hold maps). Precondition (checked): the tables have the same robot ids.
+EpochComparison CompareEpochs(const EpochTable& a, const EpochTable& b, bool compare_payloads = false);
+
+/// The members (ids, increasing) whose payloads differ between `a` and `b`,
+/// two starts with the same members; empty when either holds no payloads.
+std::vector<uint16_t> MembersWithOtherPayloads(const EpochStart& a, const EpochStart& b);
 
 /// One robot whose true positions in the same round of two runs are too far
 /// apart.
@@ -125,6 +135,12 @@ struct ComparisonOptions {
   /// Compare true positions round by round, allowing this many metres (>= 0);
   /// none: positions are not compared.
   std::optional<double> pose_tolerance_m;
+  /// Also compare, epoch by epoch, the payloads of the members of the maps
+  /// robots start epochs with: the state the apps share (kPayloadsField).
+  /// Off by default: a payload the app computes from estimates (gather's
+  /// centre, in millimetres) can differ by a unit between runtimes whose
+  /// epochs agree.
+  bool compare_payloads = false;
   /// Most entries of each run's epoch table; a run that needs more is an
   /// error of its side (EpochTableBuilder).
   size_t max_epoch_table_cells = kMaxEpochTableCells;

@@ -1,6 +1,7 @@
-// Who started which epoch, in which mode, with which members: the part of a
-// run the three runtimes (the lab, the DDS swarm, the firmware swarm) promise
-// to agree on for the same scenario and seed. `syrof compare` checks that
+// Who started which epoch, in which mode, with which members (and the
+// members' payloads, the state the apps share): the part of a run the three
+// runtimes (the lab, the DDS swarm, the firmware swarm) promise to agree on
+// for the same scenario and seed. `syrof compare` checks that
 // promise (comparison.h, docs/replay.md "Comparing two runs").
 //
 // Usage, with rounds as a Reader returns them:
@@ -30,6 +31,11 @@ namespace syrof::lab::replay {
 /// A map's member ids, strictly increasing.
 using MemberIds = std::vector<uint16_t>;
 
+/// A map's members' payloads (the bytes each member's app sent with
+/// sendMessageData, at most 9), in the order of its MemberIds: what the
+/// apps share of their state in that map.
+using MemberPayloads = std::vector<std::vector<uint8_t>>;
+
 /// One robot in one epoch: whether and how it started it.
 struct EpochStart {
   /// EPOCH_START events of the robot for this epoch: 0 when it did not start
@@ -41,6 +47,8 @@ struct EpochStart {
   /// The members of the map it started the epoch with, at its first start;
   /// null when the file holds no map for it (format versions 1 and 2).
   std::shared_ptr<const MemberIds> members;
+  /// The payloads of those members, beside `members` (null when it is).
+  std::shared_ptr<const MemberPayloads> payloads;
 
   bool started() const { return start_count > 0; }
 };
@@ -103,18 +111,22 @@ class EpochTableBuilder {
  private:
   int64_t Unwrap(uint16_t wire_epoch);
   EpochStart* Entry(int64_t number, uint16_t robot);  // null for an id not in the header, or when full
-  std::shared_ptr<const MemberIds> MembersOf(const std::shared_ptr<const EpochMap>& map);
+  // The member ids and payloads of `map`, shared by robots handed the same map.
+  struct MapContents {
+    std::shared_ptr<const MemberIds> members;
+    std::shared_ptr<const MemberPayloads> payloads;
+  };
+  MapContents ContentsOf(const std::shared_ptr<const EpochMap>& map);
 
   EpochTable table_;
   size_t max_rows_ = 0;  // max_cells / robots
   bool full_ = false;
   bool any_epoch_ = false;
   int64_t last_epoch_ = 0;  // unwrapped number of the last start placed
-  // Member lists of the maps seen lately, by the reader's map object, so
-  // robots handed the same map share one list. Cleared when it grows past
-  // the robot count (a cache: a miss only costs a copy).
-  std::unordered_map<const EpochMap*, std::pair<std::shared_ptr<const EpochMap>, std::shared_ptr<const MemberIds>>>
-      members_cache_;
+  // Member lists and payloads of the maps seen lately, by the reader's map
+  // object, so robots handed the same map share one copy. Cleared when it
+  // grows past the robot count (a cache: a miss only costs a copy).
+  std::unordered_map<const EpochMap*, std::pair<std::shared_ptr<const EpochMap>, MapContents>> contents_cache_;
 };
 
 /// The table of `rounds` (a whole read file, or its beginning), up to the
