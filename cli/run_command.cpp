@@ -157,15 +157,12 @@ int RunRunCommand(const RunOptions& options, std::ostream& out, std::ostream& er
   }
   // The live page is a sink of the rounds; with it the run is paced, so
   // that a browser watches it as it happens.
-  std::unique_ptr<lab::live::LiveServer> live;
-  if (options.live.on()) {
-    lab::live::LiveOptions live_options;
-    live_options.replay_page_follows = true;
-    live_options.title = "SyROF live: " + scenario.name;
-    live = std::make_unique<lab::live::LiveServer>(live_options);
-    if (!lab::live::StartLive(*live, options.live, "syrof run", out, err)) return 2;
-    sim_options.sinks.push_back(live.get());
+  lab::live::LiveResult started_live = lab::live::StartLive(options.live, scenario.name, out, sim_options.sinks);
+  if (!started_live.ok()) {
+    fmt::print(err, "syrof run: {}\n", started_live.error->ToString());
+    return 2;
   }
+  const std::unique_ptr<lab::live::LiveServer> live = std::move(started_live.server);
   sim::Simulation simulation(scenario, sim_options);
   if (options.realtime || live) {
     // One radio round at a time, each ending no earlier than its world time

@@ -130,15 +130,13 @@ int RunSwarmCommand(const SwarmOptions& options, std::ostream& out, std::ostream
       }
     };
   }
-  std::unique_ptr<lab::live::LiveServer> live;
-  if (options.live.on()) {
-    lab::live::LiveOptions live_options;
-    live_options.replay_page_follows = true;
-    live_options.title = "SyROF live: " + loaded.scenario->name + " (DDS swarm)";
-    live = std::make_unique<lab::live::LiveServer>(live_options);
-    if (!lab::live::StartLive(*live, options.live, "syrof swarm", out, err)) return kBadInput;
-    swarm.sinks.push_back(live.get());
+  lab::live::LiveResult started_live =
+      lab::live::StartLive(options.live, loaded.scenario->name + " (DDS swarm)", out, swarm.sinks);
+  if (!started_live.ok()) {
+    fmt::print(err, "syrof swarm: {}\n", started_live.error->ToString());
+    return kBadInput;
   }
+  const std::unique_ptr<lab::live::LiveServer> live = std::move(started_live.server);
   const sim_dds::SwarmResult result = sim_dds::RunSwarm(swarm, err);
   // A swarm that failed before its end never told the sinks: the page says
   // the run stopped.

@@ -218,18 +218,14 @@ int Run(const Options& options) {
     replay_sink = std::make_unique<bridge::ReplaySink>(replay_file);
     sinks.push_back(replay_sink.get());
   }
-  std::unique_ptr<syrof::lab::live::LiveServer> live;
-  if (options.live.on()) {
-    syrof::lab::live::LiveOptions live_options;
-    live_options.replay_page_follows = true;
-    live_options.title = "SyROF live: the base station (" + run.input + ")";
-    live = std::make_unique<syrof::lab::live::LiveServer>(live_options);
-    if (!syrof::lab::live::StartLive(*live, options.live, "syrof-bridge", std::cerr, std::cerr)) {
-      bridge::CloseLink(link.fd);
-      return kBadInput;
-    }
-    sinks.push_back(live.get());
+  syrof::lab::live::LiveResult started_live =
+      syrof::lab::live::StartLive(options.live, "the base station (" + run.input + ")", std::cerr, sinks);
+  if (!started_live.ok()) {
+    std::cerr << "syrof-bridge: " << started_live.error->ToString() << "\n";
+    bridge::CloseLink(link.fd);
+    return kBadInput;
   }
+  const std::unique_ptr<syrof::lab::live::LiveServer> live = std::move(started_live.server);
 
   std::vector<bridge::BeaconOutput*> outputs;
   std::unique_ptr<bridge::DdsBeaconOutput> dds;

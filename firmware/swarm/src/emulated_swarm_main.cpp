@@ -115,16 +115,13 @@ int main(int argc, char** argv) {
   }
   // The live page listens before any qemu starts: an address it cannot
   // have is a usage error (exit 2), as for `syrof swarm --live`.
-  std::unique_ptr<live::LiveServer> live_page;
   std::vector<syrof::lab::replay::RoundSink*> sinks;
-  if (options.live.on()) {
-    live::LiveOptions live_options;
-    live_options.replay_page_follows = true;
-    live_options.title = "SyROF live: " + scenario.name + " (firmware swarm)";
-    live_page = std::make_unique<live::LiveServer>(live_options);
-    if (!live::StartLive(*live_page, options.live, "syrof-firmware-swarm", std::cout, std::cerr)) return 2;
-    sinks.push_back(live_page.get());
+  live::LiveResult started_live = live::StartLive(options.live, scenario.name + " (firmware swarm)", std::cout, sinks);
+  if (!started_live.ok()) {
+    std::cerr << "syrof-firmware-swarm: " << started_live.error->ToString() << "\n";
+    return 2;
   }
+  const std::unique_ptr<live::LiveServer> live_page = std::move(started_live.server);
   swarm::SwarmHost host(options, scenario, sinks);
   if (!host.OpenSockets() || !host.LaunchRobots()) {
     // The page says the run stopped, with no replay to link.

@@ -18,6 +18,9 @@ namespace {
 std::atomic<bool> g_live_stop{false};
 void StopLinger(int) { g_live_stop.store(true); }
 
+// What an address that ParseLiveAddress refuses should have been.
+std::string AddressExpected() { return fmt::format("expected ADDR:PORT (like {}) or a port", kDefaultLiveAddress); }
+
 }  // namespace
 
 void SetupLiveOptions(CLI::App& command, LiveCommandOptions& options) {
@@ -61,28 +64,36 @@ bool ParseLiveAddress(const std::string& text, std::string& address, int& port, 
   const bool digits = !port_text.empty() && port_text.size() <= 5 &&
                       port_text.find_first_not_of("0123456789") == std::string::npos;
   if (address.empty() || !digits || std::stoi(port_text) > 65535) {
-    problem = fmt::format("--live={}: expected ADDR:PORT (like {}) or a port", text, kDefaultLiveAddress);
+    problem = fmt::format("--live={}: {}", text, AddressExpected());
     return false;
   }
   port = std::stoi(port_text);
   return true;
 }
 
-bool StartLive(LiveServer& server, const LiveCommandOptions& options, const std::string& command,
-               std::ostream& out, std::ostream& err) {
+LiveResult StartLive(const LiveCommandOptions& options, const std::string& subject, std::ostream& out,
+                     std::vector<replay::RoundSink*>& sinks) {
+  LiveResult result;
+  if (!options.on()) return result;
   std::string address, problem;
   int port = 0;
   if (!ParseLiveAddress(options.address, address, port, problem)) {
-    fmt::print(err, "{}: {}\n", command, problem);
-    return false;
+    result.error = Error{.where = "--live=" + options.address, .message = AddressExpected()};
+    return result;
   }
-  if (const std::optional<Error> error = server.Start(address, port)) {
-    fmt::print(err, "{}: --live: the live page cannot listen on {}\n", command, error->ToString());
-    return false;
+  LiveOptions live_options;
+  live_options.replay_page_follows = true;
+  live_options.title = "SyROF live: " + subject;
+  auto server = std::make_unique<LiveServer>(live_options);
+  if (const std::optional<Error> error = server->Start(address, port)) {
+    result.error = Error{.where = "--live", .message = "the live page cannot listen on " + error->ToString()};
+    return result;
   }
-  fmt::print(out, "  live page: {}\n", server.listening().url);
+  fmt::print(out, "  live page: {}\n", server->listening().url);
   out.flush();
-  return true;
+  sinks.push_back(server.get());
+  result.server = std::move(server);
+  return result;
 }
 
 void EndLive(LiveServer& server, const LiveCommandOptions& options, const std::string& replay_path,

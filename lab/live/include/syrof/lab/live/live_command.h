@@ -7,12 +7,15 @@
 // with ParseLiveAddress and kDefaultLiveAddress.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/live/live_server.h"
+#include "syrof/lab/replay/round_sink.h"
 
 namespace CLI {
 class App;  // CLI11's; only SetupLiveOptions needs it, and its callers include it
@@ -44,10 +47,23 @@ std::vector<std::string> JoinLiveAddress(int argc, const char* const* argv);
 /// with `problem` said for anything else.
 bool ParseLiveAddress(const std::string& text, std::string& address, int& port, std::string& problem);
 
-/// Starts `server` where `options` says and prints its URL on `out`; false
-/// with the reason on `err` (prefixed by `command`).
-bool StartLive(LiveServer& server, const LiveCommandOptions& options, const std::string& command,
-               std::ostream& out, std::ostream& err);
+/// A run's live page (StartLive), or why it could not start.
+struct LiveResult {
+  std::unique_ptr<LiveServer> server;  ///< null when --live is off, or on an error
+  std::optional<Error> error;          ///< a usage error: the caller exits 2
+  bool ok() const { return !error.has_value(); }
+};
+
+/// The live page of a run, when `options.on()`: a LiveServer titled
+/// "SyROF live: SUBJECT" whose end waits for the replay's page (EndLive),
+/// listening where `options` says, its URL printed on `out`, and put last
+/// into `sinks` (the rounds it shows). With --live off: no server, nothing
+/// printed, `sinks` unchanged. An address that does not parse
+/// ("--live=TEXT: expected ADDR:PORT ...") or that this host cannot listen
+/// on ("--live: the live page cannot listen on ADDR:PORT: ...") is the
+/// error; the caller prints it after its name, as `syrof run: ` does.
+LiveResult StartLive(const LiveCommandOptions& options, const std::string& subject, std::ostream& out,
+                     std::vector<replay::RoundSink*>& sinks);
 
 /// After the run: gives `server` the page of the replay at `replay_path`
 /// (none when empty), then serves on for `options.linger_s` or until
