@@ -24,6 +24,13 @@
 # - core/motion includes syrof/app.h (syrof_car_command), so it sits above
 #   core/app and below core/runtime, which wires everything of core.
 # - lab/base (the error value) is what every lab module shares.
+# - firmware (the cross-compiled robot: NvicPort and the kernel, the
+#   drivers, the robot image, the boards) runs core on a board and needs
+#   nothing of lab: it sits beside lab/base, so the check refuses it every
+#   lab header. Its host tool, the emulated swarm's host (firmware/swarm,
+#   syrof-firmware-swarm: qemu processes, the beacon channel, the world
+#   loop), is a module of its own above lab, the process module and the
+#   firmware's headers it reads (the radio link, the boot words).
 # - lab/message (a message format: what a payload's bytes mean) is pure and
 #   needs only lab/base: the scenario reads it from YAML, the replay stores
 #   it, the view and the grader decode and check payloads with it.
@@ -38,14 +45,17 @@
 # - lab/search (search tests) runs lab/sim again and again, so it sits
 #   above it. lab/live (the live page's HTTP server) feeds lab/view's page
 #   from a run's rounds, so it sits beside it, above lab/view.
-# - sim_dds and firmware run core/runtime in other processes or on a board;
-#   the grader sits above everything that runs a robot; cli is the top.
+# - sim_dds and firmware/swarm run core/runtime in other processes (DDS
+#   robots, qemu instances) around lab/sim's world loop (WorldPlayer,
+#   RoundRecorder); they are siblings: neither includes the other. The
+#   grader sits above everything that runs a robot; cli is the top.
 # - bridge (the base station, syrof-bridge) reads the firmware's radio link
 #   framing and publishes on sim_dds's beacon topic, so it sits above both
 #   (its own group: it runs no robot, nothing above needs it).
 # - app_host/process (Spawn, the sandbox's steps, Fd, Landlock) needs only
 #   the C library: it sits below every module that starts a process (the
 #   app host, sim_dds, the firmware swarm host, the grader). Host only.
+#   Nothing else includes <spawn.h> (SYROF_EXCLUSIVE_HEADERS below).
 # - app_host (a student's library in a sandboxed process per robot) sits
 #   below sim_dds and the grader, which both run student libraries through
 #   it (the lab's `syrof run` too). Its hosts need only core/app and
@@ -68,7 +78,7 @@ set(SYROF_LAYERS
   "core/app"
   "core/motion"
   "core/runtime"
-  "lab/base"
+  "lab/base firmware"
   "lab/sensors lab/apps lab/goals lab/message"
   "lab/world"
   "lab/scenario"
@@ -77,7 +87,7 @@ set(SYROF_LAYERS
   "lab/search lab/live"
   "app_host/process"
   "app_host"
-  "sim_dds firmware"
+  "sim_dds firmware/swarm"
   "bridge"
   "grader/assignment"
   "grader/report"
@@ -88,18 +98,22 @@ set(SYROF_LAYERS
 # "<include path prefix>=<module>": CGAL only in queries (its exact kernels
 # are the queries' business), Cyclone DDS only in sim_dds, the boards'
 # headers only in firmware, cpp-httplib only in lab/live (the one HTTP
-# server).
+# server), posix_spawn's <spawn.h> only in app_host/process (the one place a
+# child process is started; fork and exec come with <unistd.h>, which every
+# module may include, so only a review finds those).
 set(SYROF_EXCLUSIVE_HEADERS
   "CGAL/=queries"
   "dds/=sim_dds"
   "ddscxx/=sim_dds"
   "org/eclipse/cyclonedds/=sim_dds"
   "syrof/board/=firmware"
-  "httplib.h=lab/live")
+  "httplib.h=lab/live"
+  "spawn.h=app_host/process")
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.
-set(SYROF_NESTED_MODULES "core/estimation/tasks" "app_host/process" "grader/assignment" "grader/report")
+set(SYROF_NESTED_MODULES "core/estimation/tasks" "app_host/process" "firmware/swarm" "grader/assignment"
+                         "grader/report")
 
 # The top-level folders whose sources the check walks.
 set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds app_host grader bridge)
