@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "syrof/lab/world/world.h"
+#include "syrof/runtime/robot_kinds.h"
 #include "units.h"
 
 namespace syrof::lab::sim {
@@ -36,22 +37,17 @@ wire::MemberSet InitialMembers(const scenario::Scenario& scenario) {
 }
 
 motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world::KindSpec& spec) {
-  motion::ControllerConfig config;
-  config.kind = world::DriveKindFor(kind);
-  config.limits.max_speed_mps = static_cast<float>(spec.max_speed_mps);
-  config.limits.max_accel_mps2 = static_cast<float>(spec.max_accel_mps2);
-  config.limits.max_turn_rate_radps = static_cast<float>(spec.max_turn_rate_radps);
-  config.limits.wheel_base_m = static_cast<float>(spec.wheel_base_m);
-  config.limits.body_radius_m = static_cast<float>(spec.body_radius_m);
-  if (kind == world::RobotKind::kDrone) {
-    config.limits.response_lag_s = static_cast<float>(spec.tilt_time_constant_s);
-    // Position loop k over a velocity lag tau: damping 1 / (2 sqrt(k tau)),
-    // 0.5 at the omni's 4/s with 0.25 s; 2/s gives 0.71 and no overshoot
-    // worth the name.
-    config.position_gain_per_s = kDronePositionGainPerS;
-    config.hold_position = true;  // it drifts: hover in place rather than let go
+  return motion::ControllerConfigFor(kind, world::LimitsOf(spec));
+}
+
+std::vector<motion::SwarmKind> SwarmKindsOf(const scenario::Scenario& scenario) {
+  std::vector<motion::SwarmKind> kinds;
+  for (const world::RobotKind kind : {world::RobotKind::kOmni, world::RobotKind::kRover, world::RobotKind::kDrone}) {
+    const bool present = std::any_of(scenario.robots.begin(), scenario.robots.end(),
+                                     [kind](const scenario::RobotSpec& robot) { return robot.kind == kind; });
+    if (present) kinds.push_back(motion::SwarmKind{kind, world::LimitsOf(scenario.kind_spec(kind))});
   }
-  return config;
+  return kinds;
 }
 
 sensors::SensorBankConfig SensorConfigFor(const scenario::Scenario& scenario, const scenario::RobotSpec& robot) {
@@ -89,11 +85,13 @@ runtime::RobotConfig RobotConfigFor(const scenario::Scenario& scenario, const sc
   config.initial_pose.heading_rad = static_cast<float>(robot.heading_rad);
   config.initial_pose.position_sigma_m = kInitialPositionSigmaM;
   config.initial_pose.heading_sigma_rad = kInitialHeadingSigmaRad;
-  config.motion = ControllerConfigFor(robot.kind, scenario.kind_spec(robot.kind));
   config.arena_width_m = static_cast<float>(scenario.arena.width_m);
   config.arena_height_m = static_cast<float>(scenario.arena.height_m);
   config.safety = SafetyConfigFor(scenario);
-  if (robot.kind == world::RobotKind::kDrone) config.safety.own_sigmas = kDroneOwnSigmas;
+  // The kind's controller, the safety filter's view of the swarm's kinds and
+  // a drone's estimator at its flight height, as the robot image sets them.
+  runtime::ConfigureKinds(config, motion::SwarmKind{robot.kind, world::LimitsOf(scenario.kind_spec(robot.kind))},
+                          SwarmKindsOf(scenario));
   config.announce_presence = scenario.safety;
   config.activation = ActivationConfigFor(scenario);
   // With a clocks section the robots align their rounds unless it says
@@ -122,22 +120,7 @@ motion::SafetyConfig SafetyConfigFor(const scenario::Scenario& scenario) {
   safety.enabled = scenario.safety;
   // A beacon does not say its sender's kind: assume the fastest, largest and
   // slowest-braking kind present.
-  bool first = true;
-  for (const world::RobotKind kind : {world::RobotKind::kOmni, world::RobotKind::kRover, world::RobotKind::kDrone}) {
-    const bool present = std::any_of(scenario.robots.begin(), scenario.robots.end(),
-                                     [kind](const scenario::RobotSpec& robot) { return robot.kind == kind; });
-    if (!present) continue;
-    const world::KindSpec& spec = scenario.kind_spec(kind);
-    const motion::ControllerConfig controller = ControllerConfigFor(kind, spec);
-    const float braking = controller.braking_fraction * controller.limits.max_accel_mps2;
-    safety.others_max_speed_mps =
-        first ? controller.limits.max_speed_mps : std::max(safety.others_max_speed_mps, controller.limits.max_speed_mps);
-    safety.others_radius_m =
-        first ? controller.limits.body_radius_m : std::max(safety.others_radius_m, controller.limits.body_radius_m);
-    safety.others_braking_mps2 = first ? braking : std::min(safety.others_braking_mps2, braking);
-    safety.others_lag_s = std::max(safety.others_lag_s, controller.limits.response_lag_s);
-    first = false;
-  }
+  motion::SetOthers(safety, SwarmKindsOf(scenario));
   safety.arena_width_m = static_cast<float>(scenario.arena.width_m);
   safety.arena_height_m = static_cast<float>(scenario.arena.height_m);
   return safety;

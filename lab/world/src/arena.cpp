@@ -2,35 +2,30 @@
 
 namespace syrof::lab::world {
 
-const char* ToString(RobotKind kind) {
-  switch (kind) {
-    case RobotKind::kOmni:
-      return "omni";
-    case RobotKind::kRover:
-      return "rover";
-    case RobotKind::kDrone:
-      return "drone";
-  }
-  return "?";
+KindSpec DefaultKindSpec(RobotKind kind) {
+  const motion::KindLimits limits = motion::DefaultKindLimits(kind);
+  KindSpec spec;
+  spec.body_radius_m = limits.body_radius_m;
+  spec.max_speed_mps = limits.max_speed_mps;
+  spec.max_accel_mps2 = limits.max_accel_mps2;
+  spec.max_turn_rate_radps = limits.max_turn_rate_radps;
+  spec.wheel_base_m = limits.wheel_base_m;
+  spec.tilt_time_constant_s = limits.tilt_time_constant_s;
+  spec.flight_height_m = limits.flight_height_m;
+  if (kind == RobotKind::kDrone) spec.drift_sigma_mps = 0.005;
+  return spec;
 }
 
-KindSpec DefaultKindSpec(RobotKind kind) {
-  KindSpec spec;  // the struct's defaults are the omni robot's
-  if (kind == RobotKind::kRover) {
-    spec.body_radius_m = 0.12;
-    spec.max_speed_mps = 0.4;
-    spec.max_accel_mps2 = 0.8;
-    spec.wheel_base_m = 0.16;
-  }
-  if (kind == RobotKind::kDrone) {
-    spec.body_radius_m = 0.12;
-    spec.max_speed_mps = 0.8;
-    spec.max_accel_mps2 = 0.5;
-    spec.tilt_time_constant_s = 0.25;
-    spec.drift_sigma_mps = 0.005;
-    spec.flight_height_m = 0.30;
-  }
-  return spec;
+motion::KindLimits LimitsOf(const KindSpec& spec) {
+  motion::KindLimits limits;
+  limits.body_radius_m = spec.body_radius_m;
+  limits.max_speed_mps = spec.max_speed_mps;
+  limits.max_accel_mps2 = spec.max_accel_mps2;
+  limits.max_turn_rate_radps = spec.max_turn_rate_radps;
+  limits.wheel_base_m = spec.wheel_base_m;
+  limits.tilt_time_constant_s = spec.tilt_time_constant_s;
+  limits.flight_height_m = spec.flight_height_m;
+  return limits;
 }
 
 double StoppingDistanceM(const KindSpec& spec) {

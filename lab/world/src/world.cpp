@@ -98,10 +98,6 @@ const char* ToString(BodyPresence presence) {
   return "?";
 }
 
-motion::DriveKind DriveKindFor(RobotKind kind) {
-  return kind == RobotKind::kRover ? motion::DriveKind::kWheels : motion::DriveKind::kOmni;
-}
-
 std::optional<Error> CheckWorldSpec(const ArenaSpec& arena, std::span<const BodySpec> bodies) {
   if (!PositiveFinite(arena.width_m) || !PositiveFinite(arena.height_m)) {
     return Error{.where = "arena", .message = "width and height must be > 0"};

@@ -7,7 +7,10 @@
 // workspace.
 #pragma once
 
+#include <vector>
+
 #include "syrof/lab/scenario/scenario.h"
+#include "syrof/motion/robot_kind.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/safety_filter.h"
 #include "syrof/runtime/robot.h"
@@ -24,15 +27,11 @@ namespace syrof::lab::sim {
 inline constexpr float kInitialPositionSigmaM = 0.05f;
 inline constexpr float kInitialHeadingSigmaRad = 0.05f;
 
-/// A drone's position gain (1/s): its velocity follows the setpoint through
-/// its tilt lag tau, and a position loop of gain k over that lag is damped
-/// 1 / (2 sqrt(k tau)): 0.5 at the omni's 4/s and 0.25 s, 0.71 at 2/s.
-inline constexpr float kDronePositionGainPerS = 2.0f;
-
-/// A drone's safety filter grows the discs by this many of its own position
-/// sigmas (SafetyConfig::own_sigmas): a hovering drone holds on its
-/// estimate, so its true position wanders with the estimate's error.
-inline constexpr float kDroneOwnSigmas = 3.4f;
+/// A drone's position gain and the own sigmas its safety filter grows the
+/// discs by: the motion layer's (motion/robot_kind.h), which the robot
+/// image uses too.
+using motion::kDronePositionGainPerS;
+using motion::kDroneOwnSigmas;
 
 /// Floors on the noise the estimator assumes, whatever the scenario's
 /// simulated sensors do. A scenario may set a sensor's noise to 0 (perfect
@@ -59,8 +58,13 @@ wire::MemberSet InitialMembers(const scenario::Scenario& scenario);
 /// float) and the default gains and tolerances; the drive kind follows the
 /// robot kind (omni and drone: velocity, rover: wheels). A drone's response
 /// lag is its tilt time constant, and its position gain
-/// kDronePositionGainPerS.
+/// kDronePositionGainPerS. motion::ControllerConfigFor, the robot image's.
 motion::ControllerConfig ControllerConfigFor(world::RobotKind kind, const world::KindSpec& spec);
+
+/// The kinds present among `scenario`'s robots, each once, in RobotKind's
+/// order, with the scenario's limits of each (what motion::SetOthers and
+/// runtime::ConfigureKinds take).
+std::vector<motion::SwarmKind> SwarmKindsOf(const scenario::Scenario& scenario);
 
 /// Robot `robot`'s simulated sensors: the scenario's, except that a drone's
 /// flow sensor and UWB antenna sit at its kind's flight height (a fixed

@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "syrof/motion/robot_kind.h"
+
 namespace syrof::lab::world {
 
 /// A UWB anchor, metres.
@@ -28,14 +30,11 @@ struct ArenaSpec {
   std::vector<AnchorSpec> anchors;
 };
 
-enum class RobotKind : uint8_t {
-  kOmni = 0,   ///< omnidirectional (the paper's robots): commanded by a velocity vector
-  kRover = 1,  ///< differential drive: commanded by wheel speeds
-  kDrone = 2,  ///< planar multirotor at a fixed flight height: commanded by a velocity vector, through a tilt lag
-};
-
-/// "omni", "rover" or "drone"; "?" otherwise.
-const char* ToString(RobotKind kind);
+/// The robot kinds are the motion layer's (motion/robot_kind.h: omni,
+/// rover, drone), so the lab and the robot image name and configure them
+/// alike. ToString gives "omni", "rover" or "drone".
+using RobotKind = motion::RobotKind;
+using motion::ToString;
 
 /// The body and kinematic limits of a robot kind. Defaults per kind come from
 /// DefaultKindSpec(); a scenario may override any field.
@@ -62,11 +61,15 @@ struct KindSpec {
 /// Correlation time of a drone's drift velocity, s.
 inline constexpr double kDriftCorrelationS = 2.0;
 
-/// The defaults: omni radius 0.10 m, 0.5 m/s, 1.0 m/s^2, 3 rad/s; rover
-/// radius 0.12 m, 0.4 m/s, 0.8 m/s^2, wheel base 0.16 m; drone radius 0.12 m
-/// (its rotors), 0.8 m/s, 0.5 m/s^2, 3 rad/s, tilt time constant 0.25 s,
-/// drift 0.005 m/s, flight height 0.30 m.
+/// The defaults: the motion layer's (motion::DefaultKindLimits: omni radius
+/// 0.10 m, 0.5 m/s, 1.0 m/s^2, 3 rad/s; rover radius 0.12 m, 0.4 m/s,
+/// 0.8 m/s^2, wheel base 0.16 m; drone radius 0.12 m (its rotors), 0.8 m/s,
+/// 0.5 m/s^2, 3 rad/s, tilt time constant 0.25 s, flight height 0.30 m, the
+/// ones the robot image has compiled in), and a drone's drift 0.005 m/s.
 KindSpec DefaultKindSpec(RobotKind kind);
+
+/// `spec` less the drift: what a robot's motion layer knows of its kind.
+motion::KindLimits LimitsOf(const KindSpec& spec);
 
 /// How far a body of this kind moving at its top speed travels before it
 /// stops when commanded to: v^2 / 2a, plus v tau for a drone (its velocity

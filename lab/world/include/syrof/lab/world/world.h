@@ -95,8 +95,9 @@ std::optional<Error> CheckWorldSpec(const ArenaSpec& arena, std::span<const Body
 /// another (or a wall) and jittering by numerical noise counts once.
 inline constexpr double kContactHysteresisM = 1e-3;
 
-/// The drive kind the motion controller of a robot kind produces.
-motion::DriveKind DriveKindFor(RobotKind kind);
+/// The drive kind the motion controller of a robot kind produces (the
+/// motion layer's: omni and drone a velocity, rover wheels).
+using motion::DriveKindFor;
 
 class World {
  public:
