@@ -178,6 +178,11 @@ test-m4: deps
 ## and the apps' payloads in every map epoch by epoch (syrof compare --payloads:
 ## the charges the robots share), into out/firmware-swarm/compare-inputs/ (21 s
 ## here when the first try agrees).
+## Then drones: SWARM_COMPARE_DRONES_SCENARIO (4 drones spread onto a circle
+## on the default arena, each told its kind on its boot line: docs/firmware.md,
+## "Robot kinds") in the lab and on the emulated swarm for
+## SWARM_COMPARE_DRONES_SECONDS, the robots' true positions compared too,
+## into out/firmware-swarm/compare-drones/ (about 15 s when the first try agrees).
 SWARM_ICOUNT  ?= 4
 SWARM_ROBOTS  ?= $(if $(CI),4,$(shell [ $$(nproc) -ge 4 ] && echo 8 || echo 4))
 SWARM_SECONDS ?= $(if $(CI),30,60)
@@ -193,6 +198,8 @@ SWARM_COMPARE_ASYNC_SCENARIO ?= tests/sim_dds/scenarios/async_runtimes.yaml
 SWARM_COMPARE_INPUTS_SCENARIO ?= tests/firmware/swarm/strongest_4.yaml
 SWARM_COMPARE_INPUTS_APP ?= $(BUILD_DIR)/tests/grader/assignment/submissions/strongest/reference/libstrongest.so
 SWARM_COMPARE_POSE_TOLERANCE_M ?= 0.25
+SWARM_COMPARE_DRONES_SCENARIO ?= tests/firmware/swarm/drones_4.yaml
+SWARM_COMPARE_DRONES_SECONDS ?= 10
 SWARM_BRIDGE_SECONDS ?= 8
 test-firmware-swarm: deps
 	$(configure-build)
@@ -224,6 +231,9 @@ test-firmware-swarm: deps
 	LAB_APP=$(SWARM_COMPARE_INPUTS_APP) POSE_TOLERANCE_M=$(SWARM_COMPARE_POSE_TOLERANCE_M) PAYLOADS=1 \
 	  bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2-strongest.elf \
 	  $(SWARM_COMPARE_INPUTS_SCENARIO) out/firmware-swarm/compare-inputs
+	POSE_TOLERANCE_M=$(SWARM_COMPARE_POSE_TOLERANCE_M) FIRMWARE_SECONDS=$(SWARM_COMPARE_DRONES_SECONDS) \
+	  bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
+	  $(SWARM_COMPARE_DRONES_SCENARIO) out/firmware-swarm/compare-drones
 
 ## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
 QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \

@@ -19,7 +19,9 @@
 # round (`syrof compare --pose-tolerance-m M`): the epochs alone agree
 # whatever the app does. PAYLOADS=1 also compares the apps' payloads in
 # every map a robot started an epoch with (`syrof compare --payloads`): the
-# state the apps share, epoch by epoch.
+# state the apps share, epoch by epoch. FIRMWARE_SECONDS=S runs the firmware swarm S
+# seconds (--seconds; without it, the swarm's default 20 s): the scenario's
+# duration, for a scenario shorter than that.
 #
 # The emulated robots run in real time on a shared machine: a guest held
 # back tens of milliseconds sends or hears a beacon a round late, and one
@@ -46,6 +48,8 @@ lab_app=()
 compare_poses=()
 [[ -n ${POSE_TOLERANCE_M:-} ]] && compare_poses=(--pose-tolerance-m "$POSE_TOLERANCE_M")
 [[ ${PAYLOADS:-0} == 1 ]] && compare_poses+=(--payloads)
+firmware_seconds=()
+[[ -n ${FIRMWARE_SECONDS:-} ]] && firmware_seconds=(--seconds "$FIRMWARE_SECONDS")
 if ! "$build/bin/syrof" run "$scenario" "${lab_app[@]}" --out "$out/lab" >"$out/lab.txt" 2>&1; then
   cat "$out/lab.txt" >&2
   echo "$0: the lab run of $scenario failed" >&2
@@ -56,7 +60,7 @@ for try in $(seq 1 $tries); do
   rm -rf "$out/firmware"
   status=0
   "$build/bin/syrof-firmware-swarm" --image "$image" --scenario "$scenario" --out "$out/firmware" \
-      --realtime >"$out/firmware-$try.txt" 2>&1 || status=$?
+      "${firmware_seconds[@]}" --realtime >"$out/firmware-$try.txt" 2>&1 || status=$?
   if [[ $status -eq 2 ]]; then  # a usage error: no try can do better
     cat "$out/firmware-$try.txt" >&2
     echo "$0: the firmware swarm refused its arguments" >&2

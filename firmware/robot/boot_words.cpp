@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "syrof/runtime/robot_kinds.h"
+
 namespace syrof::firmware::robot {
 
 namespace {
@@ -97,6 +99,7 @@ const char* ToString(BootWordsError error) {
     case BootWordsError::kInvalid: return "Invalid";
     case BootWordsError::kBufferTooSmall: return "BufferTooSmall";
     case BootWordsError::kTooManyInputs: return "TooManyInputs";
+    case BootWordsError::kNoSuchKind: return "NoSuchKind";
   }
   return "?";
 }
@@ -320,6 +323,85 @@ const char* BootInputs::Check(uint16_t self_id) {
                   static_cast<unsigned>(size_));
     return message_.data();
   }
+  return nullptr;
+}
+
+namespace {
+
+constexpr KindSet kAllKinds = static_cast<KindSet>((1u << motion::kRobotKindCount) - 1);
+
+bool IsKind(motion::RobotKind kind) { return static_cast<size_t>(kind) < motion::kRobotKindCount; }
+
+}  // namespace
+
+BootWordsError FormatKindWords(motion::RobotKind self, KindSet swarm, std::span<char> out, size_t& length) {
+  length = 0;
+  if (!IsKind(self) || (swarm & ~kAllKinds) != 0 || (swarm & KindBit(self)) == 0) return BootWordsError::kNoSuchKind;
+  if (out.empty()) return BootWordsError::kBufferTooSmall;
+  out[0] = '\0';
+  if (self == motion::RobotKind::kOmni && swarm == KindBit(self)) return BootWordsError::kOk;
+  Writer writer(out);
+  bool fits = writer.Print(" kind %s", motion::ToString(self));
+  if (swarm != KindBit(self)) {
+    fits = fits && writer.Print(" swarm_kinds ");
+    bool first = true;
+    for (size_t i = 0; i < motion::kRobotKindCount && fits; ++i) {
+      const auto kind = static_cast<motion::RobotKind>(i);
+      if ((swarm & KindBit(kind)) == 0) continue;
+      fits = writer.Print("%s%s", first ? "" : ",", motion::ToString(kind));
+      first = false;
+    }
+  }
+  if (!fits) return BootWordsError::kBufferTooSmall;
+  length = writer.used();
+  return BootWordsError::kOk;
+}
+
+BootWordRead BootKind::Read(const char* key, const char* value) {
+  if (std::strcmp(key, "kind") == 0) {
+    return motion::ParseRobotKind(value, self_) ? BootWordRead::kOk : BootWordRead::kBadValue;
+  }
+  if (std::strcmp(key, "swarm_kinds") != 0) return BootWordRead::kNotMine;
+  KindSet kinds = 0;
+  for (const char* text = value;;) {
+    const char* comma = std::strchr(text, ',');
+    const size_t length = comma == nullptr ? std::strlen(text) : static_cast<size_t>(comma - text);
+    char name[8];
+    motion::RobotKind kind{};
+    if (length == 0 || length >= sizeof name) return BootWordRead::kBadValue;
+    std::memcpy(name, text, length);
+    name[length] = '\0';
+    if (!motion::ParseRobotKind(name, kind) || (kinds & KindBit(kind)) != 0) return BootWordRead::kBadValue;
+    kinds = static_cast<KindSet>(kinds | KindBit(kind));
+    if (comma == nullptr) break;
+    text = comma + 1;
+  }
+  swarm_ = kinds;
+  return BootWordRead::kOk;
+}
+
+const char* BootKind::Check() {
+  if (swarm_ == 0 || (swarm_ & KindBit(self_)) != 0) return nullptr;
+  std::snprintf(message_.data(), message_.size(), "kind %s is not among its swarm_kinds (a robot is of its swarm)",
+                motion::ToString(self_));
+  return message_.data();
+}
+
+const char* ConfigureImageKinds(runtime::RobotConfig& config, motion::RobotKind self, KindSet swarm) {
+  const KindSet present = swarm == 0 ? KindBit(self) : swarm;
+  if (!IsKind(self) || (present & ~kAllKinds) != 0 || (present & KindBit(self)) == 0) {
+    return "the robot's kind is not among its swarm's kinds";
+  }
+  std::array<motion::SwarmKind, motion::kRobotKindCount> kinds{};
+  size_t count = 0;
+  for (size_t i = 0; i < motion::kRobotKindCount; ++i) {
+    const auto kind = static_cast<motion::RobotKind>(i);
+    if ((present & KindBit(kind)) != 0) kinds[count++] = motion::SwarmKind{kind, motion::DefaultKindLimits(kind)};
+  }
+  config.safety.arena_width_m = config.estimator.arena.width_m;
+  config.safety.arena_height_m = config.estimator.arena.depth_m;
+  runtime::ConfigureKinds(config, motion::SwarmKind{self, motion::DefaultKindLimits(self)},
+                          std::span<const motion::SwarmKind>(kinds.data(), count));
   return nullptr;
 }
 

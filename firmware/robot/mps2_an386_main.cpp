@@ -21,7 +21,10 @@
 // model's words (boot_words.h: `activation ssync schedule random seed N
 // fair_within F`, ...; absent: FSYNC), the robot's private inputs
 // (boot_words.h: `inputs ID:N` then N `input NAME=VALUE`; refused, with no
-// start, when written for another id or one is missing), `hold 0|1` (with
+// start, when written for another id or one is missing), the robot's kind
+// (boot_words.h: `kind omni|rover|drone`, absent omni, and `swarm_kinds
+// K,K,...`, the swarm's kinds, absent its own: the motion layer of that kind;
+// a kind it does not know is refused, with no start), `hold 0|1` (with
 // `sensors 1`: set everything up, print `held id=N`, and start the clock
 // only when a Start frame arrives on the sensor link, then run its run_ms;
 // `seconds` is then ignored). A word it does not know stops the image with
@@ -184,6 +187,8 @@ alignas(16) unsigned char queries_memory[SYROF_FIRMWARE_QUERIES_BYTES];
 robot::BootActivation boot_activation;
 // The robot's private inputs (syrofAppInput answers from here).
 robot::BootInputs boot_inputs;
+// The robot's kind and its swarm's kinds (its motion layer).
+robot::BootKind boot_kind;
 char report_line[2048];
 
 struct Options {
@@ -214,6 +219,16 @@ bool ParseOptions(int argc, char** argv, Options& options) {
       case robot::BootWordRead::kFull:
         std::printf("syrof-robot: -append word %d '%s': '%s' is one input more than its inputs word announced\n", i + 1,
                     key, argv[i + 1]);
+        return false;
+    }
+    switch (boot_kind.Read(key, argv[i + 1])) {
+      case robot::BootWordRead::kNotMine: break;
+      case robot::BootWordRead::kOk: continue;
+      case robot::BootWordRead::kBadValue:
+      case robot::BootWordRead::kFull:
+        std::printf("syrof-robot: -append word %d '%s': '%s' is not a value it takes (a robot kind this image knows: "
+                    "omni, rover or drone; swarm_kinds lists them, each once; firmware/robot boot_words.h)\n",
+                    i + 1, key, argv[i + 1]);
         return false;
     }
     switch (boot_activation.Read(key, argv[i + 1])) {
@@ -261,7 +276,7 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     } else {
       std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
                   "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1, sensors 0|1, x_mm and y_mm 0..1000000, "
-                  "heading_mrad 0..6283, late 0..31, hold 0|1, and the activation and input words of boot_words.h)\n",
+                  "heading_mrad 0..6283, late 0..31, hold 0|1, and the activation, input and kind words of boot_words.h)\n",
                   i, key, value);
       return false;
     }
@@ -276,6 +291,12 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     return false;
   }
   options.image.app_inputs = boot_inputs.inputs();
+  if (const char* error = boot_kind.Check()) {
+    std::printf("syrof-robot: %s\n", error);
+    return false;
+  }
+  options.image.kind = boot_kind.self();
+  options.image.swarm_kinds = boot_kind.swarm();
   options.image.activation = boot_activation.config();
   if (!syrof::sync::IsValid(options.image.activation)) {
     std::printf("syrof-robot: the activation words make no valid schedule (scripts sorted, delays within max_delay)\n");

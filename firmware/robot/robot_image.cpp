@@ -8,6 +8,7 @@
 #include "syrof/firmware/robot/report_lines.h"
 #include "syrof/queries/queries.h"
 #include "syrof/registry/tasks.h"
+#include "syrof/firmware/robot/boot_words.h"
 #include "syrof/wire/beacon_codec.h"
 
 namespace syrof::firmware::robot {
@@ -89,6 +90,9 @@ const char* RobotImage::Prepare(const ImageConfig& config, const syrof_app_descr
   robot_config.initial_pose.heading_rad = config.start_heading_rad;
   robot_config.activation = config.activation;
   robot_config.app_inputs = config.app_inputs;
+  // The motion layer of the robot's kind in a swarm of its kinds, through
+  // the lab's own path (boot_words.h, ConfigureImageKinds).
+  if (const char* error = ConfigureImageKinds(robot_config, config.kind, config.swarm_kinds)) return error;
   radio_.set_swarm_size(config.swarm_size);
   const std::span<wire::Beacon> storage(receive_storage_.data(),
                                         size_t{runtime::Robot::kReceiveBanks} * config.swarm_size);
@@ -199,12 +203,12 @@ void RobotImage::PrintStatus(int64_t now_ns) {
     used += static_cast<size_t>(written);
   }
   const sync::SyncState& state = robot_->sync_state();
-  char line[400];
+  char line[448];
   const int length = std::snprintf(
       line, sizeof line,
       "status t_ms=%lu board=%s robot=%u/%u steps%s overruns=%lu sync=%s epoch=%u mode=%s phase=%s members=%u "
       "sent=%lu heard=%lu link_rejected=%lu align_rounds=%lu shifts=%lu phase_error_us=%ld activation=%s "
-      "inactive=%lu inputs=%u\n",
+      "inactive=%lu inputs=%u kind=%s\n",
       static_cast<unsigned long>(now_ns / 1'000'000), config_.board, static_cast<unsigned>(config_.self_id),
       static_cast<unsigned>(config_.swarm_size), steps, static_cast<unsigned long>(port_.total_overruns()),
       sync::ToString(state.status), static_cast<unsigned>(state.epoch), wire::ToString(state.epoch_mode),
@@ -214,7 +218,8 @@ void RobotImage::PrintStatus(int64_t now_ns) {
       static_cast<unsigned long>(robot_->alignment_stats().rounds_with_samples),
       static_cast<unsigned long>(robot_->counters().alignment_shifts),
       static_cast<long>(robot_->alignment_stats().last_error_ns / 1000), sync::ToString(config_.activation.model),
-      static_cast<unsigned long>(robot_->counters().inactive_epochs), static_cast<unsigned>(config_.app_inputs.size()));
+      static_cast<unsigned long>(robot_->counters().inactive_epochs), static_cast<unsigned>(config_.app_inputs.size()),
+      motion::ToString(config_.kind));
   if (length > 0) console_(line, static_cast<size_t>(length) < sizeof line ? length : sizeof line - 1, console_context_);
 }
 

@@ -35,6 +35,7 @@
 #include "syrof/app.h"
 #include "syrof/app/c_abi_app.h"
 #include "syrof/estimation/messages.h"
+#include "syrof/motion/robot_kind.h"
 #include "syrof/firmware/drivers/bus.h"
 #include "syrof/firmware/drivers/radio_link.h"
 #include "syrof/firmware/kernel/nvic_port.h"
@@ -105,6 +106,13 @@ struct ImageConfig {
   /// must outlive the image (the mps2-an386 image reads them from its boot
   /// words, boot_words.h). Empty: no inputs.
   std::span<const app::Parameter> app_inputs{};
+  /// This robot's kind and the kinds in its swarm (bit i for
+  /// motion::RobotKind i; 0: its own kind alone): its motion layer, as the
+  /// lab's robot of that kind has it (runtime::ConfigureKinds, with the
+  /// kinds' default limits, motion::DefaultKindLimits). The mps2-an386 image
+  /// reads them from its boot words, the Teensy's from its build settings.
+  motion::RobotKind kind = motion::RobotKind::kOmni;
+  uint8_t swarm_kinds = 0;
   ImageExtension* extension = nullptr;  ///< not owned
 };
 

@@ -32,9 +32,23 @@ namespace robot = syrof::firmware::robot;
 #ifndef SYROF_ROBOT_SWARM_SIZE
 #define SYROF_ROBOT_SWARM_SIZE 4
 #endif
+// Its kind and its swarm's kinds (-DSYROF_ROBOT_KIND=0|1|2, motion::RobotKind;
+// -DSYROF_ROBOT_SWARM_KINDS=mask, bit i kind i, 0: its own alone), from the
+// build settings SYROF_FIRMWARE_ROBOT_KIND and SYROF_FIRMWARE_SWARM_KINDS.
+#ifndef SYROF_ROBOT_KIND
+#define SYROF_ROBOT_KIND 0
+#endif
+#ifndef SYROF_ROBOT_SWARM_KINDS
+#define SYROF_ROBOT_SWARM_KINDS 0
+#endif
 constexpr uint16_t kSelfId = SYROF_ROBOT_ID;
 constexpr uint16_t kSwarmSize = SYROF_ROBOT_SWARM_SIZE;
 static_assert(kSwarmSize >= 1 && kSwarmSize <= syrof::wire::kMaxSwarmSize && kSelfId < kSwarmSize);
+static_assert(SYROF_ROBOT_KIND >= 0 && SYROF_ROBOT_KIND < syrof::motion::kRobotKindCount, "no such robot kind");
+static_assert(SYROF_ROBOT_SWARM_KINDS == 0 || (SYROF_ROBOT_SWARM_KINDS & (1 << SYROF_ROBOT_KIND)) != 0,
+              "the robot's kind is not among its swarm's kinds");
+constexpr auto kKind = static_cast<syrof::motion::RobotKind>(SYROF_ROBOT_KIND);
+constexpr uint8_t kSwarmKinds = SYROF_ROBOT_SWARM_KINDS;
 
 constexpr uint32_t kConsoleBaud = 115'200;
 constexpr uint32_t kRadioBaud = 1'000'000;
@@ -88,8 +102,8 @@ ReceiveQueue receive_queue;
 
 int main() {
   board::ConsoleUart().Start(kConsoleBaud);
-  std::printf("syrof-robot %u of %u (Teensy 3.2, 72 MHz)\n", static_cast<unsigned>(kSelfId),
-              static_cast<unsigned>(kSwarmSize));
+  std::printf("syrof-robot %u of %u, %s (Teensy 3.2, 72 MHz)\n", static_cast<unsigned>(kSelfId),
+              static_cast<unsigned>(kSwarmSize), syrof::motion::ToString(kKind));
   if (!board::RadioUart().Start(kRadioBaud, &ReceiveQueue::Push, &receive_queue)) Halt("radio UART rate");
   board::I2cBus0().Start(400'000);
 
@@ -97,7 +111,10 @@ int main() {
   static kernel::NvicPort port(hardware);
   hardware.Attach(port);
   static robot::RobotImage image(port, board::RadioUart(), &ReceiveQueue::Read, &receive_queue, &ConsoleWrite, nullptr);
-  if (const char* error = image.Start({kSelfId, kSwarmSize, true, "teensy32"}, syrof_app_entry(), queries_memory)) {
+  robot::ImageConfig config{kSelfId, kSwarmSize, true, "teensy32"};
+  config.kind = kKind;
+  config.swarm_kinds = kSwarmKinds;
+  if (const char* error = image.Start(config, syrof_app_entry(), queries_memory)) {
     Halt(error);
   }
   std::printf("robot started\n");

@@ -103,6 +103,7 @@ std::string ActivationWords(const lab::scenario::Scenario& scenario) {
     case robot::BootWordsError::kInvalid:
     case robot::BootWordsError::kBufferTooSmall:
     case robot::BootWordsError::kTooManyInputs:
+    case robot::BootWordsError::kNoSuchKind:
       break;
   }
   Usage("--scenario: activation: the robot image cannot be told this schedule (docs/firmware.md, \"Activation\")");
@@ -137,13 +138,26 @@ std::string InputWords(const lab::scenario::Scenario& scenario, uint16_t id) {
         " bytes, a letter or _ then letters, digits and _; docs/firmware.md, \"Private inputs\")");
 }
 
+// Robot `id`'s kind and its swarm's kinds as the image's words
+// (boot_words.h): none for an omni robot among omni robots, as before.
+std::string KindWords(const lab::scenario::Scenario& scenario, uint16_t id) {
+  robot::KindSet swarm = 0;
+  for (const lab::scenario::RobotSpec& spec : scenario.robots) swarm |= robot::KindBit(spec.kind);
+  char text[64];
+  size_t length = 0;
+  if (robot::FormatKindWords(scenario.robots[id].kind, swarm, text, length) != robot::BootWordsError::kOk) {
+    Usage("--scenario: robot " + std::to_string(id) + "'s kind cannot be told the robot image");
+  }
+  return std::string(text, length);
+}
+
 }  // namespace
 
 std::string ImageAppend(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id) {
   const auto robots = static_cast<uint16_t>(scenario.robots.size());
   return "id " + std::to_string(id) + " swarm " + std::to_string(robots) + " hold 1 report 1 sensors 1 align " +
          (options.align.value_or(true) ? "1" : "0") + StartPoseWords(scenario.robots[id]) + LateJoinerWords(scenario) +
-         ActivationWords(scenario) + InputWords(scenario, id);
+         KindWords(scenario, id) + ActivationWords(scenario) + InputWords(scenario, id);
 }
 
 void CheckBootLines(const Options& options, const lab::scenario::Scenario& scenario) {

@@ -80,7 +80,7 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
       fault_outcomes_(robots_),
       recorder_(scenario_, SwarmCollectorConfig(scenario_, robots_, period_ns_)),
       activation_check_(lab::sim::ActivationConfigFor(scenario_), robots_),
-      world_(scenario_.arena, lab::sim::Bodies(scenario_)),
+      world_(scenario_.arena, lab::sim::Bodies(scenario_), scenario_.seed),  // the drones' drift, as the lab's
       frames_(robots_),
       next_round_ns_(period_ns_),
       open_consoles_(robots_),
@@ -109,8 +109,9 @@ bool SwarmHost::OpenSockets() {
   if (!launcher_.OpenSockets()) return false;
   for (uint16_t i = 0; i < robots_; ++i) {
     swarm_[i].log.open(options_.out + "/robot_" + std::to_string(i) + ".log");
-    swarm_[i].bank =
-        std::make_unique<lab::sensors::SensorBank>(scenario_.sensors, lab::sim::SensorSeed(scenario_.seed, i));
+    // A drone's flow sensor and antenna at its flight height, as the lab's.
+    swarm_[i].bank = std::make_unique<lab::sensors::SensorBank>(
+        lab::sim::SensorConfigFor(scenario_, scenario_.robots[i]), lab::sim::SensorSeed(scenario_.seed, i));
   }
   if (!options_.base_station.empty()) channel_.base_station().listener = launcher_.ListenBeside(options_.base_station);
   return true;

@@ -295,5 +295,75 @@ TEST(BootWordsTest, InputsTheImageCannotHoldAreRefusedByTheHost) {
   EXPECT_EQ(length, 0u);
 }
 
+// The robot's kind (boot_words.h, "kind" and "swarm_kinds").
+std::string FormatKinds(motion::RobotKind self, KindSet swarm) {
+  std::array<char, 64> out{};
+  size_t length = 0;
+  EXPECT_EQ(FormatKindWords(self, swarm, out, length), BootWordsError::kOk);
+  return std::string(out.data(), length);
+}
+
+constexpr KindSet kOmni = KindBit(motion::RobotKind::kOmni);
+constexpr KindSet kRover = KindBit(motion::RobotKind::kRover);
+constexpr KindSet kDrone = KindBit(motion::RobotKind::kDrone);
+
+TEST(BootWordsTest, AnOmniRobotAmongOmniRobotsWritesNoWordAndReadsBackAsOmni) {
+  EXPECT_EQ(FormatKinds(motion::RobotKind::kOmni, kOmni), "");
+  BootKind kind;
+  ASSERT_EQ(ReadAll("", kind), BootWordRead::kOk);
+  EXPECT_EQ(kind.Check(), nullptr);
+  EXPECT_EQ(kind.self(), motion::RobotKind::kOmni);
+  EXPECT_EQ(kind.swarm(), kOmni);
+}
+
+TEST(BootWordsTest, EveryKindInEverySwarmOfItReadsBack) {
+  for (size_t i = 0; i < motion::kRobotKindCount; ++i) {
+    const auto self = static_cast<motion::RobotKind>(i);
+    for (KindSet swarm = 1; swarm < 8; ++swarm) {
+      if ((swarm & KindBit(self)) == 0) continue;
+      const std::string words = FormatKinds(self, swarm);
+      BootKind kind;
+      ASSERT_EQ(ReadAll(words, kind), BootWordRead::kOk) << words;
+      EXPECT_EQ(kind.Check(), nullptr) << words;
+      EXPECT_EQ(kind.self(), self) << words;
+      EXPECT_EQ(kind.swarm(), swarm) << words;
+    }
+  }
+  EXPECT_EQ(FormatKinds(motion::RobotKind::kDrone, kDrone), " kind drone");
+  EXPECT_EQ(FormatKinds(motion::RobotKind::kDrone, kOmni | kRover | kDrone), " kind drone swarm_kinds omni,rover,drone");
+  EXPECT_EQ(FormatKinds(motion::RobotKind::kOmni, kOmni | kDrone), " kind omni swarm_kinds omni,drone");
+}
+
+TEST(BootWordsTest, AKindTheImageDoesNotKnowIsRefusedOnBothSides) {
+  BootKind kind;
+  EXPECT_EQ(kind.Read("kind", "tank"), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("kind", "Drone"), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("kind", ""), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("swarm_kinds", "omni,tank"), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("swarm_kinds", "omni,omni"), BootWordRead::kBadValue);  // each once
+  EXPECT_EQ(kind.Read("swarm_kinds", "omni,"), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("swarm_kinds", ""), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("swarm_kinds", "droneomni"), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("swarm", "4"), BootWordRead::kNotMine);
+
+  BootKind outside;
+  ASSERT_EQ(ReadAll(" kind drone swarm_kinds omni,rover", outside), BootWordRead::kOk);
+  ASSERT_NE(outside.Check(), nullptr);
+  EXPECT_STREQ(outside.Check(), "kind drone is not among its swarm_kinds (a robot is of its swarm)");
+
+  std::array<char, 64> out{};
+  size_t length = 7;
+  EXPECT_EQ(FormatKindWords(static_cast<motion::RobotKind>(3), KindSet{8}, out, length), BootWordsError::kNoSuchKind);
+  EXPECT_EQ(length, 0u);
+  EXPECT_EQ(FormatKindWords(motion::RobotKind::kDrone, kOmni, out, length), BootWordsError::kNoSuchKind);
+  std::array<char, 8> short_out{};
+  EXPECT_EQ(FormatKindWords(motion::RobotKind::kDrone, kDrone, short_out, length), BootWordsError::kBufferTooSmall);
+
+  runtime::RobotConfig config;
+  EXPECT_STREQ(ConfigureImageKinds(config, motion::RobotKind::kDrone, kOmni),
+               "the robot's kind is not among its swarm's kinds");
+  EXPECT_NE(ConfigureImageKinds(config, static_cast<motion::RobotKind>(3), 0), nullptr);
+}
+
 }  // namespace
 }  // namespace syrof::firmware::robot

@@ -1,4 +1,4 @@
-# The activation model's and the private inputs' boot words on
+# The activation model's, the private inputs' and the robot kind's boot words on
 # syrof-robot-mps2 (boot_words.h):
 # the image reads them (its status line names the model), stops with exit
 # status 2 naming a word whose value it does not take, and the board stops
@@ -67,4 +67,26 @@ endif()
 run_image("inputs 0:1 input charge=nan" result output)
 if(NOT result STREQUAL "2" OR NOT output MATCHES "'input': 'charge=nan' is not a value it takes")
   message(FATAL_ERROR "a value that is no finite number was not refused by name (exit ${result}):\n${output}")
+endif()
+
+# The robot's kind (boot_words.h): `kind drone` runs the drone's motion
+# layer (the status line names it), no word an omni robot; a kind the image
+# does not know, or a kind outside its swarm_kinds, stops the image with a
+# report line and exit status 2 before it starts.
+run_image("kind drone" result output)
+if(NOT result STREQUAL "0" OR NOT output MATCHES "status t_ms=[0-9]+ [^\n]* kind=drone[\r\n]")
+  message(FATAL_ERROR "a drone image did not run and say so (exit ${result}):\n${output}")
+endif()
+run_image("" result output)
+if(NOT result STREQUAL "0" OR NOT output MATCHES " kind=omni[\r\n]")
+  message(FATAL_ERROR "an image without kind words is no omni robot (exit ${result}):\n${output}")
+endif()
+run_image("kind tank" result output)
+if(NOT result STREQUAL "2" OR NOT output MATCHES "'kind': 'tank' is not a value it takes \\(a robot kind this image knows"
+   OR output MATCHES "status t_ms")
+  message(FATAL_ERROR "an unknown kind was not refused by name (exit ${result}):\n${output}")
+endif()
+run_image("kind drone swarm_kinds omni,rover" result output)
+if(NOT result STREQUAL "2" OR NOT output MATCHES "kind drone is not among its swarm_kinds" OR output MATCHES "status t_ms")
+  message(FATAL_ERROR "a kind outside its swarm_kinds was not refused by name (exit ${result}):\n${output}")
 endif()

@@ -33,6 +33,17 @@
 //
 // No `inputs` word: the robot has no inputs (syrofAppInput answers
 // SYROF_APP_NO_SUCH_INPUT, as in the lab for a scenario without them).
+//
+// The robot's kind and the kinds of its swarm (a scenario's robots' `kind:`;
+// FormatKindWords, BootKind), which pick its motion layer
+// (runtime::ConfigureKinds: the kind's controller, the safety filter's view
+// of the swarm's kinds, a drone's estimator at its flight height), with the
+// kinds' default limits compiled in (motion::DefaultKindLimits):
+//
+//   kind omni|rover|drone           absent: omni
+//   swarm_kinds K,K,...             the kinds in the swarm, each once, the
+//                                   robot's own among them; absent: the
+//                                   robot's own kind alone
 #pragma once
 
 #include <array>
@@ -42,6 +53,8 @@
 
 #include "syrof/app.h"
 #include "syrof/app/app.h"
+#include "syrof/motion/robot_kind.h"
+#include "syrof/runtime/robot.h"
 #include "syrof/sync/activation.h"
 
 namespace syrof::firmware::robot {
@@ -66,6 +79,7 @@ enum class [[nodiscard]] BootWordsError : uint8_t {
   kInvalid,          ///< sync::IsValid refused the config
   kBufferTooSmall,   ///< `out` is too short
   kTooManyInputs,    ///< more than kMaxBootInputs private inputs
+  kNoSuchKind,       ///< a robot kind the image does not know, or the robot's own kind not among its swarm's
 };
 
 const char* ToString(BootWordsError error);
@@ -145,5 +159,47 @@ class BootInputs {
   std::array<app::Parameter, kMaxBootInputs> table_{};
   std::array<char, 112> message_{};
 };
+
+/// A set of robot kinds: bit i for motion::RobotKind i.
+using KindSet = uint8_t;
+inline constexpr KindSet KindBit(motion::RobotKind kind) {
+  return static_cast<KindSet>(1u << static_cast<unsigned>(kind));
+}
+
+/// Writes the words of robot kind `self` in a swarm of the kinds `swarm` into
+/// `out` (each word preceded by a space) and sets `length`: nothing for an
+/// omni robot among omni robots (the line every image had before), `kind K`
+/// when `swarm` is `self` alone, else `kind K swarm_kinds K,K,...` in
+/// RobotKind's order. kNoSuchKind for a kind the image does not know or
+/// `self` not in `swarm`; kBufferTooSmall when `out` is too short.
+BootWordsError FormatKindWords(motion::RobotKind self, KindSet swarm, std::span<char> out, size_t& length);
+
+/// The kinds the image boots with.
+class BootKind {
+ public:
+  /// Reads one boot word pair (`key`, `value`, zero-terminated): kNotMine
+  /// for another key, kBadValue for a kind the image does not know, or a
+  /// swarm_kinds list with one twice or none.
+  BootWordRead Read(const char* key, const char* value);
+  /// Once every word is read: nullptr, or why the kinds cannot run (the
+  /// robot's kind not among swarm_kinds; a line for the robot's report).
+  const char* Check();
+  motion::RobotKind self() const { return self_; }
+  /// The swarm's kinds (the robot's own alone without swarm_kinds).
+  KindSet swarm() const { return swarm_ == 0 ? KindBit(self_) : swarm_; }
+
+ private:
+  motion::RobotKind self_ = motion::RobotKind::kOmni;
+  KindSet swarm_ = 0;
+  std::array<char, 96> message_{};
+};
+
+/// The robot image's motion layer for a robot of kind `self` in a swarm of
+/// the kinds `swarm` (0: `self` alone), with the kinds' default limits
+/// compiled in (motion::DefaultKindLimits), set in `config` as the lab sets
+/// its robot's (runtime::ConfigureKinds), and the safety filter's walls at
+/// the estimator's arena (the image's; the lab's are the scenario's).
+/// nullptr, or why not (an unknown kind, `self` not in `swarm`).
+const char* ConfigureImageKinds(runtime::RobotConfig& config, motion::RobotKind self, KindSet swarm);
 
 }  // namespace syrof::firmware::robot
