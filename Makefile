@@ -182,7 +182,9 @@ test-m4: deps
 ## on the default arena, each told its kind on its boot line: docs/firmware.md,
 ## "Robot kinds") in the lab and on the emulated swarm for
 ## SWARM_COMPARE_DRONES_SECONDS, the robots' true positions compared too,
-## into out/firmware-swarm/compare-drones/ (about 15 s when the first try agrees).
+## into out/firmware-swarm/compare-drones/, and the same with all three kinds,
+## SWARM_COMPARE_KINDS_SCENARIO (two omni robots, a rover and a drone), into
+## out/firmware-swarm/compare-kinds/ (about 11 s each when the first try agrees).
 SWARM_ICOUNT  ?= 4
 SWARM_ROBOTS  ?= $(if $(CI),4,$(shell [ $$(nproc) -ge 4 ] && echo 8 || echo 4))
 SWARM_SECONDS ?= $(if $(CI),30,60)
@@ -200,6 +202,7 @@ SWARM_COMPARE_INPUTS_APP ?= $(BUILD_DIR)/tests/grader/assignment/submissions/str
 SWARM_COMPARE_POSE_TOLERANCE_M ?= 0.25
 SWARM_COMPARE_DRONES_SCENARIO ?= tests/firmware/swarm/drones_4.yaml
 SWARM_COMPARE_DRONES_SECONDS ?= 10
+SWARM_COMPARE_KINDS_SCENARIO ?= tests/firmware/swarm/three_kinds_4.yaml
 SWARM_BRIDGE_SECONDS ?= 8
 test-firmware-swarm: deps
 	$(configure-build)
@@ -234,6 +237,9 @@ test-firmware-swarm: deps
 	POSE_TOLERANCE_M=$(SWARM_COMPARE_POSE_TOLERANCE_M) FIRMWARE_SECONDS=$(SWARM_COMPARE_DRONES_SECONDS) \
 	  bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  $(SWARM_COMPARE_DRONES_SCENARIO) out/firmware-swarm/compare-drones
+	POSE_TOLERANCE_M=$(SWARM_COMPARE_POSE_TOLERANCE_M) FIRMWARE_SECONDS=$(SWARM_COMPARE_DRONES_SECONDS) \
+	  bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
+	  $(SWARM_COMPARE_KINDS_SCENARIO) out/firmware-swarm/compare-kinds
 
 ## bench-m4: instruction counts on the emulated Cortex-M4 (bench/m4), one image each.
 QEMU_M4 = qemu-system-arm -M mps2-an386 -nographic -monitor none -serial null \
