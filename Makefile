@@ -124,9 +124,13 @@ firmware: deps
 	cmake --build $(TEENSY_DIR) -j $(JOBS) --target syrof-robot
 	@bash scripts/firmware-size.sh $(TEENSY_DIR)/bin/syrof-robot.elf
 
-## test-m4: core's unit tests and the firmware kernel's tests on an emulated Cortex-M4 (qemu mps2-an386).
+## test-m4: core's unit tests and the firmware kernel's tests on an emulated Cortex-M4 (qemu mps2-an386),
+## and the robot image under qemu (its configuration block written by the host build's syrof-firmware-config).
 test-m4: deps
-	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
+	$(configure-build)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-config
+	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release \
+	  -DSYROF_HOST_TOOLS_DIR=$(abspath $(BUILD_DIR))/bin
 	cmake --build $(M4_DIR) -j $(JOBS)
 	ctest --test-dir $(M4_DIR) --output-on-failure -j $(JOBS)
 

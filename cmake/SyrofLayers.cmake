@@ -30,7 +30,12 @@
 #   lab header. Its host tool, the emulated swarm's host (firmware/swarm,
 #   syrof-firmware-swarm: qemu processes, the beacon channel, the world
 #   loop), is a module of its own above lab, the process module and the
-#   firmware's headers it reads (the radio link, the boot words).
+#   firmware's headers it reads (the radio link, the boot words). Its other
+#   host tool, firmware/config (syrof-firmware-config: a robot's
+#   configuration block from a scenario, written into a copy of the image),
+#   reads scenarios and the firmware's block format and runs nothing: it
+#   sits just above lab/scenario, beside lab/metrics and lab/replay, so the
+#   check refuses it the engine, the process module and the app host.
 # - lab/message (a message format: what a payload's bytes mean) is pure and
 #   needs only lab/base: the scenario reads it from YAML, the replay stores
 #   it, the view and the grader decode and check payloads with it.
@@ -82,7 +87,7 @@ set(SYROF_LAYERS
   "lab/sensors lab/apps lab/goals lab/message"
   "lab/world"
   "lab/scenario"
-  "lab/metrics lab/replay"
+  "lab/metrics lab/replay firmware/config"
   "lab/sim lab/view"
   "lab/search lab/live"
   "app_host/process"
@@ -112,8 +117,8 @@ set(SYROF_EXCLUSIVE_HEADERS
 
 # Modules that live in a folder of another module: their files (and the
 # headers under their own include/) belong to them, not to the outer one.
-set(SYROF_NESTED_MODULES "core/estimation/tasks" "app_host/process" "firmware/swarm" "grader/assignment"
-                         "grader/report")
+set(SYROF_NESTED_MODULES "core/estimation/tasks" "app_host/process" "firmware/swarm" "firmware/config"
+                         "grader/assignment" "grader/report")
 
 # The top-level folders whose sources the check walks.
 set(SYROF_LAYERED_FOLDERS core queries lab cli firmware sim_dds app_host grader bridge)

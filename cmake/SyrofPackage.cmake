@@ -24,6 +24,7 @@ set(syrof_package_out ${PROJECT_BINARY_DIR}/package)
 install(TARGETS syrof RUNTIME DESTINATION bin)
 install(TARGETS syrof-robot RUNTIME DESTINATION bin)  # `syrof swarm` finds it beside syrof
 install(TARGETS syrof-bridge RUNTIME DESTINATION bin)  # the base station (docs/bridge.md, docs/demo-day.md)
+install(TARGETS syrof-firmware-config RUNTIME DESTINATION bin)  # a robot's inputs at flash time (docs/demo-day.md)
 install(TARGETS syrof-app-host RUNTIME DESTINATION libexec/syrof)
 install(TARGETS syrof_app_shared LIBRARY DESTINATION lib)
 install(FILES ${PROJECT_SOURCE_DIR}/core/app/include/syrof/app.h DESTINATION include/syrof)

@@ -89,8 +89,8 @@ rm -rf "$out"
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 cmake --install "$build" --prefix "$out" >/dev/null
-# Only what grading uses: no robot, bridge or installed assignments.
-rm -rf "$out/share" "$out/bin/syrof-robot" "$out/bin/syrof-bridge"
+# Only what grading uses: no robot, bridge, firmware config or installed assignments.
+rm -rf "$out/share" "$out/bin/syrof-robot" "$out/bin/syrof-bridge" "$out/bin/syrof-firmware-config"
 # A zip holds regular files only: each symbolic link becomes a copy.
 find "$out" -type l | while read -r link; do
   target=$(readlink -f "$link")

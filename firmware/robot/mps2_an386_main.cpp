@@ -27,8 +27,20 @@
 // a kind it does not know is refused, with no start), `hold 0|1` (with
 // `sensors 1`: set everything up, print `held id=N`, and start the clock
 // only when a Start frame arrives on the sensor link, then run its run_ms;
-// `seconds` is then ignored). A word it does not know stops the image with
-// exit status 2 and names the word.
+// `seconds` is then ignored), `scenario HEX` (the 16 hex digits of the
+// scenario id the configuration block must carry, below). A word it does
+// not know stops the image with exit status 2 and names the word.
+//
+// The configuration block (config_block.h, written into a copy of this ELF
+// by syrof-firmware-config, as for the Teensy) is read first. Empty (as
+// built), the command line alone says who the robot is. Filled, the block
+// wins: it gives the id, the swarm's size, the kinds and the inputs, and the
+// command line may only confirm them: an `id`, `swarm`, `kind`,
+// `swarm_kinds` or `scenario` word that differs from the block's (a block
+// without kind words is an omni robot among omni robots), or any
+// `inputs`/`input` word, stops the image
+// with exit status 2 naming both, as does a damaged block (magic, version,
+// checksum, a word), before anything starts.
 // The UARTs interrupt at priority 2, above the kernel, and their handlers
 // only move bytes between the UART and its rings; but the radio's receive
 // interrupt sits at 4, masked by the kernel, and also notifies the image's
@@ -42,6 +54,8 @@
 #include "sensor_link.h"
 #include "syrof/board/mps2_an386/cmsdk_uart.h"
 #include "syrof/firmware/robot/boot_words.h"
+#include "syrof/firmware/robot/config_block.h"
+#include "config_storage.h"
 #include "syrof/firmware/robot/console_patience.h"
 #include "syrof/firmware/kernel/mps2_an386_hardware.h"
 #include "syrof/firmware/kernel/nvic_port.h"
@@ -189,6 +203,8 @@ robot::BootActivation boot_activation;
 robot::BootInputs boot_inputs;
 // The robot's kind and its swarm's kinds (its motion layer).
 robot::BootKind boot_kind;
+// The configuration block's id, swarm and inputs, when it is filled.
+robot::BootConfigBlock boot_config;
 char report_line[2048];
 
 struct Options {
@@ -196,11 +212,129 @@ struct Options {
   long seconds = 0;
   bool sensors = false;
   bool hold = false;
+  // What the command line said of who the robot is (checked against a
+  // filled configuration block).
+  bool id_given = false;
+  bool swarm_given = false;
+  bool inputs_given = false;
+  bool scenario_given = false;
+  bool kind_given = false;
+  bool swarm_kinds_given = false;
+  uint64_t scenario_id = 0;
 };
 
-// Reads `key value` pairs; on error prints which word and why, returns false.
+// `kinds` as boot_words.h's swarm_kinds value (omni,drone), in `out`.
+const char* KindList(robot::KindSet kinds, std::span<char> out) {
+  size_t used = 0;
+  out[0] = '\0';
+  for (size_t i = 0; i < syrof::motion::kRobotKindCount; ++i) {
+    const auto kind = static_cast<syrof::motion::RobotKind>(i);
+    if ((kinds & robot::KindBit(kind)) == 0) continue;
+    const int n = std::snprintf(out.data() + used, out.size() - used, "%s%s", used == 0 ? "" : ",",
+                                syrof::motion::ToString(kind));
+    if (n < 0 || static_cast<size_t>(n) >= out.size() - used) break;
+    used += static_cast<size_t>(n);
+  }
+  return out.data();
+}
+
+// `text` as exactly 16 hex digits.
+bool ScenarioId(const char* text, uint64_t& id) {
+  id = 0;
+  size_t digits = 0;
+  for (; text[digits] != '\0'; ++digits) {
+    const char c = text[digits];
+    unsigned digit = 0;
+    if (c >= '0' && c <= '9') {
+      digit = static_cast<unsigned>(c - '0');
+    } else if (c >= 'a' && c <= 'f') {
+      digit = static_cast<unsigned>(c - 'a' + 10);
+    } else {
+      return false;
+    }
+    if (digits == 16) return false;
+    id = (id << 4) | digit;
+  }
+  return digits == 16;
+}
+
+// A filled configuration block against what the command line said: the
+// block wins, the line may only confirm it. False, with a line on the
+// console, when they disagree.
+bool TakeConfigBlock(Options& options) {
+  char block_scenario[17];
+  robot::FormatScenarioId(boot_config.scenario_id(), block_scenario);
+  if (options.inputs_given) {
+    std::printf("syrof-robot: the command line gives inputs words and the configuration block holds robot %u's "
+                "inputs too; give them in one place (a flashed image takes no inputs words)\n",
+                static_cast<unsigned>(boot_config.robot_id()));
+    return false;
+  }
+  if (options.id_given && options.image.self_id != boot_config.robot_id()) {
+    std::printf("syrof-robot: the configuration block was written for robot %u; the command line says id %u\n",
+                static_cast<unsigned>(boot_config.robot_id()), static_cast<unsigned>(options.image.self_id));
+    return false;
+  }
+  if (options.swarm_given && options.image.swarm_size != boot_config.swarm_size()) {
+    std::printf("syrof-robot: the configuration block was written for a swarm of %u; the command line says swarm %u\n",
+                static_cast<unsigned>(boot_config.swarm_size()), static_cast<unsigned>(options.image.swarm_size));
+    return false;
+  }
+  if (options.scenario_given && options.scenario_id != boot_config.scenario_id()) {
+    char expected[17];
+    robot::FormatScenarioId(options.scenario_id, expected);
+    std::printf("syrof-robot: the configuration block was written for scenario %s; the command line expects "
+                "scenario %s\n",
+                block_scenario, expected);
+    return false;
+  }
+  if (options.kind_given && boot_kind.self() != boot_config.kind()) {
+    std::printf("syrof-robot: the configuration block was written for a%s %s robot; the command line says kind %s\n",
+                boot_config.kind() == syrof::motion::RobotKind::kOmni ? "n" : "",
+                syrof::motion::ToString(boot_config.kind()), syrof::motion::ToString(boot_kind.self()));
+    return false;
+  }
+  char block_kinds[32];
+  KindList(boot_config.swarm_kinds(), block_kinds);
+  if (options.swarm_kinds_given && boot_kind.swarm() != boot_config.swarm_kinds()) {
+    char line_kinds[32];
+    std::printf("syrof-robot: the configuration block was written for a swarm of kinds %s; the command line says "
+                "swarm_kinds %s\n",
+                block_kinds, KindList(boot_kind.swarm(), line_kinds));
+    return false;
+  }
+  options.image.self_id = boot_config.robot_id();
+  options.image.swarm_size = boot_config.swarm_size();
+  options.image.app_inputs = boot_config.inputs();
+  options.image.kind = boot_config.kind();
+  options.image.swarm_kinds = boot_config.swarm_kinds();
+  // The line names every input with the value read, each in the fewest
+  // digits (15 to 17) that read back to it, so a test sees what the robot holds.
+  std::printf("config robot=%u/%u kind=%s swarm_kinds=%s scenario=%s inputs=%u",
+              static_cast<unsigned>(boot_config.robot_id()), static_cast<unsigned>(boot_config.swarm_size()),
+              syrof::motion::ToString(boot_config.kind()), block_kinds, block_scenario,
+              static_cast<unsigned>(boot_config.inputs().size()));
+  for (const syrof::app::Parameter& input : boot_config.inputs()) {
+    char value[40];
+    for (int digits = 15; digits <= 17; ++digits) {
+      std::snprintf(value, sizeof value, "%.*g", digits, input.value);
+      if (std::strtod(value, nullptr) == input.value) break;
+    }
+    std::printf(" %.*s=%s", static_cast<int>(input.name.size()), input.name.data(), value);
+  }
+  std::printf(" (the configuration block)\n");
+  return true;
+}
+
+// Reads `key value` pairs and the configuration block; on error prints
+// which word and why, returns false.
 bool ParseOptions(int argc, char** argv, Options& options) {
   options.image.board = "mps2-an386";
+  const robot::ConfigBlockState block = boot_config.Read(robot::FlashedConfigBlock());
+  if (block == robot::ConfigBlockState::kRefused) {
+    std::printf("syrof-robot: %s\n", boot_config.error());
+    return false;
+  }
   for (int i = 1; i < argc; i += 2) {
     const char* key = argv[i];
     if (i + 1 >= argc) {
@@ -210,7 +344,9 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     }
     switch (boot_inputs.Read(key, argv[i + 1])) {
       case robot::BootWordRead::kNotMine: break;
-      case robot::BootWordRead::kOk: continue;
+      case robot::BootWordRead::kOk:
+        options.inputs_given = true;
+        continue;
       case robot::BootWordRead::kBadValue:
         std::printf("syrof-robot: -append word %d '%s': '%s' is not a value it takes (inputs ID:N first, then N "
                     "input NAME=VALUE, each name once, each value a finite number; firmware/robot boot_words.h)\n",
@@ -223,7 +359,9 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     }
     switch (boot_kind.Read(key, argv[i + 1])) {
       case robot::BootWordRead::kNotMine: break;
-      case robot::BootWordRead::kOk: continue;
+      case robot::BootWordRead::kOk:
+        (key[0] == 'k' ? options.kind_given : options.swarm_kinds_given) = true;
+        continue;
       case robot::BootWordRead::kBadValue:
       case robot::BootWordRead::kFull:
         std::printf("syrof-robot: -append word %d '%s': '%s' is not a value it takes (a robot kind this image knows: "
@@ -244,6 +382,16 @@ bool ParseOptions(int argc, char** argv, Options& options) {
                     static_cast<unsigned>(robot::kMaxBootScriptedCycles));
         return false;
     }
+    if (std::strcmp(key, "scenario") == 0) {
+      if (!ScenarioId(argv[i + 1], options.scenario_id)) {
+        std::printf("syrof-robot: -append word %d 'scenario': '%s' is not 16 hex digits (a scenario id as "
+                    "syrof-firmware-config prints it)\n",
+                    i + 1, argv[i + 1]);
+        return false;
+      }
+      options.scenario_given = true;
+      continue;
+    }
     char* end = nullptr;
     const long value = std::strtol(argv[i + 1], &end, 10);
     if (end == argv[i + 1] || *end != '\0' || value < 0) {
@@ -252,8 +400,10 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     }
     if (std::strcmp(key, "id") == 0 && value < syrof::wire::kMaxSwarmSize) {
       options.image.self_id = static_cast<uint16_t>(value);
+      options.id_given = true;
     } else if (std::strcmp(key, "swarm") == 0 && value >= 1 && value <= syrof::wire::kMaxSwarmSize) {
       options.image.swarm_size = static_cast<uint16_t>(value);
+      options.swarm_given = true;
     } else if (std::strcmp(key, "seconds") == 0) {
       options.seconds = value;
     } else if (std::strcmp(key, "align") == 0 && value <= 1) {
@@ -276,27 +426,37 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     } else {
       std::printf("syrof-robot: -append word %d: unknown key '%s' or value %ld out of range "
                   "(id 0..31, swarm 1..32, seconds >= 0, align 0|1, report 0|1, sensors 0|1, x_mm and y_mm 0..1000000, "
-                  "heading_mrad 0..6283, late 0..31, hold 0|1, and the activation, input and kind words of boot_words.h)\n",
+                  "heading_mrad 0..6283, late 0..31, hold 0|1, scenario HEX, and the activation, input and kind "
+                  "words of boot_words.h)\n",
                   i, key, value);
       return false;
     }
   }
-  if (options.image.self_id >= options.image.swarm_size) {
-    std::printf("syrof-robot: id %u is not below swarm %u\n", static_cast<unsigned>(options.image.self_id),
-                static_cast<unsigned>(options.image.swarm_size));
-    return false;
-  }
-  if (const char* error = boot_inputs.Check(options.image.self_id)) {
-    std::printf("syrof-robot: %s\n", error);
-    return false;
-  }
-  options.image.app_inputs = boot_inputs.inputs();
   if (const char* error = boot_kind.Check()) {
     std::printf("syrof-robot: %s\n", error);
     return false;
   }
-  options.image.kind = boot_kind.self();
-  options.image.swarm_kinds = boot_kind.swarm();
+  if (block == robot::ConfigBlockState::kFilled) {
+    if (!TakeConfigBlock(options)) return false;
+  } else {
+    if (options.scenario_given) {
+      std::printf("syrof-robot: the command line expects a configuration block (scenario word) and the image has "
+                  "none (write one with syrof-firmware-config)\n");
+      return false;
+    }
+    if (options.image.self_id >= options.image.swarm_size) {
+      std::printf("syrof-robot: id %u is not below swarm %u\n", static_cast<unsigned>(options.image.self_id),
+                  static_cast<unsigned>(options.image.swarm_size));
+      return false;
+    }
+    if (const char* error = boot_inputs.Check(options.image.self_id)) {
+      std::printf("syrof-robot: %s\n", error);
+      return false;
+    }
+    options.image.app_inputs = boot_inputs.inputs();
+    options.image.kind = boot_kind.self();
+    options.image.swarm_kinds = boot_kind.swarm();
+  }
   options.image.activation = boot_activation.config();
   if (!syrof::sync::IsValid(options.image.activation)) {
     std::printf("syrof-robot: the activation words make no valid schedule (scripts sorted, delays within max_delay)\n");
