@@ -293,16 +293,19 @@ tsan: deps
 	TSAN_OPTIONS=halt_on_error=1 ctest --test-dir $(TSAN_DIR) --output-on-failure --no-tests=error -j $(JOBS) -R '$(TSAN_SUITES)'
 
 ## fuzz: libFuzzer on the beacon decoder, the DDS sample checks, the
-## radio link's frame decoder (docs/radio-link.md) and the base station
-## (docs/bridge.md), FUZZ_SECONDS each.
+## radio link's frame decoder (docs/radio-link.md), the base station
+## (docs/bridge.md) and the robot's configuration block (docs/firmware.md),
+## FUZZ_SECONDS each.
 fuzz: deps
 	CC=clang CXX=clang++ $(CMAKE_CONFIGURE) -S . -B $(FUZZ_DIR) -DSYROF_FUZZ=ON -DSYROF_BUILD_TESTS=OFF -DSYROF_BUILD_BENCH=OFF
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode fuzz_beacon_sample fuzz_radio_link fuzz_bridge
-	mkdir -p $(FUZZ_DIR)/corpus/beacon $(FUZZ_DIR)/corpus/beacon_sample $(FUZZ_DIR)/corpus/radio_link $(FUZZ_DIR)/corpus/bridge
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_beacon_decode fuzz_beacon_sample fuzz_radio_link fuzz_bridge fuzz_config_block
+	mkdir -p $(FUZZ_DIR)/corpus/beacon $(FUZZ_DIR)/corpus/beacon_sample $(FUZZ_DIR)/corpus/radio_link $(FUZZ_DIR)/corpus/bridge \
+	  $(FUZZ_DIR)/corpus/config_block
 	./$(FUZZ_DIR)/bin/fuzz_beacon_decode -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon
 	./$(FUZZ_DIR)/bin/fuzz_beacon_sample -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/beacon_sample
 	./$(FUZZ_DIR)/bin/fuzz_radio_link -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/radio_link
 	./$(FUZZ_DIR)/bin/fuzz_bridge -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/bridge
+	./$(FUZZ_DIR)/bin/fuzz_config_block -max_total_time=$(FUZZ_SECONDS) -seed=1 $(FUZZ_DIR)/corpus/config_block
 
 clean:
 	rm -rf $(BUILD_DIR) $(CROSS_DIR) $(TEENSY_DIR) $(M4_DIR) $(ASAN_DIR) $(TSAN_DIR) $(FUZZ_DIR)
