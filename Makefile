@@ -164,7 +164,10 @@ test-m4: deps
 ## (syrof-firmware-swarm --live; tests/firmware/swarm, ctest -R FirmwareSwarmLive):
 ## 4 robots for 4 s, the page's /events read whole (the header, the
 ## replay's rounds, every robot RUNNING, the end linking the replay) and the
-## page opened in headless Chromium while 3 robots run for 10 s (every robot RUNNING).
+## page opened in headless Chromium while 3 robots run for 10 s (every robot RUNNING),
+## and lab/scenarios/gather.yaml on the starter image for 2 s (ctest -R
+## FirmwareSwarmImageApp): one warning line that the image runs circle, and
+## the replay's header and metrics.json naming circle.
 ## Last, the lab against the firmware: SWARM_COMPARE_SCENARIO in `syrof run`
 ## and on the emulated swarm (--realtime), which must start the same epochs
 ## in the same modes with the same members (scripts/firmware-agrees-with-lab.sh,
@@ -213,7 +216,7 @@ test-firmware-swarm: deps
 	$(CMAKE_CONFIGURE) -S . -B $(M4_DIR) -DCMAKE_TOOLCHAIN_FILE=$(TEENSY_TOOLCHAIN) -DSYROF_M4_TESTS=ON -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(M4_DIR) -j $(JOBS) --target syrof-robot-mps2 syrof-robot-mps2-strongest
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target syrof-firmware-swarm syrof syrof-bridge submission_strongest_reference \
-	  test_firmware_swarm_live test_firmware_swarm_live_browser
+	  test_firmware_swarm_live test_firmware_swarm_live_browser test_firmware_swarm_image_app
 	./$(BUILD_DIR)/bin/syrof-firmware-swarm --image $(M4_DIR)/bin/syrof-robot-mps2.elf --scenario $(SWARM_SCENARIO) \
 	  --robots $(SWARM_ROBOTS) --seconds $(SWARM_SECONDS) --loss 0 --seed 1 --icount $(SWARM_ICOUNT) \
 	  --out out/firmware-swarm/no-loss --expect-cooperative --max-estimation-error $(SWARM_MAX_ESTIMATION_ERROR_M)
@@ -228,7 +231,7 @@ test-firmware-swarm: deps
 	bash scripts/bridge-hears-firmware-swarm.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  out/firmware-swarm/bridge 4 $(SWARM_BRIDGE_SECONDS)
 	SYROF_REQUIRE_MPS2_IMAGE=1 SYROF_MPS2_ROBOT_IMAGE=$(abspath $(M4_DIR))/bin/syrof-robot-mps2.elf \
-	  ctest --test-dir $(BUILD_DIR) --output-on-failure --no-tests=error -R '^FirmwareSwarmLive'
+	  ctest --test-dir $(BUILD_DIR) --output-on-failure --no-tests=error -R '^FirmwareSwarm(Live|ImageApp)'
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \
 	  $(SWARM_COMPARE_SCENARIO) out/firmware-swarm/compare
 	bash scripts/firmware-agrees-with-lab.sh $(BUILD_DIR) $(M4_DIR)/bin/syrof-robot-mps2.elf \

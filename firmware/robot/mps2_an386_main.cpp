@@ -25,7 +25,8 @@
 // (boot_words.h: `kind omni|rover|drone`, absent omni, and `swarm_kinds
 // K,K,...`, the swarm's kinds, absent its own: the motion layer of that kind;
 // a kind it does not know is refused, with no start), `hold 0|1` (with
-// `sensors 1`: set everything up, print `held id=N`, and start the clock
+// `sensors 1`: set everything up, print `held id=N t_ms=T app=NAME`, NAME
+// the compiled-in app's descriptor name, and start the clock
 // only when a Start frame arrives on the sensor link, then run its run_ms;
 // `seconds` is then ignored), `scenario HEX` (the 16 hex digits of the
 // scenario id the configuration block must carry, below). A word it does
@@ -482,13 +483,19 @@ struct StartFrame {
 // qemu's I/O thread and this guest's vCPU in turn; with the other guests
 // already running it took up to 27 ms to get the rest of the frame, so
 // the round grid begins when the first byte came in (StartClockAt).
-StartFrame WaitForStart(kernel::Mps2An386Hardware& hardware, kernel::NvicPort& port, uint16_t self_id) {
+StartFrame WaitForStart(kernel::Mps2An386Hardware& hardware, kernel::NvicPort& port, uint16_t self_id,
+                        const char* app_name) {
   const int sensor_irq = board::CmsdkUartRxIrq(board::kCmsdkUart2);
   hardware.RouteInterrupt(static_cast<uint8_t>(sensor_irq), kUartPriority, &SensorInterrupt);
+  // `held id=N t_ms=T app=NAME`: NAME, the compiled-in app's own name (its
+  // descriptor's), is the rest of the line, written whole whatever its
+  // length (the host checks it: firmware/swarm console_lines.h).
   char line[48];
-  const int length = std::snprintf(line, sizeof line, "held id=%u t_ms=%ld\n", static_cast<unsigned>(self_id),
+  const int length = std::snprintf(line, sizeof line, "held id=%u t_ms=%ld app=", static_cast<unsigned>(self_id),
                                    static_cast<long>(port.now_ns() / 1'000'000));
   ConsoleWrite(line, static_cast<size_t>(length), &port);
+  ConsoleWrite(app_name, std::strlen(app_name), &port);
+  ConsoleWrite("\n", 1, &port);
   syrof::firmware::drivers::FrameDecoder decoder;
   bool at_frame_start = true;  // the next byte begins a frame (frames end with 0x00)
   int64_t first_byte_ns = 0;
@@ -543,7 +550,7 @@ int main(int argc, char** argv) {
   }
   int64_t stop_ns = options.seconds * int64_t{1'000'000'000};
   if (options.hold) {
-    const StartFrame start = WaitForStart(hardware, port, options.image.self_id);
+    const StartFrame start = WaitForStart(hardware, port, options.image.self_id, image.app_name());
     char line[80];
     const int length =
         std::snprintf(line, sizeof line, "started t_ms=%ld run_ms=%lu frame_us=%ld\n",

@@ -71,6 +71,7 @@ const char* RobotImage::Prepare(const ImageConfig& config, const syrof_app_descr
   }
   if (app::Validate(descriptor) != app::DescriptorError::kOk) return "the app's descriptor is invalid";
   auto* app = new (app_memory_) app::CAbiApp(*descriptor);
+  app_ = app;
 
   syrof_queries_workspace* workspace = nullptr;
   if (syrof_queries_workspace_size() > queries_memory.size() ||

@@ -177,6 +177,10 @@ class RobotImage {
   /// Writes the status line now (also done every kStatusPeriodNs).
   void PrintStatus(int64_t now_ns);
 
+  /// The name of the app compiled into the image (its descriptor's, as
+  /// app::CAbiApp::name() gives it), once Prepare() built it; nullptr before.
+  const char* app_name() const { return app_ != nullptr ? app_->name() : nullptr; }
+
   pubsub::Publisher<estimation::ImuReading>& imu() { return imu_; }
   pubsub::Publisher<estimation::FlowReading>& flow() { return flow_; }
   pubsub::Publisher<estimation::UwbReading>& uwb() { return uwb_; }
@@ -238,6 +242,7 @@ class RobotImage {
   std::array<wire::Beacon, runtime::Robot::kReceiveBanks * wire::kMaxSwarmSize> receive_storage_{};
   alignas(runtime::Robot) unsigned char robot_memory_[sizeof(runtime::Robot)];
   alignas(app::CAbiApp) unsigned char app_memory_[sizeof(app::CAbiApp)];
+  const app::CAbiApp* app_ = nullptr;  // in app_memory_, once Prepare() built it
   runtime::Robot* robot_ = nullptr;
   drivers::FrameDecoder decoder_;
   uint32_t beacons_received_ = 0;

@@ -1,5 +1,6 @@
 #include "syrof/firmware/swarm/console_lines.h"
 
+#include <algorithm>
 #include <charconv>
 
 namespace syrof::firmware::swarm {
@@ -8,7 +9,8 @@ namespace {
 // A cursor over one line that reads `key=value` fields in a fixed order.
 class Fields {
  public:
-  explicit Fields(std::string_view line) : line_(line) {}
+  /// `start`: where the fields begin, after the line's tag (R, E, held).
+  explicit Fields(std::string_view line, size_t start = 1) : line_(line), at_(start) {}
 
   // Reads " key=" then a decimal integer in [low, high].
   bool Integer(std::string_view key, int64_t low, int64_t high, int64_t& value) {
@@ -43,6 +45,13 @@ class Fields {
     return true;
   }
   bool AtEnd() const { return at_ >= line_.size(); }
+  /// The line from here to its end, consumed.
+  std::string_view Rest() {
+    const std::string_view rest = line_.substr(std::min(at_, line_.size()));
+    at_ = line_.size();
+    return rest;
+  }
+  size_t at() const { return at_; }
   char Peek() const { return at_ < line_.size() ? line_[at_] : '\0'; }
   void Skip() { ++at_; }
   bool Fail(std::string what) {
@@ -53,7 +62,7 @@ class Fields {
 
  private:
   std::string_view line_;
-  size_t at_ = 1;  // after the line's letter
+  size_t at_;
   LineError error_;
 };
 
@@ -152,11 +161,37 @@ ConsoleLine ParseEpoch(std::string_view line, uint16_t swarm_size) {
   return epoch_line;
 }
 
+ConsoleLine ParseHeld(std::string_view line, uint16_t swarm_size) {
+  Fields fields(line, std::string_view("held").size());
+  HeldLine held;
+  int64_t t = 0, robot = 0;
+  if (!fields.Integer("id", 0, swarm_size - 1, robot) || !fields.Integer("t_ms", 0, INT64_MAX / 1'000'000, t) ||
+      !fields.Key("app")) {
+    return fields.error();
+  }
+  const size_t app_at = fields.at();
+  const std::string_view app = fields.Rest();
+  if (app.empty()) return LineError{"app: the image names no app", app_at};
+  if (app.size() > kMaxAppNameBytes) {
+    return LineError{"app: " + std::to_string(app.size()) + " bytes, more than the " +
+                         std::to_string(kMaxAppNameBytes) + " a replay holds",
+                     app_at};
+  }
+  for (size_t i = 0; i < app.size(); ++i) {
+    if (app[i] < 0x20 || app[i] > 0x7e) return LineError{"app: a byte that is not printable ASCII", app_at + i};
+  }
+  held.t_ms = t;
+  held.robot = static_cast<uint16_t>(robot);
+  held.app = std::string(app);
+  return held;
+}
+
 }  // namespace
 
 ConsoleLine ParseConsoleLine(std::string_view line, uint16_t swarm_size) {
   if (line.size() >= 2 && line[0] == 'R' && line[1] == ' ') return ParseRound(line, swarm_size);
   if (line.size() >= 2 && line[0] == 'E' && line[1] == ' ') return ParseEpoch(line, swarm_size);
+  if (line.starts_with("held ")) return ParseHeld(line, swarm_size);
   return OtherLine{};
 }
 

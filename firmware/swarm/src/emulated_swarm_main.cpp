@@ -41,7 +41,9 @@
 // arena, the robots' start poses, the sensors' noise, the channel and the
 // goal; --robots, --seed and --loss override it. The robot image has its app,
 // arena, anchors and timing compiled in; the start pose reaches each robot
-// through -append. Every robot's qemu is launched at once with `hold 1`: it
+// through -append. Each image names its app on its held line: the replay and
+// metrics.json name that app, and a scenario naming another gets one warning
+// line on standard error (image_app.h). Every robot's qemu is launched at once with `hold 1`: it
 // boots and waits; the world starts when all are held, and a robot's clock
 // starts when the host sends it a Start frame on its sensor link (the
 // robots present at start at one instant, a joiner when it joins), so every

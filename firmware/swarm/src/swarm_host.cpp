@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "syrof/firmware/swarm/guest_clock.h"
+#include "syrof/firmware/swarm/image_app.h"
 #include "syrof/firmware/swarm/world_grid.h"
 #include "syrof/lab/metrics/collector.h"
 #include "syrof/lab/sensors/sensor_bank.h"
@@ -88,10 +89,10 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
       host_([this](const swarm::HostAction& action, int64_t at_ns) { return OnHostAction(action, at_ns); }),
       channel_(options_, scenario_, swarm_, player_),
       stress_(options.stress, int64_t{options.seconds} * 1'000'000'000, robots_) {
+  sinks_.assign(sinks.begin(), sinks.end());
   if (options.icount_shift < 0) {
     for (Robot& robot : swarm_) robot.clock_rate = swarm::GuestClockRate::OnHostClock();
   }
-  for (lab::replay::RoundSink* sink : sinks) recorder_.AddSink(sink);
 }
 bool SwarmHost::OnHostAction(const swarm::HostAction& action, int64_t at_ns) {
   const bool done = DoHostAction(action, at_ns, options_, swarm_[action.robot], open_consoles_);
@@ -122,9 +123,31 @@ bool SwarmHost::LaunchRobots() {
                                       : "-icount shift=" + std::to_string(options_.icount_shift);
   start_ns_ = HostNs();
   if (!launcher_.Launch(swarm_, kBootTimeoutMs)) return false;
-  if (!WaitUntilHeld()) {
+  if (!WaitUntilHeld() || !NameImageApp()) {
     launcher_.KillAll(swarm_);
     return false;
+  }
+  return true;
+}
+
+// The app the images said they run on their held lines is the run's app:
+// the replay's header and metrics.json name it (the recorder's NameApp,
+// before its header goes anywhere). A scenario that names another app is
+// told on standard error, in one line, and the run goes on with the
+// image's app (docs/firmware.md, "The emulated swarm").
+bool SwarmHost::NameImageApp() {
+  std::vector<std::string> apps;
+  for (const Robot& robot : swarm_) apps.push_back(robot.app);
+  std::string error;
+  const std::optional<std::string> app = OneImageApp(apps, error);
+  if (!app) {
+    std::fprintf(stderr, "syrof-firmware-swarm: %s\n", error.c_str());
+    return false;
+  }
+  image_app_ = *app;
+  recorder_.NameApp(image_app_);
+  if (const std::optional<std::string> warning = AppMismatchWarning(scenario_.app.name, image_app_, options_.image)) {
+    std::fprintf(stderr, "%s\n", warning->c_str());
   }
   return true;
 }
@@ -133,15 +156,22 @@ bool SwarmHost::LaunchRobots() {
 // its clock not started).
 bool SwarmHost::WaitUntilHeld() {
   const int64_t give_up_ns = HostNs() + int64_t{kBootTimeoutMs} * 1'000'000;
+  // A robot whose line before its held one did not parse (printed by
+  // OnConsoleLine) is given up on at once, not after the timeout.
+  const auto garbled = [](const Robot& robot) { return !robot.held && robot.bad_lines > 0; };
   for (;;) {
     const auto held = std::count_if(swarm_.begin(), swarm_.end(), [](const Robot& robot) { return robot.held; });
     if (held == robots_) return true;
+    if (std::any_of(swarm_.begin(), swarm_.end(), garbled)) break;
     const int64_t now = WaitForLinks();
     if (now > give_up_ns) break;
     for (uint16_t i = 0; i < robots_; ++i) ReadConsole(i, now);
   }
   for (uint16_t i = 0; i < robots_; ++i) {
-    if (!swarm_[i].held) {
+    if (garbled(swarm_[i])) {
+      std::fprintf(stderr, "syrof-firmware-swarm: robot %u's image wrote a line the host cannot read (above) before "
+                   "its `held` line (robot_%u.log)\n", static_cast<unsigned>(i), static_cast<unsigned>(i));
+    } else if (!swarm_[i].held) {
       std::fprintf(stderr, "syrof-firmware-swarm: robot %u's image did not say `held` within %d s (robot_%u.log)\n",
                    static_cast<unsigned>(i), kBootTimeoutMs / 1000, static_cast<unsigned>(i));
     }
@@ -150,6 +180,7 @@ bool SwarmHost::WaitUntilHeld() {
 }
 
 void SwarmHost::StartWorld() {
+  for (lab::replay::RoundSink* sink : sinks_) recorder_.AddSink(sink);
   replay_file_.open(options_.out + "/replay", std::ios::binary);
   recorder_.OpenReplay(replay_file_);
   all_started_ns_ = HostNs();
@@ -280,9 +311,15 @@ void SwarmHost::OnConsoleLine(uint16_t i, const std::string& line, int64_t now) 
   robot.log << line << '\n';
   ++robot.lines;
   if (line.rfind("status ", 0) == 0) robot.last_status = line;
-  if (line.rfind("held ", 0) == 0) robot.held = true;
   const swarm::ConsoleLine parsed = swarm::ParseConsoleLine(line, robots_);
-  if (const auto* error = std::get_if<swarm::LineError>(&parsed)) {
+  if (const auto* held = std::get_if<swarm::HeldLine>(&parsed); held != nullptr && held->robot != i) {
+    ++robot.bad_lines;
+    std::fprintf(stderr, "robot %u console: its held line says id=%u\n  %s\n", static_cast<unsigned>(i),
+                 static_cast<unsigned>(held->robot), line.c_str());
+  } else if (held != nullptr) {
+    robot.held = true;
+    robot.app = held->app;
+  } else if (const auto* error = std::get_if<swarm::LineError>(&parsed)) {
     ++robot.bad_lines;
     std::fprintf(stderr, "robot %u console, column %zu: %s\n  %s\n", static_cast<unsigned>(i), error->column,
                  error->what.c_str(), line.c_str());

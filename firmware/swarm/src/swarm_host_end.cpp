@@ -75,12 +75,16 @@ bool SwarmHost::ReapRobots() {
 }
 
 metrics::Metrics SwarmHost::CollectMetrics(double wall_s) {
-  // The image runs its compiled-in app (builtin:circle unless built with APP=).
   // The goal over the robots running at the end, as in every runtime (a
   // crashed or never-started robot used to count, and kept the goal from
   // being met).
   const lab::sim::RunEnd end{static_cast<double>(round_) * static_cast<double>(period_ns_) * 1e-9, wall_s, round_};
-  metrics::Metrics result = recorder_.Finish(recorder_.Facts(end, player_, world_));
+  lab::metrics::RunFacts facts = recorder_.Facts(end, player_, world_);
+  // The image runs its compiled-in app, whatever the scenario's `app:` says:
+  // its own name, as its held lines said it (NameImageApp), from the image.
+  facts.app_name = image_app_;
+  facts.app_source = options_.image;
+  metrics::Metrics result = recorder_.Finish(facts);
   // The robots' consoles do not carry the app's returns, so agreement stays
   // unset: metrics.json says null, not a measurement of nothing.
   result.runtime = "firmware";
@@ -212,8 +216,9 @@ void SwarmHost::PrintSummary(const RunResult& result) const {
               static_cast<long long>(beacons.offered), static_cast<long long>(beacons.delivered),
               static_cast<long long>(beacons.link_errors), static_cast<long long>(beacons.late),
               static_cast<long long>(beacons.past_their_round));
-  std::printf("  scenario %s; sensor link: %lld IMU, %lld flow, %lld UWB frames sent, %lld drive commands back\n",
-              scenario_.name.c_str(), static_cast<long long>(sensor_totals.imu),
+  std::printf("  scenario %s, app %s (the image's); sensor link: %lld IMU, %lld flow, %lld UWB frames sent, %lld drive "
+              "commands back\n",
+              scenario_.name.c_str(), image_app_.c_str(), static_cast<long long>(sensor_totals.imu),
               static_cast<long long>(sensor_totals.flow), static_cast<long long>(sensor_totals.uwb),
               static_cast<long long>(sensor_totals.drives));
   std::printf("  estimation error over %lld samples: RMSE %s m, max %s m; collisions %lld; goal %s (%s)\n",

@@ -45,10 +45,54 @@ TEST(ConsoleLinesTest, EpochLineRebuildsTheMapSoSameKnowledgeCanCompareIt) {
   EXPECT_FALSE(epoch->map.SameKnowledge(expected));
 }
 
+// The held line names the app compiled into the image: the rest of the
+// line, spaces and all (before, the host read only the word `held`).
+TEST(ConsoleLinesTest, HeldLineNamesTheImagesApp) {
+  ConsoleLine line = ParseConsoleLine("held id=3 t_ms=12 app=strongest", 4);
+  const auto* held = std::get_if<HeldLine>(&line);
+  ASSERT_NE(held, nullptr);
+  EXPECT_EQ(held->robot, 3);
+  EXPECT_EQ(held->t_ms, 12);
+  EXPECT_EQ(held->app, "strongest");
+  line = ParseConsoleLine("held id=0 t_ms=0 app=my app: v2", 4);
+  held = std::get_if<HeldLine>(&line);
+  ASSERT_NE(held, nullptr);
+  EXPECT_EQ(held->app, "my app: v2");
+  line = ParseConsoleLine("held id=0 t_ms=0 app=" + std::string(kMaxAppNameBytes, 'a'), 4);
+  held = std::get_if<HeldLine>(&line);
+  ASSERT_NE(held, nullptr);
+  EXPECT_EQ(held->app.size(), kMaxAppNameBytes);
+}
+
+// A held line without its app (an older image), with an empty one, one
+// longer than a replay holds or with bytes no header can show is refused,
+// naming the field and where.
+TEST(ConsoleLinesTest, HeldLineWithoutAReadableAppIsRefused) {
+  const auto error_of = [](const std::string& text) {
+    const ConsoleLine line = ParseConsoleLine(text, 4);
+    const auto* error = std::get_if<LineError>(&line);
+    return error != nullptr ? *error : LineError{"parsed", 0};
+  };
+  LineError error = error_of("held id=0 t_ms=5");
+  EXPECT_EQ(error.what, "expected ' app='");
+  EXPECT_EQ(error.column, 16u);
+  error = error_of("held id=0 t_ms=5 app=");
+  EXPECT_EQ(error.what, "app: the image names no app");
+  EXPECT_EQ(error.column, 21u);
+  error = error_of("held id=0 t_ms=5 app=" + std::string(kMaxAppNameBytes + 1, 'a'));
+  EXPECT_EQ(error.what, "app: 257 bytes, more than the 256 a replay holds");
+  error = error_of("held id=0 t_ms=5 app=ci\trcle");
+  EXPECT_EQ(error.what, "app: a byte that is not printable ASCII");
+  EXPECT_EQ(error.column, 23u);
+  error = error_of("held id=4 t_ms=5 app=circle");
+  EXPECT_EQ(error.what, "id: 4 is outside [0, 3]");
+}
+
 TEST(ConsoleLinesTest, OtherLinesAreIgnored) {
   EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("status t_ms=1000 board=mps2-an386", 4)));
   EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("robot 0 of 4: spreading on a circle", 4)));
   EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("", 4)));
+  EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("held", 4)));
 }
 
 // A garbled line names the field and where it is.

@@ -53,8 +53,9 @@ struct RunResult {
 class SwarmHost {
  public:
   // `sinks` read the rounds as the replay gets them (the live page; as
-  // sim_dds::SwarmOptions::sinks): the header now, a round at each round's
-  // end, the end in Finish. Each outlives the host.
+  // sim_dds::SwarmOptions::sinks): the header in StartWorld (it names the
+  // app the images said they run), a round at each round's end, the end in
+  // Finish. Each outlives the host.
   SwarmHost(const Options& options, const lab::scenario::Scenario& scenario,
             std::span<lab::replay::RoundSink* const> sinks = {});
   SwarmHost(const SwarmHost&) = delete;
@@ -63,10 +64,13 @@ class SwarmHost {
   // The socket directory, each robot's three listeners and its console log.
   bool OpenSockets();
   // One qemu per robot, joiners too, its sockets accepted, until every
-  // image says it is held; false (every qemu killed) when one did not
-  // connect or say so within kBootTimeoutMs.
+  // image says it is held and which app it runs (the run's app from then
+  // on; a scenario naming another gets one warning line on standard error,
+  // image_app.h); false (every qemu killed) when one did not connect or say
+  // so within kBootTimeoutMs, or its held line did not parse.
   bool LaunchRobots();
-  // The world's clock starts; the player switches on the robots present at
+  // The replay and the sinks get their header, naming the images' app; the
+  // world's clock starts; the player switches on the robots present at
   // start, at one instant.
   void StartWorld();
   // Whether a console is still open and the deadline has not passed.
@@ -80,6 +84,7 @@ class SwarmHost {
  private:
   bool OnHostAction(const swarm::HostAction& action, int64_t at_ns);
   bool WaitUntilHeld();
+  bool NameImageApp();
   int64_t WaitForLinks();
   void AdvanceWorld(int64_t now);
   void PlayStress();
@@ -128,6 +133,8 @@ class SwarmHost {
   int64_t last_loop_ns_ = 0;
   double host_per_world_ = 1;  // this pass's HostPerWorld
   std::ofstream replay_file_;
+  std::vector<lab::replay::RoundSink*> sinks_;  // added to the recorder in StartWorld
+  std::string image_app_;                       // the app the images said they run
   std::vector<lab::replay::RobotMap> round_maps_;
   std::vector<lab::replay::RobotFrame> frames_;
   // Every COOPERATIVE epoch start, to find the first epoch all robots started so.

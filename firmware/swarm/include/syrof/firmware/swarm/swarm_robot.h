@@ -26,6 +26,7 @@ namespace syrof::firmware::swarm {
 struct Robot {
   process::Child qemu;       // not started: LaunchRobots failed before it
   bool held = false;         // its image said `held`: prepared, waiting for its Start frame
+  std::string app;           // the app its image runs, from its held line (console_lines.h)
   bool switched_on = false;  // its Start frame was sent
   SwitchOn switched_on_at;   // where its rounds lie on the world's grid
   int radio = -1;
