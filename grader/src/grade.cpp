@@ -350,7 +350,7 @@ SubmissionResult GradeLibrary(const Assignment& listed, const std::string& libra
       if (test.search) {
         const assignment::SearchTestSpec& spec = *FindSearch(assignment, test);
         test.replay_command = SearchCommand(assignment, spec, shown_library);
-        internal::RunSearchTest(spec, library, shown_library, out.string(), test);
+        internal::RunSearchTest(spec, library, shown_library, out.string(), options.fork_server, test);
         if (options.on_test) {
           const std::lock_guard<std::mutex> lock(report_mutex);
           TestResult shown = test;

@@ -46,7 +46,10 @@ RunOutcome RunScenario(const assignment::ScenarioRun& run, uint64_t seed, const 
 /// counterexample is written into `out_dir`/test.output_dir
 /// (counterexample.yaml, replay, metrics.json) and test.replay_path names
 /// its replay. A search stopped by its time limit sets test.run_error.
+/// `fork_server`: the library loaded once, each robot a copy
+/// (AppRequest::load_once); false: fresh hosts (GradeOptions::fork_server).
 void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& library,
-                   const std::string& shown_library, const std::string& out_dir, assignment::TestResult& test);
+                   const std::string& shown_library, const std::string& out_dir, bool fork_server,
+                   assignment::TestResult& test);
 
 }  // namespace syrof::grader::internal

@@ -79,7 +79,8 @@ std::string BudgetText(const assignment::SearchTestSpec& spec, int max_delay, do
 }  // namespace
 
 void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& library,
-                   const std::string& shown_library, const std::string& out_dir, assignment::TestResult& test) {
+                   const std::string& shown_library, const std::string& out_dir, bool fork_server,
+                   assignment::TestResult& test) {
   // The library in the scenario's place, as `syrof search --app` puts it, so
   // the counterexample's file names it and reruns the same.
   lab::scenario::Overrides overrides;
@@ -94,8 +95,9 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
   request.libraries = {library};
   request.shown_libraries = {shown_library};
   // Loaded once for the whole search; each run's robots are copies of it
-  // (the fork server, docs/app_host.md). This thread outlives the search.
-  request.load_once = true;
+  // (the fork server, docs/app_host.md), unless a bench or test asks for
+  // fresh hosts. This thread outlives the search.
+  request.load_once = fork_server;
   app_host::AppsResult apps = app_host::AppsFor(scenario, request);
   if (!apps.ok()) {
     test.run_error = "the app cannot be set up: " + apps.error->ToString();

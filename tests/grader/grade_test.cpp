@@ -445,6 +445,38 @@ TEST(SearchGradeTest, AnAppThatFailsInAnAutonomousEpochLosesTheSearchTestWithACo
   EXPECT_EQ(assignment::LostCriteria(result).back(), "search");
 }
 
+// GradeOptions::fork_server = false (the benches' switch): the search test
+// starts a fresh host per robot and pattern, and finds the same
+// counterexample, scored and written byte for byte as with the fork server
+// (the same library graded twice, so the files name the same path).
+TEST(SearchGradeTest, WithoutTheForkServerTheSearchTestFindsTheSameCounterexample) {
+  const Assignment searched = LoadTiny("search.yaml");
+  const fs::path submission = Fresh("search_fresh_in");
+  Write(submission / "app.c", kAssumesCooperative);
+  const fs::path built = Fresh("search_fresh_built");
+  std::vector<std::string> notes;
+  const SubmissionResult first = GradeSubmission(searched, submission.string(), built.string(), {}, notes);
+  ASSERT_EQ(first.build.verdict, assignment::BuildVerdict::kOk) << first.build.detail;
+  const fs::path forked_out = Fresh("search_forked");
+  const fs::path fresh_out = Fresh("search_fresh");
+  const SubmissionResult forked = GradeLibrary(searched, first.build.library_path, forked_out.string(), {});
+  GradeOptions fresh_hosts;
+  fresh_hosts.fork_server = false;
+  const SubmissionResult fresh = GradeLibrary(searched, first.build.library_path, fresh_out.string(), fresh_hosts);
+  ASSERT_EQ(forked.tests.size(), 2u);
+  ASSERT_EQ(fresh.tests.size(), 2u);
+  const assignment::TestResult& search = fresh.tests[1];
+  EXPECT_FALSE(search.passed);
+  EXPECT_NE(search.score.criteria.at(0).reason.find("broken by 1 lost beacon"), std::string::npos)
+      << search.score.criteria.at(0).reason;
+  EXPECT_EQ(search.score.criteria.at(0).reason, forked.tests[1].score.criteria.at(0).reason);
+  EXPECT_EQ(fresh.points, forked.points);
+  ASSERT_TRUE(fs::exists(fresh_out / "search" / "tiny_vote1" / "counterexample.yaml"));
+  const auto fresh_files = Snapshot(fresh_out);
+  EXPECT_EQ(fresh_files, Snapshot(forked_out));
+  EXPECT_EQ(fresh_files.count("search/tiny_vote1/replay"), 1u);
+}
+
 // Holds still; its global state counts its own newRound calls: under FSYNC
 // every robot's count agrees, under SSYNC a robot left out falls behind.
 constexpr const char* kCountsTurns = R"(#include "syrof/app.h"

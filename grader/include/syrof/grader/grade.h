@@ -41,6 +41,12 @@ struct GradeOptions {
   /// run_error kNotRunDeadline, and the tests run before keep theirs
   /// (run_autograder's deadline below Gradescope's timeout).
   std::optional<std::chrono::steady_clock::time_point> deadline;
+  /// The search tests load the library once and run each robot of each
+  /// pattern as a copy of that load (docs/app_host.md, "The fork server").
+  /// false: a fresh sandboxed host per robot and pattern, the same results
+  /// slower. For the benches and tests that compare the two
+  /// (bench_grade_search_class); no command-line option sets it.
+  bool fork_server = true;
 };
 
 /// The run_error of a test that GradeOptions::deadline left unrun.
