@@ -3,8 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <string_view>
+#include <utility>
 
 #include "syrof/firmware/config/intel_hex.h"
+#include "syrof/lab/scenario/default_kinds.h"
 
 namespace syrof::firmware::config {
 
@@ -57,6 +59,9 @@ RobotBlockOrError MakeRobotBlock(const lab::scenario::Scenario& scenario, int ro
                                                       " is not in the scenario (it has robots 0 to " +
                                                       std::to_string(robots - 1) + ")")};
   }
+  // The image has the default kinds' limits compiled in and cannot be told
+  // others: refused as the emulated swarm's host refuses them.
+  if (auto error = lab::scenario::CheckDefaultKindLimits(scenario)) return {std::nullopt, std::move(error)};
   if (robots > static_cast<int>(robot::kConfigBlockMaxSwarmSize)) {
     return {std::nullopt, ScenarioError(scenario, std::to_string(robots) + " robots; the robot image holds at most " +
                                                       std::to_string(robot::kConfigBlockMaxSwarmSize))};

@@ -8,10 +8,9 @@
 #include <cstdlib>
 #include <iterator>
 #include <string_view>
-#include <utility>
 
 #include "syrof/estimation/arena.h"
-#include "syrof/motion/robot_kind.h"
+#include "syrof/lab/scenario/default_kinds.h"
 #include "syrof/registry/tasks.h"
 
 namespace syrof::firmware::swarm {
@@ -239,31 +238,10 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
   // Every kind runs on the image (its boot words name the robot's kind and
   // its swarm's, qemu_launcher.cpp), with the kinds' default limits compiled
   // in (motion::DefaultKindLimits): a scenario that changes a present kind's
-  // limits is refused, naming the field. (A drone's drift is the world's
-  // alone, played by this host: any is fine.)
-  for (const lab::world::RobotKind kind :
-       {lab::world::RobotKind::kOmni, lab::world::RobotKind::kRover, lab::world::RobotKind::kDrone}) {
-    const bool present = std::any_of(scenario.robots.begin(), scenario.robots.end(),
-                                     [kind](const lab::scenario::RobotSpec& robot) { return robot.kind == kind; });
-    if (!present) continue;
-    const motion::KindLimits given = lab::world::LimitsOf(scenario.kind_spec(kind));
-    const motion::KindLimits image = motion::DefaultKindLimits(kind);
-    const std::pair<const char*, double motion::KindLimits::*> fields[] = {
-        {"body_radius_m", &motion::KindLimits::body_radius_m},
-        {"max_speed_mps", &motion::KindLimits::max_speed_mps},
-        {"max_accel_mps2", &motion::KindLimits::max_accel_mps2},
-        {"max_turn_rate_radps", &motion::KindLimits::max_turn_rate_radps},
-        {"wheel_base_m", &motion::KindLimits::wheel_base_m},
-        {"tilt_time_constant_s", &motion::KindLimits::tilt_time_constant_s},
-        {"flight_height_m", &motion::KindLimits::flight_height_m}};
-    for (const auto& [name, field] : fields) {
-      if (given.*field == image.*field) continue;
-      char values[96];
-      std::snprintf(values, sizeof values, " is %g; the robot image has %g", given.*field, image.*field);
-      Usage("--scenario: kinds." + std::string(lab::world::ToString(kind)) + "." + name + values +
-            " compiled in (the default kinds, docs/scenarios.md) and would drive its robots with other limits");
-    }
-  }
+  // limits is refused, naming the field, by the check syrof-firmware-config
+  // makes too (lab/scenario default_kinds.h). (A drone's drift is the
+  // world's alone, played by this host: any is fine.)
+  if (const auto error = lab::scenario::CheckDefaultKindLimits(scenario)) Usage("--scenario: " + error->message);
   const bool pauses = std::any_of(scenario.faults.begin(), scenario.faults.end(), [](const auto& fault) {
     return fault.kind == lab::scenario::FaultKind::kPause;
   });

@@ -111,6 +111,29 @@ TEST(RobotConfigTest, WhatARobotCannotBeToldIsRefusedByName) {
       << long_inputs.error->message;
 }
 
+// The image has the default kinds' limits compiled in: a scenario that
+// changes a present kind's is refused for every robot, the omni robots of
+// a swarm with faster drones too (they brake for the drone they believe
+// in), in the emulated swarm's host's words (lab/scenario default_kinds.h).
+TEST(RobotConfigTest, LimitsOtherThanTheImagesAreRefusedForEveryRobot) {
+  const std::string file = std::string(SYROF_TEST_DIR) + "/kind_limits.yaml";
+  const lab::scenario::Scenario scenario = Load("kind_limits.yaml");
+  for (int robot = 0; robot < 4; ++robot) {
+    const RobotBlockOrError made = MakeRobotBlock(scenario, robot);
+    ASSERT_FALSE(made.ok()) << "robot " << robot;
+    EXPECT_EQ(made.error->ToString(),
+              file + ": kinds.drone.max_speed_mps is 1; the robot image has 0.8 compiled in (the default kinds, "
+                     "docs/scenarios.md) and would drive its robots with other limits");
+  }
+  // With the drone's default limits, the same swarm is written.
+  lab::scenario::Scenario defaults = scenario;
+  defaults.drone = lab::world::DefaultKindSpec(lab::world::RobotKind::kDrone);
+  EXPECT_TRUE(MakeRobotBlock(defaults, 2).ok());
+  // A robot not in the scenario is still named as such first.
+  EXPECT_EQ(MakeRobotBlock(scenario, 4).error->ToString(),
+            file + ": robot 4 is not in the scenario (it has robots 0 to 3)");
+}
+
 TEST(RobotConfigTest, TheBlockGoesIntoItsSectionAndNowhereElse) {
   const std::vector<uint8_t> original = testing::MakeTestElf();
   ElfOrError image = ParseElf(original, "robot.elf");
