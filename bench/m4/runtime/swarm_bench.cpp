@@ -30,6 +30,18 @@
 // 0 only, as its globals are per robot, the others running the lab's circle) and the lab's built-in
 // circle, gather and leader_follow; gather once more with rovers. Every
 // count is printed as worst and mean over the 32 robots' steps.
+//
+// Built with SYROF_BENCH_STRONGEST_INPUTS (bench_m4_runtime_swarm_strongest,
+// linked with assignments/strongest's reference instead of the starter, as
+// syrof-robot-mps2-strongest is): every robot runs that C app (its globals,
+// the app info and a scratch table, are the same on every robot of one
+// swarm), with its private input table (RobotConfig::app_inputs, what
+// syrofAppInput searches) empty, full with 16 names of the longest length
+// the table takes sharing a 62-byte prefix, `charge` alone (the
+// assignment's own input), and `charge` last after 15 such names. Robot 0
+// also times single syrofAppInput calls against its table, through the C
+// ABI and the robot as the app calls it: the worst miss (a 63-byte name
+// that shares the 62-byte prefix) and `charge`.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -94,18 +106,87 @@ struct RunStats {
   uint32_t malformed = 0;
   uint32_t received = 0;
   uint32_t safety_interventions = 0;
+  uint32_t moved = 0;        // robots that ended over 5 cm from where they started
+  StepStats input_miss;      // robot 0: syrofAppInput of a name not in its table (the worst one)
+  StepStats input_charge;    // robot 0: syrofAppInput("charge")
+  int input_miss_status = SYROF_APP_OK;  // what those calls answered
+  int input_charge_status = SYROF_APP_OK;
 };
 
 RunStats* stats = nullptr;  // the current run's
+
+// The private input tables a run gives its robots (RobotConfig::app_inputs).
+enum class Inputs : uint8_t {
+  kNone,         // no inputs: syrofAppInput answers SYROF_APP_NO_SUCH_INPUT
+  kLongest,      // 16 names of 63 bytes, the first 62 shared: the worst table to search
+  kCharge,       // `charge` alone, each robot its own value
+  kChargeLast,   // 15 such names, then `charge`
+};
+
+constexpr size_t kNameBytes = SYROF_APP_MAX_PARAMETER_NAME_LENGTH;  // 63
+// A name of kNameBytes bytes: kNameBytes - 1 shared bytes, then `last`.
+struct LongName {
+  char text[kNameBytes + 1];
+};
+LongName MakeLongName(char last) {
+  LongName name{};
+  for (size_t i = 0; i + 1 < kNameBytes; ++i) name.text[i] = static_cast<char>('a' + i % 26);
+  name.text[kNameBytes - 1] = last;
+  return name;
+}
+// Table names 'A'..'P' last; the probe's miss ends with 'Z'.
+std::array<LongName, SYROF_APP_MAX_INPUTS> long_names;
+const LongName missing_name = MakeLongName('Z');
+
+// Each robot's own charge: distinct, fixed (no generator to seed).
+double ChargeOf(uint16_t id) { return 100.0 + static_cast<double>((id * 919u + 123u) % 1000u); }
+
+// Fills `table` with robot `id`'s inputs; returns how many.
+size_t FillInputs(Inputs inputs, uint16_t id, std::array<app::Parameter, SYROF_APP_MAX_INPUTS>& table) {
+  size_t size = 0;
+  const size_t longest = inputs == Inputs::kLongest ? SYROF_APP_MAX_INPUTS
+                         : inputs == Inputs::kChargeLast ? SYROF_APP_MAX_INPUTS - 1
+                                                         : 0;
+  for (; size < longest; ++size) table[size] = {long_names[size].text, static_cast<double>(size)};
+  if (inputs == Inputs::kCharge || inputs == Inputs::kChargeLast) table[size++] = {"charge", ChargeOf(id)};
+  return size;
+}
+
+// A C app of the bench's own, run once on robot 0 after its app's init
+// (CAbiApp makes the robot the current platform for it, as for any C app):
+// times syrofAppInput calls, each as the app makes it.
+uint8_t ProbeInit(const syrof_app_info* /*info*/) {
+  double value = 0;
+  uint64_t begin = board::cycle_counter_read();
+  stats->input_miss_status = syrofAppInput(missing_name.text, &value);
+  stats->input_miss.Add(board::cycle_counter_read() - begin);
+  begin = board::cycle_counter_read();
+  stats->input_charge_status = syrofAppInput("charge", &value);
+  stats->input_charge.Add(board::cycle_counter_read() - begin);
+  return 0;
+}
+uint8_t ProbeNewRound(syrof_car_command* /*command*/, const syrof_ldmap* /*map*/, uint8_t state, uint32_t /*ms*/) {
+  return state;
+}
+uint8_t ProbeEndOfRound(const syrof_ldmap* /*map*/, uint8_t state, uint32_t /*ms*/) { return state; }
+const syrof_app_descriptor probe_descriptor = {SYROF_APP_ABI_VERSION, "input_probe", &ProbeInit, &ProbeNewRound,
+                                               &ProbeEndOfRound};
 
 // Times the app's newRound; everything else passes through.
 class TimedApp final : public app::App {
  public:
   // `also`: a second series the counts go to as well (robot 0's), or nullptr.
-  TimedApp(app::App& inner, StepStats* also) : inner_(inner), also_(also) {}
+  // `probe`: after the app's init, time syrofAppInput (robot 0's).
+  TimedApp(app::App& inner, StepStats* also, bool probe) : inner_(inner), also_(also), probe_(probe) {}
   const char* name() const override { return inner_.name(); }
   app::CallStatus Init(const syrof_app_info& info, app::Platform& platform, uint8_t& global_state) override {
-    return inner_.Init(info, platform, global_state);
+    const app::CallStatus status = inner_.Init(info, platform, global_state);
+    if (probe_) {
+      app::CAbiApp probe(probe_descriptor);
+      uint8_t probe_state = 0;
+      (void)probe.Init(info, platform, probe_state);
+    }
+    return status;
   }
   app::CallStatus NewRound(syrof_car_command& command, const syrof_ldmap& ldmap, uint8_t& global_state,
                            uint32_t clock_ms) override {
@@ -123,6 +204,7 @@ class TimedApp final : public app::App {
  private:
   app::App& inner_;
   StepStats* also_;
+  bool probe_;
 };
 
 struct Air {
@@ -196,6 +278,8 @@ struct RobotSlot {
   std::unique_ptr<app::App> inner_app;
   std::unique_ptr<app::App> app;
   std::unique_ptr<runtime::Robot> robot;
+  std::array<app::Parameter, SYROF_APP_MAX_INPUTS> inputs{};
+  double start_x_m = 0, start_y_m = 0;
   drivers::FrameDecoder decoder;
   uint8_t rx[kRxBytes];
   size_t rx_length = 0;
@@ -332,6 +416,8 @@ struct RunSpec {
   const char* app;        // lab/apps' built-in app of every robot
   bool firmware_app;      // robot 0 runs the firmware image's built-in C app instead
   motion::DriveKind kind;
+  bool firmware_app_everywhere = false;  // every robot runs it (an app whose globals may be shared)
+  Inputs inputs = Inputs::kNone;
 };
 
 bool Run(const RunSpec& spec, RunStats& result) {
@@ -354,13 +440,16 @@ bool Run(const RunSpec& spec, RunStats& result) {
     slot.bank = std::make_unique<lab::sensors::SensorBank>(sensors, 1000u + id);
     if (slot.publishers.Advertise(slot.broker) != pubsub::BrokerError::kOk) ok = false;
 
-    if (spec.firmware_app && id == 0) {
+    slot.start_x_m = slot.truth.x_m;
+    slot.start_y_m = slot.truth.y_m;
+    if (spec.firmware_app && (id == 0 || spec.firmware_app_everywhere)) {
       slot.inner_app = std::make_unique<app::CAbiApp>(*syrof_app_entry());
     } else {
       slot.inner_app = lab::apps::MakeBuiltinApp(spec.app, {});
     }
     if (!slot.inner_app) return false;
-    slot.app = std::make_unique<TimedApp>(*slot.inner_app, id == 0 ? &result.new_round_robot0 : nullptr);
+    const bool probe = id == 0 && spec.firmware_app_everywhere;
+    slot.app = std::make_unique<TimedApp>(*slot.inner_app, id == 0 ? &result.new_round_robot0 : nullptr, probe);
     syrof_queries_workspace* workspace = nullptr;
     if (syrof_queries_workspace_size() > kQueriesBytes ||
         syrof_queries_workspace_init(slot.queries_memory, kQueriesBytes, &workspace) != SYROF_QUERIES_OK) {
@@ -376,6 +465,7 @@ bool Run(const RunSpec& spec, RunStats& result) {
     config.initial_pose.x_m = static_cast<float>(slot.truth.x_m);
     config.initial_pose.y_m = static_cast<float>(slot.truth.y_m);
     config.initial_pose.position_sigma_m = 0.7f;
+    config.app_inputs = std::span<const app::Parameter>(slot.inputs.data(), FillInputs(spec.inputs, id, slot.inputs));
     slot.robot = std::make_unique<runtime::Robot>(config, *slot.app, slot.radio, slot.receive_storage);
     if (const runtime::RobotSetupError error = slot.robot->Attach(slot.port, slot.broker);
         error != runtime::RobotSetupError::kOk) {
@@ -408,6 +498,8 @@ bool Run(const RunSpec& spec, RunStats& result) {
     result.malformed += counters.beacons_malformed;
     result.received += counters.beacons_received;
     result.safety_interventions += counters.safety_interventions;
+    const RobotSlot& slot = *slots[id];
+    if (std::hypot(slot.truth.x_m - slot.start_x_m, slot.truth.y_m - slot.start_y_m) > 0.05) ++result.moved;
     if (slots[id]->robot->app_faulted()) {
       std::printf("  robot %u: the app faulted\n", unsigned{id});
       ok = false;
@@ -431,6 +523,19 @@ void Print(const char* what, const StepStats& step) {
 
 int main() {
   board::cycle_counter_start();
+  for (size_t i = 0; i < long_names.size(); ++i) long_names[i] = MakeLongName(static_cast<char>('A' + i));
+#ifdef SYROF_BENCH_STRONGEST_INPUTS
+  const RunSpec runs[] = {
+      {"strongest on every robot, no inputs (every charge 0)", "circle", true, motion::DriveKind::kOmni, true,
+       Inputs::kNone},
+      {"strongest on every robot, 16 inputs of 63-byte names (no charge: every charge 0)", "circle", true,
+       motion::DriveKind::kOmni, true, Inputs::kLongest},
+      {"strongest on every robot, input charge alone", "circle", true, motion::DriveKind::kOmni, true,
+       Inputs::kCharge},
+      {"strongest on every robot, 15 inputs of 63-byte names, then charge", "circle", true, motion::DriveKind::kOmni,
+       true, Inputs::kChargeLast},
+  };
+#else
   const RunSpec runs[] = {
       {"firmware built-in app (C circle) on robot 0, lab circle on the others", "circle", true,
        motion::DriveKind::kOmni},
@@ -439,6 +544,7 @@ int main() {
       {"leader_follow, omni", "leader_follow", false, motion::DriveKind::kOmni},
       {"gather, rover", "gather", false, motion::DriveKind::kWheels},
   };
+#endif
   std::printf("robot tasks on Cortex-M4 soft-float, %u robots, %lld s per run; instructions per step, worst and mean "
               "over every robot's steps (sizeof(Robot) %u bytes)\n",
               unsigned{kRobots}, static_cast<long long>(kRunSeconds), static_cast<unsigned>(sizeof(runtime::Robot)));
@@ -462,10 +568,24 @@ int main() {
     Print("  of which the app's newRound", result.new_round_robot0);
     Print("firmware.radio, one activation (31 frames)", result.radio_step);
     Print("firmware.radio, one beacon frame", result.radio_frame);
+    if (spec.firmware_app_everywhere) {
+      // The probe's calls answered as the table says, or the counts are of something else.
+      const bool has_charge = spec.inputs == Inputs::kCharge || spec.inputs == Inputs::kChargeLast;
+      const bool answered = result.input_miss.count == 1 && result.input_miss_status == SYROF_APP_NO_SUCH_INPUT &&
+                            result.input_charge_status == (has_charge ? SYROF_APP_OK : SYROF_APP_NO_SUCH_INPUT);
+      Print("syrofAppInput, a 63-byte name not in the table", result.input_miss);
+      Print(has_charge ? "syrofAppInput(\"charge\"), found" : "syrofAppInput(\"charge\"), not in the table",
+            result.input_charge);
+      if (!answered) {
+        std::printf("  the input probe's calls did not answer as the table says (FAILED)\n");
+        ok = false;
+      }
+    }
     std::printf("  epochs started %u (COOPERATIVE %u), beacons received %u, overflow %u, malformed %u, "
-                "safety interventions %u\n",
+                "safety interventions %u, robots moved %u\n",
                 unsigned(result.epochs), unsigned(result.cooperative), unsigned(result.received),
-                unsigned(result.overflow), unsigned(result.malformed), unsigned(result.safety_interventions));
+                unsigned(result.overflow), unsigned(result.malformed), unsigned(result.safety_interventions),
+                unsigned(result.moved));
     if (result.cooperative == 0 || result.malformed != 0) ok = false;
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
