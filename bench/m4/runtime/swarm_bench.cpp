@@ -41,7 +41,9 @@
 // assignment's own input), and `charge` last after 15 such names. Robot 0
 // also times single syrofAppInput calls against its table, through the C
 // ABI and the robot as the app calls it: the worst miss (a 63-byte name
-// that shares the 62-byte prefix) and `charge`.
+// that shares the 62-byte prefix) and `charge`. Built once more with
+// SYROF_BENCH_ROBOTS=4 (bench_m4_runtime_swarm_strongest_4): the same at
+// the assignment's swarm size.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -76,7 +78,11 @@ using namespace syrof;
 namespace drivers = syrof::firmware::drivers;
 using bench::StepStats;
 
-constexpr uint16_t kRobots = 32;
+#ifndef SYROF_BENCH_ROBOTS
+#define SYROF_BENCH_ROBOTS 32  // bench_m4_runtime_swarm_strongest_4 sets 4: the assignment's swarm
+#endif
+constexpr uint16_t kRobots = SYROF_BENCH_ROBOTS;
+static_assert(kRobots >= 2 && kRobots <= 32, "the grid and the bench's world hold 2 to 32 robots");
 constexpr int64_t kRunSeconds = 4;
 constexpr int64_t kRoundNs = registry::kDefaultRadioRoundNs;
 constexpr int64_t kWorldPeriodNs = registry::kImuPeriodNs;
@@ -566,7 +572,10 @@ int main() {
     Print("  of which the app's newRound", result.new_round);
     Print("runtime.round, epoch start, robot 0 only", result.round_epoch_robot0);
     Print("  of which the app's newRound", result.new_round_robot0);
-    Print("firmware.radio, one activation (31 frames)", result.radio_step);
+    char radio_label[64];
+    std::snprintf(radio_label, sizeof radio_label, "firmware.radio, one activation (%u frames)",
+                  unsigned(kRobots - 1));
+    Print(radio_label, result.radio_step);
     Print("firmware.radio, one beacon frame", result.radio_frame);
     if (spec.firmware_app_everywhere) {
       // The probe's calls answered as the table says, or the counts are of something else.
