@@ -1,6 +1,7 @@
 // Grading a class of K copies of assignments/strongest's reference, with
-// its search test (search/join_4.yaml, every single lost beacon in the
-// first epoch: 181 patterns), twice: once with the fork server (the
+// its search test (search/join_4.yaml as assignment.yaml states it: every
+// single lost beacon and every pair in the first epoch, 16,291 patterns,
+// since the fork server made pairs affordable), twice: once with the fork server (the
 // grader's default: the search test loads the library once and runs each
 // robot of each pattern as a copy, docs/app_host.md, "The fork server")
 // and once without it (a fresh sandboxed host per robot and pattern).
@@ -160,9 +161,15 @@ int main(int argc, char** argv) {
     std::snprintf(name, sizeof name, "student%03d", i);
     fs::copy(fs::path(SYROF_STRONGEST) / "reference", root / "class" / name, fs::copy_options::recursive);
   }
+  // The search tests as the assignment states them today.
+  std::string searches;
+  for (const auto& test : loaded.assignment->search_tests) {
+    searches += std::string(searches.empty() ? "" : "; ") + test.file + ": max_losses " +
+                std::to_string(test.max_losses) + ", epochs " + std::to_string(test.epochs);
+  }
   std::printf("bench_grade_search_class: %d copies of assignments/strongest's reference (%s, and the search test "
-              "search/join_4.yaml: max_losses 1, epochs 1), %d jobs\n",
-              submissions, public_only ? "public runs" : "every run", jobs);
+              "%s), %d jobs\n",
+              submissions, public_only ? "public runs" : "every run", searches.c_str(), jobs);
 
   // One way after the other, each under the load of its own minutes:
   // --fresh-first swaps them, to see what the order does on a shared machine.
