@@ -8,10 +8,10 @@
 //   syrof-firmware-config --scenario S.yaml --robot 2 --image build-teensy/bin/syrof-robot.elf --out robot2.hex
 //
 // Exit status 0 when written, 2 for bad input (named: the scenario, a robot
-// it does not have, a present kind's limits other than the defaults the
-// image has compiled in, an input with no value for the robot or not finite,
-// inputs that do not fit the block, an image without the block's section),
-// 1 when the output cannot be written. This file only wires the command
+// it does not have, a radio round, an arena or a present kind's limits
+// other than the defaults the image has compiled in, an input with no value
+// for the robot or not finite, inputs that do not fit the block, an image
+// without the block's section), 1 when the output cannot be written. This file only wires the command
 // line to robot_config.h.
 #include <CLI/CLI.hpp>
 

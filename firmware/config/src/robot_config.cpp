@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "syrof/firmware/config/intel_hex.h"
-#include "syrof/lab/scenario/default_kinds.h"
+#include "syrof/lab/scenario/fits_the_image.h"
 
 namespace syrof::firmware::config {
 
@@ -59,9 +59,11 @@ RobotBlockOrError MakeRobotBlock(const lab::scenario::Scenario& scenario, int ro
                                                       " is not in the scenario (it has robots 0 to " +
                                                       std::to_string(robots - 1) + ")")};
   }
-  // The image has the default kinds' limits compiled in and cannot be told
-  // others: refused as the emulated swarm's host refuses them.
-  if (auto error = lab::scenario::CheckDefaultKindLimits(scenario)) return {std::nullopt, std::move(error)};
+  // The image has the radio round, the default arena's anchors and the
+  // default kinds' limits compiled in and cannot be told others: refused as
+  // the emulated swarm's host refuses them (a robot on a 5 m arena would
+  // range against the 4 m one's anchors, its estimates off, silently).
+  if (auto error = lab::scenario::CheckScenarioFitsTheImage(scenario)) return {std::nullopt, std::move(error)};
   if (robots > static_cast<int>(robot::kConfigBlockMaxSwarmSize)) {
     return {std::nullopt, ScenarioError(scenario, std::to_string(robots) + " robots; the robot image holds at most " +
                                                       std::to_string(robot::kConfigBlockMaxSwarmSize))};

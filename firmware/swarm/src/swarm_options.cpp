@@ -3,15 +3,12 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
 #include <string_view>
 
-#include "syrof/estimation/arena.h"
-#include "syrof/lab/scenario/default_kinds.h"
-#include "syrof/registry/tasks.h"
+#include "syrof/lab/scenario/fits_the_image.h"
 
 namespace syrof::firmware::swarm {
 
@@ -196,52 +193,17 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
     Usage("--scenario: " + std::to_string(robots) + " robots; the robot image holds at most " +
           std::to_string(kMaxImageRobots));
   }
-  // What the image has compiled in and cannot be told (robot_image.cpp).
-  if (std::llround(scenario.timing.radio_round_s * 1e9) != syrof::registry::kDefaultRadioRoundNs) {
-    Usage("--scenario: timing.radio_round_s must be 0.05 (the robot image's radio round)");
-  }
-  // The image's estimator ranges against the default arena's anchors
-  // (estimation::DefaultArena); the world measures against the scenario's.
-  // Another arena would run with every estimate off (1.3 m RMSE on a 5 m
-  // arena), so it is refused, naming what differs.
-  {
-    const estimation::Arena<double>& arena = scenario.sensors.arena;
-    const estimation::Arena<double> image = estimation::DefaultArena<double>();
-    const auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-9; };
-    const auto metres = [](double value) {
-      char text[32];
-      std::snprintf(text, sizeof text, "%g m", value);
-      return std::string(text);
-    };
-    std::string differs;
-    if (!near(arena.width_m, image.width_m) || !near(arena.depth_m, image.depth_m)) {
-      differs = "the arena is " + metres(arena.width_m) + " x " + metres(arena.depth_m);
-    } else if (!near(arena.tag_height_m, image.tag_height_m)) {
-      differs = "arena.tag_height_m is " + metres(arena.tag_height_m);
-    } else if (arena.anchor_count != image.anchor_count) {
-      differs = "arena.anchors lists " + std::to_string(arena.anchor_count) + " anchors";
-    } else {
-      for (int i = 0; i < arena.anchor_count && differs.empty(); ++i) {
-        if ((arena.anchors[i] - image.anchors[i]).norm() > 1e-9) {
-          differs = "arena.anchors[" + std::to_string(i) + "] is elsewhere";
-        }
-      }
-    }
-    if (!differs.empty()) {
-      Usage("--scenario: " + differs +
-            "; the robot image has the default arena compiled in (4 m x 4 m, tag_height_m 0.10, the four default "
-            "anchors; docs/scenarios.md) and its estimates would be off");
-    }
-  }
   // Every model runs on the image: each robot reads the activation from its
-  // boot words (qemu_launcher.cpp, CheckBootLines bounds the script).
-  // Every kind runs on the image (its boot words name the robot's kind and
-  // its swarm's, qemu_launcher.cpp), with the kinds' default limits compiled
-  // in (motion::DefaultKindLimits): a scenario that changes a present kind's
-  // limits is refused, naming the field, by the check syrof-firmware-config
-  // makes too (lab/scenario default_kinds.h). (A drone's drift is the
-  // world's alone, played by this host: any is fine.)
-  if (const auto error = lab::scenario::CheckDefaultKindLimits(scenario)) Usage("--scenario: " + error->message);
+  // boot words (qemu_launcher.cpp, CheckBootLines bounds the script), and
+  // every kind (its boot words name the robot's kind and its swarm's). What
+  // the image has compiled in and cannot be told is refused, naming what
+  // differs, by the check syrof-firmware-config makes too (lab/scenario
+  // fits_the_image.h): the radio round, the default arena (its estimator
+  // ranges against the default anchors while this host's world measures
+  // against the scenario's: 1.3 m RMSE on a 5 m arena) and a present kind's
+  // limits (a drone's drift is the world's alone, played by this host: any
+  // is fine).
+  if (const auto error = lab::scenario::CheckScenarioFitsTheImage(scenario)) Usage("--scenario: " + error->message);
   const bool pauses = std::any_of(scenario.faults.begin(), scenario.faults.end(), [](const auto& fault) {
     return fault.kind == lab::scenario::FaultKind::kPause;
   });

@@ -114,7 +114,7 @@ TEST(RobotConfigTest, WhatARobotCannotBeToldIsRefusedByName) {
 // The image has the default kinds' limits compiled in: a scenario that
 // changes a present kind's is refused for every robot, the omni robots of
 // a swarm with faster drones too (they brake for the drone they believe
-// in), in the emulated swarm's host's words (lab/scenario default_kinds.h).
+// in), in the emulated swarm's host's words (lab/scenario fits_the_image.h).
 TEST(RobotConfigTest, LimitsOtherThanTheImagesAreRefusedForEveryRobot) {
   const std::string file = std::string(SYROF_TEST_DIR) + "/kind_limits.yaml";
   const lab::scenario::Scenario scenario = Load("kind_limits.yaml");
@@ -129,6 +129,33 @@ TEST(RobotConfigTest, LimitsOtherThanTheImagesAreRefusedForEveryRobot) {
   lab::scenario::Scenario defaults = scenario;
   defaults.drone = lab::world::DefaultKindSpec(lab::world::RobotKind::kDrone);
   EXPECT_TRUE(MakeRobotBlock(defaults, 2).ok());
+  // A robot not in the scenario is still named as such first.
+  EXPECT_EQ(MakeRobotBlock(scenario, 4).error->ToString(),
+            file + ": robot 4 is not in the scenario (it has robots 0 to 3)");
+}
+
+// The image has the default 4 m arena's anchors and the 50 ms radio round
+// compiled in: a scenario on another arena or round is refused for every
+// robot (before, the blocks were written and the robots' estimates were off,
+// silently), in the emulated swarm's host's words.
+TEST(RobotConfigTest, AnotherArenaOrRadioRoundIsRefusedForEveryRobot) {
+  const std::string file = std::string(SYROF_TEST_DIR) + "/arena_5m.yaml";
+  const lab::scenario::Scenario scenario = Load("arena_5m.yaml");
+  for (int robot = 0; robot < 4; ++robot) {
+    const RobotBlockOrError made = MakeRobotBlock(scenario, robot);
+    ASSERT_FALSE(made.ok()) << "robot " << robot;
+    EXPECT_EQ(made.error->ToString(),
+              file + ": the arena is 5 m x 5 m; the robot image has the default arena compiled in (4 m x 4 m, "
+                     "tag_height_m 0.10, the four default anchors; docs/scenarios.md) and its estimates would be off");
+  }
+  // On the default arena the same swarm is written.
+  EXPECT_TRUE(MakeRobotBlock(Load("four_robots.yaml"), 0).ok());
+  // Another radio round.
+  lab::scenario::Scenario slow = Load("four_robots.yaml");
+  slow.timing.radio_round_s = 0.1;
+  const RobotBlockOrError made = MakeRobotBlock(slow, 1);
+  ASSERT_FALSE(made.ok());
+  EXPECT_EQ(made.error->message, "timing.radio_round_s must be 0.05 (the robot image's radio round)");
   // A robot not in the scenario is still named as such first.
   EXPECT_EQ(MakeRobotBlock(scenario, 4).error->ToString(),
             file + ": robot 4 is not in the scenario (it has robots 0 to 3)");

@@ -44,13 +44,12 @@ struct RobotBlockOrError {
 
 /// Robot `robot_id`'s block from `scenario` (its kind and the swarm's kinds,
 /// as the emulated swarm's host writes them on a boot line, and its own
-/// inputs only). Refused,
-/// by name: a robot id not in the scenario, a present kind's limits other
-/// than the image's compiled-in defaults (lab/scenario default_kinds.h, the
-/// emulated swarm's check), an input with no value for the
-/// robot, a value that is not finite, more inputs than the image holds, a
-/// name the image does not take, and words that do not fit the block (the
-/// bytes they take).
+/// inputs only). Refused, by name: a robot id not in the scenario, a radio
+/// round, an arena or a present kind's limits other than the image's
+/// compiled-in defaults (lab/scenario fits_the_image.h, the emulated swarm's
+/// check), an input with no value for the robot, a value that is not finite,
+/// more inputs than the image holds, a name the image does not take, and
+/// words that do not fit the block (the bytes they take).
 RobotBlockOrError MakeRobotBlock(const lab::scenario::Scenario& scenario, int robot_id);
 
 /// Writes `block` into `image`'s configuration section (in place, in the

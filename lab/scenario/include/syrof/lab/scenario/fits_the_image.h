@@ -1,0 +1,40 @@
+// Whether a scenario fits what a robot image has compiled in and cannot be
+// told: the radio round (registry::kDefaultRadioRoundNs), the default
+// arena's anchors its estimator ranges against (estimation::DefaultArena)
+// and the default kinds' limits (motion::DefaultKindLimits; firmware/robot
+// takes them from there). The lab runs any of these a scenario gives; the
+// firmware's host tools, the emulated swarm's (syrof-firmware-swarm) and
+// the flash-time one (syrof-firmware-config), refuse a scenario that
+// changes one through this one check, so both say the same words
+// (docs/firmware.md, "The emulated swarm", "Robot kinds" and "The
+// configuration block").
+#pragma once
+
+#include <optional>
+
+#include "syrof/lab/scenario/scenario.h"
+
+namespace syrof::lab::scenario {
+
+/// The first way `scenario` does not fit the robot image, in this order;
+/// nothing when it fits.
+///  1. Its radio round is not the image's 50 ms: "timing.radio_round_s must
+///     be 0.05 (the robot image's radio round)".
+///  2. Its arena is not the default one (the image's estimates would be
+///     off: 1.3 m RMSE on a 5 m arena), naming the first difference of the
+///     size, arena.tag_height_m, the anchor count and an anchor: "the arena
+///     is 5 m x 5 m; the robot image has the default arena compiled in (4 m
+///     x 4 m, tag_height_m 0.10, the four default anchors;
+///     docs/scenarios.md) and its estimates would be off".
+///  3. A limit of a kind it has robots of differs from the default, by
+///     field in KindLimits' order, kinds in RobotKind's order: "kinds.drone.
+///     max_speed_mps is 1; the robot image has 0.8 compiled in (the default
+///     kinds, docs/scenarios.md) and would drive its robots with other
+///     limits". A kind no robot has may be changed (the image never drives
+///     it), and so may a drone's drift_sigma_mps (the world's alone, not
+///     the robot's).
+/// The error's `where` is the scenario's source (its name when read from a
+/// string), with no line (the Scenario keeps no places).
+std::optional<ScenarioError> CheckScenarioFitsTheImage(const Scenario& scenario);
+
+}  // namespace syrof::lab::scenario
