@@ -40,8 +40,13 @@
 // on a grid in the default 4 m arena, builtin:circle, no loss) gives the
 // arena, the robots' start poses, the sensors' noise, the channel and the
 // goal; --robots, --seed and --loss override it. The robot image has its app,
-// arena, anchors and timing compiled in; the start pose reaches each robot
-// through -append. Each image names its app on its held line: the replay and
+// arena, anchors and timing compiled in. Each robot boots its own copy of
+// the image, DIR/robot_<i>.elf, whose configuration block holds its id, the
+// swarm's size, its kinds and its private inputs, written with
+// syrof-firmware-config's code as a class flashes a robot
+// (qemu_launcher.h, WriteRobotImages); its start pose, the late joiners and
+// the activation reach it through -append (--config-on-boot-line: all of
+// it). Each image names its app on its held line: the replay and
 // metrics.json name that app, and a scenario naming another gets one warning
 // line on standard error (image_app.h). Every robot's qemu is launched at once with `hold 1`: it
 // boots and waits; the world starts when all are held, and a robot's clock
@@ -115,6 +120,8 @@ int main(int argc, char** argv) {
                  made.message().c_str());
     return 1;
   }
+  // Each robot's own image with its configuration block, as a class flashes it.
+  if (!swarm::WriteRobotImages(options, scenario)) return 1;
   // The live page listens before any qemu starts: an address it cannot
   // have is a usage error (exit 2), as for `syrof swarm --live`.
   std::vector<syrof::lab::replay::RoundSink*> sinks;

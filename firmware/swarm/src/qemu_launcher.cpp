@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "syrof/firmware/config/robot_config.h"
 #include "syrof/firmware/drivers/radio_link.h"
 #include "syrof/firmware/robot/boot_words.h"
 #include "syrof/lab/sim/robot_config.h"
@@ -155,17 +156,34 @@ std::string KindWords(const lab::scenario::Scenario& scenario, uint16_t id) {
 
 std::string ImageAppend(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id) {
   const auto robots = static_cast<uint16_t>(scenario.robots.size());
-  return "id " + std::to_string(id) + " swarm " + std::to_string(robots) + " hold 1 report 1 sensors 1 align " +
-         (options.align.value_or(true) ? "1" : "0") + StartPoseWords(scenario.robots[id]) + LateJoinerWords(scenario) +
-         KindWords(scenario, id) + ActivationWords(scenario) + InputWords(scenario, id);
+  // Who the robot is: on the line only when asked (--config-on-boot-line);
+  // else its own image's configuration block says it (WriteRobotImages).
+  const std::string who = options.config_on_boot_line
+                              ? "id " + std::to_string(id) + " swarm " + std::to_string(robots) + " "
+                              : std::string();
+  const std::string drive = "hold 1 report 1 sensors 1 align " + std::string(options.align.value_or(true) ? "1" : "0") +
+                            StartPoseWords(scenario.robots[id]) + LateJoinerWords(scenario);
+  if (!options.config_on_boot_line) return drive + ActivationWords(scenario);
+  return who + drive + KindWords(scenario, id) + ActivationWords(scenario) + InputWords(scenario, id);
+}
+
+std::string RobotImagePath(const Options& options, uint16_t id) {
+  if (options.config_on_boot_line) return options.image;
+  return options.out + "/robot_" + std::to_string(id) + ".elf";
 }
 
 void CheckBootLines(const Options& options, const lab::scenario::Scenario& scenario) {
   const std::string activation = ActivationWords(scenario);
   for (uint16_t id = 0; id < scenario.robots.size(); ++id) {
-    const std::string inputs = InputWords(scenario, id);
+    if (!options.config_on_boot_line) {
+      // Each robot's block, as syrof-firmware-config makes it: a scenario
+      // it cannot hold is refused by name before any image is written.
+      const config::RobotBlockOrError block = config::MakeRobotBlock(scenario, id);
+      if (!block.ok()) Usage("--scenario: " + block.error->ToString());
+    }
+    const std::string inputs = options.config_on_boot_line ? InputWords(scenario, id) : std::string();
     // qemu passes the image's path, a space and the -append text.
-    const std::string line = options.image + " " + ImageAppend(options, scenario, id);
+    const std::string line = RobotImagePath(options, id) + " " + ImageAppend(options, scenario, id);
     size_t words = 0;
     for (size_t i = 0; i < line.size(); ++i) {
       if (line[i] != ' ' && (i == 0 || line[i - 1] == ' ')) ++words;
@@ -175,10 +193,32 @@ void CheckBootLines(const Options& options, const lab::scenario::Scenario& scena
             std::to_string(line.size()) + " bytes in " + std::to_string(words) +
             " words; the robot image reads at most " + std::to_string(robot::kMaxBootLineBytes) + " bytes in " +
             std::to_string(robot::kMaxBootLineWords) + " words (activation.active or activation.cycles takes " +
-            std::to_string(activation.size()) + " bytes of it, its inputs " + std::to_string(inputs.size()) +
+            std::to_string(activation.size()) + " bytes of it" +
+            (options.config_on_boot_line ? ", its inputs " + std::to_string(inputs.size()) : std::string()) +
             "; a shorter image path, script or input names fit)");
     }
   }
+}
+
+bool WriteRobotImages(const Options& options, const lab::scenario::Scenario& scenario) {
+  if (options.config_on_boot_line) return true;
+  const config::ElfOrError image = config::ReadElfFile(options.image);
+  if (!image.ok()) Usage("--image: " + image.error->ToString());
+  for (uint16_t id = 0; id < scenario.robots.size(); ++id) {
+    const config::RobotBlockOrError block = config::MakeRobotBlock(scenario, id);
+    if (!block.ok()) Usage("--scenario: " + block.error->ToString());
+    config::ElfFile copy = *image.elf;
+    if (const auto error = config::WriteBlock(copy, options.image, *block.block)) {
+      Usage("--image: " + error->ToString());
+    }
+    const std::string path = RobotImagePath(options, id);
+    if (const auto error = config::WriteImage(copy, path)) {
+      std::fprintf(stderr, "syrof-firmware-swarm: cannot write robot %u's image: %s\n", static_cast<unsigned>(id),
+                   error->ToString().c_str());
+      return false;
+    }
+  }
+  return true;
 }
 
 namespace {
@@ -197,7 +237,7 @@ process::Child LaunchQemu(const Options& options, const lab::scenario::Scenario&
       "-chardev", "socket,id=console,path=" + console_path, "-serial", "chardev:console",
       "-chardev", "socket,id=radio,path=" + radio_path, "-serial", "chardev:radio",
       "-chardev", "socket,id=sensor,path=" + sensor_path, "-serial", "chardev:sensor",
-      "-kernel", options.image, "-append", ImageAppend(options, scenario, id)};
+      "-kernel", RobotImagePath(options, id), "-append", ImageAppend(options, scenario, id)};
   if (options.icount_shift >= 0) {
     args.push_back("-icount");
     args.push_back("shift=" + std::to_string(options.icount_shift));

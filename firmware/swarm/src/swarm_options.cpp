@@ -31,6 +31,7 @@ const char* const kUsage =
     "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..32] [--seconds S] [--loss 0..1]\n"
     "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT|-1] [--align 0|1] [--latency-ms MS]\n"
     "       [--expect-cooperative] [--expect-faults] [--max-estimation-error M] [--realtime]\n"
+    "       [--config-on-boot-line]\n"
     "       [--base-station PATH] [--stress SEED [--stress-rate R] [--stress-late F] [--stress-cpu-quota P]]\n"
     "       [--live [ADDR:PORT] [--live-linger S]]\n"
     "Starts one qemu mps2-an386 instance of the robot image per robot of the scenario (--robots, --seed\n"
@@ -38,6 +39,9 @@ const char* const kUsage =
     "them; plays the scenario's faults (crash, pause, join, deaf, mute) and partitions on world time;\n"
     "writes metrics.json, replay, firmware-swarm.json and logs in --out (docs/firmware.md).\n"
     "The guests run on the host's clock; --icount SHIFT runs them with qemu's -icount shift=SHIFT.\n"
+    "Each robot boots its own copy of the image, DIR/robot_<i>.elf, with its configuration block (id, swarm,\n"
+    "kinds, its inputs) written as syrof-firmware-config writes it for a class's robots; --config-on-boot-line\n"
+    "gives them on each robot's boot line instead, to the image as built.\n"
     "--realtime runs this process and the qemu instances at SCHED_FIFO (root or CAP_SYS_NICE).\n"
     "--base-station PATH listens on the Unix socket PATH and sends a client there every beacon sent, as\n"
     "ReceivedBeacon frames (syrof-bridge --socket PATH; docs/bridge.md).\n"
@@ -72,6 +76,10 @@ Options ParseOptions(int argc, char** argv) {
     }
     if (key == "--realtime") {
       options.realtime = true;
+      continue;
+    }
+    if (key == "--config-on-boot-line") {
+      options.config_on_boot_line = true;
       continue;
     }
     // --live, --live ADDR:PORT, --live PORT and --live=..., as `syrof swarm`

@@ -93,6 +93,12 @@ TEST(ConsoleLinesTest, OtherLinesAreIgnored) {
   EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("robot 0 of 4: spreading on a circle", 4)));
   EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("", 4)));
   EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine("held", 4)));
+  // The line a robot booted on its own image's configuration block prints
+  // before its held line (the emulated swarm's default, WriteRobotImages).
+  EXPECT_TRUE(std::holds_alternative<OtherLine>(ParseConsoleLine(
+      "config robot=2/4 kind=omni swarm_kinds=omni scenario=0123456789abcdef inputs=1 bid=812 (the configuration "
+      "block)",
+      4)));
 }
 
 // A garbled line names the field and where it is.

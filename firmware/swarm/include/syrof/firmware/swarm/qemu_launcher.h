@@ -61,17 +61,37 @@ class QemuLauncher {
   std::unique_ptr<lab::sim::CpuQuotaGroup> quota_;
 };
 
-/// Robot `id`'s -append text: its id, the swarm, `hold 1`, its start pose,
-/// the late joiners and the scenario's activation (boot_words.h). Exits 2
-/// (Usage) naming the field when the activation's script is longer than
-/// the image holds.
+/// Robot `id`'s -append text: what drives the emulation (`hold 1`, the
+/// console reports, the sensor link, the round alignment, its start pose,
+/// the late joiners and the scenario's activation; boot_words.h). Who the
+/// robot is (its id, the swarm's size, its kind and the swarm's kinds, its
+/// private inputs) is in its own image's configuration block
+/// (WriteRobotImages), as a class flashes a robot; with
+/// --config-on-boot-line (Options::config_on_boot_line) it is on this line
+/// instead, and the image is the one built. Exits 2 (Usage) naming the
+/// field when the activation's script or the inputs cannot be told the image.
 std::string ImageAppend(const Options& options, const lab::scenario::Scenario& scenario, uint16_t id);
 
-/// Exits 2 (Usage) naming the field when some robot's boot line (the
-/// image's path and ImageAppend) is longer than the image reads
-/// (boot_words.h, kMaxBootLineBytes and kMaxBootLineWords): qemu would
-/// refuse it, or the image stop on it.
+/// The image robot `id`'s qemu boots: DIR/robot_<id>.elf, the copy
+/// WriteRobotImages fills, or the built image with --config-on-boot-line.
+std::string RobotImagePath(const Options& options, uint16_t id);
+
+/// Exits 2 (Usage) naming the field when some robot's configuration block
+/// cannot be made from the scenario (firmware/config robot_config.h,
+/// MakeRobotBlock: the words syrof-firmware-config refuses it with), or
+/// its boot line (the image's path and ImageAppend) is longer than the
+/// image reads (boot_words.h, kMaxBootLineBytes and kMaxBootLineWords): qemu
+/// would refuse it, or the image stop on it.
 void CheckBootLines(const Options& options, const lab::scenario::Scenario& scenario);
+
+/// Writes each robot's own copy of the image, DIR/robot_<id>.elf, with its
+/// configuration block filled from the scenario by the code
+/// syrof-firmware-config runs (MakeRobotBlock, WriteBlock, WriteImage): the
+/// images a class flashes onto its robots. Nothing with
+/// --config-on-boot-line. Exits 2 (Usage) naming the file when the image is
+/// no robot image with the block's section; false, said on stderr, when a
+/// copy cannot be written.
+bool WriteRobotImages(const Options& options, const lab::scenario::Scenario& scenario);
 
 /// --realtime: this process at SCHED_FIFO, its qemu instances one priority
 /// below (qemu_launcher.cpp says why); says so and goes on at normal

@@ -33,6 +33,11 @@ struct Options {
   bool expect_cooperative = false;
   bool expect_faults = false;  // every crash, pause and join handled (FaultOutcomes)
   bool realtime = false;       // this process and every qemu at SCHED_FIFO (SetRealtime)
+  // --config-on-boot-line: each robot's id, swarm, kinds and inputs on its
+  // boot line, as the image's words, on the image as built; by default they
+  // are in its own copy of the image's configuration block, as a class
+  // flashes them (qemu_launcher.h, WriteRobotImages).
+  bool config_on_boot_line = false;
   // The robots' round alignment (docs/clocks.md): by default on under
   // -icount, where each guest's clock runs at its own rate, and off on the
   // host's clock, which every guest shares from its Start frame on.
