@@ -11,6 +11,8 @@
 #include "syrof/lab/world/arena.h"
 #include "syrof/motion/robot_kind.h"
 #include "syrof/registry/tasks.h"
+#include "syrof/runtime/robot.h"
+#include "syrof/sync/config.h"
 
 namespace syrof::lab::scenario {
 
@@ -21,6 +23,38 @@ namespace {
 std::optional<std::string> RadioRoundDiffers(const Scenario& scenario) {
   if (std::llround(scenario.timing.radio_round_s * 1e9) == registry::kDefaultRadioRoundNs) return std::nullopt;
   return "timing.radio_round_s must be 0.05 (the robot image's radio round)";
+}
+
+// The synchronizer's timing the image runs: runtime::RobotConfig's default
+// PROGRESS and sync::SyncConfig::ForSwarm's K and F (robot_image.cpp sets
+// none of them and no boot word or block field carries them). Compared once
+// the radio round is the image's, so app_round_s counts in its rounds.
+std::optional<std::string> SyncTimingDiffers(const Scenario& scenario) {
+  const TimingSpec& timing = scenario.timing;
+  const sync::SyncConfig image = sync::SyncConfig::ForSwarm(1, 0);
+  const int64_t image_maneuver_rounds = runtime::RobotConfig{}.maneuver_rounds;
+  const double image_app_round_s =
+      static_cast<double>(image_maneuver_rounds * registry::kDefaultRadioRoundNs) / 1e9;
+  const struct {
+    const char* name;
+    double given;
+    double image;
+    bool differs;
+  } fields[] = {
+      {"app_round_s", timing.app_round_s, image_app_round_s,
+       std::llround(timing.app_round_s / timing.radio_round_s) != image_maneuver_rounds},
+      {"vote_rounds", static_cast<double>(timing.vote_rounds), static_cast<double>(image.vote_rounds),
+       timing.vote_rounds != image.vote_rounds},
+      {"silence_rounds", static_cast<double>(timing.silence_rounds), static_cast<double>(image.silence_rounds),
+       timing.silence_rounds != image.silence_rounds}};
+  for (const auto& field : fields) {
+    if (!field.differs) continue;
+    char values[96];
+    std::snprintf(values, sizeof values, " is %g; the robot image has %g", field.given, field.image);
+    return "timing." + std::string(field.name) + values +
+           " compiled in (its synchronizer's timing, docs/scenarios.md) and would run its epochs on other timing";
+  }
+  return std::nullopt;
 }
 
 // The image's estimator ranges against the default arena's anchors; the
@@ -85,7 +119,7 @@ std::optional<std::string> KindLimitsDiffer(const Scenario& scenario) {
 }  // namespace
 
 std::optional<ScenarioError> CheckScenarioFitsTheImage(const Scenario& scenario) {
-  for (std::optional<std::string> (*differs)(const Scenario&) : {RadioRoundDiffers, ArenaDiffers, KindLimitsDiffer}) {
+  for (std::optional<std::string> (*differs)(const Scenario&) : {RadioRoundDiffers, SyncTimingDiffers, ArenaDiffers, KindLimitsDiffer}) {
     std::optional<std::string> message = differs(scenario);
     if (!message) continue;
     return ScenarioError{.where = scenario.source.empty() ? scenario.name : scenario.source,

@@ -2,7 +2,7 @@
 // the image's radio round, the default arena and the default kinds' limits
 // passes; one that changes any of them is named by what differs, in the
 // words both firmware host tools print, the radio round first, then the
-// arena, then the kinds.
+// synchronizer's timing (app_round_s, K, F), then the arena, then the kinds.
 #include "syrof/lab/scenario/fits_the_image.h"
 
 #include <gtest/gtest.h>
@@ -74,11 +74,39 @@ TEST(ScenarioFitsTheImage, AnotherArenaIsNamedByItsFirstDifference) {
             std::string("arena.anchors[2] is elsewhere") + kArenaTail);
 }
 
-TEST(ScenarioFitsTheImage, TheRadioRoundComesFirstThenTheArenaThenTheKinds) {
+constexpr const char* kTimingTail =
+    " compiled in (its synchronizer's timing, docs/scenarios.md) and would run its epochs on other timing";
+
+TEST(ScenarioFitsTheImage, TheImagesTimingWrittenOutFits) {
+  EXPECT_EQ(Verdict("timing: { radio_round_s: 0.05, app_round_s: 1.0, vote_rounds: 3, silence_rounds: 6, "
+                    "duration_s: 20 }\nrobots: { count: 4 }\napp: builtin:idle\n"),
+            "fits");
+}
+
+// Before, the image ran its own 20 rounds of PROGRESS, K = 3 and F = 6
+// whatever the scenario said, while the lab ran the scenario's.
+TEST(ScenarioFitsTheImage, AnotherSynchronizerTimingIsNamedByFieldWithBothValues) {
+  const std::string robots = "robots: { count: 4 }\napp: builtin:idle\n";
+  EXPECT_EQ(Verdict("timing: { app_round_s: 2.0 }\n" + robots),
+            std::string("timing.app_round_s is 2; the robot image has 1") + kTimingTail);
+  EXPECT_EQ(Verdict("timing: { vote_rounds: 4, silence_rounds: 6 }\n" + robots),
+            std::string("timing.vote_rounds is 4; the robot image has 3") + kTimingTail);
+  EXPECT_EQ(Verdict("timing: { silence_rounds: 8 }\n" + robots),
+            std::string("timing.silence_rounds is 8; the robot image has 6") + kTimingTail);
+  // In the fields' order: app_round_s before K before F.
+  EXPECT_EQ(Verdict("timing: { app_round_s: 0.5, vote_rounds: 2, silence_rounds: 5 }\n" + robots),
+            std::string("timing.app_round_s is 0.5; the robot image has 1") + kTimingTail);
+  EXPECT_EQ(Verdict("timing: { vote_rounds: 2, silence_rounds: 5 }\n" + robots),
+            std::string("timing.vote_rounds is 2; the robot image has 3") + kTimingTail);
+}
+
+TEST(ScenarioFitsTheImage, TheRadioRoundComesFirstThenTheTimingThenTheArenaThenTheKinds) {
   const std::string kinds = "kinds: { omni: { body_radius_m: 0.15 } }\nrobots: { count: 4 }\napp: builtin:idle\n";
   const std::string arena = "arena: { width_m: 5, height_m: 5 }\n";
-  const std::string round = "timing: { radio_round_s: 0.1, app_round_s: 1.0 }\n";
+  const std::string round = "timing: { radio_round_s: 0.1, app_round_s: 1.0, silence_rounds: 8 }\n";
   EXPECT_EQ(Verdict(round + arena + kinds), "timing.radio_round_s must be 0.05 (the robot image's radio round)");
+  const std::string timing = "timing: { silence_rounds: 8 }\n";
+  EXPECT_EQ(Verdict(timing + arena + kinds), std::string("timing.silence_rounds is 8; the robot image has 6") + kTimingTail);
   EXPECT_EQ(Verdict(arena + kinds), std::string("the arena is 5 m x 5 m") + kArenaTail);
   EXPECT_EQ(Verdict(kinds).rfind("kinds.omni.body_radius_m is 0.15; ", 0), 0u) << Verdict(kinds);
 }

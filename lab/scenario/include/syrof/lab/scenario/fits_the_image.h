@@ -1,5 +1,7 @@
 // Whether a scenario fits what a robot image has compiled in and cannot be
-// told: the radio round (registry::kDefaultRadioRoundNs), the default
+// told: the radio round (registry::kDefaultRadioRoundNs), the
+// synchronizer's timing (runtime::RobotConfig's maneuver_rounds,
+// sync::SyncConfig::ForSwarm's K and F), the default
 // arena's anchors its estimator ranges against (estimation::DefaultArena)
 // and the default kinds' limits (motion::DefaultKindLimits; firmware/robot
 // takes them from there). The lab runs any of these a scenario gives; the
@@ -20,13 +22,19 @@ namespace syrof::lab::scenario {
 /// nothing when it fits.
 ///  1. Its radio round is not the image's 50 ms: "timing.radio_round_s must
 ///     be 0.05 (the robot image's radio round)".
-///  2. Its arena is not the default one (the image's estimates would be
+///  2. Its synchronizer's timing is not the image's (app_round_s 1 s, i.e.
+///     runtime::RobotConfig's 20 rounds of PROGRESS; vote_rounds K = 3;
+///     silence_rounds F = 6), by field in that order: "timing.
+///     silence_rounds is 8; the robot image has 6 compiled in (its
+///     synchronizer's timing, docs/scenarios.md) and would run its epochs
+///     on other timing".
+///  3. Its arena is not the default one (the image's estimates would be
 ///     off: 1.3 m RMSE on a 5 m arena), naming the first difference of the
 ///     size, arena.tag_height_m, the anchor count and an anchor: "the arena
 ///     is 5 m x 5 m; the robot image has the default arena compiled in (4 m
 ///     x 4 m, tag_height_m 0.10, the four default anchors;
 ///     docs/scenarios.md) and its estimates would be off".
-///  3. A limit of a kind it has robots of differs from the default, by
+///  4. A limit of a kind it has robots of differs from the default, by
 ///     field in KindLimits' order, kinds in RobotKind's order: "kinds.drone.
 ///     max_speed_mps is 1; the robot image has 0.8 compiled in (the default
 ///     kinds, docs/scenarios.md) and would drive its robots with other
