@@ -21,6 +21,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "syrof/firmware/config/robot_config.h"
 #include "syrof/lab/scenario/scenario.h"
@@ -115,14 +116,27 @@ int main(int argc, char** argv) {
                  "the robot's image to write: Intel HEX for teensy-loader-cli when it ends in .hex, else an ELF")
       ->required();
   app.add_option("--seed", options.seed, "the scenario's seed instead of the file's (the inputs it draws)");
+  // A word the tool does not take is named first, before a required
+  // option it may hide (`--bogus` alone said "--scenario is required").
+  app.allow_extras();
+  const auto unknown_word = [&app]() -> bool {
+    const std::vector<std::string> words = app.remaining();
+    if (words.empty()) return false;
+    const std::string& word = words.front();
+    std::cerr << "syrof-firmware-config: " << (word.starts_with("-") && word != "-" ? "unknown option '" : "unexpected argument '")
+              << word << "'\n(syrof-firmware-config --help lists the options)\n";
+    return true;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     return kOk;
   } catch (const CLI::ParseError& parse_error) {
+    if (unknown_word()) return kBadInput;
     std::cerr << "syrof-firmware-config: " << parse_error.what() << "\n(syrof-firmware-config --help lists the options)\n";
     return kBadInput;
   }
+  if (unknown_word()) return kBadInput;
   return Run(options);
 }
