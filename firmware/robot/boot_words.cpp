@@ -332,11 +332,40 @@ constexpr KindSet kAllKinds = static_cast<KindSet>((1u << motion::kRobotKindCoun
 
 bool IsKind(motion::RobotKind kind) { return static_cast<size_t>(kind) < motion::kRobotKindCount; }
 
+// member_kinds' letter of each kind, in RobotKind's order.
+constexpr char kKindLetters[motion::kRobotKindCount + 1] = "ord";
+
+bool KindOfLetter(char letter, motion::RobotKind& kind) {
+  for (size_t i = 0; i < motion::kRobotKindCount; ++i) {
+    if (kKindLetters[i] == letter) {
+      kind = static_cast<motion::RobotKind>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+bool SingleKind(KindSet kinds) { return kinds != 0 && (kinds & (kinds - 1)) == 0; }
+
+KindSet KindsOf(std::span<const motion::RobotKind> members) {
+  KindSet kinds = 0;
+  for (const motion::RobotKind kind : members) kinds = static_cast<KindSet>(kinds | KindBit(kind));
+  return kinds;
+}
+
 }  // namespace
 
-BootWordsError FormatKindWords(motion::RobotKind self, KindSet swarm, std::span<char> out, size_t& length) {
+BootWordsError FormatKindWords(motion::RobotKind self, KindSet swarm, std::span<const motion::RobotKind> member_kinds,
+                               std::span<char> out, size_t& length) {
   length = 0;
   if (!IsKind(self) || (swarm & ~kAllKinds) != 0 || (swarm & KindBit(self)) == 0) return BootWordsError::kNoSuchKind;
+  const bool mixed = !SingleKind(swarm);
+  if (mixed) {
+    if (member_kinds.empty() || member_kinds.size() > kMaxBootMemberKinds) return BootWordsError::kNoSuchKind;
+    for (const motion::RobotKind kind : member_kinds) {
+      if (!IsKind(kind) || (swarm & KindBit(kind)) == 0) return BootWordsError::kNoSuchKind;
+    }
+  }
   if (out.empty()) return BootWordsError::kBufferTooSmall;
   out[0] = '\0';
   if (self == motion::RobotKind::kOmni && swarm == KindBit(self)) return BootWordsError::kOk;
@@ -352,6 +381,12 @@ BootWordsError FormatKindWords(motion::RobotKind self, KindSet swarm, std::span<
       first = false;
     }
   }
+  if (mixed) {
+    fits = fits && writer.Print(" member_kinds ");
+    for (size_t i = 0; i < member_kinds.size() && fits; ++i) {
+      fits = writer.Print("%c", kKindLetters[static_cast<size_t>(member_kinds[i])]);
+    }
+  }
   if (!fits) return BootWordsError::kBufferTooSmall;
   length = writer.used();
   return BootWordsError::kOk;
@@ -360,6 +395,15 @@ BootWordsError FormatKindWords(motion::RobotKind self, KindSet swarm, std::span<
 BootWordRead BootKind::Read(const char* key, const char* value) {
   if (std::strcmp(key, "kind") == 0) {
     return motion::ParseRobotKind(value, self_) ? BootWordRead::kOk : BootWordRead::kBadValue;
+  }
+  if (std::strcmp(key, "member_kinds") == 0) {
+    const size_t count = std::strlen(value);
+    if (count == 0 || count > kMaxBootMemberKinds) return BootWordRead::kBadValue;
+    for (size_t i = 0; i < count; ++i) {
+      if (!KindOfLetter(value[i], members_[i])) return BootWordRead::kBadValue;
+    }
+    member_count_ = count;
+    return BootWordRead::kOk;
   }
   if (std::strcmp(key, "swarm_kinds") != 0) return BootWordRead::kNotMine;
   KindSet kinds = 0;
@@ -380,18 +424,64 @@ BootWordRead BootKind::Read(const char* key, const char* value) {
   return BootWordRead::kOk;
 }
 
-const char* BootKind::Check() {
-  if (swarm_ == 0 || (swarm_ & KindBit(self_)) != 0) return nullptr;
-  std::snprintf(message_.data(), message_.size(), "kind %s is not among its swarm_kinds (a robot is of its swarm)",
-                motion::ToString(self_));
-  return message_.data();
+KindSet BootKind::swarm() const {
+  if (swarm_ != 0) return swarm_;
+  return member_count_ != 0 ? KindsOf(members()) : KindBit(self_);
 }
 
-const char* ConfigureImageKinds(runtime::RobotConfig& config, motion::RobotKind self, KindSet swarm) {
+const char* BootKind::Check() {
+  if ((swarm() & KindBit(self_)) == 0) {
+    std::snprintf(message_.data(), message_.size(), "kind %s is not among its swarm_kinds (a robot is of its swarm)",
+                  motion::ToString(self_));
+    return message_.data();
+  }
+  if (swarm_ != 0 && member_count_ != 0 && KindsOf(members()) != swarm_) {
+    std::snprintf(message_.data(), message_.size(),
+                  "member_kinds names other kinds than swarm_kinds (each of swarm_kinds' kinds, and no other, is "
+                  "some robot's)");
+    return message_.data();
+  }
+  return nullptr;
+}
+
+const char* ConfigureImageKinds(runtime::RobotConfig& config, motion::RobotKind self, KindSet swarm,
+                                std::span<const motion::RobotKind> members, std::span<motion::RobotKind> storage) {
+  // Start-up only, one robot an image: the refusal's words are kept here.
+  static char message[128];
   const KindSet present = swarm == 0 ? KindBit(self) : swarm;
   if (!IsKind(self) || (present & ~kAllKinds) != 0 || (present & KindBit(self)) == 0) {
     return "the robot's kind is not among its swarm's kinds";
   }
+  const size_t swarm_size = config.sync.swarm_size;
+  if (swarm_size > storage.size()) return "the swarm is larger than the image's table of its kinds";
+  if (members.empty()) {
+    if (!SingleKind(present)) {
+      return "a swarm of more than one kind needs member_kinds, every robot's kind by id (what its app reads of "
+             "its members); syrof-firmware-config and syrof-firmware-swarm write it";
+    }
+    for (size_t id = 0; id < swarm_size; ++id) storage[id] = self;
+  } else {
+    if (members.size() != swarm_size) {
+      std::snprintf(message, sizeof message, "member_kinds names %u robots; the swarm has %u",
+                    static_cast<unsigned>(members.size()), static_cast<unsigned>(swarm_size));
+      return message;
+    }
+    for (size_t id = 0; id < swarm_size; ++id) {
+      if (!IsKind(members[id]) || (present & KindBit(members[id])) == 0) {
+        std::snprintf(message, sizeof message, "member_kinds gives robot %u a kind not among the swarm's kinds",
+                      static_cast<unsigned>(id));
+        return message;
+      }
+      storage[id] = members[id];
+    }
+    if (members[config.sync.self_id] != self) {
+      std::snprintf(message, sizeof message, "member_kinds gives this robot (%u) the kind %s; its kind is %s",
+                    static_cast<unsigned>(config.sync.self_id), motion::ToString(members[config.sync.self_id]),
+                    motion::ToString(self));
+      return message;
+    }
+  }
+  config.member_kinds = std::span<const motion::RobotKind>(storage.data(), swarm_size);
   std::array<motion::SwarmKind, motion::kRobotKindCount> kinds{};
   size_t count = 0;
   for (size_t i = 0; i < motion::kRobotKindCount; ++i) {

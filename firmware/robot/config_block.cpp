@@ -98,7 +98,13 @@ ConfigBlockError EncodeConfigBlock(const ConfigBlockContent& content, std::span<
   size_t length = static_cast<size_t>(head);
   const KindSet swarm_kinds = content.swarm_kinds == 0 ? KindBit(content.kind) : content.swarm_kinds;
   size_t kind_length = 0;
-  switch (FormatKindWords(content.kind, swarm_kinds, std::span<char>(words + length, room - length), kind_length)) {
+  if (!content.member_kinds.empty() &&
+      (content.member_kinds.size() != content.swarm_size || content.member_kinds[content.robot_id] != content.kind)) {
+    std::memset(out.data(), 0, out.size());
+    return ConfigBlockError::kNoSuchKind;
+  }
+  switch (FormatKindWords(content.kind, swarm_kinds, content.member_kinds,
+                          std::span<char>(words + length, room - length), kind_length)) {
     case BootWordsError::kOk: break;
     case BootWordsError::kBufferTooSmall: std::memset(out.data(), 0, out.size()); return ConfigBlockError::kDoesNotFit;
     default: std::memset(out.data(), 0, out.size()); return ConfigBlockError::kNoSuchKind;
@@ -146,11 +152,12 @@ ConfigBlockState BootConfigBlock::ReadWord(const char* key, const char* value, u
     (id ? robot_id_ : swarm_size_) = static_cast<uint16_t>(number);
     return ConfigBlockState::kFilled;
   }
-  if (std::strcmp(key, "kind") == 0 || std::strcmp(key, "swarm_kinds") == 0) {
-    bool& given = key[0] == 'k' ? has_kind_ : has_swarm_kinds_;
+  if (std::strcmp(key, "kind") == 0 || std::strcmp(key, "swarm_kinds") == 0 || std::strcmp(key, "member_kinds") == 0) {
+    bool& given = key[0] == 'k' ? has_kind_ : key[0] == 's' ? has_swarm_kinds_ : has_member_kinds_;
     if (given || kind_.Read(key, value) != BootWordRead::kOk) {
       return Refuse("the configuration block's word %u '%s': '%s' is not a value it takes (a robot kind this image "
-                    "knows: omni, rover or drone; swarm_kinds lists them, each once; each word once)",
+                    "knows: omni, rover or drone; swarm_kinds lists them, each once; member_kinds a letter o, r or "
+                    "d for each robot; each word once)",
                     index, key, value);
     }
     given = true;
@@ -159,8 +166,8 @@ ConfigBlockState BootConfigBlock::ReadWord(const char* key, const char* value, u
   switch (inputs_.Read(key, value)) {
     case BootWordRead::kOk: return ConfigBlockState::kFilled;
     case BootWordRead::kNotMine:
-      return Refuse("the configuration block's word %u: unknown key '%s' (id, swarm, kind, swarm_kinds, inputs, "
-                    "input)",
+      return Refuse("the configuration block's word %u: unknown key '%s' (id, swarm, kind, swarm_kinds, member_kinds, "
+                    "inputs, input)",
                     index - 1, key);
     case BootWordRead::kBadValue:
     case BootWordRead::kFull: break;
@@ -252,6 +259,19 @@ ConfigBlockState BootConfigBlock::Read(std::span<const uint8_t, kConfigBlockByte
                   static_cast<unsigned>(swarm_size_));
   }
   if (const char* error = kind_.Check()) return Refuse("the configuration block: %s", error);
+  if (has_member_kinds_ && kind_.members().size() != swarm_size_) {
+    return Refuse("the configuration block's member_kinds names %u robots; its swarm has %u",
+                  static_cast<unsigned>(kind_.members().size()), static_cast<unsigned>(swarm_size_));
+  }
+  if (has_member_kinds_ && kind_.members()[robot_id_] != kind_.self()) {
+    return Refuse("the configuration block's member_kinds gives robot %u the kind %s; its kind word says %s",
+                  static_cast<unsigned>(robot_id_), motion::ToString(kind_.members()[robot_id_]),
+                  motion::ToString(kind_.self()));
+  }
+  if (!has_member_kinds_ && (kind_.swarm() & (kind_.swarm() - 1)) != 0) {
+    return Refuse("the configuration block names a swarm of more than one kind and no member_kinds (write it again "
+                  "with this image's syrof-firmware-config)");
+  }
   if (const char* error = inputs_.Check(robot_id_)) return Refuse("the configuration block: %s", error);
   return ConfigBlockState::kFilled;
 }

@@ -24,6 +24,7 @@
 // start, when written for another id or one is missing), the robot's kind
 // (boot_words.h: `kind omni|rover|drone`, absent omni, and `swarm_kinds
 // K,K,...`, the swarm's kinds, absent its own: the motion layer of that kind;
+// `member_kinds LLL...`, every robot's kind, needed in a mixed swarm;
 // a kind it does not know is refused, with no start), `hold 0|1` (with
 // `sensors 1`: set everything up, print `held id=N t_ms=T app=NAME`, NAME
 // the compiled-in app's descriptor name, and start the clock
@@ -47,6 +48,7 @@
 // interrupt sits at 4, masked by the kernel, and also notifies the image's
 // radio-link task (no polling: fewer wake-ups for qemu to emulate).
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -221,6 +223,7 @@ struct Options {
   bool scenario_given = false;
   bool kind_given = false;
   bool swarm_kinds_given = false;
+  bool member_kinds_given = false;
   uint64_t scenario_id = 0;
 };
 
@@ -304,11 +307,19 @@ bool TakeConfigBlock(Options& options) {
                 block_kinds, KindList(boot_kind.swarm(), line_kinds));
     return false;
   }
+  const auto line_members = boot_kind.members();
+  const auto block_members = boot_config.member_kinds();
+  if (options.member_kinds_given &&
+      !std::equal(line_members.begin(), line_members.end(), block_members.begin(), block_members.end())) {
+    std::printf("syrof-robot: the configuration block was written with other member_kinds than the command line's\n");
+    return false;
+  }
   options.image.self_id = boot_config.robot_id();
   options.image.swarm_size = boot_config.swarm_size();
   options.image.app_inputs = boot_config.inputs();
   options.image.kind = boot_config.kind();
   options.image.swarm_kinds = boot_config.swarm_kinds();
+  options.image.member_kinds = block_members;
   // The line names every input with the value read, each in the fewest
   // digits (15 to 17) that read back to it, so a test sees what the robot holds.
   std::printf("config robot=%u/%u kind=%s swarm_kinds=%s scenario=%s inputs=%u",
@@ -361,12 +372,14 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     switch (boot_kind.Read(key, argv[i + 1])) {
       case robot::BootWordRead::kNotMine: break;
       case robot::BootWordRead::kOk:
-        (key[0] == 'k' ? options.kind_given : options.swarm_kinds_given) = true;
+        (key[0] == 'k' ? options.kind_given : key[0] == 's' ? options.swarm_kinds_given : options.member_kinds_given) =
+            true;
         continue;
       case robot::BootWordRead::kBadValue:
       case robot::BootWordRead::kFull:
         std::printf("syrof-robot: -append word %d '%s': '%s' is not a value it takes (a robot kind this image knows: "
-                    "omni, rover or drone; swarm_kinds lists them, each once; firmware/robot boot_words.h)\n",
+                    "omni, rover or drone; swarm_kinds lists them, each once; member_kinds a letter o, r or d for "
+                    "each robot; firmware/robot boot_words.h)\n",
                     i + 1, key, argv[i + 1]);
         return false;
     }
@@ -457,6 +470,7 @@ bool ParseOptions(int argc, char** argv, Options& options) {
     options.image.app_inputs = boot_inputs.inputs();
     options.image.kind = boot_kind.self();
     options.image.swarm_kinds = boot_kind.swarm();
+    options.image.member_kinds = boot_kind.members();
   }
   options.image.activation = boot_activation.config();
   if (!syrof::sync::IsValid(options.image.activation)) {

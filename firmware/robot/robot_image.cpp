@@ -93,7 +93,10 @@ const char* RobotImage::Prepare(const ImageConfig& config, const syrof_app_descr
   robot_config.app_inputs = config.app_inputs;
   // The motion layer of the robot's kind in a swarm of its kinds, through
   // the lab's own path (boot_words.h, ConfigureImageKinds).
-  if (const char* error = ConfigureImageKinds(robot_config, config.kind, config.swarm_kinds)) return error;
+  if (const char* error =
+          ConfigureImageKinds(robot_config, config.kind, config.swarm_kinds, config.member_kinds, member_kinds_)) {
+    return error;
+  }
   radio_.set_swarm_size(config.swarm_size);
   const std::span<wire::Beacon> storage(receive_storage_.data(),
                                         size_t{runtime::Robot::kReceiveBanks} * config.swarm_size);

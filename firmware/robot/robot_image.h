@@ -113,6 +113,11 @@ struct ImageConfig {
   /// reads them from its boot words, the Teensy's from its build settings.
   motion::RobotKind kind = motion::RobotKind::kOmni;
   uint8_t swarm_kinds = 0;
+  /// Every robot's kind by id (boot_words.h's member_kinds), what the app
+  /// reads of its members; needed in a swarm of more than one kind, and
+  /// then swarm_size of them, kept alive as app_inputs. Empty in a swarm of
+  /// one kind: every robot is of it.
+  std::span<const motion::RobotKind> member_kinds{};
   ImageExtension* extension = nullptr;  ///< not owned
 };
 
@@ -240,6 +245,7 @@ class RobotImage {
   pubsub::Publisher<estimation::FlowReading> flow_;
   pubsub::Publisher<estimation::UwbReading> uwb_;
   std::array<wire::Beacon, runtime::Robot::kReceiveBanks * wire::kMaxSwarmSize> receive_storage_{};
+  std::array<motion::RobotKind, wire::kMaxSwarmSize> member_kinds_{};  // RobotConfig::member_kinds
   alignas(runtime::Robot) unsigned char robot_memory_[sizeof(runtime::Robot)];
   alignas(app::CAbiApp) unsigned char app_memory_[sizeof(app::CAbiApp)];
   const app::CAbiApp* app_ = nullptr;  // in app_memory_, once Prepare() built it

@@ -137,6 +137,7 @@ int main() {
       config.app_inputs = boot_config.inputs();
       config.kind = boot_config.kind();
       config.swarm_kinds = boot_config.swarm_kinds();
+      config.member_kinds = boot_config.member_kinds();
       char scenario[17];
       robot::FormatScenarioId(boot_config.scenario_id(), scenario);
       std::printf("syrof-robot %u of %u, %s (Teensy 3.2, 72 MHz)\nconfig robot=%u/%u kind=%s scenario=%s inputs=%u "

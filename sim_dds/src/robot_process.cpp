@@ -706,6 +706,8 @@ int RunRobotProcess(const RobotProcessOptions& options, std::ostream& err) {
   config.app_params = params;
   const std::vector<app::Parameter> inputs = lab::sim::InputsOf(scenario, options.robot);
   config.app_inputs = inputs;
+  const std::vector<motion::RobotKind> member_kinds = lab::sim::MemberKindsOf(scenario);
+  config.member_kinds = member_kinds;
 
   os::PosixPortOptions port_options;
   port_options.realtime_priorities = options.realtime;

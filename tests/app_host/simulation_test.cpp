@@ -29,6 +29,7 @@ extern "C" const syrof_app_descriptor* parameters_app_entry(void);
 extern "C" double parameters_app_target_x_m(void);
 extern "C" uint8_t parameters_app_checks(void);
 extern "C" const syrof_app_descriptor* inputs_app_entry(void);
+extern "C" const syrof_app_descriptor* kinds_app_entry(void);
 
 namespace syrof::app_host {
 namespace {
@@ -250,6 +251,42 @@ TEST(HostedAppSimulationTest, EachRobotReadsItsOwnPrivateInputHostedAndInProcess
   for (int id = 0; id < 4; ++id) {
     EXPECT_EQ(ReadFile(folder.path() + "/" + std::to_string(id) + ".log"),
               "robot " + std::to_string(id) + ": charge " + charges[id] + " (status 0), checks 63\n");
+  }
+}
+
+// Every robot's kind reaches every app: its own in init's info, each
+// member's in the map (docs/apps.md, "Robot kinds"), hosted and in-process
+// alike (the same replay: the payloads carry the kinds), in a swarm of all
+// three kinds.
+TEST(HostedAppSimulationTest, EveryAppReadsItsOwnKindAndEachMembersHostedAndInProcess) {
+  const scenario::LoadResult loaded = scenario::LoadScenarioText(R"(seed: 5
+robots:
+  kind: omni
+  poses:
+    - { x_m: 1.0, y_m: 1.0 }
+    - { x_m: 1.8, y_m: 1.0, kind: rover }
+    - { x_m: 1.0, y_m: 1.8, kind: drone }
+    - { x_m: 1.8, y_m: 1.8 }
+timing: { duration_s: 4 }
+app: builtin:idle
+)",
+                                                                 "kinds.yaml", {});
+  ASSERT_TRUE(loaded.ok()) << (loaded.error ? loaded.error->ToString() : "");
+  const scenario::Scenario& scenario = *loaded.scenario;
+  const ScopedFolder folder(::testing::TempDir() + "app_host_sim_kinds_" + std::to_string(getpid()));
+  const HostOptions options = Options("kinds", folder.path());
+
+  const Outcome hosted = RunWith(scenario, [&](uint16_t id) { return MakeHostedApp(options, id); });
+  const Outcome linked_in =
+      RunWith(scenario, [](uint16_t) { return std::make_unique<app::CAbiApp>(*kinds_app_entry()); });
+
+  EXPECT_TRUE(json::parse(hosted.metrics)["app"]["faults"].empty()) << hosted.metrics;
+  EXPECT_TRUE(hosted.replay == linked_in.replay);
+  const char* const kinds[] = {"omni", "rover", "drone", "omni"};
+  for (int id = 0; id < 4; ++id) {
+    EXPECT_EQ(ReadFile(folder.path() + "/" + std::to_string(id) + ".log"),
+              "robot " + std::to_string(id) + " is a " + kinds[id] +
+                  "\nepoch 3: 0 omni 1 rover 2 drone 3 omni\n");
   }
 }
 

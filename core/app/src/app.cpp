@@ -1,5 +1,15 @@
 #include "syrof/app/app.h"
 
+#include <cstddef>
+
+// The ABI's layouts, as libraries built before `kind` was added read them:
+// the member's kind took its padding byte, the info's came after its end.
+static_assert(sizeof(syrof_member_state) == 24 && offsetof(syrof_member_state, payload) == 14 &&
+                  offsetof(syrof_member_state, kind) == 23,
+              "syrof_member_state's layout is the ABI's");
+static_assert(offsetof(syrof_app_info, max_speed_mps) == 28 && offsetof(syrof_app_info, kind) == 32,
+              "syrof_app_info's layout is the ABI's");
+
 namespace syrof::app {
 
 const syrof_member_state* FindMember(const syrof_ldmap& ldmap, uint16_t id) {

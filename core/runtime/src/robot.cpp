@@ -27,6 +27,13 @@ const char* ToString(RobotSetupError error) {
 
 namespace {
 
+// The app reads a motion::RobotKind as the ABI's syrof_robot_kind.
+static_assert(static_cast<int>(motion::RobotKind::kOmni) == SYROF_KIND_OMNI &&
+                  static_cast<int>(motion::RobotKind::kRover) == SYROF_KIND_ROVER &&
+                  static_cast<int>(motion::RobotKind::kDrone) == SYROF_KIND_DRONE &&
+                  motion::kRobotKindCount == 3,
+              "the ABI's kinds are the motion layer's");
+
 motion::SafetyConfig SafetyConfigFor(const RobotConfig& config) {
   motion::SafetyConfig safety = config.safety;
   safety.self_id = config.sync.self_id;
@@ -46,6 +53,7 @@ syrof_app_info AppInfo(const RobotConfig& config) {
   info.arena_height_m = config.arena_height_m;
   info.body_radius_m = config.motion.limits.body_radius_m;
   info.max_speed_mps = config.motion.limits.max_speed_mps;
+  info.kind = static_cast<uint8_t>(config.kind);
   return info;
 }
 
@@ -233,6 +241,8 @@ void Robot::FillAppMap(const sync::LDMap& ldmap) {
     member.phase = static_cast<uint8_t>(ldmap.phases[id]);
     member.payload_length = snapshot.payload_length;
     std::memcpy(member.payload, snapshot.payload.data(), sizeof member.payload);
+    member.kind = id < config_.member_kinds.size() ? static_cast<uint8_t>(config_.member_kinds[id])
+                                                   : static_cast<uint8_t>(SYROF_KIND_UNKNOWN);
   }
   app_map_.epoch = ldmap.epoch;
   app_map_.mode = static_cast<uint8_t>(ldmap.mode);

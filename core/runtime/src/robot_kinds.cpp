@@ -3,6 +3,7 @@
 namespace syrof::runtime {
 
 void ConfigureKinds(RobotConfig& config, const motion::SwarmKind& self, std::span<const motion::SwarmKind> swarm) {
+  config.kind = self.kind;
   config.motion = motion::ControllerConfigFor(self.kind, self.limits);
   motion::SetOthers(config.safety, swarm);
   if (self.kind == motion::RobotKind::kDrone) {

@@ -103,12 +103,15 @@ RobotBlockOrError MakeRobotBlock(const lab::scenario::Scenario& scenario, int ro
   for (const lab::scenario::RobotSpec& spec : scenario.robots) {
     block.swarm_kinds = static_cast<robot::KindSet>(block.swarm_kinds | robot::KindBit(spec.kind));
   }
+  std::vector<motion::RobotKind> member_kinds;
+  for (const lab::scenario::RobotSpec& spec : scenario.robots) member_kinds.push_back(spec.kind);
   const robot::ConfigBlockContent content{.robot_id = block.robot_id,
                                           .swarm_size = block.swarm_size,
                                           .scenario_id = block.scenario_id,
                                           .inputs = own,
                                           .kind = block.kind,
-                                          .swarm_kinds = block.swarm_kinds};
+                                          .swarm_kinds = block.swarm_kinds,
+                                          .member_kinds = member_kinds};
   switch (robot::EncodeConfigBlock(content, block.bytes, block.words_length)) {
     case robot::ConfigBlockError::kOk: return {block, std::nullopt};
     case robot::ConfigBlockError::kDoesNotFit: {

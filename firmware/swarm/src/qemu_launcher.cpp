@@ -139,14 +139,19 @@ std::string InputWords(const lab::scenario::Scenario& scenario, uint16_t id) {
         " bytes, a letter or _ then letters, digits and _; docs/firmware.md, \"Private inputs\")");
 }
 
-// Robot `id`'s kind and its swarm's kinds as the image's words
-// (boot_words.h): none for an omni robot among omni robots, as before.
+// Robot `id`'s kind, its swarm's kinds and, in a mixed swarm, every robot's
+// kind as the image's words (boot_words.h): none for an omni robot among
+// omni robots, as before.
 std::string KindWords(const lab::scenario::Scenario& scenario, uint16_t id) {
   robot::KindSet swarm = 0;
-  for (const lab::scenario::RobotSpec& spec : scenario.robots) swarm |= robot::KindBit(spec.kind);
-  char text[64];
+  std::vector<motion::RobotKind> members;
+  for (const lab::scenario::RobotSpec& spec : scenario.robots) {
+    swarm |= robot::KindBit(spec.kind);
+    members.push_back(spec.kind);
+  }
+  char text[96];
   size_t length = 0;
-  if (robot::FormatKindWords(scenario.robots[id].kind, swarm, text, length) != robot::BootWordsError::kOk) {
+  if (robot::FormatKindWords(scenario.robots[id].kind, swarm, members, text, length) != robot::BootWordsError::kOk) {
     Usage("--scenario: robot " + std::to_string(id) + "'s kind cannot be told the robot image");
   }
   return std::string(text, length);

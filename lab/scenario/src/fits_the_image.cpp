@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "syrof/estimation/arena.h"
+#include "syrof/estimation/estimator_config.h"
 #include "syrof/lab/world/arena.h"
 #include "syrof/motion/robot_kind.h"
 #include "syrof/registry/tasks.h"
@@ -116,10 +117,39 @@ std::optional<std::string> KindLimitsDiffer(const Scenario& scenario) {
   return std::nullopt;
 }
 
+// The noise the image's estimator weighs its readings with: the lab's
+// robot takes the scenario's sensors' (lab/sim robot_config.cpp, above a
+// floor), the image its compiled-in defaults, which the default sensors
+// match.
+std::optional<std::string> SensorNoiseDiffers(const Scenario& scenario) {
+  const estimation::EstimatorConfig<float> image{};
+  const std::pair<const char*, std::pair<double, float>> fields[] = {
+      {"sensors.uwb.sigma_m", {scenario.sensors.uwb.sigma_m, image.range_sigma_m}},
+      {"sensors.flow.sigma_px", {scenario.sensors.flow.sigma_px, image.flow_sigma_px}}};
+  for (const auto& [name, values] : fields) {
+    if (static_cast<float>(values.first) == values.second) continue;
+    char text[96];
+    std::snprintf(text, sizeof text, " is %g; the robot image's estimator has %g", values.first,
+                  static_cast<double>(values.second));
+    return std::string(name) + text +
+           " compiled in (the default sensors, docs/scenarios.md) and would weigh its readings otherwise than the "
+           "lab's robots";
+  }
+  return std::nullopt;
+}
+
+// The image's safety filter is always on.
+std::optional<std::string> SafetyDiffers(const Scenario& scenario) {
+  if (scenario.safety) return std::nullopt;
+  return "safety is off; the robot image runs its safety filter always (docs/safety.md) and would drive otherwise "
+         "than the lab's robots";
+}
+
 }  // namespace
 
 std::optional<ScenarioError> CheckScenarioFitsTheImage(const Scenario& scenario) {
-  for (std::optional<std::string> (*differs)(const Scenario&) : {RadioRoundDiffers, SyncTimingDiffers, ArenaDiffers, KindLimitsDiffer}) {
+  for (std::optional<std::string> (*differs)(const Scenario&) : {RadioRoundDiffers, SyncTimingDiffers, ArenaDiffers, KindLimitsDiffer,
+                                                                SensorNoiseDiffers, SafetyDiffers}) {
     std::optional<std::string> message = differs(scenario);
     if (!message) continue;
     return ScenarioError{.where = scenario.source.empty() ? scenario.name : scenario.source,

@@ -98,6 +98,14 @@ std::vector<app::Parameter> InputsOf(const scenario::Scenario& scenario, uint16_
   return inputs;
 }
 
+std::vector<motion::RobotKind> MemberKindsOf(const scenario::Scenario& scenario) {
+  std::vector<motion::RobotKind> kinds(scenario.robots.size(), motion::RobotKind::kOmni);
+  for (const scenario::RobotSpec& robot : scenario.robots) {
+    if (robot.id < kinds.size()) kinds[robot.id] = robot.kind;
+  }
+  return kinds;
+}
+
 std::map<std::string, double> InputValuesOf(const scenario::Scenario& scenario, uint16_t robot) {
   std::map<std::string, double> inputs;
   for (const app::Parameter& input : InputsOf(scenario, robot)) inputs[std::string(input.name)] = input.value;

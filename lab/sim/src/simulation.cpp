@@ -105,6 +105,8 @@ class Simulation::Impl final : public runtime::RobotObserver,
   // Each robot's private inputs (syrofAppInput), by id; names view
   // scenario_.inputs' keys.
   std::vector<std::vector<app::Parameter>> app_inputs_;
+  // Every robot's kind by id, the same table for all (RobotConfig::member_kinds).
+  std::vector<motion::RobotKind> member_kinds_;
   world::World world_;
   RadioNetwork radio_;
   std::vector<std::unique_ptr<LabRobot>> robots_;
@@ -221,6 +223,7 @@ void Simulation::Impl::MakeRobots() {
   radio_.SetRadioFaults(scenario_.faults);
   robots_.reserve(scenario_.robots.size());
   app_inputs_.reserve(scenario_.robots.size());
+  member_kinds_ = MemberKindsOf(scenario_);
   for (size_t chunk = 0; chunk < chunk_plan_.chunks(); ++chunk) workspaces_.push_back(std::make_unique<QueriesWorkspace>());
   for (const scenario::RobotSpec& spec : scenario_.robots) {
     runtime::RobotConfig config = RobotConfigFor(scenario_, spec);
@@ -228,6 +231,7 @@ void Simulation::Impl::MakeRobots() {
     config.app_params = app_params_;
     app_inputs_.push_back(InputsOf(scenario_, spec.id));
     config.app_inputs = app_inputs_.back();
+    config.member_kinds = member_kinds_;
     if (options_.configure_robot) options_.configure_robot(config);
     std::unique_ptr<app::App> app =
         options_.apps.factory ? options_.apps.factory(spec.id)

@@ -41,8 +41,8 @@ TEST(AppTest, FindMemberSearchesById) {
 
 TEST(AppTest, MembersForQueriesCopiesIdsAndPositions) {
   std::array<syrof_member_state, 2> members{};
-  members[0] = {1, -5, 7, 0, 0, 0, 0, 0, {}};
-  members[1] = {4, 100, -200, 0, 0, 0, 0, 0, {}};
+  members[0] = {1, -5, 7, 0, 0, 0, 0, 0, {}, SYROF_KIND_OMNI};
+  members[1] = {4, 100, -200, 0, 0, 0, 0, 0, {}, SYROF_KIND_OMNI};
   const syrof_ldmap map{0, SYROF_MODE_AUTONOMOUS, 1, 2, members.data()};
   std::array<syrof_queries_member, 2> out{};
 

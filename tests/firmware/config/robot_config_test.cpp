@@ -49,7 +49,7 @@ TEST(RobotConfigTest, ARobotsBlockHoldsItsKindAndTheSwarmsAsTheSwarmHostWritesTh
   ASSERT_TRUE(drone.ok()) << drone.error->ToString();
   EXPECT_EQ(drone.block->kind, motion::RobotKind::kDrone);
   EXPECT_EQ(std::string(reinterpret_cast<const char*>(drone.block->bytes.data() + robot::kConfigBlockHeaderBytes)),
-            "id 2 swarm 4 kind drone swarm_kinds omni,drone inputs 2:1 input charge=791");
+            "id 2 swarm 4 kind drone swarm_kinds omni,drone member_kinds oodo inputs 2:1 input charge=791");
   robot::BootConfigBlock boot;
   ASSERT_EQ(boot.Read(drone.block->bytes), robot::ConfigBlockState::kFilled) << boot.error();
   EXPECT_EQ(boot.kind(), motion::RobotKind::kDrone);
@@ -58,7 +58,7 @@ TEST(RobotConfigTest, ARobotsBlockHoldsItsKindAndTheSwarmsAsTheSwarmHostWritesTh
   const RobotBlockOrError omni = MakeRobotBlock(scenario, 0);
   ASSERT_TRUE(omni.ok());
   EXPECT_EQ(std::string(reinterpret_cast<const char*>(omni.block->bytes.data() + robot::kConfigBlockHeaderBytes)),
-            "id 0 swarm 4 kind omni swarm_kinds omni,drone inputs 0:1 input charge=38");
+            "id 0 swarm 4 kind omni swarm_kinds omni,drone member_kinds oodo inputs 0:1 input charge=38");
   // The kinds are part of the scenario's id: the same robots all omni give another.
   lab::scenario::Scenario all_omni = scenario;
   all_omni.robots[2].kind = motion::RobotKind::kOmni;

@@ -296,16 +296,27 @@ TEST(BootWordsTest, InputsTheImageCannotHoldAreRefusedByTheHost) {
 }
 
 // The robot's kind (boot_words.h, "kind" and "swarm_kinds").
-std::string FormatKinds(motion::RobotKind self, KindSet swarm) {
-  std::array<char, 64> out{};
-  size_t length = 0;
-  EXPECT_EQ(FormatKindWords(self, swarm, out, length), BootWordsError::kOk);
-  return std::string(out.data(), length);
-}
-
 constexpr KindSet kOmni = KindBit(motion::RobotKind::kOmni);
 constexpr KindSet kRover = KindBit(motion::RobotKind::kRover);
 constexpr KindSet kDrone = KindBit(motion::RobotKind::kDrone);
+
+// A swarm of `swarm`'s kinds, one robot each: `self` first (robot 0), then
+// the others in RobotKind's order.
+std::vector<motion::RobotKind> OneOfEach(motion::RobotKind self, KindSet swarm) {
+  std::vector<motion::RobotKind> members = {self};
+  for (size_t i = 0; i < motion::kRobotKindCount; ++i) {
+    const auto kind = static_cast<motion::RobotKind>(i);
+    if (kind != self && (swarm & KindBit(kind)) != 0) members.push_back(kind);
+  }
+  return members;
+}
+
+std::string FormatKinds(motion::RobotKind self, KindSet swarm) {
+  std::array<char, 96> out{};
+  size_t length = 0;
+  EXPECT_EQ(FormatKindWords(self, swarm, OneOfEach(self, swarm), out, length), BootWordsError::kOk);
+  return std::string(out.data(), length);
+}
 
 TEST(BootWordsTest, AnOmniRobotAmongOmniRobotsWritesNoWordAndReadsBackAsOmni) {
   EXPECT_EQ(FormatKinds(motion::RobotKind::kOmni, kOmni), "");
@@ -327,11 +338,90 @@ TEST(BootWordsTest, EveryKindInEverySwarmOfItReadsBack) {
       EXPECT_EQ(kind.Check(), nullptr) << words;
       EXPECT_EQ(kind.self(), self) << words;
       EXPECT_EQ(kind.swarm(), swarm) << words;
+      // A mixed swarm's words name every robot's kind; one kind's, none.
+      const std::vector<motion::RobotKind> members = OneOfEach(self, swarm);
+      if (members.size() > 1) {
+        EXPECT_EQ(std::vector<motion::RobotKind>(kind.members().begin(), kind.members().end()), members) << words;
+      } else {
+        EXPECT_TRUE(kind.members().empty()) << words;
+      }
     }
   }
   EXPECT_EQ(FormatKinds(motion::RobotKind::kDrone, kDrone), " kind drone");
-  EXPECT_EQ(FormatKinds(motion::RobotKind::kDrone, kOmni | kRover | kDrone), " kind drone swarm_kinds omni,rover,drone");
-  EXPECT_EQ(FormatKinds(motion::RobotKind::kOmni, kOmni | kDrone), " kind omni swarm_kinds omni,drone");
+  EXPECT_EQ(FormatKinds(motion::RobotKind::kDrone, kOmni | kRover | kDrone),
+            " kind drone swarm_kinds omni,rover,drone member_kinds dor");
+  EXPECT_EQ(FormatKinds(motion::RobotKind::kOmni, kOmni | kDrone), " kind omni swarm_kinds omni,drone member_kinds od");
+}
+
+TEST(BootWordsTest, EveryRobotsKindReachesTheAppsMap) {
+  // Robot 1, a rover, in a swarm of two omni robots, a rover and a drone.
+  BootKind kind;
+  ASSERT_EQ(ReadAll(" kind rover swarm_kinds omni,rover,drone member_kinds ordo", kind), BootWordRead::kOk);
+  ASSERT_EQ(kind.Check(), nullptr);
+  runtime::RobotConfig config;
+  config.sync = sync::SyncConfig::ForSwarm(4, 1);
+  std::array<motion::RobotKind, 4> storage{};
+  ASSERT_EQ(ConfigureImageKinds(config, kind.self(), kind.swarm(), kind.members(), storage), nullptr);
+  const std::vector<motion::RobotKind> expected = {motion::RobotKind::kOmni, motion::RobotKind::kRover,
+                                                   motion::RobotKind::kDrone, motion::RobotKind::kOmni};
+  EXPECT_EQ(std::vector<motion::RobotKind>(config.member_kinds.begin(), config.member_kinds.end()), expected);
+  EXPECT_EQ(config.kind, motion::RobotKind::kRover);
+
+  // Without member_kinds the swarm's kinds come from swarm_kinds, or the
+  // robot's own: a swarm of one kind needs no list.
+  BootKind drones;
+  ASSERT_EQ(ReadAll(" kind drone", drones), BootWordRead::kOk);
+  runtime::RobotConfig drone;
+  drone.sync = sync::SyncConfig::ForSwarm(3, 2);
+  ASSERT_EQ(ConfigureImageKinds(drone, drones.self(), drones.swarm(), drones.members(), storage), nullptr);
+  EXPECT_EQ(std::vector<motion::RobotKind>(drone.member_kinds.begin(), drone.member_kinds.end()),
+            std::vector<motion::RobotKind>(3, motion::RobotKind::kDrone));
+
+  // member_kinds alone gives the swarm's kinds.
+  BootKind listed;
+  ASSERT_EQ(ReadAll(" kind omni member_kinds oood", listed), BootWordRead::kOk);
+  EXPECT_EQ(listed.Check(), nullptr);
+  EXPECT_EQ(listed.swarm(), kOmni | kDrone);
+}
+
+TEST(BootWordsTest, MemberKindsThatDisagreeAreRefusedByName) {
+  BootKind kind;
+  EXPECT_EQ(kind.Read("member_kinds", "oox"), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("member_kinds", ""), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("member_kinds", "O"), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("member_kinds", std::string(kMaxBootMemberKinds + 1, 'o').c_str()), BootWordRead::kBadValue);
+  EXPECT_EQ(kind.Read("member_kinds", std::string(kMaxBootMemberKinds, 'o').c_str()), BootWordRead::kOk);
+
+  BootKind other;
+  ASSERT_EQ(ReadAll(" kind omni swarm_kinds omni,drone member_kinds oor", other), BootWordRead::kOk);
+  EXPECT_STREQ(other.Check(),
+               "member_kinds names other kinds than swarm_kinds (each of swarm_kinds' kinds, and no other, is some "
+               "robot's)");
+
+  std::array<motion::RobotKind, 4> storage{};
+  const std::vector<motion::RobotKind> od = {motion::RobotKind::kOmni, motion::RobotKind::kDrone};
+  runtime::RobotConfig config;
+  config.sync = sync::SyncConfig::ForSwarm(3, 1);
+  EXPECT_STREQ(ConfigureImageKinds(config, motion::RobotKind::kDrone, kOmni | kDrone, {}, storage),
+               "a swarm of more than one kind needs member_kinds, every robot's kind by id (what its app reads of its "
+               "members); syrof-firmware-config and syrof-firmware-swarm write it");
+  EXPECT_STREQ(ConfigureImageKinds(config, motion::RobotKind::kDrone, kOmni | kDrone, od, storage),
+               "member_kinds names 2 robots; the swarm has 3");
+  config.sync = sync::SyncConfig::ForSwarm(2, 0);
+  EXPECT_STREQ(ConfigureImageKinds(config, motion::RobotKind::kDrone, kOmni | kDrone, od, storage),
+               "member_kinds gives this robot (0) the kind omni; its kind is drone");
+  const std::vector<motion::RobotKind> orover = {motion::RobotKind::kOmni, motion::RobotKind::kRover};
+  EXPECT_STREQ(ConfigureImageKinds(config, motion::RobotKind::kOmni, kOmni | kDrone, orover, storage),
+               "member_kinds gives robot 1 a kind not among the swarm's kinds");
+  config.sync = sync::SyncConfig::ForSwarm(5, 0);
+  EXPECT_STREQ(ConfigureImageKinds(config, motion::RobotKind::kOmni, kOmni, {}, storage),
+               "the swarm is larger than the image's table of its kinds");
+
+  // The host writes no words it could not read back.
+  std::array<char, 96> out{};
+  size_t length = 0;
+  EXPECT_EQ(FormatKindWords(motion::RobotKind::kOmni, kOmni | kDrone, {}, out, length), BootWordsError::kNoSuchKind);
+  EXPECT_EQ(FormatKindWords(motion::RobotKind::kOmni, kOmni | kDrone, orover, out, length), BootWordsError::kNoSuchKind);
 }
 
 TEST(BootWordsTest, AKindTheImageDoesNotKnowIsRefusedOnBothSides) {
@@ -353,16 +443,17 @@ TEST(BootWordsTest, AKindTheImageDoesNotKnowIsRefusedOnBothSides) {
 
   std::array<char, 64> out{};
   size_t length = 7;
-  EXPECT_EQ(FormatKindWords(static_cast<motion::RobotKind>(3), KindSet{8}, out, length), BootWordsError::kNoSuchKind);
+  EXPECT_EQ(FormatKindWords(static_cast<motion::RobotKind>(3), KindSet{8}, {}, out, length), BootWordsError::kNoSuchKind);
   EXPECT_EQ(length, 0u);
-  EXPECT_EQ(FormatKindWords(motion::RobotKind::kDrone, kOmni, out, length), BootWordsError::kNoSuchKind);
+  EXPECT_EQ(FormatKindWords(motion::RobotKind::kDrone, kOmni, {}, out, length), BootWordsError::kNoSuchKind);
   std::array<char, 8> short_out{};
-  EXPECT_EQ(FormatKindWords(motion::RobotKind::kDrone, kDrone, short_out, length), BootWordsError::kBufferTooSmall);
+  EXPECT_EQ(FormatKindWords(motion::RobotKind::kDrone, kDrone, {}, short_out, length), BootWordsError::kBufferTooSmall);
 
   runtime::RobotConfig config;
-  EXPECT_STREQ(ConfigureImageKinds(config, motion::RobotKind::kDrone, kOmni),
+  std::array<motion::RobotKind, 4> storage{};
+  EXPECT_STREQ(ConfigureImageKinds(config, motion::RobotKind::kDrone, kOmni, {}, storage),
                "the robot's kind is not among its swarm's kinds");
-  EXPECT_NE(ConfigureImageKinds(config, static_cast<motion::RobotKind>(3), 0), nullptr);
+  EXPECT_NE(ConfigureImageKinds(config, static_cast<motion::RobotKind>(3), 0, {}, storage), nullptr);
 }
 
 }  // namespace

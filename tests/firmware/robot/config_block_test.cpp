@@ -174,7 +174,7 @@ TEST(ConfigBlockTest, WordsThatMakeNoRobotAreRefusedByName) {
             "the configuration block's word 8 'input': 'charge=nan' is not a value it takes (inputs ID:N first, then "
             "N input NAME=VALUE, each name once, each value a finite number)");
   EXPECT_EQ(Refusal(HandMade("id 2 swarm 4 colour 3")),
-            "the configuration block's word 5: unknown key 'colour' (id, swarm, kind, swarm_kinds, inputs, input)");
+            "the configuration block's word 5: unknown key 'colour' (id, swarm, kind, swarm_kinds, member_kinds, inputs, input)");
   EXPECT_EQ(Refusal(HandMade("id 2")), "the configuration block gives no swarm");
   EXPECT_EQ(Refusal(HandMade("swarm 4")), "the configuration block gives no id");
   EXPECT_EQ(Refusal(HandMade("id 4 swarm 4")), "the configuration block's id 4 is not below its swarm 4");
@@ -223,6 +223,8 @@ std::string BlockWords(const Block& block) { return reinterpret_cast<const char*
 
 TEST(ConfigBlockTest, ADronesBlockCarriesTheKindWordsTheSwarmHostWrites) {
   const std::vector<app::Parameter> inputs = {{"charge", 791}};
+  const std::vector<motion::RobotKind> members = {motion::RobotKind::kOmni, motion::RobotKind::kOmni,
+                                                  motion::RobotKind::kDrone, motion::RobotKind::kOmni};
   Block block{};
   size_t length = 0;
   ASSERT_EQ(EncodeConfigBlock({.robot_id = 2,
@@ -230,19 +232,23 @@ TEST(ConfigBlockTest, ADronesBlockCarriesTheKindWordsTheSwarmHostWrites) {
                                .scenario_id = 9,
                                .inputs = inputs,
                                .kind = motion::RobotKind::kDrone,
-                               .swarm_kinds = static_cast<KindSet>(kOmniKinds | kDroneKinds)},
+                               .swarm_kinds = static_cast<KindSet>(kOmniKinds | kDroneKinds),
+                               .member_kinds = members},
                               block, length),
             ConfigBlockError::kOk);
   // The same words as the host's boot line: FormatKindWords, then the inputs'.
   std::array<char, 128> kinds{};
   size_t kinds_length = 0;
-  ASSERT_EQ(FormatKindWords(motion::RobotKind::kDrone, kOmniKinds | kDroneKinds, kinds, kinds_length), BootWordsError::kOk);
-  EXPECT_EQ(std::string(kinds.data(), kinds_length), " kind drone swarm_kinds omni,drone");
-  EXPECT_EQ(BlockWords(block), "id 2 swarm 4 kind drone swarm_kinds omni,drone inputs 2:1 input charge=791");
+  ASSERT_EQ(FormatKindWords(motion::RobotKind::kDrone, kOmniKinds | kDroneKinds, members, kinds, kinds_length),
+            BootWordsError::kOk);
+  EXPECT_EQ(std::string(kinds.data(), kinds_length), " kind drone swarm_kinds omni,drone member_kinds oodo");
+  EXPECT_EQ(BlockWords(block),
+            "id 2 swarm 4 kind drone swarm_kinds omni,drone member_kinds oodo inputs 2:1 input charge=791");
   BootConfigBlock boot;
   ASSERT_EQ(boot.Read(block), ConfigBlockState::kFilled) << boot.error();
   EXPECT_EQ(boot.kind(), motion::RobotKind::kDrone);
   EXPECT_EQ(boot.swarm_kinds(), kOmniKinds | kDroneKinds);
+  EXPECT_EQ(std::vector<motion::RobotKind>(boot.member_kinds().begin(), boot.member_kinds().end()), members);
   EXPECT_EQ(boot.robot_id(), 2);
   ASSERT_EQ(boot.inputs().size(), 1u);
   EXPECT_EQ(boot.inputs()[0].value, 791);
@@ -253,14 +259,22 @@ TEST(ConfigBlockTest, EveryKindInEverySwarmOfItReadsBack) {
     const auto kind = static_cast<motion::RobotKind>(k);
     for (unsigned swarm = 1; swarm < (1u << motion::kRobotKindCount); ++swarm) {
       if ((swarm & KindBit(kind)) == 0) continue;
+      // One robot of each kind, this one first.
+      std::vector<motion::RobotKind> members = {kind};
+      for (size_t other = 0; other < motion::kRobotKindCount; ++other) {
+        if (other != k && (swarm & KindBit(static_cast<motion::RobotKind>(other))) != 0) {
+          members.push_back(static_cast<motion::RobotKind>(other));
+        }
+      }
       Block block{};
       size_t length = 0;
       ASSERT_EQ(EncodeConfigBlock({.robot_id = 0,
-                                   .swarm_size = 2,
+                                   .swarm_size = static_cast<uint16_t>(members.size()),
                                    .scenario_id = 1,
                                    .inputs = {},
                                    .kind = kind,
-                                   .swarm_kinds = static_cast<KindSet>(swarm)},
+                                   .swarm_kinds = static_cast<KindSet>(swarm),
+                                   .member_kinds = members},
                                   block, length),
                 ConfigBlockError::kOk);
       BootConfigBlock boot;
@@ -289,19 +303,63 @@ TEST(ConfigBlockTest, EveryKindInEverySwarmOfItReadsBack) {
   EXPECT_EQ(no_kind.swarm_kinds(), kOmniKinds);
 }
 
+TEST(ConfigBlockTest, AMixedSwarmsBlockWithoutEveryRobotsKindIsRefusedByName) {
+  EXPECT_EQ(Refusal(HandMade("id 1 swarm 4 kind drone swarm_kinds omni,drone")),
+            "the configuration block names a swarm of more than one kind and no member_kinds (write it again with "
+            "this image's syrof-firmware-config)");
+  EXPECT_EQ(Refusal(HandMade("id 1 swarm 4 kind drone swarm_kinds omni,drone member_kinds odo")),
+            "the configuration block's member_kinds names 3 robots; its swarm has 4");
+  EXPECT_EQ(Refusal(HandMade("id 1 swarm 4 kind drone swarm_kinds omni,drone member_kinds oodo")),
+            "the configuration block's member_kinds gives robot 1 the kind omni; its kind word says drone");
+  EXPECT_EQ(Refusal(HandMade("id 1 swarm 4 kind drone swarm_kinds omni,drone member_kinds odxo")),
+            "the configuration block's word 10 'member_kinds': 'odxo' is not a value it takes (a robot kind this "
+            "image knows: omni, rover or drone; swarm_kinds lists them, each once; member_kinds a letter o, r or d "
+            "for each robot; each word once)");
+  BootConfigBlock good;
+  ASSERT_EQ(good.Read(HandMade("id 1 swarm 4 kind drone swarm_kinds omni,drone member_kinds odoo")),
+            ConfigBlockState::kFilled)
+      << good.error();
+  ASSERT_EQ(good.member_kinds().size(), 4u);
+  EXPECT_EQ(good.member_kinds()[1], motion::RobotKind::kDrone);
+  // The encoder refuses what the image would.
+  Block block{};
+  size_t length = 0;
+  const std::vector<motion::RobotKind> three = {motion::RobotKind::kOmni, motion::RobotKind::kDrone,
+                                                motion::RobotKind::kOmni};
+  EXPECT_EQ(EncodeConfigBlock({.robot_id = 1,
+                               .swarm_size = 4,
+                               .scenario_id = 1,
+                               .kind = motion::RobotKind::kDrone,
+                               .swarm_kinds = static_cast<KindSet>(kOmniKinds | kDroneKinds),
+                               .member_kinds = three},
+                              block, length),
+            ConfigBlockError::kNoSuchKind);
+  EXPECT_EQ(EncodeConfigBlock({.robot_id = 1,
+                               .swarm_size = 4,
+                               .scenario_id = 1,
+                               .kind = motion::RobotKind::kDrone,
+                               .swarm_kinds = static_cast<KindSet>(kOmniKinds | kDroneKinds)},
+                              block, length),
+            ConfigBlockError::kNoSuchKind);
+}
+
 TEST(ConfigBlockTest, AKindTheImageDoesNotKnowIsRefusedByName) {
   EXPECT_EQ(Refusal(HandMade("id 0 swarm 4 kind tank")),
             "the configuration block's word 6 'kind': 'tank' is not a value it takes (a robot kind this image knows: "
-            "omni, rover or drone; swarm_kinds lists them, each once; each word once)");
+            "omni, rover or drone; swarm_kinds lists them, each once; member_kinds a letter o, r or d for each robot; each "
+            "word once)");
   EXPECT_EQ(Refusal(HandMade("id 0 swarm 4 kind drone swarm_kinds omni,tank")),
             "the configuration block's word 8 'swarm_kinds': 'omni,tank' is not a value it takes (a robot kind this "
-            "image knows: omni, rover or drone; swarm_kinds lists them, each once; each word once)");
+            "image knows: omni, rover or drone; swarm_kinds lists them, each once; member_kinds a letter o, r or d for each robot; each "
+            "word once)");
   EXPECT_EQ(Refusal(HandMade("id 0 swarm 4 kind drone swarm_kinds drone,drone")),
             "the configuration block's word 8 'swarm_kinds': 'drone,drone' is not a value it takes (a robot kind "
-            "this image knows: omni, rover or drone; swarm_kinds lists them, each once; each word once)");
+            "this image knows: omni, rover or drone; swarm_kinds lists them, each once; member_kinds a letter o, r or d for each robot; each "
+            "word once)");
   EXPECT_EQ(Refusal(HandMade("id 0 swarm 4 kind drone kind rover")),
             "the configuration block's word 8 'kind': 'rover' is not a value it takes (a robot kind this image "
-            "knows: omni, rover or drone; swarm_kinds lists them, each once; each word once)");
+            "knows: omni, rover or drone; swarm_kinds lists them, each once; member_kinds a letter o, r or d for each robot; each "
+            "word once)");
   EXPECT_EQ(Refusal(HandMade("id 0 swarm 4 kind drone swarm_kinds omni,rover")),
             "the configuration block: kind drone is not among its swarm_kinds (a robot is of its swarm)");
   // And the encoder writes none of these.

@@ -5,10 +5,13 @@
 // and a drone's estimator at the same flight height.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
+#include <vector>
 
 #include "syrof/firmware/robot/boot_words.h"
 #include "syrof/lab/sim/robot_config.h"
+#include "syrof/lab/sim/run_parts.h"
 
 namespace syrof::firmware::robot {
 namespace {
@@ -55,11 +58,22 @@ void ExpectSameMotionLayer(const runtime::RobotConfig& lab, const runtime::Robot
 void ExpectTheImageRunsTheLabsMotionLayer(const lab::scenario::Scenario& scenario) {
   KindSet swarm = 0;
   for (const lab::scenario::RobotSpec& robot : scenario.robots) swarm |= KindBit(robot.kind);
+  // What the image's boot words carry: every robot's kind (member_kinds).
+  const std::vector<motion::RobotKind> members = lab::sim::MemberKindsOf(scenario);
+  const bool one_kind = (swarm & (swarm - 1)) == 0;
   for (const lab::scenario::RobotSpec& robot : scenario.robots) {
     const runtime::RobotConfig lab = lab::sim::RobotConfigFor(scenario, robot);
     runtime::RobotConfig image;
-    ASSERT_EQ(ConfigureImageKinds(image, robot.kind, swarm), nullptr);
-    ExpectSameMotionLayer(lab, image, std::string(motion::ToString(robot.kind)) + " robot " + std::to_string(robot.id));
+    image.sync = sync::SyncConfig::ForSwarm(static_cast<uint16_t>(scenario.robots.size()), robot.id);
+    std::array<motion::RobotKind, 8> storage{};
+    ASSERT_EQ(ConfigureImageKinds(image, robot.kind, swarm, one_kind ? std::span<const motion::RobotKind>() : members,
+                                  storage),
+              nullptr);
+    const std::string who = std::string(motion::ToString(robot.kind)) + " robot " + std::to_string(robot.id);
+    ExpectSameMotionLayer(lab, image, who);
+    // The app's view of the kinds: its own and its members', as in the lab.
+    EXPECT_EQ(image.kind, lab.kind) << who;
+    EXPECT_EQ(std::vector<motion::RobotKind>(image.member_kinds.begin(), image.member_kinds.end()), members) << who;
   }
 }
 
@@ -82,7 +96,8 @@ TEST(ImageKindsTest, ADroneSwarmAndAnOmniSwarmRunTheLabsMotionLayer) {
   // An image without kind words is an omni robot among omni robots.
   BootKind none;
   runtime::RobotConfig image;
-  ASSERT_EQ(ConfigureImageKinds(image, none.self(), none.swarm()), nullptr);
+  std::array<motion::RobotKind, 4> storage{};
+  ASSERT_EQ(ConfigureImageKinds(image, none.self(), none.swarm(), none.members(), storage), nullptr);
   EXPECT_EQ(image.motion.kind, motion::DriveKind::kOmni);
   EXPECT_EQ(image.motion.limits.response_lag_s, 0.0f);
 }

@@ -36,16 +36,17 @@ app: builtin:circle
 )");
   Options options;
   options.config_on_boot_line = true;
-  EXPECT_NE(ImageAppend(options, mixed, 0).find(" kind omni swarm_kinds omni,rover,drone"), std::string::npos)
+  EXPECT_NE(ImageAppend(options, mixed, 0).find(" kind omni swarm_kinds omni,rover,drone member_kinds ord"), std::string::npos)
       << ImageAppend(options, mixed, 0);
-  EXPECT_NE(ImageAppend(options, mixed, 1).find(" kind rover swarm_kinds omni,rover,drone"), std::string::npos);
-  EXPECT_NE(ImageAppend(options, mixed, 2).find(" kind drone swarm_kinds omni,rover,drone"), std::string::npos);
+  EXPECT_NE(ImageAppend(options, mixed, 1).find(" kind rover swarm_kinds omni,rover,drone member_kinds ord"), std::string::npos);
+  EXPECT_NE(ImageAppend(options, mixed, 2).find(" kind drone swarm_kinds omni,rover,drone member_kinds ord"), std::string::npos);
 
   const lab::scenario::Scenario drones =
       KindsScenario("robots: { count: 2, kind: drone, placement: grid, spacing_m: 0.6 }\napp: builtin:circle\n");
   const std::string drone = ImageAppend(options, drones, 1);
   EXPECT_NE(drone.find(" kind drone"), std::string::npos) << drone;
   EXPECT_EQ(drone.find("swarm_kinds"), std::string::npos) << drone;  // its own kind alone
+  EXPECT_EQ(drone.find("member_kinds"), std::string::npos) << drone;  // every robot is of it
 
   // Omni robots among omni robots: the line every image had before.
   const lab::scenario::Scenario omni =

@@ -147,6 +147,36 @@ TEST(ScenarioFitsTheImage, AnAbsentKindAndADronesDriftMayChange) {
             "fits");
 }
 
+// The lab's robot weighs its readings with the scenario's sensor noise
+// (lab/sim robot_config.cpp), the image with its estimator's defaults: a
+// scenario with other noise would estimate otherwise on the image than in
+// the lab, and one with safety off would drive otherwise (the image's
+// filter is always on). Both are refused by name, UWB before flow, after
+// the kinds.
+TEST(ScenarioFitsTheImage, OtherSensorNoiseOrSafetyOffIsNamed) {
+  EXPECT_EQ(Verdict("sensors: { uwb: { sigma_m: 0.2 } }\nrobots: { count: 4 }\napp: builtin:idle\n"),
+            "sensors.uwb.sigma_m is 0.2; the robot image's estimator has 0.1 compiled in (the default sensors, "
+            "docs/scenarios.md) and would weigh its readings otherwise than the lab's robots");
+  EXPECT_EQ(Verdict("sensors: { flow: { sigma_px: 1 }, uwb: { sigma_m: 0.05 } }\nrobots: { count: 4 }\n"
+                    "app: builtin:idle\n")
+                .rfind("sensors.uwb.sigma_m is 0.05; ", 0),
+            0u);
+  EXPECT_EQ(Verdict("sensors: { flow: { sigma_px: 1 } }\nrobots: { count: 4 }\napp: builtin:idle\n")
+                .rfind("sensors.flow.sigma_px is 1; the robot image's estimator has 2 compiled in", 0),
+            0u);
+  // The defaults written out, and noise the estimator does not weigh.
+  EXPECT_EQ(Verdict("sensors: { uwb: { sigma_m: 0.10, outlier_probability: 0.05 }, flow: { sigma_px: 2 } }\n"
+                    "robots: { count: 4 }\napp: builtin:idle\n"),
+            "fits");
+  EXPECT_EQ(Verdict("safety: off\nrobots: { count: 4 }\napp: builtin:idle\n"),
+            "safety is off; the robot image runs its safety filter always (docs/safety.md) and would drive otherwise "
+            "than the lab's robots");
+  EXPECT_EQ(Verdict("kinds: { omni: { body_radius_m: 0.15 } }\nsafety: off\nsensors: { uwb: { sigma_m: 0.2 } }\n"
+                    "robots: { count: 4 }\napp: builtin:idle\n")
+                .rfind("kinds.omni.body_radius_m", 0),
+            0u);
+}
+
 TEST(ScenarioFitsTheImage, WhereIsTheFileThatWasRead) {
   Scenario drones =
       LoadOk("kinds: { drone: { flight_height_m: 0.5 } }\nrobots: { count: 2, kind: drone }\napp: builtin:idle\n");

@@ -51,7 +51,11 @@ extern "C" {
  * that calls it, run on a platform without it, fails to load with
  * "undefined symbol: syrofAppParameter", which the loader reports (verdict
  * load_failed, naming the symbol), a clearer message than a version number,
- * while a bump would have refused every library built before. */
+ * while a bump would have refused every library built before. The members'
+ * `kind` came the same way: it fills the byte that was syrof_member_state's
+ * padding (its size and every other offset are unchanged) and
+ * syrof_app_info's `kind` follows its last field, so a library built before
+ * reads what it always read. */
 #define SYROF_APP_ABI_VERSION 1u
 
 /* Most bytes sendMessageData accepts (the beacon's payload). */
@@ -88,8 +92,18 @@ typedef enum syrof_phase {
   SYROF_PHASE_VOTE = 2
 } syrof_phase;
 
+/* A robot's kind (the scenario's `kind:`; docs/apps.md "Robot kinds"). */
+typedef enum syrof_robot_kind {
+  SYROF_KIND_OMNI = 0,  /* omnidirectional: moves in any direction at once */
+  SYROF_KIND_ROVER = 1, /* differential drive: turns before it goes */
+  SYROF_KIND_DRONE = 2, /* planar multirotor at a fixed height: faster, brakes later */
+  SYROF_KIND_UNKNOWN = 255 /* never in the lab, over DDS or on an image configured
+                              by syrof-firmware-config: a robot set up by hand
+                              without its swarm's kinds */
+} syrof_robot_kind;
+
 /* One member's frozen snapshot: its estimated state when its previous
- * maneuver ended, and the payload it sent. */
+ * maneuver ended, and the payload it sent; and its kind. */
 typedef struct syrof_member_state {
   uint16_t id;          /* robot id, 0 .. swarm_size - 1 */
   int16_t x_mm;         /* estimated position, millimetres */
@@ -100,6 +114,9 @@ typedef struct syrof_member_state {
   uint8_t phase;        /* syrof_phase */
   uint8_t payload_length;                          /* 0 .. SYROF_APP_MAX_PAYLOAD_BYTES */
   uint8_t payload[SYROF_APP_MAX_PAYLOAD_BYTES];    /* unused tail is zero */
+  uint8_t kind;         /* syrof_robot_kind, as the scenario gives every robot;
+                           fixed for the run (the swarm's configuration, not
+                           the beacon, tells it) */
 } syrof_member_state;
 
 /* The local dynamic map: what this robot knows of every member at the start
@@ -143,6 +160,7 @@ typedef struct syrof_app_info {
   float arena_height_m;
   float body_radius_m;       /* this robot's body */
   float max_speed_mps;       /* this robot kind's speed limit */
+  uint8_t kind;              /* this robot's syrof_robot_kind */
 } syrof_app_info;
 
 /* The callbacks. `clock_ms` is the robot's local clock, milliseconds since

@@ -57,6 +57,7 @@
 #include "syrof/estimation/estimator.h"
 #include "syrof/motion/controller.h"
 #include "syrof/motion/drive.h"
+#include "syrof/motion/robot_kind.h"
 #include "syrof/motion/safety_filter.h"
 #include "syrof/os/port.h"
 #include "syrof/pubsub/broker.h"
@@ -86,6 +87,14 @@ struct RobotConfig {
   estimation::EstimatorConfig<float> estimator{};
   estimation::InitialPose<float> initial_pose{};  ///< where the robot starts (known placement)
   motion::ControllerConfig motion{};
+  /// This robot's kind and every robot's by id (the scenario's `kind:`,
+  /// common to the swarm like its size): what the app reads as
+  /// syrof_app_info::kind and each member's kind in the map. Set by
+  /// runtime::ConfigureKinds (kind) and the runtime (member_kinds, kept
+  /// alive as app_params); a member whose id is past the table's end reads
+  /// SYROF_KIND_UNKNOWN.
+  motion::RobotKind kind = motion::RobotKind::kOmni;
+  std::span<const motion::RobotKind> member_kinds;
   /// The safety filter (its self_id is taken from sync.self_id). Disabled:
   /// drive commands pass unchanged and no presence-only beacon is sent.
   motion::SafetyConfig safety{};

@@ -13,6 +13,7 @@ namespace syrof::runtime {
 
 /// Sets what `config` needs of robot kinds for a robot of kind `self` in a
 /// swarm of the kinds `swarm` (each present kind once, `self`'s among them):
+///   - kind: self's (what the app reads as syrof_app_info::kind);
 ///   - motion: motion::ControllerConfigFor(self);
 ///   - safety: the others' speed, radius, braking and lag
 ///     (motion::SetOthers(swarm)), and a drone's own_sigmas

@@ -44,6 +44,16 @@
 //   swarm_kinds K,K,...             the kinds in the swarm, each once, the
 //                                   robot's own among them; absent: the
 //                                   robot's own kind alone
+//   member_kinds LLL...             every robot's kind by id, a letter each
+//                                   (o omni, r rover, d drone; at most
+//                                   kMaxBootMemberKinds): what the app reads
+//                                   as its members' kinds (syrof_member_state's
+//                                   kind). Needed when swarm_kinds names more
+//                                   than one kind (a robot is refused without
+//                                   it); absent in a swarm of one kind, every
+//                                   robot is of that kind. Its letters are
+//                                   swarm_kinds' kinds, and the robot's own
+//                                   letter its kind word's
 #pragma once
 
 #include <array>
@@ -59,6 +69,8 @@
 
 namespace syrof::firmware::robot {
 
+/// The most robots a member_kinds word names (the images' swarm size).
+inline constexpr size_t kMaxBootMemberKinds = 32;
 /// The most (epoch, robot) pairs of an SSYNC script the image holds.
 inline constexpr size_t kMaxBootScriptedActivations = 256;
 /// The most ASYNC scripted cycles the image holds.
@@ -170,28 +182,39 @@ inline constexpr KindSet KindBit(motion::RobotKind kind) {
 /// `out` (each word preceded by a space) and sets `length`: nothing for an
 /// omni robot among omni robots (the line every image had before), `kind K`
 /// when `swarm` is `self` alone, else `kind K swarm_kinds K,K,...` in
-/// RobotKind's order. kNoSuchKind for a kind the image does not know or
-/// `self` not in `swarm`; kBufferTooSmall when `out` is too short.
-BootWordsError FormatKindWords(motion::RobotKind self, KindSet swarm, std::span<char> out, size_t& length);
+/// RobotKind's order, then `member_kinds` (every robot's kind by id) as a
+/// member_kinds word when `swarm` has more than one kind. kNoSuchKind for a
+/// kind the image does not know, `self` not in `swarm`, or a mixed swarm's
+/// member_kinds empty, longer than kMaxBootMemberKinds or naming a kind not
+/// in `swarm`; kBufferTooSmall when `out` is too short.
+BootWordsError FormatKindWords(motion::RobotKind self, KindSet swarm, std::span<const motion::RobotKind> member_kinds,
+                               std::span<char> out, size_t& length);
 
 /// The kinds the image boots with.
 class BootKind {
  public:
   /// Reads one boot word pair (`key`, `value`, zero-terminated): kNotMine
-  /// for another key, kBadValue for a kind the image does not know, or a
-  /// swarm_kinds list with one twice or none.
+  /// for another key, kBadValue for a kind the image does not know, a
+  /// swarm_kinds list with one twice or none, or a member_kinds word with a
+  /// letter other than o, r, d, none, or more than kMaxBootMemberKinds.
   BootWordRead Read(const char* key, const char* value);
   /// Once every word is read: nullptr, or why the kinds cannot run (the
-  /// robot's kind not among swarm_kinds; a line for the robot's report).
+  /// robot's kind not among swarm_kinds; member_kinds naming a kind
+  /// swarm_kinds does not; a line for the robot's report).
   const char* Check();
   motion::RobotKind self() const { return self_; }
-  /// The swarm's kinds (the robot's own alone without swarm_kinds).
-  KindSet swarm() const { return swarm_ == 0 ? KindBit(self_) : swarm_; }
+  /// The swarm's kinds (swarm_kinds; without it, member_kinds' kinds, or the
+  /// robot's own alone).
+  KindSet swarm() const;
+  /// member_kinds' kinds by id; empty when the word was not given.
+  std::span<const motion::RobotKind> members() const { return {members_.data(), member_count_}; }
 
  private:
   motion::RobotKind self_ = motion::RobotKind::kOmni;
   KindSet swarm_ = 0;
-  std::array<char, 96> message_{};
+  std::array<motion::RobotKind, kMaxBootMemberKinds> members_{};
+  size_t member_count_ = 0;
+  std::array<char, 112> message_{};
 };
 
 /// The robot image's motion layer for a robot of kind `self` in a swarm of
@@ -199,7 +222,14 @@ class BootKind {
 /// compiled in (motion::DefaultKindLimits), set in `config` as the lab sets
 /// its robot's (runtime::ConfigureKinds), and the safety filter's walls at
 /// the estimator's arena (the image's; the lab's are the scenario's).
-/// nullptr, or why not (an unknown kind, `self` not in `swarm`).
-const char* ConfigureImageKinds(runtime::RobotConfig& config, motion::RobotKind self, KindSet swarm);
+/// `config.member_kinds` views `storage`, filled from `members` (every
+/// robot's kind by id, config.sync.swarm_size of them, the robot's own
+/// `self`) or, when `members` is empty and the swarm is of one kind, with
+/// that kind. nullptr, or why not (an unknown kind, `self` not in `swarm`,
+/// a mixed swarm without `members`, `members` of another length, another
+/// kind for the robot itself, or a kind not in `swarm`); `storage` must
+/// outlive the robot and hold the swarm.
+const char* ConfigureImageKinds(runtime::RobotConfig& config, motion::RobotKind self, KindSet swarm,
+                                std::span<const motion::RobotKind> members, std::span<motion::RobotKind> storage);
 
 }  // namespace syrof::firmware::robot

@@ -3,8 +3,8 @@
 // fixed-size region in its own linker section (`.syrof_config`, right after
 // the vector table in both images' linker scripts), all zeros as built; the
 // host tool syrof-firmware-config (firmware/config) fills one robot's copy of
-// a built image from a scenario: its id, the swarm's size, its kind and its
-// swarm's kinds, and its own private inputs, as the same words the
+// a built image from a scenario: its id, the swarm's size, its kind, its
+// swarm's kinds and every robot's, and its own private inputs, as the same words the
 // mps2-an386 image reads on its boot line (boot_words.h), with a magic, a
 // format version, the scenario's identifier and a checksum:
 //
@@ -19,7 +19,8 @@
 //
 // Every field is little-endian. The words: `id N swarm N`, then the kind's
 // words as the emulated swarm's host writes them (FormatKindWords: `kind K`
-// and `swarm_kinds K,K,...`; none for an omni robot among omni robots), then
+// and, in a mixed swarm, `swarm_kinds K,K,... member_kinds LLL...`; none for
+// an omni robot among omni robots), then
 // the inputs' words (`inputs ID:N`, N times `input NAME=VALUE`; none without
 // inputs).
 // At boot the image reads the block (BootConfigBlock::Read): all zeros is
@@ -60,6 +61,9 @@ struct ConfigBlockContent {
   std::span<const app::Parameter> inputs{};  ///< this robot's own values only
   motion::RobotKind kind = motion::RobotKind::kOmni;
   KindSet swarm_kinds = 0;  ///< the swarm's kinds (KindBit); 0: `kind` alone
+  /// Every robot's kind by id (swarm_size of them): written as member_kinds
+  /// when the swarm has more than one kind, and then needed.
+  std::span<const motion::RobotKind> member_kinds{};
 };
 
 /// Why EncodeConfigBlock wrote no block.
@@ -69,7 +73,8 @@ enum class [[nodiscard]] ConfigBlockError : uint8_t {
   kTooManyInputs,    ///< more than kMaxBootInputs
   kInvalidInput,     ///< a name the image does not take, a name twice, or a value that is not finite
   kDoesNotFit,       ///< the words are longer than kConfigBlockMaxWordsBytes
-  kNoSuchKind,       ///< a kind the image does not know, or `kind` not among `swarm_kinds`
+  kNoSuchKind,       ///< a kind the image does not know, `kind` not among `swarm_kinds`, or a mixed swarm's
+                     ///< member_kinds missing, of another length than the swarm or naming another kind for the robot
 };
 
 const char* ToString(ConfigBlockError error);
@@ -115,6 +120,9 @@ class BootConfigBlock {
   /// kinds (its own alone when the block names none).
   motion::RobotKind kind() const { return kind_.self(); }
   KindSet swarm_kinds() const { return kind_.swarm(); }
+  /// Every robot's kind by id (the block's member_kinds; empty in a swarm
+  /// of one kind, which writes none).
+  std::span<const motion::RobotKind> member_kinds() const { return kind_.members(); }
 
  private:
   ConfigBlockState Refuse(const char* format, ...) __attribute__((format(printf, 2, 3)));
@@ -130,6 +138,7 @@ class BootConfigBlock {
   BootKind kind_;
   bool has_kind_ = false;
   bool has_swarm_kinds_ = false;
+  bool has_member_kinds_ = false;
   std::array<char, 320> message_{};  // the longest refusal quotes a 127-byte word
 };
 

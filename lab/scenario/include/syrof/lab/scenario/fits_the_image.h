@@ -3,8 +3,9 @@
 // synchronizer's timing (runtime::RobotConfig's maneuver_rounds,
 // sync::SyncConfig::ForSwarm's K and F), the default
 // arena's anchors its estimator ranges against (estimation::DefaultArena)
-// and the default kinds' limits (motion::DefaultKindLimits; firmware/robot
-// takes them from there). The lab runs any of these a scenario gives; the
+// the default kinds' limits (motion::DefaultKindLimits; firmware/robot
+// takes them from there), the estimator's sensor noise and the safety
+// filter (always on). The lab runs any of these a scenario gives; the
 // firmware's host tools, the emulated swarm's (syrof-firmware-swarm) and
 // the flash-time one (syrof-firmware-config), refuse a scenario that
 // changes one through this one check, so both say the same words
@@ -41,6 +42,15 @@ namespace syrof::lab::scenario {
 ///     limits". A kind no robot has may be changed (the image never drives
 ///     it), and so may a drone's drift_sigma_mps (the world's alone, not
 ///     the robot's).
+///  5. Its sensors' noise that the robot's estimator weighs readings with
+///     is not the image's (estimation::EstimatorConfig's defaults, which
+///     the default sensors match), UWB then flow: "sensors.uwb.sigma_m is
+///     0.2; the robot image's estimator has 0.1 compiled in (the default
+///     sensors, docs/scenarios.md) and would weigh its readings otherwise
+///     than the lab's robots".
+///  6. `safety: off`: "safety is off; the robot image runs its safety
+///     filter always (docs/safety.md) and would drive otherwise than the
+///     lab's robots".
 /// The error's `where` is the scenario's source (its name when read from a
 /// string), with no line (the Scenario keeps no places).
 std::optional<ScenarioError> CheckScenarioFitsTheImage(const Scenario& scenario);

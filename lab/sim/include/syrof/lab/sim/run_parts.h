@@ -69,6 +69,10 @@ metrics::RunFacts ScenarioFacts(const scenario::Scenario& scenario, const world:
 /// the scenario must outlive the table (RobotConfig::app_inputs).
 std::vector<app::Parameter> InputsOf(const scenario::Scenario& scenario, uint16_t robot);
 
+/// Every robot's kind by id (the scenario's robots' `kind:`), what each
+/// robot's app reads as its members' kinds (RobotConfig::member_kinds).
+std::vector<motion::RobotKind> MemberKindsOf(const scenario::Scenario& scenario);
+
 /// The same by name, owned: for a host process (HostOptions::inputs).
 std::map<std::string, double> InputValuesOf(const scenario::Scenario& scenario, uint16_t robot);
 
