@@ -17,7 +17,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <variant>
 
 #include "syrof/app_host/hosted_app.h"
 #include "syrof/lab/base/error.h"
@@ -560,6 +562,171 @@ bool TakeLibrary(const fs::path& from, const fs::path& to) {
   return fd >= 0 && CopyOpenFile(fd, to);
 }
 
+// Where a build stopped short: its verdict and the line the report shows.
+struct Stop {
+  BuildVerdict verdict;
+  std::string detail;
+};
+
+// The sandbox's file rules as the options allow (docs/grading.md, "Threat
+// model"): without Landlock nothing is built unless the caller said so.
+// What is missing, and allowed, goes to `notes`.
+std::optional<Stop> CheckIsolation(const BuildOptions& options, FileRuleset& files, const process::Sandbox& sandbox,
+                                   std::ofstream& log, std::vector<std::string>& notes) {
+  if (!files.Create()) {
+    if (!options.allow_unconfined) {
+      log << "syrof grade: " << files.error() << "; not building untrusted code\n";
+      return Stop{BuildVerdict::kRefused,
+                  files.error() + ": the build's file isolation is missing (--unsafe-no-file-isolation builds anyway)"};
+    }
+    notes.push_back("build: NO FILE ISOLATION (" + files.error() +
+                    "): the build can read and write whatever its uid can (--unsafe-no-file-isolation)");
+  }
+  if (sandbox.syscalls.empty()) {
+    notes.push_back("build: no system call filter (libseccomp failed): UNIX sockets in the file system stay "
+                    "within the build's reach");
+  }
+  return std::nullopt;
+}
+
+// The submission copied into the build's `source` folder, a CMakeLists.txt
+// generated when it has none, and the copy kept as the grader's own record
+// (the build never sees `record`).
+std::optional<Stop> CopyIn(const std::string& submission_dir, const fs::path& source, const fs::path& record,
+                           uint64_t max_bytes, std::ofstream& log) {
+  std::error_code error;
+  std::vector<std::string> skipped;
+  const std::optional<lab::Error> copy_failed = CopySubmission(submission_dir, source, max_bytes, skipped);
+  for (const std::string& file : skipped) log << "syrof grade: left out " << file << "\n";
+  if (copy_failed) {
+    log << "syrof grade: " << copy_failed->ToString() << "\n";
+    return Stop{BuildVerdict::kBuildFailed, copy_failed->ToString()};
+  }
+  if (!fs::exists(source / "CMakeLists.txt", error)) {
+    const std::vector<std::string> sources = FindSources(source.string());
+    if (sources.empty()) {
+      log << "syrof grade: no CMakeLists.txt and no C/C++ source (*.c, *.cc, *.cpp, *.cxx)\n";
+      return Stop{BuildVerdict::kNoSources,
+                  "no CMakeLists.txt and no C/C++ source (*.c, *.cc, *.cpp, *.cxx) in the submission"};
+    }
+    std::ofstream(source / "CMakeLists.txt") << GeneratedCMakeLists(sources);
+    log << "syrof grade: no CMakeLists.txt; one app library from " << sources.size() << " source file"
+        << (sources.size() == 1 ? "" : "s") << "\n";
+  }
+  fs::remove_all(record, error);
+  fs::copy(source, record, fs::copy_options::recursive, error);
+  return std::nullopt;
+}
+
+// The note for how far the build's process isolation went, when not whole.
+std::optional<std::string> IsolationNote(const process::SandboxReport& report) {
+  const std::string why = std::strerror(report.isolation_errno);
+  if (report.isolation == process::Isolation::kNetworkOnly) {
+    return "build: no PID namespace (" + why +
+           "): the network is cut, but a process the build leaves in a session of its own may outlive it";
+  }
+  if (report.isolation == process::Isolation::kNone) {
+    return "build: network not isolated and no PID namespace (namespaces refused: " + why + ")";
+  }
+  return std::nullopt;
+}
+
+// What one step's end means for the build: nothing when it succeeded.
+std::optional<Stop> StepStop(const StepOutcome& outcome, const std::string& cmake, const WorkMount& mount,
+                             const BuildOptions& options, const fs::path& log_path, const Stage& stage,
+                             OutputLog& log) {
+  using enum BuildVerdict;
+  if (!outcome.started) return Stop{kBuildFailed, "cannot start " + cmake};
+  if (const SandboxFailure failure = outcome.sandbox.failure; failure != SandboxFailure::kNone) {
+    const std::string layer = FailedLayer(failure);
+    const char* why = std::strerror(outcome.sandbox.failure_errno);
+    log.file << "syrof grade: " << layer << ": " << why << "\n";
+    return Stop{kBuildFailed, "the build's sandbox failed: " + layer + ": " + why};
+  }
+  if (mount.ok() && mount.Full()) {
+    const std::string bound = std::to_string(mount.limit_bytes() >> 20) + " MB";
+    log.file << "\nsyrof grade: stopped: the build filled its folder (" << bound
+             << ", the most a build may write in all)\n";
+    return Stop{kBuildFailed, "the build wrote more than its folder holds (" + bound +
+                                  " in all: its copy, build files and temporary files)"};
+  }
+  if (outcome.timed_out) {
+    log.file << "\nsyrof grade: stopped at the build's time limit of " << options.timeout_s << " s\n";
+    return Stop{kTimeout,
+                "the build took longer than its limit of " + std::to_string(static_cast<int>(options.timeout_s)) + " s"};
+  }
+  if (outcome.output_limit) {
+    log.file << "\nsyrof grade: stopped: the build wrote over " << (options.output_limit_bytes >> 20) << " MB\n";
+    return Stop{kOutputLimit, "the build wrote over " + std::to_string(options.output_limit_bytes >> 20) + " MB of output"};
+  }
+  if (!outcome.status.exited() || outcome.status.code != 0) {
+    if (log.total > log.kept) log.file << "\n[syrof grade: " << (log.total - log.kept) << " more bytes not kept]\n";
+    log.file.flush();
+    std::string detail = FirstErrorLine(log_path.string(), stage.root().string());
+    if (outcome.status.signaled()) {
+      detail = "the build was killed by signal " + std::to_string(outcome.status.signal) + ": " + detail;
+    }
+    return Stop{kBuildFailed, detail};
+  }
+  return std::nullopt;
+}
+
+// The app library the build made: lib*.so files (not CMake's own), taken
+// out of `build` into the grader's `library_dir` (the build's processes are
+// gone), each checked by the app host as a run would; exactly one must be
+// an app.
+std::variant<std::string, Stop> TakeAppLibrary(const fs::path& build, const fs::path& library_dir) {
+  using enum BuildVerdict;
+  std::error_code error;
+  std::vector<fs::path> made;
+  for (fs::recursive_directory_iterator it(build, error); !error && it != fs::recursive_directory_iterator();
+       it.increment(error)) {
+    if (it->is_directory(error) && it->path().filename() == "CMakeFiles") {
+      it.disable_recursion_pending();
+      continue;
+    }
+    const std::string name = it->path().filename().string();
+    if (!it->is_symlink(error) && it->is_regular_file(error) && name.starts_with("lib") && name.ends_with(".so")) {
+      made.push_back(it->path());
+    }
+  }
+  std::sort(made.begin(), made.end());
+  std::vector<std::string> candidates;
+  for (const fs::path& library : made) {
+    const fs::path taken = library_dir / library.lexically_relative(build);
+    fs::create_directories(taken.parent_path(), error);
+    if (TakeLibrary(library, taken)) candidates.push_back(taken.string());
+  }
+  if (candidates.empty()) {
+    return Stop{kNoLibrary, "the build made no lib*.so; syrof_add_app(NAME app.c) in CMakeLists.txt makes libNAME.so"};
+  }
+  std::vector<std::string> apps;
+  std::string first_error;
+  for (const std::string& candidate : candidates) {
+    app_host::HostOptions host;
+    host.library_path = candidate;
+    const app_host::LibraryCheck check = app_host::CheckLibrary(host);
+    if (check.ok) {
+      apps.push_back(candidate);
+    } else if (first_error.empty()) {
+      first_error = check.error;
+    }
+  }
+  if (apps.empty()) {
+    std::string detail = first_error;
+    const std::string prefix = library_dir.string() + "/";
+    if (detail.starts_with(prefix)) detail.erase(0, prefix.size());
+    return Stop{kBadLibrary, detail};
+  }
+  if (apps.size() > 1) {
+    std::string names;
+    for (const std::string& app : apps) names += (names.empty() ? "" : ", ") + fs::path(app).filename().string();
+    return Stop{kNoLibrary,
+                std::to_string(apps.size()) + " app libraries were built (" + names + "); a submission builds exactly one"};
+  }
+  return apps.front();
+}
+
 }  // namespace
 
 std::string FindSyrofPackage() {
@@ -601,8 +768,8 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     result.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
     return result;
   };
+  auto stop = [&](Stop why) { return finish(why.verdict, std::move(why.detail)); };
   const fs::path out = fs::absolute(out_dir);
-  const fs::path source_record = out / "source";
   const fs::path library_dir = out / "build";
   std::error_code error;
   fs::create_directories(out, error);
@@ -613,24 +780,11 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
   log.keep = options.log_keep_bytes;
   log.file.open(out / "build.log", std::ios::binary | std::ios::trunc);
 
-  // The sandbox first (what a build's processes may reach, docs/grading.md,
-  // "Threat model"; the build's child applies it between fork and exec):
-  // without Landlock nothing is built unless the caller said so.
+  // The sandbox first (what a build's processes may reach; the build's
+  // child applies it between fork and exec).
   FileRuleset files;  // not created(): no Landlock (only with allow_unconfined)
   process::Sandbox sandbox = BuildSandbox(options, files);
-  if (!files.Create()) {
-    if (!options.allow_unconfined) {
-      log.file << "syrof grade: " << files.error() << "; not building untrusted code\n";
-      return finish(kRefused, files.error() +
-                                  ": the build's file isolation is missing (--unsafe-no-file-isolation builds anyway)");
-    }
-    notes.push_back("build: NO FILE ISOLATION (" + files.error() +
-                    "): the build can read and write whatever its uid can (--unsafe-no-file-isolation)");
-  }
-  if (sandbox.syscalls.empty()) {
-    notes.push_back("build: no system call filter (libseccomp failed): UNIX sockets in the file system stay "
-                    "within the build's reach");
-  }
+  if (std::optional<Stop> refused = CheckIsolation(options, files, sandbox, log.file, notes)) return stop(*refused);
   const std::string syrof_dir = options.syrof_dir.empty() ? FindSyrofPackage() : options.syrof_dir;
   if (syrof_dir.empty()) {
     return finish(kBuildFailed, "SyROF's CMake package (SyROFConfig.cmake) was not found beside this syrof");
@@ -658,31 +812,10 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     notes.push_back("build: no bound on what the build writes in all (a size-limited folder: " + mount.problem() +
                     "): only RLIMIT_FSIZE per file");
   }
-  const fs::path source = work / "source";
-  const fs::path build = work / "build";
-  const fs::path built_source = stage.work() / "source";  // as the build sees them
-  const fs::path built_build = stage.work() / "build";
-  std::vector<std::string> skipped;
-  const std::optional<lab::Error> copy_failed =
-      CopySubmission(submission_dir, source, options.max_submission_bytes, skipped);
-  for (const std::string& file : skipped) log.file << "syrof grade: left out " << file << "\n";
-  if (copy_failed) {
-    log.file << "syrof grade: " << copy_failed->ToString() << "\n";
-    return finish(kBuildFailed, copy_failed->ToString());
+  if (std::optional<Stop> failed =
+          CopyIn(submission_dir, work / "source", out / "source", options.max_submission_bytes, log.file)) {
+    return stop(*failed);
   }
-  if (!fs::exists(source / "CMakeLists.txt", error)) {
-    const std::vector<std::string> sources = FindSources(source.string());
-    if (sources.empty()) {
-      log.file << "syrof grade: no CMakeLists.txt and no C/C++ source (*.c, *.cc, *.cpp, *.cxx)\n";
-      return finish(kNoSources, "no CMakeLists.txt and no C/C++ source (*.c, *.cc, *.cpp, *.cxx) in the submission");
-    }
-    std::ofstream(source / "CMakeLists.txt") << GeneratedCMakeLists(sources);
-    log.file << "syrof grade: no CMakeLists.txt; one app library from " << sources.size() << " source file"
-             << (sources.size() == 1 ? "" : "s") << "\n";
-  }
-  // What was built, as the grader's own record (the build never sees it).
-  fs::remove_all(source_record, error);
-  fs::copy(source, source_record, fs::copy_options::recursive, error);
   fs::permissions(work, fs::perms::owner_all, error);
   if (sandbox.drop_to_nobody && !HandOver(work)) {
     return finish(kBuildFailed, "cannot hand the build's folder to uid " + std::to_string(kBuildUid) + ": " +
@@ -696,6 +829,10 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
     }
   }
 
+  // Configure, then build, each a sandboxed step under one deadline; the
+  // paths as the build sees them.
+  const fs::path built_source = stage.work() / "source";
+  const fs::path built_build = stage.work() / "build";
   const std::vector<std::string> environment = {"PATH=/usr/local/bin:/usr/bin:/bin", "LC_ALL=C", "LANG=C",
                                                 "HOME=" + stage.work().string(),
                                                 "TMPDIR=" + (stage.work() / "tmp").string()};
@@ -704,116 +841,31 @@ BuildResult BuildSubmission(const std::string& submission_dir, const std::string
        "-DCMAKE_BUILD_TYPE=Release"},
       {cmake, "--build", built_build.string()}};
   const auto deadline = started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.timeout_s));
-  bool noted = false;
-  for (const std::vector<std::string>& step : steps) {
+  for (size_t i = 0; i < steps.size(); ++i) {
     std::string shown = "$";
-    for (const std::string& arg : step) shown += " " + Shown(arg, stage.root());
-    shown += "\n";
-    log.file << shown;
+    for (const std::string& arg : steps[i]) shown += " " + Shown(arg, stage.root());
+    log.file << shown << "\n";
     log.file.flush();
     process::Command command;
-    command.argv = step;
+    command.argv = steps[i];
     command.environment = environment;
     command.working_directory = built_build.string();
     command.exec_failure_text = "syrof grade: cannot start the build tool\n";
     const StepOutcome outcome = RunStep(command, sandbox, options.output_limit_bytes, deadline, log);
-    if (!outcome.started) return finish(kBuildFailed, "cannot start " + cmake);
-    if (const SandboxFailure failure = outcome.sandbox.failure; failure != SandboxFailure::kNone) {
-      const std::string layer = FailedLayer(failure);
-      const char* why = std::strerror(outcome.sandbox.failure_errno);
-      log.file << "syrof grade: " << layer << ": " << why << "\n";
-      return finish(kBuildFailed, "the build's sandbox failed: " + layer + ": " + why);
+    if (i == 0 && outcome.started && outcome.sandbox.failure == SandboxFailure::kNone) {
+      if (std::optional<std::string> note = IsolationNote(outcome.sandbox)) notes.push_back(*note);
     }
-    if (!noted) {
-      noted = true;
-      const std::string why = std::strerror(outcome.sandbox.isolation_errno);
-      if (outcome.sandbox.isolation == process::Isolation::kNetworkOnly) {
-        notes.push_back("build: no PID namespace (" + why +
-                        "): the network is cut, but a process the build leaves in a session of its own may outlive it");
-      } else if (outcome.sandbox.isolation == process::Isolation::kNone) {
-        notes.push_back("build: network not isolated and no PID namespace (namespaces refused: " + why + ")");
-      }
-    }
-    if (mount.ok() && mount.Full()) {
-      const std::string bound = std::to_string(mount.limit_bytes() >> 20) + " MB";
-      log.file << "\nsyrof grade: stopped: the build filled its folder (" << bound
-               << ", the most a build may write in all)\n";
-      return finish(kBuildFailed, "the build wrote more than its folder holds (" + bound +
-                                        " in all: its copy, build files and temporary files)");
-    }
-    if (outcome.timed_out) {
-      log.file << "\nsyrof grade: stopped at the build's time limit of " << options.timeout_s << " s\n";
-      return finish(kTimeout, "the build took longer than its limit of " + std::to_string(static_cast<int>(options.timeout_s)) + " s");
-    }
-    if (outcome.output_limit) {
-      log.file << "\nsyrof grade: stopped: the build wrote over " << (options.output_limit_bytes >> 20) << " MB\n";
-      return finish(kOutputLimit, "the build wrote over " + std::to_string(options.output_limit_bytes >> 20) + " MB of output");
-    }
-    if (!outcome.status.exited() || outcome.status.code != 0) {
-      if (log.total > log.kept) log.file << "\n[syrof grade: " << (log.total - log.kept) << " more bytes not kept]\n";
-      log.file.flush();
-      std::string detail = FirstErrorLine((out / "build.log").string(), stage.root().string());
-      if (outcome.status.signaled()) {
-        detail = "the build was killed by signal " + std::to_string(outcome.status.signal) + ": " + detail;
-      }
-      return finish(kBuildFailed, detail);
+    if (std::optional<Stop> ended = StepStop(outcome, cmake, mount, options, out / "build.log", stage, log)) {
+      return stop(*ended);
     }
   }
   if (log.total > log.kept) log.file << "\n[syrof grade: " << (log.total - log.kept) << " more bytes not kept]\n";
   log.file.close();
 
-  // The app library: lib*.so files the build made (not CMake's own), taken
-  // out of the build's folder into the grader's own (the build's processes
-  // are gone), each checked by the app host as a run would.
-  std::vector<fs::path> made;
-  for (fs::recursive_directory_iterator it(build, error); !error && it != fs::recursive_directory_iterator();
-       it.increment(error)) {
-    if (it->is_directory(error) && it->path().filename() == "CMakeFiles") {
-      it.disable_recursion_pending();
-      continue;
-    }
-    const std::string name = it->path().filename().string();
-    if (!it->is_symlink(error) && it->is_regular_file(error) && name.starts_with("lib") && name.ends_with(".so")) {
-      made.push_back(it->path());
-    }
-  }
-  std::sort(made.begin(), made.end());
-  std::vector<std::string> candidates;
-  for (const fs::path& library : made) {
-    const fs::path taken = library_dir / library.lexically_relative(build);
-    fs::create_directories(taken.parent_path(), error);
-    if (TakeLibrary(library, taken)) candidates.push_back(taken.string());
-  }
-  if (candidates.empty()) {
-    return finish(kNoLibrary,
-                  "the build made no lib*.so; syrof_add_app(NAME app.c) in CMakeLists.txt makes libNAME.so");
-  }
-  std::vector<std::string> apps;
-  std::string first_error;
-  for (const std::string& candidate : candidates) {
-    app_host::HostOptions host;
-    host.library_path = candidate;
-    const app_host::LibraryCheck check = app_host::CheckLibrary(host);
-    if (check.ok) {
-      apps.push_back(candidate);
-    } else if (first_error.empty()) {
-      first_error = check.error;
-    }
-  }
-  if (apps.empty()) {
-    std::string detail = first_error;
-    const std::string prefix = library_dir.string() + "/";
-    if (detail.starts_with(prefix)) detail.erase(0, prefix.size());
-    return finish(kBadLibrary, detail);
-  }
-  if (apps.size() > 1) {
-    std::string names;
-    for (const std::string& app : apps) names += (names.empty() ? "" : ", ") + fs::path(app).filename().string();
-    return finish(kNoLibrary, std::to_string(apps.size()) + " app libraries were built (" + names +
-                                    "); a submission builds exactly one");
-  }
-  result.library_path = apps.front();
-  return finish(kOk, "built " + fs::path(apps.front()).filename().string());
+  std::variant<std::string, Stop> app = TakeAppLibrary(work / "build", library_dir);
+  if (Stop* none = std::get_if<Stop>(&app)) return stop(std::move(*none));
+  result.library_path = std::get<std::string>(std::move(app));
+  return finish(kOk, "built " + fs::path(result.library_path).filename().string());
 }
 
 }  // namespace syrof::grader
