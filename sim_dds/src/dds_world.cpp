@@ -24,6 +24,7 @@
 #include "syrof/sim_dds/topics.h"
 #include "dds_links.h"
 #include "robot_fleet.h"
+#include "round_grid.h"
 #include "round_reports.h"
 #include "take_samples.h"
 #include "world_stress.h"
@@ -43,7 +44,8 @@ constexpr int64_t kRecordLagRounds = 10;
 // loop owns the world, its rules, its sensors and its record; this supplies
 // the robot processes (robot_fleet.h), the DDS links (dds_links.h), the
 // reports read into each round's common report (round_reports.h), the grid
-// the rounds follow, the control sample and the stress (world_stress.h).
+// the rounds follow (round_grid.h), the control sample and the stress
+// (world_stress.h).
 //
 // The run's phases, in the order RunSwarm calls them: CreateEntities,
 // OpenReplay, SpawnPresentRobots, AwaitDiscovery, Start, Run (one instant
@@ -77,9 +79,8 @@ class DdsWorld {
   void EndAll();
   void EndStress();
   void TakeStatus();
-  int64_t RoundAt(int64_t monotonic_ns) const;
-  void FollowRobots();
-  void TakeReports();
+  int64_t RoundNow() const { return grid_.RoundAt(start_monotonic_ns_ + step_ns_); }
+  void TakeReports() { reports_.Take(report_reader_, start_monotonic_ns_, grid_, next_recorded_); }
   void Record(int64_t round);
   lab::metrics::DdsMetrics DdsFacts() const;
 
@@ -118,15 +119,8 @@ class DdsWorld {
 
   // ---- The run
   int64_t start_monotonic_ns_ = 0;
-  int64_t reports_rejected_ = 0, reports_late_ = 0, reports_foreign_ = 0;
-  int64_t next_recorded_ = 1;
-  // The robots' rounds on the world's clock. On one grid (no alignment)
-  // round r starts at start + r * alpha. Aligning robots move their
-  // boundaries together and number their own rounds, so the world follows
-  // them: the origin is the median over running robots of (when a robot's
-  // round report went out) - round * alpha, from each robot's newest report.
-  int64_t round_origin_ = 0;
-  std::vector<std::optional<int64_t>> robot_origins_;
+  int64_t next_recorded_ = 1;  // the next round to record
+  RoundGrid grid_;
   int64_t step_ns_ = 0;
   double wall_seconds_ = 0;
   int64_t last_round_ = 0;
@@ -150,9 +144,9 @@ DdsWorld::DdsWorld(const SwarmOptions& options, std::ostream& log, const scenari
       links_(swarm_size_, run_id),
       fleet_(options, std::move(robot_binary), run_id, participant_->domain_id(), loop_, log, result.robot_pids),
       stress_(options.stress, swarm_size_),
-      reports_(loop_),
+      reports_(loop_, run_id, options.align_rounds, log),
       attached_(swarm_size_, 0),
-      robot_origins_(swarm_size_) {
+      grid_(radio_round_ns_, swarm_size_) {
   loop_.recorder().MeasureAgreement();  // the robots report every app return (kAppState)
 }
 
@@ -228,7 +222,7 @@ bool DdsWorld::AwaitDiscovery() {
 
 bool DdsWorld::Start() {
   start_monotonic_ns_ = MonotonicNow() + 300'000'000;  // every robot hears it before the first round
-  round_origin_ = start_monotonic_ns_;
+  grid_.Start(start_monotonic_ns_);
   control_sample_.run_id = run_id_;
   control_sample_.state = 1;
   control_sample_.start_monotonic_ns = start_monotonic_ns_;
@@ -266,16 +260,16 @@ void DdsWorld::Run() {
     const int64_t wait = due - MonotonicNow();
     if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
     loop_.StepInstant({step_ns_, step_ns_ + fault_lead_ns_, static_cast<double>(physics_step_ns_) * 1e-9,
-                       RoundAt(start_monotonic_ns_ + step_ns_)},
+                       RoundNow()},
                       fleet_, links_);
     stress_.Play(step_ns_, running, signal);
     TakeReports();
-    if (options_.align_rounds) FollowRobots();
+    if (options_.align_rounds) grid_.FollowRobots([this](uint16_t id) { return loop_.player().running(id); });
     TakeStatus();
     for (uint16_t id = 0; id < swarm_size_; ++id) {
       if (loop_.player().lifecycle(id) == lab::sim::Lifecycle::kCrashed) fleet_.Reap(id, false);
     }
-    while (next_recorded_ + kRecordLagRounds <= RoundAt(start_monotonic_ns_ + step_ns_)) Record(next_recorded_++);
+    while (next_recorded_ + kRecordLagRounds <= RoundNow()) Record(next_recorded_++);
     if (options_.progress && step_ns_ >= next_progress_ns) {
       options_.progress(static_cast<double>(step_ns_) * 1e-9);
       next_progress_ns += 1'000'000'000;
@@ -284,60 +278,11 @@ void DdsWorld::Run() {
   wall_seconds_ = static_cast<double>(MonotonicNow() - start_monotonic_ns_) * 1e-9;
 }
 
-int64_t DdsWorld::RoundAt(int64_t monotonic_ns) const {
-  const int64_t since = monotonic_ns - round_origin_;
-  return since >= 0 ? since / radio_round_ns_ : -((-since + radio_round_ns_ - 1) / radio_round_ns_);
-}
-
-void DdsWorld::FollowRobots() {
-  std::vector<int64_t> origins;
-  for (uint16_t id = 0; id < swarm_size_; ++id) {
-    if (loop_.player().running(id) && robot_origins_[id]) origins.push_back(*robot_origins_[id]);
-  }
-  if (origins.empty()) return;
-  std::nth_element(origins.begin(), origins.begin() + static_cast<std::ptrdiff_t>(origins.size() / 2), origins.end());
-  round_origin_ = origins[origins.size() / 2];
-}
-
-// The Report_ samples taken since the last call, decoded and placed on the
-// grid (their round), for the recorder.
-void DdsWorld::TakeReports() {
-  TakeSamples<syrof_msg_dds__Report_>(report_reader_, [&](const syrof_msg_dds__Report_& s, const dds_sample_info_t&) {
-    if (s.run_id != run_id_) {
-      ++reports_foreign_;
-      return;
-    }
-    if (s.robot >= swarm_size_) {
-      ++reports_rejected_;
-      return;
-    }
-    DecodedReport decoded = DecodeReport(s.kind, std::span<const uint8_t>(s.body._buffer, s.body._length), swarm_size_);
-    if (!decoded.body) {
-      ++reports_rejected_;
-      log_ << "syrof swarm: robot " << s.robot << "'s report " << s.sequence_number
-           << " refused: " << decoded.error->ToString() << "\n";
-      return;
-    }
-    PlacedReport received{s.robot, s.robot_time_ns - start_monotonic_ns_, std::move(*decoded.body)};
-    const int64_t round = received.body.kind == ReportKind::kRound
-                              ? static_cast<int64_t>(received.body.round.round)
-                              : RoundAt(s.robot_time_ns + radio_round_ns_ / 2);
-    if (options_.align_rounds && received.body.kind == ReportKind::kRound) {
-      robot_origins_[s.robot] = received.body.round.activation_ns - round * radio_round_ns_;
-    }
-    if (round < next_recorded_) {
-      ++reports_late_;
-      return;
-    }
-    reports_.Add(round, std::move(received));
-  });
-}
-
 // The recorder of round r: its reports read into the common round report,
 // recorded by the loop.
 void DdsWorld::Record(int64_t round) {
   lab::sim::RemoteRound read = reports_.Read(round, start_monotonic_ns_);
-  loop_.RecordRound(round, round_origin_ - start_monotonic_ns_ + round * radio_round_ns_, read);
+  loop_.RecordRound(round, grid_.StartOf(round) - start_monotonic_ns_, read);
 }
 
 // ---- The end ----------------------------------------------------------------------
@@ -360,7 +305,7 @@ void DdsWorld::EndAll() {
 // Let the last rounds' reports arrive, then record them.
 void DdsWorld::DrainReports() {
   EndStress();
-  last_round_ = RoundAt(start_monotonic_ns_ + step_ns_);
+  last_round_ = RoundNow();
   const int64_t drain_until = MonotonicNow() + 300'000'000;
   while (MonotonicNow() < drain_until) {
     TakeReports();
@@ -408,9 +353,9 @@ lab::metrics::DdsMetrics DdsWorld::DdsFacts() const {
   dds.delivery_ratio = result_.delivery_ratio;
   dds.round_start_skew = result_.skew;
   dds.cpu_seconds_per_robot = result_.cpu_seconds;
-  dds.reports_rejected = reports_rejected_;
-  dds.reports_late = reports_late_;
-  dds.reports_other_runs = reports_foreign_;
+  dds.reports_rejected = reports_.rejected();
+  dds.reports_late = reports_.late();
+  dds.reports_other_runs = reports_.other_runs();
   dds.drives_other_runs = links_.drives_other_runs();
   dds.stopped_early = result_.stopped_early;
   dds.robot_exits = result_.robot_exits;

@@ -8,6 +8,8 @@
 #include "syrof/lab/metrics/agreement.h"
 #include "syrof/lab/sim/run_parts.h"
 #include "syrof/motion/safety_filter.h"
+#include "syrof/sim_dds/topics.h"
+#include "take_samples.h"
 
 namespace syrof::sim_dds {
 
@@ -23,6 +25,39 @@ void RoundReportBook::Reading::AddEvent(replay::EventKind kind, int64_t time_ns,
   e.mode = mode;
   e.time_ns = time_ns;
   common.events.push_back(e);
+}
+
+void RoundReportBook::Take(dds_entity_t reader, int64_t start_ns, RoundGrid& grid, int64_t first_open) {
+  const uint16_t robots = loop_.player().robot_count();
+  TakeSamples<syrof_msg_dds__Report_>(reader, [&](const syrof_msg_dds__Report_& s, const dds_sample_info_t&) {
+    if (s.run_id != run_id_) {
+      ++other_runs_;
+      return;
+    }
+    if (s.robot >= robots) {
+      ++rejected_;
+      return;
+    }
+    DecodedReport decoded = DecodeReport(s.kind, std::span<const uint8_t>(s.body._buffer, s.body._length), robots);
+    if (!decoded.body) {
+      ++rejected_;
+      log_ << "syrof swarm: robot " << s.robot << "'s report " << s.sequence_number
+           << " refused: " << decoded.error->ToString() << "\n";
+      return;
+    }
+    PlacedReport received{s.robot, s.robot_time_ns - start_ns, std::move(*decoded.body)};
+    const int64_t round = received.body.kind == ReportKind::kRound
+                              ? static_cast<int64_t>(received.body.round.round)
+                              : grid.RoundAt(s.robot_time_ns + grid.round_ns() / 2);
+    if (align_ && received.body.kind == ReportKind::kRound) {
+      grid.NoteRound(s.robot, round, received.body.round.activation_ns);
+    }
+    if (round < first_open) {
+      ++late_;
+      return;
+    }
+    Add(round, std::move(received));
+  });
 }
 
 lab::sim::RemoteRound RoundReportBook::Read(int64_t round, int64_t start_ns) {

@@ -1,13 +1,18 @@
 // The robots' Report_ samples of a DDS run read into the world loop
 // (lab/sim/remote_world.h): the DDS world's part of recording a round, its
-// reports parsed into the loop's common round report. Internal to sim_dds.
+// reports taken, decoded, placed on the grid and parsed into the loop's
+// common round report. Internal to sim_dds.
 #pragma once
+
+#include <dds/dds.h>
 
 #include <cstdint>
 #include <map>
+#include <ostream>
 #include <utility>
 #include <vector>
 
+#include "round_grid.h"
 #include "syrof/lab/sim/remote_world.h"
 #include "syrof/sim_dds/report_codec.h"
 #include "syrof/wire/beacon.h"
@@ -28,8 +33,17 @@ struct PlacedReport {
 /// in-round deliveries the round reports say.
 class RoundReportBook {
  public:
-  /// `loop` outlives the book.
-  explicit RoundReportBook(lab::sim::RemoteWorld& loop) : loop_(loop) {}
+  /// The reports of run `run_id`; with `align` the robots number their own
+  /// rounds and the grid follows them. `loop` and `log` outlive the book.
+  RoundReportBook(lab::sim::RemoteWorld& loop, uint64_t run_id, bool align, std::ostream& log)
+      : loop_(loop), run_id_(run_id), align_(align), log_(log) {}
+
+  /// Takes the Report_ samples `reader` holds: each of this run is decoded
+  /// (a malformed one refused and logged) and kept for its round on `grid`
+  /// (a round report's own round, noted on the grid; any other the round
+  /// its robot time falls in, rounded). One of a round before `first_open`
+  /// (recorded already) is late. `start_ns` is the grid's start.
+  void Take(dds_entity_t reader, int64_t start_ns, RoundGrid& grid, int64_t first_open);
 
   /// Keeps `report` for round `round`.
   void Add(int64_t round, PlacedReport report) { by_round_[round].push_back(std::move(report)); }
@@ -42,6 +56,12 @@ class RoundReportBook {
   /// In-round deliveries over the beacons that could have been delivered
   /// in-round (docs/dds.md, "Reports"); 0 before any.
   double delivery_ratio() const { return expected_deliveries_ > 0 ? in_round_deliveries_ / expected_deliveries_ : 0; }
+
+  /// Samples refused (a robot id out of range, a body that did not
+  /// decode), late (their round recorded already) and of another run.
+  int64_t rejected() const { return rejected_; }
+  int64_t late() const { return late_; }
+  int64_t other_runs() const { return other_runs_; }
 
  private:
   // One round's reports as they are read.
@@ -58,6 +78,10 @@ class RoundReportBook {
   void CountDeliveries(int64_t round, const Reading& read);
 
   lab::sim::RemoteWorld& loop_;
+  const uint64_t run_id_;
+  const bool align_;
+  std::ostream& log_;
+  int64_t rejected_ = 0, late_ = 0, other_runs_ = 0;
   std::map<int64_t, std::vector<PlacedReport>> by_round_;
   std::map<int64_t, wire::MemberSet> round_senders_;  // robots that reported (broadcast) in a round
   double expected_deliveries_ = 0;
