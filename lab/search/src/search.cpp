@@ -799,6 +799,252 @@ int64_t PatternCount(int64_t slots, int losses) {
   return total;
 }
 
+namespace {
+
+// Why `options` cannot search `scenario`, before anything runs (so that a
+// search too large costs nothing); nothing when it can. `async`: an ASYNC
+// search with the delay bound `max_delay_epochs`.
+std::optional<std::string> RefusedBeforeRunning(const scenario::Scenario& scenario, const SearchOptions& options,
+                                                bool async, int max_delay_epochs) {
+  if (async && (max_delay_epochs < 1 || max_delay_epochs > sync::kMaxAsyncDelayEpochs)) {
+    return fmt::format(
+        "an ASYNC search needs a delay bound of 1 .. {} epochs (the scenario's activation.max_delay_epochs under "
+        "model async, or --max-delay), got {}",
+        sync::kMaxAsyncDelayEpochs, max_delay_epochs);
+  }
+  // The window's looks, at most every robot in every epoch.
+  if (const int64_t most = static_cast<int64_t>(scenario.robots.size()) * options.epochs;
+      async && most > kMaxAsyncSearchLooks) {
+    return fmt::format(
+        "the first {} epochs of {} robots hold up to {} robot-epochs, more looks than an ASYNC search walks (at most "
+        "{}): search fewer epochs (--epochs) or a smaller swarm",
+        options.epochs, scenario.robots.size(), most, kMaxAsyncSearchLooks);
+  }
+  // The search chooses every loss itself; a link that loses some beacons at
+  // random would make a pattern's outcome the seed's as much as the search's.
+  for (const world::LinkLossSpec& link : scenario.channel.links) {
+    if (link.loss > 0 && link.loss < 1) {
+      return fmt::format(
+          "channel link {} -> {} loses {} of its beacons at random; a search decides every loss itself: give the "
+          "link loss 0 or 1 (a dead link), or leave it out",
+          link.from, link.to, link.loss);
+    }
+  }
+  return std::nullopt;
+}
+
+// Pattern `indices` of `space` ready to run: its slots' rounds, its lost
+// beacons or inactive robot-epochs, and the fingerprints of its prefixes.
+PatternRun MakeRun(const SearchSpace& space, std::vector<int64_t> indices) {
+  PatternRun run;
+  run.indices = std::move(indices);
+  for (int64_t index : run.indices) {
+    run.rounds.push_back(space.RoundOf(index));
+    if (space.activations) {
+      run.inactive.push_back(space.inactivations[static_cast<size_t>(index)]);
+    } else {
+      run.lost.push_back(space.beacons[static_cast<size_t>(index)]);
+    }
+  }
+  for (size_t c = 0; c <= run.indices.size(); ++c) {
+    run.prefixes.push_back(PrefixDigest(std::span<const int64_t>(run.indices.data(), c)));
+  }
+  return run;
+}
+
+// Where a pattern was pruned: the round, and the representative it met
+// (check_pruning); round 0: it was not.
+struct Pruned {
+  int64_t round = 0;
+  int32_t prefix_index = -1;
+};
+
+// Pruning (search.h): a table per round start of the states seen there,
+// and, for patterns shorter than the longest, the round at which each was
+// pruned (0: it ran to its end), so that the patterns that extend it with
+// later losses are skipped. No two schedules meet in a state: the state
+// holds each app's call history (search.h), and schedules differ in who was
+// called when.
+class Pruning {
+ public:
+  // Off: no tables, nothing pruned. `check`: keep what the self-test needs.
+  Pruning(bool on, int64_t window_rounds, bool check)
+      : tables_(on ? static_cast<size_t>(window_rounds) + 1 : 0), check_(check) {}
+
+  bool on() const { return !tables_.empty(); }
+  // What a run reads to stop early; null when off.
+  const std::vector<StateTable>* tables() const { return on() ? &tables_ : nullptr; }
+  int64_t stored_states() const { return stored_states_; }
+
+  // The states of `run`, in order, against the tables as they are now;
+  // where it was pruned, or {0} if it was not (its new states added).
+  Pruned Merge(const PatternRun& run) {
+    for (size_t k = 0; k < run.states.size(); ++k) {
+      const auto round = static_cast<int64_t>(k) + 1;
+      const int losses = LossesBefore(run, round);
+      const Digest& prefix = run.prefixes[static_cast<size_t>(losses)];
+      StateTable& table = tables_[static_cast<size_t>(round)];
+      if (const Representative* first = Dominated(table, run.states[k], losses, prefix)) {
+        return Pruned{round, first->prefix_index};
+      }
+      if (stored_states_ < kMaxStoredStates && !table.contains(run.states[k])) {
+        Representative representative{losses, prefix, -1};
+        if (check_) {
+          representative.prefix_index = static_cast<int32_t>(representative_prefixes_.size());
+          representative_prefixes_.emplace_back(run.indices.begin(), run.indices.begin() + losses);
+        }
+        table.emplace(run.states[k], representative);
+        ++stored_states_;
+      }
+    }
+    return Pruned{};
+  }
+
+  // Whether a shorter pattern that `indices` extends with later losses only
+  // was pruned before those losses (into `why`).
+  bool SkippedByPrefix(const SearchSpace& space, const std::vector<int64_t>& indices, Pruned& why) const {
+    for (size_t m = 1; m < indices.size(); ++m) {
+      const auto found =
+          memo_.find(std::vector<int64_t>(indices.begin(), indices.begin() + static_cast<ptrdiff_t>(m)));
+      if (found == memo_.end() || found->second.round == 0) continue;
+      if (space.RoundOf(indices[m]) >= found->second.round) {
+        why = found->second;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Where a pattern that longer ones may extend was pruned.
+  void Remember(const std::vector<int64_t>& indices, const Pruned& pruned) { memo_.emplace(indices, pruned); }
+  // A pruned pattern for the self-test (check_pruning).
+  void NoteForCheck(const std::vector<int64_t>& indices, const Pruned& pruned) {
+    if (check_) checks_.push_back({indices, pruned});
+  }
+
+  // The self-test: each pruned pattern, run to its end, against the
+  // pattern it stood for (the representative's losses before the round it
+  // was pruned at, then its own from that round on); into `result`.
+  void Check(const scenario::Scenario& scenario, const SearchSpace& space, const SearchOptions& options,
+             bool goal_declared, SearchResult& result) const {
+    for (const PrunedPattern& check : checks_) {
+      std::vector<int64_t> standing_for =
+          representative_prefixes_.at(static_cast<size_t>(check.pruned.prefix_index));
+      for (int64_t index : check.indices) {
+        if (space.RoundOf(index) >= check.pruned.round) standing_for.push_back(index);
+      }
+      PatternRun pruned_run = MakeRun(space, check.indices);
+      PatternRun other_run = MakeRun(space, standing_for);
+      RunPattern(scenario, space, options, pruned_run, goal_declared, nullptr, true);
+      RunPattern(scenario, space, options, other_run, goal_declared, nullptr, true);
+      ++result.pruning_checked;
+      const bool same_state = pruned_run.outcome.end_state == other_run.outcome.end_state;
+      if (same_state && Properties(pruned_run.outcome) == Properties(other_run.outcome)) continue;
+      if (result.pruning_mismatches++ == 0) {
+        result.first_mismatch =
+            fmt::format("{}pruned at round {} as {}: they end {} ({} / {})", Described(pruned_run), check.pruned.round,
+                        Described(other_run),
+                        same_state ? "in the same state but break other properties" : "in different states",
+                        Properties(pruned_run.outcome), Properties(other_run.outcome));
+      }
+    }
+  }
+
+ private:
+  struct PrunedPattern {
+    std::vector<int64_t> indices;
+    Pruned pruned;
+  };
+
+  static std::string Properties(const Outcome& outcome) {
+    std::string text;
+    for (const Violation& violation : outcome.violations) text += violation.property + ": " + violation.detail + "; ";
+    return text;
+  }
+  static std::string Described(const PatternRun& run) {
+    std::string text;
+    for (const LostBeacon& beacon : run.lost) text += fmt::format("[{}, {}, {}] ", beacon.round, beacon.from, beacon.to);
+    for (const Inactivation& out : run.inactive) text += fmt::format("[epoch {}: {}] ", out.epoch, out.robot);
+    return text;
+  }
+
+  std::vector<StateTable> tables_;
+  bool check_ = false;
+  std::map<std::vector<int64_t>, Pruned> memo_;
+  std::vector<std::vector<int64_t>> representative_prefixes_;
+  std::vector<PrunedPattern> checks_;
+  int64_t stored_states_ = 0;
+};
+
+// The loss (or inactivation) patterns of 1 .. `most` in search order,
+// `jobs` * 8 at a time, up to the first that breaks the run (into `result`).
+void SearchPatterns(const scenario::Scenario& scenario, const SearchSpace& space, const SearchOptions& options,
+                    int most, bool goal_declared, const std::function<double()>& elapsed_s, Pruning& pruning,
+                    std::unordered_set<size_t>& outcome_hashes, SearchResult& result) {
+  const size_t batch_size = static_cast<size_t>(options.jobs) * 8;
+  for (int losses = 1; losses <= most; ++losses) {
+    const bool remember = pruning.on() && losses < most;
+    Patterns patterns(result.slots, losses);
+    while (!patterns.done()) {
+      if (options.time_limit_s > 0 && elapsed_s() >= options.time_limit_s) {
+        result.stopped_by_time = true;
+        break;
+      }
+      // The batch, in search order: patterns skipped at once, and those to run.
+      std::vector<PatternRun> batch;
+      std::vector<Pruned> skipped;  // per batch entry; round 0: to run
+      size_t to_run = 0;
+      for (; !patterns.done() && to_run < batch_size; patterns.Advance()) {
+        if (space.activations && !IsSchedule(space, patterns.current())) {
+          ++result.not_schedules;
+          continue;
+        }
+        Pruned why;
+        const bool skip = pruning.on() && pruning.SkippedByPrefix(space, patterns.current(), why);
+        batch.push_back(MakeRun(space, patterns.current()));
+        skipped.push_back(skip ? why : Pruned{});
+        if (!skip) ++to_run;
+      }
+      std::vector<PatternRun*> running;
+      for (size_t i = 0; i < batch.size(); ++i) {
+        if (skipped[i].round == 0) running.push_back(&batch[i]);
+      }
+      RunBatch(scenario, space, options, running, goal_declared, pruning.tables());
+      for (size_t i = 0; i < batch.size(); ++i) {
+        // Counted in search order, up to the first pattern that broke the
+        // run, whatever else the batch ran: the same figures for any --jobs.
+        PatternRun& run = batch[i];
+        ++result.runs;
+        Pruned pruned = skipped[i];
+        if (pruned.round > 0) {
+          ++result.skipped;
+        } else if (pruning.on()) {
+          result.round_starts += static_cast<int64_t>(run.states.size());
+          pruned = pruning.Merge(run);
+          if (pruned.round > 0) ++result.stopped_early;
+        }
+        if (remember) pruning.Remember(run.indices, pruned);
+        if (pruned.round > 0) {
+          pruning.NoteForCheck(run.indices, pruned);
+          continue;
+        }
+        SYROF_CHECK(!run.stopped);  // the tables only grew since the batch began
+        outcome_hashes.insert(run.outcome.metrics_hash);
+        result.distinct_outcomes = static_cast<int64_t>(outcome_hashes.size());
+        if (run.outcome.violations.empty()) continue;
+        result.counterexample = Counterexample{std::move(run.lost), std::move(run.inactive), space.epochs,
+                                               std::move(run.outcome.violations), std::move(run.outcome.metrics)};
+        return;
+      }
+      if (options.progress) options.progress(result.runs, losses);
+    }
+    if (result.stopped_by_time) return;
+    result.complete_losses = losses;
+  }
+}
+
+}  // namespace
+
 SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   auto elapsed_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
@@ -810,33 +1056,9 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   int max_delay_epochs = options.max_delay_epochs;
   if (max_delay_epochs == 0 && scenario_async) max_delay_epochs = scenario.activation.max_delay_epochs;
   const double min_move_m = options.min_move_m.value_or(scenario_async ? scenario.activation.min_move_m : 0.0);
-  if (async && (max_delay_epochs < 1 || max_delay_epochs > sync::kMaxAsyncDelayEpochs)) {
-    result.error = fmt::format(
-        "an ASYNC search needs a delay bound of 1 .. {} epochs (the scenario's activation.max_delay_epochs under "
-        "model async, or --max-delay), got {}",
-        sync::kMaxAsyncDelayEpochs, max_delay_epochs);
+  if (std::optional<std::string> refused = RefusedBeforeRunning(scenario, options, async, max_delay_epochs)) {
+    result.error = std::move(*refused);
     return result;
-  }
-  // The window's looks, at most every robot in every epoch (checked before
-  // any run, so that a search too large costs nothing).
-  if (const int64_t most = static_cast<int64_t>(scenario.robots.size()) * options.epochs;
-      async && most > kMaxAsyncSearchLooks) {
-    result.error = fmt::format(
-        "the first {} epochs of {} robots hold up to {} robot-epochs, more looks than an ASYNC search walks (at most "
-        "{}): search fewer epochs (--epochs) or a smaller swarm",
-        options.epochs, scenario.robots.size(), most, kMaxAsyncSearchLooks);
-    return result;
-  }
-  // The search chooses every loss itself; a link that loses some beacons at
-  // random would make a pattern's outcome the seed's as much as the search's.
-  for (const world::LinkLossSpec& link : scenario.channel.links) {
-    if (link.loss > 0 && link.loss < 1) {
-      result.error = fmt::format(
-          "channel link {} -> {} loses {} of its beacons at random; a search decides every loss itself: give the "
-          "link loss 0 or 1 (a dead link), or leave it out",
-          link.from, link.to, link.loss);
-      return result;
-    }
   }
 
   // The loss-free run: the first pattern, and the epochs that set the window.
@@ -893,193 +1115,25 @@ SearchResult Search(const scenario::Scenario& scenario, const SearchOptions& opt
   if (!options.activations) space.beacons = SlotsOf(scenario, window.rounds);
   if (!async) result.slots = space.size();
 
-  // Pruning (search.h): a table per round start of the states seen there,
-  // and, for patterns shorter than the longest, the round at which each was
-  // pruned (0: it ran to its end), so that the patterns that extend it with
-  // later losses are skipped.
-  // No two schedules meet in a state: the state holds each app's call
-  // history (search.h), and schedules differ in who was called when.
-  const bool prune = options.prune && !options.activations && !scenario.clocks.enabled && window.rounds > 0;
-  std::vector<StateTable> tables(prune ? static_cast<size_t>(window.rounds) + 1 : 0);
-  struct Pruned {
-    int64_t round = 0;
-    int32_t prefix_index = -1;
-  };
-  std::map<std::vector<int64_t>, Pruned> memo;
-  std::vector<std::vector<int64_t>> representative_prefixes;  // check_pruning
-  struct Check {
-    std::vector<int64_t> indices;
-    Pruned pruned;
-  };
-  std::vector<Check> checks;
-  int64_t stored_states = 0;
-
-  auto make_run = [&](std::vector<int64_t> indices) {
-    PatternRun run;
-    run.indices = std::move(indices);
-    for (int64_t index : run.indices) {
-      run.rounds.push_back(space.RoundOf(index));
-      if (space.activations) {
-        run.inactive.push_back(space.inactivations[static_cast<size_t>(index)]);
-      } else {
-        run.lost.push_back(space.beacons[static_cast<size_t>(index)]);
-      }
-    }
-    for (size_t c = 0; c <= run.indices.size(); ++c) {
-      run.prefixes.push_back(PrefixDigest(std::span<const int64_t>(run.indices.data(), c)));
-    }
-    return run;
-  };
-  // The states of `run`, in order, against the tables as they are now;
-  // where it was pruned, or {0} if it was not (its new states added).
-  auto merge = [&](const PatternRun& run) {
-    for (size_t k = 0; k < run.states.size(); ++k) {
-      const auto round = static_cast<int64_t>(k) + 1;
-      const int losses = LossesBefore(run, round);
-      const Digest& prefix = run.prefixes[static_cast<size_t>(losses)];
-      StateTable& table = tables[static_cast<size_t>(round)];
-      if (const Representative* first = Dominated(table, run.states[k], losses, prefix)) {
-        return Pruned{round, first->prefix_index};
-      }
-      if (stored_states < kMaxStoredStates && !table.contains(run.states[k])) {
-        Representative representative{losses, prefix, -1};
-        if (options.check_pruning) {
-          representative.prefix_index = static_cast<int32_t>(representative_prefixes.size());
-          representative_prefixes.emplace_back(run.indices.begin(), run.indices.begin() + losses);
-        }
-        table.emplace(run.states[k], representative);
-        ++stored_states;
-      }
-    }
-    return Pruned{};
-  };
-  // Whether a shorter pattern that `indices` extends with later losses only
-  // was pruned before those losses.
-  auto skipped_by_prefix = [&](const std::vector<int64_t>& indices, Pruned& why) {
-    for (size_t m = 1; m < indices.size(); ++m) {
-      const auto found = memo.find(std::vector<int64_t>(indices.begin(), indices.begin() + static_cast<ptrdiff_t>(m)));
-      if (found == memo.end() || found->second.round == 0) continue;
-      if (space.RoundOf(indices[m]) >= found->second.round) {
-        why = found->second;
-        return true;
-      }
-    }
-    return false;
-  };
-
-  if (prune) {
+  Pruning pruning(options.prune && !options.activations && !scenario.clocks.enabled && window.rounds > 0,
+                  window.rounds, options.check_pruning);
+  if (pruning.on()) {
     // The loss-free run's states come first: every masked loss meets them.
-    PatternRun loss_free_run = make_run({});
-    RunPattern(scenario, space, options, loss_free_run, goal_declared, &tables, false);
-    merge(loss_free_run);
+    PatternRun loss_free_run = MakeRun(space, {});
+    RunPattern(scenario, space, options, loss_free_run, goal_declared, pruning.tables(), false);
+    pruning.Merge(loss_free_run);
     result.round_starts += static_cast<int64_t>(loss_free_run.states.size());
   }
-
-  const size_t batch_size = static_cast<size_t>(options.jobs) * 8;
   std::unordered_set<size_t> outcome_hashes{std::hash<std::string>{}(baseline.metrics_json)};
   result.distinct_outcomes = 1;
   if (async) {
     SearchCycles(scenario, space, options, most_in_pattern, goal_declared, elapsed_s, outcome_hashes, result);
+  } else {
+    SearchPatterns(scenario, space, options, most_in_pattern, goal_declared, elapsed_s, pruning, outcome_hashes,
+                   result);
   }
-  for (int losses = 1; !async && losses <= most_in_pattern; ++losses) {
-    const bool remember = prune && losses < most_in_pattern;
-    Patterns patterns(result.slots, losses);
-    while (!patterns.done()) {
-      if (options.time_limit_s > 0 && elapsed_s() >= options.time_limit_s) {
-        result.stopped_by_time = true;
-        break;
-      }
-      // The batch, in search order: patterns skipped at once, and those to run.
-      std::vector<PatternRun> batch;
-      std::vector<Pruned> skipped;  // per batch entry; round 0: to run
-      size_t to_run = 0;
-      for (; !patterns.done() && to_run < batch_size; patterns.Advance()) {
-        if (space.activations && !IsSchedule(space, patterns.current())) {
-          ++result.not_schedules;
-          continue;
-        }
-        Pruned why;
-        const bool skip = prune && skipped_by_prefix(patterns.current(), why);
-        batch.push_back(make_run(patterns.current()));
-        skipped.push_back(skip ? why : Pruned{});
-        if (!skip) ++to_run;
-      }
-      std::vector<PatternRun*> running;
-      for (size_t i = 0; i < batch.size(); ++i) {
-        if (skipped[i].round == 0) running.push_back(&batch[i]);
-      }
-      RunBatch(scenario, space, options, running, goal_declared, prune ? &tables : nullptr);
-      for (size_t i = 0; i < batch.size(); ++i) {
-        // Counted in search order, up to the first pattern that broke the
-        // run, whatever else the batch ran: the same figures for any --jobs.
-        PatternRun& run = batch[i];
-        ++result.runs;
-        Pruned pruned = skipped[i];
-        if (pruned.round > 0) {
-          ++result.skipped;
-        } else if (prune) {
-          result.round_starts += static_cast<int64_t>(run.states.size());
-          pruned = merge(run);
-          if (pruned.round > 0) ++result.stopped_early;
-        }
-        if (remember) memo.emplace(run.indices, pruned);
-        if (pruned.round > 0) {
-          if (options.check_pruning) checks.push_back({run.indices, pruned});
-          continue;
-        }
-        SYROF_CHECK(!run.stopped);  // the tables only grew since the batch began
-        outcome_hashes.insert(run.outcome.metrics_hash);
-        result.distinct_outcomes = static_cast<int64_t>(outcome_hashes.size());
-        if (run.outcome.violations.empty()) continue;
-        result.counterexample = Counterexample{std::move(run.lost), std::move(run.inactive), space.epochs,
-                                               std::move(run.outcome.violations), std::move(run.outcome.metrics)};
-        break;
-      }
-      if (result.counterexample) break;
-      if (options.progress) options.progress(result.runs, losses);
-    }
-    if (result.counterexample || result.stopped_by_time) break;
-    result.complete_losses = losses;
-  }
-  result.distinct_states = stored_states;
-
-  // The self-test: each pruned pattern, run to its end, against the pattern
-  // it stood for (the representative's losses before the round it was
-  // pruned at, then its own from that round on).
-  for (const Check& check : checks) {
-    std::vector<int64_t> standing_for = representative_prefixes.at(static_cast<size_t>(check.pruned.prefix_index));
-    for (int64_t index : check.indices) {
-      if (space.RoundOf(index) >= check.pruned.round) standing_for.push_back(index);
-    }
-    PatternRun pruned_run = make_run(check.indices);
-    PatternRun other_run = make_run(standing_for);
-    RunPattern(scenario, space, options, pruned_run, goal_declared, nullptr, true);
-    RunPattern(scenario, space, options, other_run, goal_declared, nullptr, true);
-    ++result.pruning_checked;
-    auto properties = [](const Outcome& outcome) {
-      std::string text;
-      for (const Violation& violation : outcome.violations) text += violation.property + ": " + violation.detail + "; ";
-      return text;
-    };
-    if (pruned_run.outcome.end_state == other_run.outcome.end_state &&
-        properties(pruned_run.outcome) == properties(other_run.outcome)) {
-      continue;
-    }
-    if (result.pruning_mismatches++ == 0) {
-      auto describe = [&](const PatternRun& run) {
-        std::string text;
-        for (const LostBeacon& beacon : run.lost) text += fmt::format("[{}, {}, {}] ", beacon.round, beacon.from, beacon.to);
-        for (const Inactivation& out : run.inactive) text += fmt::format("[epoch {}: {}] ", out.epoch, out.robot);
-        return text;
-      };
-      result.first_mismatch = fmt::format("{}pruned at round {} as {}: they end {} ({} / {})", describe(pruned_run),
-                                          check.pruned.round, describe(other_run),
-                                          pruned_run.outcome.end_state == other_run.outcome.end_state
-                                              ? "in the same state but break other properties"
-                                              : "in different states",
-                                          properties(pruned_run.outcome), properties(other_run.outcome));
-    }
-  }
+  result.distinct_states = pruning.stored_states();
+  pruning.Check(scenario, space, options, goal_declared, result);
   result.seconds = elapsed_s();
   return result;
 }
