@@ -165,7 +165,7 @@ LeaderPath MakeLeaderPath(const LeaderFollowParams& params, size_t count, ArenaS
 }
 
 double LeaderStepM(const LeaderFollowParams& params, double body_radius_m, double maneuver_s) {
-  const double room_m = params.spacing_m - 2.0 * body_radius_m - params.margin_m - kPlanSlackM;
+  const double room_m = params.spacing_m - 2.0 * body_radius_m - params.margin_m - kPlanSlackM - kFilterGrowthM;
   return std::max(0.0, std::min(params.speed_mps * maneuver_s, room_m));
 }
 

@@ -119,8 +119,13 @@ TEST(LeaderPathTest, CrowdedLineSharesTheWholeCircle) {
   EXPECT_NEAR(path.slot_angle_rad, 2 * std::numbers::pi / 40, 1e-12);
 }
 
+// The cap leaves room for the safety filter's disc growth at four own
+// sigmas too: with the default spacing a follower's next slot is 0.345 m
+// from where its predecessor starts (0.30 m before, which four sigmas held
+// followers off: docs/safety.md, "Margin coverage").
 TEST(LeaderStepTest, SlowedSoTheLineCanFollowInOneEpoch) {
-  EXPECT_NEAR(LeaderStepM(LeaderFollowParams{}, kRadiusM, 1.0), 0.4 - 0.2 - 0.08 - kPlanSlackM, 1e-12);
+  EXPECT_NEAR(LeaderStepM(LeaderFollowParams{}, kRadiusM, 1.0), 0.4 - 0.2 - 0.08 - kPlanSlackM - kFilterGrowthM, 1e-12);
+  EXPECT_NEAR(LeaderStepM(LeaderFollowParams{}, kRadiusM, 1.0), 0.055, 1e-12);
   LeaderFollowParams wide;
   wide.spacing_m = 1.0;
   EXPECT_NEAR(LeaderStepM(wide, kRadiusM, 1.0), 0.15, 1e-12);

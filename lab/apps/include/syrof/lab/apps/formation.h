@@ -33,6 +33,17 @@ struct ArenaSize {
 /// (millimetre rounding of maps, controller tolerance), metres.
 inline constexpr double kPlanSlackM = 0.02;
 
+/// What the platform's safety filter grows every disc by beyond what the
+/// plans' margin absorbs, at the lab's usual position doubt, when it allows
+/// for four of a robot's own position sigmas (SafetyConfig::own_sigmas = 4,
+/// what covers the true error in 99.9% of robot-rounds; two by default
+/// today): 8.8 cm at a 2.2 cm sigma, less the half of its 6 cm margin that
+/// covers it, 5.8 cm, of which the plans' margin absorbs the 1.4 cm of two
+/// sigmas (docs/safety.md, "Margin coverage"). A follower whose next slot is
+/// nearer its predecessor's start than the filter's disc is held off it, and
+/// the line falls behind.
+inline constexpr double kFilterGrowthM = 0.045;
+
 /// Parameters of `gather` (catalog.h lists defaults and bounds).
 struct GatherParams {
   double gap_m = 0.1;        ///< free space between neighbouring bodies in the packing
@@ -127,9 +138,10 @@ struct LeaderPath {
 LeaderPath MakeLeaderPath(const LeaderFollowParams& params, size_t count, ArenaSize arena, double body_radius_m);
 
 /// How far the leader advances per maneuver, metres: speed x maneuver time,
-/// but at most spacing - 2 R - margin - kPlanSlackM (and not below 0), so
-/// a follower's next slot stays clear of where its predecessor starts and
-/// the whole line can move in one epoch under the safety rule.
+/// but at most spacing - 2 R - margin - kPlanSlackM - kFilterGrowthM (and not
+/// below 0), so a follower's next slot stays clear of where its predecessor
+/// starts, for the apps' safety rule and the platform's safety filter alike,
+/// and the whole line can move in one epoch.
 double LeaderStepM(const LeaderFollowParams& params, double body_radius_m, double maneuver_s);
 
 /// The angle of `position` seen from the path's centre, in (-pi, pi]; 0 at
