@@ -21,7 +21,7 @@
 #include "syrof/app.h"
 
 #define RADIUS_M 1.2f     /* the circle's radius (README.md) */
-#define CLEARANCE_M 0.42f /* centre to centre between paths: two bodies, position errors, the filter's margin */
+#define CLEARANCE_M 0.465f /* centre to centre between paths: two bodies, position errors, the filter's margin and disc growth (four own sigmas, docs/safety.md) */
 #define CRUISE_MPS 0.25f  /* the speed while moving */
 #define MAX_ROBOTS 64
 #define TWO_PI 6.28318531f
