@@ -291,20 +291,23 @@ std::vector<std::string> Notes(const replay::ReplayComparison& result) {
   return notes;
 }
 
-// Why `path` (from the command-line argument `argument`) cannot be read; ""
-// when it can be opened.
-std::string OpenProblem(const std::string& argument, const std::string& path, std::ifstream& in) {
+// Why `path` (from the command-line argument `argument`) cannot be read,
+// or nothing when it is open in `in`.
+std::optional<lab::Error> OpenProblem(const std::string& argument, const std::string& path, std::ifstream& in) {
+  auto problem = [](std::string message) {
+    return lab::Error{.where = "", .line = 0, .column = 0, .message = std::move(message)};
+  };
   std::error_code error;
-  if (!fs::exists(argument, error)) return fmt::format("'{}': no such file or folder", argument);
+  if (!fs::exists(argument, error)) return problem(fmt::format("'{}': no such file or folder", argument));
   if (path != argument && !fs::exists(path, error)) {
-    return fmt::format("'{}' is a folder without a replay file ({} does not exist; `syrof run --out DIR` writes "
-                       "DIR/replay unless run with --no-replay)",
-                       argument, path);
+    return problem(fmt::format("'{}' is a folder without a replay file ({} does not exist; `syrof run --out DIR` "
+                               "writes DIR/replay unless run with --no-replay)",
+                               argument, path));
   }
-  if (fs::is_directory(path, error)) return fmt::format("'{}' is a folder, not a replay file", path);
+  if (fs::is_directory(path, error)) return problem(fmt::format("'{}' is a folder, not a replay file", path));
   in.open(path, std::ios::binary);
-  if (!in) return fmt::format("cannot open '{}': {}", path, std::strerror(errno));
-  return {};
+  if (!in) return problem(fmt::format("cannot open '{}': {}", path, std::strerror(errno)));
+  return std::nullopt;
 }
 
 CLI::Validator ToleranceValidator() {
@@ -326,11 +329,11 @@ int Compare(const CompareOptions& options, std::ostream& out, std::ostream& err)
   const std::string path_b = ReplayPathOf(options.run_b);
   std::ifstream in_a;
   std::ifstream in_b;
-  const std::string problem_a = OpenProblem(options.run_a, path_a, in_a);
-  const std::string problem_b = OpenProblem(options.run_b, path_b, in_b);
-  if (!problem_a.empty()) fmt::print(err, "syrof compare: A: {}\n", problem_a);
-  if (!problem_b.empty()) fmt::print(err, "syrof compare: B: {}\n", problem_b);
-  if (!problem_a.empty() || !problem_b.empty()) return kBadInput;
+  const std::optional<lab::Error> problem_a = OpenProblem(options.run_a, path_a, in_a);
+  const std::optional<lab::Error> problem_b = OpenProblem(options.run_b, path_b, in_b);
+  if (problem_a) fmt::print(err, "syrof compare: A: {}\n", problem_a->ToString());
+  if (problem_b) fmt::print(err, "syrof compare: B: {}\n", problem_b->ToString());
+  if (problem_a || problem_b) return kBadInput;
 
   const replay::ReplayComparison result = replay::CompareReplays(
       in_a, in_b, {.pose_tolerance_m = options.pose_tolerance_m, .compare_payloads = options.payloads});

@@ -48,6 +48,145 @@ void PrintViolations(std::ostream& out, const std::vector<search::Violation>& vi
   }
 }
 
+// The library's search options from the command's.
+search::SearchOptions SearchOptionsFor(const SearchOptions& options) {
+  search::SearchOptions search_options;
+  search_options.max_losses = std::max(options.max_losses, 0);
+  search_options.activations = !options.activations.empty();
+  if (options.max_inactive > 0) search_options.max_inactive = options.max_inactive;
+  search_options.fair_within = options.fair_within;
+  if (options.activations == "async") {
+    search_options.activation_model = sync::ActivationModel::kAsync;
+    if (options.max_deviations > 0) search_options.max_deviations = options.max_deviations;
+    search_options.max_delay_epochs = options.max_delay;
+    search_options.min_move_m = options.min_move_m;
+  }
+  search_options.epochs = options.epochs;
+  search_options.jobs = options.jobs;
+  search_options.time_limit_s = options.time_limit_s;
+  search_options.prune = !options.no_prune;
+  search_options.check_pruning = options.check_pruning;
+  return search_options;
+}
+
+// What a search's lines call what it chooses: a lost beacon, an inactive
+// robot-epoch or a deviating cycle, and a pattern or a schedule.
+struct Words {
+  const char* unit;
+  const char* units;
+  const char* tried;
+};
+
+Words WordsOf(bool async, bool activations) {
+  return {async ? "deviating cycle" : activations ? "inactive robot-epoch" : "lost beacon",
+          async ? "deviating cycles" : activations ? "inactive robot-epochs" : "losses",
+          activations ? "schedule" : "pattern"};
+}
+
+// The line that says what the search tries.
+void PrintPlan(std::ostream& out, const SearchOptions& options, const scenario::Scenario& scenario, bool async,
+               bool activations) {
+  // The bounds the ASYNC search runs under, as it resolves them.
+  const bool scenario_async = scenario.activation.model == sync::ActivationModel::kAsync;
+  const int max_delay = options.max_delay > 0 ? options.max_delay : scenario.activation.max_delay_epochs;
+  const double min_move_m = options.min_move_m.value_or(scenario_async ? scenario.activation.min_move_m : 0.0);
+  if (async) {
+    fmt::print(out,
+               "  ASYNC schedules of the first {} epoch{}: start delays up to {} epoch{}, moves up to {} epochs{}; "
+               "fewest deviating cycles (other than a one-epoch uncut move) and earliest first\n",
+               options.epochs, options.epochs == 1 ? "" : "s", max_delay, max_delay == 1 ? "" : "s", max_delay + 1,
+               min_move_m > 0 ? fmt::format(", cut once they covered {} m", min_move_m) : std::string(", rigid"));
+  } else if (activations) {
+    fmt::print(out, "  SSYNC schedules of the first {} epoch{}, fewest inactive robot-epochs and earliest first{}\n",
+               options.epochs, options.epochs == 1 ? "" : "s",
+               options.fair_within > 0 ? fmt::format("; no robot left out of {} epochs in a row", options.fair_within)
+                                       : std::string());
+  } else {
+    fmt::print(out, "  patterns of up to {} lost beacon{} in the first {} epoch{}, fewest and earliest first\n",
+               options.max_losses, options.max_losses == 1 ? "" : "s", options.epochs, options.epochs == 1 ? "" : "s");
+  }
+}
+
+// The window the loss-free run set, and how many patterns it holds.
+void PrintWindow(std::ostream& out, const SearchOptions& options, const search::SearchResult& result, bool async,
+                 bool activations) {
+  if (result.complete_losses < 0) return;
+  if (async) {
+    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the run with every robot active), {} robot-epochs; {} "
+                    "schedules{}\n",
+               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
+               result.patterns_in_all,
+               options.max_deviations > 0 ? fmt::format(" of at most {} deviating cycle{}", options.max_deviations,
+                                                        options.max_deviations == 1 ? "" : "s")
+                                          : std::string());
+  } else if (activations) {
+    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the run with every robot active), {} robot-epochs; {} "
+                    "schedules{}\n",
+               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
+               result.patterns_in_all, options.fair_within > 0 ? " before the fairness bound" : "");
+  } else {
+    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the loss-free run), {} beacon slots; {} patterns in all\n",
+               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
+               search::PatternCount(result.slots, options.max_losses));
+  }
+}
+
+// A search that found nothing: how far it went.
+void PrintNothingBroke(std::ostream& out, const SearchOptions& options, const search::SearchResult& result,
+                       const Words& words) {
+  const double rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
+  if (result.stopped_by_time) {
+    fmt::print(out, "no {} broke it before the time limit: {} run{} in {:.1f} s ({:.0f} a second); every "
+                    "{} of up to {} {}{} was tried\n",
+               words.tried, result.runs, result.runs == 1 ? "" : "s", result.seconds, rate, words.tried,
+               result.complete_losses, words.unit, result.complete_losses == 1 ? "" : "s");
+  } else {
+    fmt::print(out, "no {} broke it: {} {} run{} in {:.1f} s ({:.0f} a second)\n", words.tried,
+               result.runs == 1 ? "its" : "all", result.runs, result.runs == 1 ? "" : "s", result.seconds, rate);
+  }
+  fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the {} fell in the first {} epoch{}\n",
+             result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s", words.units, result.epochs_in_window,
+             result.epochs_in_window == 1 ? "" : "s");
+  if (result.not_schedules > 0) {
+    fmt::print(out, "  {} pattern{} left an epoch with no active robot{} and did not run\n", result.not_schedules,
+               result.not_schedules == 1 ? "" : "s", options.fair_within > 0 ? " or were unfair" : "");
+  }
+  PrintPruning(out, result);
+}
+
+// The BROKEN line: the pattern or schedule that broke the app.
+void PrintFound(std::ostream& out, const search::Counterexample& found, bool async, bool activations) {
+  if (activations && found.inactive.empty() && found.cycles.empty()) {
+    fmt::print(out, "BROKEN with every robot active (FSYNC)\n");
+  } else if (async) {
+    fmt::print(out,
+               "BROKEN by a schedule with {} deviating cycle{} ([look epoch, robot, start_delay, move_epochs(, "
+               "cut)]):",
+               found.cycles.size(), found.cycles.size() == 1 ? "" : "s");
+    for (const sync::ScriptedCycle& cycle : found.cycles) {
+      fmt::print(out, " [{}, {}, {}, {}{}]", cycle.epoch, cycle.robot, cycle.start_delay, cycle.move_epochs,
+                 cycle.cut ? ", 1" : "");
+    }
+    fmt::print(out, "\n");
+  } else if (activations) {
+    fmt::print(out, "BROKEN by a schedule leaving {} robot-epoch{} out ([epoch: robot]):", found.inactive.size(),
+               found.inactive.size() == 1 ? "" : "s");
+    for (const search::Inactivation& left_out : found.inactive) {
+      fmt::print(out, " [{}: {}]", left_out.epoch, left_out.robot);
+    }
+    fmt::print(out, "\n");
+  } else if (found.lost.empty()) {
+    fmt::print(out, "BROKEN without any lost beacon (the loss-free run)\n");
+  } else {
+    fmt::print(out, "BROKEN by {} lost beacon{} ([round, sender, receiver]):", found.lost.size(),
+               found.lost.size() == 1 ? "" : "s");
+    for (const lab::world::LostBeacon& beacon : found.lost) {
+      fmt::print(out, " [{}, {}, {}]", beacon.round, beacon.from, beacon.to);
+    }
+    fmt::print(out, "\n");
+  }
+}
+
 }  // namespace
 
 CLI::App* SetupSearchCommand(CLI::App& app, SearchOptions& options) {
@@ -158,22 +297,7 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     scenario.app.library = std::filesystem::absolute(scenario.app.library).lexically_normal().string();
     scenario.app.name = scenario.app.library;
   }
-  search::SearchOptions search_options;
-  search_options.max_losses = std::max(options.max_losses, 0);
-  search_options.activations = !options.activations.empty();
-  if (options.max_inactive > 0) search_options.max_inactive = options.max_inactive;
-  search_options.fair_within = options.fair_within;
-  if (async) {
-    search_options.activation_model = sync::ActivationModel::kAsync;
-    if (options.max_deviations > 0) search_options.max_deviations = options.max_deviations;
-    search_options.max_delay_epochs = options.max_delay;
-    search_options.min_move_m = options.min_move_m;
-  }
-  search_options.epochs = options.epochs;
-  search_options.jobs = options.jobs;
-  search_options.time_limit_s = options.time_limit_s;
-  search_options.prune = !options.no_prune;
-  search_options.check_pruning = options.check_pruning;
+  search::SearchOptions search_options = SearchOptionsFor(options);
   // A library is checked once before the search, as `syrof run` does, then
   // loaded once in a held host: each run's robots are copies of it (the
   // fork server, docs/app_host.md), not hosts started afresh.
@@ -206,30 +330,10 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   if (search_options.apps.sandbox) {
     for (const std::string& note : *search_options.apps.sandbox) fmt::print(out, "  sandbox: {}\n", note);
   }
-  const char* unit = async ? "deviating cycle" : search_options.activations ? "inactive robot-epoch" : "lost beacon";
-  const char* units = async ? "deviating cycles" : search_options.activations ? "inactive robot-epochs" : "losses";
-  const char* tried = search_options.activations ? "schedule" : "pattern";
-  // The bounds the ASYNC search runs under, as it resolves them.
-  const bool scenario_async = scenario.activation.model == sync::ActivationModel::kAsync;
-  const int max_delay = options.max_delay > 0 ? options.max_delay : scenario.activation.max_delay_epochs;
-  const double min_move_m = options.min_move_m.value_or(scenario_async ? scenario.activation.min_move_m : 0.0);
-  if (async) {
-    fmt::print(out,
-               "  ASYNC schedules of the first {} epoch{}: start delays up to {} epoch{}, moves up to {} epochs{}; "
-               "fewest deviating cycles (other than a one-epoch uncut move) and earliest first\n",
-               options.epochs, options.epochs == 1 ? "" : "s", max_delay, max_delay == 1 ? "" : "s", max_delay + 1,
-               min_move_m > 0 ? fmt::format(", cut once they covered {} m", min_move_m) : std::string(", rigid"));
-  } else if (search_options.activations) {
-    fmt::print(out, "  SSYNC schedules of the first {} epoch{}, fewest inactive robot-epochs and earliest first{}\n",
-               options.epochs, options.epochs == 1 ? "" : "s",
-               options.fair_within > 0 ? fmt::format("; no robot left out of {} epochs in a row", options.fair_within)
-                                       : std::string());
-  } else {
-    fmt::print(out, "  patterns of up to {} lost beacon{} in the first {} epoch{}, fewest and earliest first\n",
-               options.max_losses, options.max_losses == 1 ? "" : "s", options.epochs, options.epochs == 1 ? "" : "s");
-  }
+  const Words words = WordsOf(async, search_options.activations);
+  PrintPlan(out, options, scenario, async, search_options.activations);
   if (!options.quiet && err_is_terminal) {
-    search_options.progress = [&err, unit](int64_t runs, int losses) {
+    search_options.progress = [&err, unit = words.unit](int64_t runs, int losses) {
       fmt::print(err, "\r  {} runs, now {} {}{}   ", runs, losses, unit, losses == 1 ? "" : "s");
       err.flush();
     };
@@ -241,52 +345,18 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
     if (!dir_existed) std::filesystem::remove(dir, error);  // nothing written: only if still empty
     return 2;
   }
-  if (result.complete_losses >= 0 && async) {
-    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the run with every robot active), {} robot-epochs; {} "
-                    "schedules{}\n",
-               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
-               result.patterns_in_all,
-               options.max_deviations > 0 ? fmt::format(" of at most {} deviating cycle{}", options.max_deviations,
-                                                        options.max_deviations == 1 ? "" : "s")
-                                          : std::string());
-  } else if (result.complete_losses >= 0 && search_options.activations) {
-    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the run with every robot active), {} robot-epochs; {} "
-                    "schedules{}\n",
-               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
-               result.patterns_in_all, options.fair_within > 0 ? " before the fairness bound" : "");
-  } else if (result.complete_losses >= 0) {
-    fmt::print(out, "  window: {} radio rounds ({} epoch{} of the loss-free run), {} beacon slots; {} patterns in all\n",
-               result.window_rounds, result.epochs_in_window, result.epochs_in_window == 1 ? "" : "s", result.slots,
-               search::PatternCount(result.slots, options.max_losses));
-  }
-  const double rate = result.seconds > 0 ? static_cast<double>(result.runs) / result.seconds : 0.0;
+  PrintWindow(out, options, result, async, search_options.activations);
   if (!result.counterexample) {
-    if (result.stopped_by_time) {
-      fmt::print(out, "no {} broke it before the time limit: {} run{} in {:.1f} s ({:.0f} a second); every "
-                      "{} of up to {} {}{} was tried\n",
-                 tried, result.runs, result.runs == 1 ? "" : "s", result.seconds, rate, tried, result.complete_losses, unit,
-                 result.complete_losses == 1 ? "" : "s");
-    } else {
-      fmt::print(out, "no {} broke it: {} {} run{} in {:.1f} s ({:.0f} a second)\n", tried,
-                 result.runs == 1 ? "its" : "all", result.runs, result.runs == 1 ? "" : "s", result.seconds, rate);
-    }
-    fmt::print(out, "  {} distinct outcome{} (runs whose metrics differ); the {} fell in the first {} epoch{}\n",
-               result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s", units, result.epochs_in_window,
-               result.epochs_in_window == 1 ? "" : "s");
-    if (result.not_schedules > 0) {
-      fmt::print(out, "  {} pattern{} left an epoch with no active robot{} and did not run\n", result.not_schedules,
-                 result.not_schedules == 1 ? "" : "s", options.fair_within > 0 ? " or were unfair" : "");
-    }
-    PrintPruning(out, result);
+    PrintNothingBroke(out, options, result, words);
     return result.pruning_mismatches > 0 ? 1 : 0;
   }
 
   const search::Counterexample& found = *result.counterexample;
   const std::filesystem::path yaml_path = dir / "counterexample.yaml";
   const search::CounterexampleSource source{scenario_file, options.app, options.duration_s};
-  if (std::string problem = search::WriteCounterexample(dir.string(), scenario, source, found, search_options);
-      !problem.empty()) {
-    fmt::print(err, "syrof search: {}\n", problem);
+  if (const std::optional<lab::Error> problem =
+          search::WriteCounterexample(dir.string(), scenario, source, found, search_options)) {
+    fmt::print(err, "syrof search: {}\n", problem->ToString());
     for (const search::Violation& violation : found.violations) {
       fmt::print(err, "  the pattern's own run broke {}: {}\n", violation.property, violation.detail);
     }
@@ -304,39 +374,11 @@ int RunSearchCommand(const SearchOptions& options, std::ostream& out, std::ostre
   const std::optional<lab::Error> page_problem =
       WritePage((dir / "replay").string(), (dir / "replay.html").string(), page_options);
 
-  if (search_options.activations && found.inactive.empty() && found.cycles.empty()) {
-    fmt::print(out, "BROKEN with every robot active (FSYNC)\n");
-  } else if (async) {
-    fmt::print(out,
-               "BROKEN by a schedule with {} deviating cycle{} ([look epoch, robot, start_delay, move_epochs(, "
-               "cut)]):",
-               found.cycles.size(), found.cycles.size() == 1 ? "" : "s");
-    for (const sync::ScriptedCycle& cycle : found.cycles) {
-      fmt::print(out, " [{}, {}, {}, {}{}]", cycle.epoch, cycle.robot, cycle.start_delay, cycle.move_epochs,
-                 cycle.cut ? ", 1" : "");
-    }
-    fmt::print(out, "\n");
-  } else if (search_options.activations) {
-    fmt::print(out, "BROKEN by a schedule leaving {} robot-epoch{} out ([epoch: robot]):", found.inactive.size(),
-               found.inactive.size() == 1 ? "" : "s");
-    for (const search::Inactivation& left_out : found.inactive) {
-      fmt::print(out, " [{}: {}]", left_out.epoch, left_out.robot);
-    }
-    fmt::print(out, "\n");
-  } else if (found.lost.empty()) {
-    fmt::print(out, "BROKEN without any lost beacon (the loss-free run)\n");
-  } else {
-    fmt::print(out, "BROKEN by {} lost beacon{} ([round, sender, receiver]):", found.lost.size(),
-               found.lost.size() == 1 ? "" : "s");
-    for (const lab::world::LostBeacon& beacon : found.lost) {
-      fmt::print(out, " [{}, {}, {}]", beacon.round, beacon.from, beacon.to);
-    }
-    fmt::print(out, "\n");
-  }
+  PrintFound(out, found, async, search_options.activations);
   PrintViolations(out, found.violations);
   fmt::print(out, "  after {} run{} ({} distinct outcome{}) in {:.1f} s; every {} of fewer {} passed\n", result.runs,
              result.runs == 1 ? "" : "s", result.distinct_outcomes, result.distinct_outcomes == 1 ? "" : "s",
-             result.seconds, tried, units);
+             result.seconds, words.tried, words.units);
   PrintPruning(out, result);
   fmt::print(out, "  written: {} (with replay, metrics.json{})\n", yaml_path.string(),
              page_problem ? "" : ", replay.html");

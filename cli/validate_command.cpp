@@ -33,8 +33,8 @@ int RunValidateCommand(const ValidateOptions& options, std::ostream& out, std::o
     app_host::HostOptions host;
     host.library_path = s.app.library;
     const app_host::LibraryCheck check = app_host::CheckLibrary(host);
-    if (!check.ok) {
-      fmt::print(err, "syrof validate: {}\n", check.error);
+    if (!check.ok()) {
+      fmt::print(err, "syrof validate: {}\n", check.error->ToString());
       return 2;
     }
     library_line = fmt::format("  library {} (app '{}'): entry symbol and ABI version {} check out\n",

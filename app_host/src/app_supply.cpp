@@ -74,8 +74,8 @@ AppsResult LibraryApps(const scenario::Scenario& scenario, const std::vector<std
     result.hosts.push_back(HostFor(scenario, library, limits, request.log_directory));
     if (!request.check_first) continue;
     const LibraryCheck check = CheckLibrary(result.hosts.back());
-    if (!check.ok) {
-      result.error = Problem(check.error);  // it names the file
+    if (!check.ok()) {
+      result.error = check.error;  // it names the file
       return result;
     }
   }

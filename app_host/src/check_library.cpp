@@ -70,15 +70,13 @@ std::string FindHostBinary() {
 LibraryCheck CheckLibrary(const HostOptions& options) {
   LibraryCheck check;
   const std::string& path = options.library_path;
+  auto refuse = [&](std::string message) {
+    check.error = lab::Error{.where = path.empty() ? std::string("(no library)") : path, .message = std::move(message)};
+    return check;
+  };
   struct stat info {};
-  if (path.empty() || stat(path.c_str(), &info) != 0) {
-    check.error = (path.empty() ? std::string("(no library)") : path) + ": not found";
-    return check;
-  }
-  if (!S_ISREG(info.st_mode)) {
-    check.error = path + ": not a file";
-    return check;
-  }
+  if (path.empty() || stat(path.c_str(), &info) != 0) return refuse("not found");
+  if (!S_ISREG(info.st_mode)) return refuse("not a file");
   HostOptions quiet = options;
   quiet.log_directory.clear();
   HostProcess process;
@@ -90,10 +88,8 @@ LibraryCheck CheckLibrary(const HostOptions& options) {
     } else if (status.verdict() != app::Verdict::kLoadFailed && status.verdict() != app::Verdict::kBadAbi) {
       detail = std::string(app::ToString(status.verdict())) + ": " + detail;
     }
-    check.error = path + ": " + detail;
-    return check;
+    return refuse(std::move(detail));
   }
-  check.ok = true;
   check.app_name = process.app_name();
   const std::lock_guard<std::mutex> lock(notes_mutex);
   sandbox_notes = NoteLines(process.notes());

@@ -354,9 +354,10 @@ bool AllowSharedObjectsBeside(syrof::process::FileRuleset& rules, const char* li
 // folders with the loader's cache. Nothing may be written, nor any other
 // file read (docs/app_host.md, "What a library may touch"). Built while the
 // host is still the caller's uid (it may have to reach a folder only the
-// caller reads); applied after the uid drop. False (and `error`) when a
-// rule is refused; `rules.created()` false when Landlock is missing.
-bool LoaderFileRules(syrof::process::FileRuleset& rules, const char* library, std::string& error) {
+// caller reads); applied after the uid drop. False when a rule is refused
+// (`rules.error()` says which); `rules.created()` false when Landlock is
+// missing.
+bool LoaderFileRules(syrof::process::FileRuleset& rules, const char* library) {
   using Access = syrof::process::FileRuleset::Access;
   if (!rules.Create()) return true;
   std::string own_library;
@@ -370,7 +371,6 @@ bool LoaderFileRules(syrof::process::FileRuleset& rules, const char* library, st
                              "/usr/libx32", "/usr/local/lib", "/etc/ld.so.cache"}) {
     ok = ok && rules.Allow(system, Access::kReadExecute);
   }
-  if (!ok) error = rules.error();
   return ok;
 }
 
@@ -765,8 +765,8 @@ int main(int argc, char** argv) {
   const int library_fd = open(library, O_RDONLY | O_CLOEXEC);
   if (library_fd < 0) Fail(syrof::app::Verdict::kLoadFailed, "cannot open the library: ", strerror(errno));
   syrof::process::FileRuleset file_rules;
-  if (std::string error; !LoaderFileRules(file_rules, library, error)) {
-    Fail(syrof::app::Verdict::kLoadFailed, "cannot confine the loader: ", error.c_str());
+  if (!LoaderFileRules(file_rules, library)) {
+    Fail(syrof::app::Verdict::kLoadFailed, "cannot confine the loader: ", file_rules.error().c_str());
   }
   if (!file_rules.created()) notes |= p::kNoteNoLandlock;
   // A held host's copies inherit its loader filter, which cannot name their

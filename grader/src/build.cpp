@@ -706,10 +706,10 @@ std::variant<std::string, Stop> TakeAppLibrary(const fs::path& build, const fs::
     app_host::HostOptions host;
     host.library_path = candidate;
     const app_host::LibraryCheck check = app_host::CheckLibrary(host);
-    if (check.ok) {
+    if (check.ok()) {
       apps.push_back(candidate);
     } else if (first_error.empty()) {
-      first_error = check.error;
+      first_error = check.error->ToString();
     }
   }
   if (apps.empty()) {

@@ -19,10 +19,10 @@ class CheckingPlatform final : public app::Platform {
   }
 
   syrof_app_status SendMessageData(std::span<const uint8_t> payload) override {
-    const std::string problem = lab::message::CheckPayload(format_, payload.size());
-    if (!problem.empty() && violations_.count++ == 0) {
+    const std::optional<lab::Error> problem = lab::message::CheckPayload(format_, payload.size());
+    if (problem && violations_.count++ == 0) {
       violations_.first = std::string("in ") + app::ToString(callback_) + " of epoch " + std::to_string(epoch_) +
-                          ": " + problem;
+                          ": " + problem->message;
     }
     return platform_->SendMessageData(payload);
   }

@@ -157,11 +157,11 @@ void RunSearchTest(const assignment::SearchTestSpec& spec, const std::string& li
     std::error_code error;
     fs::create_directories(dir, error);
     const lab::search::CounterexampleSource source{spec.path, library, std::nullopt};
-    if (std::string problem = lab::search::WriteCounterexample(dir.string(), scenario, source, found, options);
-        problem.empty()) {
-      test.replay_path = test.output_dir + "/replay";
+    if (const std::optional<lab::Error> problem =
+            lab::search::WriteCounterexample(dir.string(), scenario, source, found, options)) {
+      score.reason += " (the counterexample could not be written: " + problem->ToString() + ")";
     } else {
-      score.reason += " (the counterexample could not be written: " + problem + ")";
+      test.replay_path = test.output_dir + "/replay";
     }
   }
   test.score.criteria.push_back(score);

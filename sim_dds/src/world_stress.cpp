@@ -29,8 +29,8 @@ std::optional<StressFailure> WorldStress::OpenQuota() {
 
 std::optional<StressFailure> WorldStress::Start(int64_t duration_ns, int64_t start_monotonic_ns, std::ostream& log) {
   if (!options_.on()) return std::nullopt;
-  if (const std::string why = lab::sim::CheckStressOptions(options_); !why.empty()) {
-    return StressFailure{2, "stress: " + why};
+  if (const std::optional<lab::Error> why = lab::sim::CheckStressOptions(options_)) {
+    return StressFailure{2, why->ToString()};
   }
   seed_ = options_.seed;
   stalls_plan_ = lab::sim::PlanStalls(options_, duration_ns, static_cast<uint16_t>(stalled_until_.size()));

@@ -553,7 +553,7 @@ TEST_P(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
   const std::filesystem::path& folder = copied.folder;
   options_.library_path = (folder / "libneeds_sibling.so").string();
   const LibraryCheck check = CheckLibrary(options_);
-  ASSERT_TRUE(check.ok) << check.error;
+  ASSERT_TRUE(check.ok()) << check.error.value_or(lab::Error{}).ToString();
   std::unique_ptr<app::App> app = MakeApp(options_, 0);
   uint8_t state = 0;
   const app::CallStatus init = app->Init(info_, platform_, state);
@@ -566,7 +566,7 @@ TEST_P(HostedAppTest, ALibraryBesideItsOwnSharedLibraryLoads) {
 TEST_P(HostedAppTest, TheHostRunsHardened) {
   options_.library_path = Library("cooperative");
   const LibraryCheck check = CheckLibrary(options_);
-  ASSERT_TRUE(check.ok) << check.error;
+  ASSERT_TRUE(check.ok()) << check.error.value_or(lab::Error{}).ToString();
   std::string notes;
   for (const std::string& note : SandboxNotes()) notes += note + "\n";
   std::unique_ptr<app::App> app = MakeApp(options_, 0);
@@ -678,7 +678,7 @@ TEST_P(HostedAppTest, ANameIsPassedOnAsPrintableText) {
   const LibraryCheck check = CheckLibrary(options_);
   std::unique_ptr<app::App> app = MakeApp(options_, 1);
 
-  EXPECT_TRUE(check.ok) << check.error;
+  EXPECT_TRUE(check.ok()) << check.error.value_or(lab::Error{}).ToString();
   EXPECT_EQ(check.app_name, "red?[31m?");
   EXPECT_STREQ(app->name(), "red?[31m?");
 }
@@ -689,16 +689,16 @@ TEST_P(HostedAppTest, CheckLibraryNamesTheFileAndTheProblem) {
     return CheckLibrary(options_);
   };
   const LibraryCheck good = check(Library("cooperative"));
-  EXPECT_TRUE(good.ok) << good.error;
+  EXPECT_TRUE(good.ok()) << good.error.value_or(lab::Error{}).ToString();
   EXPECT_EQ(good.app_name, "cooperative");
-  EXPECT_EQ(check(Library("missing_entry")).error, Library("missing_entry") + ": no symbol syrof_app_entry");
-  EXPECT_EQ(check(Library("wrong_abi")).error, Library("wrong_abi") + ": built for app ABI 2, this SyROF has 1");
-  EXPECT_EQ(check("/nonexistent/libfoo.so").error, "/nonexistent/libfoo.so: not found");
-  const std::string undefined = check(Library("undefined_symbol")).error;
+  EXPECT_EQ(check(Library("missing_entry")).error.value_or(lab::Error{}).ToString(), Library("missing_entry") + ": no symbol syrof_app_entry");
+  EXPECT_EQ(check(Library("wrong_abi")).error.value_or(lab::Error{}).ToString(), Library("wrong_abi") + ": built for app ABI 2, this SyROF has 1");
+  EXPECT_EQ(check("/nonexistent/libfoo.so").error.value_or(lab::Error{}).ToString(), "/nonexistent/libfoo.so: not found");
+  const std::string undefined = check(Library("undefined_symbol")).error.value_or(lab::Error{}).ToString();
   EXPECT_EQ(undefined, Library("undefined_symbol") + ": cannot load: undefined symbol: syrof_no_such_function");
   EXPECT_NE(undefined.find("syrof_no_such_function"), std::string::npos) << undefined;
   EXPECT_EQ(undefined.find("/proc/self/fd"), std::string::npos) << undefined;
-  EXPECT_EQ(check(Library("crashing_constructor")).error,
+  EXPECT_EQ(check(Library("crashing_constructor")).error.value_or(lab::Error{}).ToString(),
             Library("crashing_constructor") + ": crashed while loading (SIGSEGV)");
 }
 

@@ -28,11 +28,14 @@ std::string MessageFormat::ToString() const {
   return text;
 }
 
-std::string CheckPayload(const MessageFormat& format, size_t payload_length) {
-  if (payload_length == 0) return {};
-  if (format.none) return std::to_string(payload_length) + " bytes, but the format is none (send nothing)";
-  if (payload_length == format.length) return {};
-  return std::to_string(payload_length) + " bytes, but the format has " + std::to_string(format.length);
+std::optional<Error> CheckPayload(const MessageFormat& format, size_t payload_length) {
+  if (payload_length == 0 || (!format.none && payload_length == format.length)) return std::nullopt;
+  if (format.none) {
+    return Error{.where = "payload",
+                 .message = std::to_string(payload_length) + " bytes, but the format is none (send nothing)"};
+  }
+  return Error{.where = "payload",
+               .message = std::to_string(payload_length) + " bytes, but the format has " + std::to_string(format.length)};
 }
 
 namespace {
@@ -69,7 +72,7 @@ bool IsFieldName(std::string_view name) {
 
 std::vector<FieldValue> DecodePayload(const MessageFormat& format, std::span<const uint8_t> payload) {
   std::vector<FieldValue> values;
-  if (payload.empty() || !CheckPayload(format, payload.size()).empty()) return values;
+  if (payload.empty() || CheckPayload(format, payload.size())) return values;
   for (const MessageField& field : format.fields) {
     values.push_back({field.name, DecodeField(field.type, payload.subspan(field.offset, FieldBytes(field.type)))});
   }

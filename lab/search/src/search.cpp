@@ -589,24 +589,27 @@ std::string CounterexampleText(const scenario::Scenario& resolved, const Counter
 
 }  // namespace
 
-std::string WriteCounterexample(const std::string& dir, const scenario::Scenario& resolved,
-                                const CounterexampleSource& source, const Counterexample& found,
-                                const SearchOptions& options) {
+std::optional<Error> WriteCounterexample(const std::string& dir, const scenario::Scenario& resolved,
+                                         const CounterexampleSource& source, const Counterexample& found,
+                                         const SearchOptions& options) {
   const std::filesystem::path folder(dir);
   const std::string yaml_path = (folder / "counterexample.yaml").string();
+  auto failed = [&](std::string where, std::string message) {
+    return Error{.where = std::move(where), .message = std::move(message)};
+  };
   std::string text;
   try {
     text = CounterexampleText(resolved, source, found, options.activations);
   } catch (const std::exception& error) {
-    return fmt::format("cannot write {}: reading {} again failed: {}", yaml_path, source.scenario_path, error.what());
+    return failed(yaml_path, fmt::format("not written: reading {} again failed: {}", source.scenario_path, error.what()));
   }
   {
     std::ofstream file(yaml_path, std::ios::binary | std::ios::trunc);
     file << text;
-    if (!file) return fmt::format("cannot write {}", yaml_path);
+    if (!file) return failed(yaml_path, "cannot be written");
   }
   const scenario::LoadResult again = scenario::LoadScenarioFile(yaml_path);
-  if (!again.ok()) return fmt::format("internal error: {} does not load: {}", yaml_path, again.error->ToString());
+  if (!again.ok()) return failed(yaml_path, "internal error: it does not load: " + again.error->ToString());
   std::ofstream replay_file(folder / "replay", std::ios::binary | std::ios::trunc);
   sim::SimulationOptions sim_options;
   sim_options.replay = &replay_file;
@@ -615,11 +618,11 @@ std::string WriteCounterexample(const std::string& dir, const scenario::Scenario
   replay_file.close();
   std::ofstream metrics_file(folder / "metrics.json", std::ios::binary | std::ios::trunc);
   metrics_file << rerun.metrics_json;
-  if (!replay_file || !metrics_file) return fmt::format("cannot write the replay and metrics.json in {}", dir);
+  if (!replay_file || !metrics_file) return failed(dir, "cannot write the replay and metrics.json here");
   if (rerun.metrics_json != metrics::ToJson(found.metrics)) {
-    return fmt::format("internal error: {} ran differently from the pattern it was written for", yaml_path);
+    return failed(yaml_path, "internal error: it ran differently from the pattern it was written for");
   }
-  return {};
+  return std::nullopt;
 }
 
 std::vector<Violation> ViolationsOf(const metrics::Metrics& m, bool goal_declared) {

@@ -14,28 +14,29 @@
 
 namespace syrof::lab::sim {
 
-std::string CheckStressOptions(const StressOptions& options) {
+std::optional<Error> CheckStressOptions(const StressOptions& options) {
+  auto refuse = [](std::string message) { return Error{.where = "stress", .message = std::move(message)}; };
   if (options.min_stall_ms < 1 || options.max_stall_ms > 10'000 || options.min_stall_ms > options.max_stall_ms) {
-    return "stall lengths must be 1 .. 10000 ms with min <= max (got " + std::to_string(options.min_stall_ms) +
-           " .. " + std::to_string(options.max_stall_ms) + ")";
+    return refuse("stall lengths must be 1 .. 10000 ms with min <= max (got " + std::to_string(options.min_stall_ms) +
+                  " .. " + std::to_string(options.max_stall_ms) + ")");
   }
   if (!(options.stalls_per_second >= 0) || options.stalls_per_second > 100) {
-    return "stalls per second must be 0 .. 100";
+    return refuse("stalls per second must be 0 .. 100");
   }
-  if (options.cpu_quota_permille > 1000) return "the CPU quota is at most 1000 per mille of one core";
+  if (options.cpu_quota_permille > 1000) return refuse("the CPU quota is at most 1000 per mille of one core");
   if (!(options.delayed_fraction >= 0 && options.delayed_fraction <= 1)) {
-    return "the fraction of samples delayed must be 0 .. 1";
+    return refuse("the fraction of samples delayed must be 0 .. 1");
   }
   if (options.min_delay_ms < 1 || options.max_delay_ms > 10'000 || options.min_delay_ms > options.max_delay_ms) {
-    return "sample delays must be 1 .. 10000 ms with min <= max (got " + std::to_string(options.min_delay_ms) +
-           " .. " + std::to_string(options.max_delay_ms) + ")";
+    return refuse("sample delays must be 1 .. 10000 ms with min <= max (got " + std::to_string(options.min_delay_ms) +
+                  " .. " + std::to_string(options.max_delay_ms) + ")");
   }
-  return {};
+  return std::nullopt;
 }
 
 std::vector<Stall> PlanStalls(const StressOptions& options, int64_t duration_ns, uint16_t robots) {
   std::vector<Stall> stalls;
-  if (!options.on() || duration_ns <= 0 || robots == 0 || !CheckStressOptions(options).empty()) return stalls;
+  if (!options.on() || duration_ns <= 0 || robots == 0 || CheckStressOptions(options)) return stalls;
   base::SplitMix64 random(base::SplitMix64Hash(options.seed));
   const double seconds = static_cast<double>(duration_ns) * 1e-9;
   const auto count = static_cast<size_t>(std::llround(options.stalls_per_second * seconds));
@@ -56,7 +57,7 @@ std::vector<Stall> PlanStalls(const StressOptions& options, int64_t duration_ns,
 
 int64_t SampleDelayNs(const StressOptions& options, DelayedStream stream, uint16_t sender, uint16_t receiver,
                       int64_t stamp) {
-  if (!options.on() || options.delayed_fraction <= 0 || !CheckStressOptions(options).empty()) return 0;
+  if (!options.on() || options.delayed_fraction <= 0 || CheckStressOptions(options)) return 0;
   // One hash per sample, its key folded in one field at a time; the seed's
   // own hash keeps the stalls' draws (SplitMix64 from the same seed) apart.
   uint64_t h = base::SplitMix64Hash(base::SplitMix64Hash(options.seed) ^ 0x5D1A7ED5A3D1E5ull);

@@ -23,17 +23,17 @@ MessageFormat Fields(std::vector<std::pair<std::string, FieldType>> fields) {
 
 TEST(MessageFormatTest, NoneAcceptsOnlyTheEmptyPayload) {
   const MessageFormat none;
-  EXPECT_EQ(CheckPayload(none, 0), "");
-  EXPECT_EQ(CheckPayload(none, 1), "1 bytes, but the format is none (send nothing)");
+  EXPECT_FALSE(CheckPayload(none, 0).has_value());
+  EXPECT_EQ(CheckPayload(none, 1).value_or(Error{}).message, "1 bytes, but the format is none (send nothing)");
   EXPECT_TRUE(DecodePayload(none, std::vector<uint8_t>{}).empty());
 }
 
 TEST(MessageFormatTest, AFixedFormatAcceptsItsLengthOrNothing) {
   const MessageFormat charge = Fields({{"charge", FieldType::kU16Be}});
-  EXPECT_EQ(CheckPayload(charge, 0), "");
-  EXPECT_EQ(CheckPayload(charge, 2), "");
-  EXPECT_EQ(CheckPayload(charge, 1), "1 bytes, but the format has 2");
-  EXPECT_EQ(CheckPayload(charge, 10), "10 bytes, but the format has 2");  // a refused sendMessageData
+  EXPECT_FALSE(CheckPayload(charge, 0).has_value());
+  EXPECT_FALSE(CheckPayload(charge, 2).has_value());
+  EXPECT_EQ(CheckPayload(charge, 1).value_or(Error{}).message, "1 bytes, but the format has 2");
+  EXPECT_EQ(CheckPayload(charge, 10).value_or(Error{}).message, "10 bytes, but the format has 2");  // a refused sendMessageData
 }
 
 TEST(MessageFormatTest, TheReadmeExampleDecodes) {

@@ -50,15 +50,17 @@ TEST(StressPlanTest, TheWorldIsLeftAloneWhenAskedAndNothingIsPlannedWithoutASeed
 
 TEST(StressPlanTest, BadOptionsAreNamed) {
   StressOptions options;
-  EXPECT_EQ(CheckStressOptions(options), "");
+  EXPECT_FALSE(CheckStressOptions(options).has_value());
   options.min_stall_ms = 300;
-  EXPECT_NE(CheckStressOptions(options).find("min <= max"), std::string::npos);
+  ASSERT_TRUE(CheckStressOptions(options).has_value());
+  EXPECT_NE(CheckStressOptions(options)->message.find("min <= max"), std::string::npos);
   options = StressOptions{};
   options.stalls_per_second = -1;
-  EXPECT_NE(CheckStressOptions(options), "");
+  EXPECT_TRUE(CheckStressOptions(options).has_value());
   options = StressOptions{};
   options.cpu_quota_permille = 1001;
-  EXPECT_NE(CheckStressOptions(options).find("quota"), std::string::npos);
+  ASSERT_TRUE(CheckStressOptions(options).has_value());
+  EXPECT_NE(CheckStressOptions(options)->message.find("quota"), std::string::npos);
   options.seed = 1;
   EXPECT_TRUE(PlanStalls(options, kNineSeconds, 4).empty());  // refused options plan nothing
 }
@@ -109,11 +111,13 @@ TEST(SampleDelayTest, NothingIsLateWithoutASeedAFractionOrWithRefusedOptions) {
   EXPECT_EQ(SampleDelayNs(options, DelayedStream::kUwb, kFromWorld, 0, 123), 0);
   options.delayed_fraction = 1;
   options.min_delay_ms = 500;  // above max_delay_ms
-  EXPECT_NE(CheckStressOptions(options).find("sample delays"), std::string::npos);
+  ASSERT_TRUE(CheckStressOptions(options).has_value());
+  EXPECT_NE(CheckStressOptions(options)->message.find("sample delays"), std::string::npos);
   EXPECT_EQ(SampleDelayNs(options, DelayedStream::kUwb, kFromWorld, 0, 123), 0);
   options = StressOptions{};
   options.delayed_fraction = 1.5;
-  EXPECT_NE(CheckStressOptions(options).find("fraction"), std::string::npos);
+  ASSERT_TRUE(CheckStressOptions(options).has_value());
+  EXPECT_NE(CheckStressOptions(options)->message.find("fraction"), std::string::npos);
 }
 
 }  // namespace

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "syrof/app/app.h"
+#include "syrof/lab/base/error.h"
 
 namespace syrof::app_host {
 
@@ -74,10 +75,12 @@ std::string FindHostBinary();
 
 /// The outcome of checking a library before a run.
 struct LibraryCheck {
-  bool ok = false;
   std::string app_name;  ///< the descriptor's name, when ok
-  std::string error;     ///< when not ok: what is wrong, naming the file (missing, no syrof_app_entry,
-                         ///< ABI version N where the platform has M, failed to load: dlerror's text)
+  /// When not ok: what is wrong, where the file (missing, no
+  /// syrof_app_entry, ABI version N where the platform has M, failed to
+  /// load: dlerror's text).
+  std::optional<lab::Error> error;
+  bool ok() const { return !error.has_value(); }
 };
 
 /// Starts one sandboxed host for `options.library_path`, loads the library,

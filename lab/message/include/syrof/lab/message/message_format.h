@@ -14,10 +14,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <iterator>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "syrof/lab/base/error.h"
 
 namespace syrof::lab::message {
 
@@ -58,11 +61,12 @@ struct MessageFormat {
   bool operator==(const MessageFormat& other) const = default;
 };
 
-/// Why `payload` breaks `format` ("10 bytes, but the format has 2"), or ""
-/// when it fits: empty, or exactly format.length bytes of a non-`none`
-/// format. `payload` may be longer than a beacon holds (a refused
-/// sendMessageData is checked too).
-std::string CheckPayload(const MessageFormat& format, size_t payload_length);
+/// Why a payload of `payload_length` bytes breaks `format` (where "payload",
+/// message "10 bytes, but the format has 2"), or nothing when it fits:
+/// empty, or exactly format.length bytes of a non-`none` format. The length
+/// may be more than a beacon holds (a refused sendMessageData is checked
+/// too).
+std::optional<Error> CheckPayload(const MessageFormat& format, size_t payload_length);
 
 /// One decoded field of a payload.
 struct FieldValue {

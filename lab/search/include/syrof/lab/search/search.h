@@ -72,6 +72,7 @@
 
 #include "syrof/app/app.h"
 #include "syrof/lab/apps/app_supply.h"
+#include "syrof/lab/base/error.h"
 #include "syrof/lab/metrics/metrics.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/world/channel.h"
@@ -269,11 +270,12 @@ struct CounterexampleSource {
 /// in, and a library's path made absolute, so it runs from any folder. Then
 /// runs that file (with `options`' app) into `dir`/replay and
 /// `dir`/metrics.json, so the outputs are what `syrof run` of it gives.
-/// Returns what went wrong, or "" (a rerun whose metrics differ from
-/// `found`'s is an error: the file would not reproduce the pattern).
-std::string WriteCounterexample(const std::string& dir, const scenario::Scenario& resolved,
-                                const CounterexampleSource& source, const Counterexample& found,
-                                const SearchOptions& options);
+/// Returns what went wrong (where: the file or folder), or nothing (a rerun
+/// whose metrics differ from `found`'s is an error: the file would not
+/// reproduce the pattern).
+std::optional<Error> WriteCounterexample(const std::string& dir, const scenario::Scenario& resolved,
+                                         const CounterexampleSource& source, const Counterexample& found,
+                                         const SearchOptions& options);
 
 /// How many patterns of 0 .. `losses` losses `slots` slots give, capped at
 /// INT64_MAX.

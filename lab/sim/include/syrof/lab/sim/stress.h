@@ -20,8 +20,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "syrof/lab/base/error.h"
 
 namespace syrof::lab::sim {
 
@@ -78,10 +81,11 @@ inline constexpr uint16_t kFromWorld = 0xFFFF;
 int64_t SampleDelayNs(const StressOptions& options, DelayedStream stream, uint16_t sender, uint16_t receiver,
                       int64_t stamp);
 
-/// What is wrong with the options, or empty: stall or delay lengths outside
-/// 1 .. 10,000 ms or min above max, a negative rate or above 100 a second,
-/// a quota above 1000 per mille, a delayed fraction outside 0 .. 1.
-std::string CheckStressOptions(const StressOptions& options);
+/// What is wrong with the options (where "stress"), or nothing: stall or
+/// delay lengths outside 1 .. 10,000 ms or min above max, a negative rate
+/// or above 100 a second, a quota above 1000 per mille, a delayed fraction
+/// outside 0 .. 1.
+std::optional<Error> CheckStressOptions(const StressOptions& options);
 
 /// A cgroup the robots' processes join, with a CPU quota (cgroup v1's cpu
 /// controller when it is mounted and writable, else v2's cpu.max).
