@@ -44,7 +44,7 @@ class DdsLinks final : public lab::sim::RemoteLinks {
   /// The Drive_ samples taken since the last call, robot by robot: each
   /// one of this run from the robot its topic is for, of a known kind.
   void TakeDrives(const std::function<void(uint16_t, const motion::DriveCommand&)>& apply) override;
-  lab::sensors::ReadingSink& Readings(uint16_t id) override { return *robots_[id].sink; }
+  lab::sensors::ReadingSink* Readings(uint16_t id) override { return robots_[id].sink.get(); }
 
   /// Drive_ samples of another run on the domain (the same robot id).
   int64_t drives_other_runs() const { return drives_other_runs_; }

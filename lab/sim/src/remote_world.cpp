@@ -8,8 +8,10 @@
 
 namespace syrof::lab::sim {
 
-RemoteWorld::RemoteWorld(const scenario::Scenario& scenario, const metrics::CollectorConfig& config)
+RemoteWorld::RemoteWorld(const scenario::Scenario& scenario, const metrics::CollectorConfig& config,
+                         RemoteRules rules)
     : size_(static_cast<uint16_t>(scenario.robots.size())),
+      rules_(rules),
       world_(scenario.arena, Bodies(scenario), scenario.seed),
       recorder_(scenario, config),
       player_(scenario, world_, recorder_.collector()),
@@ -33,14 +35,17 @@ EventStamp RemoteWorld::Stamp(uint16_t id) const {
 void RemoteWorld::StepInstant(const Instant& instant, RobotRuntime& runtime, RemoteLinks& links) {
   player_.PlayFaults(instant.faults_ns, runtime);
   links.TakeDrives([this](uint16_t id, const motion::DriveCommand& command) {
-    if (id < size_ && player_.running(id)) world_.SetDrive(id, command);
+    if (id >= size_) return;
+    if (rules_.drives == RemoteRules::Drives::kEveryRobot || player_.running(id)) world_.SetDrive(id, command);
   });
   world_.Step(instant.now_ns, instant.step_s);
   player_.TakeContacts(runtime);
   for (uint16_t id = 0; id < size_; ++id) {
-    if (player_.running(id)) banks_[id]->Sample(instant.now_ns, world_.true_state(id), links.Readings(id));
+    if (!player_.running(id)) continue;
+    sensors::ReadingSink* sink = links.Readings(id);
+    if (sink != nullptr) banks_[id]->Sample(instant.now_ns, world_.true_state(id), *sink);
   }
-  KeepBoundaryTruths(instant.now_ns, instant.round);
+  if (rules_.boundary_truths) KeepBoundaryTruths(instant.now_ns, instant.round);
 }
 
 void RemoteWorld::KeepBoundaryTruths(int64_t now_ns, int64_t round) {
@@ -67,6 +72,13 @@ void RemoteWorld::RecordRound(int64_t round, int64_t time_ns_without_truth, Remo
   BuildFrames(truth, round_time_ns);
   std::vector<replay::Event>& events = read.events;
   if (truth != nullptr) events.insert(events.begin(), truth->events.begin(), truth->events.end());
+  if (!rules_.boundary_truths) {
+    // The world now stands for the boundary: its events up to now belong to
+    // the round, none later than the round's time.
+    const std::vector<replay::Event> world_events = player_.TakeEvents();
+    events.insert(events.begin(), world_events.begin(), world_events.end());
+    for (replay::Event& event : events) event.time_ns = std::min(event.time_ns, round_time_ns);
+  }
   OrderByTime(events);
   // The running robots' true positions, for the goal checks: at the recorded boundary, or now.
   auto running_poses = [&] {
@@ -88,7 +100,7 @@ void RemoteWorld::BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns)
     metrics::RobotRound& rr = robot_rounds_[id];
     rr = metrics::RobotRound{};
     rr.id = id;
-    rr.running = presence == replay::Presence::kRunning && !player_.app_faulted(id);
+    rr.running = presence == replay::Presence::kRunning && !player_.app_faulted(id) && last.reporting;
     rr.sync_member = last.reported && last.status == 0;
     rr.member = rr.running && rr.sync_member;
     rr.paused = presence == replay::Presence::kPaused;
@@ -103,6 +115,8 @@ void RemoteWorld::BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns)
     replay::RobotFrame& f = frames_[id];
     f.id = id;
     f.presence = player_.app_faulted(id) && presence != replay::Presence::kAbsent ? replay::Presence::kCrashed : presence;
+    // A running robot whose reports stopped (or never came: qemu starting up) shows as absent.
+    if (f.presence == replay::Presence::kRunning && !last.reporting) f.presence = replay::Presence::kAbsent;
     f.status = last.reported ? last.status : 1;
     f.phase = last.phase;
     f.mode = last.epoch_mode;
@@ -110,9 +124,9 @@ void RemoteWorld::BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns)
     f.true_x_m = static_cast<float>(body.x_m);
     f.true_y_m = static_cast<float>(body.y_m);
     f.true_heading_rad = static_cast<float>(body.heading_rad);
-    f.est_x_m = last.est_x_m;
-    f.est_y_m = last.est_y_m;
-    f.est_heading_rad = last.est_heading_rad;
+    f.est_x_m = static_cast<float>(last.est_x_m);
+    f.est_y_m = static_cast<float>(last.est_y_m);
+    f.est_heading_rad = rules_.reports_heading ? last.est_heading_rad : f.true_heading_rad;
   }
 }
 

@@ -78,10 +78,11 @@ class LoggingLinks final : public RemoteLinks {
     if (!giving) return;
     for (uint16_t id = 0; id < 2; ++id) apply(id, drive);
   }
-  sensors::ReadingSink& Readings(uint16_t id) override { return sinks_[id]; }
+  sensors::ReadingSink* Readings(uint16_t id) override { return closed[id] ? nullptr : &sinks_[id]; }
 
   motion::DriveCommand drive{};
-  bool giving = true;  // false: no drive comes back
+  bool giving = true;              // false: no drive comes back
+  bool closed[2] = {false, false};  // a robot's reading link closed
 
  private:
   CallLog& log_;
@@ -106,9 +107,9 @@ class KeptRounds final : public replay::RoundSink {
 };
 
 struct RemoteFixture {
-  RemoteFixture()
+  explicit RemoteFixture(RemoteRules rules = {})
       : scenario(LoadRemoteScenario(kRemoteTwoRobots)),
-        loop(scenario, CollectorConfigFor(scenario)),
+        loop(scenario, CollectorConfigFor(scenario), rules),
         runtime(log),
         links(log) {
     loop.recorder().AddSink(&kept);
@@ -229,6 +230,102 @@ TEST(RemoteWorld, EachRoundWithTwoReportsGivesOneSkewSampleItsSpread) {
   const metrics::SkewStats skew = fixture.loop.skew();
   EXPECT_EQ(skew.samples, 1);
   EXPECT_DOUBLE_EQ(skew.max_us, 30.0);
+}
+
+TEST(RemoteWorld, ARobotWhoseReadingLinkIsClosedIsNotSampled) {
+  RemoteFixture fixture;
+  fixture.StepUntil(90'000'000);
+  fixture.log.calls.clear();
+  fixture.links.closed[0] = true;
+
+  fixture.StepUntil(100'000'000);
+
+  EXPECT_EQ(fixture.log.calls, (std::vector<std::string>{"start 1", "drives", "imu 1"}));
+}
+
+TEST(RemoteWorld, WithEveryRobotsDrivesARobotNotRunningKeepsItsDriveForWhenItRuns) {
+  RemoteRules rules;
+  rules.drives = RemoteRules::Drives::kEveryRobot;
+  RemoteFixture fixture(rules);
+  fixture.links.drive.vx_mps = 0.5f;
+  fixture.StepUntil(90'000'000);  // robot 1 absent: it takes the drive, its body does not move
+  EXPECT_DOUBLE_EQ(fixture.loop.world().state(1).x_m, 3.0);
+
+  fixture.links.giving = false;
+  fixture.StepUntil(300'000'000);  // joined at 100 ms, it drives on the drive it kept
+  EXPECT_GT(fixture.loop.world().state(1).x_m, 3.01);
+}
+
+TEST(RemoteWorld, WithoutBoundaryTruthsARoundIsTheWorldNowItsEventsNoLaterThanItsTime) {
+  RemoteRules rules;
+  rules.boundary_truths = false;
+  RemoteFixture fixture(rules);
+  fixture.links.drive.vx_mps = 0.5f;
+  fixture.StepUntil(140'000'000);  // robot 1 joins at 100 ms
+
+  RemoteRound read;
+  replay::Event late{};
+  late.kind = replay::EventKind::kBecameJoiner;
+  late.robot = 0;
+  late.time_ns = 130'000'000;  // after the round's time
+  read.events.push_back(late);
+  fixture.loop.RecordRound(2, 100'000'000, read);
+
+  ASSERT_EQ(fixture.kept.rounds.size(), 1U);
+  const KeptRounds::Kept& round = fixture.kept.rounds[0];
+  EXPECT_EQ(round.time_ns, 100'000'000);
+  EXPECT_FLOAT_EQ(round.frames[0].true_x_m, static_cast<float>(fixture.loop.world().state(0).x_m));
+  // The world's own event (the join), then the robots', none after 100 ms.
+  ASSERT_EQ(round.events.size(), 2U);
+  EXPECT_EQ(round.events[0].kind, replay::EventKind::kJoin);
+  EXPECT_EQ(round.events[1].kind, replay::EventKind::kBecameJoiner);
+  EXPECT_EQ(round.events[1].time_ns, 100'000'000);
+
+  RemoteRound next;  // the join was the last round's
+  fixture.loop.RecordRound(3, 150'000'000, next);
+  ASSERT_EQ(fixture.kept.rounds.size(), 2U);
+  EXPECT_TRUE(fixture.kept.rounds[1].events.empty());
+}
+
+TEST(RemoteWorld, ARunningRobotWhoseReportsStoppedIsRecordedAbsent) {
+  RemoteFixture fixture;
+  fixture.StepUntil(60'000'000);
+  RemoteRobotState state;
+  state.reported = true;
+  state.status = 0;
+  state.reporting = false;
+  fixture.loop.NoteRound(0, state);
+
+  RemoteRound read;
+  fixture.loop.RecordRound(1, 50'000'000, read);
+
+  ASSERT_EQ(fixture.kept.rounds.size(), 1U);
+  EXPECT_EQ(fixture.kept.rounds[0].frames[0].presence, replay::Presence::kAbsent);
+  state.reporting = true;  // its reports come again
+  fixture.loop.NoteRound(0, state);
+  RemoteRound next;
+  fixture.loop.RecordRound(2, 100'000'000, next);
+  EXPECT_EQ(fixture.kept.rounds.at(1).frames[0].presence, replay::Presence::kRunning);
+}
+
+TEST(RemoteWorld, WithoutReportedHeadingsAFrameShowsTheTrueHeadingAsTheEstimate) {
+  RemoteRules rules;
+  rules.reports_heading = false;
+  RemoteFixture fixture(rules);
+  fixture.links.drive.vx_mps = 0.5f;
+  fixture.links.drive.yaw_rate_radps = 1.0f;
+  fixture.StepUntil(60'000'000);
+  RemoteRobotState state;
+  state.reported = true;
+  state.est_heading_rad = 2.5f;
+  fixture.loop.NoteRound(0, state);
+
+  RemoteRound read;
+  fixture.loop.RecordRound(1, 50'000'000, read);
+
+  const replay::RobotFrame& frame = fixture.kept.rounds.at(0).frames[0];
+  EXPECT_NE(frame.true_heading_rad, 0.0f);
+  EXPECT_FLOAT_EQ(frame.est_heading_rad, frame.true_heading_rad);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // The world loop of a runtime whose robots run outside the lab's engine
 // (docs/architecture.md, "One world, three runtimes"): the DDS world of
-// `syrof swarm` today. It owns what such a runtime has around its robots,
-// the same whatever carries their messages:
+// `syrof swarm` and the emulated firmware swarm (syrof-firmware-swarm). It
+// owns what such a runtime has around its robots, the same whatever carries
+// their messages:
 //   - the World (bodies), the WorldPlayer (lifecycle, faults, the join
 //     wait) and the RoundRecorder (metrics, goal, replay);
 //   - each robot's SensorBank, sampled at every instant;
@@ -23,8 +24,13 @@
 // reports are in (RecordRound), which for remote robots is some rounds
 // after the round's end.
 //
+// Where the two runtimes differ in what they can know, RemoteRules names it
+// (which drives the world takes, whether boundary truths are kept, whether
+// reports carry a heading), and RemoteRobotState::reporting says whether a
+// robot's reports still arrive.
+//
 // Usage, per run:
-//   RemoteWorld loop(scenario, CollectorConfigFor(scenario));
+//   RemoteWorld loop(scenario, CollectorConfigFor(scenario), rules);
 //   loop.player().StartPresentRobots(runtime);
 //   every physics step: loop.StepInstant({now, fault_at, round_now}, runtime, links);
 //   per report: loop.NoteRound(robot, state) when it reports its round;
@@ -65,9 +71,39 @@ struct RemoteRobotState {
   uint8_t epoch_mode = 1;     ///< wire::Mode
   bool estimate_valid = false;
   uint16_t epoch = 0;
-  float est_x_m = 0;
-  float est_y_m = 0;
+  double est_x_m = 0;  ///< double: the firmware's console lines carry more than a float holds
+  double est_y_m = 0;
   float est_heading_rad = 0;
+  /// Its reports still arrive. A robot the player runs whose reports stopped
+  /// (the firmware swarm: its newest console report older than three rounds
+  /// on the robots' clock, or none yet) is recorded as not running and
+  /// shown absent. The DDS world leaves it true.
+  bool reporting = true;
+};
+
+/// The rules a runtime's rounds are recorded by, where the runtimes differ.
+/// The defaults are the DDS world's.
+struct RemoteRules {
+  /// Which robots' drives the world takes (RemoteLinks::TakeDrives).
+  enum class Drives : uint8_t {
+    /// Running robots' only: a drive a robot sent before it stopped is dropped (DDS).
+    kRunningRobots,
+    /// Every robot's: the firmware's sensor links carry a drive to the world
+    /// as it arrives, whatever the robot's lifecycle; a stopped body does
+    /// not move, and keeps the drive for when it runs again.
+    kEveryRobot,
+  };
+  Drives drives = Drives::kRunningRobots;
+  /// Each round boundary's truth is kept until the round's reports are in
+  /// (DDS: they arrive some rounds after the round's end). false (the
+  /// firmware swarm, which records a round as it ends on the world's time):
+  /// none is kept; a round is the world when RecordRound is called, with
+  /// the world's events up to then, and every event of the round is stamped
+  /// no later than the round's time.
+  bool boundary_truths = true;
+  /// The reports carry the estimated heading. false (the firmware's console
+  /// lines carry none): a frame shows the true heading as the estimate.
+  bool reports_heading = true;
 };
 
 /// One radio round's reports, read by the adapter: the common round report.
@@ -86,15 +122,16 @@ class RemoteLinks {
   virtual ~RemoteLinks() = default;
   /// The drives that came back since the last call, each to `apply(robot, command)`.
   virtual void TakeDrives(const std::function<void(uint16_t, const motion::DriveCommand&)>& apply) = 0;
-  /// Where robot `id`'s readings go.
-  virtual sensors::ReadingSink& Readings(uint16_t id) = 0;
+  /// Where robot `id`'s readings go; nullptr: nowhere now (its link is
+  /// closed), and the robot is not sampled at this instant.
+  virtual sensors::ReadingSink* Readings(uint16_t id) = 0;
 };
 
 class RemoteWorld {
  public:
   /// `scenario` outlives the loop; `config` is the collector's
   /// (CollectorConfigFor(scenario)). Every robot starts absent.
-  RemoteWorld(const scenario::Scenario& scenario, const metrics::CollectorConfig& config);
+  RemoteWorld(const scenario::Scenario& scenario, const metrics::CollectorConfig& config, RemoteRules rules = {});
   ~RemoteWorld();
   RemoteWorld(const RemoteWorld&) = delete;
   RemoteWorld& operator=(const RemoteWorld&) = delete;
@@ -113,9 +150,10 @@ class RemoteWorld {
     int64_t round = 0;      ///< the robots' round at now_ns: boundaries up to it get their truth
   };
   /// Steps `instant`: the faults due (through `runtime`), the drives
-  /// `links` took (to running robots only), World::Step and the contacts,
-  /// the running robots' readings of the instant to `links`, then the
-  /// truth of every round boundary up to `instant.round` not yet kept
+  /// `links` took (RemoteRules::drives), World::Step and the contacts,
+  /// the running robots' readings of the instant to `links` (a robot whose
+  /// Readings is nullptr skipped), then, with RemoteRules::boundary_truths,
+  /// the truth of every round boundary up to `instant.round` not yet kept
   /// (with the world's events since the boundary before).
   void StepInstant(const Instant& instant, RobotRuntime& runtime, RemoteLinks& links);
 
@@ -128,7 +166,9 @@ class RemoteWorld {
   EventStamp Stamp(uint16_t id) const;
 
   /// Records round `round` from `read`: the boundary's truth kept for it
-  /// (or the world now when none was, at `time_ns_without_truth`), every
+  /// (or the world now when none was, at `time_ns_without_truth`; without
+  /// RemoteRules::boundary_truths, always so, with the world's events up to
+  /// now, every event stamped no later than that time), every
   /// robot's RobotRound and RobotFrame from its newest report, the events
   /// (the world's first, then `read`'s, by time), the maps, the running
   /// poses; and a round-start skew sample from `read.activations_ns`.
@@ -155,6 +195,7 @@ class RemoteWorld {
   void BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns);
 
   const uint16_t size_;
+  const RemoteRules rules_;
   world::World world_;
   RoundRecorder recorder_;
   WorldPlayer player_;
