@@ -9,14 +9,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <thread>
 
 #include "syrof/firmware/swarm/guest_clock.h"
 #include "syrof/firmware/swarm/image_app.h"
 #include "syrof/firmware/swarm/world_grid.h"
 #include "syrof/lab/metrics/collector.h"
-#include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/lab/sim/robot_config.h"
 #include "syrof/lab/sim/run_parts.h"
 
@@ -52,12 +50,6 @@ double HostPerWorld(const std::vector<Robot>& swarm, const lab::sim::WorldPlayer
   return counted == 0 ? 1.0 : sum / counted;
 }
 
-// A running robot shows as absent until it reports (qemu starting up).
-replay::Presence ReplayPresence(lab::sim::Lifecycle lifecycle, bool reporting) {
-  const replay::Presence presence = lab::sim::ToPresence(lifecycle);
-  return presence == replay::Presence::kRunning && !reporting ? replay::Presence::kAbsent : presence;
-}
-
 // The activation as the robots run it (their boot words carry it,
 // qemu_launcher.cpp), so the metrics count active starts as the lab's do.
 metrics::CollectorConfig SwarmCollectorConfig(const lab::scenario::Scenario& scenario, uint16_t robots,
@@ -69,7 +61,29 @@ metrics::CollectorConfig SwarmCollectorConfig(const lab::scenario::Scenario& sce
   return config;
 }
 
+// How the firmware's rounds are recorded (remote_world.h): a drive goes to
+// the world as its bytes arrive, whatever the robot's lifecycle; a round is
+// recorded as it ends on the world's time, from the world then; the console
+// lines carry no heading.
+lab::sim::RemoteRules FirmwareRules() {
+  lab::sim::RemoteRules rules;
+  rules.drives = lab::sim::RemoteRules::Drives::kEveryRobot;
+  rules.boundary_truths = false;
+  rules.reports_heading = false;
+  return rules;
+}
+
 }  // namespace
+
+void SwarmHost::SensorLinks::TakeDrives(const std::function<void(uint16_t, const motion::DriveCommand&)>& apply) {
+  for (const auto& [robot, drive] : drives_) apply(robot, drive);
+  drives_.clear();
+}
+
+lab::sensors::ReadingSink* SwarmHost::SensorLinks::Readings(uint16_t id) {
+  Robot& robot = swarm_[id];
+  return robot.sensor < 0 ? nullptr : &robot.feed;
+}
 
 SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scenario,
                      std::span<lab::replay::RoundSink* const> sinks)
@@ -79,15 +93,13 @@ SwarmHost::SwarmHost(const Options& options, const lab::scenario::Scenario& scen
       swarm_(robots_),
       launcher_(options_, scenario_),
       fault_outcomes_(robots_),
-      recorder_(scenario_, SwarmCollectorConfig(scenario_, robots_, period_ns_)),
+      loop_(scenario_, SwarmCollectorConfig(scenario_, robots_, period_ns_), FirmwareRules()),
+      links_(swarm_),
       activation_check_(lab::sim::ActivationConfigFor(scenario_), robots_),
-      world_(scenario_.arena, lab::sim::Bodies(scenario_), scenario_.seed),  // the drones' drift, as the lab's
-      frames_(robots_),
       next_round_ns_(period_ns_),
       open_consoles_(robots_),
-      player_(scenario_, world_, recorder_.collector()),
       host_([this](const swarm::HostAction& action, int64_t at_ns) { return OnHostAction(action, at_ns); }),
-      channel_(options_, scenario_, swarm_, player_),
+      channel_(options_, scenario_, swarm_, loop_.player()),
       stress_(options.stress, int64_t{options.seconds} * 1'000'000'000, robots_) {
   sinks_.assign(sinks.begin(), sinks.end());
   if (options.icount_shift < 0) {
@@ -110,9 +122,6 @@ bool SwarmHost::OpenSockets() {
   if (!launcher_.OpenSockets()) return false;
   for (uint16_t i = 0; i < robots_; ++i) {
     swarm_[i].log.open(options_.out + "/robot_" + std::to_string(i) + ".log");
-    // A drone's flow sensor and antenna at its flight height, as the lab's.
-    swarm_[i].bank = std::make_unique<lab::sensors::SensorBank>(
-        lab::sim::SensorConfigFor(scenario_, scenario_.robots[i]), lab::sim::SensorSeed(scenario_.seed, i));
   }
   if (!options_.base_station.empty()) channel_.base_station().listener = launcher_.ListenBeside(options_.base_station);
   return true;
@@ -145,7 +154,7 @@ bool SwarmHost::NameImageApp() {
     return false;
   }
   image_app_ = *app;
-  recorder_.NameApp(image_app_);
+  loop_.recorder().NameApp(image_app_);
   if (const std::optional<std::string> warning = AppMismatchWarning(scenario_.app.name, image_app_, options_.image)) {
     std::fprintf(stderr, "%s\n", warning->c_str());
   }
@@ -180,22 +189,22 @@ bool SwarmHost::WaitUntilHeld() {
 }
 
 void SwarmHost::StartWorld() {
-  for (lab::replay::RoundSink* sink : sinks_) recorder_.AddSink(sink);
+  for (lab::replay::RoundSink* sink : sinks_) loop_.recorder().AddSink(sink);
   replay_file_.open(options_.out + "/replay", std::ios::binary);
-  recorder_.OpenReplay(replay_file_);
+  loop_.recorder().OpenReplay(replay_file_);
   all_started_ns_ = HostNs();
   // With -icount a loaded host stretches the guests' time (1.3x for 4
   // robots on 2 busy cores, more for 8): three times the run, then give up.
   deadline_ns_ = all_started_ns_ + (3 * options_.seconds + 30) * int64_t{1'000'000'000};
   channel_.base_station().Serve();  // a base station already waiting hears the first beacons too
-  player_.StartPresentRobots(host_);
+  loop_.player().StartPresentRobots(host_);
 }
 
 bool SwarmHost::Running() const { return open_consoles_ > 0 && HostNs() < deadline_ns_; }
 
 void SwarmHost::Step() {
   if (!ended_ && world_ns_ >= int64_t{options_.seconds} * 1'000'000'000) {
-    EndPausedAndHeld(swarm_, player_, open_consoles_);
+    EndPausedAndHeld(swarm_, loop_.player(), open_consoles_);
     EndStress();
     ended_ = true;
   }
@@ -236,23 +245,20 @@ void SwarmHost::AdvanceWorld(int64_t now) {
   // rate (GuestClockRate, from the times they print; exactly 1 on the
   // host's clock), so a robot gets a second of readings per second of its
   // own time (docs/firmware.md, "How readings are timed").
-  host_per_world_ = HostPerWorld(swarm_, player_);
+  host_per_world_ = HostPerWorld(swarm_, loop_.player());
   world_clock_ns_ += static_cast<double>(now - (last_loop_ns_ == 0 ? all_started_ns_ : last_loop_ns_)) / host_per_world_;
   last_loop_ns_ = now;
-  // The world's steps due by now: bodies, contacts, then each robot's
-  // readings due at the step's instant, framed to its sensor link.
+  // The world's steps due by now (RemoteWorld::StepInstant: faults, the
+  // drives that arrived, bodies, contacts, each robot's readings due at the
+  // step's instant into its feed), then the frames to each sensor link. No
+  // boundary truths are kept (FirmwareRules), so the instant's round is 0.
   while (static_cast<double>(world_ns_ + kPhysicsNs) <= world_clock_ns_) {
     world_ns_ += kPhysicsNs;
-    player_.PlayFaults(world_ns_, host_);
-    world_.Step(world_ns_, static_cast<double>(kPhysicsNs) * 1e-9);
-    player_.TakeContacts(host_);
-    for (uint16_t i = 0; i < robots_; ++i) {
-      Robot& robot = swarm_[i];
-      if (robot.sensor < 0 || !player_.running(i)) continue;
-      robot.bank->Sample(world_ns_, world_.true_state(i), robot.feed);
-      robot.sensor_out.insert(robot.sensor_out.end(), robot.feed.bytes().begin(), robot.feed.bytes().end());
-      robot.feed.clear();
-    }
+    loop_.StepInstant({world_ns_, world_ns_, static_cast<double>(kPhysicsNs) * 1e-9, 0}, host_, links_);
+  }
+  for (Robot& robot : swarm_) {
+    robot.sensor_out.insert(robot.sensor_out.end(), robot.feed.bytes().begin(), robot.feed.bytes().end());
+    robot.feed.clear();
   }
 }
 
@@ -261,14 +267,15 @@ void SwarmHost::AdvanceWorld(int64_t now) {
 void SwarmHost::PlayStress() {
   if (ended_) return;
   const int64_t world_stall_ns = stress_.Play(
-      world_ns_, [this](uint16_t i) { return player_.running(i) && swarm_[i].switched_on && swarm_[i].qemu.started(); },
+      world_ns_,
+      [this](uint16_t i) { return loop_.player().running(i) && swarm_[i].switched_on && swarm_[i].qemu.started(); },
       [this](uint16_t i, bool stop) { swarm_[i].qemu.Signal(stop ? SIGSTOP : SIGCONT); });
   if (world_stall_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(world_stall_ns));
 }
 
 // No qemu stays stopped by the stress past the run's end.
 void SwarmHost::EndStress() {
-  stress_.EndAll([this](uint16_t i) { return player_.running(i) && swarm_[i].qemu.started(); },
+  stress_.EndAll([this](uint16_t i) { return loop_.player().running(i) && swarm_[i].qemu.started(); },
                  [this](uint16_t i, bool stop) { swarm_[i].qemu.Signal(stop ? SIGSTOP : SIGCONT); });
 }
 
@@ -282,7 +289,7 @@ void SwarmHost::ReadSensorLink(uint16_t i) {
     robot.sensor = -1;
   }
   for (ssize_t k = 0; k < count; ++k) {
-    if (auto drive = robot.feed.PushFromRobot(buffer[k], world_ns_)) world_.SetDrive(i, *drive);
+    if (auto drive = robot.feed.PushFromRobot(buffer[k], world_ns_)) links_.Arrived(i, *drive);
   }
 }
 
@@ -334,15 +341,14 @@ void SwarmHost::OnConsoleLine(uint16_t i, const std::string& line, int64_t now) 
 }
 
 void SwarmHost::OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now) {
-  recorder_.OnEpochStart(epoch_line.robot, round_, world_ns_, epoch_line.map);
+  loop_.recorder().OnEpochStart(epoch_line.robot, round_, world_ns_, epoch_line.map);
   activation_check_.OnEpochLine(epoch_line);
   fault_outcomes_.OnEpochLine(epoch_line, world_ns_);
-  player_.events().push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line.robot, replay::kNoRobot,
-                                           epoch_line.map.epoch, static_cast<uint8_t>(epoch_line.map.mode),
-                                           world_ns_});
-  if (std::none_of(round_maps_.begin(), round_maps_.end(),
+  read_.events.push_back(replay::Event{replay::EventKind::kEpochStart, epoch_line.robot, replay::kNoRobot,
+                                      epoch_line.map.epoch, static_cast<uint8_t>(epoch_line.map.mode), world_ns_});
+  if (std::none_of(read_.maps.begin(), read_.maps.end(),
                    [&](const replay::RobotMap& entry) { return entry.robot == epoch_line.robot; })) {
-    round_maps_.push_back(replay::RobotMap{epoch_line.robot, lab::sim::ToEpochMap(epoch_line.map)});
+    read_.maps.push_back(replay::RobotMap{epoch_line.robot, lab::sim::ToEpochMap(epoch_line.map)});
   }
   if (epoch_line.map.mode == syrof::wire::Mode::kCooperative) {
     std::vector<uint16_t>& starters = cooperative_starters_[epoch_line.map.epoch];
@@ -354,66 +360,48 @@ void SwarmHost::OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now) {
 }
 
 // The round ending at next_round_ns_ on the world's time, from every
-// robot's latest report at host time `now`, to the recorder: metrics, the
-// goal, the replay (its events in time order, none after the round's end);
-// the events and maps start over.
+// robot's latest report at host time `now` (ReportedState), with the epoch
+// starts read since the round before and each member's round boundary, to
+// the world loop: metrics, the goal, the replay (the world now stands for
+// the round's end, none of its events later than it: FirmwareRules).
 void SwarmHost::RecordRound(int64_t now) {
-  std::vector<metrics::RobotRound> rounds(robots_);
-  std::vector<int64_t> boundaries;
-  for (uint16_t i = 0; i < robots_; ++i) rounds[i] = RecordRobot(i, now, boundaries);
-  const int64_t end_ns = (round_ + 1) * period_ns_;
-  std::vector<replay::Event>& events = player_.events();
-  lab::sim::OrderByTime(events);
-  for (replay::Event& event : events) event.time_ns = std::min(event.time_ns, end_ns);
-  recorder_.RecordRound(lab::sim::RecordedRound{round_, end_ns, rounds, boundaries, frames_, events, round_maps_,
-                                                [this] { return player_.RunningPoses(); }});
-  events.clear();
-  round_maps_.clear();
+  for (uint16_t i = 0; i < robots_; ++i) {
+    const lab::sim::RemoteRobotState state = ReportedState(i, now);
+    loop_.NoteRound(i, state);
+    // Its round boundary, if it is a member (as RemoteWorld counts one: running and reporting).
+    const int64_t boundary_ns = swarm_[i].last_boundary_ns;
+    const bool member = loop_.player().running(i) && state.reporting && state.status == 0;
+    if (member && boundary_ns > 0) read_.phase_boundaries_ns.push_back(boundary_ns - all_started_ns_);
+  }
+  loop_.RecordRound(round_, (round_ + 1) * period_ns_, read_);
+  read_ = {};
   ++round_;
   next_round_ns_ += period_ns_;
 }
 
-// Robot `i`'s part of the round: its metrics entry (returned), its replay
-// frame (frames_[i]) and its round boundary, if it is a member.
-metrics::RobotRound SwarmHost::RecordRobot(uint16_t i, int64_t now, std::vector<int64_t>& boundaries) {
+// Robot `i`'s newest console report as the world loop reads it. It is
+// reporting while its newest report is younger than three rounds on the
+// robots' clock (a robot the player runs shows absent before its first
+// report, qemu starting up, and after its reports stop). The report line
+// has no heading (FirmwareRules: the replay shows the true one).
+lab::sim::RemoteRobotState SwarmHost::ReportedState(uint16_t i, int64_t now) const {
   const Robot& robot = swarm_[i];
-  metrics::RobotRound entry;
-  entry.id = i;
-  const lab::sim::Lifecycle presence = player_.lifecycle(i);
-  entry.running = presence == lab::sim::Lifecycle::kRunning && robot.latest.has_value() &&
-                  static_cast<double>(now - robot.latest_ns) < 3 * static_cast<double>(period_ns_) * host_per_world_;
-  entry.paused = presence == lab::sim::Lifecycle::kPaused;
-  if (robot.latest) {
-    entry.sync_member = robot.latest->member;
-    entry.member = entry.running && robot.latest->member;
-    entry.epoch = robot.latest->epoch;
-    entry.epoch_mode = robot.latest->mode;
-    entry.phase = robot.latest->phase;
-    // Scored once the filter had its warm-up after the world started.
-    entry.estimate_valid =
-        entry.running && robot.latest->estimate_valid && (round_ + 1) * period_ns_ >= player_.scored_from_ns(i);
-    entry.est_x_m = robot.latest->x_m;
-    entry.est_y_m = robot.latest->y_m;
+  lab::sim::RemoteRobotState state;
+  if (!robot.latest) {
+    state.reporting = false;
+    return state;
   }
-  const lab::world::BodyState& body = world_.state(i);
-  entry.true_x_m = body.x_m;
-  entry.true_y_m = body.y_m;
-  replay::RobotFrame& frame = frames_[i];
-  frame.id = i;
-  frame.presence = ReplayPresence(presence, entry.running);
-  frame.status = entry.sync_member ? 0 : 1;
-  frame.phase = static_cast<uint8_t>(entry.phase);
-  frame.mode = static_cast<uint8_t>(entry.epoch_mode);
-  frame.epoch = entry.epoch;
-  frame.true_x_m = static_cast<float>(body.x_m);
-  frame.true_y_m = static_cast<float>(body.y_m);
-  frame.true_heading_rad = static_cast<float>(body.heading_rad);
-  // The report line has no heading: the replay shows the true one.
-  frame.est_x_m = static_cast<float>(entry.est_x_m);
-  frame.est_y_m = static_cast<float>(entry.est_y_m);
-  frame.est_heading_rad = frame.true_heading_rad;
-  if (entry.member && robot.last_boundary_ns > 0) boundaries.push_back(robot.last_boundary_ns - all_started_ns_);
-  return entry;
+  const RoundLine& line = *robot.latest;
+  state.reported = true;
+  state.status = line.member ? 0 : 1;
+  state.phase = static_cast<uint8_t>(line.phase);
+  state.epoch_mode = static_cast<uint8_t>(line.mode);
+  state.estimate_valid = line.estimate_valid;
+  state.epoch = line.epoch;
+  state.est_x_m = line.x_m;
+  state.est_y_m = line.y_m;
+  state.reporting = static_cast<double>(now - robot.latest_ns) < 3 * static_cast<double>(period_ns_) * host_per_world_;
+  return state;
 }
 
 }  // namespace syrof::firmware::swarm

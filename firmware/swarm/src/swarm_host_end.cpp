@@ -20,7 +20,7 @@ int SwarmHost::Finish() {
   EndStress();
   result.ok = ReapRobots();
   std::vector<lab::sim::Lifecycle> final_presence;
-  for (uint16_t i = 0; i < robots_; ++i) final_presence.push_back(player_.lifecycle(i));
+  for (uint16_t i = 0; i < robots_; ++i) final_presence.push_back(loop_.player().lifecycle(i));
   result.report.faults = fault_outcomes_.Finish(final_presence);
   for (const swarm::FaultOutcome& outcome : result.report.faults) {
     if (options_.expect_faults && !outcome.ok) result.ok = false;
@@ -56,7 +56,7 @@ bool SwarmHost::ReapRobots() {
     if (!robot.qemu.started()) continue;  // never launched: LaunchRobots failed
     // A crashed robot was killed (exit 137), perhaps before it reported or
     // even before it was switched on (a crash while waiting to join).
-    const bool crashed = player_.lifecycle(i) == lab::sim::Lifecycle::kCrashed;
+    const bool crashed = loop_.player().lifecycle(i) == lab::sim::Lifecycle::kCrashed;
     if (robot.console >= 0 || robot.radio >= 0) {  // the deadline passed
       robot.qemu.Kill();
       ok = false;
@@ -79,12 +79,12 @@ metrics::Metrics SwarmHost::CollectMetrics(double wall_s) {
   // crashed or never-started robot used to count, and kept the goal from
   // being met).
   const lab::sim::RunEnd end{static_cast<double>(round_) * static_cast<double>(period_ns_) * 1e-9, wall_s, round_};
-  lab::metrics::RunFacts facts = recorder_.Facts(end, player_, world_);
+  lab::metrics::RunFacts facts = loop_.recorder().Facts(end, loop_.player(), loop_.world());
   // The image runs its compiled-in app, whatever the scenario's `app:` says:
   // its own name, as its held lines said it (NameImageApp), from the image.
   facts.app_name = image_app_;
   facts.app_source = options_.image;
-  metrics::Metrics result = recorder_.Finish(facts);
+  metrics::Metrics result = loop_.recorder().Finish(facts);
   // The robots' consoles do not carry the app's returns, so agreement stays
   // unset: metrics.json says null, not a measurement of nothing.
   result.runtime = "firmware";
@@ -93,7 +93,7 @@ metrics::Metrics SwarmHost::CollectMetrics(double wall_s) {
 
 // The replay, then read back as the viewer reads it.
 void SwarmHost::ReadReplayBack(RunResult& result) {
-  recorder_.FinishReplay();
+  loop_.recorder().FinishReplay();
   replay_file_.close();
   {
     std::ifstream in(options_.out + "/replay", std::ios::binary);

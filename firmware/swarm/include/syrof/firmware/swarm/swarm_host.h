@@ -7,9 +7,11 @@
 #include <cstdint>
 #include <fstream>
 #include <map>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "syrof/firmware/swarm/activation_check.h"
@@ -26,9 +28,7 @@
 #include "syrof/lab/replay/replay.h"
 #include "syrof/lab/replay/round_sink.h"
 #include "syrof/lab/scenario/scenario.h"
-#include "syrof/lab/sim/round_recorder.h"
-#include "syrof/lab/sim/world_player.h"
-#include "syrof/lab/world/world.h"
+#include "syrof/lab/sim/remote_world.h"
 #include "syrof/registry/tasks.h"
 
 namespace syrof::firmware::swarm {
@@ -42,13 +42,18 @@ struct RunResult {
   std::string replay_problem;
 };
 
-// One run of the emulated swarm, its world side: the world the robots move
-// in (stepped on the host's clock slowed to the robots' mean clock rate),
-// their sensors and drives on the sensor links, the scenario's faults
-// (lab::sim::WorldPlayer), their console reports, and what is recorded of
-// them (metrics, replay, fault outcomes, firmware-swarm.json). It holds the
-// launcher (qemu_launcher.h) and the channel (beacon_channel.h). main()
-// calls, in order: OpenSockets, LaunchRobots, StartWorld, Step until
+// One run of the emulated swarm, its world side: an adapter on
+// lab::sim::RemoteWorld, the world loop every runtime outside the lab shares
+// (the world, the scenario's faults, the sensors, the recorder). The host
+// supplies what is the firmware's: the world's clock (the host's, slowed to
+// the robots' mean clock rate), the sensor links (SensorLinks below: readings
+// out, drives back), the console reports read into each round, and its own
+// figures (fault outcomes, firmware-swarm.json). Its rules (RemoteRules):
+// every drive is taken as it arrives, a round is recorded from the world as
+// it ends (no boundary truths), the console lines carry no heading, and a
+// robot counts as running only while its console reports are fresh. It
+// holds the launcher (qemu_launcher.h) and the channel (beacon_channel.h).
+// main() calls, in order: OpenSockets, LaunchRobots, StartWorld, Step until
 // Running() is false, Finish.
 class SwarmHost {
  public:
@@ -94,7 +99,7 @@ class SwarmHost {
   void OnConsoleLine(uint16_t i, const std::string& line, int64_t now);
   void OnEpochLine(const swarm::EpochLine& epoch_line, int64_t now);
   void RecordRound(int64_t now);
-  lab::metrics::RobotRound RecordRobot(uint16_t i, int64_t now, std::vector<int64_t>& boundaries);
+  lab::sim::RemoteRobotState ReportedState(uint16_t i, int64_t now) const;
   bool ReapRobots();
   lab::metrics::Metrics CollectMetrics(double wall_s);
   void ReadReplayBack(RunResult& result);
@@ -104,6 +109,21 @@ class SwarmHost {
   void FillReport(RunResult& result) const;
   void WriteReport(RunResult& result) const;
   void PrintSummary(const RunResult& result) const;
+
+  // The sensor links as the world loop's links: each robot's readings into
+  // its feed (nowhere once its link closed), and the drives its bytes
+  // completed, in the order they arrived, taken at the next instant.
+  class SensorLinks final : public lab::sim::RemoteLinks {
+   public:
+    explicit SensorLinks(std::vector<Robot>& swarm) : swarm_(swarm) {}
+    void Arrived(uint16_t robot, const motion::DriveCommand& drive) { drives_.push_back({robot, drive}); }
+    void TakeDrives(const std::function<void(uint16_t, const motion::DriveCommand&)>& apply) override;
+    lab::sensors::ReadingSink* Readings(uint16_t id) override;
+
+   private:
+    std::vector<Robot>& swarm_;
+    std::vector<std::pair<uint16_t, motion::DriveCommand>> drives_;
+  };
 
   static constexpr int64_t kPhysicsNs = syrof::registry::kImuPeriodNs;
   // From launching the qemu instances until every image is held.
@@ -122,12 +142,13 @@ class SwarmHost {
   int64_t deadline_ns_ = 0;
   // Whether the robots handled the scenario's faults.
   swarm::FaultOutcomes fault_outcomes_;
-  // The metrics, the goal checks and the replay, as every runtime records them.
-  lab::sim::RoundRecorder recorder_;
+  // The world, its faults and lifecycle (the lab's rules, done to qemu),
+  // the sensors, and the metrics, goal checks and replay, as every runtime
+  // outside the lab has them; on the host's clock from all_started_ns_.
+  lab::sim::RemoteWorld loop_;
+  SensorLinks links_;
   // Whether each robot looked when its activation schedule says it does.
   swarm::ActivationCheck activation_check_;
-  // The world, on the host's clock from all_started_ns_.
-  lab::world::World world_;
   int64_t world_ns_ = 0;       // the world's time, stepped in kPhysicsNs
   double world_clock_ns_ = 0;  // where the world's time should be now
   int64_t last_loop_ns_ = 0;
@@ -135,18 +156,14 @@ class SwarmHost {
   std::ofstream replay_file_;
   std::vector<lab::replay::RoundSink*> sinks_;  // added to the recorder in StartWorld
   std::string image_app_;                       // the app the images said they run
-  std::vector<lab::replay::RobotMap> round_maps_;
-  std::vector<lab::replay::RobotFrame> frames_;
+  lab::sim::RemoteRound read_;  // the round in progress: its epoch starts and maps
   // Every COOPERATIVE epoch start, to find the first epoch all robots started so.
   std::map<uint16_t, std::vector<uint16_t>> cooperative_starters_;
   std::optional<double> all_cooperative_s_;
   int64_t round_ = 0;
   int64_t next_round_ns_;  // on the world's time
   int open_consoles_;
-  // The robots' lifecycle, the faults on world time and the join wait: the
-  // lab's rules (lab::sim::WorldPlayer); the host does them to qemu.
-  lab::sim::WorldPlayer player_;
-  swarm::HostActions host_;
+  swarm::HostActions host_;  // the player's starts and stops, done to qemu
   // The beacons between the robots, and the base station's.
   BeaconChannel channel_;
   // --stress: the stalls played on the qemu instances and this host.

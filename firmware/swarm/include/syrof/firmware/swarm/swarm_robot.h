@@ -1,5 +1,5 @@
 // One emulated robot as syrof-firmware-swarm holds it: its qemu, its three
-// links (console, radio, sensor link; -1 once closed), its sensors, and what
+// links (console, radio, sensor link; -1 once closed), its sensor feed, and what
 // the host has read of it. The launcher (qemu_launcher.h) starts it, the
 // channel (beacon_channel.h) reads its radio, the host (swarm_host.h) its
 // console and sensor link.
@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cstdint>
 #include <fstream>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,7 +17,6 @@
 #include "syrof/firmware/swarm/guest_clock.h"
 #include "syrof/firmware/swarm/sensor_feed.h"
 #include "syrof/firmware/swarm/world_grid.h"
-#include "syrof/lab/sensors/sensor_bank.h"
 #include "syrof/process/spawn.h"
 
 namespace syrof::firmware::swarm {
@@ -32,7 +30,6 @@ struct Robot {
   int radio = -1;
   int console = -1;
   int sensor = -1;
-  std::unique_ptr<lab::sensors::SensorBank> bank;
   SensorFeed feed;
   std::vector<uint8_t> sensor_out;  // frames not yet taken by the socket
   drivers::FrameDecoder decoder;
