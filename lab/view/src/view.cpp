@@ -135,182 +135,226 @@ json HeaderData(const replay::Header& header, int replay_version) {
   return data;
 }
 
-std::string ReplayJson(std::istream& in, const std::string& name, const PageOptions& options, Page& page) {
+namespace {
+
+// The fields of every page, whatever the file holds: the data's version,
+// the file's name and the event kinds' names.
+json StartData(const std::string& name) {
   json data;
   data["data_version"] = kDataVersion;
   data["file"] = name;
   data["kinds"] = KindNames();
-  page = Page{};
+  return data;
+}
 
-  if (in.peek() == std::istream::traits_type::eof()) {
-    data["status"] = "empty";
-    data["message"] = "The replay file is empty (0 bytes): the run recorded nothing. Run it again with `syrof run`.";
-    page.error = Error{.where = name, .message = "the file is empty (0 bytes)"};
-    return data.dump();
-  }
+// Writes the status and message of a file of 0 bytes.
+void WriteEmptyFile(const std::string& name, Page& page, json& data) {
+  data["status"] = "empty";
+  data["message"] = "The replay file is empty (0 bytes): the run recorded nothing. Run it again with `syrof run`.";
+  page.error = Error{.where = name, .message = "the file is empty (0 bytes)"};
+}
 
-  // Decimation for drawing: the smallest stride that fits the budget, from
-  // a first pass that counts the rounds, so that only the frames kept are
-  // held: all robots x rounds of them were gigabytes for a long run, or for
-  // a hostile file of 65,535 robots and empty rounds. A stream that cannot
-  // seek back (a pipe) is read once, holding every frame, and decimated
-  // after.
+// Writes the status and message of a file whose header cannot be read: one
+// from a newer SyROF is told apart, so that its reader knows what to do.
+void WriteUnreadableHeader(const replay::Reader& reader, const std::string& name, Page& page, json& data) {
+  const std::string message = reader.error().ToString();
+  const bool newer = message.find("is newer than this reader's") != std::string::npos;
+  data["status"] = newer ? "newer" : reader.truncated() ? "truncated" : "invalid";
+  data["message"] = newer ? "This replay was written by a newer SyROF (" + message +
+                                "). Open it with the `syrof view` of that version or a later one."
+                          : "This file cannot be shown: " + message;
+  page.error = Error{.where = name, .message = message};
+}
+
+// Robots x rounds in the file, from a first pass that counts the rounds
+// (0 if its header cannot be read), with `in` put back where it was; none
+// for a stream that cannot seek back (a pipe).
+std::optional<size_t> CountRobotFrames(std::istream& in) {
   const std::istream::pos_type start = in.tellg();
-  const bool counted = start != std::istream::pos_type(-1);
+  if (start == std::istream::pos_type(-1)) return std::nullopt;
   size_t rounds_in_file = 0;
   size_t robots_in_file = 0;
-  if (counted) {
-    replay::Reader counter(in);
-    replay::Header counted_header;
-    if (counter.ReadHeader(counted_header)) {
-      robots_in_file = counted_header.robots.size();
-      replay::Round skipped;
-      while (counter.Next(skipped)) ++rounds_in_file;
-    }
-    in.clear();
-    in.seekg(start);
+  replay::Reader counter(in);
+  replay::Header counted_header;
+  if (counter.ReadHeader(counted_header)) {
+    robots_in_file = counted_header.robots.size();
+    replay::Round skipped;
+    while (counter.Next(skipped)) ++rounds_in_file;
   }
-  const auto stride_for = [&options](size_t robot_frames) -> size_t {
-    if (options.max_robot_frames == 0 || robot_frames <= options.max_robot_frames) return 1;
-    return (robot_frames + options.max_robot_frames - 1) / options.max_robot_frames;
-  };
-  const size_t read_stride = stride_for(robots_in_file * rounds_in_file);  // 1 when not counted
+  in.clear();
+  in.seekg(start);
+  return robots_in_file * rounds_in_file;
+}
 
-  replay::Reader reader(in);
-  replay::Header header;
-  if (!reader.ReadHeader(header)) {
-    const std::string message = reader.error().ToString();
-    const bool newer = message.find("is newer than this reader's") != std::string::npos;
-    data["status"] = newer ? "newer" : reader.truncated() ? "truncated" : "invalid";
-    data["message"] = newer ? "This replay was written by a newer SyROF (" + message +
-                                  "). Open it with the `syrof view` of that version or a later one."
-                            : "This file cannot be shown: " + message;
-    page.error = Error{.where = name, .message = message};
-    return data.dump();
+// The smallest stride that keeps `robot_frames` within the page's budget.
+size_t StrideFor(const PageOptions& options, size_t robot_frames) {
+  if (options.max_robot_frames == 0 || robot_frames <= options.max_robot_frames) return 1;
+  return (robot_frames + options.max_robot_frames - 1) / options.max_robot_frames;
+}
+
+// The activation the robots' starts are followed by, when the scenario
+// given is this run's and not FSYNC; writes its "activation" field (even
+// when the scenario's activation is not a valid one, and none is returned).
+std::optional<sync::ActivationConfig> ActivationOf(const PageOptions& options, const replay::Header& header,
+                                                   json& data) {
+  if (options.scenario == nullptr || options.scenario->activation.model == sync::ActivationModel::kFsync ||
+      options.scenario->seed != header.seed) {
+    return std::nullopt;
   }
+  const scenario::ActivationSpec& spec = options.scenario->activation;
+  sync::ActivationConfig config;
+  config.model = spec.model;
+  config.schedule = spec.schedule;
+  config.seed = options.scenario->seed;
+  config.fair_within = spec.fair_within;
+  config.script = spec.script;
+  config.max_delay_epochs = spec.max_delay_epochs;
+  config.min_move_mm = static_cast<uint32_t>(std::lround(spec.min_move_m * 1000.0));
+  config.cycles = spec.cycles;
+  data["activation"] = {{"model", sync::ToString(spec.model)}, {"schedule", sync::ToString(spec.schedule)}};
+  if (!sync::IsValid(config)) return std::nullopt;
+  return config;
+}
 
-  data.update(HeaderData(header, reader.version()));
+// Whether the schedule lets the robot act at the epoch of the map it
+// started with: the robots' own decision (sync::IsActive) on that map.
+bool StartsActive(const sync::ActivationConfig& activation, const replay::RobotMap& entry) {
+  wire::MemberSet members;
+  for (const replay::MapMember& member : entry.map->members) {
+    if (member.id < wire::MemberSet::kCapacity) members.set(member.id);
+  }
+  return sync::IsActive(activation, entry.map->epoch, members, entry.robot);
+}
 
-  // Read everything the reader accepts; frames are carried forward for a
+// Everything read of the rounds, kept until the page's data is written.
+struct RoundsRead {
+  // Each robot's last frame, by slot: frames are carried forward for a
   // robot a round leaves out, as the format defines.
-  const size_t robot_count = header.robots.size();
-  std::vector<replay::RobotFrame> current(robot_count);
-  for (size_t slot = 0; slot < robot_count; ++slot) current[slot].id = header.robots[slot].id;
-  std::vector<Columns> columns(robot_count);
+  std::vector<replay::RobotFrame> current;
+  std::vector<Columns> columns;  // the frames kept, every read stride-th round
   std::vector<int64_t> round_index;
   std::vector<int64_t> round_time_us;
   json events = json::array();
   json maps = json::array();
   json starts = json::array();
   std::map<const replay::EpochMap*, size_t> map_numbers;  // shared maps once
-  // Under SSYNC each start says whether the schedule left its robot out:
-  // the robots' own decision (sync::IsActive) on the map they started with.
-  // Under ASYNC whether it looked, from its cycles followed as the robot
-  // followed them (sync::AsyncTracker), with the look its move comes from.
-  std::optional<sync::ActivationConfig> activation;
-  std::vector<sync::AsyncTracker> cycles(header.robots.size());
-  if (options.scenario != nullptr && options.scenario->activation.model != sync::ActivationModel::kFsync &&
-      options.scenario->seed == header.seed) {
-    const scenario::ActivationSpec& spec = options.scenario->activation;
-    sync::ActivationConfig config;
-    config.model = spec.model;
-    config.schedule = spec.schedule;
-    config.seed = options.scenario->seed;
-    config.fair_within = spec.fair_within;
-    config.script = spec.script;
-    config.max_delay_epochs = spec.max_delay_epochs;
-    config.min_move_mm = static_cast<uint32_t>(std::lround(spec.min_move_m * 1000.0));
-    config.cycles = spec.cycles;
-    if (sync::IsValid(config)) activation = config;
-    data["activation"] = {{"model", sync::ToString(spec.model)}, {"schedule", sync::ToString(spec.schedule)}};
-  }
-  auto is_active = [&](const replay::RobotMap& entry) {
-    wire::MemberSet members;
-    for (const replay::MapMember& member : entry.map->members) {
-      if (member.id < wire::MemberSet::kCapacity) members.set(member.id);
-    }
-    return sync::IsActive(*activation, entry.map->epoch, members, entry.robot);
-  };
-  std::vector<std::shared_ptr<const replay::EpochMap>> keep_alive;
+  std::vector<std::shared_ptr<const replay::EpochMap>> keep_alive;  // so that no map's address is reused
+  std::vector<sync::AsyncTracker> cycles;  // under ASYNC each robot's cycles, as it followed them
   ReplayFacts facts;  // what the replay shows of the run's troubles, for the verdict
+};
+
+// Carries the round's frames forward and, on a kept round, adds every
+// robot's frame to its columns.
+void AddFrames(const replay::Round& round, int64_t position, size_t read_stride, RoundsRead& read) {
+  size_t slot = 0;
+  for (const replay::RobotFrame& frame : round.robots) {
+    while (read.current[slot].id != frame.id) ++slot;  // both increase (the reader checked)
+    read.current[slot] = frame;
+  }
+  for (size_t i = 0; position % static_cast<int64_t>(read_stride) == 0 && i < read.current.size(); ++i) {
+    const replay::RobotFrame& frame = read.current[i];
+    Columns& column = read.columns[i];
+    column.state.push_back(FrameState(frame));
+    column.epoch.push_back(frame.epoch);
+    column.x.push_back(Milli(frame.true_x_m));
+    column.y.push_back(Milli(frame.true_y_m));
+    column.h.push_back(Milli(frame.true_heading_rad));
+    column.ex.push_back(Milli(frame.est_x_m));
+    column.ey.push_back(Milli(frame.est_y_m));
+    column.eh.push_back(Milli(frame.est_heading_rad));
+  }
+}
+
+// Adds the round's events, and counts the troubles among them.
+void AddEvents(const replay::Round& round, int64_t position, RoundsRead& read) {
+  for (const replay::Event& event : round.events) {
+    read.events.push_back(EventData(event, position));
+    switch (event.kind) {
+      case replay::EventKind::kCollision: ++read.facts.collisions; break;
+      case replay::EventKind::kAppFault: ++read.facts.app_faults; break;
+      case replay::EventKind::kJoinWait: ++read.facts.join_waits; break;
+      case replay::EventKind::kBeaconLost:
+        read.facts.lost.push_back({.round = round.index, .from = event.robot, .to = event.other});
+        break;
+      default: break;
+    }
+  }
+}
+
+// Adds the maps first seen in the round and each robot's start on its map:
+// under SSYNC whether the schedule left the robot out, under ASYNC whether
+// it looked, with the look its move comes from.
+void AddMapsAndStarts(const replay::Round& round, int64_t position, const replay::Header& header,
+                      const std::optional<sync::ActivationConfig>& activation, RoundsRead& read) {
+  for (const replay::RobotMap& entry : round.maps) {
+    auto [found, inserted] = read.map_numbers.emplace(entry.map.get(), read.map_numbers.size());
+    if (inserted) {
+      read.keep_alive.push_back(entry.map);
+      read.maps.push_back(MapData(*entry.map, header));
+    }
+    if (activation && activation->model == sync::ActivationModel::kAsync && entry.robot < read.cycles.size()) {
+      // [.., looked, the look's epoch, moves this epoch, the move is cut]
+      const sync::AsyncTracker::Step step =
+          read.cycles[entry.robot].OnEpochStart(*activation, entry.map->epoch, entry.robot);
+      read.starts.push_back({position, entry.robot, found->second, step.looks ? 1 : 0, step.look_epoch,
+                             step.moves ? 1 : 0, step.cycle.cut ? 1 : 0});
+    } else if (activation) {
+      read.starts.push_back({position, entry.robot, found->second, StartsActive(*activation, entry) ? 1 : 0});
+    } else {
+      read.starts.push_back({position, entry.robot, found->second});
+    }
+  }
+}
+
+// Reads every round the reader accepts, keeping every read stride-th
+// round's frames; counts the page's rounds and events.
+RoundsRead ReadRounds(replay::Reader& reader, const replay::Header& header,
+                      const std::optional<sync::ActivationConfig>& activation, size_t read_stride, Page& page) {
+  const size_t robot_count = header.robots.size();
+  RoundsRead read;
+  read.current.resize(robot_count);
+  for (size_t slot = 0; slot < robot_count; ++slot) read.current[slot].id = header.robots[slot].id;
+  read.columns.resize(robot_count);
+  read.cycles.resize(robot_count);
   replay::Round round;
   while (reader.Next(round)) {
-    const int64_t position = static_cast<int64_t>(round_index.size());
-    round_index.push_back(round.index);
-    round_time_us.push_back(round.time_ns / 1000);
-    size_t slot = 0;
-    for (const replay::RobotFrame& frame : round.robots) {
-      while (current[slot].id != frame.id) ++slot;  // both increase (the reader checked)
-      current[slot] = frame;
-    }
-    for (size_t i = 0; position % static_cast<int64_t>(read_stride) == 0 && i < robot_count; ++i) {
-      const replay::RobotFrame& frame = current[i];
-      Columns& column = columns[i];
-      column.state.push_back(FrameState(frame));
-      column.epoch.push_back(frame.epoch);
-      column.x.push_back(Milli(frame.true_x_m));
-      column.y.push_back(Milli(frame.true_y_m));
-      column.h.push_back(Milli(frame.true_heading_rad));
-      column.ex.push_back(Milli(frame.est_x_m));
-      column.ey.push_back(Milli(frame.est_y_m));
-      column.eh.push_back(Milli(frame.est_heading_rad));
-    }
-    for (const replay::Event& event : round.events) {
-      events.push_back(EventData(event, position));
-      switch (event.kind) {
-        case replay::EventKind::kCollision: ++facts.collisions; break;
-        case replay::EventKind::kAppFault: ++facts.app_faults; break;
-        case replay::EventKind::kJoinWait: ++facts.join_waits; break;
-        case replay::EventKind::kBeaconLost:
-          facts.lost.push_back({.round = round.index, .from = event.robot, .to = event.other});
-          break;
-        default: break;
-      }
-    }
-    for (const replay::RobotMap& entry : round.maps) {
-      auto [found, inserted] = map_numbers.emplace(entry.map.get(), map_numbers.size());
-      if (inserted) {
-        keep_alive.push_back(entry.map);
-        maps.push_back(MapData(*entry.map, header));
-      }
-      if (activation && activation->model == sync::ActivationModel::kAsync && entry.robot < cycles.size()) {
-        // [.., looked, the look's epoch, moves this epoch, the move is cut]
-        const sync::AsyncTracker::Step step = cycles[entry.robot].OnEpochStart(*activation, entry.map->epoch, entry.robot);
-        starts.push_back({position, entry.robot, found->second, step.looks ? 1 : 0, step.look_epoch, step.moves ? 1 : 0,
-                          step.cycle.cut ? 1 : 0});
-      } else if (activation) {
-        starts.push_back({position, entry.robot, found->second, is_active(entry) ? 1 : 0});
-      } else {
-        starts.push_back({position, entry.robot, found->second});
-      }
-    }
+    const int64_t position = static_cast<int64_t>(read.round_index.size());
+    read.round_index.push_back(round.index);
+    read.round_time_us.push_back(round.time_ns / 1000);
+    AddFrames(round, position, read_stride, read);
+    AddEvents(round, position, read);
+    AddMapsAndStarts(round, position, header, activation, read);
     page.events += round.events.size();
   }
-  page.rounds = round_index.size();
+  page.rounds = read.round_index.size();
   page.complete = reader.complete();
+  return read;
+}
 
+// Writes whether the reader reached the end, and if not what stopped it
+// (everything before it is shown).
+void WriteStatus(const replay::Reader& reader, const std::string& name, Page& page, json& data) {
   if (page.complete) {
     data["status"] = "complete";
-  } else {
-    page.error = Error{.where = name, .message = reader.error().ToString()};
-    data["status"] = reader.truncated() ? "truncated" : "invalid";
-    data["message"] = fmt::format("{} after {} rounds: {}. Everything before the problem is shown.",
-                                  reader.truncated() ? "The replay is cut short" : "The replay is damaged",
-                                  page.rounds, reader.error().ToString());
+    return;
   }
+  page.error = Error{.where = name, .message = reader.error().ToString()};
+  data["status"] = reader.truncated() ? "truncated" : "invalid";
+  data["message"] = fmt::format("{} after {} rounds: {}. Everything before the problem is shown.",
+                                reader.truncated() ? "The replay is cut short" : "The replay is damaged",
+                                page.rounds, reader.error().ToString());
+}
 
-  const size_t stride = counted ? read_stride : stride_for(robot_count * page.rounds);
-  const size_t stride_after = counted ? 1 : stride;  // what is left to drop of the frames held
-  page.frame_stride = stride;
-  data["stride"] = stride;
-  data["rounds"] = {{"index", Deltas(round_index)}, {"time_us", Deltas(round_time_us)}};
+// Every robot's frames, every stride_after-th of those held: the state as
+// it is, the other fields as successive differences.
+json FramesData(const std::vector<Columns>& columns, size_t stride_after) {
+  auto sampled = [stride_after](const std::vector<int64_t>& values) {
+    std::vector<int64_t> kept;
+    for (size_t i = 0; i < values.size(); i += stride_after) kept.push_back(values[i]);
+    return kept;
+  };
   json robots_frames = json::array();
   for (const Columns& column : columns) {
-    auto sampled = [stride_after](const std::vector<int64_t>& values) {
-      std::vector<int64_t> kept;
-      for (size_t i = 0; i < values.size(); i += stride_after) kept.push_back(values[i]);
-      return kept;
-    };
     json state = json::array();
     for (const int64_t value : sampled(column.state)) state.push_back(value);
     robots_frames.push_back({{"s", std::move(state)},
@@ -322,26 +366,74 @@ std::string ReplayJson(std::istream& in, const std::string& name, const PageOpti
                              {"ey", Deltas(sampled(column.ey))},
                              {"eh", Deltas(sampled(column.eh))}});
   }
-  data["frames"] = std::move(robots_frames);
-  data["events"] = std::move(events);
-  data["maps"] = std::move(maps);
-  data["starts"] = std::move(starts);
-  // The verdict and the goal's target: how the run went, said first.
-  if (options.metrics && options.metrics->seed == header.seed) {
-    data["verdict"] = VerdictData(VerdictOf(*options.metrics, facts));
-  } else {
-    Verdict verdict = VerdictOfReplay(facts);
-    if (options.metrics) {
-      verdict.lines.front().text = fmt::format("not judged: the metrics given are of another run (seed {}, this "
-                                               "replay's is {})", options.metrics->seed, header.seed);
-    }
-    data["verdict"] = VerdictData(verdict);
+  return robots_frames;
+}
+
+// How the run went: from its metrics when they are this run's, else from
+// the replay alone (saying why when metrics of another run were given).
+json VerdictFor(const PageOptions& options, const replay::Header& header, const ReplayFacts& facts) {
+  if (options.metrics && options.metrics->seed == header.seed) return VerdictData(VerdictOf(*options.metrics, facts));
+  Verdict verdict = VerdictOfReplay(facts);
+  if (options.metrics) {
+    verdict.lines.front().text = fmt::format("not judged: the metrics given are of another run (seed {}, this "
+                                             "replay's is {})", options.metrics->seed, header.seed);
   }
-  size_t goal_robots = 0;  // running or paused at the end: a built-in goal's robots
-  for (const replay::RobotFrame& frame : current) {
+  return VerdictData(verdict);
+}
+
+// The goal's target for the robots running or paused at the end (a built-in
+// goal's robots); none without the scenario.
+json TargetsFor(const PageOptions& options, const std::vector<replay::RobotFrame>& last_frames) {
+  size_t goal_robots = 0;
+  for (const replay::RobotFrame& frame : last_frames) {
     goal_robots += frame.presence == replay::Presence::kRunning || frame.presence == replay::Presence::kPaused;
   }
-  data["targets"] = options.scenario ? GoalTargets(*options.scenario, goal_robots) : json::array();
+  return options.scenario ? GoalTargets(*options.scenario, goal_robots) : json::array();
+}
+
+}  // namespace
+
+std::string ReplayJson(std::istream& in, const std::string& name, const PageOptions& options, Page& page) {
+  json data = StartData(name);
+  page = Page{};
+  if (in.peek() == std::istream::traits_type::eof()) {
+    WriteEmptyFile(name, page, data);
+    return data.dump();
+  }
+
+  // Decimation for drawing: the smallest stride that fits the budget, from
+  // a first pass that counts the rounds, so that only the frames kept are
+  // held: all robots x rounds of them were gigabytes for a long run, or for
+  // a hostile file of 65,535 robots and empty rounds. A stream that cannot
+  // seek back (a pipe) is read once, holding every frame, and decimated
+  // after.
+  const std::optional<size_t> robot_frames_in_file = CountRobotFrames(in);
+  const bool counted = robot_frames_in_file.has_value();
+  const size_t read_stride = StrideFor(options, robot_frames_in_file.value_or(0));  // 1 when not counted
+
+  replay::Reader reader(in);
+  replay::Header header;
+  if (!reader.ReadHeader(header)) {
+    WriteUnreadableHeader(reader, name, page, data);
+    return data.dump();
+  }
+  data.update(HeaderData(header, reader.version()));
+  const std::optional<sync::ActivationConfig> activation = ActivationOf(options, header, data);
+  RoundsRead read = ReadRounds(reader, header, activation, read_stride, page);
+  WriteStatus(reader, name, page, data);
+
+  const size_t stride = counted ? read_stride : StrideFor(options, header.robots.size() * page.rounds);
+  const size_t stride_after = counted ? 1 : stride;  // what is left to drop of the frames held
+  page.frame_stride = stride;
+  data["stride"] = stride;
+  data["rounds"] = {{"index", Deltas(read.round_index)}, {"time_us", Deltas(read.round_time_us)}};
+  data["frames"] = FramesData(read.columns, stride_after);
+  data["events"] = std::move(read.events);
+  data["maps"] = std::move(read.maps);
+  data["starts"] = std::move(read.starts);
+  // The verdict and the goal's target: how the run went, said first.
+  data["verdict"] = VerdictFor(options, header, read.facts);
+  data["targets"] = TargetsFor(options, read.current);
   if (page.rounds == 0 && page.complete) {
     data["status"] = "empty";
     data["message"] = "The replay holds no rounds: the run ended before its first radio round.";
