@@ -709,39 +709,46 @@ void TakeOverPresentPages() {
   }
 }
 
-}  // namespace
-}  // namespace syrof::app_host
+// The command line: run|check|hold LIBRARY PARENT_PID ADDRESS_SPACE_BYTES.
+struct HostArguments {
+  bool check_only = false;
+  bool hold_mode = false;  // hold: the fork server's held host (docs/app_host.md "The fork server")
+  const char* library = nullptr;
+  pid_t parent = 0;
+  unsigned long long address_space = 0;
+};
 
-int main(int argc, char** argv) {
-  using namespace syrof::app_host;
-  namespace p = protocol;
-  if (argc != 5) {
-    fprintf(stderr, "usage: syrof-app-host run|check|hold LIBRARY PARENT_PID ADDRESS_SPACE_BYTES\n"
-                    "(started by SyROF; not meant to be run by hand)\n");
-    return p::kExitUsage;
-  }
-  const bool check_only = strcmp(argv[1], "check") == 0;
-  // hold: the fork server's held host (docs/app_host.md "The fork server").
-  const bool hold_mode = strcmp(argv[1], "hold") == 0;
-  const char* library = argv[2];
-  const pid_t parent = static_cast<pid_t>(strtol(argv[3], nullptr, 10));
-  const unsigned long long address_space = strtoull(argv[4], nullptr, 10);
-  uint32_t notes = 0;
+HostArguments ReadArguments(char** argv) {
+  HostArguments arguments;
+  arguments.check_only = strcmp(argv[1], "check") == 0;
+  arguments.hold_mode = strcmp(argv[1], "hold") == 0;
+  arguments.library = argv[2];
+  arguments.parent = static_cast<pid_t>(strtol(argv[3], nullptr, 10));
+  arguments.address_space = strtoull(argv[4], nullptr, 10);
+  return arguments;
+}
 
-  // Addresses the same on every run, so even an app that hashes pointers is
-  // repeatable: the parent spawns the host with ADDR_NO_RANDOMIZE set (the
-  // personality takes effect at exec); say so if that did not happen.
+// Addresses the same on every run, so even an app that hashes pointers is
+// repeatable: the parent spawns the host with ADDR_NO_RANDOMIZE set (the
+// personality takes effect at exec); say so if that did not happen.
+void NoteAddressRandomization(uint32_t& notes) {
   if ((personality(0xffffffff) & ADDR_NO_RANDOMIZE) == 0) notes |= p::kNoteNoAslrOff;
+}
 
-  // 1. Die with the parent (and make sure it has not died already).
+// 1. Die with the parent (and make sure it has not died already).
+void DieWithParent(pid_t parent) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (getppid() != parent) _exit(p::kExitParentGone);
+}
 
-  // 2. Every descriptor but 0-3 closed: nothing the parent had open
-  //    without close-on-exec reaches the library (docs/app_host.md).
+// 2. Every descriptor but 0-3 closed: nothing the parent had open
+//    without close-on-exec reaches the library (docs/app_host.md).
+void CloseInheritedDescriptors(uint32_t& notes) {
   if (!syrof::process::CloseDescriptorsFrom(p::kChannelFd + 1)) notes |= p::kNoteNoCloseRange;
+}
 
-  // 3. Limits: no core files, no files written, few descriptors, bounded memory.
+// 3. Limits: no core files, no files written, few descriptors, bounded memory.
+void SetLimits(unsigned long long address_space, uint32_t& notes) {
   using syrof::process::SetLimit;
   SetLimit(RLIMIT_CORE, 0);
   SetLimit(RLIMIT_FSIZE, 0);
@@ -750,46 +757,58 @@ int main(int argc, char** argv) {
   (void)address_space;
   notes |= p::kNoteSanitized;
 #else
+  (void)notes;
   SetLimit(RLIMIT_AS, static_cast<rlim_t>(address_space));
 #endif
   SetAllocationRefusedHandler(OnAllocationRefused);
-  // stdio's own buffer for stdout: glibc would allocate one at the first
-  // printf, after asking fstat about the descriptor, which the callback
-  // filter refuses. (stderr is unbuffered and asks nothing.)
+}
+
+// 3, continued. stdio's own buffer for stdout: glibc would allocate one at
+// the first printf, after asking fstat about the descriptor, which the
+// callback filter refuses. (stderr is unbuffered and asks nothing.)
+void GiveStdoutItsBuffer() {
   static char stdout_buffer[4096];
   setvbuf(stdout, stdout_buffer, _IOFBF, sizeof(stdout_buffer));
+}
 
-  // 4. The library is opened while the host may still read where it lies
-  //    (a 0700 folder of the caller's); it is loaded later through
-  //    /proc/self/fd, after the uid is dropped.
+// 4. The library is opened while the host may still read where it lies
+//    (a 0700 folder of the caller's); it is loaded later through
+//    /proc/self/fd, after the uid is dropped. The loader's file rules are
+//    built now too, and applied in step 7a. Returns the library's descriptor.
+int OpenLibrary(const char* library, syrof::process::FileRuleset& file_rules, uint32_t& notes) {
   const int library_fd = open(library, O_RDONLY | O_CLOEXEC);
   if (library_fd < 0) Fail(syrof::app::Verdict::kLoadFailed, "cannot open the library: ", strerror(errno));
-  syrof::process::FileRuleset file_rules;
   if (!LoaderFileRules(file_rules, library)) {
     Fail(syrof::app::Verdict::kLoadFailed, "cannot confine the loader: ", file_rules.error().c_str());
   }
   if (!file_rules.created()) notes |= p::kNoteNoLandlock;
-  // A held host's copies inherit its loader filter, which cannot name their
-  // pids: it lets signals through, and only Landlock's signal scope keeps
-  // them in the held host's domain. Without the scope there is no holding.
-  const bool can_hold = hold_mode && file_rules.created() && syrof::process::LandlockAbi() >= 6;
-  if (hold_mode && !can_hold) {
+  return library_fd;
+}
+
+// 4, a held host. Its copies inherit its loader filter, which cannot name
+// their pids: it lets signals through, and only Landlock's signal scope
+// keeps them in the held host's domain. Without the scope there is no
+// holding: the hello says so and the host ends. With it, what is checked
+// after the load is opened now.
+void PrepareToHold(const syrof::process::FileRuleset& file_rules, uint32_t notes) {
+  const bool can_hold = file_rules.created() && syrof::process::LandlockAbi() >= 6;
+  if (!can_hold) {
     p::Reply refused;
     refused.kind = static_cast<uint8_t>(p::ReplyKind::kHello);
     refused.notes = notes | p::kHoldNoSignalScope;
     Send(refused);
     _exit(0);
   }
-  if (hold_mode) {
-    // Read after the load, to find a mapping a constructor shared; /proc is
-    // out of Landlock's rules, so it is opened now.
-    hold.maps_fd = open("/proc/self/maps", O_RDONLY | O_CLOEXEC);
-    hold.pagemap_fd = open("/proc/self/pagemap", O_RDONLY | O_CLOEXEC);
-    RecordStandardDescriptors();
-  }
+  // Read after the load, to find a mapping a constructor shared; /proc is
+  // out of Landlock's rules, so it is opened now.
+  hold.maps_fd = open("/proc/self/maps", O_RDONLY | O_CLOEXEC);
+  hold.pagemap_fd = open("/proc/self/pagemap", O_RDONLY | O_CLOEXEC);
+  RecordStandardDescriptors();
+}
 
-  // 5. An unprivileged uid when started as root; no process may then be
-  //    started under it (RLIMIT_NPROC 0: the host never forks).
+// 5. An unprivileged uid when started as root; no process may then be
+//    started under it (RLIMIT_NPROC 0: the host never forks).
+void DropPrivileges(pid_t parent, bool hold_mode, uint32_t& notes) {
   if (geteuid() == 0) {
     // (DropToNobody sets the parent-death signal again: a change of uid or
     // gid clears it.)
@@ -802,21 +821,25 @@ int main(int argc, char** argv) {
   // (A held host makes its copies: it keeps the limit it was given. A
   // process its constructors start stays in its process group, where the
   // parent finds it after the load: docs/app_host.md "The fork server".)
-  if (!hold_mode) SetLimit(RLIMIT_NPROC, 0);
+  if (!hold_mode) syrof::process::SetLimit(RLIMIT_NPROC, 0);
   prctl(PR_SET_DUMPABLE, 1);  // keeps /proc/self/fd/N readable after the uid change
   // The parent may have gone while the death signal was cleared.
   if (getppid() != parent) _exit(p::kExitParentGone);
+}
 
-  // 6. Namespaces: no network, no IPC, its own hostname, no uid outside.
+// 6. Namespaces: no network, no IPC, its own hostname, no uid outside.
+void EnterNamespaces(uint32_t& notes) {
   if (unshare(CLONE_NEWUSER | CLONE_NEWNET | CLONE_NEWIPC | CLONE_NEWUTS) != 0) notes |= p::kNoteNoNamespaces;
   // A new user namespace gives its first process every capability inside
   // it; the host needs none of them.
   __user_cap_header_struct cap_header{_LINUX_CAPABILITY_VERSION_3, 0};
   __user_cap_data_struct no_caps[2] = {};
   (void)syscall(SYS_capset, &cap_header, no_caps);
+}
 
-  // 7. No new privileges, and the system call filters. The names of the
-  //    calls are resolved first (the SIGSYS handler cannot allocate).
+// 7. No new privileges, after the SIGSYS handler is in place. The names of
+//    the calls are resolved first (the SIGSYS handler cannot allocate).
+void ForbidNewPrivileges() {
   for (int number = 0; number < kMaxSyscall; ++number) {
     syscall_names[number] = seccomp_syscall_resolve_num_arch(SCMP_ARCH_NATIVE, number);
   }
@@ -828,14 +851,22 @@ int main(int argc, char** argv) {
   if (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0) {
     Fail(syrof::app::Verdict::kLoadFailed, "no_new_privs refused: ", strerror(errno));
   }
-  // 7a. Landlock: from here on only the library's and the system's library
-  //     folders can be opened, and only for reading (LoaderFileRules).
+}
+
+// 7a. Landlock: from here on only the library's and the system's library
+//     folders can be opened, and only for reading (LoaderFileRules).
+void RestrictFiles(syrof::process::FileRuleset& file_rules) {
   if (file_rules.created()) {
     if (const int refused = file_rules.RestrictSelf(); refused != 0) {
       Fail(syrof::app::Verdict::kLoadFailed, "Landlock refused the loader's file rules: ", strerror(refused));
     }
     file_rules.Close();  // descriptors 0-3 only, as before
   }
+}
+
+// 7, the system call filters: the loader's is installed; the callbacks'
+//    is built now, with this pid, and returned for step 9 (or 9').
+scmp_filter_ctx InstallLoaderFilter(bool hold_mode) {
   const pid_t self = getpid();
   scmp_filter_ctx loader = LoaderFilter(self, hold_mode);
   scmp_filter_ctx callbacks = CallbackFilter(self);
@@ -843,8 +874,11 @@ int main(int argc, char** argv) {
     Fail(syrof::app::Verdict::kLoadFailed, "cannot install the system call filter", nullptr);
   }
   seccomp_release(loader);
+  return callbacks;
+}
 
-  // 8. Load, find the entry, check the ABI.
+// 8. Load, find the entry, check the ABI. Returns the app's descriptor.
+const syrof_app_descriptor* LoadApp(int library_fd) {
   char proc_path[64];
   CopyText(proc_path, sizeof(proc_path), "/proc/self/fd/");
   AppendNumber(proc_path, sizeof(proc_path), static_cast<uint64_t>(library_fd));
@@ -868,43 +902,86 @@ int main(int argc, char** argv) {
   const int bound = syrof_internal_host_bind(descriptor, RecordPayload, LookUpParameter, LookUpInput, nullptr);
   if (bound == 1) Fail(syrof::app::Verdict::kBadAbi, SYROF_APP_ENTRY_SYMBOL "() returned no descriptor", nullptr);
   if (bound != 0) Fail(syrof::app::Verdict::kBadAbi, "the descriptor lacks a callback", nullptr);
+  return descriptor;
+}
 
-  if (hold_mode) {
-    // 9'. The fork server: no callbacks' filter here; each copy loads its
-    //     own (BecomeCopy). The hello says whether copies would start
-    //     clean; if not, the parent starts a fresh host per robot instead.
-    RecordPresentPages();
-    const uint32_t unclean = WhatCopiesWouldShare();
-    sigset_t all;
-    sigfillset(&all);
-    sigprocmask(SIG_SETMASK, &all, &hold.load_mask);
-    hold.parent = parent;
-    hold.callbacks = callbacks;
-    fflush(stdout);
-    fflush(stderr);
-    hold.hello.kind = static_cast<uint8_t>(p::ReplyKind::kHello);
-    hold.hello.notes = notes;
-    CopyText(hold.hello.text, sizeof(hold.hello.text), descriptor->name != nullptr ? descriptor->name : "c_app");
-    p::Reply held = hold.hello;
-    held.notes |= unclean;
-    Send(held);
-    if (unclean != 0) _exit(0);
-    Hold();
-  }
+// Writes the hello a host says once loaded: its notes and the app's name.
+void WriteHello(const syrof_app_descriptor* descriptor, uint32_t notes, p::Reply& hello) {
+  hello.kind = static_cast<uint8_t>(p::ReplyKind::kHello);
+  hello.notes = notes;
+  CopyText(hello.text, sizeof(hello.text), descriptor->name != nullptr ? descriptor->name : "c_app");
+}
 
-  // 9. The callbacks' filter: from here on nothing is opened.
+// 9'. The fork server: no callbacks' filter here; each copy loads its
+//     own (BecomeCopy). The hello says whether copies would start
+//     clean; if not, the parent starts a fresh host per robot instead.
+[[noreturn]] void HoldForCopies(pid_t parent, scmp_filter_ctx callbacks, const syrof_app_descriptor* descriptor,
+                                uint32_t notes) {
+  RecordPresentPages();
+  const uint32_t unclean = WhatCopiesWouldShare();
+  sigset_t all;
+  sigfillset(&all);
+  sigprocmask(SIG_SETMASK, &all, &hold.load_mask);
+  hold.parent = parent;
+  hold.callbacks = callbacks;
+  fflush(stdout);
+  fflush(stderr);
+  WriteHello(descriptor, notes, hold.hello);
+  p::Reply held = hold.hello;
+  held.notes |= unclean;
+  Send(held);
+  if (unclean != 0) _exit(0);
+  Hold();
+}
+
+// 9. The callbacks' filter: from here on nothing is opened.
+void InstallCallbackFilter(scmp_filter_ctx callbacks) {
   if (seccomp_load(callbacks) != 0) {
     Fail(syrof::app::Verdict::kLoadFailed, "cannot install the callback filter", nullptr);
   }
   seccomp_release(callbacks);
+}
 
+// What the library printed while it loaded goes out before the hello.
+void SayHello(const syrof_app_descriptor* descriptor, uint32_t notes) {
   fflush(stdout);
   fflush(stderr);
   p::Reply hello;
-  hello.kind = static_cast<uint8_t>(p::ReplyKind::kHello);
-  hello.notes = notes;
-  CopyText(hello.text, sizeof(hello.text), descriptor->name != nullptr ? descriptor->name : "c_app");
+  WriteHello(descriptor, notes, hello);
   Send(hello);
-  if (check_only) _exit(0);
+}
+
+}  // namespace
+}  // namespace syrof::app_host
+
+int main(int argc, char** argv) {
+  using namespace syrof::app_host;
+  if (argc != 5) {
+    fprintf(stderr, "usage: syrof-app-host run|check|hold LIBRARY PARENT_PID ADDRESS_SPACE_BYTES\n"
+                    "(started by SyROF; not meant to be run by hand)\n");
+    return protocol::kExitUsage;
+  }
+  const HostArguments arguments = ReadArguments(argv);
+  uint32_t notes = 0;
+  NoteAddressRandomization(notes);
+  // The order matters: each step relies on those before it (docs/app_host.md,
+  // "What the host does, in order", which counts the line above as step 1).
+  DieWithParent(arguments.parent);                                            // 1
+  CloseInheritedDescriptors(notes);                                           // 2
+  SetLimits(arguments.address_space, notes);                                  // 3
+  GiveStdoutItsBuffer();
+  syrof::process::FileRuleset file_rules;
+  const int library_fd = OpenLibrary(arguments.library, file_rules, notes);  // 4
+  if (arguments.hold_mode) PrepareToHold(file_rules, notes);
+  DropPrivileges(arguments.parent, arguments.hold_mode, notes);               // 5
+  EnterNamespaces(notes);                                                     // 6
+  ForbidNewPrivileges();                                                      // 7
+  RestrictFiles(file_rules);                                                  // 7a
+  const scmp_filter_ctx callbacks = InstallLoaderFilter(arguments.hold_mode);
+  const syrof_app_descriptor* descriptor = LoadApp(library_fd);              // 8
+  if (arguments.hold_mode) HoldForCopies(arguments.parent, callbacks, descriptor, notes);  // 9'
+  InstallCallbackFilter(callbacks);                                           // 9
+  SayHello(descriptor, notes);
+  if (arguments.check_only) _exit(0);
   Serve();
 }
