@@ -351,7 +351,6 @@ lab::metrics::DdsMetrics DdsWorld::DdsFacts() const {
   lab::metrics::DdsMetrics dds;
   dds.domain_id = participant_->domain_id();
   dds.delivery_ratio = result_.delivery_ratio;
-  dds.round_start_skew = result_.skew;
   dds.cpu_seconds_per_robot = result_.cpu_seconds;
   dds.reports_rejected = reports_.rejected();
   dds.reports_late = reports_.late();

@@ -145,6 +145,7 @@ void BeaconChannel::OnBeacon(uint16_t i, const drivers::Frame& frame, int64_t no
     base_station_.Hear(std::span<const uint8_t>(frame.beacon.data(), frame.beacon_length));
   }
   const int64_t beacon_round = BeaconRound(robot);
+  robot.boundary_ns_of_round.emplace(beacon_round, now);
   const int64_t due_ns = DeliveryDue(robot, beacon_round, now);
   CountLateness(robot, beacon_round);
   // The lab and the DDS world ask the channel about the same (round,

@@ -21,7 +21,7 @@
 // estimates) and the world's true poses (collisions, estimation error), and
 // writes DIR/metrics.json (docs/metrics.md), DIR/replay (lab/replay, for
 // `syrof view`; read back before the run ends), DIR/firmware-swarm.json
-// (timing mode, round-start skew, channel and sensor-link counts),
+// (timing mode, channel and sensor-link counts),
 // DIR/beacons.csv (when each robot's beacons reached this process);
 // DIR/robot_<i>.log holds each robot's console and DIR/qemu_<i>.log qemu's
 // own output.

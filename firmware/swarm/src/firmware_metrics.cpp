@@ -56,7 +56,6 @@ void WriteFaults(std::ostream& out, const std::vector<FaultOutcome>& faults) {
 }  // namespace
 
 std::string ToJson(const FirmwareMetrics& metrics) {
-  const lab::metrics::SkewStats& skew = metrics.round_start_skew;
   const BeaconCounts& beacons = metrics.beacons;
   const SensorLinkCounts& sensor_link = metrics.sensor_link;
   std::ostringstream out;
@@ -67,8 +66,6 @@ std::string ToJson(const FirmwareMetrics& metrics) {
       << ",\n  \"all_cooperative_s\": " << FixedOrNull(metrics.all_cooperative_s)
       << ",\n  \"p3_violations\": " << metrics.p3_violations
       << ",\n  \"cooperative_starts\": " << metrics.cooperative_starts;
-  out << ",\n  \"round_start_skew_us\": {\"samples\": " << skew.samples << ", \"p50\": " << skew.p50_us
-      << ", \"p99\": " << skew.p99_us << ", \"max\": " << skew.max_us << "}";
   out << ",\n  \"beacons\": {\"offered\": " << beacons.offered << ", \"delivered\": " << beacons.delivered
       << ", \"link_errors\": " << beacons.link_errors << ", \"late\": " << beacons.late
       << ", \"past_their_round\": " << beacons.past_their_round << "}";

@@ -372,6 +372,11 @@ void SwarmHost::RecordRound(int64_t now) {
     const int64_t boundary_ns = swarm_[i].last_boundary_ns;
     const bool member = loop_.player().running(i) && state.reporting && state.status == 0;
     if (member && boundary_ns > 0) read_.phase_boundaries_ns.push_back(boundary_ns - all_started_ns_);
+    // Its boundary of this round for the round-start skew: its beacon of
+    // the round as it reached the host, every robot's on the host's clock.
+    if (const std::optional<int64_t> boundary = TakeBoundary(swarm_[i].boundary_ns_of_round, round_)) {
+      read_.activations_ns.push_back(*boundary);
+    }
   }
   loop_.RecordRound(round_, (round_ + 1) * period_ns_, read_);
   read_ = {};

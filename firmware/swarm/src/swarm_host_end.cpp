@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <fstream>
 
-#include "syrof/firmware/swarm/round_skew.h"
 #include "syrof/firmware/swarm/swarm_host.h"
 #include "syrof/lab/replay/reader.h"
 
@@ -84,7 +83,7 @@ metrics::Metrics SwarmHost::CollectMetrics(double wall_s) {
   // its own name, as its held lines said it (NameImageApp), from the image.
   facts.app_name = image_app_;
   facts.app_source = options_.image;
-  metrics::Metrics result = loop_.recorder().Finish(facts);
+  metrics::Metrics result = loop_.Finish(facts);
   // The robots' consoles do not carry the app's returns, so agreement stays
   // unset: metrics.json says null, not a measurement of nothing.
   result.runtime = "firmware";
@@ -133,22 +132,21 @@ void SwarmHost::WriteMetrics(RunResult& result) const {
   }
 }
 
-// beacons.csv, and the round-start skew from the same instants.
+// beacons.csv: every beacon's arrival at the host.
 void SwarmHost::WriteBeacons(RunResult& result) const {
-  std::vector<std::vector<int64_t>> beacon_times;
   std::ofstream beacons_csv(options_.out + "/beacons.csv");
   beacons_csv << "robot,host_ms\n";
   for (uint16_t i = 0; i < robots_; ++i) {
-    beacon_times.push_back(swarm_[i].beacon_ns);
     for (const int64_t t : swarm_[i].beacon_ns) beacons_csv << i << ',' << static_cast<double>(t - all_started_ns_) * 1e-6 << '\n';
   }
-  // Skew from 5 s on: the start-up (instances boot one after another) and
-  // the round alignment's first corrections are left out.
-  result.report.round_start_skew = swarm::RoundStartSkew(beacon_times, period_ns_, all_started_ns_ + 5'000'000'000);
+  if (!beacons_csv.flush()) {
+    std::fprintf(stderr, "syrof-firmware-swarm: cannot write %s/beacons.csv\n", options_.out.c_str());
+    result.ok = false;
+  }
 }
 
 // The firmware's own figures of the run, as measured, beside those the
-// earlier steps put in (wall time, faults, replay rounds, skew).
+// earlier steps put in (wall time, faults, replay rounds).
 void SwarmHost::FillReport(RunResult& result) const {
   swarm::FirmwareMetrics& report = result.report;
   const metrics::Metrics& run = result.metrics;
@@ -196,7 +194,7 @@ void SwarmHost::WriteReport(RunResult& result) const {
 
 void SwarmHost::PrintSummary(const RunResult& result) const {
   const metrics::Metrics& run = result.metrics;
-  const lab::metrics::SkewStats& skew = result.report.round_start_skew;
+  const lab::metrics::SkewStats skew = run.round_start_skew.value_or(lab::metrics::SkewStats{});
   const swarm::SensorLinkCounts& sensor_totals = result.report.sensor_link;
   const swarm::BeaconCounts& beacons = result.report.beacons;
   const std::optional<double> max_error_m = run.estimation.max_error_m;
@@ -208,8 +206,8 @@ void SwarmHost::PrintSummary(const RunResult& result) const {
               cooperative ? ("at " + std::to_string(*all_cooperative_s_) + " s").c_str() : "never",
               static_cast<long long>(run.common_knowledge.cooperative_starts),
               static_cast<long long>(run.common_knowledge.violations));
-  std::printf("  round-start skew (beacon arrivals vs robot 0, after 5 s): p50 %.0f us, p99 %.0f us, max %.0f us "
-              "over %lld beacons\n",
+  std::printf("  round-start skew (spread of a round's beacon arrivals): p50 %.0f us, p99 %.0f us, max %.0f us "
+              "over %lld rounds\n",
               skew.p50_us, skew.p99_us, skew.max_us, static_cast<long long>(skew.samples));
   std::printf("  beacons offered %lld, delivered %lld; radio-link errors %lld; %lld beacons reached the host past "
               "their delivery instant, %lld past their round\n",

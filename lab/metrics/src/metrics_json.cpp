@@ -295,16 +295,19 @@ Json MembershipJson(const MembershipMetrics& membership) {
   return json;
 }
 
+Json SkewJson(const SkewStats& skew) {
+  Json json;
+  json["rounds"] = skew.samples;
+  json["p50"] = FiniteOrNull(skew.p50_us);
+  json["p99"] = FiniteOrNull(skew.p99_us);
+  json["max"] = FiniteOrNull(skew.max_us);
+  return json;
+}
+
 Json DdsJson(const DdsMetrics& dds) {
   Json json;
   json["domain_id"] = dds.domain_id;
   json["delivery_ratio"] = FiniteOrNull(dds.delivery_ratio);
-  Json skew;
-  skew["rounds"] = dds.round_start_skew.samples;
-  skew["p50"] = FiniteOrNull(dds.round_start_skew.p50_us);
-  skew["p99"] = FiniteOrNull(dds.round_start_skew.p99_us);
-  skew["max"] = FiniteOrNull(dds.round_start_skew.max_us);
-  json["round_start_skew_us"] = skew;
   json["cpu_seconds_per_robot"] = Json::array();
   for (const double seconds : dds.cpu_seconds_per_robot) json["cpu_seconds_per_robot"].push_back(FiniteOrNull(seconds));
   json["reports_rejected"] = dds.reports_rejected;
@@ -351,6 +354,7 @@ std::string ToJson(const Metrics& metrics) {
   if (metrics.activation) json["activation"] = ActivationJson(*metrics.activation);
   json["synchrony"] = SynchronyJson(metrics.synchrony);
   json["round_phase"] = RoundPhaseJson(metrics.round_phase);
+  if (metrics.round_start_skew) json["round_start_skew_us"] = SkewJson(*metrics.round_start_skew);
   json["common_knowledge"] = CommonKnowledgeJson(metrics.common_knowledge);
   json["agreement"] = AgreementJson(metrics.agreement);
   json["collisions"] = CollisionsJson(metrics.collisions, metrics.radio_round_ns);

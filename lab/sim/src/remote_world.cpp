@@ -130,6 +130,14 @@ void RemoteWorld::BuildFrames(const BoundaryTruth* truth, int64_t round_time_ns)
   }
 }
 
-metrics::Metrics RemoteWorld::Finish(const RunEnd& end) { return recorder_.Finish(recorder_.Facts(end, player_, world_)); }
+metrics::Metrics RemoteWorld::Finish(const RunEnd& end) {
+  return Finish(recorder_.Facts(end, player_, world_));
+}
+
+metrics::Metrics RemoteWorld::Finish(const metrics::RunFacts& facts) {
+  metrics::Metrics metrics = recorder_.Finish(facts);
+  metrics.round_start_skew = skew();
+  return metrics;
+}
 
 }  // namespace syrof::lab::sim

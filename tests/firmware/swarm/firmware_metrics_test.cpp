@@ -24,9 +24,8 @@ FaultOutcome Outcome(HostAction::Kind kind, uint16_t robot, int64_t at_ns, std::
 }
 
 // The figures of a run of firmware_faults.yaml (14 s, --icount -1), as
-// syrof-firmware-swarm wrote them before the report was typed; the skew
-// since in DDS's unit and percentiles (round_start_skew_us: p50, p99, max
-// in microseconds; it was round_start_skew: median_ms, p95_ms, max_ms).
+// syrof-firmware-swarm wrote them before the report was typed, less the
+// round-start skew (now metrics.json's round_start_skew_us, as DDS's).
 FirmwareMetrics FaultsRun() {
   FirmwareMetrics metrics;
   metrics.robots = 4;
@@ -39,7 +38,6 @@ FirmwareMetrics FaultsRun() {
   metrics.wall_seconds = 19.7317;
   metrics.p3_violations = 0;
   metrics.cooperative_starts = 4;
-  metrics.round_start_skew = lab::metrics::SkewStats{203, 4566.33, 21421.6, 21583.7};
   metrics.beacons = BeaconCounts{1470, 1322, 0, 49, 0};
   metrics.sensor_link = SensorLinkCounts{4837, 2421, 486, 0, 2456, 0};
   metrics.scenario = "firmware_faults";
@@ -71,7 +69,6 @@ TEST(FirmwareMetricsTest, WritesTheLayoutTheHostWroteBeforeTheReportWasTyped) {
             "  \"all_cooperative_s\": null,\n"
             "  \"p3_violations\": 0,\n"
             "  \"cooperative_starts\": 4,\n"
-            "  \"round_start_skew_us\": {\"samples\": 203, \"p50\": 4566.33, \"p99\": 21421.6, \"max\": 21583.7},\n"
             "  \"beacons\": {\"offered\": 1470, \"delivered\": 1322, \"link_errors\": 0, \"late\": 49, \"past_their_round\": 0},\n"
             "  \"sensor_link\": {\"imu\": 4837, \"flow\": 2421, \"uwb\": 486, \"not_encoded\": 0, \"drives\": 2456, "
             "\"rejected_from_robots\": 0},\n"
@@ -104,7 +101,6 @@ TEST(FirmwareMetricsTest, EveryFigureIsUnderItsKeyInOrder) {
   metrics.all_cooperative_s = 10.5;
   metrics.p3_violations = 11;
   metrics.cooperative_starts = 12;
-  metrics.round_start_skew = lab::metrics::SkewStats{13, 14, 15, 16};
   metrics.beacons = BeaconCounts{17, 18, 19, 20, 21};
   metrics.sensor_link = SensorLinkCounts{22, 23, 24, 25, 26, 27};
   metrics.scenario = "gather-3.b";
@@ -124,7 +120,7 @@ TEST(FirmwareMetricsTest, EveryFigureIsUnderItsKeyInOrder) {
   for (const auto& [key, value] : json.items()) keys.push_back(key);
   EXPECT_EQ(keys, (std::vector<std::string>{"robots", "seconds", "loss", "seed", "align", "latency_ms", "timing",
                                             "wall_seconds", "all_cooperative_s", "p3_violations", "cooperative_starts",
-                                            "round_start_skew_us", "beacons", "sensor_link", "scenario", "replay_rounds",
+                                            "beacons", "sensor_link", "scenario", "replay_rounds",
                                             "estimation", "exit_statuses", "partitioned_beacons", "stress", "faults",
                                             "activation"}));
   EXPECT_EQ(json["robots"], 5);
@@ -138,7 +134,6 @@ TEST(FirmwareMetricsTest, EveryFigureIsUnderItsKeyInOrder) {
   EXPECT_EQ(json["all_cooperative_s"], 10.5);
   EXPECT_EQ(json["p3_violations"], 11);
   EXPECT_EQ(json["cooperative_starts"], 12);
-  EXPECT_EQ(json["round_start_skew_us"], Json::parse(R"({"samples": 13, "p50": 14, "p99": 15, "max": 16})"));
   EXPECT_EQ(json["beacons"], Json::parse(R"({"offered": 17, "delivered": 18, "link_errors": 19, "late": 20,
                                              "past_their_round": 21})"));
   EXPECT_EQ(json["sensor_link"], Json::parse(R"({"imu": 22, "flow": 23, "uwb": 24, "not_encoded": 25, "drives": 26,

@@ -45,5 +45,23 @@ TEST(WorldGridTest, AJoinerCountsFromItsSwitchOnRound) {
   EXPECT_DOUBLE_EQ(BoundaryOf(on, 180, kGridPeriodNs), 9'004.0 * kMsNs);
 }
 
+// The round-start skew takes each robot's boundary of the round recorded:
+// its beacon of that round, not the next round's that came in early, and
+// nothing for a round whose beacon it missed.
+TEST(WorldGridTest, TakeBoundaryGivesTheRecordedRoundsAndKeepsLaterOnes) {
+  BoundariesByRound boundaries;
+  boundaries.emplace(3, 150);
+  boundaries.emplace(3, 160);  // a second beacon named round 3: the first counts
+  boundaries.emplace(5, 250);
+  boundaries.emplace(6, 298);  // in before round 5 is recorded
+
+  EXPECT_EQ(TakeBoundary(boundaries, 3), std::optional<int64_t>(150));
+  EXPECT_EQ(TakeBoundary(boundaries, 4), std::nullopt);
+  EXPECT_EQ(TakeBoundary(boundaries, 5), std::optional<int64_t>(250));
+  EXPECT_EQ(boundaries, (BoundariesByRound{{6, 298}}));
+  EXPECT_EQ(TakeBoundary(boundaries, 7), std::nullopt);  // round 6 never recorded: dropped
+  EXPECT_TRUE(boundaries.empty());
+}
+
 }  // namespace
 }  // namespace syrof::firmware::swarm

@@ -1,5 +1,6 @@
 // metrics.json read back with nlohmann: fields, types, order, determinism,
 // no NaN, and every field documented in docs/metrics.md.
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -281,7 +282,6 @@ TEST(MetricsJson, DdsObjectLastWithEveryField) {
   DdsMetrics dds;
   dds.domain_id = 17;
   dds.delivery_ratio = 0.999;
-  dds.round_start_skew = SkewStats{200, 40, 900, 2500};
   dds.cpu_seconds_per_robot = {0.5, 0.0};
   dds.reports_rejected = 1;
   dds.reports_late = 2;
@@ -295,9 +295,33 @@ TEST(MetricsJson, DdsObjectLastWithEveryField) {
 
   EXPECT_EQ(std::prev(json.end()).key(), "dds");
   EXPECT_EQ(json["dds"], Json::parse(R"({"domain_id": 17, "delivery_ratio": 0.999,
-      "round_start_skew_us": {"rounds": 200, "p50": 40.0, "p99": 900.0, "max": 2500.0},
       "cpu_seconds_per_robot": [0.5, 0.0], "reports_rejected": 1, "reports_late": 2, "reports_other_runs": 3,
       "drives_other_runs": 4, "stopped_early": true, "robot_exits": [0, null, -9]})"));
+}
+
+// Outside the lab (DDS, the emulated firmware) the round-start skew is one
+// top-level object, after round_phase, in the same unit for both runtimes;
+// each of its keys is documented.
+TEST(MetricsJson, RoundStartSkewFollowsRoundPhaseOutsideTheLab) {
+  Metrics metrics = ObservedRun().Finish(Facts());
+  metrics.runtime = "firmware";
+  metrics.round_start_skew = SkewStats{200, 40, 900, 2500};
+
+  const Json json = Parse(ToJson(metrics));
+
+  std::vector<std::string> keys;
+  for (const auto& item : json.items()) keys.push_back(item.key());
+  const auto phase = std::find(keys.begin(), keys.end(), "round_phase");
+  ASSERT_NE(phase, keys.end());
+  ASSERT_NE(std::next(phase), keys.end());
+  EXPECT_EQ(*std::next(phase), "round_start_skew_us");
+  EXPECT_EQ(json["round_start_skew_us"], Json::parse(R"({"rounds": 200, "p50": 40.0, "p99": 900.0, "max": 2500.0})"));
+  std::ifstream file(SYROF_METRICS_DOC);
+  std::stringstream document;
+  document << file.rdbuf();
+  for (const auto& item : json.at("round_start_skew_us").items()) {
+    EXPECT_NE(document.str().find("`round_start_skew_us." + item.key() + "`"), std::string::npos) << item.key();
+  }
 }
 
 TEST(MetricsJson, IdenticalObservationsGiveIdenticalBytes) {
@@ -315,7 +339,7 @@ TEST(MetricsJson, IdenticalObservationsGiveIdenticalBytes) {
 TEST(MetricsJson, PrettyWithTwoSpacesAndATrailingNewline) {
   const std::string text = ToJson(ObservedRun().Finish(Facts()));
 
-  EXPECT_EQ(text.rfind("{\n  \"schema_version\": 2,\n", 0), 0u);
+  EXPECT_EQ(text.rfind("{\n  \"schema_version\": 3,\n", 0), 0u);
   ASSERT_GE(text.size(), 2u);
   EXPECT_EQ(text.substr(text.size() - 2), "}\n");
 }

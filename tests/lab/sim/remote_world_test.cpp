@@ -232,6 +232,25 @@ TEST(RemoteWorld, EachRoundWithTwoReportsGivesOneSkewSampleItsSpread) {
   EXPECT_DOUBLE_EQ(skew.max_us, 30.0);
 }
 
+// The run's metrics carry the same figure, for DDS and the firmware alike
+// (metrics.json round_start_skew_us); a lab run has none.
+TEST(RemoteWorld, TheRunsMetricsCarryTheRoundStartSkew) {
+  RemoteFixture fixture;
+  RemoteRound first;
+  first.activations_ns = {2'000'000, 2'120'000};
+  fixture.loop.RecordRound(1, 50'000'000, first);
+  RemoteRound second;
+  second.activations_ns = {52'030'000, 52'000'000, 52'010'000};
+  fixture.loop.RecordRound(2, 100'000'000, second);
+
+  const metrics::Metrics run = fixture.loop.Finish(RunEnd{0.1, 0.1, 2});
+
+  ASSERT_TRUE(run.round_start_skew.has_value());
+  EXPECT_EQ(run.round_start_skew->samples, 2);
+  EXPECT_DOUBLE_EQ(run.round_start_skew->p50_us, 30.0);
+  EXPECT_DOUBLE_EQ(run.round_start_skew->max_us, 120.0);
+}
+
 TEST(RemoteWorld, ARobotWhoseReadingLinkIsClosedIsNotSampled) {
   RemoteFixture fixture;
   fixture.StepUntil(90'000'000);

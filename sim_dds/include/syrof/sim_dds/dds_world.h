@@ -85,8 +85,9 @@ struct SwarmResult {
   lab::metrics::Metrics metrics;  ///< runtime "dds", with the dds object
   std::string metrics_json;       ///< ToJson(metrics): what metrics.json holds
   double delivery_ratio = 0;
-  /// Round-start skew: one sample per round, its spread (latest minus
-  /// earliest) of the round task activations of the robots that ran it.
+  /// Round-start skew (metrics.round_start_skew, lab::metrics::SkewStats):
+  /// one sample per round, its spread (latest minus earliest) of the round
+  /// task activations of the robots that ran it.
   lab::metrics::SkewStats skew;
   std::vector<double> cpu_seconds;  ///< per robot process (0 for one never started)
   std::vector<int> robot_pids;      ///< every robot process started (for tests: none may be left)

@@ -64,7 +64,6 @@ struct FirmwareMetrics {
   std::optional<double> all_cooperative_s;  ///< host time from the world's start; unset: never
   int64_t p3_violations = 0;
   int64_t cooperative_starts = 0;
-  lab::metrics::SkewStats round_start_skew;  ///< round_skew.h: a sample a beacon, in microseconds
   BeaconCounts beacons;
   SensorLinkCounts sensor_link;
   std::string scenario;  ///< the scenario's name (letters, digits, '_', '-', '.')

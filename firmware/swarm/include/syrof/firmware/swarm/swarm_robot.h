@@ -36,6 +36,9 @@ struct Robot {
   std::string pending_line;
   std::ofstream log;
   std::vector<int64_t> beacon_ns;  // host instants of its SendBeacon frames
+  // Its round boundaries not yet recorded, for the round-start skew
+  // (SwarmHost::RecordRound).
+  BoundariesByRound boundary_ns_of_round;
   std::optional<RoundLine> latest;
   int64_t latest_ns = 0;
   int64_t last_boundary_ns = 0;

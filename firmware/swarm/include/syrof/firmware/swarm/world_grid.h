@@ -13,6 +13,8 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <optional>
 
 namespace syrof::firmware::swarm {
 
@@ -36,5 +38,15 @@ int64_t BeaconRound(const SwitchOn& on, double arrival_ns, int64_t period_ns);
 /// The world time of the robot's boundary that began `round` (its beacon of
 /// that round is sent then).
 double BoundaryOf(const SwitchOn& on, int64_t round, int64_t period_ns);
+
+/// A robot's boundaries not yet recorded: the world round each beacon was
+/// sent in (BeaconRound) to the host instant it arrived, the first beacon
+/// of a round kept.
+using BoundariesByRound = std::map<int64_t, int64_t>;
+
+/// Round `round`'s boundary from `boundaries`, if its beacon arrived; that
+/// round's and every earlier round's entries are dropped, a later round's
+/// (a beacon of the next round already in) kept.
+std::optional<int64_t> TakeBoundary(BoundariesByRound& boundaries, int64_t round);
 
 }  // namespace syrof::firmware::swarm

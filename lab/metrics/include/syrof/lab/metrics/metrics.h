@@ -21,7 +21,9 @@ namespace syrof::lab::metrics {
 /// is removed (adding a field does not raise it).
 /// Version 2: `app` became an object (name, source, faults, invalid
 /// commands, refused payloads); in version 1 it was the app's source string.
-inline constexpr int kSchemaVersion = 2;
+/// Version 3: `round_start_skew_us` moved from `dds` to the top level, one
+/// measure for DDS and the emulated firmware (SkewStats).
+inline constexpr int kSchemaVersion = 3;
 
 /// Skew histogram size: entries 0 .. kSkewHistogramBins - 2 count epochs of
 /// exactly that skew in rounds; the last entry counts every larger skew.
@@ -302,13 +304,13 @@ struct MembershipMetrics {
   std::optional<double> mean_join_latency_rounds;
 };
 
-/// Round-start skew outside the lab: how far apart the robots' round
-/// boundaries lay, over a run's samples. What one sample is belongs to the
-/// runtime: over DDS a round's spread (its latest minus its earliest round
-/// task activation, over the robots that ran it), on the emulated firmware
-/// a beacon's distance to robot 0's nearest beacon as both reached the host
-/// (docs/firmware.md). One unit (microseconds) and one percentile for both
-/// (SkewOf).
+/// Round-start skew outside the lab (metrics.json `round_start_skew_us`,
+/// docs/metrics.md): how far apart the robots' round boundaries lay. One
+/// sample a round, in every runtime: the spread (latest minus earliest) of
+/// the round's boundaries over the robots that marked it, on one clock, for
+/// a round two or more robots marked (lab::sim::RemoteWorld). A DDS robot
+/// marks a boundary with its round task's activation; an emulated robot
+/// with its beacon of the round, as it reached the host (docs/firmware.md).
 struct SkewStats {
   int64_t samples = 0;
   double p50_us = 0;
@@ -327,7 +329,6 @@ SkewStats SkewOf(std::vector<int64_t> skews_ns);
 struct DdsMetrics {
   uint32_t domain_id = 0;
   double delivery_ratio = 0;                ///< beacons delivered within their round / beacons the channel passed
-  SkewStats round_start_skew;               ///< one sample per round the robots ran (`rounds` in the file)
   std::vector<double> cpu_seconds_per_robot;  ///< per robot process (0 for one never started)
   int64_t reports_rejected = 0;             ///< robot reports that failed their checks
   int64_t reports_late = 0;                 ///< reports for a round already closed
@@ -363,6 +364,9 @@ struct Metrics {
   std::optional<ActivationMetrics> activation;  ///< only under SSYNC and ASYNC; the file has no `activation` key otherwise
   SynchronyMetrics synchrony;
   RoundPhaseMetrics round_phase;
+  /// Only outside the lab (RemoteWorld), the file has no key otherwise:
+  /// the lab's robots share the engine's boundary, a skew of nothing.
+  std::optional<SkewStats> round_start_skew;
   CommonKnowledgeMetrics common_knowledge;
   /// Filled by the runtime from its AgreementTracker; unset (null in the
   /// file) where the runtime cannot see the app's returns (the firmware).

@@ -9,8 +9,9 @@
 //   - each round boundary's truth (bodies, presence, the world's events),
 //     kept until the round's reports are complete;
 //   - each robot's newest round report, its events' stamp;
-//   - the round-start skew, one sample a round from the robots' round
-//     task activations.
+//   - the round-start skew, one sample a round: the spread of the robots'
+//     round boundaries as the adapter marks them (a DDS robot's round task
+//     activation, an emulated robot's beacon reaching the host).
 // The runtime around it (its adapter) supplies only what depends on its
 // transport: how robots are started and stopped (RobotRuntime), how
 // readings go out and drives come back (RemoteLinks), and its robots'
@@ -110,7 +111,9 @@ struct RemoteRules {
 struct RemoteRound {
   std::vector<replay::Event> events;    ///< the robots' events of the round, any order (sorted by time)
   std::vector<replay::RobotMap> maps;   ///< the maps robots started epochs with in the round
-  /// Each reporting robot's round task activation, any one clock: the
+  /// Each robot's round boundary, as the adapter marks it (DDS: the
+  /// reporting robot's round task activation; the firmware swarm: its
+  /// beacon of the round reaching the host), any one clock: the
   /// round-start skew's sample is their spread (two or more).
   std::vector<int64_t> activations_ns;
   std::vector<int64_t> phase_boundaries_ns;  ///< each reporting member's round boundary, run time
@@ -175,11 +178,14 @@ class RemoteWorld {
   void RecordRound(int64_t round, int64_t time_ns_without_truth, RemoteRound& read);
 
   /// Round-start skew over the rounds recorded: one sample a round, the
-  /// spread (latest minus earliest) of its reporting robots' activations.
+  /// spread (latest minus earliest) of its `activations_ns`.
   metrics::SkewStats skew() const { return metrics::SkewOf(skews_ns_); }
 
-  /// The run's metrics (RoundRecorder::Facts and Finish) at `end`.
+  /// The run's metrics (RoundRecorder::Facts and Finish) at `end`, with
+  /// the round-start skew (metrics.json `round_start_skew_us`).
   metrics::Metrics Finish(const RunEnd& end);
+  /// The same from `facts` the adapter amended (RoundRecorder::Facts).
+  metrics::Metrics Finish(const metrics::RunFacts& facts);
 
  private:
   // What the world saw at a round boundary; recorded once the round's
