@@ -73,7 +73,7 @@ class DdsWorld {
 
  private:
   bool Fail(int code, std::string why);
-  bool Fail(const StressFailure& failure) { return Fail(failure.exit_code, failure.why); }
+  bool Fail(const StressFailure& failure) { return Fail(failure.exit_code, failure.error.ToString()); }
 
   // Ends the stress and every robot; keeps the stress's figures.
   void EndAll();

@@ -15,6 +15,15 @@
 
 namespace syrof::sim_dds {
 
+namespace {
+
+// What the stress could not do, where "stress".
+lab::Error StressError(std::string message) {
+  return lab::Error{.where = "stress", .line = 0, .column = 0, .message = std::move(message)};
+}
+
+}  // namespace
+
 WorldStress::WorldStress(const lab::sim::StressOptions& options, uint16_t robots)
     : options_(options), stalled_until_(robots, -1) {}
 
@@ -23,14 +32,14 @@ WorldStress::~WorldStress() { EndStaller(); }
 std::optional<StressFailure> WorldStress::OpenQuota() {
   if (!options_.on() || options_.cpu_quota_permille <= 0) return std::nullopt;
   quota_ = std::make_unique<lab::sim::CpuQuotaGroup>(options_.cpu_quota_permille);
-  if (!quota_->ok()) return StressFailure{1, "stress: " + quota_->error()};
+  if (!quota_->ok()) return StressFailure{1, StressError(quota_->error())};
   return std::nullopt;
 }
 
 std::optional<StressFailure> WorldStress::Start(int64_t duration_ns, int64_t start_monotonic_ns, std::ostream& log) {
   if (!options_.on()) return std::nullopt;
   if (const std::optional<lab::Error> why = lab::sim::CheckStressOptions(options_)) {
-    return StressFailure{2, why->ToString()};
+    return StressFailure{2, *why};
   }
   seed_ = options_.seed;
   stalls_plan_ = lab::sim::PlanStalls(options_, duration_ns, static_cast<uint16_t>(stalled_until_.size()));
@@ -49,7 +58,7 @@ std::optional<StressFailure> WorldStress::Start(int64_t duration_ns, int64_t sta
   stalls_ += static_cast<int64_t>(world_stalls.size());
   if (world_stalls.empty()) return std::nullopt;
   void* page = mmap(nullptr, sizeof(std::atomic<int>), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-  if (page == MAP_FAILED) return StressFailure{1, "stress: mmap failed"};
+  if (page == MAP_FAILED) return StressFailure{1, StressError("mmap failed")};
   staller_stop_ = new (page) std::atomic<int>(0);
   const pid_t world = getpid();
   world_staller_ = process::ForkHelper([this, world, &world_stalls] {
@@ -77,8 +86,8 @@ std::optional<StressFailure> WorldStress::Start(int64_t duration_ns, int64_t sta
     return 0;
   });
   if (!world_staller_.started()) {
-    return StressFailure{1, std::string("stress: cannot start the process that stalls the world: ") +
-                                std::strerror(world_staller_.start_error())};
+    return StressFailure{1, StressError(std::string("cannot start the process that stalls the world: ") +
+                                        std::strerror(world_staller_.start_error()))};
   }
   return std::nullopt;
 }

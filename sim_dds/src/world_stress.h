@@ -23,7 +23,7 @@ namespace syrof::sim_dds {
 /// Why the stress could not start: the run's exit code (2: bad options) and what.
 struct StressFailure {
   int exit_code = 1;
-  std::string why;
+  lab::Error error;
 };
 
 class WorldStress {

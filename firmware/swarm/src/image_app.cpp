@@ -20,19 +20,18 @@ std::optional<std::string> AppMismatchWarning(std::string_view scenario_app, std
          "docs/firmware.md, \"The emulated swarm\")";
 }
 
-std::optional<std::string> OneImageApp(std::span<const std::string> apps, std::string& error) {
-  if (apps.empty()) {
-    error = "no robot said which app it runs";
-    return std::nullopt;
-  }
+ImageAppOrError OneImageApp(std::span<const std::string> apps) {
+  auto fail = [](std::string message) {
+    return ImageAppOrError{std::nullopt, lab::Error{.where = "", .line = 0, .column = 0, .message = std::move(message)}};
+  };
+  if (apps.empty()) return fail("no robot said which app it runs");
   for (size_t i = 1; i < apps.size(); ++i) {
     if (apps[i] != apps[0]) {
-      error = "robot " + std::to_string(i) + "'s image says it runs app '" + apps[i] + "', robot 0's '" + apps[0] +
-              "' (one image runs one app)";
-      return std::nullopt;
+      return fail("robot " + std::to_string(i) + "'s image says it runs app '" + apps[i] + "', robot 0's '" +
+                  apps[0] + "' (one image runs one app)");
     }
   }
-  return apps[0];
+  return ImageAppOrError{apps[0], std::nullopt};
 }
 
 }  // namespace syrof::firmware::swarm

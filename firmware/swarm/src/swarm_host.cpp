@@ -147,13 +147,12 @@ bool SwarmHost::LaunchRobots() {
 bool SwarmHost::NameImageApp() {
   std::vector<std::string> apps;
   for (const Robot& robot : swarm_) apps.push_back(robot.app);
-  std::string error;
-  const std::optional<std::string> app = OneImageApp(apps, error);
-  if (!app) {
-    std::fprintf(stderr, "syrof-firmware-swarm: %s\n", error.c_str());
+  const ImageAppOrError app = OneImageApp(apps);
+  if (!app.ok()) {
+    std::fprintf(stderr, "syrof-firmware-swarm: %s\n", app.error->ToString().c_str());
     return false;
   }
-  image_app_ = *app;
+  image_app_ = *app.app;
   loop_.recorder().NameApp(image_app_);
   if (const std::optional<std::string> warning = AppMismatchWarning(scenario_.app.name, image_app_, options_.image)) {
     std::fprintf(stderr, "%s\n", warning->c_str());

@@ -304,10 +304,13 @@ Json SkewJson(const SkewStats& skew) {
   return json;
 }
 
-Json DdsJson(const DdsMetrics& dds) {
+// `skew`: the run's round-start skew, also written here as in layout
+// version 2 (docs/metrics.md, `dds`).
+Json DdsJson(const DdsMetrics& dds, const std::optional<SkewStats>& skew) {
   Json json;
   json["domain_id"] = dds.domain_id;
   json["delivery_ratio"] = FiniteOrNull(dds.delivery_ratio);
+  if (skew) json["round_start_skew_us"] = SkewJson(*skew);
   json["cpu_seconds_per_robot"] = Json::array();
   for (const double seconds : dds.cpu_seconds_per_robot) json["cpu_seconds_per_robot"].push_back(FiniteOrNull(seconds));
   json["reports_rejected"] = dds.reports_rejected;
@@ -366,7 +369,7 @@ std::string ToJson(const Metrics& metrics) {
   diagnostics["rounds_observed"] = metrics.diagnostics.rounds_observed;
   diagnostics["ignored_observations"] = metrics.diagnostics.ignored_observations;
   json["diagnostics"] = diagnostics;
-  if (metrics.dds) json["dds"] = DdsJson(*metrics.dds);
+  if (metrics.dds) json["dds"] = DdsJson(*metrics.dds, metrics.round_start_skew);
   // Strings come from scenario files and student apps; replacing invalid
   // UTF-8 keeps a bad byte from losing the whole report (dump would throw).
   return json.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";

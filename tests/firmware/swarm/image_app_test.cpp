@@ -36,13 +36,16 @@ TEST(ImageAppTest, MismatchWarningIsOneLineNamingBothApps) {
 }
 
 TEST(ImageAppTest, OneImageRunsOneApp) {
-  std::string error;
   const std::vector<std::string> same = {"circle", "circle", "circle"};
-  EXPECT_EQ(OneImageApp(same, error), "circle");
+  EXPECT_EQ(OneImageApp(same).app, "circle");
+  EXPECT_TRUE(OneImageApp(same).ok());
   const std::vector<std::string> mixed = {"circle", "circle", "gather"};
-  EXPECT_FALSE(OneImageApp(mixed, error).has_value());
-  EXPECT_EQ(error, "robot 2's image says it runs app 'gather', robot 0's 'circle' (one image runs one app)");
-  EXPECT_FALSE(OneImageApp({}, error).has_value());
+  const ImageAppOrError other = OneImageApp(mixed);
+  EXPECT_FALSE(other.ok());
+  ASSERT_TRUE(other.error.has_value());
+  EXPECT_EQ(other.error->ToString(), "robot 2's image says it runs app 'gather', robot 0's 'circle' (one image runs one app)");
+  EXPECT_FALSE(OneImageApp({}).ok());
+  EXPECT_EQ(OneImageApp({}).error.value_or(lab::Error{}).message, "no robot said which app it runs");
 }
 
 }  // namespace

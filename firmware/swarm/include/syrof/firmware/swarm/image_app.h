@@ -13,6 +13,8 @@
 #include <string>
 #include <string_view>
 
+#include "syrof/lab/base/error.h"
+
 namespace syrof::firmware::swarm {
 
 /// Whether the scenario's `app:` (`scenario_app`: "builtin:NAME" or a
@@ -29,8 +31,14 @@ std::optional<std::string> AppMismatchWarning(std::string_view scenario_app, std
                                               std::string_view image_path);
 
 /// The app every robot's image said it runs (`apps`, one per robot, in id
-/// order), or, in `error`, which robot said another than robot 0 (they run
-/// one image, so that is a fault of the host or the image).
-std::optional<std::string> OneImageApp(std::span<const std::string> apps, std::string& error);
+/// order), or why there is none: which robot said another than robot 0
+/// (they run one image, so that is a fault of the host or the image), or
+/// that no robot said one.
+struct ImageAppOrError {
+  std::optional<std::string> app;
+  std::optional<lab::Error> error;
+  bool ok() const { return app.has_value(); }
+};
+ImageAppOrError OneImageApp(std::span<const std::string> apps);
 
 }  // namespace syrof::firmware::swarm

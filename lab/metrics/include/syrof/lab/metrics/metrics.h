@@ -21,9 +21,10 @@ namespace syrof::lab::metrics {
 /// is removed (adding a field does not raise it).
 /// Version 2: `app` became an object (name, source, faults, invalid
 /// commands, refused payloads); in version 1 it was the app's source string.
-/// Version 3: `round_start_skew_us` moved from `dds` to the top level, one
-/// measure for DDS and the emulated firmware (SkewStats).
-inline constexpr int kSchemaVersion = 3;
+/// The top-level `round_start_skew_us` (DDS and the emulated firmware) was
+/// an addition: a DDS run keeps `dds.round_start_skew_us`, the same figure,
+/// for readers of the version-2 layout, so the version stays.
+inline constexpr int kSchemaVersion = 2;
 
 /// Skew histogram size: entries 0 .. kSkewHistogramBins - 2 count epochs of
 /// exactly that skew in rounds; the last entry counts every larger skew.
