@@ -386,90 +386,78 @@ void StepJoining(const SyncConfig& config, SyncState& state, const UsableBeacons
   }
 }
 
-void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& received,
-                const StepInput& input, StepOutput& out, LDMap& ldmap) {
-  const uint16_t self = config.self_id;
+// Step 1, "PROGRESS": the maneuver ends, the snapshot freezes.
+void FinishProgress(const SyncConfig& config, SyncState& state, const StepInput& input) {
+  if (state.phase != Phase::kProgress || !input.maneuver_finished) return;
+  state.phase = Phase::kWait;
+  state.snapshots[config.self_id] = input.own_snapshot;
+  state.held.set(config.self_id);
+  state.waiting.set(config.self_id);
+}
 
-  // "PROGRESS": the maneuver ends, the snapshot freezes.
-  if (state.phase == Phase::kProgress && input.maneuver_finished) {
-    state.phase = Phase::kWait;
-    state.snapshots[self] = input.own_snapshot;
-    state.held.set(self);
-    state.waiting.set(self);
-  }
+// What the first pass over this round's beacons found (SurveyBeacons).
+struct Survey {
+  bool lost_group = false;    // "Falling behind" or "Alone ahead": rejoin
+  bool catch_up_any = false;  // some robot, ignored ones included, one epoch ahead
+};
 
-  // First pass: where the groups this robot hears are relative to its
-  // epoch, and whether any robot, ignored ones included, is one epoch ahead
-  // ("Catching up", used below only by a robot left alone, which follows
-  // whoever it hears). In the same pass, "Connectivity": the heard sets of
-  // PROGRESS beacons are the reports the rule reads. If the robot turns out
-  // to have lost its group, it rejoins below and forgets every report, so
-  // taking them before that is known changes nothing.
+// Steps 2 and 3, first pass: where the groups this robot hears are relative
+// to its epoch, and whether any robot, ignored ones included, is one epoch
+// ahead ("Catching up", used by the caller only when this robot is left
+// alone, which follows whoever it hears). In the same pass, "Connectivity":
+// the heard sets of PROGRESS beacons are the reports the rule reads. If the
+// robot turns out to have lost its group, it rejoins and forgets every
+// report, so taking them before that is known changes nothing.
+Survey SurveyBeacons(SyncState& state, const UsableBeacons& received, bool past_progress) {
   const bool alone = state.members.count() == 1;
-  const bool past_progress = state.phase != Phase::kProgress;
-  bool lost_group = false;
-  bool catch_up_any = false;
+  Survey survey;
   for (const wire::Beacon* beacon : received) {
     const int16_t ahead = EpochDifference(beacon->epoch, state.epoch);
-    if (ahead == 1 && past_progress) catch_up_any = true;
-    if ((ahead >= 2 || (alone && ahead <= -2)) && FromGroup(*beacon)) lost_group = true;
+    if (ahead == 1 && past_progress) survey.catch_up_any = true;
+    if ((ahead >= 2 || (alone && ahead <= -2)) && FromGroup(*beacon)) survey.lost_group = true;
     if (beacon->phase == Phase::kProgress && ahead >= -1 && ahead <= 1) {
       TakeReport(state, beacon->robot_id, beacon->waiting);
     }
   }
+  return survey;
+}
 
-  // "Falling behind": a group two or more epochs ahead means this robot's
-  // group is gone. "Alone ahead": a robot with no other member that hears a
-  // group two or more epochs behind waits for it. Either way it rejoins,
-  // and this round's beacons already count.
-  if (lost_group) {
-    BecomeJoiner(state, out);
-    StepJoining(config, state, received, out, ldmap);
-    return;
-  }
-
-  // "Connectivity": the robots the rule leaves out are ignored by every
-  // step below except the failure detector (they are still evidence of
-  // life). With none left out (nearly always) every beacon is kept, and
-  // one is kept one epoch ahead exactly when the first pass saw one.
+// Step 3, "Connectivity": drops the beacons of the robots the rule leaves
+// out, which every later step ignores except the failure detector (they are
+// still evidence of life: put in `evidence`). Returns whether a kept beacon
+// is one epoch ahead; with none left out (nearly always) every beacon is
+// kept, and that is exactly what the first pass saw (`catch_up_any`).
+bool IgnorePruned(const SyncConfig& config, SyncState& state, UsableBeacons& received, bool past_progress,
+                  bool catch_up_any, StepOutput& out, MemberSet& evidence) {
   UpdatePruned(config, state);
   MemberSet ignored = state.pruned;
-  ignored.reset(self);
-  MemberSet evidence;  // ignored robots heard this round
-  bool catch_up_kept = catch_up_any;
-  if (!ignored.empty()) {
-    catch_up_kept = false;
-    received.RetainIf([&](const wire::Beacon& beacon) {
-      const uint16_t id = beacon.robot_id;
-      const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
-      if (ignored.test(id)) {
-        // Membership stays physical: an ignored robot heard in this epoch is
-        // a member (the rule may keep it once it is one).
-        if (ahead >= -1 && ahead <= 1) evidence.set(id);
-        if (ahead == 0 && !state.members.test(id)) {
-          state.members.set(id);
-          state.silent_rounds[id] = 0;
-          out.joined.set(id);
-        }
-        return false;
+  ignored.reset(config.self_id);
+  if (ignored.empty()) return catch_up_any;
+  bool catch_up_kept = false;
+  received.RetainIf([&](const wire::Beacon& beacon) {
+    const uint16_t id = beacon.robot_id;
+    const int16_t ahead = EpochDifference(beacon.epoch, state.epoch);
+    if (ignored.test(id)) {
+      // Membership stays physical: an ignored robot heard in this epoch is
+      // a member (the rule may keep it once it is one).
+      if (ahead >= -1 && ahead <= 1) evidence.set(id);
+      if (ahead == 0 && !state.members.test(id)) {
+        state.members.set(id);
+        state.silent_rounds[id] = 0;
+        out.joined.set(id);
       }
-      if (past_progress && ahead == 1) catch_up_kept = true;
-      return true;
-    });
-  }
+      return false;
+    }
+    if (past_progress && ahead == 1) catch_up_kept = true;
+    return true;
+  });
+  return catch_up_kept;
+}
 
-  // "Catching up": a member one epoch ahead. A robot alone also follows a
-  // robot it ignores, so that robot, if it only lost it for a while, hears
-  // it in its own epoch again.
-  const bool catch_up = catch_up_kept || (catch_up_any && state.members.count() == 1);
-  // "Catching up": a robot one epoch ahead started it without this one.
-  if (catch_up) {
-    ++state.stats.catch_ups;
-    StartEpoch(config, state, Mode::kAutonomous, out, ldmap);
-  }
-
-  // "Receiving": failure detector input, joins, waiting sets, snapshots.
-  MemberSet alive = evidence;
+// Step 5, "Receiving": evidence of life into `alive`; from this epoch's
+// beacons, joins, waiting sets and snapshots. Returns the highest VOTE
+// counter heard in this epoch (0: none).
+uint8_t ReceiveBeacons(SyncState& state, const UsableBeacons& received, StepOutput& out, MemberSet& alive) {
   uint8_t highest_vote = 0;
   for (const wire::Beacon* usable : received) {
     const wire::Beacon& beacon = *usable;
@@ -496,10 +484,15 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
       highest_vote = beacon.vote_counter;
     }
   }
+  return highest_vote;
+}
 
-  // "Failure detector", a word of members at a time: the heard ones reset
-  // their count without a branch per member (in a large swarm nearly all are
-  // heard, and the few lost beacons are unpredictable).
+// Step 6, "Failure detector", a word of members at a time: the heard ones
+// reset their count without a branch per member (in a large swarm nearly all
+// are heard, and the few lost beacons are unpredictable). Then
+// "Connectivity": how long each member removed in this epoch has been silent.
+void DetectFailures(const SyncConfig& config, SyncState& state, const MemberSet& alive, StepOutput& out) {
+  const uint16_t self = config.self_id;
   const size_t member_words = state.members.word_count();
   for (size_t w = 0; w < member_words; ++w) {
     uint32_t others = state.members.word(w);
@@ -520,18 +513,19 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     }
   }
 
-  // "Connectivity": how long each member removed in this epoch has been silent.
   for (const uint16_t id : state.flaky_current) {
     if (state.members.test(id)) continue;
     state.silent_rounds[id] = alive.test(id) ? 0 : static_cast<uint16_t>(std::min<uint32_t>(0xFFFFu, state.silent_rounds[id] + 1u));
   }
+}
 
-  // "WAIT": every member waiting (those left out aside), or a member
-  // already voting. The view is the members the rule keeps, and this robot.
+// Step 7, "WAIT": every member waiting (those left out aside), or a member
+// already voting. The view is the members the rule keeps, and this robot.
+void MaybeStartVote(const SyncConfig& config, SyncState& state, uint8_t highest_vote) {
   UpdatePruned(config, state);
   MemberSet kept = state.members;
   kept -= state.pruned;
-  kept.set(self);
+  kept.set(config.self_id);
   if (state.phase == Phase::kWait && (state.waiting.includes(kept) || highest_vote > 0)) {
     if (highest_vote > 0) ++state.stats.late_votes;
     state.phase = Phase::kVote;
@@ -540,9 +534,12 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
     state.veto = false;
     state.votes_matched.clear();
   }
-  if (state.phase != Phase::kVote) return;
+}
 
-  // "VOTE": evidence for the mode, then the counter.
+// Step 8, "VOTE": evidence for the mode, then the counter; at K, the epoch starts.
+void StepVote(const SyncConfig& config, SyncState& state, const UsableBeacons& received, uint8_t highest_vote,
+              StepOutput& out, LDMap& ldmap) {
+  const uint16_t self = config.self_id;
   for (const wire::Beacon* usable : received) {
     const wire::Beacon& beacon = *usable;
     if (beacon.phase != Phase::kVote || beacon.epoch != state.epoch) continue;
@@ -566,6 +563,43 @@ void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& recei
   const bool cooperative = !state.veto && state.votes_matched.includes(Without(state.view, self)) &&
                            state.held.includes(state.view);
   StartEpoch(config, state, cooperative ? Mode::kCooperative : Mode::kAutonomous, out, ldmap);
+}
+
+// "Step, for a member" (docs/protocol.md), its steps 1 to 8 in order.
+void StepMember(const SyncConfig& config, SyncState& state, UsableBeacons& received,
+                const StepInput& input, StepOutput& out, LDMap& ldmap) {
+  FinishProgress(config, state, input);
+  const bool past_progress = state.phase != Phase::kProgress;
+  const Survey survey = SurveyBeacons(state, received, past_progress);
+
+  // Step 2, "Falling behind": a group two or more epochs ahead means this
+  // robot's group is gone. "Alone ahead": a robot with no other member that
+  // hears a group two or more epochs behind waits for it. Either way it
+  // rejoins, and this round's beacons already count.
+  if (survey.lost_group) {
+    BecomeJoiner(state, out);
+    StepJoining(config, state, received, out, ldmap);
+    return;
+  }
+
+  MemberSet evidence;  // ignored robots heard this round
+  const bool catch_up_kept =
+      IgnorePruned(config, state, received, past_progress, survey.catch_up_any, out, evidence);
+
+  // Step 4, "Catching up": a member one epoch ahead started it without this
+  // one. A robot alone also follows a robot it ignores, so that robot, if it
+  // only lost it for a while, hears it in its own epoch again.
+  if (catch_up_kept || (survey.catch_up_any && state.members.count() == 1)) {
+    ++state.stats.catch_ups;
+    StartEpoch(config, state, Mode::kAutonomous, out, ldmap);
+  }
+
+  MemberSet alive = evidence;
+  const uint8_t highest_vote = ReceiveBeacons(state, received, out, alive);
+  DetectFailures(config, state, alive, out);
+  MaybeStartVote(config, state, highest_vote);
+  if (state.phase != Phase::kVote) return;
+  StepVote(config, state, received, highest_vote, out, ldmap);
 }
 
 }  // namespace
