@@ -127,8 +127,8 @@ void PrintSummary(std::ostream& out, const metrics::Metrics& m, const std::files
   if (!m.safety.enabled) {
     fmt::print(out, "  {:<17} off (safety: off in the scenario)\n", "safety");
   } else {
-    fmt::print(out, "  {:<17} {} interventions on {} robots, {} join waits\n", "safety", m.safety.interventions,
-               m.safety.robots_involved, m.safety.join_waits);
+    fmt::print(out, "  {:<17} {} interventions on {} robots, {} precautions, {} join waits\n", "safety",
+               m.safety.interventions, m.safety.robots_involved, m.safety.precautions, m.safety.join_waits);
   }
   // A joiner that never joined is otherwise only a count above and a goal
   // reason about where it is not.

@@ -149,6 +149,13 @@ std::vector<uint8_t> EncodeSafety(int64_t time_ns, uint16_t other) {
   return w.Take();
 }
 
+std::vector<uint8_t> EncodePrecaution(int64_t time_ns, uint16_t other) {
+  Writer w(ReportKind::kPrecaution);
+  w.I64(time_ns);
+  w.U16(other);
+  return w.Take();
+}
+
 std::vector<uint8_t> EncodeRound(const RoundReport& round) {
   Writer w(ReportKind::kRound);
   w.U32(round.round);
@@ -257,6 +264,7 @@ DecodedReport DecodeReport(uint8_t kind, std::span<const uint8_t> bytes, uint16_
       ok = r.U16(body.epoch) && r.U32(body.length);
       break;
     case ReportKind::kSafety:
+    case ReportKind::kPrecaution:
       ok = r.I64(body.time_ns) && r.U16(body.other);
       break;
     case ReportKind::kRound: {

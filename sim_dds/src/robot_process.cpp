@@ -112,6 +112,10 @@ class ReportObserver final : public runtime::RobotObserver {
     const int64_t monotonic = port_.PortToMonotonic(time_ns);
     writer_.Write(ReportKind::kSafety, monotonic, EncodeSafety(monotonic, other));
   }
+  void OnSafetyPrecaution(uint16_t, int64_t time_ns, uint16_t other) override {
+    const int64_t monotonic = port_.PortToMonotonic(time_ns);
+    writer_.Write(ReportKind::kPrecaution, monotonic, EncodePrecaution(monotonic, other));
+  }
 
  private:
   ReportWriter& writer_;

@@ -116,6 +116,11 @@ void RoundReportBook::ReadOne(int64_t round, int64_t start_ns, const PlacedRepor
                     wall ? replay::kNoRobot : r.body.other);
       break;
     }
+    case ReportKind::kPrecaution: {
+      const bool wall = r.body.other == motion::kWallObstacle;
+      collector.OnSafetyPrecaution(r.robot, wall ? std::nullopt : std::optional<uint16_t>(r.body.other));
+      break;
+    }
     case ReportKind::kRound: {
       const RoundReport& report = r.body.round;
       loop_.NoteRound(r.robot, lab::sim::RemoteRobotState{true, report.status, report.phase, report.epoch_mode,

@@ -51,9 +51,10 @@ TEST(RunCommandTest, WritesMetricsAndReplayAndPrintsTheSummary) {
   EXPECT_NE(outcome.out.find("collisions"), std::string::npos);
   const nlohmann::json metrics = nlohmann::json::parse(ReadFile(fs::path(options.out_dir) / "metrics.json"));
   // The safety layer and app-level agreement are summarised from metrics.json.
-  EXPECT_NE(outcome.out.find(fmt::format("safety            {} interventions on {} robots, {} join waits",
+  EXPECT_NE(outcome.out.find(fmt::format("safety            {} interventions on {} robots, {} precautions, {} join waits",
                                          metrics["safety"]["interventions"].get<int64_t>(),
                                          metrics["safety"]["robots_involved"].get<int64_t>(),
+                                         metrics["safety"]["precautions"].get<int64_t>(),
                                          metrics["safety"]["join_waits"].get<int64_t>())),
             std::string::npos)
       << outcome.out;

@@ -28,6 +28,7 @@ lab::metrics::Metrics SomeRun() {
   m.collisions.min_separation_m = -0.0125;
   m.walls.contacts = 3;
   m.safety.interventions = 7;
+  m.safety.precautions = 5;
   m.safety.robots_involved = 2;
   m.estimation.position_rmse_m = 0.0412;
   m.membership.removals = 4;
@@ -56,7 +57,7 @@ TEST(RunSummary, EveryLineReadsItsOwnField) {
   EXPECT_NE(text.find("190 epochs, start skew max 1 rounds (10.2 ms)"), std::string::npos) << text;
   EXPECT_NE(text.find("0 P3 violations, 96.8% COOPERATIVE starts"), std::string::npos) << text;
   EXPECT_NE(text.find("2 (min separation -0.013 m), wall contacts 3"), std::string::npos) << text;
-  EXPECT_NE(text.find("7 interventions on 2 robots, 0 join waits"), std::string::npos) << text;
+  EXPECT_NE(text.find("7 interventions on 2 robots, 5 precautions, 0 join waits"), std::string::npos) << text;
   EXPECT_NE(text.find("agreed in 179 of 180 COOPERATIVE epochs (first disagreement: epoch 77, robot 3)"),
             std::string::npos)
       << text;
@@ -81,7 +82,7 @@ TEST(RunSummary, JoinsCountRobotsAndAJoinerThatNeverJoinedIsNamed) {
   const std::string text = Summary(m);
 
   EXPECT_NE(text.find("4 removals, 1 join (12 join notices)"), std::string::npos) << text;
-  EXPECT_NE(text.find("7 interventions on 2 robots, 2 join waits\n"
+  EXPECT_NE(text.find("7 interventions on 2 robots, 5 precautions, 2 join waits\n"
                       "    robot 2 never joined: it waited 12.0 s for a clear start disc (from 8.0 s to the end)\n"),
             std::string::npos)
       << text;

@@ -55,6 +55,12 @@ TEST(ReportCodecTest, EveryOtherKindRoundTrips) {
   EXPECT_EQ(d.body->time_ns, -12345678901);
   EXPECT_EQ(d.body->other, 4);
 
+  d = DecodeReport(static_cast<uint8_t>(ReportKind::kPrecaution), EncodePrecaution(987654321, 0xFFFF), 8);
+  ASSERT_TRUE(d.ok()) << d.error->ToString();
+  EXPECT_EQ(d.body->kind, ReportKind::kPrecaution);
+  EXPECT_EQ(d.body->time_ns, 987654321);
+  EXPECT_EQ(d.body->other, 0xFFFF);
+
   RoundReport round;
   round.round = 77;
   round.activation_ns = 5'000'000'123;

@@ -23,13 +23,22 @@ float Dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 
 }  // namespace
 
-float OwnErrorAllowanceM(const SafetyConfig& config, const estimation::StateEstimate& estimate) {
+namespace {
+
+// Half the margin, or `sigmas` of the estimate's larger position sigma.
+float ErrorAllowanceM(const SafetyConfig& config, float sigmas, const estimation::StateEstimate& estimate) {
   // A sigma that is not a number says nothing good: the largest doubt.
   const float position_sigma_m = std::max(estimate.sigma_x_m, estimate.sigma_y_m);
   const float own_sigma_m = std::isfinite(position_sigma_m)
                                 ? std::clamp(position_sigma_m, 0.0f, config.max_own_sigma_m)
                                 : config.max_own_sigma_m;
-  return std::max(0.5f * config.margin_m, config.own_sigmas * own_sigma_m);
+  return std::max(0.5f * config.margin_m, sigmas * own_sigma_m);
+}
+
+}  // namespace
+
+float OwnErrorAllowanceM(const SafetyConfig& config, const estimation::StateEstimate& estimate) {
+  return ErrorAllowanceM(config, config.own_sigmas, estimate);
 }
 
 // A braking distance in millimetres: v^2 / 2a, v in mm/s, a in mm/s^2.
@@ -319,17 +328,56 @@ float SafetyFilter::LimitForward(float speed, float hx, float hy) const {
   return limited;
 }
 
+// The command limited against the constraints Collect kept; `change` is
+// how far it moved (m/s: a rover's forward speed, an omni robot's velocity).
+DriveCommand SafetyFilter::Limit(const DriveCommand& desired, float heading_rad, float heading_doubt_rad,
+                                 float& change) const {
+  DriveCommand limited = desired;
+  if (kind_ == DriveKind::kWheels) {
+    const float hx = std::cos(heading_rad);
+    const float hy = std::sin(heading_rad);
+    const float desired_forward = 0.5f * (desired.left_mps + desired.right_mps);
+    const float half_difference = 0.5f * (desired.right_mps - desired.left_mps);
+    float forward = LimitForward(desired_forward, hx, hy);
+    forward *= HeadingRobustScale(forward * hx, forward * hy, heading_doubt_rad);
+    limited.left_mps = forward - half_difference;
+    limited.right_mps = forward + half_difference;
+    change = std::fabs(forward - desired_forward);
+    return limited;
+  }
+  float vx = desired.vx_mps;
+  float vy = desired.vy_mps;
+  LimitOmni(vx, vy);
+  const float scale = HeadingRobustScale(vx, vy, heading_doubt_rad);
+  vx *= scale;
+  vy *= scale;
+  limited.vx_mps = vx;
+  limited.vy_mps = vy;
+  change = std::sqrt((vx - desired.vx_mps) * (vx - desired.vx_mps) + (vy - desired.vy_mps) * (vy - desired.vy_mps));
+  return limited;
+}
+
+// Whether a filter at charged_sigmas would have limited `desired` too: the
+// constraints again with the smaller allowance (only for a limited step, so
+// most steps pay nothing). Overwrites the kept constraints.
+bool SafetyFilter::BreaksChargedRule(const DriveCommand& desired, const estimation::StateEstimate& estimate,
+                                     float own_allowance_m, float heading_doubt_rad, const SafetyReports& reports,
+                                     int64_t now_ns) {
+  const float charged_allowance_m = ErrorAllowanceM(config_, config_.charged_sigmas, estimate);
+  if (charged_allowance_m >= own_allowance_m) return true;
+  Collect(estimate.x_m, estimate.y_m, charged_allowance_m, reports, now_ns);
+  if (count_ == 0) return false;
+  float change = 0.0f;
+  (void)Limit(desired, estimate.heading_rad, heading_doubt_rad, change);
+  return change > kLimitedThresholdMps;
+}
+
 DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::StateEstimate& estimate,
                                  const SafetyReports& reports, int64_t now_ns, SafetyOutcome& outcome) {
   outcome = SafetyOutcome{};
   const bool usable = (estimate.status & estimation::kEstimateInitialized) != 0 && std::isfinite(estimate.x_m) &&
                       std::isfinite(estimate.y_m) && std::isfinite(estimate.heading_rad);
-  if (!config_.enabled || !usable) return desired;
-  const bool wheels = kind_ == DriveKind::kWheels;
-  const float desired_vx = wheels ? 0.0f : desired.vx_mps;
-  const float desired_vy = wheels ? 0.0f : desired.vy_mps;
-  const float desired_forward = wheels ? 0.5f * (desired.left_mps + desired.right_mps) : 0.0f;
-  const bool moving = wheels ? desired_forward != 0.0f : (desired_vx != 0.0f || desired_vy != 0.0f);
+  if (!config_.enabled || !usable || !NeedsReports(desired)) return desired;
   count_ = 0;
   const float own_allowance_m = OwnErrorAllowanceM(config_, estimate);
   const float heading_doubt_rad =
@@ -337,38 +385,18 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
           ? std::clamp(config_.heading_sigmas * estimate.sigma_heading_rad - config_.heading_free_rad, 0.0f,
                        0.5f * kPiF)
           : 0.5f * kPiF;
-  if (moving) Collect(estimate.x_m, estimate.y_m, own_allowance_m, reports, now_ns);
+  Collect(estimate.x_m, estimate.y_m, own_allowance_m, reports, now_ns);
   if (count_ == 0) return desired;
 
-  DriveCommand limited = desired;
-  float ux = desired_vx;
-  float uy = desired_vy;
   float change = 0.0f;
-  const float hx = std::cos(estimate.heading_rad);
-  const float hy = std::sin(estimate.heading_rad);
-  if (wheels) {
-    const float half_difference = 0.5f * (desired.right_mps - desired.left_mps);
-    float forward = LimitForward(desired_forward, hx, hy);
-    forward *= HeadingRobustScale(forward * hx, forward * hy, heading_doubt_rad);
-    limited.left_mps = forward - half_difference;
-    limited.right_mps = forward + half_difference;
-    change = std::fabs(forward - desired_forward);
-    ux = desired_forward * hx;
-    uy = desired_forward * hy;
-  } else {
-    float vx = desired_vx;
-    float vy = desired_vy;
-    LimitOmni(vx, vy);
-    const float scale = HeadingRobustScale(vx, vy, heading_doubt_rad);
-    vx *= scale;
-    vy *= scale;
-    limited.vx_mps = vx;
-    limited.vy_mps = vy;
-    change = std::sqrt((vx - desired_vx) * (vx - desired_vx) + (vy - desired_vy) * (vy - desired_vy));
-  }
+  const DriveCommand limited = Limit(desired, estimate.heading_rad, heading_doubt_rad, change);
   outcome.limited = change > kLimitedThresholdMps;
   if (!outcome.limited) return desired;
   // The obstacle the desired velocity pressed hardest against.
+  const bool wheels = kind_ == DriveKind::kWheels;
+  const float desired_forward = 0.5f * (desired.left_mps + desired.right_mps);
+  const float ux = wheels ? desired_forward * std::cos(estimate.heading_rad) : desired.vx_mps;
+  const float uy = wheels ? desired_forward * std::sin(estimate.heading_rad) : desired.vy_mps;
   const float desired_speed = std::sqrt(ux * ux + uy * uy);
   float worst = -1e30f;
   for (size_t i = 0; i < count_; ++i) {
@@ -380,11 +408,17 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
       outcome.other = c.other;
     }
   }
-  outcome.started = !ever_limited_ || now_ns - last_limited_ns_ > kInterventionReleaseNs;
+  outcome.charged = BreaksChargedRule(desired, estimate, own_allowance_m, heading_doubt_rad, reports, now_ns);
+  const bool new_hold = !ever_limited_ || now_ns - last_limited_ns_ > kInterventionReleaseNs;
+  if (new_hold) hold_charged_ = false;
+  outcome.precaution_started = new_hold && !outcome.charged;
+  outcome.started = outcome.charged && !hold_charged_;
+  if (outcome.charged) hold_charged_ = true;
+  if (outcome.started) ++interventions_;
+  if (outcome.precaution_started) ++precautions_;
   ever_limited_ = true;
   last_limited_ns_ = now_ns;
   ++limited_steps_;
-  if (outcome.started) ++interventions_;
   return limited;
 }
 

@@ -575,7 +575,13 @@ void Robot::ReportInterventions() {
     intervention_count_ = 0;
   }
   if (observer_ == nullptr) return;
-  for (size_t i = 0; i < count; ++i) observer_->OnSafetyIntervention(id(), starts[i].time_ns, starts[i].other);
+  for (size_t i = 0; i < count; ++i) {
+    if (starts[i].precaution) {
+      observer_->OnSafetyPrecaution(id(), starts[i].time_ns, starts[i].other);
+    } else {
+      observer_->OnSafetyIntervention(id(), starts[i].time_ns, starts[i].other);
+    }
+  }
 }
 
 // A joiner sends no synchronizer beacon; it says where it is instead.
@@ -637,11 +643,11 @@ void Robot::RunMotion(int64_t now_ns) {
   }
   motion::SafetyOutcome outcome;
   const motion::DriveCommand drive = safety_filter_.Apply(desired, motion_estimate_, motion_reports_, now_ns, outcome);
-  if (outcome.started) {
+  if (outcome.started || outcome.precaution_started) {
     os::CriticalSection lock(*port_);
-    ++counters_.safety_interventions;
+    ++(outcome.started ? counters_.safety_interventions : counters_.safety_precautions);
     if (intervention_count_ < intervention_starts_.size()) {
-      intervention_starts_[intervention_count_++] = InterventionStart{now_ns, outcome.other};
+      intervention_starts_[intervention_count_++] = InterventionStart{now_ns, outcome.other, !outcome.started};
     } else {
       ++counters_.safety_reports_dropped;
     }

@@ -75,10 +75,17 @@ CriterionScore ScoreSafety(const SafetyCriterion& rule, const Metrics& metrics) 
     return Make("safety", rule.points, rule.points, "the scenario turns the safety filter off: nothing to score");
   }
   const int64_t count = metrics.safety.interventions;
-  return Make("safety", rule.points, rule.points - rule.per_intervention * static_cast<double>(count),
-              count == 0 ? "the safety filter never had to step in"
-                         : Plural(count, "safety-filter intervention", "safety-filter interventions") +
-                               Format(" (-%g each)", rule.per_intervention));
+  std::string reason = count == 0 ? "the safety filter never had to step in"
+                                  : Plural(count, "safety-filter intervention", "safety-filter interventions") +
+                                        Format(" (-%g each)", rule.per_intervention);
+  // Precautions are the filter's own insurance, not the app's doing.
+  const int64_t precautions = metrics.safety.precautions;
+  if (precautions > 0) {
+    reason += "; " + Plural(precautions, "precaution", "precautions") +
+              " not charged (the filter held a command that kept its rule, for its wider cover of the "
+              "robot's own error)";
+  }
+  return Make("safety", rule.points, rule.points - rule.per_intervention * static_cast<double>(count), reason);
 }
 
 CriterionScore ScoreSynchrony(const SynchronyCriterion& rule, const Metrics& metrics) {

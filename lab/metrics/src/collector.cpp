@@ -176,6 +176,14 @@ void Collector::OnSafetyIntervention(int64_t time_ns, uint16_t robot, std::optio
   }
 }
 
+void Collector::OnSafetyPrecaution(uint16_t robot, std::optional<uint16_t> other) {
+  if (!Known(robot) || (other.has_value() && !Known(*other))) {
+    ++ignored_observations_;
+    return;
+  }
+  ++precautions_;
+}
+
 void Collector::OnJoinWait(uint16_t robot, int64_t time_ns) {
   if (!Known(robot)) {
     ++ignored_observations_;
@@ -591,6 +599,7 @@ Metrics Collector::Finish(const RunFacts& facts) const {
   metrics.walls.first_contacts = first_wall_contacts_;
   metrics.safety.enabled = facts.safety_enabled;
   metrics.safety.interventions = interventions_;
+  metrics.safety.precautions = precautions_;
   for (size_t robot = 0; robot < robot_interventions_.size(); ++robot) {
     if (robot_interventions_[robot] == 0) continue;
     ++metrics.safety.robots_involved;

@@ -240,6 +240,7 @@ Json SafetyJson(const SafetyMetrics& safety, int64_t radio_round_ns) {
   Json json;
   json["enabled"] = safety.enabled;
   json["interventions"] = safety.interventions;
+  json["precautions"] = safety.precautions;
   json["robots_involved"] = safety.robots_involved;
   json["per_robot"] = Json::array();
   for (const RobotInterventions& robot : safety.per_robot) {

@@ -52,6 +52,7 @@ struct ObserverCall {
   struct SafetyIntervention {
     int64_t local_ns;  // the robot's local time of the intervention
     uint16_t other;    // the robot avoided, or motion::kWallObstacle
+    bool precaution;   // a precaution's start (RobotObserver::OnSafetyPrecaution)
   };
   // An app call returned (agreement, lab/metrics/agreement.h): what it left
   // in the app's map, read at the call, since the map changes within the step.

@@ -82,6 +82,7 @@ class Simulation::Impl final : public runtime::RobotObserver,
   void OnInvalidCommand(uint16_t robot, int64_t now_ns, uint16_t epoch, const app::CommandCheck& check) override;
   void OnPayloadRefused(uint16_t robot, int64_t now_ns, uint16_t epoch, size_t length) override;
   void OnSafetyIntervention(uint16_t robot, int64_t time_ns, uint16_t other) override;
+  void OnSafetyPrecaution(uint16_t robot, int64_t time_ns, uint16_t other) override;
 
   // AppStateSink (public: the robots' RecordingApps report here)
   void OnAppState(uint16_t robot, bool new_round, const syrof_ldmap& ldmap, uint8_t state) override;
@@ -515,7 +516,11 @@ void Simulation::Impl::OnPayloadRefused(uint16_t robot, int64_t /*local_ns*/, ui
 }
 
 void Simulation::Impl::OnSafetyIntervention(uint16_t robot, int64_t local_ns, uint16_t other) {
-  Report(robot, ObserverCall::SafetyIntervention{local_ns, other});
+  Report(robot, ObserverCall::SafetyIntervention{local_ns, other, false});
+}
+
+void Simulation::Impl::OnSafetyPrecaution(uint16_t robot, int64_t local_ns, uint16_t other) {
+  Report(robot, ObserverCall::SafetyIntervention{local_ns, other, true});
 }
 
 void Simulation::Impl::Handle(const ObserverCall& call) {
@@ -589,8 +594,12 @@ void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::Payl
 void Simulation::Impl::Handle(const ObserverCall& call, const ObserverCall::SafetyIntervention& intervention) {
   const int64_t time_ns = robots_[call.robot]->port().TrueFromLocal(intervention.local_ns);
   const bool wall = intervention.other == motion::kWallObstacle;
-  recorder_.collector().OnSafetyIntervention(time_ns, call.robot,
-                                             wall ? std::nullopt : std::optional<uint16_t>(intervention.other));
+  const std::optional<uint16_t> other = wall ? std::nullopt : std::optional<uint16_t>(intervention.other);
+  if (intervention.precaution) {
+    recorder_.collector().OnSafetyPrecaution(call.robot, other);
+    return;
+  }
+  recorder_.collector().OnSafetyIntervention(time_ns, call.robot, other);
   AddEvent(replay::EventKind::kSafetyIntervention, time_ns, call.robot, wall ? replay::kNoRobot : intervention.other,
            call.epoch, call.mode);
 }

@@ -310,6 +310,67 @@ TEST(SafetyFilterTest, FourSigmasOfTheUsualDoubtHoldARobotThatTwoLetApproach) {
   EXPECT_LE(held.vx_mps, 1e-4f);
 }
 
+// Grading charges an app only for what it asked (charged_sigmas, two):
+// a command a filter at two sigmas lets through but the four-sigma cover
+// holds is a precaution; one that two sigmas would limit too starts an
+// intervention, even while a precaution goes on.
+TEST(SafetyFilterTest, AStepHeldOnlyByTheWiderCoverIsAPrecautionNotAnIntervention) {
+  SafetyConfig config = Config();
+  config.own_sigmas = 4.0f;
+  ASSERT_FLOAT_EQ(config.charged_sigmas, 2.0f);
+  SafetyFilter filter(config, Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.3f, 1.0f, false, 0, 0, 0.8f);  // sure disc: 0.25 m, gap 0.05 m
+  SafetyOutcome outcome;
+
+  // 5 cm/s: within two sigmas' bound (about 0.1 m/s at a 3.1 cm gap), inside the four-sigma disc.
+  const DriveCommand slow = filter.Apply(DriveVelocity(0.05f, 0), Doubtful(1, 1, 0.022f, 0), reports, 0, outcome);
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_LE(slow.vx_mps, 1e-4f);  // held all the same: the cover is what keeps robots apart
+  EXPECT_FALSE(outcome.charged);
+  EXPECT_FALSE(outcome.started);
+  EXPECT_TRUE(outcome.precaution_started);
+  EXPECT_EQ(outcome.other, 1u);
+
+  // The next step is the same precaution, not a new one.
+  (void)filter.Apply(DriveVelocity(0.05f, 0), Doubtful(1, 1, 0.022f, 0), reports, kSecond / 100, outcome);
+  EXPECT_TRUE(outcome.limited);
+  EXPECT_FALSE(outcome.precaution_started);
+
+  // 0.4 m/s breaks two sigmas' rule as well: the app's doing.
+  (void)filter.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.022f, 0), reports, 2 * kSecond / 100, outcome);
+  EXPECT_TRUE(outcome.charged);
+  EXPECT_TRUE(outcome.started);
+  EXPECT_FALSE(outcome.precaution_started);
+  // One intervention a hold: a slow step and a fast one again are the same hold.
+  (void)filter.Apply(DriveVelocity(0.05f, 0), Doubtful(1, 1, 0.022f, 0), reports, 3 * kSecond / 100, outcome);
+  (void)filter.Apply(DriveVelocity(0.4f, 0), Doubtful(1, 1, 0.022f, 0), reports, 4 * kSecond / 100, outcome);
+  EXPECT_TRUE(outcome.charged);
+  EXPECT_FALSE(outcome.started);
+
+  EXPECT_EQ(filter.interventions(), 1u);
+  EXPECT_EQ(filter.precautions(), 1u);
+  EXPECT_EQ(filter.limited_steps(), 5u);
+}
+
+// With own_sigmas at charged_sigmas every limited step is the app's: the
+// filter counts as it did before precautions existed.
+TEST(SafetyFilterTest, AtTheChargedSigmasEveryLimitedStepIsAnIntervention) {
+  SafetyConfig config = Config();
+  config.own_sigmas = config.charged_sigmas;
+  SafetyFilter filter(config, Omni(), 4);
+  SafetyReports reports;
+  reports.ReportMetres(1, 0, 1.3f, 1.0f, false, 0, 0, 0.8f);
+  SafetyOutcome outcome;
+  for (const float speed : {0.2f, 0.3f, 0.4f}) {
+    (void)filter.Apply(DriveVelocity(speed, 0), Doubtful(1, 1, 0.022f, 0), reports, 0, outcome);
+    EXPECT_TRUE(outcome.limited) << speed;
+    EXPECT_TRUE(outcome.charged) << speed;
+  }
+  EXPECT_EQ(filter.precautions(), 0u);
+  EXPECT_EQ(filter.interventions(), 1u);
+}
+
 TEST(SafetyFilterTest, ALostEstimateStopsNearOthersOnly) {
   SafetyFilter filter(Config(), Omni(), 4);
   SafetyReports reports;

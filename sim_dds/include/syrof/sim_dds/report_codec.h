@@ -19,6 +19,7 @@
 //                   + ids u16...)
 //   kAppState       new_round u8, epoch u16, cooperative u8, map
 //                   fingerprint u64, global state u8
+//   kPrecaution     as kSafety: a precaution's start, not an intervention's
 // A sample is untrusted (any participant may write the topic): Decode checks
 // the kind, every length and enum, and says what is wrong.
 #pragma once
@@ -45,8 +46,9 @@ enum class ReportKind : uint8_t {
   kSafety = 6,
   kRound = 7,
   kAppState = 8,
+  kPrecaution = 9,
 };
-inline constexpr uint8_t kReportKinds = 9;
+inline constexpr uint8_t kReportKinds = 10;
 
 /// A robot at the end of one of its rounds (after the synchronizer's step):
 /// what the lab's recorder reads from each robot (observation.h).
@@ -88,8 +90,8 @@ struct ReportBody {
   uint16_t epoch = 0;                    ///< kAppFault, kInvalidCommand, kPayloadRefused
   std::string text;                      ///< kAppFault's detail, kInvalidCommand's what
   uint32_t length = 0;                   ///< kPayloadRefused
-  int64_t time_ns = 0;                   ///< kSafety
-  uint16_t other = 0;                    ///< kSafety
+  int64_t time_ns = 0;                   ///< kSafety, kPrecaution
+  uint16_t other = 0;                    ///< kSafety, kPrecaution
   RoundReport round;                     ///< kRound
   AppStateReport app_state;              ///< kAppState
 };
@@ -100,6 +102,7 @@ std::vector<uint8_t> EncodeAppFault(uint8_t callback, uint16_t epoch, uint8_t ve
 std::vector<uint8_t> EncodeInvalidCommand(uint16_t epoch, std::string_view what);
 std::vector<uint8_t> EncodePayloadRefused(uint16_t epoch, uint32_t length);
 std::vector<uint8_t> EncodeSafety(int64_t time_ns, uint16_t other);
+std::vector<uint8_t> EncodePrecaution(int64_t time_ns, uint16_t other);
 std::vector<uint8_t> EncodeRound(const RoundReport& round);
 std::vector<uint8_t> EncodeAppState(const AppStateReport& app_state);
 

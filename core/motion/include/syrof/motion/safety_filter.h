@@ -70,9 +70,9 @@ inline constexpr uint16_t kWallObstacle = 0xFFFF;
 inline constexpr size_t kMaxSafetyConstraints = 16;
 /// Projection passes over the kept constraints.
 inline constexpr int kSafetyPasses = 4;
-/// An intervention ends after this long without a limited command; a robot
-/// held at a disc's edge is limited on and off from step to step, and that
-/// is one intervention, not dozens.
+/// A hold (a run of limited commands) ends after this long without a
+/// limited command; a robot held at a disc's edge is limited on and off
+/// from step to step, and that is one hold, not dozens.
 inline constexpr int64_t kInterventionReleaseNs = 500'000'000;
 
 /// What the filter assumes about the swarm. SI units.
@@ -101,6 +101,14 @@ struct SafetyConfig {
   /// the default stays two until the reference solutions keep the wider
   /// clearance.
   float own_sigmas = 2.0f;
+  /// The rule an app is held to: a limited step is charged to the app (an
+  /// intervention, which assignments grade) only where a filter that grows
+  /// the discs by this many own sigmas would have limited the command too.
+  /// A step held only by the cover own_sigmas adds beyond it is a
+  /// precaution: the platform's insurance against its own estimate, not
+  /// the app's doing (docs/safety.md, "Interventions and precautions").
+  /// At or above own_sigmas every limited step is charged.
+  float charged_sigmas = 2.0f;
   float max_own_sigma_m = 0.5f;
   /// The direction the robot really moves may be off its commanded one by
   /// this many heading standard deviations less heading_free_rad (what the
@@ -200,7 +208,15 @@ class SafetyReports {
 /// What one Apply did.
 struct SafetyOutcome {
   bool limited = false;  ///< the command was changed
-  bool started = false;  ///< limited now, and not in the kInterventionReleaseNs before: an intervention starts
+  /// Limited, and a filter at SafetyConfig::charged_sigmas would have
+  /// limited it too: the app's command broke the rule it is held to.
+  bool charged = false;
+  /// The first charged step of a hold (limited steps less than
+  /// kInterventionReleaseNs apart): an intervention starts. One per hold.
+  bool started = false;
+  /// The first step of a hold, and not charged: a precaution starts (the
+  /// hold may become an intervention later, at its first charged step).
+  bool precaution_started = false;
   uint16_t other = 0;    ///< the robot (or kWallObstacle) whose constraint the command broke most
 };
 
@@ -222,15 +238,18 @@ class SafetyFilter {
   bool NeedsReports(const DriveCommand& desired) const;
 
   const SafetyConfig& config() const { return config_; }
-  /// Applies that changed the command, and how many of them started an intervention.
+  /// Applies that changed the command; how many of them started an
+  /// intervention (charged), and how many a precaution (SafetyOutcome).
   uint32_t limited_steps() const { return limited_steps_; }
   uint32_t interventions() const { return interventions_; }
+  uint32_t precautions() const { return precautions_; }
 
   /// What one Apply leaves for the next into `digest` (base/state_digest.h):
   /// the constraints are rebuilt by every Apply.
   void AddToDigest(base::StateDigest& digest) const {
     digest.AddValue(ever_limited_);
     digest.AddValue(last_limited_ns_);
+    digest.AddValue(hold_charged_);
   }
 
  private:
@@ -244,6 +263,10 @@ class SafetyFilter {
   void Collect(float x, float y, float own_allowance_m, const SafetyReports& reports, int64_t now_ns);
   float HeadingRobustScale(float ux, float uy, float doubt_rad) const;
   void Keep(const Constraint& constraint, float slack);
+  DriveCommand Limit(const DriveCommand& desired, float heading_rad, float heading_doubt_rad, float& change) const;
+  bool BreaksChargedRule(const DriveCommand& desired, const estimation::StateEstimate& estimate,
+                         float own_allowance_m, float heading_doubt_rad, const SafetyReports& reports,
+                         int64_t now_ns);
   void LimitOmni(float& vx, float& vy) const;
   float LimitForward(float speed, float hx, float hy) const;
   float ApproachBound(float gap_m, float braking_mps2, float lag_s) const;
@@ -260,8 +283,10 @@ class SafetyFilter {
   size_t count_ = 0;
   bool ever_limited_ = false;
   int64_t last_limited_ns_ = 0;
+  bool hold_charged_ = false;  // the current hold has had its charged step
   uint32_t limited_steps_ = 0;
   uint32_t interventions_ = 0;
+  uint32_t precautions_ = 0;
 };
 
 }  // namespace syrof::motion

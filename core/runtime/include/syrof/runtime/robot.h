@@ -159,8 +159,9 @@ struct RobotCounters {
   uint32_t invalid_commands = 0;   ///< newRound commands CheckCommand refused (replaced by STOP)
   uint32_t presence_sent = 0;      ///< presence-only beacons broadcast while joining
   uint32_t presence_received = 0;  ///< presence-only beacons heard (kept from the synchronizer)
-  uint32_t safety_interventions = 0;  ///< drive commands the safety filter began to limit (starts)
-  uint32_t safety_reports_dropped = 0;  ///< intervention starts not reported (more than a round holds)
+  uint32_t safety_interventions = 0;  ///< intervention starts: the filter began to limit commands that broke the charged rule
+  uint32_t safety_precautions = 0;    ///< precaution starts: it began to limit commands only for its wider cover (motion::SafetyOutcome)
+  uint32_t safety_reports_dropped = 0;  ///< intervention and precaution starts not reported (more than a round holds)
   uint32_t beacons_deferred = 0;   ///< arrived at or after a round's boundary: stepped the round after
   uint32_t beacons_dropped = 0;    ///< forgotten unstepped (DropReceived)
   uint32_t alignment_shifts = 0;   ///< rounds whose boundary alignment moved
@@ -390,6 +391,7 @@ class Robot final : private app::Platform {
   struct InterventionStart {
     int64_t time_ns;
     uint16_t other;
+    bool precaution;  // a precaution's start, not an intervention's
   };
   std::array<InterventionStart, 8> intervention_starts_{};
   size_t intervention_count_ = 0;

@@ -68,6 +68,14 @@ class RobotObserver {
     (void)time_ns;
     (void)other;
   }
+  /// The same for a precaution: the filter began to limit a command that
+  /// kept the rule the app is held to, only for its wider cover of the
+  /// robot's own error (motion::SafetyConfig::charged_sigmas). Not charged.
+  virtual void OnSafetyPrecaution(uint16_t robot, int64_t time_ns, uint16_t other) {
+    (void)robot;
+    (void)time_ns;
+    (void)other;
+  }
 
  protected:
   ~RobotObserver() = default;

@@ -108,6 +108,8 @@ class Collector {
   /// `robot`'s safety filter began to limit its command at `time_ns`,
   /// against robot `other` (none: a wall).
   void OnSafetyIntervention(int64_t time_ns, uint16_t robot, std::optional<uint16_t> other);
+  /// The same for a precaution start (counted only).
+  void OnSafetyPrecaution(uint16_t robot, std::optional<uint16_t> other);
 
   /// Joiner `robot` waits to be switched on from `time_ns`: its start disc
   /// is occupied.
@@ -275,6 +277,7 @@ class Collector {
   int64_t join_latency_max_rounds_ = 0;
 
   int64_t interventions_ = 0;
+  int64_t precautions_ = 0;
   std::vector<int64_t> robot_interventions_;  // by robot id
   std::vector<int64_t> robot_starts_;         // by robot id
   // Under SSYNC: starts counted active and inactive, each robot's current

@@ -275,7 +275,11 @@ struct JoinWait {
 
 struct SafetyMetrics {
   bool enabled = true;                          ///< from RunFacts
-  int64_t interventions = 0;                    ///< intervention starts, all robots
+  int64_t interventions = 0;                    ///< intervention starts, all robots (charged: assignments grade them)
+  /// Precaution starts, all robots: the filter held a command that kept the
+  /// rule the app is held to, only for its wider cover (motion::SafetyOutcome;
+  /// not charged, not in the replay).
+  int64_t precautions = 0;
   int64_t robots_involved = 0;                  ///< robots with at least one
   std::vector<RobotInterventions> per_robot;    ///< by robot id, robots with at least one
   std::vector<SafetyIntervention> first;        ///< the first kMaxListedInterventions
