@@ -13,7 +13,7 @@
 //   - the multiple of the estimate's own sigma that the true error reached
 //     in 99.9% of robot-rounds (what own_sigmas would have to be for the
 //     margin to cover it there, ignoring the floor of half the margin).
-// Per kind (omni, rover), with each run's collisions, interventions and the
+// Per kind (omni, rover), with each run's collisions, interventions, precautions and the
 // time from which the goal held to the end (judged every radio round on the
 // true poses, as the run's metrics judge the final ones). Deterministic: the
 // runs are seeded; the table regenerates exactly.
@@ -85,6 +85,7 @@ struct RunResult {
   int64_t collisions = 0;
   std::vector<metrics::CollisionEvent> pairs;
   int64_t interventions = 0;
+  int64_t precautions = 0;
   bool goal_reached = false;
   double goal_since_s = 0;  // the goal held from this time to the end (when reached)
 };
@@ -190,6 +191,7 @@ RunResult RunOne(const std::string& file, uint64_t seed, double duration_s, floa
   result.collisions = report.metrics.collisions.count;
   result.pairs = report.metrics.collisions.pairs;
   result.interventions = report.metrics.safety.interventions;
+  result.precautions = report.metrics.safety.precautions;
   result.goal_reached = report.metrics.goal.reached;
   if (!builtin_goal || !held) result.goal_since_s = report.metrics.goal.reached ? scenario.timing.duration_s : 0;
   return result;
@@ -282,8 +284,9 @@ int main(int argc, char** argv) {
       for (const metrics::CollisionEvent& c : r.pairs) {
         pairs += fmt::format(" {}-{}@{:.2f}s", c.a, c.b, static_cast<double>(c.time_ns) * 1e-9);
       }
-      fmt::print("{} seed {}: collisions {}{}, interventions {}, goal {}\n", BaseName(r.file), r.seed, r.collisions,
-                 pairs, r.interventions, r.goal_reached ? fmt::format("from {:.2f} s", r.goal_since_s) : "missed");
+      fmt::print("{} seed {}: collisions {}{}, interventions {}, precautions {}, goal {}\n", BaseName(r.file), r.seed,
+                 r.collisions, pairs, r.interventions, r.precautions,
+                 r.goal_reached ? fmt::format("from {:.2f} s", r.goal_since_s) : "missed");
     }
     fmt::print("\n");
   }
@@ -295,13 +298,13 @@ int main(int argc, char** argv) {
   fmt::print(
       "| scenario | kind | robot-rounds | NEES x,y (2) | NEES x,y,heading (3) | error > allowance | near: error > "
       "allowance | 99.9 % of error / sigma | max error (m) | collisions | goal (runs) | goal from (s, mean) | "
-      "interventions |\n");
-  fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+      "interventions | precautions |\n");
+  fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   std::array<KindStats, kKinds> total;
   int64_t total_collisions = 0;
   for (size_t f = 0; f < files.size(); ++f) {
     std::array<KindStats, kKinds> kinds;
-    int64_t collisions = 0, interventions = 0, goals = 0;
+    int64_t collisions = 0, interventions = 0, precautions = 0, goals = 0;
     double goal_sum_s = 0;
     for (size_t i = 0; i < work.size(); ++i) {
       if (work[i].file != f) continue;
@@ -309,6 +312,7 @@ int main(int argc, char** argv) {
       for (int k = 0; k < kKinds; ++k) kinds[k].Add(r.kinds[k]);
       collisions += r.collisions;
       interventions += r.interventions;
+      precautions += r.precautions;
       if (r.goal_reached) {
         ++goals;
         goal_sum_s += r.goal_since_s;
@@ -322,9 +326,10 @@ int main(int argc, char** argv) {
       total[k].Add(s);
       const double n = static_cast<double>(s.robot_rounds);
       const std::string run_columns =
-          first_row ? fmt::format("{} | {} / {} | {} | {}", collisions, goals, seeds,
-                                  goals == 0 ? std::string("-") : fmt::format("{:.2f}", goal_sum_s / goals), interventions)
-                    : " | | |";
+          first_row ? fmt::format("{} | {} / {} | {} | {} | {}", collisions, goals, seeds,
+                                  goals == 0 ? std::string("-") : fmt::format("{:.2f}", goal_sum_s / goals), interventions,
+                                  precautions)
+                    : " | | | |";
       fmt::print("| {} | {} | {} | {:.2f} | {:.2f} | {} | {} of {} | {:.2f} | {:.3f} | {} |\n", BaseName(files[f]),
                  kKindNames[k], s.robot_rounds, s.nees_position_sum / n, s.nees_pose_sum / n,
                  Percent(s.beyond_allowance, s.robot_rounds), Percent(s.near_beyond_allowance, s.near_rounds),

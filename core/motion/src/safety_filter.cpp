@@ -124,10 +124,10 @@ void SafetyFilter::Collect(float x, float y, float own_allowance_m, const Safety
   float braking_reach_m = own_max_speed_mps_ * own_max_speed_mps_ / (2.0f * shared_braking_mps2);
   if (shared_lag_s > 0.0f) braking_reach_m += shared_lag_s * own_max_speed_mps_;
   const float reach_m = std::max(own_max_speed_mps_ / config_.gain_per_s, braking_reach_m);
+  reach_m_ = reach_m;
   // The margin covers each robot's error up to half of it; this robot's own
   // doubt beyond that grows every disc.
-  const float own_excess_m = own_allowance_m - 0.5f * config_.margin_m;
-  const float base_m = own_radius_m_ + config_.others_radius_m + config_.margin_m + own_excess_m;
+  const float base_m = DiscBaseM(own_allowance_m);
   // A first, integer-only test in millimetres against the largest disc any
   // report can have (a full horizon's growth): on a soft-float core most
   // robots are rejected without one float operation.
@@ -163,28 +163,13 @@ void SafetyFilter::Collect(float x, float y, float own_allowance_m, const Safety
     const float distance_m = std::sqrt(squared);
     Constraint constraint{};
     constraint.other = id;
-    if (distance_m < kMinDistanceM) {
-      // On top of the centre: no direction leads away; stop.
-      constraint.nx = 1.0f;
-      constraint.ny = 0.0f;
-      constraint.cone = true;
-      constraint.bound = 2.0f;  // above 1: only u = 0
-      Keep(constraint, -radius_m);
-      continue;
+    constraint.nx = 1.0f;  // on top of the centre no direction leads away (RobotConstraint stops)
+    if (distance_m >= kMinDistanceM) {
+      constraint.nx = dx / distance_m;
+      constraint.ny = dy / distance_m;
     }
-    constraint.nx = dx / distance_m;
-    constraint.ny = dy / distance_m;
-    const float gap_m = distance_m - radius_m;
-    if (gap_m > 0.0f) {
-      constraint.bound = ApproachBound(gap_m, shared_braking_mps2, shared_lag_s);
-      constraint.cone = false;
-    } else {
-      // sigma >= d: this robot stands where the other may be; every
-      // direction may lead towards it (a bound above 1 admits only u = 0).
-      constraint.bound = sigma_m / distance_m;
-      constraint.cone = true;
-    }
-    Keep(constraint, gap_m);
+    RobotConstraint(constraint, squared, radius_m, sigma_m);
+    Keep(constraint, distance_m < kMinDistanceM ? -radius_m : distance_m - radius_m);
   }
   if (config_.arena_width_m > 0 && config_.arena_height_m > 0) {
     const float inset_m = own_radius_m_ + config_.margin_m;
@@ -201,6 +186,40 @@ void SafetyFilter::Collect(float x, float y, float own_allowance_m, const Safety
       constraint.other = kWallObstacle;
       Keep(constraint, gaps[wall]);
     }
+  }
+}
+
+// A robot's disc before the other's growth: both bodies, the margin, and
+// what this robot's allowance for its own error exceeds half the margin by.
+float SafetyFilter::DiscBaseM(float own_allowance_m) const {
+  const float own_excess_m = own_allowance_m - 0.5f * config_.margin_m;
+  return own_radius_m_ + config_.others_radius_m + config_.margin_m + own_excess_m;
+}
+
+// A robot's disc of `radius_m` (the other's growth `sigma_m` in it) at the
+// squared distance `squared_m2` along the constraint's direction: outside,
+// the approach bound; inside, the cone away from it; on top of its centre,
+// a stop.
+void SafetyFilter::RobotConstraint(Constraint& constraint, float squared_m2, float radius_m, float sigma_m) const {
+  constraint.squared_m2 = squared_m2;
+  constraint.sigma_m = sigma_m;
+  const float distance_m = std::sqrt(squared_m2);
+  if (distance_m < kMinDistanceM) {
+    constraint.cone = true;
+    constraint.bound = 2.0f;  // above 1: only u = 0
+    return;
+  }
+  const float gap_m = distance_m - radius_m;
+  if (gap_m > 0.0f) {
+    // Against another robot this one brakes with half its deceleration
+    // and its half of the gap holds its whole lag (Collect).
+    constraint.bound = ApproachBound(gap_m, 0.5f * own_braking_mps2_, 2.0f * own_lag_s_);
+    constraint.cone = false;
+  } else {
+    // sigma >= d: this robot stands where the other may be; every
+    // direction may lead towards it (a bound above 1 admits only u = 0).
+    constraint.bound = sigma_m / distance_m;
+    constraint.cone = true;
   }
 }
 
@@ -246,7 +265,10 @@ float SafetyFilter::HeadingRobustScale(float ux, float uy, float doubt_rad) cons
 void SafetyFilter::LimitOmni(float& vx, float& vy) const {
   float ux = vx;
   float uy = vy;
-  for (int pass = 0; pass < kSafetyPasses; ++pass) {
+  // A pass that changes nothing leaves the next one nothing to change.
+  bool changed = true;
+  for (int pass = 0; pass < kSafetyPasses && changed; ++pass) {
+    changed = false;
     for (size_t i = 0; i < count_; ++i) {
       const Constraint& c = constraints_[i];
       const float along = Dot(ux, uy, c.nx, c.ny);
@@ -255,6 +277,7 @@ void SafetyFilter::LimitOmni(float& vx, float& vy) const {
         if (excess > 0.0f) {
           ux -= excess * c.nx;
           uy -= excess * c.ny;
+          changed = true;
         }
         continue;
       }
@@ -262,6 +285,7 @@ void SafetyFilter::LimitOmni(float& vx, float& vy) const {
       // other's disc: axis -n, u . (-n) >= sin(phi) |u|.
       const float speed = std::sqrt(ux * ux + uy * uy);
       if (-along >= c.bound * speed) continue;
+      changed = true;
       // Project onto the cone's edge on u's side: w = s (-n) + sqrt(1 - s^2) t.
       float tx = ux - along * c.nx;
       float ty = uy - along * c.ny;
@@ -357,15 +381,29 @@ DriveCommand SafetyFilter::Limit(const DriveCommand& desired, float heading_rad,
   return limited;
 }
 
-// Whether a filter at charged_sigmas would have limited `desired` too: the
-// constraints again with the smaller allowance (only for a limited step, so
-// most steps pay nothing). Overwrites the kept constraints.
+// Whether a filter at charged_sigmas would have limited `desired` too. Its
+// discs are smaller by the difference of the two allowances, so its
+// constraints are the kept ones rebuilt as its Collect builds them (those
+// out of its reach dropped, the order kept), not another pass over the
+// reports; walls do not depend on the allowance. Only for a limited step,
+// so most steps pay nothing. Overwrites the kept constraints.
 bool SafetyFilter::BreaksChargedRule(const DriveCommand& desired, const estimation::StateEstimate& estimate,
-                                     float own_allowance_m, float heading_doubt_rad, const SafetyReports& reports,
-                                     int64_t now_ns) {
+                                     float own_allowance_m, float heading_doubt_rad) {
   const float charged_allowance_m = ErrorAllowanceM(config_, config_.charged_sigmas, estimate);
   if (charged_allowance_m >= own_allowance_m) return true;
-  Collect(estimate.x_m, estimate.y_m, charged_allowance_m, reports, now_ns);
+  const float base_m = DiscBaseM(charged_allowance_m);
+  size_t kept = 0;
+  for (size_t i = 0; i < count_; ++i) {
+    Constraint c = constraints_[i];
+    if (c.other != kWallObstacle) {
+      const float radius_m = base_m + c.sigma_m;
+      const float far_m = radius_m + reach_m_;
+      if (c.squared_m2 > far_m * far_m) continue;
+      RobotConstraint(c, c.squared_m2, radius_m, c.sigma_m);
+    }
+    constraints_[kept++] = c;
+  }
+  count_ = kept;
   if (count_ == 0) return false;
   float change = 0.0f;
   (void)Limit(desired, estimate.heading_rad, heading_doubt_rad, change);
@@ -408,9 +446,11 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
       outcome.other = c.other;
     }
   }
-  outcome.charged = BreaksChargedRule(desired, estimate, own_allowance_m, heading_doubt_rad, reports, now_ns);
   const bool new_hold = !ever_limited_ || now_ns - last_limited_ns_ > kInterventionReleaseNs;
   if (new_hold) hold_charged_ = false;
+  // A hold already charged stays an intervention whatever its later steps
+  // are: they need no second answer (most limited steps, in a packed swarm).
+  outcome.charged = hold_charged_ || BreaksChargedRule(desired, estimate, own_allowance_m, heading_doubt_rad);
   outcome.precaution_started = new_hold && !outcome.charged;
   outcome.started = outcome.charged && !hold_charged_;
   if (outcome.charged) hold_charged_ = true;

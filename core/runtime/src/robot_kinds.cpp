@@ -7,7 +7,6 @@ void ConfigureKinds(RobotConfig& config, const motion::SwarmKind& self, std::spa
   config.motion = motion::ControllerConfigFor(self.kind, self.limits);
   motion::SetOthers(config.safety, swarm);
   if (self.kind == motion::RobotKind::kDrone) {
-    config.safety.own_sigmas = motion::kDroneOwnSigmas;
     // The flow sensor flies with the drone: its metres per pixel are the
     // flight height's, and its UWB antenna ranges from there.
     const auto height = static_cast<float>(self.limits.flight_height_m);

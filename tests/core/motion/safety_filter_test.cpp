@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 namespace syrof::motion {
 namespace {
@@ -255,7 +256,9 @@ estimation::StateEstimate Doubtful(float x, float y, float position_sigma, float
 }
 
 TEST(SafetyFilterTest, OwnPositionDoubtGrowsEveryDisc) {
-  SafetyFilter filter(Config(), Omni(), 4);
+  SafetyConfig config = Config();
+  config.own_sigmas = 2.0f;
+  SafetyFilter filter(config, Omni(), 4);
   SafetyReports reports;
   reports.ReportMetres(1, 0, 1.35f, 1.0f, false, 0, 0, 0.8f);  // gap 0.1 m when sure of itself
   SafetyOutcome sure;
@@ -275,12 +278,15 @@ TEST(SafetyFilterTest, OwnPositionDoubtGrowsEveryDisc) {
 }
 
 // The margin's share for this robot's own error: own_sigmas of its larger
-// position sigma, never less than half the margin, capped; two by default.
+// position sigma, never less than half the margin, capped; four by default
+// (kOwnSigmas, docs/safety.md "Margin coverage").
 TEST(SafetyFilterTest, OwnErrorAllowanceIsOwnSigmasTimesTheLargerSigmaAndAtLeastHalfTheMargin) {
   SafetyConfig config = Config();  // margin 0.05 m
+  EXPECT_FLOAT_EQ(config.own_sigmas, 4.0f);
+  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.022f, 0)), 0.088f);
+  config.own_sigmas = 2.0f;
   EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.022f, 0)), 0.044f);
   config.own_sigmas = 4.0f;
-  EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, Doubtful(1, 1, 0.022f, 0)), 0.088f);
   estimation::StateEstimate uneven = Doubtful(1, 1, 0.01f, 0);
   uneven.sigma_y_m = 0.03f;  // the larger axis counts
   EXPECT_FLOAT_EQ(OwnErrorAllowanceM(config, uneven), 0.12f);
@@ -297,6 +303,7 @@ TEST(SafetyFilterTest, OwnErrorAllowanceIsOwnSigmasTimesTheLargerSigmaAndAtLeast
 // two it still may.
 TEST(SafetyFilterTest, FourSigmasOfTheUsualDoubtHoldARobotThatTwoLetApproach) {
   SafetyConfig config = Config();
+  config.own_sigmas = 2.0f;
   SafetyReports reports;
   reports.ReportMetres(1, 0, 1.3f, 1.0f, false, 0, 0, 0.8f);  // sure disc: 0.25 m, gap 0.05 m
   SafetyOutcome outcome;
@@ -369,6 +376,60 @@ TEST(SafetyFilterTest, AtTheChargedSigmasEveryLimitedStepIsAnIntervention) {
   }
   EXPECT_EQ(filter.precautions(), 0u);
   EXPECT_EQ(filter.interventions(), 1u);
+}
+
+// The charged rule is a filter at charged_sigmas: over many seeded
+// scenes (an omni robot and a rover among up to 12 reports, some fresh,
+// some old, some parked, walls), a four-sigma filter's step is charged
+// exactly when a two-sigma filter given the same inputs limits it.
+TEST(SafetyFilterTest, AChargedStepIsOneATwoSigmaFilterLimitsToo) {
+  std::mt19937 random(20261207);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  int charged = 0;
+  int precautions = 0;
+  for (int scene = 0; scene < 4000; ++scene) {
+    SafetyConfig config = Config();
+    config.arena_width_m = 4.0f;
+    config.arena_height_m = 4.0f;
+    SafetyConfig two = config;
+    two.own_sigmas = 2.0f;
+    config.own_sigmas = 4.0f;
+    const bool rover = scene % 2 == 1;
+    SafetyFilter four_filter(config, rover ? WheeledConfig() : Omni(), 16);
+    SafetyFilter two_filter(two, rover ? WheeledConfig() : Omni(), 16);
+    SafetyReports reports;
+    const float x = 0.5f + 3.0f * unit(random);
+    const float y = 0.5f + 3.0f * unit(random);
+    const int64_t now = 2 * kSecond;
+    const int others = 1 + static_cast<int>(unit(random) * 12.0f);
+    for (int id = 1; id <= others; ++id) {
+      const float angle = 6.2831853f * unit(random);
+      const float distance = 0.2f + 0.6f * unit(random);
+      const auto age = static_cast<int64_t>(unit(random) * 1.5e9f);
+      const bool parked = unit(random) < 0.3f;
+      reports.ReportMetres(static_cast<uint16_t>(id), now - age, x + distance * std::cos(angle),
+                           y + distance * std::sin(angle), parked, 0.2f * unit(random), 0.0f, 0.8f);
+    }
+    const float sigma = 0.005f + 0.04f * unit(random);
+    const estimation::StateEstimate estimate = Doubtful(x, y, sigma, 0.1f * unit(random), 6.2831853f * unit(random));
+    const float speed = 0.5f * unit(random);
+    const float direction = 6.2831853f * unit(random);
+    const DriveCommand desired = rover ? Wheels(speed, speed)
+                                       : DriveVelocity(speed * std::cos(direction), speed * std::sin(direction));
+    SafetyOutcome four_outcome;
+    SafetyOutcome two_outcome;
+    (void)four_filter.Apply(desired, estimate, reports, now, four_outcome);
+    (void)two_filter.Apply(desired, estimate, reports, now, two_outcome);
+    ASSERT_EQ(four_outcome.charged, two_outcome.limited) << "scene " << scene;
+    if (two_outcome.limited) {
+      EXPECT_TRUE(four_outcome.limited) << "scene " << scene;
+    }
+    charged += four_outcome.charged ? 1 : 0;
+    precautions += four_outcome.limited && !four_outcome.charged ? 1 : 0;
+  }
+  // Both kinds of step occur, often: the comparison is not vacuous.
+  EXPECT_GT(charged, 400);
+  EXPECT_GT(precautions, 20);  // 36 of the 4000 scenes
 }
 
 TEST(SafetyFilterTest, ALostEstimateStopsNearOthersOnly) {

@@ -39,11 +39,6 @@ bool ParseRobotKind(const char* name, RobotKind& kind);
 /// 1 / (2 sqrt(k tau)): 0.5 at the omni's 4/s and 0.25 s, 0.71 at 2/s.
 inline constexpr float kDronePositionGainPerS = 2.0f;
 
-/// A drone's safety filter grows the discs by this many of its own position
-/// sigmas (SafetyConfig::own_sigmas): a hovering drone holds on its
-/// estimate, so its true position wanders with the estimate's error.
-inline constexpr float kDroneOwnSigmas = 3.4f;
-
 /// A kind's body and limits, SI units (a scenario's `kinds.<kind>`, less
 /// what only the world plays: a drone's drift).
 struct KindLimits {

@@ -75,6 +75,17 @@ inline constexpr int kSafetyPasses = 4;
 /// from step to step, and that is one hold, not dozens.
 inline constexpr int64_t kInterventionReleaseNs = 500'000'000;
 
+/// How many of a robot's own position standard deviations the safety filter
+/// allows for its true position error (SafetyConfig::own_sigmas), every kind.
+/// A consistent 2-D estimate is further than k sigmas off with probability
+/// exp(-k^2 / 2): 13.5% at two, 0.03% at four. The lab's EKF is consistent
+/// (position NEES about 2 for 2), and four covers the true error in more
+/// than 99.9% of robot-rounds of every kind, where two left it past the
+/// allowance in 12% and a mixed swarm collided (mixed/gather_4_4_loss seed
+/// 2); measured by bench_lab_margin_coverage (docs/safety.md, "Margin
+/// coverage"). At the usual 2.2 cm sigma every disc grows by 5.8 cm.
+inline constexpr float kOwnSigmas = 4.0f;
+
 /// What the filter assumes about the swarm. SI units.
 struct SafetyConfig {
   bool enabled = true;
@@ -91,16 +102,9 @@ struct SafetyConfig {
   /// standard deviations (the EKF's, the larger of x and y) exceed half the
   /// margin: the robot may be further from where it believes than the margin
   /// allows for. A lost estimate (sigma capped at max_own_sigma_m) grows the
-  /// discs until the robot stops near anyone. A consistent 2-D estimate is
-  /// further than k sigmas off with probability exp(-k^2 / 2): 13.5% at two,
-  /// 0.03% at four. The lab's EKF is consistent (position NEES 1.95 for 2),
-  /// so two leaves the true error past the allowance in 12% of robot-rounds,
-  /// and a mixed swarm collided (mixed/gather_4_4_loss seed 2); four covers
-  /// it in more than 99.9% and removed that collision, but costs goal time
-  /// and moves assignments' marks (docs/safety.md, "Margin coverage"), so
-  /// the default stays two until the reference solutions keep the wider
-  /// clearance.
-  float own_sigmas = 2.0f;
+  /// discs until the robot stops near anyone. kOwnSigmas for every kind
+  /// (docs/safety.md, "Margin coverage").
+  float own_sigmas = kOwnSigmas;
   /// The rule an app is held to: a limited step is charged to the app (an
   /// intervention, which assignments grade) only where a filter that grows
   /// the discs by this many own sigmas would have limited the command too.
@@ -209,7 +213,9 @@ class SafetyReports {
 struct SafetyOutcome {
   bool limited = false;  ///< the command was changed
   /// Limited, and a filter at SafetyConfig::charged_sigmas would have
-  /// limited it too: the app's command broke the rule it is held to.
+  /// limited it too (the app's command broke the rule it is held to), or
+  /// an earlier step of the same hold was charged (later steps of a
+  /// charged hold are not checked again: the hold is an intervention).
   bool charged = false;
   /// The first charged step of a hold (limited steps less than
   /// kInterventionReleaseNs apart): an intervention starts. One per hold.
@@ -259,14 +265,20 @@ class SafetyFilter {
     bool cone;        // u . n <= -bound * |u|
     float violation;  // of the desired velocity, for `other`
     uint16_t other;
+    // A robot's disc (not a wall): the squared distance to its centre and
+    // the other's growth, so the constraint can be rebuilt for a smaller
+    // allowance (BreaksChargedRule) without another pass over the reports.
+    float squared_m2;
+    float sigma_m;
   };
   void Collect(float x, float y, float own_allowance_m, const SafetyReports& reports, int64_t now_ns);
+  float DiscBaseM(float own_allowance_m) const;
+  void RobotConstraint(Constraint& constraint, float squared_m2, float radius_m, float sigma_m) const;
   float HeadingRobustScale(float ux, float uy, float doubt_rad) const;
   void Keep(const Constraint& constraint, float slack);
   DriveCommand Limit(const DriveCommand& desired, float heading_rad, float heading_doubt_rad, float& change) const;
   bool BreaksChargedRule(const DriveCommand& desired, const estimation::StateEstimate& estimate,
-                         float own_allowance_m, float heading_doubt_rad, const SafetyReports& reports,
-                         int64_t now_ns);
+                         float own_allowance_m, float heading_doubt_rad);
   void LimitOmni(float& vx, float& vy) const;
   float LimitForward(float speed, float hx, float hy) const;
   float ApproachBound(float gap_m, float braking_mps2, float lag_s) const;
@@ -281,6 +293,7 @@ class SafetyFilter {
   std::array<Constraint, kMaxSafetyConstraints> constraints_{};
   std::array<float, kMaxSafetyConstraints> slack_{};
   size_t count_ = 0;
+  float reach_m_ = 0;  // Collect's: how far beyond a disc's edge a constraint can bind
   bool ever_limited_ = false;
   int64_t last_limited_ns_ = 0;
   bool hold_charged_ = false;  // the current hold has had its charged step

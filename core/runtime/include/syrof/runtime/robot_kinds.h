@@ -16,8 +16,8 @@ namespace syrof::runtime {
 ///   - kind: self's (what the app reads as syrof_app_info::kind);
 ///   - motion: motion::ControllerConfigFor(self);
 ///   - safety: the others' speed, radius, braking and lag
-///     (motion::SetOthers(swarm)), and a drone's own_sigmas
-///     (motion::kDroneOwnSigmas); enabled and the walls are left as they are;
+///     (motion::SetOthers(swarm)); own_sigmas (motion::kOwnSigmas for every
+///     kind), enabled and the walls are left as they are;
 ///   - estimator: a drone's flow sensor and UWB antenna at its flight height
 ///     (flow_geometry.height_m, arena.tag_height_m; docs/estimation.md
 ///     "Drones"); the other kinds keep theirs.

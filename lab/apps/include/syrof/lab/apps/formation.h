@@ -36,8 +36,8 @@ inline constexpr double kPlanSlackM = 0.02;
 /// What the platform's safety filter grows every disc by beyond what the
 /// plans' margin absorbs, at the lab's usual position doubt, when it allows
 /// for four of a robot's own position sigmas (SafetyConfig::own_sigmas = 4,
-/// what covers the true error in 99.9% of robot-rounds; two by default
-/// today): 8.8 cm at a 2.2 cm sigma, less the half of its 6 cm margin that
+/// motion::kOwnSigmas, what covers the true error in 99.9% of
+/// robot-rounds): 8.8 cm at a 2.2 cm sigma, less the half of its 6 cm margin that
 /// covers it, 5.8 cm, of which the plans' margin absorbs the 1.4 cm of two
 /// sigmas (docs/safety.md, "Margin coverage"). A follower whose next slot is
 /// nearer its predecessor's start than the filter's disc is held off it, and

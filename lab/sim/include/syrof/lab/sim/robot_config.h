@@ -27,11 +27,9 @@ namespace syrof::lab::sim {
 inline constexpr float kInitialPositionSigmaM = 0.05f;
 inline constexpr float kInitialHeadingSigmaRad = 0.05f;
 
-/// A drone's position gain and the own sigmas its safety filter grows the
-/// discs by: the motion layer's (motion/robot_kind.h), which the robot
-/// image uses too.
+/// A drone's position gain: the motion layer's (motion/robot_kind.h), which
+/// the robot image uses too.
 using motion::kDronePositionGainPerS;
-using motion::kDroneOwnSigmas;
 
 /// Floors on the noise the estimator assumes, whatever the scenario's
 /// simulated sensors do. A scenario may set a sensor's noise to 0 (perfect
