@@ -3,10 +3,13 @@
 // beacons on the round grid for S seconds.
 //
 // Usage: cyclone_beacon_writer --domain D --robots N [--seconds S] [--round-ms R] [--garbage 1] [--only I]
+//        [--run-id R]
 // --only I runs robot I alone (of a swarm of N), one process per robot;
 // --origin-ms T puts round 0 at T (CLOCK_REALTIME, ms since the epoch), a
 // grid shared by processes started apart (default: this process's start).
 // --multicast 0 discovers by unicast only (CycloneOptions::multicast).
+// --run-id R stamps every sample with run R (BeaconRadioOptions::run_id;
+// default 0): the reader counts only its run's beacons, as a robot does.
 // At the end it prints the beacons it sent and its radios' receive counters.
 // --garbage 1 adds, every round, a raw Beacon_ sample claiming robot 0 whose
 // bytes are not a beacon (a wrong version byte): the reader must call it
@@ -26,7 +29,7 @@
 namespace {
 
 int Usage() {
-  std::fprintf(stderr, "usage: cyclone_beacon_writer --domain D --robots N [--seconds S] [--round-ms R] [--garbage 1] [--only I] [--origin-ms T] [--multicast 0]\n");
+  std::fprintf(stderr, "usage: cyclone_beacon_writer --domain D --robots N [--seconds S] [--round-ms R] [--garbage 1] [--only I] [--origin-ms T] [--multicast 0] [--run-id R]\n");
   return 2;
 }
 
@@ -34,7 +37,7 @@ int Usage() {
 
 int main(int argc, char** argv) {
   using namespace syrof::sim_dds;
-  long long origin_ms = -1;
+  long long origin_ms = -1, run_id = 0;
   long domain = -1, robots = 0, seconds = 20, round_ms = 50, garbage = 0, only = -1, multicast = 1;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
@@ -43,6 +46,10 @@ int main(int argc, char** argv) {
     if (*end != '\0' || value < 0) return Usage();
     if (flag == "--origin-ms") {
       origin_ms = value;
+      continue;
+    }
+    if (flag == "--run-id") {
+      run_id = value;
       continue;
     }
     if (flag == "--domain") domain = value;
@@ -81,6 +88,7 @@ int main(int argc, char** argv) {
     options.swarm_size = static_cast<uint16_t>(robots);
     options.radio_round_ns = round_ms * 1'000'000;
     options.current_round = current_round;
+    options.run_id = static_cast<uint64_t>(run_id);
     BeaconRadioOrError radio =
         BeaconRadio::Create(*made.participant, options, [](std::span<const uint8_t>, uint16_t, uint32_t) {});
     if (!radio.ok()) {
@@ -124,6 +132,7 @@ int main(int argc, char** argv) {
       bytes[0] = 0x7F;  // not version 3
       syrof_msg_dds__Beacon_ sample{};
       sample.round = static_cast<uint32_t>(round);
+      sample.run_id = static_cast<uint64_t>(run_id);
       sample.wire._maximum = sample.wire._length = static_cast<uint32_t>(bytes.size());
       sample.wire._buffer = bytes.data();
       (void)dds_write(garbage_writer, &sample);

@@ -7,13 +7,17 @@
 // one on the air.
 //
 // Usage: fastdds_beacon_reader --domain D --swarm N [--expect K]
-//        [--min-per-sender M] [--seconds S]
+//        [--min-per-sender M] [--seconds S] [--run-id R] [--min-foreign F]
 // Subscribes to rt/syrof/beacon on loopback (UDPv4 on 127.0.0.1 only, with
 // 127.0.0.1 as initial peer), prints one line per sender (samples, valid,
 // invalid with the first reason, last round, last epoch and position) and
 // exits 0 once senders 0 .. K-1 have each sent M valid beacons and no
 // invalid one was seen; 1 when S seconds pass first or a beacon is invalid;
-// 2 on bad usage or a DDS error.
+// 2 on bad usage or a DDS error. Only the beacons of run R (default 0) are
+// judged: another run that lands on the same domain (a test running beside
+// this one, docs/dds.md "Domain ids") is counted as foreign and left alone,
+// as a robot refuses other runs' beacons; --min-foreign F also waits for F
+// foreign samples (the test that shows they are ignored).
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -103,7 +107,8 @@ struct SenderCount {
 
 class BeaconListener : public DataReaderListener {
  public:
-  explicit BeaconListener(unsigned swarm) : swarm_(swarm), start_(std::chrono::steady_clock::now()) {}
+  BeaconListener(unsigned swarm, uint64_t run_id)
+      : swarm_(swarm), run_id_(run_id), start_(std::chrono::steady_clock::now()) {}
 
   void on_data_available(DataReader* reader) override {
     syrof::msg::dds_::Beacon_ sample;
@@ -111,6 +116,10 @@ class BeaconListener : public DataReaderListener {
     while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data) continue;
       std::lock_guard<std::mutex> lock(mutex_);
+      if (sample.run_id() != run_id_) {
+        ++foreign_;
+        continue;
+      }
       SenderCount& count = senders_[sample.sender()];
       if (count.samples++ == 0) {
         count.first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
@@ -134,14 +143,23 @@ class BeaconListener : public DataReaderListener {
     return senders_;
   }
 
+  uint64_t Foreign() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return foreign_;
+  }
+
  private:
   unsigned swarm_;
+  uint64_t run_id_;
+  uint64_t foreign_ = 0;  // samples of other runs
   std::chrono::steady_clock::time_point start_;
   std::mutex mutex_;
   std::map<uint16_t, SenderCount> senders_;
 };
 
-bool Done(const std::map<uint16_t, SenderCount>& senders, unsigned expect, uint64_t min_per_sender) {
+bool Done(const std::map<uint16_t, SenderCount>& senders, unsigned expect, uint64_t min_per_sender, uint64_t foreign,
+          uint64_t min_foreign) {
+  if (foreign < min_foreign) return false;
   for (unsigned sender = 0; sender < expect; ++sender) {
     const auto found = senders.find(static_cast<uint16_t>(sender));
     if (found == senders.end() || found->second.valid < min_per_sender) return false;
@@ -151,17 +169,23 @@ bool Done(const std::map<uint16_t, SenderCount>& senders, unsigned expect, uint6
 
 int Usage() {
   std::fprintf(stderr,
-               "usage: fastdds_beacon_reader --domain D --swarm N [--expect K] [--min-per-sender M] [--seconds S]\n");
+               "usage: fastdds_beacon_reader --domain D --swarm N [--expect K] [--min-per-sender M] [--seconds S] [--run-id R] [--min-foreign F]\n");
   return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  long domain = -1, swarm = 0, expect = -1, min_per_sender = 5, seconds = 30;
+  long domain = -1, swarm = 0, expect = -1, min_per_sender = 5, seconds = 30, min_foreign = 0;
+  unsigned long long run_id = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     char* end = nullptr;
+    if (flag == "--run-id") {
+      run_id = std::strtoull(argv[i + 1], &end, 10);
+      if (*end != '\0' || argv[i + 1][0] < '0' || argv[i + 1][0] > '9') return Usage();
+      continue;
+    }
     const long value = std::strtol(argv[i + 1], &end, 10);
     if (*end != '\0' || value < 0) return Usage();
     if (flag == "--domain") domain = value;
@@ -169,6 +193,7 @@ int main(int argc, char** argv) {
     else if (flag == "--expect") expect = value;
     else if (flag == "--min-per-sender") min_per_sender = value;
     else if (flag == "--seconds") seconds = value;
+    else if (flag == "--min-foreign") min_foreign = value;
     else return Usage();
   }
   if (argc % 2 == 0 || domain < 0 || domain > 232 || swarm < 1 || swarm > 65535) return Usage();
@@ -203,10 +228,14 @@ int main(int argc, char** argv) {
   reader_qos.history().depth = 1;
   // One instance per sender: Fast DDS's default of 10 instances would drop
   // every robot past the tenth (seen with 16 and 32 processes).
-  reader_qos.resource_limits().max_instances = static_cast<int32_t>(swarm);
+  // The key is (sender, run): room for the robots of another run on the
+  // domain too (up to kMaxDdsSwarm = 1024), whose instances would otherwise
+  // take the slots of this run's robots and silence them.
+  constexpr long kForeignInstances = 1024;
+  reader_qos.resource_limits().max_instances = static_cast<int32_t>(swarm + kForeignInstances);
   reader_qos.resource_limits().max_samples_per_instance = 1;
-  reader_qos.resource_limits().max_samples = static_cast<int32_t>(swarm);
-  BeaconListener listener(static_cast<unsigned>(swarm));
+  reader_qos.resource_limits().max_samples = static_cast<int32_t>(swarm + kForeignInstances);
+  BeaconListener listener(static_cast<unsigned>(swarm), static_cast<uint64_t>(run_id));
   DataReader* reader = topic == nullptr || subscriber == nullptr
                            ? nullptr
                            : subscriber->create_datareader(topic, reader_qos, &listener);
@@ -214,18 +243,22 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fastdds_beacon_reader: cannot create the reader of rt/syrof/beacon\n");
     return 2;
   }
-  std::printf("fastdds_beacon_reader: domain %ld, type %s, waiting for senders 0..%ld\n", domain,
-              type.get_type_name().c_str(), expect - 1);
+  std::printf("fastdds_beacon_reader: domain %ld, type %s, run %llu, waiting for senders 0..%ld\n", domain,
+              type.get_type_name().c_str(), run_id, expect - 1);
   std::fflush(stdout);
 
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
   std::map<uint16_t, SenderCount> senders;
   bool invalid = false;
+  uint64_t foreign = 0;
   for (;;) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     senders = listener.Snapshot();
+    foreign = listener.Foreign();
     for (const auto& [sender, count] : senders) invalid = invalid || count.invalid > 0;
-    if (invalid || Done(senders, static_cast<unsigned>(expect), static_cast<uint64_t>(min_per_sender)) ||
+    if (invalid ||
+        Done(senders, static_cast<unsigned>(expect), static_cast<uint64_t>(min_per_sender), foreign,
+             static_cast<uint64_t>(min_foreign)) ||
         std::chrono::steady_clock::now() > deadline) {
       break;
     }
@@ -248,7 +281,9 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(count.invalid), count.last_round, count.last.epoch, count.last.x_mm,
                 count.last.y_mm, count.first_problem.empty() ? "" : " first problem: ", count.first_problem.c_str());
   }
-  const bool done = Done(senders, static_cast<unsigned>(expect), static_cast<uint64_t>(min_per_sender));
+  std::printf("fastdds_beacon_reader: %llu samples of other runs ignored\n", static_cast<unsigned long long>(foreign));
+  const bool done = Done(senders, static_cast<unsigned>(expect), static_cast<uint64_t>(min_per_sender), foreign,
+                         static_cast<uint64_t>(min_foreign));
   std::printf("fastdds_beacon_reader: %s (%zu senders heard, %ld expected, %ld valid beacons each)\n",
               invalid ? "INVALID beacons" : done ? "OK" : "TIMEOUT", senders.size(), expect, min_per_sender);
   return !invalid && done ? 0 : 1;
