@@ -13,6 +13,8 @@
 
 namespace syrof::firmware::robot {
 
+static_assert(drivers::kMaxLinkBeaconBytes == wire::kMaxRadioBeaconBytes, "the link carries one radio beacon");
+
 void LinkRadio::Broadcast(const wire::Beacon& beacon) {
   uint8_t beacon_bytes[wire::kMaxBeaconBytes];
   const auto size = wire::Encode(beacon, swarm_size_, beacon_bytes);
@@ -59,6 +61,10 @@ const char* RobotImage::Prepare(const ImageConfig& config, const syrof_app_descr
   if (robot_ != nullptr) return "started twice";
   if (config.swarm_size < 1 || config.swarm_size > wire::kMaxSwarmSize || config.self_id >= config.swarm_size) {
     return "robot id or swarm size out of range";
+  }
+  // Every beacon of a larger swarm would be refused by the link, silently.
+  if (wire::EncodedSize(config.swarm_size) > drivers::kMaxLinkBeaconBytes) {
+    return "swarm too large for the radio: its beacon is longer than one BLE advertisement (31 bytes)";
   }
   config_ = config;
   // Motion (priority 1) runs a level above the round task (priority 2) on

@@ -72,6 +72,16 @@ void SafetyReports::ReportMetres(uint16_t id, int64_t time_ns, float x_m, float 
   }
 }
 
+uint16_t SafetyReports::NextSilent(uint16_t after, uint16_t self, size_t count, int64_t before_ns) const {
+  const size_t n = std::min(count, entries_.size());
+  for (size_t step = 1; step <= n; ++step) {
+    const size_t id = (size_t{after} + step) % n;
+    const SafetyReport& entry = entries_[id];
+    if (id != self && entry.valid && entry.time_ns < before_ns) return static_cast<uint16_t>(id);
+  }
+  return kNoSilentReport;
+}
+
 void SafetyReports::CopyFrom(const SafetyReports& other, size_t count) {
   const size_t n = std::min(count, entries_.size());
   std::copy(other.entries_.begin(), other.entries_.begin() + static_cast<std::ptrdiff_t>(n), entries_.begin());

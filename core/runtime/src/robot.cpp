@@ -67,7 +67,8 @@ Robot::Robot(const RobotConfig& config, app::App& app, Radio& radio, std::span<w
       round_task_(*this),
       motion_task_(*this),
       bank_size_(std::min(receive_storage.size() / kReceiveBanks, size_t{wire::kMaxSwarmSize})),
-      safety_filter_(SafetyConfigFor(config), config.motion, config.sync.swarm_size) {}
+      safety_filter_(SafetyConfigFor(config), config.motion, config.sync.swarm_size),
+      relay_cursor_(config.sync.self_id) {}
 
 RobotSetupError Robot::Attach(os::Port& port, pubsub::Broker& broker) {
   if (port_ != nullptr) return RobotSetupError::kAlreadyAttached;
@@ -452,6 +453,7 @@ void Robot::RunRound(int64_t now_ns) {
   }
   if (async_cut_pending_ && maneuver_active_) CutAsyncMove();
   if (out_.send) {
+    AttachRelay(now_ns, out_.beacon);
     radio_.Broadcast(out_.beacon);
     ++counters_.beacons_sent;
   } else {
@@ -468,6 +470,7 @@ void Robot::RunRound(int64_t now_ns) {
 void Robot::TakeSafetyReports(int64_t now_ns) {
   const int64_t sent_ns = now_ns - config_.radio_round_ns;
   const float braking_mps2 = config_.safety.others_braking_mps2;
+  const auto horizon_ns = static_cast<int64_t>(config_.safety.horizon_s * 1e9f);
   size_t presence = 0;
   if (config_.safety.enabled) {
     os::CriticalSection lock(*port_);
@@ -478,6 +481,14 @@ void Robot::TakeSafetyReports(int64_t now_ns) {
       presence += beacon.presence_only ? 1 : 0;
       shared_reports_.Report(beacon.robot_id, sent_ns, snapshot.x_mm, snapshot.y_mm, parked, snapshot.vx_mm_s,
                              snapshot.vy_mm_s, braking_mps2, config_.safety.others_lag_s);
+      // A relayed position is at least a horizon old where it was sent
+      // (AttachRelay): stamped so, its disc is the capped one.
+      const wire::Relay& relay = beacon.relay;
+      if (relay.relays() && relay.robot_id() != id() &&
+          shared_reports_.Relayed(relay.robot_id(), sent_ns - horizon_ns, wire::FromRelayUnits(relay.x_16mm),
+                                  wire::FromRelayUnits(relay.y_16mm), wire::kRelayRoundingMm)) {
+        ++counters_.relays_taken;
+      }
     }
     if (inbox_count_ > 0) reports_changed_ = true;
   } else {
@@ -582,6 +593,26 @@ void Robot::ReportInterventions() {
       observer_->OnSafetyIntervention(id(), starts[i].time_ns, starts[i].other);
     }
   }
+}
+
+// A member's beacon relays one robot it has not heard from for a horizon
+// (crashed, paused, out of reach), taking the silent robots in turn: a
+// robot switched on after another fell silent hears of its body this way
+// (docs/safety.md, "A robot that was never told"). The round task is the
+// reports' only writer, so it reads them without the lock.
+void Robot::AttachRelay(int64_t now_ns, wire::Beacon& beacon) {
+  beacon.relay = wire::Relay{};
+  if (!config_.safety.enabled || beacon.presence_only) return;
+  const auto horizon_ns = static_cast<int64_t>(config_.safety.horizon_s * 1e9f);
+  const uint16_t silent =
+      shared_reports_.NextSilent(relay_cursor_, id(), config_.sync.swarm_size, now_ns - horizon_ns);
+  if (silent == motion::SafetyReports::kNoSilentReport) return;
+  relay_cursor_ = silent;
+  const motion::SafetyReport& report = shared_reports_[silent];
+  beacon.relay.slot = static_cast<uint16_t>(silent + 1);
+  beacon.relay.x_16mm = wire::ToRelayUnits(report.x_mm);
+  beacon.relay.y_16mm = wire::ToRelayUnits(report.y_mm);
+  ++counters_.relays_sent;
 }
 
 // A joiner sends no synchronizer beacon; it says where it is instead.

@@ -75,6 +75,7 @@ void Robot::AddToDigest(base::StateDigest& digest) const {
   shared_reports_.AddToDigest(digest, swarm);
   motion_reports_.AddToDigest(digest, swarm);
   digest.AddValue(reports_changed_);
+  digest.AddValue(relay_cursor_);
   digest.AddValue(intervention_count_);
   for (size_t i = 0; i < intervention_count_; ++i) {
     digest.AddValue(intervention_starts_[i].time_ns);

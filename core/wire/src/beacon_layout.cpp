@@ -63,12 +63,17 @@ constexpr bool layout_is_well_formed(const Beacon& beacon, uint16_t swarm_size) 
 // Every size up to 1024 covers both robot_id widths and every amount of
 // member-set padding; above that only the member set grows, so the largest
 // size stands for the rest (and keeps compile-time evaluation short).
+// A beacon's relay decides its coordinates' ranges: both kinds are checked.
 constexpr bool every_layout_is_well_formed() {
-  const Beacon beacon{};
-  for (uint32_t swarm_size = 1; swarm_size <= kMaxSwarmSize && swarm_size <= 1024; ++swarm_size) {
-    if (!layout_is_well_formed(beacon, static_cast<uint16_t>(swarm_size))) return false;
+  Beacon relaying{};
+  relaying.relay.slot = 1;
+  for (const Beacon& beacon : {Beacon{}, relaying}) {
+    for (uint32_t swarm_size = 1; swarm_size <= kMaxSwarmSize && swarm_size <= 1024; ++swarm_size) {
+      if (!layout_is_well_formed(beacon, static_cast<uint16_t>(swarm_size))) return false;
+    }
+    if (!layout_is_well_formed(beacon, kMaxSwarmSize)) return false;
   }
-  return layout_is_well_formed(beacon, kMaxSwarmSize);
+  return true;
 }
 
 static_assert(
@@ -248,8 +253,10 @@ syrof::base::Result<size_t, WireError> RenderLayoutTable(uint16_t swarm_size,
   if (EncodedSize(swarm_size) == 0) return WireError::kSwarmSizeOutOfRange;
   TextWriter text(out);
   TableRenderer renderer(text);
-  const Beacon beacon{};
-  DescribeBeacon(renderer, beacon, swarm_size);
+  // A beacon that relays, so the table shows the coordinates' whole ranges.
+  Beacon beacon{};
+  beacon.relay.slot = 1;
+  DescribeBeacon(renderer, static_cast<const Beacon&>(beacon), swarm_size);
   renderer.total(swarm_size);
   if (!text.terminate()) return WireError::kBufferTooSmall;
   return text.length();

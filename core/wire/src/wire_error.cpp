@@ -18,6 +18,7 @@ const char* ToString(WireError error) {
     case WireError::kHeadingOutOfRange: return "HeadingOutOfRange";
     case WireError::kNonZeroPadding: return "NonZeroPadding";
     case WireError::kPresenceOutOfRange: return "PresenceOutOfRange";
+    case WireError::kRelayOutOfRange: return "RelayOutOfRange";
   }
   return "?";
 }

@@ -14,6 +14,7 @@
 #include "syrof/registry/tasks.h"
 #include "syrof/runtime/robot.h"
 #include "syrof/sync/config.h"
+#include "syrof/wire/beacon_layout.h"
 
 namespace syrof::lab::scenario {
 
@@ -145,11 +146,23 @@ std::optional<std::string> SafetyDiffers(const Scenario& scenario) {
          "than the lab's robots";
 }
 
+// The robots' radio carries a beacon of one BLE advertisement.
+std::optional<std::string> SwarmTooLargeForTheRadio(const Scenario& scenario) {
+  const size_t robots = scenario.robots.size();
+  if (robots <= wire::LargestRadioSwarm()) return std::nullopt;
+  return std::to_string(robots) + " robots; their beacon would be " +
+         std::to_string(wire::EncodedSize(static_cast<uint16_t>(std::min<size_t>(robots, wire::kMaxSwarmSize)))) +
+         " bytes, more than the robots' radio carries (" + std::to_string(wire::kMaxRadioBeaconBytes) +
+         ", one BLE advertisement): the robot image runs swarms of at most " +
+         std::to_string(wire::LargestRadioSwarm()) + " robots (docs/beacon.md)";
+}
+
 }  // namespace
 
 std::optional<ScenarioError> CheckScenarioFitsTheImage(const Scenario& scenario) {
-  for (std::optional<std::string> (*differs)(const Scenario&) : {RadioRoundDiffers, SyncTimingDiffers, ArenaDiffers, KindLimitsDiffer,
-                                                                SensorNoiseDiffers, SafetyDiffers}) {
+  for (std::optional<std::string> (*differs)(const Scenario&) :
+       {SwarmTooLargeForTheRadio, RadioRoundDiffers, SyncTimingDiffers, ArenaDiffers, KindLimitsDiffer,
+        SensorNoiseDiffers, SafetyDiffers}) {
     std::optional<std::string> message = differs(scenario);
     if (!message) continue;
     return ScenarioError{.where = scenario.source.empty() ? scenario.name : scenario.source,

@@ -207,6 +207,51 @@ TEST(SafetyFilterTest, IgnoresItsOwnReportAndInvalidOnes) {
   EXPECT_FLOAT_EQ(out.vx_mps, 0.5f);
 }
 
+// A relayed position (wire::Relay) fills only an entry with no report at
+// all: what a robot heard itself, or was relayed before, stays; the silent
+// robot's own next beacon replaces it.
+TEST(SafetyReportsTest, ARelayFillsOnlyARobotWithNoReport) {
+  SafetyReports reports;
+  reports.Report(1, 5'000'000'000, 1000, 1000, false, 0, 0, 1.0f);
+
+  EXPECT_FALSE(reports.Relayed(1, 1'000'000'000, -500, -500, 22));
+  EXPECT_EQ(reports[1].x_mm, 1000);
+  EXPECT_EQ(reports[1].time_ns, 5'000'000'000);
+
+  EXPECT_TRUE(reports.Relayed(2, 1'000'000'000, 2000, -300, 22));
+  EXPECT_EQ(reports[2].x_mm, 2000);
+  EXPECT_EQ(reports[2].y_mm, -300);
+  EXPECT_EQ(reports[2].allowance_mm, 22);
+  EXPECT_FALSE(reports.Relayed(2, 2'000'000'000, 0, 0, 22));  // a second relay: the first stays
+  EXPECT_EQ(reports[2].x_mm, 2000);
+
+  reports.Report(2, 6'000'000'000, 2100, -250, false, 0, 0, 1.0f);  // robot 2 speaks again
+  EXPECT_EQ(reports[2].x_mm, 2100);
+  EXPECT_EQ(reports[2].allowance_mm, 0);
+  EXPECT_FALSE(reports.Relayed(wire::kMaxSwarmSize, 0, 0, 0, 22));
+}
+
+// The silent robots are taken in turn after the last one relayed, never the
+// robot itself, and a robot heard since `before_ns` is not silent.
+TEST(SafetyReportsTest, NextSilentGoesRoundTheSilentRobots) {
+  SafetyReports reports;
+  constexpr int64_t kBefore = 10'000'000'000;
+  for (const uint16_t id : {0, 2, 5, 6}) reports.Report(id, kBefore - 1, 0, 0, false, 0, 0, 1.0f);
+  reports.Report(3, kBefore, 0, 0, false, 0, 0, 1.0f);  // heard at before_ns: not silent
+
+  EXPECT_EQ(reports.NextSilent(2, 2, 8, kBefore), 5);  // robot 2 itself is skipped
+  EXPECT_EQ(reports.NextSilent(5, 2, 8, kBefore), 6);
+  EXPECT_EQ(reports.NextSilent(6, 2, 8, kBefore), 0);  // round to the start
+  EXPECT_EQ(reports.NextSilent(0, 2, 8, kBefore), 5);
+  EXPECT_EQ(reports.NextSilent(0, 0, 6, kBefore), 2);  // ids below the count only: 6 is out
+  EXPECT_EQ(reports.NextSilent(4, 0, 6, kBefore), 5);
+
+  SafetyReports only_self;
+  only_self.Report(4, 0, 0, 0, false, 0, 0, 1.0f);
+  EXPECT_EQ(only_self.NextSilent(4, 4, 8, kBefore), SafetyReports::kNoSilentReport);
+  EXPECT_EQ(SafetyReports().NextSilent(0, 0, 0, kBefore), SafetyReports::kNoSilentReport);
+}
+
 TEST(SafetyFilterTest, DisabledPassesEverything) {
   SafetyConfig config = Config();
   config.enabled = false;

@@ -34,13 +34,16 @@ Beacon golden_beacon() {
   beacon.snapshot.vy_mm_s = -1;
   const std::array<uint8_t, 3> payload = {0xDE, 0xAD, 0x42};
   EXPECT_EQ(beacon.snapshot.SetPayload(payload), WireError::kOk);
+  beacon.relay.slot = 4;  // robot 3
+  beacon.relay.x_16mm = -100;
+  beacon.relay.y_16mm = kMaxRelayUnits;
   return beacon;
 }
 
-// Version 2 for 32 robots, written out by hand from docs/beacon.md: any
+// Version 4 for 32 robots, written out by hand from docs/beacon.md: any
 // change to the layout shows up here.
 const Bytes kGoldenBytes = {
-    0x03,                                                  // version
+    0x04,                                                  // version
     0x11,                                                  // robot_id 17
     0x34, 0x12,                                            // epoch 0x1234
     0x36,                                                  // phase 2, mode 1, payload_length 3
@@ -52,6 +55,8 @@ const Bytes kGoldenBytes = {
     0x2C, 0x01,                                            // vx_mm_s 300
     0xFF, 0xFF,                                            // vy_mm_s -1
     0xDE, 0xAD, 0x42, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // payload
+    0x04,                                                  // relay: robot 3
+    0x9C, 0xFF, 0x7F,                                      // relay_x -100 (0xF9C), relay_y 2047 (0x7FF)
 };
 
 // Byte offsets of the golden layout that the decoder tests mutate.
@@ -59,6 +64,7 @@ constexpr size_t kRobotIdByte = 1;
 constexpr size_t kFlagsByte = 4;
 constexpr size_t kHeadingByte = 14;
 constexpr size_t kPayloadByte = 20;
+constexpr size_t kRelayByte = 29;
 
 Bytes encode_to_bytes(const Beacon& beacon, uint16_t swarm_size) {
   Bytes bytes(kMaxBeaconBytes);
@@ -263,6 +269,24 @@ TEST(BeaconDecodeTest, RejectsNonZeroPayloadPadding) {
   EXPECT_EQ(decode_error(bytes), WireError::kNonZeroPadding);
 }
 
+TEST(BeaconDecodeTest, RejectsARelayBeyondTheSwarm) {
+  Bytes bytes = kGoldenBytes;
+  bytes[kRelayByte] = kSwarm + 1;  // robot 32 of 0 .. 31
+
+  EXPECT_EQ(decode_error(bytes), WireError::kRelayOutOfRange);
+}
+
+TEST(BeaconDecodeTest, RejectsAPositionWhereNothingIsRelayed) {
+  Bytes bytes = kGoldenBytes;
+  bytes[kRelayByte] = 0;  // nothing relayed, yet the coordinates are not zero
+
+  EXPECT_EQ(decode_error(bytes), WireError::kRelayOutOfRange);
+  bytes[kRelayByte + 1] = bytes[kRelayByte + 2] = bytes[kRelayByte + 3] = 0;
+  const auto decoded = Decode(bytes, kSwarm);
+  ASSERT_TRUE(decoded.ok()) << ToString(decoded.error());
+  EXPECT_FALSE(decoded.value().relay.relays());
+}
+
 TEST(BeaconDecodeTest, ReportsTheFirstProblemInLayoutOrder) {
   Bytes bytes = kGoldenBytes;
   bytes[kHeadingByte + 1] = 0x7F;
@@ -324,6 +348,19 @@ TEST(BeaconEncodeTest, RejectsAWaitingMemberBeyondTheSwarm) {
   beacon.waiting.set(kThirtyRobots);
 
   EXPECT_EQ(encode_error(beacon, kThirtyRobots), WireError::kMemberOutOfRange);
+}
+
+TEST(BeaconEncodeTest, RejectsARelayBeyondTheSwarmOrAPositionWithNone) {
+  Beacon beacon = golden_beacon();
+  beacon.relay.slot = kSwarm + 1;
+  EXPECT_EQ(encode_error(beacon), WireError::kRelayOutOfRange);
+
+  beacon.relay.slot = 0;  // nothing relayed, a position left behind
+  EXPECT_EQ(encode_error(beacon), WireError::kRelayOutOfRange);
+
+  beacon.relay.slot = 1;
+  beacon.relay.x_16mm = kMaxRelayUnits + 1;  // beyond the 12 bits
+  EXPECT_EQ(encode_error(beacon), WireError::kRelayOutOfRange);
 }
 
 TEST(BeaconEncodeTest, RejectsAnOutOfRangeHeading) {

@@ -11,8 +11,8 @@ namespace {
 // One BLE legacy advertising payload (and so one nRF51822 advertisement).
 constexpr size_t kBleLegacyAdvertisingBytes = 31;
 
-static_assert(kMaxSwarmSize < 32 || EncodedSize(32) <= kBleLegacyAdvertisingBytes,
-              "a beacon for 32 robots must fit one BLE legacy advertising payload");
+static_assert(kMaxSwarmSize < 16 || EncodedSize(16) <= kBleLegacyAdvertisingBytes,
+              "a beacon for 16 robots must fit one BLE legacy advertising payload");
 
 std::string rendered_table(uint16_t swarm_size) {
   std::array<char, 4096> text{};
@@ -26,8 +26,8 @@ TEST(EncodedSizeTest, GrowsByOneByteEveryEightRobots) {
     uint16_t swarm_size;
     size_t bytes;
   };
-  const Row rows[] = {{1, 26},  {8, 26},   {9, 27},   {16, 27},  {32, 29},   {48, 31},
-                      {64, 33}, {128, 41}, {256, 57}, {257, 59}, {1024, 154}};
+  const Row rows[] = {{1, 30},  {8, 30},   {9, 31},   {16, 31},  {17, 32},  {32, 33},   {48, 35},
+                      {64, 37}, {128, 45}, {255, 61}, {256, 62}, {257, 64}, {1024, 159}};
 
   for (const Row& row : rows) {
     if (row.swarm_size > kMaxSwarmSize) continue;
@@ -50,7 +50,7 @@ TEST(RenderLayoutTableTest, ListsEveryFieldWithOffsetSizeAndRange) {
   const std::string table = rendered_table(32);
 
   EXPECT_EQ(table.rfind("| Offset | Size | Field | Meaning |\n| --- | --- | --- | --- |\n", 0), 0u);
-  EXPECT_NE(table.find("| 0 | 1 byte | version | layout version; always 3 |\n"), std::string::npos);
+  EXPECT_NE(table.find("| 0 | 1 byte | version | layout version; always 4 |\n"), std::string::npos);
   EXPECT_NE(table.find("| 1 | 1 byte | robot_id | sender's robot id; 0 to 31 |\n"),
             std::string::npos);
   EXPECT_NE(
@@ -61,7 +61,10 @@ TEST(RenderLayoutTableTest, ListsEveryFieldWithOffsetSizeAndRange) {
   EXPECT_NE(table.find("| 14 | 2 bytes | heading_mrad |"), std::string::npos);
   EXPECT_NE(table.find("-3142 to 3142 |\n"), std::string::npos);
   EXPECT_NE(table.find("| 20 | 9 bytes | payload |"), std::string::npos);
-  EXPECT_NE(table.find("| | 29 bytes | total | for a swarm of 32 robots |\n"), std::string::npos);
+  EXPECT_NE(table.find("| 29 | 1 byte | relay |"), std::string::npos);
+  EXPECT_NE(table.find("| bit 240 | 12 bits | relay_x |"), std::string::npos);
+  EXPECT_NE(table.find("-2048 to 2047 |\n"), std::string::npos);
+  EXPECT_NE(table.find("| | 33 bytes | total | for a swarm of 32 robots |\n"), std::string::npos);
 }
 
 TEST(RenderLayoutTableTest, ShowsTheWiderRobotIdAndPaddingOfLargeSwarms) {
@@ -74,7 +77,9 @@ TEST(RenderLayoutTableTest, ShowsTheWiderRobotIdAndPaddingOfLargeSwarms) {
   EXPECT_NE(table.find("| 1 | 2 bytes | robot_id | sender's robot id; 0 to 1000 |\n"),
             std::string::npos);
   EXPECT_NE(table.find("for i from 0 to 1000, the other bits zero |\n"), std::string::npos);
-  EXPECT_NE(table.find("| | 152 bytes | total | for a swarm of 1001 robots |\n"),
+  EXPECT_NE(table.find("relay | 0: nothing relayed; else 1 + the id of the robot whose position follows; 0 to 1001 |\n"),
+            std::string::npos);
+  EXPECT_NE(table.find("| | 157 bytes | total | for a swarm of 1001 robots |\n"),
             std::string::npos);
 }
 

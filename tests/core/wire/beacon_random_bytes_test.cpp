@@ -27,7 +27,8 @@ bool is_decoder_error(WireError error) {
     case WireError::kPayloadTooLong:
     case WireError::kMemberOutOfRange:
     case WireError::kHeadingOutOfRange:
-    case WireError::kNonZeroPadding: return true;
+    case WireError::kNonZeroPadding:
+    case WireError::kRelayOutOfRange: return true;
     default: return false;
   }
 }

@@ -36,6 +36,9 @@ inline Beacon lowest_beacon() {
   beacon.snapshot.heading_mrad = kMinHeadingMilliradians;
   beacon.snapshot.vx_mm_s = std::numeric_limits<int16_t>::min();
   beacon.snapshot.vy_mm_s = std::numeric_limits<int16_t>::min();
+  beacon.relay.slot = 1;  // robot 0, the lowest position
+  beacon.relay.x_16mm = kMinRelayUnits;
+  beacon.relay.y_16mm = kMinRelayUnits;
   return beacon;
 }
 
@@ -55,6 +58,9 @@ inline Beacon highest_beacon(uint16_t swarm_size) {
   beacon.snapshot.vy_mm_s = std::numeric_limits<int16_t>::max();
   beacon.snapshot.payload_length = kMaxPayloadBytes;
   beacon.snapshot.payload.fill(0xFF);
+  beacon.relay.slot = swarm_size;  // robot swarm_size - 1
+  beacon.relay.x_16mm = kMaxRelayUnits;
+  beacon.relay.y_16mm = kMaxRelayUnits;
   return beacon;
 }
 
@@ -84,6 +90,11 @@ inline Beacon random_beacon(std::mt19937& random, uint16_t swarm_size) {
   const auto length = static_cast<size_t>(uniform(0, kMaxPayloadBytes));
   [[maybe_unused]] const WireError error =
       beacon.snapshot.SetPayload(std::span<const uint8_t>(bytes).first(length));
+  if (uniform(0, 1) != 0) {
+    beacon.relay.slot = static_cast<uint16_t>(uniform(1, swarm_size));
+    beacon.relay.x_16mm = static_cast<int16_t>(uniform(kMinRelayUnits, kMaxRelayUnits));
+    beacon.relay.y_16mm = static_cast<int16_t>(uniform(kMinRelayUnits, kMaxRelayUnits));
+  }
   return beacon;
 }
 

@@ -46,6 +46,19 @@ TEST(ScenarioFitsTheImage, TheDefaultsPass) {
             "fits");
 }
 
+// The robots' radio carries one BLE advertisement (31 bytes): 16 robots'
+// beacon fits, 17 robots' does not, and the firmware's link would drop
+// every one of their beacons silently. Checked before anything else.
+TEST(ScenarioFitsTheImage, ASwarmWhoseBeaconTheRadioCannotCarryIsRefusedFirst) {
+  EXPECT_EQ(Verdict("arena: { width_m: 4, height_m: 4 }\nrobots: { count: 16, placement: grid, spacing_m: 0.6 }\n"
+                    "app: builtin:idle\n"),
+            "fits");
+  EXPECT_EQ(Verdict("timing: { radio_round_s: 0.1, app_round_s: 1.0 }\n"
+                    "robots: { count: 17, placement: grid, spacing_m: 0.6 }\napp: builtin:idle\n"),
+            "17 robots; their beacon would be 32 bytes, more than the robots' radio carries (31, one BLE "
+            "advertisement): the robot image runs swarms of at most 16 robots (docs/beacon.md)");
+}
+
 TEST(ScenarioFitsTheImage, ARadioRoundOtherThanTheImagesIsRefused) {
   const auto error = CheckScenarioFitsTheImage(
       LoadOk("timing: { radio_round_s: 0.1, app_round_s: 1.0 }\nrobots: { count: 4 }\napp: builtin:idle\n"));

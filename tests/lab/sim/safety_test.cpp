@@ -85,6 +85,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"adversarial/mixed_gather.yaml", true, 0},
                       // A crashed body stands where gather packs: the goal cannot be reached.
                       Case{"adversarial/ramming.yaml", false, 0},
+                      // The same, the crashed body between a robot that heard it and a joiner.
+                      Case{"adversarial/join_after_crash.yaml", false, 0},
                       // CI-sized: 8 s with crashes and joins; the 30 s crowd_200.yaml
                       // is measured in docs/safety.md.
                       Case{"adversarial/crowd_200_short.yaml", false, 0}),
@@ -158,6 +160,26 @@ TEST(SafetyTest, ARobotBackFromAPauseKeepsOffWhereASilentRobotMayHaveGone) {
   const json metrics = Metrics(LoadFile("adversarial/pause_boundaries.yaml", overrides));
   EXPECT_EQ(metrics["collisions"]["count"], 0) << metrics["collisions"].dump();
   EXPECT_TRUE(metrics["goal"]["reached"].get<bool>()) << metrics["goal"].dump();
+}
+
+// Robot 2 is switched on after robot 1 crashed between it and robot 0, so
+// it never hears robot 1; before relays it drove into the body in every one
+// of seeds 1 to 5. Robot 0's beacons relay robot 1's last position
+// (docs/beacon.md, "Relays"), robot 2 records it, and keeps off.
+TEST(SafetyTest, AJoinerHearsOfACrashedRobotFromTheOthersRelays) {
+  for (uint64_t seed = 1; seed <= 5; ++seed) {
+    scenario::Overrides overrides;
+    overrides.seed = seed;
+    const scenario::Scenario scenario = LoadFile("adversarial/join_after_crash.yaml", overrides);
+    Simulation simulation(scenario, SimulationOptions{});
+    simulation.RunUntil(scenario.timing.duration_s);
+    const json metrics = json::parse(simulation.Finish(0.0).metrics_json);
+
+    EXPECT_EQ(metrics["collisions"]["count"], 0) << "seed " << seed << ": " << metrics["collisions"].dump();
+    EXPECT_GT(simulation.robot(0).counters().relays_sent, 0u) << "seed " << seed;
+    EXPECT_EQ(simulation.robot(2).counters().relays_taken, 1u) << "seed " << seed;  // robot 1, once
+    EXPECT_EQ(simulation.robot(0).counters().relays_taken, 0u) << "seed " << seed;  // it heard robot 1 itself
+  }
 }
 
 // The filter is what prevents the ramming: switched off, the gatherers drive

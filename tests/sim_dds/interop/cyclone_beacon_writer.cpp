@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
     }
     if (garbage_writer != 0) {
       std::vector<uint8_t> bytes(syrof::wire::EncodedSize(static_cast<uint16_t>(robots)), 0);
-      bytes[0] = 0x7F;  // not version 3
+      bytes[0] = 0x7F;  // not version 4
       syrof_msg_dds__Beacon_ sample{};
       sample.round = static_cast<uint32_t>(round);
       sample.run_id = static_cast<uint64_t>(run_id);

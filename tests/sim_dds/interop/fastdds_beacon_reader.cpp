@@ -60,8 +60,9 @@ struct Decoded {
 std::string DecodeBeacon(const std::vector<uint8_t>& bytes, unsigned swarm, Decoded& out) {
   const size_t id_bytes = swarm <= 256 ? 1 : 2;
   const size_t waiting_bytes = (swarm + 7) / 8;
-  const size_t size = 1 + id_bytes + 2 + 1 + 1 + waiting_bytes + 5 * 2 + 9;
-  if (bytes.empty() || bytes[0] != 3) return "wrong version";  // docs/beacon.md, "Version"
+  const size_t relay_bytes = swarm <= 255 ? 1 : 2;
+  const size_t size = 1 + id_bytes + 2 + 1 + 1 + waiting_bytes + 5 * 2 + 9 + relay_bytes + 3;
+  if (bytes.empty() || bytes[0] != 4) return "wrong version";  // docs/beacon.md, "Version"
   if (bytes.size() < size) return "truncated";
   if (bytes.size() > size) return "trailing bytes";
   size_t at = 1;
@@ -92,6 +93,14 @@ std::string DecodeBeacon(const std::vector<uint8_t>& bytes, unsigned swarm, Deco
   for (size_t i = payload_length; i < 9; ++i) {
     if (bytes[at + i] != 0) return "payload padding not zero";
   }
+  at += 9;
+  // docs/beacon.md, "Relays": 0 or 1 + a robot id, then two 12-bit
+  // coordinates in three bytes, zero when nothing is relayed.
+  const unsigned relay = relay_bytes == 1 ? bytes[at] : u16(at);
+  at += relay_bytes;
+  if (relay > swarm) return "relay out of range";
+  const bool coordinates = bytes[at] != 0 || bytes[at + 1] != 0 || bytes[at + 2] != 0;
+  if (relay == 0 && coordinates) return "relay out of range";
   return "";
 }
 

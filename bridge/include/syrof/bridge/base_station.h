@@ -66,7 +66,7 @@ struct StationConfig {
 };
 
 /// Beacon-decoder reasons counted (wire::WireError values, kOk unused).
-inline constexpr size_t kWireErrors = static_cast<size_t>(wire::WireError::kPresenceOutOfRange) + 1;
+inline constexpr size_t kWireErrors = static_cast<size_t>(wire::WireError::kRelayOutOfRange) + 1;
 /// Link reasons counted (firmware::drivers::LinkError values, kOk unused).
 inline constexpr size_t kLinkErrors = static_cast<size_t>(firmware::drivers::LinkError::kFrameTooShort) + 1;
 /// Frame kinds counted (FrameKind values 1 .. 9; index 0 unused).

@@ -167,6 +167,29 @@ class SafetyReports {
         parked && (vx_mm_s != 0 || vy_mm_s != 0) ? BrakingMillimetres(vx_mm_s, vy_mm_s, braking_mps2, lag_s) : 0;
     entry.valid = true;
   }
+  /// A position another robot relayed for robot `id` (wire::Relay): where
+  /// `id` was when the relaying robot last heard of it, at least a horizon
+  /// ago. Recorded only where this robot holds no report of `id` at all: a
+  /// report heard directly, or relayed before, is never replaced by
+  /// hearsay, and `id`'s own next beacon replaces this one. The caller
+  /// stamps it at least a horizon old (the capped disc); `allowance_mm`
+  /// covers the relay's rounding. Returns whether it was recorded.
+  bool Relayed(uint16_t id, int64_t time_ns, int16_t x_mm, int16_t y_mm, uint16_t allowance_mm) {
+    if (id >= entries_.size() || entries_[id].valid) return false;
+    SafetyReport& entry = entries_[id];
+    entry.time_ns = time_ns;
+    entry.x_mm = x_mm;
+    entry.y_mm = y_mm;
+    entry.allowance_mm = allowance_mm;
+    entry.valid = true;
+    return true;
+  }
+  /// The first robot after `after`, going round the ids below `count`
+  /// (`after` itself last), other than `self`, whose report is older than
+  /// `before_ns`: a robot gone silent, whose position to relay next.
+  /// kNoSilentReport when there is none.
+  static constexpr uint16_t kNoSilentReport = 0xFFFF;
+  uint16_t NextSilent(uint16_t after, uint16_t self, size_t count, int64_t before_ns) const;
   /// The same in metres (tests, benches): rounded to millimetres.
   void ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps, float vy_mps,
                     float braking_mps2, float lag_s = 0.0f);

@@ -159,6 +159,8 @@ struct RobotCounters {
   uint32_t invalid_commands = 0;   ///< newRound commands CheckCommand refused (replaced by STOP)
   uint32_t presence_sent = 0;      ///< presence-only beacons broadcast while joining
   uint32_t presence_received = 0;  ///< presence-only beacons heard (kept from the synchronizer)
+  uint32_t relays_sent = 0;        ///< beacons that relayed a silent robot's position (wire::Relay)
+  uint32_t relays_taken = 0;       ///< relayed positions recorded: of robots this one held no report of
   uint32_t safety_interventions = 0;  ///< intervention starts: the filter began to limit commands that broke the charged rule
   uint32_t safety_precautions = 0;    ///< precaution starts: it began to limit commands only for its wider cover (motion::SafetyOutcome)
   uint32_t safety_reports_dropped = 0;  ///< intervention and precaution starts not reported (more than a round holds)
@@ -330,6 +332,7 @@ class Robot final : private app::Platform {
   void TakeSafetyReports(int64_t now_ns);
   void ReportInterventions();
   void AnnouncePresence();
+  void AttachRelay(int64_t now_ns, wire::Beacon& beacon);
 
   // The round's inbox: read by the step, filled by Receive() and, at the
   // step's start, by TakeReceivedBank(). Only the round task's thread.
@@ -384,6 +387,10 @@ class Robot final : private app::Platform {
   motion::SafetyReports shared_reports_;
   motion::SafetyReports motion_reports_;
   bool reports_changed_ = false;
+  // The last robot whose position this one relayed; the next relay is the
+  // next silent robot after it. Starting at the robot's own id spreads the
+  // swarm's relays over the silent robots.
+  uint16_t relay_cursor_ = 0;
   // Intervention starts from the motion task to the round task (which tells
   // the observer), under the port's critical section. A round has at most
   // radio_round / motion period motion steps, so 8 is plenty; more are

@@ -23,7 +23,9 @@ namespace syrof::wire {
 ///   2: the mode takes one bit; the freed bit is `presence_only`.
 ///   3: the same bytes; a PROGRESS beacon's set is its sender's heard set
 ///      (docs/protocol.md, "Connectivity"), no longer its waiting set.
-inline constexpr uint8_t kBeaconVersion = 3;
+///   4: a relay at the end: a silent robot's last known position
+///      (docs/beacon.md, "Relays").
+inline constexpr uint8_t kBeaconVersion = 4;
 
 /// Most bytes an application may send per round (sendMessageData).
 inline constexpr size_t kMaxPayloadBytes = 9;
@@ -76,6 +78,44 @@ struct Snapshot {
   bool operator==(const Snapshot& other) const = default;
 };
 
+/// A relayed position: where a robot the sender has not heard from for a
+/// while (crashed, paused, out of reach) was when the sender last heard of
+/// it, so that robots which never heard it (a joiner switched on after it
+/// fell silent) keep off its body too (docs/safety.md, "A robot that was
+/// never told"). Positions travel in units of kRelayUnitMm, 12 bits each.
+struct Relay {
+  uint16_t slot = 0;   // 0: nothing relayed; else 1 + the relayed robot's id
+  int16_t x_16mm = 0;  // position x in units of 16 mm, -2048 .. 2047; 0 when slot is 0
+  int16_t y_16mm = 0;  // position y in units of 16 mm, -2048 .. 2047; 0 when slot is 0
+
+  bool relays() const { return slot != 0; }
+  uint16_t robot_id() const { return static_cast<uint16_t>(slot - 1); }
+
+  bool operator==(const Relay& other) const = default;
+};
+
+/// Millimetres per unit of a relayed position, and the farthest a relayed
+/// position is from the millimetres it was made of: rounding to the unit
+/// moves an axis by at most 8 mm, and clamping 32753 .. 32767 mm to the
+/// 12 bits' 32752 by at most 15, so 15 * sqrt(2) = 21.2 mm, rounded up.
+inline constexpr int32_t kRelayUnitMm = 16;
+inline constexpr int32_t kRelayAxisErrorMm = 15;
+inline constexpr uint16_t kRelayRoundingMm = 22;
+inline constexpr int16_t kMinRelayUnits = -2048;
+inline constexpr int16_t kMaxRelayUnits = 2047;
+
+/// A millimetre coordinate in relay units, rounded to nearest (ties away
+/// from zero) and clamped to the 12 bits; back to millimetres.
+constexpr int16_t ToRelayUnits(int16_t mm) {
+  const int32_t half = kRelayUnitMm / 2;
+  const int32_t units = mm >= 0 ? (int32_t{mm} + half) / kRelayUnitMm : -((half - int32_t{mm}) / kRelayUnitMm);
+  return static_cast<int16_t>(units > kMaxRelayUnits ? kMaxRelayUnits : units < kMinRelayUnits ? kMinRelayUnits : units);
+}
+constexpr int16_t FromRelayUnits(int16_t units) {
+  const int32_t mm = int32_t{units} * kRelayUnitMm;
+  return static_cast<int16_t>(mm > 32767 ? 32767 : mm);
+}
+
 /// One robot's beacon for one radio round. The snapshot is the sender's
 /// frozen estimate for this epoch (its live one in PROGRESS).
 ///
@@ -94,6 +134,7 @@ struct Beacon {
   uint8_t vote_counter = 0;    // rounds counted in VOTE (docs/protocol.md)
   MemberSet waiting;           // WAIT: members known to be waiting; VOTE: the view; PROGRESS: the heard set; ids < swarm size
   Snapshot snapshot;           // pose, velocity and payload (the wire order is beacon_layout.h's)
+  Relay relay;                 // a silent robot's last known position, or nothing
 
   bool operator==(const Beacon& other) const = default;
 };
@@ -110,6 +151,9 @@ inline void AddToDigest(base::StateDigest& digest, const Beacon& beacon) {
   AddToDigest(digest, beacon.waiting);
   static_assert(sizeof(Snapshot) == 5 * 2 + 1 + kMaxPayloadBytes, "Snapshot has no padding");
   digest.AddValue(beacon.snapshot);
+  digest.AddValue(beacon.relay.slot);
+  digest.AddValue(beacon.relay.x_16mm);
+  digest.AddValue(beacon.relay.y_16mm);
 }
 
 }  // namespace syrof::wire

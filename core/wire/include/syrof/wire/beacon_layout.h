@@ -36,6 +36,10 @@ struct FieldInfo {
 /// Width of robot_id on the wire: one byte for swarms of up to 256 robots, else two.
 constexpr unsigned RobotIdBits(uint16_t swarm_size) { return swarm_size <= 256 ? 8 : 16; }
 
+/// Width of a relay's slot (0 or 1 + a robot id, so swarm size + 1 values):
+/// one byte for swarms of up to 255 robots, else two.
+constexpr unsigned RelaySlotBits(uint16_t swarm_size) { return swarm_size <= 255 ? 8 : 16; }
+
 /// Bytes of a member set on the wire for a swarm of `swarm_size` robots.
 constexpr size_t MemberSetBytes(uint16_t swarm_size) { return (size_t{swarm_size} + 7) / 8; }
 
@@ -80,6 +84,15 @@ constexpr void DescribeBeacon(Codec& codec, BeaconT& beacon, uint16_t swarm_size
   codec.number({"vy_mm_s", "velocity y, millimetres per second"}, 16, beacon.snapshot.vy_mm_s);
   codec.bytes({"payload", "application bytes, the first payload_length in use"}, beacon.snapshot.payload,
               beacon.snapshot.payload_length, WireError::kNonZeroPadding);
+  codec.number({"relay", "0: nothing relayed; else 1 + the id of the robot whose position follows"},
+               RelaySlotBits(swarm_size), beacon.relay.slot, uint16_t{0}, swarm_size, WireError::kRelayOutOfRange);
+  // Nothing relayed: both coordinates are zero, so the beacon has one encoding.
+  const int16_t relay_min = beacon.relay.slot == 0 ? int16_t{0} : kMinRelayUnits;
+  const int16_t relay_max = beacon.relay.slot == 0 ? int16_t{0} : kMaxRelayUnits;
+  codec.number({"relay_x", "relayed position x, units of 16 mm (0 when relay is 0)"}, 12, beacon.relay.x_16mm,
+               relay_min, relay_max, WireError::kRelayOutOfRange);
+  codec.number({"relay_y", "relayed position y, units of 16 mm (0 when relay is 0)"}, 12, beacon.relay.y_16mm,
+               relay_min, relay_max, WireError::kRelayOutOfRange);
 }
 
 namespace detail {
@@ -120,6 +133,21 @@ constexpr size_t EncodedSize(uint16_t swarm_size) {
   const Beacon beacon{};
   DescribeBeacon(counter, beacon, swarm_size);
   return counter.bits() / 8;
+}
+
+/// Bytes one radio frame of the robots carries: a BLE legacy advertising
+/// payload (the nRF51822's), which the firmware's radio link also bounds
+/// (firmware/drivers' kMaxLinkBeaconBytes). A swarm whose beacon is longer
+/// runs in the lab and over DDS, not on the robots' radio.
+inline constexpr size_t kMaxRadioBeaconBytes = 31;
+
+/// The largest swarm whose beacon fits kMaxRadioBeaconBytes (16 in version 4).
+constexpr uint16_t LargestRadioSwarm() {
+  uint16_t swarm_size = 0;
+  while (swarm_size < kMaxSwarmSize && EncodedSize(static_cast<uint16_t>(swarm_size + 1)) <= kMaxRadioBeaconBytes) {
+    ++swarm_size;
+  }
+  return swarm_size;
 }
 
 /// The longest encoding this build can produce: a buffer of this size holds

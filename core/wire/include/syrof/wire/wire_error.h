@@ -23,6 +23,7 @@ enum class [[nodiscard]] WireError : uint8_t{
     kHeadingOutOfRange,    // heading outside -3142 .. 3142 mrad
     kNonZeroPadding,       // a payload byte past payload_length is not zero
     kPresenceOutOfRange,   // never produced (a bool is 0 or 1); the layout's range check names it
+    kRelayOutOfRange,      // relay slot above the swarm size, or a position with nothing relayed
 };
 
 /// The enumerator's name without the k ("Truncated"); "?" for an unknown value.

@@ -21,6 +21,11 @@ namespace syrof::lab::scenario {
 
 /// The first way `scenario` does not fit the robot image, in this order;
 /// nothing when it fits.
+///  0. More robots than the robots' radio carries a beacon for
+///     (wire::LargestRadioSwarm, 16): "17 robots; their beacon would be 32
+///     bytes, more than the robots' radio carries (31, one BLE
+///     advertisement): the robot image runs swarms of at most 16 robots
+///     (docs/beacon.md)".
 ///  1. Its radio round is not the image's 50 ms: "timing.radio_round_s must
 ///     be 0.05 (the robot image's radio round)".
 ///  2. Its synchronizer's timing is not the image's (app_round_s 1 s, i.e.
