@@ -121,6 +121,39 @@ void SafetyFilter::Keep(const Constraint& constraint, float slack) {
   }
 }
 
+// A robot's disc before the other's growth: both bodies, the margin, and
+// what this robot's allowance for its own error exceeds half the margin by.
+float SafetyFilter::DiscBaseM(float own_allowance_m) const {
+  const float own_excess_m = own_allowance_m - 0.5f * config_.margin_m;
+  return own_radius_m_ + config_.others_radius_m + config_.margin_m + own_excess_m;
+}
+
+// A robot's disc of `radius_m` (the other's growth, constraint.sigma_m, in
+// it) at constraint.distance_m along the constraint's direction: outside,
+// the approach bound; inside, the cone away from it; on top of its centre,
+// a stop. Inline: Collect builds every robot constraint with it (the host's
+// -O3 build inlines it; -Os for the Teensy keeps one copy).
+inline void SafetyFilter::RobotConstraint(Constraint& constraint, float radius_m) const {
+  const float distance_m = constraint.distance_m;
+  if (distance_m < kMinDistanceM) {
+    constraint.cone = true;
+    constraint.bound = 2.0f;  // above 1: only u = 0
+    return;
+  }
+  const float gap_m = distance_m - radius_m;
+  if (gap_m > 0.0f) {
+    // Against another robot this one brakes with half its deceleration
+    // and its half of the gap holds its whole lag (Collect).
+    constraint.bound = ApproachBound(gap_m, 0.5f * own_braking_mps2_, 2.0f * own_lag_s_);
+    constraint.cone = false;
+  } else {
+    // sigma >= d: this robot stands where the other may be; every
+    // direction may lead towards it (a bound above 1 admits only u = 0).
+    constraint.bound = constraint.sigma_m / distance_m;
+    constraint.cone = true;
+  }
+}
+
 void SafetyFilter::Collect(float x, float y, float own_allowance_m, const SafetyReports& reports, int64_t now_ns) {
   count_ = 0;
   // Against another robot this one brakes with half its deceleration: the
@@ -178,7 +211,10 @@ void SafetyFilter::Collect(float x, float y, float own_allowance_m, const Safety
       constraint.nx = dx / distance_m;
       constraint.ny = dy / distance_m;
     }
-    RobotConstraint(constraint, squared, radius_m, sigma_m);
+    constraint.squared_m2 = squared;
+    constraint.distance_m = distance_m;
+    constraint.sigma_m = sigma_m;
+    RobotConstraint(constraint, radius_m);
     Keep(constraint, distance_m < kMinDistanceM ? -radius_m : distance_m - radius_m);
   }
   if (config_.arena_width_m > 0 && config_.arena_height_m > 0) {
@@ -196,40 +232,6 @@ void SafetyFilter::Collect(float x, float y, float own_allowance_m, const Safety
       constraint.other = kWallObstacle;
       Keep(constraint, gaps[wall]);
     }
-  }
-}
-
-// A robot's disc before the other's growth: both bodies, the margin, and
-// what this robot's allowance for its own error exceeds half the margin by.
-float SafetyFilter::DiscBaseM(float own_allowance_m) const {
-  const float own_excess_m = own_allowance_m - 0.5f * config_.margin_m;
-  return own_radius_m_ + config_.others_radius_m + config_.margin_m + own_excess_m;
-}
-
-// A robot's disc of `radius_m` (the other's growth `sigma_m` in it) at the
-// squared distance `squared_m2` along the constraint's direction: outside,
-// the approach bound; inside, the cone away from it; on top of its centre,
-// a stop.
-void SafetyFilter::RobotConstraint(Constraint& constraint, float squared_m2, float radius_m, float sigma_m) const {
-  constraint.squared_m2 = squared_m2;
-  constraint.sigma_m = sigma_m;
-  const float distance_m = std::sqrt(squared_m2);
-  if (distance_m < kMinDistanceM) {
-    constraint.cone = true;
-    constraint.bound = 2.0f;  // above 1: only u = 0
-    return;
-  }
-  const float gap_m = distance_m - radius_m;
-  if (gap_m > 0.0f) {
-    // Against another robot this one brakes with half its deceleration
-    // and its half of the gap holds its whole lag (Collect).
-    constraint.bound = ApproachBound(gap_m, 0.5f * own_braking_mps2_, 2.0f * own_lag_s_);
-    constraint.cone = false;
-  } else {
-    // sigma >= d: this robot stands where the other may be; every
-    // direction may lead towards it (a bound above 1 admits only u = 0).
-    constraint.bound = sigma_m / distance_m;
-    constraint.cone = true;
   }
 }
 
@@ -364,12 +366,11 @@ float SafetyFilter::LimitForward(float speed, float hx, float hy) const {
 
 // The command limited against the constraints Collect kept; `change` is
 // how far it moved (m/s: a rover's forward speed, an omni robot's velocity).
-DriveCommand SafetyFilter::Limit(const DriveCommand& desired, float heading_rad, float heading_doubt_rad,
+// (hx, hy): a rover's heading's cosine and sine (Apply's; unused for omni).
+DriveCommand SafetyFilter::Limit(const DriveCommand& desired, float hx, float hy, float heading_doubt_rad,
                                  float& change) const {
   DriveCommand limited = desired;
   if (kind_ == DriveKind::kWheels) {
-    const float hx = std::cos(heading_rad);
-    const float hy = std::sin(heading_rad);
     const float desired_forward = 0.5f * (desired.left_mps + desired.right_mps);
     const float half_difference = 0.5f * (desired.right_mps - desired.left_mps);
     float forward = LimitForward(desired_forward, hx, hy);
@@ -398,7 +399,7 @@ DriveCommand SafetyFilter::Limit(const DriveCommand& desired, float heading_rad,
 // reports; walls do not depend on the allowance. Only for a limited step,
 // so most steps pay nothing. Overwrites the kept constraints.
 bool SafetyFilter::BreaksChargedRule(const DriveCommand& desired, const estimation::StateEstimate& estimate,
-                                     float own_allowance_m, float heading_doubt_rad) {
+                                     float own_allowance_m, float hx, float hy, float heading_doubt_rad) {
   const float charged_allowance_m = ErrorAllowanceM(config_, config_.charged_sigmas, estimate);
   if (charged_allowance_m >= own_allowance_m) return true;
   const float base_m = DiscBaseM(charged_allowance_m);
@@ -409,14 +410,14 @@ bool SafetyFilter::BreaksChargedRule(const DriveCommand& desired, const estimati
       const float radius_m = base_m + c.sigma_m;
       const float far_m = radius_m + reach_m_;
       if (c.squared_m2 > far_m * far_m) continue;
-      RobotConstraint(c, c.squared_m2, radius_m, c.sigma_m);
+      RobotConstraint(c, radius_m);
     }
     constraints_[kept++] = c;
   }
   count_ = kept;
   if (count_ == 0) return false;
   float change = 0.0f;
-  (void)Limit(desired, estimate.heading_rad, heading_doubt_rad, change);
+  (void)Limit(desired, hx, hy, heading_doubt_rad, change);
   return change > kLimitedThresholdMps;
 }
 
@@ -436,15 +437,18 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
   Collect(estimate.x_m, estimate.y_m, own_allowance_m, reports, now_ns);
   if (count_ == 0) return desired;
 
+  // A rover's heading, once for every Limit of this step.
+  const bool wheels = kind_ == DriveKind::kWheels;
+  const float hx = wheels ? std::cos(estimate.heading_rad) : 0.0f;
+  const float hy = wheels ? std::sin(estimate.heading_rad) : 0.0f;
   float change = 0.0f;
-  const DriveCommand limited = Limit(desired, estimate.heading_rad, heading_doubt_rad, change);
+  const DriveCommand limited = Limit(desired, hx, hy, heading_doubt_rad, change);
   outcome.limited = change > kLimitedThresholdMps;
   if (!outcome.limited) return desired;
   // The obstacle the desired velocity pressed hardest against.
-  const bool wheels = kind_ == DriveKind::kWheels;
   const float desired_forward = 0.5f * (desired.left_mps + desired.right_mps);
-  const float ux = wheels ? desired_forward * std::cos(estimate.heading_rad) : desired.vx_mps;
-  const float uy = wheels ? desired_forward * std::sin(estimate.heading_rad) : desired.vy_mps;
+  const float ux = wheels ? desired_forward * hx : desired.vx_mps;
+  const float uy = wheels ? desired_forward * hy : desired.vy_mps;
   const float desired_speed = std::sqrt(ux * ux + uy * uy);
   float worst = -1e30f;
   for (size_t i = 0; i < count_; ++i) {
@@ -460,7 +464,7 @@ DriveCommand SafetyFilter::Apply(const DriveCommand& desired, const estimation::
   if (new_hold) hold_charged_ = false;
   // A hold already charged stays an intervention whatever its later steps
   // are: they need no second answer (most limited steps, in a packed swarm).
-  outcome.charged = hold_charged_ || BreaksChargedRule(desired, estimate, own_allowance_m, heading_doubt_rad);
+  outcome.charged = hold_charged_ || BreaksChargedRule(desired, estimate, own_allowance_m, hx, hy, heading_doubt_rad);
   outcome.precaution_started = new_hold && !outcome.charged;
   outcome.started = outcome.charged && !hold_charged_;
   if (outcome.charged) hold_charged_ = true;

@@ -286,22 +286,23 @@ class SafetyFilter {
     float nx, ny;     // unit vector towards the obstacle
     float bound;      // u . n <= bound (linear), or the cone's sin(phi)
     bool cone;        // u . n <= -bound * |u|
-    float violation;  // of the desired velocity, for `other`
     uint16_t other;
-    // A robot's disc (not a wall): the squared distance to its centre and
-    // the other's growth, so the constraint can be rebuilt for a smaller
-    // allowance (BreaksChargedRule) without another pass over the reports.
+    // A robot's disc (not a wall): the squared distance to its centre, that
+    // distance, and the other's growth, so the constraint can be rebuilt for
+    // a smaller allowance (BreaksChargedRule) without another pass over the
+    // reports or another square root.
     float squared_m2;
+    float distance_m;
     float sigma_m;
   };
   void Collect(float x, float y, float own_allowance_m, const SafetyReports& reports, int64_t now_ns);
   float DiscBaseM(float own_allowance_m) const;
-  void RobotConstraint(Constraint& constraint, float squared_m2, float radius_m, float sigma_m) const;
+  void RobotConstraint(Constraint& constraint, float radius_m) const;
   float HeadingRobustScale(float ux, float uy, float doubt_rad) const;
   void Keep(const Constraint& constraint, float slack);
-  DriveCommand Limit(const DriveCommand& desired, float heading_rad, float heading_doubt_rad, float& change) const;
+  DriveCommand Limit(const DriveCommand& desired, float hx, float hy, float heading_doubt_rad, float& change) const;
   bool BreaksChargedRule(const DriveCommand& desired, const estimation::StateEstimate& estimate,
-                         float own_allowance_m, float heading_doubt_rad);
+                         float own_allowance_m, float hx, float hy, float heading_doubt_rad);
   void LimitOmni(float& vx, float& vy) const;
   float LimitForward(float speed, float hx, float hy) const;
   float ApproachBound(float gap_m, float braking_mps2, float lag_s) const;
