@@ -72,13 +72,20 @@ void SafetyReports::ReportMetres(uint16_t id, int64_t time_ns, float x_m, float 
   }
 }
 
-uint16_t SafetyReports::NextSilent(uint16_t after, uint16_t self, size_t count, int64_t before_ns) const {
+uint16_t SafetyReports::NextSilent(uint16_t& cursor, uint16_t self, size_t count, int64_t before_ns,
+                                   size_t limit) const {
   const size_t n = std::min(count, entries_.size());
-  for (size_t step = 1; step <= n; ++step) {
-    const size_t id = (size_t{after} + step) % n;
+  if (n == 0) return kNoSilentReport;
+  size_t id = cursor % n;
+  for (size_t step = 0; step < std::min(limit, n); ++step) {
+    id = (id + 1) % n;
     const SafetyReport& entry = entries_[id];
-    if (id != self && entry.valid && entry.time_ns < before_ns) return static_cast<uint16_t>(id);
+    if (id != self && entry.valid && entry.time_ns < before_ns) {
+      cursor = static_cast<uint16_t>(id);
+      return cursor;
+    }
   }
+  cursor = static_cast<uint16_t>(id);
   return kNoSilentReport;
 }
 

@@ -598,16 +598,17 @@ void Robot::ReportInterventions() {
 // A member's beacon relays one robot it has not heard from for a horizon
 // (crashed, paused, out of reach), taking the silent robots in turn: a
 // robot switched on after another fell silent hears of its body this way
-// (docs/safety.md, "A robot that was never told"). The round task is the
-// reports' only writer, so it reads them without the lock.
+// (docs/safety.md, "A robot that was never told"). Each beacon looks at
+// kRelayLookAhead robots past the last one relayed (every robot in a swarm
+// of up to that many), so a round's step stays bounded in a large swarm. The
+// round task is the reports' only writer, so it reads them without the lock.
 void Robot::AttachRelay(int64_t now_ns, wire::Beacon& beacon) {
   beacon.relay = wire::Relay{};
   if (!config_.safety.enabled || beacon.presence_only) return;
   const auto horizon_ns = static_cast<int64_t>(config_.safety.horizon_s * 1e9f);
-  const uint16_t silent =
-      shared_reports_.NextSilent(relay_cursor_, id(), config_.sync.swarm_size, now_ns - horizon_ns);
+  const uint16_t silent = shared_reports_.NextSilent(relay_cursor_, id(), config_.sync.swarm_size,
+                                                     now_ns - horizon_ns, kRelayLookAhead);
   if (silent == motion::SafetyReports::kNoSilentReport) return;
-  relay_cursor_ = silent;
   const motion::SafetyReport& report = shared_reports_[silent];
   beacon.relay.slot = static_cast<uint16_t>(silent + 1);
   beacon.relay.x_16mm = wire::ToRelayUnits(report.x_mm);

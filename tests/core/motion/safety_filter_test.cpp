@@ -239,17 +239,46 @@ TEST(SafetyReportsTest, NextSilentGoesRoundTheSilentRobots) {
   for (const uint16_t id : {0, 2, 5, 6}) reports.Report(id, kBefore - 1, 0, 0, false, 0, 0, 1.0f);
   reports.Report(3, kBefore, 0, 0, false, 0, 0, 1.0f);  // heard at before_ns: not silent
 
-  EXPECT_EQ(reports.NextSilent(2, 2, 8, kBefore), 5);  // robot 2 itself is skipped
-  EXPECT_EQ(reports.NextSilent(5, 2, 8, kBefore), 6);
-  EXPECT_EQ(reports.NextSilent(6, 2, 8, kBefore), 0);  // round to the start
-  EXPECT_EQ(reports.NextSilent(0, 2, 8, kBefore), 5);
-  EXPECT_EQ(reports.NextSilent(0, 0, 6, kBefore), 2);  // ids below the count only: 6 is out
-  EXPECT_EQ(reports.NextSilent(4, 0, 6, kBefore), 5);
+  uint16_t cursor = 2;  // robot 2's own id
+  EXPECT_EQ(reports.NextSilent(cursor, 2, 8, kBefore, 8), 5);  // robot 2 itself is skipped
+  EXPECT_EQ(cursor, 5);
+  EXPECT_EQ(reports.NextSilent(cursor, 2, 8, kBefore, 8), 6);
+  EXPECT_EQ(reports.NextSilent(cursor, 2, 8, kBefore, 8), 0);  // round to the start
+  EXPECT_EQ(reports.NextSilent(cursor, 2, 8, kBefore, 8), 5);
+  cursor = 0;
+  EXPECT_EQ(reports.NextSilent(cursor, 0, 6, kBefore, 8), 2);  // ids below the count only: 6 is out
+  EXPECT_EQ(reports.NextSilent(cursor, 0, 6, kBefore, 8), 5);
+  EXPECT_EQ(reports.NextSilent(cursor, 0, 6, kBefore, 8), 2);
 
   SafetyReports only_self;
   only_self.Report(4, 0, 0, 0, false, 0, 0, 1.0f);
-  EXPECT_EQ(only_self.NextSilent(4, 4, 8, kBefore), SafetyReports::kNoSilentReport);
-  EXPECT_EQ(SafetyReports().NextSilent(0, 0, 0, kBefore), SafetyReports::kNoSilentReport);
+  cursor = 4;
+  EXPECT_EQ(only_self.NextSilent(cursor, 4, 8, kBefore, 8), SafetyReports::kNoSilentReport);
+  EXPECT_EQ(cursor, 4);  // looked at all eight, itself last
+  EXPECT_EQ(SafetyReports().NextSilent(cursor, 0, 0, kBefore, 8), SafetyReports::kNoSilentReport);
+}
+
+// A call looks at no more than `limit` robots and leaves the cursor at the
+// last one, so a large swarm's search goes on over several beacons and
+// still reaches every silent robot.
+TEST(SafetyReportsTest, NextSilentLooksAtMostLimitRobotsAndGoesOnFromThere) {
+  SafetyReports reports;
+  constexpr int64_t kBefore = 10'000'000'000;
+  for (uint16_t id = 0; id < 100; ++id) reports.Report(id, kBefore, 0, 0, false, 0, 0, 1.0f);  // all heard
+  reports.Report(70, kBefore - 1, 0, 0, false, 0, 0, 1.0f);                                      // one silent
+
+  uint16_t cursor = 10;
+  EXPECT_EQ(reports.NextSilent(cursor, 10, 100, kBefore, 16), SafetyReports::kNoSilentReport);
+  EXPECT_EQ(cursor, 26);
+  int calls = 1;
+  uint16_t found = SafetyReports::kNoSilentReport;
+  while (found == SafetyReports::kNoSilentReport && calls < 100) {
+    found = reports.NextSilent(cursor, 10, 100, kBefore, 16);
+    ++calls;
+  }
+  EXPECT_EQ(found, 70);
+  EXPECT_EQ(calls, 4);  // 11-26, 27-42, 43-58, 59-74
+  EXPECT_EQ(cursor, 70);
 }
 
 TEST(SafetyFilterTest, DisabledPassesEverything) {

@@ -184,12 +184,14 @@ class SafetyReports {
     entry.valid = true;
     return true;
   }
-  /// The first robot after `after`, going round the ids below `count`
-  /// (`after` itself last), other than `self`, whose report is older than
-  /// `before_ns`: a robot gone silent, whose position to relay next.
-  /// kNoSilentReport when there is none.
+  /// Looks at up to `limit` robots after `cursor`, going round the ids
+  /// below `count` (`cursor` itself last), for one other than `self` whose
+  /// report is older than `before_ns`: a robot gone silent, whose position
+  /// to relay next. Moves `cursor` to it, or to the last robot looked at,
+  /// so the next call goes on from there: a bounded step however large the
+  /// swarm. kNoSilentReport when none of them is silent.
   static constexpr uint16_t kNoSilentReport = 0xFFFF;
-  uint16_t NextSilent(uint16_t after, uint16_t self, size_t count, int64_t before_ns) const;
+  uint16_t NextSilent(uint16_t& cursor, uint16_t self, size_t count, int64_t before_ns, size_t limit) const;
   /// The same in metres (tests, benches): rounded to millimetres.
   void ReportMetres(uint16_t id, int64_t time_ns, float x_m, float y_m, bool parked, float vx_mps, float vy_mps,
                     float braking_mps2, float lag_s = 0.0f);

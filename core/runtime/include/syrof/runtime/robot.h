@@ -387,10 +387,12 @@ class Robot final : private app::Platform {
   motion::SafetyReports shared_reports_;
   motion::SafetyReports motion_reports_;
   bool reports_changed_ = false;
-  // The last robot whose position this one relayed; the next relay is the
-  // next silent robot after it. Starting at the robot's own id spreads the
-  // swarm's relays over the silent robots.
+  // Where the search for the next silent robot to relay goes on from (the
+  // last one relayed, or the last one looked at). Starting at the robot's
+  // own id spreads the swarm's relays over the silent robots.
   uint16_t relay_cursor_ = 0;
+  // Robots a beacon looks at for one to relay (AttachRelay).
+  static constexpr size_t kRelayLookAhead = 16;
   // Intervention starts from the motion task to the round task (which tells
   // the observer), under the port's critical section. A round has at most
   // radio_round / motion period motion steps, so 8 is plenty; more are
