@@ -262,23 +262,26 @@ TEST(SafetyReportsTest, NextSilentGoesRoundTheSilentRobots) {
 // last one, so a large swarm's search goes on over several beacons and
 // still reaches every silent robot.
 TEST(SafetyReportsTest, NextSilentLooksAtMostLimitRobotsAndGoesOnFromThere) {
+  // 32 robots: the Teensy build's kMaxSwarmSize, so the test runs there too.
+  constexpr uint16_t kRobots = 32;
+  static_assert(kRobots <= wire::kMaxSwarmSize);
   SafetyReports reports;
   constexpr int64_t kBefore = 10'000'000'000;
-  for (uint16_t id = 0; id < 100; ++id) reports.Report(id, kBefore, 0, 0, false, 0, 0, 1.0f);  // all heard
-  reports.Report(70, kBefore - 1, 0, 0, false, 0, 0, 1.0f);                                      // one silent
+  for (uint16_t id = 0; id < kRobots; ++id) reports.Report(id, kBefore, 0, 0, false, 0, 0, 1.0f);  // all heard
+  reports.Report(29, kBefore - 1, 0, 0, false, 0, 0, 1.0f);                                        // one silent
 
-  uint16_t cursor = 10;
-  EXPECT_EQ(reports.NextSilent(cursor, 10, 100, kBefore, 16), SafetyReports::kNoSilentReport);
-  EXPECT_EQ(cursor, 26);
+  uint16_t cursor = 3;
+  EXPECT_EQ(reports.NextSilent(cursor, 3, kRobots, kBefore, 8), SafetyReports::kNoSilentReport);
+  EXPECT_EQ(cursor, 11);
   int calls = 1;
   uint16_t found = SafetyReports::kNoSilentReport;
   while (found == SafetyReports::kNoSilentReport && calls < 100) {
-    found = reports.NextSilent(cursor, 10, 100, kBefore, 16);
+    found = reports.NextSilent(cursor, 3, kRobots, kBefore, 8);
     ++calls;
   }
-  EXPECT_EQ(found, 70);
-  EXPECT_EQ(calls, 4);  // 11-26, 27-42, 43-58, 59-74
-  EXPECT_EQ(cursor, 70);
+  EXPECT_EQ(found, 29);
+  EXPECT_EQ(calls, 4);  // 4-11, 12-19, 20-27, 28-29
+  EXPECT_EQ(cursor, 29);
 }
 
 TEST(SafetyFilterTest, DisabledPassesEverything) {
