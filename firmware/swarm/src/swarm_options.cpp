@@ -28,7 +28,7 @@ constexpr const char* kBuiltInScenario =
 }  // namespace
 
 const char* const kUsage =
-    "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..32] [--seconds S] [--loss 0..1]\n"
+    "usage: syrof-firmware-swarm --image ELF [--scenario FILE] [--robots 1..16] [--seconds S] [--loss 0..1]\n"
     "       [--seed N] [--out DIR] [--qemu PATH] [--icount SHIFT|-1] [--align 0|1] [--latency-ms MS]\n"
     "       [--expect-cooperative] [--expect-faults] [--max-estimation-error M] [--realtime]\n"
     "       [--config-on-boot-line]\n"
@@ -196,17 +196,13 @@ lab::scenario::Scenario LoadScenario(const Options& options) {
   if (options.loss_override) {
     scenario.channel.loss = *options.loss_override;
   }
-  const auto robots = static_cast<int>(scenario.robots.size());
-  if (robots > kMaxImageRobots) {
-    Usage("--scenario: " + std::to_string(robots) + " robots; the robot image holds at most " +
-          std::to_string(kMaxImageRobots));
-  }
   // Every model runs on the image: each robot reads the activation from its
   // boot words (qemu_launcher.cpp, CheckBootLines bounds the script), and
   // every kind (its boot words name the robot's kind and its swarm's). What
   // the image has compiled in and cannot be told is refused, naming what
   // differs, by the check syrof-firmware-config makes too (lab/scenario
-  // fits_the_image.h): the radio round, the default arena (its estimator
+  // fits_the_image.h): more robots than the radio carries a beacon for
+  // (kMaxImageRobots), the radio round, the default arena (its estimator
   // ranges against the default anchors while this host's world measures
   // against the scenario's: 1.3 m RMSE on a 5 m arena) and a present kind's
   // limits (a drone's drift is the world's alone, played by this host: any

@@ -12,6 +12,7 @@
 #include "syrof/lab/live/live_command.h"
 #include "syrof/lab/scenario/scenario.h"
 #include "syrof/lab/sim/stress.h"
+#include "syrof/wire/beacon_layout.h"
 
 namespace syrof::firmware::swarm {
 
@@ -56,8 +57,11 @@ struct Options {
   lab::live::LiveCommandOptions live;
 };
 
-// The robot image is built with SYROF_MAX_SWARM_SIZE=32 (the Teensy's).
-constexpr int kMaxImageRobots = 32;
+// The most robots an emulated swarm runs: as many as the robots' radio
+// carries a beacon for (one BLE advertisement, wire::LargestRadioSwarm: 16),
+// within the image's SYROF_MAX_SWARM_SIZE of 32 (the Teensy's).
+constexpr int kMaxImageRobots = wire::LargestRadioSwarm();
+static_assert(kMaxImageRobots >= 1 && kMaxImageRobots <= 32, "the image is built for 32 robots");
 
 /// The usage text --help prints.
 extern const char* const kUsage;
